@@ -1,0 +1,243 @@
+"""The behavior-tree node library: ONE table from which the prompt text, the validator, the
+simulator's dispatch, the Groot2 model and the exporters' translations are all derived.
+
+Semantics follow ../shared/reference/hunav-node-library.md (SocRATES fork of HuNavSim, BT.CPP v3).
+Where the fork's code and the paper disagree, the simulator does what the paper and the prompt
+*say* (that is what the model is told); each such choice is written in `sim_note`.
+"""
+
+from __future__ import annotations
+
+from enum import StrEnum
+from typing import Literal
+
+from pydantic import BaseModel, Field
+
+
+class PortType(StrEnum):
+    INT = "int"
+    DOUBLE = "double"
+    BOOL = "bool"
+    STRING = "string"
+
+
+class Port(BaseModel):
+    name: str
+    type: PortType
+    description: str
+    required: bool = True
+    default: str | None = None
+    # Codes a message port may take (gesture tables); None = any value of the type.
+    allowed: dict[int, str] | None = None
+
+
+NodeKind = Literal["action", "condition", "control", "decorator", "builtin"]
+Target = Literal["socrates", "hunav2", "hunav1"]
+
+
+class NodeSpec(BaseModel):
+    name: str
+    kind: NodeKind
+    ports: list[Port] = Field(default_factory=list)
+    description: str  # what the model is told (prompt) and what the simulator implements
+    capability: str | None = None  # one line for the stage-1 "what humans can do" list
+    targets: set[Target] = Field(default_factory=lambda: {"socrates"})
+    hunav2: str | None = None  # name of the 2.x equivalent node (None = no equivalent)
+    hunav1: str | None = None  # name in upstream 1.x (None = not available)
+    sim_note: str | None = None  # where our simulator differs from Gazebo/HuNavSim, and why
+    in_prompt: bool = True  # listed for the model (built-ins are explained by the tutorial)
+    min_children: int = 0
+    max_children: int | None = 0
+
+    def port(self, name: str) -> Port | None:
+        return next((p for p in self.ports if p.name == name), None)
+
+
+HUMAN_GESTURES: dict[int, str] = {0: "NO GESTURE", 1: "WAIT", 2: "PROCEED", 3: "EXCUSE ME"}
+ROBOT_GESTURES: dict[int, str] = {0: "NO GESTURE", 1: "WAIT", 2: "PROCEED", 3: "ACKNOWLEDGED", 4: "EXCUSE ME",
+                                  5: "FOLLOW ME"}
+
+# Distances the prompt explains, so the model picks sensible numbers.
+DISTANCE_WORDS = {0.5: "very close", 1.0: "close", 2.0: "moderate distance", 5.0: "far"}
+
+_AGENT = Port(name="agent_id", type=PortType.INT, description="the agent's own id; always write {id}")
+_STEP = Port(name="time_step", type=PortType.DOUBLE, description="simulation step; always write {dt}")
+
+
+def _dist(meaning: str) -> Port:
+    return Port(name="distance", type=PortType.DOUBLE, description=meaning)
+
+
+NODES: list[NodeSpec] = [
+    # ---- conditions -------------------------------------------------------------------------
+    NodeSpec(name="IsRobotVisible", kind="condition", ports=[_AGENT, _dist("metres")],
+             description="SUCCESS when the robot is within `distance` metres and in line of sight of the human "
+                         "(not hidden behind a wall).",
+             capability="Check whether the robot is visible to the human (within a distance, not behind a wall)",
+             targets={"socrates", "hunav2", "hunav1"}, hunav2="IsRobotVisible", hunav1="IsRobotVisible",
+             sim_note="The fork has no line-of-sight test and a field of view over 180 deg; we test line of "
+                      "sight on the occupancy map, as the prompt says."),
+    NodeSpec(name="IsRobotNearby", kind="condition", ports=[_AGENT, _dist("metres")],
+             description="SUCCESS when the robot is within `distance` metres of the human, walls or not.",
+             capability="Check whether the robot is near the human",
+             targets={"socrates", "hunav2"}, hunav2="IsRobotClose"),
+    NodeSpec(name="IsRobotBlocking", kind="condition", ports=[_AGENT, _dist("metres")],
+             description="SUCCESS when the robot is within `distance` metres, in line of sight, and in front of "
+                         "the human (within about 30 degrees of its heading), i.e. in its way.",
+             capability="Check whether the robot is blocking the human's path",
+             targets={"socrates"},
+             sim_note="The fork checks distance and a 0.5 rad cone only; we also require line of sight."),
+    NodeSpec(name="IsGoalReached", kind="condition", ports=[_AGENT],
+             description="SUCCESS when the human is within its goal radius (+0.1 m) of its current goal.",
+             capability="Check whether the human has reached its goal",
+             targets={"socrates", "hunav2", "hunav1"}, hunav2="IsGoalReached", hunav1="IsGoalReached"),
+    NodeSpec(name="TimeExpiredCondition", kind="condition",
+             ports=[Port(name="seconds", type=PortType.DOUBLE, description="duration in seconds", required=False,
+                         default="1.0"),
+                    Port(name="ts", type=PortType.DOUBLE, description="time added per tick; write {dt}",
+                         required=False, default="0.01"),
+                    Port(name="only_once", type=PortType.BOOL, required=False, default="false",
+                         description="true: stays SUCCESS once expired; false: the timer restarts")],
+             description="Counts the time it is ticked; FAILURE until `seconds` have accumulated, then SUCCESS "
+                         "(with only_once=false the count restarts after each SUCCESS). Wrap it in an Inverter "
+                         "to do something only for the first `seconds`.",
+             capability="Do something only for a limited time, or only after some time has passed",
+             targets={"socrates", "hunav1"}, hunav1="TimeExpiredCondition"),
+    NodeSpec(name="RobotSays", kind="condition",
+             ports=[_AGENT, Port(name="message", type=PortType.INT, description="gesture code",
+                                 allowed=ROBOT_GESTURES)],
+             description="SUCCESS while the robot is making the gesture `message`.",
+             capability="React to what the robot says: WAIT, PROCEED, ACKNOWLEDGED, EXCUSE ME, FOLLOW ME",
+             targets={"socrates"}),
+    NodeSpec(name="HumanSays", kind="condition",
+             ports=[_AGENT, Port(name="target_id", type=PortType.INT, description="id of the other human (0-based)"),
+                    Port(name="message", type=PortType.INT, description="gesture code", allowed=HUMAN_GESTURES)],
+             description="SUCCESS while human `target_id` is making the gesture `message`.",
+             capability="React to a gesture of another human",
+             targets={"socrates"}),
+    NodeSpec(name="RobotMoved", kind="condition", ports=[_AGENT],
+             description="SUCCESS while the robot is moving (speed above 0.1 m/s).",
+             capability="Check whether the robot is currently moving",
+             targets={"socrates"},
+             sim_note="The fork compares signed velocity components, so a robot moving toward -x/-y counts as "
+                      "still; we use the speed, as the prompt says."),
+    # ---- actions ----------------------------------------------------------------------------
+    NodeSpec(name="UpdateGoal", kind="action", ports=[_AGENT],
+             description="Move on to the next goal of the human's goal list (the last goal is kept).",
+             capability=None, targets={"socrates", "hunav2", "hunav1"}, hunav2="UpdateGoal", hunav1="UpdateGoal"),
+    NodeSpec(name="RegularNav", kind="action", ports=[_AGENT, _STEP],
+             description="One step of normal social-force walking toward the current goal; the robot is "
+                         "treated as an ordinary obstacle.",
+             capability="Walk normally to its goal, treating the robot as an ordinary obstacle",
+             targets={"socrates", "hunav2", "hunav1"}, hunav2="RegularNav", hunav1="RegularNav",
+             sim_note="The fork leaves the robot out of the social force of LLM-tree agents; we include it, "
+                      "as the prompt says."),
+    NodeSpec(name="MakeGesture", kind="action",
+             ports=[_AGENT, Port(name="message", type=PortType.INT, description="gesture code",
+                                 allowed=HUMAN_GESTURES)],
+             description="The human makes the gesture `message` and keeps making it until another MakeGesture "
+                         "changes it (0 stops). No motion.",
+             capability="Say WAIT, PROCEED or EXCUSE ME to the robot",
+             targets={"socrates"}, hunav2="SaySomething"),
+    NodeSpec(name="LookAtRobot", kind="action", ports=[_AGENT],
+             description="The human stops and turns to face the robot.",
+             capability="Stop and look at the robot",
+             targets={"socrates", "hunav2"}, hunav2="LookAtRobot", hunav1="SurprisedNav"),
+    NodeSpec(name="FollowRobot", kind="action", ports=[_AGENT, _STEP],
+             description="One step following the robot; the human stops 1.5 m behind it and faces it.",
+             capability="Follow the robot",
+             targets={"socrates", "hunav2"}, hunav2="ApproachRobot", hunav1="CuriousNav"),
+    NodeSpec(name="FollowHuman", kind="action",
+             ports=[_AGENT, Port(name="target_id", type=PortType.INT, description="id of the human to follow"),
+                    _STEP],
+             description="One step following human `target_id`, stopping 1.5 m from them.",
+             capability="Follow another human",
+             targets={"socrates", "hunav2"}, hunav2="FollowAgent"),
+    NodeSpec(name="RunAwayFromRobot", kind="action", ports=[_AGENT, _STEP],
+             description="One step of scared walking: slow (0.6 m/s) and strongly pushed away from the robot "
+                         "while still heading for the goal.",
+             capability="Be scared of the robot and avoid it",
+             targets={"socrates", "hunav1"}, hunav1="ScaredNav"),
+    NodeSpec(name="GiveWaytoRobot", kind="action", ports=[_AGENT, _STEP],
+             description="One step of giving way: the human steps to the side of the robot's path, waits there "
+                         "while the robot passes, then resumes toward its goal.",
+             capability="Give way to the robot (step aside, let it pass)",
+             targets={"socrates"},
+             sim_note="The fork computes the side step and then discards it (a plain walking step); we "
+                      "really step aside, as the prompt says."),
+    NodeSpec(name="BlockRobot", kind="action", ports=[_AGENT, _STEP],
+             description="One step moving quickly to a point 1.5 m in front of the robot, facing it when close, "
+                         "to block its way.",
+             capability="Move in front of the robot and block it",
+             targets={"socrates", "hunav2", "hunav1"}, hunav2="BlockRobot", hunav1="ThreateningNav"),
+    # ---- control flow and built-ins (explained by the BT tutorial) ---------------------------
+    NodeSpec(name="Sequence", kind="control", description="ticks children in order; fails at the first failure",
+             ports=[Port(name="name", type=PortType.STRING, description="free text", required=False)],
+             targets={"socrates", "hunav2", "hunav1"}, hunav2="Sequence", hunav1="Sequence",
+             min_children=1, max_children=None),
+    NodeSpec(name="Fallback", kind="control", description="ticks children in order; succeeds at the first success",
+             ports=[Port(name="name", type=PortType.STRING, description="free text", required=False)],
+             targets={"socrates", "hunav2", "hunav1"}, hunav2="Fallback", hunav1="Fallback",
+             min_children=1, max_children=None),
+    NodeSpec(name="ReactiveSequence", kind="control", in_prompt=False,
+             description="like Sequence, re-checking earlier children every tick",
+             ports=[Port(name="name", type=PortType.STRING, description="free text", required=False)],
+             targets={"socrates", "hunav2", "hunav1"}, hunav2="ReactiveSequence", hunav1="ReactiveSequence",
+             min_children=1, max_children=None),
+    NodeSpec(name="ReactiveFallback", kind="control", in_prompt=False,
+             description="like Fallback, re-checking earlier children every tick",
+             ports=[Port(name="name", type=PortType.STRING, description="free text", required=False)],
+             targets={"socrates", "hunav2", "hunav1"}, hunav2="ReactiveFallback", hunav1="ReactiveFallback",
+             min_children=1, max_children=None),
+    NodeSpec(name="Inverter", kind="decorator", description="turns SUCCESS into FAILURE and back",
+             ports=[Port(name="name", type=PortType.STRING, description="free text", required=False)],
+             targets={"socrates", "hunav2", "hunav1"}, hunav2="Inverter", hunav1="Inverter",
+             min_children=1, max_children=1),
+    NodeSpec(name="ForceSuccess", kind="decorator", in_prompt=False, description="always SUCCESS",
+             ports=[Port(name="name", type=PortType.STRING, description="free text", required=False)],
+             targets={"socrates", "hunav2", "hunav1"}, hunav2="ForceSuccess", hunav1="ForceSuccess",
+             min_children=1, max_children=1),
+    NodeSpec(name="ForceFailure", kind="decorator", in_prompt=False, description="always FAILURE",
+             ports=[Port(name="name", type=PortType.STRING, description="free text", required=False)],
+             targets={"socrates", "hunav2", "hunav1"}, hunav2="ForceFailure", hunav1="ForceFailure",
+             min_children=1, max_children=1),
+    NodeSpec(name="SetBlackboard", kind="builtin",
+             ports=[Port(name="output_key", type=PortType.STRING, description="blackboard key to write"),
+                    Port(name="value", type=PortType.STRING, description="value or {key} to copy")],
+             description="writes `value` into the blackboard entry `output_key`",
+             targets={"socrates", "hunav2", "hunav1"}, hunav2="SetBlackboard", hunav1="SetBlackboard"),
+    NodeSpec(name="SubTree", kind="builtin",
+             ports=[Port(name="ID", type=PortType.STRING, description="id of the BehaviorTree to run")],
+             description="runs another BehaviorTree; extra attributes remap its ports to parent keys",
+             targets={"socrates", "hunav2", "hunav1"}, hunav2="SubTree", hunav1="SubTree"),
+]
+
+LIBRARY: dict[str, NodeSpec] = {n.name: n for n in NODES}
+
+# Trees the library ships and that a generated tree may `include` (file name -> main tree id).
+LIBRARY_TREES: dict[str, str] = {"BTRegularNav.xml": "RegularNavTree"}
+
+REGULAR_NAV_XML = """<root main_tree_to_execute="RegularNavTree">
+    <BehaviorTree ID="RegularNavTree">
+        <Fallback name="RegularNavFallback">
+            <Sequence name="RegularNavigation">
+                <Inverter>
+                    <IsGoalReached agent_id="{id}"/>
+                </Inverter>
+                <RegularNav agent_id="{id}" time_step="{dt}"/>
+            </Sequence>
+            <UpdateGoal agent_id="{id}"/>
+        </Fallback>
+    </BehaviorTree>
+</root>
+"""
+
+LIBRARY_TREE_XML: dict[str, str] = {"BTRegularNav.xml": REGULAR_NAV_XML}
+
+
+def leaf_nodes() -> list[NodeSpec]:
+    return [n for n in NODES if n.kind in ("action", "condition")]
+
+
+def prompt_nodes() -> list[NodeSpec]:
+    return [n for n in NODES if n.in_prompt]

@@ -1,0 +1,102 @@
+"""Behavior-tree XML as plain data, parsed defensively (defusedxml: no DTD, no entities, limits)."""
+
+from __future__ import annotations
+
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass, field
+
+from defusedxml import DefusedXmlException
+from defusedxml.ElementTree import DefusedXMLParser
+
+from socnavgen.errors import ValidationFailed
+
+MAX_XML_BYTES = 256 * 1024
+MAX_DEPTH = 64
+MAX_ELEMENTS = 5000
+
+
+@dataclass
+class BTElement:
+    """One XML element: tag, attributes, children, and its line in the source (for messages)."""
+
+    tag: str
+    attrs: dict[str, str]
+    children: list[BTElement] = field(default_factory=list)
+    line: int | None = None
+
+    def walk(self):  # noqa: ANN201 - generator of BTElement
+        yield self
+        for child in self.children:
+            yield from child.walk()
+
+
+@dataclass
+class BTDocument:
+    """A `<root>` file: its main tree id, its BehaviorTree definitions, its includes."""
+
+    root: BTElement
+    main_tree: str | None
+    trees: dict[str, BTElement]  # BehaviorTree ID -> the BehaviorTree element
+    includes: list[str]
+    format_version: int  # 3 or 4 (BTCPP_format)
+    source: str = "<string>"
+
+
+class _LineTreeBuilder(ET.TreeBuilder):
+    def __init__(self) -> None:
+        super().__init__()
+        self.parser: DefusedXMLParser | None = None
+        self.lines: dict[int, int] = {}
+        self.count = 0
+        self.depth = 0
+
+    def start(self, tag, attrs):  # noqa: ANN001, ANN201 - ElementTree API
+        self.count += 1
+        self.depth += 1
+        if self.count > MAX_ELEMENTS:
+            raise ValidationFailed(f"tree has more than {MAX_ELEMENTS} elements")
+        if self.depth > MAX_DEPTH:
+            raise ValidationFailed(f"tree is nested more than {MAX_DEPTH} levels deep")
+        elem = super().start(tag, attrs)
+        if self.parser is not None:
+            self.lines[id(elem)] = self.parser.parser.CurrentLineNumber
+        return elem
+
+    def end(self, tag):  # noqa: ANN001, ANN201
+        self.depth -= 1
+        return super().end(tag)
+
+
+def parse_bt(text: str, source: str = "<string>") -> BTDocument:
+    """Parse BT.CPP v3/v4 XML. Raises ValidationFailed (with source and line) on anything hostile or malformed."""
+    if len(text.encode("utf-8", errors="ignore")) > MAX_XML_BYTES:
+        raise ValidationFailed(f"XML is larger than {MAX_XML_BYTES} bytes", file=source)
+    builder = _LineTreeBuilder()
+    parser = DefusedXMLParser(target=builder, forbid_dtd=True, forbid_entities=True, forbid_external=True)
+    builder.parser = parser
+    try:
+        parser.feed(text)
+        top = parser.close()
+    except ValidationFailed as exc:
+        raise ValidationFailed(exc.message, file=source) from exc
+    except DefusedXmlException as exc:
+        raise ValidationFailed(f"forbidden XML construct ({type(exc).__name__}): DTDs and entities are not allowed",
+                               file=source) from exc
+    except ET.ParseError as exc:
+        line = exc.position[0] if exc.position else None
+        raise ValidationFailed(f"XML does not parse: {exc}", file=source, line=line) from exc
+
+    def convert(e: ET.Element) -> BTElement:
+        return BTElement(tag=e.tag, attrs=dict(e.attrib), children=[convert(c) for c in e],
+                         line=builder.lines.get(id(e)))
+
+    root = convert(top)
+    if root.tag != "root":
+        raise ValidationFailed(f"the top element is <{root.tag}>, expected <root>", file=source, line=root.line)
+    trees = {c.attrs.get("ID", ""): c for c in root.children if c.tag == "BehaviorTree"}
+    includes = [c.attrs.get("path", "") for c in root.children if c.tag == "include"]
+    fmt = 4 if root.attrs.get("BTCPP_format") == "4" else 3
+    main = root.attrs.get("main_tree_to_execute")
+    if main is None and len(trees) == 1 and fmt == 4:
+        main = next(iter(trees))
+    return BTDocument(root=root, main_tree=main, trees=trees, includes=includes, format_version=fmt, source=source)

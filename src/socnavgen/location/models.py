@@ -1,0 +1,71 @@
+"""Data models of a location folder (location.yaml and scene_graph.json)."""
+
+from __future__ import annotations
+
+import re
+
+from pydantic import BaseModel, ConfigDict, Field, field_validator
+
+NODE_ID_PATTERN = re.compile(r"^[a-z0-9]{2}$")
+
+
+class Schema(BaseModel):
+    """Node and edge types allowed in the scene graph; the pipeline never depends on their words."""
+
+    model_config = ConfigDict(extra="forbid")
+    node_types: list[str] = Field(min_length=1)
+    edge_types: list[str] = Field(min_length=1)
+
+
+class LocationConfig(BaseModel):
+    """location.yaml. Exactly one of `nav2_map` and `pixel_to_world` gives the transform."""
+
+    model_config = ConfigDict(extra="forbid")
+    name: str
+    description: str
+    map: str = Field(description="map image file, relative to the location folder")
+    nav2_map: str | None = Field(default=None, description="ROS map_server yaml (resolution, origin)")
+    pixel_to_world: list[list[float]] | None = Field(default=None, description="3x3 homogeneous matrix")
+    occupancy_image: str | None = Field(
+        default=None, description="occupancy image if `map` is a picture; defaults to the nav2 image or `map`")
+    schema_: Schema = Field(alias="schema")
+
+    @field_validator("pixel_to_world")
+    @classmethod
+    def _is_3x3(cls, value: list[list[float]] | None) -> list[list[float]] | None:
+        if value is not None and (len(value) != 3 or any(len(row) != 3 for row in value)):
+            raise ValueError("pixel_to_world must be a 3x3 matrix (three rows of three numbers)")
+        return value
+
+
+class Node(BaseModel):
+    """A scene-graph node; `pos` is in image pixels (x right, y down)."""
+
+    type: str
+    pos: tuple[float, float]
+    id: str
+
+
+class Edge(BaseModel):
+    type: str
+    source: str
+    target: str
+
+
+class SceneGraph(BaseModel):
+    """networkx node-link JSON exactly as the SocRATES annotator writes it."""
+
+    directed: bool = False
+    multigraph: bool = False
+    graph: dict = Field(default_factory=dict)
+    nodes: list[Node] = Field(default_factory=list)
+    links: list[Edge] = Field(default_factory=list)
+
+    def node(self, node_id: str) -> Node:
+        for node in self.nodes:
+            if node.id == node_id:
+                return node
+        raise KeyError(node_id)
+
+    def node_ids(self) -> list[str]:
+        return [n.id for n in self.nodes]

@@ -1,0 +1,112 @@
+"""Paths and atomic reads/writes of a run folder (design contract: request.json, scenario.json,
+paths.json, behaviors/<human>.xml, transcript.jsonl, manifest.json, sim/)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TypeVar
+
+from pydantic import BaseModel, ValidationError
+
+from socnavgen.errors import InputFileError
+from socnavgen.run.models import Manifest, PathPlan, ScenarioProposal, ScenarioRequest
+from socnavgen.safeio import atomic_write_text, contained_path, load_json_file, read_text_limited
+
+M = TypeVar("M", bound=BaseModel)
+
+
+@dataclass
+class RunFolder:
+    root: Path
+
+    def __post_init__(self) -> None:
+        self.root = Path(self.root)
+
+    # -- well-known files --------------------------------------------------------------------
+    @property
+    def request_path(self) -> Path:
+        return self.root / "request.json"
+
+    @property
+    def scenario_path(self) -> Path:
+        return self.root / "scenario.json"
+
+    @property
+    def proposals_path(self) -> Path:
+        return self.root / "proposals.json"
+
+    @property
+    def paths_path(self) -> Path:
+        return self.root / "paths.json"
+
+    @property
+    def behaviors_dir(self) -> Path:
+        return self.root / "behaviors"
+
+    @property
+    def transcript_path(self) -> Path:
+        return self.root / "transcript.jsonl"
+
+    @property
+    def manifest_path(self) -> Path:
+        return self.root / "manifest.json"
+
+    @property
+    def sim_dir(self) -> Path:
+        return self.root / "sim"
+
+    def behavior_path(self, human: str) -> Path:
+        return contained_path(self.behaviors_dir, f"{human}.xml")
+
+    # -- typed access ------------------------------------------------------------------------
+    def _read(self, path: Path, model: type[M]) -> M:
+        data = load_json_file(path)
+        try:
+            return model.model_validate(data)
+        except ValidationError as exc:
+            first = exc.errors()[0]
+            raise InputFileError(f"{'.'.join(map(str, first['loc']))}: {first['msg']}", file=path,
+                                 hint="was this file edited by hand?") from exc
+
+    def _write(self, path: Path, value: BaseModel) -> None:
+        atomic_write_text(path, value.model_dump_json(indent=2) + "\n")
+
+    def read_request(self) -> ScenarioRequest:
+        return self._read(self.request_path, ScenarioRequest)
+
+    def write_request(self, value: ScenarioRequest) -> None:
+        self._write(self.request_path, value)
+
+    def read_scenario(self) -> ScenarioProposal:
+        return self._read(self.scenario_path, ScenarioProposal)
+
+    def write_scenario(self, value: ScenarioProposal) -> None:
+        self._write(self.scenario_path, value)
+
+    def read_paths(self) -> PathPlan:
+        return self._read(self.paths_path, PathPlan)
+
+    def write_paths(self, value: PathPlan) -> None:
+        self._write(self.paths_path, value)
+
+    def read_manifest(self) -> Manifest:
+        return self._read(self.manifest_path, Manifest)
+
+    def write_manifest(self, value: Manifest) -> None:
+        self._write(self.manifest_path, value)
+
+    def read_behavior(self, human: str) -> str:
+        return read_text_limited(self.behavior_path(human))
+
+    def write_behavior(self, human: str, xml: str) -> None:
+        atomic_write_text(self.behavior_path(human), xml)
+
+    def behaviors(self) -> dict[str, str]:
+        """human name -> tree XML, for every behaviors/*.xml present."""
+        if not self.behaviors_dir.is_dir():
+            return {}
+        return {p.stem: read_text_limited(p) for p in sorted(self.behaviors_dir.glob("human*.xml"))}
+
+    def has(self, name: str) -> bool:
+        return (self.root / name).exists()

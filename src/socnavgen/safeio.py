@@ -1,0 +1,88 @@
+"""Defensive file I/O shared by every stage: size limits, file:line on parse errors, atomic writes,
+and paths that cannot leave their folder."""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from socnavgen.errors import InputFileError
+
+MAX_TEXT_BYTES = 8 * 1024 * 1024  # JSON / YAML / XML a user or a model can hand us
+MAX_IMAGE_BYTES = 64 * 1024 * 1024
+
+
+def read_text_limited(path: Path, limit: int = MAX_TEXT_BYTES) -> str:
+    path = Path(path)
+    if not path.is_file():
+        raise InputFileError("file not found", file=path, hint="check the path")
+    size = path.stat().st_size
+    if size > limit:
+        raise InputFileError(f"file is {size} bytes, more than the {limit} allowed", file=path,
+                             hint="is this the right file?")
+    try:
+        return path.read_text(encoding="utf-8")
+    except UnicodeDecodeError as exc:
+        raise InputFileError(f"not UTF-8 text ({exc.reason} at byte {exc.start})", file=path) from exc
+
+
+def load_json_file(path: Path, limit: int = MAX_TEXT_BYTES) -> Any:
+    text = read_text_limited(path, limit)
+    try:
+        return json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise InputFileError(f"malformed JSON: {exc.msg} (column {exc.colno})", file=path, line=exc.lineno,
+                             hint="fix the JSON syntax at that line") from exc
+
+
+def load_yaml_file(path: Path, limit: int = MAX_TEXT_BYTES) -> Any:
+    text = read_text_limited(path, limit)
+    try:
+        return yaml.safe_load(text)
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        line = mark.line + 1 if mark is not None else None
+        problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
+        raise InputFileError(f"malformed YAML: {problem}", file=path, line=line,
+                             hint="fix the YAML syntax at that line") from exc
+
+
+def atomic_write_bytes(path: Path, data: bytes) -> None:
+    """Write to a temp file in the same folder and rename: a crash never leaves a half file."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def atomic_write_text(path: Path, text: str) -> None:
+    atomic_write_bytes(path, text.encode("utf-8"))
+
+
+def atomic_write_json(path: Path, data: Any, indent: int = 2) -> None:
+    atomic_write_text(path, json.dumps(data, indent=indent, ensure_ascii=False) + "\n")
+
+
+def contained_path(base: Path, relative: str | Path) -> Path:
+    """Resolve `relative` under `base`, refusing anything that escapes it (.., absolute, symlinks)."""
+    base = Path(base).resolve()
+    rel = Path(relative)
+    if rel.is_absolute():
+        raise InputFileError(f"absolute path {str(relative)!r} not allowed here", hint="use a path relative to the folder")
+    target = (base / rel).resolve()
+    if target != base and base not in target.parents:
+        raise InputFileError(f"path {str(relative)!r} leaves {base}", hint="keep files inside the folder")
+    return target

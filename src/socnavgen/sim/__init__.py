@@ -1,0 +1,1 @@
+"""Headless 2D simulator: social-force pedestrians driven by the generated behavior trees."""
