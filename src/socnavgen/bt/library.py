@@ -241,3 +241,23 @@ def leaf_nodes() -> list[NodeSpec]:
 
 def prompt_nodes() -> list[NodeSpec]:
     return [n for n in NODES if n.in_prompt]
+
+
+# ---- export translation to HuNavSim 2.x (used by socnavgen.export.hunav2) ----------------------
+class PortTranslation(BaseModel):
+    """How one node's ports become its 2.x counterpart's ports (`NodeSpec.hunav2` names the node):
+    `rename` ours -> theirs (absent = same name), `values` literal codes -> 2.x words, `fixed`
+    ports 2.x needs that our node implies (e.g. our FollowRobot stops 1.5 m from the robot)."""
+
+    rename: dict[str, str] = Field(default_factory=dict)
+    values: dict[str, dict[str, str]] = Field(default_factory=dict)
+    fixed: dict[str, str] = Field(default_factory=dict)
+
+
+HUNAV2_PORTS: dict[str, PortTranslation] = {
+    "IsRobotNearby": PortTranslation(rename={"distance": "threshold"}),
+    "MakeGesture": PortTranslation(values={"message": {str(k): v for k, v in HUMAN_GESTURES.items()}}),
+    "FollowRobot": PortTranslation(fixed={"closest_dist": "1.5"}),
+    "FollowHuman": PortTranslation(rename={"target_id": "target_agent_id"}, fixed={"duration": "5.0"}),
+    "BlockRobot": PortTranslation(fixed={"front_dist": "1.5"}),
+}

@@ -1,9 +1,219 @@
-"""CLI command(s) for generate."""
+"""`socnavgen generate`: scenario -> paths -> behavior trees into a run folder, with a live display."""
 
 from __future__ import annotations
 
+import importlib
+import threading
+from pathlib import Path
+from typing import Annotated
+
 import typer
+from rich.panel import Panel
+from rich.prompt import Prompt
+from rich.syntax import Syntax
+from rich.table import Table
+
+from socnavgen.cli.common import console, err_console, progress
+from socnavgen.errors import SocnavgenError
+from socnavgen.proposal.conversation import ProgressEvent
+from socnavgen.proposal.review import ReviewDecision
+from socnavgen.run import RunFolder, ScenarioRequest
+
+STAGE_TITLES = {"scenario": "stage 1 scenario", "paths": "stage 2 paths", "behaviors": "stage 3 trees",
+                "naive": "naive (all at once)", "verify": "verify"}
+
+
+class LiveProgress:
+    """Turns pipeline events into one progress line per stage (and per human), attempts shown."""
+
+    def __init__(self, bar) -> None:  # noqa: ANN001 - rich Progress
+        self.bar = bar
+        self.tasks: dict[tuple[str, str | None], int] = {}
+        self.lock = threading.Lock()
+
+    def __call__(self, event: ProgressEvent) -> None:
+        with self.lock:
+            label = STAGE_TITLES.get(event.stage, event.stage) + (f" {event.key}" if event.key else "")
+            task = self.tasks.get((event.stage, event.key))
+            if task is None:
+                task = self.bar.add_task(label, total=1)
+                self.tasks[(event.stage, event.key)] = task
+            if event.kind == "attempt":
+                extra = f" (restart {event.restart})" if event.restart else ""
+                self.bar.update(task, description=f"{label}: attempt {event.attempt}{extra}")
+            elif event.kind == "invalid":
+                self.bar.update(task, description=f"{label}: attempt {event.attempt} invalid, re-asking")
+            elif event.kind == "restart":
+                self.bar.update(task, description=f"{label}: restarting the conversation")
+            elif event.kind in ("done", "skipped"):
+                note = f" ({event.message})" if event.message else ""
+                self.bar.update(task, completed=1, description=f"{label}: {event.kind}{note}"[:100])
+            elif event.kind == "failed":
+                self.bar.update(task, description=f"{label}: FAILED")
+
+
+def console_review(stage: str, key: str | None, result: str) -> ReviewDecision:
+    """--review: show the stage's result and ask accept / retry / an edit request for the model."""
+    lexer = "xml" if result.lstrip().startswith("<") else "json"
+    title = STAGE_TITLES.get(stage, stage) + (f" {key}" if key else "")
+    console.print(Panel(Syntax(result, lexer, word_wrap=True), title=title))
+    answer = Prompt.ask("[bold]a[/]ccept, [bold]r[/]etry, or type what to change", default="a", console=console)
+    text = answer.strip()
+    if text.lower() in ("a", "accept", "y", "yes", ""):
+        return ReviewDecision(action="accept")
+    if text.lower() in ("r", "retry"):
+        return ReviewDecision(action="retry")
+    return ReviewDecision(action="edit", request=text)
+
+
+def card_defaults(name: str) -> object:
+    """The scenario card NAME from the cards library (provided by socnavgen.cards.library)."""
+    try:
+        library = importlib.import_module("socnavgen.cards.library")
+    except ImportError as exc:
+        raise SocnavgenError("--card needs the scenario card library (socnavgen.cards.library), which is not "
+                             "available in this installation", hint="pass --rough TEXT instead") from exc
+    try:
+        return library.get_card(name)
+    except KeyError as exc:
+        raise SocnavgenError(f"unknown scenario card {name!r}", hint="see `socnavgen cards list`") from exc
+
+
+def _request(location: Path | None, context: str | None, task: str | None, rough: str | None, card: str | None,
+             llm: str, from_run: Path | None, **settings: object) -> ScenarioRequest:
+    if from_run is not None:
+        base = RunFolder(from_run).read_request()
+        return base.model_copy(update={"llm": llm, **{k: v for k, v in settings.items() if k != "naive"}})
+    if card:
+        found = card_defaults(card)
+        rough = rough or getattr(found, "rough", None)
+        context = context or getattr(found, "context", None)
+        task = task or getattr(found, "task", None)
+    missing = [name for name, value in (("--location", location), ("--context", context), ("--task", task))
+               if not value]
+    if missing:
+        raise SocnavgenError(f"missing {', '.join(missing)}",
+                             hint="give the location folder, the social context and the robot task "
+                                  "(or --from RUN to continue a run)")
+    return ScenarioRequest(location=str(location), context=context, task=task, rough=rough, card=card, llm=llm,
+                           **settings)
+
+
+def _summary(run, folder: RunFolder) -> None:  # noqa: ANN001 - a proposal.Run
+    manifest = run.manifest
+    table = Table(title=f"run {folder.root}  ({manifest.status})")
+    for column in ("stage", "status", "attempts", "restarts", "tokens in/out", "seconds"):
+        table.add_column(column, justify="right" if column not in ("stage", "status") else "left")
+    total_in = total_out = 0
+    for name, record in manifest.stages.items():
+        if ":" not in name:
+            total_in += record.prompt_tokens
+            total_out += record.completion_tokens
+        table.add_row(name, record.status, str(record.attempts), str(record.restarts),
+                      f"{record.prompt_tokens}/{record.completion_tokens}", f"{record.seconds:.1f}")
+    console.print(table)
+    console.print(f"[bold]scenario[/]: {run.scenario.scenario_description}", highlight=False)
+    console.print(f"[bold]robot[/]: {' -> '.join(run.paths.robot)}", highlight=False)
+    for human in run.paths.humans:
+        group = f", group {human.group_id}" if human.group_id >= 0 else ""
+        meet = f", meets the robot at {human.interaction_point}" if human.interaction_point else ""
+        console.print(f"[bold]{human.name}[/]: {' -> '.join(human.path)}{group}{meet}", highlight=False)
+    files = [folder.request_path, folder.scenario_path, folder.paths_path,
+             *[folder.behavior_path(h) for h in run.behaviors], folder.transcript_path, folder.manifest_path]
+    console.print("files: " + ", ".join(str(p.relative_to(folder.root)) for p in files if p.exists()),
+                  highlight=False)
+    console.print(f"tokens: {total_in} in, {total_out} out", highlight=False)
 
 
 def register(app: typer.Typer) -> None:
-    """Add this module's top-level command(s) to the main app."""
+    """Add `generate` to the main app."""
+
+    @app.command("generate")
+    def generate_command(
+        location: Annotated[Path | None, typer.Option(
+            "--location", "-l", help="Location folder (location.yaml, map, scene_graph.json).")] = None,
+        context: Annotated[str | None, typer.Option(
+            "--context", "-c", help="Social context, e.g. 'Delivery robot in a small warehouse'.")] = None,
+        task: Annotated[str | None, typer.Option("--task", "-t", help="The robot's task.")] = None,
+        rough: Annotated[str | None, typer.Option(
+            "--rough", "-r", help="Optional rough scenario the result must follow.")] = None,
+        card: Annotated[str | None, typer.Option(
+            "--card", help="Take the rough scenario (and defaults) from a scenario card, e.g. frontal-approach.")
+        ] = None,
+        llm: Annotated[str, typer.Option(
+            "--llm", help="Model: local (offline SmolLM2-135M), gguf:PATH, openai:MODEL[@BASE_URL], "
+                          "replay:FILE.")] = "local",
+        out: Annotated[Path | None, typer.Option(
+            "--out", "-o", help="Run folder to write (re-running on it resumes where it stopped).")] = None,
+        proposals: Annotated[int, typer.Option(
+            "--proposals", min=1, max=10, help="Ask for N distinct scenario proposals (all kept in proposals.json).")
+        ] = 1,
+        pick: Annotated[int, typer.Option("--pick", min=1, help="Which proposal to use (1 = the first).")] = 1,
+        max_restarts: Annotated[int, typer.Option(
+            "--max-restarts", min=0, max=20,
+            help="Conversation restarts per stage after 3 failed corrections.")] = 2,
+        no_cache: Annotated[bool, typer.Option("--no-cache", help="Ask the model again instead of reusing "
+                                                                  "cached replies.")] = False,
+        no_image: Annotated[bool, typer.Option("--no-image", help="Do not send the annotated map image.")] = False,
+        max_parallel: Annotated[int, typer.Option("--max-parallel", min=1, max=32,
+                                                  help="Requests in flight (behavior trees are asked in parallel).")
+                                ] = 4,
+        seed: Annotated[int, typer.Option("--seed", help="Seed of the generated tutorial and examples.")] = 0,
+        temperature: Annotated[float, typer.Option("--temperature", min=0.0, max=2.0,
+                                                   help="Sampling temperature (raised on restarts).")] = 0.0,
+        review: Annotated[bool, typer.Option("--review", help="Stop after each stage: accept, retry, or type an "
+                                                              "edit request for the model.")] = False,
+        verify: Annotated[bool, typer.Option("--verify", help="Simulate the result and re-ask the blamed stage "
+                                                              "when the intended interaction does not happen.")
+                          ] = False,
+        naive: Annotated[bool, typer.Option("--naive", help="Baseline: one prompt for everything, no tutorials "
+                                                            "or examples (for evaluation).")] = False,
+        from_run: Annotated[Path | None, typer.Option(
+            "--from", help="Start from an earlier run (copied to --out if given, else changed in place).")] = None,
+        redo: Annotated[list[str] | None, typer.Option(
+            "--redo", help="With --from: regenerate this stage (scenario, paths or behaviors) and the ones after "
+                           "it; repeatable.")] = None,
+    ) -> None:
+        """Generate a scenario: a textual scenario, robot and human paths on the scene graph, and a behavior
+        tree per human, every answer validated and re-asked on mistakes.
+
+        Example:
+
+          socnavgen generate --location examples/locations/warehouse \\
+            --context "Delivery robot in a small warehouse; employees walk around" \\
+            --task "Transport a box from one point to another" \\
+            --rough "The robot turns at a blind corner and meets a human who stops" \\
+            --llm openai:gpt-4o --out runs/blind_corner
+
+        Redo the paths (and trees) of that run with another model, keeping its scenario:
+
+          socnavgen generate --from runs/blind_corner --redo paths --llm local --out runs/blind_corner_v2
+        """
+        from socnavgen.llm import make_llm
+        from socnavgen.proposal import generate
+        from socnavgen.proposal.pipeline import copy_run
+
+        if redo and from_run is None:
+            raise SocnavgenError("--redo needs --from RUN", hint="e.g. --from runs/x --redo paths")
+        if from_run is not None and out is not None and Path(out).resolve() != Path(from_run).resolve():
+            copy_run(from_run, out)
+        target = out or from_run
+        if target is None:
+            raise SocnavgenError("missing --out", hint="name the run folder to write, e.g. --out runs/my_scenario")
+        if pick > proposals:
+            raise SocnavgenError(f"--pick {pick} but only {proposals} proposal(s) are asked for",
+                                 hint="raise --proposals or lower --pick")
+        request = _request(location, context, task, rough, card, llm, from_run if from_run else None,
+                           proposals=proposals, pick=pick - 1, max_restarts=max_restarts, naive=naive, seed=seed,
+                           temperature=temperature, use_image=not no_image)
+        folder = RunFolder(target)
+        folder.root.mkdir(parents=True, exist_ok=True)
+        model = make_llm(llm, transcript=folder.transcript_path, use_cache=not no_cache, max_parallel=max_parallel,
+                         use_image=not no_image)
+        with progress() as bar:
+            result = generate(request, model, target, redo=set(redo or []) or None,
+                              review=console_review if review else None, progress=LiveProgress(bar), verify=verify)
+        _summary(result, folder)
+        if verify and result.verify is not None and not result.verify.passed:
+            err_console.print("[red]the verifier still finds problems[/]; see sim/verify.json")
+            raise typer.Exit(1)

@@ -1,7 +1,103 @@
-"""`socnavgen location ...` commands."""
+"""`socnavgen location ...` commands: check, show, import-socrates (and extract, added by its own module)."""
 
 from __future__ import annotations
 
+import json
+from pathlib import Path
+
 import typer
+from rich.table import Table
+
+from socnavgen.cli.common import console
+from socnavgen.location.check import check_location
+from socnavgen.location.location import SCENE_GRAPH_IMAGE, load_location
 
 app = typer.Typer(help="location commands", no_args_is_help=True)
+
+
+@app.command("check")
+def check(
+    folder: Path = typer.Argument(..., help="Location folder (holds location.yaml, the map, scene_graph.json)."),
+    as_json: bool = typer.Option(False, "--json", help="Print the problems as JSON (for scripts and CI)."),
+) -> None:
+    """Check a location: files, ids, types against the schema, nodes on free floor, edges clear of walls,
+    connectivity. Lists EVERY problem with the file, line and what to do. Exit code 0 when there is no
+    error (warnings allowed), 1 otherwise.
+
+    Example: socnavgen location check examples/locations/warehouse
+    """
+    report = check_location(folder)
+    if as_json:
+        print(json.dumps({"location": str(folder), "ok": report.ok, "nodes": report.nodes, "edges": report.edges,
+                          "errors": len(report.errors), "warnings": len(report.warnings),
+                          "problems": [p.to_dict() for p in report.problems]}, indent=2))
+    else:
+        if report.problems:
+            table = Table(title=f"location check: {folder}", show_lines=True)
+            table.add_column("level")
+            table.add_column("where", overflow="fold")
+            table.add_column("problem", overflow="fold")
+            table.add_column("what to do", overflow="fold")
+            for p in report.problems:
+                colour = "red" if p.level == "error" else "yellow"
+                table.add_row(f"[{colour}]{p.level}[/]", _short_where(p.where, folder), p.message, p.hint)
+            console.print(table)
+        verdict = "[green]OK[/]" if report.ok else "[red]FAILED[/]"
+        console.print(f"{verdict} {folder}: {report.nodes} nodes, {report.edges} edges, "
+                      f"{len(report.errors)} error(s), {len(report.warnings)} warning(s)", highlight=False, soft_wrap=True)
+    raise typer.Exit(0 if report.ok else 1)
+
+
+def _short_where(where: str, folder: Path) -> str:
+    """File names relative to the location folder: the table stays readable in an 80-column terminal."""
+    prefix = str(folder).rstrip("/") + "/"
+    return where[len(prefix):] if where.startswith(prefix) else where
+
+
+@app.command("show")
+def show(
+    folder: Path = typer.Argument(..., help="Location folder."),
+    output: Path | None = typer.Option(None, "-o", "--output",
+                                        help="PNG to write (default: scene_graph.png inside the folder)."),
+) -> None:
+    """Render the annotated map: nodes as labelled boxes, edges as lines, colour by type, a legend and a
+    scale bar, upscaled so a vision LLM reads the labels (long side ~1280 px). Deterministic.
+
+    Example: socnavgen location show examples/locations/hospital -o /tmp/hospital.png
+    """
+    from socnavgen.location.render import write_location_png
+
+    location = load_location(folder)
+    out = output or folder / SCENE_GRAPH_IMAGE
+    write_location_png(location, out)
+    console.print(f"wrote {out}", highlight=False, soft_wrap=True)
+
+
+@app.command("import-socrates")
+def import_socrates(
+    source: Path = typer.Argument(..., help="SocRATES annotator folder with map.pgm, map.yaml, scene_graph.json."),
+    output: Path = typer.Option(..., "-o", "--output", help="New location folder to write."),
+    config: Path | None = typer.Option(None, "--config",
+                                       help="Annotator config.yaml whose node_types/edge_types become the schema "
+                                            "(types used in the graph but missing there are added)."),
+    name: str | None = typer.Option(None, "--name", help="Location name (default: the source folder's name)."),
+    description: str | None = typer.Option(None, "--description",
+                                           help="Description for the prompts (default: a generic one naming the "
+                                                "types; edit location.yaml afterwards)."),
+    force: bool = typer.Option(False, "--force", help="Overwrite files in an existing output folder."),
+) -> None:
+    """Turn a SocRATES annotator folder into a location folder, then check it.
+
+    Example: socnavgen location import-socrates ~/SocRATES/locations/small_warehouse -o locations/small_warehouse
+    """
+    from socnavgen.location.importer import import_socrates as run_import
+
+    result = run_import(source, output, config=config, name=name, description=description, force=force)
+    for note in result.notes:
+        console.print(f"[yellow]note:[/] {note}", highlight=False, soft_wrap=True)
+    report = check_location(output)
+    console.print(f"imported {source} -> {output}: {report.nodes} nodes, {report.edges} edges; check: "
+                  f"{len(report.errors)} error(s), {len(report.warnings)} warning(s)", highlight=False, soft_wrap=True)
+    if not report.ok:
+        console.print(f"run `socnavgen location check {output}` for the details", highlight=False, soft_wrap=True)
+    raise typer.Exit(0 if report.ok else 1)

@@ -1,9 +1,111 @@
-"""CLI command(s) for sim."""
+"""`socnavgen simulate` (and `verify`, added by its own function below): run a generated scenario in the
+headless 2D simulator and check it."""
 
 from __future__ import annotations
 
+import time
+from pathlib import Path
+
 import typer
+
+from socnavgen.cli.common import console, progress
+
+
+def simulate(
+    run: Path = typer.Argument(..., help="Run folder (holds request.json, paths.json, behaviors/*.xml)."),
+    robot: str = typer.Option("waypoints", "--robot", help="Robot plugin: `waypoints` (follows its path, slows "
+                              "and stops for people in front, like the paper's teleoperated robot), `sfm` (a "
+                              "social-force robot), or your own policy as `package.module:Class` or "
+                              "`path/to/file.py:Class` (see RobotPolicy in the README)."),
+    dt: float = typer.Option(0.05, "--dt", min=0.001, max=0.5, help="Fixed time step in seconds."),
+    timeout: float = typer.Option(120.0, "--timeout", min=0.1, help="Stop after this many simulated seconds."),
+    seed: int = typer.Option(0, "--seed", help="Seed of the only randomness (spawn offsets): same seed, same run."),
+    gif: bool = typer.Option(False, "--gif", help="Also write RUN/sim/animation.gif."),
+    no_throttle: bool = typer.Option(False, "--no-throttle", help="Do not hold humans back at the node before their "
+                                     "interaction point (SocRATES does, so that the encounter happens there)."),
+    location: Path | None = typer.Option(None, "--location", help="Location folder, if request.json's path does "
+                                         "not resolve from here."),
+) -> None:
+    """Simulate a run without ROS: humans walk with HuNavSim's social force model driven by the run's behavior
+    trees, the robot by a plugin. Writes RUN/sim/trace.npz (per-step poses, velocities, active BT node,
+    gestures), and when available metrics.json (HuNavSim evaluator metrics), trajectories.png and, with
+    --gif, animation.gif. Deterministic for a seed.
+
+    Example: socnavgen simulate runs/blind_corner --robot waypoints --gif
+    """
+    from socnavgen.run import RunFolder
+    from socnavgen.sim.engine import SimConfig
+    from socnavgen.sim.interaction import ThrottleConfig
+    from socnavgen.sim.robot import load_policy
+    from socnavgen.sim.scenario import load_simulation, resolve_location
+
+    policy = load_policy(robot)
+    config = SimConfig(dt=dt, timeout=timeout, seed=seed)
+    sim = load_simulation(run, policy, config, ThrottleConfig(enabled=not no_throttle), location)
+    sim.meta["robot_plugin"] = robot
+    total = int(round(timeout / dt))
+    start = time.perf_counter()
+    with progress() as bar:
+        task = bar.add_task(f"simulating {run.name}", total=total)
+        trace = sim.run(progress=lambda k, n: bar.update(task, completed=k))
+    wall = time.perf_counter() - start
+    out = RunFolder(run).sim_dir
+    trace.save(out / "trace.npz")
+    sim_seconds = float(trace.t[-1]) if trace.steps else 0.0
+    console.print(f"[bold]{trace.end_reason}[/] after {sim_seconds:.1f} s simulated ({trace.steps} steps) in "
+                  f"{wall:.2f} s wall, {sim_seconds / max(wall, 1e-9):.0f}x real time -> {out / 'trace.npz'}",
+                  highlight=False)
+    held = trace.meta.get("held_seconds") or {}
+    for name, seconds in held.items():
+        console.print(f"  {name} held {seconds:.1f} s at the node before its interaction point", highlight=False)
+    for note in trace.meta.get("throttle_skipped") or []:
+        console.print(f"  [yellow]not throttled[/]: {note}", highlight=False)
+    _write_extras(trace, resolve_location(RunFolder(run), location), out, gif)
+
+
+def _write_extras(trace, location, out: Path, gif: bool) -> None:  # noqa: ANN001
+    """metrics.json, trajectories.png and animation.gif from the metrics/plot/animation modules, if present."""
+    try:
+        from socnavgen.sim.metrics import compute_metrics
+    except ImportError:
+        compute_metrics = None
+    if compute_metrics is not None:
+        from socnavgen.safeio import atomic_write_text
+
+        metrics = compute_metrics(trace, location)
+        try:
+            from socnavgen.sim.metrics import write_metrics
+
+            write_metrics(metrics, out / "metrics.json")
+        except ImportError:
+            import json
+
+            atomic_write_text(out / "metrics.json", json.dumps(metrics, indent=2, default=str) + "\n")
+        keys = [k for k in ("success", "time_to_reach_goal", "minimum_distance_to_people", "collisions")
+                if k in metrics]
+        if keys:
+            console.print("  " + ", ".join(f"{k} = {metrics[k]}" for k in keys), highlight=False)
+        console.print(f"  metrics -> {out / 'metrics.json'}", highlight=False)
+    try:
+        from socnavgen.sim.plot import plot_trajectories
+    except ImportError:
+        plot_trajectories = None
+    if plot_trajectories is not None:
+        plot_trajectories(trace, location, out / "trajectories.png")
+        console.print(f"  plot -> {out / 'trajectories.png'}", highlight=False)
+    if gif:
+        try:
+            from socnavgen.sim.animate import write_gif
+        except ImportError:
+            console.print("  [yellow]animation not available in this build[/]")
+            return
+        write_gif(trace, location, out / "animation.gif")
+        console.print(f"  animation -> {out / 'animation.gif'}", highlight=False)
 
 
 def register(app: typer.Typer) -> None:
-    """Add this module's top-level command(s) to the main app."""
+    """Add `simulate` (and `verify`, when its function `register_verify` is defined below) to the main app."""
+    app.command("simulate")(simulate)
+    extra = globals().get("register_verify")
+    if extra is not None:
+        extra(app)

@@ -1,0 +1,167 @@
+"""The annotator's local web server: a starlette app bound to 127.0.0.1 that serves one page, the
+location's map image and a small JSON API. Every request is bounded in size, typed by pydantic and
+refused when it comes from another site (Host / Origin checks against DNS rebinding and CSRF)."""
+
+from __future__ import annotations
+
+import json
+import threading
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+from pydantic import ValidationError
+from starlette.applications import Starlette
+from starlette.middleware import Middleware
+from starlette.middleware.trustedhost import TrustedHostMiddleware
+from starlette.requests import Request
+from starlette.responses import HTMLResponse, JSONResponse, Response
+from starlette.routing import Route
+
+from socnavgen.annotate.models import SavePayload
+from socnavgen.annotate.store import AnnotationStore, SaveRejected
+from socnavgen.errors import SocnavgenError
+
+MAX_BODY_BYTES = 4 * 1024 * 1024  # a full 1296-node graph is ~150 kB
+LOOPBACK = "127.0.0.1"
+STATIC_FILES = {"annotator.js": "text/javascript; charset=utf-8", "annotator.css": "text/css; charset=utf-8"}
+SECURITY_HEADERS = {
+    "Content-Security-Policy": "default-src 'self'; img-src 'self' blob: data:; object-src 'none'; "
+                               "frame-ancestors 'none'; base-uri 'none'",
+    "X-Content-Type-Options": "nosniff",
+    "Referrer-Policy": "no-referrer",
+    "Cache-Control": "no-store",
+}
+
+
+class RequestRefused(Exception):
+    def __init__(self, status: int, message: str, problems: list[str] | None = None) -> None:
+        super().__init__(message)
+        self.status, self.message, self.problems = status, message, problems or []
+
+
+def _static_text(name: str) -> str:
+    return resources.files("socnavgen.annotate").joinpath("static", name).read_text(encoding="utf-8")
+
+
+def _error(status: int, message: str, problems: list[str] | None = None) -> JSONResponse:
+    return JSONResponse({"error": message, "problems": problems or []}, status_code=status,
+                        headers=SECURITY_HEADERS)
+
+
+async def read_json_body(request: Request, limit: int = MAX_BODY_BYTES) -> Any:
+    """The request body as JSON, refusing non-JSON, cross-site and oversized requests before parsing."""
+    origin = request.headers.get("origin")
+    host = request.headers.get("host", "")
+    if origin is not None and origin not in (f"http://{host}", f"https://{host}"):
+        raise RequestRefused(403, f"request from another site ({origin}) refused")
+    if request.headers.get("content-type", "").split(";")[0].strip().lower() != "application/json":
+        raise RequestRefused(415, "send the body as application/json")
+    declared = request.headers.get("content-length")
+    if declared is not None and (not declared.isdigit() or int(declared) > limit):
+        raise RequestRefused(413, f"request body larger than {limit} bytes")
+    chunks, size = [], 0
+    async for chunk in request.stream():
+        size += len(chunk)
+        if size > limit:
+            raise RequestRefused(413, f"request body larger than {limit} bytes")
+        chunks.append(chunk)
+    try:
+        return json.loads(b"".join(chunks).decode("utf-8"))
+    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise RequestRefused(400, f"body is not valid JSON: {exc}") from exc
+
+
+def parse_payload(data: Any) -> SavePayload:
+    try:
+        return SavePayload.model_validate(data)
+    except ValidationError as exc:
+        problems = [f"{'.'.join(str(p) for p in e['loc']) or 'body'}: {e['msg']}" for e in exc.errors()[:50]]
+        raise RequestRefused(422, "the graph does not have the expected shape", problems) from exc
+
+
+def create_app(location_dir: Path | str) -> Starlette:
+    """The annotator app for one location folder (loaded now, so a broken folder fails early)."""
+    store = AnnotationStore(location_dir)
+
+    async def index(request: Request) -> Response:
+        return HTMLResponse(_static_text("index.html"), headers=SECURITY_HEADERS)
+
+    async def static(request: Request) -> Response:
+        name = request.path_params["name"]
+        if name not in STATIC_FILES:  # a fixed list: no path is ever built from the request
+            return _error(404, "not found")
+        return Response(_static_text(name), media_type=STATIC_FILES[name], headers=SECURITY_HEADERS)
+
+    async def location(request: Request) -> Response:
+        return JSONResponse(store.state(), headers=SECURITY_HEADERS)
+
+    async def map_image(request: Request) -> Response:
+        return Response(store.map_png(), media_type="image/png", headers=SECURITY_HEADERS)
+
+    async def save(request: Request) -> Response:
+        payload = parse_payload(await read_json_body(request))
+        try:
+            result = store.save(payload)
+        except SaveRejected as exc:
+            return _error(422, "not saved: the graph breaks the schema", exc.problems)
+        except (OSError, SocnavgenError) as exc:  # rendering or disk: the previous files are untouched
+            return _error(500, f"not saved: {exc}")
+        return JSONResponse(result, headers=SECURITY_HEADERS)
+
+    async def check(request: Request) -> Response:
+        if request.method == "GET":
+            return JSONResponse({"warnings": store.warnings()}, headers=SECURITY_HEADERS)
+        payload = parse_payload(await read_json_body(request))
+        try:
+            graph, schema = store.validate(payload)
+        except SaveRejected as exc:
+            return JSONResponse({"warnings": [{"message": p, "severity": "error", "nodes": [], "edge": None}
+                                              for p in exc.problems]}, headers=SECURITY_HEADERS)
+        return JSONResponse({"warnings": store.warnings(graph, schema)}, headers=SECURITY_HEADERS)
+
+    async def refused(request: Request, exc: Exception) -> Response:
+        assert isinstance(exc, RequestRefused)
+        return _error(exc.status, exc.message, exc.problems)
+
+    async def user_error(request: Request, exc: Exception) -> Response:
+        return _error(500, exc.render() if isinstance(exc, SocnavgenError) else str(exc))
+
+    routes = [
+        Route("/", index),
+        Route("/static/{name}", static),
+        Route("/api/location", location),
+        Route("/api/map", map_image),
+        Route("/api/save", save, methods=["POST"]),
+        Route("/api/check", check, methods=["GET", "POST"]),
+    ]
+    app = Starlette(
+        routes=routes,
+        middleware=[Middleware(TrustedHostMiddleware, allowed_hosts=[LOOPBACK, "localhost"])],
+        exception_handlers={RequestRefused: refused, SocnavgenError: user_error},
+    )
+    app.state.store = store
+    return app
+
+
+def make_server(app: Starlette, port: int):  # -> uvicorn.Server
+    """A uvicorn server on the loopback interface only (never 0.0.0.0)."""
+    import uvicorn
+
+    config = uvicorn.Config(app, host=LOOPBACK, port=port, log_level="warning", access_log=False)
+    return uvicorn.Server(config)
+
+
+def serve_in_thread(app: Starlette, port: int) -> tuple[Any, threading.Thread]:
+    """Start the server in a daemon thread (used by tests); returns (server, thread) once it listens."""
+    server = make_server(app, port)
+    thread = threading.Thread(target=server.run, daemon=True)
+    thread.start()
+    import time
+
+    deadline = time.monotonic() + 10
+    while not server.started:
+        if not thread.is_alive() or time.monotonic() > deadline:
+            raise RuntimeError(f"annotator server did not start on {LOOPBACK}:{port}")
+        time.sleep(0.02)
+    return server, thread

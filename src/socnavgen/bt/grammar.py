@@ -1,0 +1,120 @@
+"""A GBNF grammar (llama.cpp syntax) for the stage-3 reply, so an in-process model can only write
+a tree the validator accepts: library nodes with exactly their ports, typed values, gesture codes
+in range, controls with children, decorators with one child, and the RegularNavTree idiom only
+after its include. Generated from the library table; nesting is bounded to keep it small.
+
+The reply is the JSON object {"reasoning": "...", "tree": "..."}; the XML sits inside a JSON
+string, so its attributes are single-quoted and its line breaks are the two characters \\n.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+from socnavgen.bt.library import LIBRARY_TREES, NodeSpec, Port, PortType, Target, prompt_nodes
+
+DEFAULT_TREE_ID = "HumanBehavior"
+DEFAULT_MAX_DEPTH = 5
+# llama.cpp expands x{1,n} into n nested rules; n over ~1000 overflows its stack (segfault, measured).
+MAX_REASONING_CHARS = 500
+
+
+def _lit(text: str) -> str:
+    """A GBNF string literal."""
+    return '"' + text.replace("\\", "\\\\").replace('"', '\\"') + '"'
+
+
+def _alt(options: Iterable[str]) -> str:
+    return " | ".join(options)
+
+
+def _port_value(port: Port, target_ids: list[int] | None) -> str:
+    """The GBNF expression for one port value (without quotes)."""
+    if port.name == "agent_id":
+        return _lit("{id}")
+    if port.name == "time_step":
+        return _lit("{dt}")
+    if port.name == "ts":
+        return f"({_lit('{dt}')} | num)"
+    if port.allowed:
+        return "(" + _alt(_lit(str(code)) for code in port.allowed) + ")"
+    if port.name == "target_id" and target_ids is not None:
+        return "(" + _alt(_lit(str(i)) for i in target_ids) + ")"
+    return {PortType.INT: "int", PortType.DOUBLE: "num", PortType.BOOL: "bool", PortType.STRING: "text"}[port.type]
+
+
+def _leaf_rule(spec: NodeSpec, target_ids: list[int] | None) -> str:
+    parts = [_lit(f"<{spec.name}"), "nm"]
+    for port in spec.ports:
+        if port.name == "name":
+            continue
+        attr = f"{_lit(f' {port.name}=' + chr(39))} {_port_value(port, target_ids)} {_lit(chr(39))}"
+        parts.append(attr if port.required else f"({attr})?")
+    parts.append(_lit("/>"))
+    return " ".join(parts)
+
+
+def _rule_name(name: str) -> str:
+    return "".join(c if c.isalnum() else "-" for c in name).lower()
+
+
+def bt_reply_grammar(human_ids: Iterable[int] | None = None, *, agent_id: int | None = None,
+                     target: Target = "socrates", max_depth: int = DEFAULT_MAX_DEPTH,
+                     tree_id: str = DEFAULT_TREE_ID) -> str:
+    """GBNF for {"reasoning": "...", "tree": "<root ...>"} whose tree always passes `validate_bt_text`.
+
+    `human_ids` (ids of the scenario's humans) and `agent_id` (this human) restrict target_id of
+    HumanSays/FollowHuman to the other humans; with no other human those nodes are left out.
+    """
+    if not tree_id.isidentifier():
+        raise ValueError(f"tree id must be an identifier, got {tree_id!r}")
+    max_depth = max(1, max_depth)
+    target_ids: list[int] | None = None
+    if human_ids is not None:
+        target_ids = sorted({int(i) for i in human_ids} - ({agent_id} if agent_id is not None else set()))
+    nodes = [n for n in prompt_nodes() if target in n.targets]
+    leaves = [n for n in nodes if n.kind in ("action", "condition")
+              and not (target_ids == [] and any(p.name == "target_id" for p in n.ports))]
+    composites = [n for n in nodes if n.kind in ("control", "decorator")]
+
+    rules: dict[str, str] = {}
+    rules["root"] = (f'"{{" ws {_lit(chr(34) + "reasoning" + chr(34) + ":")} ws reasoning "," ws '
+                     f'{_lit(chr(34) + "tree" + chr(34) + ":")} ws "\\"" xml "\\"" ws "}}"')
+    rules["ws"] = '" "?'
+    rules["reasoning"] = f'"\\"" rchar{{1,{MAX_REASONING_CHARS}}} "\\""'
+    rules["rchar"] = '[^"\\\\\\x7F\\x00-\\x1F] | "\\\\" ["\\\\/nt]'
+    rules["s"] = '"\\\\n"? " "{0,16}'  # optional line break (two characters in JSON) + indentation
+    rules["nm"] = "(\" name='\" [A-Za-z0-9_] [A-Za-z0-9_ ]{0,31} \"'\")?"
+    rules["num"] = '[0-9]{1,3} ("." [0-9]{1,2})?'
+    rules["int"] = '[0-9]{1,2}'
+    rules["bool"] = '"true" | "false"'
+    rules["text"] = '[A-Za-z0-9_] [A-Za-z0-9_ ]{0,31}'
+    rules["leaf"] = _alt(f"leaf-{_rule_name(n.name)}" for n in leaves)
+    for spec in leaves:
+        rules[f"leaf-{_rule_name(spec.name)}"] = _leaf_rule(spec, target_ids)
+
+    include_file, include_tree = next(iter(LIBRARY_TREES.items()))
+    rules["inc"] = _lit(f"<include path='{include_file}'/>")
+    rules["regnav"] = " s ".join([
+        _lit("<Sequence") + " nm " + _lit(">"),
+        _lit("<SetBlackboard output_key='agentid' value='{id}'/>"),
+        _lit("<SetBlackboard output_key='timestep' value='{dt}'/>"),
+        _lit(f"<SubTree ID='{include_tree}' id='agentid' dt='timestep'/>"),
+        _lit("</Sequence>"),
+    ])
+    for family, extra in (("p", []), ("r", ["regnav"])):
+        for depth in range(1, max_depth + 1):
+            options = ["leaf", *extra]
+            if depth < max_depth:
+                for spec in composites:
+                    rule = f"{_rule_name(spec.name)}-{family}{depth}"
+                    child = f"node-{family}{depth + 1}"
+                    children = f"s {child} (s {child})*" if spec.kind == "control" else f"s {child}"
+                    rules[rule] = f'{_lit("<" + spec.name)} nm ">" {children} s {_lit("</" + spec.name + ">")}'
+                    options.append(rule)
+            rules[f"node-{family}{depth}"] = _alt(options)
+        rules[f"tree-{family}"] = (f"{_lit(f'<BehaviorTree ID={chr(39)}{tree_id}{chr(39)}>')} s node-{family}1 s "
+                                   f"{_lit('</BehaviorTree>')}")
+    rules["xml"] = (f"{_lit(f'<root main_tree_to_execute={chr(39)}{tree_id}{chr(39)}>')} s "
+                    f"(tree-p | inc s tree-r) s {_lit('</root>')}")
+    return "\n".join(f"{name} ::= {body}" for name, body in rules.items()) + "\n"

@@ -1,0 +1,72 @@
+"""`socnavgen location extract`: a draft scene graph from an occupancy map alone."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+from rich.table import Table
+
+from socnavgen.cli.common import console, err_console
+
+
+def extract(
+    map_yaml: Path = typer.Argument(..., help="nav2 / ROS map_server yaml (image, resolution, origin)."),
+    out: Path = typer.Option(..., "--out", "-o", help="Location folder to create (map copied, location.yaml, "
+                                                      "scene_graph.json, scene_graph.png)."),
+    density: float = typer.Option(1.0, "--density", min=0.1, max=10.0,
+                                  help="More (>1) or fewer (<1) nodes: scales the longest edge (5 m / density) "
+                                       "and the merge distance (1 m / density)."),
+    min_spur: float = typer.Option(1.0, "--min-spur", min=0.0,
+                                   help="Side branches shorter than this many metres (or than the local "
+                                        "width) are pruned."),
+    narrow_width: float = typer.Option(1.2, "--narrow-width", min=0.1,
+                                       help="Passages narrower than this (metres) are NARROW; short ones "
+                                            "between wider space become DOORWAY nodes."),
+    open_width: float = typer.Option(3.0, "--open-width", min=0.1,
+                                     help="Free width (metres) from which a junction or end is an OPEN AREA."),
+    min_gap: float = typer.Option(0.5, "--min-gap", min=0.0,
+                                  help="Gaps narrower than this (metres) are treated as closed."),
+    all_components: bool = typer.Option(False, "--all-components",
+                                        help="Keep every free region, not only the largest connected one."),
+    name: str | None = typer.Option(None, "--name", help="Location name (default: the folder name)."),
+    seed: int | None = typer.Option(None, "--seed", help="Make the random node ids reproducible."),
+    force: bool = typer.Option(False, "--force", help="Replace the scene graph of an existing location folder "
+                                                      "(the previous one is kept as scene_graph.json.bak)."),
+) -> None:
+    """Suggest a scene graph from an occupancy map: junctions, corners, dead ends, open areas, doorways.
+
+    The walkable space is thinned to its centre lines; their junctions and ends become nodes and
+    their branches edges, short spurs are pruned, close nodes merged, and every edge is made a
+    straight segment clear of walls. Open the result in `socnavgen annotate` to fix it.
+
+    Example:
+
+        socnavgen location extract ~/maps/lab.yaml -o locations/lab --density 1.5
+    """
+    from socnavgen.location.extract import ExtractOptions, extract_location
+    from socnavgen.location.location import SCENE_GRAPH_FILE
+
+    options = ExtractOptions(density=density, min_spur_m=min_spur, narrow_width_m=narrow_width,
+                             open_width_m=open_width, min_gap_m=min_gap, keep_all_components=all_components,
+                             seed=seed)
+    previous = out / SCENE_GRAPH_FILE
+    if force and previous.is_file():
+        from socnavgen.safeio import atomic_write_bytes
+
+        atomic_write_bytes(previous.with_name(previous.name + ".bak"), previous.read_bytes())
+    with err_console.status("extracting the scene graph"):
+        location, stats = extract_location(map_yaml, out, options, name=name, force=force)
+    table = Table(title=f"{location.name}: {stats.nodes} nodes, {stats.edges} edges")
+    table.add_column("node type")
+    table.add_column("count", justify="right")
+    for node_type, count in sorted(stats.types.items()):
+        table.add_row(node_type, str(count))
+    console.print(table)
+    console.print(f"wrote {out}/location.yaml, scene_graph.json, scene_graph.png - "
+                  f"review with: socnavgen annotate {out}")
+
+
+def register_extract(location_app: typer.Typer) -> None:
+    """Add `extract` to the `socnavgen location` sub-app."""
+    location_app.command("extract")(extract)

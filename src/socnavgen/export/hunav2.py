@@ -1,0 +1,212 @@
+"""Target `hunav2`: upstream HuNavSim 2.x (BT.CPP v4, reference §5 and §8.3).
+
+Each human gets a self-contained `<base>__agent_<id>_bt.xml`: the tree translated node by node
+through `NodeSpec.hunav2` and `bt.library.HUNAV2_PORTS`, the RegularNavTree it uses inlined, goals
+queued by `SetGoal` inside `RunOnce` as upstream's own scenario trees do, and a TreeNodesModel for
+Groot2. A node without a 2.x counterpart stops the export with every such node listed."""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+from socnavgen.bt.library import HUNAV2_PORTS, LIBRARY, LIBRARY_TREE_XML, LIBRARY_TREES
+from socnavgen.bt.tree import BTDocument, BTElement, parse_bt
+from socnavgen.errors import ValidationFailed
+from socnavgen.export.groot import model_block, tree_nodes_model_xml
+from socnavgen.export.models import (
+    HUMAN_GOAL_RADIUS,
+    HUMAN_MAX_VEL,
+    HUMAN_RADIUS,
+    HUMAN_Z,
+    ExportedFile,
+    ExportScene,
+    HumanExport,
+)
+from socnavgen.export.readme import hunav2_readme
+from socnavgen.export.socrates import check_trees
+from socnavgen.export.writer import dump_yaml, element_xml, metres, robot_poses_yaml
+
+WRAPPER = "hunav_gazebo_wrapper"
+EXPLICIT = {"Action", "Condition", "Control", "Decorator"}  # <Action ID="X"/> form
+NOT_NODES = {"TreeNodesModel"}
+BLACKBOARD_REF = re.compile(r"^\{[^{}]+\}$")
+SIMULATORS = ("Gazebo Classic", "Gazebo Fortress", "Isaac Sim", "Webots")
+# behavior block of a 2.x agent: configuration 0 = the default factors below (reference §5)
+BEHAVIOR_DEFAULTS = {"type": "Regular", "configuration": 0, "goal_force_factor": 2.0,
+                     "obstacle_force_factor": 10.0, "social_force_factor": 5.0, "other_force_factor": 20.0}
+
+
+@dataclass(frozen=True)
+class Untranslatable:
+    file: str
+    line: int | None
+    node: str
+    why: str
+
+    def __str__(self) -> str:
+        where = f"{self.file}:{self.line}" if self.line else self.file
+        return f"{where}: {self.node} {self.why}"
+
+
+def base_name(text: str) -> str:
+    """yaml_base_name must be a plain file stem: lowercase letters, digits, underscores."""
+    stem = re.sub(r"[^a-z0-9_]+", "_", text.lower()).strip("_")
+    return stem or "socnavgen"
+
+
+def _node_name(elem: BTElement) -> str:
+    return elem.attrs.get("ID", elem.tag) if elem.tag in EXPLICIT else elem.tag
+
+
+class _Translator:
+    """v3 (our library) -> v4 (2.x names and ports); collects every node it cannot translate."""
+
+    def __init__(self, source: str) -> None:
+        self.source = source
+        self.problems: list[Untranslatable] = []
+        self.used_leaves: set[str] = set()
+        self.subtrees: set[str] = set()
+
+    def element(self, elem: BTElement) -> BTElement:
+        name = _node_name(elem)
+        spec = LIBRARY.get(name)
+        children = [self.element(c) for c in elem.children if c.tag not in NOT_NODES]
+        if spec is None:
+            self.problems.append(Untranslatable(self.source, elem.line, name, "is not a library node"))
+            return BTElement(tag=name, attrs={}, children=children, line=elem.line)
+        if spec.hunav2 is None:
+            self.problems.append(Untranslatable(self.source, elem.line, name,
+                                                f"({spec.kind}) has no HuNavSim 2.x equivalent"))
+            return BTElement(tag=name, attrs={}, children=children, line=elem.line)
+        attrs = {k: v for k, v in elem.attrs.items() if not (elem.tag in EXPLICIT and k == "ID")}
+        if name == "SubTree":
+            return BTElement(tag="SubTree", attrs=self.subtree_attrs(attrs), children=children, line=elem.line)
+        if spec.kind in ("action", "condition"):
+            self.used_leaves.add(spec.hunav2)
+            attrs = self.leaf_attrs(name, attrs)
+        return BTElement(tag=spec.hunav2, attrs=attrs, children=children, line=elem.line)
+
+    def leaf_attrs(self, name: str, attrs: dict[str, str]) -> dict[str, str]:
+        tr = HUNAV2_PORTS.get(name)
+        if tr is None:
+            return dict(attrs)
+        out: dict[str, str] = {}
+        for key, value in attrs.items():
+            if key in tr.values and not BLACKBOARD_REF.match(value):
+                value = tr.values[key].get(value.strip(), value)
+            out[tr.rename.get(key, key)] = value
+        for key, value in tr.fixed.items():
+            out.setdefault(key, value)
+        return out
+
+    def subtree_attrs(self, attrs: dict[str, str]) -> dict[str, str]:
+        """v3 remaps a subtree port with a plain parent key (`id="agentid"`); v4 writes `{agentid}`."""
+        out: dict[str, str] = {}
+        for key, value in attrs.items():
+            if key in ("ID", "name", "_autoremap") or BLACKBOARD_REF.match(value):
+                out[key] = value
+            else:
+                out[key] = "{" + value + "}"
+        self.subtrees.add(attrs.get("ID", ""))
+        return out
+
+
+def _goal_prelude(goal_ids: list[int]) -> BTElement:
+    """Queue the agent's goals once, as upstream's scenario trees do: RunOnce(SetGoal) per goal, the
+    last one inverted so the Sequence fails the first tick and the Fallback moves on to walking;
+    afterwards every RunOnce is skipped."""
+    children = [BTElement("RunOnce", {}, [BTElement("SetGoal", {"agent_id": "{id}", "goal_id": str(g)})])
+                for g in goal_ids]
+    children[-1] = BTElement("Inverter", {}, [children[-1]])
+    return BTElement("Sequence", {"name": "SetGoals"}, children)
+
+
+def translate_tree(human: HumanExport, goal_ids: list[int]) -> tuple[str, list[Untranslatable]]:
+    """The human's v3 tree as one self-contained v4 file (text), plus what could not be translated."""
+    doc: BTDocument = parse_bt(human.tree_xml, human.tree_file)
+    tr = _Translator(human.tree_file)
+    problems: list[Untranslatable] = []
+    main = doc.main_tree or next(iter(doc.trees), None)
+    if main is None or main not in doc.trees:
+        problems.append(Untranslatable(human.tree_file, doc.root.line, "root", f"main tree {main!r} not found"))
+        return "", problems
+    trees = {tid: BTElement("BehaviorTree", {"ID": tid}, [tr.element(c) for c in t.children], t.line)
+             for tid, t in doc.trees.items()}
+    library_ids = {tid: fname for fname, tid in LIBRARY_TREES.items()}
+    for include in doc.includes:
+        if include not in LIBRARY_TREE_XML:
+            problems.append(Untranslatable(human.tree_file, doc.root.line, f"include {include!r}",
+                                           "is not a library tree; 2.x files must be self-contained"))
+    for tid in sorted(tr.subtrees - set(trees)):
+        if tid in library_ids:
+            lib = parse_bt(LIBRARY_TREE_XML[library_ids[tid]], library_ids[tid])
+            trees[tid] = BTElement("BehaviorTree", {"ID": tid}, [tr.element(c) for c in lib.trees[tid].children])
+        else:
+            problems.append(Untranslatable(human.tree_file, None, f"SubTree {tid!r}", "names no known tree"))
+    problems += tr.problems
+    if problems:
+        return "", problems
+    body = trees[main].children[0]
+    trees[main] = BTElement("BehaviorTree", {"ID": main}, [
+        BTElement("Fallback", {"name": "QueueGoalsThenBehave"}, [_goal_prelude(goal_ids), body])])
+    ordered = [trees[main]] + [t for tid, t in trees.items() if tid != main]
+    text = ('<?xml version="1.0" encoding="UTF-8"?>\n'
+            f'<root BTCPP_format="4" main_tree_to_execute="{main}">\n'
+            + model_block("hunav2", tr.used_leaves)
+            + "".join(element_xml(t) for t in ordered)
+            + "</root>\n")
+    return text, []
+
+
+def global_goals(scene: ExportScene) -> tuple[dict[int, dict[str, float]], dict[str, list[int]]]:
+    """One global goal per scene-graph node (ids 1.. in first-use order); each human's goal ids."""
+    ids: dict[str, int] = {}
+    table: dict[int, dict[str, float]] = {}
+    per_human: dict[str, list[int]] = {}
+    for human in scene.humans:
+        per_human[human.name] = []
+        for goal in human.goals:
+            if goal.node not in ids:
+                ids[goal.node] = len(ids) + 1
+                table[ids[goal.node]] = {"x": metres(goal.x), "y": metres(goal.y)}
+            per_human[human.name].append(ids[goal.node])
+    return table, per_human
+
+
+def agents_yaml(scene: ExportScene, base: str, simulator: str, goal_ids: dict[str, list[int]],
+                table: dict[int, dict[str, float]]) -> str:
+    params: dict = {"yaml_base_name": base, "simulator": simulator, "map": scene.location_name,
+                    "publish_people": True, "global_goals": table, "agents": [h.name for h in scene.humans]}
+    for h in scene.humans:
+        params[h.name] = {
+            "id": h.agent_id, "group_id": h.group_id, "skin": h.skin, "max_vel": HUMAN_MAX_VEL,
+            "radius": HUMAN_RADIUS, "goal_radius": HUMAN_GOAL_RADIUS, "cyclic_goals": False,
+            "init_pose": {"x": metres(h.start.x), "y": metres(h.start.y), "z": HUMAN_Z, "h": metres(h.start.yaw)},
+            "behavior": dict(BEHAVIOR_DEFAULTS),
+            "goals": goal_ids[h.name],
+        }
+    return dump_yaml({"hunav_loader": {"ros__parameters": params}})
+
+
+def build_hunav2(scene: ExportScene, base: str, simulator: str = "Gazebo Classic") -> list[ExportedFile]:
+    if simulator not in SIMULATORS:
+        raise ValidationFailed(f"unknown simulator {simulator!r}", hint="one of: " + ", ".join(SIMULATORS))
+    check_trees(scene)
+    table, goal_ids = global_goals(scene)
+    files: list[ExportedFile] = []
+    problems: list[Untranslatable] = []
+    for human in scene.humans:
+        text, bad = translate_tree(human, goal_ids[human.name])
+        problems += bad
+        files.append(ExportedFile(path=f"{WRAPPER}/behavior_trees/{base}__agent_{human.agent_id}_bt.xml", text=text))
+    if problems:
+        raise ValidationFailed(
+            f"{len(problems)} node(s) have no HuNavSim 2.x equivalent:\n" + "\n".join(str(p) for p in problems),
+            hint="export with --format socrates, or replace these nodes (socnavgen bt library shows the 2.x names)")
+    files.append(ExportedFile(path=f"{WRAPPER}/behavior_trees/TreeNodesModel.xml", text=tree_nodes_model_xml("hunav2")))
+    files.append(ExportedFile(path=f"{WRAPPER}/scenarios/{base}.yaml",
+                              text=agents_yaml(scene, base, simulator, goal_ids, table)))
+    files.append(ExportedFile(path="robot/robot_poses.yaml", text=robot_poses_yaml(scene.robot)))
+    files.append(ExportedFile(path="README.md", text=hunav2_readme(scene, base, simulator)))
+    return files

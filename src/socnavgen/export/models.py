@@ -1,0 +1,73 @@
+"""What every export target needs, computed once from a run folder: world poses of humans and
+robot, their trees, and the files a target writes (kept in memory until all are ready)."""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import BaseModel, Field
+
+from socnavgen.run.models import PathPlan
+
+ExportFormat = Literal["socrates", "hunav2", "hunav1"]
+FORMATS: tuple[ExportFormat, ...] = ("socrates", "hunav2", "hunav1")
+
+# HuNavSim agent constants (reference §8.1, §9.3): what SocRATES writes for every human.
+HUMAN_Z = 1.25  # Gazebo actor height; HuNavSim overrides it per skin but expects it present
+HUMAN_RADIUS = 0.4
+HUMAN_MAX_VEL = 1.5
+HUMAN_GOAL_RADIUS = 0.5
+SKIN_COUNT = 9  # Gazebo actor meshes 0..8
+
+
+class WorldPoint(BaseModel):
+    """A scene-graph node in metres (map frame) with a heading in radians."""
+
+    node: str
+    x: float
+    y: float
+    yaw: float = 0.0
+
+
+class HumanExport(BaseModel):
+    """One human as HuNavSim spawns it: at the first node of its path, facing the next one."""
+
+    name: str  # human1, human2, ...
+    agent_id: int  # 0-based, as SocRATES (human1 -> 0)
+    group_id: int = -1
+    skin: int
+    start: WorldPoint
+    goals: list[WorldPoint]
+    path: list[str]
+    interaction_point: str | None = None
+    tree_xml: str
+    tree_file: str  # where the tree came from, for messages (behaviors/human1.xml)
+
+
+class RobotExport(BaseModel):
+    start: WorldPoint
+    waypoints: list[WorldPoint]
+    path: list[str]
+
+
+class ExportScene(BaseModel):
+    """Everything the exporters read; built by `scene.build_scene`, never by pixel math elsewhere."""
+
+    run_name: str
+    location_name: str
+    humans: list[HumanExport]
+    robot: RobotExport
+    plan: PathPlan
+
+
+class ExportedFile(BaseModel):
+    """One output file, relative to the output folder."""
+
+    path: str
+    text: str
+
+
+class ExportResult(BaseModel):
+    format: ExportFormat
+    out_dir: str
+    files: list[str] = Field(default_factory=list)

@@ -1,0 +1,94 @@
+"""The README.md written into every export: where each file goes and how to launch it."""
+
+from __future__ import annotations
+
+from socnavgen.export.models import ExportScene
+
+
+def _summary(scene: ExportScene) -> str:
+    humans = "\n".join(
+        f"- {h.name} (agent id {h.agent_id}, group {h.group_id}): starts at node {h.start.node} "
+        f"({h.start.x:.2f}, {h.start.y:.2f}) facing {h.start.yaw:.2f} rad, goals "
+        + " -> ".join(g.node for g in h.goals)
+        + (f", meets the robot at {h.interaction_point}" if h.interaction_point else "")
+        for h in scene.humans)
+    return (f"Scenario `{scene.run_name}` on location `{scene.location_name}`, exported by socnavgen.\n\n"
+            f"- robot: starts at node {scene.robot.start.node} ({scene.robot.start.x:.2f}, "
+            f"{scene.robot.start.y:.2f}), waypoints " + " -> ".join(w.node for w in scene.robot.waypoints)
+            + "\n" + humans + "\n\nAll coordinates are metres in the map frame of the location's nav2 map.\n")
+
+
+def socrates_readme(scene: ExportScene) -> str:
+    return f"""# SocRATES / HuNavSim fork export
+
+{_summary(scene)}
+## Where the files go
+Copy the folders over the two packages of your ROS 2 workspace, then rebuild:
+
+| file here | package folder |
+|---|---|
+| `hunav_agent_manager/behavior_trees/LLMBT_<i>.xml` | `src/hunav_sim/hunav_agent_manager/behavior_trees/` (agent `behavior: 7+i` loads `LLMBT_<i>.xml`) |
+| `hunav_agent_manager/behavior_trees/BTRegularNav.xml` | same folder (the subtree the LLM trees include) |
+| `hunav_agent_manager/config/custom_agents.yaml` | `src/hunav_sim/hunav_agent_manager/config/` |
+| `hunav_gazebo_wrapper/config/robot_poses.yaml`, `trajectory.json` | `src/hunav_gazebo_wrapper/config/` |
+| `hunav_gazebo_wrapper/config/launch_params.yaml` | same; set `robot_poses` and `scenario` to the ABSOLUTE paths of the two files above, and `world_name` to your Gazebo world folder |
+
+`TreeNodesModel.xml` is for Groot2 only (open a tree, then import this model file).
+
+## Launch
+```
+colcon build --packages-select hunav_agent_manager hunav_gazebo_wrapper && source install/setup.bash
+ros2 launch hunav_gazebo_wrapper scenario_nav2_lino.launch.py      # world, humans, scenario_manager
+ros2 launch hunav_gazebo_wrapper nav2_follow_waypoints.launch.py   # robot follows robot_poses.yaml
+```
+A teleop script can read `robot_poses.yaml` the same way: `initial_pose {{x, y, yaw}}` and
+`waypoints[].position {{x, y, yaw}}` (yaw toward the next waypoint).
+Humans without an interaction point have `""` in `trajectory.json`: the scenario manager never pauses them.
+"""
+
+
+def hunav2_readme(scene: ExportScene, base: str, simulator: str) -> str:
+    return f"""# HuNavSim 2.x export
+
+{_summary(scene)}
+## Where the files go
+| file here | package folder |
+|---|---|
+| `hunav_gazebo_wrapper/scenarios/{base}.yaml` | `src/hunav_gazebo_wrapper/scenarios/` |
+| `hunav_gazebo_wrapper/behavior_trees/{base}__agent_<id>_bt.xml` | `src/hunav_gazebo_wrapper/behavior_trees/` (the manager loads them from the wrapper's SOURCE folder) |
+| `robot/robot_poses.yaml` | anywhere your robot launch or teleop script reads it |
+
+`yaml_base_name: {base}` selects the tree files; `simulator: {simulator}` selects the wrapper package.
+Each tree is self-contained (RegularNavTree inlined, goals queued with `SetGoal`) and carries a
+`TreeNodesModel`, so it opens directly in Groot2; `TreeNodesModel.xml` holds the whole translated library.
+
+## Launch
+```
+colcon build && source install/setup.bash
+ros2 launch hunav_gazebo_wrapper simulation.launch.py configuration_file:={base}.yaml \\
+    environment_name:=<your Gazebo world> gzpose_x:={scene.robot.start.x:.3f} gzpose_y:={scene.robot.start.y:.3f} \\
+    gzpose_Y:={scene.robot.start.yaw:.3f}
+```
+The robot then drives the waypoints of `robot/robot_poses.yaml` (nav2 waypoint follower or teleop).
+"""
+
+
+def hunav1_readme(scene: ExportScene, behaviors: dict[str, int]) -> str:
+    table = "\n".join(f"- {name}: behavior {code}" for name, code in behaviors.items())
+    return f"""# HuNavSim 1.x export (built-in behaviors only)
+
+{_summary(scene)}
+{table}
+
+## Where the files go
+| file here | package folder |
+|---|---|
+| `hunav_agent_manager/config/agents.yaml` | `src/hunav_sim/hunav_agent_manager/config/` |
+| `robot/robot_poses.yaml` | anywhere your robot launch or teleop script reads it |
+
+## Launch
+```
+colcon build && source install/setup.bash
+ros2 launch hunav_gazebo_wrapper example_cafe.launch.py   # or your own world's launch file
+```
+"""

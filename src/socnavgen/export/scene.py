@@ -1,0 +1,95 @@
+"""Run folder + location -> ExportScene. The only place export turns node ids into metres, and it
+does so only through `Location.node_world` (the location's transform)."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+from socnavgen.errors import InputFileError, ValidationFailed
+from socnavgen.export.models import SKIN_COUNT, ExportScene, HumanExport, RobotExport, WorldPoint
+from socnavgen.location import Location, load_location
+from socnavgen.run import PathPlan, RunFolder
+
+
+def resolve_location_dir(run: RunFolder, location_path: str) -> Path:
+    """request.json stores the location as the user gave it: absolute, relative to the current
+    directory, or relative to the run folder (moved runs). Try them in that order."""
+    given = Path(location_path)
+    candidates = [given] if given.is_absolute() else [Path.cwd() / given, run.root / given,
+                                                      run.root.parent / given]
+    for candidate in candidates:
+        if (candidate / "location.yaml").is_file():
+            return candidate
+    raise InputFileError(f"location {location_path!r} of this run was not found", file=run.request_path,
+                         hint="pass --location DIR to say where the location folder is now")
+
+
+def heading(a: tuple[float, float], b: tuple[float, float], default: float = 0.0) -> float:
+    """Yaw of the world direction a->b (atan2 of the world delta); `default` if a == b."""
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    if abs(dx) < 1e-12 and abs(dy) < 1e-12:
+        return default
+    return math.atan2(dy, dx)
+
+
+def world_path(location: Location, nodes: list[str]) -> list[WorldPoint]:
+    """Each node in metres; yaw = heading toward the next node (the last keeps the previous yaw)."""
+    points = [location.node_world(n) for n in nodes]
+    out: list[WorldPoint] = []
+    yaw = 0.0
+    for i, (node, p) in enumerate(zip(nodes, points, strict=True)):
+        if i + 1 < len(points):
+            yaw = heading(p, points[i + 1], yaw)
+        out.append(WorldPoint(node=node, x=p[0], y=p[1], yaw=yaw))
+    return out
+
+
+def skin_for(agent_id: int) -> int:
+    """Deterministic mesh per agent, so re-exports are identical and neighbours look different."""
+    return agent_id % SKIN_COUNT
+
+
+def _check_nodes(plan: PathPlan, location: Location, run: RunFolder) -> None:
+    known = set(location.scene_graph.node_ids())
+    bad = [f"{who}: node '{n}'" for who, path in [("robot", plan.robot)] + [(h.name, h.path) for h in plan.humans]
+           for n in path if n not in known]
+    if not plan.robot:
+        bad.append("robot: empty path")
+    bad += [f"{h.name}: empty path" for h in plan.humans if not h.path]
+    if bad:
+        raise ValidationFailed("paths.json names nodes the location's scene graph does not have: " + "; ".join(bad),
+                               file=run.paths_path, hint="was the run generated on another location?")
+
+
+def build_scene(run_dir: Path | str, location_dir: Path | str | None = None) -> tuple[ExportScene, Location]:
+    """Read request.json, paths.json and behaviors/*.xml; place every human and the robot in metres."""
+    run = RunFolder(Path(run_dir))
+    if not run.paths_path.is_file():
+        raise InputFileError("this run has no paths.json yet", file=run.root,
+                             hint="finish the run first (socnavgen generate ... or cards generate)")
+    if location_dir is None:
+        location_dir = resolve_location_dir(run, run.read_request().location)
+    location = load_location(location_dir)
+    plan = run.read_paths()
+    _check_nodes(plan, location, run)
+    trees = run.behaviors()
+    missing = [h.name for h in plan.humans if h.name not in trees]
+    if missing:
+        raise InputFileError(f"no behavior tree for {', '.join(missing)}", file=run.behaviors_dir,
+                             hint="every human in paths.json needs behaviors/<human>.xml")
+
+    humans: list[HumanExport] = []
+    for human in sorted(plan.humans, key=lambda h: h.agent_id):
+        points = world_path(location, human.path)
+        start = points[0]
+        goals = points[1:] if len(points) > 1 else [points[0]]  # single node: walk to (stay at) it
+        humans.append(HumanExport(
+            name=human.name, agent_id=human.agent_id, group_id=human.group_id, skin=skin_for(human.agent_id),
+            start=start, goals=goals, path=list(human.path), interaction_point=human.interaction_point,
+            tree_xml=trees[human.name], tree_file=str(run.behaviors_dir / f"{human.name}.xml")))
+    robot_points = world_path(location, plan.robot)
+    robot = RobotExport(start=robot_points[0], waypoints=robot_points[1:], path=list(plan.robot))
+    scene = ExportScene(run_name=run.root.resolve().name, location_name=location.name, humans=humans,
+                        robot=robot, plan=plan)
+    return scene, location

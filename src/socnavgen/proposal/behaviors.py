@@ -1,0 +1,127 @@
+"""Stage 3: one behavior tree per human (SocRATES Sec. III-D), asked in parallel.
+
+The prompt holds the BT tutorial (syntax rules + Q&A, a template), the node library text and the
+regular-navigation idiom (both generated from the library table by socnavgen.bt.describe), worked
+examples, and the human's behavior with its path, group and meeting point. Every tree is checked by
+the same validator as `socnavgen bt check`.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
+
+from defusedxml import minidom
+
+from socnavgen.bt.describe import library_text, regular_nav_text
+from socnavgen.bt.grammar import bt_reply_grammar
+from socnavgen.bt.validate import validate_bt_text
+from socnavgen.errors import StageFailed
+from socnavgen.llm.base import LLM, ChatMessage
+from socnavgen.proposal.conversation import Outcome, Policy, Recorder, converse
+from socnavgen.proposal.replies import BehaviorReply
+from socnavgen.proposal.templates import render, template_data
+from socnavgen.run import HumanPlan, PathPlan, ScenarioProposal
+
+STAGE = "behaviors"
+MAX_TOKENS = 1536
+
+
+def examples_text() -> str:
+    return "\n\n".join(render("bt_example.md", behavior=ex["behavior"].strip(),
+                              answer=json.dumps({"reasoning": ex["reasoning"].strip(), "tree": ex["tree"].strip()}))
+                       for ex in template_data("bt_examples.yaml"))
+
+
+def human_context(name: str, scenario: ScenarioProposal, paths: PathPlan | None) -> str:
+    """Where this human walks, its group and its meeting point: what the tree has to fit."""
+    lines = [f"Scenario: {scenario.scenario_description}"]
+    if paths is not None:
+        plan = paths.human(name)
+        lines.append(f"Path of {name} (goals in order): {', '.join(plan.path)}.")
+        mates = [h.name for h in paths.humans if h.group_id >= 0 and h.group_id == plan.group_id and h.name != name]
+        lines.append(f"{name} walks in a group with {', '.join(mates)}." if mates else f"{name} is not in a group.")
+        if plan.interaction_point:
+            lines.append(f"{name} meets the robot at node {plan.interaction_point}.")
+    others = [f"{h} (agent id {i})" for i, h in enumerate(scenario.human_behaviors) if h != name]
+    if others:
+        lines.append(f"Other humans: {', '.join(others)}.")
+    return "\n".join(lines)
+
+
+def agent_id(name: str) -> int:
+    return HumanPlan(name=name, path=[]).agent_id
+
+
+def behavior_messages(name: str, scenario: ScenarioProposal, paths: PathPlan | None) -> list[ChatMessage]:
+    user = render("bt_user.md", tutorial=render("bt_tutorial.md"), library=library_text(),
+                  regular_nav=regular_nav_text(), examples=examples_text(), human=name, agent_id=agent_id(name),
+                  behavior=scenario.human_behaviors[name], context=human_context(name, scenario, paths))
+    return [ChatMessage(role="system", content=render("bt_system.md")), ChatMessage(role="user", content=user)]
+
+
+def tree_checker(name: str, humans: list[str]) -> Callable[[BehaviorReply], list[str]]:
+    ids = {agent_id(h) for h in humans}
+
+    def check(reply: BehaviorReply) -> list[str]:
+        return [str(p) for p in validate_bt_text(reply.tree, f"behaviors/{name}.xml", human_ids=ids,
+                                                 agent_id=agent_id(name))]
+    return check
+
+
+def pretty_xml(text: str) -> str:
+    """Indented XML with double-quoted attributes, as HuNavSim users read it (the reply used single quotes)."""
+    dom = minidom.parseString(text.strip())
+    _strip_blank_text(dom.documentElement)
+    body = dom.documentElement.toprettyxml(indent="    ")
+    return "\n".join(line for line in body.splitlines() if line.strip()) + "\n"
+
+
+def _strip_blank_text(node) -> None:  # noqa: ANN001 - a minidom node
+    for child in list(node.childNodes):
+        if child.nodeType == child.TEXT_NODE and not child.data.strip():
+            node.removeChild(child)
+        elif child.hasChildNodes():
+            _strip_blank_text(child)
+
+
+def ask_behavior(messages: list[ChatMessage], name: str, humans: list[str], llm: LLM, recorder: Recorder,
+                 policy: Policy) -> Outcome[BehaviorReply]:
+    grammar = None
+    if getattr(llm, "supports_grammar", False):
+        grammar = bt_reply_grammar([agent_id(h) for h in humans], agent_id=agent_id(name))
+    return converse(llm, messages, BehaviorReply, tree_checker(name, humans), stage=STAGE, key=name,
+                    recorder=recorder, policy=policy, grammar=grammar, max_tokens=MAX_TOKENS)
+
+
+def design_behaviors(names: list[str], scenario: ScenarioProposal, paths: PathPlan | None, llm: LLM,
+                     recorder: Recorder, policy: Policy,
+                     on_done: Callable[[str, Outcome[BehaviorReply]], None]) -> dict[str, Outcome[BehaviorReply]]:
+    """Ask for every human in `names` in parallel (the LLM bounds concurrency); `on_done` runs as each
+    tree arrives, so finished trees are saved even if another human's stage fails."""
+    humans = list(scenario.human_behaviors)
+    results: dict[str, Outcome[BehaviorReply]] = {}
+    failures: list[StageFailed] = []
+
+    def one(name: str) -> None:
+        outcome = ask_behavior(behavior_messages(name, scenario, paths), name, humans, llm, recorder, policy)
+        on_done(name, outcome)
+        results[name] = outcome
+
+    with ThreadPoolExecutor(max_workers=max(1, len(names))) as pool:
+        futures = {pool.submit(one, name): name for name in names}
+        errors = []
+        for future, _name in futures.items():
+            exc = future.exception()
+            if isinstance(exc, StageFailed):
+                failures.append(exc)
+            elif exc is not None:
+                errors.append(exc)
+    if errors:
+        raise errors[0]
+    if failures:
+        if len(failures) == 1:
+            raise failures[0]
+        raise StageFailed("\n".join(f.message for f in failures), file=failures[0].file, hint=failures[0].hint)
+    return results

@@ -1,0 +1,151 @@
+"""The re-query / restart policy shared by every stage (SocRATES Sec. III-C).
+
+A reply that cannot be read or breaks a rule is answered inside the same conversation: the model's
+reply plus a user message listing EVERY mistake. After `max_requeries` corrections the conversation
+is thrown away and restarted from the first prompt (a long chat of mistakes tends to confuse a model
+more than it helps), with a slightly higher temperature so a deterministic model does not repeat
+itself. After `max_restarts` restarts the stage fails with the last mistakes.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Generic, Literal, TypeVar
+
+from pydantic import BaseModel
+
+from socnavgen.errors import StageFailed
+from socnavgen.llm.base import LLM, ChatMessage, Usage
+from socnavgen.proposal.templates import render
+from socnavgen.run import Manifest, RunFolder, StageRecord
+
+T = TypeVar("T", bound=BaseModel)
+MAX_ECHO_CHARS = 12_000  # a runaway reply is cut before it goes back into the chat history
+
+
+@dataclass
+class Policy:
+    max_requeries: int = 3
+    max_restarts: int = 2
+    temperature: float = 0.0
+    restart_temperature_step: float = 0.3
+
+    def temperature_for(self, restart: int) -> float:
+        return min(1.0, self.temperature + self.restart_temperature_step * restart)
+
+
+@dataclass
+class ProgressEvent:
+    stage: str
+    key: str | None
+    kind: Literal["start", "attempt", "invalid", "restart", "done", "failed", "skipped"]
+    attempt: int = 0
+    restart: int = 0
+    message: str = ""
+
+
+ProgressFn = Callable[[ProgressEvent], None]
+
+
+def no_progress(event: ProgressEvent) -> None:
+    """Default progress sink: silent."""
+
+
+class Recorder:
+    """Keeps manifest.json current (attempts, restarts, tokens, seconds, status) from any thread."""
+
+    def __init__(self, run: RunFolder, manifest: Manifest, progress: ProgressFn = no_progress) -> None:
+        self.run = run
+        self.manifest = manifest
+        self.progress = progress
+        self._lock = threading.Lock()
+
+    def _records(self, stage: str, key: str | None) -> list[StageRecord]:
+        names = [stage] if key is None else [stage, f"{stage}:{key}"]
+        return [self.manifest.stages.setdefault(name, StageRecord()) for name in names]
+
+    def save(self) -> None:
+        with self._lock:
+            self.run.write_manifest(self.manifest)
+
+    def update(self, stage: str, key: str | None, fn: Callable[[StageRecord], None]) -> None:
+        with self._lock:
+            for record in self._records(stage, key):
+                fn(record)
+            self.run.write_manifest(self.manifest)
+
+    def set_status(self, stage: str, key: str | None, status: str) -> None:
+        def apply(record: StageRecord) -> None:
+            record.status = status  # type: ignore[assignment]
+        self.update(stage, key, apply)
+
+    def attempt(self, stage: str, key: str | None, usage: Usage) -> None:
+        def apply(record: StageRecord) -> None:
+            record.attempts += 1
+            record.prompt_tokens += usage.prompt_tokens
+            record.completion_tokens += usage.completion_tokens
+            record.seconds = round(record.seconds + usage.seconds, 3)
+        self.update(stage, key, apply)
+
+    def restart(self, stage: str, key: str | None) -> None:
+        def apply(record: StageRecord) -> None:
+            record.restarts += 1
+        self.update(stage, key, apply)
+
+    def mistakes(self, stage: str, key: str | None, mistakes: list[str]) -> None:
+        def apply(record: StageRecord) -> None:
+            record.errors = list(mistakes)
+        self.update(stage, key, apply)
+
+
+@dataclass
+class Outcome(Generic[T]):
+    value: T
+    history: list[ChatMessage] = field(default_factory=list)  # the conversation, ending with the accepted reply
+
+
+def bullet_list(items: list[str]) -> str:
+    return "\n".join(f"- {item}" for item in items)
+
+
+def correction_message(mistakes: list[str]) -> ChatMessage:
+    return ChatMessage(role="user", content=render("correction.md", mistakes=bullet_list(mistakes)))
+
+
+def converse(llm: LLM, messages: list[ChatMessage], schema: type[T], check: Callable[[T], list[str]], *,
+             stage: str, key: str | None, recorder: Recorder, policy: Policy, grammar: str | None = None,
+             max_tokens: int | None = None) -> Outcome[T]:
+    """Ask until a reply passes `check`, re-querying with the mistakes and restarting per `policy`."""
+    last: list[str] = []
+    attempts = 0
+    for restart in range(policy.max_restarts + 1):
+        history = list(messages)
+        if restart:
+            recorder.restart(stage, key)
+            recorder.progress(ProgressEvent(stage, key, "restart", attempts, restart))
+        for _ in range(policy.max_requeries + 1):
+            attempts += 1
+            recorder.progress(ProgressEvent(stage, key, "attempt", attempts, restart))
+            reply = llm.chat(history, schema, stage=stage, key=key, grammar=grammar,
+                             temperature=policy.temperature_for(restart), max_tokens=max_tokens)
+            recorder.attempt(stage, key, reply.usage)
+            if reply.value is None:
+                mistakes = [reply.error or "the reply is not the JSON object that was asked for"]
+            else:
+                mistakes = check(reply.value)
+            answer = ChatMessage(role="assistant", content=reply.raw[:MAX_ECHO_CHARS])
+            if not mistakes:
+                recorder.mistakes(stage, key, [])
+                return Outcome(reply.value, [*history, answer])
+            last = mistakes
+            recorder.mistakes(stage, key, mistakes)
+            recorder.progress(ProgressEvent(stage, key, "invalid", attempts, restart, "; ".join(mistakes)))
+            history += [answer, correction_message(mistakes)]
+    who = f"stage '{stage}'" + (f" for {key}" if key else "")
+    raise StageFailed(f"{who} failed: no valid answer after {attempts} attempts ({policy.max_restarts} restarts). "
+                      f"Last mistakes:\n{bullet_list(last)}",
+                      file=recorder.run.root,
+                      hint="the run folder keeps the transcript (transcript.jsonl); re-run to resume, or try "
+                           "--max-restarts, another --llm, or --review")

@@ -1,0 +1,106 @@
+"""Rules a stage-2 answer must satisfy, each broken rule reported in words that name the exact mistake
+(the message goes back to the model as its correction, so it must say what to fix)."""
+
+from __future__ import annotations
+
+from collections import defaultdict
+
+import networkx as nx
+
+from socnavgen.proposal.replies import PathsReply, human_name
+from socnavgen.run import HumanPlan, PathPlan
+
+
+def _names(humans: list[str]) -> str:
+    return f"the scenario has {len(humans)} human(s): {', '.join(humans)}"
+
+
+def check_path(graph: nx.Graph, who: str, path: list[str]) -> list[str]:
+    """Unknown nodes and consecutive nodes without an edge along one path."""
+    mistakes = [f"{who}: node '{n}' is not in the scene graph" for n in dict.fromkeys(path) if n not in graph]
+    for a, b in zip(path, path[1:], strict=False):
+        if a not in graph or b not in graph:
+            continue
+        if a == b:
+            mistakes.append(f"{who}: node {a} is repeated twice in a row; list each node once")
+        elif not graph.has_edge(a, b):
+            mistakes.append(f"{who}: there is no edge between {a} and {b}")
+    return mistakes
+
+
+def _by_human(mapping: dict, what: str, humans: list[str], mistakes: list[str]) -> dict[str, object]:
+    """Normalise 'Human 1' style keys; report keys that are not humans of the scenario."""
+    out: dict[str, object] = {}
+    for key, value in mapping.items():
+        name = human_name(key)
+        if name is None or name not in humans:
+            mistakes.append(f"{what}: '{key}' is not a human of the scenario ({_names(humans)})")
+        else:
+            out[name] = value
+    return out
+
+
+def check_paths(reply: PathsReply, graph: nx.Graph, humans: list[str]) -> list[str]:
+    """Every mistake of a stage-2 answer, given the scene graph and stage 1's human names."""
+    mistakes: list[str] = []
+    trajectories = dict(reply.trajectories)
+    robot_key = next((k for k in trajectories if k.strip().lower() == "robot"), None)
+    robot = trajectories.pop(robot_key) if robot_key is not None else None
+    if robot is None:
+        mistakes.append("trajectories: the robot has no path (add \"robot\": [start, ..., goal])")
+        robot = []
+    elif len(robot) < 2:
+        mistakes.append(f"the robot path needs at least two nodes (a start and a goal), it has {len(robot)}")
+    mistakes += check_path(graph, "robot path", robot)
+
+    paths = _by_human(trajectories, "trajectories", humans, mistakes)
+    groups = _by_human(reply.group_ids, "group_ids", humans, mistakes)
+    points = _by_human(reply.interaction_points, "interaction_points", humans, mistakes)
+    for name in humans:
+        path = paths.get(name)
+        if path is None:
+            mistakes.append(f"trajectories: {name} has no path ({_names(humans)})")
+            continue
+        if not path:
+            mistakes.append(f"{name}'s path is empty; give at least one node (where {name} starts)")
+        mistakes += check_path(graph, f"{name}'s path", path)  # type: ignore[arg-type]
+        if name not in groups:
+            mistakes.append(f"group_ids: {name} has no group id (use -1 for a human who is not in a group)")
+        point = points.get(name)
+        if point is not None:
+            if point not in graph:
+                mistakes.append(f"interaction point of {name}: node '{point}' is not in the scene graph")
+            else:
+                if point not in path:  # type: ignore[operator]
+                    mistakes.append(f"the interaction point {point} of {name} is not on {name}'s path")
+                if point not in robot:
+                    mistakes.append(f"the interaction point {point} of {name} is not on the robot's path")
+    mistakes += _group_mistakes(groups)  # type: ignore[arg-type]
+    return mistakes
+
+
+def _group_mistakes(groups: dict[str, int]) -> list[str]:
+    mistakes: list[str] = []
+    members: dict[int, list[str]] = defaultdict(list)
+    for name, gid in groups.items():
+        if gid < -1:
+            mistakes.append(f"group_ids: {name} has group id {gid}; use -1 for a lone human or an id of 0 or more "
+                            f"shared by all members of a group")
+        elif gid >= 0:
+            members[gid].append(name)
+    for gid, names in sorted(members.items()):
+        if len(names) < 2:
+            mistakes.append(f"group_ids: group {gid} has only one member ({names[0]}); a group needs at least two "
+                            f"members, and a human who is alone has group id -1")
+    return mistakes
+
+
+def to_path_plan(reply: PathsReply, humans: list[str]) -> PathPlan:
+    """Convert a CHECKED reply into the stored model."""
+    trajectories = {("robot" if k.strip().lower() == "robot" else human_name(k) or k): v
+                    for k, v in reply.trajectories.items()}
+    groups = {human_name(k): v for k, v in reply.group_ids.items()}
+    points = {human_name(k): v for k, v in reply.interaction_points.items()}
+    return PathPlan(reasoning=reply.reasoning, robot=list(trajectories["robot"]),
+                    humans=[HumanPlan(name=name, path=list(trajectories[name]), group_id=groups.get(name, -1),
+                                      interaction_point=points.get(name)) for name in humans])

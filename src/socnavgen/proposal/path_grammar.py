@@ -1,0 +1,126 @@
+"""Stage 2's reply grammar: with an in-process model, only VALID answers can be sampled.
+
+A context-free grammar cannot remember an arbitrary node chosen earlier, so the grammar chooses the
+meeting point X first (one top-level branch per candidate X) and, inside that branch, only admits
+paths through X: every path walks TOWARD X (each step one hop closer) and then AWAY from X (each
+step one hop farther). This covers every shortest route through the meeting point, makes every step
+an edge of the graph, rules out back-and-forth (A B A) and guarantees the path ends. The humans'
+names are exactly stage 1's, their interaction point is X (on their path and the robot's), and group
+ids come from {-1, 1, 2} with every used group of at least two members. Size: about 2·V² small rules.
+"""
+
+from __future__ import annotations
+
+import json
+from functools import cache
+
+import networkx as nx
+
+from socnavgen.proposal.gbnf import Grammar, Lit, Ref, Symbol, text_rules
+
+REASONING_CHARS = 200
+GROUP_IDS = (1, 2)
+
+
+def _q(node: str) -> Lit:
+    return Lit(json.dumps(node))
+
+
+def build_paths_grammar(graph: nx.Graph, humans: list[str]) -> Grammar:
+    g = Grammar()
+    nodes = sorted(graph.nodes)
+    index = {n: i for i, n in enumerate(nodes)}
+    text_rules(g, "reasoning", REASONING_CHARS, non_empty=False)
+    meets: list[list[Symbol]] = []
+    for x in nodes:
+        if graph.degree(x) == 0:
+            continue
+        xi = index[x]
+        dist = nx.single_source_shortest_path_length(graph, x)
+        _add_walks(g, graph, x, xi, dist, index)
+        robot_starts = [[Ref(f"to{xi}-{index[u]}")] for u in sorted(dist, key=index.get) if u != x]
+        robot_starts += [[_q(x), Lit(", "), _q(w), Ref(f"away{xi}-{index[w]}")]
+                         for w in sorted(graph.neighbors(x), key=index.get)]
+        g.add(f"robot{xi}", *robot_starts)
+        g.add(f"walk{xi}", *[[Ref(f"to{xi}-{index[u]}")] for u in sorted(dist, key=index.get)])
+        points = ", ".join(f'"{h}": {json.dumps(x)}' for h in humans)
+        body: list[Symbol] = [Lit("{" + points + '}, "trajectories": {"robot": ['), Ref(f"robot{xi}"), Lit("]")]
+        for h in humans:
+            body += [Lit(f', "{h}": ['), Ref(f"walk{xi}"), Lit("]")]
+        body += [Lit('}, "group_ids": '), Ref("groups"), Lit("}")]
+        meets.append(body)
+    if not meets:
+        raise ValueError("the scene graph has no edge: no path can be planned")
+    g.add("meet", *meets)
+    _add_groups(g, humans)
+    g.add("root", [Lit('{"reasoning": "'), Ref("reasoning"), Lit('", "interaction_points": '), Ref("meet")])
+    # order the root first for readability of the GBNF
+    g.rules = {"root": g.rules.pop("root"), **g.rules}
+    return g
+
+
+def _add_walks(g: Grammar, graph: nx.Graph, x: str, xi: int, dist: dict[str, int], index: dict[str, int]) -> None:
+    """to{X}-{u}: a walk from u to X (each step one hop closer) continuing away from X;
+    away{X}-{u}: the rest of a walk leaving X (each step one hop farther), possibly empty."""
+    for u in sorted(dist, key=index.get):
+        ui = index[u]
+        if u == x:
+            g.add(f"to{xi}-{ui}", [_q(x), Ref(f"away{xi}-{ui}")])
+        else:
+            alts: list[list[Symbol]] = []
+            for w in sorted(graph.neighbors(u), key=index.get):
+                if dist.get(w) == dist[u] - 1:
+                    if w == x:  # arriving at X from u: do not leave X back to u
+                        alts.append([Lit(", "), _q(x), Ref(f"leave{xi}-{ui}")])
+                    else:
+                        alts.append([Lit(", "), Ref(f"to{xi}-{index[w]}")])
+            g.add(f"to{xi}-{ui}", *[[_q(u), *alt] for alt in alts])
+        farther = [w for w in sorted(graph.neighbors(u), key=index.get) if dist.get(w) == dist[u] + 1]
+        g.add(f"away{xi}-{ui}", [], *[[Lit(", "), _q(w), Ref(f"away{xi}-{index[w]}")] for w in farther])
+        if dist[u] == 1:
+            others = [w for w in sorted(graph.neighbors(x), key=index.get) if w != u]
+            g.add(f"leave{xi}-{ui}", [], *[[Lit(", "), _q(w), Ref(f"away{xi}-{index[w]}")] for w in others])
+
+
+def _add_groups(g: Grammar, humans: list[str]) -> None:
+    """group ids as a small automaton: state = members so far of group 1 and 2 (0, 1, 2 = two or more);
+    group 2 opens only after group 1; every group that is used ends with at least two members."""
+    n = len(humans)
+
+    @cache
+    def alive(k: int, c1: int, c2: int) -> bool:
+        if k == n:
+            return c1 != 1 and c2 != 1
+        return any(alive(k + 1, *s) for _, s in _moves(c1, c2))
+
+    def rule(k: int, c1: int, c2: int) -> str:
+        name = f"grp{k}-{c1}{c2}"
+        if name in g.rules:
+            return name
+        if k == n:
+            g.add(name, [Lit("}")])
+            return name
+        sep = "{" if k == 0 else ", "
+        alts: list[list[Symbol]] = []
+        for gid, state in _moves(c1, c2):
+            if alive(k + 1, *state):
+                alts.append([Lit(f'{sep}"{humans[k]}": {gid}'), Ref(rule(k + 1, *state))])
+        g.add(name, *alts)
+        return name
+
+    g.add("groups", [Ref(rule(0, 0, 0))])
+
+
+def _moves(c1: int, c2: int) -> list[tuple[int, tuple[int, int]]]:
+    moves = [(-1, (c1, c2)), (GROUP_IDS[0], (min(c1 + 1, 2), c2))]
+    if c1 > 0:
+        moves.append((GROUP_IDS[1], (c1, min(c2 + 1, 2))))
+    return moves
+
+
+def paths_grammar(graph: nx.Graph, humans: list[str]) -> str:
+    """The GBNF text passed as `grammar=` to `llm.chat` for stage 2."""
+    return build_paths_grammar(graph, humans).to_gbnf()
+
+
+__all__ = ["build_paths_grammar", "paths_grammar"]

@@ -1,0 +1,130 @@
+"""Stage 2: robot and human paths on the scene graph (SocRATES Sec. III-C).
+
+The prompt holds the scene graph JSON, the annotated map image (for models that take images), the
+tutorial generated for this map, example scenarios whose paths are computed on this map (so the
+examples are valid here, not on some other building), and the scenario. Every answer is checked by
+path_checks; in-process models also get a grammar that only admits valid answers.
+"""
+
+from __future__ import annotations
+
+import json
+import random
+from pathlib import Path
+
+import networkx as nx
+
+from socnavgen.llm.base import LLM, ChatMessage
+from socnavgen.location import Location
+from socnavgen.location.location import SCENE_GRAPH_IMAGE
+from socnavgen.proposal.conversation import Outcome, Policy, Recorder, converse
+from socnavgen.proposal.path_checks import check_paths
+from socnavgen.proposal.path_grammar import paths_grammar
+from socnavgen.proposal.replies import PathsReply
+from socnavgen.proposal.templates import render
+from socnavgen.proposal.tutorial import generate_tutorial, tutorial_text
+from socnavgen.run import PathPlan, ScenarioProposal
+
+STAGE = "paths"
+MAX_TOKENS = 1024
+
+
+def scene_graph_text(location: Location) -> str:
+    """The node-link JSON, one node or edge per line: complete, but a fraction of the indented size."""
+    sg = location.scene_graph
+    nodes = ",\n".join("  " + json.dumps({"id": n.id, "type": n.type, "pos": [round(n.pos[0]), round(n.pos[1])]})
+                       for n in sg.nodes)
+    links = ",\n".join("  " + json.dumps({"source": e.source, "target": e.target, "type": e.type}) for e in sg.links)
+    return '{"directed": false, "nodes": [\n' + nodes + '\n], "links": [\n' + links + "\n]}"
+
+
+def reply_json(plan_or_reply: dict) -> str:
+    return json.dumps(plan_or_reply, ensure_ascii=False)
+
+
+def answer_dict(reasoning: str, robot: list[str], humans: dict[str, tuple[list[str], int, str | None]]) -> dict:
+    """A stage-2 answer in the order the grammar uses: reasoning, interaction points, trajectories, groups."""
+    return {"reasoning": reasoning,
+            "interaction_points": {h: v[2] for h, v in humans.items()},
+            "trajectories": {"robot": robot, **{h: v[0] for h, v in humans.items()}},
+            "group_ids": {h: v[1] for h, v in humans.items()}}
+
+
+def plan_to_answer(plan: PathPlan) -> dict:
+    return answer_dict(plan.reasoning, plan.robot,
+                       {h.name: (h.path, h.group_id, h.interaction_point) for h in plan.humans})
+
+
+def format_line(humans: list[str]) -> str:
+    return reply_json({"reasoning": "<short reasoning>",
+                       "interaction_points": {h: "<node id>" for h in humans},
+                       "trajectories": {"robot": ["<node id>", "..."], **{h: ["<node id>", "..."] for h in humans}},
+                       "group_ids": {h: "<-1 or group id>" for h in humans}})
+
+
+def map_examples(graph: nx.Graph, seed: int = 0) -> list[tuple[str, list[str], dict]]:
+    """Two example scenarios with paths computed on THIS graph: a head-on encounter in a passage and a
+    group of two standing on the robot's way. Returns (scenario text, humans, answer)."""
+    rng = random.Random(seed + 1)
+    examples: list[tuple[str, list[str], dict]] = []
+    routes = [p for a, targets in sorted(nx.all_pairs_shortest_path(graph)) for b, p in sorted(targets.items())
+              if a < b and len(p) >= 3]
+    if not routes:
+        return examples
+    longest = max(len(p) for p in routes)
+    route = rng.choice([p for p in routes if len(p) >= min(longest, 4)])
+    mid = route[len(route) // 2]
+    kind = graph.nodes[mid].get("type", "node")
+    examples.append((
+        f"The robot carries a box from {route[0]} to {route[-1]}. A worker walks the same way in the opposite "
+        f"direction, from {route[-1]} to {route[0]}, and they meet at {mid} ({kind}). human1: the worker, walks "
+        f"normally and steps aside for the robot.",
+        ["human1"],
+        answer_dict(f"The shortest route {', '.join(route)} joins the two ends; the worker walks it backwards, "
+                    f"so both pass {mid}, where they meet. One human, no group: -1.",
+                    route, {"human1": (list(reversed(route)), -1, mid)})))
+    short = rng.choice([p for p in routes if len(p) == 3] or routes)
+    spot = short[1]
+    kind = graph.nodes[spot].get("type", "node")
+    examples.append((
+        f"The robot goes from {short[0]} to {short[-1]}. Two workers stand talking together at {spot} ({kind}), "
+        f"in the robot's way, and let it pass only when it says EXCUSE ME. human1 and human2: the two workers.",
+        ["human1", "human2"],
+        answer_dict(f"The route {', '.join(short)} passes {spot}; the two workers stand there (a path of one "
+                    f"node) as one group, so they share group id 1, and meet the robot at {spot}.",
+                    list(short), {"human1": ([spot], 1, spot), "human2": ([spot], 1, spot)})))
+    return examples
+
+
+def scenario_text(scenario: ScenarioProposal) -> str:
+    lines = [f"Scenario: {scenario.scenario_description}"]
+    lines += [f"{name}: {text}" for name, text in scenario.human_behaviors.items()]
+    lines.append(f"Expected robot behavior: {scenario.expected_robot_behavior}")
+    return "\n".join(lines)
+
+
+def paths_messages(location: Location, scenario: ScenarioProposal, *, seed: int = 0,
+                   images: bool = True) -> list[ChatMessage]:
+    graph = location.graph
+    humans = list(scenario.human_behaviors)
+    examples = "\n\n".join(render("paths_example.md", scenario=text, humans=", ".join(names), answer=reply_json(ans))
+                           for text, names, ans in map_examples(graph, seed))
+    user = render("paths_user.md", scene_graph=scene_graph_text(location),
+                  node_types=", ".join(location.schema.node_types), edge_types=", ".join(location.schema.edge_types),
+                  tutorial=tutorial_text(generate_tutorial(graph, seed)), examples=examples,
+                  scenario=scenario_text(scenario), humans=", ".join(humans), format=format_line(humans))
+    picture: list[Path] = []
+    image = location.root / SCENE_GRAPH_IMAGE
+    if images and image.is_file():
+        picture.append(image)
+    return [ChatMessage(role="system", content=render("paths_system.md")),
+            ChatMessage(role="user", content=user, images=picture)]
+
+
+def plan_paths(messages: list[ChatMessage], location: Location, scenario: ScenarioProposal, llm: LLM,
+               recorder: Recorder, policy: Policy) -> Outcome[PathsReply]:
+    humans = list(scenario.human_behaviors)
+    graph = location.graph
+    grammar = paths_grammar(graph, humans) if getattr(llm, "supports_grammar", False) else None
+    return converse(llm, messages, PathsReply, lambda reply: check_paths(reply, graph, humans), stage=STAGE,
+                    key=None, recorder=recorder, policy=policy, grammar=grammar, max_tokens=MAX_TOKENS)

@@ -1,0 +1,316 @@
+"""The simulation loop: fixed time step, one tree tick per human per step, one vectorised social-force
+step for everyone who walks, the robot plugin, scripted gestures, interaction throttling, and the trace.
+
+Per step (reference §1.1, simplified to one process):
+1. snapshot: distances to the robot, interaction holds, environment forces (social incl. the robot,
+   obstacle) from the current positions;
+2. every tree is ticked once, in agent-id order; actions set motion commands;
+3. walking agents take one SFM step (desired force toward their command target + environment + group
+   forces); agents that did not walk report zero velocity (as Gazebo does); goal consumption;
+4. the robot acts on the same snapshot; its gesture comes from the policy or the scripted rules;
+5. the new state is recorded.
+Deterministic: the only randomness (spawn offsets) comes from a seeded numpy Generator.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from socnavgen.bt.library import leaf_nodes
+from socnavgen.bt.tree import BTDocument
+from socnavgen.sim import kernels
+from socnavgen.sim.agents import Crowd, HumanSpec
+from socnavgen.sim.bt_runtime import BehaviorTree, build_tree
+from socnavgen.sim.gestures import ScriptedGestures
+from socnavgen.sim.interaction import InteractionThrottle
+from socnavgen.sim.nodes import IMPLEMENTATIONS
+from socnavgen.sim.robot import GOAL_TOLERANCE, ROBOT_RADIUS, Observation, RobotAction, RobotPolicy
+from socnavgen.sim.sfm import Groups, SFMParams, desired_forces, integrate, obstacle_forces, social_forces
+from socnavgen.sim.trace import Trace
+from socnavgen.sim.world import World
+
+NODE_NAMES = [n.name for n in leaf_nodes()]
+NODE_INDEX = {name: k for k, name in enumerate(NODE_NAMES)}
+
+
+@dataclass
+class SimConfig:
+    dt: float = 0.05
+    timeout: float = 120.0
+    seed: int = 0
+    sfm: SFMParams = field(default_factory=SFMParams)
+    robot_radius: float = ROBOT_RADIUS
+    goal_tolerance: float = GOAL_TOLERANCE
+    idle_end: float = 10.0  # end when every human is done and the robot has not moved for this long
+
+
+def _wrap(a: np.ndarray) -> np.ndarray:
+    return (a + np.pi) % (2 * np.pi) - np.pi
+
+
+class Simulation:
+    def __init__(self, world: World, humans: list[HumanSpec], trees: list[str | BTDocument],
+                 robot_path: list[tuple[float, float]], policy: RobotPolicy, config: SimConfig | None = None,
+                 gestures: ScriptedGestures | None = None, throttle: InteractionThrottle | None = None,
+                 tree_names: list[str] | None = None, base_dir: Path | None = None, meta: dict | None = None,
+                 use_kernels: bool | None = None) -> None:
+        if len(trees) != len(humans):
+            raise ValueError("one tree per human")
+        self.config = config or SimConfig()
+        self.dt = float(self.config.dt)
+        self.params = self.config.sfm
+        self.world = world
+        self.crowd = Crowd(humans)
+        self.groups = Groups(self.crowd.group)
+        self.policy = policy
+        self.gestures = gestures
+        self.throttle = throttle
+        self.meta = dict(meta or {})
+        n = self.crowd.n
+        # robot
+        self.robot_waypoints = np.array([complex(*p) for p in robot_path], dtype=complex)
+        if len(self.robot_waypoints) == 0:
+            raise ValueError("the robot needs at least one waypoint")
+        self.robot_pos = complex(self.robot_waypoints[0])
+        self.robot_vel = 0j
+        first_leg = self.robot_waypoints[1] - self.robot_pos if len(self.robot_waypoints) > 1 else 1 + 0j
+        self.robot_yaw = math.atan2(first_leg.imag, first_leg.real) if abs(first_leg) > 0 else 0.0
+        self._robot_dir = complex(math.cos(self.robot_yaw), math.sin(self.robot_yaw))
+        self.robot_omega = 0.0
+        self.robot_radius = float(self.config.robot_radius)
+        self.robot_gesture = 0
+        self.t = 0.0
+        self.obs = Observation(self)
+        # per-step scratch read by the nodes
+        self.robot_dist: list[float] = [0.0] * n
+        self._in_sight: np.ndarray | None = None
+        self.give_way: list[dict | None] = [None] * n
+        self.face_robot_after_step: dict[int, float] = {}
+        self.tick_action = [-1] * n
+        self.tick_action_motion = [False] * n
+        self.tick_success = [0] * n
+        # motion commands, packed for the kernel (see sim.kernels); named arrays are row views
+        crowd = self.crowd
+        self.cc = np.zeros((3, n), dtype=complex)
+        self.fc = np.zeros((4, n))
+        self.bc = np.zeros((5, n), dtype=bool)
+        self.cmd_target, self.cmd_extra, self.f_env = self.cc[0], self.cc[1], self.cc[2]
+        self.cmd_radius, self.cmd_v0, self.cmd_yaw, self._rdist = self.fc[0], self.fc[1], self.fc[2], self.fc[3]
+        self.cmd_move, self.cmd_use_goal, self.cmd_turn, self.reached = self.bc[0], self.bc[1], self.bc[2], self.bc[4]
+        self.bc[3] = crowd.has_goal
+        crowd.has_goal = self.bc[3]
+        self.trees: list[BehaviorTree] = [
+            build_tree(tree, self, i, IMPLEMENTATIONS, NODE_INDEX, base_dir=base_dir,
+                       name=(tree_names[i] if tree_names else f"tree of agent {i}"))
+            for i, tree in enumerate(trees)]
+        # compiled kernel (numba) when available; the numpy path (sim.sfm) is the reference
+        self._fast = kernels.AVAILABLE if use_kernels is None else (use_kernels and kernels.AVAILABLE)
+        prm = self.params
+        self._prm = np.array([prm.k_des, prm.tau, prm.k_gaze, prm.k_coh, prm.k_rep, prm.k_obs, prm.sigma_obs,
+                              prm.k_soc, prm.lam, prm.gamma, prm.n, prm.n_prime,
+                              np.inf if prm.cutoff is None else prm.cutoff, world.obstacle_range,
+                              1.0 if world.has_obstacles else 0.0, world.mpp])
+        self._obs_table = world.obstacle_table if world.has_obstacles else np.zeros((1, 1), dtype=complex)
+        self._affine = world.transform.inverse.copy()
+        self._labels = np.full(n, -1, dtype=np.int64)
+        self._labels[self.groups.members] = self.groups.labels
+        self._sizes = self.groups.sizes.astype(float)
+        self._physics(do_step=False)
+        if hasattr(policy, "reset"):
+            policy.reset(self.obs)
+
+    # -- queries used by the nodes ------------------------------------------------------------
+    def robot_in_sight(self, i: int) -> bool:
+        """Line of sight from human i to the robot (computed for everyone at most once per step)."""
+        if self._in_sight is None:
+            self._in_sight = self.world.line_of_sight(self.robot_pos, self.crowd.pos)
+        return bool(self._in_sight[i])
+
+    def robot_direction(self) -> complex:
+        """Unit vector of the robot's travel (last motion, else its initial heading)."""
+        return self._robot_dir
+
+    # -- motion commands set by the actions ---------------------------------------------------
+    def command_walk_goal(self, i: int, v0: float | None = None, extra: complex = 0j) -> None:
+        self.cmd_move[i] = True
+        self.cmd_use_goal[i] = True
+        self.cmd_v0[i] = self.crowd.max_vel[i] if v0 is None else v0
+        self.cmd_extra[i] = extra
+        self.cmd_turn[i] = False
+
+    def command_walk(self, i: int, target: complex, radius: float, v0: float, real_goal: bool = False) -> None:
+        self.cmd_move[i] = True
+        self.cmd_use_goal[i] = False
+        self.cmd_target[i] = target
+        self.cmd_radius[i] = radius
+        self.cmd_v0[i] = v0
+        self.cmd_extra[i] = 0j
+        self.cmd_turn[i] = False
+
+    def command_turn(self, i: int, yaw: float) -> None:
+        self.cmd_move[i] = False
+        self.cmd_turn[i] = True
+        self.cmd_yaw[i] = yaw
+
+    def command_stand(self, i: int) -> None:
+        self.cmd_move[i] = False
+        self.cmd_turn[i] = False
+
+    # -- the loop -------------------------------------------------------------------------------
+    def _physics(self, do_step: bool) -> int:
+        """(do_step) move the humans per their commands; then environment forces for the new state."""
+        crowd = self.crowd
+        if crowd.n == 0:
+            return 0
+        if self._fast:
+            reached = kernels.advance(crowd.cs, crowd.fs, self.cc, self.fc, self.bc, self._labels, self._sizes,
+                                      self._prm, self._obs_table, self._affine, self.robot_pos, self.robot_vel,
+                                      self.dt, do_step)
+        else:
+            reached = self._numpy_step() if do_step else 0
+            prm, pos = self.params, crowd.pos
+            self.f_env[:] = social_forces(np.append(pos, self.robot_pos), np.append(crowd.vel, self.robot_vel),
+                                          prm)[:-1]
+            obs_pt, obs_ok = self.world.nearest_obstacles(pos)
+            self.f_env += obstacle_forces(pos, crowd.radius, obs_pt, obs_ok, prm)
+            self._rdist[:] = np.abs(self.robot_pos - pos)
+        self.robot_dist = self._rdist.tolist()
+        return reached
+
+    def _numpy_step(self) -> int:
+        """Reference path without numba: desired + group forces, SFM step, in place; returns #goals reached."""
+        crowd, prm, dt = self.crowd, self.params, self.dt
+        pos, vel = crowd.pos, crowd.vel
+        move, use_goal = self.cmd_move, self.cmd_use_goal
+        target = np.where(use_goal, crowd.goal, self.cmd_target)
+        radius = np.where(use_goal, crowd.goal_radius, self.cmd_radius)
+        has_target = np.where(use_goal, crowd.has_goal, True)
+        f_des, e = desired_forces(pos, vel, target, radius, has_target, self.cmd_v0, prm)
+        force = f_des + self.f_env + self.cmd_extra
+        if self.groups:
+            force += self.groups.forces(pos, e, crowd.radius, prm)
+        new_pos, new_vel, new_yaw = integrate(pos, vel, crowd.yaw, force, self.cmd_v0, dt)
+        old_yaw = crowd.yaw.copy()
+        pos[:] = np.where(move, new_pos, pos)
+        vel[:] = np.where(move, new_vel, 0j)
+        crowd.yaw[:] = np.where(move, new_yaw, np.where(self.cmd_turn, _wrap(self.cmd_yaw), old_yaw))
+        crowd.omega[:] = _wrap(crowd.yaw - old_yaw) / dt
+        self.reached[:] = move & use_goal & crowd.has_goal & (np.abs(crowd.goal - pos) <= crowd.goal_radius)
+        return int(self.reached.sum())
+
+    def step(self) -> None:
+        """One time step: every tree ticks on the current snapshot, the robot acts on the same snapshot,
+        then everyone moves at once."""
+        crowd, n, dt = self.crowd, self.crowd.n, self.dt
+        if n:
+            self._in_sight = None
+            if self.throttle is not None:
+                self.throttle.update(self)
+            self.cmd_move[:] = False
+            self.cmd_turn[:] = False
+            self.tick_action = [-1] * n
+            self.tick_action_motion = [False] * n
+            self.tick_success = [0] * n
+            self.face_robot_after_step.clear()
+            for tree in self.trees:
+                tree.tick(dt)
+        action = self.policy.act(self.obs)
+        self._apply_robot(action)
+        if n:
+            if self._physics(do_step=True):
+                for i in np.flatnonzero(self.reached).tolist():
+                    crowd.queues[i].consume()
+                    crowd.refresh_goal(i)
+            for i, within in self.face_robot_after_step.items():
+                d = self.robot_pos - crowd.pos[i]
+                if abs(d) <= within:
+                    crowd.yaw[i] = math.atan2(d.imag, d.real)
+        self.t += dt
+        if action.gesture is not None:
+            self.robot_gesture = int(action.gesture)
+        elif self.gestures is not None:
+            self.robot_gesture = self.gestures.gesture(self)
+
+    def _apply_robot(self, action: RobotAction) -> None:
+        if not isinstance(action, RobotAction):
+            raise TypeError(f"robot policy returned {type(action).__name__}, expected RobotAction")
+        v = complex(float(action.vx), float(action.vy))
+        if not (math.isfinite(v.real) and math.isfinite(v.imag)):
+            v = 0j
+        new = self.robot_pos + v * self.dt
+        # the robot cannot drive into walls: a move that ends inside one is refused
+        if v != 0 and self.world.clearance_at_point(new) < 0.5 * self.robot_radius:
+            v, new = 0j, self.robot_pos
+        old_yaw = self.robot_yaw
+        if abs(v) > 0.05:
+            self.robot_yaw = math.atan2(v.imag, v.real)
+            self._robot_dir = v / abs(v)
+        self.robot_omega = ((self.robot_yaw - old_yaw + math.pi) % (2 * math.pi) - math.pi) / self.dt
+        self.robot_pos, self.robot_vel = new, v
+
+    def robot_at_goal(self) -> bool:
+        return abs(self.robot_waypoints[-1] - self.robot_pos) <= self.config.goal_tolerance
+
+    def run(self, progress: Callable[[int, int], None] | None = None) -> Trace:
+        """Run to the robot's goal, the timeout, or until nothing will change; return the trace."""
+        cfg, crowd, n = self.config, self.crowd, self.crowd.n
+        max_steps = int(math.ceil(cfg.timeout / self.dt))
+        T = max_steps + 1
+        pos = np.zeros((T, n), dtype=complex)
+        vel = np.zeros((T, n), dtype=complex)
+        yaw = np.zeros((T, n))
+        omega = np.zeros((T, n))
+        action = np.full((T, n), -1, dtype=np.int16)
+        succeeded = np.zeros((T, n), dtype=np.int64)
+        gesture = np.zeros((T, n), dtype=np.int8)
+        bstate = np.zeros((T, n), dtype=np.int8)
+        robot = np.zeros((T, 6))
+        rgest = np.zeros(T, dtype=np.int8)
+
+        def record(k: int) -> None:
+            pos[k], vel[k], yaw[k], omega[k] = crowd.pos, crowd.vel, crowd.yaw, crowd.omega
+            action[k], succeeded[k] = self.tick_action, self.tick_success
+            gesture[k], bstate[k] = crowd.gesture, crowd.behavior_state
+            r = self.robot_pos
+            robot[k] = (r.real, r.imag, self.robot_yaw, self.robot_vel.real, self.robot_vel.imag, self.robot_omega)
+            rgest[k] = self.robot_gesture
+
+        record(0)
+        reason, idle, k = "timeout", 0.0, 0
+        for k in range(1, T):
+            self.step()
+            record(k)
+            if progress is not None and k % 200 == 0:
+                progress(k, max_steps)
+            if self.robot_at_goal():
+                reason = "robot_goal"
+                break
+            idle = idle + self.dt if abs(self.robot_vel) < 1e-3 else 0.0
+            if idle >= cfg.idle_end and all(crowd.done(i) for i in range(n)):
+                reason = "all_done"
+                break
+        steps = k + 1
+        if progress is not None:
+            progress(max_steps, max_steps)
+        humans = np.stack([pos.real, pos.imag, yaw, vel.real, vel.imag, omega], axis=-1)[:steps]
+        meta = dict(self.meta)
+        meta.update(seed=cfg.seed, timeout=cfg.timeout, robot_goal_radius=cfg.goal_tolerance,
+                    kernels="numba" if self._fast else "numpy",
+                    human_goals={crowd.names[i]: [list(g) for g in crowd.specs[i].goals] for i in range(n)})
+        if self.throttle is not None:
+            meta["held_seconds"] = {crowd.names[i]: s * self.dt for i, s in self.throttle.paused_steps.items()}
+            meta["throttle_skipped"] = self.throttle.skipped
+        return Trace(
+            dt=self.dt, t=np.arange(steps) * self.dt, robot=robot[:steps], humans=humans, human_names=crowd.names,
+            group_ids=[int(g) for g in crowd.group], human_radii=crowd.radius.copy(),
+            robot_radius=self.robot_radius, node_names=list(NODE_NAMES), action=action[:steps],
+            succeeded=succeeded[:steps], human_gesture=gesture[:steps], robot_gesture=rgest[:steps],
+            behavior_state=bstate[:steps], robot_goal=tuple(map(float, (self.robot_waypoints[-1].real,
+                                                                        self.robot_waypoints[-1].imag))),
+            robot_waypoints=[(float(w.real), float(w.imag)) for w in self.robot_waypoints],
+            end_reason=reason, meta=meta)

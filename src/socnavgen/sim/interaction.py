@@ -1,0 +1,72 @@
+"""Interaction-point throttling, as SocRATES's scenario manager does it (reference §11).
+
+A solo human walking toward its interaction node (or spawned on it) is held in place while the robot
+is still before that node on its own path, so the two arrive there together. Only RegularNav honours
+the hold, exactly like `pause_nav` in the fork.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+
+@dataclass
+class ThrottleConfig:
+    enabled: bool = True
+    waypoint_radius: float = 1.5  # robot counts a waypoint as passed within this distance
+    release_distance: float = 1.0  # never hold a human this close to the robot
+
+
+@dataclass
+class _Held:
+    agent: int
+    goals: list[str]  # node ids of the human's goal list (path without the spawn node)
+    spawn: str
+    node: str  # interaction node
+    robot_index: int  # index of the node in the robot's goal list
+
+
+class InteractionThrottle:
+    def __init__(self, config: ThrottleConfig, robot_nodes: list[str], robot_goal_points: list[complex],
+                 humans: list[tuple[int, list[str], str | None, int]]) -> None:
+        """humans: (agent id, path node ids, interaction node or None, group id)."""
+        self.config = config
+        self.robot_goals = robot_nodes[1:]
+        self.robot_points = robot_goal_points[1:]
+        self.k = 0
+        self.held: list[_Held] = []
+        self.skipped: list[str] = []
+        self.paused_steps: dict[int, int] = {}
+        for agent, path, node, group in humans:
+            if node is None or group != -1 or not path:
+                continue
+            if node not in self.robot_goals:
+                self.skipped.append(f"agent {agent}: interaction node {node} is not on the robot's path after its start")
+                continue
+            goals = path[1:] if len(path) > 1 else [path[0]]
+            self.held.append(_Held(agent, goals, path[0], node, self.robot_goals.index(node)))
+
+    def update(self, sim: Any) -> None:
+        """Advance the robot's waypoint index and set crowd.paused for this step."""
+        if not self.config.enabled or not self.held:
+            return
+        rp = sim.robot_pos
+        while self.k < len(self.robot_points) - 1 and abs(self.robot_points[self.k] - rp) <= self.config.waypoint_radius:
+            self.k += 1
+        crowd = sim.crowd
+        for h in self.held:
+            i = h.agent
+            q = crowd.queues[i]
+            if not q.goals or (len(q) == 1 and abs(q.goals[0] - crowd.pos[i]) <= q.radius):
+                continue  # SocRATES sends no entry: the previous value stays
+            idx = len(h.goals) - len(q)
+            next_node = h.goals[idx] if 0 <= idx < len(h.goals) else None
+            pause = (crowd.behavior_state[i] == 0
+                     and sim.robot_dist[i] > self.config.release_distance
+                     and (next_node == h.node or h.spawn == h.node)
+                     and self.robot_goals[self.k] != h.node
+                     and self.k < h.robot_index)
+            crowd.paused[i] = pause
+            if pause:
+                self.paused_steps[i] = self.paused_steps.get(i, 0) + 1

@@ -1,0 +1,241 @@
+"""The robot as a plugin: what it observes, what it answers, and the built-in policies.
+
+A policy is any class with `act(observation) -> RobotAction` (and optionally `reset(observation)`),
+loadable from the command line as `--robot module:Class` or `--robot path/to/file.py:Class`.
+Scripted robot speech (PathPlan.robot_gestures) is applied by the engine unless the policy returns
+its own gesture.
+"""
+
+from __future__ import annotations
+
+import importlib
+import importlib.util
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Protocol, runtime_checkable
+
+import numpy as np
+
+from socnavgen.errors import InputFileError
+from socnavgen.sim.sfm import SFMParams, _pair_force
+
+ROBOT_RADIUS = 0.35  # Gazebo wrapper
+GOAL_TOLERANCE = 0.2  # hunav_evaluator "completed"
+
+
+class Observation:
+    """What the robot knows at time t. Vectors as numpy (x, y) arrays; `*_c` are the same as complex."""
+
+    def __init__(self, sim: Any) -> None:
+        self._sim = sim
+
+    @property
+    def t(self) -> float:
+        return self._sim.t
+
+    @property
+    def dt(self) -> float:
+        return self._sim.dt
+
+    @property
+    def position(self) -> np.ndarray:
+        return np.array([self._sim.robot_pos.real, self._sim.robot_pos.imag])
+
+    @property
+    def velocity(self) -> np.ndarray:
+        return np.array([self._sim.robot_vel.real, self._sim.robot_vel.imag])
+
+    @property
+    def yaw(self) -> float:
+        return self._sim.robot_yaw
+
+    @property
+    def radius(self) -> float:
+        return self._sim.robot_radius
+
+    @property
+    def waypoints(self) -> np.ndarray:
+        """(K, 2) the robot's path in world coordinates; the last one is the goal."""
+        w = self._sim.robot_waypoints
+        return np.column_stack([w.real, w.imag])
+
+    @property
+    def human_positions(self) -> np.ndarray:
+        p = self._sim.crowd.pos
+        return np.column_stack([p.real, p.imag])
+
+    @property
+    def human_velocities(self) -> np.ndarray:
+        v = self._sim.crowd.vel
+        return np.column_stack([v.real, v.imag])
+
+    @property
+    def human_radii(self) -> np.ndarray:
+        return self._sim.crowd.radius
+
+    @property
+    def human_gestures(self) -> list[int]:
+        return list(self._sim.crowd.gesture)
+
+    @property
+    def world(self) -> Any:
+        """The World: `clearance` (metres to walls per cell), `clearance_at`, `line_of_sight`."""
+        return self._sim.world
+
+    # complex views for fast policies
+    @property
+    def position_c(self) -> complex:
+        return self._sim.robot_pos
+
+    @property
+    def velocity_c(self) -> complex:
+        return self._sim.robot_vel
+
+    @property
+    def waypoints_c(self) -> np.ndarray:
+        return self._sim.robot_waypoints
+
+    @property
+    def human_positions_c(self) -> np.ndarray:
+        return self._sim.crowd.pos
+
+    @property
+    def human_velocities_c(self) -> np.ndarray:
+        return self._sim.crowd.vel
+
+
+@dataclass
+class RobotAction:
+    vx: float
+    vy: float
+    gesture: int | None = None  # None: keep the scenario's scripted gestures
+
+
+@runtime_checkable
+class RobotPolicy(Protocol):
+    def act(self, obs: Observation) -> RobotAction: ...
+
+
+class _WaypointTracker:
+    def __init__(self, tolerance: float) -> None:
+        self.index = 1
+        self.tolerance = tolerance
+
+    def target(self, obs: Observation) -> tuple[complex, bool]:
+        """Current waypoint and whether it is the last; advances past waypoints reached."""
+        wps = obs.waypoints_c
+        if len(wps) == 0:
+            return obs.position_c, True
+        self.index = min(self.index, len(wps) - 1)
+        while self.index < len(wps) - 1 and abs(wps[self.index] - obs.position_c) <= self.tolerance:
+            self.index += 1
+        return complex(wps[self.index]), self.index == len(wps) - 1
+
+
+class WaypointsPolicy:
+    """Follows its waypoints in straight lines like the teleoperated robot of the paper: slows down
+    when a person is in its way and stops short of them."""
+
+    def __init__(self, max_speed: float = 0.6, accel: float = 0.8, brake: float = 3.0,
+                 waypoint_tolerance: float = 0.4, slow_gap: float = 2.0, stop_gap: float = 0.5) -> None:
+        self.max_speed, self.accel, self.brake = max_speed, accel, brake
+        self.slow_gap, self.stop_gap = slow_gap, stop_gap
+        self.tracker = _WaypointTracker(waypoint_tolerance)
+        self.speed = 0.0
+
+    def gap_ahead(self, obs: Observation, direction: complex) -> float:
+        """Free distance to the nearest person in the robot's swept path ahead (inf if none)."""
+        rel = (obs.human_positions_c - obs.position_c) * direction.conjugate()
+        radii = obs.human_radii + obs.radius
+        in_path = (rel.real > 0) & (np.abs(rel.imag) < radii + 0.1)
+        if not in_path.any():
+            return math.inf
+        return float((rel.real - radii)[in_path].min())
+
+    def act(self, obs: Observation) -> RobotAction:
+        target, last = self.tracker.target(obs)
+        to = target - obs.position_c
+        dist = abs(to)
+        if last and dist <= GOAL_TOLERANCE * 0.5:
+            self.speed = 0.0
+            return RobotAction(0.0, 0.0)
+        direction = to / dist if dist > 1e-9 else complex(math.cos(obs.yaw), math.sin(obs.yaw))
+        gap = self.gap_ahead(obs, direction)
+        want = self.max_speed * min(1.0, max(0.0, (gap - self.stop_gap) / (self.slow_gap - self.stop_gap)))
+        if last:
+            want = min(want, math.sqrt(2 * self.accel * dist))
+        step = obs.dt
+        self.speed = min(want, self.speed + self.accel * step) if want >= self.speed else \
+            max(want, self.speed - self.brake * step)
+        v = direction * self.speed
+        return RobotAction(v.real, v.imag)
+
+
+class SFMPolicy:
+    """The robot as one more social-force agent heading for its waypoints (it does not wait: it
+    negotiates its way around people)."""
+
+    def __init__(self, max_speed: float = 0.6, waypoint_tolerance: float = 0.5,
+                 params: SFMParams | None = None) -> None:
+        self.max_speed = max_speed
+        self.params = params or SFMParams()
+        self.tracker = _WaypointTracker(waypoint_tolerance)
+
+    def act(self, obs: Observation) -> RobotAction:
+        p, v, prm = obs.position_c, obs.velocity_c, self.params
+        target, last = self.tracker.target(obs)
+        to = target - p
+        dist = abs(to)
+        if last and dist <= GOAL_TOLERANCE * 0.5:
+            return RobotAction(0.0, 0.0)
+        v0 = min(self.max_speed, math.sqrt(2 * 0.8 * dist)) if last else self.max_speed
+        force = prm.k_des * (v0 * to / max(dist, 1e-9) - v) / prm.tau
+        hp = obs.human_positions_c
+        if len(hp):
+            d = hp - p
+            near = np.abs(d) <= (prm.cutoff or np.inf)
+            if near.any():
+                force += complex(_pair_force(d[near], v - obs.human_velocities_c[near], prm).sum())
+        obs_pt, valid = obs.world.nearest_obstacles(np.array([p]))
+        if valid[0]:
+            dd = p - obs_pt[0]
+            r = abs(dd)
+            if r > 1e-9:
+                force += prm.k_obs * math.exp(-(r - obs.radius) / prm.sigma_obs) * dd / r
+        v = v + force * obs.dt
+        if abs(v) > v0:
+            v = v * (v0 / abs(v))
+        return RobotAction(v.real, v.imag)
+
+
+BUILTIN = {"waypoints": WaypointsPolicy, "sfm": SFMPolicy}
+
+
+def load_policy(spec: str) -> RobotPolicy:
+    """`waypoints`, `sfm`, `package.module:Class` or `path/to/file.py:Class` -> a policy instance."""
+    if spec in BUILTIN:
+        return BUILTIN[spec]()
+    if ":" not in spec:
+        raise InputFileError(f"unknown robot {spec!r}", hint="use waypoints, sfm, module:Class or file.py:Class")
+    module_name, _, class_name = spec.rpartition(":")
+    try:
+        if module_name.endswith(".py"):
+            path = Path(module_name)
+            if not path.is_file():
+                raise InputFileError("robot policy file not found", file=path)
+            mod_spec = importlib.util.spec_from_file_location(f"socnavgen_user_policy_{path.stem}", path)
+            module = importlib.util.module_from_spec(mod_spec)
+            mod_spec.loader.exec_module(module)
+        else:
+            module = importlib.import_module(module_name)
+        cls = getattr(module, class_name)
+    except InputFileError:
+        raise
+    except Exception as exc:  # noqa: BLE001 - anything user code raises on import
+        raise InputFileError(f"cannot load robot policy {spec!r}: {type(exc).__name__}: {exc}",
+                             hint="the class must be importable and take no constructor arguments") from exc
+    policy = cls()
+    if not callable(getattr(policy, "act", None)):
+        raise InputFileError(f"{spec} has no act(observation) method", hint="see RobotPolicy in docs/simulator.md")
+    return policy

@@ -1,0 +1,137 @@
+"""Build a Simulation from a run folder: location + paths.json + behaviors/*.xml, in world coordinates
+via Location.node_world, humans spawned around their first node as SocRATES does (reference §9.3)."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from socnavgen.bt.library import LIBRARY_TREES
+from socnavgen.errors import InputFileError, ValidationFailed
+from socnavgen.location import load_location
+from socnavgen.run import RunFolder
+from socnavgen.sim.agents import HumanSpec
+from socnavgen.sim.engine import SimConfig, Simulation
+from socnavgen.sim.gestures import ScriptedGestures
+from socnavgen.sim.interaction import InteractionThrottle, ThrottleConfig
+from socnavgen.sim.robot import RobotPolicy
+from socnavgen.sim.world import World
+
+SPAWN_SPREAD = 1.5  # m: SocRATES places each human uniformly within 1.5 m of its first node
+
+DEFAULT_TREE = """<root main_tree_to_execute="MainTree">
+  <include path="BTRegularNav.xml"/>
+  <BehaviorTree ID="MainTree">
+    <Sequence>
+      <SetBlackboard output_key="agentid" value="{id}"/>
+      <SetBlackboard output_key="timestep" value="{dt}"/>
+      <SubTree ID="RegularNavTree" id="agentid" dt="timestep"/>
+    </Sequence>
+  </BehaviorTree>
+</root>
+"""
+assert "BTRegularNav.xml" in LIBRARY_TREES
+
+
+def resolve_location(run: RunFolder, override: Path | None = None):  # noqa: ANN201 - Location
+    """The run's location: --location, else request.json's path as given or relative to the run."""
+    if override is not None:
+        return load_location(override)
+    request = run.read_request()
+    candidates = [Path(request.location), run.root / request.location, run.root.parent / request.location]
+    for cand in candidates:
+        if (cand / "location.yaml").is_file():
+            return load_location(cand)
+    raise InputFileError(f"location {request.location!r} not found", file=run.request_path,
+                         hint="pass --location PATH")
+
+
+def spawn_points(world: World, first_nodes: list[complex], group_ids: list[int], radius: float,
+                 rng: np.random.Generator) -> list[complex]:
+    """SocRATES spawn: a random point within 1.5 m of the first node (groups spread evenly on a circle);
+    points inside walls are redrawn (closer each time), falling back to the node itself."""
+    members: dict[int, list[int]] = {}
+    for k, g in enumerate(group_ids):
+        if g != -1:
+            members.setdefault(g, []).append(k)
+    out = []
+    for k, (node, g) in enumerate(zip(first_nodes, group_ids, strict=True)):
+        if g != -1 and len(members[g]) > 1:
+            angle = members[g].index(k) * 2 * math.pi / len(members[g])
+        else:
+            angle = float(rng.uniform(0, 2 * math.pi))
+        rho = float(rng.uniform(0, SPAWN_SPREAD))
+        point = node
+        for attempt in range(12):
+            cand = node + rho * (0.7 ** attempt) * complex(math.cos(angle), math.sin(angle))
+            if world.is_free(cand, radius) and world.line_of_sight(node, cand)[0]:
+                point = cand
+                break
+        out.append(point)
+    return out
+
+
+def load_simulation(run_dir: Path, policy: RobotPolicy, config: SimConfig | None = None,
+                    throttle: ThrottleConfig | None = None, location_dir: Path | None = None) -> Simulation:
+    config = config or SimConfig()
+    run = RunFolder(Path(run_dir))
+    location = resolve_location(run, location_dir)
+    plan = run.read_paths()
+    world = World.from_location(location)
+    known = set(location.scene_graph.node_ids())
+    problems = [f"robot path: unknown node {n!r}" for n in plan.robot if n not in known]
+    for h in plan.humans:
+        problems += [f"{h.name}: unknown node {n!r}" for n in h.path if n not in known]
+        if not h.path:
+            problems.append(f"{h.name}: empty path")
+    humans = sorted(plan.humans, key=lambda h: h.agent_id)
+    if [h.agent_id for h in humans] != list(range(len(humans))):
+        problems.append("humans must be named human1..humanN without gaps (agent id = number - 1)")
+    if not plan.robot:
+        problems.append("the robot path is empty")
+    if problems:
+        raise ValidationFailed("cannot simulate this run:\n  " + "\n  ".join(problems), file=run.paths_path)
+
+    def w(node: str) -> complex:
+        return complex(*location.node_world(node))
+
+    rng = np.random.default_rng(config.seed)
+    starts = spawn_points(world, [w(h.path[0]) for h in humans], [h.group_id for h in humans], 0.4, rng)
+    specs = []
+    for h, start in zip(humans, starts, strict=True):
+        goal_nodes = h.path[1:] if len(h.path) > 1 else h.path[:1]
+        goals = [location.node_world(n) for n in goal_nodes]
+        first = complex(*goals[0]) - start
+        yaw = math.atan2(first.imag, first.real) if abs(first) > 1e-9 else 0.0
+        specs.append(HumanSpec(name=h.name, start=(start.real, start.imag), goals=goals, yaw=yaw,
+                               group_id=h.group_id, path_nodes=list(h.path),
+                               interaction_point=location.node_world(h.interaction_point)
+                               if h.interaction_point in known else None))
+    xmls = run.behaviors()
+    trees, names, defaulted = [], [], []
+    for h in humans:
+        if h.name in xmls:
+            trees.append(xmls[h.name])
+            names.append(str(run.behavior_path(h.name)))
+        else:
+            trees.append(DEFAULT_TREE)
+            names.append(f"<default RegularNav tree for {h.name}>")
+            defaulted.append(h.name)
+    node_points = {n: w(n) for n in known}
+    robot_path = [location.node_world(n) for n in plan.robot]
+    thr = InteractionThrottle(throttle or ThrottleConfig(), list(plan.robot), [complex(*p) for p in robot_path],
+                              [(h.agent_id, list(h.path), h.interaction_point, h.group_id) for h in humans])
+    meta = {
+        "run": str(run.root), "location": location.name, "robot_nodes": list(plan.robot),
+        "human_paths": {h.name: list(h.path) for h in humans},
+        "interaction_points": {h.name: [*location.node_world(h.interaction_point)]
+                               for h in humans if h.interaction_point in known},
+        "interaction_nodes": {h.name: h.interaction_point for h in humans if h.interaction_point},
+        "default_trees": defaulted, "policy": type(policy).__name__,
+        "throttle": (throttle or ThrottleConfig()).__dict__,
+    }
+    return Simulation(world, specs, trees, robot_path, policy, config,
+                      gestures=ScriptedGestures(plan.robot_gestures, node_points), throttle=thr,
+                      tree_names=names, base_dir=run.behaviors_dir, meta=meta)

@@ -1,0 +1,30 @@
+"""Human-readable rendering of a VerifyReport (a rich table: one row per expectation, with its evidence)."""
+
+from __future__ import annotations
+
+from rich.console import Console
+from rich.table import Table
+
+from socnavgen.verify.models import VerifyReport
+
+
+def report_table(report: VerifyReport) -> Table:
+    verdict = "[bold green]PASSED[/]" if report.passed else f"[bold red]FAILED[/] ({len(report.failures)} failing)"
+    table = Table(title=f"verify {report.run}: {verdict}", caption=(
+        f"{report.trace_seconds:.1f} s simulated, {report.trace_steps} steps"
+        + (f", ended by {report.end_reason}" if report.end_reason else "")), show_lines=False, expand=False)
+    table.add_column("", no_wrap=True)
+    table.add_column("expectation", overflow="fold")
+    table.add_column("from", no_wrap=True)
+    table.add_column("t \\[s]", justify="right", no_wrap=True)
+    table.add_column("dist \\[m]", justify="right", no_wrap=True)
+    table.add_column("evidence", overflow="fold")
+    for f in report.findings:
+        table.add_row("[green]ok[/]" if f.passed else "[red]FAIL[/]", f.name, f.source,
+                      "" if f.time is None else f"{f.time:.1f}", "" if f.distance is None else f"{f.distance:.2f}",
+                      f.evidence)
+    return table
+
+
+def print_report(report: VerifyReport, console: Console) -> None:
+    console.print(report_table(report))

@@ -1,0 +1,23 @@
+"""Fixtures of the export tests: a tiny off-centre location and a run-folder factory on it."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from export_helpers import GIVE_WAY_TREE, REGULAR_TREE, build_location, build_run, default_plan
+
+from socnavgen.run import PathPlan
+
+
+@pytest.fixture
+def tiny_location(tmp_path: Path) -> Path:
+    return build_location(tmp_path / "tiny_location")
+
+
+@pytest.fixture
+def make_run(tmp_path: Path, tiny_location: Path):  # noqa: ANN201 - factory fixture
+    def make(trees: dict[str, str] | None = None, plan: PathPlan | None = None, name: str = "run") -> Path:
+        trees = trees or {"human1": GIVE_WAY_TREE, "human2": REGULAR_TREE}
+        return build_run(tmp_path / name, tiny_location, plan or default_plan(), trees)
+    return make

@@ -1,0 +1,56 @@
+"""hunav1 target: built-in behaviors only; custom trees are refused by human and node."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+import yaml
+from export_helpers import CURIOUS_TREE, GIVE_WAY_TREE, REGULAR_TREE, TRANSLATABLE_TREE, agent_shape
+
+from socnavgen.bt.library import REGULAR_NAV_XML
+from socnavgen.errors import SocnavgenError
+from socnavgen.export import export_run
+
+
+def test_builtin_patterns_map_to_behavior_codes(make_run, tmp_path: Path, reference_dir: Path) -> None:
+    out = tmp_path / "out"
+    export_run(make_run(trees={"human1": CURIOUS_TREE, "human2": REGULAR_TREE}), "hunav1", out)
+    ours = yaml.safe_load((out / "hunav_agent_manager/config/agents.yaml").read_text())
+    p = ours["hunav_loader"]["ros__parameters"]
+    assert p["human1"]["behavior"] == 5 and p["human2"]["behavior"] == 1
+    ref = yaml.safe_load((reference_dir / "data/upstream-hunav-1x/config/agents.yaml").read_text())
+    rp = ref["hunav_loader"]["ros__parameters"]
+    assert set(p) - set(p["agents"]) == set(rp) - set(rp["agents"])
+    assert agent_shape(p, "human2").keys() <= agent_shape(rp, rp["agents"][0]).keys()
+    assert p["human1"]["goals"] == ["g0", "g1"]  # 1.x names goals from g0
+    assert not list(out.rglob("*.xml"))  # 1.x loads its own trees
+
+
+def test_the_library_regular_tree_itself_is_behavior_1(make_run, tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    export_run(make_run(trees={"human1": REGULAR_NAV_XML, "human2": REGULAR_TREE}), "hunav1", out)
+    p = yaml.safe_load((out / "hunav_agent_manager/config/agents.yaml").read_text())["hunav_loader"]["ros__parameters"]
+    assert p["human1"]["behavior"] == 1
+
+
+def test_changed_parameter_is_not_a_builtin(make_run, tmp_path: Path) -> None:
+    tree = CURIOUS_TREE.replace('distance="10"', 'distance="3"')
+    with pytest.raises(SocnavgenError, match=r"human1 .*not one of the built-in"):
+        export_run(make_run(trees={"human1": tree, "human2": REGULAR_TREE}), "hunav1", tmp_path / "o")
+
+
+def test_refusal_names_human_and_node(make_run, tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    with pytest.raises(SocnavgenError) as err:
+        export_run(make_run(trees={"human1": REGULAR_TREE, "human2": GIVE_WAY_TREE}), "hunav1", out)
+    message = str(err.value)
+    assert "human2" in message and "RobotSays" in message and "GiveWaytoRobot" in message
+    assert "human1" not in message.split("refused:")[1]
+    assert not out.exists()
+
+
+def test_tree_of_1x_nodes_in_a_custom_shape_is_refused(make_run, tmp_path: Path) -> None:
+    # IsRobotNearby has no 1.x node; TRANSLATABLE_TREE also has a custom shape
+    with pytest.raises(SocnavgenError, match="IsRobotNearby"):
+        export_run(make_run(trees={"human1": TRANSLATABLE_TREE, "human2": REGULAR_TREE}), "hunav1", tmp_path / "o")

@@ -1,0 +1,103 @@
+"""hunav2 target: v4 trees with 2.x node names and ports, yaml like upstream's scenario files."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+import yaml
+from defusedxml import ElementTree as DET
+from export_helpers import GIVE_WAY_TREE, REGULAR_TREE, TRANSLATABLE_TREE, shape
+
+from socnavgen.bt.tree import parse_bt
+from socnavgen.errors import SocnavgenError
+from socnavgen.export import export_run
+
+REF_YAML = "data/upstream-hunav-2x/hunav_gazebo_wrapper/scenarios/agents_warehouse.yaml"
+REF_MODEL = "data/upstream-hunav-2x/hunav_sim/behavior_trees/TreeNodesModel.xml"
+TREES = "hunav_gazebo_wrapper/behavior_trees"
+
+
+@pytest.fixture
+def exported(make_run, tmp_path: Path) -> Path:
+    out = tmp_path / "out"
+    export_run(make_run(trees={"human1": TRANSLATABLE_TREE, "human2": REGULAR_TREE}), "hunav2", out, base="demo")
+    return out
+
+
+def reference_ports(reference_dir: Path) -> dict[str, set[str]]:
+    model = DET.parse(reference_dir / REF_MODEL).getroot().find("TreeNodesModel")
+    return {e.get("ID"): {p.get("name") for p in e} for e in model}
+
+
+def test_yaml_matches_upstream_structure(exported: Path, reference_dir: Path) -> None:
+    ours = yaml.safe_load((exported / "hunav_gazebo_wrapper/scenarios/demo.yaml").read_text())
+    ref = yaml.safe_load((reference_dir / REF_YAML).read_text())
+    p, rp = ours["hunav_loader"]["ros__parameters"], ref["hunav_loader"]["ros__parameters"]
+    assert set(p) - set(p["agents"]) == set(rp) - set(rp["agents"])
+    assert shape(p["human1"]) == shape(rp[rp["agents"][0]])
+    assert shape(p["global_goals"][1]) == shape(rp["global_goals"][1])
+    assert p["yaml_base_name"] == "demo" and p["simulator"] == "Gazebo Classic"
+    assert isinstance(p["human1"]["behavior"]["type"], str)
+    # global goals: one per node, ids from 1; human1 walks cc -> bb -> ee, human2 stays at dd
+    assert p["global_goals"] == {1: {"x": -0.475, "y": 2.475}, 2: {"x": -1.475, "y": 2.475},
+                                 3: {"x": -2.475, "y": 3.225}}
+    assert p["human1"]["goals"] == [1, 2] and p["human2"]["goals"] == [3]
+    assert p["human1"]["init_pose"]["h"] == pytest.approx(-math.pi / 2, abs=1e-4)
+
+
+def test_trees_are_v4_self_contained_and_use_2x_nodes(exported: Path, reference_dir: Path) -> None:
+    text = (exported / TREES / "demo__agent_0_bt.xml").read_text()
+    doc = parse_bt(text, "agent_0")
+    assert doc.format_version == 4 and doc.root.attrs["BTCPP_format"] == "4"
+    assert doc.main_tree == "WaitTree"
+    assert doc.includes == [] and "RegularNavTree" in doc.trees  # inlined, not included
+    known = reference_ports(reference_dir)
+    builtins = {"Sequence", "Fallback", "Inverter", "RunOnce", "SetBlackboard", "SubTree"}
+    for tree in doc.trees.values():
+        for elem in list(tree.walk())[1:]:
+            assert elem.tag in known or elem.tag in builtins, elem.tag
+            if elem.tag in known:  # every port we write is a port 2.x declares
+                assert set(elem.attrs) - {"name"} <= known[elem.tag], (elem.tag, elem.attrs)
+    tags = {e.tag: e.attrs for t in doc.trees.values() for e in t.walk()}
+    assert tags["SaySomething"]["message"] == "WAIT"
+    assert tags["IsRobotClose"]["threshold"] == "2.0"
+    assert tags["ApproachRobot"]["closest_dist"] == "1.5"
+    assert tags["SubTree"]["id"] == "{agentid}"  # v4 remapping syntax
+    set_goals = [e.attrs["goal_id"] for e in doc.trees["WaitTree"].walk() if e.tag == "SetGoal"]
+    assert set_goals == ["1", "2"]
+
+
+def test_embedded_and_standalone_models_match_reference_structure(exported: Path, reference_dir: Path) -> None:
+    known = reference_ports(reference_dir)
+    for path in [exported / TREES / "demo__agent_0_bt.xml", exported / TREES / "TreeNodesModel.xml"]:
+        root = DET.parse(path).getroot()
+        assert root.tag == "root" and root.get("BTCPP_format") == "4"
+        model = root.find("TreeNodesModel")
+        assert model is not None and len(model) > 0
+        for node in model:
+            assert node.tag in ("Action", "Condition")
+            assert node.get("ID") in known, node.get("ID")
+            for port in node:
+                assert port.tag == "input_port" and port.get("type") in ("int", "double", "bool", "std::string")
+                assert port.get("name") in known[node.get("ID")]
+
+
+def test_every_untranslatable_node_is_listed_and_nothing_written(make_run, tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    run = make_run(trees={"human1": GIVE_WAY_TREE, "human2": GIVE_WAY_TREE})
+    with pytest.raises(SocnavgenError) as err:
+        export_run(run, "hunav2", out)
+    message = str(err.value)
+    assert "4 node(s)" in message
+    for human in ("human1", "human2"):
+        assert f"{human}.xml:6: RobotSays" in message
+        assert f"{human}.xml:7: GiveWaytoRobot" in message
+    assert not out.exists()
+
+
+def test_unknown_simulator_refused(make_run, tmp_path: Path) -> None:
+    with pytest.raises(SocnavgenError, match="simulator"):
+        export_run(make_run(trees={"human1": REGULAR_TREE, "human2": REGULAR_TREE}), "hunav2", tmp_path / "o",
+                   simulator="Unreal")

@@ -1,0 +1,46 @@
+"""Helpers for the simulator tests: tiny worlds built in code, tree templates, scripted robots."""
+
+from __future__ import annotations
+
+from socnavgen.sim.agents import HumanSpec
+from socnavgen.sim.engine import SimConfig, Simulation
+from socnavgen.sim.robot import RobotAction
+from socnavgen.sim.world import World, empty_room
+
+REGULAR = ('<Sequence><SetBlackboard output_key="agentid" value="{id}"/>'
+           '<SetBlackboard output_key="timestep" value="{dt}"/>'
+           '<SubTree ID="RegularNavTree" id="agentid" dt="timestep"/></Sequence>')
+
+
+def tree_xml(body: str, fmt: int = 3) -> str:
+    """A main tree around `body`, including the library's RegularNavTree."""
+    head = '<root main_tree_to_execute="MainTree" BTCPP_format="4">' if fmt == 4 else \
+        '<root main_tree_to_execute="MainTree">'
+    return f'{head}\n<include path="BTRegularNav.xml"/>\n<BehaviorTree ID="MainTree">\n{body}\n</BehaviorTree>\n</root>\n'
+
+
+class Stay:
+    """A robot that never moves."""
+
+    def act(self, obs):  # noqa: ANN001, ANN201
+        return RobotAction(0.0, 0.0)
+
+
+class Drive:
+    """A robot driving at a constant velocity (optionally saying something)."""
+
+    def __init__(self, vx: float, vy: float = 0.0, gesture: int | None = None) -> None:
+        self.vx, self.vy, self.gesture = vx, vy, gesture
+
+    def act(self, obs):  # noqa: ANN001, ANN201
+        return RobotAction(self.vx, self.vy, self.gesture)
+
+
+def human(name: str = "human1", start=(2.0, 5.0), goals=((18.0, 5.0),), **kw) -> HumanSpec:  # noqa: ANN001
+    return HumanSpec(name=name, start=start, goals=list(goals), **kw)
+
+
+def make_sim(humans: list[HumanSpec], trees: list[str], robot_path, policy=None, world: World | None = None,  # noqa: ANN001
+             **config) -> Simulation:
+    return Simulation(world or empty_room(20.0, 10.0), humans, trees, list(robot_path), policy or Stay(),
+                      SimConfig(**config))

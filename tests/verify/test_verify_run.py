@@ -1,0 +1,120 @@
+"""verify_run and the `verify` command on run folders with hand-built traces in RUN/sim/trace.npz."""
+
+from __future__ import annotations
+
+import json
+import sys
+import types
+from pathlib import Path
+
+import pytest
+import typer
+from typer.testing import CliRunner
+from verify_builders import crossing_trace
+
+from socnavgen.cli.verify_cmd import register_verify
+from socnavgen.errors import InputFileError
+from socnavgen.verify import VerifyReport, verify_run
+
+
+def save_trace(run: Path, **kwargs) -> None:
+    crossing_trace(**kwargs).save(run / "sim" / "trace.npz")
+
+
+def test_verify_run_passes_and_writes_report(give_way_run: Path) -> None:
+    save_trace(give_way_run)
+    report = verify_run(give_way_run, simulate_if_missing=False)
+    assert report.passed, report.feedback()
+    names = [f.name for f in report.findings]
+    assert "robot meets human1 at b2" in names and "human1 gives way while the robot passes" in names
+    saved = VerifyReport.model_validate_json((give_way_run / "sim" / "verify.json").read_text())
+    assert saved.passed and len(saved.findings) == len(report.findings)
+    assert saved.trace_steps == 21 and saved.trace_seconds == pytest.approx(10.0)
+
+
+def test_broken_scenario_fails_with_the_reason(give_way_run: Path) -> None:
+    # The robot never says EXCUSE ME: the give-way branch can never run.
+    save_trace(give_way_run, say_excuse_me=False)
+    report = verify_run(give_way_run, simulate_if_missing=False)
+    assert not report.passed
+    failing = {f.node for f in report.failures}
+    assert failing == {"RobotSays", "GiveWaytoRobot"}
+    assert all(f.stage == "behaviors" for f in report.failures)
+    assert "GiveWaytoRobot never ran" in report.feedback()
+
+
+def test_missing_trace_without_simulation_is_a_user_error(give_way_run: Path) -> None:
+    with pytest.raises(InputFileError, match="no simulation trace"):
+        verify_run(give_way_run, simulate_if_missing=False)
+
+
+def test_thresholds_are_configurable(give_way_run: Path) -> None:
+    save_trace(give_way_run)
+    report = verify_run(give_way_run, simulate_if_missing=False, distance=0.5)
+    meet = next(f for f in report.findings if f.kind == "meets_human")
+    assert not meet.passed and report.settings.distance == 0.5
+
+
+def test_card_criteria_are_checked(give_way_run: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    request = json.loads((give_way_run / "request.json").read_text())
+    request["card"] = "frontal-approach"
+    (give_way_run / "request.json").write_text(json.dumps(request))
+    fake = types.ModuleType("socnavgen.cards.library")
+    seen = []
+
+    def card_criteria(run_dir):
+        seen.append(Path(run_dir))
+        return [{"kind": "meets_human", "within": 0.5}, {"kind": "executes", "node": "GiveWaytoRobot"}]
+
+    fake.card_criteria = card_criteria
+    monkeypatch.setitem(sys.modules, "socnavgen.cards.library", fake)
+    save_trace(give_way_run)
+    report = verify_run(give_way_run, simulate_if_missing=False)
+    assert seen == [give_way_run]
+    cards = [f for f in report.findings if f.source == "card"]
+    assert [f.passed for f in cards] == [False, True]  # closest approach is 1.0 m > 0.5 m
+    assert not report.passed
+
+
+def cli_app() -> typer.Typer:
+    app = typer.Typer()
+    register_verify(app)
+
+    @app.command("noop")
+    def noop() -> None:  # a second command keeps typer from collapsing the app into `verify` itself
+        """Nothing."""
+
+    return app
+
+
+def test_cli_exit_codes_and_json(give_way_run: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from socnavgen.cli import verify_cmd
+
+    monkeypatch.setattr(verify_cmd.console, "width", 220)  # one table row per line
+    runner = CliRunner()
+    save_trace(give_way_run)
+    ok = runner.invoke(cli_app(), ["verify", str(give_way_run), "--no-simulate", "--json"])
+    assert ok.exit_code == 0, ok.output
+    assert json.loads(ok.stdout)["passed"] is True
+    save_trace(give_way_run, robot_stops_at=1.5)
+    bad = runner.invoke(cli_app(), ["verify", str(give_way_run), "--no-simulate"])
+    assert bad.exit_code == 1
+    assert "FAILED (4 failing)" in bad.stdout
+    row = next(line for line in bad.stdout.splitlines() if "robot meets human1 at b2" in line)
+    assert "FAIL" in row and "closest approach 1.00 m" in row
+    help_text = runner.invoke(cli_app(), ["verify", "--help"]).stdout
+    assert "--distance" in help_text and "Example" in help_text
+
+
+def test_real_card_criteria(give_way_run: Path) -> None:
+    """The cards module's own criteria for pedestrian-obstruction: meet human1 within 2 m, human1 gives way
+    while passing, robot reaches its goal; the crossing trace satisfies them all."""
+    request = json.loads((give_way_run / "request.json").read_text())
+    request["card"] = "pedestrian-obstruction"
+    (give_way_run / "request.json").write_text(json.dumps(request))
+    save_trace(give_way_run)
+    report = verify_run(give_way_run, simulate_if_missing=False)
+    cards = [f for f in report.findings if f.source == "card"]
+    assert [f.kind for f in cards] == ["meets_human", "gives_way_while_passing", "robot_reaches_goal"]
+    assert all(f.passed for f in cards), report.feedback()
+    assert cards[0].distance == pytest.approx(1.0)
