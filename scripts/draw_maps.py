@@ -369,10 +369,19 @@ def map_yaml(example: Example) -> str:
             "negate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n")
 
 
+class _FoldedDumper(yaml.SafeDumper):
+    """Writes long strings as folded blocks (`>`) so the description reads like the prose it is."""
+
+
+_FoldedDumper.add_representer(
+    str, lambda dumper, value: dumper.represent_scalar("tag:yaml.org,2002:str", value, style=">" if len(value) > 80
+                                                       else None))
+
+
 def location_yaml(example: Example) -> str:
     data = {"name": example.name, "description": example.description, "map": "map.pgm", "nav2_map": "map.yaml",
             "schema": {"node_types": example.node_types, "edge_types": example.edge_types}}
-    return yaml.safe_dump(data, sort_keys=False, width=100, allow_unicode=True)
+    return yaml.dump(data, Dumper=_FoldedDumper, sort_keys=False, width=100, allow_unicode=True)
 
 
 def pgm_bytes(grid: np.ndarray) -> bytes:

@@ -94,3 +94,17 @@ def test_eval_counts_valid_and_invalid_runs_and_resumes(tmp_path: Path, repo_roo
     script.unlink()
     again = run_eval(suite, settings, suite.location)
     assert [o.model_dump() for o in again] == [o.model_dump() for o in outcomes]
+
+
+def test_eval_simulates_and_verifies_valid_runs(tmp_path: Path, repo_root: Path) -> None:
+    suite = _suite(repo_root)
+    settings = EvalSettings(llm=f"replay:{_script(tmp_path / 'script.yaml')}", out=tmp_path / "eval", runs=1,
+                            tables=["III"], methods=["ours"], verify=True, max_requeries=1, max_restarts=0,
+                            temperature=0.0, use_cache=False)
+    outcomes = run_eval(suite, settings, suite.location)
+    assert len(outcomes) == 1 and outcomes[0].valid
+    report = json.loads((Path(outcomes[0].folder) / "sim" / "verify.json").read_text())
+    assert outcomes[0].verified is report["passed"]
+    assert (Path(outcomes[0].folder) / "sim" / "trace.npz").is_file()
+    row = table3(outcomes, suite)[0]
+    assert row.verified_share == (1.0 if report["passed"] else 0.0)

@@ -251,3 +251,62 @@ def test_every_problem_reported_at_once(location_copy) -> None:
     report = check_location(loc)
     assert len(report.errors) == 5 and len(report.warnings) == 1
     assert not report.ok
+
+
+def _use_matrix(loc, matrix) -> None:
+    import yaml
+
+    cfg = yaml.safe_load((loc / "location.yaml").read_text())
+    cfg.pop("nav2_map")
+    cfg["pixel_to_world"] = matrix
+    (loc / "location.yaml").write_text(yaml.safe_dump(cfg, sort_keys=False))
+
+
+def test_explicit_matrix_location_passes_and_matches_nav2(location_copy) -> None:
+    loc = location_copy("home")
+    before = load_location(loc).node_world("g9")
+    # the same transform as the nav2 yaml (0.05 m/px, origin (-2, -1.5), 200 rows), written out
+    _use_matrix(loc, [[0.05, 0, -2 + 0.025], [0, -0.05, -1.5 + 199.5 * 0.05], [0, 0, 1]])
+    assert check_location(loc).problems == []
+    assert load_location(loc).node_world("g9") == pytest.approx(before)
+
+
+def test_singular_matrix_is_reported(location_copy) -> None:
+    loc = location_copy("home")
+    _use_matrix(loc, [[0.05, 0.1, 0], [0.1, 0.2, 0], [0, 0, 1]])
+    (problem,) = check_location(loc).problems
+    assert problem.message.startswith("bad pixel_to_world: transform is singular")
+    assert problem.file.endswith("location.yaml") and problem.line is not None
+
+
+def test_graph_still_checked_when_location_yaml_is_broken(location_copy) -> None:
+    loc = location_copy("home")
+    (loc / "location.yaml").write_text("name: home\n")
+    data = read_graph(loc)
+    data["nodes"][1]["id"] = data["nodes"][0]["id"]
+    write_graph(loc, data)
+    errors = messages(check_location(loc).problems)
+    assert errors[0].startswith("invalid location config: description: Field required")
+    assert f"duplicate node id '{data['nodes'][0]['id']}' (nodes 0 and 1)" in errors
+
+
+def test_check_an_edited_location_in_memory(location_copy) -> None:
+    """The annotator checks unsaved edits: a loaded Location with a modified graph, file untouched."""
+    from socnavgen.location.models import Edge
+
+    loc = load_location(location_copy("warehouse"))
+    loc.scene_graph.links.append(Edge(type="PASSAGEWAY", source="hd", target="qs"))
+    report = check_location(loc)
+    (problem,) = list(report)
+    assert problem.severity == "error" and problem.edge == ("hd", "qs") and problem.line is None
+    assert check_location(loc.root).ok  # the file on disk is still sound
+
+
+def test_problems_name_what_to_highlight(location_copy) -> None:
+    loc = location_copy()
+    data = read_graph(loc)
+    data["nodes"][0]["type"] = "FORKLIFT"
+    data["links"] = [e for e in data["links"] if "sk" not in (e["source"], e["target"])]
+    write_graph(loc, data)
+    type_problem, parts = check_location(loc).problems
+    assert type_problem.nodes == ["sk"] and parts.nodes == ["sk"]

@@ -5,6 +5,7 @@ from __future__ import annotations
 import hashlib
 import importlib.util
 import math
+import sys
 from pathlib import Path
 
 import networkx as nx
@@ -20,6 +21,7 @@ REPO = Path(__file__).resolve().parents[2]
 def _draw_maps():
     spec = importlib.util.spec_from_file_location("draw_maps", REPO / "scripts" / "draw_maps.py")
     module = importlib.util.module_from_spec(spec)
+    sys.modules["draw_maps"] = module  # dataclasses look their module up while the class is built
     spec.loader.exec_module(module)
     return module
 

@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 import pytest
-from verify_builders import GIVE_WAY_XML, NODE_WORLD, REGULAR_XML
+from verify_builders import GIVE_WAY_XML, NODE_WORLD, REGULAR_XML, crossing_trace
 
 from socnavgen.location import load_location
 from socnavgen.run.models import HumanPlan, PathPlan
+from socnavgen.verify.evaluate import evaluate
 from socnavgen.verify.expectations import card_expectations, derive_expectations, tree_expectations
 
 
@@ -71,3 +72,12 @@ def test_card_criteria_become_expectations(tiny_location) -> None:
     assert exps[1].human is None  # any human
     assert all(e.source == "card" for e in exps)
     assert exps[-1].node is None and "dances" in exps[-1].name
+
+
+def test_unreadable_tree_becomes_a_failing_expectation(tiny_location) -> None:
+    plan = PathPlan(robot=["a1", "c3"], humans=[HumanPlan(name="human1", path=["c3", "a1"])])
+    exps = derive_expectations(plan, {"human1": "<root><BehaviorTree ID='x'><Sequence></root>"},
+                               load_location(tiny_location))
+    broken = next(e for e in exps if e.human == "human1")
+    (finding,) = evaluate([broken], crossing_trace())
+    assert not finding.passed and "does not parse" in finding.evidence and finding.stage == "behaviors"

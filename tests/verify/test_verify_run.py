@@ -8,11 +8,9 @@ import types
 from pathlib import Path
 
 import pytest
-import typer
 from typer.testing import CliRunner
-from verify_builders import crossing_trace
+from verify_builders import cli_app, crossing_trace
 
-from socnavgen.cli.verify_cmd import register_verify
 from socnavgen.errors import InputFileError
 from socnavgen.verify import VerifyReport, verify_run
 
@@ -74,17 +72,6 @@ def test_card_criteria_are_checked(give_way_run: Path, monkeypatch: pytest.Monke
     cards = [f for f in report.findings if f.source == "card"]
     assert [f.passed for f in cards] == [False, True]  # closest approach is 1.0 m > 0.5 m
     assert not report.passed
-
-
-def cli_app() -> typer.Typer:
-    app = typer.Typer()
-    register_verify(app)
-
-    @app.command("noop")
-    def noop() -> None:  # a second command keeps typer from collapsing the app into `verify` itself
-        """Nothing."""
-
-    return app
 
 
 def test_cli_exit_codes_and_json(give_way_run: Path, monkeypatch: pytest.MonkeyPatch) -> None:

@@ -18,7 +18,7 @@ Feature = Literal["any", "corridor", "open_area", "intersection", "blind_corner"
 #   through   ... a, P, b ...            (meets humans at P)
 #   into      ... a, P, T                (T = the room / elevator behind P; ends inside)
 #   out_of    T, P, b ...                (starts inside T, leaves through P)
-#   ends_at   ... a, P                   (goes to P: joins a group there)
+#   ends_at   ... a                      (comes up to P, next to it: joins a group there)
 #   starts_at P, b ...                   (leaves P: leaves a group there)
 RobotRoute = Literal["through", "into", "out_of", "ends_at", "starts_at"]
 

@@ -85,6 +85,10 @@ class PlaceFinder:
         h1, h2 = math.atan2(py - ay, px - ax), math.atan2(by - py, bx - px)
         return abs(math.degrees((h2 - h1 + math.pi) % (2 * math.pi) - math.pi))
 
+    def distance(self, a: str, b: str) -> float:
+        (ax, ay), (bx, by) = self.world[a], self.world[b]
+        return math.hypot(bx - ax, by - ay)
+
     def sees(self, a: str, b: str) -> bool:
         sa = self.location.scene_graph.node(a).pos
         sb = self.location.scene_graph.node(b).pos
@@ -118,9 +122,11 @@ class PlaceFinder:
         return [Candidate(n, evidence=f"node {n} ({self.type_of(n)})") for n in nodes if self.graph.degree[n] >= 2]
 
     def _corridor(self) -> list[Candidate]:
-        nodes = [n for n in self.graph.nodes if self.graph.degree[n] == 2] + \
-                [n for n in self.graph.nodes if self.graph.degree[n] > 2]
-        return [Candidate(n, evidence=f"node {n} ({self.type_of(n)}) on a through route") for n in nodes]
+        """Nodes a route passes through, widest first (room to pass, overtake or step aside)."""
+        nodes = sorted((n for n in self.graph.nodes if self.graph.degree[n] >= 2),
+                       key=lambda n: (-round(self.clearance_m(n), 1), self.graph.degree[n] != 2, n))
+        return [Candidate(n, evidence=f"node {n} ({self.type_of(n)}) on a through route, "
+                                      f"{2 * self.clearance_m(n):.1f} m wide") for n in nodes]
 
     def _intersection(self) -> list[Candidate]:
         typed = [Candidate(n, evidence=f"type '{self.type_of(n)}'") for n in self.typed("intersection")

@@ -70,6 +70,8 @@ class RouteBuilder:
             a, b = self.straightest_pair(p, forced)
             side_a = self.extend(a, p, {p})
             side_b = self.extend(b, p, {p, *side_a})
+            if forced is not None and len(side_b) < 2:
+                raise DoesNotFit(f"the narrow passage {p}-{forced} ends in a dead end at {forced}")
             return side_a[::-1] + [p] + side_b
         if card.route in ("into", "out_of"):
             if other is None:
@@ -85,25 +87,38 @@ class RouteBuilder:
         if not sides:
             raise DoesNotFit(f"node {p} has no edges")
         side = max(sides, key=len)
-        return side[::-1] + [p] if card.route == "ends_at" else [p] + side
+        if card.route == "ends_at":  # come up to P (people gather there) and stop next to it
+            return min(sides, key=lambda sd: (self.f.distance(sd[0], p), -len(sd), sd[0]))[::-1]
+        return [p] + side
 
     # -- the humans ----------------------------------------------------------------------------
     def near_nodes(self, p: str, avoid: set[str], hops: int = 2) -> list[str]:
         dist = nx.single_source_shortest_path_length(self.g, p, cutoff=hops)
         return sorted((n for n, d in dist.items() if d > 0 and n not in avoid), key=lambda n: (dist[n], n))
 
-    def across(self, start: str, p: str) -> list[str] | None:
-        """start -> ... -> p -> onward on the far side, as straight as the graph allows."""
-        to_p = nx.shortest_path(self.g, start, p)
-        before = to_p[-2] if len(to_p) > 1 else None
-        options = [n for n in self.g.neighbors(p) if n not in to_p]
-        if before is None or not options:
-            return None
-        nxt = min(options, key=lambda n: (self.f.turn_deg(before, p, n), n))
-        return to_p + self.extend(nxt, p, set(to_p), hops=1)
+    def beyond(self, robot: list[str]) -> list[str]:
+        """Nodes past the robot's goal (straightest first): where same-direction walkers go on to."""
+        if len(robot) < 2:
+            return []
+        return sorted((n for n in self.g.neighbors(robot[-1]) if n not in robot),
+                      key=lambda n: (self.f.turn_deg(robot[-2], robot[-1], n), n))
 
-    def humans(self, card: Card, place: Candidate, robot: list[str]) -> list[HumanRoute]:
-        p = place.node
+    def across(self, start: str, p: str, forbid_end: set[str]) -> list[str] | None:
+        """start -> ... -> p -> on to the far side, as straight as the graph allows, ending on a node
+        outside `forbid_end` (a person who stops on the robot's way ahead would block it for good)."""
+        to_p = nx.shortest_path(self.g, start, p)
+        if len(to_p) < 2:
+            return None
+        options = sorted((n for n in self.g.neighbors(p) if n not in to_p),
+                         key=lambda n: (self.f.turn_deg(to_p[-2], p, n), n))
+        for nxt in options:
+            path = to_p + self.extend(nxt, p, set(to_p), hops=1)
+            if path[-1] not in forbid_end:
+                return path
+        return None
+
+    def humans(self, placement: Placement) -> list[HumanRoute]:
+        card, robot = placement.card, placement.robot
         starts: set[str] = {robot[0]}
         out: list[HumanRoute] = []
         group = 0
@@ -112,11 +127,16 @@ class RouteBuilder:
             if role.group:
                 group += 1
                 gid = group
-            paths = self.role_paths(role, p, robot, starts)
+            paths = [(path, meets) for path, meets in self.role_paths(role, placement, starts)
+                     if path[0] not in starts]
             need = role.min_count or role.count
-            if len(paths) < need:
-                raise DoesNotFit(self.shortfall(role, p, len(paths), need))
-            for path, meets in paths[:role.count]:
+            picked: list[tuple[list[str], str | None]] = []
+            for path, meets in paths:
+                if path[0] not in {q[0] for q, _ in picked} and len(picked) < role.count:
+                    picked.append((path, meets))
+            if len(picked) < need:
+                raise DoesNotFit(self.shortfall(role, placement.place.node, len(picked), need))
+            for path, meets in picked:
                 starts.add(path[0])
                 out.append(HumanRoute(role=role, path=path, meets_at=meets, group_id=gid))
         return out
@@ -124,30 +144,35 @@ class RouteBuilder:
     def shortfall(self, role: HumanRole, p: str, got: int, need: int) -> str:
         what = {"crossing": f"a side branch at {p} that the robot's route does not use",
                 "behind": "a node behind the robot's start", "beside": "a side node next to the robot's route",
-                "ahead": "a route long enough for people ahead of the robot",
-                "gathering": f"enough nodes around {p} for the group to come from",
+                "ahead": "a route with a way on past the robot's goal for people walking ahead of it",
+                "gathering": f"enough nodes around {p} for the group to come from (off the robot's route)",
                 "circular": f"enough nodes around {p} to cross from", "through_place": f"enough nodes around {p}",
                 "converging": f"enough nodes around {p}"}.get(role.role, "room for the humans")
         return f"needs {what} ({need} {role.role} human(s), found {got})"
 
-    def role_paths(self, role: HumanRole, p: str, robot: list[str], starts: set[str]) -> list[tuple[list[str], str | None]]:
-        """Candidate (path, interaction point) pairs for one role, best first, starts not yet taken."""
-        i = robot.index(p)
+    def role_paths(self, role: HumanRole, placement: Placement, starts: set[str]) -> list[tuple[list[str], str | None]]:
+        """Candidate (path, interaction point) pairs for one role, best first."""
+        robot, p = placement.robot, placement.place.node
+        i = robot.index(p) if p in robot else len(robot) - 1
+        ahead_of_robot = set(robot[i + 1:])  # where a person must not end up standing
         kind = role.role
         if kind == "oncoming":
-            path = robot[::-1]
-            return [] if path[0] in starts else [(path, p)]
+            # in a narrow passage the meeting is at its far end, where one of the two can step aside
+            meets = placement.place.other if placement.card.place == "narrow_passage" else p
+            return [(robot[::-1], meets)]
         if kind == "standing":
-            return [] if p in starts else [([p], p)]
+            return [([p], p)]
+        full = robot + self.beyond(robot)[:1]  # same-direction walkers go on past the robot's goal
+        if full[-1] == robot[-1]:
+            return []  # they would stop on the robot's goal and block it for good
         if kind == "ahead":
-            return [(robot[k:], None) for k in range(1, len(robot) - 1) if robot[k] not in starts]
+            return [(full[k:], None) for k in range(1, len(robot) - 1)]
         if kind == "behind":
-            back = [n for n in sorted(self.g.neighbors(robot[0])) if n not in robot and n not in starts]
-            return [([b, *robot], None) for b in back]
+            back = [n for n in sorted(self.g.neighbors(robot[0])) if n not in robot]
+            return [([b, *full], None) for b in back]
         if kind == "beside":
-            side = [n for n in sorted(self.g.neighbors(robot[1])) if n not in robot and n not in starts] \
-                if len(robot) > 2 else []
-            return [([c, *robot[1:]], None) for c in side]
+            side = [n for n in sorted(self.g.neighbors(robot[1])) if n not in robot] if len(robot) > 2 else []
+            return [([c, *full[1:]], None) for c in side]
         if kind == "crossing":
             used = {robot[j] for j in (i - 1, i + 1) if 0 <= j < len(robot)}
             branches = sorted(n for n in self.g.neighbors(p) if n not in used)
@@ -157,21 +182,18 @@ class RouteBuilder:
             feeder = self.extend(c, p, {p, *robot}, hops=REACH)
             exits = [n for n in branches[1:] if n not in feeder]
             tail = self.extend(exits[0], p, {p, *feeder}, hops=1) if exits else robot[:i][::-1][:2]
-            return [(feeder[k::-1] + [p] + tail, p) for k in range(len(feeder)) if feeder[k] not in starts]
+            return [(feeder[k::-1] + [p] + tail, p) for k in range(len(feeder))]
         if kind == "gathering":
-            meets = p if robot[-1] == p else None
-            ring = self.near_nodes(p, set(robot) | starts)
-            return [(nx.shortest_path(self.g, s, p), meets) for s in ring]
-        if kind == "converging":
-            ring = self.near_nodes(p, starts | {robot[-1]})
-            return [(nx.shortest_path(self.g, s, p), p) for s in ring]
-        if kind in ("through_place", "circular"):
-            ring = self.near_nodes(p, starts | {robot[-1]})
-            if kind == "circular":
-                ring = [n for n in ring if n not in robot]
-            paths = [(self.across(s, p), p) for s in ring]
-            return [(path, m) for path, m in paths if path is not None]
-        raise DoesNotFit(f"unknown role {kind}")
+            meets = p if p in robot else None
+            ring = self.near_nodes(p, set(robot))
+            paths = [nx.shortest_path(self.g, s, p) for s in ring]
+            return [(path, meets) for path in paths if not set(path[:-1]) & set(robot)]
+        # converging / through_place / circular: from nodes around P across P, never stopping ahead of the robot
+        ring = self.near_nodes(p, {robot[-1]})
+        if kind == "circular":
+            ring = [n for n in ring if n not in robot]
+        paths = [self.across(s, p, ahead_of_robot | {robot[-1]}) for s in ring]
+        return [(path, p) for path in paths if path is not None]
 
     def place(self, card: Card, place: Candidate) -> Placement:
         robot = self.robot_route(card, place)
@@ -179,8 +201,14 @@ class RouteBuilder:
             raise DoesNotFit(f"no route of two or more nodes through {place.node}")
         if card.route == "through" and robot.index(place.node) in (0, len(robot) - 1):
             raise DoesNotFit(f"{place.node} is a dead end")
-        if any(h.role == "behind" for h in card.humans):
-            back = [n for n in self.g.neighbors(robot[0]) if n not in robot]
-            if not back and robot.index(place.node) > 1 and len(robot) > 3:
-                robot = robot[1:]  # the first node becomes the start of the person behind
-        return Placement(card=card, place=place, robot=robot, humans=self.humans(card, place, robot))
+        roles = {h.role for h in card.humans}
+        interior = card.route == "through"
+        if "behind" in roles and not [n for n in self.g.neighbors(robot[0]) if n not in robot] \
+                and interior and robot.index(place.node) > 1 and len(robot) > 3:
+            robot = robot[1:]  # the first node becomes the start of the person behind
+        if roles & {"ahead", "behind", "beside"} and not self.beyond(robot) \
+                and interior and robot.index(place.node) < len(robot) - 2 and len(robot) > 3:
+            robot = robot[:-1]  # the last node becomes where the walkers go on to
+        placement = Placement(card=card, place=place, robot=robot)
+        placement.humans = self.humans(placement)
+        return placement

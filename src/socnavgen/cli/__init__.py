@@ -13,9 +13,11 @@ from socnavgen.cli import (
     cards_cmd,
     eval_cmd,
     export_cmd,
+    extract_cmd,
     generate_cmd,
     location_cmd,
     sim_cmd,
+    verify_cmd,
 )
 from socnavgen.cli.common import err_console
 from socnavgen.errors import SocnavgenError
@@ -31,8 +33,10 @@ app = typer.Typer(
 app.add_typer(location_cmd.app, name="location", help="Check, render, import and extract locations (map + scene graph).")
 app.add_typer(bt_cmd.app, name="bt", help="Behavior-tree tools: validate hand-written trees, show the node library.")
 app.add_typer(cards_cmd.app, name="cards", help="The 25 canonical scenario cards of Francis et al.")
+extract_cmd.register_extract(location_cmd.app)
 for module in (generate_cmd, export_cmd, sim_cmd, annotate_cmd, eval_cmd):
     module.register(app)
+verify_cmd.register_verify(app)
 
 
 @app.command("version")

@@ -20,9 +20,12 @@ def check(
     folder: Path = typer.Argument(..., help="Location folder (holds location.yaml, the map, scene_graph.json)."),
     as_json: bool = typer.Option(False, "--json", help="Print the problems as JSON (for scripts and CI)."),
 ) -> None:
-    """Check a location: files, ids, types against the schema, nodes on free floor, edges clear of walls,
-    connectivity. Lists EVERY problem with the file, line and what to do. Exit code 0 when there is no
-    error (warnings allowed), 1 otherwise.
+    """Check a location folder and list every problem with file, line and what to do.
+
+    Checks files (missing, malformed), node ids (unique, 2 lowercase letters/digits), node and edge
+    types against the schema, edges naming unknown nodes, self loops, duplicate edges, nodes outside
+    the image or off free floor, edges whose straight segment crosses a wall or unknown space, and
+    connectivity (a warning). Exit code 0 when there is no error (warnings allowed), 1 otherwise.
 
     Example: socnavgen location check examples/locations/warehouse
     """
@@ -60,8 +63,11 @@ def show(
     output: Path | None = typer.Option(None, "-o", "--output",
                                         help="PNG to write (default: scene_graph.png inside the folder)."),
 ) -> None:
-    """Render the annotated map: nodes as labelled boxes, edges as lines, colour by type, a legend and a
-    scale bar, upscaled so a vision LLM reads the labels (long side ~1280 px). Deterministic.
+    """Render the annotated map (the picture a vision LLM reads) to a PNG.
+
+    Nodes are boxes labelled with their id, edges are lines, both coloured by type, with a legend of
+    all types and a scale bar. Small maps are upscaled so the long side is about 1280 px. The same
+    input always gives the same bytes.
 
     Example: socnavgen location show examples/locations/hospital -o /tmp/hospital.png
     """
@@ -87,6 +93,9 @@ def import_socrates(
     force: bool = typer.Option(False, "--force", help="Overwrite files in an existing output folder."),
 ) -> None:
     """Turn a SocRATES annotator folder into a location folder, then check it.
+
+    Copies the map and its nav2 yaml, keeps the scene graph as is, writes location.yaml (schema from
+    the types in the graph, or from --config) and scene_graph.png. Exit code 1 if the check fails.
 
     Example: socnavgen location import-socrates ~/SocRATES/locations/small_warehouse -o locations/small_warehouse
     """

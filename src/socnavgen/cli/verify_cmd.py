@@ -26,6 +26,8 @@ def register_verify(app: typer.Typer) -> None:
         location: Path | None = typer.Option(None, help="Location folder, if request.json's path does not "
                                                         "resolve from here."),
         simulate: bool = typer.Option(True, help="Run the simulator first when RUN/sim/trace.npz is missing."),
+        robot: str = typer.Option("waypoints", help="Robot plugin for that simulation (see `socnavgen simulate "
+                                                    "--help`)."),
         as_json: bool = typer.Option(False, "--json", help="Print the report as JSON instead of a table."),
     ) -> None:
         """Check that the scenario does what it says, on the headless simulation of the run.
@@ -43,7 +45,8 @@ def register_verify(app: typer.Typer) -> None:
         from socnavgen.verify.report import print_report
 
         report = verify_run(run, simulate_if_missing=simulate, location=location, distance=distance, near=near,
-                            passing=passing, group_spread=group_spread, group_fraction=group_fraction)
+                            passing=passing, group_spread=group_spread, group_fraction=group_fraction,
+                            simulate_options={"robot": robot})
         if as_json:
             print(report.model_dump_json(indent=2))
         else:

@@ -13,7 +13,8 @@ from __future__ import annotations
 
 import json
 import re
-from dataclasses import asdict, dataclass
+from collections.abc import Iterator
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
@@ -37,11 +38,19 @@ Level = Literal["error", "warning"]
 
 @dataclass
 class Problem:
+    """One finding. `nodes` / `edge` name what to highlight (the annotator colours them)."""
+
     level: Level
     message: str
     hint: str
     file: str
     line: int | None = None
+    nodes: list[str] = field(default_factory=list)
+    edge: tuple[str, str] | None = None
+
+    @property
+    def severity(self) -> Level:
+        return self.level
 
     @property
     def where(self) -> str:
@@ -70,30 +79,46 @@ class CheckReport:
     def ok(self) -> bool:
         return not self.errors
 
+    def __iter__(self) -> Iterator[Problem]:
+        return iter(self.problems)
 
-def check_location(root: Path | str) -> CheckReport:
-    """Load what can be loaded and report every problem; never raises for a bad folder."""
-    root = Path(root)
+    def __len__(self) -> int:
+        return len(self.problems)
+
+
+def check_location(target: Path | str | Location) -> CheckReport:
+    """Load what can be loaded and report every problem; never raises for a bad folder.
+
+    Given a loaded `Location` whose scene graph was edited in memory (the annotator), the edited graph
+    is checked; line numbers then refer to nothing and are left out.
+    """
+    in_memory = isinstance(target, Location) and "scene_graph" in target.__dict__
+    root = target.root if isinstance(target, Location) else Path(target)
     report = CheckReport(root=root, problems=[])
     problems = report.problems
     if not root.is_dir():
         problems.append(Problem("error", "location folder not found", "give the folder holding location.yaml",
                                 str(root)))
         return report
-    try:
-        location = load_location(root)
-    except SocnavgenError as exc:
-        problems.append(_from_error(exc, root / LOCATION_FILE, _yaml_key_line(root / LOCATION_FILE, exc.message)))
-        _check_scene_graph_file_only(root, problems)
-        return report
+    if isinstance(target, Location):
+        location = target
+    else:
+        try:
+            location = load_location(root)
+        except SocnavgenError as exc:
+            problems.append(_from_error(exc, root / LOCATION_FILE,
+                                        _yaml_key_line(root / LOCATION_FILE, exc.message)))
+            _check_scene_graph_file_only(root, problems)
+            return report
 
     map_ok = _check_map(location, problems)
-    graph = _load_graph(root / SCENE_GRAPH_FILE, problems)
+    graph = location.scene_graph if in_memory else _load_graph(root / SCENE_GRAPH_FILE, problems)
     if graph is None:
         return report
     report.nodes, report.edges = len(graph.nodes), len(graph.links)
-    lines = _GraphLines(root / SCENE_GRAPH_FILE)
-    _check_ids_and_types(location, graph, lines, problems)
+    lines = _GraphLines(None if in_memory else root / SCENE_GRAPH_FILE, root / SCENE_GRAPH_FILE)
+    _check_ids(graph, lines, problems)
+    _check_types(location, graph, lines, problems)
     _check_edges(graph, lines, problems)
     if map_ok:
         _check_geometry(location, graph, lines, problems)
@@ -128,7 +153,8 @@ def _check_scene_graph_file_only(root: Path, problems: list[Problem]) -> None:
     """When location.yaml is broken the scene graph can still be read and its own faults reported."""
     graph = _load_graph(root / SCENE_GRAPH_FILE, problems)
     if graph is not None:
-        lines = _GraphLines(root / SCENE_GRAPH_FILE)
+        lines = _GraphLines(root / SCENE_GRAPH_FILE, root / SCENE_GRAPH_FILE)
+        _check_ids(graph, lines, problems)
         _check_edges(graph, lines, problems)
         _check_connected(graph, lines, problems)
 
@@ -167,7 +193,7 @@ def _load_graph(path: Path, problems: list[Problem]) -> SceneGraph | None:
     try:
         graph = SceneGraph.model_validate(data)
     except ValidationError as exc:
-        lines = _GraphLines(path)
+        lines = _GraphLines(path, path)
         for err in exc.errors():
             loc = err["loc"]
             line = lines.element(str(loc[0]), loc[1]) if len(loc) > 1 and isinstance(loc[1], int) else None
@@ -186,10 +212,10 @@ def _load_graph(path: Path, problems: list[Problem]) -> SceneGraph | None:
 class _GraphLines:
     """Line numbers of the elements of "nodes" and "links" in scene_graph.json, for file:line messages."""
 
-    def __init__(self, path: Path) -> None:
-        self.file = str(path)
+    def __init__(self, path: Path | None, file: Path) -> None:
+        self.file = str(file)
         try:
-            text = read_text_limited(path)
+            text = read_text_limited(path) if path is not None else ""
         except SocnavgenError:
             text = ""
         self._lines = {key: _array_element_lines(text, key) for key in ("nodes", "links")}
@@ -217,31 +243,36 @@ def _array_element_lines(text: str, key: str) -> list[int]:
 
 
 # ------------------------------------------------------------------------------------------------ graph
-def _check_ids_and_types(location: Location, graph: SceneGraph, lines: _GraphLines, problems: list[Problem]) -> None:
-    node_types, edge_types = location.schema.node_types, location.schema.edge_types
+def _check_ids(graph: SceneGraph, lines: _GraphLines, problems: list[Problem]) -> None:
     seen: dict[str, int] = {}
     for i, node in enumerate(graph.nodes):
         line = lines.element("nodes", i)
         if node.id in seen:
             problems.append(Problem("error", f"duplicate node id {node.id!r} (nodes {seen[node.id]} and {i})",
                                     "give every node its own id; `socnavgen annotate` picks free ones",
-                                    lines.file, line))
+                                    lines.file, line, nodes=[node.id]))
         else:
             seen[node.id] = i
         if not NODE_ID_PATTERN.match(node.id):
             problems.append(Problem("error", f"node id {node.id!r} is not 2 lowercase letters or digits",
                                     "use a random 2-character id such as 'k3' (no order, no meaning)",
-                                    lines.file, line))
+                                    lines.file, line, nodes=[node.id]))
+
+
+def _check_types(location: Location, graph: SceneGraph, lines: _GraphLines, problems: list[Problem]) -> None:
+    node_types, edge_types = location.schema.node_types, location.schema.edge_types
+    for i, node in enumerate(graph.nodes):
         if node.type not in node_types:
             problems.append(Problem("error", f"node {node.id} has type {node.type!r}, not in the schema",
                                     f"use one of {', '.join(node_types)} or add it to schema.node_types "
-                                    "in location.yaml", lines.file, line))
+                                    "in location.yaml", lines.file, lines.element("nodes", i), nodes=[node.id]))
     for i, edge in enumerate(graph.links):
         if edge.type not in edge_types:
             problems.append(Problem("error", f"edge {edge.source}-{edge.target} has type {edge.type!r}, "
                                     "not in the schema",
                                     f"use one of {', '.join(edge_types)} or add it to schema.edge_types "
-                                    "in location.yaml", lines.file, lines.element("links", i)))
+                                    "in location.yaml", lines.file, lines.element("links", i),
+                                    edge=(edge.source, edge.target)))
 
 
 def _check_edges(graph: SceneGraph, lines: _GraphLines, problems: list[Problem]) -> None:
@@ -252,15 +283,18 @@ def _check_edges(graph: SceneGraph, lines: _GraphLines, problems: list[Problem])
         for end in (edge.source, edge.target):
             if end not in ids:
                 problems.append(Problem("error", f"edge {edge.source}-{edge.target} names unknown node {end!r}",
-                                        "add the node or fix the id in the edge", lines.file, line))
+                                        "add the node or fix the id in the edge", lines.file, line,
+                                        edge=(edge.source, edge.target)))
         if edge.source == edge.target:
             problems.append(Problem("error", f"edge {edge.source}-{edge.target} is a self loop",
-                                    "remove it: an edge must join two different nodes", lines.file, line))
+                                    "remove it: an edge must join two different nodes", lines.file, line,
+                                    nodes=[edge.source]))
             continue
         pair = frozenset((edge.source, edge.target))
         if pair in seen:
             problems.append(Problem("error", f"duplicate edge {edge.source}-{edge.target} (links {seen[pair]} "
-                                    f"and {i}; edges are undirected)", "keep one of them", lines.file, line))
+                                    f"and {i}; edges are undirected)", "keep one of them", lines.file, line,
+                                    edge=(edge.source, edge.target)))
         else:
             seen[pair] = i
 
@@ -274,14 +308,15 @@ def _check_geometry(location: Location, graph: SceneGraph, lines: _GraphLines, p
         line = lines.element("nodes", i)
         if not occupancy.inside(x, y):
             problems.append(Problem("error", f"node {node.id} at pixel ({x:g}, {y:g}) is outside the "
-                                    f"{w}x{h} map image", "move it onto the map", lines.file, line))
+                                    f"{w}x{h} map image", "move it onto the map", lines.file, line, nodes=[node.id]))
             continue
         placed.setdefault(node.id, (x, y))
         wx, wy = transform.pixel_to_world(x, y)
         what = "an occupied" if occupancy.occupied[int(y), int(x)] else "an unknown"
         if occupancy.is_blocked(x, y):
             problems.append(Problem("error", f"node {node.id} at pixel ({x:g}, {y:g}) = world ({wx:.2f}, {wy:.2f}) m "
-                                    f"is on {what} pixel", "move it onto free (white) floor", lines.file, line))
+                                    f"is on {what} pixel", "move it onto free (white) floor", lines.file, line,
+                                    nodes=[node.id]))
     for i, edge in enumerate(graph.links):
         if edge.source not in placed or edge.target not in placed or edge.source == edge.target:
             continue
@@ -297,7 +332,7 @@ def _check_geometry(location: Location, graph: SceneGraph, lines: _GraphLines, p
                 "error", f"edge {edge.source}-{edge.target} crosses {what}: {len(blocked)} blocked pixel(s), "
                 f"first at pixel ({px}, {py}) = world ({wx:.2f}, {wy:.2f}) m",
                 "people walk along edges in a straight line: add a node to go around the obstacle",
-                lines.file, lines.element("links", i)))
+                lines.file, lines.element("links", i), edge=(edge.source, edge.target)))
 
 
 def _check_connected(graph: SceneGraph, lines: _GraphLines, problems: list[Problem]) -> None:
@@ -313,4 +348,4 @@ def _check_connected(graph: SceneGraph, lines: _GraphLines, problems: list[Probl
         problems.append(Problem("warning", f"the graph has {len(components)} disconnected parts: the largest has "
                                 f"{len(components[0])} nodes, cut off: {rest}",
                                 "connect them with an edge, or paths between the parts are impossible",
-                                lines.file))
+                                lines.file, nodes=[n for c in components[1:] for n in c]))

@@ -1,8 +1,13 @@
-"""Interaction-point throttling, as SocRATES's scenario manager does it (reference §11).
+"""Interaction-point throttling, after SocRATES's scenario manager (reference §11).
 
 A solo human walking toward its interaction node (or spawned on it) is held in place while the robot
-is still before that node on its own path, so the two arrive there together. Only RegularNav honours
-the hold, exactly like `pause_nav` in the fork.
+is still far from that node on its own path, so the two meet there. Only RegularNav honours the hold,
+exactly like `pause_nav` in the fork. Two release rules:
+* `socrates`: the fork's rule - release once the robot's current waypoint is the interaction node (the
+  robot counts a waypoint as passed within 1.5 m). With a long last leg and a fast human the encounter
+  then happens well before the node.
+* `eta` (default): release once the robot's remaining path to the node is no longer than the human's
+  distance to it scaled by their speeds (robot nominal speed / human speed), so both arrive together.
 """
 
 from __future__ import annotations
@@ -16,6 +21,8 @@ class ThrottleConfig:
     enabled: bool = True
     waypoint_radius: float = 1.5  # robot counts a waypoint as passed within this distance
     release_distance: float = 1.0  # never hold a human this close to the robot
+    rule: str = "eta"  # "eta" or "socrates"
+    robot_speed: float = 0.6  # m/s, nominal robot speed for the eta rule (the waypoints robot's top speed)
 
 
 @dataclass
@@ -35,6 +42,9 @@ class InteractionThrottle:
         self.robot_goals = robot_nodes[1:]
         self.robot_points = robot_goal_points[1:]
         self.k = 0
+        self.cumulative = [0.0]  # path length along the robot's goals from the first one
+        for a, b in zip(self.robot_points, self.robot_points[1:], strict=False):
+            self.cumulative.append(self.cumulative[-1] + abs(b - a))
         self.held: list[_Held] = []
         self.skipped: list[str] = []
         self.paused_steps: dict[int, int] = {}
@@ -65,8 +75,14 @@ class InteractionThrottle:
             pause = (crowd.behavior_state[i] == 0
                      and sim.robot_dist[i] > self.config.release_distance
                      and (next_node == h.node or h.spawn == h.node)
-                     and self.robot_goals[self.k] != h.node
                      and self.k < h.robot_index)
+            if pause and self.config.rule == "socrates":
+                pause = self.robot_goals[self.k] != h.node
+            elif pause:
+                remaining = abs(self.robot_points[self.k] - rp) + self.cumulative[h.robot_index] - \
+                    self.cumulative[self.k]
+                human_left = abs(self.robot_points[h.robot_index] - crowd.pos[i])
+                pause = remaining > human_left * self.config.robot_speed / max(float(crowd.max_vel[i]), 1e-3)
             crowd.paused[i] = pause
             if pause:
                 self.paused_steps[i] = self.paused_steps.get(i, 0) + 1

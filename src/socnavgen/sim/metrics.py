@@ -125,7 +125,7 @@ class ObstacleLookup:
         self.shape = blocked.shape
         self.empty = not blocked.any()
         if not self.empty:
-            _, (rows, cols) = ndimage.distance_transform_edt(~blocked, return_indices=True)
+            rows, cols = ndimage.distance_transform_edt(~blocked, return_distances=False, return_indices=True)
             self.rows, self.cols = rows, cols
 
     def nearest(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

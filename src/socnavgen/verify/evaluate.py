@@ -19,7 +19,7 @@ def _finding(exp: Expectation, passed: bool, evidence: str, *, time: float | Non
              distance: float | None = None, human: str | None = None) -> Finding:
     return Finding(name=exp.name, kind=exp.kind, passed=passed, evidence=evidence,
                    time=None if time is None else round(float(time), 3),
-                   distance=None if distance is None else round(float(distance), 3),
+                   distance=None if distance is None else round(float(distance), 2),  # cm, as in the evidence text
                    human=human if human is not None else exp.human, node=exp.node, source=exp.source,
                    stage=exp.stage)
 
@@ -136,7 +136,7 @@ def _never(trace: Trace, i: int, node: str, label: str) -> str:
 
 def check_executes(exp: Expectation, trace: Trace, settings: VerifySettings) -> Finding:
     if not exp.node:
-        return _finding(exp, False, f"cannot check this criterion ({exp.detail or 'no node given'})")
+        return _finding(exp, False, f"cannot check: {exp.detail or 'no node given'}")
     cands = _candidates(exp, trace)
     if isinstance(cands, str) or not cands:
         return _finding(exp, False, cands or "the trace has no humans")

@@ -8,6 +8,7 @@ from collections.abc import Iterable
 from typing import Any
 
 from socnavgen.bt.tree import BTElement, parse_bt
+from socnavgen.errors import ValidationFailed
 from socnavgen.run.models import PathPlan
 from socnavgen.verify.models import Expectation
 
@@ -162,7 +163,11 @@ def derive_expectations(plan: PathPlan, trees: dict[str, str], location: Any,
     out = path_expectations(plan, location)
     for human in plan.humans:
         if human.name in trees:
-            out.extend(tree_expectations(human.name, trees[human.name]))
+            try:
+                out.extend(tree_expectations(human.name, trees[human.name]))
+            except ValidationFailed as exc:  # reported as a failing finding, the other checks still run
+                out.append(Expectation(kind="executes", name=f"{human.name}'s tree can be read", source="tree",
+                                       human=human.name, node=None, detail=exc.render()))
     if card_criteria:
         out.extend(card_expectations(card_criteria, plan, location))
     return out

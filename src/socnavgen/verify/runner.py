@@ -4,6 +4,7 @@ RUN/sim/verify.json. The public API used by `socnavgen verify` and `generate --v
 from __future__ import annotations
 
 import importlib
+import inspect
 from pathlib import Path
 from typing import Any
 
@@ -52,27 +53,44 @@ def card_criteria_for(run: RunFolder) -> list[dict] | None:
     return [dict(c) if not isinstance(c, dict) and hasattr(c, "items") else c for c in (criteria or [])]
 
 
-def simulate_missing(run_dir: Path, **options: Any) -> Trace:
-    """Run the headless simulator on the run (it writes RUN/sim/trace.npz) and return the trace."""
+def simulate_missing(run_dir: Path, *, robot: str = "waypoints", location: Any = None, **config: Any) -> Trace:
+    """Run the headless simulator on the run with the default robot plugin, save RUN/sim/trace.npz and return
+    the trace. Uses `simulate_run(run_dir, ...)` when the simulator offers one, else builds the simulation from
+    the run folder (`socnavgen.sim.scenario.load_simulation`)."""
+    run_dir = Path(run_dir)
+    for module_name in ("socnavgen.sim.engine", "socnavgen.sim.scenario"):
+        try:
+            module = importlib.import_module(module_name)
+        except ImportError:
+            continue
+        fn = getattr(module, "simulate_run", None)
+        if fn is not None:
+            wanted = {"robot": robot, "location": location, **config}
+            params = inspect.signature(fn).parameters
+            if not any(p.kind is inspect.Parameter.VAR_KEYWORD for p in params.values()):
+                wanted = {k: v for k, v in wanted.items() if k in params}
+            result = fn(run_dir, **{k: v for k, v in wanted.items() if v is not None})
+            trace = result if isinstance(result, Trace) else getattr(result, "trace", None)
+            if not isinstance(trace, Trace) and (run_dir / "sim" / TRACE_FILE).is_file():
+                trace = Trace.load(run_dir / "sim" / TRACE_FILE)
+            if not isinstance(trace, Trace):
+                raise StageFailed("the simulator returned no trace", file=run_dir)
+            if not (run_dir / "sim" / TRACE_FILE).is_file():
+                trace.save(run_dir / "sim" / TRACE_FILE)
+            return trace
     try:
-        engine = importlib.import_module("socnavgen.sim.engine")
+        from socnavgen.sim.engine import SimConfig
+        from socnavgen.sim.robot import load_policy
+        from socnavgen.sim.scenario import load_simulation
     except ImportError as exc:
         raise StageFailed("the run has no sim/trace.npz and the simulator is not available", file=run_dir,
                           hint="run `socnavgen simulate RUN` first") from exc
-    fn = getattr(engine, "simulate_run", None)
-    if fn is None:
-        raise StageFailed("socnavgen.sim.engine has no simulate_run()", file=run_dir,
-                          hint="run `socnavgen simulate RUN` first")
-    result = fn(run_dir, **options)
-    if isinstance(result, Trace):
-        return result
-    trace = getattr(result, "trace", None)
-    if isinstance(trace, Trace):
-        return trace
-    path = Path(run_dir) / "sim" / TRACE_FILE
-    if path.is_file():
-        return Trace.load(path)
-    raise StageFailed("the simulator returned no trace", file=run_dir)
+    loc_dir = Path(location) if isinstance(location, str | Path) else None
+    sim = load_simulation(run_dir, load_policy(robot), SimConfig(**config), location_dir=loc_dir)
+    sim.meta["robot_plugin"] = robot
+    trace = sim.run()
+    trace.save(run_dir / "sim" / TRACE_FILE)
+    return trace
 
 
 def load_trace(run: RunFolder, *, simulate_if_missing: bool, simulate_options: dict | None = None) -> Trace:
@@ -106,15 +124,19 @@ def verify_trace(run_dir: Path | str, trace: Trace, *, location: Any = None,
 def verify_run(run_dir: Path | str, *, simulate_if_missing: bool = True, location: Any = None,
                settings: VerifySettings | None = None, write: bool = True,
                simulate_options: dict | None = None, **thresholds: float) -> VerifyReport:
-    """Verify a run folder: simulate if RUN/sim/trace.npz is missing, judge every expectation, write
-    RUN/sim/verify.json. `thresholds` override VerifySettings fields (distance=2.5, near=3.0, ...)."""
+    """Verify a run folder: simulate if RUN/sim/trace.npz is missing (`simulate_options`: robot="waypoints",
+    dt, timeout, seed), judge every expectation, write RUN/sim/verify.json. `thresholds` override
+    VerifySettings fields (distance=2.5, near=3.0, passing=3.0, group_spread=3.0, group_fraction=0.8)."""
     run = RunFolder(Path(run_dir))
     if not run.paths_path.is_file():
         raise InputFileError("no paths.json in this run", file=run.root,
                              hint="verify needs a generated run (socnavgen generate ... --out RUN)")
     settings = (settings or VerifySettings()).model_copy(update={k: v for k, v in thresholds.items()
                                                                  if v is not None})
-    trace = load_trace(run, simulate_if_missing=simulate_if_missing, simulate_options=simulate_options)
+    options = dict(simulate_options or {})
+    if location is not None and isinstance(location, str | Path):
+        options.setdefault("location", location)
+    trace = load_trace(run, simulate_if_missing=simulate_if_missing, simulate_options=options)
     report = verify_trace(run.root, trace, location=location, settings=settings)
     if write:
         atomic_write_text(run.sim_dir / REPORT_FILE, report.model_dump_json(indent=2) + "\n")

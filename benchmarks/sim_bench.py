@@ -1,0 +1,122 @@
+"""Simulator speed: steps per second and real-time factor for 1..300 pedestrians, beside pysocialforce.
+
+Scene: an open walled square sized for a constant density (0.1 pedestrians per m^2, at least 20 m x 20 m),
+every pedestrian walking a cyclic two-goal route with the RegularNav tree exactly as the generator writes it
+(SetBlackboard x2 + SubTree RegularNavTree), and the robot crossing with the `waypoints` plugin. The same
+crowd (positions, goals, walls) runs in pysocialforce with its default forces and step width set to our dt.
+
+    python benchmarks/sim_bench.py              # the table (about a minute)
+    python benchmarks/sim_bench.py --quick      # fewer steps
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import tempfile
+import time
+
+import numpy as np
+
+from socnavgen.sim import kernels
+from socnavgen.sim.agents import HumanSpec
+from socnavgen.sim.engine import SimConfig, Simulation
+from socnavgen.sim.robot import WaypointsPolicy
+from socnavgen.sim.scenario import DEFAULT_TREE
+from socnavgen.sim.world import empty_room
+
+DT = 0.05
+DENSITY = 0.1
+COUNTS = (1, 5, 20, 100, 300)
+
+
+def scene(n: int, seed: int = 0) -> tuple[float, list[HumanSpec]]:
+    side = max(20.0, math.sqrt(n / DENSITY))
+    rng = np.random.default_rng(seed)
+    lo, hi = 1.0, side - 1.0
+    humans = []
+    for i in range(n):
+        start, goal = rng.uniform(lo, hi, 2), rng.uniform(lo, hi, 2)
+        humans.append(HumanSpec(name=f"human{i + 1}", start=tuple(start), goals=[tuple(goal), tuple(start)],
+                                cyclic=True))
+    return side, humans
+
+
+def run_ours(n: int, steps: int, use_kernels: bool) -> float:
+    """Seconds per step of the full simulation loop (trees, physics, robot, trace)."""
+    side, humans = scene(n)
+    world = empty_room(side, side, resolution=0.1)
+    sim = Simulation(world, humans, [DEFAULT_TREE] * n, [(0.8, side / 2), (side - 0.8, side / 2)],
+                     WaypointsPolicy(), SimConfig(dt=DT, timeout=steps * DT, idle_end=1e9), use_kernels=use_kernels)
+    start = time.perf_counter()
+    trace = sim.run()
+    elapsed = time.perf_counter() - start
+    return elapsed / max(trace.steps - 1, 1)
+
+
+def run_pysocialforce(n: int, steps: int) -> float | str:
+    try:
+        import pysocialforce as psf
+    except ImportError:
+        return "not installed (pip install pysocialforce)"
+    side, humans = scene(n)
+    state = np.array([[*h.start, 0.0, 0.0, *h.goals[0]] for h in humans], dtype=float)
+    walls = [(0.0, side, 0.0, 0.0), (0.0, side, side, side), (0.0, 0.0, 0.0, side), (side, side, 0.0, side)]
+    with tempfile.NamedTemporaryFile("w", suffix=".toml", delete=False) as cfg:
+        cfg.write(f"[scene]\nenable_group = false\nstep_width = {DT}\n")
+    try:
+        sim = psf.Simulator(state, groups=None, obstacles=walls, config_file=cfg.name)
+        sim.step(2)  # numba compilation happens here, not in the timing
+        start = time.perf_counter()
+        sim.step(steps)
+        return (time.perf_counter() - start) / steps
+    finally:
+        os.unlink(cfg.name)
+
+
+def warm_up() -> None:
+    run_ours(3, 5, True)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--quick", action="store_true", help="fewer steps per row")
+    parser.add_argument("--counts", type=int, nargs="*", default=list(COUNTS))
+    args = parser.parse_args()
+    warm_up()
+    rows = []
+    for n in args.counts:
+        steps = (400 if n <= 20 else 200) // (4 if args.quick else 1)
+        fast = run_ours(n, steps, True) if kernels.AVAILABLE else None
+        slow = run_ours(n, max(steps // 2, 20), False)
+        other = run_pysocialforce(n, steps)
+        rows.append((n, fast, slow, other))
+
+    def fmt(sec: float | None) -> tuple[str, str, str]:
+        if sec is None:
+            return "-", "-", "-"
+        return f"{1 / sec:,.0f}", f"{DT / sec:,.0f}x", f"{sec * 1e6:,.0f}"
+
+    print(f"dt = {DT} s, open walled square at {DENSITY} pedestrians/m^2, RegularNav trees, waypoints robot; "
+          f"numba {'on' if kernels.AVAILABLE else 'NOT installed'}")
+    print("| pedestrians | socnavgen steps/s | real-time factor | us/step | numpy-only steps/s | numpy-only RTF "
+          "| pysocialforce steps/s | pysocialforce RTF |")
+    print("|---:|---:|---:|---:|---:|---:|---:|---:|")
+    for n, fast, slow, other in rows:
+        f_steps, f_rtf, f_us = fmt(fast)
+        s_steps, s_rtf, _ = fmt(slow)
+        if isinstance(other, str):
+            o_steps, o_rtf = other, "-"
+        else:
+            o_steps, o_rtf, _ = fmt(other)
+        print(f"| {n} | {f_steps} | {f_rtf} | {f_us} | {s_steps} | {s_rtf} | {o_steps} | {o_rtf} |")
+    times = [(n, fast) for n, fast, _, _ in rows if fast]
+    if len(times) >= 2:
+        (n0, t0), (n1, t1) = times[-2], times[-1]
+        print(f"\ncost growth {n0}->{n1} pedestrians: x{t1 / t0:.1f} for x{n1 / n0:.1f} pedestrians "
+              f"(exponent {math.log(t1 / t0) / math.log(n1 / n0):.2f}; 1 = linear, 2 = quadratic)")
+
+
+if __name__ == "__main__":
+    main()

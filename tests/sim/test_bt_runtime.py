@@ -1,0 +1,136 @@
+"""The BT interpreter: dispatch from the library table, BT.CPP v3/v4 semantics, SubTree remapping,
+strict building that lists every problem."""
+
+from __future__ import annotations
+
+import pytest
+
+from socnavgen.bt.library import leaf_nodes
+from socnavgen.errors import ValidationFailed
+from socnavgen.sim.bt_runtime import BTRuntimeError
+from socnavgen.sim.engine import NODE_NAMES
+from socnavgen.sim.nodes import IMPLEMENTATIONS
+
+from .simhelpers import REGULAR, human, make_sim, tree_xml
+
+
+def test_every_library_leaf_has_an_implementation_and_nothing_else():
+    names = {n.name for n in leaf_nodes()}
+    assert names == set(IMPLEMENTATIONS)
+    assert [n.name for n in leaf_nodes()] == NODE_NAMES  # trace bit order follows the table
+    assert len(NODE_NAMES) <= 63  # fits the int64 success bitmask
+
+
+def gesture_after_one_step(body: str, fmt: int = 3, robot_at=(3.0, 5.0)) -> int:
+    sim = make_sim([human(start=(2.0, 5.0))], [tree_xml(body, fmt)], [robot_at, (19.0, 5.0)])
+    sim.step()
+    return sim.crowd.gesture[0]
+
+
+@pytest.mark.parametrize(("body", "expected"), [
+    # Sequence stops at the first FAILURE
+    ('<Sequence><IsRobotNearby agent_id="{id}" distance="0.5"/><MakeGesture agent_id="{id}" message="1"/></Sequence>', 0),
+    ('<Sequence><IsRobotNearby agent_id="{id}" distance="2"/><MakeGesture agent_id="{id}" message="1"/></Sequence>', 1),
+    # Fallback stops at the first SUCCESS
+    ('<Fallback><MakeGesture agent_id="{id}" message="2"/><MakeGesture agent_id="{id}" message="1"/></Fallback>', 2),
+    ('<Fallback><IsRobotNearby agent_id="{id}" distance="0.5"/><MakeGesture agent_id="{id}" message="3"/></Fallback>', 3),
+    # Inverter, ForceSuccess, ForceFailure
+    ('<Sequence><Inverter><IsRobotNearby agent_id="{id}" distance="0.5"/></Inverter>'
+     '<MakeGesture agent_id="{id}" message="1"/></Sequence>', 1),
+    ('<Sequence><ForceSuccess><IsRobotNearby agent_id="{id}" distance="0.5"/></ForceSuccess>'
+     '<MakeGesture agent_id="{id}" message="2"/></Sequence>', 2),
+    ('<Fallback><ForceFailure><MakeGesture agent_id="{id}" message="1"/></ForceFailure>'
+     '<MakeGesture agent_id="{id}" message="3"/></Fallback>', 3),
+    ('<ReactiveSequence><IsRobotNearby agent_id="{id}" distance="2"/><MakeGesture agent_id="{id}" message="2"/>'
+     '</ReactiveSequence>', 2),
+    ('<ReactiveFallback><IsRobotNearby agent_id="{id}" distance="0.5"/><MakeGesture agent_id="{id}" message="1"/>'
+     '</ReactiveFallback>', 1),
+    # explicit v3 form <Action ID=.../>
+    ('<Action ID="MakeGesture" agent_id="{id}" message="3"/>', 3),
+])
+def test_control_flow(body, expected):
+    assert gesture_after_one_step(body) == expected
+
+
+SUBTREE_DOC = """<root main_tree_to_execute="Main"{fmt}>
+  <BehaviorTree ID="Main">
+    <Sequence>
+      <SetBlackboard output_key="code" value="{code}"/>
+      <SetBlackboard output_key="me" value="{{id}}"/>
+      <SubTree ID="Say" agent_id="{me_ref}" msg="{code_ref}"/>
+    </Sequence>
+  </BehaviorTree>
+  <BehaviorTree ID="Say">
+    <Sequence>
+      <SetBlackboard output_key="inside" value="1"/>
+      <MakeGesture agent_id="{{agent_id}}" message="{{msg}}"/>
+    </Sequence>
+  </BehaviorTree>
+</root>"""
+
+
+@pytest.mark.parametrize(("fmt", "me_ref", "code_ref"), [(3, "me", "code"), (4, "{me}", "{code}")])
+def test_subtree_remaps_ports_live_v3_and_v4(fmt, me_ref, code_ref):
+    xml = SUBTREE_DOC.format(fmt=' BTCPP_format="4"' if fmt == 4 else "", code=2, me_ref=me_ref, code_ref=code_ref)
+    sims = make_sim([human(), human("human2", start=(4.0, 5.0))], [xml, xml], [(10.0, 5.0), (19.0, 5.0)])
+    sims.step()
+    assert sims.crowd.gesture == [2, 2]  # each tree's {id} reached MakeGesture through two remaps
+    main_bb = sims.trees[1].blackboard
+    assert main_bb.get("me") == 1
+    with pytest.raises(KeyError):  # the subtree's own key stays in its isolated blackboard
+        main_bb.get("inside")
+
+
+def test_v4_subtree_plain_value_is_a_literal():
+    xml = SUBTREE_DOC.format(fmt=' BTCPP_format="4"', code=0, me_ref="{me}", code_ref="3")
+    sim = make_sim([human()], [xml], [(10.0, 5.0), (19.0, 5.0)])
+    sim.step()
+    assert sim.crowd.gesture == [3]
+
+
+def test_reading_a_key_nobody_wrote_is_a_located_error():
+    body = '<MakeGesture agent_id="{id}" message="{nothing}"/>'
+    sim = make_sim([human()], [tree_xml(body)], [(10.0, 5.0), (19.0, 5.0)])
+    with pytest.raises(BTRuntimeError) as err:
+        sim.step()
+    assert "nothing" in err.value.message and err.value.line == 4
+
+
+def test_building_lists_every_problem_with_lines():
+    body = ('<Sequence><FlyAway agent_id="{id}"/>\n<IsRobotNearby agent_id="{id}"/>\n'
+            '<RegularNav agent_id="{id}" time_step="{dt}" speed="3"/>\n'
+            '<MakeGesture agent_id="{id}" message="loud"/></Sequence>')
+    with pytest.raises(ValidationFailed) as err:
+        make_sim([human()], [tree_xml(body)], [(10.0, 5.0), (19.0, 5.0)])
+    text = err.value.message
+    assert "unknown node <FlyAway>" in text
+    assert "missing the required port `distance`" in text
+    assert "has no port `speed`" in text
+    assert "`message` = 'loud' is not a int" in text
+    assert ":5:" in text and ":6:" in text  # line numbers of the offending elements
+
+
+def test_unknown_subtree_and_missing_include_are_reported():
+    xml = '<root main_tree_to_execute="M"><BehaviorTree ID="M"><SubTree ID="Nope"/></BehaviorTree></root>'
+    with pytest.raises(ValidationFailed, match="SubTree ID 'Nope' is not defined"):
+        make_sim([human()], [xml], [(10.0, 5.0), (19.0, 5.0)])
+
+
+def test_regular_nav_tree_from_the_library_include_walks_to_the_goal():
+    sim = make_sim([human(start=(2.0, 2.0), goals=[(8.0, 2.0)])], [tree_xml(REGULAR)], [(2.0, 8.0), (3.0, 8.0)], timeout=15)
+    trace = sim.run()
+    assert abs(trace.humans[-1, 0, 0] - 8.0) < 0.7
+    assert trace.executed(0, "RegularNav").any() and trace.fired(0, "IsGoalReached").any()
+
+
+def test_repeat_decorator_ticks_its_child_n_times():
+    body = ('<Repeat num_cycles="3"><TimeExpiredCondition seconds="100" ts="1" only_once="true"/></Repeat>')
+    # the condition fails at once -> Repeat stops after one tick; with a succeeding child it runs 3 times
+    sim = make_sim([human()], [tree_xml(body)], [(10.0, 5.0)])
+    sim.step()
+    leaf = sim.trees[0].root.child
+    assert leaf.state["acc"] == 1.0
+    body = '<Repeat num_cycles="3"><UpdateGoal agent_id="{id}"/></Repeat>'
+    sim = make_sim([human(goals=[(5, 5), (6, 5), (7, 5), (8, 5)])], [tree_xml(body)], [(10.0, 5.0)])
+    sim.step()
+    assert [g.real for g in sim.crowd.queues[0].goals] == [8.0]

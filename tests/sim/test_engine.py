@@ -1,0 +1,149 @@
+"""Whole runs: run folders, determinism, interaction throttling, the `simulate` command, the bundled warehouse."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+from typer.testing import CliRunner
+
+from socnavgen.run import HumanPlan, PathPlan, RobotGestureRule, RunFolder, ScenarioRequest
+from socnavgen.sim.engine import SimConfig
+from socnavgen.sim.interaction import ThrottleConfig
+from socnavgen.sim.robot import WaypointsPolicy, load_policy
+from socnavgen.sim.scenario import load_simulation
+from socnavgen.sim.trace import Trace
+
+from .simhelpers import REGULAR, tree_xml
+
+RES = 0.05
+
+
+def make_location(root: Path) -> Path:
+    """A 20 m x 10 m walled room with a few nodes; world = pixel centre * 0.05 (origin at the lower left)."""
+    w, h = 400, 200
+    img = np.full((h, w), 254, dtype=np.uint8)
+    img[:3, :] = img[-3:, :] = 0
+    img[:, :3] = img[:, -3:] = 0
+    root.mkdir(parents=True)
+    Image.fromarray(img).save(root / "map.png")
+    (root / "map.yaml").write_text(f"image: map.png\nresolution: {RES}\norigin: [0.0, 0.0, 0.0]\n"
+                                   "occupied_thresh: 0.65\nfree_thresh: 0.196\nnegate: 0\n")
+    (root / "location.yaml").write_text("name: room\ndescription: an empty room\nmap: map.png\nnav2_map: map.yaml\n"
+                                        "schema:\n  node_types: [ROOM]\n  edge_types: [PASSAGEWAY]\n")
+
+    def px(x: float, y: float) -> list[float]:
+        return [x / RES - 0.5, h - y / RES - 0.5]
+
+    nodes = {"r0": (1, 5), "r1": (7, 5), "ip": (10, 5), "r3": (18, 5), "h0": (10, 9), "h2": (10, 1)}
+    graph = {"directed": False, "multigraph": False, "graph": {},
+             "nodes": [{"id": k, "type": "ROOM", "pos": px(*v)} for k, v in nodes.items()],
+             "links": [{"source": a, "target": b, "type": "PASSAGEWAY"}
+                       for a, b in [("r0", "r1"), ("r1", "ip"), ("ip", "r3"), ("h0", "ip"), ("ip", "h2")]]}
+    (root / "scene_graph.json").write_text(json.dumps(graph))
+    return root
+
+
+def make_run(tmp_path: Path, tree: str = tree_xml(REGULAR), interaction: str | None = "ip",
+             gestures: list[RobotGestureRule] | None = None, location: Path | None = None,
+             robot: list[str] | None = None, human_path: list[str] | None = None) -> Path:
+    loc = location or make_location(tmp_path / "room")
+    run = RunFolder(tmp_path / "run")
+    run.root.mkdir()
+    run.write_request(ScenarioRequest(location=str(loc), context="test", task="cross the room"))
+    run.write_paths(PathPlan(robot=robot or ["r0", "r1", "ip", "r3"],
+                             humans=[HumanPlan(name="human1", path=human_path or ["h0", "ip", "h2"],
+                                               interaction_point=interaction)],
+                             robot_gestures=gestures or []))
+    run.write_behavior("human1", tree)
+    return run.root
+
+
+def test_same_seed_same_trace_other_seed_other_spawn(tmp_path):
+    run = make_run(tmp_path)
+    a = load_simulation(run, WaypointsPolicy(), SimConfig(seed=3, timeout=20)).run()
+    b = load_simulation(run, WaypointsPolicy(), SimConfig(seed=3, timeout=20)).run()
+    for field in ("t", "robot", "humans", "action", "succeeded", "human_gesture", "robot_gesture", "behavior_state"):
+        assert np.array_equal(getattr(a, field), getattr(b, field)), field
+    c = load_simulation(run, WaypointsPolicy(), SimConfig(seed=4, timeout=20)).run()
+    assert not np.array_equal(a.humans[0], c.humans[0])
+    # spawn within 1.5 m of the first node (10, 9), facing the next one
+    assert abs(complex(*a.humans[0, 0, :2]) - (10 + 9j)) <= 1.5
+
+
+def test_interaction_throttle_holds_the_human_until_the_robot_comes(tmp_path):
+    run = make_run(tmp_path)
+    held = load_simulation(run, WaypointsPolicy(), SimConfig(timeout=40)).run()
+    free = load_simulation(run, WaypointsPolicy(), SimConfig(timeout=40), ThrottleConfig(enabled=False)).run()
+    at4 = int(4.0 / held.dt)
+    assert np.hypot(*(held.humans[at4, 0, :2] - held.humans[0, 0, :2])) < 0.05  # still waiting at the spawn node
+    assert np.hypot(*(free.humans[at4, 0, :2] - free.humans[0, 0, :2])) > 2.0
+    assert held.meta["held_seconds"]["human1"] > 5.0
+    # held: the robot is near the interaction node when the human starts walking
+    start = int(np.argmax(np.hypot(held.humans[:, 0, 3], held.humans[:, 0, 4]) > 0.1))
+    assert np.hypot(held.robot[start, 0] - 10.0, held.robot[start, 1] - 5.0) < 4.6
+    assert held.robot[start, 0] < 10.0  # ... and has not passed it yet
+
+
+def test_simulate_command_writes_the_trace(tmp_path):
+    from socnavgen.cli import app
+
+    rules = [RobotGestureRule(gesture=4, when="near_human", distance=3.0, duration=2.0)]
+    run = make_run(tmp_path, gestures=rules)
+    result = CliRunner().invoke(app, ["simulate", str(run), "--timeout", "40", "--seed", "1"])
+    assert result.exit_code == 0, result.output
+    trace = Trace.load(run / "sim" / "trace.npz")
+    assert trace.end_reason == "robot_goal" and trace.steps > 100
+    assert trace.human_names == ["human1"] and trace.meta["interaction_nodes"] == {"human1": "ip"}
+    assert (trace.robot_gesture == 4).any()  # scripted speech when near the human
+    assert "robot_goal" in result.output
+
+
+def test_simulate_reports_a_broken_tree_with_its_line(tmp_path):
+    from socnavgen.cli import app
+
+    run = make_run(tmp_path, tree=tree_xml('<Sequence>\n<Dance agent_id="{id}"/>\n</Sequence>'))
+    result = CliRunner().invoke(app, ["simulate", str(run)])
+    assert result.exit_code != 0
+    assert "unknown node <Dance>" in str(result.exception)
+
+
+def test_custom_policy_from_a_file(tmp_path):
+    policy_file = tmp_path / "mypolicy.py"
+    policy_file.write_text("from socnavgen.sim.robot import RobotAction\n"
+                           "class Straight:\n"
+                           "    def act(self, obs):\n"
+                           "        d = obs.waypoints[-1] - obs.position\n"
+                           "        return RobotAction(*(0.5 * d / max(1e-9, (d @ d) ** 0.5)), gesture=5)\n")
+    policy = load_policy(f"{policy_file}:Straight")
+    run = make_run(tmp_path)
+    trace = load_simulation(run, policy, SimConfig(timeout=60)).run()
+    assert trace.end_reason == "robot_goal"
+    assert (trace.robot_gesture[1:] == 5).all()
+
+
+def test_warehouse_blind_corner_run(tmp_path, warehouse_dir):
+    if not (warehouse_dir / "location.yaml").is_file():
+        pytest.skip("examples/locations/warehouse is not in this checkout")
+    tree = tree_xml('<Fallback><Sequence><IsRobotVisible agent_id="{id}" distance="4"/>'
+                    '<Inverter><TimeExpiredCondition seconds="3" ts="{dt}" only_once="true"/></Inverter>'
+                    f'<LookAtRobot agent_id="{{id}}"/></Sequence>{REGULAR}</Fallback>')
+    run = make_run(tmp_path, tree=tree, location=warehouse_dir, robot=["up", "co", "54", "f7", "6r"],
+                   human_path=["6r", "f7", "54", "co"], interaction="f7")
+    sim = load_simulation(run, WaypointsPolicy(), SimConfig(timeout=120))
+    trace = sim.run()
+    assert trace.end_reason == "robot_goal"
+    assert np.isfinite(trace.humans).all() and np.isfinite(trace.robot).all()
+    looked = trace.executed(0, "LookAtRobot")
+    assert 2.5 <= looked.sum() * trace.dt <= 3.1  # stopped to look for its 3 s, then walked on
+    first_look = int(np.argmax(looked))
+    f7 = np.array([5.025, 3.375])
+    assert np.hypot(*(trace.humans[first_look, 0, :2] - f7)) < 2.0  # the encounter happened at the blind corner
+    assert trace.meta["held_seconds"]["human1"] > 5.0  # thanks to the throttle
+    clearance = sim.world.clearance_at(trace.humans[:, 0, 0] + 1j * trace.humans[:, 0, 1])
+    assert clearance.min() > 0.1  # never inside a wall
+    trace.save(tmp_path / "t.npz")
+    assert np.array_equal(Trace.load(tmp_path / "t.npz").humans, trace.humans)

@@ -1,0 +1,206 @@
+"""Each library node in a small staged situation (semantics: reference §3 + NodeSpec.sim_note)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from socnavgen.run.models import RobotGestureRule
+from socnavgen.sim.agents import GoalQueue
+from socnavgen.sim.gestures import ScriptedGestures
+from socnavgen.sim.robot import WaypointsPolicy
+from socnavgen.sim.world import empty_room
+
+from .simhelpers import REGULAR, Drive, Stay, human, make_sim, tree_xml
+
+
+def xy(trace, step, agent=0):  # noqa: ANN001, ANN201
+    return complex(trace.humans[step, agent, 0], trace.humans[step, agent, 1])
+
+
+def robot_xy(trace, step):  # noqa: ANN001, ANN201
+    return complex(trace.robot[step, 0], trace.robot[step, 1])
+
+
+def test_human_whose_tree_stops_when_the_robot_blocks_it_stops():
+    stop_tree = tree_xml('<Fallback><Sequence><IsRobotBlocking agent_id="{id}" distance="2.0"/>'
+                         f'<LookAtRobot agent_id="{{id}}"/></Sequence>{REGULAR}</Fallback>')
+    robot = [(8.0, 5.0), (9.0, 5.0)]
+    trace = make_sim([human(start=(2.0, 5.0), goals=[(18.0, 5.0)])], [stop_tree], robot, Stay(), timeout=15).run()
+    final = abs(xy(trace, -1) - 8.0 - 5.0j)
+    assert 0.9 < final <= 2.05  # stopped in front of the robot, not on it
+    assert abs(trace.humans[-1, 0, 3]) < 1e-9 and abs(trace.humans[-1, 0, 4]) < 1e-9
+    assert trace.executed(0, "LookAtRobot")[-50:].all()
+    assert trace.humans[:, 0, 0].max() < 8.0 - 0.75
+    # control: the plain walking tree goes past the same robot
+    walker = make_sim([human(start=(2.0, 5.0), goals=[(18.0, 5.0)])], [tree_xml(REGULAR)], robot, Stay(),
+                      timeout=15).run()
+    assert walker.humans[-1, 0, 0] > 12.0
+
+
+def test_human_gives_way_on_excuse_me_steps_aside_then_resumes_to_its_goal():
+    tree = tree_xml('<Fallback><Sequence><RobotSays agent_id="{id}" message="4"/>'
+                    f'<GiveWaytoRobot agent_id="{{id}}" time_step="{{dt}}"/></Sequence>{REGULAR}</Fallback>')
+    rules = [RobotGestureRule(gesture=4, when="blocked", distance=2.0, duration=3.0)]
+    sim = make_sim([human(start=(16.0, 5.0), goals=[(3.0, 5.0)])], [tree], [(2.0, 5.0), (18.0, 5.0)],
+                   WaypointsPolicy(), gestures=ScriptedGestures(rules, {}), timeout=60)
+    trace = sim.run()
+    gave_way = trace.executed(0, "GiveWaytoRobot")
+    assert gave_way.any() and (trace.robot_gesture == 4).any()
+    lateral = np.abs(trace.humans[:, 0, 1] - 5.0)
+    assert lateral[gave_way].max() > 0.5
+    # while the robot drove past the human, the human stood aside
+    passing = np.abs(trace.robot[:, 0] - trace.humans[:, 0, 0]) < 0.3
+    assert passing.any() and lateral[passing].min() > 0.5 + 1e-9
+    assert trace.end_reason == "robot_goal"
+    # after the robot passed, the human resumes: keep simulating the humans until they arrive
+    for _ in range(int(20 / sim.dt)):
+        sim.step()
+    assert abs(sim.crowd.pos[0] - (3.0 + 5.0j)) < 0.7
+
+
+def test_is_robot_visible_needs_line_of_sight_and_distance():
+    tree = tree_xml('<Fallback><Sequence><IsRobotVisible agent_id="{id}" distance="{d}"/>'
+                    '<MakeGesture agent_id="{id}" message="1"/></Sequence>'
+                    '<MakeGesture agent_id="{id}" message="2"/></Fallback>')
+    walled = empty_room(20.0, 10.0, walls=[(9.5, 2.0, 10.5, 8.0)])
+    open_room = empty_room(20.0, 10.0)
+    robot = [(12.0, 5.0), (13.0, 5.0)]
+
+    def gesture(world, distance):  # noqa: ANN001, ANN202
+        sim = make_sim([human(start=(8.0, 5.0))], [tree.replace("{d}", str(distance))], robot, Stay(), world=world)
+        sim.step()
+        return sim.crowd.gesture[0]
+
+    assert gesture(walled, 10) == 2  # 4 m away but behind the wall
+    assert gesture(open_room, 10) == 1
+    assert gesture(open_room, 3.5) == 2  # in sight but too far
+    # IsRobotNearby ignores the wall
+    nearby = tree.replace("IsRobotVisible", "IsRobotNearby").replace("{d}", "10")
+    sim = make_sim([human(start=(8.0, 5.0))], [nearby], robot, Stay(), world=walled)
+    sim.step()
+    assert sim.crowd.gesture[0] == 1
+
+
+def test_time_expired_once_and_periodic():
+    once = tree_xml('<Fallback><Sequence><Inverter><TimeExpiredCondition seconds="2" ts="{dt}" only_once="true"/>'
+                    '</Inverter><MakeGesture agent_id="{id}" message="1"/></Sequence>'
+                    '<MakeGesture agent_id="{id}" message="2"/></Fallback>')
+    trace = make_sim([human()], [once], [(10.0, 5.0), (11.0, 5.0)], timeout=5).run()
+    switch = int(np.argmax(trace.human_gesture[:, 0] == 2))
+    assert trace.human_gesture[1:switch, 0].tolist() == [1] * (switch - 1)
+    assert trace.t[switch] == pytest.approx(2.0, abs=0.051)
+    assert (trace.human_gesture[switch:, 0] == 2).all()  # only_once: never again
+    periodic = tree_xml('<TimeExpiredCondition seconds="1" ts="{dt}" only_once="false"/>')
+    trace = make_sim([human()], [periodic], [(10.0, 5.0), (11.0, 5.0)], timeout=5).run()
+    fired = np.flatnonzero(trace.fired(0, "TimeExpiredCondition"))
+    assert len(fired) in (4, 5) and set(np.diff(fired).tolist()) <= {19, 20, 21}
+    assert trace.t[fired[0]] == pytest.approx(1.0, abs=0.051)
+
+
+def test_follow_robot_keeps_about_one_and_a_half_metres():
+    tree = tree_xml('<FollowRobot agent_id="{id}" time_step="{dt}"/>')
+    trace = make_sim([human(start=(3.0, 5.0))], [tree], [(10.0, 5.0), (11.0, 5.0)], Stay(), timeout=20).run()
+    d = np.abs(trace.humans[:, 0, 0] + 1j * trace.humans[:, 0, 1] - (10 + 5j))
+    assert 1.3 <= d[-1] <= 1.5
+    assert d.min() >= 1.3
+    to_robot = (10 + 5j) - xy(trace, -1)
+    assert trace.humans[-1, 0, 2] == pytest.approx(math.atan2(to_robot.imag, to_robot.real), abs=1e-6)
+
+
+def test_follow_human_stops_near_the_target():
+    trees = [tree_xml('<MakeGesture agent_id="{id}" message="0"/>'),
+             tree_xml('<FollowHuman agent_id="{id}" target_id="0" time_step="{dt}"/>')]
+    sim = make_sim([human(start=(12.0, 5.0)), human("human2", start=(3.0, 5.0))], trees, [(10.0, 8.0), (11.0, 8.0)],
+                   timeout=20)
+    trace = sim.run()
+    d = abs(xy(trace, -1, 1) - xy(trace, -1, 0))
+    assert 1.3 <= d <= 1.5
+
+
+def test_block_robot_ends_up_in_front_of_the_robot():
+    tree = tree_xml('<BlockRobot agent_id="{id}" time_step="{dt}"/>')
+    trace = make_sim([human(start=(7.0, 8.0))], [tree], [(10.0, 5.0), (12.0, 5.0)], Stay(), timeout=25).run()
+    assert abs(xy(trace, -1) - (11.5 + 5.0j)) < 0.5
+    assert trace.behavior_state[-1, 0] == 1
+
+
+def test_run_away_from_robot_moves_away_slowly():
+    run_away = tree_xml('<RunAwayFromRobot agent_id="{id}" time_step="{dt}"/>')
+    trace = make_sim([human(start=(8.0, 5.0), goals=[(8.0, 5.0)])], [run_away], [(7.0, 5.0), (6.0, 5.0)],
+                     timeout=3).run()
+    assert abs(xy(trace, -1) - (7 + 5j)) > 2.0
+    speed = np.hypot(trace.humans[:, 0, 3], trace.humans[:, 0, 4])
+    assert speed.max() <= 0.6 + 1e-9
+
+
+def test_look_at_robot_turns_without_moving():
+    tree = tree_xml('<LookAtRobot agent_id="{id}"/>')
+    sim = make_sim([human(start=(2.0, 5.0), yaw=0.0)], [tree], [(2.0, 8.0), (3.0, 8.0)])
+    sim.step()
+    sim.step()
+    assert sim.crowd.yaw[0] == pytest.approx(math.pi / 2)
+    assert sim.crowd.pos[0] == 2.0 + 5.0j and sim.crowd.vel[0] == 0
+
+
+def test_gestures_both_ways():
+    trees = [tree_xml('<MakeGesture agent_id="{id}" message="3"/>'),
+             tree_xml('<Fallback><Sequence><HumanSays agent_id="{id}" target_id="0" message="3"/>'
+                      '<MakeGesture agent_id="{id}" message="1"/></Sequence>'
+                      '<MakeGesture agent_id="{id}" message="0"/></Fallback>'),
+             tree_xml('<Fallback><Sequence><RobotSays agent_id="{id}" message="4"/>'
+                      '<MakeGesture agent_id="{id}" message="2"/></Sequence>'
+                      '<MakeGesture agent_id="{id}" message="0"/></Fallback>')]
+    people = [human(), human("human2", start=(3.0, 3.0)), human("human3", start=(3.0, 7.0))]
+    sim = make_sim(people, trees, [(10.0, 5.0), (11.0, 5.0)], Drive(0.0, 0.0, gesture=4))
+    sim.step()
+    assert sim.crowd.gesture[:2] == [3, 1]  # human2 saw human1's gesture
+    sim.step()
+    assert sim.crowd.gesture[2] == 2  # the robot's EXCUSE ME reached human3
+
+
+@pytest.mark.parametrize(("policy", "expected"), [(Drive(-0.8, 0.0), 2), (Stay(), 0), (Drive(0.05, 0.05), 0)])
+def test_robot_moved_uses_speed(policy, expected):
+    tree = tree_xml('<Fallback><Sequence><RobotMoved agent_id="{id}"/><MakeGesture agent_id="{id}" message="2"/>'
+                    '</Sequence><MakeGesture agent_id="{id}" message="0"/></Fallback>')
+    sim = make_sim([human()], [tree], [(10.0, 5.0), (11.0, 5.0)], policy)
+    sim.step()
+    sim.step()
+    assert sim.crowd.gesture[0] == expected
+
+
+def test_goal_queue_rules():
+    g = [1 + 0j, 2 + 0j, 3 + 0j]
+    q = GoalQueue(g, 0.5, cyclic=False)
+    q.update_goal()
+    assert q.goals == g[1:]
+    q.update_goal()
+    q.update_goal()
+    assert q.goals == [3 + 0j]  # the last goal is kept (fork rule)
+    q.consume()
+    assert q.goals == []  # the SFM step may still consume it
+    q = GoalQueue([g[0]], 0.5, cyclic=True)
+    q.update_goal()
+    assert q.goals == [g[0], g[0]]
+    q = GoalQueue(g, 0.5, cyclic=True)
+    q.update_goal()
+    assert q.goals == [g[1], g[2], g[0]]
+    q.consume()
+    assert q.goals == [g[2], g[0], g[1]]
+    assert q.reached(3.55 + 0j) and not q.reached(3.65 + 0j)  # radius + 0.1
+
+
+def test_walker_visits_its_goals_in_order_and_freezes_at_the_last():
+    goals = [(6.0, 2.0), (6.0, 7.0), (12.0, 7.0)]
+    sim = make_sim([human(start=(2.0, 2.0), goals=goals)], [tree_xml(REGULAR)], [(18.0, 2.0), (19.0, 2.0)],
+                   timeout=25)
+    trace = sim.run()
+    path = trace.humans[:, 0, :2]
+    first = [int(np.argmin(np.hypot(*(path - np.array(gl)).T))) for gl in goals]
+    assert first == sorted(first)
+    assert np.hypot(*(path[-1] - np.array(goals[-1]))) <= 0.6 + 1e-9
+    assert np.abs(trace.humans[-5:, 0, :2] - trace.humans[-1, 0, :2]).max() < 1e-9  # frozen in the band
+    # nothing will change any more (human done, robot idle for 10 s): the run ends early
+    assert trace.end_reason == "all_done" and trace.t[-1] < 24

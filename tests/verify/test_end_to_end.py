@@ -1,0 +1,48 @@
+"""verify on real simulations of a run folder (the engine runs when sim/trace.npz is missing): a give-way
+scenario whose robot never says EXCUSE ME must fail for that reason; scripting the gesture makes it pass."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from typer.testing import CliRunner
+from verify_builders import cli_app
+
+from socnavgen.run.folder import RunFolder
+from socnavgen.run.models import RobotGestureRule
+from socnavgen.sim.trace import Trace
+from socnavgen.verify import verify_run
+
+FAST = {"timeout": 40.0}
+
+
+def test_broken_give_way_scenario_fails(give_way_run: Path) -> None:
+    report = verify_run(give_way_run, simulate_options=FAST)
+    assert (give_way_run / "sim" / "trace.npz").is_file()  # simulated on demand and saved
+    assert not report.passed
+    by_node = {f.node: f for f in report.findings if f.node}
+    assert not by_node["RobotSays"].passed and "gestures were none" in by_node["RobotSays"].evidence
+    assert not by_node["GiveWaytoRobot"].passed and by_node["GiveWaytoRobot"].stage == "behaviors"
+    assert by_node["IsRobotVisible"].passed  # the robot did come into view: the tree is stuck on RobotSays
+
+
+def test_scripted_excuse_me_makes_it_pass(give_way_run: Path) -> None:
+    run = RunFolder(give_way_run)
+    plan = run.read_paths()
+    plan.robot_gestures = [RobotGestureRule(gesture=4, when="near_human", distance=3.0)]
+    run.write_paths(plan)
+    report = verify_run(give_way_run, simulate_options=FAST)
+    assert report.passed, report.feedback()
+    give = next(f for f in report.findings if f.node == "GiveWaytoRobot")
+    assert give.distance is not None and give.distance <= 3.0
+    trace = Trace.load(give_way_run / "sim" / "trace.npz")
+    assert (trace.robot_gesture == 4).any()
+    meet = next(f for f in report.findings if f.kind == "meets_human")
+    closest = float((((trace.robot[:, :2] - trace.humans[:, 0, :2]) ** 2).sum(axis=1) ** 0.5).min())
+    assert closest - 1e-3 <= meet.distance <= 2.5
+
+
+def test_cli_fails_on_the_broken_scenario(give_way_run: Path) -> None:
+    result = CliRunner().invoke(cli_app(), ["verify", str(give_way_run), "--json"])
+    assert result.exit_code == 1, result.output
+    assert '"passed": false' in result.stdout
