@@ -4,6 +4,7 @@ Scene: an open walled square sized for a constant density (0.1 pedestrians per m
 every pedestrian walking a cyclic two-goal route with the RegularNav tree exactly as the generator writes it
 (SetBlackboard x2 + SubTree RegularNavTree), and the robot crossing with the `waypoints` plugin. The same
 crowd (positions, goals, walls) runs in pysocialforce with its default forces and step width set to our dt.
+Times are CPU seconds of this process (time.process_time), i.e. one core, unaffected by other load.
 
     python benchmarks/sim_bench.py              # the table (about a minute)
     python benchmarks/sim_bench.py --quick      # fewer steps
@@ -49,15 +50,32 @@ def run_ours(n: int, steps: int, use_kernels: bool) -> float:
     world = empty_room(side, side, resolution=0.1)
     sim = Simulation(world, humans, [DEFAULT_TREE] * n, [(0.8, side / 2), (side - 0.8, side / 2)],
                      WaypointsPolicy(), SimConfig(dt=DT, timeout=steps * DT, idle_end=1e9), use_kernels=use_kernels)
-    start = time.perf_counter()
+    start = time.process_time()
     trace = sim.run()
-    elapsed = time.perf_counter() - start
+    elapsed = time.process_time() - start
     return elapsed / max(trace.steps - 1, 1)
+
+
+def _import_pysocialforce():  # noqa: ANN202
+    """pysocialforce sets a logger named "root" to DEBUG and opens ./file.log on import: import it from a
+    temporary folder and quieten the loggers."""
+    import logging
+
+    here = os.getcwd()
+    with tempfile.TemporaryDirectory() as tmp:
+        os.chdir(tmp)
+        try:
+            import pysocialforce as psf
+        finally:
+            os.chdir(here)
+    for name in ("root", "numba"):
+        logging.getLogger(name).setLevel(logging.WARNING)
+    return psf
 
 
 def run_pysocialforce(n: int, steps: int) -> float | str:
     try:
-        import pysocialforce as psf
+        psf = _import_pysocialforce()
     except ImportError:
         return "not installed (pip install pysocialforce)"
     side, humans = scene(n)
@@ -68,9 +86,9 @@ def run_pysocialforce(n: int, steps: int) -> float | str:
     try:
         sim = psf.Simulator(state, groups=None, obstacles=walls, config_file=cfg.name)
         sim.step(2)  # numba compilation happens here, not in the timing
-        start = time.perf_counter()
+        start = time.process_time()
         sim.step(steps)
-        return (time.perf_counter() - start) / steps
+        return (time.process_time() - start) / steps
     finally:
         os.unlink(cfg.name)
 

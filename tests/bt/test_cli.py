@@ -94,3 +94,11 @@ def test_docs_table_is_the_generated_one(repo_root: Path) -> None:
     """docs/behavior-trees.md holds `socnavgen bt library --markdown` verbatim (regenerate it if this fails)."""
     doc = (repo_root / "docs" / "behavior-trees.md").read_text()
     assert library_markdown() in doc
+
+
+def test_docs_example_tree_is_valid(repo_root: Path) -> None:
+    from socnavgen.bt.validate import validate_bt_text
+
+    doc = (repo_root / "docs" / "behavior-trees.md").read_text()
+    example = doc.split("```xml\n", 1)[1].split("```", 1)[0]
+    assert validate_bt_text(example) == []

@@ -12,7 +12,7 @@ import textwrap
 
 import pytest
 
-from socnavgen.bt.grammar import bt_reply_grammar
+from socnavgen.bt.grammar import CHILDREN_BY_DEPTH, MAX_REASONING_CHARS, bt_reply_grammar
 from socnavgen.bt.validate import validate_bt_text
 
 from .gbnf import Grammar
@@ -101,6 +101,19 @@ def test_mistakes_cannot_be_produced(grammar: Grammar, bad_tree: str, why: str) 
     assert not grammar.matches(reply(bad_tree)), why
 
 
+def test_children_are_bounded(grammar: Grammar) -> None:
+    def seq(n: int) -> str:
+        return GOOD.replace("<RegularNav agent_id='{id}' time_step='{dt}'/>",
+                            "<Sequence>" + "<RobotMoved agent_id='{id}'/>" * n + "</Sequence>")
+    assert grammar.matches(reply(seq(CHILDREN_BY_DEPTH[0])))
+    assert not grammar.matches(reply(seq(CHILDREN_BY_DEPTH[0] + 1)))
+    # At the depth where the bound is 1 only decorators are offered.
+    deep = GOOD.replace("<RegularNav agent_id='{id}' time_step='{dt}'/>",
+                        "<Sequence>" * 3 + "<Inverter><RobotMoved agent_id='{id}'/></Inverter>" + "</Sequence>" * 3)
+    assert grammar.matches(reply(deep))
+    assert not grammar.matches(reply(deep.replace("Inverter>", "Sequence>")))
+
+
 def test_nesting_up_to_max_depth_is_allowed(grammar: Grammar) -> None:
     nested = GOOD.replace("<RegularNav agent_id='{id}' time_step='{dt}'/>",
                           "<Inverter>" * 4 + "<RobotMoved agent_id='{id}'/>" + "</Inverter>" * 4)
@@ -123,7 +136,8 @@ def test_options_shape_the_grammar() -> None:
 def test_reasoning_is_bounded_json_text(grammar: Grammar) -> None:
     assert grammar.matches(reply(GOOD, reasoning='Quotes \\" and a\nline'))
     assert not grammar.matches(reply(GOOD, reasoning=""))
-    assert not grammar.matches(reply(GOOD, reasoning="x" * 501))
+    assert grammar.matches(reply(GOOD, reasoning="x" * MAX_REASONING_CHARS))
+    assert not grammar.matches(reply(GOOD, reasoning="x" * (MAX_REASONING_CHARS + 1)))
 
 
 def test_llama_cpp_accepts_the_grammar() -> None:
@@ -149,7 +163,7 @@ LOCAL_SCRIPT = textwrap.dedent("""
     import json, sys
     from pydantic import BaseModel
     from socnavgen.bt.describe import library_text, regular_nav_text
-    from socnavgen.bt.grammar import bt_reply_grammar
+    from socnavgen.bt.grammar import CHILDREN_BY_DEPTH, MAX_REASONING_CHARS, bt_reply_grammar
     from socnavgen.llm.base import ChatMessage
     from socnavgen.llm.factory import make_llm
 

@@ -359,3 +359,15 @@ def test_include_never_reads_the_disk(tmp_path) -> None:
     path = tmp_path / "human1.xml"
     path.write_text(tree(REGNAV, include=True))
     assert validate_bt_file(path) == []
+
+
+def test_shared_blackboard_and_autoremap() -> None:
+    v3 = tree("<SubTree ID='RegularNavTree' __shared_blackboard='true'/>", include=True)
+    assert validate_bt_text(v3) == []
+    assert "must be true or false" in messages(validate_bt_text(v3.replace("'true'", "'maybe'")))
+    v4 = ("<root BTCPP_format='4' main_tree_to_execute='T'><BehaviorTree ID='T'><Sequence>"
+          "<SetBlackboard output_key='{agentid}' value='{id}'/>"
+          "<SubTree ID='RegularNavTree' _autoremap='true'/></Sequence></BehaviorTree>"
+          f"{INCLUDE}</root>")
+    assert validate_bt_text(v4) == []
+    assert "output_key is a blackboard key name" in messages(validate_bt_text(v4.replace(" BTCPP_format='4'", "")))

@@ -288,3 +288,9 @@ def test_local_server_needs_no_key(fake_openai, tmp_path, monkeypatch):
     fake_openai.add(fake_openai.ok(GOOD))
     assert make(fake_openai, tmp_path).chat(ask(), Scenario, stage="scenario").ok
     assert fake_openai.requests[0]["headers"]["authorization"].startswith("Bearer ")
+
+
+def test_malformed_http_bodies_are_retried(fake_openai, tmp_path, secret_key):
+    fake_openai.add(fake_openai.Scripted(body="garbage"), fake_openai.Scripted(body={"nope": 1}), fake_openai.ok(GOOD))
+    reply = make(fake_openai, tmp_path).chat(ask(), Scenario, stage="scenario")
+    assert reply.ok and len(fake_openai.requests) == 3

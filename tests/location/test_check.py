@@ -310,3 +310,14 @@ def test_problems_name_what_to_highlight(location_copy) -> None:
     write_graph(loc, data)
     type_problem, parts = check_location(loc).problems
     assert type_problem.nodes == ["sk"] and parts.nodes == ["sk"]
+
+
+def test_loaded_unedited_location_keeps_line_numbers(location_copy) -> None:
+    loc = location_copy()
+    data = read_graph(loc)
+    data["nodes"][0]["type"] = "FORKLIFT"
+    write_graph(loc, data)
+    location = load_location(loc)
+    _ = location.scene_graph  # cached, but equal to the file
+    (problem,) = check_location(location).problems
+    assert problem.line is not None

@@ -92,3 +92,17 @@ def test_subprocess_exit_codes_and_no_traceback(location_copy) -> None:
     assert bad_show.returncode == 2
     assert "location.yaml:3: malformed YAML" in bad_show.stderr.replace("\n", "")
     assert "Traceback" not in bad_show.stderr + bad_show.stdout
+
+
+def test_show_defaults_to_scene_graph_png_in_folder(location_copy) -> None:
+    loc = location_copy("home")
+    (loc / "scene_graph.png").unlink()
+    result = runner.invoke(app, ["location", "show", str(loc)])
+    assert result.exit_code == 0, result.output
+    assert (loc / "scene_graph.png").read_bytes() == (EXAMPLES / "home" / "scene_graph.png").read_bytes()
+
+
+def test_check_missing_folder_exit_1(tmp_path: Path) -> None:
+    result = runner.invoke(app, ["location", "check", "--json", str(tmp_path / "nowhere")])
+    assert result.exit_code == 1
+    assert json.loads(result.output)["problems"][0]["message"] == "location folder not found"

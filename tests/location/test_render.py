@@ -11,11 +11,14 @@ from socnavgen.location.render import LEGEND_WIDTH, choose_scale, png_bytes, ren
 from tests.location.conftest import BUNDLED, EXAMPLES
 
 
-@pytest.mark.parametrize(("w", "h", "scale"), [(250, 250, 5.0), (480, 320, 3.0), (600, 280, 2.0),
-                                               (1300, 900, 1.0), (3200, 1000, 0.5)])
-def test_choose_scale(w: int, h: int, scale: float) -> None:
-    assert choose_scale(w, h) == scale
-    assert 1000 <= max(w, h) * scale <= 1600
+@pytest.mark.parametrize(("w", "h"), [(250, 250), (480, 320), (600, 280), (280, 200), (1300, 900), (3200, 1000),
+                                    (300, 1500), (40, 30)])
+def test_choose_scale_fits_a_vision_model(w: int, h: int) -> None:
+    scale = choose_scale(w, h)
+    map_w, map_h = w * scale, h * scale
+    assert max(map_w, map_h) == pytest.approx(1280) or map_w + LEGEND_WIDTH == pytest.approx(1600)
+    assert 1000 <= max(map_w, map_h) <= 1600
+    assert map_w + LEGEND_WIDTH <= 1600 + 1e-9 and map_h <= 1600
 
 
 @pytest.mark.parametrize("name", BUNDLED)
@@ -26,7 +29,7 @@ def test_render_is_deterministic_and_sized(name: str) -> None:
     image = render_location(loc)
     w, h = loc.image_size
     scale = choose_scale(w, h)
-    assert image.size[0] == round(w * scale) + LEGEND_WIDTH
+    assert image.size[0] == round(w * scale) + LEGEND_WIDTH <= 1600
     assert 1000 <= max(round(w * scale), round(h * scale)) <= 1600
 
 
@@ -36,9 +39,9 @@ def test_nodes_drawn_in_their_type_colour() -> None:
     node_colour, _ = type_colours(loc.schema, loc.scene_graph)
     scale = choose_scale(*loc.image_size)
     for node in loc.scene_graph.nodes:
-        # just left of the label text, inside the box
+        # the label box is centred on the node
         x, y = (node.pos[0] + 0.5) * scale, (node.pos[1] + 0.5) * scale
-        box = image[int(y) - 6:int(y) + 6, int(x) - 22:int(x) - 14].reshape(-1, 3)
+        box = image[int(y) - 8:int(y) + 8, int(x) - 18:int(x) + 18].reshape(-1, 3)
         want = tuple(int(node_colour[node.type][i:i + 2], 16) for i in (1, 3, 5))
         assert (box == want).all(axis=1).any(), node.id
 

@@ -102,3 +102,26 @@ def test_compiled_kernel_gives_the_numpy_trace():
     assert a.steps == b.steps == traces[0].steps
     assert np.abs(a.humans - b.humans).max() < 1e-9
     assert (a.action == b.action).all()
+
+
+@pytest.mark.skipif(not kernels.AVAILABLE, reason="numba not installed: only the numpy path exists")
+@pytest.mark.parametrize("n", [10, 150])  # all pairs, then the cell grid
+def test_kernel_environment_forces_equal_the_reference(n):
+    rng = np.random.default_rng(n)
+    world = empty_room(40.0, 40.0, resolution=0.1)
+    pos = rng.uniform(1, 39, n) + 1j * rng.uniform(1, 39, n)
+    vel = rng.normal(0, 0.7, n) + 1j * rng.normal(0, 0.7, n)
+    rpos, rvel = 20 + 20j, 0.3 - 0.2j
+    radius = np.full(n, 0.4)
+    prm = SFMParams()
+    ref = social_forces(np.append(pos, rpos), np.append(vel, rvel), prm)[:n]
+    obs, ok = world.nearest_obstacles(pos)
+    ref += obstacle_forces(pos, radius, obs, ok, prm)
+    cs = np.array([pos, vel, pos]); fs = np.array([np.zeros(n), radius, np.full(n, 0.5), np.zeros(n)])  # noqa: E702
+    cc, fc, bc = np.zeros((3, n), complex), np.zeros((4, n)), np.zeros((5, n), bool)
+    packed = np.array([prm.k_des, prm.tau, prm.k_gaze, prm.k_coh, prm.k_rep, prm.k_obs, prm.sigma_obs, prm.k_soc,
+                       prm.lam, prm.gamma, prm.n, prm.n_prime, prm.cutoff, 10.0, 1.0, world.mpp])
+    kernels.advance(cs, fs, cc, fc, bc, np.full(n, -1), np.zeros(0), packed, world.obstacle_table,
+                    world.transform.inverse.copy(), rpos, rvel, 0.05, False)
+    assert np.allclose(cc[2], ref, atol=1e-9)
+    assert np.allclose(fc[3], np.abs(rpos - pos))

@@ -16,7 +16,12 @@ from socnavgen.bt.library import LIBRARY_TREES, NodeSpec, Port, PortType, Target
 DEFAULT_TREE_ID = "HumanBehavior"
 DEFAULT_MAX_DEPTH = 5
 # llama.cpp expands x{1,n} into n nested rules; n over ~1000 overflows its stack (segfault, measured).
-MAX_REASONING_CHARS = 500
+MAX_REASONING_CHARS = 400
+# Children a control node may have, by its depth (1 = the BehaviorTree's child; the last value
+# repeats). A small model under a grammar tends to take every "one more child" it is offered, so
+# the bounds keep the largest possible tree (4*3*2 = 24 leaves, ~600 tokens) inside max_tokens.
+# Where the bound is 1 only decorators are offered (a one-child Sequence says nothing).
+CHILDREN_BY_DEPTH = (4, 3, 2, 1)
 
 
 def _lit(text: str) -> str:
@@ -84,7 +89,7 @@ def bt_reply_grammar(human_ids: Iterable[int] | None = None, *, agent_id: int | 
     rules["reasoning"] = f'"\\"" rchar{{1,{MAX_REASONING_CHARS}}} "\\""'
     rules["rchar"] = '[^"\\\\\\x7F\\x00-\\x1F] | "\\\\" ["\\\\/nt]'
     rules["s"] = '"\\\\n"? " "{0,16}'  # optional line break (two characters in JSON) + indentation
-    rules["nm"] = "(\" name='\" [A-Za-z0-9_] [A-Za-z0-9_ ]{0,31} \"'\")?"
+    rules["nm"] = "(\" name='\" [A-Za-z0-9_] [A-Za-z0-9_ ]{0,23} \"'\")?"
     rules["num"] = '[0-9]{1,3} ("." [0-9]{1,2})?'
     rules["int"] = '[0-9]{1,2}'
     rules["bool"] = '"true" | "false"'
@@ -106,10 +111,14 @@ def bt_reply_grammar(human_ids: Iterable[int] | None = None, *, agent_id: int | 
         for depth in range(1, max_depth + 1):
             options = ["leaf", *extra]
             if depth < max_depth:
+                limit = CHILDREN_BY_DEPTH[min(depth, len(CHILDREN_BY_DEPTH)) - 1]
                 for spec in composites:
+                    if spec.kind == "control" and limit < 2:
+                        continue
                     rule = f"{_rule_name(spec.name)}-{family}{depth}"
                     child = f"node-{family}{depth + 1}"
-                    children = f"s {child} (s {child})*" if spec.kind == "control" else f"s {child}"
+                    children = (f"s {child} (s {child}){{0,{limit - 1}}}" if spec.kind == "control"
+                                else f"s {child}")
                     rules[rule] = f'{_lit("<" + spec.name)} nm ">" {children} s {_lit("</" + spec.name + ">")}'
                     options.append(rule)
             rules[f"node-{family}{depth}"] = _alt(options)

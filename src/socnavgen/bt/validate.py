@@ -43,7 +43,8 @@ BOOL_LITERALS = {"true": True, "True": True, "TRUE": True, "1": True,
                  "false": False, "False": False, "FALSE": False, "0": False}
 # Entries every agent's root blackboard holds (HuNavSim sets them before each tick).
 ROOT_KEYS: dict[str, PortType] = {"id": PortType.INT, "dt": PortType.DOUBLE}
-SHARED_BLACKBOARD = "__shared_blackboard"
+SHARED_BLACKBOARD = "__shared_blackboard"  # v3; v4 spells it _autoremap
+AUTOREMAP = "_autoremap"
 
 
 @dataclass(frozen=True)
@@ -127,6 +128,11 @@ def _library_tree_infos() -> dict[str, _TreeInfo]:
     return infos
 
 
+def _bare_key(value: str) -> str:
+    ref = BLACKBOARD_REF.match(value)
+    return ref.group(1) if ref else value
+
+
 def _node_name(elem: BTElement) -> str:
     if elem.tag in EXPLICIT_WRAPPERS and "ID" in elem.attrs:
         return elem.attrs["ID"]
@@ -142,12 +148,12 @@ def _scan_tree(tree: BTElement) -> _TreeInfo:
         if name == "SubTree":
             info.subtrees.append(elem)
             for key, value in elem.attrs.items():
-                if key not in ("ID", "name", SHARED_BLACKBOARD):
+                if key not in ("ID", "name", SHARED_BLACKBOARD, AUTOREMAP):
                     ref = BLACKBOARD_REF.match(value)
                     info.reads.add(ref.group(1) if ref else value)
             continue
         if name == "SetBlackboard" and "output_key" in elem.attrs:
-            info.writes.add(elem.attrs["output_key"])
+            info.writes.add(_bare_key(elem.attrs["output_key"]))
         for key, value in elem.attrs.items():
             ref = BLACKBOARD_REF.match(value)
             if ref and key not in ("name", "output_key"):
@@ -308,7 +314,7 @@ class _Checker:
         else:
             self.check_ports(spec, elem)
         if name == "SetBlackboard":
-            key = elem.attrs.get("output_key", "")
+            key = _bare_key(elem.attrs.get("output_key", ""))
             value = elem.attrs.get("value", "")
             ref = BLACKBOARD_REF.match(value)
             self.known_keys[key] = self.known_keys.get(ref.group(1)) if ref else None
@@ -369,7 +375,7 @@ class _Checker:
             self.add(f"{where}: time_step must be {{dt}} (the simulation step from the blackboard)", elem.line)
             return
         if spec.name == "SetBlackboard":
-            if port.name == "output_key" and not KEY_NAME.match(value):
+            if port.name == "output_key" and not KEY_NAME.match(value) and not (self.version >= 4 and ref):
                 self.add(f"{where}: output_key is a blackboard key name without braces, e.g. "
                          f"output_key='agentid'", elem.line)
             elif port.name == "value" and ref and ref.group(1) not in self.known_keys and self.is_main:
@@ -438,10 +444,11 @@ class _Checker:
             self.add(f"SubTree ID '{tree_id}' names no BehaviorTree{_suggest(tree_id, known)}; defined or "
                      f"included: {', '.join(known) or 'none'}", elem.line)
             return
-        shared = elem.attrs.get(SHARED_BLACKBOARD)
+        flag = AUTOREMAP if self.version >= 4 else SHARED_BLACKBOARD
+        shared = elem.attrs.get(flag)
         if shared is not None and shared not in BOOL_LITERALS:
-            self.add(f"SubTree {SHARED_BLACKBOARD}='{shared}' must be true or false", elem.line)
-        remaps = {k: v for k, v in elem.attrs.items() if k not in ("ID", "name", SHARED_BLACKBOARD)}
+            self.add(f"SubTree {flag}='{shared}' must be true or false", elem.line)
+        remaps = {k: v for k, v in elem.attrs.items() if k not in ("ID", "name", flag)}
         if shared is not None and BOOL_LITERALS.get(shared):
             return
         needed = info.reads - info.writes

@@ -157,13 +157,11 @@ class RouteBuilder:
         ahead_of_robot = set(robot[i + 1:])  # where a person must not end up standing
         kind = role.role
         if kind == "oncoming":
-            # in a narrow passage the meeting is at its far end, where one of the two can step aside
-            meets = placement.place.other if placement.card.place == "narrow_passage" else p
-            return [(robot[::-1], meets)]
+            return [(robot[::-1], self.meeting_node(placement, i))]
         if kind == "standing":
             return [([p], p)]
         full = robot + self.beyond(robot)[:1]  # same-direction walkers go on past the robot's goal
-        if full[-1] == robot[-1]:
+        if kind in ("ahead", "behind", "beside") and full[-1] == robot[-1]:
             return []  # they would stop on the robot's goal and block it for good
         if kind == "ahead":
             return [(full[k:], None) for k in range(1, len(robot) - 1)]
@@ -183,17 +181,26 @@ class RouteBuilder:
             exits = [n for n in branches[1:] if n not in feeder]
             tail = self.extend(exits[0], p, {p, *feeder}, hops=1) if exits else robot[:i][::-1][:2]
             return [(feeder[k::-1] + [p] + tail, p) for k in range(len(feeder))]
-        if kind == "gathering":
-            meets = p if p in robot else None
-            ring = self.near_nodes(p, set(robot))
+        if kind == "gathering":  # nearest first, so the group forms quickly; no pausing for groups
+            ring = sorted(self.near_nodes(p, set(robot)), key=lambda n: (self.f.distance(n, p), n))
             paths = [nx.shortest_path(self.g, s, p) for s in ring]
-            return [(path, meets) for path in paths if not set(path[:-1]) & set(robot)]
+            return [(path, None) for path in paths if not set(path[:-1]) & set(robot)]
         # converging / through_place / circular: from nodes around P across P, never stopping ahead of the robot
         ring = self.near_nodes(p, {robot[-1]})
         if kind == "circular":
             ring = [n for n in ring if n not in robot]
         paths = [self.across(s, p, ahead_of_robot | {robot[-1]}) for s in ring]
         return [(path, p) for path in paths if path is not None]
+
+    def meeting_node(self, placement: Placement, i: int) -> str:
+        """Where an oncoming person meets the robot. Through a door or a narrow passage only one fits
+        at a time, so the person is held (SocRATES's interaction-point pause) until the robot is
+        through: the meeting node is the first node after the narrow part."""
+        robot, card = placement.robot, placement.card
+        past = {"doorway": i + 1, "narrow_passage": i + 2}.get(card.place)
+        if past is not None and past < len(robot):
+            return robot[past]
+        return placement.place.node
 
     def place(self, card: Card, place: Candidate) -> Placement:
         robot = self.robot_route(card, place)

@@ -109,7 +109,8 @@ def library(
         print(library_markdown(), end="")
         return
     table = Table(title="behavior-tree node library", show_lines=False)
-    for column in ("node", "kind", "ports", "meaning", "targets"):
+    table.add_column("node", no_wrap=True)  # names stay whole (copy-paste); the rest folds
+    for column in ("kind", "ports", "meaning", "targets"):
         table.add_column(column, overflow="fold")
     for spec in NODES:
         if target is not None and target not in spec.targets:

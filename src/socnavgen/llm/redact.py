@@ -23,7 +23,7 @@ MASK = "***"
 
 def _env_secrets() -> list[str]:
     values = [os.environ.get(name, "") for name in SECRET_ENV_VARS]
-    return sorted({v for v in values if len(v) >= 6}, key=len, reverse=True)
+    return sorted({v for v in values if len(v) >= 8}, key=len, reverse=True)
 
 
 def redact(text: str) -> str:

@@ -64,6 +64,6 @@ def call_with_retries(attempt_fn: Callable[[float], R], *, describe: str, timeou
                 raise LLMError(redact(
                     f"{describe}: gave up after {attempt} attempt{'s' if attempt > 1 else ''} in {elapsed:.1f}s "
                     f"(deadline {deadline:g}s); last error: {exc.message}{asked}"),
-                    hint="check the server's health or allow more time (--llm-deadline)") from None
+                    hint="check that the server is healthy, then re-run (finished stages are kept)") from None
             log.warning("%s", redact(f"{describe}: {exc.message}; retrying in {delay:.1f}s (attempt {attempt + 1})"))
             sleep(delay)

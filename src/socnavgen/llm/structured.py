@@ -7,6 +7,7 @@ on, because the caller sends that text back as the correction.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import re
 import types
@@ -45,11 +46,14 @@ def parse_reply(raw: str, schema: type[T]) -> tuple[T | None, str | None]:
     except JSONRepairError as exc:
         advice = "" if "reply with" in str(exc) else " Reply again with only the corrected JSON object."
         return None, f"Your reply could not be read as JSON: {exc}.{advice}"
-    data = normalise_keys(data, schema)
+    with contextlib.suppress(Exception):  # a shape we do not walk: pydantic judges the keys as written
+        data = normalise_keys(data, schema)
     try:
         return schema.model_validate(data), None
     except ValidationError as exc:
         return None, describe_validation_error(exc)
+    except (ValueError, TypeError) as exc:  # a validator that raised something else
+        return None, f"Your JSON could not be used: {exc}. Reply again with the whole corrected JSON object."
 
 
 def describe_validation_error(exc: ValidationError) -> str:

@@ -92,8 +92,9 @@ def check_location(target: Path | str | Location) -> CheckReport:
     Given a loaded `Location` whose scene graph was edited in memory (the annotator), the edited graph
     is checked; line numbers then refer to nothing and are left out.
     """
-    in_memory = isinstance(target, Location) and "scene_graph" in target.__dict__
     root = target.root if isinstance(target, Location) else Path(target)
+    in_memory = (isinstance(target, Location) and "scene_graph" in target.__dict__
+                 and not _same_as_file(target.scene_graph, root / SCENE_GRAPH_FILE))
     report = CheckReport(root=root, problems=[])
     problems = report.problems
     if not root.is_dir():
@@ -131,6 +132,14 @@ def check_location(target: Path | str | Location) -> CheckReport:
 
 
 # ------------------------------------------------------------------------------------------------ files
+def _same_as_file(graph: SceneGraph, path: Path) -> bool:
+    """True when an in-memory graph equals the file, so file line numbers still apply."""
+    try:
+        return SceneGraph.model_validate(load_json_file(path)) == graph
+    except (SocnavgenError, ValidationError):
+        return False
+
+
 def _from_error(exc: SocnavgenError, default_file: Path, line: int | None = None) -> Problem:
     return Problem("error", exc.message, exc.hint or "fix the file", exc.file or str(default_file), exc.line or line)
 
@@ -166,11 +175,9 @@ def _check_map(location: Location, problems: list[Problem]) -> bool:
         _ = location.transform
         _ = location.occupancy
     except SocnavgenError as exc:
-        problems.append(_from_error(exc, Path(cfg_file)))
-        return False
-    except ValueError as exc:  # a singular pixel_to_world matrix
-        problems.append(Problem("error", f"bad pixel_to_world: {exc}", "give an invertible 3x3 matrix", cfg_file,
-                                _yaml_key_line(location.root / LOCATION_FILE, "pixel_to_world")))
+        in_config = exc.file in (None, cfg_file)
+        problems.append(_from_error(exc, Path(cfg_file),
+                                    _yaml_key_line(Path(cfg_file), exc.message) if in_config else None))
         return False
     if location.nav2 is not None:
         expected = Path(location.nav2.image).name

@@ -89,7 +89,11 @@ class Location:
     @cached_property
     def transform(self) -> Transform:
         if self.config.pixel_to_world is not None:
-            return Transform(self.config.pixel_to_world)
+            try:
+                return Transform(self.config.pixel_to_world)
+            except ValueError as exc:  # singular matrix: a user error, not a crash
+                raise InputFileError(f"bad pixel_to_world: {exc}", file=self.root / LOCATION_FILE,
+                                     hint="give an invertible 3x3 matrix (pixel -> world, homogeneous)") from exc
         if self.nav2 is None:
             raise InputFileError("no transform: set `nav2_map` or `pixel_to_world`", file=self.root / LOCATION_FILE)
         return Transform.from_nav2(self.nav2.resolution, self.nav2.origin, self.image_size[1])

@@ -1,6 +1,6 @@
 """Draw a location's scene graph on its map: the picture a vision LLM (and a person) reads.
 
-Deterministic by construction: integer nearest-neighbour upscaling, a font shipped with matplotlib,
+Deterministic by construction: nearest-neighbour upscaling (Lanczos when shrinking), a font shipped with matplotlib,
 colours chosen by the position of a type in the schema, no randomness and no timestamps.
 """
 
@@ -17,13 +17,13 @@ from socnavgen.location.location import Location
 from socnavgen.location.models import SceneGraph, Schema
 from socnavgen.safeio import atomic_write_bytes
 
-TARGET_LONG_SIDE = 1280  # px: large enough that 2-character labels stay legible for a vision model
-MAX_LONG_SIDE = 1600
+TARGET_LONG_SIDE = 1280  # px of map: large enough that 2-character labels stay legible for a vision model
+MAX_LONG_SIDE = 1600  # px of the whole picture, legend included
 LEGEND_WIDTH = 300
 
 # Colour-blind-friendly, high-contrast palettes (Okabe-Ito first, then Tableau extras).
-NODE_COLOURS = ["#E69F00", "#56B4E9", "#009E73", "#F0E442", "#0072B2", "#D55E00", "#CC79A7",
-                "#8DD3C7", "#FB8072", "#80B1D3", "#B3DE69", "#FCCDE5", "#BC80BD", "#FFED6F"]
+NODE_COLOURS = ["#E69F00", "#56B4E9", "#009E73", "#F0E442", "#CC79A7", "#0072B2", "#D55E00", "#999999",
+                "#8DD3C7", "#FB8072", "#B3DE69", "#BC80BD", "#FFED6F", "#80B1D3"]
 EDGE_COLOURS = ["#D62728", "#1F77B4", "#2CA02C", "#9467BD", "#FF7F0E", "#8C564B", "#E377C2", "#17BECF"]
 UNKNOWN_TYPE_COLOUR = "#FF00FF"  # a type outside the schema: loud on purpose
 
@@ -47,11 +47,9 @@ def _font(size: int) -> ImageFont.ImageFont | ImageFont.FreeTypeFont:
 
 
 def choose_scale(width: int, height: int, target: int = TARGET_LONG_SIDE, maximum: int = MAX_LONG_SIDE) -> float:
-    """Integer upscale for small maps (crisp pixels), a downscale only when the map is huge."""
-    long_side = max(width, height)
-    if long_side >= maximum:
-        return maximum / long_side
-    return float(max(1, min(round(target / long_side), maximum // long_side)))
+    """Scale bringing the map's long side to `target` px while the whole picture (map + legend) stays
+    within `maximum` px: large enough for legible labels, small enough that no model shrinks it."""
+    return min(target / max(width, height), (maximum - LEGEND_WIDTH) / width, maximum / height)
 
 
 def type_colours(schema: Schema, graph: SceneGraph) -> tuple[dict[str, str], dict[str, str]]:

@@ -286,16 +286,23 @@ def generate(request: ScenarioRequest, llm: LLM, out: Path, *, redo: set[str] | 
             from socnavgen.proposal.verify_loop import verify_and_repair
             scenario, paths, trees, report = verify_and_repair(pipeline, scenario, paths, trees)
     except (StageFailed, LLMError) as exc:
-        manifest.status, manifest.message = "failed", exc.message
+        _mark_failed(manifest, exc.message)
         recorder.save()
         raise
     except BaseException as exc:  # interrupted: the files written so far are complete; resume later
-        manifest.status, manifest.message = "failed", f"interrupted ({type(exc).__name__})"
+        _mark_failed(manifest, f"interrupted ({type(exc).__name__}: {exc})")
         recorder.save()
         raise
     manifest.status = "done"
     recorder.save()
     return Run(folder=run, scenario=scenario, paths=paths, behaviors=trees, manifest=manifest, verify=report)
+
+
+def _mark_failed(manifest: Manifest, message: str) -> None:
+    manifest.status, manifest.message = "failed", message
+    for record in manifest.stages.values():
+        if record.status == "running":
+            record.status = "failed"
 
 
 def verifier() -> Callable[[Path], object] | None:

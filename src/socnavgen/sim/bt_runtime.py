@@ -111,7 +111,8 @@ class Sequence(Node):
     def tick(self) -> int:
         children = self.children
         i = self.current
-        while i < len(children):
+        n = len(children)
+        while i < n:
             st = children[i].tick()
             if st == SUCCESS:
                 i += 1
@@ -136,7 +137,8 @@ class Fallback(Sequence):
     def tick(self) -> int:
         children = self.children
         i = self.current
-        while i < len(children):
+        n = len(children)
+        while i < n:
             st = children[i].tick()
             if st == FAILURE:
                 i += 1
@@ -240,15 +242,31 @@ class KeepRunningUntilFailure(Decorator):
 
 
 class SetBlackboard(Node):
-    __slots__ = ("bb", "key", "source", "literal")
+    __slots__ = ("bb", "key", "source", "literal", "out", "src")
 
     def __init__(self, bb: Blackboard, key: str, value: str) -> None:
         self.bb, self.key = bb, key
         self.source = _blackboard_key(value)
         self.literal = value
+        # remaps are static: resolve both ends once (None = dynamic through autoremap)
+        self.out = bb.resolve(key)
+        self.src = bb.resolve(self.source) if self.source is not None else None
 
     def tick(self) -> int:
-        self.bb.set(self.key, self.bb.get(self.source) if self.source is not None else self.literal)
+        out, src = self.out, self.src
+        if src is not None:
+            try:
+                value = src[0][src[1]]
+            except KeyError:
+                value = self.bb.get(self.source)  # raises the KeyError the builder reports
+        elif self.source is not None:
+            value = self.bb.get(self.source)
+        else:
+            value = self.literal
+        if out is not None:
+            out[0][out[1]] = value
+        else:
+            self.bb.set(self.key, value)
         return SUCCESS
 
 
@@ -306,10 +324,20 @@ class Leaf(Node):
 
     def agent(self) -> int:
         """The `agent_id` port, checked to name an agent (checked again only when it changes)."""
-        if self.agent_port is None:
+        port = self.agent_port
+        if port is None:
             return self.owner
-        i = self.get("agent_id")
+        resolved = port[0]
+        if resolved is not None:
+            try:
+                i = resolved[0][resolved[1]]
+            except KeyError:
+                i = self.get("agent_id")
+        else:
+            i = self.get("agent_id")
         if i is not self.last_agent:
+            if type(i) is str:
+                i = self.get("agent_id")
             if type(i) is not int or not 0 <= i < self.sim.crowd.n:
                 raise BTRuntimeError(f"{self.name}: agent_id {i!r} is not an agent (0..{self.sim.crowd.n - 1})",
                                      file=self.source, line=self.line, hint="write agent_id=\"{id}\"")

@@ -77,6 +77,7 @@ class Simulation:
         if len(self.robot_waypoints) == 0:
             raise ValueError("the robot needs at least one waypoint")
         self.robot_pos = complex(self.robot_waypoints[0])
+        self._robot_goal = complex(self.robot_waypoints[-1])
         self.robot_vel = 0j
         first_leg = self.robot_waypoints[1] - self.robot_pos if len(self.robot_waypoints) > 1 else 1 + 0j
         self.robot_yaw = math.atan2(first_leg.imag, first_leg.real) if abs(first_leg) > 0 else 0.0
@@ -254,7 +255,7 @@ class Simulation:
         self.robot_pos, self.robot_vel = new, v
 
     def robot_at_goal(self) -> bool:
-        return abs(self.robot_waypoints[-1] - self.robot_pos) <= self.config.goal_tolerance
+        return abs(self._robot_goal - self.robot_pos) <= self.config.goal_tolerance
 
     def run(self, progress: Callable[[int, int], None] | None = None) -> Trace:
         """Run to the robot's goal, the timeout, or until nothing will change; return the trace."""

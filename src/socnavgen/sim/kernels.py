@@ -37,6 +37,69 @@ except ImportError:  # pragma: no cover
         return lambda f: f
 
 
+GRID_MIN = 64  # above this many humans, neighbours come from a grid of cut-off sized cells (linear cost)
+
+
+@njit(cache=True, inline="always")
+def _pair(d, dv, cut2, k_soc, lam, gamma, nn, npr):  # noqa: ANN001, ANN202
+    """Social force on i from j (reference §6.4) for d = p_j - p_i, dv = v_i - v_j; 0 beyond the cut-off."""
+    d2 = d.real * d.real + d.imag * d.imag
+    if d2 == 0.0 or d2 > cut2:
+        return 0j
+    dist = math.sqrt(d2)
+    dhat = d / dist
+    t = lam * dv + dhat
+    ell = abs(t)
+    that = t / max(ell, 1e-12)
+    b = gamma * ell
+    prod = dhat * that.conjugate()
+    theta = math.atan2(prod.imag, prod.real)
+    if abs(theta) < 1e-9:  # f_theta jumps at 0 (sign): round-off must not pick a side
+        theta = 0.0
+    base = -dist / max(b, 1e-12)
+    bt = b * theta
+    f_v = math.exp(base - (npr * bt) ** 2)
+    sgn = 1.0 if theta > 0 else (-1.0 if theta < 0 else 0.0)
+    f_t = sgn * math.exp(base - (nn * bt) ** 2)
+    return -k_soc * that * (f_v + 1j * f_t)
+
+
+@njit(cache=True)
+def _social_grid(pos, vel, cutoff, k_soc, lam, gamma, nn, npr, out):  # noqa: ANN001, ANN202
+    """Human-human social forces with a uniform grid of cut-off sized cells: each agent only looks at the
+    3 x 3 cells around it, so the cost grows linearly with the crowd at a given density."""
+    n = pos.shape[0]
+    xs, ys = pos.real, pos.imag
+    x0, y0 = xs.min(), ys.min()
+    nx = int((xs.max() - x0) / cutoff) + 1
+    ny = int((ys.max() - y0) / cutoff) + 1
+    if nx * ny > 4_000_000:  # absurdly sparse crowd: fall back to all pairs
+        nx, ny = 1, 1
+        cx = np.zeros(n, dtype=np.int64)
+        cy = np.zeros(n, dtype=np.int64)
+    else:
+        cx = ((xs - x0) / cutoff).astype(np.int64)
+        cy = ((ys - y0) / cutoff).astype(np.int64)
+    cid = cx + nx * cy
+    order = np.argsort(cid, kind="mergesort")
+    start = np.zeros(nx * ny + 1, dtype=np.int64)
+    for k in range(n):
+        start[cid[k] + 1] += 1
+    for c in range(nx * ny):
+        start[c + 1] += start[c]
+    cut2 = cutoff * cutoff
+    for i in range(n):
+        f = 0j
+        for gy in range(max(cy[i] - 1, 0), min(cy[i] + 2, ny)):
+            for gx in range(max(cx[i] - 1, 0), min(cx[i] + 2, nx)):
+                c = gx + nx * gy
+                for k in range(start[c], start[c + 1]):
+                    j = order[k]
+                    if j != i:
+                        f += _pair(pos[j] - pos[i], vel[i] - vel[j], cut2, k_soc, lam, gamma, nn, npr)
+        out[i] = f
+
+
 @njit(cache=True)
 def advance(cs, fs, cc, fc, bc, labels, sizes, prm, obs_table, affine, rpos, rvel, dt, do_step):  # noqa: ANN001, ANN201
     """If do_step: desired + group forces and one SFM step for walkers using the environment force of the
@@ -118,38 +181,20 @@ def advance(cs, fs, cc, fc, bc, labels, sizes, prm, obs_table, affine, rpos, rve
                     yaw[i] = (turn_yaw[i] + math.pi) % (2 * math.pi) - math.pi
             omega[i] = ((yaw[i] - old + math.pi) % (2 * math.pi) - math.pi) / dt
     h, w = obs_table.shape
+    cut2 = cutoff * cutoff
+    social = np.zeros(n, dtype=np.complex128)
+    if n > GRID_MIN and cutoff < 1e6:
+        _social_grid(pos, vel, cutoff, k_soc, lam, gamma, nn, npr, social)
+    else:
+        for i in range(n):
+            f = 0j
+            for j in range(n):
+                if j != i:
+                    f += _pair(pos[j] - pos[i], vel[i] - vel[j], cut2, k_soc, lam, gamma, nn, npr)
+            social[i] = f
     for i in range(n):
         pi = pos[i]
-        vi = vel[i]
-        f = 0j
-        for j in range(n + 1):
-            if j == i:
-                continue
-            if j < n:
-                pj = pos[j]
-                vj = vel[j]
-            else:
-                pj = rpos
-                vj = rvel
-            d = pj - pi
-            dist = abs(d)
-            if dist == 0.0 or dist > cutoff:
-                continue
-            dhat = d / dist
-            t = lam * (vi - vj) + dhat
-            ell = abs(t)
-            that = t / max(ell, 1e-12)
-            b = gamma * ell
-            prod = dhat * that.conjugate()
-            theta = math.atan2(prod.imag, prod.real)
-            if abs(theta) < 1e-9:  # f_theta jumps at 0 (sign): round-off must not pick a side
-                theta = 0.0
-            base = -dist / max(b, 1e-12)
-            bt = b * theta
-            f_v = math.exp(base - (npr * bt) ** 2)
-            sgn = 1.0 if theta > 0 else (-1.0 if theta < 0 else 0.0)
-            f_t = sgn * math.exp(base - (nn * bt) ** 2)
-            f += -k_soc * that * (f_v + 1j * f_t)
+        f = social[i] + _pair(rpos - pi, vel[i] - rvel, cut2, k_soc, lam, gamma, nn, npr)
         if has_obs:
             x, y = pi.real, pi.imag
             px = affine[0, 0] * x + affine[0, 1] * y + affine[0, 2]

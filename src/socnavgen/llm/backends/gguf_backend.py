@@ -27,6 +27,7 @@ DEFAULT_N_CTX = 8192
 DEFAULT_MAX_TOKENS = 1024
 INSTALL_HINT = "install the optional extra: pip install 'socnavgen[local]' (compiles llama.cpp, ~5 min)"
 _LOAD_LOCK = threading.Lock()  # model loading patches llama_cpp's defaults briefly (see _load)
+_MODELS: dict[tuple[str, int], tuple[Any, threading.Lock]] = {}  # (file, n_ctx) -> (model, its run lock)
 
 
 def smollm2_path() -> Path:
@@ -64,7 +65,7 @@ class GGUFBackend(Backend):
         self.path = path
         self._llama_cpp = require_llama_cpp()
         self._llm: Any = None
-        self._run_lock = threading.Lock()
+        self._run_lock = threading.Lock()  # replaced by the shared model's lock in _load
         self._grammars: dict[str, Any] = {}
         self.constrained = True  # False = free decoding (benchmarks compare the grammar's cost)
         self.n_ctx = int(os.environ.get("SOCNAVGEN_GGUF_N_CTX", DEFAULT_N_CTX))
@@ -74,20 +75,27 @@ class GGUFBackend(Backend):
         return {"backend": self.kind, "model": self.model, "file_size": stat.st_size}
 
     def _load(self) -> Any:
-        """Load once. Extra weight buffers (AMX/repack kernels) are off unless SOCNAVGEN_GGUF_EXTRA_BUFTS=1:
-        on VMs that advertise AMX without enabling it, those kernels crash on any batch > 1 token."""
+        """The model, loaded once per process and file (backends of several runs share it and its lock).
+
+        Extra weight buffers (AMX/repack kernels) are off unless SOCNAVGEN_GGUF_EXTRA_BUFTS=1: on VMs that
+        advertise AMX without fully supporting it, those kernels crash on any batch of more than one token."""
         if self._llm is not None:
             return self._llm
-        llama_cpp = self._llama_cpp
-        extra = os.environ.get("SOCNAVGEN_GGUF_EXTRA_BUFTS") == "1"
-        threads = max(1, min(8, os.cpu_count() or 1))
-        with _LOAD_LOCK, _model_defaults(llama_cpp, use_extra_bufts=extra):
-            try:
-                self._llm = llama_cpp.Llama(model_path=str(self.path), n_ctx=self.n_ctx, n_threads=threads,
-                                            seed=0, verbose=False)
-            except Exception as exc:  # llama.cpp reports load failures as ValueError/RuntimeError
-                raise LLMError(f"{self.spec}: cannot load the model ({exc})", file=self.path,
-                               hint="is it a GGUF file this llama-cpp-python version supports?") from exc
+        key = (str(self.path.resolve()), self.n_ctx)
+        with _LOAD_LOCK:
+            if key not in _MODELS:
+                llama_cpp = self._llama_cpp
+                extra = os.environ.get("SOCNAVGEN_GGUF_EXTRA_BUFTS") == "1"
+                threads = max(1, min(8, os.cpu_count() or 1))
+                with _model_defaults(llama_cpp, use_extra_bufts=extra):
+                    try:
+                        model = llama_cpp.Llama(model_path=str(self.path), n_ctx=self.n_ctx, n_threads=threads,
+                                                seed=0, verbose=False)
+                    except Exception as exc:  # llama.cpp reports load failures as ValueError/RuntimeError
+                        raise LLMError(f"{self.spec}: cannot load the model ({exc})", file=self.path,
+                                       hint="is it a GGUF file this llama-cpp-python version supports?") from exc
+                _MODELS[key] = (model, threading.Lock())
+            self._llm, self._run_lock = _MODELS[key]
         return self._llm
 
     def _grammar(self, request: Request) -> Any:
@@ -112,8 +120,8 @@ class GGUFBackend(Backend):
 
     def _complete(self, request: Request, timeout: float) -> Completion:
         # `timeout` cannot interrupt in-process decoding; max_tokens bounds the time instead.
+        llm = self._load()
         with self._run_lock:
-            llm = self._load()
             messages = [{"role": m.role, "content": m.content} for m in request.messages]
             try:
                 result = llm.create_chat_completion(

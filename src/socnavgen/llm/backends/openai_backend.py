@@ -10,6 +10,7 @@ fatal one becomes a single sentence naming the backend and what to check.
 from __future__ import annotations
 
 import email.utils
+import logging
 import os
 import threading
 import time
@@ -24,6 +25,7 @@ from socnavgen.llm.redact import install_log_redaction, redact
 from socnavgen.llm.retry import TransientError
 from socnavgen.llm.structured import json_instruction, json_schema
 
+log = logging.getLogger("socnavgen.llm")
 MODES = ("json_schema", "json_object", "prompt")  # most to least native structured output
 LOCAL_HOSTS = {"localhost", "127.0.0.1", "::1", "0.0.0.0", "[::1]"}
 NO_KEY_PLACEHOLDER = "no-key-needed"
@@ -147,6 +149,9 @@ class OpenAIBackend(Backend):
                 raise TransientError(f"connection failed ({_root_cause(exc)})") from None
             except openai.APIResponseValidationError as exc:
                 raise TransientError(f"the server sent a malformed response ({exc})") from None
+            except openai.OpenAIError as exc:
+                raise self._fatal(f"the OpenAI client failed ({type(exc).__name__}: {exc})",
+                                  "check the spec and the server") from None
 
     def _create(self, request: Request, mode: str, images: bool, timeout: float) -> Completion:
         kwargs: dict[str, Any] = {"model": self.model, "messages": self._messages(request, mode, images),
@@ -194,11 +199,14 @@ class OpenAIBackend(Backend):
             if images and self.supports_images and any(m.images for m in request.messages) and \
                     any(word in text for word in ("image", "vision", "multimodal", "content type", "image_url")):
                 self.supports_images = False
+                log.warning("%s", redact(f"{self.describe()} refused images ({_error_text(exc)}); sending text only"))
                 return True
             if self.mode != mode:  # another thread already downgraded
                 return True
             if self._mode_index + 1 < len(MODES):
                 self._mode_index += 1
+                log.warning("%s", redact(f"{self.describe()} refused response mode '{mode}' ({exc.status_code}: "
+                                         f"{_error_text(exc)}); using '{self.mode}' instead"))
                 return True
         return False
 

@@ -1,0 +1,94 @@
+"""Every card that fits a bundled location becomes an ordinary run folder that exports."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import networkx as nx
+import pytest
+
+from socnavgen.bt.validate import validate_bt_text
+from socnavgen.cards.generate import fit_all, place_card, write_card_run
+from socnavgen.cards.library import get_card
+from socnavgen.errors import SocnavgenError
+from socnavgen.export import export_run
+from socnavgen.location import load_location
+from socnavgen.run import RunFolder
+
+MUST_FIT = {
+    "warehouse": {"blind-corner", "narrow-hallway", "intersection-wait", "frontal-approach", "crowd-navigation",
+                  "join-group"},
+    "hospital": {"entering-elevator", "exiting-elevator", "entering-room", "exiting-room", "narrow-doorway",
+                 "circular-crossing"},
+    "home": {"entering-room", "exiting-room", "narrow-doorway", "blind-corner"},
+}
+MUST_NOT_FIT = {"warehouse": {"entering-elevator": "ELEVATOR", "entering-room": "ROOM"},
+                "hospital": {}, "home": {"exiting-elevator": "ELEVATOR"}}
+
+
+def check_run(run: RunFolder, graph: nx.Graph) -> None:
+    request, plan, trees = run.read_request(), run.read_paths(), run.behaviors()
+    assert request.card and request.rough == get_card(request.card).rough
+    assert run.read_manifest().status == "done"
+    assert run.read_scenario().number_of_humans == len(plan.humans) == len(trees)
+    ids = {h.agent_id for h in plan.humans}
+    starts = [plan.robot[0]] + [h.path[0] for h in plan.humans]
+    assert len(starts) == len(set(starts)), "two agents spawn on the same node"
+    for who, path in [("robot", plan.robot)] + [(h.name, h.path) for h in plan.humans]:
+        assert all(graph.has_edge(a, b) for a, b in zip(path, path[1:], strict=False)), who
+    for h in plan.humans:
+        if h.interaction_point:
+            assert h.interaction_point in h.path and h.interaction_point in plan.robot, h.name
+        assert validate_bt_text(trees[h.name], h.name, human_ids=ids, agent_id=h.agent_id) == []
+
+
+def test_every_fitting_card_generates_and_exports(bundled_location: Path, tmp_path: Path) -> None:
+    location = load_location(bundled_location)
+    fits = fit_all(location)
+    fitting = {f.card.name for f in fits if f.fits}
+    assert MUST_FIT[bundled_location.name] <= fitting
+    for fit in fits:
+        if not fit.fits:
+            assert fit.reason
+            continue
+        run = write_card_run(fit.card.name, bundled_location, tmp_path / fit.card.name)
+        check_run(run, location.graph)
+        result = export_run(run.root, "socrates", tmp_path / "out" / fit.card.name)
+        assert "hunav_agent_manager/config/custom_agents.yaml" in result.files
+        try:
+            export_run(run.root, "hunav2", tmp_path / "out2" / fit.card.name)
+        except SocnavgenError as exc:  # allowed only for nodes 2.x lacks, each named
+            assert "no HuNavSim 2.x equivalent" in str(exc)
+    for name, word in MUST_NOT_FIT[bundled_location.name].items():
+        reason = next(f.reason for f in fits if f.card.name == name)
+        assert word in reason and "schema has none" in reason
+
+
+def test_generation_is_deterministic(tmp_path: Path, repo_root: Path) -> None:
+    loc = repo_root / "examples/locations/hospital"
+    if not loc.is_dir():
+        pytest.skip("hospital location not present")
+    a = write_card_run("crowd-navigation", loc, tmp_path / "a")
+    b = write_card_run("crowd-navigation", loc, tmp_path / "b")
+    assert a.read_paths() == b.read_paths()
+    assert a.behaviors() == b.behaviors()
+
+
+def test_pick_gives_another_place_and_too_large_pick_is_explained(repo_root: Path) -> None:
+    loc = repo_root / "examples/locations/warehouse"
+    if not loc.is_dir():
+        pytest.skip("warehouse location not present")
+    location = load_location(loc)
+    first = place_card(get_card("intersection-no-gesture"), location, 0)
+    second = place_card(get_card("intersection-no-gesture"), location, 1)
+    assert first.fits and second.fits and first.placement.place != second.placement.place
+    assert "too large" in place_card(get_card("intersection-no-gesture"), location, 99).reason
+
+
+def test_card_that_does_not_fit_raises_with_reason(tmp_path: Path, repo_root: Path) -> None:
+    loc = repo_root / "examples/locations/warehouse"
+    if not loc.is_dir():
+        pytest.skip("warehouse location not present")
+    with pytest.raises(SocnavgenError, match="ELEVATOR"):
+        write_card_run("entering-elevator", loc, tmp_path / "x")
+    assert not (tmp_path / "x").exists()

@@ -1,0 +1,91 @@
+"""Each stage-2 rule, broken on purpose, gives a message that names the exact mistake."""
+
+from __future__ import annotations
+
+import pytest
+from conftest import paths_reply
+
+from socnavgen.location import load_location
+from socnavgen.proposal.path_checks import check_paths, to_path_plan
+from socnavgen.proposal.replies import PathsReply
+
+HUMANS = ["human1", "human2"]
+
+# (changes to a valid reply, the exact message expected among the mistakes)
+MISTAKES = {
+    "unknown node": ({"trajectories": {"robot": ["32", "ch", "11", "07"], "human1": ["07", "zz", "ch"],
+                                       "human2": ["f7", "07", "11"]}},
+                     "node 'zz' is not in the scene graph"),
+    "no edge": ({"trajectories": {"robot": ["0e", "07", "11"], "human1": ["07", "11", "ch"],
+                                  "human2": ["f7", "07", "11"]}},
+                "there is no edge between 0e and 07"),
+    "missing human": ({"trajectories": {"robot": ["32", "ch", "11", "07"], "human1": ["07", "11", "ch"]}},
+                      "trajectories: human2 has no path"),
+    "extra human": ({"trajectories": {"robot": ["32", "ch", "11", "07"], "human1": ["07", "11", "ch"],
+                                      "human2": ["f7", "07", "11"], "human3": ["ch"]}},
+                    "trajectories: 'human3' is not a human of the scenario"),
+    "lone group": ({"group_ids": {"human1": 1, "human2": -1}},
+                   "group 1 has only one member (human1)"),
+    "bad group id": ({"group_ids": {"human1": -3, "human2": -1}}, "human1 has group id -3"),
+    "missing group id": ({"group_ids": {"human1": -1}}, "group_ids: human2 has no group id"),
+    "point off robot path": ({"interaction_points": {"human1": "11", "human2": "f7"}},
+                             "the interaction point f7 of human2 is not on the robot's path"),
+    "point off human path": ({"interaction_points": {"human1": "32", "human2": "11"}},
+                             "the interaction point 32 of human1 is not on human1's path"),
+    "short robot path": ({"trajectories": {"robot": ["11"], "human1": ["07", "11", "ch"],
+                                           "human2": ["f7", "07", "11"]}},
+                         "the robot path needs at least two nodes"),
+    "empty human path": ({"trajectories": {"robot": ["32", "ch", "11", "07"], "human1": [],
+                                           "human2": ["f7", "07", "11"]},
+                          "interaction_points": {"human2": "11"}},
+                         "human1's path is empty"),
+    "no robot": ({"trajectories": {"human1": ["07", "11", "ch"], "human2": ["f7", "07", "11"]}},
+                 "the robot has no path"),
+}
+
+
+@pytest.fixture
+def graph(mini_location):
+    return load_location(mini_location).graph
+
+
+def test_a_valid_reply_has_no_mistake(graph):
+    reply = PathsReply.model_validate(paths_reply())
+    assert check_paths(reply, graph, HUMANS) == []
+    plan = to_path_plan(reply, HUMANS)
+    assert plan.robot == ["32", "ch", "11", "07"]
+    assert [(h.name, h.group_id, h.interaction_point) for h in plan.humans] == [("human1", -1, "11"),
+                                                                                ("human2", -1, "11")]
+
+
+@pytest.mark.parametrize("case", sorted(MISTAKES))
+def test_each_mistake_is_named(graph, case):
+    changes, expected = MISTAKES[case]
+    mistakes = check_paths(PathsReply.model_validate(paths_reply(**changes)), graph, HUMANS)
+    assert any(expected in m for m in mistakes), mistakes
+
+
+def test_every_mistake_is_listed_at_once(graph):
+    reply = paths_reply(trajectories={"robot": ["0e", "07"], "human1": ["zz"], "human2": ["f7"]},
+                        group_ids={"human1": 4, "human2": -1})
+    mistakes = check_paths(PathsReply.model_validate(reply), graph, HUMANS)
+    text = "\n".join(mistakes)
+    for expected in ("there is no edge between 0e and 07", "node 'zz' is not in the scene graph",
+                     "group 4 has only one member", "not on human2's path"):
+        assert expected in text
+
+
+def test_human_keys_are_normalised(graph):
+    reply = paths_reply(trajectories={"ROBOT": ["32", "ch", "11"], "Human 1": ["07", "11"], "HUMAN_2": ["11"]},
+                        group_ids={"Human 1": 3, "human 2": 3}, interaction_points={"Human1": "11"})
+    parsed = PathsReply.model_validate(reply)
+    assert check_paths(parsed, graph, HUMANS) == []
+    plan = to_path_plan(parsed, HUMANS)
+    assert [h.group_id for h in plan.humans] == [3, 3]
+    assert plan.humans[1].interaction_point is None
+
+
+def test_numeric_node_ids_are_read_as_text(graph):
+    reply = paths_reply(trajectories={"robot": [32, "ch"], "human1": ["ch"], "human2": ["ch"]},
+                        interaction_points={"human1": "ch", "human2": "ch"})
+    assert check_paths(PathsReply.model_validate(reply), graph, HUMANS) == []
