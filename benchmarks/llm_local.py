@@ -67,6 +67,7 @@ def main() -> None:
     parser.add_argument("--spec", default="local", help="local or gguf:PATH")
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--max-tokens", type=int, default=200)
+    parser.add_argument("--prompts", default="short,long", help="which prompts to run: short, long or both")
     args = parser.parse_args()
 
     started = time.perf_counter()
@@ -79,7 +80,10 @@ def main() -> None:
               f"{'latency s':>10}{'prompt tok/s':>13}{'gen tok/s':>10}{'valid':>7}")
     print(header)
     print("-" * len(header))
+    chosen = {p.strip() for p in args.prompts.split(",")}
     for name, prompt in (("short", SHORT), ("long", long_prompt())):
+        if name not in chosen:
+            continue
         for constrained in (False, True):
             runs = [run_case(llm, prompt, constrained, args.max_tokens) for _ in range(args.repeat)]
             med = {k: statistics.median(r[k] for r in runs) for k in runs[0]}

@@ -9,6 +9,7 @@ import socket
 from pathlib import Path
 
 import pytest
+from PIL import Image
 
 from socnavgen.annotate.server import create_app, serve_in_thread
 
@@ -171,6 +172,15 @@ def test_opening_existing_location_shows_its_graph(room_location: Path, tmp_path
             assert pg.text_content("#counts") == "2 nodes, 1 edges"
             click_pixel(pg, 20, 20)  # selecting a node shows its id
             assert "node k1" in pg.text_content("#selection")
+            edited = tmp_path / "edited.png"
+            img = Image.open(room_location / "room.pgm").convert("L")
+            img.paste(0, (30, 10, 40, 140))  # a new wall across the k1-k2 edge
+            img.save(edited)
+            pg.set_input_files("#map-file", str(edited))
+            pg.wait_for_function("() => /map replaced|not replaced/.test(document.querySelector('#status').textContent)")
+            assert "map replaced" in pg.text_content("#status")
+            assert "k1-k2" in " ".join(pg.locator("#warnings li").all_text_contents())
+            assert (room_location / "room.pgm.bak").is_file()
             context.close()
     finally:
         server.should_exit = True

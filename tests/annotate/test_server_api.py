@@ -144,3 +144,33 @@ def test_failed_render_writes_nothing(client: TestClient, room_location: Path, m
     assert "disk full" in reply.json()["error"]
     assert (room_location / "scene_graph.json").read_bytes() == before
     assert (room_location / "scene_graph.png").read_bytes() == png_before
+
+
+def _png(width: int, height: int, value: int = 254) -> bytes:
+    import io
+
+    from PIL import Image
+
+    buf = io.BytesIO()
+    Image.new("L", (width, height), value).save(buf, format="PNG")
+    return buf.getvalue()
+
+
+def test_map_replacement_is_checked_and_backed_up(client: TestClient, room_location: Path) -> None:
+    old = (room_location / "room.pgm").read_bytes()
+    ok = client.post("/api/map", content=_png(200, 150), headers={"content-type": "image/png"})
+    assert ok.status_code == 200, ok.text
+    assert (room_location / "room.pgm.bak").read_bytes() == old
+    new = (room_location / "room.pgm").read_bytes()
+    assert new.startswith(b"P5") and new != old  # stored in the file's own format (PGM)
+    assert client.get("/api/map").content == client.get("/api/map").content
+    wrong_size = client.post("/api/map", content=_png(100, 100), headers={"content-type": "image/png"})
+    assert wrong_size.status_code == 422 and "size must not change" in wrong_size.text
+    gif = client.post("/api/map", content=b"GIF89a" + b"\0" * 100, headers={"content-type": "image/png"})
+    assert gif.status_code == 422 and "PNG or a PGM" in gif.text
+    corrupt = client.post("/api/map", content=b"\x89PNG\r\n\x1a\n" + b"\0" * 50, headers={"content-type": "image/png"})
+    assert corrupt.status_code == 422
+    assert client.post("/api/map", content=_png(200, 150), headers={"content-type": "text/html"}).status_code == 415
+    big = client.post("/api/map", content=b"P5" + b"\0" * (16 * 1024 * 1024), headers={"content-type": "image/png"})
+    assert big.status_code == 413
+    assert (room_location / "room.pgm").read_bytes() == new

@@ -1,4 +1,6 @@
-"""Every card that fits a bundled location becomes an ordinary run folder that exports."""
+"""Every card that fits a bundled location becomes an ordinary run folder that exports, simulates
+and verifies (with the social-force robot: the straight-line waypoint robot stops behind anyone in
+its way and cannot go around, see docs/cards.md for its numbers)."""
 
 from __future__ import annotations
 
@@ -42,11 +44,14 @@ def check_run(run: RunFolder, graph: nx.Graph) -> None:
         assert validate_bt_text(trees[h.name], h.name, human_ids=ids, agent_id=h.agent_id) == []
 
 
-def test_every_fitting_card_generates_and_exports(bundled_location: Path, tmp_path: Path) -> None:
+def test_every_fitting_card_generates_exports_and_verifies(bundled_location: Path, tmp_path: Path) -> None:
+    from socnavgen.verify import verify_run
+
     location = load_location(bundled_location)
     fits = fit_all(location)
     fitting = {f.card.name for f in fits if f.fits}
     assert MUST_FIT[bundled_location.name] <= fitting
+    failed: list[str] = []
     for fit in fits:
         if not fit.fits:
             assert fit.reason
@@ -59,6 +64,12 @@ def test_every_fitting_card_generates_and_exports(bundled_location: Path, tmp_pa
             export_run(run.root, "hunav2", tmp_path / "out2" / fit.card.name)
         except SocnavgenError as exc:  # allowed only for nodes 2.x lacks, each named
             assert "no HuNavSim 2.x equivalent" in str(exc)
+        report = verify_run(run.root, simulate_options={"robot": "sfm", "timeout": 120.0})
+        card_findings = [f for f in report.findings if f.source == "card"]
+        assert len(card_findings) >= len(fit.card.criteria), fit.card.name
+        if not report.passed:
+            failed.append(f"{fit.card.name}: " + "; ".join(f"{f.name}: {f.evidence}" for f in report.failures))
+    assert not failed, "cards that do not verify:\n" + "\n".join(failed)
     for name, word in MUST_NOT_FIT[bundled_location.name].items():
         reason = next(f.reason for f in fits if f.card.name == name)
         assert word in reason and "schema has none" in reason

@@ -4,12 +4,12 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from cards_helpers import cross, l_corridor
-
 from socnavgen.cards.generate import place_card
 from socnavgen.cards.library import get_card
 from socnavgen.cards.places import PlaceFinder, type_matches
 from socnavgen.location import load_location
+
+from .cards_helpers import cross, l_corridor
 
 
 def test_keyword_families_use_whole_words_and_exclusions() -> None:

@@ -5,9 +5,10 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from export_helpers import GIVE_WAY_TREE, REGULAR_TREE, build_location, build_run, default_plan
 
 from socnavgen.run import PathPlan
+
+from .export_helpers import GIVE_WAY_TREE, REGULAR_TREE, build_location, build_run, default_plan
 
 
 @pytest.fixture

@@ -6,7 +6,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from export_helpers import GIVE_WAY_TREE
+from .export_helpers import GIVE_WAY_TREE
 
 
 def run_cli(*args: str) -> subprocess.CompletedProcess:

@@ -6,11 +6,12 @@ from pathlib import Path
 
 import pytest
 import yaml
-from export_helpers import CURIOUS_TREE, GIVE_WAY_TREE, REGULAR_TREE, TRANSLATABLE_TREE, agent_shape
 
 from socnavgen.bt.library import REGULAR_NAV_XML
 from socnavgen.errors import SocnavgenError
 from socnavgen.export import export_run
+
+from .export_helpers import CURIOUS_TREE, GIVE_WAY_TREE, REGULAR_TREE, TRANSLATABLE_TREE, agent_shape
 
 
 def test_builtin_patterns_map_to_behavior_codes(make_run, tmp_path: Path, reference_dir: Path) -> None:

@@ -8,11 +8,12 @@ from pathlib import Path
 import pytest
 import yaml
 from defusedxml import ElementTree as DET
-from export_helpers import GIVE_WAY_TREE, REGULAR_TREE, TRANSLATABLE_TREE, shape
 
 from socnavgen.bt.tree import parse_bt
 from socnavgen.errors import SocnavgenError
 from socnavgen.export import export_run
+
+from .export_helpers import GIVE_WAY_TREE, REGULAR_TREE, TRANSLATABLE_TREE, shape
 
 REF_YAML = "data/upstream-hunav-2x/hunav_gazebo_wrapper/scenarios/agents_warehouse.yaml"
 REF_MODEL = "data/upstream-hunav-2x/hunav_sim/behavior_trees/TreeNodesModel.xml"

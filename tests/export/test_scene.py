@@ -5,11 +5,12 @@ from __future__ import annotations
 import math
 
 import pytest
-from export_helpers import expected_world
 
 from socnavgen.errors import InputFileError, ValidationFailed
 from socnavgen.export.scene import build_scene
 from socnavgen.run import HumanPlan, PathPlan
+
+from .export_helpers import expected_world
 
 
 def test_hand_computed_coordinates(make_run) -> None:
@@ -68,5 +69,5 @@ def test_missing_tree_is_refused(make_run) -> None:
 
 
 def open_tree() -> str:
-    from export_helpers import REGULAR_TREE
+    from .export_helpers import REGULAR_TREE
     return REGULAR_TREE

@@ -9,13 +9,14 @@ from pathlib import Path
 import pytest
 import yaml
 from defusedxml import ElementTree as DET
-from export_helpers import GIVE_WAY_TREE, REGULAR_TREE, agent_shape, shape
 
 from socnavgen.bt.tree import parse_bt
 from socnavgen.errors import SocnavgenError
 from socnavgen.export import export_run
 from socnavgen.export.models import ExportedFile
 from socnavgen.export.writer import write_export
+
+from .export_helpers import GIVE_WAY_TREE, REGULAR_TREE, agent_shape, shape
 
 
 @pytest.fixture

@@ -15,7 +15,7 @@ from socnavgen.annotate.bridge import run_check
 from socnavgen.location import load_location
 from socnavgen.location.extract import ExtractOptions, extract_location, extract_scene_graph
 from socnavgen.location.occupancy import occupancy_from_image
-from tests.extract.conftest import RES, carve, ell_map, plus_map, ring_map, room_door_map
+from tests.extract.synthetic_maps import RES, carve, ell_map, plus_map, ring_map, room_door_map
 
 
 def extracted(map_factory, tmp_path: Path, img: np.ndarray, name: str, **opts):
@@ -121,7 +121,7 @@ def test_narrow_gaps_are_not_walkable(tmp_path: Path) -> None:
 
 
 def blank_two_rooms() -> np.ndarray:
-    from tests.extract.conftest import blank
+    from tests.extract.synthetic_maps import blank
 
     img = blank(200, 220)
     carve(img, 20, 180, 20, 100)
@@ -156,3 +156,29 @@ def test_result_opens_in_the_annotator(map_factory, tmp_path: Path) -> None:
     location, stats = extracted(map_factory, tmp_path, room_door_map(), "annot")
     state = TestClient(create_app(tmp_path / "annot"), base_url="http://127.0.0.1:1").get("/api/location").json()
     assert len(state["graph"]["nodes"]) == stats.nodes and state["warnings"] == []
+
+
+def noisy(img: np.ndarray, seed: int) -> np.ndarray:
+    """Ragged wall edges and speckle, as a SLAM map has them."""
+    from scipy import ndimage
+
+    rng = np.random.default_rng(seed)
+    free = img > 0
+    edge = free ^ ndimage.binary_erosion(free)
+    out = img.copy()
+    out[edge & (rng.random(img.shape) < 0.3)] = 0
+    out[free & (rng.random(img.shape) < 0.002)] = 0
+    return out
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_noise_does_not_add_junctions_or_hide_corners(seed: int) -> None:
+    for img, wanted in ((plus_map(), "INTERSECTION"), (ell_map(), "BLIND CORNER")):
+        occ = occupancy_from_image(noisy(img, seed))
+        graph, _ = extract_scene_graph(occ, RES, ExtractOptions(seed=1))
+        types = Counter(n.type for n in graph.nodes)
+        assert types[wanted] == 1, types
+        assert types["INTERSECTION"] == (1 if wanted == "INTERSECTION" else 0), types
+        for e in graph.links:
+            assert occ.segment_clear(graph.node(e.source).pos, graph.node(e.target).pos)
+        assert not any(occ.is_blocked(*n.pos) for n in graph.nodes)

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import pytest
-from conftest import paths_reply
+from gen_helpers import paths_reply
 
 from socnavgen.location import load_location
 from socnavgen.proposal.path_checks import check_paths, to_path_plan

@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 
 import pytest
-from conftest import (
+from gen_helpers import (
     STOP_TREE,
     manifest,
     paths_reply,
@@ -19,6 +19,7 @@ from test_path_checks import MISTAKES
 
 from socnavgen.bt.validate import validate_bt_text
 from socnavgen.errors import StageFailed
+from socnavgen.llm.transcript import read_transcript
 from socnavgen.proposal import Run
 from socnavgen.run import RunFolder
 
@@ -44,6 +45,9 @@ def test_each_path_mistake_is_requeried_with_its_message(tmp_path, mini_location
     assert correction.role == "user" and expected in correction.content
     record = manifest(tmp_path / "run")["stages"]["paths"]
     assert (record["attempts"], record["restarts"], record["status"]) == (2, 0, "done")
+    checks = [e for e in read_transcript(tmp_path / "run" / "transcript.jsonl")
+              if e.get("kind") == "check" and e["stage"] == "paths"]
+    assert [c["valid"] for c in checks] == [False, True] and any(expected in m for m in checks[0]["mistakes"])
 
 
 def test_restart_after_three_failed_requeries(tmp_path, mini_location):
@@ -65,7 +69,7 @@ def test_restart_after_three_failed_requeries(tmp_path, mini_location):
 
 
 def test_clear_failure_after_the_restart_limit(tmp_path, mini_location):
-    from conftest import request_for
+    from gen_helpers import request_for
     bad = paths_reply(trajectories={"robot": ["0e", "zz"], "human1": ["07"], "human2": ["07"]},
                       interaction_points={})
     script = write_script(tmp_path / "s.yaml", {"scenario": [scenario_reply()], "paths": [bad] * 8})
@@ -146,7 +150,7 @@ def test_invalid_tree_is_requeried_with_the_validator_message(tmp_path, mini_loc
 
 
 def test_tree_failure_names_the_human_and_keeps_the_other_tree(tmp_path, mini_location):
-    from conftest import request_for
+    from gen_helpers import request_for
     bad_tree = STOP_TREE.replace("distance='0.5'", "")
     script = write_script(tmp_path / "s.yaml", {
         "scenario": [scenario_reply()], "paths": [paths_reply()],
@@ -157,4 +161,9 @@ def test_tree_failure_names_the_human_and_keeps_the_other_tree(tmp_path, mini_lo
     assert "stage 'behaviors' for human2" in error.message and "distance" in error.message
     folder = RunFolder(tmp_path / "run")
     assert set(folder.behaviors()) == {"human1"}
-    assert manifest(tmp_path / "run")["status"] == "failed"
+    data = manifest(tmp_path / "run")
+    assert data["status"] == "failed"
+    stages = data["stages"]
+    assert (stages["behaviors"]["status"], stages["behaviors:human1"]["status"],
+            stages["behaviors:human2"]["status"]) == ("failed", "done", "failed")
+    assert stages["behaviors:human2"]["attempts"] == 4 and "distance" in stages["behaviors:human2"]["errors"][0]

@@ -134,3 +134,18 @@ def test_repeat_decorator_ticks_its_child_n_times():
     sim = make_sim([human(goals=[(5, 5), (6, 5), (7, 5), (8, 5)])], [tree_xml(body)], [(10.0, 5.0)])
     sim.step()
     assert [g.real for g in sim.crowd.queues[0].goals] == [8.0]
+
+
+@pytest.mark.parametrize("name", ["LLMBT_0.xml", "LLMBT_1.xml", "LLMBT_2.xml", "BTCuriousNav.xml", "BTRegularNav.xml"])
+def test_socrates_fork_trees_run(reference_dir, name):
+    xml = (reference_dir / "data" / "socrates-hunav" / "behavior_trees" / name).read_text()
+    sim = make_sim([human(start=(4.0, 5.0), goals=[(15.0, 5.0)])], [xml], [(2.0, 5.0), (3.0, 5.0)])
+    for _ in range(20):
+        sim.step()
+    assert sim.tick_action[0] >= 0  # some action ran every tick
+
+
+def test_stale_socrates_placeholder_tree_is_refused(reference_dir):
+    xml = (reference_dir / "data" / "socrates-hunav" / "behavior_trees" / "LLMBT_3.xml").read_text()
+    with pytest.raises(ValidationFailed, match="HasRobotMoved"):
+        make_sim([human()], [xml], [(2.0, 5.0), (3.0, 5.0)])

@@ -147,3 +147,49 @@ def test_warehouse_blind_corner_run(tmp_path, warehouse_dir):
     assert clearance.min() > 0.1  # never inside a wall
     trace.save(tmp_path / "t.npz")
     assert np.array_equal(Trace.load(tmp_path / "t.npz").humans, trace.humans)
+
+
+def test_socrates_release_rule_lets_the_human_go_when_the_robot_targets_the_node(tmp_path):
+    run = make_run(tmp_path)
+    trace = load_simulation(run, WaypointsPolicy(), SimConfig(timeout=40), ThrottleConfig(rule="socrates")).run()
+    speed = np.hypot(trace.humans[:, 0, 3], trace.humans[:, 0, 4])
+    start = int(np.argmax(speed > 0.1))
+    # released once the robot came within 1.5 m of r1 (7, 5): its current waypoint is then the node
+    assert np.hypot(trace.robot[start, 0] - 7.0, trace.robot[start, 1] - 5.0) <= 1.5 + 0.05
+    assert trace.meta["held_seconds"]["human1"] > 5.0
+
+
+def test_human_without_a_tree_file_walks_the_regular_tree(tmp_path):
+    run = make_run(tmp_path)
+    (run / "behaviors" / "human1.xml").unlink()
+    trace = load_simulation(run, WaypointsPolicy(), SimConfig(timeout=30), ThrottleConfig(enabled=False)).run()
+    assert trace.meta["default_trees"] == ["human1"]
+    assert trace.executed(0, "RegularNav").any()
+
+
+def test_robot_says_at_a_node(tmp_path):
+    rules = [RobotGestureRule(gesture=2, when="at_node", node="ip", duration=0.5)]
+    run = make_run(tmp_path, gestures=rules)
+    trace = load_simulation(run, WaypointsPolicy(), SimConfig(timeout=40)).run()
+    saying = trace.robot_gesture == 2
+    assert saying.any()
+    near = np.hypot(trace.robot[saying, 0] - 10.0, trace.robot[saying, 1] - 5.0)
+    assert near.max() <= 1.0 + 0.5 * 0.6 + 0.05  # within 1 m of the node, plus the 0.5 s hold
+
+
+def test_broken_paths_are_all_reported(tmp_path):
+    from socnavgen.errors import ValidationFailed
+
+    run = make_run(tmp_path, robot=["r0", "zz", "r3"], human_path=["h0", "qq"])
+    with pytest.raises(ValidationFailed) as err:
+        load_simulation(run, WaypointsPolicy())
+    assert "robot path: unknown node 'zz'" in err.value.message and "human1: unknown node 'qq'" in err.value.message
+
+
+def test_simulate_run_saves_and_returns_the_trace(tmp_path):
+    from socnavgen.sim.scenario import simulate_run
+
+    run = make_run(tmp_path)
+    trace = simulate_run(run, robot="sfm", timeout=60, seed=2)
+    assert trace.meta["robot_plugin"] == "sfm" and trace.end_reason == "robot_goal"
+    assert np.array_equal(Trace.load(run / "sim" / "trace.npz").robot, trace.robot)

@@ -204,3 +204,32 @@ def test_walker_visits_its_goals_in_order_and_freezes_at_the_last():
     assert np.abs(trace.humans[-5:, 0, :2] - trace.humans[-1, 0, :2]).max() < 1e-9  # frozen in the band
     # nothing will change any more (human done, robot idle for 10 s): the run ends early
     assert trace.end_reason == "all_done" and trace.t[-1] < 24
+
+
+def test_give_way_steps_to_the_free_side_when_a_wall_is_on_its_side():
+    # corridor y in [3, 7]; the human is slightly left of the robot's path (y 5.2) but a wall box fills y > 5.9
+    world = empty_room(20.0, 10.0, walls=[(0.0, 0.0, 20.0, 3.0), (0.0, 5.9, 20.0, 10.0)])
+    tree = tree_xml('<GiveWaytoRobot agent_id="{id}" time_step="{dt}"/>')
+    sim = make_sim([human(start=(10.0, 5.2), goals=[(2.0, 5.2)])], [tree], [(6.0, 5.0), (18.0, 5.0)], Stay(),
+                   world=world)
+    for _ in range(60):
+        sim.step()
+    y = sim.crowd.pos[0].imag
+    assert y < 5.0 - 0.5  # went to the right-hand side, where there is room
+    assert sim.world.clearance_at(np.array([sim.crowd.pos[0]]))[0] >= 0.4 - 1e-6
+
+
+@pytest.mark.parametrize(("robot_at", "walls", "expected"), [
+    ((10.0, 5.0), [], 1),  # straight ahead, 2 m
+    ((8.0, 7.0), [], 0),  # 2 m to the left: outside the 0.5 rad cone
+    ((10.0, 5.0), [(8.8, 3.0, 9.2, 7.0)], 0),  # ahead but behind a wall
+    ((13.0, 5.0), [], 0),  # ahead but beyond `distance`
+])
+def test_is_robot_blocking_cone_distance_and_sight(robot_at, walls, expected):
+    tree = tree_xml('<Fallback><Sequence><IsRobotBlocking agent_id="{id}" distance="3"/>'
+                    '<MakeGesture agent_id="{id}" message="1"/></Sequence></Fallback>')
+    world = empty_room(20.0, 10.0, walls=walls)
+    sim = make_sim([human(start=(8.0, 5.0), yaw=0.0)], [tree], [robot_at, (robot_at[0] + 1, robot_at[1])],
+                   world=world)
+    sim.step()
+    assert sim.crowd.gesture[0] == expected

@@ -6,7 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from typer.testing import CliRunner
-from verify_builders import cli_app
+from .verify_builders import cli_app
 
 from socnavgen.run.folder import RunFolder
 from socnavgen.run.models import RobotGestureRule

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from verify_builders import GIVE_WAY_XML, NODE_WORLD, build_trace, crossing_trace
+from .verify_builders import GIVE_WAY_XML, NODE_WORLD, build_trace, crossing_trace
 
 from socnavgen.verify.evaluate import evaluate
 from socnavgen.verify.expectations import tree_expectations

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import pytest
-from verify_builders import GIVE_WAY_XML, NODE_WORLD, REGULAR_XML, crossing_trace
+from .verify_builders import GIVE_WAY_XML, NODE_WORLD, REGULAR_XML, crossing_trace
 
 from socnavgen.location import load_location
 from socnavgen.run.models import HumanPlan, PathPlan

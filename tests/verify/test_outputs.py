@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from PIL import Image
-from verify_builders import crossing_trace
+from .verify_builders import crossing_trace
 
 from socnavgen.bt.library import HUMAN_GESTURES, ROBOT_GESTURES
 from socnavgen.location import load_location

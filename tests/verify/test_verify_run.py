@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 from typer.testing import CliRunner
-from verify_builders import cli_app, crossing_trace
+from .verify_builders import cli_app, crossing_trace
 
 from socnavgen.errors import InputFileError
 from socnavgen.verify import VerifyReport, verify_run

@@ -25,7 +25,7 @@ def _problem_dict(problem: Any) -> dict[str, Any]:
     nodes = get("nodes") or ([get("node")] if get("node") else [])
     edge = get("edge")
     return {"message": str(get("message") or problem), "severity": str(get("severity") or "warning"),
-            "nodes": [str(n) for n in nodes], "edge": list(edge) if edge else None}
+            "hint": str(get("hint") or ""), "nodes": [str(n) for n in nodes], "edge": list(edge) if edge else None}
 
 
 def _basic_problems(location: Location) -> list[dict[str, Any]]:

@@ -23,6 +23,8 @@ from socnavgen.annotate.store import AnnotationStore, SaveRejected
 from socnavgen.errors import SocnavgenError
 
 MAX_BODY_BYTES = 4 * 1024 * 1024  # a full 1296-node graph is ~150 kB
+MAX_MAP_UPLOAD_BYTES = 16 * 1024 * 1024
+MAP_UPLOAD_TYPES = ("image/png", "image/x-portable-graymap", "image/x-portable-anymap", "application/octet-stream")
 LOOPBACK = "127.0.0.1"
 STATIC_FILES = {"annotator.js": "text/javascript; charset=utf-8", "annotator.css": "text/css; charset=utf-8"}
 SECURITY_HEADERS = {
@@ -51,12 +53,21 @@ def _error(status: int, message: str, problems: list[str] | None = None) -> JSON
 
 async def read_json_body(request: Request, limit: int = MAX_BODY_BYTES) -> Any:
     """The request body as JSON, refusing non-JSON, cross-site and oversized requests before parsing."""
+    data = await read_body(request, ("application/json",), limit)
+    try:
+        return json.loads(data.decode("utf-8"))
+    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise RequestRefused(400, f"body is not valid JSON: {exc}") from exc
+
+
+async def read_body(request: Request, content_types: tuple[str, ...], limit: int) -> bytes:
+    """The raw body, only from this page's origin, of an allowed type, and at most `limit` bytes."""
     origin = request.headers.get("origin")
     host = request.headers.get("host", "")
     if origin is not None and origin not in (f"http://{host}", f"https://{host}"):
         raise RequestRefused(403, f"request from another site ({origin}) refused")
-    if request.headers.get("content-type", "").split(";")[0].strip().lower() != "application/json":
-        raise RequestRefused(415, "send the body as application/json")
+    if request.headers.get("content-type", "").split(";")[0].strip().lower() not in content_types:
+        raise RequestRefused(415, f"send the body as {' or '.join(content_types)}")
     declared = request.headers.get("content-length")
     if declared is not None and (not declared.isdigit() or int(declared) > limit):
         raise RequestRefused(413, f"request body larger than {limit} bytes")
@@ -66,10 +77,7 @@ async def read_json_body(request: Request, limit: int = MAX_BODY_BYTES) -> Any:
         if size > limit:
             raise RequestRefused(413, f"request body larger than {limit} bytes")
         chunks.append(chunk)
-    try:
-        return json.loads(b"".join(chunks).decode("utf-8"))
-    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise RequestRefused(400, f"body is not valid JSON: {exc}") from exc
+    return b"".join(chunks)
 
 
 def parse_payload(data: Any) -> SavePayload:
@@ -97,6 +105,12 @@ def create_app(location_dir: Path | str) -> Starlette:
         return JSONResponse(store.state(), headers=SECURITY_HEADERS)
 
     async def map_image(request: Request) -> Response:
+        if request.method == "POST":
+            data = await read_body(request, MAP_UPLOAD_TYPES, MAX_MAP_UPLOAD_BYTES)
+            try:
+                return JSONResponse(store.replace_map(data), headers=SECURITY_HEADERS)
+            except SaveRejected as exc:
+                return _error(422, "map not replaced", exc.problems)
         return Response(store.map_png(), media_type="image/png", headers=SECURITY_HEADERS)
 
     async def save(request: Request) -> Response:
@@ -131,7 +145,7 @@ def create_app(location_dir: Path | str) -> Starlette:
         Route("/", index),
         Route("/static/{name}", static),
         Route("/api/location", location),
-        Route("/api/map", map_image),
+        Route("/api/map", map_image, methods=["GET", "POST"]),
         Route("/api/save", save, methods=["POST"]),
         Route("/api/check", check, methods=["GET", "POST"]),
     ]

@@ -146,6 +146,23 @@ class AnnotationStore:
             return {"saved": [LOCATION_FILE] * (yaml_text is not None) + [SCENE_GRAPH_FILE, SCENE_GRAPH_IMAGE],
                     "nodes": len(graph.nodes), "links": len(graph.links), "warnings": self.warnings()}
 
+    def replace_map(self, data: bytes) -> dict[str, Any]:
+        """Replace the map image by an edited version of the SAME size (pixel positions, the nav2
+        origin and the graph all refer to it); PNG or PGM only; the old file is kept as .bak."""
+        with self._lock:
+            image = decode_map_upload(data, expected_size=self.location.image_size)
+            path = self.location.map_path
+            buf = io.BytesIO()
+            if path.suffix.lower() in (".pgm", ".pnm"):
+                image.convert("L").save(buf, format="PPM")
+            else:
+                image.save(buf, format="PNG")
+            _backup(path)
+            atomic_write_bytes(path, buf.getvalue())
+            self._map_png = None
+            self.location = load_location(self.root)
+            return {"replaced": path.name, "warnings": self.warnings()}
+
     def _location_yaml_with(self, schema: Schema) -> str:
         """location.yaml with only the schema replaced (other keys kept, in order)."""
         data = load_yaml_file(self.root / LOCATION_FILE)
@@ -158,6 +175,29 @@ class AnnotationStore:
             return self.location.transform.meters_per_pixel
         except SocnavgenError:
             return None
+
+
+MAX_UPLOAD_PIXELS = 50_000_000
+
+
+def decode_map_upload(data: bytes, expected_size: tuple[int, int]) -> Image.Image:
+    """Decode an uploaded map, refusing anything but a PNG or PGM of the expected size."""
+    if not (data.startswith(b"\x89PNG\r\n\x1a\n") or data[:2] in (b"P2", b"P5")):
+        raise SaveRejected(["the map must be a PNG or a PGM image"])
+    try:
+        with Image.open(io.BytesIO(data)) as img:
+            if img.format not in ("PNG", "PPM") or img.width * img.height > MAX_UPLOAD_PIXELS:
+                raise SaveRejected([f"unsupported or oversized image ({img.format}, {img.width}x{img.height})"])
+            if img.size != tuple(expected_size):
+                raise SaveRejected([f"the new map is {img.width}x{img.height} px but the location's map is "
+                                    f"{expected_size[0]}x{expected_size[1]}: node positions and the nav2 "
+                                    "origin refer to it, so the size must not change"])
+            img.load()
+            return img.convert("L") if img.mode not in ("L", "RGB", "RGBA") else img.copy()
+    except SaveRejected:
+        raise
+    except Exception as exc:  # Pillow raises many types for corrupt data
+        raise SaveRejected([f"cannot decode the image: {exc}"]) from exc
 
 
 def _pixel(value: float) -> int:

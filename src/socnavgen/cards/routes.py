@@ -136,9 +136,11 @@ class RouteBuilder:
                     picked.append((path, meets))
             if len(picked) < need:
                 raise DoesNotFit(self.shortfall(role, placement.place.node, len(picked), need))
-            for path, meets in picked:
+            for k, (path, meets) in enumerate(picked):
                 starts.add(path[0])
-                out.append(HumanRoute(role=role, path=path, meets_at=meets, group_id=gid))
+                # in a stream or a crowd only the first person is held back to meet the robot at P;
+                # the others pass when they pass (holding all of them would bunch them at P)
+                out.append(HumanRoute(role=role, path=path, meets_at=meets if k == 0 else None, group_id=gid))
         return out
 
     def shortfall(self, role: HumanRole, p: str, got: int, need: int) -> str:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import socket
 import webbrowser
 from pathlib import Path
 
@@ -22,12 +23,7 @@ def annotate(
 ) -> None:
     """Open a location in the browser to draw its scene graph over the map.
 
-    Draw tool: click the map to add a node of the selected type, drag from one node to another to
-    join them with an edge of the selected type, drag empty map to pan, wheel to zoom, Shift+drag a
-    node to move it, Delete to remove the selection, Ctrl+Z / Ctrl+Y to undo / redo, Ctrl+S to save.
-    Saving writes scene_graph.json (SocRATES node-link layout) and scene_graph.png atomically and
-    keeps the previous scene_graph.json as scene_graph.json.bak; `location check` problems are
-    listed beside the map after every save.
+    Draw tool: click the map to add a node of the selected type, drag from one node to another to join them with an edge of the selected type, drag empty map to pan, wheel to zoom, Shift+drag a node to move it, Delete to remove the selection, Ctrl+Z / Ctrl+Y to undo / redo, Ctrl+S to save. Saving writes scene_graph.json (SocRATES node-link layout) and scene_graph.png atomically and keeps the previous scene_graph.json as scene_graph.json.bak; `location check` problems are listed beside the map after every save.
 
     Example:
 
@@ -47,6 +43,7 @@ def annotate(
             raise InputFileError("nav2 map yaml not found", file=map_yaml)
         start_location_folder(map_yaml, location)
         console.print(f"created location folder [bold]{location}[/] from {map_yaml}")
+    _port_free(LOOPBACK, port)
     app = create_app(location)
     url = f"http://{LOOPBACK}:{port}/"
     console.print(f"annotating [bold]{location}[/] at [link={url}]{url}[/]  (Ctrl+C to stop)")
@@ -54,6 +51,16 @@ def annotate(
     if not no_browser:
         webbrowser.open(url)
     server.run()
+
+
+def _port_free(host: str, port: int) -> None:
+    """Fail with a clear message (not a uvicorn traceback) when the port is taken."""
+    with socket.socket() as probe:
+        try:
+            probe.bind((host, port))
+        except OSError as exc:
+            raise SocnavgenError(f"port {port} on {host} is not available ({exc.strerror})",
+                                 hint="choose another one with --port") from exc
 
 
 def register(app: typer.Typer) -> None:

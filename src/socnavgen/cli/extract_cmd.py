@@ -36,9 +36,7 @@ def extract(
 ) -> None:
     """Suggest a scene graph from an occupancy map: junctions, corners, dead ends, open areas, doorways.
 
-    The walkable space is thinned to its centre lines; their junctions and ends become nodes and
-    their branches edges, short spurs are pruned, close nodes merged, and every edge is made a
-    straight segment clear of walls. Open the result in `socnavgen annotate` to fix it.
+    The walkable space is thinned to its centre lines; their junctions and ends become nodes and their branches edges, short spurs are pruned, close nodes merged, and every edge is made a straight segment clear of walls. Open the result in `socnavgen annotate` to fix it.
 
     Example:
 
@@ -63,6 +61,12 @@ def extract(
     for node_type, count in sorted(stats.types.items()):
         table.add_row(node_type, str(count))
     console.print(table)
+    from socnavgen.location.check import check_location
+
+    report = check_location(out)
+    for problem in report.problems:
+        console.print(f"[yellow]{problem.level}[/]: {problem.message}", highlight=False)
+    console.print(f"location check: {len(report.errors)} error(s), {len(report.warnings)} warning(s)")
     console.print(f"wrote {out}/location.yaml, scene_graph.json, scene_graph.png - "
                   f"review with: socnavgen annotate {out}")
 

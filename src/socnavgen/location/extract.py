@@ -19,9 +19,10 @@ import numpy as np
 import yaml
 from scipy import ndimage
 from skimage.draw import line as raster_line
+from skimage.draw import polygon as draw_polygon
 from skimage.morphology import skeletonize
 
-from socnavgen.errors import InputFileError
+from socnavgen.errors import InputFileError, ValidationFailed
 from socnavgen.location.location import (
     LOCATION_FILE,
     SCENE_GRAPH_FILE,
@@ -84,8 +85,8 @@ class _Geometry:
         self.min_spur = opts.min_spur_m / mpp
         self.merge = max(2.0, opts.merge_m / density / mpp)
         self.max_edge = max(4.0, opts.max_edge_m / density / mpp)
-        self.narrow_half = opts.narrow_width_m / 2 / mpp
-        self.open_half = opts.open_width_m / 2 / mpp
+        self.narrow_half = round(opts.narrow_width_m / 2 / mpp, 6) + 1.0  # one pixel of rasterisation slack
+        self.open_half = round(opts.open_width_m / 2 / mpp, 6)
         self.look = max(3.0, 1.5 / mpp)  # how far along each leg a corner's line-of-sight test looks
 
 
@@ -103,6 +104,18 @@ def walkable_space(occ: OccupancyGrid, gap_r: float, keep_all: bool) -> np.ndarr
     sizes = np.bincount(labels.ravel())
     sizes[0] = 0
     return labels == int(np.argmax(sizes))
+
+
+def without_specks(blocked: np.ndarray, max_area: int) -> np.ndarray:
+    """`blocked` minus obstacles of at most `max_area` pixels: sensor noise should not make a corridor
+    look narrow or hide a corner, though edges still avoid every real blocked pixel."""
+    labels, count = ndimage.label(blocked, structure=np.ones((3, 3)))
+    if count == 0:
+        return blocked
+    sizes = np.bincount(labels.ravel())
+    small = sizes <= max_area
+    small[0] = False
+    return blocked & ~small[labels]
 
 
 def skeleton_adjacency(skel: np.ndarray) -> tuple[np.ndarray, list[list[int]]]:
@@ -227,6 +240,22 @@ def merge_close(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray,
     return changed
 
 
+def drop_noise_loops(graph: nx.MultiGraph, coords: np.ndarray, walls: np.ndarray) -> bool:
+    """Remove a branch that, with a parallel one, only encircles speckle (no real wall inside): the
+    skeleton splits around every noise pixel, a person does not."""
+    changed = False
+    for u, v in {(min(a, b), max(a, b)) for a, b, k in graph.edges(keys=True) if k > 0 or a == b}:
+        branches = sorted(graph.get_edge_data(u, v).items(), key=lambda kv: len(kv[1]["path"]))
+        base = _oriented(branches[0][1], u)
+        for key, data in (branches if u == v else branches[1:]):
+            ring = coords[(base if u != v else []) + _oriented(data, v)[::-1 if u != v else 1]]
+            rows, cols = draw_polygon(ring[:, 0], ring[:, 1], walls.shape)
+            if not walls[rows, cols].any():
+                graph.remove_edge(u, v, key)
+                changed = True
+    return changed
+
+
 def insert_doorways(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray, geo: _Geometry) -> set[int]:
     """Add a node at each short bottleneck (clearance much smaller on both sides): doors."""
     doors: set[int] = set()
@@ -266,26 +295,35 @@ def _split_at(graph: nx.MultiGraph, data: dict, cuts: list[int]) -> list[int]:
 
 # ---------------------------------------------------------------- straight, clear edges
 def chord_ok(a: np.ndarray, b: np.ndarray, clearance: np.ndarray, need: float) -> bool:
-    rows, cols = raster_line(int(a[0]), int(a[1]), int(b[0]), int(b[1]))
-    return bool((clearance[rows, cols] >= need).all())
+    """Clearance along the rasterised segment, drawn both ways (Bresenham is not symmetric and
+    `location check` may draw it from either end)."""
+    for (r0, c0), (r1, c1) in ((a, b), (b, a)):
+        rows, cols = raster_line(int(r0), int(c0), int(r1), int(c1))
+        if not (clearance[rows, cols] >= need).all():
+            return False
+    return True
 
 
 def straighten(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray, geo: _Geometry) -> None:
-    """Split every branch until each piece is a straight chord clear of walls and not too long."""
-    for u, v, key, data in list(graph.edges(keys=True, data=True)):
-        path = data["path"]
-        cuts = _cuts(coords[path], clearance, geo, 0, len(path) - 1)
-        if u == v and not cuts and len(path) > 2:
-            cuts = [len(path) // 2]
-        if cuts:
-            graph.remove_edge(u, v, key)
-            _split_at(graph, data, cuts)
-    # node-link JSON is a simple graph: a second branch between the same two nodes gets a midpoint
-    for u, v in {(min(a, b), max(a, b)) for a, b, k in graph.edges(keys=True) if k > 0}:
-        for key, data in sorted(graph.get_edge_data(u, v).items())[1:]:
-            graph.remove_edge(u, v, key)
-            if len(data["path"]) > 2:
-                _split_at(graph, data, [len(data["path"]) // 2])
+    """Split every branch until each piece is a straight chord clear of walls and not too long, and
+    no two branches join the same two nodes (node-link JSON is a simple graph)."""
+    for _ in range(20):
+        for u, v, key, data in list(graph.edges(keys=True, data=True)):
+            path = data["path"]
+            cuts = _cuts(coords[path], clearance, geo, 0, len(path) - 1)
+            if u == v and not cuts and len(path) > 2:
+                cuts = [len(path) // 2]
+            if cuts:
+                graph.remove_edge(u, v, key)
+                _split_at(graph, data, cuts)
+        parallel = {(min(a, b), max(a, b)) for a, b, k in graph.edges(keys=True) if k > 0}
+        if not parallel:
+            return
+        for u, v in parallel:  # the second branch between two nodes gets a midpoint node
+            for key, data in sorted(graph.get_edge_data(u, v).items())[1:]:
+                graph.remove_edge(u, v, key)
+                if len(data["path"]) > 2:
+                    _split_at(graph, data, [len(data["path"]) // 2])
 
 
 def _cuts(pts: np.ndarray, clearance: np.ndarray, geo: _Geometry, i: int, j: int) -> list[int]:
@@ -299,7 +337,11 @@ def _cuts(pts: np.ndarray, clearance: np.ndarray, geo: _Geometry, i: int, j: int
         parts = math.ceil(arc[-1] / geo.max_edge)
         if parts <= 1:
             return []
-        return [i + int(np.searchsorted(arc, arc[-1] * k / parts)) for k in range(1, parts)]
+        marks = sorted({i + int(np.searchsorted(arc, arc[-1] * k / parts)) for k in range(1, parts)} - {i, j})
+        bounds, out = [i, *marks, j], []
+        for a, b in zip(bounds, bounds[1:], strict=False):  # a piece of a curved branch has its own chord
+            out += _cuts(pts, clearance, geo, a, b) + ([b] if b != j else [])
+        return out
     d = pts[j] - pts[i]
     rel = seg - pts[i]
     dev = np.abs(d[0] * rel[:, 1] - d[1] * rel[:, 0]) / max(1e-9, math.hypot(*d))
@@ -308,9 +350,9 @@ def _cuts(pts: np.ndarray, clearance: np.ndarray, geo: _Geometry, i: int, j: int
 
 
 # ---------------------------------------------------------------- typing
-def type_node(graph: nx.MultiGraph, n: int, coords: np.ndarray, occ: OccupancyGrid, geo: _Geometry,
-              doors: set[int]) -> str:
-    clearance = occ.clearance_px
+def type_node(graph: nx.MultiGraph, n: int, coords: np.ndarray, walls: np.ndarray, clearance: np.ndarray,
+              geo: _Geometry, doors: set[int]) -> str:
+    """Type from geometry; `walls` / `clearance` are the de-speckled obstacle map and its distances."""
     r, c = coords[n]
     here = clearance[r, c]
     deg = graph.degree(n)
@@ -332,7 +374,7 @@ def type_node(graph: nx.MultiGraph, n: int, coords: np.ndarray, occ: OccupancyGr
         pa = coords[n] + va * min(1.0, look / max(1e-9, np.linalg.norm(va)))
         pb = coords[n] + vb * min(1.0, look / max(1e-9, np.linalg.norm(vb)))
         rows, cols = raster_line(int(round(pa[0])), int(round(pa[1])), int(round(pb[0])), int(round(pb[1])))
-        return BLIND_CORNER if occ.blocked[rows, cols].any() else CORNER
+        return BLIND_CORNER if walls[rows, cols].any() else CORNER
     return NARROW_PASSAGE if here < geo.narrow_half else SIMPLE_NODE
 
 
@@ -347,7 +389,9 @@ def extract_scene_graph(occ: OccupancyGrid, meters_per_pixel: float,
     """A draft scene graph (SocRATES node-link model, integer pixel positions) and statistics."""
     opts = options or ExtractOptions()
     geo = _Geometry(opts, meters_per_pixel)
-    clearance = occ.clearance_px
+    clearance = occ.clearance_px  # real obstacles: what edges must avoid
+    walls = without_specks(occ.blocked, max(2, int((0.25 / meters_per_pixel) ** 2)))
+    wall_clearance = ndimage.distance_transform_edt(~walls)  # what a person perceives: width, doors
     skel = skeletonize(walkable_space(occ, geo.gap_r, opts.keep_all_components))
     coords, adjacency = skeleton_adjacency(skel)
     stats = ExtractStats(skeleton_pixels=len(coords))
@@ -355,29 +399,36 @@ def extract_scene_graph(occ: OccupancyGrid, meters_per_pixel: float,
     stats.raw_nodes = graph.number_of_nodes()
     graph.remove_nodes_from([n for n in list(graph.nodes) if graph.degree(n) == 0 and len(graph) > 1])
     for _ in range(50):
-        changed = prune_spurs(graph, coords, clearance, geo)
+        changed = prune_spurs(graph, coords, wall_clearance, geo)
         dissolve_chains(graph, keep=set())
-        changed |= merge_close(graph, coords, clearance, geo)
+        changed |= merge_close(graph, coords, wall_clearance, geo)
+        changed |= drop_noise_loops(graph, coords, walls)
         dissolve_chains(graph, keep=set())
         if not changed:
             break
-    doors = insert_doorways(graph, coords, clearance, geo)
+    doors = insert_doorways(graph, coords, wall_clearance, geo)
     straighten(graph, coords, clearance, geo)
 
-    rng = random.Random(opts.seed)
-    ids: dict[int, str] = {}
-    for n in sorted(graph.nodes):
-        while (token := rng.choice(ID_ALPHABET) + rng.choice(ID_ALPHABET)) in ids.values():
-            pass
-        ids[n] = token
-    nodes = [Node(id=ids[n], type=type_node(graph, n, coords, occ, geo, doors),
+    ids = _random_ids(sorted(graph.nodes), opts.seed)
+    nodes = [Node(id=ids[n], type=type_node(graph, n, coords, walls, wall_clearance, geo, doors),
                   pos=(int(coords[n][1]), int(coords[n][0]))) for n in sorted(graph.nodes)]
-    links = [Edge(source=ids[u], target=ids[v], type=type_edge(coords[u], coords[v], clearance, geo))
+    links = [Edge(source=ids[u], target=ids[v], type=type_edge(coords[u], coords[v], wall_clearance, geo))
              for u, v in sorted({(min(a, b), max(a, b)) for a, b in graph.edges() if a != b})]
     stats.nodes, stats.edges = len(nodes), len(links)
     for node in nodes:
         stats.types[node.type] = stats.types.get(node.type, 0) + 1
     return SceneGraph(nodes=nodes, links=links), stats
+
+
+def _random_ids(nodes: list[int], seed: int | None) -> dict[int, str]:
+    """Distinct random 2-character ids (the SocRATES format allows at most 36*36 nodes)."""
+    capacity = len(ID_ALPHABET) ** 2
+    if len(nodes) > capacity:
+        raise ValidationFailed(f"the extracted graph has {len(nodes)} nodes; 2-character ids allow {capacity}",
+                               hint="lower --density, raise --min-spur, or crop the map to the area you need")
+    tokens = random.Random(seed).sample(range(capacity), len(nodes))
+    return {n: ID_ALPHABET[t // len(ID_ALPHABET)] + ID_ALPHABET[t % len(ID_ALPHABET)]
+            for n, t in zip(nodes, tokens, strict=True)}
 
 
 def describe(stats: ExtractStats, width_m: float, height_m: float, free_m2: float) -> str:

@@ -26,6 +26,9 @@ from socnavgen.run import HumanPlan, PathPlan, ScenarioProposal
 
 STAGE = "behaviors"
 MAX_TOKENS = 1536
+# Nesting the grammar allows: Fallback > Sequence > leaf (the idiom of every example) fits; a small
+# model under a grammar tends to take every level it is offered, and each level costs tokens.
+GRAMMAR_DEPTH = 3
 
 
 def examples_text() -> str:
@@ -90,7 +93,7 @@ def ask_behavior(messages: list[ChatMessage], name: str, humans: list[str], llm:
                  policy: Policy) -> Outcome[BehaviorReply]:
     grammar = None
     if getattr(llm, "supports_grammar", False):
-        grammar = bt_reply_grammar([agent_id(h) for h in humans], agent_id=agent_id(name))
+        grammar = bt_reply_grammar([agent_id(h) for h in humans], agent_id=agent_id(name), max_depth=GRAMMAR_DEPTH)
     return converse(llm, messages, BehaviorReply, tree_checker(name, humans), stage=STAGE, key=name,
                     recorder=recorder, policy=policy, grammar=grammar, max_tokens=MAX_TOKENS)
 

@@ -18,6 +18,7 @@ from pydantic import BaseModel
 
 from socnavgen.errors import StageFailed
 from socnavgen.llm.base import LLM, ChatMessage, Usage
+from socnavgen.llm.transcript import Transcript, utc_now
 from socnavgen.proposal.templates import render
 from socnavgen.run import Manifest, RunFolder, StageRecord
 
@@ -61,25 +62,32 @@ class Recorder:
         self.manifest = manifest
         self.progress = progress
         self._lock = threading.Lock()
+        self.transcript = Transcript(run.transcript_path)
 
-    def _records(self, stage: str, key: str | None) -> list[StageRecord]:
-        names = [stage] if key is None else [stage, f"{stage}:{key}"]
+    def checked(self, stage: str, key: str | None, attempt: int, mistakes: list[str]) -> None:
+        """The pipeline's verdict on a reply, beside the LLM layer's exchange in transcript.jsonl."""
+        self.transcript.append({"kind": "check", "time": utc_now(), "stage": stage, "key": key, "attempt": attempt,
+                                "valid": not mistakes, "mistakes": mistakes})
+
+    def _records(self, stage: str, key: str | None, aggregate: bool = True) -> list[StageRecord]:
+        """The keyed record (e.g. behaviors:human2) and, for counters, the stage's total too."""
+        names = [stage] if key is None else [stage, f"{stage}:{key}"] if aggregate else [f"{stage}:{key}"]
         return [self.manifest.stages.setdefault(name, StageRecord()) for name in names]
 
     def save(self) -> None:
         with self._lock:
             self.run.write_manifest(self.manifest)
 
-    def update(self, stage: str, key: str | None, fn: Callable[[StageRecord], None]) -> None:
+    def update(self, stage: str, key: str | None, fn: Callable[[StageRecord], None], aggregate: bool = True) -> None:
         with self._lock:
-            for record in self._records(stage, key):
+            for record in self._records(stage, key, aggregate):
                 fn(record)
             self.run.write_manifest(self.manifest)
 
     def set_status(self, stage: str, key: str | None, status: str) -> None:
         def apply(record: StageRecord) -> None:
             record.status = status  # type: ignore[assignment]
-        self.update(stage, key, apply)
+        self.update(stage, key, apply, aggregate=False)
 
     def attempt(self, stage: str, key: str | None, usage: Usage) -> None:
         def apply(record: StageRecord) -> None:
@@ -97,7 +105,7 @@ class Recorder:
     def mistakes(self, stage: str, key: str | None, mistakes: list[str]) -> None:
         def apply(record: StageRecord) -> None:
             record.errors = list(mistakes)
-        self.update(stage, key, apply)
+        self.update(stage, key, apply, aggregate=key is None)
 
 
 @dataclass
@@ -120,6 +128,8 @@ def converse(llm: LLM, messages: list[ChatMessage], schema: type[T], check: Call
     """Ask until a reply passes `check`, re-querying with the mistakes and restarting per `policy`."""
     last: list[str] = []
     attempts = 0
+    if key is not None:
+        recorder.set_status(stage, key, "running")
     for restart in range(policy.max_restarts + 1):
         history = list(messages)
         if restart:
@@ -136,6 +146,7 @@ def converse(llm: LLM, messages: list[ChatMessage], schema: type[T], check: Call
             else:
                 mistakes = check(reply.value)
             answer = ChatMessage(role="assistant", content=reply.raw[:MAX_ECHO_CHARS])
+            recorder.checked(stage, key, attempts, mistakes)
             if not mistakes:
                 recorder.mistakes(stage, key, [])
                 return Outcome(reply.value, [*history, answer])

@@ -18,7 +18,7 @@ import networkx as nx
 
 from socnavgen.proposal.gbnf import Grammar, Lit, Ref, Symbol, text_rules
 
-REASONING_CHARS = 200
+REASONING_CHARS = 160
 GROUP_IDS = (1, 2)
 
 

@@ -84,20 +84,28 @@ def to_proposal(reply: ScenarioReply) -> ScenarioProposal:
                             expected_robot_behavior=reply.expected_robot_behavior.strip())
 
 
-def scenario_grammar(max_humans: int = MAX_HUMANS, text_chars: int = 400) -> str:
-    """Replies of 1..max_humans humans whose count, names and behaviors agree, all texts non-empty."""
+def scenario_grammar() -> str:
+    """The GBNF text passed as `grammar=` for stage 1."""
+    return build_scenario_grammar().to_gbnf()
+
+
+def build_scenario_grammar(max_humans: int = MAX_HUMANS, description_chars: int = 400,
+                           behavior_chars: int = 240) -> Grammar:
+    """Replies of 1..max_humans humans whose count, names and behaviors agree, all texts non-empty and
+    bounded (a small model otherwise rambles until the token limit cuts the JSON)."""
     g = Grammar()
     per_human: list[list[Symbol]] = []
     for n in range(1, max_humans + 1):
         body: list[Symbol] = [Lit(f'{n}, "human_behaviors": {{')]
         for i in range(1, n + 1):
-            body += [Lit(("" if i == 1 else ", ") + f'"human{i}": "'), Ref("text"), Lit('"')]
+            body += [Lit(("" if i == 1 else ", ") + f'"human{i}": "'), Ref("short"), Lit('"')]
         per_human.append([*body, Lit("}")])
-    g.add("root", [Lit('{"scenario_description": "'), Ref("text"), Lit('", "number_of_humans": '), Ref("humans"),
-                   Lit(', "expected_robot_behavior": "'), Ref("text"), Lit('"}')])
+    g.add("root", [Lit('{"scenario_description": "'), Ref("long"), Lit('", "number_of_humans": '), Ref("humans"),
+                   Lit(', "expected_robot_behavior": "'), Ref("short"), Lit('"}')])
     g.add("humans", *per_human)
-    text_rules(g, "text", text_chars, non_empty=True)
-    return g.to_gbnf()
+    text_rules(g, "long", description_chars, non_empty=True)
+    text_rules(g, "short", behavior_chars, non_empty=True)
+    return g
 
 
 def propose_scenarios(request: ScenarioRequest, location: Location, llm: LLM, recorder: Recorder,

@@ -2,13 +2,14 @@
 step for everyone who walks, the robot plugin, scripted gestures, interaction throttling, and the trace.
 
 Per step (reference §1.1, simplified to one process):
-1. snapshot: distances to the robot, interaction holds, environment forces (social incl. the robot,
-   obstacle) from the current positions;
-2. every tree is ticked once, in agent-id order; actions set motion commands;
-3. walking agents take one SFM step (desired force toward their command target + environment + group
-   forces); agents that did not walk report zero velocity (as Gazebo does); goal consumption;
-4. the robot acts on the same snapshot; its gesture comes from the policy or the scripted rules;
-5. the new state is recorded.
+1. interaction holds are updated; every tree is ticked once, in agent-id order, on the current snapshot
+   (distances to the robot and environment forces were computed for it at the end of the last step);
+   actions only set motion commands;
+2. the robot plugin acts on the same snapshot (a move into a wall is refused);
+3. one social-force step for every walking human (desired force toward its command target + social incl.
+   the robot + obstacle + group forces); humans that did not walk report zero velocity (as in Gazebo);
+   goals reached inside their radius are consumed; then the environment forces for the new state;
+4. the robot's gesture comes from the policy or the scripted rules; the new state is recorded.
 Deterministic: the only randomness (spawn offsets) comes from a seeded numpy Generator.
 """
 
@@ -23,9 +24,11 @@ import numpy as np
 
 from socnavgen.bt.library import leaf_nodes
 from socnavgen.bt.tree import BTDocument
+from socnavgen.errors import ValidationFailed
 from socnavgen.sim import kernels
 from socnavgen.sim.agents import Crowd, HumanSpec
-from socnavgen.sim.bt_runtime import BehaviorTree, build_tree
+from socnavgen.sim.bt_build import build_tree
+from socnavgen.sim.bt_runtime import BehaviorTree
 from socnavgen.sim.gestures import ScriptedGestures
 from socnavgen.sim.interaction import InteractionThrottle
 from socnavgen.sim.nodes import IMPLEMENTATIONS
@@ -89,7 +92,7 @@ class Simulation:
         self.obs = Observation(self)
         # per-step scratch read by the nodes
         self.robot_dist: list[float] = [0.0] * n
-        self._in_sight: np.ndarray | None = None
+        self._in_sight: dict[int, bool] = {}
         self.give_way: list[dict | None] = [None] * n
         self.face_robot_after_step: dict[int, float] = {}
         self.tick_action = [-1] * n
@@ -127,10 +130,12 @@ class Simulation:
 
     # -- queries used by the nodes ------------------------------------------------------------
     def robot_in_sight(self, i: int) -> bool:
-        """Line of sight from human i to the robot (computed for everyone at most once per step)."""
-        if self._in_sight is None:
-            self._in_sight = self.world.line_of_sight(self.robot_pos, self.crowd.pos)
-        return bool(self._in_sight[i])
+        """Line of sight from human i to the robot, computed at most once per human and step (the nodes ask
+        only after the cheap distance test passed)."""
+        seen = self._in_sight.get(i)
+        if seen is None:
+            seen = self._in_sight[i] = bool(self.world.line_of_sight(self.robot_pos, self.crowd.pos[i])[0])
+        return seen
 
     def robot_direction(self) -> complex:
         """Unit vector of the robot's travel (last motion, else its initial heading)."""
@@ -209,7 +214,7 @@ class Simulation:
         then everyone moves at once."""
         crowd, n, dt = self.crowd, self.crowd.n, self.dt
         if n:
-            self._in_sight = None
+            self._in_sight.clear()
             if self.throttle is not None:
                 self.throttle.update(self)
             self.cmd_move[:] = False
@@ -239,7 +244,9 @@ class Simulation:
 
     def _apply_robot(self, action: RobotAction) -> None:
         if not isinstance(action, RobotAction):
-            raise TypeError(f"robot policy returned {type(action).__name__}, expected RobotAction")
+            raise ValidationFailed(f"the robot policy {type(self.policy).__name__} returned "
+                                   f"{type(action).__name__}, not a RobotAction",
+                                   hint="return socnavgen.sim.robot.RobotAction(vx, vy, gesture=None) from act()")
         v = complex(float(action.vx), float(action.vy))
         if not (math.isfinite(v.real) and math.isfinite(v.imag)):
             v = 0j
@@ -248,9 +255,11 @@ class Simulation:
         if v != 0 and self.world.clearance_at_point(new) < 0.5 * self.robot_radius:
             v, new = 0j, self.robot_pos
         old_yaw = self.robot_yaw
+        heading = getattr(self.policy, "heading", None)
         if abs(v) > 0.05:
-            self.robot_yaw = math.atan2(v.imag, v.real)
-            self._robot_dir = v / abs(v)
+            facing = heading if isinstance(heading, complex) and abs(heading) > 0 else v
+            self.robot_yaw = math.atan2(facing.imag, facing.real)
+            self._robot_dir = facing / abs(facing)
         self.robot_omega = ((self.robot_yaw - old_yaw + math.pi) % (2 * math.pi) - math.pi) / self.dt
         self.robot_pos, self.robot_vel = new, v
 

@@ -22,6 +22,9 @@ from socnavgen.sim.sfm import SFMParams, _pair_force
 
 ROBOT_RADIUS = 0.35  # Gazebo wrapper
 GOAL_TOLERANCE = 0.2  # hunav_evaluator "completed"
+SWEPT_MARGIN = 0.05  # m beyond the two radii: a person this close to the robot's path line blocks it
+NUDGE_BAND = 0.35  # m beyond the radii: the robot edges sideways away from a person this close to its path
+NUDGE_SPEED = 0.25  # m/s
 
 
 class Observation:
@@ -114,6 +117,9 @@ class RobotAction:
 
 @runtime_checkable
 class RobotPolicy(Protocol):
+    """act() is called once per step. Optionally: reset(obs) once at the start, and an attribute
+    `heading` (unit complex) when the robot's facing differs from its velocity (e.g. while edging aside)."""
+
     def act(self, obs: Observation) -> RobotAction: ...
 
 
@@ -143,24 +149,33 @@ class WaypointsPolicy:
         self.slow_gap, self.stop_gap = slow_gap, stop_gap
         self.tracker = _WaypointTracker(waypoint_tolerance)
         self.speed = 0.0
+        self.heading: complex | None = None  # where the robot means to go (its yaw), whatever the nudge
+
+    def look_ahead(self, obs: Observation, direction: complex) -> tuple[float, float]:
+        """(free distance to the nearest person in the swept path ahead, sideways nudge -1/0/+1).
+
+        The nudge moves the robot away from the nearest person standing close beside its path, as a
+        teleoperator squeezes past someone who stepped aside in a narrow corridor."""
+        p, back, rr = obs.position_c, direction.conjugate(), obs.radius
+        people = obs.human_positions_c
+        radii = obs.human_radii
+        if len(people) > 32:  # keep only those within reach before the Python loop
+            near = np.abs(people - p) < self.slow_gap + 2.0
+            people, radii = people[near], radii[near]
+        gap, nudge_at, nudge = math.inf, math.inf, 0.0
+        for q, r in zip(people.tolist(), radii.tolist(), strict=True):
+            rel = (q - p) * back
+            if rel.real <= 0:
+                continue
+            ahead = rel.real - r - rr
+            if abs(rel.imag) < r + rr + SWEPT_MARGIN and ahead < gap:
+                gap = ahead
+            if abs(rel.imag) < r + rr + NUDGE_BAND and ahead < self.slow_gap and ahead < nudge_at:
+                nudge_at, nudge = ahead, (-1.0 if rel.imag > 0 else 1.0)
+        return gap, nudge
 
     def gap_ahead(self, obs: Observation, direction: complex) -> float:
-        """Free distance to the nearest person in the robot's swept path ahead (inf if none)."""
-        people = obs.human_positions_c
-        if len(people) <= 32:  # plain Python is faster than numpy for a few people
-            best = math.inf
-            p, back, rr = obs.position_c, direction.conjugate(), obs.radius
-            for q, r in zip(people.tolist(), obs.human_radii.tolist(), strict=True):
-                rel = (q - p) * back
-                if rel.real > 0 and abs(rel.imag) < r + rr + 0.1 and rel.real - r - rr < best:
-                    best = rel.real - r - rr
-            return best
-        rel = (people - obs.position_c) * direction.conjugate()
-        radii = obs.human_radii + obs.radius
-        in_path = (rel.real > 0) & (np.abs(rel.imag) < radii + 0.1)
-        if not in_path.any():
-            return math.inf
-        return float((rel.real - radii)[in_path].min())
+        return self.look_ahead(obs, direction)[0]
 
     def act(self, obs: Observation) -> RobotAction:
         target, last = self.tracker.target(obs)
@@ -170,7 +185,8 @@ class WaypointsPolicy:
             self.speed = 0.0
             return RobotAction(0.0, 0.0)
         direction = to / dist if dist > 1e-9 else complex(math.cos(obs.yaw), math.sin(obs.yaw))
-        gap = self.gap_ahead(obs, direction)
+        self.heading = direction
+        gap, nudge = self.look_ahead(obs, direction)
         want = self.max_speed * min(1.0, max(0.0, (gap - self.stop_gap) / (self.slow_gap - self.stop_gap)))
         if last:
             want = min(want, math.sqrt(2 * self.accel * dist))
@@ -178,6 +194,10 @@ class WaypointsPolicy:
         self.speed = min(want, self.speed + self.accel * step) if want >= self.speed else \
             max(want, self.speed - self.brake * step)
         v = direction * self.speed
+        if nudge:
+            side = direction * 1j * nudge
+            if obs.world.clearance_at_point(obs.position_c + side * 0.1) >= obs.radius + 0.02:
+                v += side * NUDGE_SPEED
         return RobotAction(v.real, v.imag)
 
 

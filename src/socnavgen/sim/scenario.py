@@ -135,3 +135,23 @@ def load_simulation(run_dir: Path, policy: RobotPolicy, config: SimConfig | None
     return Simulation(world, specs, trees, robot_path, policy, config,
                       gestures=ScriptedGestures(plan.robot_gestures, node_points), throttle=thr,
                       tree_names=names, base_dir=run.behaviors_dir, meta=meta)
+
+
+def simulate_run(run_dir: Path, robot: str | RobotPolicy = "waypoints", location=None,  # noqa: ANN001
+                 dt: float = 0.05, timeout: float = 120.0, seed: int = 0, throttle: bool | ThrottleConfig = True,
+                 progress=None, save: bool = True):  # noqa: ANN001, ANN201 - returns a Trace
+    """One call from a run folder to its trace (saved as RUN/sim/trace.npz unless save=False).
+    `robot` is a plugin spec (see robot.load_policy) or a policy object; `location` a folder or a Location."""
+    from socnavgen.sim.robot import load_policy
+
+    policy = load_policy(robot) if isinstance(robot, str) else robot
+    if isinstance(throttle, bool):
+        throttle = ThrottleConfig(enabled=throttle)
+    location_dir = getattr(location, "root", location)
+    sim = load_simulation(Path(run_dir), policy, SimConfig(dt=dt, timeout=timeout, seed=seed), throttle,
+                          Path(location_dir) if location_dir is not None else None)
+    sim.meta["robot_plugin"] = robot if isinstance(robot, str) else type(robot).__name__
+    trace = sim.run(progress=progress)
+    if save:
+        trace.save(RunFolder(Path(run_dir)).sim_dir / "trace.npz")
+    return trace

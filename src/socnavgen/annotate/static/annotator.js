@@ -139,8 +139,8 @@
       const a = nodeById(e.source), b = nodeById(e.target); if (!a || !b) continue;
       const [x1, y1] = toScreen(...a.pos), [x2, y2] = toScreen(...b.pos);
       const chosen = sel && sel.kind === "edge" && sameEdge(e, sel.a, sel.b);
-      if (isWarned("edge", e.source, e.target)) line(x1, y1, x2, y2, "#ff1744", 8, [6, 4]);
-      if (chosen) line(x1, y1, x2, y2, "#ffeb3b", 8);
+      if (chosen) line(x1, y1, x2, y2, "#ffeb3b", 10);
+      if (isWarned("edge", e.source, e.target)) line(x1, y1, x2, y2, "#ff1744", 7, [6, 4]);
       line(x1, y1, x2, y2, colorOf(st.schema.edge_types, e.type), 3);
     }
     const d = st.drag;
@@ -215,7 +215,7 @@
     $("warning-count").textContent = st.warnings.length ? `(${st.warnings.length})` : "";
     if (!st.warnings.length) { ul.append(el("li", {class: "ok"}, "no problems found")); return; }
     for (const w of st.warnings) {
-      ul.append(el("li", {class: w.severity === "error" ? "error" : "", onclick: () => focusOn(w)}, w.message));
+      ul.append(el("li", {class: w.severity === "error" ? "error" : "", title: w.hint || "", onclick: () => focusOn(w)}, w.message));
     }
   }
   function focusOn(w) {
@@ -333,6 +333,20 @@
     } catch (e) { status(`check failed: ${e.message}`, "error"); }
     refresh();
   }
+  async function replaceMap(file) {
+    if (file.size > 16 * 1024 * 1024) { status("the map image is larger than 16 MB", "error"); return; }
+    const type = /\.pgm$/i.test(file.name) ? "image/x-portable-graymap" : (file.type || "application/octet-stream");
+    status("uploading the map\u2026");
+    try {
+      const res = await fetch("/api/map", {method: "POST", headers: {"Content-Type": type}, body: await file.arrayBuffer()});
+      const data = await res.json();
+      if (!res.ok) { status(`${data.error}: ${(data.problems || []).join("; ")}`, "error"); return; }
+      st.warnings = data.warnings || [];
+      const img = new Image();
+      img.onload = () => { st.image = img; refresh(); status(`map replaced (previous kept as ${data.replaced}.bak)`, "ok"); };
+      img.src = `/api/map?v=${Date.now()}`;
+    } catch (e) { status(`upload failed: ${e.message}`, "error"); }
+  }
   async function load() {
     const res = await fetch("/api/location"); const data = await res.json();
     if (!res.ok) { status(data.error || "cannot load the location", "error"); return; }
@@ -347,6 +361,8 @@
     resize(); fit(); refresh();
   }
 
+  $("replace-map").addEventListener("click", () => $("map-file").click());
+  $("map-file").addEventListener("change", (ev) => { const f = ev.target.files[0]; ev.target.value = ""; if (f) replaceMap(f); });
   $("undo").addEventListener("click", undo); $("redo").addEventListener("click", redo);
   $("fit").addEventListener("click", fit); $("save").addEventListener("click", save); $("check").addEventListener("click", check);
   $("add-node-type").addEventListener("submit", (ev) => { ev.preventDefault(); addType("node", ev.target.name.value); ev.target.reset(); });

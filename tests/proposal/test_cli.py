@@ -1,0 +1,123 @@
+"""`socnavgen generate` end to end on the bundled warehouse with the committed replay scripts."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from socnavgen.cli import app
+from socnavgen.run import RunFolder
+
+FIXTURES = Path(__file__).resolve().parents[1] / "fixtures" / "replay"
+ARGS = ["--context", "Delivery robot in a small warehouse", "--task", "Transport a box",
+        "--rough", "The robot turns at a blind corner and meets a worker who stops"]
+
+
+@pytest.fixture
+def warehouse(warehouse_dir: Path) -> Path:
+    if not (warehouse_dir / "location.yaml").is_file():
+        pytest.skip("examples/locations/warehouse is not there yet")
+    return warehouse_dir
+
+
+def test_generate_with_a_replay_script(tmp_path, warehouse):
+    out = tmp_path / "run"
+    result = CliRunner().invoke(app, ["generate", "--location", str(warehouse), *ARGS, "--llm",
+                                      f"replay:{FIXTURES / 'warehouse_blind_corner.yaml'}", "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    assert "up -> co -> 54 -> f7 -> 6r" in result.output
+    folder = RunFolder(out)
+    data = json.loads(folder.manifest_path.read_text())
+    assert data["status"] == "done" and data["stages"]["paths"]["attempts"] == 2
+    assert "there is no edge between co and f7" in folder.transcript_path.read_text()
+    assert folder.read_paths().humans[0].interaction_point == "f7"
+    assert '<IsRobotBlocking agent_id="{id}" distance="0.5"/>' in folder.read_behavior("human1")
+
+
+def test_naive_with_a_replay_script(tmp_path, warehouse):
+    out = tmp_path / "run"
+    result = CliRunner().invoke(app, ["generate", "--location", str(warehouse), *ARGS, "--naive", "--llm",
+                                      f"replay:{FIXTURES / 'warehouse_naive.yaml'}", "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    assert RunFolder(out).behaviors().keys() == {"human1"}
+
+
+def test_failure_is_one_clear_message_and_exit_2(tmp_path, warehouse):
+    script = tmp_path / "bad.yaml"
+    script.write_text("stages:\n  scenario:\n" + "    - 'not json at all'\n" * 4)
+    out = tmp_path / "run"
+    proc = subprocess.run([sys.executable, "-c", "from socnavgen.cli import main; main()", "generate",
+                           "--location", str(warehouse), *ARGS, "--llm", f"replay:{script}", "--out", str(out),
+                           "--max-restarts", "0"], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 2, proc.stderr
+    text = " ".join(proc.stderr.split())  # rich wraps long lines
+    assert "stage 'scenario' failed" in text and "Traceback" not in text
+    assert "the reply" in text or "JSON" in text  # the last mistake is named
+    assert json.loads((out / "manifest.json").read_text())["status"] == "failed"
+
+
+def test_missing_inputs_and_bad_options(tmp_path, warehouse):
+    runner = CliRunner()
+    result = runner.invoke(app, ["generate", "--location", str(warehouse), "--llm", "local", "--out",
+                                 str(tmp_path / "r")])
+    assert result.exit_code != 0 and "missing --context, --task" in str(result.exception)
+    result = runner.invoke(app, ["generate", "--redo", "paths", "--out", str(tmp_path / "r")])
+    assert "--redo needs --from RUN" in str(result.exception)
+    result = runner.invoke(app, ["generate", "--location", str(warehouse), *ARGS, "--proposals", "1", "--pick", "2",
+                                 "--out", str(tmp_path / "r")])
+    assert "--pick 2 but only 1 proposal" in str(result.exception)
+
+
+def test_from_and_redo_on_the_command_line(tmp_path, warehouse):
+    first = tmp_path / "first"
+    runner = CliRunner()
+    script = FIXTURES / "warehouse_blind_corner.yaml"
+    assert runner.invoke(app, ["generate", "--location", str(warehouse), *ARGS, "--llm", f"replay:{script}",
+                               "--out", str(first)]).exit_code == 0
+    second = tmp_path / "second"
+    redo = tmp_path / "redo.yaml"
+    redo.write_text("stages:\n  behaviors:\n    human1:\n      - " + json.dumps(json.dumps({
+        "reasoning": "wait", "tree": "<root main_tree_to_execute='W'><BehaviorTree ID='W'>"
+                                     "<MakeGesture agent_id='{id}' message='1'/></BehaviorTree></root>"})) + "\n")
+    result = runner.invoke(app, ["generate", "--from", str(first), "--redo", "behaviors", "--llm", f"replay:{redo}",
+                                 "--out", str(second)])
+    assert result.exit_code == 0, result.output
+    assert 'message="1"' in RunFolder(second).read_behavior("human1")
+    assert 'IsRobotBlocking' in RunFolder(first).read_behavior("human1")  # the source run is untouched
+    assert RunFolder(second).scenario_path.read_text() == RunFolder(first).scenario_path.read_text()
+
+
+def test_card_without_the_cards_library(tmp_path, warehouse, monkeypatch):
+    import importlib
+    real = importlib.import_module
+
+    def fake(name, *args, **kwargs):  # noqa: ANN001, ANN202
+        if name == "socnavgen.cards.library":
+            raise ImportError(name)
+        return real(name, *args, **kwargs)
+
+    monkeypatch.setattr(importlib, "import_module", fake)
+    result = CliRunner().invoke(app, ["generate", "--location", str(warehouse), "--card", "frontal-approach",
+                                      *ARGS[:4], "--out", str(tmp_path / "r")])
+    assert "--card needs the scenario card library" in str(result.exception)
+
+
+def test_card_gives_the_rough_scenario(tmp_path, warehouse):
+    pytest.importorskip("socnavgen.cards.library")
+    from socnavgen.cards.library import get_card
+    out = tmp_path / "run"
+    result = CliRunner().invoke(app, ["generate", "--location", str(warehouse), "--card", "blind-corner", "--llm",
+                                      f"replay:{FIXTURES / 'warehouse_blind_corner.yaml'}", "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    request = RunFolder(out).read_request()
+    card = get_card("blind-corner")
+    assert (request.card, request.rough, request.context, request.task) == ("blind-corner", card.rough, card.context,
+                                                                           card.task)
+    result = CliRunner().invoke(app, ["generate", "--location", str(warehouse), "--card", "no-such-card", *ARGS[:4],
+                                      "--out", str(tmp_path / "r2")])
+    assert "no scenario card named 'no-such-card'" in str(result.exception)

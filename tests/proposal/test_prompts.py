@@ -1,0 +1,201 @@
+"""The prompts carry what the paper lists: the tutorial generated for THIS map, the library text,
+the capabilities, the examples, the scenario; the grammars admit exactly the valid replies."""
+
+from __future__ import annotations
+
+import json
+import re
+
+import pytest
+from gen_helpers import STOP_TREE, paths_reply, scenario_reply
+
+from socnavgen.bt.describe import capabilities_text, library_text, regular_nav_text
+from socnavgen.bt.library import prompt_nodes
+from socnavgen.bt.validate import validate_bt_text
+from socnavgen.location import load_location
+from socnavgen.proposal.behaviors import behavior_messages, examples_text
+from socnavgen.proposal.gbnf import Grammar, Lit, Ref
+from socnavgen.proposal.path_checks import check_paths
+from socnavgen.proposal.path_grammar import build_paths_grammar, paths_grammar
+from socnavgen.proposal.paths import map_examples, paths_messages, scene_graph_text
+from socnavgen.proposal.replies import PathsReply, ScenarioReply
+from socnavgen.proposal.scenario import (
+    build_scenario_grammar,
+    check_scenario,
+    scenario_grammar,
+    scenario_messages,
+)
+from socnavgen.proposal.templates import render
+from socnavgen.proposal.tutorial import generate_tutorial, tutorial_text
+from socnavgen.run import HumanPlan, PathPlan, ScenarioProposal, ScenarioRequest
+
+PROPOSAL = ScenarioProposal(**{k: v for k, v in scenario_reply().items()})
+PLAN = PathPlan(robot=["32", "ch", "11", "07"],
+                humans=[HumanPlan(name="human1", path=["07", "11", "ch"], group_id=1, interaction_point="11"),
+                        HumanPlan(name="human2", path=["11"], group_id=1, interaction_point="11")])
+
+
+def _location(path):  # noqa: ANN001, ANN202
+    return load_location(path)
+
+
+def test_scenario_prompt_has_every_part(mini_location):
+    request = ScenarioRequest(location=str(mini_location), context="Care robot in a hospital",
+                              task="Guide a patient", rough="The patient stops at a corner")
+    messages = scenario_messages(request, _location(mini_location))
+    system, user = messages[0].content, messages[-1].content
+    assert "Social navigation is how a robot moves among people" in system
+    assert capabilities_text().strip() in system
+    assert "Rules:" in system
+    for part in ("Care robot in a hospital", "Guide a patient", "The patient stops at a corner",
+                 "A tiny test warehouse with a loop of passageways.", "BLIND CORNER", "NARROW PASSAGEWAY"):
+        assert part in user
+    examples = [json.loads(m.content) for m in messages if m.role == "assistant"]
+    assert len(examples) >= 2
+    for example in examples:  # the hand-written examples obey the stage's own checks
+        assert check_scenario(ScenarioReply.model_validate(example)) == []
+
+
+def test_paths_prompt_holds_the_map_tutorial_examples_and_image(mini_location):
+    location = _location(mini_location)
+    messages = paths_messages(location, PROPOSAL, seed=4)
+    user = messages[-1]
+    assert tutorial_text(generate_tutorial(location.graph, 4)) in user.content
+    assert "Is node 11 directly connected to node 07?" in user.content or re.search(
+        r"Is node (\w\w) directly connected to node (\w\w)\?\nA: Yes", user.content)
+    assert scene_graph_text(location) in user.content
+    assert PROPOSAL.scenario_description in user.content
+    assert "Humans: human1, human2" in user.content
+    assert user.images == [mini_location / "scene_graph.png"]
+    assert paths_messages(location, PROPOSAL, images=False)[-1].images == []
+
+
+def test_paths_prompt_on_the_warehouse_holds_a_real_edge(warehouse_dir):
+    if not (warehouse_dir / "location.yaml").is_file():
+        pytest.skip("examples/locations/warehouse is not there yet")
+    location = load_location(warehouse_dir)
+    text = paths_messages(location, PROPOSAL)[-1].content
+    found = re.search(r"Is node (\w\w) directly connected to node (\w\w)\?\nA: Yes", text)
+    assert found and location.graph.has_edge(*found.groups())
+    assert all(f'"id": "{n}"' in text for n in location.graph.nodes)
+
+
+def test_map_examples_are_valid_on_the_map(mini_location):
+    graph = _location(mini_location).graph
+    examples = map_examples(graph, seed=2)
+    assert len(examples) == 2
+    for _text, humans, answer in examples:
+        assert check_paths(PathsReply.model_validate(answer), graph, humans) == []
+
+
+def test_behavior_prompt_holds_library_tutorial_examples_and_context():
+    messages = behavior_messages("human2", PROPOSAL, PLAN)
+    user = messages[-1].content
+    assert library_text() in user
+    assert regular_nav_text().strip() in user
+    for spec in prompt_nodes():
+        assert spec.name in user, spec.name
+    assert render("bt_tutorial.md") in user and examples_text() in user
+    assert PROPOSAL.human_behaviors["human2"] in user
+    assert "Human: human2 (agent id 1)" in user
+    assert "human2 walks in a group with human1" in user and "meets the robot at node 11" in user
+
+
+def test_every_tree_shown_to_the_model_is_valid():
+    trees = re.findall(r"^<root .*</root>$", render("bt_tutorial.md"), flags=re.M)
+    trees += [json.loads(block)["tree"] for block in re.findall(r"^\{.*\}$", examples_text(), flags=re.M)]
+    assert len(trees) >= 5
+    for tree in trees:
+        assert validate_bt_text(tree, "example") == [], tree
+
+
+# -- grammars -------------------------------------------------------------------------------------
+def _answer(**changes: object) -> str:
+    return json.dumps(paths_reply(**changes))
+
+
+def test_paths_grammar_accepts_valid_replies(mini_location):
+    graph = _location(mini_location).graph
+    grammar = build_paths_grammar(graph, ["human1", "human2"])
+    assert grammar.matches(_answer())
+    assert grammar.matches(_answer(group_ids={"human1": 1, "human2": 1}))
+    assert grammar.matches(_answer(interaction_points={"human1": "ch", "human2": "ch"},
+                                   trajectories={"robot": ["ch", "d9"], "human1": ["ch"], "human2": ["0e", "32", "ch"]}))
+
+
+@pytest.mark.parametrize("changes", [
+    {"trajectories": {"robot": ["0e", "07", "11"], "human1": ["07", "11", "ch"], "human2": ["f7", "07", "11"]}},
+    {"trajectories": {"robot": ["32", "ch", "32", "ch", "11"], "human1": ["07", "11"], "human2": ["11"]}},
+    {"trajectories": {"robot": ["32", "ch", "11", "07"], "human1": ["zz", "11"], "human2": ["11"]}},
+    {"trajectories": {"robot": ["11"], "human1": ["07", "11"], "human2": ["11"]}},
+    {"trajectories": {"robot": ["32", "ch", "11", "07"], "human1": ["07", "11"], "human2": ["f7", "07"]}},
+    {"trajectories": {"robot": ["32", "ch", "11", "07"], "human1": ["07", "11"]}},
+    {"group_ids": {"human1": 1, "human2": -1}},
+    {"group_ids": {"human1": 2, "human2": 2}},
+    {"interaction_points": {"human1": "11", "human2": "ch"}},
+], ids=["no-edge", "back-and-forth", "unknown-node", "short-robot", "point-off-path", "missing-human",
+        "lone-group", "group-2-before-1", "two-points"])
+def test_paths_grammar_rejects_invalid_replies(mini_location, changes):
+    graph = _location(mini_location).graph
+    assert not build_paths_grammar(graph, ["human1", "human2"]).matches(_answer(**changes))
+
+
+def test_everything_the_paths_grammar_admits_passes_the_checks(mini_location):
+    """Walk the grammar's choices systematically: each admitted reply is valid by the validators."""
+    graph = _location(mini_location).graph
+    humans = ["human1", "human2", "human3"]
+    grammar = build_paths_grammar(graph, humans)
+    count = 0
+    for text in _sentences(grammar, limit=400):
+        count += 1
+        reply = PathsReply.model_validate(json.loads(text))
+        assert check_paths(reply, graph, humans) == [], text
+    assert count == 400
+
+
+def _sentences(grammar: Grammar, limit: int):  # noqa: ANN202
+    """Deterministic sample of sentences: varied choices per rule, reasoning text fixed to 'ok'."""
+    import itertools
+    counter = itertools.count()
+
+    def expand(name: str, depth: int) -> str:
+        alts = grammar.rules[name]
+        if name == "reasoning":
+            return "ok"
+        alt = alts[(next(counter) * 7 + depth) % len(alts)]
+        out = []
+        for sym in alt:
+            out.append(sym.text if isinstance(sym, Lit) else expand(sym.name, depth + 1) if isinstance(sym, Ref)
+                       else "x")
+        return "".join(out)
+
+    for _ in range(limit):
+        yield expand("root", 0)
+
+
+def test_scenario_grammar_ties_the_count_to_the_behaviors():
+    grammar = build_scenario_grammar()
+    assert grammar.matches(json.dumps(scenario_reply(n=2)))
+    assert grammar.matches(json.dumps(scenario_reply(n=8)))
+    assert not grammar.matches(json.dumps(scenario_reply(n=2, number_of_humans=3)))
+    assert not grammar.matches(json.dumps(scenario_reply(n=9)))
+    assert not grammar.matches(json.dumps(scenario_reply(n=0)))
+    assert not grammar.matches(json.dumps(scenario_reply(n=1, human_behaviors={"human1": ""})))
+    assert not grammar.matches(json.dumps(scenario_reply(n=1, human_behaviors={"human2": "walks"})))
+    assert not grammar.matches(json.dumps(scenario_reply(n=1, scenario_description="x" * 401)))
+
+
+def test_grammars_load_in_llama_cpp(mini_location):
+    llama_cpp = pytest.importorskip("llama_cpp")
+    graph = _location(mini_location).graph
+    for gbnf in (paths_grammar(graph, ["human1", "human2"]), scenario_grammar()):
+        grammar = llama_cpp.LlamaGrammar.from_string(gbnf, verbose=False)
+        assert grammar is not None
+
+
+def test_tiny_grammar_matcher():
+    g = Grammar()
+    g.add("root", [Lit("a"), Ref("rest")])
+    g.add("rest", [], [Lit("b"), Ref("rest")])
+    assert g.matches("abbb") and g.matches("a") and not g.matches("ab c")
+    assert STOP_TREE  # keep the import meaningful for readers: trees come from gen_helpers

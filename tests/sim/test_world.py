@@ -1,0 +1,43 @@
+"""The world in metres: nearest obstacle points, clearance, line of sight, all through the transform."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from socnavgen.location.occupancy import OccupancyGrid
+from socnavgen.location.transform import Transform
+from socnavgen.sim.world import World, empty_room
+
+
+def test_nearest_obstacle_is_on_the_wall_surface():
+    world = empty_room(20.0, 10.0, resolution=0.05)  # walls are the border cells
+    points = np.array([3 + 1j, 10 + 5j, 18.5 + 9j])
+    obs, ok = world.nearest_obstacles(points)
+    assert ok.all()
+    # the bottom wall's inner surface is at y = 0.05 (one cell), the top one at y = 9.95, right at x = 19.95
+    assert obs[0].imag == pytest.approx(0.05, abs=0.03) and obs[0].real == pytest.approx(3.0, abs=0.03)
+    assert obs[2].imag == pytest.approx(9.95, abs=0.03)
+    assert np.abs(points[1] - obs[1]) == pytest.approx(4.95, abs=0.03)
+
+
+def test_obstacle_range_and_clearance():
+    world = empty_room(40.0, 40.0, resolution=0.1)
+    _, ok = world.nearest_obstacles(np.array([20 + 20j, 5 + 20j]))
+    assert ok.tolist() == [False, True]  # the centre is more than 10 m from every wall
+    assert world.clearance_at(np.array([20 + 20j]))[0] == pytest.approx(19.9, abs=0.11)
+    assert world.clearance_at(np.array([-5 + 0j]))[0] == 0.0  # outside the map
+    assert world.clearance_at_point(20 + 20j) == world.clearance_at(np.array([20 + 20j]))[0]
+
+
+def test_line_of_sight_on_a_flipped_rotated_transform():
+    occ = np.zeros((100, 100), dtype=bool)
+    occ[:, 50] = True  # a wall down the middle column of the image
+    # rotated 90 degrees: image columns run along world y
+    transform = Transform([[0.0, -0.1, 10.0], [0.1, 0.0, 0.0], [0.0, 0.0, 1.0]])
+    world = World(OccupancyGrid(occupied=occ, unknown=np.zeros_like(occ)), transform)
+    a = complex(*transform.pixel_to_world(20, 40))
+    b = complex(*transform.pixel_to_world(80, 40))
+    c = complex(*transform.pixel_to_world(20, 90))
+    assert world.line_of_sight(a, np.array([b, c])).tolist() == [False, True]
+    assert world.free_along(a, (b - a) / abs(b - a), 6.0, 0.3) == pytest.approx(2.7, abs=0.1)
