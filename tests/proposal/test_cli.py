@@ -121,3 +121,12 @@ def test_card_gives_the_rough_scenario(tmp_path, warehouse):
     result = CliRunner().invoke(app, ["generate", "--location", str(warehouse), "--card", "no-such-card", *ARGS[:4],
                                       "--out", str(tmp_path / "r2")])
     assert "no scenario card named 'no-such-card'" in str(result.exception)
+
+
+def test_console_review_reads_accept_retry_and_edits(monkeypatch):
+    from socnavgen.cli import generate_cmd
+    answers = iter(["", "r", "Move the meeting to the open area"])
+    monkeypatch.setattr(generate_cmd.Prompt, "ask", lambda *a, **k: next(answers))
+    decisions = [generate_cmd.console_review("paths", None, '{"robot": ["up", "co"]}') for _ in range(3)]
+    assert [d.action for d in decisions] == ["accept", "retry", "edit"]
+    assert decisions[2].request == "Move the meeting to the open area"

@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+
 from .verify_builders import make_give_way_run, make_location
 
 

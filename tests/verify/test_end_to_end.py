@@ -6,12 +6,13 @@ from __future__ import annotations
 from pathlib import Path
 
 from typer.testing import CliRunner
-from .verify_builders import cli_app
 
 from socnavgen.run.folder import RunFolder
 from socnavgen.run.models import RobotGestureRule
 from socnavgen.sim.trace import Trace
 from socnavgen.verify import verify_run
+
+from .verify_builders import cli_app
 
 FAST = {"timeout": 40.0}
 

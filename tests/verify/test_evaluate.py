@@ -4,11 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from .verify_builders import GIVE_WAY_XML, NODE_WORLD, build_trace, crossing_trace
 
 from socnavgen.verify.evaluate import evaluate
 from socnavgen.verify.expectations import tree_expectations
 from socnavgen.verify.models import Expectation, VerifySettings
+
+from .verify_builders import GIVE_WAY_XML, NODE_WORLD, build_trace, crossing_trace
 
 
 def meet(point=NODE_WORLD["b2"]) -> Expectation:

@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 import pytest
-from .verify_builders import GIVE_WAY_XML, NODE_WORLD, REGULAR_XML, crossing_trace
 
 from socnavgen.location import load_location
 from socnavgen.run.models import HumanPlan, PathPlan
 from socnavgen.verify.evaluate import evaluate
 from socnavgen.verify.expectations import card_expectations, derive_expectations, tree_expectations
+
+from .verify_builders import GIVE_WAY_XML, NODE_WORLD, REGULAR_XML, crossing_trace
 
 
 def test_give_way_tree_key_nodes() -> None:

@@ -9,10 +9,11 @@ from pathlib import Path
 
 import pytest
 from typer.testing import CliRunner
-from .verify_builders import cli_app, crossing_trace
 
 from socnavgen.errors import InputFileError
 from socnavgen.verify import VerifyReport, verify_run
+
+from .verify_builders import cli_app, crossing_trace
 
 
 def save_trace(run: Path, **kwargs) -> None:

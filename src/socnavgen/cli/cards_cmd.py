@@ -23,7 +23,8 @@ def list_cards() -> None:
     Example: socnavgen cards list
     """
     table = Table(show_lines=False)
-    for col in ("card", "category", "picture", "needs", "summary"):
+    table.add_column("card", no_wrap=True)  # names are typed back by the user: never break them
+    for col in ("category", "picture", "needs", "summary"):
         table.add_column(col, overflow="fold")
     for card in all_cards():
         table.add_row(card.name, card.category, card.picture, ", ".join(card.needs), card.summary)

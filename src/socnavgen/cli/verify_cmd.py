@@ -28,6 +28,9 @@ def register_verify(app: typer.Typer) -> None:
         simulate: bool = typer.Option(True, help="Run the simulator first when RUN/sim/trace.npz is missing."),
         robot: str = typer.Option("waypoints", help="Robot plugin for that simulation (see `socnavgen simulate "
                                                     "--help`)."),
+        collisions_fail: bool = typer.Option(False, "--collisions-fail", help=(
+            "Fail when the robot and a human overlap. By default a collision is a warning: it judges the "
+            "robot under test, not whether the scenario happened.")),
         as_json: bool = typer.Option(False, "--json", help="Print the report as JSON instead of a table."),
     ) -> None:
         """Check that the scenario does what it says, on the headless simulation of the run.
@@ -36,7 +39,7 @@ def register_verify(app: typer.Typer) -> None:
         interaction point near that point; every interaction node of each tree (GiveWaytoRobot, BlockRobot,
         MakeGesture, the RobotSays / IsRobotVisible conditions gating them...) actually runs, GiveWaytoRobot
         while the robot passes; group members stay together; the robot reaches its goal; plus the scenario
-        card's success criteria. Each is reported with its evidence (time, distance) and the report is
+        card's success criteria. Robot-human collisions are reported as warnings. Each is reported with its evidence (time, distance) and the report is
         written to RUN/sim/verify.json. Exit code 1 when any expectation fails.
 
         Example: socnavgen verify runs/blind_corner --distance 2.0
@@ -46,7 +49,7 @@ def register_verify(app: typer.Typer) -> None:
 
         report = verify_run(run, simulate_if_missing=simulate, location=location, distance=distance, near=near,
                             passing=passing, group_spread=group_spread, group_fraction=group_fraction,
-                            simulate_options={"robot": robot})
+                            collisions_fail=collisions_fail, simulate_options={"robot": robot})
         if as_json:
             print(report.model_dump_json(indent=2))
         else:

@@ -369,12 +369,18 @@ def type_node(graph: nx.MultiGraph, n: int, coords: np.ndarray, walls: np.ndarra
     (_, a, _), (_, b, _) = list(graph.edges(n, data=True))
     va, vb = coords[a] - coords[n], coords[b] - coords[n]
     cos = float(va @ vb) / max(1e-9, float(np.linalg.norm(va) * np.linalg.norm(vb)))
-    if math.degrees(math.acos(max(-1.0, min(1.0, cos)))) <= 140:  # legs turn by 40 degrees or more
+    turns = math.degrees(math.acos(max(-1.0, min(1.0, cos)))) <= 140  # legs turn by 40 degrees or more
+    if turns:
         look = max(geo.look, 2 * here)
         pa = coords[n] + va * min(1.0, look / max(1e-9, np.linalg.norm(va)))
         pb = coords[n] + vb * min(1.0, look / max(1e-9, np.linalg.norm(vb)))
         rows, cols = raster_line(int(round(pa[0])), int(round(pa[1])), int(round(pb[0])), int(round(pb[1])))
-        return BLIND_CORNER if walls[rows, cols].any() else CORNER
+        if walls[rows, cols].any():
+            return BLIND_CORNER
+    if here >= geo.open_half:  # a visible turn or a waypoint in a wide space
+        return OPEN_AREA
+    if turns:
+        return CORNER
     return NARROW_PASSAGE if here < geo.narrow_half else SIMPLE_NODE
 
 

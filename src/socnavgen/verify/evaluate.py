@@ -197,12 +197,34 @@ def _why_not_reached(trace: Trace, to_goal: np.ndarray, radius: float) -> str:
     return text
 
 
+def check_no_collision(exp: Expectation, trace: Trace, settings: VerifySettings) -> Finding:
+    """Discs overlapping by more than `overlap` metres: the robot ran into a person (or was run into)."""
+    if not trace.humans.shape[1]:
+        return _finding(exp, True, "no humans in the scenario")
+    centre = np.linalg.norm(trace.humans[:, :, :2] - trace.robot[:, None, :2], axis=2)
+    gap = centre - trace.robot_radius - np.asarray(trace.human_radii)[None, :]
+    hits = gap < -settings.overlap
+    if not hits.any():
+        k, j = np.unravel_index(int(np.argmin(gap)), gap.shape)
+        return _finding(exp, True, f"closest gap {gap[k, j]:.2f} m to {trace.human_names[j]} at t={trace.t[k]:.1f} s",
+                        time=trace.t[k], distance=float(gap[k, j]), human=trace.human_names[j])
+    k = int(np.argmax(hits.any(axis=1)))
+    j = int(np.argmin(gap[k]))
+    steps = int(hits.any(axis=1).sum())
+    finding = _finding(exp, False, f"robot and {trace.human_names[j]} overlap by {-gap[k, j]:.2f} m at t={trace.t[k]:.1f} s "
+                    f"({steps} steps with a collision, {steps * trace.dt:.1f} s)", time=trace.t[k],
+                    distance=float(gap[k, j]), human=trace.human_names[j])
+    finding.required = settings.collisions_fail
+    return finding
+
+
 CHECKS = {
     "meets_human": check_meets_human,
     "executes": check_executes,
     "gives_way_while_passing": check_executes,
     "group_together": check_group_together,
     "robot_reaches_goal": check_robot_reaches_goal,
+    "no_collision": check_no_collision,
 }
 
 

@@ -109,6 +109,9 @@ def path_expectations(plan: PathPlan, location: Any) -> list[Expectation]:
         if len(members) > 1:
             out.append(Expectation(kind="group_together", name=f"group {gid} stays together", source="paths",
                                    detail=", ".join(members), human=",".join(members)))
+    if plan.humans:
+        out.append(Expectation(kind="no_collision", name="robot never collides with a human", source="paths",
+                               detail="a scenario is not its intended interaction if the robot runs into someone"))
     if plan.robot:
         out.append(Expectation(kind="robot_reaches_goal", name=f"robot reaches its goal {plan.robot[-1]}",
                                source="paths", point_id=plan.robot[-1],

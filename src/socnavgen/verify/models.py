@@ -7,7 +7,7 @@ from typing import Literal
 from pydantic import BaseModel, Field
 
 ExpectationKind = Literal["meets_human", "executes", "gives_way_while_passing", "group_together",
-                          "robot_reaches_goal"]
+                          "robot_reaches_goal", "no_collision"]
 Source = Literal["paths", "tree", "card"]
 Stage = Literal["paths", "behaviors"]
 
@@ -24,6 +24,10 @@ class VerifySettings(BaseModel):
     group_fraction: float = Field(default=0.8, description="share of the run a group must stay together")
     goal_radius: float | None = Field(default=None, description="robot goal radius (default: the trace's, "
                                                                 "else 0.5 m)")
+    overlap: float = Field(default=0.05, description="robot-human disc overlap (m) that counts as a collision")
+    collisions_fail: bool = Field(default=False, description=(
+        "a collision fails verification (default: reported as a warning, because it judges the robot "
+        "under test, not whether the scenario happened)"))
 
 
 class Expectation(BaseModel):
@@ -63,6 +67,7 @@ class Finding(BaseModel):
     node: str | None = None
     source: Source = "paths"
     stage: Stage | None = None
+    required: bool = True  # False: a failure is a warning and does not fail the report
 
 
 class VerifyReport(BaseModel):
@@ -78,7 +83,11 @@ class VerifyReport(BaseModel):
 
     @property
     def failures(self) -> list[Finding]:
-        return [f for f in self.findings if not f.passed]
+        return [f for f in self.findings if not f.passed and f.required]
+
+    @property
+    def warnings(self) -> list[Finding]:
+        return [f for f in self.findings if not f.passed and not f.required]
 
     def feedback(self) -> str:
         """The failing findings as text for a re-query prompt (generate --verify)."""

@@ -20,7 +20,8 @@ def report_table(report: VerifyReport) -> Table:
     table.add_column("dist \\[m]", justify="right", no_wrap=True)
     table.add_column("evidence", overflow="fold")
     for f in report.findings:
-        table.add_row("[green]ok[/]" if f.passed else "[red]FAIL[/]", f.name, f.source,
+        mark = "[green]ok[/]" if f.passed else ("[red]FAIL[/]" if f.required else "[yellow]warn[/]")
+        table.add_row(mark, f.name, f.source,
                       "" if f.time is None else f"{f.time:.1f}", "" if f.distance is None else f"{f.distance:.2f}",
                       f.evidence)
     return table

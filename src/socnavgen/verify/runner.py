@@ -116,7 +116,7 @@ def verify_trace(run_dir: Path | str, trace: Trace, *, location: Any = None,
     expectations = derive_expectations(plan, run.behaviors(), loc, card_criteria_for(run))
     findings = evaluate(expectations, trace, settings)
     seconds = float(trace.t[-1] - trace.t[0]) if trace.steps else 0.0
-    return VerifyReport(run=str(run.root), passed=all(f.passed for f in findings), findings=findings,
+    return VerifyReport(run=str(run.root), passed=all(f.passed or not f.required for f in findings), findings=findings,
                         settings=settings, trace_steps=trace.steps, trace_seconds=round(seconds, 3),
                         end_reason=trace.end_reason)
 

@@ -97,8 +97,9 @@
   }
   function edgeAt(sx, sy) {
     let best = null, bestD = 6;
+    const byId = new Map(st.graph.nodes.map((n) => [n.id, n]));
     for (const e of st.graph.links) {
-      const a = nodeById(e.source), b = nodeById(e.target); if (!a || !b) continue;
+      const a = byId.get(e.source), b = byId.get(e.target); if (!a || !b) continue;
       const [x1, y1] = toScreen(...a.pos), [x2, y2] = toScreen(...b.pos);
       const L2 = (x2 - x1) ** 2 + (y2 - y1) ** 2 || 1;
       const t = Math.max(0, Math.min(1, ((sx - x1) * (x2 - x1) + (sy - y1) * (y2 - y1)) / L2));
@@ -134,9 +135,9 @@
       ctx.imageSmoothingEnabled = st.view.scale < 1;
       ctx.drawImage(st.image, st.view.ox, st.view.oy, st.size[0] * st.view.scale, st.size[1] * st.view.scale);
     }
-    const sel = st.selected;
+    const sel = st.selected, byId = new Map(st.graph.nodes.map((n) => [n.id, n])); // O(1) lookups on big graphs
     for (const e of st.graph.links) {
-      const a = nodeById(e.source), b = nodeById(e.target); if (!a || !b) continue;
+      const a = byId.get(e.source), b = byId.get(e.target); if (!a || !b) continue;
       const [x1, y1] = toScreen(...a.pos), [x2, y2] = toScreen(...b.pos);
       const chosen = sel && sel.kind === "edge" && sameEdge(e, sel.a, sel.b);
       if (chosen) line(x1, y1, x2, y2, "#ffeb3b", 10);

@@ -25,6 +25,7 @@ log = logging.getLogger("socnavgen.llm")
 
 DEFAULT_N_CTX = 8192
 DEFAULT_MAX_TOKENS = 1024
+DEFAULT_SAMPLING: dict[str, float] = {}
 INSTALL_HINT = "install the optional extra: pip install 'socnavgen[local]' (compiles llama.cpp, ~5 min)"
 _LOAD_LOCK = threading.Lock()  # model loading patches llama_cpp's defaults briefly (see _load)
 _MODELS: dict[tuple[str, int], tuple[Any, threading.Lock]] = {}  # (file, n_ctx) -> (model, its run lock)
@@ -68,6 +69,7 @@ class GGUFBackend(Backend):
         self._run_lock = threading.Lock()  # replaced by the shared model's lock in _load
         self._grammars: dict[str, Any] = {}
         self.constrained = True  # False = free decoding (benchmarks compare the grammar's cost)
+        self.sampling: dict[str, float] = dict(DEFAULT_SAMPLING)
         self.n_ctx = int(os.environ.get("SOCNAVGEN_GGUF_N_CTX", DEFAULT_N_CTX))
 
     def cache_identity(self) -> dict[str, Any]:
@@ -126,7 +128,7 @@ class GGUFBackend(Backend):
             try:
                 result = llm.create_chat_completion(
                     messages=messages, grammar=self._grammar(request) if self.constrained else None,
-                    temperature=request.temperature,
+                    temperature=request.temperature, **self.sampling,
                     max_tokens=request.max_tokens or DEFAULT_MAX_TOKENS, seed=0)
             except ValueError as exc:
                 if "context window" in str(exc) or "exceed" in str(exc):
