@@ -1,6 +1,6 @@
 """Every card that fits a bundled location becomes an ordinary run folder that exports, simulates
-and verifies (with the social-force robot: the straight-line waypoint robot stops behind anyone in
-its way and cannot go around, see docs/cards.md for its numbers)."""
+and verifies - with the default waypoints robot (the paper's teleoperated robot) and with the
+social-force robot."""
 
 from __future__ import annotations
 
@@ -44,7 +44,8 @@ def check_run(run: RunFolder, graph: nx.Graph) -> None:
         assert validate_bt_text(trees[h.name], h.name, human_ids=ids, agent_id=h.agent_id) == []
 
 
-def test_every_fitting_card_generates_exports_and_verifies(bundled_location: Path, tmp_path: Path) -> None:
+@pytest.mark.parametrize("robot", ["waypoints", "sfm"])
+def test_every_fitting_card_generates_exports_and_verifies(bundled_location: Path, tmp_path: Path, robot: str) -> None:
     from socnavgen.verify import verify_run
 
     location = load_location(bundled_location)
@@ -64,11 +65,11 @@ def test_every_fitting_card_generates_exports_and_verifies(bundled_location: Pat
             export_run(run.root, "hunav2", tmp_path / "out2" / fit.card.name)
         except SocnavgenError as exc:  # allowed only for nodes 2.x lacks, each named
             assert "no HuNavSim 2.x equivalent" in str(exc)
-        report = verify_run(run.root, simulate_options={"robot": "sfm", "timeout": 120.0})
+        report = verify_run(run.root, simulate_options={"robot": robot, "timeout": 120.0})
         card_findings = [f for f in report.findings if f.source == "card"]
         assert len(card_findings) >= len(fit.card.criteria), fit.card.name
         if not report.passed:
-            failed.append(f"{fit.card.name}: " + "; ".join(f"{f.name}: {f.evidence}" for f in report.failures))
+            failed.append(f"{fit.card.name} ({robot} robot): " + "; ".join(f"{f.name}: {f.evidence}" for f in report.failures))
     assert not failed, "cards that do not verify:\n" + "\n".join(failed)
     for name, word in MUST_NOT_FIT[bundled_location.name].items():
         reason = next(f.reason for f in fits if f.card.name == name)

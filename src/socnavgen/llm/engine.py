@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import base64
 import hashlib
+import logging
 import threading
 import time
 from dataclasses import dataclass, field
@@ -26,6 +27,7 @@ from socnavgen.llm.transcript import Transcript, utc_now
 from socnavgen.safeio import MAX_IMAGE_BYTES
 
 T = TypeVar("T", bound=BaseModel)
+log = logging.getLogger("socnavgen.llm")
 
 DEFAULT_TEMPERATURE = 0.0  # reproducible runs by default; stages may ask for more variety
 
@@ -161,10 +163,14 @@ class Backend:
                 raise
             cached = False
             if ckey and self.cache:
-                self.cache.put(ckey, {"raw": completion.text, "model": completion.model or self.model,
-                                      "prompt_tokens": completion.prompt_tokens,
-                                      "completion_tokens": completion.completion_tokens,
-                                      "created": utc_now()})
+                try:
+                    self.cache.put(ckey, {"raw": completion.text, "model": completion.model or self.model,
+                                          "prompt_tokens": completion.prompt_tokens,
+                                          "completion_tokens": completion.completion_tokens,
+                                          "created": utc_now()})
+                except OSError as exc:  # a full or read-only cache must not cost the reply
+                    log.warning("cannot write the LLM cache in %s (%s); continuing without it",
+                                self.cache.root, exc.strerror or exc)
         seconds = time.monotonic() - started
         value, error = parse_reply(completion.text, schema)
         usage = Usage(prompt_tokens=0 if cached else completion.prompt_tokens,

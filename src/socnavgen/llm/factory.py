@@ -35,8 +35,14 @@ def make_llm(spec: str, *, transcript: Path | None = None, cache_dir: Path | Non
                          max_parallel=max_parallel, timeout=timeout, deadline=deadline, use_image=use_image)
     kind, sep, rest = spec.partition(":")
     if spec == "local":
-        from socnavgen.llm.backends.gguf_backend import GGUFBackend, smollm2_path
-        return GGUFBackend("local", smollm2_path(), options, model_name="SmolLM2-135M-Instruct")
+        from socnavgen.llm.backends.gguf_backend import (
+            LOCAL_MAX_STRING,
+            LOCAL_SAMPLING,
+            GGUFBackend,
+            smollm2_path,
+        )
+        return GGUFBackend("local", smollm2_path(), options, model_name="SmolLM2-135M-Instruct",
+                           max_string=LOCAL_MAX_STRING, sampling=LOCAL_SAMPLING)
     if not sep:
         raise _bad_spec(spec, "unknown form")
     rest = rest.strip()

@@ -13,6 +13,8 @@ import math
 from collections.abc import Callable
 from typing import Any
 
+import numpy as np
+
 from socnavgen.sim.bt_runtime import FAILURE, SUCCESS, BTRuntimeError
 
 # Constants of the SocRATES fork (reference §1.3, §3)
@@ -29,6 +31,8 @@ LOOK_TURN_RATE = 0.01 * math.pi / 0.001
 # GiveWaytoRobot (ours: the fork discards its side step, see NodeSpec.sim_note)
 GIVE_WAY_MARGIN = 0.5  # m of free space between the human and the robot's side when stepped aside
 GIVE_WAY_ARRIVED = 0.15  # m
+SIDE_STEP_DIRECTIONS = 16  # directions tried for the side step
+SIDE_STEP_MAX = 3.0  # m: the farthest a human walks to get out of the robot's way
 
 
 def wrap(a: float) -> float:
@@ -166,20 +170,17 @@ def block_robot(sim: Any, leaf: Any, i: int) -> int:
 
 
 def give_way_to_robot(sim: Any, leaf: Any, i: int) -> int:
-    """Step to the side of the robot's path (the side the human is on, unless a wall is there), wait there
-    while the robot passes, then walk on toward the goal. A new episode starts whenever the previous
-    action of this human was something else (as the fork recomputes its side step then)."""
+    """Step off the robot's UPCOMING path (its remaining waypoints, not only its current heading: after a
+    turn the robot drives somewhere else), wait there facing the robot until it has passed, then walk on
+    toward the goal. A new episode starts whenever the previous action of this human was something else
+    (as the fork recomputes its side step then)."""
     crowd = sim.crowd
     p = crowd.pos[i]
     state = sim.give_way[i]
     if crowd.behavior_state[i] != 2 or state is None:
         crowd.behavior_state[i] = 2
         state = sim.give_way[i] = _plan_side_step(sim, i)
-    u = state["dir"]
-    rel = p - sim.robot_pos
-    along = (rel * u.conjugate()).real  # > 0: the human is still ahead of the robot
-    clear = crowd.radius[i] + sim.robot_radius + 0.3
-    if state["phase"] != "resume" and (along < -clear or abs(rel) > 6.0 and along < 0):
+    if state["phase"] != "resume" and _robot_has_passed(sim, i, state):
         state["phase"] = "resume"
     if state["phase"] == "aside" and abs(state["target"] - p) <= GIVE_WAY_ARRIVED:
         state["phase"] = "wait"
@@ -193,26 +194,99 @@ def give_way_to_robot(sim: Any, leaf: Any, i: int) -> int:
     return SUCCESS
 
 
+def _robot_has_passed(sim: Any, i: int, state: dict) -> bool:
+    """The robot is beyond the point of its path the human stepped away from (or done, or far behind)."""
+    if abs(sim.robot_pos - sim.robot_waypoints[-1]) <= sim.config.goal_tolerance:
+        return True
+    progress, _ = robot_progress(sim)
+    clear = sim.crowd.radius[i] + sim.robot_radius + 0.3
+    return progress > state["at"] + clear and abs(sim.robot_pos - sim.crowd.pos[i]) > clear
+
+
+def robot_progress(sim: Any) -> tuple[float, int]:
+    """(arc length along the robot's waypoint path, segment index) of the robot's projection on it. Searched
+    from the last segment found onward (a path may come back past the same place); cached per step."""
+    cache = sim.__dict__.setdefault("_robot_progress", {"t": None, "seg": 0, "value": (0.0, 0)})
+    if cache["t"] == sim.t:
+        return cache["value"]
+    wps = sim.robot_waypoints
+    if len(wps) < 2:
+        value = (0.0, 0)
+    else:
+        a, b = wps[:-1], wps[1:]
+        lengths = np.abs(b - a)
+        offsets = np.concatenate([[0.0], np.cumsum(lengths)[:-1]])
+        first = cache["seg"]
+        _, along, dist = _project(sim.robot_pos, a[first:], b[first:])
+        k = int(np.argmin(dist))
+        seg = first + k
+        value = (float(offsets[seg] + along[k]), seg)
+        cache["seg"] = seg
+    cache["t"], cache["value"] = sim.t, value
+    return value
+
+
+def _project(points: Any, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Closest points of segments a->b to each point: (closest point, distance along the segment, distance)
+    with shape (len(points), len(a)) (or (len(a),) for a single point)."""
+    pts = np.asarray(points, dtype=complex)[..., None]
+    ab = b - a
+    length = np.abs(ab)
+    unit = np.where(length > 1e-9, ab / np.where(length > 1e-9, length, 1.0), 0)
+    along = np.clip(((pts - a) * unit.conjugate()).real, 0.0, length)
+    closest = a + unit * along
+    return closest, along, np.abs(pts - closest)
+
+
 def _plan_side_step(sim: Any, i: int) -> dict:
+    """Where to stand: the nearest reachable spot (walls respected) that leaves GIVE_WAY_MARGIN between the
+    human and the robot all along the robot's remaining path; preferring the side the human is already on.
+    When no spot is that far, the one farthest from the path."""
     crowd = sim.crowd
     p = crowd.pos[i]
-    u = sim.robot_direction()
-    rel = p - sim.robot_pos
-    lateral = (rel * u.conjugate()).imag  # > 0: human on the robot's left
-    want = crowd.radius[i] + sim.robot_radius + GIVE_WAY_MARGIN
     radius = float(crowd.radius[i])
-    best = None
-    sides = (1.0, -1.0) if lateral >= 0 else (-1.0, 1.0)
-    for side in sides:
-        normal = u * 1j * side
-        need = max(0.0, want - side * lateral)  # distance to walk along this normal
-        room = sim.world.free_along(p, normal, need, radius) if need > 0 else 0.0
-        final = side * lateral + room  # resulting distance from the robot's path on this side
-        if best is None or final > best[0] + 1e-6:
-            best = (final, p + normal * room)
-        if room >= need - 1e-6:
-            break
-    return {"dir": u, "target": best[1], "phase": "aside"}
+    want = radius + sim.robot_radius + GIVE_WAY_MARGIN
+    progress, seg = robot_progress(sim)
+    wps = sim.robot_waypoints
+    upcoming = np.concatenate([[sim.robot_pos], wps[seg + 1:]]) if len(wps) > 1 else np.array([sim.robot_pos])
+    if len(upcoming) < 2:
+        upcoming = np.array([sim.robot_pos, sim.robot_pos + sim.robot_direction() * 0.01])
+    a, b = upcoming[:-1], upcoming[1:]
+    _, along, dist = _project(p, a, b)
+    k = int(np.argmin(dist))
+    at = progress + float(np.sum(np.abs(b[:k] - a[:k]))) + float(along[k])  # arc length of the human's spot
+    state = {"target": p, "phase": "aside", "at": at}
+    if dist[k] >= want:
+        return state
+    seg_dir = b[k] - a[k]
+    seg_dir = seg_dir / abs(seg_dir) if abs(seg_dir) > 1e-9 else sim.robot_direction()
+    lateral = ((p - a[k]) * seg_dir.conjugate()).imag
+    prefer = seg_dir * 1j * (1.0 if lateral >= 0 else -1.0)  # away from the path on the human's side
+    best_key, best = None, p
+    for j in range(SIDE_STEP_DIRECTIONS):
+        u = prefer * complex(math.cos(2 * math.pi * j / SIDE_STEP_DIRECTIONS),
+                             math.sin(2 * math.pi * j / SIDE_STEP_DIRECTIONS))
+        room = sim.world.free_along(p, u, SIDE_STEP_MAX, radius)
+        if room <= 0.0:
+            continue
+        s = np.arange(0.1, room + 1e-9, 0.1)
+        if len(s) == 0:
+            continue
+        spots = p + u * s
+        d = _project(spots, a, b)[2].min(axis=1)
+        ok = np.flatnonzero(d >= want)
+        deviation = abs(math.remainder(2 * math.pi * j / SIDE_STEP_DIRECTIONS, 2 * math.pi))
+        if len(ok):
+            key = (0, float(s[ok[0]]) + 0.3 * deviation)  # shortest walk, straight sideways preferred
+            spot = spots[ok[0]]
+        else:
+            m = int(np.argmax(d))
+            key = (1, -float(d[m]) + 0.05 * float(s[m]))
+            spot = spots[m]
+        if best_key is None or key < best_key:
+            best_key, best = key, complex(spot)
+    state["target"] = best
+    return state
 
 
 IMPLEMENTATIONS: dict[str, Callable[[Any, Any, int], int]] = {

@@ -25,6 +25,14 @@ GOAL_TOLERANCE = 0.2  # hunav_evaluator "completed"
 SWEPT_MARGIN = 0.05  # m beyond the two radii: a person this close to the robot's path line blocks it
 NUDGE_BAND = 0.35  # m beyond the radii: the robot edges sideways away from a person this close to its path
 NUDGE_SPEED = 0.25  # m/s
+NUDGE_ROOM = 0.3  # m: edging sideways only where this much room is left beside the robot (not into a jamb)
+CLOSE_REACH = 0.15  # m: a waypoint this close is reached whatever the walls
+WALL_MARGIN = 0.05  # m: closer than radius + this to a wall, the robot slides along it instead of into it
+LOOK_WALL = 0.3  # s of motion looked ahead for walls
+WALL_PUSH = 0.15  # m/s at most, back out of a wall the robot grazes
+AROUND_LOOK = 1.0  # m: room looked for on either side before going around someone
+AROUND_BIAS = 0.1  # m/s sideways while going around (a person dead ahead pushes straight back otherwise)
+OCCUPIED_REACH = 2.0  # m: an intermediate waypoint someone stands on is skipped once the robot is this close
 
 
 class Observation:
@@ -124,9 +132,14 @@ class RobotPolicy(Protocol):
 
 
 class _WaypointTracker:
-    def __init__(self, tolerance: float) -> None:
+    """The current waypoint. With `line_clearance`, a waypoint counts as reached within `tolerance` only
+    when the straight line on to the next one keeps that clearance from walls (else the robot drives on to
+    within CLOSE_REACH of it): cutting a doorway's corner would put the robot into the jamb."""
+
+    def __init__(self, tolerance: float, line_clearance: float | None = None) -> None:
         self.index = 1
         self.tolerance = tolerance
+        self.line_clearance = line_clearance
 
     def target(self, obs: Observation) -> tuple[complex, bool]:
         """Current waypoint and whether it is the last; advances past waypoints reached."""
@@ -134,28 +147,67 @@ class _WaypointTracker:
         if len(wps) == 0:
             return obs.position_c, True
         self.index = min(self.index, len(wps) - 1)
-        while self.index < len(wps) - 1 and abs(wps[self.index] - obs.position_c) <= self.tolerance:
+        p = obs.position_c
+        while self.index < len(wps) - 1 and self._reached(obs, p, complex(wps[self.index]),
+                                                            complex(wps[self.index + 1])):
             self.index += 1
         return complex(wps[self.index]), self.index == len(wps) - 1
 
+    def _reached(self, obs: Observation, p: complex, wp: complex, following: complex) -> bool:
+        d = abs(wp - p)
+        if d > self.tolerance:
+            return False
+        if self.line_clearance is None or d <= CLOSE_REACH:
+            return True
+        return _segment_clear(obs.world, p, following, self.line_clearance)
+
+
+def slide_along_walls(obs: Observation, v: complex, margin: float = WALL_MARGIN) -> complex:
+    """`v` without its into-the-wall part when the robot is within `margin` of touching a wall, plus a
+    gentle push back out: a robot pressed against a corner slides along it instead of stopping for good."""
+    world, p, r = obs.world, obs.position_c, obs.radius
+    if world.clearance_at_point(p + v * LOOK_WALL) >= r + margin:
+        return v
+    clearance = world.clearance_at_point(p)
+    points, valid = world.nearest_obstacles(np.array([p]))
+    away = p - complex(points[0])
+    if not valid[0] or abs(away) < 1e-9:
+        return v
+    n = away / abs(away)
+    into = (v * n.conjugate()).real
+    if into < 0:
+        v -= into * n
+    if clearance < r:
+        v += n * min(WALL_PUSH, (r - clearance) * 2.0)
+    return v
+
 
 class WaypointsPolicy:
-    """Follows its waypoints in straight lines like the teleoperated robot of the paper: slows down
-    when a person is in its way and stops short of them."""
+    """Follows its waypoints in straight lines like the teleoperated robot of the paper: slows down when a
+    person is in its way and stops short of them; slides along walls it grazes; edges sideways past someone
+    standing close beside its path; and after waiting `patience` seconds behind someone who does not make
+    way, it drives around them slowly where there is room (as the operator would), skipping a waypoint a
+    person stands on and stopping at the far edge of a goal someone stands next to."""
 
     def __init__(self, max_speed: float = 0.6, accel: float = 0.8, brake: float = 3.0,
-                 waypoint_tolerance: float = 0.4, slow_gap: float = 2.0, stop_gap: float = 0.5) -> None:
+                 waypoint_tolerance: float = 0.4, slow_gap: float = 2.0, stop_gap: float = 0.5,
+                 patience: float = 2.0, detour_speed: float = 0.3) -> None:
         self.max_speed, self.accel, self.brake = max_speed, accel, brake
         self.slow_gap, self.stop_gap = slow_gap, stop_gap
-        self.tracker = _WaypointTracker(waypoint_tolerance)
+        self.patience, self.detour_speed = patience, detour_speed
+        self.tracker = _WaypointTracker(waypoint_tolerance, line_clearance=ROBOT_RADIUS)
         self.speed = 0.0
+        self.waited = 0.0  # seconds spent blocked by someone in the way
         self.heading: complex | None = None  # where the robot means to go (its yaw), whatever the nudge
+        self._around = SFMPolicy(max_speed=detour_speed)  # how it steers around people once patience ran out
+        self.around_side = 0.0  # +1 left / -1 right: the side it goes around on (kept while blocked)
 
-    def look_ahead(self, obs: Observation, direction: complex) -> tuple[float, float]:
+    def look_ahead(self, obs: Observation, direction: complex, reach: float = math.inf) -> tuple[float, float]:
         """(free distance to the nearest person in the swept path ahead, sideways nudge -1/0/+1).
 
         The nudge moves the robot away from the nearest person standing close beside its path, as a
-        teleoperator squeezes past someone who stepped aside in a narrow corridor."""
+        teleoperator squeezes past someone who stepped aside in a narrow corridor. `reach`: where the robot
+        will stop (its goal); someone beyond it is in the way only if they stand too close to that point."""
         p, back, rr = obs.position_c, direction.conjugate(), obs.radius
         people = obs.human_positions_c
         radii = obs.human_radii
@@ -168,9 +220,12 @@ class WaypointsPolicy:
             if rel.real <= 0:
                 continue
             ahead = rel.real - r - rr
-            if abs(rel.imag) < r + rr + SWEPT_MARGIN and ahead < gap:
+            # someone already beside the robot blocks only if the bodies would touch: it is passing them
+            margin = SWEPT_MARGIN if ahead > 0 else 0.0
+            across = abs(rel.imag) if rel.real <= reach else abs(rel - reach)
+            if across < r + rr + margin and ahead < gap:
                 gap = ahead
-            if abs(rel.imag) < r + rr + NUDGE_BAND and ahead < self.slow_gap and ahead < nudge_at:
+            if r + rr + margin <= abs(rel.imag) < r + rr + NUDGE_BAND and ahead < self.slow_gap and ahead < nudge_at:
                 nudge_at, nudge = ahead, (-1.0 if rel.imag > 0 else 1.0)
         return gap, nudge
 
@@ -179,26 +234,80 @@ class WaypointsPolicy:
 
     def act(self, obs: Observation) -> RobotAction:
         target, last = self.tracker.target(obs)
-        to = target - obs.position_c
+        p = obs.position_c
+        arrive = GOAL_TOLERANCE * 0.5
+        if last and abs(target - p) < self.slow_gap + 1.0:
+            target, arrive = self._reachable_goal(obs, target)
+        to = target - p
         dist = abs(to)
-        if last and dist <= GOAL_TOLERANCE * 0.5:
+        if last and dist <= arrive:
             self.speed = 0.0
             return RobotAction(0.0, 0.0)
         direction = to / dist if dist > 1e-9 else complex(math.cos(obs.yaw), math.sin(obs.yaw))
         self.heading = direction
-        gap, nudge = self.look_ahead(obs, direction)
+        gap, nudge = self.look_ahead(obs, direction, dist if last else math.inf)
         want = self.max_speed * min(1.0, max(0.0, (gap - self.stop_gap) / (self.slow_gap - self.stop_gap)))
         if last:
             want = min(want, math.sqrt(2 * self.accel * dist))
-        step = obs.dt
-        self.speed = min(want, self.speed + self.accel * step) if want >= self.speed else \
-            max(want, self.speed - self.brake * step)
+        blocked = gap - self.stop_gap < 0.1 and (not last or dist > gap + 0.5)
+        self.waited = self.waited + obs.dt if blocked else 0.0
+        if not blocked:
+            self.around_side = 0.0
+        if blocked and self.waited >= self.patience:
+            if self._skip_occupied_waypoint(obs):
+                self.waited = 0.0  # next step heads for the following waypoint
+            else:
+                if not self.around_side:  # the side with more room (keep right on a tie): breaks the symmetry
+                    left, right = (obs.world.clearance_at_point(p + direction * 1j * k * AROUND_LOOK) for k in (1, -1))
+                    self.around_side = 1.0 if left > right + 0.05 else -1.0
+                action = self._around.toward(obs, target)
+                v = complex(action.vx, action.vy)
+                if abs(v) < AROUND_BIAS:  # pushed straight back by someone dead ahead: sidestep
+                    v += direction * 1j * self.around_side * AROUND_BIAS
+                v = slide_along_walls(obs, v)
+                self.speed = abs(v)
+                if self.speed > 0.05:
+                    self.heading = v / self.speed
+                return RobotAction(v.real, v.imag)
+        self.speed = min(want, self.speed + self.accel * obs.dt) if want >= self.speed else \
+            max(want, self.speed - self.brake * obs.dt)
         v = direction * self.speed
         if nudge:
             side = direction * 1j * nudge
-            if obs.world.clearance_at_point(obs.position_c + side * 0.1) >= obs.radius + 0.02:
+            if obs.world.clearance_at_point(p + side * NUDGE_ROOM) >= obs.radius + 0.1:
                 v += side * NUDGE_SPEED
+        v = slide_along_walls(obs, v)
         return RobotAction(v.real, v.imag)
+
+    def _skip_occupied_waypoint(self, obs: Observation) -> bool:
+        """Someone standing on an intermediate waypoint: head for the next one if it is in sight."""
+        wps, k, p = obs.waypoints_c, self.tracker.index, obs.position_c
+        if k >= len(wps) - 1 or abs(wps[k] - p) > OCCUPIED_REACH or len(obs.human_positions_c) == 0:
+            return False
+        occupied = np.abs(obs.human_positions_c - wps[k]) < obs.human_radii + obs.radius + SWEPT_MARGIN
+        if occupied.any() and _segment_clear(obs.world, p, complex(wps[k + 1]), 0.5 * obs.radius + 0.05):
+            self.tracker.index = k + 1
+            return True
+        return False
+
+    def _reachable_goal(self, obs: Observation, goal: complex) -> tuple[complex, float]:
+        """(where to stop, how close): someone standing right next to the goal leaves the far edge of the
+        goal's circle, which still counts as arrived."""
+        people, radii = obs.human_positions_c, obs.human_radii
+        if len(people) == 0:
+            return goal, GOAL_TOLERANCE * 0.5
+        d = np.abs(people - goal)
+        k = int(np.argmin(d - radii))
+        if d[k] >= radii[k] + obs.radius + SWEPT_MARGIN + 0.1 or d[k] < 1e-6:
+            return goal, GOAL_TOLERANCE * 0.5
+        away = (goal - complex(people[k])) / d[k]
+        return goal + away * GOAL_TOLERANCE * 0.75, GOAL_TOLERANCE * 0.15
+
+
+def _segment_clear(world: Any, a: complex, b: complex, clearance: float) -> bool:
+    n = max(2, int(abs(b - a) / 0.1) + 1)
+    pts = a + (b - a) * np.linspace(0.0, 1.0, n)
+    return bool((world.clearance_at(pts) >= clearance).all())
 
 
 class SFMPolicy:
@@ -212,8 +321,12 @@ class SFMPolicy:
         self.tracker = _WaypointTracker(waypoint_tolerance)
 
     def act(self, obs: Observation) -> RobotAction:
-        p, v, prm = obs.position_c, obs.velocity_c, self.params
         target, last = self.tracker.target(obs)
+        return self.toward(obs, target, last)
+
+    def toward(self, obs: Observation, target: complex, last: bool = False) -> RobotAction:
+        """One social-force step toward `target` (slowing down for it when it is the last waypoint)."""
+        p, v, prm = obs.position_c, obs.velocity_c, self.params
         to = target - p
         dist = abs(to)
         if last and dist <= GOAL_TOLERANCE * 0.5:

@@ -34,6 +34,9 @@ class World:
         # world -> pixel as complex-friendly affine pieces (hot path avoids building homogeneous arrays)
         self._inv = inv[:2, :2].copy()
         self._inv_t = inv[:2, 2].copy()
+        # plain floats for the scalar lookups of the robot (numpy scalar arithmetic is slow in a hot loop)
+        self._affine_floats = (float(self._inv[0, 0]), float(self._inv[0, 1]), float(self._inv_t[0]),
+                               float(self._inv[1, 0]), float(self._inv[1, 1]), float(self._inv_t[1]))
         self.has_obstacles = bool(blocked.any())
         if self.has_obstacles:
             dist_px, (rows, cols) = ndimage.distance_transform_edt(~blocked, return_indices=True)
@@ -84,13 +87,13 @@ class World:
 
     def clearance_at_point(self, point: complex) -> float:
         """Scalar clearance_at for one complex point, without numpy overhead (robot wall check)."""
-        m, t = self._inv, self._inv_t
+        a, b, c, d, e, f = self._affine_floats
         x, y = point.real, point.imag
-        col = math.floor(m[0, 0] * x + m[0, 1] * y + t[0] + 0.5)
-        row = math.floor(m[1, 0] * x + m[1, 1] * y + t[1] + 0.5)
+        col = math.floor(a * x + b * y + c + 0.5)
+        row = math.floor(d * x + e * y + f + 0.5)
         if not (0 <= col < self.width and 0 <= row < self.height):
             return 0.0
-        return float(self.clearance[row, col])
+        return self.clearance.item(row, col)
 
     def is_free(self, point: complex, radius: float) -> bool:
         return bool(self.clearance_at(np.array([point]))[0] >= radius)

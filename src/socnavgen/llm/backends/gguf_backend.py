@@ -8,6 +8,7 @@ bounds what waits). `local` is SmolLM2-135M-Instruct, shipped inside the PyPI pa
 
 from __future__ import annotations
 
+import atexit
 import contextlib
 import importlib.util
 import json
@@ -25,7 +26,10 @@ log = logging.getLogger("socnavgen.llm")
 
 DEFAULT_N_CTX = 8192
 DEFAULT_MAX_TOKENS = 1024
-DEFAULT_SAMPLING: dict[str, float] = {}
+DEFAULT_MAX_STRING = 4000  # characters per JSON string in schema-derived grammars (0 = unbounded)
+# The 135M smoke-test model loops inside strings ("1. 2. 3. ..."): tighter bounds and a mild repeat penalty.
+LOCAL_MAX_STRING = 600
+LOCAL_SAMPLING = {"repeat_penalty": 1.1}
 INSTALL_HINT = "install the optional extra: pip install 'socnavgen[local]' (compiles llama.cpp, ~5 min)"
 _LOAD_LOCK = threading.Lock()  # model loading patches llama_cpp's defaults briefly (see _load)
 _MODELS: dict[tuple[str, int], tuple[Any, threading.Lock]] = {}  # (file, n_ctx) -> (model, its run lock)
@@ -58,7 +62,8 @@ def require_llama_cpp() -> Any:
 class GGUFBackend(Backend):
     kind = "gguf"
 
-    def __init__(self, spec: str, path: Path, options: LLMOptions, *, model_name: str | None = None) -> None:
+    def __init__(self, spec: str, path: Path, options: LLMOptions, *, model_name: str | None = None,
+                 max_string: int = DEFAULT_MAX_STRING, sampling: dict[str, float] | None = None) -> None:
         path = Path(path).expanduser()
         if not path.is_file():
             raise LLMError(f"{spec}: model file not found", file=path, hint="give the path of a .gguf file")
@@ -69,12 +74,14 @@ class GGUFBackend(Backend):
         self._run_lock = threading.Lock()  # replaced by the shared model's lock in _load
         self._grammars: dict[str, Any] = {}
         self.constrained = True  # False = free decoding (benchmarks compare the grammar's cost)
-        self.sampling: dict[str, float] = dict(DEFAULT_SAMPLING)
+        self.sampling: dict[str, float] = dict(sampling or {})  # extra llama.cpp sampling arguments
         self.n_ctx = int(os.environ.get("SOCNAVGEN_GGUF_N_CTX", DEFAULT_N_CTX))
+        self.max_string = int(os.environ.get("SOCNAVGEN_GGUF_MAX_STRING", max_string))
 
     def cache_identity(self) -> dict[str, Any]:
         stat = self.path.stat()
-        return {"backend": self.kind, "model": self.model, "file_size": stat.st_size}
+        return {"backend": self.kind, "model": self.model, "file_size": stat.st_size, "sampling": self.sampling,
+                "max_string": self.max_string, "constrained": self.constrained}
 
     def _load(self) -> Any:
         """The model, loaded once per process and file (backends of several runs share it and its lock).
@@ -96,6 +103,8 @@ class GGUFBackend(Backend):
                     except Exception as exc:  # llama.cpp reports load failures as ValueError/RuntimeError
                         raise LLMError(f"{self.spec}: cannot load the model ({exc})", file=self.path,
                                        hint="is it a GGUF file this llama-cpp-python version supports?") from exc
+                if not _MODELS:
+                    atexit.register(_close_models)
                 _MODELS[key] = (model, threading.Lock())
             self._llm, self._run_lock = _MODELS[key]
         return self._llm
@@ -110,7 +119,8 @@ class GGUFBackend(Backend):
             if text is not None:
                 grammar = grammar_cls.from_string(text, verbose=False)
             else:
-                grammar = grammar_cls.from_json_schema(json.dumps(json_schema(request.schema)), verbose=False)
+                bounded = cap_string_lengths(json_schema(request.schema), self.max_string)
+                grammar = grammar_cls.from_json_schema(json.dumps(bounded), verbose=False)
         except Exception as exc:
             if text is not None:
                 raise LLMError(f"{self.spec}: the GBNF grammar given for stage '{request.stage}' is invalid "
@@ -143,6 +153,34 @@ class GGUFBackend(Backend):
                           completion_tokens=int(usage.get("completion_tokens", 0)),
                           extra={"finish_reason": choice.get("finish_reason"),
                                  "grammar": ("caller" if request.grammar else "schema") if self.constrained else "none"})
+
+
+def _close_models() -> None:
+    """Free models while llama_cpp is still intact (its finalizers fail during interpreter teardown)."""
+    for model, lock in list(_MODELS.values()):
+        if lock.acquire(timeout=5):  # a generation still running in a daemon thread keeps its model
+            try:
+                with contextlib.suppress(Exception):
+                    model.close()
+            finally:
+                lock.release()
+    _MODELS.clear()
+
+
+def cap_string_lengths(schema: Any, limit: int) -> Any:
+    """Copy of a JSON schema whose free strings get maxLength `limit`. Small models otherwise loop inside
+    a string until the token limit, and the reply never closes; a bound makes it parse by construction."""
+    if limit <= 0:
+        return schema
+    if isinstance(schema, list):
+        return [cap_string_lengths(item, limit) for item in schema]
+    if not isinstance(schema, dict):
+        return schema
+    capped = {key: cap_string_lengths(value, limit) if key not in ("enum", "const", "default", "examples")
+              else value for key, value in schema.items()}
+    if capped.get("type") == "string" and not {"maxLength", "enum", "const", "pattern", "format"} & capped.keys():
+        capped["maxLength"] = limit
+    return capped
 
 
 @contextlib.contextmanager

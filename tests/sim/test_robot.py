@@ -1,0 +1,125 @@
+"""The default (waypoints) robot and GiveWaytoRobot in the situations that used to deadlock: a wall corner on
+the robot's line, a person who just stands in the way, and a person giving way next to a turn of the
+robot's path."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from socnavgen.sim.robot import ROBOT_RADIUS, Observation, WaypointsPolicy, slide_along_walls
+from socnavgen.sim.world import empty_room
+from tests.sim.simhelpers import Stay, human, make_sim, tree_xml
+
+STAND = tree_xml('<LookAtRobot agent_id="{id}"/>')  # a person who never moves, only faces the robot
+# the deadlock of the brief: the person stands still while the robot blocks it
+STAND_WHILE_BLOCKED = tree_xml('<Fallback><Sequence><IsRobotBlocking agent_id="{id}" distance="3.0"/>'
+                               '<LookAtRobot agent_id="{id}"/></Sequence>'
+                               '<LookAtRobot agent_id="{id}"/></Fallback>')
+
+
+def _gaps(trace) -> np.ndarray:  # noqa: ANN001
+    """Robot-human gap between the discs, (steps, humans)."""
+    centre = np.hypot(*(trace.humans[:, :, :2] - trace.robot[:, None, :2]).transpose(2, 0, 1))
+    return centre - trace.robot_radius - np.asarray(trace.human_radii)[None, :]
+
+
+def test_robot_slides_along_a_wall_corner_on_its_line():
+    # a wall block whose top corner is 0.1 m below the robot's straight line (y = 5): the disc (0.35 m) hits it
+    world = empty_room(14.0, 10.0, walls=[(6.0, 0.0, 7.0, 4.9)])
+    sim = make_sim([], [], [(1.0, 5.0), (12.0, 5.0)], WaypointsPolicy(), world=world, timeout=60)
+    trace = sim.run()
+    assert trace.end_reason == "robot_goal"
+    xy = trace.robot[:, 0] + 1j * trace.robot[:, 1]
+    clearance = world.clearance_at(xy)
+    assert clearance.min() >= 0.5 * ROBOT_RADIUS  # never into the wall
+    passing = (trace.robot[:, 0] > 6.0) & (trace.robot[:, 0] < 7.0)
+    assert trace.robot[passing, 1].min() > 5.0  # it went over the corner, along the wall
+
+
+def test_slide_removes_only_the_part_of_the_velocity_into_the_wall():
+    world = empty_room(10.0, 10.0, walls=[(0.0, 0.0, 10.0, 4.0)])  # wall surface at y = 4
+    sim = make_sim([], [], [(5.0, 4.3), (9.0, 4.3)], Stay(), world=world)
+    obs = Observation(sim)
+    v = slide_along_walls(obs, 0.4 - 0.3j)  # forward and down into the wall
+    assert v.real > 0.3 and v.imag >= 0.0  # the forward part is kept (the wall normal is per map cell), none goes in
+    away = slide_along_walls(obs, 0.4 + 0.2j)  # moving away from the wall: kept (plus a push out of it)
+    assert abs(away.real - 0.4) < 0.05 and away.imag >= 0.2
+
+
+def _standing_run(tree: str, start=(10.0, 5.1), path=((2.0, 5.0), (18.0, 5.0)), world=None):  # noqa: ANN001, ANN202
+    sim = make_sim([human(start=start, goals=[start])], [tree], list(path), WaypointsPolicy(), world=world,
+                   timeout=90)
+    return sim.run()
+
+
+def test_robot_edges_past_a_person_standing_in_its_way():
+    for tree in (STAND, STAND_WHILE_BLOCKED):
+        trace = _standing_run(tree)
+        assert trace.end_reason == "robot_goal"
+        assert _gaps(trace)[:, 0].min() > -0.05  # no collision (the verifier's overlap threshold)
+        speed = np.hypot(trace.robot[:, 3], trace.robot[:, 4])
+        assert speed[(trace.robot[:, 0] > 7.0) & (trace.robot[:, 0] < 10.0)].min() < 0.3  # it slowed down
+        beside = np.abs(trace.robot[:, 0] - 10.0) < 0.2
+        assert np.abs(trace.robot[beside, 1] - 5.1).min() > 0.7  # went around, not through
+
+
+def test_robot_waits_then_drives_around_when_it_cannot_edge_aside():
+    # a wall 0.6 m below the robot's line leaves no room to edge away from the person (who stands 0.2 m above
+    # the line); there is room above the person: after waiting, the robot drives around over the top
+    world = empty_room(20.0, 10.0, walls=[(0.0, 0.0, 20.0, 3.5)])
+    for tree in (STAND, STAND_WHILE_BLOCKED):
+        trace = _standing_run(tree, start=(10.0, 4.3), path=((2.0, 4.1), (18.0, 4.1)), world=world)
+        assert trace.end_reason == "robot_goal"
+        assert _gaps(trace)[:, 0].min() > -0.05
+        speed = np.hypot(trace.robot[:, 3], trace.robot[:, 4])
+        stopped = (speed < 0.05) & (trace.robot[:, 0] < 10.0) & (trace.t > 1.0)
+        assert stopped.sum() * trace.dt >= 1.5  # it waited behind the person first
+        beside = np.abs(trace.robot[:, 0] - 10.0) < 0.2
+        assert trace.robot[beside, 1].min() > 4.3 + 0.7  # passed above the person
+        xy = trace.robot[:, 0] + 1j * trace.robot[:, 1]
+        assert world.clearance_at(xy).min() >= 0.5 * ROBOT_RADIUS
+
+
+def test_robot_skips_a_waypoint_someone_stands_on():
+    trace_path = [(2.0, 5.0), (10.0, 5.0), (18.0, 5.0)]
+    sim = make_sim([human(start=(10.0, 5.0), goals=[(10.0, 5.0)])], [STAND], trace_path, WaypointsPolicy(),
+                   timeout=90)
+    trace = sim.run()
+    assert trace.end_reason == "robot_goal"
+    assert _gaps(trace).min() > -0.05
+
+
+def test_give_way_steps_away_from_the_robots_next_segment_and_waits_until_it_passed():
+    # the robot drives east along y = 5 and turns north at x = 10; the person stands just past the turn, a bit
+    # north of the robot's current line: stepping to "its side" of the current heading (north) would put it
+    # onto the next segment (x = 10, northward)
+    path = [(2.0, 5.0), (10.0, 5.0), (10.0, 9.5)]
+    corner = np.array([10.0, 5.0])
+    tree = tree_xml('<Fallback><Sequence><IsRobotNearby agent_id="{id}" distance="4.0"/>'
+                    '<GiveWaytoRobot agent_id="{id}" time_step="{dt}"/></Sequence>'
+                    '<Sequence><SetBlackboard output_key="agentid" value="{id}"/>'
+                    '<SetBlackboard output_key="timestep" value="{dt}"/>'
+                    '<SubTree ID="RegularNavTree" id="agentid" dt="timestep"/></Sequence></Fallback>')
+    world = empty_room(20.0, 12.0)
+    sim = make_sim([human(start=(10.3, 5.4), goals=[(10.3, 5.4)])], [tree], path, WaypointsPolicy(), world=world,
+                   timeout=60)
+    trace = sim.run()
+    assert trace.end_reason == "robot_goal"
+    assert trace.executed(0, "GiveWaytoRobot").any()
+    person = trace.humans[:, 0, :2]
+    # distance from the person to the robot's next segment (the northward one)
+    along = np.clip(person[:, 1] - corner[1], 0.0, 4.5)
+    to_next = np.hypot(person[:, 0] - corner[0], person[:, 1] - (corner[1] + along))
+    # once the robot is within 3 m of the corner and until it is past the person, the person keeps clear of it
+    robot = trace.robot[:, :2]
+    approaching = np.hypot(*(robot - corner).T) < 3.0
+    passed = robot[:, 1] > person[:, 1] + 1.2
+    judged = approaching & ~passed & (trace.t > 3.0)
+    assert judged.any()
+    settled = judged & (np.cumsum(judged) * trace.dt > 2.0)  # give it 2 s to walk out of the way
+    assert to_next[settled].min() >= 0.4 + ROBOT_RADIUS  # never back on the robot's path while it comes
+    assert _gaps(trace).min() > -0.05
+    # it stepped east/south-east (away from both legs), not north onto the next one
+    first_aside = int(np.argmax(trace.executed(0, "GiveWaytoRobot")))
+    final = person[int(np.argmax(judged)) + int(2.0 / trace.dt)]
+    assert final[0] > 10.3 or final[1] < 5.0, (person[first_aside], final)
