@@ -7,11 +7,13 @@ import json
 import os
 import tempfile
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 import yaml
 
 from socnavgen.errors import InputFileError
+
+M = TypeVar("M")
 
 MAX_TEXT_BYTES = 8 * 1024 * 1024  # JSON / YAML / XML a user or a model can hand us
 MAX_IMAGE_BYTES = 64 * 1024 * 1024
@@ -86,3 +88,17 @@ def contained_path(base: Path, relative: str | Path) -> Path:
     if target != base and base not in target.parents:
         raise InputFileError(f"path {str(relative)!r} leaves {base}", hint="keep files inside the folder")
     return target
+
+
+def load_model_file(path: Path, model: type[M], *, hint: str | None = None) -> M:
+    """A JSON or YAML file (by suffix) validated into `model`; the first schema error names its field."""
+    from pydantic import ValidationError
+
+    path = Path(path)
+    data = load_yaml_file(path) if path.suffix.lower() in (".yaml", ".yml") else load_json_file(path)
+    try:
+        return model.model_validate(data)
+    except ValidationError as exc:
+        first = exc.errors()[0]
+        where = ".".join(str(p) for p in first["loc"]) or "(top level)"
+        raise InputFileError(f"{where}: {first['msg']}", file=path, hint=hint) from exc

@@ -5,10 +5,9 @@ from __future__ import annotations
 from importlib import resources
 from pathlib import Path
 
-from pydantic import BaseModel, Field, ValidationError
+from pydantic import BaseModel, Field
 
-from socnavgen.errors import InputFileError
-from socnavgen.safeio import load_yaml_file
+from socnavgen.safeio import load_model_file
 
 DEFAULT_SUITE = "paper.yaml"
 
@@ -46,10 +45,4 @@ def load_suite(path: Path | None = None) -> EvalSuite:
         ref = resources.files("socnavgen.evaluation") / "data" / DEFAULT_SUITE
         with resources.as_file(ref) as real:
             return load_suite(Path(real))
-    data = load_yaml_file(path)
-    try:
-        return EvalSuite.model_validate(data)
-    except ValidationError as exc:
-        first = exc.errors()[0]
-        raise InputFileError(f"{'.'.join(map(str, first['loc']))}: {first['msg']}", file=path,
-                             hint="compare with the bundled suite: socnavgen eval --show-suite") from exc
+    return load_model_file(path, EvalSuite, hint="compare with the bundled suite: socnavgen eval --show-suite")

@@ -7,11 +7,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TypeVar
 
-from pydantic import BaseModel, ValidationError
+from pydantic import BaseModel
 
-from socnavgen.errors import InputFileError
 from socnavgen.run.models import Manifest, PathPlan, ScenarioProposal, ScenarioRequest
-from socnavgen.safeio import atomic_write_text, contained_path, load_json_file, read_text_limited
+from socnavgen.safeio import atomic_write_text, contained_path, load_model_file, read_text_limited
 
 M = TypeVar("M", bound=BaseModel)
 
@@ -61,13 +60,7 @@ class RunFolder:
 
     # -- typed access ------------------------------------------------------------------------
     def _read(self, path: Path, model: type[M]) -> M:
-        data = load_json_file(path)
-        try:
-            return model.model_validate(data)
-        except ValidationError as exc:
-            first = exc.errors()[0]
-            raise InputFileError(f"{'.'.join(map(str, first['loc']))}: {first['msg']}", file=path,
-                                 hint="was this file edited by hand?") from exc
+        return load_model_file(path, model, hint="was this file edited by hand?")
 
     def _write(self, path: Path, value: BaseModel) -> None:
         atomic_write_text(path, value.model_dump_json(indent=2) + "\n")
