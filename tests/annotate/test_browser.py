@@ -28,7 +28,7 @@ def free_port() -> int:
 
 @pytest.fixture
 def page(room_location: Path, tmp_path: Path):
-    sync_api = pytest.importorskip("playwright.sync_api")
+    from playwright import sync_api  # installed by `make test`: missing = failure, not skip
     if not CHROMIUM.exists():
         pytest.fail("Debian's chromium is not installed at /usr/bin/chromium (make test installs it)")
     port = free_port()
@@ -159,7 +159,7 @@ def test_opening_existing_location_shows_its_graph(room_location: Path, tmp_path
         "directed": False, "multigraph": False, "graph": {},
         "nodes": [{"type": "OPEN AREA", "pos": [20, 20], "id": "k1"}, {"type": "OPEN AREA", "pos": [50, 20], "id": "k2"}],
         "links": [{"type": "PASSAGEWAY", "source": "k1", "target": "k2"}]}))
-    sync_api = pytest.importorskip("playwright.sync_api")
+    from playwright import sync_api  # installed by `make test`: missing = failure, not skip
     port = free_port()
     server, thread = serve_in_thread(create_app(room_location), port)
     try:

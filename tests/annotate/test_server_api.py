@@ -6,9 +6,7 @@ import json
 from pathlib import Path
 
 import pytest
-
-pytest.importorskip("starlette")
-from starlette.testclient import TestClient  # noqa: E402
+from starlette.testclient import TestClient
 
 from socnavgen.annotate.server import MAX_BODY_BYTES, create_app  # noqa: E402
 

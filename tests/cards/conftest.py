@@ -14,7 +14,7 @@ BUNDLED = ("warehouse", "hospital", "home")
 def bundled_location(request: pytest.FixtureRequest) -> Path:
     path = EXAMPLES / request.param
     if not (path / "location.yaml").is_file():
-        pytest.skip(f"bundled location {request.param} not present")
+        pytest.fail(f"bundled location {request.param} not present")
     return path
 
 

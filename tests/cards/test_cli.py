@@ -38,7 +38,7 @@ def test_unknown_card_is_a_clean_error() -> None:
 def test_generate_one_and_all(repo_root: Path, tmp_path: Path) -> None:
     loc = repo_root / "examples/locations/warehouse"
     if not loc.is_dir():
-        pytest.skip("warehouse location not present")
+        pytest.fail("warehouse location not present")
     one = invoke("cards", "generate", "blind-corner", "--location", str(loc), "-o", str(tmp_path / "bc"))
     assert one.exit_code == 0, one.output
     assert (tmp_path / "bc" / "paths.json").is_file() and (tmp_path / "bc" / "behaviors" / "human1.xml").is_file()

@@ -148,7 +148,6 @@ def test_output_folder_is_a_complete_location(map_factory, tmp_path: Path) -> No
 
 
 def test_result_opens_in_the_annotator(map_factory, tmp_path: Path) -> None:
-    pytest.importorskip("starlette")
     from starlette.testclient import TestClient
 
     from socnavgen.annotate.server import create_app

