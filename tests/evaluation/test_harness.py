@@ -75,7 +75,8 @@ def test_eval_counts_valid_and_invalid_runs_and_resumes(tmp_path: Path, repo_roo
     outcomes = run_eval(suite, settings, suite.location)
     rows = {r.method: r for r in table3(outcomes, suite)}
     assert rows["ours"].path_validity == 1.0 and rows["ours"].bt_validity == 1.0
-    assert rows["ours"].path_first_attempt == 1.0 and rows["ours"].attempts_per_valid == 3.0
+    assert rows["ours"].path_first_attempt == 1.0 and rows["ours"].bt_first_attempt == 1.0
+    assert rows["ours"].attempts_per_valid == 3.0
     # The naive replies always had valid paths and an unknown node in the tree: counted as invalid trees.
     assert rows["naive"].path_validity == 1.0 and rows["naive"].bt_validity == 0.0
     assert rows["naive"].tokens_per_valid is None and rows["naive"].paper_bt_validity == 0.13

@@ -16,17 +16,20 @@ def register(app: typer.Typer) -> None:
     app.command("eval")(evaluate)
 
 
-def _table(title: str, rows: list) -> Table:  # noqa: ANN001 - pydantic rows
+def _table(title: str, rows: list, key: str) -> Table:  # noqa: ANN001 - pydantic rows
+    """Metrics as rows, one column per method/scene: readable in an 80-column terminal."""
+    from socnavgen.evaluation.report import _fmt
+
     table = Table(title=title)
     if not rows:
         return table
-    fields = list(type(rows[0]).model_fields)
-    for f in fields:
-        table.add_column(f.replace("_", " "))
-    from socnavgen.evaluation.report import _fmt
-
+    table.add_column("")
     for r in rows:
-        table.add_row(*(_fmt(getattr(r, f)) for f in fields))
+        table.add_column(_fmt(getattr(r, key)) + (" (rough)" if getattr(r, "rough", False) else ""), justify="right")
+    for f in type(rows[0]).model_fields:
+        if f in (key, "rough"):
+            continue
+        table.add_row(f.replace("_", " "), *(_fmt(getattr(r, f)) for r in rows))
     return table
 
 
@@ -80,6 +83,8 @@ def evaluate(
     model = None
     shown = settings.model_dump(mode="json")
     files = write_reports(out, outcomes, suite, shown, model)
-    console.print(_table("Table III: path / behavior-tree validity", table3(outcomes, suite)))
-    console.print(_table("Table I: proposals passing stage-1 checks", table1(outcomes)))
+    if "III" in settings.tables:
+        console.print(_table("Table III: path / behavior-tree validity", table3(outcomes, suite), "method"))
+    if "I" in settings.tables:
+        console.print(_table("Table I: proposals passing stage-1 checks", table1(outcomes), "scene"))
     console.print("wrote " + ", ".join(str(f) for f in files))

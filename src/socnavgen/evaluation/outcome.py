@@ -41,7 +41,8 @@ class RunOutcome(BaseModel):
 
 def _first_try(manifest: Manifest, stage: str) -> bool:
     """Valid on the very first reply: one attempt, no restart, for the stage and each of its keys."""
-    records = [r for name, r in manifest.stages.items() if name == stage or name.startswith(stage + ":")]
+    keyed = [r for name, r in manifest.stages.items() if name.startswith(stage + ":")]
+    records = keyed or [r for name, r in manifest.stages.items() if name == stage]  # the total sums the keys
     return bool(records) and all(r.status == "done" and r.attempts == 1 and r.restarts == 0 for r in records)
 
 

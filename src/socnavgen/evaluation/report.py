@@ -113,10 +113,10 @@ def results_markdown(outcomes: list[RunOutcome], suite: EvalSuite, settings: dic
              "Validity = the run's paths / trees passed every check within the attempt budget "
              f"({settings.get('max_requeries')} re-queries x {settings.get('max_restarts')} restarts). "
              "`paper_*` columns are the paper's numbers, measured with a different model.\n",
-             markdown_table(table3(outcomes, suite)),
-             "## Table I: scenario proposals passing the stage-1 checks\n",
-             "Realism and relevance need a human: fill in `ratings.md`.\n",
-             markdown_table(table1(outcomes))]
+             markdown_table(table3(outcomes, suite))]
+    if any(o.table == "I" for o in outcomes):
+        parts += ["## Table I: scenario proposals passing the stage-1 checks\n",
+                  "Realism and relevance need a human: fill in `ratings.md`.\n", markdown_table(table1(outcomes))]
     return "\n".join(parts)
 
 
