@@ -193,9 +193,3 @@ def test_verify_requeries_the_blamed_stage(tmp_path, mini_location, monkeypatch)
     assert len(asks) == 2 and "never closer than 6 m" in asks[1][-1].content
     assert run.verify.passed and len(seen) == 2
     assert manifest(tmp_path / "run")["stages"]["verify"]["status"] == "done"
-
-
-def test_verify_without_the_verifier_says_so(tmp_path, mini_location, monkeypatch):
-    monkeypatch.setattr(pipeline, "verifier", lambda: None)
-    error, _ = run_replay(full_script(tmp_path), mini_location, tmp_path / "run", verify=True)
-    assert isinstance(error, SocnavgenError) and "needs the verifier" in error.message

@@ -63,49 +63,24 @@ def simulate(
     _write_extras(trace, resolve_location(RunFolder(run), location), out, gif)
 
 
-def _write_extras(trace, location, out: Path, gif: bool) -> None:  # noqa: ANN001
-    """metrics.json, trajectories.png and animation.gif from the metrics/plot/animation modules, if present."""
-    try:
-        from socnavgen.sim.metrics import compute_metrics
-    except ImportError:
-        compute_metrics = None
-    if compute_metrics is not None:
-        from socnavgen.safeio import atomic_write_text
+def _write_extras(trace, location, out: Path, gif: bool) -> None:  # noqa: ANN001 - Trace, Location
+    """metrics.json, trajectories.png and (with --gif) animation.gif."""
+    from socnavgen.sim.animate import write_gif
+    from socnavgen.sim.metrics import compute_metrics, write_metrics
+    from socnavgen.sim.plot import plot_trajectories
 
-        metrics = compute_metrics(trace, location)
-        try:
-            from socnavgen.sim.metrics import write_metrics
-
-            write_metrics(metrics, out / "metrics.json")
-        except ImportError:
-            import json
-
-            atomic_write_text(out / "metrics.json", json.dumps(metrics, indent=2, default=str) + "\n")
-        keys = [k for k in ("success", "time_to_reach_goal", "minimum_distance_to_people", "collisions")
-                if k in metrics]
-        if keys:
-            console.print("  " + ", ".join(f"{k} = {metrics[k]}" for k in keys), highlight=False)
-        console.print(f"  metrics -> {out / 'metrics.json'}", highlight=False)
-    try:
-        from socnavgen.sim.plot import plot_trajectories
-    except ImportError:
-        plot_trajectories = None
-    if plot_trajectories is not None:
-        plot_trajectories(trace, location, out / "trajectories.png")
-        console.print(f"  plot -> {out / 'trajectories.png'}", highlight=False)
+    metrics = compute_metrics(trace, location)
+    write_metrics(metrics, out / "metrics.json")
+    keys = ("success", "time_to_reach_goal", "minimum_distance_to_people", "collisions")
+    console.print("  " + ", ".join(f"{k} = {metrics[k]}" for k in keys if k in metrics), highlight=False)
+    console.print(f"  metrics -> {out / 'metrics.json'}", highlight=False)
+    plot_trajectories(trace, location, out / "trajectories.png")
+    console.print(f"  plot -> {out / 'trajectories.png'}", highlight=False)
     if gif:
-        try:
-            from socnavgen.sim.animate import write_gif
-        except ImportError:
-            console.print("  [yellow]animation not available in this build[/]")
-            return
         write_gif(trace, location, out / "animation.gif")
         console.print(f"  animation -> {out / 'animation.gif'}", highlight=False)
 
 
 def register(app: typer.Typer) -> None:
-    """Add `simulate` (and `verify`, when its function `register_verify` is defined below) to the main app."""
+    """Add `simulate` to the main app (`verify` lives in verify_cmd)."""
     app.command("simulate")(simulate)
-    extra = globals().get("register_verify")
-    if extra is not None:
-        extra(app)

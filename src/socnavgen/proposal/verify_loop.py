@@ -6,7 +6,6 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
-from socnavgen.errors import SocnavgenError
 from socnavgen.proposal.conversation import ProgressEvent, bullet_list
 from socnavgen.proposal.templates import render
 from socnavgen.run import PathPlan, ScenarioProposal
@@ -27,9 +26,6 @@ def verify_and_repair(pipeline: _Pipeline, scenario: ScenarioProposal, paths: Pa
     from socnavgen.proposal.pipeline import verifier
 
     verify_run = verifier()
-    if verify_run is None:
-        raise SocnavgenError("--verify needs the verifier (socnavgen.verify.verify_run), which is not installed",
-                             hint="run without --verify, or run `socnavgen verify RUN` once it is available")
     run, recorder = pipeline.run, pipeline.recorder
     report: Any = None
     for round_ in range(pipeline.policy.max_restarts + 1):
@@ -38,7 +34,8 @@ def verify_and_repair(pipeline: _Pipeline, scenario: ScenarioProposal, paths: Pa
         recorder.progress(ProgressEvent(STAGE, None, "attempt", round_ + 1))
         report = verify_run(run.root)
         recorder.update(STAGE, None, lambda r: setattr(r, "attempts", r.attempts + 1))
-        failing = [f for f in report.findings if not f.passed]
+        # Warnings (e.g. a collision, which judges the robot, not the scenario) are not the model's to fix.
+        failing = [f for f in report.findings if not f.passed and getattr(f, "required", True)]
         recorder.mistakes(STAGE, None, [_describe(f) for f in failing])
         if report.passed:
             recorder.set_status(STAGE, None, "done")
