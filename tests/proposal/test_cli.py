@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -37,6 +38,15 @@ def test_generate_with_a_replay_script(tmp_path, warehouse):
     assert "there is no edge between co and f7" in folder.transcript_path.read_text()
     assert folder.read_paths().humans[0].interaction_point == "f7"
     assert '<IsRobotBlocking agent_id="{id}" distance="0.5"/>' in folder.read_behavior("human1")
+
+
+def test_relative_paths_as_make_demo_uses_them(tmp_path, warehouse, monkeypatch):
+    """`make demo` passes relative --location and --out: the summary must still list the files."""
+    monkeypatch.chdir(tmp_path)
+    result = CliRunner().invoke(app, ["generate", "--location", os.path.relpath(warehouse, tmp_path), *ARGS, "--llm",
+                                      f"replay:{FIXTURES / 'warehouse_blind_corner.yaml'}", "--out", "out/run"])
+    assert result.exit_code == 0, result.output
+    assert "behaviors/human1.xml" in result.output and (tmp_path / "out" / "run" / "paths.json").is_file()
 
 
 def test_naive_with_a_replay_script(tmp_path, warehouse):

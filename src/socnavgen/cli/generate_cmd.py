@@ -121,7 +121,8 @@ def _summary(run, folder: RunFolder) -> None:  # noqa: ANN001 - a proposal.Run
         console.print(f"[bold]{human.name}[/]: {' -> '.join(human.path)}{group}{meet}", highlight=False)
     files = [folder.request_path, folder.scenario_path, folder.paths_path,
              *[folder.behavior_path(h) for h in run.behaviors], folder.transcript_path, folder.manifest_path]
-    console.print("files: " + ", ".join(str(p.relative_to(folder.root)) for p in files if p.exists()),
+    root = folder.root.resolve()
+    console.print("files: " + ", ".join(str(p.resolve().relative_to(root)) for p in files if p.exists()),
                   highlight=False)
     console.print(f"tokens: {total_in} in, {total_out} out", highlight=False)
 
