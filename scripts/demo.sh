@@ -22,7 +22,7 @@ $SNG generate --location "$LOC" \
 
 step "3. Export it for HuNavSim (SocRATES fork and upstream 2.x)"
 $SNG export "$OUT/run" --format socrates -o "$OUT/export_socrates"
-$SNG export "$OUT/run" --format hunav2 -o "$OUT/export_hunav2" || echo "(hunav2 export refused: see the message above)"
+$SNG export "$OUT/run" --format hunav2 -o "$OUT/export_hunav2" || echo "(hunav2 refused this run: the nodes listed above have no 2.x equivalent)"
 
 step "4. Simulate it headless, with metrics and an animation"
 $SNG simulate "$OUT/run" --robot waypoints --gif
@@ -33,9 +33,14 @@ $SNG verify "$OUT/run" || echo "(the 135M smoke-test model proves the plumbing, 
 step "6. A scenario card, instantiated deterministically (no LLM), simulated and verified"
 rm -rf "$OUT/card_blind_corner"
 $SNG cards generate blind-corner --location "$LOC" -o "$OUT/card_blind_corner"
-$SNG export "$OUT/card_blind_corner" --format socrates -o "$OUT/card_blind_corner/export"
+$SNG export "$OUT/card_blind_corner" --format socrates -o "$OUT/card_blind_corner/export_socrates"
 $SNG simulate "$OUT/card_blind_corner" --gif
 $SNG verify "$OUT/card_blind_corner"
+
+step "7. Another card exported for upstream HuNavSim 2.x (BT.CPP v4, nodes translated)"
+rm -rf "$OUT/card_frontal_approach"
+$SNG cards generate frontal-approach --location "$LOC" -o "$OUT/card_frontal_approach"
+$SNG export "$OUT/card_frontal_approach" --format hunav2 -o "$OUT/card_frontal_approach/export_hunav2"
 
 step "Done: outputs in $OUT/"
 find "$OUT" -maxdepth 3 -type f | sort | head -60
