@@ -26,3 +26,9 @@ def reference_dir() -> Path:
 @pytest.fixture
 def warehouse_dir() -> Path:
     return EXAMPLES / "warehouse"
+
+
+@pytest.fixture(autouse=True)
+def _isolated_llm_cache(tmp_path_factory: pytest.TempPathFactory, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Every test gets an empty LLM cache: a reply cached by an earlier run must never answer a test."""
+    monkeypatch.setenv("SOCNAVGEN_CACHE_DIR", str(tmp_path_factory.mktemp("llm_cache")))
