@@ -234,6 +234,26 @@ REGULAR_NAV_XML = """<root main_tree_to_execute="RegularNavTree">
 
 LIBRARY_TREE_XML: dict[str, str] = {"BTRegularNav.xml": REGULAR_NAV_XML}
 
+# How a tree walks normally: copy `id` and `dt` into the keys the RegularNavTree subtree's ports are
+# remapped to (BT.CPP subtrees have isolated blackboards).
+REGULAR_NAV_CALL: tuple[str, ...] = (
+    '<SetBlackboard output_key="agentid" value="{id}"/>',
+    '<SetBlackboard output_key="timestep" value="{dt}"/>',
+    '<SubTree ID="RegularNavTree" id="agentid" dt="timestep"/>',
+)
+
+
+def regular_nav_sequence(pad: str = "", name: str = "WalkPath") -> str:
+    """The walking idiom as an indented `<Sequence>` block."""
+    inner = "\n".join(pad + "    " + line for line in REGULAR_NAV_CALL)
+    return f'{pad}<Sequence name="{name}">\n{inner}\n{pad}</Sequence>\n'
+
+
+def regular_walker_xml(tree_id: str = "MainTree") -> str:
+    """A complete tree that only walks its path (what a human without a generated tree does)."""
+    return (f'<root main_tree_to_execute="{tree_id}">\n  <include path="BTRegularNav.xml"/>\n'
+            f'  <BehaviorTree ID="{tree_id}">\n{regular_nav_sequence("    ")}  </BehaviorTree>\n</root>\n')
+
 
 def leaf_nodes() -> list[NodeSpec]:
     return [n for n in NODES if n.kind in ("action", "condition")]

@@ -8,7 +8,7 @@ from xml.sax.saxutils import quoteattr
 
 import yaml
 
-from socnavgen.bt.library import LIBRARY
+from socnavgen.bt.library import LIBRARY, regular_nav_sequence
 from socnavgen.bt.validate import format_problems, validate_bt_text
 from socnavgen.errors import ValidationFailed
 
@@ -25,12 +25,7 @@ def templates() -> dict[str, object]:
 
 
 def _regular(pad: str) -> str:
-    inner = pad + "    "
-    return (f'{pad}<Sequence name="WalkPath">\n'
-            f'{inner}<SetBlackboard output_key="agentid" value="{{id}}"/>\n'
-            f'{inner}<SetBlackboard output_key="timestep" value="{{dt}}"/>\n'
-            f'{inner}<SubTree ID="RegularNavTree" id="agentid" dt="timestep"/>\n'
-            f"{pad}</Sequence>\n")
+    return regular_nav_sequence(pad)
 
 
 def _leaf(name: str, ports: dict, pad: str) -> str:

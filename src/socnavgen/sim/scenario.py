@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from socnavgen.bt.library import LIBRARY_TREES
+from socnavgen.bt.library import regular_walker_xml
 from socnavgen.errors import InputFileError, ValidationFailed
 from socnavgen.location import load_location
 from socnavgen.run import RunFolder
@@ -21,18 +21,7 @@ from socnavgen.sim.world import World
 
 SPAWN_SPREAD = 1.5  # m: SocRATES places each human uniformly within 1.5 m of its first node
 
-DEFAULT_TREE = """<root main_tree_to_execute="MainTree">
-  <include path="BTRegularNav.xml"/>
-  <BehaviorTree ID="MainTree">
-    <Sequence>
-      <SetBlackboard output_key="agentid" value="{id}"/>
-      <SetBlackboard output_key="timestep" value="{dt}"/>
-      <SubTree ID="RegularNavTree" id="agentid" dt="timestep"/>
-    </Sequence>
-  </BehaviorTree>
-</root>
-"""
-assert "BTRegularNav.xml" in LIBRARY_TREES
+DEFAULT_TREE = regular_walker_xml()
 
 
 def resolve_location(run: RunFolder, override: Path | None = None):  # noqa: ANN201 - Location
