@@ -80,7 +80,10 @@ def evaluate(
             bar.update(task, advance=1, description=f"{job.table} {job.scene} {job.method} #{job.index}: {state}")
 
         outcomes = run_eval(suite, settings, where, on_result=advance)
-    model = None
+    from socnavgen.run import RunFolder
+
+    manifests = (RunFolder(Path(o.folder)) for o in outcomes)
+    model = next((m.read_manifest().model for m in manifests if m.manifest_path.is_file()), None)
     shown = settings.model_dump(mode="json")
     files = write_reports(out, outcomes, suite, shown, model)
     if "III" in settings.tables:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import importlib
 import sys
 import threading
 from pathlib import Path
@@ -68,16 +67,10 @@ def console_review(stage: str, key: str | None, result: str) -> ReviewDecision:
 
 
 def card_defaults(name: str) -> object:
-    """The scenario card NAME from the cards library (provided by socnavgen.cards.library)."""
-    try:
-        library = importlib.import_module("socnavgen.cards.library")
-    except ImportError as exc:
-        raise SocnavgenError("--card needs the scenario card library (socnavgen.cards.library), which is not "
-                             "available in this installation", hint="pass --rough TEXT instead") from exc
-    try:
-        return library.get_card(name)
-    except KeyError as exc:
-        raise SocnavgenError(f"unknown scenario card {name!r}", hint="see `socnavgen cards list`") from exc
+    """The scenario card NAME (unknown names end with a did-you-mean message)."""
+    from socnavgen.cards.library import get_card
+
+    return get_card(name)
 
 
 def _request(location: Path | None, context: str | None, task: str | None, rough: str | None, card: str | None,

@@ -106,10 +106,8 @@ def _propose_only(job: Job, llm) -> None:  # noqa: ANN001 - an LLM
 
 
 def _verify(job: Job) -> None:
-    try:
-        from socnavgen.verify import verify_run
-    except ImportError:
-        return
+    from socnavgen.verify import verify_run
+
     try:
         verify_run(job.folder)
     except Exception as exc:  # a scenario that cannot be simulated does not verify; record why

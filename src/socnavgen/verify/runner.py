@@ -3,12 +3,10 @@ RUN/sim/verify.json. The public API used by `socnavgen verify` and `generate --v
 
 from __future__ import annotations
 
-import importlib
-import inspect
 from pathlib import Path
 from typing import Any
 
-from socnavgen.errors import InputFileError, StageFailed
+from socnavgen.errors import InputFileError
 from socnavgen.location import load_location
 from socnavgen.run.folder import RunFolder
 from socnavgen.safeio import atomic_write_text
@@ -39,58 +37,19 @@ def resolve_location(run: RunFolder, location: Any = None) -> Any:
 
 
 def card_criteria_for(run: RunFolder) -> list[dict] | None:
-    """The scenario card's success criteria, when the run came from a card and the cards module offers them."""
+    """The scenario card's success criteria, when the run came from a card."""
     if not run.request_path.is_file() or not run.read_request().card:
         return None
-    try:
-        library = importlib.import_module("socnavgen.cards.library")
-    except ImportError:
-        return None
-    fn = getattr(library, "card_criteria", None)
-    if fn is None:
-        return None
-    criteria = fn(run.root)
-    return [dict(c) if not isinstance(c, dict) and hasattr(c, "items") else c for c in (criteria or [])]
+    from socnavgen.cards.library import card_criteria
+
+    return card_criteria(run.root)
 
 
 def simulate_missing(run_dir: Path, *, robot: str = "waypoints", location: Any = None, **config: Any) -> Trace:
-    """Run the headless simulator on the run with the default robot plugin, save RUN/sim/trace.npz and return
-    the trace. Uses `simulate_run(run_dir, ...)` when the simulator offers one, else builds the simulation from
-    the run folder (`socnavgen.sim.scenario.load_simulation`)."""
-    run_dir = Path(run_dir)
-    for module_name in ("socnavgen.sim.engine", "socnavgen.sim.scenario"):
-        try:
-            module = importlib.import_module(module_name)
-        except ImportError:
-            continue
-        fn = getattr(module, "simulate_run", None)
-        if fn is not None:
-            wanted = {"robot": robot, "location": location, **config}
-            params = inspect.signature(fn).parameters
-            if not any(p.kind is inspect.Parameter.VAR_KEYWORD for p in params.values()):
-                wanted = {k: v for k, v in wanted.items() if k in params}
-            result = fn(run_dir, **{k: v for k, v in wanted.items() if v is not None})
-            trace = result if isinstance(result, Trace) else getattr(result, "trace", None)
-            if not isinstance(trace, Trace) and (run_dir / "sim" / TRACE_FILE).is_file():
-                trace = Trace.load(run_dir / "sim" / TRACE_FILE)
-            if not isinstance(trace, Trace):
-                raise StageFailed("the simulator returned no trace", file=run_dir)
-            if not (run_dir / "sim" / TRACE_FILE).is_file():
-                trace.save(run_dir / "sim" / TRACE_FILE)
-            return trace
-    try:
-        from socnavgen.sim.engine import SimConfig
-        from socnavgen.sim.robot import load_policy
-        from socnavgen.sim.scenario import load_simulation
-    except ImportError as exc:
-        raise StageFailed("the run has no sim/trace.npz and the simulator is not available", file=run_dir,
-                          hint="run `socnavgen simulate RUN` first") from exc
-    loc_dir = Path(location) if isinstance(location, str | Path) else None
-    sim = load_simulation(run_dir, load_policy(robot), SimConfig(**config), location_dir=loc_dir)
-    sim.meta["robot_plugin"] = robot
-    trace = sim.run()
-    trace.save(run_dir / "sim" / TRACE_FILE)
-    return trace
+    """Run the headless simulator on the run (saving RUN/sim/trace.npz) and return the trace."""
+    from socnavgen.sim.scenario import simulate_run
+
+    return simulate_run(Path(run_dir), robot, location, **config)
 
 
 def load_trace(run: RunFolder, *, simulate_if_missing: bool, simulate_options: dict | None = None) -> Trace:
