@@ -10,6 +10,7 @@ from socnavgen.run.models import (
     ScenarioRequest,
     StageRecord,
 )
+from socnavgen.run.spec import Criterion, Encounter, HumanPart, RobotCue, RobotScript, ScenarioSpec
 
-__all__ = ["HumanPlan", "Manifest", "PathPlan", "RobotGestureRule", "RunFolder", "ScenarioProposal",
+__all__ = ["Criterion", "Encounter", "HumanPart", "RobotCue", "RobotScript", "ScenarioSpec", "HumanPlan", "Manifest", "PathPlan", "RobotGestureRule", "RunFolder", "ScenarioProposal",
            "ScenarioRequest", "StageRecord"]

@@ -10,6 +10,7 @@ from typing import TypeVar
 from pydantic import BaseModel
 
 from socnavgen.run.models import Manifest, PathPlan, ScenarioProposal, ScenarioRequest
+from socnavgen.run.spec import ScenarioSpec
 from socnavgen.safeio import atomic_write_text, contained_path, load_model_file, read_text_limited
 
 M = TypeVar("M", bound=BaseModel)
@@ -30,6 +31,10 @@ class RunFolder:
     @property
     def scenario_path(self) -> Path:
         return self.root / "scenario.json"
+
+    @property
+    def spec_path(self) -> Path:
+        return self.root / "spec.json"
 
     @property
     def proposals_path(self) -> Path:
@@ -76,6 +81,13 @@ class RunFolder:
 
     def write_scenario(self, value: ScenarioProposal) -> None:
         self._write(self.scenario_path, value)
+
+    def read_spec(self) -> ScenarioSpec | None:
+        """spec.json, or None for runs made before specs existed."""
+        return self._read(self.spec_path, ScenarioSpec) if self.spec_path.is_file() else None
+
+    def write_spec(self, value: ScenarioSpec) -> None:
+        self._write(self.spec_path, value)
 
     def read_paths(self) -> PathPlan:
         return self._read(self.paths_path, PathPlan)
