@@ -68,7 +68,7 @@ def place_card(card: Card, location: Location, pick: int = 0, finder: PlaceFinde
             return Fit(card, placement)
         found += 1
     if found:
-        return Fit(card, None, f"only {found} placement(s) exist; --pick {pick} is too large")
+        return Fit(card, None, f"only {found} placement(s) exist; --pick {pick + 1} is too large")
     shown = "; ".join(dict.fromkeys(r.split(": ", 1)[1] for r in reasons))
     return Fit(card, None, f"no {card.place.replace('_', ' ')} of this location fits: {shown}")
 

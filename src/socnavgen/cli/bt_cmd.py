@@ -10,7 +10,7 @@ from rich.table import Table
 
 from socnavgen.bt.library import NODES, NodeSpec
 from socnavgen.bt.validate import TARGETS, validate_bt_file
-from socnavgen.cli.common import console, err_console
+from socnavgen.cli.common import console
 
 app = typer.Typer(help="Behavior-tree tools: validate hand-written trees, show the node library.",
                   no_args_is_help=True)
@@ -50,11 +50,11 @@ def check(
         if problems:
             bad += 1
             for problem in problems:
-                err_console.print(str(problem), highlight=False, markup=False, soft_wrap=True)
+                console.print(str(problem), highlight=False, markup=False, soft_wrap=True)
         else:
             console.print(f"[green]ok[/] {path}", highlight=False)
     if bad:
-        err_console.print(f"[red]{bad} of {len(files)} file(s) have problems[/]")
+        console.print(f"[red]{bad} of {len(files)} file(s) have problems[/]")
         raise typer.Exit(1)
 
 

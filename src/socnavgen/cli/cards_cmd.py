@@ -22,13 +22,32 @@ def list_cards() -> None:
 
     Example: socnavgen cards list
     """
-    table = Table(show_lines=False)
+    wide = console.width >= 140  # narrow terminals and pipes (80 columns) get the essential columns only
+    table = Table(show_lines=False, expand=False)
     table.add_column("card", no_wrap=True)  # names are typed back by the user: never break them
-    for col in ("category", "picture", "needs", "summary"):
-        table.add_column(col, overflow="fold")
+    table.add_column("picture", no_wrap=True)
+    if wide:
+        table.add_column("category", no_wrap=True)
+        table.add_column("needs", overflow="fold", max_width=24)
+    table.add_column("summary", overflow="fold", min_width=24, ratio=1)
     for card in all_cards():
-        table.add_row(card.name, card.category, card.picture, ", ".join(card.needs), card.summary)
+        extra = [card.category, ", ".join(card.needs)] if wide else []
+        table.add_row(card.name, card.picture, *extra, card.summary)
     console.print(table)
+
+
+def describe_criterion(criterion: object) -> str:
+    """A card's success criterion in words: `meets_human human1 within 2.5 m` rather than a dict."""
+    fields = criterion.model_dump(exclude_none=True)  # type: ignore[attr-defined]
+    words = [str(fields.pop("kind", "?")).replace("_", " ")]
+    if "human" in fields:
+        words.append(str(fields.pop("human")))
+    if "node" in fields:
+        words.append(f"runs {fields.pop('node')}")
+    if "within" in fields:
+        words.append(f"within {fields.pop('within'):g} m")
+    words += [f"{k}={v}" for k, v in fields.items()]
+    return " ".join(words)
 
 
 @app.command("show")
@@ -50,7 +69,7 @@ def show(name: str = typer.Argument(..., help="card name, e.g. blind-corner (see
         console.print(f"[cyan]humans {k + 1}:[/] {count}{h.role}, tree '{h.tree}'"
                       f"{' (a group)' if h.group else ''}: {h.behavior}", highlight=False)
     for c in card.criteria:
-        console.print(f"[cyan]success:[/] {c.model_dump(exclude_none=True)}", highlight=False)
+        console.print(f"[cyan]success:[/] {describe_criterion(c)}", highlight=False)
     console.print(f"\nwith an LLM: socnavgen generate --card {card.name} --location LOC --llm SPEC --out RUN")
 
 
@@ -61,7 +80,8 @@ def generate(
     out: Path = typer.Option(..., "--out", "-o",
                              help="run folder to write; with --all, a folder that gets one run per card"),
     all_: bool = typer.Option(False, "--all", help="instantiate every card that fits and say why the others do not"),
-    pick: int = typer.Option(0, "--pick", min=0, help="use the N-th matching place instead of the best (variety)"),
+    pick: int = typer.Option(1, "--pick", min=1,
+                             help="use the K-th matching place (1 = the best, as generate --pick counts)"),
 ) -> None:
     """Place a card on the location's scene graph WITHOUT an LLM and write an ordinary run folder.
 
@@ -73,7 +93,7 @@ def generate(
     if all_ == (name is not None):
         raise ValidationFailed("give a card name or --all (not both)", hint="socnavgen cards list shows the names")
     if not all_:
-        run = write_card_run(name or "", location, out, pick)
+        run = write_card_run(name or "", location, out, pick - 1)
         console.print(f"[green]wrote[/] {run.root} (card {get_card(name or '').name})")
         console.print(f"next: socnavgen export {run.root} --format socrates -o OUT, or socnavgen simulate {run.root}")
         return
@@ -84,7 +104,7 @@ def generate(
         task = bar.add_task("cards", total=len(fits))
         for fit in fits:
             if fit.fits:
-                write_card_run(fit.card.name, location, out / fit.card.name, pick)
+                write_card_run(fit.card.name, location, out / fit.card.name, pick - 1)
                 written += 1
             else:
                 skipped.append((fit.card.name, fit.reason))

@@ -12,8 +12,18 @@ from rich.progress import (
     TimeElapsedColumn,
 )
 
-console = Console()
-err_console = Console(stderr=True)
+# soft_wrap: prose lines (messages, file paths) are never broken by us; the terminal wraps them, and a
+# pipe gets them whole. Tables still fit the width (80 columns when piped).
+console = Console(soft_wrap=True)
+err_console = Console(stderr=True, soft_wrap=True)
+
+
+def print_machine(text: str) -> None:
+    """Machine-readable output (YAML, JSON, Markdown): written verbatim, never wrapped or styled."""
+    import sys
+
+    sys.stdout.write(text if text.endswith("\n") else text + "\n")
+    sys.stdout.flush()
 
 
 def progress() -> Progress:

@@ -8,7 +8,7 @@ from pathlib import Path
 import typer
 from rich.table import Table
 
-from socnavgen.cli.common import console, progress
+from socnavgen.cli.common import console, print_machine, progress
 
 
 def register(app: typer.Typer) -> None:
@@ -61,7 +61,7 @@ def evaluate(
     from socnavgen.evaluation.suite import DEFAULT_SUITE, load_suite
 
     if show_suite:
-        console.print((resources.files("socnavgen.evaluation") / "data" / DEFAULT_SUITE).read_text(), markup=False)
+        print_machine((resources.files("socnavgen.evaluation") / "data" / DEFAULT_SUITE).read_text())
         return
     suite = load_suite(suite_file)
     settings = EvalSettings(llm=llm, out=out, runs=runs, proposals=proposals,

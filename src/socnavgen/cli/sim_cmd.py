@@ -16,7 +16,7 @@ def simulate(
     robot: str = typer.Option("waypoints", "--robot", help="Robot plugin: `waypoints` (follows its path, slows "
                               "and stops for people in front, like the paper's teleoperated robot), `sfm` (a "
                               "social-force robot), or your own policy as `package.module:Class` or "
-                              "`path/to/file.py:Class` (see RobotPolicy in the README)."),
+                              "`path/to/file.py:Class` (the RobotPolicy protocol is described in docs/simulator.md)."),
     dt: float = typer.Option(0.05, "--dt", min=0.001, max=0.5, help="Fixed time step in seconds."),
     timeout: float = typer.Option(120.0, "--timeout", min=0.1, help="Stop after this many simulated seconds."),
     seed: int = typer.Option(0, "--seed", help="Seed of the only randomness (spawn offsets): same seed, same run."),
@@ -37,11 +37,12 @@ def simulate(
     from socnavgen.sim.engine import SimConfig
     from socnavgen.sim.interaction import ThrottleConfig
     from socnavgen.sim.robot import load_policy
-    from socnavgen.sim.scenario import load_simulation, resolve_location
+    from socnavgen.sim.scenario import load_simulation
 
     policy = load_policy(robot)
     config = SimConfig(dt=dt, timeout=timeout, seed=seed)
-    sim = load_simulation(run, policy, config, ThrottleConfig(enabled=not no_throttle), location)
+    loaded = RunFolder(run).location(location)
+    sim = load_simulation(run, policy, config, ThrottleConfig(enabled=not no_throttle), loaded)
     sim.meta["robot_plugin"] = robot
     total = int(round(timeout / dt))
     start = time.perf_counter()
@@ -60,25 +61,24 @@ def simulate(
         console.print(f"  {name} held {seconds:.1f} s at the node before its interaction point", highlight=False)
     for note in trace.meta.get("throttle_skipped") or []:
         console.print(f"  [yellow]not throttled[/]: {note}", highlight=False)
-    _write_extras(trace, resolve_location(RunFolder(run), location), out, gif)
+    _write_extras(trace, loaded, out, gif)
 
 
 def _write_extras(trace, location, out: Path, gif: bool) -> None:  # noqa: ANN001 - Trace, Location
-    """metrics.json, trajectories.png and (with --gif) animation.gif."""
-    from socnavgen.sim.animate import write_gif
-    from socnavgen.sim.metrics import compute_metrics, write_metrics
-    from socnavgen.sim.plot import plot_trajectories
+    """metrics.json, trajectories.png and (with --gif) animation.gif, through the sim's public writer."""
+    from socnavgen.sim.outputs import write_outputs
 
-    metrics = compute_metrics(trace, location)
-    write_metrics(metrics, out / "metrics.json")
+    written = write_outputs(trace, location, out, gif=gif)
+    metrics = written.metrics
     keys = ("success", "time_to_reach_goal", "minimum_distance_to_people", "collisions")
-    console.print("  " + ", ".join(f"{k} = {metrics[k]}" for k in keys if k in metrics), highlight=False)
-    console.print(f"  metrics -> {out / 'metrics.json'}", highlight=False)
-    plot_trajectories(trace, location, out / "trajectories.png")
-    console.print(f"  plot -> {out / 'trajectories.png'}", highlight=False)
-    if gif:
-        write_gif(trace, location, out / "animation.gif")
-        console.print(f"  animation -> {out / 'animation.gif'}", highlight=False)
+    console.print("  " + ", ".join(f"{k} = {_short(metrics[k])}" for k in keys if k in metrics), highlight=False)
+    for label, path in written.files.items():
+        console.print(f"  {label} -> {path}", highlight=False)
+
+
+def _short(value: object) -> str:
+    """Numbers as people read them (no 40.400000000000006)."""
+    return f"{value:.3g}" if isinstance(value, float) else str(value)
 
 
 def register(app: typer.Typer) -> None:

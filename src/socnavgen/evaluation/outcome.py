@@ -61,7 +61,7 @@ def _naive_parts_ever_valid(folder: Path) -> tuple[bool, bool, bool, bool]:
     run = RunFolder(folder)
     if not run.transcript_path.is_file():
         return False, False, False, False
-    location = load_location(run.read_request().location)
+    location = run.location()
     path_ok = tree_ok = False
     firsts: list[tuple[bool, bool]] = []
     for entry in read_transcript(run.transcript_path):

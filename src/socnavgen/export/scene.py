@@ -8,21 +8,8 @@ from pathlib import Path
 
 from socnavgen.errors import InputFileError, ValidationFailed
 from socnavgen.export.models import SKIN_COUNT, ExportScene, HumanExport, RobotExport, WorldPoint
-from socnavgen.location import Location, load_location
+from socnavgen.location import Location
 from socnavgen.run import PathPlan, RunFolder
-
-
-def resolve_location_dir(run: RunFolder, location_path: str) -> Path:
-    """request.json stores the location as the user gave it: absolute, relative to the current
-    directory, or relative to the run folder (moved runs). Try them in that order."""
-    given = Path(location_path)
-    candidates = [given] if given.is_absolute() else [Path.cwd() / given, run.root / given,
-                                                      run.root.parent / given]
-    for candidate in candidates:
-        if (candidate / "location.yaml").is_file():
-            return candidate
-    raise InputFileError(f"location {location_path!r} of this run was not found", file=run.request_path,
-                         hint="pass --location DIR to say where the location folder is now")
 
 
 def heading(a: tuple[float, float], b: tuple[float, float], default: float = 0.0) -> float:
@@ -68,9 +55,7 @@ def build_scene(run_dir: Path | str, location_dir: Path | str | None = None) -> 
     if not run.paths_path.is_file():
         raise InputFileError("this run has no paths.json yet", file=run.root,
                              hint="finish the run first (socnavgen generate ... or cards generate)")
-    if location_dir is None:
-        location_dir = resolve_location_dir(run, run.read_request().location)
-    location = load_location(location_dir)
+    location = run.location(location_dir)
     plan = run.read_paths()
     _check_nodes(plan, location, run)
     trees = run.behaviors()

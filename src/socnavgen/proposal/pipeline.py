@@ -89,10 +89,16 @@ def _clear(run: RunFolder, stages: set[str], manifest: Manifest) -> None:
             del manifest.stages[name]
 
 
+def _identity(request: ScenarioRequest, field: str) -> object:
+    """A request field as compared on resume: the location as the folder it names, however spelled."""
+    value = getattr(request, field)
+    return Path(value).resolve() if field == "location" else value
+
+
 def _open_request(run: RunFolder, request: ScenarioRequest) -> None:
     if run.request_path.is_file():
         old = run.read_request()
-        changed = [f for f in IDENTITY_FIELDS if getattr(old, f) != getattr(request, f)]
+        changed = [f for f in IDENTITY_FIELDS if _identity(old, f) != _identity(request, f)]
         if changed:
             raise SocnavgenError(f"this run folder holds a different request ({', '.join(changed)} differ)",
                                  file=run.request_path,

@@ -3,9 +3,10 @@ paths.json, behaviors/<human>.xml, transcript.jsonl, manifest.json, sim/)."""
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TypeVar
+from typing import TYPE_CHECKING, TypeVar
 
 from pydantic import BaseModel
 
@@ -13,7 +14,11 @@ from socnavgen.run.models import Manifest, PathPlan, ScenarioProposal, ScenarioR
 from socnavgen.run.spec import ScenarioSpec
 from socnavgen.safeio import atomic_write_text, contained_path, load_model_file, read_text_limited
 
+if TYPE_CHECKING:
+    from socnavgen.location import Location
+
 M = TypeVar("M", bound=BaseModel)
+LOCATION_FILE = "location.yaml"
 
 
 @dataclass
@@ -71,10 +76,50 @@ class RunFolder:
         atomic_write_text(path, value.model_dump_json(indent=2) + "\n")
 
     def read_request(self) -> ScenarioRequest:
-        return self._read(self.request_path, ScenarioRequest)
+        """request.json, with `location` resolved to an absolute folder when it can be found (it is stored
+        relative to the run folder, so the run works from any directory and moves with its location)."""
+        request = self._read(self.request_path, ScenarioRequest)
+        found = self._find_location(request.location)
+        return request.model_copy(update={"location": str(found)}) if found else request
 
     def write_request(self, value: ScenarioRequest) -> None:
+        """Store the location relative to the run folder (absolute when there is no relative path)."""
+        folder = Path(value.location)
+        if (folder / LOCATION_FILE).is_file():
+            try:
+                stored = os.path.relpath(folder.resolve(), self.root.resolve())
+            except ValueError:  # another drive: no relative path exists
+                stored = str(folder.resolve())
+            value = value.model_copy(update={"location": stored})
         self._write(self.request_path, value)
+
+    def _find_location(self, stored: str) -> Path | None:
+        """The folder request.json means: absolute; relative to the run folder (how it is written); or, for
+        runs written before, relative to the current directory."""
+        given = Path(stored)
+        candidates = [given] if given.is_absolute() else [self.root / given, Path.cwd() / given]
+        return next((c.resolve() for c in candidates if (c / LOCATION_FILE).is_file()), None)
+
+    def location(self, override: Location | Path | str | None = None) -> Location:
+        """THE resolver of a run's location: `override` (a loaded Location is passed through, a folder is
+        loaded), else the folder request.json names. Load it once and pass the object on."""
+        from socnavgen.errors import InputFileError
+        from socnavgen.location import Location, load_location
+
+        if isinstance(override, Location):
+            return override
+        if override is not None:
+            return load_location(Path(override))
+        if not self.request_path.is_file():
+            raise InputFileError("no request.json: cannot tell which location this run uses", file=self.root,
+                                 hint="pass --location DIR")
+        stored = self._read(self.request_path, ScenarioRequest).location
+        found = self._find_location(stored)
+        if found is None:
+            raise InputFileError(f"location folder {stored!r} of this run was not found (looked relative to the "
+                                 "run folder and to the current directory)", file=self.request_path,
+                                 hint="pass --location DIR to say where the location folder is now")
+        return load_location(found)
 
     def read_scenario(self) -> ScenarioProposal:
         return self._read(self.scenario_path, ScenarioProposal)

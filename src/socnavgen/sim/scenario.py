@@ -10,7 +10,6 @@ import numpy as np
 
 from socnavgen.bt.library import regular_walker_xml
 from socnavgen.errors import InputFileError, ValidationFailed
-from socnavgen.location import load_location
 from socnavgen.run import RunFolder
 from socnavgen.sim.agents import HumanSpec
 from socnavgen.sim.engine import SimConfig, Simulation
@@ -22,19 +21,6 @@ from socnavgen.sim.world import World
 SPAWN_SPREAD = 1.5  # m: SocRATES places each human uniformly within 1.5 m of its first node
 
 DEFAULT_TREE = regular_walker_xml()
-
-
-def resolve_location(run: RunFolder, override: Path | None = None):  # noqa: ANN201 - Location
-    """The run's location: --location, else request.json's path as given or relative to the run."""
-    if override is not None:
-        return load_location(override)
-    request = run.read_request()
-    candidates = [Path(request.location), run.root / request.location, run.root.parent / request.location]
-    for cand in candidates:
-        if (cand / "location.yaml").is_file():
-            return load_location(cand)
-    raise InputFileError(f"location {request.location!r} not found", file=run.request_path,
-                         hint="pass --location PATH")
 
 
 def spawn_points(world: World, first_nodes: list[complex], group_ids: list[int], radius: float,
@@ -63,10 +49,12 @@ def spawn_points(world: World, first_nodes: list[complex], group_ids: list[int],
 
 
 def load_simulation(run_dir: Path, policy: RobotPolicy, config: SimConfig | None = None,
-                    throttle: ThrottleConfig | None = None, location_dir: Path | None = None) -> Simulation:
+                    throttle: ThrottleConfig | None = None, location=None) -> Simulation:  # noqa: ANN001
+    """A ready Simulation of a run folder. `location`: a loaded Location (passed on, not re-read), a folder,
+    or None for the one request.json names (RunFolder.location)."""
     config = config or SimConfig()
     run = RunFolder(Path(run_dir))
-    location = resolve_location(run, location_dir)
+    location = run.location(location)
     plan = run.read_paths()
     world = World.from_location(location)
     known = set(location.scene_graph.node_ids())
@@ -136,9 +124,8 @@ def simulate_run(run_dir: Path, robot: str | RobotPolicy = "waypoints", location
     policy = load_policy(robot) if isinstance(robot, str) else robot
     if isinstance(throttle, bool):
         throttle = ThrottleConfig(enabled=throttle)
-    location_dir = getattr(location, "root", location)
     sim = load_simulation(Path(run_dir), policy, SimConfig(dt=dt, timeout=timeout, seed=seed), throttle,
-                          Path(location_dir) if location_dir is not None else None)
+                          location)
     sim.meta["robot_plugin"] = robot if isinstance(robot, str) else type(robot).__name__
     trace = sim.run(progress=progress)
     if save:

@@ -7,7 +7,6 @@ from pathlib import Path
 from typing import Any
 
 from socnavgen.errors import InputFileError
-from socnavgen.location import load_location
 from socnavgen.run.folder import RunFolder
 from socnavgen.safeio import atomic_write_text
 from socnavgen.sim.trace import Trace
@@ -17,23 +16,6 @@ from socnavgen.verify.models import VerifyReport, VerifySettings
 
 TRACE_FILE = "trace.npz"
 REPORT_FILE = "verify.json"
-
-
-def resolve_location(run: RunFolder, location: Any = None) -> Any:
-    """The run's location: given, or request.json's `location` (as written, else relative to the run)."""
-    if location is not None and not isinstance(location, str | Path):
-        return location
-    if location is None:
-        if not run.request_path.is_file():
-            raise InputFileError("no request.json: cannot tell which location this run uses", file=run.root,
-                                 hint="pass --location, or verify a folder written by `socnavgen generate`")
-        location = run.read_request().location
-    candidates = [Path(location), run.root / location]
-    for path in candidates:
-        if (path / "location.yaml").is_file():
-            return load_location(path)
-    raise InputFileError(f"location folder {location!s} not found", file=run.request_path,
-                         hint="the location path in request.json is relative to where generate ran")
 
 
 def card_criteria_for(run: RunFolder) -> list[dict] | None:
@@ -71,7 +53,7 @@ def verify_trace(run_dir: Path | str, trace: Trace, *, location: Any = None,
     run = RunFolder(Path(run_dir))
     settings = settings or VerifySettings()
     plan = run.read_paths()
-    loc = resolve_location(run, location)
+    loc = run.location(location)
     expectations = derive_expectations(plan, run.behaviors(), loc, card_criteria_for(run))
     findings = evaluate(expectations, trace, settings)
     seconds = float(trace.t[-1] - trace.t[0]) if trace.steps else 0.0
@@ -92,11 +74,11 @@ def verify_run(run_dir: Path | str, *, simulate_if_missing: bool = True, locatio
                              hint="verify needs a generated run (socnavgen generate ... --out RUN)")
     settings = (settings or VerifySettings()).model_copy(update={k: v for k, v in thresholds.items()
                                                                  if v is not None})
+    loaded = run.location(location)  # once: the simulation and the checks share the object
     options = dict(simulate_options or {})
-    if location is not None and isinstance(location, str | Path):
-        options.setdefault("location", location)
+    options.setdefault("location", loaded)
     trace = load_trace(run, simulate_if_missing=simulate_if_missing, simulate_options=options)
-    report = verify_trace(run.root, trace, location=location, settings=settings)
+    report = verify_trace(run.root, trace, location=loaded, settings=settings)
     if write:
         atomic_write_text(run.sim_dir / REPORT_FILE, report.model_dump_json(indent=2) + "\n")
     return report
