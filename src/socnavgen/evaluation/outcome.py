@@ -54,7 +54,6 @@ def _done(manifest: Manifest, stage: str) -> bool:
 def _naive_parts_ever_valid(folder: Path) -> tuple[bool, bool, bool, bool]:
     """For the naive baseline, which re-queries one combined reply, score paths and trees apart:
     (paths valid in some attempt, trees valid in some attempt, paths valid at first, trees valid at first)."""
-    from socnavgen.location import load_location
     from socnavgen.proposal.naive import naive_parts
     from socnavgen.proposal.replies import NaiveReply
 

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from socnavgen.bt.library import regular_walker_xml
-from socnavgen.errors import InputFileError, ValidationFailed
+from socnavgen.errors import ValidationFailed
 from socnavgen.run import RunFolder
 from socnavgen.sim.agents import HumanSpec
 from socnavgen.sim.engine import SimConfig, Simulation
