@@ -183,7 +183,9 @@ def test_broken_paths_are_all_reported(tmp_path):
     run = make_run(tmp_path, robot=["r0", "zz", "r3"], human_path=["h0", "qq"])
     with pytest.raises(ValidationFailed) as err:
         load_simulation(run, WaypointsPolicy())
-    assert "robot path: unknown node 'zz'" in err.value.message and "human1: unknown node 'qq'" in err.value.message
+    message = err.value.message
+    assert "robot path: node 'zz' is not in the scene graph" in message
+    assert "human1's path: node 'qq' is not in the scene graph" in message
 
 
 def test_simulate_run_saves_and_returns_the_trace(tmp_path):

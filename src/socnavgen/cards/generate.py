@@ -19,7 +19,6 @@ from socnavgen.cards.routes import DoesNotFit, Placement, RouteBuilder
 from socnavgen.cards.trees import render_template
 from socnavgen.errors import ValidationFailed
 from socnavgen.location import Location, load_location
-from socnavgen.proposal.path_checks import check_path
 from socnavgen.run import (
     HumanPlan,
     Manifest,
@@ -29,6 +28,7 @@ from socnavgen.run import (
     ScenarioRequest,
     StageRecord,
 )
+from socnavgen.run.checks import plan_mistakes
 
 GENERATOR = "cards"  # what request.json / manifest.json say instead of a model
 
@@ -84,11 +84,7 @@ def _plan(placement: Placement, location: Location) -> PathPlan:
     plan = PathPlan(reasoning=f"scenario card {placement.card.name} placed at {placement.place.node}: "
                               f"{placement.place.evidence}",
                     robot=placement.robot, humans=humans, robot_gestures=placement.card.robot_gestures)
-    mistakes = check_path(location.graph, "robot", plan.robot)
-    for h in plan.humans:
-        mistakes += check_path(location.graph, h.name, h.path)
-        if h.interaction_point and (h.interaction_point not in h.path or h.interaction_point not in plan.robot):
-            mistakes.append(f"{h.name}: interaction point {h.interaction_point} is not on both paths")
+    mistakes = plan_mistakes(plan, location.graph)
     if mistakes:  # a generator bug: say so loudly rather than write a broken run
         raise ValidationFailed("card generator produced invalid paths: " + "; ".join(mistakes))
     return plan

@@ -10,6 +10,7 @@ from socnavgen.errors import InputFileError, ValidationFailed
 from socnavgen.export.models import SKIN_COUNT, ExportScene, HumanExport, RobotExport, WorldPoint
 from socnavgen.location import Location
 from socnavgen.run import PathPlan, RunFolder
+from socnavgen.run.checks import plan_mistakes
 
 
 def heading(a: tuple[float, float], b: tuple[float, float], default: float = 0.0) -> float:
@@ -38,14 +39,9 @@ def skin_for(agent_id: int) -> int:
 
 
 def _check_nodes(plan: PathPlan, location: Location, run: RunFolder) -> None:
-    known = set(location.scene_graph.node_ids())
-    bad = [f"{who}: node '{n}'" for who, path in [("robot", plan.robot)] + [(h.name, h.path) for h in plan.humans]
-           for n in path if n not in known]
-    if not plan.robot:
-        bad.append("robot: empty path")
-    bad += [f"{h.name}: empty path" for h in plan.humans if not h.path]
+    bad = plan_mistakes(plan, location.graph, interaction_points=False)
     if bad:
-        raise ValidationFailed("paths.json names nodes the location's scene graph does not have: " + "; ".join(bad),
+        raise ValidationFailed("paths.json does not fit the location's scene graph: " + "; ".join(bad),
                                file=run.paths_path, hint="was the run generated on another location?")
 
 

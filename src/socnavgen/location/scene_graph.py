@@ -72,3 +72,17 @@ def to_networkx(graph: SceneGraph) -> nx.Graph:
 
 def _num(value: float) -> float | int:
     return int(value) if float(value).is_integer() else float(value)
+
+
+def path_mistakes(graph: nx.Graph, who: str, path: list[str]) -> list[str]:
+    """THE check of a walk on the scene graph: unknown nodes, and consecutive nodes without an edge, each
+    named exactly (the text goes back to a model as its correction, and to users as an error)."""
+    mistakes = [f"{who}: node '{n}' is not in the scene graph" for n in dict.fromkeys(path) if n not in graph]
+    for a, b in zip(path, path[1:], strict=False):
+        if a not in graph or b not in graph:
+            continue
+        if a == b:
+            mistakes.append(f"{who}: node {a} is repeated twice in a row; list each node once")
+        elif not graph.has_edge(a, b):
+            mistakes.append(f"{who}: there is no edge between {a} and {b}")
+    return mistakes

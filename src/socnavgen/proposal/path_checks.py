@@ -7,6 +7,7 @@ from collections import defaultdict
 
 import networkx as nx
 
+from socnavgen.location.scene_graph import path_mistakes
 from socnavgen.proposal.replies import PathsReply, human_name
 from socnavgen.run import HumanPlan, PathPlan
 
@@ -16,16 +17,8 @@ def _names(humans: list[str]) -> str:
 
 
 def check_path(graph: nx.Graph, who: str, path: list[str]) -> list[str]:
-    """Unknown nodes and consecutive nodes without an edge along one path."""
-    mistakes = [f"{who}: node '{n}' is not in the scene graph" for n in dict.fromkeys(path) if n not in graph]
-    for a, b in zip(path, path[1:], strict=False):
-        if a not in graph or b not in graph:
-            continue
-        if a == b:
-            mistakes.append(f"{who}: node {a} is repeated twice in a row; list each node once")
-        elif not graph.has_edge(a, b):
-            mistakes.append(f"{who}: there is no edge between {a} and {b}")
-    return mistakes
+    """Unknown nodes and consecutive nodes without an edge along one path (the scene graph's own check)."""
+    return path_mistakes(graph, who, path)
 
 
 def _by_human(mapping: dict, what: str, humans: list[str], mistakes: list[str]) -> dict[str, object]:

@@ -11,6 +11,7 @@ import numpy as np
 from socnavgen.bt.library import regular_walker_xml
 from socnavgen.errors import ValidationFailed
 from socnavgen.run import RunFolder
+from socnavgen.run.checks import plan_mistakes
 from socnavgen.sim.agents import HumanSpec
 from socnavgen.sim.engine import SimConfig, Simulation
 from socnavgen.sim.gestures import ScriptedGestures
@@ -58,16 +59,8 @@ def load_simulation(run_dir: Path, policy: RobotPolicy, config: SimConfig | None
     plan = run.read_paths()
     world = World.from_location(location)
     known = set(location.scene_graph.node_ids())
-    problems = [f"robot path: unknown node {n!r}" for n in plan.robot if n not in known]
-    for h in plan.humans:
-        problems += [f"{h.name}: unknown node {n!r}" for n in h.path if n not in known]
-        if not h.path:
-            problems.append(f"{h.name}: empty path")
+    problems = plan_mistakes(plan, location.graph, interaction_points=False)
     humans = sorted(plan.humans, key=lambda h: h.agent_id)
-    if [h.agent_id for h in humans] != list(range(len(humans))):
-        problems.append("humans must be named human1..humanN without gaps (agent id = number - 1)")
-    if not plan.robot:
-        problems.append("the robot path is empty")
     if problems:
         raise ValidationFailed("cannot simulate this run:\n  " + "\n  ".join(problems), file=run.paths_path)
 
