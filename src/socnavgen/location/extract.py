@@ -499,7 +499,7 @@ def extract_location(map_yaml: Path, out_dir: Path, options: ExtractOptions | No
     atomic_write_text(out_dir / LOCATION_FILE, yaml.safe_dump(data, sort_keys=False, allow_unicode=True, width=100))
     write_scene_graph(graph, out_dir / SCENE_GRAPH_FILE)
     location = load_location(out_dir)
-    from socnavgen.annotate.bridge import render_overlay
+    from socnavgen.location.render import png_bytes, render_location
 
-    atomic_write_bytes(out_dir / SCENE_GRAPH_IMAGE, render_overlay(location))
+    atomic_write_bytes(out_dir / SCENE_GRAPH_IMAGE, png_bytes(render_location(location)))
     return location, stats
