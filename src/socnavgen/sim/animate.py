@@ -17,20 +17,33 @@ from PIL import Image, ImageDraw, ImageFont
 
 from socnavgen.bt.library import HUMAN_GESTURES, ROBOT_GESTURES
 from socnavgen.safeio import atomic_write_bytes
+from socnavgen.sim.labels import LabelPlacer
 from socnavgen.sim.plot import (
     INTERACTION_COLOR,
     ROBOT_COLOR,
     _figure_for,
+    axes_placer,
     draw_graph,
     draw_map,
+    graph_points,
     human_color,
     interaction_points,
+    legend_below,
+    place_text,
     plt,
     view_limits,
 )
 from socnavgen.sim.trace import YAW, Trace
 
 FONT_PX = 11  # caption / bubble font size in pixels
+HEADER_PX = 26  # white strip above the map for the clock (never clipped, never over the data)
+
+
+def scale_length(view_width_m: float) -> float:
+    """A round scale-bar length, about a fifth of the view."""
+    target = max(view_width_m / 5.0, 1e-3)
+    magnitude = 10 ** math.floor(math.log10(target))
+    return next(m * magnitude for m in (5, 2, 1) if m * magnitude <= target)
 
 
 def frame_indices(steps: int, dt: float, fps: float, max_frames: int) -> np.ndarray:
@@ -75,27 +88,44 @@ class _Canvas:
 
     def __init__(self, trace: Trace, location: Any, plan: Any, width_in: float, dpi: int) -> None:
         points = interaction_points(location, plan, trace)
-        fig, ax = _figure_for(view_limits(trace, location, points.values()), width_in, dpi)
+        limits = view_limits(trace, location, points.values())
+        fig, ax = _figure_for(limits, width_in, dpi)
         try:
             draw_map(ax, location)
             draw_graph(ax, location, alpha=0.25, labels=False)
-            for x, y in points.values():
-                ax.plot(x, y, marker="*", ms=12, color=INTERACTION_COLOR, mec="black", zorder=3, ls="none")
+            for k, (x, y) in enumerate(points.values()):
+                ax.plot(x, y, marker="*", ms=12, color=INTERACTION_COLOR, mec="black", zorder=3, ls="none",
+                        label="interaction point" if k == 0 else None)
             if trace.robot_goal is not None:
-                ax.plot(*trace.robot_goal, marker="X", ms=9, color=ROBOT_COLOR, mec="black", zorder=3, ls="none")
-            for i in range(len(trace.human_names)):  # faint full paths for context
+                ax.plot(*trace.robot_goal, marker="o", ms=13, mfc="none", mec=ROBOT_COLOR, mew=2, zorder=3,
+                        ls="none", label="robot goal")
+            for i, name in enumerate(trace.human_names):  # faint full paths for context
                 ax.plot(trace.humans[:, i, 0], trace.humans[:, i, 1], color=human_color(i), lw=0.8, alpha=0.35,
                         zorder=3)
+                ax.plot([], [], marker="o", color=human_color(i), mec="black", ls="none", label=name)
             ax.plot(trace.robot[:, 0], trace.robot[:, 1], color=ROBOT_COLOR, lw=0.8, alpha=0.35, zorder=3)
+            ax.plot([], [], marker="o", color=ROBOT_COLOR, mec="black", ls="none", label="robot")
             ax.set_xticks([])
             ax.set_yticks([])
-            fig.tight_layout()
+            from mpl_toolkits.axes_grid1.anchored_artists import AnchoredSizeBar
+
+            bar = scale_length(limits[1] - limits[0])
+            ax.add_artist(AnchoredSizeBar(ax.transData, bar, f"{bar:g} m", "lower right", pad=0.4, sep=3,
+                                          frameon=True, size_vertical=bar / 40, fontproperties={"size": 8}))
+            fig.tight_layout(rect=(0, legend_below(fig, ax, ncol=5), 1, 1))
+            placer = axes_placer(ax)
+            for node_id, (x, y) in graph_points(location).items():
+                place_text(ax, placer, (x, y), node_id, fontsize=6, color="#2b4570", alpha=0.7, zorder=2)
             fig.canvas.draw()
-            self.background = Image.fromarray(np.asarray(fig.canvas.buffer_rgba())[:, :, :3].copy())
-            self.height = self.background.height
+            body = Image.fromarray(np.asarray(fig.canvas.buffer_rgba())[:, :, :3].copy())
             self.to_display = ax.transData.frozen()
         finally:
             plt.close(fig)
+        # a header strip for the clock above the picture
+        self.background = Image.new("RGB", (body.width, body.height + HEADER_PX), (255, 255, 255))
+        self.background.paste(body, (0, HEADER_PX))
+        self.height = body.height  # of the figure: pixel() maps into it, then shifts by the header
+        self.offset = HEADER_PX
         origin = self.to_display.transform((0.0, 0.0))
         self.px_per_m = float(np.linalg.norm(self.to_display.transform((1.0, 0.0)) - origin))
         self.font = _font(FONT_PX)
@@ -103,7 +133,7 @@ class _Canvas:
 
     def pixel(self, x: float, y: float) -> tuple[float, float]:
         dx, dy = self.to_display.transform((x, y))
-        return float(dx), float(self.height - dy)  # display y grows upward, image rows downward
+        return float(dx), float(self.height - dy) + self.offset  # display y grows up, image rows down
 
     def agent(self, draw: ImageDraw.ImageDraw, x: float, y: float, yaw: float, radius: float, color: str) -> None:
         cx, cy = self.pixel(x, y)
@@ -112,12 +142,19 @@ class _Canvas:
         hx, hy = self.pixel(x + 1.4 * radius * math.cos(yaw), y + 1.4 * radius * math.sin(yaw))
         draw.line((cx, cy, hx, hy), fill=(0, 0, 0), width=2)
 
-    def caption(self, draw: ImageDraw.ImageDraw, x: float, y: float, radius: float, text: str) -> None:
+    def caption(self, draw: ImageDraw.ImageDraw, placer: LabelPlacer, x: float, y: float, radius: float,
+                text: str) -> None:
+        """The agent's caption below it, or beside/above it when that is taken; left out if nowhere is free."""
         cx, cy = self.pixel(x, y)
-        top = cy + radius * self.px_per_m + 2
-        box = draw.textbbox((cx, top), text, font=self.font, anchor="mt")
+        r = radius * self.px_per_m + 2
+        x0, y0, x1, y1 = draw.textbbox((0, 0), text, font=self.font)
+        w, h = x1 - x0 + 2, y1 - y0 + 2
+        box = placer.place(cx, cy, w, h, offsets=((-0.5, 0.0), (-0.5, -1.0), (0.0, -0.5), (-1.0, -0.5)),
+                           clearance=r)
+        if box is None:
+            return
         draw.rectangle(box, fill=(255, 255, 255))
-        draw.text((cx, top), text, font=self.font, fill=(0, 0, 0), anchor="mt")
+        draw.text((box[0] + 1 - x0, box[1] + 1 - y0), text, font=self.font, fill=(0, 0, 0))
 
     def bubble(self, draw: ImageDraw.ImageDraw, x: float, y: float, radius: float, text: str, left: bool) -> None:
         cx, cy = self.pixel(x, y)
@@ -133,11 +170,8 @@ class _Canvas:
         draw.text((tx, ty), text, font=self.font, fill=(0, 0, 0), anchor=anchor)
 
     def clock(self, draw: ImageDraw.ImageDraw, t: float) -> None:
-        text = f"t = {t:6.1f} s"
-        box = draw.textbbox((8, 6), text, font=self.clock_font)
-        draw.rounded_rectangle((box[0] - 4, box[1] - 3, box[2] + 4, box[3] + 3), radius=4, fill=(255, 255, 255),
-                               outline=(0, 0, 0))
-        draw.text((8, 6), text, font=self.clock_font, fill=(0, 0, 0))
+        """The time, in the header strip (the strip is white: nothing to clip or cover)."""
+        draw.text((8, HEADER_PX // 2), f"t = {t:.1f} s", font=self.clock_font, fill=(0, 0, 0), anchor="lm")
 
 
 def _render_frames(trace: Trace, location: Any, idx: np.ndarray, plan: Any, width_in: float,
@@ -147,20 +181,25 @@ def _render_frames(trace: Trace, location: Any, idx: np.ndarray, plan: Any, widt
     for k in idx:
         img = canvas.background.copy()
         draw = ImageDraw.Draw(img)
+        placer = LabelPlacer(bounds=(0, HEADER_PX, img.width, img.height))
         speech: list[tuple[float, float, float, str, bool]] = []
+        agents = [(name, *(float(v) for v in trace.humans[k, i, :YAW + 1]), float(trace.human_radii[i]),
+                   human_color(i)) for i, name in enumerate(trace.human_names)]
+        agents.append(("robot", *(float(v) for v in trace.robot[k, :YAW + 1]), float(trace.robot_radius),
+                       ROBOT_COLOR))
+        for _name, x, y, yaw, radius, color in agents:  # discs first: captions keep off every agent
+            canvas.agent(draw, x, y, yaw, radius, color)
+            placer.reserve_point(*canvas.pixel(x, y), radius * canvas.px_per_m)
         for i, name in enumerate(trace.human_names):
-            x, y, yaw = (float(v) for v in trace.humans[k, i, :YAW + 1])
-            radius = float(trace.human_radii[i])
-            canvas.agent(draw, x, y, yaw, radius, human_color(i))
+            _, x, y, _yaw, radius, _ = agents[i]
             act = int(trace.action[k, i])
             action = trace.node_names[act] if 0 <= act < len(trace.node_names) else "-"
-            canvas.caption(draw, x, y, radius, f"{name}: {action}")
+            canvas.caption(draw, placer, x, y, radius, f"{name}: {action}")
             word = _gesture_word(HUMAN_GESTURES, int(trace.human_gesture[k, i]))
             if word:
                 speech.append((x, y, radius, word, False))
-        x, y, yaw = (float(v) for v in trace.robot[k, :YAW + 1])
-        canvas.agent(draw, x, y, yaw, float(trace.robot_radius), ROBOT_COLOR)
-        canvas.caption(draw, x, y, float(trace.robot_radius), "robot")
+        _, x, y, _yaw, radius, _ = agents[-1]
+        canvas.caption(draw, placer, x, y, radius, "robot")
         word = _gesture_word(ROBOT_GESTURES, int(trace.robot_gesture[k]))
         if word:  # the robot speaks to the upper left, humans to the upper right
             speech.append((x, y, float(trace.robot_radius), word, True))
