@@ -46,10 +46,25 @@ def test_check_lists_every_problem_of_every_file_and_exits_1(tmp_path: Path) -> 
     assert "2 of 3 file(s) have problems" in out
 
 
-def test_check_missing_file_is_a_problem_not_a_crash(tmp_path: Path) -> None:
-    result = runner.invoke(app, ["bt", "check", str(tmp_path / "nope.xml")])
-    assert result.exit_code == 1
-    assert "file not found" in result.output
+def test_check_missing_file_is_a_user_error_not_a_crash(tmp_path: Path) -> None:
+    good = write(tmp_path, "good.xml", GOOD)
+    from socnavgen.errors import InputFileError
+
+    result = runner.invoke(app, ["bt", "check", str(good), str(tmp_path / "nope.xml")])
+    # a user error: main() prints it and exits 2, as the README promises (1 is for problems found in trees)
+    assert isinstance(result.exception, InputFileError)
+    assert "no such file" in result.exception.render() and "nope.xml" in result.exception.render()
+
+
+def test_check_findings_go_to_stdout(tmp_path: Path) -> None:
+    import subprocess
+    import sys
+
+    bad = write(tmp_path, "bad.xml", "<root><BehaviorTree ID='x'><Nope/></BehaviorTree></root>")
+    done = subprocess.run([sys.executable, "-c", "from socnavgen.cli import main; main()", "bt", "check", str(bad)],
+                          capture_output=True, text=True, timeout=60)
+    assert done.returncode == 1
+    assert "bad.xml" in done.stdout and "Nope" in done.stdout and done.stderr == ""
 
 
 def test_check_target_and_humans(tmp_path: Path) -> None:

@@ -102,7 +102,10 @@ def test_show_defaults_to_scene_graph_png_in_folder(location_copy) -> None:
     assert (loc / "scene_graph.png").read_bytes() == (EXAMPLES / "home" / "scene_graph.png").read_bytes()
 
 
-def test_check_missing_folder_exit_1(tmp_path: Path) -> None:
+def test_check_missing_folder_is_a_user_error(tmp_path: Path) -> None:
+    from socnavgen.errors import InputFileError
+
     result = runner.invoke(app, ["location", "check", "--json", str(tmp_path / "nowhere")])
-    assert result.exit_code == 1
-    assert json.loads(result.output)["problems"][0]["message"] == "location folder not found"
+    # main() turns this into one message and exit code 2 (1 is for problems found in a location)
+    assert isinstance(result.exception, InputFileError)
+    assert "no such location folder" in result.exception.render()

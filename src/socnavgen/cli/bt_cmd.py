@@ -11,6 +11,7 @@ from rich.table import Table
 from socnavgen.bt.library import NODES, NodeSpec
 from socnavgen.bt.validate import TARGETS, validate_bt_file
 from socnavgen.cli.common import console
+from socnavgen.errors import InputFileError
 
 app = typer.Typer(help="Behavior-tree tools: validate hand-written trees, show the node library.",
                   no_args_is_help=True)
@@ -44,6 +45,10 @@ def check(
             ids = {int(part) for part in human_ids.split(",") if part.strip()}
         except ValueError as exc:
             raise typer.BadParameter("expected comma-separated integers like 0,1,2", param_hint="--humans") from exc
+    missing = [path for path in files if not path.is_file()]
+    if missing:  # a user error (exit 2), not a finding of the check (exit 1)
+        raise InputFileError("no such file" + ("s: " + ", ".join(map(str, missing)) if len(missing) > 1 else ""),
+                             file=missing[0], hint="check the path (a shell glob that matched nothing stays literal)")
     bad = 0
     for path in files:
         problems = validate_bt_file(path, target=target, human_ids=ids)

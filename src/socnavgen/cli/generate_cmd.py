@@ -190,8 +190,6 @@ def register(app: typer.Typer) -> None:
 
         if redo and from_run is None:
             raise SocnavgenError("--redo needs --from RUN", hint="e.g. --from runs/x --redo paths")
-        if from_run is not None and out is not None and Path(out).resolve() != Path(from_run).resolve():
-            copy_run(from_run, out)
         target = out or from_run
         if target is None:
             raise SocnavgenError("missing --out", hint="name the run folder to write, e.g. --out runs/my_scenario")
@@ -201,13 +199,21 @@ def register(app: typer.Typer) -> None:
         if pick > proposals:
             raise SocnavgenError(f"--pick {pick} but only {proposals} proposal(s) are asked for",
                                  hint="raise --proposals or lower --pick")
-        request = _request(location, context, task, rough, card, llm, from_run if from_run else None,
-                           proposals=proposals, pick=pick - 1, max_restarts=max_restarts, naive=naive, seed=seed,
-                           temperature=temperature, use_image=not no_image)
+        if from_run is None:  # every input checked before anything is written (no empty run folder on a typo)
+            request = _request(location, context, task, rough, card, llm, None, proposals=proposals,
+                               pick=pick - 1, max_restarts=max_restarts, naive=naive, seed=seed,
+                               temperature=temperature, use_image=not no_image)
         folder = RunFolder(target)
-        folder.root.mkdir(parents=True, exist_ok=True)
+        # the model is built (spec parsed, key read from the environment) before the run folder exists
         model = make_llm(llm, transcript=folder.transcript_path, use_cache=not no_cache, max_parallel=max_parallel,
                          use_image=not no_image)
+        if from_run is not None:
+            if out is not None and Path(out).resolve() != Path(from_run).resolve():
+                copy_run(from_run, out)
+            request = _request(location, context, task, rough, card, llm, from_run, proposals=proposals,
+                               pick=pick - 1, max_restarts=max_restarts, naive=naive, seed=seed,
+                               temperature=temperature, use_image=not no_image)
+        folder.root.mkdir(parents=True, exist_ok=True)
         with progress() as bar:
             result = generate(request, model, target, redo=set(redo or []) or None,
                               review=console_review if review else None, progress=LiveProgress(bar), verify=verify)

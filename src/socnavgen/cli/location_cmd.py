@@ -9,6 +9,7 @@ import typer
 from rich.table import Table
 
 from socnavgen.cli.common import console
+from socnavgen.errors import InputFileError
 from socnavgen.location.check import check_location
 from socnavgen.location.location import SCENE_GRAPH_IMAGE, load_location
 
@@ -29,6 +30,9 @@ def check(
 
     Example: socnavgen location check examples/locations/warehouse
     """
+    if not folder.is_dir():  # a user error (exit 2), not a finding of the check (exit 1)
+        raise InputFileError("no such location folder", file=folder,
+                             hint="give the folder that holds location.yaml, the map and scene_graph.json")
     report = check_location(folder)
     if as_json:
         print(json.dumps({"location": str(folder), "ok": report.ok, "nodes": report.nodes, "edges": report.edges,
