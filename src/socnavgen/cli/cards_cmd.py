@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import typer
+from rich import box
 from rich.table import Table
 
 from socnavgen.cards.generate import fit_all, write_card_run
@@ -23,13 +24,13 @@ def list_cards() -> None:
     Example: socnavgen cards list
     """
     wide = console.width >= 140  # narrow terminals and pipes (80 columns) get the essential columns only
-    table = Table(show_lines=False, expand=False)
+    table = Table(show_lines=False, expand=False, box=box.SIMPLE_HEAD)
     table.add_column("card", no_wrap=True)  # names are typed back by the user: never break them
     table.add_column("picture", no_wrap=True)
     if wide:
         table.add_column("category", no_wrap=True)
         table.add_column("needs", overflow="fold", max_width=24)
-    table.add_column("summary", overflow="fold", min_width=24, ratio=1)
+    table.add_column("summary", overflow="fold", min_width=20, ratio=1)
     for card in all_cards():
         extra = [card.category, ", ".join(card.needs)] if wide else []
         table.add_row(card.name, card.picture, *extra, card.summary)
