@@ -97,3 +97,18 @@ def test_gif_has_header_clock_and_is_bounded(crowd_run: Path, tmp_path: Path) ->
     header = frame[:HEADER_PX]
     assert (header < 100).any(axis=2).any()  # the clock's dark text is in the header strip
     assert (header[:, -40:] > 200).all()  # and nothing else is: the strip is white on its right end
+
+
+def test_library_and_verify_simulations_write_what_simulate_writes(tmp_path: Path) -> None:
+    """sim has a public face: simulate_run (and verify on a run not yet simulated) leave metrics.json and the
+    plot beside the trace, exactly like `socnavgen simulate`."""
+    import json
+
+    from socnavgen.verify import verify_run
+
+    run = tmp_path / "fa"
+    write_card_run("frontal-approach", REPO / "examples" / "locations" / "warehouse", run)
+    verify_run(run)
+    sim = run / "sim"
+    assert {"trace.npz", "metrics.json", "trajectories.png", "verify.json"} <= {p.name for p in sim.iterdir()}
+    assert "time_to_reach_goal" in json.loads((sim / "metrics.json").read_text())

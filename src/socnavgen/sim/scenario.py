@@ -109,18 +109,23 @@ def load_simulation(run_dir: Path, policy: RobotPolicy, config: SimConfig | None
 
 def simulate_run(run_dir: Path, robot: str | RobotPolicy = "waypoints", location=None,  # noqa: ANN001
                  dt: float = 0.05, timeout: float = 120.0, seed: int = 0, throttle: bool | ThrottleConfig = True,
-                 progress=None, save: bool = True):  # noqa: ANN001, ANN201 - returns a Trace
-    """One call from a run folder to its trace (saved as RUN/sim/trace.npz unless save=False).
-    `robot` is a plugin spec (see robot.load_policy) or a policy object; `location` a folder or a Location."""
+                 progress=None, save: bool = True, plot: bool = True, gif: bool = False):  # noqa: ANN001, ANN201
+    """One call from a run folder to its trace. With `save` (default) it writes what `socnavgen simulate`
+    writes: RUN/sim/trace.npz, metrics.json and (with `plot`) trajectories.png, (with `gif`) animation.gif.
+    `robot` is a plugin spec (see robot.load_policy) or a policy object; `location` a folder or a Location
+    (a loaded Location is used as is: load it once when simulating many times)."""
+    from socnavgen.sim.outputs import write_outputs
     from socnavgen.sim.robot import load_policy
 
     policy = load_policy(robot) if isinstance(robot, str) else robot
     if isinstance(throttle, bool):
         throttle = ThrottleConfig(enabled=throttle)
-    sim = load_simulation(Path(run_dir), policy, SimConfig(dt=dt, timeout=timeout, seed=seed), throttle,
-                          location)
+    run = RunFolder(Path(run_dir))
+    loaded = run.location(location)
+    sim = load_simulation(run.root, policy, SimConfig(dt=dt, timeout=timeout, seed=seed), throttle, loaded)
     sim.meta["robot_plugin"] = robot if isinstance(robot, str) else type(robot).__name__
     trace = sim.run(progress=progress)
     if save:
-        trace.save(RunFolder(Path(run_dir)).sim_dir / "trace.npz")
+        trace.save(run.sim_dir / "trace.npz")
+        write_outputs(trace, loaded, run.sim_dir, plot=plot, gif=gif)
     return trace
