@@ -3,12 +3,11 @@ says where a blind corner, a narrow passage or an intersection is."""
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import numpy as np
-import yaml
-from PIL import Image
+
+from tests import synthetic
 
 RES = 0.05
 
@@ -17,22 +16,8 @@ def write_location(root: Path, free: np.ndarray, nodes: dict[str, tuple[int, int
                    node_types: dict[str, str] | None = None, edge_types: dict[tuple[str, str], str] | None = None,
                    schema_nodes: list[str] | None = None) -> Path:
     """A location folder from a boolean free-space mask [row, col] and a node/edge list."""
-    root.mkdir(parents=True, exist_ok=True)
-    img = np.where(free, 254, 0).astype(np.uint8)
-    Image.fromarray(img).save(root / "map.pgm")
-    (root / "map.yaml").write_text(yaml.safe_dump({"image": "map.pgm", "resolution": RES, "origin": [-1.0, 2.0, 0.0],
-                                                   "negate": 0, "occupied_thresh": 0.65, "free_thresh": 0.196}))
-    types = node_types or {}
-    etypes = edge_types or {}
-    schema = schema_nodes or sorted(set(types.values()) | {"NODE"})
-    (root / "location.yaml").write_text(yaml.safe_dump({
-        "name": root.name, "description": "synthetic test location", "map": "map.pgm", "nav2_map": "map.yaml",
-        "schema": {"node_types": schema, "edge_types": sorted(set(etypes.values()) | {"PATH"})}}))
-    graph = {"directed": False, "multigraph": False, "graph": {},
-             "nodes": [{"type": types.get(n, "NODE"), "pos": list(p), "id": n} for n, p in nodes.items()],
-             "links": [{"type": etypes.get((a, b), "PATH"), "source": a, "target": b} for a, b in edges]}
-    (root / "scene_graph.json").write_text(json.dumps(graph))
-    return root
+    return synthetic.write_location(root, free, nodes, edges, resolution=RES, origin=(-1.0, 2.0),
+                                    node_types=node_types, edge_types=edge_types, schema_nodes=schema_nodes)
 
 
 def l_corridor(root: Path, width_px: int = 30) -> Path:

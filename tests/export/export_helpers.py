@@ -3,14 +3,12 @@ is NOT centred (so a wrong y formula shows), run folders on any location, and tr
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import numpy as np
-import yaml
-from PIL import Image
 
 from socnavgen.run import HumanPlan, PathPlan, RunFolder, ScenarioProposal, ScenarioRequest
+from tests.synthetic import write_location
 
 # 60 x 40 px, 0.05 m/px, origin (-3.0, 1.5): pixel centre (px, py) -> (-3 + 0.05 (px + 0.5), 1.5 + 0.05 (40 - py - 0.5))
 WIDTH, HEIGHT, RES, ORIGIN = 60, 40, 0.05, (-3.0, 1.5)
@@ -100,22 +98,11 @@ def expected_world(node: str) -> tuple[float, float]:
 
 
 def build_location(root: Path) -> Path:
-    root.mkdir(parents=True, exist_ok=True)
-    img = np.full((HEIGHT, WIDTH), 254, dtype=np.uint8)
-    img[0, :] = img[-1, :] = 0
-    img[:, 0] = img[:, -1] = 0
-    Image.fromarray(img).save(root / "map.pgm")
-    (root / "map.yaml").write_text(yaml.safe_dump({
-        "image": "map.pgm", "resolution": RES, "origin": [ORIGIN[0], ORIGIN[1], 0.0], "negate": 0,
-        "occupied_thresh": 0.65, "free_thresh": 0.196}))
-    (root / "location.yaml").write_text(yaml.safe_dump({
-        "name": "tiny_offset", "description": "a small rectangular room", "map": "map.pgm", "nav2_map": "map.yaml",
-        "schema": {"node_types": ["CORNER", "PASSAGE"], "edge_types": ["PATH"]}}))
-    graph = {"directed": False, "multigraph": False, "graph": {},
-             "nodes": [{"type": "CORNER", "pos": list(pos), "id": nid} for nid, pos in NODES.items()],
-             "links": [{"type": "PATH", "source": a, "target": b} for a, b in EDGES]}
-    (root / "scene_graph.json").write_text(json.dumps(graph, indent=4))
-    return root
+    free = np.ones((HEIGHT, WIDTH), dtype=bool)
+    free[0, :] = free[-1, :] = free[:, 0] = free[:, -1] = False
+    return write_location(root, free, NODES, EDGES, resolution=RES, origin=ORIGIN, name="tiny_offset",
+                          description="a small rectangular room", default_type="CORNER",
+                          schema_nodes=["CORNER", "PASSAGE"])
 
 
 def build_run(root: Path, location: Path, plan: PathPlan, trees: dict[str, str]) -> Path:

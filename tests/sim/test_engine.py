@@ -2,12 +2,10 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import numpy as np
 import pytest
-from PIL import Image
 from typer.testing import CliRunner
 
 from socnavgen.run import HumanPlan, PathPlan, RobotGestureRule, RunFolder, ScenarioRequest
@@ -16,6 +14,7 @@ from socnavgen.sim.interaction import ThrottleConfig
 from socnavgen.sim.robot import WaypointsPolicy, load_policy
 from socnavgen.sim.scenario import load_simulation
 from socnavgen.sim.trace import Trace
+from tests.synthetic import walled_room, write_location
 
 from .simhelpers import REGULAR, tree_xml
 
@@ -25,26 +24,15 @@ RES = 0.05
 def make_location(root: Path) -> Path:
     """A 20 m x 10 m walled room with a few nodes; world = pixel centre * 0.05 (origin at the lower left)."""
     w, h = 400, 200
-    img = np.full((h, w), 254, dtype=np.uint8)
-    img[:3, :] = img[-3:, :] = 0
-    img[:, :3] = img[:, -3:] = 0
-    root.mkdir(parents=True)
-    Image.fromarray(img).save(root / "map.png")
-    (root / "map.yaml").write_text(f"image: map.png\nresolution: {RES}\norigin: [0.0, 0.0, 0.0]\n"
-                                   "occupied_thresh: 0.65\nfree_thresh: 0.196\nnegate: 0\n")
-    (root / "location.yaml").write_text("name: room\ndescription: an empty room\nmap: map.png\nnav2_map: map.yaml\n"
-                                        "schema:\n  node_types: [ROOM]\n  edge_types: [PASSAGEWAY]\n")
 
-    def px(x: float, y: float) -> list[float]:
-        return [x / RES - 0.5, h - y / RES - 0.5]
+    def px(x: float, y: float) -> tuple[float, float]:
+        return x / RES - 0.5, h - y / RES - 0.5
 
     nodes = {"r0": (1, 5), "r1": (7, 5), "ip": (10, 5), "r3": (18, 5), "h0": (10, 9), "h2": (10, 1)}
-    graph = {"directed": False, "multigraph": False, "graph": {},
-             "nodes": [{"id": k, "type": "ROOM", "pos": px(*v)} for k, v in nodes.items()],
-             "links": [{"source": a, "target": b, "type": "PASSAGEWAY"}
-                       for a, b in [("r0", "r1"), ("r1", "ip"), ("ip", "r3"), ("h0", "ip"), ("ip", "h2")]]}
-    (root / "scene_graph.json").write_text(json.dumps(graph))
-    return root
+    edges = [("r0", "r1"), ("r1", "ip"), ("ip", "r3"), ("h0", "ip"), ("ip", "h2")]
+    return write_location(root, walled_room(h, w), {k: px(*v) for k, v in nodes.items()}, edges, resolution=RES,
+                          name="room", description="an empty room", default_type="ROOM",
+                          default_edge="PASSAGEWAY", image="map.png")
 
 
 def make_run(tmp_path: Path, tree: str = tree_xml(REGULAR), interaction: str | None = "ip",

@@ -7,17 +7,16 @@ d4 (120, 15) -> (6.025, 5.225).
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import numpy as np
 import typer
-from PIL import Image
 
 from socnavgen.cli.verify_cmd import register_verify
 from socnavgen.run.folder import RunFolder
 from socnavgen.run.models import HumanPlan, PathPlan, ScenarioRequest
 from socnavgen.sim.trace import Trace
+from tests.synthetic import walled_room, write_location
 
 NODE_WORLD = {"a1": (1.025, 2.975), "b2": (6.025, 2.975), "c3": (11.025, 2.975), "d4": (6.025, 5.225)}
 
@@ -48,25 +47,13 @@ REGULAR_XML = """<root main_tree_to_execute="Walk">
 
 
 def make_location(root: Path) -> Path:
-    root.mkdir(parents=True)
-    img = np.full((120, 240), 254, dtype=np.uint8)
-    img[:4, :] = img[-4:, :] = 0
-    img[:, :4] = img[:, -4:] = 0
-    img[70:116, 100:140] = 0  # a block below the crossing
-    Image.fromarray(img).save(root / "map.png")
-    (root / "map.yaml").write_text("image: map.png\nresolution: 0.05\norigin: [0.0, 0.0, 0.0]\n"
-                                   "occupied_thresh: 0.65\nfree_thresh: 0.196\nnegate: 0\n")
-    (root / "location.yaml").write_text(
-        "name: corridor\ndescription: a straight corridor\nmap: map.png\nnav2_map: map.yaml\n"
-        "schema:\n  node_types: [ROOM, CORRIDOR]\n  edge_types: [PASSAGEWAY]\n")
-    nodes = [{"id": "a1", "type": "ROOM", "pos": [20, 60]}, {"id": "b2", "type": "CORRIDOR", "pos": [120, 60]},
-             {"id": "c3", "type": "ROOM", "pos": [220, 60]}, {"id": "d4", "type": "ROOM", "pos": [120, 15]}]
-    links = [{"source": "a1", "target": "b2", "type": "PASSAGEWAY"},
-             {"source": "b2", "target": "c3", "type": "PASSAGEWAY"},
-             {"source": "b2", "target": "d4", "type": "PASSAGEWAY"}]
-    (root / "scene_graph.json").write_text(json.dumps({"directed": False, "multigraph": False, "graph": {},
-                                                       "nodes": nodes, "links": links}))
-    return root
+    free = walled_room(120, 240, wall=4)
+    free[70:116, 100:140] = False  # a block below the crossing
+    return write_location(root, free, {"a1": (20, 60), "b2": (120, 60), "c3": (220, 60), "d4": (120, 15)},
+                          [("a1", "b2"), ("b2", "c3"), ("b2", "d4")], name="corridor",
+                          description="a straight corridor", node_types={"a1": "ROOM", "b2": "CORRIDOR",
+                                                                         "c3": "ROOM", "d4": "ROOM"},
+                          schema_nodes=["ROOM", "CORRIDOR"], default_edge="PASSAGEWAY", image="map.png")
 
 
 def write_run(root: Path, location: Path, plan: PathPlan, trees: dict[str, str], card: str | None = None) -> Path:
