@@ -117,8 +117,11 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
         return "paths", None, "the robot did not reach its goal: check the robot path"
     if kind == "stl":
         return _blame_formula(cc, s)
-    if _never_said(s, cc.phrase):
-        return "robot_script", None, f"the robot never said {cc.phrase.replace('_', ' ').upper()}: add a cue that says it"
+    robot_phrase = cc.phrase if kind in ("reacts_after_phrase", "follows_robot") else \
+        _waited_phrase(spec, h) if kind in ("says", "stops_near_robot", "gives_way", "blocks_robot") else None
+    if _never_said(s, robot_phrase):
+        return ("robot_script", None,
+                f"the robot never said {robot_phrase.replace('_', ' ').upper()}: add a cue that says it")
     if kind == "reacts_after_phrase" and h and cc.reaction:
         says, react = s.get(f"robot_says_{cc.phrase}") > 0.5, s.get(f"react_{h}_{cc.reaction}") > 0.5
         if react.any() and int(np.argmax(react)) < int(np.argmax(says)):
@@ -148,9 +151,17 @@ def _blame_group(cc: Compiled, s: Signals, plan: PathPlan | None) -> Verdict:
         paths = {tuple(h.path) for h in plan.humans if h.name in names}
         if len(paths) > 1:
             return "paths", None, f"the group members {', '.join(names)} walk different paths"
-    pos = np.stack([s.pos(n) for n in names], axis=1)
-    centre = pos.mean(axis=1, keepdims=True)
-    far = np.linalg.norm(pos - centre, axis=2).max(axis=0)
+    spread = s.get("spread_" + "_".join(names))
+    k = int(np.argmax(spread))
+    goal = None
+    if plan is not None:
+        last = next((h.path[-1] for h in plan.humans if h.name in names and h.path), None)
+        goal = s.places.get(f"node_{last}") if last else None
+    if goal is not None:  # the member farthest from the group's destination lags behind
+        far = [float(np.linalg.norm(s.pos(n)[k] - np.asarray(goal))) for n in names]
+    else:  # the member farthest from the others
+        pos = np.stack([s.pos(n)[k] for n in names])
+        far = list(np.linalg.norm(pos - pos.mean(axis=0), axis=1))
     who = names[int(np.argmax(far))]
     return "behaviors", who, f"{who} leaves its group: its tree must keep it with the others"
 

@@ -48,10 +48,12 @@ def judge_criterion(c: Criterion, source: Source, spec: ScenarioSpec, plan: Path
             return _with_blame(failed, "paths", None, "ground the encounter on a scene-graph node")
         return _with_blame(failed, "spec", None, str(exc))
     text, time, distance = evidence(cc, signals)
-    robustness = round(verdict.robustness, 3)
-    passed = verdict.robustness >= 0 and spec_problem(c, spec) is None
+    problem = spec_problem(c, spec)
+    robustness = None if problem else round(verdict.robustness, 3)  # a contradictory criterion has no margin
+    passed = problem is None and verdict.robustness >= 0
+    shown = f"{text}; robustness {robustness:+.2f}" if robustness is not None else f"{text}; {problem}"
     finding = base.model_copy(update={
-        "passed": passed, "evidence": f"{text}; robustness {robustness:+.2f}", "robustness": robustness,
+        "passed": passed, "evidence": shown, "robustness": robustness,
         "time": None if time is None else round(float(time), 3),
         "distance": None if distance is None else round(float(distance), 2)})
     if passed:
