@@ -63,8 +63,9 @@ def derive_spec(plan: PathPlan, location: Any, card_criteria: list[dict] | None,
                                      text=f"group {gid} ({', '.join(members)}) stays together"),
                            "card" if spread else "paths"))
     if plan.robot:
+        from_card = any(c.get("kind") == "robot_reaches_goal" for c in card)
         judged.append((Criterion(id="goal", kind="robot_reaches_goal", text=f"robot reaches its goal {plan.robot[-1]}"),
-                       "paths"))
+                       "card" if from_card else "paths"))
     if plan.humans:
         judged.append((Criterion(id="no_collision", kind="no_collision", text="robot never collides with a human"),
                        "paths"))

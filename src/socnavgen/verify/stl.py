@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import logging
 import re
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -75,7 +76,9 @@ def check_formula(formula: str, signals: Signals) -> list[str]:
 
 def monitor(formula: str, signals: Signals) -> Verdict:
     """Robustness of `formula` over the whole trace (FormulaError for bad formulas)."""
-    import rtamt
+    with warnings.catch_warnings():  # rtamt's antlr runtime imports the deprecated typing.io
+        warnings.simplefilter("ignore", DeprecationWarning)
+        import rtamt
 
     names = check_formula(formula, signals)
     t = signals.t
