@@ -115,3 +115,23 @@ def _readable(message: str) -> str:
         return f"column {max(1, int(m[2]) - len(_PREFIX) + 1)}"
 
     return "STL syntax: " + re.sub(r"(\d+):(\d+):", lambda m: shift(m) + ":", message, count=1)
+
+
+def formula_problems(formula: str, humans: list[str], places: list[str]) -> list[str]:
+    """Problems of a formula before any simulation (for stage-1 checks of spec.json): syntax, length, and
+    signal names against the run's humans and places (encounter ids, goal, node_<id>). [] when fine."""
+    from socnavgen.sim.trace import Trace
+    from socnavgen.sim.world import empty_room
+
+    n = len(humans)
+    trace = Trace(dt=1.0, t=np.array([0.0, 1.0]), robot=np.zeros((2, 6)), humans=np.ones((2, n, 6)),
+                  human_names=list(humans), group_ids=[-1] * n, human_radii=np.full(n, 0.4), robot_radius=0.35,
+                  node_names=[], action=np.full((2, n), -1, np.int16), succeeded=np.zeros((2, n), np.int64),
+                  human_gesture=np.zeros((2, n), np.int8), robot_gesture=np.zeros(2, np.int8),
+                  behavior_state=np.zeros((2, n), np.int8), robot_goal=(0.0, 0.0))
+    signals = Signals(trace, world=empty_room(4.0, 4.0, 0.1), places=dict.fromkeys(places, (0.0, 0.0)))
+    try:
+        monitor(formula, signals)
+    except FormulaError as exc:
+        return [str(exc)]
+    return []
