@@ -171,7 +171,7 @@ def _blame_formula(cc: Compiled, s: Signals) -> Verdict:
     for name in names:
         m = re.fullmatch(r"robot_(?:says|said)_([a-z_]+)", name)
         if m and m[1] in ROBOT_PHRASES and _never_said(s, m[1]):
-            return "robot_script", None, f"the formula needs the robot to say {m[1]}, which it never did"
+            return "robot_script", None, f"the formula needs the robot to say {m[1].replace('_', ' ').upper()}, which it never did"
     for name in names:
         m = re.match(r"(?:exec|holds|react)_(human\d+)_|(human\d+)_(?:says|said)_", name)
         if m:

@@ -51,7 +51,7 @@ def judge_criterion(c: Criterion, source: Source, spec: ScenarioSpec, plan: Path
     problem = spec_problem(c, spec)
     robustness = None if problem else round(verdict.robustness, 3)  # a contradictory criterion has no margin
     passed = problem is None and verdict.robustness >= 0
-    shown = f"{text}; robustness {robustness:+.2f}" if robustness is not None else f"{text}; {problem}"
+    shown = text if problem is None else f"{text}; {problem}"
     finding = base.model_copy(update={
         "passed": passed, "evidence": shown, "robustness": robustness,
         "time": None if time is None else round(float(time), 3),
