@@ -79,9 +79,11 @@ class Signals:
     """The signals of one trace. `places`: named world points (encounter ids, `goal`, `node_<id>`)."""
 
     def __init__(self, trace: Trace, *, world=None, places: dict[str, tuple[float, float]] | None = None,  # noqa: ANN001
-                 node_points: dict[str, tuple[float, float]] | None = None, goal_radius: float = 0.5) -> None:
+                 node_points: dict[str, tuple[float, float]] | None = None, goal_radius: float = 0.5,
+                 world_factory: Callable[[], object] | None = None) -> None:
         self.trace = trace
         self.world = world
+        self._world_factory = world_factory  # builds the World only if a formula needs line of sight
         self.places = dict(places or {})
         if trace.robot_goal is not None and "goal" not in self.places:
             self.places["goal"] = tuple(trace.robot_goal)
@@ -135,6 +137,8 @@ class Signals:
     def line_of_sight(self) -> np.ndarray:
         """(T, H) 1 where the robot and each human see each other (walls of the occupancy map)."""
         if self._los is None:
+            if self.world is None and self._world_factory is not None:
+                self.world = self._world_factory()
             if self.world is None:
                 raise UnknownSignal("line of sight needs the run's location (map)")
             robot = self.trace.robot[:, 0] + 1j * self.trace.robot[:, 1]
