@@ -98,7 +98,31 @@ def needs_text(name: str, spec: ScenarioSpec | None, target: Target = "socrates"
         lines.append(f"- Encounter {enc.id} at {where}: {what}. Your tree must {need}.{latch}")
     if not lines:
         return ""
-    return "What the scenario's spec requires of this human's tree:\n" + "\n".join(lines)
+    return "\n".join(["What the scenario's spec requires of this human's tree:", *lines, script_text(spec)])
+
+
+def script_text(spec: ScenarioSpec) -> str:
+    """The robot's script in words: when the robot speaks or waits (what a human's tree can react to)."""
+    cues = []
+    for cue in spec.script.cues:
+        t = cue.trigger
+        when = {"start": "at the start", "at_encounter": f"within {t.distance:g} m of encounter {t.encounter}",
+                "blocked": f"when someone stands in its way within {t.distance:g} m",
+                "human_within": f"when {t.human or 'anyone'} is within {t.distance:g} m",
+                "human_says": f"when {t.human or 'someone'} says {t.phrase}",
+                "after": f"{t.seconds:g} s after the start"}[t.when]
+        acts = []
+        if cue.say:
+            acts.append(f"says {cue.say} (held {cue.hold:g} s)")
+        if cue.wait_until_clear:
+            acts.append("waits until its way is clear")
+        elif cue.wait:
+            acts.append(f"waits {cue.wait:g} s")
+        if cue.speed is not None:
+            acts.append(f"goes on at {cue.speed:g} m/s")
+        cues.append(f"{when} it {' and '.join(acts) or 'does nothing special'}")
+    script = "; ".join(cues) if cues else "it says nothing and does not stop on purpose"
+    return f"The robot drives at {spec.script.speed:g} m/s; {script}."
 
 
 def _part_words(part: HumanPart) -> str:
