@@ -176,9 +176,9 @@ def base_spec() -> ScenarioSpec:
             RobotCue(trigger=CueTrigger(when="start"), say="FOLLOW ME"),
             RobotCue(trigger=CueTrigger(when="blocked"), say="EXCUSE ME", wait_until_clear=True)]),
         encounters=[
-            Encounter(id="e1", place="BLIND CORNER", node="corner", humans=[
+            Encounter(id="e1", place="BLIND CORNER", node="corner", order=2, humans=[
                 HumanPart(human="human1", trigger="robot_says", phrase="EXCUSE ME", reaction="give_way")]),
-            Encounter(id="e2", place="DOCK", node="dock", humans=[
+            Encounter(id="e2", place="DOCK", node="dock", order=1, humans=[
                 HumanPart(human="human2", trigger="robot_says", phrase="FOLLOW ME", reaction="follow", latch=True),
                 HumanPart(human="human3", reaction="join")])],
         criteria=[
@@ -328,6 +328,9 @@ CASES: list[Case] = [
          spec=lambda sp: _crit(sp, "c11", formula="eventually (speed_robbot > 0.3)")),
     Case("criterion_contradicts_encounter", passes=False, failing="c4", blame="spec",
          spec=lambda sp: _crit(sp, "c4", phrase="WAIT")),
+    Case("encounters_out_of_order", passes=False, failing="order_e1_e2", blame="paths",
+         spec=lambda sp: sp.model_copy(update={"encounters": [sp.encounters[0].model_copy(update={"order": 1}),
+                                                              sp.encounters[1].model_copy(update={"order": 2})]})),
     Case("meeting_closer_than_bodies", passes=False, failing="c1", blame="spec",
          spec=lambda sp: _crit(sp, "c1", distance=0.5)),
     Case("legacy_met_too_far", passes=False, failing="robot meets human1", blame="paths", spec=None,

@@ -177,7 +177,8 @@ def _blame_formula(cc: Compiled, s: Signals) -> Verdict:
         if m:
             who = m[1] or m[2]
             return "behaviors", who, f"the formula asks something of {who}'s behavior"
-    return "paths", None, "the formula's geometry did not happen"
+    what = cc.criterion.text or "the formula's geometry"
+    return "paths", None, f"{what}: not so in the simulation; check where and when the paths meet"
 
 
 def blame_tree_check(node: str | None, message: int | None, human: str | None, s: Signals | None,

@@ -68,7 +68,7 @@ def judge(trace: Trace, *, plan: PathPlan, location: Any, spec: ScenarioSpec | N
     if spec is None:
         used, judged = derive_spec(plan, location, card_criteria, settings)
     else:
-        used, judged = spec, with_implied(spec)
+        used, judged = spec, with_implied(spec, settings)
     goal_radius = settings.goal_radius or float((trace.meta or {}).get("robot_goal_radius", DEFAULT_GOAL_RADIUS))
     world_factory = None
     node_points: dict[str, tuple[float, float]] = {}
