@@ -118,7 +118,7 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
     if kind == "stl":
         return _blame_formula(cc, s)
     robot_phrase = cc.phrase if kind in ("reacts_after_phrase", "follows_robot") else \
-        _waited_phrase(spec, h) if kind in ("says", "stops_near_robot", "gives_way", "blocks_robot") else None
+        _waited_phrase(spec, h) if kind in ("meets", "says", "stops_near_robot", "gives_way", "blocks_robot") else None
     if _never_said(s, robot_phrase):
         return ("robot_script", None,
                 f"the robot never said {robot_phrase.replace('_', ' ').upper()}: add a cue that says it")
