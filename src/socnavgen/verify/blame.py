@@ -10,7 +10,8 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
   D1  deadlock / goal not reached behind a human whose reaction waits for a robot phrase the
       robot never said                                                                        -> robot_script
   D2  deadlock / goal not reached behind a human (the human's tree keeps it in the way)        -> behaviors(h)
-  P1  the criterion waits for a robot phrase the robot never said                              -> robot_script
+  P1  the criterion (or, for meets / stops / gives_way / says / blocks, its encounter) waits for
+      a robot phrase the robot never said                                                       -> robot_script
   P2  the reaction happened before its cause (the tree is not gated on the phrase)             -> behaviors(h)
   N1  the robot, or the human, never came within `within` of the encounter node                -> paths
   N2  both reached the node but never within the distance at the same time (timing, place)    -> paths
