@@ -281,3 +281,52 @@ HUNAV2_PORTS: dict[str, PortTranslation] = {
     "FollowHuman": PortTranslation(rename={"target_id": "target_agent_id"}, fixed={"duration": "5.0"}),
     "BlockRobot": PortTranslation(fixed={"front_dist": "1.5"}),
 }
+
+
+# ==== BEGIN encounter needs (owner: proposal) ===================================================
+# What a tree must contain for each part of an encounter of the scenario spec (run/spec.py): the
+# conditions that DETECT a human's trigger, and the actions that REALIZE its reaction. Stage 3 checks
+# every tree against this table, prompts quote it, stage 1 refuses parts a target cannot run.
+# `PART_PORTS` says which port of the node must carry which value of the spec part:
+#   robot_phrase -> the robot's gesture code of `phrase`; human_phrase -> the human gesture code of
+#   `phrase` (or of `says` for the reaction say); other -> the agent id of `other`.
+TRIGGER_NODES: dict[str, tuple[str, ...]] = {
+    "always": (),
+    "robot_visible": ("IsRobotVisible",),
+    "robot_near": ("IsRobotNearby", "IsRobotVisible"),
+    "robot_blocking": ("IsRobotBlocking",),
+    "robot_says": ("RobotSays", "RobotSaid"),
+    "robot_moving": ("RobotMoved",),
+    "human_says": ("HumanSays",),
+    "time": ("TimeExpiredCondition",),
+}
+REACTION_NODES: dict[str, tuple[str, ...]] = {
+    "walk_past": ("RegularNav",),
+    "stop": ("LookAtRobot", "MakeGesture"),
+    "look": ("LookAtRobot",),
+    "give_way": ("GiveWaytoRobot",),
+    "follow": ("FollowRobot",),
+    "block": ("BlockRobot",),
+    "avoid": ("RunAwayFromRobot",),
+    "say": ("MakeGesture",),
+    "follow_human": ("FollowHuman",),
+    "wait_then_go": ("LookAtRobot", "MakeGesture"),
+    "join": ("FollowHuman", "RegularNav"),
+}
+PART_PORTS: dict[tuple[str, str], dict[str, str]] = {
+    ("trigger", "robot_says"): {"message": "robot_phrase"},
+    ("trigger", "human_says"): {"message": "human_phrase", "target_id": "other"},
+    ("reaction", "say"): {"message": "human_phrase"},
+    ("reaction", "follow_human"): {"target_id": "other"},
+}
+
+
+def nodes_for_trigger(trigger: str, target: Target = "socrates") -> list[str]:
+    """Library nodes (of `target`) that detect a spec trigger; [] for `always` or when none runs there."""
+    return [n for n in TRIGGER_NODES.get(trigger, ()) if n in LIBRARY and target in LIBRARY[n].targets]
+
+
+def nodes_for_reaction(reaction: str, target: Target = "socrates") -> list[str]:
+    """Library nodes (of `target`) that realize a spec reaction."""
+    return [n for n in REACTION_NODES.get(reaction, ()) if n in LIBRARY and target in LIBRARY[n].targets]
+# ==== END encounter needs ======================================================================

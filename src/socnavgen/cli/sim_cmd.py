@@ -72,6 +72,9 @@ def _write_extras(trace, location, out: Path, gif: bool) -> None:  # noqa: ANN00
     metrics = written.metrics
     keys = ("success", "time_to_reach_goal", "minimum_distance_to_people", "collisions")
     console.print("  " + ", ".join(f"{k} = {_short(metrics[k])}" for k in keys if k in metrics), highlight=False)
+    from socnavgen.sim.contact import summarize
+
+    console.print(f"  contacts: {summarize(trace).describe()}", highlight=False)  # same numbers as verify
     for label, path in written.files.items():
         console.print(f"  {label} -> {path}", highlight=False)
 
