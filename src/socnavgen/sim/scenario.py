@@ -10,7 +10,7 @@ import numpy as np
 
 from socnavgen.bt.library import regular_walker_xml
 from socnavgen.errors import InputFileError, ValidationFailed
-from socnavgen.location import load_location
+from socnavgen.location import Location, load_location
 from socnavgen.run import RunFolder
 from socnavgen.sim.agents import HumanSpec
 from socnavgen.sim.engine import SimConfig, Simulation
@@ -63,12 +63,14 @@ def spawn_points(world: World, first_nodes: list[complex], group_ids: list[int],
 
 
 def load_simulation(run_dir: Path, policy: RobotPolicy, config: SimConfig | None = None,
-                    throttle: ThrottleConfig | None = None, location_dir: Path | None = None) -> Simulation:
+                    throttle: ThrottleConfig | None = None, location_dir: Path | None = None,
+                    *, location: Location | None = None, world: World | None = None) -> Simulation:
+    """`location` / `world`: already loaded ones (campaign workers keep them across episodes)."""
     config = config or SimConfig()
     run = RunFolder(Path(run_dir))
-    location = resolve_location(run, location_dir)
+    location = location if location is not None else resolve_location(run, location_dir)
     plan = run.read_paths()
-    world = World.from_location(location)
+    world = world if world is not None else World.from_location(location)
     known = set(location.scene_graph.node_ids())
     problems = [f"robot path: unknown node {n!r}" for n in plan.robot if n not in known]
     for h in plan.humans:
