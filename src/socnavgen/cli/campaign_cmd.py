@@ -39,8 +39,14 @@ def run(
 
     Example: socnavgen campaign run suite.yaml -o campaigns/suite --executor ray
     """
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, \
-        TimeRemainingColumn
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        TextColumn,
+        TimeElapsedColumn,
+        TimeRemainingColumn,
+    )
 
     from socnavgen.campaign.runner import run_campaign
     from socnavgen.campaign.spec import load_campaign
