@@ -7,7 +7,7 @@ from pathlib import Path
 from typing import Any, Literal
 
 import yaml
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
 from socnavgen.errors import InputFileError
 from socnavgen.safeio import read_text_limited
@@ -100,21 +100,32 @@ class CampaignSpec(BaseModel):
             return list(range(value))
         return value
 
-    @model_validator(mode="after")
-    def _unique(self) -> CampaignSpec:
-        names = [p.name for p in self.policies]
+    @field_validator("policies")
+    @classmethod
+    def _unique_policies(cls, value: list[PolicySpec]) -> list[PolicySpec]:
+        names = [p.name for p in value]
         dup = sorted({n for n in names if names.count(n) > 1})
         if dup:
             raise ValueError(f"policy names must be unique; repeated: {', '.join(dup)} (give each a `name:`)")
-        if len(set(self.seeds)) != len(self.seeds):
+        return value
+
+    @field_validator("seeds")
+    @classmethod
+    def _unique_seeds(cls, value: list[int]) -> list[int]:
+        if len(set(value)) != len(value):
             raise ValueError("seeds must be unique")
-        if self.metrics is not None:
+        return value
+
+    @field_validator("metrics")
+    @classmethod
+    def _known_metrics(cls, value: list[str] | None) -> list[str] | None:
+        if value is not None:
             from socnavgen.campaign.columns import known_metric_names
 
-            unknown = [m for m in self.metrics if m not in known_metric_names()]
+            unknown = [m for m in value if m not in known_metric_names()]
             if unknown:
                 raise ValueError(f"unknown metric(s) {', '.join(unknown)}; see `socnavgen campaign metrics`")
-        return self
+        return value
 
     def resolve(self, path: str) -> Path:
         """A path from the campaign file, relative to the file's folder."""
