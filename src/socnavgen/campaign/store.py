@@ -26,7 +26,7 @@ SORT = [("scenario", "ascending"), ("policy", "ascending"), ("seed", "ascending"
 
 class EpisodeStore:
     def __init__(self, out: Path, metrics: list[str] | tuple[str, ...] | None = None,
-                 flush_rows: int = 64, flush_seconds: float = 2.0) -> None:
+                 flush_rows: int = 32, flush_seconds: float = 2.0) -> None:
         self.out = Path(out)
         self.schema = schema(metrics)
         self.flush_rows, self.flush_seconds = flush_rows, flush_seconds
