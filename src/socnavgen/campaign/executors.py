@@ -78,8 +78,8 @@ class RayExecutor:
         if self.started:
             kwargs: dict[str, Any] = {"address": address, "include_dashboard": False, "log_to_driver": False,
                                       "configure_logging": False}
-            if address is None:
-                kwargs["num_cpus"] = workers or os.cpu_count() or 1
+            if address is None:  # a private cluster on this machine, reachable only locally
+                kwargs.update(num_cpus=workers or os.cpu_count() or 1, _node_ip_address="127.0.0.1")
             ray.init(**kwargs)
         self.remote = ray.remote(num_cpus=1, max_retries=0)(run_batch)
         self.in_flight = 2 * int(ray.cluster_resources().get("CPU", 1))
