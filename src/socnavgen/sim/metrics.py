@@ -144,6 +144,19 @@ class ObstacleLookup:
         return ob_world.reshape(pts.shape), within.reshape(pts.shape[:-1])
 
 
+def obstacle_lookup(location: Any) -> ObstacleLookup:
+    """The location's ObstacleLookup, built once per Location object (campaign workers compute metrics for
+    thousands of episodes on the same map; the distance transform is the costly part)."""
+    lookup = getattr(location, "_socnavgen_obstacle_lookup", None)
+    if lookup is None:
+        lookup = ObstacleLookup(location)
+        try:
+            location._socnavgen_obstacle_lookup = lookup
+        except AttributeError:  # a frozen or slotted stand-in: just do not cache
+            pass
+    return lookup
+
+
 def sample_indices(t: np.ndarray, sample_hz: float | None) -> np.ndarray:
     """Indices of the steps the evaluator would see: every step (None or <= 0, like `frequency: 0`), or the
     latest step at each tick of a `sample_hz` clock started at the first step (metrics.yaml uses 1 Hz)."""
@@ -312,7 +325,7 @@ def compute_metrics(trace: Trace, location: Any = None, *, sample_hz: float | No
     on_robot = social_force(pa, va_vec, pr[:, None, :], vr_vec[:, None, :], sfm) if h else np.zeros((n, 0, 2))
     m["social_force_on_agents"] = float(_norm(on_agents).sum())
     m["social_force_on_robot"] = float(_norm(on_robot).sum())
-    lookup = ObstacleLookup(location) if location is not None else None
+    lookup = obstacle_lookup(location) if location is not None else None
     if lookup is not None and robot_obstacles:
         ob_r, has_r = lookup.nearest(pr)
         f_obs_r = obstacle_force(pr, r_r, ob_r, has_r, sfm)
