@@ -32,7 +32,7 @@ class Suite:
     skipped: list[str]  # "card on location: why it does not fit"
 
 
-def _from_run(run_dir: Path, source: str, used: set[str]) -> Scenario:
+def _from_run(run_dir: Path, source: str, used: set[str], name: str | None = None) -> Scenario:
     from socnavgen.run import RunFolder
     from socnavgen.sim.scenario import resolve_location
 
@@ -43,9 +43,10 @@ def _from_run(run_dir: Path, source: str, used: set[str]) -> Scenario:
     location = resolve_location(run)
     plan = run.read_paths()
     card = run.read_request().card if run.request_path.is_file() else None
-    sid, k = run_dir.name, 2
+    base = name or run_dir.name
+    sid, k = base, 2
     while sid in used:
-        sid, k = f"{run_dir.name}~{k}", k + 1
+        sid, k = f"{base}~{k}", k + 1
     used.add(sid)
     return Scenario(id=sid, run_dir=str(run_dir.resolve()), location_dir=str(Path(location.root).resolve()),
                     source=source, card=card, location=location.name, humans=len(plan.humans))
@@ -53,6 +54,7 @@ def _from_run(run_dir: Path, source: str, used: set[str]) -> Scenario:
 
 def build_suite(spec: CampaignSpec, out: Path) -> Suite:
     """Every scenario of the campaign, in file order; card runs are written under OUT/scenarios once."""
+    out = Path(out)
     from socnavgen.cards.generate import place_card, write_card_run
     from socnavgen.cards.library import card_names, get_card
     from socnavgen.location import load_location
@@ -84,8 +86,7 @@ def build_suite(spec: CampaignSpec, out: Path) -> Suite:
                             skipped.append(f"{name} on {location.name}: {fit.reason}")
                             continue
                         write_card_run(name, loc_dir.resolve(), run_dir)
-                    scenario = _from_run(run_dir, "cards", used)
-                    scenarios.append(scenario)
+                    scenarios.append(_from_run(run_dir, "cards", used, f"{location.name}/{name}"))
     if not scenarios:
         raise InputFileError("the campaign has no scenario that fits", hint="; ".join(skipped[:5]) or None)
     return Suite(scenarios, skipped)
