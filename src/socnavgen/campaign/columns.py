@@ -27,7 +27,7 @@ OUTCOME = [
     ("wall_seconds", pa.float64()),
     ("verified", pa.bool_()),  # every required verifier finding passed (null: not verified / crashed)
     ("verify_failed", pa.string()),  # names of the failed findings, "; "-separated
-    ("verdicts", pa.string()),  # JSON list of {name, kind, passed, required, human}
+    ("verdicts", pa.string()),  # JSON list of {name, kind, passed, required, human[, robustness, blame]}
 ]
 BOOL_METRICS = {"success", "completed"}
 INT_METRICS = {"collisions", "robot_on_person_collision", "person_on_robot_collision", "samples",

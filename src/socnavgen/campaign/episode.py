@@ -19,6 +19,10 @@ from typing import Any
 from socnavgen.campaign.scenarios import Scenario
 
 
+# what each verifier finding keeps in the row (fields a verifier version lacks are simply left out)
+VERDICT_FIELDS = {"name", "kind", "passed", "required", "human", "criterion", "robustness", "blame", "blame_human"}
+
+
 class EpisodeTimeout(Exception):
     """The episode ran past its wall-clock limit."""
 
@@ -159,8 +163,7 @@ def run_episode(ep: Episode, settings: EpisodeSettings, cache: WorkerCache | Non
         report = verify_trace(ep.scenario.run_dir, trace, location=location)
         row["verified"] = bool(report.passed)
         row["verify_failed"] = "; ".join(f.name for f in report.failures)
-        row["verdicts"] = json.dumps([{"name": f.name, "kind": f.kind, "passed": f.passed, "required": f.required,
-                                       "human": f.human} for f in report.findings])
+        row["verdicts"] = json.dumps([f.model_dump(mode="json", include=VERDICT_FIELDS) for f in report.findings])
     row["failure_reason"] = None if row["success"] else _why_not(metrics, trace)
     row["wall_seconds"] = time.perf_counter() - start
     return row
