@@ -73,6 +73,9 @@ def _write_extras(trace, location, out: Path, gif: bool) -> None:  # noqa: ANN00
     write_metrics(metrics, out / "metrics.json")
     keys = ("success", "time_to_reach_goal", "minimum_distance_to_people", "collisions")
     console.print("  " + ", ".join(f"{k} = {metrics[k]}" for k in keys if k in metrics), highlight=False)
+    from socnavgen.sim.contact import summarize
+
+    console.print(f"  contacts: {summarize(trace).describe()}", highlight=False)  # same numbers as verify
     console.print(f"  metrics -> {out / 'metrics.json'}", highlight=False)
     plot_trajectories(trace, location, out / "trajectories.png")
     console.print(f"  plot -> {out / 'trajectories.png'}", highlight=False)

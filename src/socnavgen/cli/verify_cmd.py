@@ -16,31 +16,33 @@ def register_verify(app: typer.Typer) -> None:
     def verify(
         run: Path = typer.Argument(..., help="Run folder written by `socnavgen generate` (paths.json, behaviors/).",
                                    exists=True, file_okay=False),
-        distance: float = typer.Option(2.5, help="Robot-human centre distance (m) that counts as meeting."),
-        near: float = typer.Option(3.0, help="How close (m) to the interaction point the meeting must happen."),
-        passing: float = typer.Option(3.0, help="Robot distance (m) within which GiveWaytoRobot counts as "
+        distance: float = typer.Option(2.0, help="Robot-human centre distance (m) that counts as meeting, unless "
+                                                 "a criterion gives its own."),
+        near: float = typer.Option(1.0, help="How close (m) to its encounter node a meeting must happen, for runs "
+                                             "without spec.json (an encounter's `within` otherwise)."),
+        passing: float = typer.Option(2.5, help="Robot distance (m) within which a tree's GiveWaytoRobot counts as "
                                                 "giving way while the robot passes."),
-        group_spread: float = typer.Option(3.0, help="Largest distance (m) between group members that still "
-                                                     "counts as together."),
-        group_fraction: float = typer.Option(0.8, help="Share of the run a group must stay together (0-1)."),
+        group_spread: float = typer.Option(2.5, help="Largest distance (m) between group members, the whole run."),
+        deadlock_seconds: float = typer.Option(10.0, help="Longest (s) the robot may stand still with someone in its "
+                                                          "way."),
         location: Path | None = typer.Option(None, help="Location folder, if request.json's path does not "
                                                         "resolve from here."),
         simulate: bool = typer.Option(True, help="Run the simulator first when RUN/sim/trace.npz is missing."),
-        robot: str = typer.Option("waypoints", help="Robot plugin for that simulation (see `socnavgen simulate "
-                                                    "--help`)."),
-        collisions_fail: bool = typer.Option(False, "--collisions-fail", help=(
-            "Fail when the robot and a human overlap. By default a collision is a warning: it judges the "
-            "robot under test, not whether the scenario happened.")),
+        robot: str | None = typer.Option(None, help="Robot plugin for that simulation (default: the simulator's; "
+                                                    "see `socnavgen simulate --help`)."),
+        collisions_fail: bool = typer.Option(True, "--collisions-fail/--collisions-warn", help=(
+            "A robot-human overlap fails verification (default), or is only a warning.")),
         as_json: bool = typer.Option(False, "--json", help="Print the report as JSON instead of a table."),
     ) -> None:
         """Check that the scenario does what it says, on the headless simulation of the run.
 
-        From paths.json and behaviors/*.xml it derives expectations: the robot meets each human that has an
-        interaction point near that point; every interaction node of each tree (GiveWaytoRobot, BlockRobot,
-        MakeGesture, the RobotSays / IsRobotVisible conditions gating them...) actually runs, GiveWaytoRobot
-        while the robot passes; group members stay together; the robot reaches its goal; plus the scenario
-        card's success criteria. Robot-human collisions are reported as warnings. Each is reported with its evidence (time, distance) and the report is
-        written to RUN/sim/verify.json. Exit code 1 when any expectation fails.
+        The acceptance criteria of RUN/spec.json are monitored on the trace as signal temporal logic (rtamt),
+        each reported with its robustness (how far from passing, in metres or seconds), its evidence (time,
+        distance) and, when it fails, what can fix it: robot_script, paths, behaviors (which human) or spec.
+        Runs without spec.json are judged on criteria derived from paths.json and the card with the same
+        strict thresholds (meet within 2 m, within 1 m of the interaction point; no collision; no deadlock;
+        goal reached), plus every interaction node of each tree really running after its cause. The report
+        is written to RUN/sim/verify.json. Exit code 1 when a criterion fails.
 
         Example: socnavgen verify runs/blind_corner --distance 2.0
         """
@@ -48,8 +50,8 @@ def register_verify(app: typer.Typer) -> None:
         from socnavgen.verify.report import print_report
 
         report = verify_run(run, simulate_if_missing=simulate, location=location, distance=distance, near=near,
-                            passing=passing, group_spread=group_spread, group_fraction=group_fraction,
-                            collisions_fail=collisions_fail, simulate_options={"robot": robot})
+                            passing=passing, group_spread=group_spread, deadlock_seconds=deadlock_seconds,
+                            collisions_fail=collisions_fail, simulate_options={"robot": robot} if robot else None)
         if as_json:
             print(report.model_dump_json(indent=2))
         else:

@@ -35,6 +35,7 @@ from typing import Any
 import numpy as np
 
 from socnavgen.safeio import atomic_write_text
+from socnavgen.sim import contact
 from socnavgen.sim.trace import OMEGA, VX, VY, YAW, Trace
 
 EVALUATOR_GOAL_RADIUS = 0.2  # m, `completed`
@@ -230,8 +231,7 @@ def _own_metrics(trace: Trace) -> dict[str, Any]:
     pa = trace.humans[:, :, :2]
     radii = trace.robot_radius + np.asarray(trace.human_radii, dtype=float)
     if trace.humans.shape[1]:
-        overlap = _norm(pr[:, None, :] - pa) < radii[None, :]
-        collisions = int(np.count_nonzero(overlap.any(axis=1)))
+        collisions = contact.summarize(trace).collision_steps  # the one definition (sim/contact.py)
         ttc = time_to_collision(pa - pr[:, None, :], trace.humans[:, :, VX:VY + 1] - trace.robot[:, None, VX:VY + 1],
                                 radii[None, :])
         min_ttc = float(ttc.min()) if ttc.size else math.inf
@@ -263,8 +263,8 @@ def compute_metrics(trace: Trace, location: Any = None, *, sample_hz: float | No
     pa, va_vec = hum[:, :, :2], hum[:, :, VX:VY + 1]
     v_r, w_r = _norm(vr_vec), rob[:, OMEGA]
     v_a = _norm(va_vec)
-    centre = _norm(pr[:, None, :] - pa)  # (n, h)
-    gap = centre - r_r - r_a[None, :]
+    centre = contact.centre_distances(pr, pa)  # (n, h)
+    gap = contact.gaps_from(pr, pa, r_r, r_a)  # sim/contact.py: the gap every report uses
     m: dict[str, Any] = {}
 
     duration = float(t[-1] - t[0])

@@ -1,5 +1,6 @@
-"""`verify_run`: load a run, simulate it if it has no trace yet, derive the expectations, judge them, write
-RUN/sim/verify.json. The public API used by `socnavgen verify` and `generate --verify`."""
+"""`verify_run`: load a run, simulate it if it has no trace yet, monitor its acceptance criteria (spec.json,
+else derived from paths, trees and card) and its trees' key nodes, blame each failure, write
+RUN/sim/verify.json. The public API used by `socnavgen verify`, `generate --verify` and campaigns."""
 
 from __future__ import annotations
 
@@ -11,8 +12,7 @@ from socnavgen.location import load_location
 from socnavgen.run.folder import RunFolder
 from socnavgen.safeio import atomic_write_text
 from socnavgen.sim.trace import Trace
-from socnavgen.verify.evaluate import evaluate
-from socnavgen.verify.expectations import derive_expectations
+from socnavgen.verify.judge import judge
 from socnavgen.verify.models import VerifyReport, VerifySettings
 
 TRACE_FILE = "trace.npz"
@@ -45,11 +45,12 @@ def card_criteria_for(run: RunFolder) -> list[dict] | None:
     return card_criteria(run.root)
 
 
-def simulate_missing(run_dir: Path, *, robot: str = "waypoints", location: Any = None, **config: Any) -> Trace:
-    """Run the headless simulator on the run (saving RUN/sim/trace.npz) and return the trace."""
+def simulate_missing(run_dir: Path, **options: Any) -> Trace:
+    """Run the headless simulator on the run (saving RUN/sim/trace.npz) and return the trace. `options`:
+    robot (the simulator's default policy when absent), location, dt, timeout, seed."""
     from socnavgen.sim.scenario import simulate_run
 
-    return simulate_run(Path(run_dir), robot, location, **config)
+    return simulate_run(Path(run_dir), **options)
 
 
 def load_trace(run: RunFolder, *, simulate_if_missing: bool, simulate_options: dict | None = None) -> Trace:
@@ -67,31 +68,27 @@ def load_trace(run: RunFolder, *, simulate_if_missing: bool, simulate_options: d
 
 def verify_trace(run_dir: Path | str, trace: Trace, *, location: Any = None,
                  settings: VerifySettings | None = None) -> VerifyReport:
-    """Judge an in-memory trace against the run's expectations (nothing written)."""
+    """Judge an in-memory trace against the run's criteria (nothing written)."""
     run = RunFolder(Path(run_dir))
-    settings = settings or VerifySettings()
-    plan = run.read_paths()
     loc = resolve_location(run, location)
-    expectations = derive_expectations(plan, run.behaviors(), loc, card_criteria_for(run))
-    findings = evaluate(expectations, trace, settings)
-    seconds = float(trace.t[-1] - trace.t[0]) if trace.steps else 0.0
-    return VerifyReport(run=str(run.root), passed=all(f.passed or not f.required for f in findings), findings=findings,
-                        settings=settings, trace_steps=trace.steps, trace_seconds=round(seconds, 3),
-                        end_reason=trace.end_reason)
+    return judge(trace, plan=run.read_paths(), location=loc, spec=run.read_spec(), trees=run.behaviors(),
+                 card_criteria=card_criteria_for(run), settings=settings or VerifySettings(), run_name=str(run.root))
 
 
 def verify_run(run_dir: Path | str, *, simulate_if_missing: bool = True, location: Any = None,
                settings: VerifySettings | None = None, write: bool = True,
-               simulate_options: dict | None = None, **thresholds: float) -> VerifyReport:
-    """Verify a run folder: simulate if RUN/sim/trace.npz is missing (`simulate_options`: robot="waypoints",
-    dt, timeout, seed), judge every expectation, write RUN/sim/verify.json. `thresholds` override
-    VerifySettings fields (distance=2.5, near=3.0, passing=3.0, group_spread=3.0, group_fraction=0.8)."""
+               simulate_options: dict | None = None, **thresholds: float | bool) -> VerifyReport:
+    """Verify a run folder: simulate if RUN/sim/trace.npz is missing (`simulate_options`: robot, dt, timeout,
+    seed), judge every criterion, write RUN/sim/verify.json. `thresholds` override VerifySettings fields
+    (distance=2.0, near=1.0, passing=2.5, group_spread=2.5, deadlock_seconds=10, reaction_seconds=5,
+    collisions_fail=True); unknown names are ignored."""
     run = RunFolder(Path(run_dir))
     if not run.paths_path.is_file():
         raise InputFileError("no paths.json in this run", file=run.root,
                              hint="verify needs a generated run (socnavgen generate ... --out RUN)")
+    fields = VerifySettings.model_fields
     settings = (settings or VerifySettings()).model_copy(update={k: v for k, v in thresholds.items()
-                                                                 if v is not None})
+                                                                 if v is not None and k in fields})
     options = dict(simulate_options or {})
     if location is not None and isinstance(location, str | Path):
         options.setdefault("location", location)

@@ -1,0 +1,194 @@
+"""Who can fix a failing finding: the robot's script, the paths, one human's behavior tree, or the spec.
+
+The rule table (first matching rule wins; docs/verify.md shows the same):
+
+  S1  the criterion contradicts its own spec (unknown encounter or human, a meeting closer than the two
+      radii, a phrase other than the one its encounter waits for, a stop asked of a walk_past,
+      keeps_away farther than a meeting it also asks for, a formula that cannot be monitored) -> spec
+  C1  collision, with a robot that is not meant to misbehave                                   -> robot_script
+  C2  collision demanded away by a spec whose robot misbehaves on purpose                      -> spec
+  D1  deadlock / goal not reached behind a human whose reaction waits for a robot phrase the
+      robot never said                                                                        -> robot_script
+  D2  deadlock / goal not reached behind a human (the human's tree keeps it in the way)        -> behaviors(h)
+  P1  the criterion waits for a robot phrase the robot never said                              -> robot_script
+  P2  the reaction happened before its cause (the tree is not gated on the phrase)             -> behaviors(h)
+  N1  the robot, or the human, never came within `within` of the encounter node                -> paths
+  N2  both reached the node but never within the distance at the same time (timing, place)    -> paths
+  N3  the robot never came near the human (a reaction's trigger never held)                     -> paths
+  V1  hidden_until failed: the two saw each other early (the place is not blind)               -> paths
+  G1  a group apart whose members walk different paths                                          -> paths
+  G2  a group apart on one path                                                                -> behaviors(farthest)
+  R1  the trigger held (the robot near / said the phrase) but the reaction never ran           -> behaviors(h)
+  R2  robot_reaches_goal failed without a deadlock                                             -> paths
+  T1  tree checks (no spec.json): a RobotSays gate whose gesture the robot never made           -> robot_script
+  T2  tree checks: IsRobotVisible / IsRobotNearby never succeeded                               -> paths
+  T3  tree checks: any other node never ran, or ran before its cause                           -> behaviors(h)
+  U1  a user `stl` formula: robot phrases it names never said -> robot_script; it names a human's
+      actions, phrases or reactions -> behaviors(h); otherwise                                 -> paths
+"""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+
+from socnavgen.run.models import PathPlan
+from socnavgen.run.spec import Blame, Criterion, ScenarioSpec
+from socnavgen.verify.criteria import MIN_MEET, Compiled, deadlock_culprit
+from socnavgen.verify.signals import ROBOT_PHRASES, Signals, phrase_id
+from socnavgen.verify.stl import formula_signals
+
+Verdict = tuple[Blame, str | None, str]  # blame, human (for behaviors), reason
+
+
+def spec_problem(c: Criterion, spec: ScenarioSpec) -> str | None:
+    """Rule S1: why a criterion contradicts its own spec, or None."""
+    if c.encounter and spec.encounter(c.encounter) is None:
+        return f"criterion {c.id} names encounter {c.encounter!r}, which the spec does not have"
+    humans = set(spec.humans())
+    for name in [c.human, *c.humans]:
+        if name and humans and name not in humans:
+            return f"criterion {c.id} is about {name}, who takes part in no encounter"
+    if c.kind == "meets" and c.distance is not None and c.distance < MIN_MEET:
+        return (f"criterion {c.id} asks for a meeting closer than {MIN_MEET} m centre to centre: "
+                "that is a collision (0.35 m robot + 0.4 m human radius)")
+    parts = spec.parts_of(c.human) if c.human else []
+    if c.encounter:
+        parts = [(e, p) for e, p in parts if e.id == c.encounter]
+    if c.kind in ("reacts_after_phrase", "follows_robot") and c.phrase:
+        waits = {p.phrase for _, p in parts if p.trigger == "robot_says" and p.phrase}
+        if waits and c.phrase not in waits:
+            return (f"criterion {c.id} waits for the robot saying {c.phrase}, but its encounter reacts to "
+                    f"{', '.join(sorted(waits))}")
+    if c.kind in ("stops_near_robot", "blocks_robot") and parts and all(p.reaction == "walk_past" for _, p in parts):
+        return f"criterion {c.id} asks {c.human} to stop, but its encounter has it walk past"
+    if c.kind == "keeps_away" and c.human:
+        meet = next((m for m in spec.criteria if m.kind == "meets" and m.human == c.human), None)
+        if meet is not None and (meet.distance or 2.0) < (c.distance or 1.5):
+            return (f"criterion {c.id} keeps {c.human} {c.distance or 1.5:g} m away, but criterion {meet.id} asks "
+                    f"them to meet within {meet.distance or 2.0:g} m")
+    return None
+
+
+def _never_said(s: Signals, phrase: str | None) -> bool:
+    return bool(phrase) and not (s.get(f"robot_says_{phrase}") > 0.5).any()
+
+
+def _waited_phrase(spec: ScenarioSpec, human: str | None) -> str | None:
+    for _, p in spec.parts_of(human) if human else []:
+        if p.trigger == "robot_says" and p.phrase:
+            return phrase_id(p.phrase)
+    return None
+
+
+def _stuck(cc: Compiled, s: Signals, spec: ScenarioSpec, settings_deadlock: float) -> Verdict | None:
+    """Rules D1, D2."""
+    dead = s.get("deadlock")
+    if dead.max() < settings_deadlock:
+        return None
+    _, who = deadlock_culprit(s)
+    if who is None:
+        return None
+    phrase = _waited_phrase(spec, who)
+    if _never_said(s, phrase):
+        return ("robot_script", None, f"{who} waits for the robot to say {phrase.replace('_', ' ').upper()}, "
+                                      "which the script never says: add a cue (e.g. when blocked)")
+    return ("behaviors", who, f"{who} stood in the robot's way {dead.max():.0f} s: its tree must give way")
+
+
+def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan | None,
+                    settings_deadlock: float) -> Verdict:
+    """Apply the rule table to one failing, monitored criterion."""
+    c, h, kind = cc.criterion, cc.human, cc.criterion.kind
+    problem = spec_problem(c, spec)
+    if problem:
+        return "spec", None, problem
+    if kind == "no_collision":
+        if spec.script.misbehave:
+            return "spec", None, "the script wants a misbehaving robot but a criterion forbids collisions"
+        return "robot_script", None, "the robot ran into a person: its script must stop or wait (wait_until_clear)"
+    if kind in ("no_deadlock", "robot_reaches_goal"):
+        stuck = _stuck(cc, s, spec, settings_deadlock)
+        if stuck:
+            return stuck
+        if kind == "no_deadlock":
+            return "robot_script", None, "the robot stood still too long: its script's waits are too long"
+        return "paths", None, "the robot did not reach its goal: check the robot path"
+    if kind == "stl":
+        return _blame_formula(cc, s)
+    robot_phrase = cc.phrase if kind in ("reacts_after_phrase", "follows_robot") else \
+        _waited_phrase(spec, h) if kind in ("says", "stops_near_robot", "gives_way", "blocks_robot") else None
+    if _never_said(s, robot_phrase):
+        return ("robot_script", None,
+                f"the robot never said {robot_phrase.replace('_', ' ').upper()}: add a cue that says it")
+    if kind == "reacts_after_phrase" and h and cc.reaction:
+        says, react = s.get(f"robot_says_{cc.phrase}") > 0.5, s.get(f"react_{h}_{cc.reaction}") > 0.5
+        if react.any() and int(np.argmax(react)) < int(np.argmax(says)):
+            return "behaviors", h, f"{h} reacted before the robot spoke: gate the reaction on RobotSays"
+    if kind == "hidden_until":
+        return "paths", None, "robot and human see each other before they meet: choose a blind place"
+    if kind == "group_together":
+        return _blame_group(cc, s, plan)
+    if cc.encounter is not None and h and kind == "meets":
+        e, within = cc.encounter.id, cc.encounter.within
+        if s.get(f"robot_to_{e}").min() > within:
+            return "paths", None, f"the robot never came within {within:g} m of {cc.encounter.node or e}"
+        if s.get(f"{h}_to_{e}").min() > within:
+            return "paths", None, f"{h} never came within {within:g} m of {cc.encounter.node or e}"
+        return "paths", None, f"the robot and {h} were not at {cc.encounter.node or e} at the same time"
+    if h:
+        reach = max(cc.distance or 2.0, 2.0)
+        if s.get(f"dist_{h}").min() > reach:
+            return "paths", None, f"the robot never came within {reach:g} m of {h}"
+        return "behaviors", h, f"the robot came near {h} but {h} did not react as asked ({kind})"
+    return "paths", None, "the scenario did not unfold as asked"
+
+
+def _blame_group(cc: Compiled, s: Signals, plan: PathPlan | None) -> Verdict:
+    names = re.findall(r"human\d+", cc.formula)
+    if plan is not None:
+        paths = {tuple(h.path) for h in plan.humans if h.name in names}
+        if len(paths) > 1:
+            return "paths", None, f"the group members {', '.join(names)} walk different paths"
+    spread = s.get("spread_" + "_".join(names))
+    k = int(np.argmax(spread))
+    goal = None
+    if plan is not None:
+        last = next((h.path[-1] for h in plan.humans if h.name in names and h.path), None)
+        goal = s.places.get(f"node_{last}") if last else None
+    if goal is not None:  # the member farthest from the group's destination lags behind
+        far = [float(np.linalg.norm(s.pos(n)[k] - np.asarray(goal))) for n in names]
+    else:  # the member farthest from the others
+        pos = np.stack([s.pos(n)[k] for n in names])
+        far = list(np.linalg.norm(pos - pos.mean(axis=0), axis=1))
+    who = names[int(np.argmax(far))]
+    return "behaviors", who, f"{who} leaves its group: its tree must keep it with the others"
+
+
+def _blame_formula(cc: Compiled, s: Signals) -> Verdict:
+    names = formula_signals(cc.formula)
+    for name in names:
+        m = re.fullmatch(r"robot_(?:says|said)_([a-z_]+)", name)
+        if m and m[1] in ROBOT_PHRASES and _never_said(s, m[1]):
+            return "robot_script", None, f"the formula needs the robot to say {m[1].replace('_', ' ').upper()}, which it never did"
+    for name in names:
+        m = re.match(r"(?:exec|holds|react)_(human\d+)_|(human\d+)_(?:says|said)_", name)
+        if m:
+            who = m[1] or m[2]
+            return "behaviors", who, f"the formula asks something of {who}'s behavior"
+    return "paths", None, "the formula's geometry did not happen"
+
+
+def blame_tree_check(node: str | None, message: int | None, human: str | None, s: Signals | None,
+                     before_cause: bool) -> Verdict:
+    """Rules T1-T3 for a failing tree expectation."""
+    if before_cause:
+        return "behaviors", human, f"{human}'s {node} ran before its cause"
+    if node == "RobotSays" and s is not None:
+        said = message is not None and (np.asarray(s.trace.robot_gesture) == message).any()
+        if not said:
+            return "robot_script", None, "the robot never made the gesture this tree waits for: script it"
+    if node in ("IsRobotVisible", "IsRobotNearby"):
+        return "paths", None, f"the robot never came where {human} could see it"
+    return "behaviors", human, f"{human}'s tree never ran {node}"

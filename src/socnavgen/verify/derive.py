@@ -1,0 +1,120 @@
+"""Which criteria a run is judged on, and where its encounters are.
+
+- With spec.json: its criteria, plus the ones its encounters imply (every encounter's human meets the
+  robot at the encounter's node; no collision unless the robot misbehaves on purpose; no deadlock
+  unless someone is meant to block the robot).
+- Without (older runs): a spec derived from paths.json (an encounter at each human's interaction
+  point, groups, the robot's goal) and the scenario card's criteria, with the SAME strict thresholds
+  (a card's looser meeting distance is capped at the strict one).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from socnavgen.run.models import PathPlan
+from socnavgen.run.spec import Criterion, Encounter, HumanPart, ScenarioSpec
+from socnavgen.verify.models import Source, VerifySettings
+
+Judged = list[tuple[Criterion, Source]]
+
+
+def _node_type(location: Any, node: str) -> str:
+    try:
+        return str(location.scene_graph.node(node).type)
+    except (AttributeError, KeyError, StopIteration, ValueError):
+        return "INTERACTION POINT"
+
+
+def derive_spec(plan: PathPlan, location: Any, card_criteria: list[dict] | None,
+                settings: VerifySettings) -> tuple[ScenarioSpec, Judged]:
+    """A spec for a run that has none: (spec, criteria with where each came from)."""
+    card = [c for c in card_criteria or [] if isinstance(c, dict)]
+    card_meet = {c.get("human") for c in card if c.get("kind") == "meets_human"}
+
+    def card_within(kind: str, human: str | None) -> float | None:
+        for c in card:
+            if c.get("kind") == kind and c.get("human") in (None, human) and isinstance(c.get("within"), int | float):
+                return float(c["within"])
+        return None
+
+    encounters: list[Encounter] = []
+    judged: Judged = []
+    for h in plan.humans:
+        if not h.interaction_point:
+            continue
+        enc = Encounter(id=f"e{len(encounters) + 1}", place=_node_type(location, h.interaction_point),
+                        node=h.interaction_point, humans=[HumanPart(human=h.name)], within=settings.near)
+        encounters.append(enc)
+        within = card_within("meets_human", h.name)
+        distance = min(within, settings.distance) if within else settings.distance
+        source: Source = "card" if (h.name in card_meet or None in card_meet) else "paths"
+        judged.append((Criterion(id=f"meet_{h.name}", kind="meets", human=h.name, encounter=enc.id,
+                                 distance=distance, text=f"robot meets {h.name} at {h.interaction_point}"), source))
+    groups: dict[int, list[str]] = {}
+    for h in plan.humans:
+        if h.group_id != -1:
+            groups.setdefault(h.group_id, []).append(h.name)
+    for gid, members in sorted(groups.items()):
+        if len(members) > 1:
+            spread = card_within("group_together", None)
+            judged.append((Criterion(id=f"group_{gid}", kind="group_together", humans=members,
+                                     distance=min(spread, settings.group_spread) if spread else None,
+                                     text=f"group {gid} ({', '.join(members)}) stays together"),
+                           "card" if spread else "paths"))
+    if plan.robot:
+        from_card = any(c.get("kind") == "robot_reaches_goal" for c in card)
+        judged.append((Criterion(id="goal", kind="robot_reaches_goal", text=f"robot reaches its goal {plan.robot[-1]}"),
+                       "card" if from_card else "paths"))
+    if plan.humans:
+        judged.append((Criterion(id="no_collision", kind="no_collision", text="robot never collides with a human"),
+                       "paths"))
+        judged.append((Criterion(id="no_deadlock", kind="no_deadlock",
+                                 text="robot never stuck behind a person"), "paths"))
+    spec = ScenarioSpec(encounters=encounters, criteria=[c for c, _ in judged])
+    return spec, judged
+
+
+def with_implied(spec: ScenarioSpec) -> Judged:
+    """The spec's criteria and those its encounters imply (source `implied`)."""
+    judged: Judged = [(c, "spec") for c in spec.criteria]
+    kinds_of: dict[str | None, set[str]] = {}
+    for c in spec.criteria:
+        for name in [c.human, *c.humans]:
+            kinds_of.setdefault(name, set()).add(c.kind)
+    for enc in spec.encounters:
+        for part in enc.humans:
+            if {"meets", "keeps_away"} & kinds_of.get(part.human, set()) or part.reaction in ("avoid",):
+                continue
+            judged.append((Criterion(id=f"meet_{part.human}_{enc.id}", kind="meets", human=part.human,
+                                     encounter=enc.id, text=f"robot meets {part.human} at {enc.node or enc.place} "
+                                                            f"({enc.id})"), "implied"))
+            kinds_of.setdefault(part.human, set()).add("meets")
+    present = {c.kind for c in spec.criteria}
+    blocking = any(p.reaction == "block" for e in spec.encounters for p in e.humans)
+    if "no_collision" not in present and not spec.script.misbehave and spec.encounters:
+        judged.append((Criterion(id="no_collision", kind="no_collision", text="robot never collides with a human"),
+                       "implied"))
+    if "no_deadlock" not in present and not spec.script.misbehave and not blocking and spec.encounters:
+        judged.append((Criterion(id="no_deadlock", kind="no_deadlock", text="robot never stuck behind a person"),
+                       "implied"))
+    return judged
+
+
+def encounter_places(spec: ScenarioSpec, plan: PathPlan | None, location: Any) -> dict[str, tuple[float, float]]:
+    """World point of each encounter: its node, else the interaction point paths.json gives its first human."""
+    out: dict[str, tuple[float, float]] = {}
+    if location is None:
+        return out
+    for enc in spec.encounters:
+        node = enc.node
+        if node is None and plan is not None:
+            node = next((h.interaction_point for p in enc.humans for h in plan.humans
+                         if h.name == p.human and h.interaction_point), None)
+        if node is None:
+            continue
+        try:
+            out[enc.id] = tuple(location.node_world(node))
+        except (KeyError, StopIteration, ValueError):
+            continue
+    return out

@@ -1,0 +1,114 @@
+"""Judge one trace: monitor every criterion (STL robustness + evidence), run the tree checks, blame every
+failure, and assemble the VerifyReport. Pure: everything comes in as objects, nothing is read or written."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from socnavgen.run.models import PathPlan
+from socnavgen.run.spec import Criterion, ScenarioSpec
+from socnavgen.sim.trace import Trace
+from socnavgen.verify.blame import blame_criterion, blame_tree_check, spec_problem
+from socnavgen.verify.criteria import Compiled, compile_criterion, evidence
+from socnavgen.verify.derive import derive_spec, encounter_places, with_implied
+from socnavgen.verify.evaluate import evaluate, node_steps
+from socnavgen.verify.expectations import tree_checks
+from socnavgen.verify.models import Finding, Source, VerifyReport, VerifySettings
+from socnavgen.verify.signals import Signals
+from socnavgen.verify.stl import FormulaError, monitor
+
+DEFAULT_GOAL_RADIUS = 0.5  # m, when neither the settings nor the trace give one
+
+
+def _title(c: Criterion) -> str:
+    if c.text:
+        return c.text
+    who = c.human or ", ".join(c.humans) or "robot"
+    return f"{c.id}: {c.kind.replace('_', ' ')} ({who}{', ' + c.encounter if c.encounter else ''})"
+
+
+def _with_blame(finding: Finding, blame: str, human: str | None, reason: str) -> Finding:
+    return finding.model_copy(update={"blame": blame, "blame_human": human, "blame_reason": reason,
+                                      "stage": blame if blame in ("paths", "behaviors") else None})
+
+
+def judge_criterion(c: Criterion, source: Source, spec: ScenarioSpec, plan: PathPlan | None, signals: Signals,
+                    settings: VerifySettings, goal_radius: float) -> Finding:
+    """One criterion: compiled, monitored with rtamt, explained, and blamed when it fails."""
+    base = Finding(name=_title(c), kind=c.kind, passed=False, evidence="", human=c.human, source=source,
+                   criterion=c.id, required=not (c.kind == "no_collision" and not settings.collisions_fail))
+    try:
+        cc: Compiled = compile_criterion(c, spec, settings, goal_radius)
+        base.formula = cc.formula
+        verdict = monitor(cc.formula, signals)
+    except FormulaError as exc:
+        text = f"cannot be monitored: {exc}"
+        failed = base.model_copy(update={"evidence": text})
+        if "unknown place" in str(exc):
+            return _with_blame(failed, "paths", None, "ground the encounter on a scene-graph node")
+        return _with_blame(failed, "spec", None, str(exc))
+    text, time, distance = evidence(cc, signals)
+    problem = spec_problem(c, spec)
+    robustness = None if problem else round(verdict.robustness, 3)  # a contradictory criterion has no margin
+    passed = problem is None and verdict.robustness >= 0
+    shown = text if problem is None else f"{text}; {problem}"
+    finding = base.model_copy(update={
+        "passed": passed, "evidence": shown, "robustness": robustness,
+        "time": None if time is None else round(float(time), 3),
+        "distance": None if distance is None else round(float(distance), 2)})
+    if passed:
+        return finding
+    return _with_blame(finding, *blame_criterion(cc, signals, spec, plan, settings.deadlock_seconds))
+
+
+def judge(trace: Trace, *, plan: PathPlan, location: Any, spec: ScenarioSpec | None, trees: dict[str, str],
+          card_criteria: list[dict] | None, settings: VerifySettings, run_name: str = "") -> VerifyReport:
+    """The whole verdict on a trace. With `spec` its criteria decide and the tree checks are diagnostics;
+    without, criteria are derived from the paths and card and the tree checks are required too."""
+    if spec is None:
+        used, judged = derive_spec(plan, location, card_criteria, settings)
+    else:
+        used, judged = spec, with_implied(spec)
+    goal_radius = settings.goal_radius or float((trace.meta or {}).get("robot_goal_radius", DEFAULT_GOAL_RADIUS))
+    world = None
+    node_points: dict[str, tuple[float, float]] = {}
+    if location is not None:
+        from socnavgen.sim.world import World
+
+        world = World.from_location(location)
+        node_points = {n: tuple(location.node_world(n)) for n in location.scene_graph.node_ids()}
+    places = encounter_places(used, plan, location)
+    if trace.robot_goal is None and plan.robot and location is not None:
+        places["goal"] = tuple(location.node_world(plan.robot[-1]))
+    signals = Signals(trace, world=world, places=places, node_points=node_points, goal_radius=goal_radius)
+    findings: list[Finding] = []
+    if trace.steps == 0:
+        findings = [Finding(name=_title(c), kind=c.kind, passed=False, evidence="the trace is empty", source=src,
+                            criterion=c.id, blame="paths", stage="paths") for c, src in judged]
+    else:
+        findings = [judge_criterion(c, src, used, plan, signals, settings, goal_radius) for c, src in judged]
+    expectations = tree_checks(plan, trees, card_criteria)
+    for exp, (finding, before_cause) in zip(expectations, evaluate(expectations, trace, settings), strict=True):
+        finding.required = spec is None
+        if not finding.passed:
+            node, message = _first_missing_cause(trace, exp.node, exp.message, exp.caused_by, finding.human,
+                                                 before_cause)
+            finding = _with_blame(finding, *blame_tree_check(node, message, finding.human,
+                                                             signals if trace.steps else None, before_cause))
+        findings.append(finding)
+    seconds = float(trace.t[-1] - trace.t[0]) if trace.steps else 0.0
+    return VerifyReport(run=run_name, passed=all(f.passed or not f.required for f in findings), findings=findings,
+                        settings=settings, spec=spec is not None, trace_steps=trace.steps,
+                        trace_seconds=round(seconds, 3), end_reason=trace.end_reason)
+
+
+def _first_missing_cause(trace: Trace, node: str | None, message: int | None, caused_by: list, human: str | None,
+                         before_cause: bool) -> tuple[str | None, int | None]:
+    """A node that never ran because a condition gating it never held is blamed like that condition."""
+    if before_cause or human not in trace.human_names or not trace.steps:
+        return node, message
+    i = trace.human_names.index(human)
+    for gate, gate_message in caused_by:
+        if not node_steps(trace, i, gate, gate_message).any():
+            return gate, gate_message
+    return node, message

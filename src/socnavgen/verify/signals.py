@@ -1,0 +1,326 @@
+"""The named per-step signals of a simulation trace that acceptance criteria (STL formulas) talk about.
+
+One registry of signal kinds (a name pattern, its unit, what it means, how to compute it); signals are
+computed on demand and cached, so a formula pays only for what it names. Booleans are 0/1 signals,
+tested in formulas as `x > 0.5` (their robustness is then +-0.5). Every distance is in metres, centre
+to centre unless the name says `gap` (sim/contact.py is the one definition of gap and collision).
+docs/verify.md lists the same table.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import re
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from socnavgen.bt.library import HUMAN_GESTURES, LIBRARY, ROBOT_GESTURES
+from socnavgen.sim import contact
+from socnavgen.sim.trace import VX, VY, YAW, Trace
+
+STILL_SPEED = 0.05  # m/s: the robot stands still below this
+STOP_SPEED = 0.1  # m/s: a human has stopped below this
+MOVED_DISTANCE = 0.5  # m: a human "has walked" once this far from where it started
+AHEAD_HALF_ANGLE = 45.0  # degrees: the robot is "ahead of" a human inside this cone around the human's heading
+WAY_MARGIN = 0.1  # m: a human is "in the robot's way" when its disc is within this of the robot's swept corridor
+BLOCK_GAP = 1.0  # m: someone in the robot's way with a gap up to this blocks it (deadlock)
+FAR = 1.0e3  # value of a distance that does not exist (no humans)
+
+# What counts as evidence that a human performs a spec reaction (spec.py `Reaction`): library actions
+# executed, or a physical fact. The verifier's reading of the words, documented in docs/verify.md.
+REACTION_EVIDENCE: dict[str, tuple[str, ...]] = {
+    "walk_past": ("RegularNav",), "look": ("LookAtRobot",), "give_way": ("GiveWaytoRobot",),
+    "follow": ("FollowRobot",), "block": ("BlockRobot",), "avoid": ("RunAwayFromRobot", "GiveWaytoRobot"),
+    "follow_human": ("FollowHuman",), "join": ("FollowHuman", "RegularNav"),
+    "stop": (), "wait_then_go": (), "say": (),  # physical: standing still after walking / any gesture
+}
+
+
+def phrase_id(phrase: str) -> str:
+    """'EXCUSE ME' -> 'excuse_me' (the form phrases take in signal names)."""
+    return phrase.strip().lower().replace(" ", "_")
+
+
+ROBOT_PHRASES = {phrase_id(w): code for code, w in ROBOT_GESTURES.items() if code}
+HUMAN_PHRASES = {phrase_id(w): code for code, w in HUMAN_GESTURES.items() if code}
+
+
+class UnknownSignal(ValueError):
+    """A formula names a signal that does not exist for this run."""
+
+
+@dataclass(frozen=True)
+class SignalKind:
+    pattern: str  # regular expression over the whole name, groups passed to `build`
+    shown: str  # the pattern as documented, e.g. dist_<human>
+    unit: str
+    meaning: str
+    build: Callable[[Signals, re.Match], np.ndarray]
+
+
+def _runlength(flags: np.ndarray, dt: float) -> np.ndarray:
+    """Seconds each step has been inside a continuous run of True (0 where False)."""
+    out = np.zeros(len(flags))
+    acc = 0.0
+    for k, flag in enumerate(flags):
+        acc = acc + dt if flag else 0.0
+        out[k] = acc
+    return out
+
+
+def _latched(flags: np.ndarray) -> np.ndarray:
+    return np.maximum.accumulate(np.asarray(flags, dtype=float)) if len(flags) else np.zeros(0)
+
+
+class Signals:
+    """The signals of one trace. `places`: named world points (encounter ids, `goal`, `node_<id>`)."""
+
+    def __init__(self, trace: Trace, *, world=None, places: dict[str, tuple[float, float]] | None = None,  # noqa: ANN001
+                 node_points: dict[str, tuple[float, float]] | None = None, goal_radius: float = 0.5) -> None:
+        self.trace = trace
+        self.world = world
+        self.places = dict(places or {})
+        if trace.robot_goal is not None and "goal" not in self.places:
+            self.places["goal"] = tuple(trace.robot_goal)
+        for node, point in (node_points or {}).items():
+            self.places.setdefault(f"node_{node}", point)
+        self.goal_radius = goal_radius
+        self._cache: dict[str, np.ndarray] = {}
+        self._los: np.ndarray | None = None
+
+    @property
+    def t(self) -> np.ndarray:
+        return np.asarray(self.trace.t, dtype=float)
+
+    # -- lookup --------------------------------------------------------------------------------
+    def get(self, name: str) -> np.ndarray:
+        """The (T,) float signal `name`; UnknownSignal with what exists when there is no such signal."""
+        if name not in self._cache:
+            for kind in SIGNAL_KINDS:
+                match = re.fullmatch(kind.pattern, name)
+                if match:
+                    self._cache[name] = np.asarray(kind.build(self, match), dtype=float)
+                    break
+            else:
+                raise UnknownSignal(f"unknown signal {name!r}; signals are: "
+                                    + ", ".join(k.shown for k in SIGNAL_KINDS) + " (docs/verify.md)")
+        return self._cache[name]
+
+    def human(self, name: str) -> int:
+        if name not in self.trace.human_names:
+            raise UnknownSignal(f"{name} is not in this run (humans: {', '.join(self.trace.human_names) or 'none'})")
+        return self.trace.human_names.index(name)
+
+    def place(self, name: str) -> np.ndarray:
+        if name not in self.places:
+            raise UnknownSignal(f"unknown place {name!r} (places: {', '.join(sorted(self.places)) or 'none'}; "
+                                "encounter ids, goal, node_<scene-graph id>)")
+        return np.asarray(self.places[name], dtype=float)
+
+    # -- geometry helpers ------------------------------------------------------------------------
+    def pos(self, who: str) -> np.ndarray:
+        if who == "robot":
+            return self.trace.robot[:, :2]
+        if who.startswith("mid_"):
+            return 0.5 * (self.trace.robot[:, :2] + self.pos(who[4:]))
+        return self.trace.humans[:, self.human(who), :2]
+
+    def speed(self, who: str) -> np.ndarray:
+        state = self.trace.robot if who == "robot" else self.trace.humans[:, self.human(who)]
+        return np.linalg.norm(state[:, VX:VY + 1], axis=1)
+
+    def line_of_sight(self) -> np.ndarray:
+        """(T, H) 1 where the robot and each human see each other (walls of the occupancy map)."""
+        if self._los is None:
+            if self.world is None:
+                raise UnknownSignal("line of sight needs the run's location (map)")
+            robot = self.trace.robot[:, 0] + 1j * self.trace.robot[:, 1]
+            humans = self.trace.humans[:, :, 0] + 1j * self.trace.humans[:, :, 1]
+            self._los = np.stack([self.world.line_of_sight(robot[k], humans[k]) for k in range(self.trace.steps)]) \
+                if humans.shape[1] else np.zeros((self.trace.steps, 0), dtype=bool)
+        return self._los
+
+    def in_way(self, i: int) -> np.ndarray:
+        """1 where human i is ahead of the robot (along its heading) inside its swept corridor."""
+        rel = self.trace.humans[:, i, :2] - self.trace.robot[:, :2]
+        yaw = self.trace.robot[:, YAW]
+        along = rel[:, 0] * np.cos(yaw) + rel[:, 1] * np.sin(yaw)
+        lateral = np.abs(-rel[:, 0] * np.sin(yaw) + rel[:, 1] * np.cos(yaw))
+        half = self.trace.robot_radius + float(np.asarray(self.trace.human_radii)[i]) + WAY_MARGIN
+        return (along > 0) & (lateral <= half)
+
+    def blocked(self) -> np.ndarray:
+        """1 where some human stands in the robot's way within BLOCK_GAP."""
+        h = len(self.trace.human_names)
+        if not h:
+            return np.zeros(self.trace.steps, dtype=bool)
+        gaps = contact.trace_gaps(self.trace)
+        return np.stack([self.in_way(i) & (gaps[:, i] <= BLOCK_GAP) for i in range(h)], axis=1).any(axis=1)
+
+
+# ---- builders ------------------------------------------------------------------------------------
+def _dist(s: Signals, m: re.Match) -> np.ndarray:
+    return contact.trace_distances(s.trace)[:, s.human(m[1])]
+
+
+def _gap(s: Signals, m: re.Match) -> np.ndarray:
+    return contact.trace_gaps(s.trace)[:, s.human(m[1])]
+
+
+def _gap_min(s: Signals, m: re.Match) -> np.ndarray:
+    if not s.trace.human_names:
+        return np.full(s.trace.steps, FAR)
+    return contact.trace_gaps(s.trace).min(axis=1)
+
+
+def _speed(s: Signals, m: re.Match) -> np.ndarray:
+    who = m[1]
+    if who != "robot":
+        s.human(who)
+    return s.speed(who)
+
+
+def _robot_still(s: Signals, m: re.Match) -> np.ndarray:
+    return s.speed("robot") < STILL_SPEED
+
+
+def _stalled(s: Signals, m: re.Match) -> np.ndarray:
+    return _runlength(s.speed("robot") < STILL_SPEED, s.trace.dt)
+
+
+def _deadlock(s: Signals, m: re.Match) -> np.ndarray:
+    at_goal = np.zeros(s.trace.steps, dtype=bool)
+    if "goal" in s.places:
+        at_goal = np.linalg.norm(s.pos("robot") - s.place("goal"), axis=1) <= s.goal_radius
+    return _runlength((s.speed("robot") < STILL_SPEED) & s.blocked() & ~at_goal, s.trace.dt)
+
+
+def _phrase(table: dict[str, int], word: str, who: str) -> int:
+    if word not in table:
+        raise UnknownSignal(f"{who} has no phrase {word!r} (phrases: {', '.join(sorted(table))})")
+    return table[word]
+
+
+def _robot_says(s: Signals, m: re.Match) -> np.ndarray:
+    says = np.asarray(s.trace.robot_gesture) == _phrase(ROBOT_PHRASES, m[2], "the robot")
+    return _latched(says) if m[1] == "said" else says
+
+
+def _human_says(s: Signals, m: re.Match) -> np.ndarray:
+    says = np.asarray(s.trace.human_gesture[:, s.human(m[1])]) == _phrase(HUMAN_PHRASES, m[3], m[1])
+    return _latched(says) if m[2] == "said" else says
+
+
+def _los(s: Signals, m: re.Match) -> np.ndarray:
+    return s.line_of_sight()[:, s.human(m[1])]
+
+
+def _ahead(s: Signals, m: re.Match) -> np.ndarray:
+    i = s.human(m[1])
+    rel = s.trace.robot[:, :2] - s.trace.humans[:, i, :2]
+    bearing = np.arctan2(rel[:, 1], rel[:, 0]) - s.trace.humans[:, i, YAW]
+    off = np.abs((bearing + math.pi) % (2 * math.pi) - math.pi)
+    return off <= math.radians(AHEAD_HALF_ANGLE)
+
+
+def _inway(s: Signals, m: re.Match) -> np.ndarray:
+    return s.in_way(s.human(m[1]))
+
+
+def _library_node(name: str, kind: str) -> str:
+    found = next((n for n, spec in LIBRARY.items() if n.lower() == name and spec.kind == kind), None)
+    if found is None:
+        names = sorted(n.lower() for n, spec in LIBRARY.items() if spec.kind == kind)
+        raise UnknownSignal(f"no library {kind} {name!r} ({', '.join(names)})")
+    return found
+
+
+def _exec(s: Signals, m: re.Match) -> np.ndarray:
+    return s.trace.executed(s.human(m[1]), _library_node(m[2], "action"))
+
+
+def _holds(s: Signals, m: re.Match) -> np.ndarray:
+    return s.trace.fired(s.human(m[1]), _library_node(m[2], "condition"))
+
+
+def _to_place(s: Signals, m: re.Match) -> np.ndarray:
+    return np.linalg.norm(s.pos(m[1]) - s.place(m[2]), axis=1)
+
+
+def _spread(s: Signals, m: re.Match) -> np.ndarray:
+    names = m[1].split("_")
+    idx = [s.human(n) for n in names]
+    pos = s.trace.humans[:, :, :2]
+    pairs = [np.linalg.norm(pos[:, a] - pos[:, b], axis=1) for a, b in itertools.combinations(idx, 2)]
+    return np.max(np.stack(pairs, axis=1), axis=1)
+
+
+def moved(s: Signals, human: str) -> np.ndarray:
+    """1 from the first step the human is MOVED_DISTANCE from where it started."""
+    p = s.pos(human)
+    return _latched(np.linalg.norm(p - p[:1], axis=1) >= MOVED_DISTANCE)
+
+
+def _moved(s: Signals, m: re.Match) -> np.ndarray:
+    return moved(s, m[1])
+
+
+def reaction_evidence(s: Signals, human: str, reaction: str, says: str | None = None) -> np.ndarray:
+    """(T,) bool: steps showing `human` performing the spec reaction (REACTION_EVIDENCE)."""
+    i = s.human(human)
+    if reaction in ("stop", "wait_then_go"):
+        return (s.speed(human) < STOP_SPEED) & (moved(s, human) > 0.5)
+    if reaction == "say":
+        gest = np.asarray(s.trace.human_gesture[:, i])
+        return gest == HUMAN_PHRASES[phrase_id(says)] if says else gest != 0
+    nodes = REACTION_EVIDENCE.get(reaction)
+    if nodes is None:
+        raise UnknownSignal(f"unknown reaction {reaction!r} ({', '.join(REACTION_EVIDENCE)})")
+    out = np.zeros(s.trace.steps, dtype=bool)
+    for node in nodes:
+        out |= s.trace.executed(i, node)
+    return out
+
+
+def _react(s: Signals, m: re.Match) -> np.ndarray:
+    return reaction_evidence(s, m[1], m[2])
+
+
+_H = r"(human[1-9][0-9]{0,2})"
+SIGNAL_KINDS: tuple[SignalKind, ...] = (
+    SignalKind(rf"dist_{_H}", "dist_<human>", "m", "robot-human centre distance", _dist),
+    SignalKind(rf"gap_{_H}", "gap_<human>", "m", "robot-human surface gap (negative: overlap)", _gap),
+    SignalKind(r"gap_min", "gap_min", "m", "smallest robot-human gap over all humans", _gap_min),
+    SignalKind(rf"speed_(robot|{_H[1:-1]})", "speed_robot, speed_<human>", "m/s", "speed", _speed),
+    SignalKind(r"robot_still", "robot_still", "0/1", f"robot speed below {STILL_SPEED} m/s", _robot_still),
+    SignalKind(r"stalled", "stalled", "s", "how long the robot has been standing still, continuously", _stalled),
+    SignalKind(r"deadlock", "deadlock", "s", f"how long the robot has stood still with someone in its way within "
+               f"{BLOCK_GAP} m gap (not at its goal), continuously", _deadlock),
+    SignalKind(r"robot_(says|said)_([a-z_]+)", "robot_says_<phrase>, robot_said_<phrase>", "0/1",
+               "the robot makes the phrase now / has made it at some time so far (excuse_me, follow_me, wait, "
+               "proceed, acknowledged)", _robot_says),
+    SignalKind(rf"{_H}_(says|said)_([a-z_]+)", "<human>_says_<phrase>, <human>_said_<phrase>", "0/1",
+               "the human makes the phrase now / has made it so far (wait, proceed, excuse_me)", _human_says),
+    SignalKind(rf"los_{_H}", "los_<human>", "0/1", "line of sight between robot and human (map walls)", _los),
+    SignalKind(rf"ahead_{_H}", "ahead_<human>", "0/1", f"the robot is ahead of the human, within "
+               f"{AHEAD_HALF_ANGLE:g} degrees of its heading", _ahead),
+    SignalKind(rf"inway_{_H}", "inway_<human>", "0/1", "the human is ahead of the robot, in its swept corridor",
+               _inway),
+    SignalKind(rf"exec_{_H}_([a-z]+)", "exec_<human>_<action>", "0/1",
+               "the human's tree executes this library action (lower case, e.g. exec_human1_givewaytorobot)", _exec),
+    SignalKind(rf"holds_{_H}_([a-z]+)", "holds_<human>_<condition>", "0/1",
+               "this library condition returned SUCCESS for the human (e.g. holds_human1_robotsays)", _holds),
+    SignalKind(rf"(robot|{_H[1:-1]}|mid_{_H[1:-1]})_to_([a-z][a-z0-9_]*)",
+               "robot_to_<place>, <human>_to_<place>, mid_<human>_to_<place>", "m",
+               "distance of the robot / the human / the robot-human midpoint to a place: an encounter id (its "
+               "node), goal, or node_<scene-graph id>", _to_place),
+    SignalKind(rf"spread_({_H[1:-1]}(?:_{_H[1:-1]})+)", "spread_<human>_<human>[_...]", "m",
+               "largest distance between any two of these humans (group spread)", _spread),
+    SignalKind(rf"moved_{_H}", "moved_<human>", "0/1", f"the human has walked {MOVED_DISTANCE} m from its start",
+               _moved),
+    SignalKind(rf"react_{_H}_([a-z_]+)", "react_<human>_<reaction>", "0/1",
+               "evidence of a spec reaction (REACTION_EVIDENCE: give_way, stop, look, follow, ...)", _react),
+)
