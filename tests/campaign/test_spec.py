@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -28,7 +29,9 @@ metrics: [success, path_efficiency]
 def test_good_file_parses_with_shorthands() -> None:
     spec = parse_campaign(GOOD)
     assert [type(s) for s in spec.scenarios] == [CardsSource, RunsSource, FolderSource]
-    assert [(p.name, p.robot) for p in spec.policies] == [("waypoints", "waypoints"), ("mine", "my_policy.py:Mine")]
+    assert [p.name for p in spec.policies] == ["waypoints", "mine"]
+    assert spec.policies[0].robot == "waypoints"
+    assert spec.policies[1].robot == f"{Path('my_policy.py').resolve()}:Mine"  # relative to the file's folder
     assert spec.seeds == [0, 1, 2]
     assert spec.simulation.timeout == 30 and spec.simulation.dt == 0.05
     assert spec.metrics == ["success", "path_efficiency"]
@@ -62,3 +65,21 @@ def test_cli_error_is_exit_2_without_traceback(tmp_path) -> None:  # noqa: ANN00
     assert done.returncode == 2
     assert "c.yaml:10" in done.stderr and "seeds" in done.stderr
     assert "Traceback" not in done.stderr
+
+
+def test_policy_files_are_relative_to_the_campaign_file_and_checked_first(tmp_path) -> None:  # noqa: ANN001
+    from socnavgen.campaign.runner import run_campaign
+    from socnavgen.campaign.spec import load_campaign
+
+    (tmp_path / "robots").mkdir()
+    (tmp_path / "robots" / "mine.py").write_text("from socnavgen.sim.robot import RobotAction\n\nclass Still:\n"
+                                                  "    def act(self, obs):\n        return RobotAction(0.0, 0.0)\n")
+    file = tmp_path / "c.yaml"
+    file.write_text(GOOD.replace("my_policy.py:Mine", "robots/mine.py:Still"))
+    spec = load_campaign(file)
+    assert spec.policies[1].robot == f"{(tmp_path / 'robots' / 'mine.py').resolve()}:Still"
+    file.write_text(GOOD.replace("my_policy.py:Mine", "robots/missing.py:Still"))
+    with pytest.raises(InputFileError) as info:
+        run_campaign(load_campaign(file), tmp_path / "out", executor="inline")
+    assert "policy mine" in info.value.message and "not found" in info.value.message
+    assert not (tmp_path / "out" / "parts").exists()

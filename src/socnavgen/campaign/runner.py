@@ -36,6 +36,18 @@ def plan_episodes(spec: CampaignSpec, suite: Suite) -> list[Episode]:
     return [Episode(s, p.name, p.robot, seed) for s in ordered for p in spec.policies for seed in spec.seeds]
 
 
+def check_policies(spec: CampaignSpec) -> None:
+    """Load every policy once before any episode: a typo in the campaign file is one clear error, not a
+    table full of failed episodes (a policy that crashes *during* an episode fails only that episode)."""
+    from socnavgen.sim.robot import load_policy
+
+    for policy in spec.policies:
+        try:
+            load_policy(policy.robot)
+        except InputFileError as exc:
+            raise InputFileError(f"policy {policy.name}: {exc.message}", hint=exc.hint) from exc
+
+
 def settings_of(spec: CampaignSpec) -> EpisodeSettings:
     sim = spec.simulation
     return EpisodeSettings(dt=sim.dt, timeout=sim.timeout, throttle=sim.throttle, wall_timeout=sim.wall_timeout,
@@ -60,6 +72,7 @@ def run_campaign(spec: CampaignSpec, out: Path, *, executor: str = "local", work
     if previous.is_file() and json.loads(previous.read_text()) != json.loads(current):
         raise InputFileError("this folder holds a different campaign", file=previous,
                              hint="resume with the same campaign file, or choose another -o folder")
+    check_policies(spec)
     suite = build_suite(spec, out)
     atomic_write_text(previous, current + "\n")
     atomic_write_json(out / SCENARIOS_FILE, {"scenarios": [s.to_dict() for s in suite.scenarios],

@@ -180,6 +180,10 @@ def parse_campaign(text: str, file: Path | str = "<campaign>", base_dir: Path | 
                              hint="a campaign needs scenarios: (runs:, folder: or cards: + locations:), "
                                   "policies: and seeds:; see docs/campaign.md") from exc
     spec.base_dir = Path(base_dir) if base_dir is not None else Path(".")
+    for policy in spec.policies:  # `file.py:Class` is relative to the campaign file, like every other path
+        module, _, cls = policy.robot.rpartition(":")
+        if module.endswith(".py") and not Path(module).is_absolute():
+            policy.robot = f"{spec.resolve(module).resolve()}:{cls}"
     return spec
 
 
