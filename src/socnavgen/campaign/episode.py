@@ -18,7 +18,6 @@ from typing import Any
 
 from socnavgen.campaign.scenarios import Scenario
 
-
 # what each verifier finding keeps in the row (fields a verifier version lacks are simply left out)
 VERDICT_FIELDS = {"name", "kind", "passed", "required", "human", "criterion", "robustness", "blame", "blame_human"}
 

@@ -26,6 +26,7 @@ Deliberate differences (data the evaluator gets from Gazebo that we derive from 
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 from dataclasses import dataclass
@@ -151,10 +152,8 @@ def obstacle_lookup(location: Any) -> ObstacleLookup:
     lookup = getattr(location, "_socnavgen_obstacle_lookup", None)
     if lookup is None:
         lookup = ObstacleLookup(location)
-        try:
+        with contextlib.suppress(AttributeError):  # a frozen or slotted stand-in: just do not cache
             location._socnavgen_obstacle_lookup = lookup
-        except AttributeError:  # a frozen or slotted stand-in: just do not cache
-            pass
     return lookup
 
 
