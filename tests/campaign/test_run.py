@@ -62,3 +62,34 @@ def test_metric_selection_and_definitions(tmp_path) -> None:  # noqa: ANN001
     definitions = json.loads((tmp_path / "o" / "metrics.json").read_text())
     assert set(definitions) == {"collisions", "path_irregularity"}
     assert definitions["path_irregularity"]["unit"] == "rad/m" and "yaw" in definitions["path_irregularity"]["formula"]
+
+
+def test_run_folders_and_a_folder_of_runs(tmp_path) -> None:  # noqa: ANN001
+    from socnavgen.cards.generate import write_card_run
+    from tests.campaign.conftest import WAREHOUSE
+
+    for card in ("blind-corner", "down-path"):
+        write_card_run(card, WAREHOUSE, tmp_path / "runs" / card)
+    (tmp_path / "runs" / "notes").mkdir()  # not a run: ignored by `folder:`
+    file = tmp_path / "c.yaml"
+    file.write_text("scenarios:\n  - folder: runs\n  - runs: [runs/blind-corner]\npolicies: [waypoints]\nseeds: 1\n"
+                    "simulation: {timeout: 20}\nverify: false\n")
+    from socnavgen.campaign.spec import load_campaign
+
+    result = run_campaign(load_campaign(file), tmp_path / "out", executor="inline")
+    assert [s.id for s in result.suite.scenarios] == ["blind-corner", "down-path", "blind-corner~2"]
+    assert [s.source for s in result.suite.scenarios] == ["folder", "folder", "runs"]
+    rows = pq.read_table(tmp_path / "out" / "episodes.parquet").to_pylist()
+    assert len(rows) == 3 and all(r["card"] in ("blind-corner", "down-path") for r in rows)
+    assert all(r["verified"] is None and r["verdicts"] is None for r in rows)  # verify: false
+    assert {r["location"] for r in rows} == {"warehouse"}
+
+
+def test_a_different_campaign_in_the_same_folder_is_refused(small_spec, tmp_path) -> None:  # noqa: ANN001
+    import pytest
+
+    from socnavgen.errors import InputFileError
+
+    run_campaign(small_spec.model_copy(update={"seeds": [0]}), tmp_path / "o", executor="inline")
+    with pytest.raises(InputFileError, match="different campaign"):
+        run_campaign(small_spec.model_copy(update={"seeds": [0, 5]}), tmp_path / "o", executor="inline")
