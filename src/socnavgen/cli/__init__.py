@@ -1,42 +1,107 @@
-"""The `socnavgen` command. Each area registers its commands from its own module."""
+"""The `socnavgen` command. Each area registers its commands from its own module.
+
+Command modules are imported only when their command runs (LazyGroup): `socnavgen --help` lists every
+command from the short help below without importing numpy, networkx or the simulator."""
 
 from __future__ import annotations
 
+import importlib
 import sys
+from collections.abc import Callable
+from functools import cache
 
+import click
 import typer
+from typer.core import TyperGroup
 
 from socnavgen import __version__
-from socnavgen.cli import (
-    annotate_cmd,
-    bt_cmd,
-    cards_cmd,
-    eval_cmd,
-    export_cmd,
-    extract_cmd,
-    generate_cmd,
-    location_cmd,
-    sim_cmd,
-    verify_cmd,
-)
-from socnavgen.cli.common import err_console
-from socnavgen.errors import SocnavgenError
+
+
+def _group(module: str, extra: tuple[str, str] | None = None) -> Callable[[], click.Command]:
+    """Loader of a command group: `module.app` (+ `extra` = (module, register function) adding to it)."""
+
+    def load() -> click.Command:
+        app = importlib.import_module(f"socnavgen.cli.{module}").app
+        if extra is not None:
+            getattr(importlib.import_module(f"socnavgen.cli.{extra[0]}"), extra[1])(app)
+        return typer.main.get_command(app)
+
+    return load
+
+
+def _single(module: str, register: str, name: str) -> Callable[[], click.Command]:
+    """Loader of one command that `module.register(app)` adds to an app."""
+
+    def load() -> click.Command:
+        holder = typer.Typer()
+        getattr(importlib.import_module(f"socnavgen.cli.{module}"), register)(holder)
+        group = typer.main.get_command(holder)
+        command = group.commands[name] if isinstance(group, click.Group) else group
+        command.name = name
+        return command
+
+    return load
+
+
+# name -> (loader, one-line help shown by `socnavgen --help`), in the order of the typical flow
+COMMANDS: dict[str, tuple[Callable[[], click.Command], str]] = {
+    "location": (_group("location_cmd", ("extract_cmd", "register_extract")),
+                 "Check, render, import and extract locations (map + scene graph)."),
+    "annotate": (_single("annotate_cmd", "register", "annotate"), "Draw or fix a scene graph in the browser."),
+    "generate": (_single("generate_cmd", "register", "generate"),
+                 "Generate a scenario: scenario -> paths -> behavior trees (SocRATES pipeline)."),
+    "cards": (_group("cards_cmd"), "The 25 canonical scenario cards of Francis et al."),
+    "bt": (_group("bt_cmd"), "Behavior-tree tools: validate hand-written trees, show the node library."),
+    "export": (_single("export_cmd", "register", "export"), "Write the files HuNavSim loads for a run."),
+    "simulate": (_single("sim_cmd", "register", "simulate"), "Simulate a run headless (2D, no ROS)."),
+    "verify": (_single("verify_cmd", "register_verify", "verify"), "Check that the intended interaction happened."),
+    "campaign": (_group("campaign_cmd"), "Run robot policies over scenario suites x seeds; report with CIs."),
+    "eval": (_single("eval_cmd", "register", "eval"), "The paper's Tables I-III on any model."),
+}
+
+
+class LazyGroup(TyperGroup):
+    """A Typer group whose subcommands are imported on first use."""
+
+    _listing = False
+
+    def list_commands(self, ctx: click.Context) -> list[str]:
+        return [*COMMANDS, *(n for n in super().list_commands(ctx) if n not in COMMANDS)]
+
+    def get_command(self, ctx: click.Context, cmd_name: str) -> click.Command | None:
+        if cmd_name not in COMMANDS:
+            return super().get_command(ctx, cmd_name)
+        if self._listing:  # help listing: name and short help only
+            return click.Command(cmd_name, help=COMMANDS[cmd_name][1])
+        return _load(cmd_name)
+
+    def format_help(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
+        self._listing = True
+        try:
+            super().format_help(ctx, formatter)
+        finally:
+            self._listing = False
+
+
+@cache
+def _load(name: str) -> click.Command:
+    return COMMANDS[name][0]()
+
 
 app = typer.Typer(
     name="socnavgen",
+    cls=LazyGroup,
     help="Generate social navigation scenarios (paths + behavior trees) for HuNavSim from text and a map.\n\n"
-         "Typical flow: location check -> generate -> export -> simulate -> verify.",
+         "Typical flow: location check -> generate -> export -> simulate -> verify; campaign to test robots.",
     no_args_is_help=True,
     pretty_exceptions_enable=False,
     add_completion=False,
 )
-app.add_typer(location_cmd.app, name="location", help="Check, render, import and extract locations (map + scene graph).")
-app.add_typer(bt_cmd.app, name="bt", help="Behavior-tree tools: validate hand-written trees, show the node library.")
-app.add_typer(cards_cmd.app, name="cards", help="The 25 canonical scenario cards of Francis et al.")
-extract_cmd.register_extract(location_cmd.app)
-for module in (generate_cmd, export_cmd, sim_cmd, annotate_cmd, eval_cmd):
-    module.register(app)
-verify_cmd.register_verify(app)
+
+
+@app.callback()
+def _root() -> None:
+    """(Keeps `socnavgen` a group of commands.)"""
 
 
 @app.command("version")
@@ -47,11 +112,17 @@ def version() -> None:
 
 def main() -> None:
     """Entry point: user errors become one clear message and exit code 2, never a traceback."""
+    from socnavgen.errors import SocnavgenError
+
     try:
         app()
     except SocnavgenError as exc:
+        from socnavgen.cli.common import err_console
+
         err_console.print(f"[bold red]error:[/] {exc.render()}", highlight=False)
         sys.exit(2)
     except KeyboardInterrupt:
+        from socnavgen.cli.common import err_console
+
         err_console.print("[yellow]interrupted[/]: files already written are complete; re-run to resume")
         sys.exit(130)

@@ -26,6 +26,7 @@ Deliberate differences (data the evaluator gets from Gazebo that we derive from 
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 from dataclasses import dataclass
@@ -143,6 +144,17 @@ class ObstacleLookup:
         ob_world = self.transform.pixels_to_world(ob_px)
         within = _norm(ob_world - flat) <= OBSTACLE_RANGE
         return ob_world.reshape(pts.shape), within.reshape(pts.shape[:-1])
+
+
+def obstacle_lookup(location: Any) -> ObstacleLookup:
+    """The location's ObstacleLookup, built once per Location object (campaign workers compute metrics for
+    thousands of episodes on the same map; the distance transform is the costly part)."""
+    lookup = getattr(location, "_socnavgen_obstacle_lookup", None)
+    if lookup is None:
+        lookup = ObstacleLookup(location)
+        with contextlib.suppress(AttributeError):  # a frozen or slotted stand-in: just do not cache
+            location._socnavgen_obstacle_lookup = lookup
+    return lookup
 
 
 def sample_indices(t: np.ndarray, sample_hz: float | None) -> np.ndarray:
@@ -312,7 +324,7 @@ def compute_metrics(trace: Trace, location: Any = None, *, sample_hz: float | No
     on_robot = social_force(pa, va_vec, pr[:, None, :], vr_vec[:, None, :], sfm) if h else np.zeros((n, 0, 2))
     m["social_force_on_agents"] = float(_norm(on_agents).sum())
     m["social_force_on_robot"] = float(_norm(on_robot).sum())
-    lookup = ObstacleLookup(location) if location is not None else None
+    lookup = obstacle_lookup(location) if location is not None else None
     if lookup is not None and robot_obstacles:
         ob_r, has_r = lookup.nearest(pr)
         f_obs_r = obstacle_force(pr, r_r, ob_r, has_r, sfm)
@@ -347,3 +359,64 @@ def metrics_json(metrics: dict[str, Any]) -> str:
 
 def write_metrics(metrics: dict[str, Any], path: Path) -> None:
     atomic_write_text(Path(path), metrics_json(metrics))
+
+
+# -- Metrics HuNavSim's evaluator leaves as TODO (campaign engineer) ----------------------------------------
+# Formulas and units are in NAVIGATION_METRICS (written to metrics.json's "definitions" by campaigns and
+# shown in the campaign report). They need the walls, hence a World (sim.world) rather than a Location.
+NAVIGATION_METRICS = {
+    "path_irregularity": {
+        "unit": "rad/m",
+        "formula": "(sum_t |wrap(yaw_{t+1} - yaw_t)| - |wrap(bearing(p_0 -> goal) - yaw_0)|)^+ / L, "
+                   "L = robot path length",
+        "meaning": "robot rotation beyond the one turn needed to face its goal, per metre driven "
+                   "(0 = only the necessary turn; None when the robot did not move)"},
+    "path_efficiency": {
+        "unit": "1",
+        "formula": "|goal - p_0| / L when the goal was reached, L = robot path length",
+        "meaning": "1 = a straight line from start to goal; detours, hesitation and back-and-forth lower it. "
+                   "Walls lower it for every policy alike, so compare policies on the same scenario "
+                   "(None when the goal was not reached)"},
+    "static_obstacle_collisions": {
+        "unit": "count",
+        "formula": "number of contact onsets: steps t with c(p_t) < r_robot and c(p_{t-1}) >= r_robot, "
+                   "c = distance from the robot centre to the nearest occupied map cell",
+        "meaning": "times the robot's body touched a wall or static obstacle (every step, no sampling)"},
+    "min_obstacle_clearance": {
+        "unit": "m",
+        "formula": "min_t c(p_t) - r_robot",
+        "meaning": "closest the robot's body came to a wall (negative = overlapping it)"},
+}
+
+
+def navigation_metrics(trace: Trace, world: Any) -> dict[str, Any]:
+    """path_irregularity, path_efficiency, static_obstacle_collisions, min_obstacle_clearance (see
+    NAVIGATION_METRICS). `world` is a sim.world.World (for the walls); None leaves the wall metrics None."""
+    pr = np.asarray(trace.robot[:, :2], dtype=float)
+    yaw = np.asarray(trace.robot[:, YAW], dtype=float)
+    out: dict[str, Any] = dict.fromkeys(NAVIGATION_METRICS)
+    if len(pr) == 0:
+        return out
+    length = float(_norm(np.diff(pr, axis=0)).sum())
+    goals = robot_goals(trace)
+    if length > 1e-9:
+        turning = float(np.abs(wrap(np.diff(yaw))).sum())
+        needed = 0.0
+        if goals:
+            to_goal = np.asarray(goals[-1]) - pr[0]
+            if float(np.hypot(*to_goal)) > 1e-9:
+                needed = abs(float(wrap(np.arctan2(to_goal[1], to_goal[0]) - yaw[0])))
+        out["path_irregularity"] = max(0.0, turning - needed) / length
+    radius = float(trace.meta.get("robot_goal_radius", SUCCESS_GOAL_RADIUS)) if isinstance(trace.meta, dict) \
+        else SUCCESS_GOAL_RADIUS
+    if goals and float(_norm(pr - np.asarray(goals[-1])).min()) <= radius and length > 1e-9:
+        reference = float(np.hypot(*(np.asarray(goals[-1]) - pr[0])))
+        out["path_efficiency"] = min(1.0, reference / length)
+    if world is not None:
+        clearance = np.asarray(world.clearance_at(pr[:, 0] + 1j * pr[:, 1]), dtype=float)
+        touching = clearance < float(trace.robot_radius)
+        onsets = int(touching[0]) + int(np.count_nonzero(touching[1:] & ~touching[:-1]))
+        out["static_obstacle_collisions"] = onsets
+        low = float(clearance.min()) - float(trace.robot_radius)
+        out["min_obstacle_clearance"] = low if math.isfinite(low) else None
+    return out

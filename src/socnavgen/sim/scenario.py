@@ -50,14 +50,16 @@ def spawn_points(world: World, first_nodes: list[complex], group_ids: list[int],
 
 
 def load_simulation(run_dir: Path, policy: RobotPolicy, config: SimConfig | None = None,
-                    throttle: ThrottleConfig | None = None, location=None) -> Simulation:  # noqa: ANN001
+                    throttle: ThrottleConfig | None = None, location=None,  # noqa: ANN001
+                    *, world: World | None = None) -> Simulation:
     """A ready Simulation of a run folder. `location`: a loaded Location (passed on, not re-read), a folder,
-    or None for the one request.json names (RunFolder.location)."""
+    or None for the one request.json names (RunFolder.location); `world`: an already built World of that
+    location (campaign workers keep both across episodes)."""
     config = config or SimConfig()
     run = RunFolder(Path(run_dir))
     location = run.location(location)
     plan = run.read_paths()
-    world = World.from_location(location)
+    world = world if world is not None else World.from_location(location)
     known = set(location.scene_graph.node_ids())
     problems = plan_mistakes(plan, location.graph, interaction_points=False)
     humans = sorted(plan.humans, key=lambda h: h.agent_id)

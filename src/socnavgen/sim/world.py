@@ -7,6 +7,7 @@ and visibility does not depend on the map size.
 
 from __future__ import annotations
 
+import contextlib
 import math
 
 import numpy as np
@@ -49,7 +50,17 @@ class World:
 
     @classmethod
     def from_location(cls, location, obstacle_range: float = OBSTACLE_RANGE) -> World:  # noqa: ANN001
-        return cls(location.occupancy, location.transform, obstacle_range)
+        """The location's world, built once per Location object and range (simulation, metrics and the
+        verifier all need it; campaigns ask for it thousands of times). A World is never modified."""
+        cache = getattr(location, "_socnavgen_worlds", None)
+        if cache is None:
+            cache = {}
+            with contextlib.suppress(AttributeError):  # a slotted stand-in: just do not cache
+                location._socnavgen_worlds = cache
+        key = float(obstacle_range)
+        if key not in cache:
+            cache[key] = cls(location.occupancy, location.transform, obstacle_range)
+        return cache[key]
 
     # -- lookups --------------------------------------------------------------------------------
     def to_cells(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -1,0 +1,127 @@
+"""Campaign throughput: episodes per second for the 5-person cards (crowd-navigation on the warehouse and the
+hospital), 60 s scenarios, no plots, `waypoints` robot, with verification and every metric; beside a loop of
+`socnavgen simulate` calls and of in-process `simulate_run` + metrics (which reload the location each time).
+Also: cost growth with the campaign size (local executor), and `socnavgen --help` start-up.
+
+    python benchmarks/campaign_bench.py            # the table (a few minutes)
+    python benchmarks/campaign_bench.py --quick    # smaller counts
+    python benchmarks/campaign_bench.py --full     # + the 10,000-episode point of the growth table
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+LOCATIONS = [REPO / "examples" / "locations" / name for name in ("warehouse", "hospital")]
+CLI = "import sys; from socnavgen.cli import main; sys.argv = ['socnavgen', *sys.argv[1:]]; main()"
+
+
+def spec_for(seeds: int, card: str = "crowd-navigation", locations: list[Path] = LOCATIONS):  # noqa: ANN201
+    from socnavgen.campaign.spec import parse_campaign
+
+    listed = ", ".join(str(p) for p in locations)
+    return parse_campaign(f"scenarios:\n  - cards: [{card}]\n    locations: [{listed}]\n"
+                          f"policies: [waypoints]\nseeds: {seeds}\nsimulation: {{timeout: 60}}\n")
+
+
+def campaign_rate(seeds: int, executor: str, workers: int | None, root: Path, tag: str,
+                  card: str = "crowd-navigation", locations: list[Path] = LOCATIONS) -> tuple[int, float, float]:
+    """(episodes, wall seconds, CPU seconds of this process) of one campaign run."""
+    from socnavgen.campaign.runner import run_campaign
+
+    spec = spec_for(seeds, card, locations)
+    out = root / tag
+    from socnavgen.campaign.scenarios import build_suite
+
+    build_suite(spec, out)  # cards instantiated before the clock starts (a campaign does it once)
+    start, cpu = time.perf_counter(), time.process_time()
+    result = run_campaign(spec, out, executor=executor, workers=workers, batch_size=8)
+    return result.total, time.perf_counter() - start, time.process_time() - cpu
+
+
+def simulate_loop(runs: list[Path], count: int) -> float:
+    """Episodes/s of the old way in one process: simulate_run (loads the location each time) + metrics."""
+    from socnavgen.sim.metrics import compute_metrics
+    from socnavgen.sim.scenario import simulate_run
+
+    start = time.perf_counter()
+    for k in range(count):
+        run = runs[k % len(runs)]
+        trace = simulate_run(run, "waypoints", timeout=60.0, seed=k, save=False)
+        compute_metrics(trace, None)
+    return count / (time.perf_counter() - start)
+
+
+def cli_loop(runs: list[Path], count: int) -> float:
+    env = {**os.environ, "PYTHONPATH": str(REPO / "src")}
+    start = time.perf_counter()
+    for k in range(count):
+        subprocess.run([sys.executable, "-c", CLI, "simulate", str(runs[k % len(runs)]), "--timeout", "60",
+                        "--seed", str(k)], env=env, check=True, capture_output=True, timeout=300)
+    return count / (time.perf_counter() - start)
+
+
+def help_seconds(repeats: int = 5) -> float:
+    env = {**os.environ, "PYTHONPATH": str(REPO / "src")}
+    best = float("inf")
+    for _ in range(repeats):
+        start = time.perf_counter()
+        subprocess.run([sys.executable, "-c", CLI, "--help"], env=env, check=True, capture_output=True)
+        best = min(best, time.perf_counter() - start)
+    return best
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true")
+    parser.add_argument("--full", action="store_true")
+    args = parser.parse_args()
+    cores = os.cpu_count() or 1
+    with tempfile.TemporaryDirectory() as tmp:
+        root = Path(tmp)
+        from socnavgen.campaign.scenarios import build_suite
+
+        suite = build_suite(spec_for(1), root / "suite")
+        runs = [Path(s.run_dir) for s in suite.scenarios]
+        assert all(s.humans == 5 for s in suite.scenarios), [s.humans for s in suite.scenarios]
+        from socnavgen.campaign.episode import WORKER_CACHE, run_episode  # noqa: F401 - warm the kernels
+        n_small = 4 if args.quick else 10
+        rows = [("socnavgen simulate (CLI, one call per episode)", n_small // 2, cli_loop(runs, n_small // 2)),
+                ("simulate_run + metrics in one process (reloads the location)", n_small,
+                 simulate_loop(runs, n_small))]
+        seeds = 20 if args.quick else 100
+        total, wall, cpu = campaign_rate(seeds, "inline", 1, root, "inline")
+        rows.append(("campaign, one process (inline)", total, total / wall))
+        rows.append(("campaign, one process, per CPU second (load-independent)", total, total / cpu))
+        total, wall, _ = campaign_rate(seeds, "local", cores, root, "local")
+        rows.append((f"campaign, local executor ({cores} workers)", total, total / wall))
+        print(f"\nEpisodes/s, 5-person 60 s scenarios (crowd-navigation on warehouse + hospital), waypoints robot, "
+              f"metrics + verification, no plots; {cores} cores, load average {os.getloadavg()[0]:.1f}")
+        print(f"| {'mode':<62} | {'episodes':>8} | {'episodes/s':>10} | {'per core':>8} |")
+        print(f"|{'-' * 64}|{'-' * 9}:|{'-' * 11}:|{'-' * 9}:|")
+        for name, count, rate in rows:
+            per_core = rate / cores if "local executor" in name else rate
+            print(f"| {name:<62} | {count:>8} | {rate:>10.1f} | {per_core:>8.1f} |")
+
+        sizes = [100, 1000] if not args.full else [100, 1000, 10000]
+        if args.quick:
+            sizes = [40, 200]
+        print("\nCost growth with the campaign size: one process (CPU time, so other load does not distort it), "
+              "blind-corner on the warehouse (1 person, ~20 s simulated), metrics + verification")
+        print("| episodes | CPU s | wall s | CPU ms per episode |")
+        print("|---:|---:|---:|---:|")
+        for size in sizes:
+            total, wall, cpu = campaign_rate(size, "inline", 1, root, f"grow{size}", "blind-corner", LOCATIONS[:1])
+            print(f"| {total} | {cpu:.1f} | {wall:.1f} | {1000 * cpu / total:.2f} |", flush=True)
+    print(f"\n`socnavgen --help` start-up: {help_seconds():.3f} s (best of 5; target < 0.3 s)")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,57 @@
+"""The episode table's columns and their Arrow types: one home, so every part file (and every executor)
+writes the same schema and DuckDB / pandas read them as one table."""
+
+from __future__ import annotations
+
+from functools import cache
+
+import pyarrow as pa
+
+IDENTITY = [
+    ("episode", pa.string()),  # scenario|policy|seed: the resume key
+    ("scenario", pa.string()),
+    ("location", pa.string()),
+    ("card", pa.string()),
+    ("source", pa.string()),
+    ("humans", pa.int64()),
+    ("policy", pa.string()),
+    ("robot", pa.string()),
+    ("seed", pa.int64()),
+]
+OUTCOME = [
+    ("status", pa.string()),  # ok | failed
+    ("failure_reason", pa.string()),  # why an episode failed (crash, timeout, collision, goal not reached)
+    ("end_reason", pa.string()),  # robot_goal | timeout | all_done | error
+    ("steps", pa.int64()),
+    ("sim_seconds", pa.float64()),
+    ("wall_seconds", pa.float64()),
+    ("verified", pa.bool_()),  # every required verifier finding passed (null: not verified / crashed)
+    ("verify_failed", pa.string()),  # names of the failed findings, "; "-separated
+    ("verdicts", pa.string()),  # JSON list of {name, kind, passed, required, human[, robustness, blame]}
+]
+BOOL_METRICS = {"success", "completed"}
+INT_METRICS = {"collisions", "robot_on_person_collision", "person_on_robot_collision", "samples",
+               "static_obstacle_collisions"}
+
+
+@cache
+def known_metric_names() -> tuple[str, ...]:
+    from socnavgen.sim.metrics import EVALUATOR_METRICS, NAVIGATION_METRICS, OWN_METRICS
+
+    return (*OWN_METRICS, *NAVIGATION_METRICS, *EVALUATOR_METRICS)
+
+
+def metric_type(name: str) -> pa.DataType:
+    if name in BOOL_METRICS:
+        return pa.bool_()
+    if name in INT_METRICS:
+        return pa.int64()
+    return pa.float64()
+
+
+def schema(metrics: list[str] | tuple[str, ...] | None = None) -> pa.Schema:
+    """The table schema for the chosen metrics (default: all). `success` is always kept."""
+    chosen = list(metrics) if metrics is not None else list(known_metric_names())
+    if "success" not in chosen:
+        chosen.insert(0, "success")
+    return pa.schema([*IDENTITY, *OUTCOME, *((m, metric_type(m)) for m in chosen)])

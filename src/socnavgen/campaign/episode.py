@@ -1,0 +1,196 @@
+"""One episode = one scenario x one robot policy x one seed -> one table row.
+
+Runs inside a worker (a local process, a Ray worker, or the calling process). Each worker keeps every
+location and world it loaded (WORKER_CACHE), so an episode costs the simulation, not the map loading.
+A policy that raises, returns garbage or runs past the wall-clock limit fails its episode only."""
+
+from __future__ import annotations
+
+import json
+import math
+import signal
+import threading
+import time
+import traceback
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from socnavgen.campaign.scenarios import Scenario
+
+# what each verifier finding keeps in the row (fields a verifier version lacks are simply left out)
+VERDICT_FIELDS = {"name", "kind", "passed", "required", "human", "criterion", "robustness", "blame", "blame_human"}
+
+
+class EpisodeTimeout(Exception):
+    """The episode ran past its wall-clock limit."""
+
+
+@dataclass(frozen=True)
+class EpisodeSettings:
+    dt: float = 0.05
+    timeout: float = 60.0
+    throttle: bool = True
+    wall_timeout: float = 30.0
+    verify: bool = True
+    metrics: tuple[str, ...] | None = None  # None = all
+
+
+@dataclass(frozen=True)
+class Episode:
+    scenario: Scenario
+    policy: str  # the policy's name in the campaign
+    robot: str  # its plugin spec
+    seed: int
+
+    @property
+    def key(self) -> str:
+        return episode_key(self.scenario.id, self.policy, self.seed)
+
+
+def episode_key(scenario: str, policy: str, seed: int) -> str:
+    return f"{scenario}|{policy}|{seed}"
+
+
+@dataclass
+class WorkerCache:
+    """What a worker keeps between episodes: locations and worlds by folder, run folder contents."""
+
+    locations: dict[str, Any] = field(default_factory=dict)
+    worlds: dict[str, Any] = field(default_factory=dict)
+    loads: int = 0  # how many locations this worker loaded (tests check it stays at one per location)
+
+    def location(self, location_dir: str) -> tuple[Any, Any]:
+        if location_dir not in self.locations:
+            from socnavgen.location import load_location
+            from socnavgen.sim.world import World
+
+            location = load_location(Path(location_dir))
+            self.locations[location_dir] = location
+            self.worlds[location_dir] = World.from_location(location)
+            self.loads += 1
+        return self.locations[location_dir], self.worlds[location_dir]
+
+
+WORKER_CACHE = WorkerCache()
+
+
+class _Deadline:
+    """Raise EpisodeTimeout after `seconds` of wall time: by SIGALRM when we are the main thread (catches a
+    policy stuck inside one act() call), and at every progress callback otherwise."""
+
+    def __init__(self, seconds: float) -> None:
+        self.seconds = seconds
+        self.end = time.perf_counter() + seconds
+        self._armed = False
+
+    def __enter__(self) -> _Deadline:
+        if threading.current_thread() is threading.main_thread() and hasattr(signal, "setitimer"):
+            self._previous = signal.signal(signal.SIGALRM, self._fire)
+            signal.setitimer(signal.ITIMER_REAL, self.seconds)
+            self._armed = True
+        return self
+
+    def _fire(self, signum: int, frame: Any) -> None:  # noqa: ARG002 - signal handler signature
+        raise EpisodeTimeout(f"episode exceeded its wall-clock limit of {self.seconds:g} s")
+
+    def check(self, k: int = 0, n: int = 0) -> None:  # noqa: ARG002 - progress callback signature
+        if time.perf_counter() > self.end:
+            self._fire(0, None)
+
+    def __exit__(self, *exc: object) -> None:
+        if self._armed:
+            signal.setitimer(signal.ITIMER_REAL, 0)
+            signal.signal(signal.SIGALRM, self._previous)
+
+
+def _identity(ep: Episode) -> dict[str, Any]:
+    s = ep.scenario
+    return {"episode": ep.key, "scenario": s.id, "location": s.location, "card": s.card, "source": s.source,
+            "humans": s.humans, "policy": ep.policy, "robot": ep.robot, "seed": ep.seed}
+
+
+def _finite(value: Any) -> Any:
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    if hasattr(value, "item"):
+        return _finite(value.item())
+    return value
+
+
+def simulate_episode(ep: Episode, settings: EpisodeSettings, cache: WorkerCache | None = None,
+                     deadline: _Deadline | None = None) -> tuple[Any, Any, Any]:
+    """(trace, location, world) of one episode, using the worker's cached location and world."""
+    from socnavgen.sim.engine import SimConfig
+    from socnavgen.sim.interaction import ThrottleConfig
+    from socnavgen.sim.robot import load_policy
+    from socnavgen.sim.scenario import load_simulation
+
+    cache = cache or WORKER_CACHE
+    location, world = cache.location(ep.scenario.location_dir)
+    policy = load_policy(ep.robot)
+    sim = load_simulation(Path(ep.scenario.run_dir), policy, SimConfig(dt=settings.dt, timeout=settings.timeout,
+                                                                      seed=ep.seed),
+                          ThrottleConfig(enabled=settings.throttle), location=location, world=world)
+    sim.meta["robot_plugin"] = ep.robot
+    return sim.run(progress=deadline.check if deadline else None), location, world
+
+
+def run_episode(ep: Episode, settings: EpisodeSettings, cache: WorkerCache | None = None) -> dict[str, Any]:
+    """The episode's row: identity, outcome, every chosen metric, the verifier's verdicts."""
+    from socnavgen.sim.metrics import compute_metrics, navigation_metrics
+
+    row = _identity(ep)
+    start = time.perf_counter()
+    try:
+        with _Deadline(settings.wall_timeout) as deadline:
+            trace, location, world = simulate_episode(ep, settings, cache, deadline)
+    except EpisodeTimeout as exc:
+        return _failed(row, f"timeout: {exc}", start)
+    except Exception as exc:  # noqa: BLE001 - a policy's crash fails its episode, not the campaign
+        return _failed(row, f"crash: {type(exc).__name__}: {exc} ({_where(exc)})", start)
+    metrics = compute_metrics(trace, location)
+    metrics.update(navigation_metrics(trace, world))
+    chosen = settings.metrics or tuple(metrics)
+    row.update({m: _finite(metrics.get(m)) for m in chosen})
+    row["success"] = bool(metrics["success"])
+    row.update(status="ok", end_reason=trace.end_reason, steps=int(trace.steps),
+               sim_seconds=float(trace.t[-1]) if trace.steps else 0.0)
+    if settings.verify:
+        from socnavgen.verify.runner import verify_trace
+
+        report = verify_trace(ep.scenario.run_dir, trace, location=location)
+        row["verified"] = bool(report.passed)
+        row["verify_failed"] = "; ".join(f.name for f in report.failures)
+        row["verdicts"] = json.dumps([f.model_dump(mode="json", include=VERDICT_FIELDS) for f in report.findings])
+    row["failure_reason"] = None if row["success"] else _why_not(metrics, trace)
+    row["wall_seconds"] = time.perf_counter() - start
+    return row
+
+
+def _why_not(metrics: dict[str, Any], trace: Any) -> str:
+    reasons = []
+    if metrics.get("collisions"):
+        reasons.append(f"collision with a person ({metrics['collisions']} steps in contact)")
+    if not metrics.get("completed") and trace.end_reason != "robot_goal":
+        reasons.append(f"goal not reached ({trace.end_reason})")
+    return "; ".join(reasons) or "goal not reached"
+
+
+def _where(exc: BaseException) -> str:
+    frames = traceback.extract_tb(exc.__traceback__)
+    if not frames:
+        return "no traceback"
+    last = frames[-1]
+    return f"{Path(last.filename).name}:{last.lineno}"
+
+
+def _failed(row: dict[str, Any], reason: str, start: float) -> dict[str, Any]:
+    row.update(status="failed", failure_reason=reason[:500], end_reason="error", success=False,
+               wall_seconds=time.perf_counter() - start)
+    return row
+
+
+def run_batch(episodes: list[Episode], settings: EpisodeSettings) -> list[dict[str, Any]]:
+    """Rows of several episodes in this worker (the unit of work sent to a process or a Ray task)."""
+    return [run_episode(ep, settings) for ep in episodes]

@@ -1,0 +1,113 @@
+"""`socnavgen campaign run|report|metrics`: robot policies over scenario suites x seeds."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+
+app = typer.Typer(no_args_is_help=True, help="Run robot policies over scenario suites x seeds; report with CIs.")
+
+EXAMPLE = """name: smoke
+scenarios:
+  - cards: all                      # or a list: [blind-corner, crowd-navigation]
+    locations: [examples/locations/warehouse, examples/locations/hospital]
+  - runs: [runs/blind_corner]       # run folders (paths relative to this file)
+  - folder: runs/                   # every run folder inside
+policies:
+  - waypoints                       # built-in name, or
+  - {name: mine, robot: my_robot.py:MyPolicy}   # module:Class / file.py:Class
+seeds: 10                           # 0..9, or a list [1, 5, 7]
+simulation: {dt: 0.05, timeout: 60, throttle: true, wall_timeout: 30}
+metrics: [success, collisions, path_efficiency]  # optional: default every metric
+"""
+
+
+@app.command("run")
+def run(
+    file: Path = typer.Argument(..., help="Campaign YAML (see `socnavgen campaign example`)."),
+    out: Path = typer.Option(..., "-o", "--out", help="Output folder (re-run the same command to resume)."),
+    executor: str = typer.Option("local", "--executor", help="local (worker processes, default), ray, or inline "
+                                 "(this process only)."),
+    workers: int | None = typer.Option(None, "--workers", min=1, help="Worker processes (default: all cores)."),
+    address: str | None = typer.Option(None, "--address", help="Ray cluster to join (host:port or auto); "
+                                       "default: start a local one."),
+    batch: int = typer.Option(4, "--batch", min=1, max=1000, help="Episodes per task sent to a worker."),
+) -> None:
+    """Run every scenario x policy x seed of FILE, one row per episode in OUT/episodes.parquet. Killed
+    (even with kill -9)? Run the same command again: finished episodes are kept, none is run twice.
+
+    Example: socnavgen campaign run suite.yaml -o campaigns/suite --executor ray
+    """
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        TextColumn,
+        TimeElapsedColumn,
+        TimeRemainingColumn,
+    )
+
+    from socnavgen.campaign.runner import run_campaign
+    from socnavgen.campaign.spec import load_campaign
+    from socnavgen.cli.common import console, err_console
+
+    spec = load_campaign(file)
+    columns = (TextColumn("[progress.description]{task.description}"), BarColumn(), MofNCompleteColumn(),
+               TimeElapsedColumn(), TextColumn("ETA"), TimeRemainingColumn())
+    with Progress(*columns, console=err_console) as bar:
+        task = bar.add_task(f"campaign {spec.name}", total=None)
+
+        def progress(done: int, total: int) -> None:
+            if bar.tasks[task].total is None:  # the first call: what was already on disk is not "speed"
+                bar.update(task, total=total, completed=done)
+                bar.reset(task, total=total, completed=done)
+            bar.update(task, completed=done)
+
+        result = run_campaign(spec, out, executor=executor, workers=workers, address=address, batch_size=batch,
+                              progress=progress)
+    for note in result.suite.skipped:
+        console.print(f"  [yellow]skipped[/] {note}", highlight=False)
+    console.print(f"[bold]{result.total}[/] episodes ({result.skipped_done} already done, {result.ran} run, "
+                  f"{result.failed} failed) -> {result.out / 'episodes.parquet'}", highlight=False)
+    console.print(f"  next: socnavgen campaign report {result.out}", highlight=False)
+
+
+@app.command("report")
+def report(
+    out: Path = typer.Argument(..., help="A campaign output folder."),
+    gifs: int = typer.Option(3, "--gifs", min=0, max=50, help="Render the GIFs of this many worst episodes."),
+    boot: int = typer.Option(2000, "--bootstrap", min=100, max=100000, help="Bootstrap resamples for the CIs."),
+    baseline: str | None = typer.Option(None, "--baseline", help="Policy the others are compared with "
+                                        "(default: the first of the campaign)."),
+) -> None:
+    """Aggregates per policy and per scenario with bootstrap 95% CIs, paired comparisons on the same
+    scenarios and seeds, plots, and the worst episodes with their GIFs: OUT/report/index.html (one
+    self-contained file) and OUT/report/summary.md.
+
+    Example: socnavgen campaign report campaigns/suite --gifs 5
+    """
+    from socnavgen.campaign.report import write_report
+    from socnavgen.cli.common import console
+
+    paths = write_report(out, gifs=gifs, resamples=boot, baseline=baseline)
+    for path in paths:
+        console.print(f"  -> {path}", highlight=False)
+
+
+@app.command("metrics")
+def metrics() -> None:
+    """List every metric column with its unit and meaning (formulas for the navigation metrics)."""
+    from socnavgen.campaign.definitions import metric_definitions
+    from socnavgen.cli.common import console
+
+    for name, d in metric_definitions().items():
+        console.print(f"[bold]{name}[/] [{d['unit']}]: {d['meaning']}", highlight=False)
+        if d.get("formula"):
+            console.print(f"    {d['formula']}", highlight=False)
+
+
+@app.command("example")
+def example() -> None:
+    """Print an example campaign file."""
+    print(EXAMPLE, end="")

@@ -1,0 +1,34 @@
+"""The Gymnasium environment passes gymnasium's checker and runs a campaign's scenarios."""
+
+from __future__ import annotations
+
+import numpy as np
+from gymnasium.utils.env_checker import check_env
+
+from socnavgen.campaign.gym_env import SocNavEnv
+from socnavgen.campaign.runner import run_campaign
+
+
+def _toward_goal(obs: dict) -> dict:
+    g = obs["goal"]
+    return {"velocity": (0.8 * g / max(float(np.hypot(*g)), 1e-6)).astype(np.float32), "gesture": 0}
+
+
+def test_env_checker_and_an_episode(small_spec, tmp_path) -> None:  # noqa: ANN001
+    run_campaign(small_spec.model_copy(update={"seeds": [0], "policies": small_spec.policies[:1]}),
+                 tmp_path / "o", executor="inline")
+    env = SocNavEnv(tmp_path / "o", max_people=4, timeout=30.0)
+    check_env(env, skip_render_check=True)
+    a, _ = env.reset(seed=7)
+    b, info = env.reset(seed=7)
+    assert all(np.array_equal(a[k], b[k]) for k in a)
+    assert env.observation_space.contains(a) and a["people_mask"].sum() >= 1
+    start = float(np.hypot(*a["goal"]))
+    obs, total, steps = a, 0.0, 0
+    done = False
+    while not done:
+        obs, reward, terminated, truncated, _ = env.step(_toward_goal(obs))
+        total, steps, done = total + reward, steps + 1, terminated or truncated
+    assert steps <= 30.0 / 0.05 + 1
+    assert float(np.hypot(*obs["goal"])) < start  # the action moved the robot toward its goal
+    assert info["scenario"].endswith(("blind-corner", "parallel-traffic"))
