@@ -33,7 +33,9 @@ from socnavgen.location.location import (
 )
 from socnavgen.location.models import Edge, Node, SceneGraph, Schema
 from socnavgen.location.occupancy import OccupancyGrid
+from socnavgen.location.rooms import furniture_mask, replace_rooms
 from socnavgen.location.scene_graph import ID_ALPHABET, write_scene_graph
+from socnavgen.location.traverse import required_clearance_px
 from socnavgen.safeio import (
     MAX_IMAGE_BYTES,
     atomic_write_bytes,
@@ -42,11 +44,12 @@ from socnavgen.safeio import (
     load_yaml_file,
 )
 
-INTERSECTION, CORNER, BLIND_CORNER, DEAD_END = "INTERSECTION", "CORNER", "BLIND CORNER", "DEAD END"
+ROOM, INTERSECTION, CORNER, BLIND_CORNER = "ROOM", "INTERSECTION", "CORNER", "BLIND CORNER"
+DEAD_END = "DEAD END"
 OPEN_AREA, DOORWAY, NARROW_PASSAGE, SIMPLE_NODE = "OPEN AREA", "DOORWAY", "NARROW PASSAGE", "SIMPLE NODE"
 PASSAGEWAY, NARROW_PASSAGEWAY = "PASSAGEWAY", "NARROW PASSAGEWAY"
 EXTRACT_SCHEMA = Schema(
-    node_types=[INTERSECTION, CORNER, BLIND_CORNER, DEAD_END, OPEN_AREA, DOORWAY, NARROW_PASSAGE, SIMPLE_NODE],
+    node_types=[ROOM, DOORWAY, INTERSECTION, CORNER, BLIND_CORNER, DEAD_END, OPEN_AREA, NARROW_PASSAGE, SIMPLE_NODE],
     edge_types=[PASSAGEWAY, NARROW_PASSAGEWAY])
 SQRT2 = math.sqrt(2.0)
 
@@ -55,13 +58,15 @@ SQRT2 = math.sqrt(2.0)
 class ExtractOptions:
     """Knobs in metres so they mean the same on any map resolution."""
 
-    density: float = 1.0          # >1 = more nodes (shorter edges, less merging), <1 = fewer
+    detail: float = 1.0           # >1 = finer graph (shorter edges, less merging, more nodes per room), <1 = coarser
     min_spur_m: float = 1.0       # side branches shorter than this (or than the local width) are pruned
     narrow_width_m: float = 1.2   # passages narrower than this are NARROW (doorways, tight aisles)
     open_width_m: float = 3.0     # a node with at least this much free width around it may be an OPEN AREA
     min_gap_m: float = 0.5        # gaps narrower than this are not walkable at all (a person does not fit)
-    max_edge_m: float = 5.0       # at density 1, straight edges longer than this get intermediate nodes
-    merge_m: float = 1.0          # at density 1, nodes joined by a branch shorter than this are merged
+    max_edge_m: float = 6.0       # at detail 1, straight corridor edges longer than this get intermediate nodes
+    merge_m: float = 2.0          # at detail 1, nodes joined by a branch shorter than this are merged
+    room_cover_m: float = 3.5     # at detail 1, every part of a room is within this of one of its nodes
+    rooms: bool = True            # segment rooms (one ROOM node each); False = the bare skeleton graph
     keep_all_components: bool = False  # default: only the largest connected free area
     seed: int | None = None       # node ids are random; a seed makes them reproducible
 
@@ -72,6 +77,7 @@ class ExtractStats:
     raw_nodes: int = 0
     nodes: int = 0
     edges: int = 0
+    rooms: int = 0
     types: dict[str, int] = field(default_factory=dict)
 
 
@@ -79,7 +85,7 @@ class _Geometry:
     """Per-map scalars in pixels, derived once from the options and the resolution."""
 
     def __init__(self, opts: ExtractOptions, mpp: float) -> None:
-        density = max(opts.density, 0.05)
+        density = max(opts.detail, 0.05)
         self.mpp = mpp
         self.gap_r = max(1.0, opts.min_gap_m / 2 / mpp)
         self.min_spur = opts.min_spur_m / mpp
@@ -88,6 +94,7 @@ class _Geometry:
         self.narrow_half = round(opts.narrow_width_m / 2 / mpp, 6) + 1.0  # one pixel of rasterisation slack
         self.open_half = round(opts.open_width_m / 2 / mpp, 6)
         self.look = max(3.0, 1.5 / mpp)  # how far along each leg a corner's line-of-sight test looks
+        self.room_cover_m = opts.room_cover_m / density
 
 
 # ---------------------------------------------------------------- skeleton and pixel graph
@@ -330,7 +337,7 @@ def _cuts(pts: np.ndarray, clearance: np.ndarray, geo: _Geometry, i: int, j: int
     if j - i < 2:
         return []
     seg = pts[i:j + 1]
-    need = max(1.0, 0.5 * float(clearance[seg[:, 0], seg[:, 1]].min()))
+    need = required_clearance_px(clearance, (pts[i][1], pts[i][0]), (pts[j][1], pts[j][0]), geo.mpp)
     if chord_ok(pts[i], pts[j], clearance, need):
         steps = np.abs(np.diff(seg, axis=0)).sum(axis=1)
         arc = np.concatenate([[0.0], np.cumsum(np.where(steps == 2, SQRT2, 1.0))])
@@ -396,9 +403,12 @@ def extract_scene_graph(occ: OccupancyGrid, meters_per_pixel: float,
     opts = options or ExtractOptions()
     geo = _Geometry(opts, meters_per_pixel)
     clearance = occ.clearance_px  # real obstacles: what edges must avoid
-    walls = without_specks(occ.blocked, max(2, int((0.25 / meters_per_pixel) ** 2)))
+    furniture = furniture_mask(occ.blocked, meters_per_pixel) if opts.rooms else np.zeros_like(occ.blocked)
+    structure = OccupancyGrid(occupied=occ.occupied & ~furniture, unknown=occ.unknown & ~furniture)
+    walls = without_specks(structure.blocked, max(2, int((0.25 / meters_per_pixel) ** 2)))
     wall_clearance = ndimage.distance_transform_edt(~walls)  # what a person perceives: width, doors
-    skel = skeletonize(walkable_space(occ, geo.gap_r, opts.keep_all_components))
+    free = walkable_space(structure, geo.gap_r, opts.keep_all_components)  # rooms are cut from this
+    skel = skeletonize(walkable_space(occ, geo.gap_r, opts.keep_all_components))  # edges must stay walkable
     coords, adjacency = skeleton_adjacency(skel)
     stats = ExtractStats(skeleton_pixels=len(coords))
     graph = trace_branches(coords, adjacency)
@@ -413,11 +423,26 @@ def extract_scene_graph(occ: OccupancyGrid, meters_per_pixel: float,
         if not changed:
             break
     doors = insert_doorways(graph, coords, wall_clearance, geo)
+    room_nodes: set[int] = set()
+    extra_nodes: set[int] = set()
+    if opts.rooms:
+        rooms = replace_rooms(graph, coords, doors, free, walls, wall_clearance, clearance, meters_per_pixel,
+                              geo.room_cover_m)
+        coords, room_nodes, extra_nodes = rooms.coords, rooms.room_nodes, rooms.extra_nodes
+        stats.rooms = len(room_nodes)
+        _drop_orphans(graph, keep=room_nodes | extra_nodes)
     straighten(graph, coords, clearance, geo)
 
+    def node_type(n: int) -> str:
+        if n in room_nodes:
+            return ROOM
+        if n in extra_nodes:
+            return OPEN_AREA
+        return type_node(graph, n, coords, walls, wall_clearance, geo, doors)
+
     ids = _random_ids(sorted(graph.nodes), opts.seed)
-    nodes = [Node(id=ids[n], type=type_node(graph, n, coords, walls, wall_clearance, geo, doors),
-                  pos=(int(coords[n][1]), int(coords[n][0]))) for n in sorted(graph.nodes)]
+    nodes = [Node(id=ids[n], type=node_type(n), pos=(int(coords[n][1]), int(coords[n][0])))
+             for n in sorted(graph.nodes)]
     links = [Edge(source=ids[u], target=ids[v], type=type_edge(coords[u], coords[v], wall_clearance, geo))
              for u, v in sorted({(min(a, b), max(a, b)) for a, b in graph.edges() if a != b})]
     stats.nodes, stats.edges = len(nodes), len(links)
@@ -426,12 +451,17 @@ def extract_scene_graph(occ: OccupancyGrid, meters_per_pixel: float,
     return SceneGraph(nodes=nodes, links=links), stats
 
 
+def _drop_orphans(graph: nx.MultiGraph, keep: set[int]) -> None:
+    """Nodes left without edges once rooms replaced their skeleton (a doorway onto nothing)."""
+    graph.remove_nodes_from([n for n in list(graph.nodes) if graph.degree(n) == 0 and n not in keep])
+
+
 def _random_ids(nodes: list[int], seed: int | None) -> dict[int, str]:
     """Distinct random 2-character ids (the SocRATES format allows at most 36*36 nodes)."""
     capacity = len(ID_ALPHABET) ** 2
     if len(nodes) > capacity:
         raise ValidationFailed(f"the extracted graph has {len(nodes)} nodes; 2-character ids allow {capacity}",
-                               hint="lower --density, raise --min-spur, or crop the map to the area you need")
+                               hint="lower --detail, raise --min-spur, or crop the map to the area you need")
     tokens = random.Random(seed).sample(range(capacity), len(nodes))
     return {n: ID_ALPHABET[t // len(ID_ALPHABET)] + ID_ALPHABET[t % len(ID_ALPHABET)]
             for n, t in zip(nodes, tokens, strict=True)}

@@ -1,0 +1,240 @@
+"""Room segmentation of a map's free space, the way a person reads a floor plan.
+
+Furniture and clutter (small obstacles standing free of the walls) are first filled in, so they
+neither split rooms nor make nodes. The free space is then cut at the doorways (short bottlenecks
+found on the skeleton) and each piece is classified:
+- ROOM: a compact piece with no structural obstacle inside (one ROOM node, plus OPEN AREA nodes when
+  it is too large for one node to stand for all of it);
+- corridor / hall: an elongated piece, or one with racks or walls inside (the skeleton graph is kept).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import ndimage
+from skimage.morphology import skeletonize
+
+from socnavgen.location.traverse import segment_walkable
+
+CLUTTER_SIDE_M = 3.5  # an obstacle free of the walls whose bounding box fits in this square is furniture ...
+CLUTTER_AREA_M2 = 4.0  # ... when it also covers at most this area
+CORRIDOR_WIDTH_M = 2.6  # pieces narrower than this ...
+CORRIDOR_ASPECT = 2.5  # ... and at least this many times longer than wide are corridors
+
+
+def furniture_mask(blocked: np.ndarray, meters_per_pixel: float) -> np.ndarray:
+    """Blocked components that are furniture: not touching the image border, small in extent and area."""
+    labels, count = ndimage.label(blocked, structure=np.ones((3, 3)))
+    if count == 0:
+        return np.zeros_like(blocked)
+    keep = np.zeros(count + 1, bool)
+    areas = np.bincount(labels.ravel(), minlength=count + 1)
+    h, w = blocked.shape
+    side, area = CLUTTER_SIDE_M / meters_per_pixel, CLUTTER_AREA_M2 / meters_per_pixel ** 2
+    for label, box in enumerate(ndimage.find_objects(labels), start=1):
+        if box is None:
+            continue
+        rows, cols = box
+        on_border = rows.start == 0 or cols.start == 0 or rows.stop == h or cols.stop == w
+        extent = max(rows.stop - rows.start, cols.stop - cols.start)
+        keep[label] = not on_border and extent <= side and areas[label] <= area
+    return keep[labels]
+
+
+@dataclass
+class Region:
+    """One piece of the free space between doorways."""
+
+    label: int
+    kind: str  # "room" | "corridor"
+    area_m2: float
+    width_m: float
+    hall: bool = False  # structural obstacles inside (racks, wall blocks)
+    doors: list[int] = field(default_factory=list)  # skeleton node ids of the doorways on its boundary
+
+
+def cut_at_doors(free: np.ndarray, door_points: dict[int, tuple[int, int]], clearance: np.ndarray) -> np.ndarray:
+    """`free` with a disc removed at each doorway, just wide enough to close the opening."""
+    cut = np.zeros_like(free)
+    for r, c in door_points.values():
+        radius = float(clearance[r, c]) + 2.0
+        k = int(math.ceil(radius))
+        r0, r1, c0, c1 = max(0, r - k), min(free.shape[0], r + k + 1), max(0, c - k), min(free.shape[1], c + k + 1)
+        yy, xx = np.mgrid[r0:r1, c0:c1]
+        cut[r0:r1, c0:c1] |= (yy - r) ** 2 + (xx - c) ** 2 <= radius ** 2
+    return free & ~cut
+
+
+def classify_regions(labels: np.ndarray, count: int, structural: np.ndarray, clearance: np.ndarray,
+                     meters_per_pixel: float) -> dict[int, Region]:
+    """Room or corridor for every labelled piece of free space (label 0 is not free)."""
+    regions: dict[int, Region] = {}
+    boxes = ndimage.find_objects(labels)
+    for label in range(1, count + 1):
+        box = boxes[label - 1]
+        if box is None:
+            continue
+        mask = labels[box] == label
+        area = float(mask.sum()) * meters_per_pixel ** 2
+        filled = ndimage.binary_fill_holes(mask)
+        holes = filled & ~mask & structural[box]  # walls or racks inside: a hall, not a room
+        spur = int(1.5 / meters_per_pixel)
+        skel = _without_spurs(skeletonize(filled & ~holes), spur)
+        widths = clearance[box][skel] if skel.any() else clearance[box][mask]
+        width = 2.0 * float(np.median(widths)) * meters_per_pixel
+        length = float(skel.sum()) * meters_per_pixel + 2 * spur * meters_per_pixel
+        elongated = width <= CORRIDOR_WIDTH_M and length >= CORRIDOR_ASPECT * width
+        kind = "corridor" if holes.any() or elongated else "room"
+        regions[label] = Region(label=label, kind=kind, area_m2=area, width_m=width, hall=bool(holes.any()))
+    return regions
+
+
+def _without_spurs(skeleton: np.ndarray, steps: int) -> np.ndarray:
+    """The skeleton with its end pixels peeled `steps` times: branches into corners go, the spine stays."""
+    skel = skeleton.copy()
+    kernel = np.ones((3, 3), int)
+    for _ in range(steps):
+        ends = skel & (ndimage.convolve(skel.astype(int), kernel, mode="constant") <= 2)
+        if not ends.any() or ends.sum() == skel.sum():
+            break
+        skel &= ~ends
+    return skel
+
+
+def place_room_nodes(mask: np.ndarray, clearance: np.ndarray, door_points: list[tuple[int, int]],
+                     meters_per_pixel: float, cover_m: float) -> list[tuple[int, int]]:
+    """(row, col) of the nodes standing for one room: first the spot with the most room around it that
+    sees the most doorways, then, while some walkable part of the room is farther than `cover_m` from
+    every node, the farthest such spot (people name the corners of a big room too)."""
+    person = 0.4 / meters_per_pixel
+    roomy = mask & (clearance >= person)
+    if not roomy.any():
+        roomy = mask & (clearance >= max(1.0, clearance[mask].max() * 0.8))
+    rows, cols = np.nonzero(roomy)
+    step = max(1, len(rows) // 400)
+    order = np.argsort(-clearance[rows, cols])[:: step][:400]
+    best, best_score = None, -math.inf
+    for i in order:
+        p = (int(rows[i]), int(cols[i]))
+        seen = sum(segment_walkable(clearance, (p[1], p[0]), (d[1], d[0]), meters_per_pixel) for d in door_points)
+        score = seen * 3.0 + min(clearance[p], 1.5 / meters_per_pixel) * meters_per_pixel
+        if score > best_score:
+            best, best_score = p, score
+    assert best is not None
+    nodes = [best]
+    cover = cover_m / meters_per_pixel
+    inner = mask & (clearance >= max(person, 0.6 / meters_per_pixel))
+    if not inner.any():
+        return nodes
+    ir, ic = np.nonzero(inner)
+    for _ in range(12):
+        d = np.min([np.hypot(ir - r, ic - c) for r, c in nodes], axis=0)
+        far = int(np.argmax(d))
+        if d[far] <= cover:
+            break
+        target = np.array([ir[far], ic[far]])
+        # step from the far spot a little toward the room's middle, onto more clearance
+        near = np.hypot(ir - target[0], ic - target[1]) <= 0.5 * cover
+        k = np.argmax(np.where(near, clearance[ir, ic], -1.0))
+        nodes.append((int(ir[k]), int(ic[k])))
+    return nodes
+
+
+@dataclass
+class RoomGraph:
+    """What the room step adds to the skeleton graph: room node ids (first of each room is its ROOM)."""
+
+    coords: np.ndarray
+    room_nodes: set[int] = field(default_factory=set)
+    extra_nodes: set[int] = field(default_factory=set)
+    regions: dict[int, Region] = field(default_factory=dict)
+
+
+def _region_of_path(path: list[int], coords: np.ndarray, labels: np.ndarray) -> int:
+    values = labels[coords[path, 0], coords[path, 1]]
+    values = values[values > 0]
+    return int(np.bincount(values).argmax()) if len(values) else 0
+
+
+def replace_rooms(graph, coords: np.ndarray, doors: set[int], free: np.ndarray, walls: np.ndarray,
+                  wall_clearance: np.ndarray, clearance: np.ndarray, meters_per_pixel: float,
+                  cover_m: float) -> RoomGraph:
+    """Cut the free space at the doorways, and replace the skeleton inside every room by room nodes
+    joined to the room's doorways. `graph` (a networkx MultiGraph of skeleton pixel indices with a
+    `path` per edge) is changed in place; new nodes get indices past the end of `coords`."""
+    door_points = {d: (int(coords[d][0]), int(coords[d][1])) for d in doors if d in graph}
+    pieces = cut_at_doors(free, door_points, wall_clearance)
+    labels, count = ndimage.label(pieces)
+    regions = classify_regions(labels, count, walls, wall_clearance, meters_per_pixel)
+    door_regions: dict[int, set[int]] = {d: set() for d in door_points}
+    edge_regions = {}
+    for u, v, key, data in graph.edges(keys=True, data=True):
+        label = edge_regions[u, v, key] = _region_of_path(data["path"], coords, labels)
+        for end in (u, v):
+            if end in door_regions and label:
+                door_regions[end].add(label)
+    for label, region in regions.items():
+        region.doors = sorted(d for d, regs in door_regions.items() if label in regs)
+        if region.area_m2 < 2.0:  # a sliver between two cuts is a passage
+            region.kind = "corridor"
+        elif len(region.doors) == 1 and not region.hall:  # a dead-end space: closet, elevator, office
+            region.kind = "room"
+    rooms = {label for label, r in regions.items() if r.kind == "room"}
+    for (u, v, key), label in edge_regions.items():
+        if label in rooms:
+            graph.remove_edge(u, v, key)
+    for n in list(graph.nodes):
+        r, c = coords[n]
+        if n not in door_points and labels[r, c] in rooms:
+            graph.remove_node(n)
+    result = RoomGraph(coords=coords, regions=regions)
+    new_coords = [coords]
+    next_id = len(coords)
+    for label in sorted(rooms):
+        region = regions[label]
+        mask = labels == label
+        points = place_room_nodes(mask, clearance, [door_points[d] for d in region.doors], meters_per_pixel, cover_m)
+        ids = list(range(next_id, next_id + len(points)))
+        next_id += len(points)
+        new_coords.append(np.array(points, dtype=coords.dtype).reshape(-1, 2))
+        result.room_nodes.add(ids[0])
+        result.extra_nodes.update(ids[1:])
+        for n in ids:
+            graph.add_node(n)
+        all_coords = np.concatenate(new_coords)
+        _join_room(graph, ids, region.doors, all_coords, clearance, meters_per_pixel)
+    result.coords = np.concatenate(new_coords)
+    return result
+
+
+def _visible(coords: np.ndarray, clearance: np.ndarray, a: int, b: int, mpp: float) -> bool:
+    return segment_walkable(clearance, (coords[a][1], coords[a][0]), (coords[b][1], coords[b][0]), mpp)
+
+
+def _join_room(graph, ids: list[int], doors: list[int], coords: np.ndarray, clearance: np.ndarray,
+               mpp: float) -> None:
+    """Room nodes joined by a shortest tree over the pairs that see each other; each doorway joined to
+    the nearest room node it sees (the nearest at all when it sees none)."""
+    import networkx as nx
+
+    def dist(a: int, b: int) -> float:
+        return float(np.hypot(*(coords[a] - coords[b])))
+
+    def add(a: int, b: int) -> None:
+        graph.add_edge(a, b, path=[a, b], start=a)
+
+    if len(ids) > 1:
+        candidates = nx.Graph()
+        candidates.add_nodes_from(ids)
+        for i, a in enumerate(ids):
+            for b in ids[i + 1:]:
+                penalty = 1.0 if _visible(coords, clearance, a, b, mpp) else 10.0
+                candidates.add_edge(a, b, weight=dist(a, b) * penalty)
+        for a, b in nx.minimum_spanning_edges(candidates, data=False):
+            add(a, b)
+    for d in doors:
+        seen = [n for n in ids if _visible(coords, clearance, d, n, mpp)]
+        add(d, min(seen or ids, key=lambda n: dist(d, n)))
