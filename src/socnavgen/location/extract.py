@@ -35,7 +35,7 @@ from socnavgen.location.models import Edge, Node, SceneGraph, Schema
 from socnavgen.location.occupancy import OccupancyGrid
 from socnavgen.location.rooms import furniture_mask, replace_rooms
 from socnavgen.location.scene_graph import ID_ALPHABET, write_scene_graph
-from socnavgen.location.traverse import required_clearance_px
+from socnavgen.location.traverse import edge_verdict, required_clearance_px
 from socnavgen.safeio import (
     MAX_IMAGE_BYTES,
     atomic_write_bytes,
@@ -337,8 +337,9 @@ def _cuts(pts: np.ndarray, clearance: np.ndarray, geo: _Geometry, i: int, j: int
     if j - i < 2:
         return []
     seg = pts[i:j + 1]
-    need = required_clearance_px(clearance, (pts[i][1], pts[i][0]), (pts[j][1], pts[j][0]), geo.mpp)
-    if chord_ok(pts[i], pts[j], clearance, need):
+    a, b = (float(pts[i][1]), float(pts[i][0])), (float(pts[j][1]), float(pts[j][0]))
+    need = required_clearance_px(clearance, a, b, geo.mpp)
+    if chord_ok(pts[i], pts[j], clearance, need) or edge_verdict(clearance, a, b, geo.mpp).level == "ok":
         steps = np.abs(np.diff(seg, axis=0)).sum(axis=1)
         arc = np.concatenate([[0.0], np.cumsum(np.where(steps == 2, SQRT2, 1.0))])
         parts = math.ceil(arc[-1] / geo.max_edge)

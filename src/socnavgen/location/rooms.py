@@ -53,6 +53,7 @@ class Region:
     area_m2: float
     width_m: float
     hall: bool = False  # structural obstacles inside (racks, wall blocks)
+    elongated: bool = False  # narrow and long: a corridor
     doors: list[int] = field(default_factory=list)  # skeleton node ids of the doorways on its boundary
 
 
@@ -88,7 +89,8 @@ def classify_regions(labels: np.ndarray, count: int, structural: np.ndarray, cle
         length = float(skel.sum()) * meters_per_pixel + 2 * spur * meters_per_pixel
         elongated = width <= CORRIDOR_WIDTH_M and length >= CORRIDOR_ASPECT * width
         kind = "corridor" if holes.any() or elongated else "room"
-        regions[label] = Region(label=label, kind=kind, area_m2=area, width_m=width, hall=bool(holes.any()))
+        regions[label] = Region(label=label, kind=kind, area_m2=area, width_m=width, hall=bool(holes.any()),
+                                elongated=elongated)
     return regions
 
 
@@ -137,8 +139,11 @@ def place_room_nodes(mask: np.ndarray, clearance: np.ndarray, door_points: list[
             break
         target = np.array([ir[far], ic[far]])
         # step from the far spot a little toward the room's middle, onto more clearance
-        near = np.hypot(ir - target[0], ic - target[1]) <= 0.5 * cover
-        k = np.argmax(np.where(near, clearance[ir, ic], -1.0))
+        near = np.nonzero(np.hypot(ir - target[0], ic - target[1]) <= 0.5 * cover)[0]
+        ranked = near[np.argsort(-clearance[ir[near], ic[near]])][:: max(1, len(near) // 40)]
+        seen = [k for k in ranked if any(segment_walkable(clearance, (ic[k], ir[k]), (c, r), meters_per_pixel)
+                                         for r, c in nodes)]
+        k = seen[0] if seen else ranked[0]  # one that an existing node sees, so the room's edges are walkable
         nodes.append((int(ir[k]), int(ic[k])))
     return nodes
 
@@ -180,7 +185,7 @@ def replace_rooms(graph, coords: np.ndarray, doors: set[int], free: np.ndarray, 
         region.doors = sorted(d for d, regs in door_regions.items() if label in regs)
         if region.area_m2 < 2.0:  # a sliver between two cuts is a passage
             region.kind = "corridor"
-        elif len(region.doors) == 1 and not region.hall:  # a dead-end space: closet, elevator, office
+        elif len(region.doors) == 1 and not region.hall and not region.elongated:  # a dead-end space: closet, elevator, office
             region.kind = "room"
     rooms = {label for label, r in regions.items() if r.kind == "room"}
     for (u, v, key), label in edge_regions.items():
@@ -191,39 +196,53 @@ def replace_rooms(graph, coords: np.ndarray, doors: set[int], free: np.ndarray, 
         if n not in door_points and labels[r, c] in rooms:
             graph.remove_node(n)
     result = RoomGraph(coords=coords, regions=regions)
-    new_coords = [coords]
-    next_id = len(coords)
+    points_all = [tuple(int(v) for v in p) for p in coords]
     for label in sorted(rooms):
         region = regions[label]
         mask = labels == label
         points = place_room_nodes(mask, clearance, [door_points[d] for d in region.doors], meters_per_pixel, cover_m)
-        ids = list(range(next_id, next_id + len(points)))
-        next_id += len(points)
-        new_coords.append(np.array(points, dtype=coords.dtype).reshape(-1, 2))
+        ids = list(range(len(points_all), len(points_all) + len(points)))
+        points_all.extend(points)
         result.room_nodes.add(ids[0])
         result.extra_nodes.update(ids[1:])
-        for n in ids:
-            graph.add_node(n)
-        all_coords = np.concatenate(new_coords)
-        _join_room(graph, ids, region.doors, all_coords, clearance, meters_per_pixel)
-    result.coords = np.concatenate(new_coords)
+        graph.add_nodes_from(ids)
+        waypoints = _join_room(graph, ids, region.doors, points_all, clearance, meters_per_pixel, mask)
+        result.extra_nodes.update(waypoints)
+    result.coords = np.array(points_all, dtype=coords.dtype).reshape(-1, 2)
     return result
 
 
-def _visible(coords: np.ndarray, clearance: np.ndarray, a: int, b: int, mpp: float) -> bool:
-    return segment_walkable(clearance, (coords[a][1], coords[a][0]), (coords[b][1], coords[b][0]), mpp)
+def _visible(points: list[tuple[int, int]], clearance: np.ndarray, a: int, b: int, mpp: float) -> bool:
+    return segment_walkable(clearance, (points[a][1], points[a][0]), (points[b][1], points[b][0]), mpp)
 
 
-def _join_room(graph, ids: list[int], doors: list[int], coords: np.ndarray, clearance: np.ndarray,
-               mpp: float) -> None:
-    """Room nodes joined by a shortest tree over the pairs that see each other; each doorway joined to
-    the nearest room node it sees (the nearest at all when it sees none)."""
+def _join_room(graph, ids: list[int], doors: list[int], points: list[tuple[int, int]], clearance: np.ndarray,
+               mpp: float, mask: np.ndarray) -> list[int]:
+    """Room nodes joined by a shortest tree (pairs that see each other first), each doorway to the
+    nearest room node it sees; where two ends do not see each other a waypoint both see is added
+    (returned), so every edge stays walkable."""
     import networkx as nx
 
     def dist(a: int, b: int) -> float:
-        return float(np.hypot(*(coords[a] - coords[b])))
+        return math.dist(points[a], points[b])
+
+    waypoints: list[int] = []
+    spots = np.argwhere(mask & (clearance >= min(0.4 / mpp, clearance[mask].max())))
+    spots = spots[:: max(1, len(spots) // 600)]
 
     def add(a: int, b: int) -> None:
+        if not _visible(points, clearance, a, b, mpp) and len(spots):
+            ok = [tuple(p) for p in spots
+                  if segment_walkable(clearance, (p[1], p[0]), (points[a][1], points[a][0]), mpp)
+                  and segment_walkable(clearance, (p[1], p[0]), (points[b][1], points[b][0]), mpp)]
+            if ok:
+                via = min(ok, key=lambda p: math.dist(p, points[a]) + math.dist(p, points[b]))
+                points.append((int(via[0]), int(via[1])))
+                w = len(points) - 1
+                waypoints.append(w)
+                graph.add_edge(a, w, path=[a, w], start=a)
+                graph.add_edge(w, b, path=[w, b], start=w)
+                return
         graph.add_edge(a, b, path=[a, b], start=a)
 
     if len(ids) > 1:
@@ -231,10 +250,11 @@ def _join_room(graph, ids: list[int], doors: list[int], coords: np.ndarray, clea
         candidates.add_nodes_from(ids)
         for i, a in enumerate(ids):
             for b in ids[i + 1:]:
-                penalty = 1.0 if _visible(coords, clearance, a, b, mpp) else 10.0
+                penalty = 1.0 if _visible(points, clearance, a, b, mpp) else 10.0
                 candidates.add_edge(a, b, weight=dist(a, b) * penalty)
         for a, b in nx.minimum_spanning_edges(candidates, data=False):
             add(a, b)
     for d in doors:
-        seen = [n for n in ids if _visible(coords, clearance, d, n, mpp)]
+        seen = [n for n in ids if _visible(points, clearance, d, n, mpp)]
         add(d, min(seen or ids, key=lambda n: dist(d, n)))
+    return waypoints

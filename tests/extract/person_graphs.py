@@ -1,0 +1,42 @@
+"""The maps with a person's scene graph (tests/extract/data/person_graphs.json): the bundled example
+locations and the maps of drawn_maps.py. Used by the tests and by benchmarks/extract_bench.py."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from socnavgen.location import load_location
+from socnavgen.location.models import Node, SceneGraph
+from tests.extract.drawn_maps import DRAWN
+from tests.extract.synthetic_maps import RES, write_map
+
+ROOT = Path(__file__).resolve().parents[2]
+DATA = json.loads((Path(__file__).parent / "data" / "person_graphs.json").read_text())
+NAMES = ["home", "hospital", "warehouse", "office", "clinic"]
+
+
+@dataclass
+class PersonMap:
+    name: str
+    map_yaml: Path
+    graph: SceneGraph
+    meters_per_pixel: float
+    aliases: dict[str, str] = field(default_factory=dict)
+    rooms: list[tuple[float, float]] = field(default_factory=list)  # a point inside every room
+
+
+def person_map(name: str, workdir: Path) -> PersonMap:
+    """The map (drawn maps are written under `workdir`) and the graph a person drew on it."""
+    entry = DATA[name]
+    if name in DRAWN:
+        map_yaml = write_map(workdir / f"drawn_{name}", DRAWN[name](), name)
+        nodes = [Node(id=f"p{i}" if i < 10 else f"{chr(97 + i - 10)}q", type=t, pos=(x, y))
+                 for i, (t, x, y) in enumerate(entry["nodes"])]
+        return PersonMap(name, map_yaml, SceneGraph(nodes=nodes), RES,
+                         rooms=[tuple(p) for p in entry["rooms"]])
+    hand = load_location(ROOT / "examples" / "locations" / name)
+    rooms = [n.pos for n in hand.scene_graph.nodes if n.type in entry["room_types"]]
+    return PersonMap(name, hand.root / "map.yaml", hand.scene_graph, hand.transform.meters_per_pixel,
+                     aliases=entry["aliases"], rooms=rooms)

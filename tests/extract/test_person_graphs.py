@@ -1,0 +1,45 @@
+"""Extracted graphs against the graphs a person drew (bundled maps and two drawn maps): size within
+0.5-2x, rooms get ROOM nodes, and recall / precision stay above their measured floors."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+
+from socnavgen.location.extract import ExtractOptions, extract_location
+from socnavgen.location.extract_score import score
+from tests.extract.person_graphs import NAMES, person_map
+
+# Measured (benchmarks/extract_bench.py); a drop below these is a regression.
+FLOORS = {"home": (0.85, 0.9), "hospital": (0.8, 0.7), "warehouse": (0.8, 0.45), "office": (1.0, 0.5),
+          "clinic": (0.65, 0.3)}
+ALL_ROOMS = {"hospital", "office"}  # maps where every room already gets its ROOM node
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_extracted_graph_is_close_to_the_persons(name: str, tmp_path: Path) -> None:
+    pm = person_map(name, tmp_path)
+    location, _ = extract_location(pm.map_yaml, tmp_path / "out", ExtractOptions(seed=1))
+    s = score(pm.graph, location.scene_graph, pm.meters_per_pixel, aliases=pm.aliases)
+    assert 0.5 <= s.size_ratio <= 2.0, (s.extracted_nodes, s.person_nodes)
+    recall, precision = FLOORS[name]
+    assert s.recall >= recall and s.precision >= precision, (s.recall, s.precision, s.missed)
+    rooms = [n.pos for n in location.scene_graph.nodes if n.type == "ROOM"]
+    found = [p for p in pm.rooms if rooms and min(math.dist(p, q) for q in rooms) * pm.meters_per_pixel <= 3.0]
+    if name in ALL_ROOMS:
+        assert len(found) == len(pm.rooms)
+    else:
+        assert len(found) >= len(pm.rooms) - 1
+
+
+def test_score_counts_a_missing_node_and_a_wrong_type() -> None:
+    from socnavgen.location.models import Node, SceneGraph
+
+    person = SceneGraph(nodes=[Node(id="aa", type="ROOM", pos=(0, 0)), Node(id="bb", type="DOORWAY", pos=(100, 0))])
+    extracted = SceneGraph(nodes=[Node(id="cc", type="OPEN AREA", pos=(10, 0)),
+                                  Node(id="dd", type="DEAD END", pos=(100, 5))])
+    s = score(person, extracted, 0.05)
+    assert s.recall == 0.5 and s.precision == 0.5 and s.missed[0].startswith("bb DOORWAY")
+    assert score(person, extracted, 0.05, aliases={"DOORWAY": "DEAD END"}).recall == 1.0
