@@ -61,9 +61,10 @@ class ExtractOptions:
     detail: float = 1.0           # >1 = finer graph (shorter edges, less merging, more nodes per room), <1 = coarser
     min_spur_m: float = 1.0       # side branches shorter than this (or than the local width) are pruned
     narrow_width_m: float = 1.2   # passages narrower than this are NARROW (doorways, tight aisles)
+    door_width_m: float = 1.2     # a short bottleneck up to this wide between wider space is a doorway
     open_width_m: float = 3.0     # a node with at least this much free width around it may be an OPEN AREA
     min_gap_m: float = 0.5        # gaps narrower than this are not walkable at all (a person does not fit)
-    max_edge_m: float = 6.0       # at detail 1, straight corridor edges longer than this get intermediate nodes
+    max_edge_m: float = 10.0      # at detail 1, straight corridor edges longer than this get intermediate nodes
     merge_m: float = 2.0          # at detail 1, nodes joined by a branch shorter than this are merged
     room_cover_m: float = 3.5     # at detail 1, every part of a room is within this of one of its nodes
     rooms: bool = True            # segment rooms (one ROOM node each); False = the bare skeleton graph
@@ -92,6 +93,7 @@ class _Geometry:
         self.merge = max(2.0, opts.merge_m / density / mpp)
         self.max_edge = max(4.0, opts.max_edge_m / density / mpp)
         self.narrow_half = round(opts.narrow_width_m / 2 / mpp, 6) + 1.0  # one pixel of rasterisation slack
+        self.door_half = round(opts.door_width_m / 2 / mpp, 6) + 1.0
         self.open_half = round(opts.open_width_m / 2 / mpp, 6)
         self.look = max(3.0, 1.5 / mpp)  # how far along each leg a corner's line-of-sight test looks
         self.room_cover_m = opts.room_cover_m / density
@@ -263,31 +265,40 @@ def drop_noise_loops(graph: nx.MultiGraph, coords: np.ndarray, walls: np.ndarray
     return changed
 
 
-def insert_doorways(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray, geo: _Geometry) -> set[int]:
-    """Add a node at each short bottleneck (clearance much smaller on both sides): doors."""
+def insert_doorways(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray,
+                    geo: _Geometry) -> tuple[set[int], set[int]]:
+    """Add a node at each short bottleneck (clearance much smaller on both sides): doors; and at each
+    mouth where a long narrow passage opens into wider space: passage ends. Both bound rooms."""
     doors: set[int] = set()
+    mouths: set[int] = set()
     window = int(max(6, 2.0 / geo.mpp))
     for u, v, key, data in list(graph.edges(keys=True, data=True)):
         path = data["path"]
         c = clearance[coords[path, 0], coords[path, 1]]
-        narrow = c <= geo.narrow_half
-        labels, count = ndimage.label(narrow)
-        cuts = []
+        labels, count = ndimage.label(c <= geo.door_half)
+        cuts, ends = [], []
         for run in range(1, count + 1):
             idx = np.nonzero(labels == run)[0]
             s, e = int(idx[0]), int(idx[-1])
-            if (e - s) * geo.mpp > 1.5 or s < 3 or e > len(path) - 4:
-                continue  # a long narrow stretch is a passage, not a door; too close to an end
             low = c[s:e + 1].min()
+            left, right = c[max(0, s - window):s], c[e + 1:e + 1 + window]
+            if (e - s) * geo.mpp > 1.5:  # a passage: mark where it opens into wider space
+                if low <= geo.narrow_half:
+                    ends += [i for i, side in ((s, left), (e, right))
+                             if 3 <= i <= len(path) - 4 and len(side) and side.max() >= 1.5 * low]
+                continue
+            if s < 3 or e > len(path) - 4:
+                continue  # too close to an end
             core = idx[c[idx] <= low + 0.75]
             mid = int(core[len(core) // 2])
-            left, right = c[max(0, s - window):s].max(), c[e + 1:e + 1 + window].max()
-            if min(left, right) >= 1.5 * low:
+            if len(left) and len(right) and min(left.max(), right.max()) >= 1.5 * low:
                 cuts.append(mid)
-        if cuts:
+        if cuts or ends:
             graph.remove_edge(u, v, key)
-            doors.update(_split_at(graph, data, cuts))
-    return doors
+            added = dict(zip(sorted(set(cuts + ends)), _split_at(graph, data, cuts + ends), strict=True))
+            doors.update(added[i] for i in cuts)
+            mouths.update(added[i] for i in ends if i not in cuts)
+    return doors, mouths
 
 
 def _split_at(graph: nx.MultiGraph, data: dict, cuts: list[int]) -> list[int]:
@@ -374,6 +385,8 @@ def type_node(graph: nx.MultiGraph, n: int, coords: np.ndarray, walls: np.ndarra
         return DEAD_END
     if n in doors:
         return DOORWAY
+    if here >= geo.open_half:  # a bend or a waypoint in a wide space: a person names the space, not the bend
+        return OPEN_AREA
     (_, a, _), (_, b, _) = list(graph.edges(n, data=True))
     va, vb = coords[a] - coords[n], coords[b] - coords[n]
     cos = float(va @ vb) / max(1e-9, float(np.linalg.norm(va) * np.linalg.norm(vb)))
@@ -385,8 +398,6 @@ def type_node(graph: nx.MultiGraph, n: int, coords: np.ndarray, walls: np.ndarra
         rows, cols = raster_line(int(round(pa[0])), int(round(pa[1])), int(round(pb[0])), int(round(pb[1])))
         if walls[rows, cols].any():
             return BLIND_CORNER
-    if here >= geo.open_half:  # a visible turn or a waypoint in a wide space
-        return OPEN_AREA
     if turns:
         return CORNER
     return NARROW_PASSAGE if here < geo.narrow_half else SIMPLE_NODE
@@ -423,11 +434,11 @@ def extract_scene_graph(occ: OccupancyGrid, meters_per_pixel: float,
         dissolve_chains(graph, keep=set())
         if not changed:
             break
-    doors = insert_doorways(graph, coords, wall_clearance, geo)
+    doors, mouths = insert_doorways(graph, coords, wall_clearance, geo)
     room_nodes: set[int] = set()
     extra_nodes: set[int] = set()
     if opts.rooms:
-        rooms = replace_rooms(graph, coords, doors, free, walls, wall_clearance, clearance, meters_per_pixel,
+        rooms = replace_rooms(graph, coords, doors | mouths, free, walls, wall_clearance, clearance, meters_per_pixel,
                               geo.room_cover_m)
         coords, room_nodes, extra_nodes = rooms.coords, rooms.room_nodes, rooms.extra_nodes
         stats.rooms = len(room_nodes)
@@ -439,6 +450,8 @@ def extract_scene_graph(occ: OccupancyGrid, meters_per_pixel: float,
             return ROOM
         if n in extra_nodes:
             return OPEN_AREA
+        if n in mouths:
+            return NARROW_PASSAGE
         return type_node(graph, n, coords, walls, wall_clearance, geo, doors)
 
     ids = _random_ids(sorted(graph.nodes), opts.seed)

@@ -108,8 +108,8 @@ def _without_spurs(skeleton: np.ndarray, steps: int) -> np.ndarray:
 
 def place_room_nodes(mask: np.ndarray, clearance: np.ndarray, door_points: list[tuple[int, int]],
                      meters_per_pixel: float, cover_m: float) -> list[tuple[int, int]]:
-    """(row, col) of the nodes standing for one room: first the spot with the most room around it that
-    sees the most doorways, then, while some walkable part of the room is farther than `cover_m` from
+    """(row, col) of the nodes standing for one room: first a roomy spot near the middle that sees the
+    most doorways, then, while some walkable part of the room is farther than `cover_m` from
     every node, the farthest such spot (people name the corners of a big room too)."""
     person = 0.4 / meters_per_pixel
     roomy = mask & (clearance >= person)
@@ -117,12 +117,14 @@ def place_room_nodes(mask: np.ndarray, clearance: np.ndarray, door_points: list[
         roomy = mask & (clearance >= max(1.0, clearance[mask].max() * 0.8))
     rows, cols = np.nonzero(roomy)
     step = max(1, len(rows) // 400)
-    order = np.argsort(-clearance[rows, cols])[:: step][:400]
+    order = np.arange(len(rows))[::step]
+    centre = np.argwhere(ndimage.binary_fill_holes(mask)).mean(axis=0)
     best, best_score = None, -math.inf
     for i in order:
         p = (int(rows[i]), int(cols[i]))
         seen = sum(segment_walkable(clearance, (p[1], p[0]), (d[1], d[0]), meters_per_pixel) for d in door_points)
-        score = seen * 3.0 + min(clearance[p], 1.5 / meters_per_pixel) * meters_per_pixel
+        off_centre = math.dist(p, centre) * meters_per_pixel
+        score = seen * 2.0 + min(clearance[p] * meters_per_pixel, 1.0) - 0.4 * off_centre
         if score > best_score:
             best, best_score = p, score
     assert best is not None
