@@ -12,7 +12,6 @@ with a ROOM node, recall (person's nodes with a compatible extracted node within
 from __future__ import annotations
 
 import argparse
-import math
 import sys
 import tempfile
 import time
@@ -32,17 +31,10 @@ from socnavgen.location.extract import (  # noqa: E402
     extract_scene_graph,
     walkable_space,
 )
-from socnavgen.location.extract_score import score  # noqa: E402
+from socnavgen.location.extract_score import rooms_with_room_node, score  # noqa: E402
 from socnavgen.location.occupancy import occupancy_from_image  # noqa: E402
 
 RES = 0.05  # metres per pixel
-
-
-def rooms_found(location, rooms: list[tuple[float, float]], mpp: float) -> int:
-    """Rooms (given by a point inside) with an extracted ROOM node within 2 m... or in the same room: the
-    ROOM node nearest to the point must be reachable by a straight walkable line or lie within 2 m."""
-    room_nodes = [n.pos for n in location.scene_graph.nodes if n.type == "ROOM"]
-    return sum(1 for p in rooms if room_nodes and min(math.dist(p, q) for q in room_nodes) * mpp <= 3.0)
 
 
 def quality_rows(detail: float) -> list[dict]:
@@ -57,9 +49,11 @@ def quality_rows(detail: float) -> list[dict]:
                                                ExtractOptions(seed=1, detail=detail))
             elapsed = time.perf_counter() - t0
             s = score(pm.graph, location.scene_graph, pm.meters_per_pixel, aliases=pm.aliases)
+            rooms_found = rooms_with_room_node(location.scene_graph, pm.rooms, location.occupancy.clearance_px,
+                                               pm.meters_per_pixel)
             rows.append({"map": name, "person nodes": s.person_nodes, "extracted": s.extracted_nodes,
                          "ratio": round(s.size_ratio, 2),
-                         "rooms with ROOM": f"{rooms_found(location, pm.rooms, pm.meters_per_pixel)}/{len(pm.rooms)}",
+                         "rooms with ROOM": f"{rooms_found}/{len(pm.rooms)}",
                          "recall": round(s.recall, 2), "precision": round(s.precision, 2),
                          "time s": round(elapsed, 2), "missed": "; ".join(s.missed)})
     return rows

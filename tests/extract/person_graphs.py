@@ -37,6 +37,5 @@ def person_map(name: str, workdir: Path) -> PersonMap:
         return PersonMap(name, map_yaml, SceneGraph(nodes=nodes), RES,
                          rooms=[tuple(p) for p in entry["rooms"]])
     hand = load_location(ROOT / "examples" / "locations" / name)
-    rooms = [n.pos for n in hand.scene_graph.nodes if n.type in entry["room_types"]]
     return PersonMap(name, hand.root / "map.yaml", hand.scene_graph, hand.transform.meters_per_pixel,
-                     aliases=entry["aliases"], rooms=rooms)
+                     aliases=entry["aliases"], rooms=[tuple(p) for p in entry["rooms"]])

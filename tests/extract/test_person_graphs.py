@@ -3,19 +3,17 @@
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 import pytest
 
 from socnavgen.location.extract import ExtractOptions, extract_location
-from socnavgen.location.extract_score import score
+from socnavgen.location.extract_score import rooms_with_room_node, score
 from tests.extract.person_graphs import NAMES, person_map
 
 # Measured (benchmarks/extract_bench.py); a drop below these is a regression.
 FLOORS = {"home": (0.85, 0.9), "hospital": (0.8, 0.7), "warehouse": (0.8, 0.45), "office": (1.0, 0.5),
           "clinic": (0.65, 0.3)}
-ALL_ROOMS = {"hospital", "office"}  # maps where every room already gets its ROOM node
 
 
 @pytest.mark.parametrize("name", NAMES)
@@ -26,12 +24,9 @@ def test_extracted_graph_is_close_to_the_persons(name: str, tmp_path: Path) -> N
     assert 0.5 <= s.size_ratio <= 2.0, (s.extracted_nodes, s.person_nodes)
     recall, precision = FLOORS[name]
     assert s.recall >= recall and s.precision >= precision, (s.recall, s.precision, s.missed)
-    rooms = [n.pos for n in location.scene_graph.nodes if n.type == "ROOM"]
-    found = [p for p in pm.rooms if rooms and min(math.dist(p, q) for q in rooms) * pm.meters_per_pixel <= 3.0]
-    if name in ALL_ROOMS:
-        assert len(found) == len(pm.rooms)
-    else:
-        assert len(found) >= len(pm.rooms) - 1
+    found = rooms_with_room_node(location.scene_graph, pm.rooms, location.occupancy.clearance_px,
+                                 pm.meters_per_pixel)
+    assert found == len(pm.rooms), f"{found} of {len(pm.rooms)} rooms have a ROOM node"
 
 
 def test_score_counts_a_missing_node_and_a_wrong_type() -> None:

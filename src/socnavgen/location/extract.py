@@ -61,7 +61,7 @@ class ExtractOptions:
     detail: float = 1.0           # >1 = finer graph (shorter edges, less merging, more nodes per room), <1 = coarser
     min_spur_m: float = 1.0       # side branches shorter than this (or than the local width) are pruned
     narrow_width_m: float = 1.2   # passages narrower than this are NARROW (doorways, tight aisles)
-    door_width_m: float = 1.2     # a short bottleneck up to this wide between wider space is a doorway
+    door_width_m: float = 2.0     # a short bottleneck up to this wide between wider space is a doorway
     open_width_m: float = 3.0     # a node with at least this much free width around it may be an OPEN AREA
     min_gap_m: float = 0.5        # gaps narrower than this are not walkable at all (a person does not fit)
     max_edge_m: float = 10.0      # at detail 1, straight corridor edges longer than this get intermediate nodes
@@ -279,8 +279,9 @@ def insert_doorways(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndar
         cuts, ends = [], []
         for run in range(1, count + 1):
             idx = np.nonzero(labels == run)[0]
-            s, e = int(idx[0]), int(idx[-1])
-            low = c[s:e + 1].min()
+            low = c[idx].min()
+            core = idx[c[idx] <= 1.15 * low + 1.0]  # the narrowest stretch: the opening itself
+            s, e = int(core[0]), int(core[-1])
             left, right = c[max(0, s - window):s], c[e + 1:e + 1 + window]
             if (e - s) * geo.mpp > 1.5:  # a passage: mark where it opens into wider space
                 if low <= geo.narrow_half:
@@ -289,7 +290,6 @@ def insert_doorways(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndar
                 continue
             if s < 3 or e > len(path) - 4:
                 continue  # too close to an end
-            core = idx[c[idx] <= low + 0.75]
             mid = int(core[len(core) // 2])
             if len(left) and len(right) and min(left.max(), right.max()) >= 1.5 * low:
                 cuts.append(mid)

@@ -12,7 +12,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from socnavgen.location.models import SceneGraph
+from socnavgen.location.traverse import edge_verdict
 
 # For each extracted type, the extracted types a person's node of that type may be matched by.
 COMPATIBLE: dict[str, set[str]] = {
@@ -69,3 +72,12 @@ def score(person: SceneGraph, extracted: SceneGraph, meters_per_pixel: float, *,
     return Score(person_nodes=len(person.nodes), extracted_nodes=len(extracted.nodes),
                  recall=found / max(1, len(person.nodes)), precision=right / max(1, len(extracted.nodes)),
                  missed=missed)
+
+
+def rooms_with_room_node(extracted: SceneGraph, rooms: list[tuple[float, float]], clearance: np.ndarray,
+                         meters_per_pixel: float, room_type: str = "ROOM") -> int:
+    """How many of the rooms (one point inside each) have a ROOM node that sees the point: a straight
+    line between them a person can walk (the traversability rule)."""
+    nodes = [n.pos for n in extracted.nodes if n.type == room_type]
+    return sum(1 for p in rooms
+               if any(edge_verdict(clearance, p, q, meters_per_pixel).level == "ok" for q in nodes))
