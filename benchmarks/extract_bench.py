@@ -49,7 +49,7 @@ def quality_rows(detail: float) -> list[dict]:
                                                ExtractOptions(seed=1, detail=detail))
             elapsed = time.perf_counter() - t0
             s = score(pm.graph, location.scene_graph, pm.meters_per_pixel, aliases=pm.aliases)
-            rooms_found = rooms_with_room_node(location.scene_graph, pm.rooms, location.occupancy.clearance_px,
+            rooms_found = rooms_with_room_node(location.scene_graph, pm.rooms, location.occupancy.blocked,
                                                pm.meters_per_pixel)
             rows.append({"map": name, "person nodes": s.person_nodes, "extracted": s.extracted_nodes,
                          "ratio": round(s.size_ratio, 2),

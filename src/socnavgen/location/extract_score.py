@@ -15,7 +15,6 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from socnavgen.location.models import SceneGraph
-from socnavgen.location.traverse import edge_verdict
 
 # For each extracted type, the extracted types a person's node of that type may be matched by.
 COMPATIBLE: dict[str, set[str]] = {
@@ -74,10 +73,18 @@ def score(person: SceneGraph, extracted: SceneGraph, meters_per_pixel: float, *,
                  missed=missed)
 
 
-def rooms_with_room_node(extracted: SceneGraph, rooms: list[tuple[float, float]], clearance: np.ndarray,
-                         meters_per_pixel: float, room_type: str = "ROOM") -> int:
-    """How many of the rooms (one point inside each) have a ROOM node that sees the point: a straight
-    line between them a person can walk (the traversability rule)."""
-    nodes = [n.pos for n in extracted.nodes if n.type == room_type]
-    return sum(1 for p in rooms
-               if any(edge_verdict(clearance, p, q, meters_per_pixel).level == "ok" for q in nodes))
+def rooms_with_room_node(extracted: SceneGraph, rooms: list[tuple[float, float]], blocked: np.ndarray,
+                         meters_per_pixel: float, room_type: str = "ROOM", door_m: float = 1.3) -> int:
+    """How many of the rooms (one point inside each) have a ROOM node inside them. A room is the part
+    of the floor around its point once every opening narrower than `door_m` is closed (a morphological opening of the free space), so a ROOM node seen through a door, or in
+    a neighbouring room, does not count."""
+    from scipy import ndimage
+
+    free = ~blocked
+    radius = door_m / 2 / meters_per_pixel
+    core = ndimage.distance_transform_edt(free) > radius  # where a disc as wide as a door fits
+    opened = ndimage.distance_transform_edt(~core) <= radius - 2  # the discs, a hair smaller: doors stay shut
+    labels, _ = ndimage.label(opened & free)
+    inside = {int(labels[int(n.pos[1]), int(n.pos[0])]) for n in extracted.nodes if n.type == room_type}
+    inside.discard(0)
+    return sum(1 for x, y in rooms if int(labels[int(y), int(x)]) in inside)
