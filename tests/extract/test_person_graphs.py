@@ -14,7 +14,7 @@ from tests.extract.person_graphs import NAMES, person_map
 # Measured (benchmarks/extract_bench.py); a drop below these is a regression.
 FLOORS = {"home": (0.95, 0.9), "hospital": (0.85, 0.75), "warehouse": (0.85, 0.6), "office": (0.95, 0.5),
           "clinic": (0.7, 0.35)}
-ROOMS_MISSED = {"office": 1}  # known gap: the open-plan office's ROOM node stands by its door (see the report)
+ROOMS_MISSED = {"office": 1}  # known gap: one of its five rooms has no ROOM node by the region measure
 
 
 @pytest.mark.parametrize("name", NAMES)

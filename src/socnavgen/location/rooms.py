@@ -232,20 +232,26 @@ def _join_room(graph, ids: list[int], doors: list[int], points: list[tuple[int, 
     spots = np.argwhere(mask & (clearance >= min(0.4 / mpp, clearance[mask].max())))
     spots = spots[:: max(1, len(spots) // 600)]
 
+    def chain(a: int, vias: list[tuple[int, int]], b: int) -> None:
+        previous = a
+        for via in vias:
+            points.append((int(via[0]), int(via[1])))
+            waypoints.append(len(points) - 1)
+            graph.add_edge(previous, len(points) - 1, path=[previous, len(points) - 1], start=previous)
+            previous = len(points) - 1
+        graph.add_edge(previous, b, path=[previous, b], start=previous)
+
     def add(a: int, b: int) -> None:
-        if not _visible(points, clearance, a, b, mpp) and len(spots):
-            ok = [tuple(p) for p in spots
-                  if segment_walkable(clearance, (p[1], p[0]), (points[a][1], points[a][0]), mpp)
-                  and segment_walkable(clearance, (p[1], p[0]), (points[b][1], points[b][0]), mpp)]
-            if ok:
-                via = min(ok, key=lambda p: math.dist(p, points[a]) + math.dist(p, points[b]))
-                points.append((int(via[0]), int(via[1])))
-                w = len(points) - 1
-                waypoints.append(w)
-                graph.add_edge(a, w, path=[a, w], start=a)
-                graph.add_edge(w, b, path=[w, b], start=w)
-                return
-        graph.add_edge(a, b, path=[a, b], start=a)
+        if _visible(points, clearance, a, b, mpp) or not len(spots):
+            chain(a, [], b)
+            return
+        ok = [tuple(p) for p in spots
+              if segment_walkable(clearance, (p[1], p[0]), (points[a][1], points[a][0]), mpp)
+              and segment_walkable(clearance, (p[1], p[0]), (points[b][1], points[b][0]), mpp)]
+        if ok:
+            chain(a, [min(ok, key=lambda p: math.dist(p, points[a]) + math.dist(p, points[b]))], b)
+        else:
+            chain(a, _pulled_path(points[a], points[b], clearance, mpp), b)
 
     if len(ids) > 1:
         candidates = nx.Graph()
@@ -260,3 +266,27 @@ def _join_room(graph, ids: list[int], doors: list[int], points: list[tuple[int, 
         seen = [n for n in ids if _visible(points, clearance, d, n, mpp)]
         add(d, min(seen or ids, key=lambda n: dist(d, n)))
     return waypoints
+
+
+def _pulled_path(a: tuple[int, int], b: tuple[int, int], clearance: np.ndarray, mpp: float) -> list[tuple[int, int]]:
+    """Waypoints (row, col) of the shortest walkable way from a to b, pulled tight: each straight piece
+    is one a person can walk. Empty when there is no such way (the edge is then left straight)."""
+    from skimage.graph import MCP_Geometric
+
+    need = min(0.4 / mpp, float(clearance[a]), float(clearance[b]))
+    costs = np.where(clearance >= max(1.0, need), 1.0, np.inf)
+    costs[a] = costs[b] = 1.0
+    mcp = MCP_Geometric(costs, fully_connected=True)
+    cumulative, _ = mcp.find_costs([a], [b])
+    if not math.isfinite(float(cumulative[b])):
+        return []
+    path = [tuple(int(v) for v in p) for p in mcp.traceback(b)]
+    vias, i = [], 0
+    while True:
+        j = len(path) - 1
+        while j > i + 1 and not segment_walkable(clearance, path[i][::-1], path[j][::-1], mpp):
+            j -= 1
+        if j == len(path) - 1:
+            return vias
+        vias.append(path[j])
+        i = j
