@@ -15,8 +15,8 @@ def extract(
     out: Path = typer.Option(..., "--out", "-o", help="Location folder to create (map copied, location.yaml, "
                                                       "scene_graph.json, scene_graph.png)."),
     detail: float = typer.Option(1.0, "--detail", "--density", min=0.1, max=10.0,
-                                 help="Finer (>1) or coarser (<1) graph: divides the longest corridor edge (6 m), "
-                                      "the merge distance (2 m) and the room coverage radius (3.5 m)."),
+                                 help="Finer (>1) or coarser (<1) graph: divides the longest corridor edge (10 m), "
+                                      "the merge distance (2 m) and the room coverage radius (4.5 m)."),
     rooms: bool = typer.Option(True, "--rooms/--no-rooms",
                                help="Segment rooms (one ROOM node each, DOORWAY nodes at their openings); "
                                     "--no-rooms gives the bare skeleton graph."),

@@ -66,7 +66,7 @@ class ExtractOptions:
     min_gap_m: float = 0.5        # gaps narrower than this are not walkable at all (a person does not fit)
     max_edge_m: float = 10.0      # at detail 1, straight corridor edges longer than this get intermediate nodes
     merge_m: float = 2.0          # at detail 1, nodes joined by a branch shorter than this are merged
-    room_cover_m: float = 3.5     # at detail 1, every part of a room is within this of one of its nodes
+    room_cover_m: float = 4.5     # at detail 1, every part of a room is within this of one of its nodes
     rooms: bool = True            # segment rooms (one ROOM node each); False = the bare skeleton graph
     keep_all_components: bool = False  # default: only the largest connected free area
     seed: int | None = None       # node ids are random; a seed makes them reproducible

@@ -253,15 +253,19 @@ def _join_room(graph, ids: list[int], doors: list[int], points: list[tuple[int, 
         else:
             chain(a, _pulled_path(points[a], points[b], clearance, mpp), b)
 
-    if len(ids) > 1:
-        candidates = nx.Graph()
-        candidates.add_nodes_from(ids)
-        for i, a in enumerate(ids):
-            for b in ids[i + 1:]:
-                penalty = 1.0 if _visible(points, clearance, a, b, mpp) else 10.0
-                candidates.add_edge(a, b, weight=dist(a, b) * penalty)
-        for a, b in nx.minimum_spanning_edges(candidates, data=False):
+    if len(ids) > 1:  # a shortest tree over the pairs that see each other, parts joined by walkable paths
+        seen = nx.Graph()
+        seen.add_nodes_from(ids)
+        seen.add_weighted_edges_from((a, b, dist(a, b)) for i, a in enumerate(ids) for b in ids[i + 1:]
+                                     if _visible(points, clearance, a, b, mpp))
+        for a, b in nx.minimum_spanning_edges(seen, data=False):
             add(a, b)
+        parts = [sorted(c) for c in nx.connected_components(seen)]
+        joined = parts[0]
+        for part in parts[1:]:
+            a, b = min(((x, y) for x in joined for y in part), key=lambda pair: dist(*pair))
+            add(a, b)
+            joined = joined + part
     for d in doors:
         seen = [n for n in ids if _visible(points, clearance, d, n, mpp)]
         add(d, min(seen or ids, key=lambda n: dist(d, n)))
