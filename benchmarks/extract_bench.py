@@ -38,11 +38,11 @@ RES = 0.05  # metres per pixel
 
 
 def quality_rows(detail: float) -> list[dict]:
-    from tests.extract.person_graphs import NAMES, person_map
+    from tests.extract.person_graphs import NAMES, SOCRATES, person_map
 
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
-        for name in NAMES:
+        for name in NAMES + SOCRATES:
             pm = person_map(name, Path(tmp))
             t0 = time.perf_counter()
             location, stats = extract_location(pm.map_yaml, Path(tmp) / f"out_{name}",

@@ -8,13 +8,16 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from socnavgen.location import load_location
+from socnavgen.location.location import read_nav2_yaml
+from socnavgen.location.scene_graph import read_scene_graph
 from socnavgen.location.models import Node, SceneGraph
 from tests.extract.drawn_maps import DRAWN
 from tests.extract.synthetic_maps import RES, write_map
 
 ROOT = Path(__file__).resolve().parents[2]
 DATA = json.loads((Path(__file__).parent / "data" / "person_graphs.json").read_text())
-NAMES = ["home", "hospital", "warehouse", "office", "clinic"]
+NAMES = ["home", "hospital", "warehouse", "office", "clinic"]  # the maps of the "done when"
+SOCRATES = ["socrates_hospital", "socrates_arena"]  # SocRATES's maps and graphs (Apache-2.0, see NOTICE)
 
 
 @dataclass
@@ -36,6 +39,11 @@ def person_map(name: str, workdir: Path) -> PersonMap:
                  for i, (t, x, y) in enumerate(entry["nodes"])]
         return PersonMap(name, map_yaml, SceneGraph(nodes=nodes), RES,
                          rooms=[tuple(p) for p in entry["rooms"]])
+    if name in SOCRATES:
+        folder = Path(__file__).parent / "data" / name
+        graph = read_scene_graph(folder / "scene_graph.json")
+        nav2 = read_nav2_yaml(folder / "map.yaml")
+        return PersonMap(name, folder / "map.yaml", graph, float(nav2.resolution), aliases=entry["aliases"])
     hand = load_location(ROOT / "examples" / "locations" / name)
     return PersonMap(name, hand.root / "map.yaml", hand.scene_graph, hand.transform.meters_per_pixel,
                      aliases=entry["aliases"], rooms=[tuple(p) for p in entry["rooms"]])

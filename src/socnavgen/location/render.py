@@ -85,14 +85,24 @@ class Layout:
 
 
 def known_crop(gray: np.ndarray, graph: SceneGraph, margin: int | None = None) -> tuple[int, int, int, int]:
-    """(x0, y0, x1, y1) of the mapped part of the image (free or occupied, not unknown grey), with a
-    small margin, always holding every node: the picture spends no space on unmapped surroundings."""
+    """(x0, y0, x1, y1) of the mapped part of the image (the free floor and the walls around it, not
+    unknown grey nor far specks of scan noise), with a small margin, always holding every node: the
+    picture spends no space on unmapped surroundings."""
     from socnavgen.location.occupancy import occupancy_from_image
 
+    from scipy import ndimage
+
     h, w = gray.shape
-    known = ~occupancy_from_image(gray).unknown
-    if not known.any():
+    occ = occupancy_from_image(gray)
+    free = ~occ.blocked
+    labels, count = ndimage.label(free, structure=np.ones((3, 3)))
+    if count == 0:
         return 0, 0, w, h
+    sizes = np.bincount(labels.ravel())
+    sizes[0] = 0
+    # the mapped area: free floor large enough to matter (stray specks of scan noise far out are not)
+    main = np.isin(labels, np.nonzero(sizes >= 0.1 * sizes.max())[0])
+    known = ndimage.binary_dilation(main, iterations=3) & ~occ.unknown | main
     rows, cols = np.nonzero(known.any(axis=1))[0], np.nonzero(known.any(axis=0))[0]
     pad = margin if margin is not None else max(4, round(0.02 * max(w, h)))
     x0, y0, x1, y1 = cols[0] - pad, rows[0] - pad, cols[-1] + 1 + pad, rows[-1] + 1 + pad
