@@ -9,8 +9,8 @@ from pathlib import Path
 
 from socnavgen.location import load_location
 from socnavgen.location.location import read_nav2_yaml
-from socnavgen.location.scene_graph import read_scene_graph
 from socnavgen.location.models import Node, SceneGraph
+from socnavgen.location.scene_graph import read_scene_graph
 from tests.extract.drawn_maps import DRAWN
 from tests.extract.synthetic_maps import RES, write_map
 

@@ -88,9 +88,9 @@ def known_crop(gray: np.ndarray, graph: SceneGraph, margin: int | None = None) -
     """(x0, y0, x1, y1) of the mapped part of the image (the free floor and the walls around it, not
     unknown grey nor far specks of scan noise), with a small margin, always holding every node: the
     picture spends no space on unmapped surroundings."""
-    from socnavgen.location.occupancy import occupancy_from_image
-
     from scipy import ndimage
+
+    from socnavgen.location.occupancy import occupancy_from_image
 
     h, w = gray.shape
     occ = occupancy_from_image(gray)
