@@ -97,6 +97,7 @@ class _Geometry:
         self.open_half = round(opts.open_width_m / 2 / mpp, 6)
         self.look = max(3.0, 1.5 / mpp)  # how far along each leg a corner's line-of-sight test looks
         self.room_cover_m = opts.room_cover_m / density
+        self.wall_clearance: np.ndarray | None = None  # clearance from walls without specks, set per map
 
 
 # ---------------------------------------------------------------- skeleton and pixel graph
@@ -350,10 +351,14 @@ def _cuts(pts: np.ndarray, clearance: np.ndarray, geo: _Geometry, i: int, j: int
     seg = pts[i:j + 1]
     a, b = (float(pts[i][1]), float(pts[i][0])), (float(pts[j][1]), float(pts[j][0]))
     need = required_clearance_px(clearance, a, b, geo.mpp)
-    if chord_ok(pts[i], pts[j], clearance, need) or edge_verdict(clearance, a, b, geo.mpp).level == "ok":
-        steps = np.abs(np.diff(seg, axis=0)).sum(axis=1)
-        arc = np.concatenate([[0.0], np.cumsum(np.where(steps == 2, SQRT2, 1.0))])
-        parts = math.ceil(arc[-1] / geo.max_edge)
+    steps = np.abs(np.diff(seg, axis=0)).sum(axis=1)
+    arc = np.concatenate([[0.0], np.cumsum(np.where(steps == 2, SQRT2, 1.0))])
+    parts = math.ceil(arc[-1] / geo.max_edge)
+    # clear of walls (specks aside) and of specks too, or (for a piece short enough to keep) a person
+    # steps around the speck it touches: the rule's detour search, costly, so only then
+    walls_ok = chord_ok(pts[i], pts[j], geo.wall_clearance if geo.wall_clearance is not None else clearance, need)
+    clear = walls_ok and chord_ok(pts[i], pts[j], clearance, need)
+    if walls_ok and (clear or parts > 1 or edge_verdict(clearance, a, b, geo.mpp).level == "ok"):
         if parts <= 1:
             return []
         marks = sorted({i + int(np.searchsorted(arc, arc[-1] * k / parts)) for k in range(1, parts)} - {i, j})
@@ -419,6 +424,7 @@ def extract_scene_graph(occ: OccupancyGrid, meters_per_pixel: float,
     structure = OccupancyGrid(occupied=occ.occupied & ~furniture, unknown=occ.unknown & ~furniture)
     walls = without_specks(structure.blocked, max(2, int((0.25 / meters_per_pixel) ** 2)))
     wall_clearance = ndimage.distance_transform_edt(~walls)  # what a person perceives: width, doors
+    geo.wall_clearance = wall_clearance
     free = walkable_space(structure, geo.gap_r, opts.keep_all_components)  # rooms are cut from this
     skel = skeletonize(walkable_space(occ, geo.gap_r, opts.keep_all_components))  # edges must stay walkable
     coords, adjacency = skeleton_adjacency(skel)

@@ -97,12 +97,18 @@ def classify_regions(labels: np.ndarray, count: int, structural: np.ndarray, cle
 def _without_spurs(skeleton: np.ndarray, steps: int) -> np.ndarray:
     """The skeleton with its end pixels peeled `steps` times: branches into corners go, the spine stays."""
     skel = skeleton.copy()
-    kernel = np.ones((3, 3), int)
+    rows, cols = np.nonzero(skel)
+    if not len(rows):
+        return skel
+    r0, c0 = rows.min(), cols.min()
+    view = np.pad(skel[r0:rows.max() + 1, c0:cols.max() + 1], 1)  # work on the skeleton's box only
+    kernel = np.ones((3, 3), np.uint8)
     for _ in range(steps):
-        ends = skel & (ndimage.convolve(skel.astype(int), kernel, mode="constant") <= 2)
-        if not ends.any() or ends.sum() == skel.sum():
+        ends = view & (ndimage.convolve(view.astype(np.uint8), kernel, mode="constant") <= 2)
+        if not ends.any() or ends.sum() == view.sum():
             break
-        skel &= ~ends
+        view &= ~ends
+    skel[r0:rows.max() + 1, c0:cols.max() + 1] = view[1:-1, 1:-1]
     return skel
 
 

@@ -77,11 +77,11 @@ def detour_length_px(clearance: np.ndarray, a: tuple[float, float], b: tuple[flo
     r0, r1 = max(0, int(min(a[1], b[1])) - margin), min(h, int(max(a[1], b[1])) + margin + 1)
     c0, c1 = max(0, int(min(a[0], b[0])) - margin), min(w, int(max(a[0], b[0])) + margin + 1)
     window = clearance[r0:r1, c0:c1]
-    rows, cols = np.mgrid[r0:r1, c0:c1]
-    d = np.array([b[0] - a[0], b[1] - a[1]], dtype=float)
-    t = np.clip(((cols - a[0]) * d[0] + (rows - a[1]) * d[1]) / max(1e-9, float(d @ d)), 0.0, 1.0)
-    off = np.hypot(cols - (a[0] + t * d[0]), rows - (a[1] + t * d[1]))
-    costs = np.where((window >= need_px) & (off <= band_px), 1.0, np.inf)
+    rows, cols = np.ogrid[r0:r1, c0:c1]
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    t = np.clip(((cols - a[0]) * dx + (rows - a[1]) * dy) / max(1e-9, dx * dx + dy * dy), 0.0, 1.0)
+    off2 = (cols - (a[0] + t * dx)) ** 2 + (rows - (a[1] + t * dy)) ** 2
+    costs = np.where((window >= need_px) & (off2 <= band_px * band_px), 1.0, np.inf)
     start = (int(round(a[1])) - r0, int(round(a[0])) - c0)
     end = (int(round(b[1])) - r0, int(round(b[0])) - c0)
     costs[start] = costs[end] = 1.0  # the end nodes themselves are judged by their own clearance
@@ -117,6 +117,28 @@ def _only_small_or_clipped(clearance: np.ndarray, a: tuple[float, float], b: tup
     return True
 
 
+def _parallel_detour(clearance: np.ndarray, a: tuple[float, float], b: tuple[float, float], need_px: float,
+                     budget_px: float, band_px: float) -> float | None:
+    """Length of a way a -> a' -> b' -> b where a'b' is the segment shifted sideways (within the band)
+    and every piece keeps the disc clear; None when no such shift works. A cheap search that finds the
+    step around a chair or a speck without the full shortest-path search."""
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    length = math.hypot(dx, dy)
+    if length < 1e-9:
+        return None
+    nx_, ny_ = -dy / length, dx / length
+    for k in range(2, int(band_px) + 1, 2):
+        for sign in (1, -1):
+            o = sign * k
+            a2, b2 = (a[0] + o * nx_, a[1] + o * ny_), (b[0] + o * nx_, b[1] + o * ny_)
+            total = length + 2 * k
+            if total > budget_px:
+                return None
+            if all(first_tight_pixel(clearance, p, q, need_px) is None for p, q in ((a2, b2), (a, a2), (b2, b))):
+                return total
+    return None
+
+
 def edge_verdict(clearance: np.ndarray, a: tuple[float, float], b: tuple[float, float], meters_per_pixel: float,
                  radius_m: float = PERSON_RADIUS_M) -> EdgeVerdict:
     """Apply the rule to the edge a-b (pixel positions) on a clearance map (pixels to the nearest
@@ -131,7 +153,10 @@ def edge_verdict(clearance: np.ndarray, a: tuple[float, float], b: tuple[float, 
         verdict.level = "warning" if first_tight_pixel(clearance, a, b, 1.0) is None else "error"
         return verdict
     budget = DETOUR_FACTOR * length + DETOUR_EXTRA_M / meters_per_pixel
-    detour = detour_length_px(clearance, a, b, need, budget, DETOUR_BAND_M / meters_per_pixel)
+    band = DETOUR_BAND_M / meters_per_pixel
+    detour = _parallel_detour(clearance, a, b, need, budget, band)  # the usual case, found cheaply
+    if detour is None:
+        detour = detour_length_px(clearance, a, b, need, budget, band)
     if detour is not None:
         verdict.detour_m = detour * meters_per_pixel
         return verdict
