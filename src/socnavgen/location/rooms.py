@@ -123,7 +123,7 @@ def place_room_nodes(mask: np.ndarray, clearance: np.ndarray, door_points: list[
         roomy = mask & (clearance >= max(1.0, clearance[mask].max() * 0.8))
     rows, cols = np.nonzero(roomy)
     step = max(1, len(rows) // 400)
-    order = np.arange(len(rows))[::step]
+    order = np.arange(len(rows))[:: max(step, len(rows) // 150 or 1)]
     centre = np.argwhere(ndimage.binary_fill_holes(mask)).mean(axis=0)
     best, best_score = None, -math.inf
     for i in order:
@@ -235,6 +235,13 @@ def _join_room(graph, ids: list[int], doors: list[int], points: list[tuple[int, 
         return math.dist(points[a], points[b])
 
     waypoints: list[int] = []
+    rows, cols = np.nonzero(mask)
+    margin = int(2.0 / mpp)  # the room and a doorway's approach
+    ends = [points[n] for n in [*ids, *doors]]
+    box = (slice(max(0, min(rows.min(), *(p[0] for p in ends)) - margin),
+                 max(rows.max(), *(p[0] for p in ends)) + margin + 1),
+           slice(max(0, min(cols.min(), *(p[1] for p in ends)) - margin),
+                 max(cols.max(), *(p[1] for p in ends)) + margin + 1))
     spots = np.argwhere(mask & (clearance >= min(0.4 / mpp, clearance[mask].max())))
     spots = spots[:: max(1, len(spots) // 600)]
 
@@ -257,7 +264,7 @@ def _join_room(graph, ids: list[int], doors: list[int], points: list[tuple[int, 
         if ok:
             chain(a, [min(ok, key=lambda p: math.dist(p, points[a]) + math.dist(p, points[b]))], b)
         else:
-            chain(a, _pulled_path(points[a], points[b], clearance, mpp), b)
+            chain(a, _pulled_path(points[a], points[b], clearance, mpp, box), b)
 
     if len(ids) > 1:  # a shortest tree over the pairs that see each other, parts joined by walkable paths
         seen = nx.Graph()
@@ -278,19 +285,24 @@ def _join_room(graph, ids: list[int], doors: list[int], points: list[tuple[int, 
     return waypoints
 
 
-def _pulled_path(a: tuple[int, int], b: tuple[int, int], clearance: np.ndarray, mpp: float) -> list[tuple[int, int]]:
-    """Waypoints (row, col) of the shortest walkable way from a to b, pulled tight: each straight piece
-    is one a person can walk. Empty when there is no such way (the edge is then left straight)."""
+def _pulled_path(a: tuple[int, int], b: tuple[int, int], clearance: np.ndarray, mpp: float,
+                 window: tuple[slice, slice]) -> list[tuple[int, int]]:
+    """Waypoints (row, col) of the shortest walkable way from a to b inside `window` (the room's box),
+    pulled tight: each straight piece is one a person can walk. Empty when there is no such way (the
+    edge is then left straight)."""
     from skimage.graph import MCP_Geometric
 
     need = min(0.4 / mpp, float(clearance[a]), float(clearance[b]))
-    costs = np.where(clearance >= max(1.0, need), 1.0, np.inf)
-    costs[a] = costs[b] = 1.0
+    r0, c0 = max(0, window[0].start), max(0, window[1].start)
+    view = clearance[window]
+    costs = np.where(view >= max(1.0, need), 1.0, np.inf)
+    la, lb = (a[0] - r0, a[1] - c0), (b[0] - r0, b[1] - c0)
+    costs[la] = costs[lb] = 1.0
     mcp = MCP_Geometric(costs, fully_connected=True)
-    cumulative, _ = mcp.find_costs([a], [b])
-    if not math.isfinite(float(cumulative[b])):
+    cumulative, _ = mcp.find_costs([la], [lb])
+    if not math.isfinite(float(cumulative[lb])):
         return []
-    path = [tuple(int(v) for v in p) for p in mcp.traceback(b)]
+    path = [(int(p[0]) + r0, int(p[1]) + c0) for p in mcp.traceback(lb)]
     vias, i = [], 0
     while True:
         j = len(path) - 1
