@@ -216,8 +216,33 @@ def replace_rooms(graph, coords: np.ndarray, doors: set[int], free: np.ndarray, 
         graph.add_nodes_from(ids)
         waypoints = _join_room(graph, ids, region.doors, points_all, clearance, meters_per_pixel, mask)
         result.extra_nodes.update(waypoints)
+    _contract_close(graph, points_all, clearance, meters_per_pixel, result.room_nodes, result.extra_nodes)
     result.coords = np.array(points_all, dtype=coords.dtype).reshape(-1, 2)
     return result
+
+
+def _contract_close(graph, points: list[tuple[int, int]], clearance: np.ndarray, mpp: float, rooms: set[int],
+                    extras: set[int], limit_m: float = 1.0) -> None:
+    """Fold an extra room node (coverage or waypoint) into a room-side neighbour closer than `limit_m`
+    when the neighbour sees all its other neighbours: nodes ~2 m apart or more, as a person draws."""
+    changed = True
+    while changed:
+        changed = False
+        for v in sorted(extras):
+            if v not in graph:
+                continue
+            for u in list(graph.neighbors(v)):
+                if u not in rooms | extras or math.dist(points[u], points[v]) * mpp >= limit_m:
+                    continue
+                others = [w for w in graph.neighbors(v) if w != u]
+                if all(_visible(points, clearance, u, w, mpp) for w in others):
+                    graph.remove_node(v)
+                    for w in others:
+                        if not graph.has_edge(u, w):
+                            graph.add_edge(u, w, path=[u, w], start=u)
+                    extras.discard(v)
+                    changed = True
+                    break
 
 
 def _visible(points: list[tuple[int, int]], clearance: np.ndarray, a: int, b: int, mpp: float) -> bool:
