@@ -68,3 +68,25 @@ def test_description_is_saved_and_checked(client: TestClient, office: Path) -> N
         assert client.post("/api/description", json=bad).status_code == 422
     assert client.post("/api/description", json={"text": "no"}).status_code == 422
     assert yaml.safe_load((office / "location.yaml").read_text())["description"] == "An office floor with three offices."
+
+
+def test_the_page_and_location_check_give_the_same_level(tmp_path: Path) -> None:
+    """An edge through racks is an error on the page (live check and after saving) exactly as in
+    `location check`; an edge that only clips a wall corner is fine in both."""
+    import shutil
+
+    from socnavgen.location.check import check_location
+
+    root = tmp_path / "warehouse"
+    shutil.copytree(Path(__file__).resolve().parents[2] / "examples" / "locations" / "warehouse", root)
+    client = TestClient(create_app(root), base_url=BASE)
+    state = client.get("/api/location").json()
+    graph = state["graph"]
+    graph["links"].append({"source": "hd", "target": "qs", "type": "PASSAGEWAY"})  # across the racks
+    body = {**graph, "schema": state["schema"]}
+    live = client.post("/api/check", json=body).json()["warnings"]
+    through = [w for w in live if w["edge"] and set(w["edge"]) == {"hd", "qs"}]
+    assert [w["severity"] for w in through] == ["error"]
+    assert client.post("/api/save", json=body).status_code == 200
+    cli = [p for p in check_location(root).problems if p.edge and set(p.edge) == {"hd", "qs"}]
+    assert [p.level for p in cli] == ["error"] and cli[0].message == through[0]["message"]
