@@ -329,7 +329,9 @@
         status(`${data.error || "save failed"}${data.problems && data.problems.length ? ": " + data.problems[0] : ""} (previous files kept)`, "error");
       } else {
         st.warnings = data.warnings || []; markDirty(false);
-        status(`saved ${data.nodes} nodes, ${data.links} edges to ${data.saved.join(", ")}`, "ok");
+        const errors = st.warnings.filter((w) => w.severity === "error").length; // the levels of `location check`
+        status(`saved ${data.nodes} nodes, ${data.links} edges to ${data.saved.join(", ")}` +
+          (errors ? ` \u2014 but location check finds ${errors} error(s): see the list` : ""), errors ? "error" : "ok");
       }
     } catch (e) { status(`save failed: ${e.message} (previous files kept)`, "error"); }
     refresh();
