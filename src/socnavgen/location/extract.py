@@ -23,6 +23,24 @@ from skimage.draw import polygon as draw_polygon
 from skimage.morphology import skeletonize
 
 from socnavgen.errors import InputFileError, ValidationFailed
+from socnavgen.location.extract_types import (  # noqa: F401  (the vocabulary is re-exported from here)
+    BLIND_CORNER,
+    CORNER,
+    DEAD_END,
+    DOORWAY,
+    EXTRACT_SCHEMA,
+    INTERSECTION,
+    NARROW_PASSAGE,
+    NARROW_PASSAGEWAY,
+    OPEN_AREA,
+    PASSAGEWAY,
+    ROOM,
+    SIMPLE_NODE,
+    ExtractOptions,
+    Geometry,
+    type_edge,
+    type_node,
+)
 from socnavgen.location.location import (
     LOCATION_FILE,
     SCENE_GRAPH_FILE,
@@ -44,32 +62,7 @@ from socnavgen.safeio import (
     load_yaml_file,
 )
 
-ROOM, INTERSECTION, CORNER, BLIND_CORNER = "ROOM", "INTERSECTION", "CORNER", "BLIND CORNER"
-DEAD_END = "DEAD END"
-OPEN_AREA, DOORWAY, NARROW_PASSAGE, SIMPLE_NODE = "OPEN AREA", "DOORWAY", "NARROW PASSAGE", "SIMPLE NODE"
-PASSAGEWAY, NARROW_PASSAGEWAY = "PASSAGEWAY", "NARROW PASSAGEWAY"
-EXTRACT_SCHEMA = Schema(
-    node_types=[ROOM, DOORWAY, INTERSECTION, CORNER, BLIND_CORNER, DEAD_END, OPEN_AREA, NARROW_PASSAGE, SIMPLE_NODE],
-    edge_types=[PASSAGEWAY, NARROW_PASSAGEWAY])
 SQRT2 = math.sqrt(2.0)
-
-
-@dataclass
-class ExtractOptions:
-    """Knobs in metres so they mean the same on any map resolution."""
-
-    detail: float = 1.0           # >1 = finer graph (shorter edges, less merging, more nodes per room), <1 = coarser
-    min_spur_m: float = 1.0       # side branches shorter than this (or than the local width) are pruned
-    narrow_width_m: float = 1.2   # passages narrower than this are NARROW (doorways, tight aisles)
-    door_width_m: float = 2.0     # a short bottleneck up to this wide between wider space is a doorway
-    open_width_m: float = 3.0     # a node with at least this much free width around it may be an OPEN AREA
-    min_gap_m: float = 0.5        # gaps narrower than this are not walkable at all (a person does not fit)
-    max_edge_m: float = 10.0      # at detail 1, straight corridor edges longer than this get intermediate nodes
-    merge_m: float = 2.0          # at detail 1, nodes joined by a branch shorter than this are merged
-    room_cover_m: float = 4.5     # at detail 1, every part of a room is within this of one of its nodes
-    rooms: bool = True            # segment rooms (one ROOM node each); False = the bare skeleton graph
-    keep_all_components: bool = False  # default: only the largest connected free area
-    seed: int | None = None       # node ids are random; a seed makes them reproducible
 
 
 @dataclass
@@ -80,24 +73,6 @@ class ExtractStats:
     edges: int = 0
     rooms: int = 0
     types: dict[str, int] = field(default_factory=dict)
-
-
-class _Geometry:
-    """Per-map scalars in pixels, derived once from the options and the resolution."""
-
-    def __init__(self, opts: ExtractOptions, mpp: float) -> None:
-        density = max(opts.detail, 0.05)
-        self.mpp = mpp
-        self.gap_r = max(1.0, opts.min_gap_m / 2 / mpp)
-        self.min_spur = opts.min_spur_m / mpp
-        self.merge = max(2.0, opts.merge_m / density / mpp)
-        self.max_edge = max(4.0, opts.max_edge_m / density / mpp)
-        self.narrow_half = round(opts.narrow_width_m / 2 / mpp, 6) + 1.0  # one pixel of rasterisation slack
-        self.door_half = round(opts.door_width_m / 2 / mpp, 6) + 1.0
-        self.open_half = round(opts.open_width_m / 2 / mpp, 6)
-        self.look = max(3.0, 1.5 / mpp)  # how far along each leg a corner's line-of-sight test looks
-        self.room_cover_m = opts.room_cover_m / density
-        self.wall_clearance: np.ndarray | None = None  # clearance from walls without specks, set per map
 
 
 # ---------------------------------------------------------------- skeleton and pixel graph
@@ -208,7 +183,7 @@ def dissolve_chains(graph: nx.MultiGraph, keep: set[int]) -> None:
         graph.add_edge(a, b, path=path, start=a)
 
 
-def prune_spurs(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray, geo: _Geometry) -> bool:
+def prune_spurs(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray, geo: Geometry) -> bool:
     """Drop dead-end branches shorter than the local width (skeleton noise toward wall corners)."""
     changed = False
     for n in [n for n in graph.nodes if graph.degree(n) == 1]:
@@ -224,7 +199,7 @@ def prune_spurs(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray,
     return changed
 
 
-def merge_close(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray, geo: _Geometry) -> bool:
+def merge_close(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray, geo: Geometry) -> bool:
     """Contract branches shorter than the merge distance, keeping the node with more clearance."""
     changed = False
     for u, v, key, data in sorted(graph.edges(keys=True, data=True), key=lambda e: len(e[3]["path"])):
@@ -267,7 +242,7 @@ def drop_noise_loops(graph: nx.MultiGraph, coords: np.ndarray, walls: np.ndarray
 
 
 def insert_doorways(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray,
-                    geo: _Geometry) -> tuple[set[int], set[int]]:
+                    geo: Geometry) -> tuple[set[int], set[int]]:
     """Add a node at each short bottleneck (clearance much smaller on both sides): doors; and at each
     mouth where a long narrow passage opens into wider space: passage ends. Both bound rooms."""
     doors: set[int] = set()
@@ -323,7 +298,7 @@ def chord_ok(a: np.ndarray, b: np.ndarray, clearance: np.ndarray, need: float) -
     return True
 
 
-def straighten(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray, geo: _Geometry) -> None:
+def straighten(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray, geo: Geometry) -> None:
     """Split every branch until each piece is a straight chord clear of walls and not too long, and
     no two branches join the same two nodes (node-link JSON is a simple graph)."""
     for _ in range(20):
@@ -345,7 +320,7 @@ def straighten(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray, 
                     _split_at(graph, data, [len(data["path"]) // 2])
 
 
-def _cuts(pts: np.ndarray, clearance: np.ndarray, geo: _Geometry, i: int, j: int) -> list[int]:
+def _cuts(pts: np.ndarray, clearance: np.ndarray, geo: Geometry, i: int, j: int) -> list[int]:
     if j - i < 2:
         return []
     seg = pts[i:j + 1]
@@ -373,52 +348,12 @@ def _cuts(pts: np.ndarray, clearance: np.ndarray, geo: _Geometry, i: int, j: int
     return _cuts(pts, clearance, geo, i, m) + [m] + _cuts(pts, clearance, geo, m, j)
 
 
-# ---------------------------------------------------------------- typing
-def type_node(graph: nx.MultiGraph, n: int, coords: np.ndarray, walls: np.ndarray, clearance: np.ndarray,
-              geo: _Geometry, doors: set[int]) -> str:
-    """Type from geometry; `walls` / `clearance` are the de-speckled obstacle map and its distances."""
-    r, c = coords[n]
-    here = clearance[r, c]
-    deg = graph.degree(n)
-    paths = [np.asarray(d["path"]) for _, _, d in graph.edges(n, data=True)]
-    around = np.median(np.concatenate([clearance[coords[p, 0], coords[p, 1]] for p in paths])) if paths else 0
-    if deg == 0 or (here >= geo.open_half and (deg == 1 or here >= 1.5 * around)):
-        return OPEN_AREA
-    if deg >= 3:
-        return INTERSECTION
-    if deg == 1:
-        return DEAD_END
-    if n in doors:
-        return DOORWAY
-    if here >= geo.open_half:  # a bend or a waypoint in a wide space: a person names the space, not the bend
-        return OPEN_AREA
-    (_, a, _), (_, b, _) = list(graph.edges(n, data=True))
-    va, vb = coords[a] - coords[n], coords[b] - coords[n]
-    cos = float(va @ vb) / max(1e-9, float(np.linalg.norm(va) * np.linalg.norm(vb)))
-    turns = math.degrees(math.acos(max(-1.0, min(1.0, cos)))) <= 140  # legs turn by 40 degrees or more
-    if turns:
-        look = max(geo.look, 2 * here)
-        pa = coords[n] + va * min(1.0, look / max(1e-9, np.linalg.norm(va)))
-        pb = coords[n] + vb * min(1.0, look / max(1e-9, np.linalg.norm(vb)))
-        rows, cols = raster_line(int(round(pa[0])), int(round(pa[1])), int(round(pb[0])), int(round(pb[1])))
-        if walls[rows, cols].any():
-            return BLIND_CORNER
-    if turns:
-        return CORNER
-    return NARROW_PASSAGE if here < geo.narrow_half else SIMPLE_NODE
-
-
-def type_edge(a: np.ndarray, b: np.ndarray, clearance: np.ndarray, geo: _Geometry) -> str:
-    rows, cols = raster_line(int(a[0]), int(a[1]), int(b[0]), int(b[1]))
-    return NARROW_PASSAGEWAY if clearance[rows, cols].min() < geo.narrow_half else PASSAGEWAY
-
-
 # ---------------------------------------------------------------- the whole pipeline
 def extract_scene_graph(occ: OccupancyGrid, meters_per_pixel: float,
                         options: ExtractOptions | None = None) -> tuple[SceneGraph, ExtractStats]:
     """A draft scene graph (SocRATES node-link model, integer pixel positions) and statistics."""
     opts = options or ExtractOptions()
-    geo = _Geometry(opts, meters_per_pixel)
+    geo = Geometry(opts, meters_per_pixel)
     clearance = occ.clearance_px  # real obstacles: what edges must avoid
     furniture = furniture_mask(occ.blocked, meters_per_pixel) if opts.rooms else np.zeros_like(occ.blocked)
     structure = OccupancyGrid(occupied=occ.occupied & ~furniture, unknown=occ.unknown & ~furniture)
