@@ -48,7 +48,8 @@ def office_map() -> np.ndarray:
 
 def clinic_map() -> np.ndarray:
     """24 m x 16 m: an L-shaped 1.8 m corridor, a waiting room with rows of chairs entered through a
-    1.2 m opening, two treatment rooms with beds, and a narrow 0.8 m service passage to a store."""
+    1.2 m opening, two treatment rooms with beds, and a narrow 0.8 m, 7 m long service passage down to a
+    store."""
     img = blank(320, 480)
     carve(img, 20, 56, 20, 460)  # north corridor (1.8 m)
     carve(img, 56, 300, 20, 56)  # west corridor going south
@@ -65,8 +66,8 @@ def clinic_map() -> np.ndarray:
     furniture(img, 120, 140, 340, 400)
     carve(img, 61, 184, 270, 286)  # the service passage from the north corridor (0.8 m) ...
     carve(img, 56, 61, 270, 286)
-    carve(img, 184, 200, 270, 295)  # ... turning east ...
-    carve(img, 205, 300, 265, 460)  # ... into the store below treatment room 2
+    carve(img, 184, 200, 270, 295)  # ... with a niche at its foot ...
+    carve(img, 205, 300, 265, 460)  # ... straight down into the store below treatment room 2
     carve(img, 200, 205, 270, 286)
     return img
 
