@@ -1,24 +1,62 @@
-"""Runtime of `location extract` on procedurally generated office/warehouse maps.
+"""`location extract` against the graphs a person drew, and its runtime on large generated maps.
 
-    python benchmarks/extract_bench.py            # 1000x1000 and 1500x1500, densities 0.5 / 1 / 2
+    PYTHONPATH=src:. python benchmarks/extract_bench.py              # both tables
+    PYTHONPATH=src:. python benchmarks/extract_bench.py --quality    # only the person's-graph table
 
-Prints one row per run: map size, skeleton pixels, graph size, time per stage and in total
-(nodes -1: more nodes than the 1296 two-character ids allow at that density).
+Quality table, one row per map (the bundled examples and the maps of tests/extract/drawn_maps.py,
+with the person's graphs of tests/extract/data/person_graphs.json): node counts, their ratio, rooms
+with a ROOM node, recall (person's nodes with a compatible extracted node within 2 m) and precision
+(extracted nodes with a compatible person's node within 2 m), and the extraction time.
 """
 
 from __future__ import annotations
 
 import argparse
+import sys
+import tempfile
 import time
+from pathlib import Path
 
-import numpy as np
-from skimage.morphology import skeletonize
+ROOT = Path(__file__).resolve().parents[1]
+sys.path[:0] = [str(ROOT / "src"), str(ROOT)]
 
-from socnavgen.errors import ValidationFailed
-from socnavgen.location.extract import ExtractOptions, ExtractStats, extract_scene_graph, walkable_space
-from socnavgen.location.occupancy import occupancy_from_image
+import numpy as np  # noqa: E402
+from skimage.morphology import skeletonize  # noqa: E402
+
+from socnavgen.errors import ValidationFailed  # noqa: E402
+from socnavgen.location.extract import (  # noqa: E402
+    ExtractOptions,
+    ExtractStats,
+    extract_location,
+    extract_scene_graph,
+    walkable_space,
+)
+from socnavgen.location.extract_score import rooms_with_room_node, score  # noqa: E402
+from socnavgen.location.occupancy import occupancy_from_image  # noqa: E402
 
 RES = 0.05  # metres per pixel
+
+
+def quality_rows(detail: float) -> list[dict]:
+    from tests.extract.person_graphs import NAMES, SOCRATES, person_map
+
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for name in NAMES + SOCRATES:
+            pm = person_map(name, Path(tmp))
+            t0 = time.perf_counter()
+            location, stats = extract_location(pm.map_yaml, Path(tmp) / f"out_{name}",
+                                               ExtractOptions(seed=1, detail=detail))
+            elapsed = time.perf_counter() - t0
+            s = score(pm.graph, location.scene_graph, pm.meters_per_pixel, aliases=pm.aliases)
+            rooms_found = rooms_with_room_node(location.scene_graph, pm.rooms, location.occupancy.blocked,
+                                               pm.meters_per_pixel)
+            rows.append({"map": name, "person nodes": s.person_nodes, "extracted": s.extracted_nodes,
+                         "ratio": round(s.size_ratio, 2),
+                         "rooms with ROOM": f"{rooms_found}/{len(pm.rooms)}",
+                         "recall": round(s.recall, 2), "precision": round(s.precision, 2),
+                         "time s": round(elapsed, 2), "missed": "; ".join(s.missed)})
+    return rows
 
 
 def office_map(size: int, seed: int = 0) -> np.ndarray:
@@ -59,7 +97,7 @@ def office_map(size: int, seed: int = 0) -> np.ndarray:
     return img
 
 
-def run(size: int, density: float, seed: int) -> dict:
+def run(size: int, detail: float, seed: int) -> dict:
     img = office_map(size, seed)
     t0 = time.perf_counter()
     occ = occupancy_from_image(img)
@@ -68,36 +106,39 @@ def run(size: int, density: float, seed: int) -> dict:
     skel = skeletonize(walkable_space(occ, max(1.0, 0.25 / RES), False))
     t2 = time.perf_counter()
     try:
-        graph, stats = extract_scene_graph(occ, RES, ExtractOptions(density=density, seed=seed))
+        _, stats = extract_scene_graph(occ, RES, ExtractOptions(detail=detail, seed=seed))
     except ValidationFailed:  # more nodes than 2-character ids allow: report it as a row
         stats = ExtractStats(nodes=-1, edges=-1)
     t3 = time.perf_counter()
-    return {"size": f"{size}x{size}", "density": density, "skeleton px": int(skel.sum()), "nodes": stats.nodes,
-            "edges": stats.edges, "intersections": stats.types.get("INTERSECTION", 0),
-            "occupancy+EDT s": t1 - t0, "skeleton s": t2 - t1, "extract total s": t3 - t2}
+    return {"size": f"{size}x{size}", "detail": detail, "skeleton px": int(skel.sum()), "nodes": stats.nodes,
+            "edges": stats.edges, "rooms": stats.rooms, "occupancy+EDT s": round(t1 - t0, 3),
+            "skeleton s": round(t2 - t1, 3), "extract total s": round(t3 - t2, 3)}
+
+
+def print_table(rows: list[dict], skip: tuple[str, ...] = ()) -> None:
+    keys = [k for k in rows[0] if k not in skip]
+    widths = {k: max(len(k), *(len(str(r[k])) for r in rows)) for k in keys}
+    print(" | ".join(k.ljust(widths[k]) for k in keys))
+    print("-+-".join("-" * widths[k] for k in keys))
+    for r in rows:
+        print(" | ".join(str(r[k]).ljust(widths[k]) for k in keys))
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quality", action="store_true", help="only the person's-graph table")
+    parser.add_argument("--detail", type=float, default=1.0)
     parser.add_argument("--sizes", type=int, nargs="+", default=[1000, 1500])
-    parser.add_argument("--densities", type=float, nargs="+", default=[0.5, 1.0, 2.0])
-    parser.add_argument("--repeat", type=int, default=3, help="runs per row; the fastest is reported")
     args = parser.parse_args()
-    rows = []
-    for size in args.sizes:
-        for density in args.densities:
-            runs = [run(size, density, seed=0) for _ in range(args.repeat)]
-            rows.append(min(runs, key=lambda r: r["extract total s"]))
-    headers = list(rows[0])
-    widths = [max(len(h), *(len(_fmt(r[h])) for r in rows)) for h in headers]
-    print(" | ".join(h.ljust(w) for h, w in zip(headers, widths, strict=True)))
-    print("-|-".join("-" * w for w in widths))
+    rows = quality_rows(args.detail)
+    print_table(rows, skip=("missed",))
     for r in rows:
-        print(" | ".join(_fmt(r[h]).rjust(w) for h, w in zip(headers, widths, strict=True)))
-
-
-def _fmt(value: object) -> str:
-    return f"{value:.3f}" if isinstance(value, float) else str(value)
+        if r["missed"]:
+            print(f"  {r['map']} missed: {r['missed']}")
+    if args.quality:
+        return
+    print()
+    print_table([run(size, detail, seed=0) for size in args.sizes for detail in (0.5, 1.0, 2.0)])
 
 
 if __name__ == "__main__":

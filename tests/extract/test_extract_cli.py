@@ -46,7 +46,7 @@ def test_extract_command_writes_a_location(map_factory, tmp_path: Path) -> None:
 def test_extract_help_teaches() -> None:
     result = runner.invoke(location_app(), ["extract", "--help"])
     assert result.exit_code == 0
-    for words in ("--density", "--min-spur", "Example", "straight segment"):
+    for words in ("--detail", "--min-spur", "Example", "straight segment"):
         assert words in result.output
 
 

@@ -67,3 +67,23 @@ def test_import_cli(reference_dir, tmp_path) -> None:
 def test_import_missing_folder(tmp_path) -> None:
     with pytest.raises(InputFileError, match="not found"):
         import_socrates(tmp_path / "nope", tmp_path / "out")
+
+
+def test_import_socrates_arena_whose_edge_clips_a_wall_by_one_pixel(tmp_path) -> None:
+    """The issue's case: an edge of SocRATES's arena graph touches one occupied pixel. With the
+    clearance rule that is a step around, not a wall crossing: the import passes `location check`,
+    and the same CLI exit code 0 follows."""
+    from pathlib import Path
+
+    from socnavgen.location.traverse import first_tight_pixel
+
+    src = Path(__file__).resolve().parents[1] / "extract" / "data" / "socrates_arena"
+    import_socrates(src, tmp_path / "arena")
+    location = load_location(tmp_path / "arena")
+    touching = [e for e in location.scene_graph.links
+                if first_tight_pixel(location.occupancy.clearance_px, location.scene_graph.node(e.source).pos,
+                                     location.scene_graph.node(e.target).pos, 1.0) is not None]
+    assert touching, "the arena graph should have an edge that touches an occupied pixel"
+    assert check_location(tmp_path / "arena").errors == []
+    result = CliRunner().invoke(app, ["location", "import-socrates", str(src), "-o", str(tmp_path / "cli")])
+    assert result.exit_code == 0, result.output

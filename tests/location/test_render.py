@@ -7,7 +7,16 @@ import pytest
 from PIL import Image
 
 from socnavgen.location import load_location
-from socnavgen.location.render import LEGEND_WIDTH, choose_scale, png_bytes, render_location, type_colours
+from socnavgen.location.models import Node, SceneGraph
+from socnavgen.location.render import (
+    LEGEND_WIDTH,
+    choose_scale,
+    png_bytes,
+    render_location,
+    render_location_with_layout,
+    render_with_layout,
+    type_colours,
+)
 from tests.location.conftest import BUNDLED, EXAMPLES
 
 
@@ -26,8 +35,9 @@ def test_render_is_deterministic_and_sized(name: str) -> None:
     loc = load_location(EXAMPLES / name)
     first, second = png_bytes(render_location(loc)), png_bytes(render_location(loc))
     assert first == second
-    image = render_location(loc)
-    w, h = loc.image_size
+    image, layout = render_location_with_layout(loc)
+    x0, y0, x1, y1 = layout.crop
+    w, h = x1 - x0, y1 - y0
     scale = choose_scale(w, h)
     assert image.size[0] == round(w * scale) + LEGEND_WIDTH <= 1600
     assert 1000 <= max(round(w * scale), round(h * scale)) <= 1600
@@ -35,15 +45,56 @@ def test_render_is_deterministic_and_sized(name: str) -> None:
 
 def test_nodes_drawn_in_their_type_colour() -> None:
     loc = load_location(EXAMPLES / "warehouse")
-    image = np.asarray(render_location(loc).convert("RGB"))
+    rendered, layout = render_location_with_layout(loc)
+    image = np.asarray(rendered.convert("RGB"))
     node_colour, _ = type_colours(loc.schema, loc.scene_graph)
-    scale = choose_scale(*loc.image_size)
     for node in loc.scene_graph.nodes:
-        # the label box is centred on the node
-        x, y = (node.pos[0] + 0.5) * scale, (node.pos[1] + 0.5) * scale
-        box = image[int(y) - 8:int(y) + 8, int(x) - 18:int(x) + 18].reshape(-1, 3)
+        x0, y0, x1, y1 = (int(v) for v in layout.boxes[node.id])
+        box = image[y0 + 3:y1 - 2, x0 + 3:x1 - 2].reshape(-1, 3)
         want = tuple(int(node_colour[node.type][i:i + 2], 16) for i in (1, 3, 5))
         assert (box == want).all(axis=1).any(), node.id
+
+
+def test_picture_is_cropped_to_the_mapped_part() -> None:
+    """The home map has a wide band of unknown grey around the building: the picture leaves it out."""
+    loc = load_location(EXAMPLES / "home")
+    _, layout = render_location_with_layout(loc)
+    x0, y0, x1, y1 = layout.crop
+    w, h = loc.image_size
+    assert (x1 - x0) * (y1 - y0) < 0.9 * w * h
+    unknown = load_location(EXAMPLES / "home").occupancy.unknown
+    known_rows = np.nonzero((~unknown).any(axis=1))[0]
+    assert y0 <= known_rows[0] and y1 >= known_rows[-1] + 1  # nothing mapped is cut off
+    for node in loc.scene_graph.nodes:
+        assert x0 <= node.pos[0] < x1 and y0 <= node.pos[1] < y1
+
+
+def _assert_no_overlap(boxes: dict) -> None:
+    items = sorted(boxes.items())
+    for i, (a, ba) in enumerate(items):
+        for b, bb in items[i + 1:]:
+            assert not (ba[0] < bb[2] and bb[0] < ba[2] and ba[1] < bb[3] and bb[1] < ba[3]), (a, b)
+
+
+@pytest.mark.parametrize("name", BUNDLED)
+def test_labels_never_overlap_on_the_bundled_maps(name: str) -> None:
+    _, layout = render_location_with_layout(load_location(EXAMPLES / name))
+    _assert_no_overlap(layout.boxes)
+    assert layout.thinned == []
+
+
+def test_crowded_labels_are_moved_or_thinned_never_overlapped() -> None:
+    loc = load_location(EXAMPLES / "warehouse")
+    ids = [a + b for a in "abcdefgh" for b in "0123456789"]
+    x, y = loc.scene_graph.nodes[0].pos
+    crowd = SceneGraph(nodes=[Node(id=i, type=loc.schema.node_types[0], pos=(x + k % 9, y + k // 9))
+                              for k, i in enumerate(ids)])
+    _, layout = render_with_layout(loc.map_gray, crowd, loc.schema)
+    _assert_no_overlap(layout.boxes)
+    assert len(layout.boxes) + len(layout.thinned) == len(ids)
+    assert layout.thinned and len(layout.boxes) >= 20  # some moved aside, the rest thinned
+    moved = [i for i, b in layout.boxes.items() if abs((b[0] + b[2]) / 2 - layout.at(crowd.node(i).pos)[0]) > 1]
+    assert moved
 
 
 def test_legend_lists_every_type() -> None:

@@ -18,6 +18,7 @@ from starlette.requests import Request
 from starlette.responses import HTMLResponse, JSONResponse, Response
 from starlette.routing import Route
 
+from socnavgen.annotate import assist
 from socnavgen.annotate.models import SavePayload
 from socnavgen.annotate.store import AnnotationStore, SaveRejected
 from socnavgen.errors import SocnavgenError
@@ -102,7 +103,30 @@ def create_app(location_dir: Path | str) -> Starlette:
         return Response(_static_text(name), media_type=STATIC_FILES[name], headers=SECURITY_HEADERS)
 
     async def location(request: Request) -> Response:
-        return JSONResponse(store.state(), headers=SECURITY_HEADERS)
+        return JSONResponse({**store.state(), **assist.page_extras(store)}, headers=SECURITY_HEADERS)
+
+    async def suggest(request: Request) -> Response:
+        payload = parse_payload(await read_json_body(request))  # the page's current schema, to extend
+        result = assist.suggest_graph(store, payload.schema_.node_types, payload.schema_.edge_types)
+        return JSONResponse(result, headers=SECURITY_HEADERS)
+
+    async def guess_type(request: Request) -> Response:
+        data = await read_json_body(request, limit=64 * 1024)
+        try:
+            x, y = float(data["x"]), float(data["y"])
+            types = [str(t) for t in data["node_types"]][:64]
+        except (KeyError, TypeError, ValueError) as exc:
+            raise RequestRefused(422, "send {x, y, node_types}") from exc
+        return JSONResponse({"type": assist.guess_node_type(store, x, y, types)}, headers=SECURITY_HEADERS)
+
+    async def description(request: Request) -> Response:
+        data = await read_json_body(request, limit=64 * 1024)
+        if not isinstance(data, dict) or not isinstance(data.get("description"), str):
+            raise RequestRefused(422, "send {description: text}")
+        try:
+            return JSONResponse(assist.save_description(store, data["description"]), headers=SECURITY_HEADERS)
+        except SaveRejected as exc:
+            return _error(422, "description not saved", exc.problems)
 
     async def map_image(request: Request) -> Response:
         if request.method == "POST":
@@ -148,6 +172,9 @@ def create_app(location_dir: Path | str) -> Starlette:
         Route("/api/map", map_image, methods=["GET", "POST"]),
         Route("/api/save", save, methods=["POST"]),
         Route("/api/check", check, methods=["GET", "POST"]),
+        Route("/api/suggest", suggest, methods=["POST"]),
+        Route("/api/guess-type", guess_type, methods=["POST"]),
+        Route("/api/description", description, methods=["POST"]),
     ]
     app = Starlette(
         routes=routes,

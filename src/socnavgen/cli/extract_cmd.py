@@ -14,9 +14,12 @@ def extract(
     map_yaml: Path = typer.Argument(..., help="nav2 / ROS map_server yaml (image, resolution, origin)."),
     out: Path = typer.Option(..., "--out", "-o", help="Location folder to create (map copied, location.yaml, "
                                                       "scene_graph.json, scene_graph.png)."),
-    density: float = typer.Option(1.0, "--density", min=0.1, max=10.0,
-                                  help="More (>1) or fewer (<1) nodes: scales the longest edge (5 m / density) "
-                                       "and the merge distance (1 m / density)."),
+    detail: float = typer.Option(1.0, "--detail", "--density", min=0.1, max=10.0,
+                                 help="Finer (>1) or coarser (<1) graph: divides the longest corridor edge (10 m), "
+                                      "the merge distance (2 m) and the room coverage radius (4.5 m)."),
+    rooms: bool = typer.Option(True, "--rooms/--no-rooms",
+                               help="Segment rooms (one ROOM node each, DOORWAY nodes at their openings); "
+                                    "--no-rooms gives the bare skeleton graph."),
     min_spur: float = typer.Option(1.0, "--min-spur", min=0.0,
                                    help="Side branches shorter than this many metres (or than the local "
                                         "width) are pruned."),
@@ -34,18 +37,18 @@ def extract(
     force: bool = typer.Option(False, "--force", help="Replace the scene graph of an existing location folder "
                                                       "(the previous one is kept as scene_graph.json.bak)."),
 ) -> None:
-    """Suggest a scene graph from an occupancy map: junctions, corners, dead ends, open areas, doorways.
+    """Suggest a scene graph from an occupancy map: rooms, doorways, then the corridors' junctions and corners.
 
-    The walkable space is thinned to its centre lines; their junctions and ends become nodes and their branches edges, short spurs are pruned, close nodes merged, and every edge is made a straight segment clear of walls. Open the result in `socnavgen annotate` to fix it.
+    Furniture is ignored; the free space is cut at its doorways and every room becomes one ROOM node (large rooms get OPEN AREA nodes too) joined to its DOORWAY nodes. Corridors and halls are thinned to their centre lines: junctions, corners (BLIND when the walls hide the other leg), dead ends and narrow passages become nodes, about 2 m apart or more, and every edge is a straight segment a person can walk. Open the result in `socnavgen annotate` to fix it.
 
     Example:
 
-        socnavgen location extract ~/maps/lab.yaml -o locations/lab --density 1.5
+        socnavgen location extract ~/maps/lab.yaml -o locations/lab --detail 1.5
     """
     from socnavgen.location.extract import ExtractOptions, extract_location
     from socnavgen.location.location import SCENE_GRAPH_FILE
 
-    options = ExtractOptions(density=density, min_spur_m=min_spur, narrow_width_m=narrow_width,
+    options = ExtractOptions(detail=detail, rooms=rooms, min_spur_m=min_spur, narrow_width_m=narrow_width,
                              open_width_m=open_width, min_gap_m=min_gap, keep_all_components=all_components,
                              seed=seed)
     previous = out / SCENE_GRAPH_FILE

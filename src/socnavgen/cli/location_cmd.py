@@ -25,8 +25,9 @@ def check(
 
     Checks files (missing, malformed), node ids (unique, 2 lowercase letters/digits), node and edge
     types against the schema, edges naming unknown nodes, self loops, duplicate edges, nodes outside
-    the image or off free floor, edges whose straight segment crosses a wall or unknown space, and
-    connectivity (a warning). Exit code 0 when there is no error (warnings allowed), 1 otherwise.
+    the image or off free floor, edges a person cannot walk (a 0.4 m-radius disc along the line, or a
+    short step around a small obstacle beside it; a squeeze is a warning, a wall, rack or unknown
+    space an error: the same rule as the annotator and the importer), and connectivity (a warning). Exit code 0 when there is no error (warnings allowed), 1 otherwise.
 
     Example: socnavgen location check examples/locations/warehouse
     """
@@ -70,8 +71,9 @@ def show(
     """Render the annotated map (the picture a vision LLM reads) to a PNG.
 
     Nodes are boxes labelled with their id, edges are lines, both coloured by type, with a legend of
-    all types and a scale bar. Small maps are upscaled so the long side is about 1280 px. The same
-    input always gives the same bytes.
+    all types and a scale bar. The picture is cropped to the mapped part of the image, and labels
+    never overlap (crowded ones move aside with a leader line, or are left out). Small maps are
+    upscaled so the long side is about 1280 px. The same input always gives the same bytes.
 
     Example: socnavgen location show examples/locations/hospital -o /tmp/hospital.png
     """

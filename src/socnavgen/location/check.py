@@ -4,8 +4,9 @@ Rules (see docs/locations.md):
 - files: location.yaml, the map image, the nav2 yaml it names, scene_graph.json must exist and parse;
 - node ids: unique, 2 lowercase letters/digits; types inside the schema;
 - edges: both ends exist, no self loop, no duplicate (the graph is undirected);
-- geometry: a node lies inside the image on free space; the straight segment of an edge crosses no
-  blocked pixel (occupied OR unknown: people walk along edges and nobody walks through unmapped space);
+- geometry: a node lies inside the image on free space; an edge is judged by the one traversability
+  rule of location/traverse.py (a person-sized disc walks it or a short detour beside it: fine; the
+  line is free but the disc does not fit: warning; otherwise error; occupied and unknown both block);
 - the graph is connected (a warning: an unreachable part is legal but usually a mistake).
 """
 
@@ -31,6 +32,7 @@ from socnavgen.location.location import (
     load_location,
 )
 from socnavgen.location.models import NODE_ID_PATTERN, SceneGraph
+from socnavgen.location.traverse import edge_verdict
 from socnavgen.safeio import load_json_file, read_text_limited
 
 Level = Literal["error", "warning"]
@@ -330,16 +332,30 @@ def _check_geometry(location: Location, graph: SceneGraph, lines: _GraphLines, p
         a, b = placed[edge.source], placed[edge.target]
         if occupancy.is_blocked(*a) or occupancy.is_blocked(*b):
             continue  # already reported on the node; the edge message would only repeat it
+        verdict = edge_verdict(occupancy.clearance_px, a, b, transform.meters_per_pixel)
+        if verdict.level == "ok":
+            continue
+        px, py = verdict.tight_at or (int(a[0]), int(a[1]))
+        wx, wy = transform.pixel_to_world(px, py)
+        name, line = f"edge {edge.source}-{edge.target}", lines.element("links", i)
+        if verdict.level == "warning":
+            problems.append(Problem(
+                "warning", f"{name} is narrower than a person ({2 * verdict.need_m:.2f} m) at pixel ({px}, {py}) "
+                f"= world ({wx:.2f}, {wy:.2f}) m and there is no way round close beside it",
+                "people must squeeze through: move the edge where it is wider, or accept it",
+                lines.file, line, edge=(edge.source, edge.target)))
+            continue
         blocked = occupancy.segment_blocked_pixels(a, b)
         if blocked:
             px, py = blocked[0]
             wx, wy = transform.pixel_to_world(px, py)
-            what = "a wall (occupied)" if occupancy.occupied[py, px] else "unmapped (unknown) space"
-            problems.append(Problem(
-                "error", f"edge {edge.source}-{edge.target} crosses {what}: {len(blocked)} blocked pixel(s), "
-                f"first at pixel ({px}, {py}) = world ({wx:.2f}, {wy:.2f}) m",
-                "people walk along edges in a straight line: add a node to go around the obstacle",
-                lines.file, lines.element("links", i), edge=(edge.source, edge.target)))
+        what = ("a wall (occupied)" if occupancy.occupied[py, px] else "unmapped (unknown) space") if blocked \
+            else f"a gap narrower than {2 * verdict.need_m:.2f} m"
+        problems.append(Problem(
+            "error", f"{name} crosses {what}: {len(blocked)} blocked pixel(s), first at pixel ({px}, {py}) = world "
+            f"({wx:.2f}, {wy:.2f}) m, with no short way around close beside the line",
+            "people walk along edges in a straight line: add a node to go around the obstacle",
+            lines.file, line, edge=(edge.source, edge.target)))
 
 
 def _check_connected(graph: SceneGraph, lines: _GraphLines, problems: list[Problem]) -> None:

@@ -23,6 +23,24 @@ from skimage.draw import polygon as draw_polygon
 from skimage.morphology import skeletonize
 
 from socnavgen.errors import InputFileError, ValidationFailed
+from socnavgen.location.extract_types import (  # noqa: F401  (the vocabulary is re-exported from here)
+    BLIND_CORNER,
+    CORNER,
+    DEAD_END,
+    DOORWAY,
+    EXTRACT_SCHEMA,
+    INTERSECTION,
+    NARROW_PASSAGE,
+    NARROW_PASSAGEWAY,
+    OPEN_AREA,
+    PASSAGEWAY,
+    ROOM,
+    SIMPLE_NODE,
+    ExtractOptions,
+    Geometry,
+    type_edge,
+    type_node,
+)
 from socnavgen.location.location import (
     LOCATION_FILE,
     SCENE_GRAPH_FILE,
@@ -33,7 +51,9 @@ from socnavgen.location.location import (
 )
 from socnavgen.location.models import Edge, Node, SceneGraph, Schema
 from socnavgen.location.occupancy import OccupancyGrid
+from socnavgen.location.rooms import furniture_mask, replace_rooms
 from socnavgen.location.scene_graph import ID_ALPHABET, write_scene_graph
+from socnavgen.location.traverse import edge_verdict, required_clearance_px
 from socnavgen.safeio import (
     MAX_IMAGE_BYTES,
     atomic_write_bytes,
@@ -42,28 +62,7 @@ from socnavgen.safeio import (
     load_yaml_file,
 )
 
-INTERSECTION, CORNER, BLIND_CORNER, DEAD_END = "INTERSECTION", "CORNER", "BLIND CORNER", "DEAD END"
-OPEN_AREA, DOORWAY, NARROW_PASSAGE, SIMPLE_NODE = "OPEN AREA", "DOORWAY", "NARROW PASSAGE", "SIMPLE NODE"
-PASSAGEWAY, NARROW_PASSAGEWAY = "PASSAGEWAY", "NARROW PASSAGEWAY"
-EXTRACT_SCHEMA = Schema(
-    node_types=[INTERSECTION, CORNER, BLIND_CORNER, DEAD_END, OPEN_AREA, DOORWAY, NARROW_PASSAGE, SIMPLE_NODE],
-    edge_types=[PASSAGEWAY, NARROW_PASSAGEWAY])
 SQRT2 = math.sqrt(2.0)
-
-
-@dataclass
-class ExtractOptions:
-    """Knobs in metres so they mean the same on any map resolution."""
-
-    density: float = 1.0          # >1 = more nodes (shorter edges, less merging), <1 = fewer
-    min_spur_m: float = 1.0       # side branches shorter than this (or than the local width) are pruned
-    narrow_width_m: float = 1.2   # passages narrower than this are NARROW (doorways, tight aisles)
-    open_width_m: float = 3.0     # a node with at least this much free width around it may be an OPEN AREA
-    min_gap_m: float = 0.5        # gaps narrower than this are not walkable at all (a person does not fit)
-    max_edge_m: float = 5.0       # at density 1, straight edges longer than this get intermediate nodes
-    merge_m: float = 1.0          # at density 1, nodes joined by a branch shorter than this are merged
-    keep_all_components: bool = False  # default: only the largest connected free area
-    seed: int | None = None       # node ids are random; a seed makes them reproducible
 
 
 @dataclass
@@ -72,22 +71,8 @@ class ExtractStats:
     raw_nodes: int = 0
     nodes: int = 0
     edges: int = 0
+    rooms: int = 0
     types: dict[str, int] = field(default_factory=dict)
-
-
-class _Geometry:
-    """Per-map scalars in pixels, derived once from the options and the resolution."""
-
-    def __init__(self, opts: ExtractOptions, mpp: float) -> None:
-        density = max(opts.density, 0.05)
-        self.mpp = mpp
-        self.gap_r = max(1.0, opts.min_gap_m / 2 / mpp)
-        self.min_spur = opts.min_spur_m / mpp
-        self.merge = max(2.0, opts.merge_m / density / mpp)
-        self.max_edge = max(4.0, opts.max_edge_m / density / mpp)
-        self.narrow_half = round(opts.narrow_width_m / 2 / mpp, 6) + 1.0  # one pixel of rasterisation slack
-        self.open_half = round(opts.open_width_m / 2 / mpp, 6)
-        self.look = max(3.0, 1.5 / mpp)  # how far along each leg a corner's line-of-sight test looks
 
 
 # ---------------------------------------------------------------- skeleton and pixel graph
@@ -198,7 +183,7 @@ def dissolve_chains(graph: nx.MultiGraph, keep: set[int]) -> None:
         graph.add_edge(a, b, path=path, start=a)
 
 
-def prune_spurs(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray, geo: _Geometry) -> bool:
+def prune_spurs(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray, geo: Geometry) -> bool:
     """Drop dead-end branches shorter than the local width (skeleton noise toward wall corners)."""
     changed = False
     for n in [n for n in graph.nodes if graph.degree(n) == 1]:
@@ -214,7 +199,7 @@ def prune_spurs(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray,
     return changed
 
 
-def merge_close(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray, geo: _Geometry) -> bool:
+def merge_close(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray, geo: Geometry) -> bool:
     """Contract branches shorter than the merge distance, keeping the node with more clearance."""
     changed = False
     for u, v, key, data in sorted(graph.edges(keys=True, data=True), key=lambda e: len(e[3]["path"])):
@@ -256,31 +241,40 @@ def drop_noise_loops(graph: nx.MultiGraph, coords: np.ndarray, walls: np.ndarray
     return changed
 
 
-def insert_doorways(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray, geo: _Geometry) -> set[int]:
-    """Add a node at each short bottleneck (clearance much smaller on both sides): doors."""
+def insert_doorways(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray,
+                    geo: Geometry) -> tuple[set[int], set[int]]:
+    """Add a node at each short bottleneck (clearance much smaller on both sides): doors; and at each
+    mouth where a long narrow passage opens into wider space: passage ends. Both bound rooms."""
     doors: set[int] = set()
+    mouths: set[int] = set()
     window = int(max(6, 2.0 / geo.mpp))
     for u, v, key, data in list(graph.edges(keys=True, data=True)):
         path = data["path"]
         c = clearance[coords[path, 0], coords[path, 1]]
-        narrow = c <= geo.narrow_half
-        labels, count = ndimage.label(narrow)
-        cuts = []
+        labels, count = ndimage.label(c <= geo.door_half)
+        cuts, ends = [], []
         for run in range(1, count + 1):
             idx = np.nonzero(labels == run)[0]
-            s, e = int(idx[0]), int(idx[-1])
-            if (e - s) * geo.mpp > 1.5 or s < 3 or e > len(path) - 4:
-                continue  # a long narrow stretch is a passage, not a door; too close to an end
-            low = c[s:e + 1].min()
-            core = idx[c[idx] <= low + 0.75]
+            low = c[idx].min()
+            core = idx[c[idx] <= 1.15 * low + 1.0]  # the narrowest stretch: the opening itself
+            s, e = int(core[0]), int(core[-1])
+            left, right = c[max(0, s - window):s], c[e + 1:e + 1 + window]
+            if (e - s) * geo.mpp > 1.5:  # a passage: mark where it opens into wider space
+                if low <= geo.narrow_half:
+                    ends += [i for i, side in ((s, left), (e, right))
+                             if 3 <= i <= len(path) - 4 and len(side) and side.max() >= 1.5 * low]
+                continue
+            if s < 3 or e > len(path) - 4:
+                continue  # too close to an end
             mid = int(core[len(core) // 2])
-            left, right = c[max(0, s - window):s].max(), c[e + 1:e + 1 + window].max()
-            if min(left, right) >= 1.5 * low:
+            if len(left) and len(right) and min(left.max(), right.max()) >= 1.5 * low:
                 cuts.append(mid)
-        if cuts:
+        if cuts or ends:
             graph.remove_edge(u, v, key)
-            doors.update(_split_at(graph, data, cuts))
-    return doors
+            added = dict(zip(sorted(set(cuts + ends)), _split_at(graph, data, cuts + ends), strict=True))
+            doors.update(added[i] for i in cuts)
+            mouths.update(added[i] for i in ends if i not in cuts)
+    return doors, mouths
 
 
 def _split_at(graph: nx.MultiGraph, data: dict, cuts: list[int]) -> list[int]:
@@ -304,7 +298,7 @@ def chord_ok(a: np.ndarray, b: np.ndarray, clearance: np.ndarray, need: float) -
     return True
 
 
-def straighten(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray, geo: _Geometry) -> None:
+def straighten(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray, geo: Geometry) -> None:
     """Split every branch until each piece is a straight chord clear of walls and not too long, and
     no two branches join the same two nodes (node-link JSON is a simple graph)."""
     for _ in range(20):
@@ -326,15 +320,20 @@ def straighten(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray, 
                     _split_at(graph, data, [len(data["path"]) // 2])
 
 
-def _cuts(pts: np.ndarray, clearance: np.ndarray, geo: _Geometry, i: int, j: int) -> list[int]:
+def _cuts(pts: np.ndarray, clearance: np.ndarray, geo: Geometry, i: int, j: int) -> list[int]:
     if j - i < 2:
         return []
     seg = pts[i:j + 1]
-    need = max(1.0, 0.5 * float(clearance[seg[:, 0], seg[:, 1]].min()))
-    if chord_ok(pts[i], pts[j], clearance, need):
-        steps = np.abs(np.diff(seg, axis=0)).sum(axis=1)
-        arc = np.concatenate([[0.0], np.cumsum(np.where(steps == 2, SQRT2, 1.0))])
-        parts = math.ceil(arc[-1] / geo.max_edge)
+    a, b = (float(pts[i][1]), float(pts[i][0])), (float(pts[j][1]), float(pts[j][0]))
+    need = required_clearance_px(clearance, a, b, geo.mpp)
+    steps = np.abs(np.diff(seg, axis=0)).sum(axis=1)
+    arc = np.concatenate([[0.0], np.cumsum(np.where(steps == 2, SQRT2, 1.0))])
+    parts = math.ceil(arc[-1] / geo.max_edge)
+    # clear of walls (specks aside) and of specks too, or (for a piece short enough to keep) a person
+    # steps around the speck it touches: the rule's detour search, costly, so only then
+    walls_ok = chord_ok(pts[i], pts[j], geo.wall_clearance if geo.wall_clearance is not None else clearance, need)
+    clear = walls_ok and chord_ok(pts[i], pts[j], clearance, need)
+    if walls_ok and (clear or parts > 1 or edge_verdict(clearance, a, b, geo.mpp).level == "ok"):
         if parts <= 1:
             return []
         marks = sorted({i + int(np.searchsorted(arc, arc[-1] * k / parts)) for k in range(1, parts)} - {i, j})
@@ -349,56 +348,20 @@ def _cuts(pts: np.ndarray, clearance: np.ndarray, geo: _Geometry, i: int, j: int
     return _cuts(pts, clearance, geo, i, m) + [m] + _cuts(pts, clearance, geo, m, j)
 
 
-# ---------------------------------------------------------------- typing
-def type_node(graph: nx.MultiGraph, n: int, coords: np.ndarray, walls: np.ndarray, clearance: np.ndarray,
-              geo: _Geometry, doors: set[int]) -> str:
-    """Type from geometry; `walls` / `clearance` are the de-speckled obstacle map and its distances."""
-    r, c = coords[n]
-    here = clearance[r, c]
-    deg = graph.degree(n)
-    paths = [np.asarray(d["path"]) for _, _, d in graph.edges(n, data=True)]
-    around = np.median(np.concatenate([clearance[coords[p, 0], coords[p, 1]] for p in paths])) if paths else 0
-    if deg == 0 or (here >= geo.open_half and (deg == 1 or here >= 1.5 * around)):
-        return OPEN_AREA
-    if deg >= 3:
-        return INTERSECTION
-    if deg == 1:
-        return DEAD_END
-    if n in doors:
-        return DOORWAY
-    (_, a, _), (_, b, _) = list(graph.edges(n, data=True))
-    va, vb = coords[a] - coords[n], coords[b] - coords[n]
-    cos = float(va @ vb) / max(1e-9, float(np.linalg.norm(va) * np.linalg.norm(vb)))
-    turns = math.degrees(math.acos(max(-1.0, min(1.0, cos)))) <= 140  # legs turn by 40 degrees or more
-    if turns:
-        look = max(geo.look, 2 * here)
-        pa = coords[n] + va * min(1.0, look / max(1e-9, np.linalg.norm(va)))
-        pb = coords[n] + vb * min(1.0, look / max(1e-9, np.linalg.norm(vb)))
-        rows, cols = raster_line(int(round(pa[0])), int(round(pa[1])), int(round(pb[0])), int(round(pb[1])))
-        if walls[rows, cols].any():
-            return BLIND_CORNER
-    if here >= geo.open_half:  # a visible turn or a waypoint in a wide space
-        return OPEN_AREA
-    if turns:
-        return CORNER
-    return NARROW_PASSAGE if here < geo.narrow_half else SIMPLE_NODE
-
-
-def type_edge(a: np.ndarray, b: np.ndarray, clearance: np.ndarray, geo: _Geometry) -> str:
-    rows, cols = raster_line(int(a[0]), int(a[1]), int(b[0]), int(b[1]))
-    return NARROW_PASSAGEWAY if clearance[rows, cols].min() < geo.narrow_half else PASSAGEWAY
-
-
 # ---------------------------------------------------------------- the whole pipeline
 def extract_scene_graph(occ: OccupancyGrid, meters_per_pixel: float,
                         options: ExtractOptions | None = None) -> tuple[SceneGraph, ExtractStats]:
     """A draft scene graph (SocRATES node-link model, integer pixel positions) and statistics."""
     opts = options or ExtractOptions()
-    geo = _Geometry(opts, meters_per_pixel)
+    geo = Geometry(opts, meters_per_pixel)
     clearance = occ.clearance_px  # real obstacles: what edges must avoid
-    walls = without_specks(occ.blocked, max(2, int((0.25 / meters_per_pixel) ** 2)))
+    furniture = furniture_mask(occ.blocked, meters_per_pixel) if opts.rooms else np.zeros_like(occ.blocked)
+    structure = OccupancyGrid(occupied=occ.occupied & ~furniture, unknown=occ.unknown & ~furniture)
+    walls = without_specks(structure.blocked, max(2, int((0.25 / meters_per_pixel) ** 2)))
     wall_clearance = ndimage.distance_transform_edt(~walls)  # what a person perceives: width, doors
-    skel = skeletonize(walkable_space(occ, geo.gap_r, opts.keep_all_components))
+    geo.wall_clearance = wall_clearance
+    free = walkable_space(structure, geo.gap_r, opts.keep_all_components)  # rooms are cut from this
+    skel = skeletonize(walkable_space(occ, geo.gap_r, opts.keep_all_components))  # edges must stay walkable
     coords, adjacency = skeleton_adjacency(skel)
     stats = ExtractStats(skeleton_pixels=len(coords))
     graph = trace_branches(coords, adjacency)
@@ -412,12 +375,29 @@ def extract_scene_graph(occ: OccupancyGrid, meters_per_pixel: float,
         dissolve_chains(graph, keep=set())
         if not changed:
             break
-    doors = insert_doorways(graph, coords, wall_clearance, geo)
+    doors, mouths = insert_doorways(graph, coords, wall_clearance, geo)
+    room_nodes: set[int] = set()
+    extra_nodes: set[int] = set()
+    if opts.rooms:
+        rooms = replace_rooms(graph, coords, doors | mouths, free, walls, wall_clearance, clearance, meters_per_pixel,
+                              geo.room_cover_m)
+        coords, room_nodes, extra_nodes = rooms.coords, rooms.room_nodes, rooms.extra_nodes
+        stats.rooms = len(room_nodes)
+        _drop_orphans(graph, keep=room_nodes | extra_nodes)
     straighten(graph, coords, clearance, geo)
 
+    def node_type(n: int) -> str:
+        if n in room_nodes:
+            return ROOM
+        if n in extra_nodes:
+            return OPEN_AREA
+        if n in mouths:
+            return NARROW_PASSAGE
+        return type_node(graph, n, coords, walls, wall_clearance, geo, doors)
+
     ids = _random_ids(sorted(graph.nodes), opts.seed)
-    nodes = [Node(id=ids[n], type=type_node(graph, n, coords, walls, wall_clearance, geo, doors),
-                  pos=(int(coords[n][1]), int(coords[n][0]))) for n in sorted(graph.nodes)]
+    nodes = [Node(id=ids[n], type=node_type(n), pos=(int(coords[n][1]), int(coords[n][0])))
+             for n in sorted(graph.nodes)]
     links = [Edge(source=ids[u], target=ids[v], type=type_edge(coords[u], coords[v], wall_clearance, geo))
              for u, v in sorted({(min(a, b), max(a, b)) for a, b in graph.edges() if a != b})]
     stats.nodes, stats.edges = len(nodes), len(links)
@@ -426,12 +406,17 @@ def extract_scene_graph(occ: OccupancyGrid, meters_per_pixel: float,
     return SceneGraph(nodes=nodes, links=links), stats
 
 
+def _drop_orphans(graph: nx.MultiGraph, keep: set[int]) -> None:
+    """Nodes left without edges once rooms replaced their skeleton (a doorway onto nothing)."""
+    graph.remove_nodes_from([n for n in list(graph.nodes) if graph.degree(n) == 0 and n not in keep])
+
+
 def _random_ids(nodes: list[int], seed: int | None) -> dict[int, str]:
     """Distinct random 2-character ids (the SocRATES format allows at most 36*36 nodes)."""
     capacity = len(ID_ALPHABET) ** 2
     if len(nodes) > capacity:
         raise ValidationFailed(f"the extracted graph has {len(nodes)} nodes; 2-character ids allow {capacity}",
-                               hint="lower --density, raise --min-spur, or crop the map to the area you need")
+                               hint="lower --detail, raise --min-spur, or crop the map to the area you need")
     tokens = random.Random(seed).sample(range(capacity), len(nodes))
     return {n: ID_ALPHABET[t // len(ID_ALPHABET)] + ID_ALPHABET[t % len(ID_ALPHABET)]
             for n, t in zip(nodes, tokens, strict=True)}

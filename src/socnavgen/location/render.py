@@ -1,6 +1,8 @@
 """Draw a location's scene graph on its map: the picture a vision LLM (and a person) reads.
 
-Deterministic by construction: nearest-neighbour upscaling (Lanczos when shrinking), a font shipped with matplotlib,
+The picture is cropped to the mapped part of the image, and node labels never overlap: a label with
+no room on its node moves to the nearest free place (with a leader line), or is left out (thinned)
+when none is near. Deterministic by construction: nearest-neighbour upscaling (Lanczos when shrinking), a font shipped with matplotlib,
 colours chosen by the position of a type in the schema, no randomness and no timestamps.
 """
 
@@ -67,12 +69,90 @@ def _text_colour(hex_colour: str) -> str:
     return "#000000" if 0.299 * r + 0.587 * g + 0.114 * b > 140 else "#FFFFFF"
 
 
+@dataclass
+class Layout:
+    """Where things went in the picture: the crop of the map (image pixels), the scale, each node's
+    label box (picture pixels, x0, y0, x1, y1) and the nodes whose label had no free place (thinned)."""
+
+    crop: tuple[int, int, int, int]
+    scale: float
+    boxes: dict[str, tuple[float, float, float, float]]
+    thinned: list[str]
+
+    def at(self, pos: tuple[float, float]) -> tuple[float, float]:
+        """Picture pixel of the centre of map pixel `pos`."""
+        return ((pos[0] - self.crop[0] + 0.5) * self.scale, (pos[1] - self.crop[1] + 0.5) * self.scale)
+
+
+def known_crop(gray: np.ndarray, graph: SceneGraph, margin: int | None = None) -> tuple[int, int, int, int]:
+    """(x0, y0, x1, y1) of the mapped part of the image (the free floor and the walls around it, not
+    unknown grey nor far specks of scan noise), with a small margin, always holding every node: the
+    picture spends no space on unmapped surroundings."""
+    from scipy import ndimage
+
+    from socnavgen.location.occupancy import occupancy_from_image
+
+    h, w = gray.shape
+    occ = occupancy_from_image(gray)
+    free = ~occ.blocked
+    labels, count = ndimage.label(free, structure=np.ones((3, 3)))
+    if count == 0:
+        return 0, 0, w, h
+    sizes = np.bincount(labels.ravel())
+    sizes[0] = 0
+    # the mapped area: free floor large enough to matter (stray specks of scan noise far out are not)
+    main = np.isin(labels, np.nonzero(sizes >= 0.1 * sizes.max())[0])
+    known = ndimage.binary_dilation(main, iterations=3) & ~occ.unknown | main
+    rows, cols = np.nonzero(known.any(axis=1))[0], np.nonzero(known.any(axis=0))[0]
+    pad = margin if margin is not None else max(4, round(0.02 * max(w, h)))
+    x0, y0, x1, y1 = cols[0] - pad, rows[0] - pad, cols[-1] + 1 + pad, rows[-1] + 1 + pad
+    for n in graph.nodes:
+        x0, y0 = min(x0, int(n.pos[0]) - pad), min(y0, int(n.pos[1]) - pad)
+        x1, y1 = max(x1, int(n.pos[0]) + 1 + pad), max(y1, int(n.pos[1]) + 1 + pad)
+    return max(0, x0), max(0, y0), min(w, x1), min(h, y1)
+
+
+def _overlaps(a: tuple[float, float, float, float], b: tuple[float, float, float, float]) -> bool:
+    return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
+
+
+def place_labels(centres: dict[str, tuple[float, float]], sizes: dict[str, tuple[float, float]],
+                 bounds: tuple[float, float]) -> tuple[dict[str, tuple[float, float, float, float]], list[str]]:
+    """A box per label, none overlapping another: on its node when there is room, else the nearest
+    free place around it (a leader line is drawn); a label with no free place nearby is thinned."""
+    boxes: dict[str, tuple[float, float, float, float]] = {}
+    thinned: list[str] = []
+    directions = [(0, -1), (1, 0), (0, 1), (-1, 0), (1, -1), (1, 1), (-1, 1), (-1, -1)]
+    for node_id in sorted(centres, key=lambda k: (centres[k][1], centres[k][0], k)):
+        (cx, cy), (hw, hh) = centres[node_id], sizes[node_id]
+        offsets = [(0.0, 0.0)] + [(dx * (hw + 3) * k, dy * (hh + 3) * k)
+                                  for k in (1.0, 1.6, 2.2, 3.0, 4.0) for dx, dy in directions]
+        for ox, oy in offsets:
+            box = (cx + ox - hw, cy + oy - hh, cx + ox + hw, cy + oy + hh)
+            inside = box[0] >= 0 and box[1] >= 0 and box[2] <= bounds[0] and box[3] <= bounds[1]
+            if inside and not any(_overlaps(box, other) for other in boxes.values()):
+                boxes[node_id] = box
+                break
+        else:
+            thinned.append(node_id)
+    return boxes, thinned
+
+
 def render_scene_graph(gray: np.ndarray, graph: SceneGraph, schema: Schema, *, title: str = "",
                        metres_per_pixel: float | None = None) -> Image.Image:
-    """The map (grey levels kept), edges as coloured lines, nodes as labelled boxes, a legend on the right."""
-    h, w = gray.shape
+    """The map (grey levels kept, cropped to its mapped part), edges as coloured lines, nodes as
+    labelled boxes that never overlap, a legend on the right."""
+    return render_with_layout(gray, graph, schema, title=title, metres_per_pixel=metres_per_pixel)[0]
+
+
+def render_with_layout(gray: np.ndarray, graph: SceneGraph, schema: Schema, *, title: str = "",
+                       metres_per_pixel: float | None = None) -> tuple[Image.Image, Layout]:
+    crop = known_crop(gray, graph)
+    x0, y0, x1, y1 = crop
+    view = gray[y0:y1, x0:x1]
+    h, w = view.shape
     scale = choose_scale(w, h)
-    base = Image.fromarray(gray, mode="L").convert("RGB")
+    base = Image.fromarray(view, mode="L").convert("RGB")
     size = (max(1, round(w * scale)), max(1, round(h * scale)))
     resample = Image.Resampling.NEAREST if scale >= 1 else Image.Resampling.LANCZOS
     base = base.resize(size, resample)
@@ -82,29 +162,42 @@ def render_scene_graph(gray: np.ndarray, graph: SceneGraph, schema: Schema, *, t
                        "#FFFFFF")
     canvas.paste(base, (0, 0))
     draw = ImageDraw.Draw(canvas)
+    layout = Layout(crop=crop, scale=scale, boxes={}, thinned=[])
 
-    def at(pos: tuple[float, float]) -> tuple[float, float]:
-        return ((pos[0] + 0.5) * scale, (pos[1] + 0.5) * scale)
-
-    positions = {n.id: at(n.pos) for n in graph.nodes}
+    positions = {n.id: layout.at(n.pos) for n in graph.nodes}
     line_width = max(3, round(size[0] / 320))
     for e in graph.links:
         if e.source in positions and e.target in positions:
             draw.line([positions[e.source], positions[e.target]], fill=edge_colour[e.type], width=line_width)
 
     label_font = _font(max(14, round(max(size) / 60)))
+    sizes = {}
     for n in graph.nodes:
-        cx, cy = positions[n.id]
         left, top, right, bottom = draw.textbbox((0, 0), n.id, font=label_font)
-        half_w, half_h = (right - left) / 2 + 5, (bottom - top) / 2 + 4
+        sizes[n.id] = ((right - left) / 2 + 5, (bottom - top) / 2 + 4)
+    layout.boxes, layout.thinned = place_labels(positions, sizes, (size[0], size[1]))
+    dot = max(4, line_width + 1)
+    for n in graph.nodes:  # nodes whose label moved or was thinned keep a dot at their true place
+        cx, cy = positions[n.id]
+        box = layout.boxes.get(n.id)
+        if box is not None and abs((box[0] + box[2]) / 2 - cx) < 0.5 and abs((box[1] + box[3]) / 2 - cy) < 0.5:
+            continue
+        if box is not None:
+            draw.line([(cx, cy), ((box[0] + box[2]) / 2, (box[1] + box[3]) / 2)], fill="#000000", width=2)
+        draw.ellipse([cx - dot, cy - dot, cx + dot, cy + dot], fill=node_colour[n.type], outline="#000000", width=2)
+    for n in graph.nodes:
+        box = layout.boxes.get(n.id)
+        if box is None:
+            continue
         colour = node_colour[n.type]
-        draw.rectangle([cx - half_w, cy - half_h, cx + half_w, cy + half_h], fill=colour, outline="#000000", width=2)
-        draw.text((cx, cy), n.id, fill=_text_colour(colour), font=label_font, anchor="mm")
+        draw.rectangle(list(box), fill=colour, outline="#000000", width=2)
+        draw.text(((box[0] + box[2]) / 2, (box[1] + box[3]) / 2), n.id, fill=_text_colour(colour), font=label_font,
+                  anchor="mm")
 
     _draw_legend(draw, size[0], node_colour, edge_colour, title, line_width)
     if metres_per_pixel:
         _draw_scale_bar(draw, size, scale, metres_per_pixel)
-    return canvas
+    return canvas, layout
 
 
 def _draw_legend(draw: ImageDraw.ImageDraw, x0: int, node_colour: dict[str, str], edge_colour: dict[str, str],
@@ -141,11 +234,15 @@ def _draw_scale_bar(draw: ImageDraw.ImageDraw, size: tuple[int, int], scale: flo
 
 
 def render_location(location: Location) -> Image.Image:
+    return render_location_with_layout(location)[0]
+
+
+def render_location_with_layout(location: Location) -> tuple[Image.Image, Layout]:
     try:
         mpp = location.transform.meters_per_pixel
     except Exception:  # a broken transform must not stop the picture; `location check` reports it
         mpp = None
-    return render_scene_graph(location.map_gray, location.scene_graph, location.schema, title=location.name,
+    return render_with_layout(location.map_gray, location.scene_graph, location.schema, title=location.name,
                               metres_per_pixel=mpp)
 
 

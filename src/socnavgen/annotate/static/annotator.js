@@ -3,8 +3,7 @@
 "use strict";
 (() => {
   const ID_ALPHABET = "abcdefghijklmnopqrstuvwxyz0123456789"; // same as socnavgen.location.scene_graph
-  const PALETTE = ["#e6194b", "#3cb44b", "#4363d8", "#f58231", "#911eb4", "#42d4f4", "#f032e6",
-    "#9a6324", "#469990", "#800000", "#808000", "#000075", "#bfef45", "#fabed4"];
+  // Colours come from the server (the palettes of location/render.py): a type looks the same here and in the PNG.
   const NODE_R = 7, HIT_R = 10, DRAG_PX = 4, HISTORY = 200;
 
   const $ = (id) => document.getElementById(id);
@@ -14,13 +13,15 @@
     graph: {nodes: [], links: []}, nodeType: null, edgeType: null, tool: "draw",
     view: {scale: 1, ox: 0, oy: 0}, selected: null, hover: null, warnings: [], highlight: null,
     undo: [], redo: [], dirty: false, drag: null, image: null,
+    palette: {node: ["#888"], edge: ["#888"], unknown: "#FF00FF"}, typeChosen: false, description: "",
   };
 
   // ---------- helpers ----------
   const nodeById = (id) => st.graph.nodes.find((n) => n.id === id);
   const toScreen = (x, y) => [(x + 0.5) * st.view.scale + st.view.ox, (y + 0.5) * st.view.scale + st.view.oy];
   const toImage = (sx, sy) => [(sx - st.view.ox) / st.view.scale, (sy - st.view.oy) / st.view.scale];
-  const colorOf = (list, type) => { const i = list.indexOf(type); return i < 0 ? "#888" : PALETTE[i % PALETTE.length]; };
+  const paletteOf = (list) => (list === st.schema.edge_types ? st.palette.edge : st.palette.node);
+  const colorOf = (list, type) => { const i = list.indexOf(type), p = paletteOf(list); return i < 0 ? st.palette.unknown : p[i % p.length]; };
   const sameEdge = (e, a, b) => (e.source === a && e.target === b) || (e.source === b && e.target === a);
 
   function newId() {
@@ -59,12 +60,20 @@
   function markDirty(d) { st.dirty = d; $("save").classList.toggle("dirty", d); }
 
   // ---------- edits ----------
-  function addNode(x, y) {
+  async function guessType(px, py) { // until the user picks a type, the map suggests one (DOORWAY, ROOM)
+    if (st.typeChosen) return st.nodeType;
+    try {
+      const {ok, data} = await post("/api/guess-type", {x: px, y: py, node_types: st.schema.node_types});
+      return ok && data.type && st.schema.node_types.includes(data.type) ? data.type : st.nodeType;
+    } catch (e) { return st.nodeType; }
+  }
+  async function addNode(x, y) {
     if (!st.nodeType) { status("add a node type first", "error"); return; }
     const px = Math.floor(x), py = Math.floor(y);
     if (px < 0 || py < 0 || px >= st.size[0] || py >= st.size[1]) return;
+    const type = await guessType(px, py);
     let id; try { id = newId(); } catch (e) { status(e.message, "error"); return; }
-    change(() => st.graph.nodes.push({id, type: st.nodeType, pos: [px, py]}));
+    change(() => st.graph.nodes.push({id, type, pos: [px, py]}));
     st.selected = {kind: "node", id}; refresh();
   }
   function addEdge(a, b) {
@@ -184,9 +193,9 @@
     const ul = $(listId); ul.replaceChildren();
     st.schema[key].forEach((t, i) => {
       const radio = el("input", {type: "radio", name: `${kind}-type`, value: t, checked: t === current,
-        "data-type": t, onchange: () => { if (kind === "node") st.nodeType = t; else st.edgeType = t; refresh(); }});
+        "data-type": t, onchange: () => { if (kind === "node") { st.nodeType = t; st.typeChosen = true; } else st.edgeType = t; refresh(); }});
       const sw = el("span", {class: kind === "edge" ? "swatch line" : "swatch"});
-      sw.style.background = PALETTE[i % PALETTE.length]; // CSSOM, not a style attribute: the CSP forbids inline styles
+      sw.style.background = colorOf(st.schema[key], t); // CSSOM, not a style attribute: the CSP forbids inline styles
       const label = el("label", {}, radio, " ", sw, " ", t + (i < 9 && kind === "node" ? `  (${i + 1})` : ""));
       const del = el("button", {title: used.has(t) ? "in use: saving will be refused until no item has this type"
         : "remove this type", onclick: () => change(() => { st.schema[key] = st.schema[key].filter((x) => x !== t); restore(snapshot()); })}, "\u00d7");
@@ -296,7 +305,7 @@
     else if (!mod && (k === "a" || k === "m" || k === "d")) setTool({a: "draw", m: "move", d: "delete"}[k]);
     else if (!mod && k === "f") fit();
     else if (!mod && k === "escape") { st.selected = null; refresh(); }
-    else if (!mod && /^[1-9]$/.test(k) && st.schema.node_types[+k - 1]) { st.nodeType = st.schema.node_types[+k - 1]; refresh(); }
+    else if (!mod && /^[1-9]$/.test(k) && st.schema.node_types[+k - 1]) { st.nodeType = st.schema.node_types[+k - 1]; st.typeChosen = true; refresh(); }
   });
   function setTool(t) {
     st.tool = t; for (const r of document.querySelectorAll("input[name=tool]")) r.checked = r.value === t;
@@ -320,7 +329,9 @@
         status(`${data.error || "save failed"}${data.problems && data.problems.length ? ": " + data.problems[0] : ""} (previous files kept)`, "error");
       } else {
         st.warnings = data.warnings || []; markDirty(false);
-        status(`saved ${data.nodes} nodes, ${data.links} edges to ${data.saved.join(", ")}`, "ok");
+        const errors = st.warnings.filter((w) => w.severity === "error").length; // the levels of `location check`
+        status(`saved ${data.nodes} nodes, ${data.links} edges to ${data.saved.join(", ")}` +
+          (errors ? ` \u2014 but location check finds ${errors} error(s): see the list` : ""), errors ? "error" : "ok");
       }
     } catch (e) { status(`save failed: ${e.message} (previous files kept)`, "error"); }
     refresh();
@@ -352,7 +363,10 @@
     const res = await fetch("/api/location"); const data = await res.json();
     if (!res.ok) { status(data.error || "cannot load the location", "error"); return; }
     st.name = data.name; st.size = data.image_size; st.schema = data.schema; st.graph = data.graph;
-    st.warnings = data.warnings || []; st.nodeType = st.schema.node_types[0]; st.edgeType = st.schema.edge_types[0];
+    st.warnings = data.warnings || []; st.edgeType = st.schema.edge_types[0];
+    st.palette = data.palette || st.palette; st.description = data.description || "";
+    st.nodeType = st.schema.node_types.includes(data.default_node_type) ? data.default_node_type : st.schema.node_types[0];
+    $("description").value = st.description;
     $("location-name").textContent = `\u2014 ${data.name} (${st.size[0]}\u00d7${st.size[1]} px)`;
     document.title = `annotate ${data.name}`;
     const img = new Image();
@@ -362,6 +376,27 @@
     resize(); fit(); refresh();
   }
 
+  async function suggest() {
+    if (st.graph.nodes.length && !confirm("Replace the current graph by a suggested one? (Undo brings it back)")) return;
+    status("extracting a graph from the map\u2026");
+    try {
+      const {ok, data} = await post("/api/suggest", payload());
+      if (!ok) { status(data.error || "suggestion failed", "error"); return; }
+      change(() => { st.graph = data.graph; st.schema = data.schema; });
+      status(`suggested: ${data.summary}; edit it, then save`, "ok");
+    } catch (e) { status(`suggestion failed: ${e.message}`, "error"); }
+  }
+  async function saveDescription(ev) {
+    ev.preventDefault();
+    try {
+      const {ok, data} = await post("/api/description", {description: $("description").value});
+      if (!ok) { status(`${data.error}: ${(data.problems || []).join("; ")}`, "error"); return; }
+      st.description = data.description; status("description saved to location.yaml", "ok");
+    } catch (e) { status(`description not saved: ${e.message}`, "error"); }
+  }
+
+  $("suggest").addEventListener("click", suggest);
+  $("description-form").addEventListener("submit", saveDescription);
   $("replace-map").addEventListener("click", () => $("map-file").click());
   $("map-file").addEventListener("change", (ev) => { const f = ev.target.files[0]; ev.target.value = ""; if (f) replaceMap(f); });
   $("undo").addEventListener("click", undo); $("redo").addEventListener("click", redo);

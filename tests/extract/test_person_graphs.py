@@ -1,0 +1,58 @@
+"""Extracted graphs against the graphs a person drew (bundled maps and two drawn maps): size within
+0.5-2x, every room gets a ROOM node, and recall / precision stay above their measured floors."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from socnavgen.location.extract import ExtractOptions, extract_location
+from socnavgen.location.extract_score import rooms_with_room_node, score
+from socnavgen.location.render import render_location_with_layout
+from tests.extract.person_graphs import NAMES, person_map
+
+# Measured (benchmarks/extract_bench.py); a drop below these is a regression.
+FLOORS = {"home": (0.95, 0.9), "hospital": (0.85, 0.75), "warehouse": (0.85, 0.6), "office": (0.9, 0.75),
+          "clinic": (0.7, 0.4)}
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_extracted_graph_is_close_to_the_persons(name: str, tmp_path: Path) -> None:
+    pm = person_map(name, tmp_path)
+    location, _ = extract_location(pm.map_yaml, tmp_path / "out", ExtractOptions(seed=1))
+    s = score(pm.graph, location.scene_graph, pm.meters_per_pixel, aliases=pm.aliases)
+    assert 0.5 <= s.size_ratio <= 2.0, (s.extracted_nodes, s.person_nodes)
+    recall, precision = FLOORS[name]
+    assert s.recall >= recall and s.precision >= precision, (s.recall, s.precision, s.missed)
+    _, layout = render_location_with_layout(location)  # the picture: labels never overlap
+    boxes = sorted(layout.boxes.values())
+    assert not any(a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
+                   for i, a in enumerate(boxes) for b in boxes[i + 1:])
+    assert len(boxes) + len(layout.thinned) == len(location.scene_graph.nodes)
+    found = rooms_with_room_node(location.scene_graph, pm.rooms, location.occupancy.blocked,
+                                 pm.meters_per_pixel)
+    assert found == len(pm.rooms), f"{found} of {len(pm.rooms)} rooms have a ROOM node"
+
+
+def test_score_counts_a_missing_node_and_a_wrong_type() -> None:
+    from socnavgen.location.models import Node, SceneGraph
+
+    person = SceneGraph(nodes=[Node(id="aa", type="ROOM", pos=(0, 0)), Node(id="bb", type="DOORWAY", pos=(100, 0))])
+    extracted = SceneGraph(nodes=[Node(id="cc", type="OPEN AREA", pos=(10, 0)),
+                                  Node(id="dd", type="DEAD END", pos=(100, 5))])
+    s = score(person, extracted, 0.05)
+    assert s.recall == 0.5 and s.precision == 0.5 and s.missed[0].startswith("bb DOORWAY")
+    assert score(person, extracted, 0.05, aliases={"DOORWAY": "DEAD END"}).recall == 1.0
+
+
+def test_socrates_hospital_picture_stays_readable(tmp_path: Path) -> None:
+    """SocRATES's scanned hospital still gives far too many nodes (see the report), but its picture
+    has no overlapping label: the crowded ones are moved aside or thinned."""
+    pm = person_map("socrates_hospital", tmp_path)
+    location, stats = extract_location(pm.map_yaml, tmp_path / "out", ExtractOptions(seed=1))
+    _, layout = render_location_with_layout(location)
+    boxes = sorted(layout.boxes.values())
+    assert not any(a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
+                   for i, a in enumerate(boxes) for b in boxes[i + 1:])
+    assert stats.rooms >= 10 and len(boxes) >= 0.8 * stats.nodes
