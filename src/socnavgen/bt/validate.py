@@ -23,6 +23,7 @@ from socnavgen.bt.library import (
     NodeSpec,
     Port,
     PortType,
+    hunav2_refusal,
 )
 from socnavgen.bt.tree import MAX_XML_BYTES, BTDocument, BTElement, parse_bt
 from socnavgen.errors import SocnavgenError
@@ -330,6 +331,8 @@ class _Checker:
         return f"unknown node '{name}'{_suggest(name, LIBRARY)}; available: {', '.join(usable)}"
 
     def target_message(self, spec: NodeSpec) -> str:
+        if self.target == "hunav2" and hunav2_refusal(spec.name):
+            return f"node '{spec.name}' is not supported by target hunav2: {hunav2_refusal(spec.name)}"
         equivalent = getattr(spec, self.target, None) if self.target != "socrates" else None
         hint = f" (its {self.target} counterpart is '{equivalent}')" if equivalent else ""
         return f"node '{spec.name}' is not supported by target {self.target}{hint}"

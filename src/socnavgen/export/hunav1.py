@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from socnavgen.bt.library import LIBRARY, LIBRARY_TREE_XML, LIBRARY_TREES
+from socnavgen.bt.library import HUNAV2_FIRST_AGENT_ID, LIBRARY, LIBRARY_TREE_XML, LIBRARY_TREES
 from socnavgen.bt.tree import BTElement, parse_bt
 from socnavgen.errors import ValidationFailed
 from socnavgen.export.models import ExportedFile, ExportScene, HumanExport
@@ -135,7 +135,7 @@ def build_hunav1(scene: ExportScene) -> list[ExportedFile]:
                                hint="export with --format socrates (the SocRATES fork runs any library tree)")
     return [
         ExportedFile(path="hunav_agent_manager/config/agents.yaml",
-                     text=fork_agents_yaml(scene, behaviors, "g", 0)),
+                     text=fork_agents_yaml(scene, behaviors, "g", 0, first_id=HUNAV2_FIRST_AGENT_ID)),
         ExportedFile(path="robot/robot_poses.yaml", text=robot_poses_yaml(scene.robot)),
         ExportedFile(path="README.md", text=hunav1_readme(scene, behaviors)),
     ]
