@@ -273,6 +273,7 @@ class RegisteredPort(BaseModel):
     type: str  # C++ type as BT.CPP prints it: int, double, bool, std::string
     default: str | None = None
     direction: Literal["input", "output"] = "input"
+    read: bool = True  # False: declared but never read by the 2.x code (may be left out of the XML)
 
 
 class RegisteredNode(BaseModel):
@@ -286,14 +287,14 @@ class RegisteredNode(BaseModel):
 
 
 def _rp(spec: str) -> list[RegisteredPort]:
-    """'agent_id:int, threshold:double=1.0, >target_agent_id:int' -> ports (> = output)."""
+    """'agent_id:int, threshold:double=1.0, >target:int, ?x:double' -> ports (> output, ? never read)."""
     ports = []
     for item in filter(None, (x.strip() for x in spec.split(","))):
-        out = item.startswith(">")
-        name, _, rest = item.lstrip(">").partition(":")
+        out, unread = item.startswith(">"), item.startswith("?")
+        name, _, rest = item.lstrip(">?").partition(":")
         type_, _, default = rest.partition("=")
         ports.append(RegisteredPort(name=name, type=type_, default=default or None,
-                                    direction="output" if out else "input"))
+                                    direction="output" if out else "input", read=not unread))
     return ports
 
 
@@ -314,18 +315,20 @@ HUNAV2_REGISTERED: dict[str, RegisteredNode] = {n.id: n for n in [
                    ports=_rp("observer_id:int, target_agent_id:int, threshold:double=1.0")),
     RegisteredNode(id="UpdateGoal", kind="Action", ports=_rp("agent_id:int")),
     RegisteredNode(id="RegularNav", kind="Action", ports=_rp(_NAV)),
-    RegisteredNode(id="SurprisedNav", kind="Action", ports=_rp(_NAV + ", beh_duration:double, only_once:bool")),
+    RegisteredNode(id="SurprisedNav", kind="Action",
+                   ports=_rp("agent_id:int, ?time_step:double, ?beh_duration:double, ?only_once:bool")),
     RegisteredNode(id="CuriousNav", kind="Action", ports=_rp(
-        _NAV + ", beh_duration:double, only_once:bool, agent_vel:double, stop_distance:double")),
+        _NAV + ", ?beh_duration:double, ?only_once:bool, agent_vel:double, stop_distance:double")),
+    # ScaredNav's code also reads `safe_distance`, which it does not declare: it throws at every tick
     RegisteredNode(id="ScaredNav", kind="Action", ports=_rp(
-        _NAV + ", beh_duration:double, only_once:bool, runaway_vel:double, scary_force_factor:double")),
+        _NAV + ", ?beh_duration:double, ?only_once:bool, runaway_vel:double, ?scary_force_factor:double")),
     RegisteredNode(id="ThreateningNav", kind="Action",
-                   ports=_rp(_NAV + ", beh_duration:double, only_once:bool, goal_dist:double")),
+                   ports=_rp(_NAV + ", ?beh_duration:double, ?only_once:bool, goal_dist:double")),
     RegisteredNode(id="FindNearestAgent", kind="Action", ports=_rp("agent_id:int, >target_agent_id:int")),
     RegisteredNode(id="SaySomething", kind="Action", ports=_rp("agent_id:int, message:std::string")),
     RegisteredNode(id="SetGroupId", kind="Action", ports=_rp("agent_id:int, group_id:int")),
     RegisteredNode(id="SetGoal", kind="Action",
-                   ports=_rp("agent_id:int, target_x:double, target_y:double, goal_id:int")),
+                   ports=_rp("agent_id:int, ?target_x:double, ?target_y:double, goal_id:int")),
     RegisteredNode(id="StopMovement", kind="Action", ports=_rp("agent_id:int")),
     RegisteredNode(id="ResumeMovement", kind="Action", ports=_rp("agent_id:int")),
     RegisteredNode(id="StopAndWaitTimerAction", kind="Action", stateful=True,
