@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import re
 from enum import StrEnum
-from typing import Literal
+from typing import Literal, get_args
 
 from pydantic import BaseModel, Field
 
@@ -33,7 +33,8 @@ class Port(BaseModel):
 
 
 NodeKind = Literal["action", "condition", "control", "decorator", "builtin"]
-Target = Literal["socrates", "hunav2", "hunav1"]
+Target = Literal["socrates", "hunav2", "hunav1"]  # THE list of export targets (export.targets registers one
+TARGETS: tuple[Target, ...] = get_args(Target)    # class per name; bt check/library and the CLI read it)
 
 
 class NodeSpec(BaseModel):

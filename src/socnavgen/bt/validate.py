@@ -25,10 +25,11 @@ from socnavgen.bt.library import (
     PortType,
     hunav2_refusal,
 )
+from socnavgen.bt.library import TARGETS as LIBRARY_TARGETS
 from socnavgen.bt.tree import MAX_XML_BYTES, BTDocument, BTElement, parse_bt
 from socnavgen.errors import SocnavgenError
 
-TARGETS = ("socrates", "hunav2", "hunav1")
+TARGETS = LIBRARY_TARGETS  # spelled once, in bt.library
 MAX_PROBLEMS = 50  # more than this is noise for a model (and for a person)
 
 ROOT_CHILDREN = ("BehaviorTree", "include", "TreeNodesModel")

@@ -36,6 +36,7 @@ from socnavgen.export.models import (
 )
 from socnavgen.export.readme import hunav2_readme
 from socnavgen.export.socrates import check_trees
+from socnavgen.export.targets import ExportTarget, register
 from socnavgen.export.writer import dump_yaml, element_xml, metres, robot_poses_yaml
 
 WRAPPER = "hunav_gazebo_wrapper"
@@ -252,3 +253,14 @@ def build_hunav2(scene: ExportScene, base: str, simulator: str = "Gazebo Classic
     files.append(ExportedFile(path="robot/robot_poses.yaml", text=robot_poses_yaml(scene.robot)))
     files.append(ExportedFile(path="README.md", text=hunav2_readme(scene, base, simulator)))
     return files
+
+
+@register
+class Hunav2Target(ExportTarget):
+    name = "hunav2"
+    summary = "upstream HuNavSim 2.x (BT.CPP v4, <base>__agent_<id>_bt.xml per agent, global_goals, ids from 1)"
+    btcpp = "4"
+    first_agent_id = HUNAV2_FIRST_AGENT_ID
+
+    def build(self, scene: ExportScene, *, base: str, simulator: str) -> list[ExportedFile]:
+        return build_hunav2(scene, base_name(base or f"socnavgen_{scene.run_name}"), simulator)

@@ -23,6 +23,7 @@ from socnavgen.export.models import (
     HumanExport,
 )
 from socnavgen.export.readme import socrates_readme
+from socnavgen.export.targets import ExportTarget, register
 from socnavgen.export.writer import dump_yaml, metres, robot_poses_yaml
 
 FIRST_LLM_BEHAVIOR = 7  # behavior 7+i -> LLMBT_<i>.xml in the fork
@@ -115,3 +116,14 @@ def build_socrates(scene: ExportScene) -> list[ExportedFile]:
         "world_name": scene.location_name})))
     files.append(ExportedFile(path="README.md", text=socrates_readme(scene)))
     return files
+
+
+@register
+class SocratesTarget(ExportTarget):
+    name = "socrates"
+    summary = "the SocRATES fork of HuNavSim (BT.CPP v3, LLMBT_<i>.xml, behavior 7+i, ids from 0)"
+    btcpp = "3.8"
+    first_agent_id = 0
+
+    def build(self, scene: ExportScene, *, base: str, simulator: str) -> list[ExportedFile]:
+        return build_socrates(scene)
