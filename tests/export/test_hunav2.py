@@ -88,7 +88,7 @@ def test_trees_are_v4_self_contained_and_use_2x_nodes(exported: Path) -> None:
     tags = {e.tag: e.attrs for t in doc.trees.values() for e in t.walk()}
     assert tags["SaySomething"]["message"] == "WAIT"
     assert tags["IsRobotClose"]["threshold"] == "2.0"
-    assert tags["CuriousNav"]["stop_distance"] == "1.5" and tags["CuriousNav"]["agent_vel"] == "1.5"
+    assert tags["CuriousNav"]["stop_distance"] == "1.5" and tags["CuriousNav"]["agent_vel"] == "0.8"
     assert tags["SurprisedNav"]["agent_id"] == "{id}"
     assert "ApproachRobot" not in tags  # no RUNNING-forever node
     fallbacks = [e.attrs.get("name") for t in doc.trees.values() for e in t.walk() if e.tag == "Fallback"]

@@ -414,7 +414,7 @@ HUNAV2: dict[str, Hunav2Translation] = {
                "does; 2.x's LookAtRobot stays RUNNING until aligned, which would stop re-checking the gate"),
     "FollowRobot": Hunav2Translation(
         template='<CuriousNav agent_id="{agent_id}" time_step="{time_step}" beh_duration="0.0" '
-                 'only_once="false" agent_vel="1.5" stop_distance="1.5"/>',
+                 'only_once="false" agent_vel="0.8" stop_distance="1.5"/>',
         reason="CuriousNav is one synchronous follow step that stops 1.5 m from the robot and faces it; "
                "ApproachRobot calls the same function but is stateful (RUNNING forever with duration 0, "
                "throws without max_vel)"),
@@ -448,10 +448,36 @@ def hunav2_refusal(name: str) -> str | None:
     return tr.refusal if tr is not None else None
 
 
+# 2.x nodes our translations emit, simulated by socnavgen.sim.nodes_hunav2 (so a hunav2 export can be
+# simulated and verified like its socrates original). Their ports come from HUNAV2_REGISTERED.
+HUNAV2_SIMULATED = ("IsRobotClose", "IsRobotFacingAgent", "SaySomething", "SurprisedNav", "CuriousNav",
+                    "FollowAgent", "AvoidRobot", "ThreateningNav")
+_PORT_TYPES = {"int": PortType.INT, "double": PortType.DOUBLE, "bool": PortType.BOOL, "std::string": PortType.STRING}
+
+
+def _native_spec(node: RegisteredNode) -> NodeSpec:
+    ports = [Port(name=p.name, type=_PORT_TYPES[p.type], description=f"HuNavSim 2.x port ({p.type})",
+                  required=p.read and p.default is None, default=p.default)
+             for p in node.ports if p.direction == "input"]
+    return NodeSpec(name=node.id, kind="action" if node.kind == "Action" else "condition", ports=ports,
+                    description=f"HuNavSim 2.x {node.kind.lower()} {node.id} (only in hunav2 exports; "
+                                "semantics in socnavgen.sim.nodes_hunav2)",
+                    targets={"hunav2"}, hunav2=node.id, in_prompt=False)
+
+
+NATIVE_HUNAV2 = [_native_spec(HUNAV2_REGISTERED[n]) for n in HUNAV2_SIMULATED] + [
+    NodeSpec(name="AlwaysSuccess", kind="action", description="BT.CPP 4 built-in: SUCCESS, does nothing",
+             targets={"hunav2"}, hunav2="AlwaysSuccess", in_prompt=False)]
+NODES.extend(NATIVE_HUNAV2)
+LIBRARY.update({n.name: n for n in NATIVE_HUNAV2})
+
+
 def _apply_hunav2_support() -> None:
     """Leaf support for hunav2 comes from HUNAV2 alone (one home): a template = supported, and the
     node's `hunav2` name is the template's outer element."""
     for spec in leaf_nodes():
+        if spec.targets == {"hunav2"}:
+            continue  # a 2.x node itself
         tr = HUNAV2.get(spec.name)
         if tr is not None and tr.template:
             spec.targets.add("hunav2")

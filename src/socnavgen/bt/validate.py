@@ -301,6 +301,8 @@ class _Checker:
             self.add(f"<{elem.tag}> needs an ID attribute naming a library node", elem.line)
             return
         spec = LIBRARY.get(name)
+        if spec is not None and spec.targets == {"hunav2"} and self.target != "hunav2":
+            spec = None  # a HuNavSim 2.x node (hunav2 exports only): unknown to the v3 node libraries
         if spec is None:
             self.add(self.unknown_node_message(name), elem.line)
             for child in elem.children:  # still report mistakes below it

@@ -164,7 +164,7 @@ def _goal_prelude(goal_ids: list[int]) -> BTElement:
     return BTElement("Sequence", {"name": "SetGoals"}, children)
 
 
-def translate_tree(human: HumanExport, goal_ids: list[int]) -> tuple[str, list[Untranslatable]]:
+def translate_tree(human: HumanExport, goal_ids: list[int] | None) -> tuple[str, list[Untranslatable]]:
     """The human's v3 tree as one self-contained v4 file (text), plus what could not be translated."""
     doc: BTDocument = parse_bt(human.tree_xml, human.tree_file)
     tr = _Translator(human.tree_file)
@@ -189,9 +189,10 @@ def translate_tree(human: HumanExport, goal_ids: list[int]) -> tuple[str, list[U
     problems += tr.problems
     if problems:
         return "", problems
-    body = trees[main].children[0]
-    trees[main] = BTElement("BehaviorTree", {"ID": main}, [
-        BTElement("Fallback", {"name": "QueueGoalsThenBehave"}, [_goal_prelude(goal_ids), body])])
+    if goal_ids:  # None: goals come from elsewhere (our simulator reads them from paths.json)
+        body = trees[main].children[0]
+        trees[main] = BTElement("BehaviorTree", {"ID": main}, [
+            BTElement("Fallback", {"name": "QueueGoalsThenBehave"}, [_goal_prelude(goal_ids), body])])
     ordered = [trees[main]] + [t for tid, t in trees.items() if tid != main]
     text = ('<?xml version="1.0" encoding="UTF-8"?>\n'
             f'<root BTCPP_format="4" main_tree_to_execute="{main}">\n'

@@ -1,0 +1,50 @@
+"""A run simulated from its socrates trees and from their hunav2 translation (2.x nodes simulated by
+sim.nodes_hunav2) gets the same verification outcome, finding by finding, on every card of every
+bundled location whose trees translate."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from .conformance_helpers import card_scenes
+from .equivalence_helpers import outcomes, relabel, stands_for
+
+
+def test_socrates_and_hunav2_runs_verify_the_same(tmp_path_factory) -> None:  # noqa: ANN001
+    work = Path(tmp_path_factory.mktemp("equivalence"))
+    scenes = card_scenes(str(work / "cards"))
+    compared, refused, different = 0, 0, []
+    for label, scene in scenes:
+        run_dir = work / "cards" / label.replace("/", "__")
+        result = outcomes(run_dir, scene, work / "twins" / label.replace("/", "__"))
+        if result is None:
+            refused += 1
+            continue
+        compared += 1
+        socrates, hunav2 = result
+        if socrates != hunav2:
+            different.append((label, {k: (socrates.get(k), hunav2.get(k)) for k in socrates.keys() | hunav2.keys()
+                                      if socrates.get(k) != hunav2.get(k)}))
+    assert different == []
+    assert compared >= 40 and compared > 4 * refused, (compared, refused)
+
+
+def test_relabel_moves_actions_and_successes_to_the_library_node() -> None:
+    import numpy as np
+
+    from socnavgen.sim.engine import NODE_NAMES
+    from socnavgen.sim.trace import Trace
+
+    tree = ("<root main_tree_to_execute='T'><BehaviorTree ID='T'><Sequence><IsRobotNearby agent_id='{id}' "
+            "distance='2'/><FollowRobot agent_id='{id}' time_step='{dt}'/></Sequence></BehaviorTree></root>")
+    mapping = stands_for(tree)
+    assert mapping == {"IsRobotClose": "IsRobotNearby", "CuriousNav": "FollowRobot"}
+    curious, follow = NODE_NAMES.index("CuriousNav"), NODE_NAMES.index("FollowRobot")
+    close, nearby = NODE_NAMES.index("IsRobotClose"), NODE_NAMES.index("IsRobotNearby")
+    trace = Trace.__new__(Trace)
+    trace.node_names = NODE_NAMES
+    trace.action = np.array([[curious], [-1]], dtype=np.int16)
+    trace.succeeded = np.array([[1 << close], [0]], dtype=np.int64)
+    out = relabel(trace, [mapping])
+    assert out.action[:, 0].tolist() == [follow, -1]
+    assert out.succeeded[0, 0] >> nearby & 1 and not out.succeeded[1, 0]
