@@ -331,7 +331,8 @@ class _Checker:
         # Suggest from every node; list the ones the model is taught (plus the SubTree idiom's built-ins).
         usable = [n.name for n in LIBRARY.values() if (n.in_prompt or n.kind == "builtin")
                   and (self.target not in TARGETS or self.target in n.targets)]
-        return f"unknown node '{name}'{_suggest(name, LIBRARY)}; available: {', '.join(usable)}"
+        known = {k: v for k, v in LIBRARY.items() if self.target == "hunav2" or v.targets != {"hunav2"}}
+        return f"unknown node '{name}'{_suggest(name, known)}; available: {', '.join(usable)}"
 
     def target_message(self, spec: NodeSpec) -> str:
         if self.target == "hunav2" and hunav2_refusal(spec.name):

@@ -246,7 +246,7 @@ def build_hunav2(scene: ExportScene, base: str, simulator: str = "Gazebo Classic
                                   text=text))
     if problems:
         raise ValidationFailed(
-            f"{len(problems)} node(s) cannot be exported to HuNavSim 2.x:\n" + "\n".join(str(p) for p in problems),
+            f"{len(problems)} node(s) have no HuNavSim 2.x equivalent:\n" + "\n".join(str(p) for p in problems),
             hint="export with --format socrates, or replace these nodes (socnavgen bt library shows the 2.x names)")
     files.append(ExportedFile(path=f"{WRAPPER}/behavior_trees/TreeNodesModel.xml", text=tree_nodes_model_xml("hunav2")))
     files.append(ExportedFile(path=f"{WRAPPER}/scenarios/{base}.yaml",
