@@ -21,3 +21,19 @@ def test_atomic_write_respects_umask(tmp_path, mask, expected):
     assert stat.S_IMODE(target.stat().st_mode) == expected
     assert target.read_text() == "a: 1\n"
     assert [p.name for p in tmp_path.iterdir()] == ["out.yaml"]  # no temp file left behind
+
+
+def test_every_exported_file_is_readable_by_others(make_run, tmp_path):
+    from socnavgen.export import export_run
+
+    from .export_helpers import REGULAR_TREE
+
+    old = os.umask(0o022)
+    try:
+        out = tmp_path / "out"
+        export_run(make_run(trees={"human1": REGULAR_TREE, "human2": REGULAR_TREE}), "hunav2", out, base="m")
+    finally:
+        os.umask(old)
+    files = [p for p in out.rglob("*") if p.is_file()]
+    assert len(files) >= 5
+    assert {stat.S_IMODE(p.stat().st_mode) for p in files} == {0o644}
