@@ -68,6 +68,10 @@ def test_yaml_matches_upstream_structure(exported: Path, reference_dir: Path) ->
                                  3: {"x": -2.475, "y": 3.225}}
     assert p["human1"]["goals"] == [1, 2] and p["human2"]["goals"] == [3]
     assert p["human1"]["init_pose"]["h"] == pytest.approx(-math.pi / 2, abs=1e-4)
+    # ids as upstream's scenario numbers them (from 1), goal ids are keys of global_goals
+    assert [rp[a]["id"] for a in rp["agents"]] == [1, 2, 3] and [p[a]["id"] for a in p["agents"]] == [1, 2]
+    assert all(type(g) is int and g in p["global_goals"] for a in p["agents"] for g in p[a]["goals"])
+    assert all(type(g) is int and g in rp["global_goals"] for a in rp["agents"] for g in rp[a]["goals"])
 
 
 def test_trees_are_v4_self_contained_and_use_2x_nodes(exported: Path) -> None:
