@@ -160,3 +160,13 @@ def test_unknown_simulator_refused(make_run, tmp_path: Path) -> None:
     with pytest.raises(SocnavgenError, match="simulator"):
         export_run(make_run(trees={"human1": REGULAR_TREE, "human2": REGULAR_TREE}), "hunav2", tmp_path / "o",
                    simulator="Unreal")
+
+
+def test_standalone_model_has_every_registered_port(exported: Path) -> None:
+    model = DET.parse(exported / TREES / "TreeNodesModel.xml").getroot().find("TreeNodesModel")
+    ports = {n.get("ID"): {p.get("name"): p.get("default") for p in n} for n in model}
+    assert ports["ApproachRobot"] == {"agent_id": None, "time_step": None, "closest_dist": None, "max_vel": None,
+                                      "duration": "0.0"}
+    assert ports["BlockRobot"]["duration"] == "0.0" and ports["LookAtRobot"]["yaw_tolerance"] == "0.01"
+    assert {"target_x", "target_y", "goal_id"} <= ports["SetGoal"].keys()
+    assert ports["TimeExpiredCondition"] == {"seconds": "1.0", "ts": "0.01", "only_once": "false"}
