@@ -48,3 +48,40 @@ def test_relabel_moves_actions_and_successes_to_the_library_node() -> None:
     out = relabel(trace, [mapping])
     assert out.action[:, 0].tolist() == [follow, -1]
     assert out.succeeded[0, 0] >> nearby & 1 and not out.succeeded[1, 0]
+
+
+REACTIONS = {
+    "RunAwayFromRobot": '<IsRobotNearby agent_id="{id}" distance="4.0"/>'
+                        '<RunAwayFromRobot agent_id="{id}" time_step="{dt}"/>',
+    "BlockRobot": '<IsRobotVisible agent_id="{id}" distance="6.0"/><BlockRobot agent_id="{id}" time_step="{dt}"/>',
+    "GiveWaytoRobot": '<IsRobotNearby agent_id="{id}" distance="3.0"/>'
+                      '<GiveWaytoRobot agent_id="{id}" time_step="{dt}"/>',
+}
+
+
+def test_reactions_no_card_uses_verify_the_same(tmp_path: Path) -> None:
+    """Translations the cards do not exercise, on a head-on encounter (warehouse frontal-approach)."""
+    import shutil
+
+    from socnavgen.bt.library import regular_nav_sequence
+    from socnavgen.cards.generate import write_card_run
+    from socnavgen.export.scene import build_scene
+    from socnavgen.run import RunFolder
+
+    from .conformance_helpers import ROOT
+
+    location = ROOT / "examples" / "locations" / "warehouse"
+    base = write_card_run("frontal-approach", location, tmp_path / "base")
+    for node, body in REACTIONS.items():
+        run = tmp_path / node
+        shutil.copytree(base.root, run)
+        tree = (f'<root main_tree_to_execute="T"><include path="BTRegularNav.xml"/><BehaviorTree ID="T"><Fallback>'
+                f'<Sequence>{body}</Sequence>{regular_nav_sequence()}</Fallback></BehaviorTree></root>')
+        (RunFolder(run).behaviors_dir / "human1.xml").write_text(tree)
+        scene, _ = build_scene(run, location)
+        result = outcomes(run, scene, tmp_path / f"{node}_twin")
+        assert result is not None
+        socrates, hunav2 = result
+        assert socrates == hunav2, node
+        acted = [k for k in socrates if k.startswith(("human1 executes", "human1 gives way"))]
+        assert acted and all(socrates[k] for k in acted), (node, socrates)  # the reaction really happened

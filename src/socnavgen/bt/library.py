@@ -378,11 +378,11 @@ HUNAV2: dict[str, Hunav2Translation] = {
         template='<IsRobotClose agent_id="{agent_id}" threshold="{distance}"/>',
         reason="IsRobotClose is the distance-only test (robot closer than `threshold`)"),
     "IsRobotBlocking": Hunav2Translation(
-        template='<Sequence name="IsRobotBlocking"><IsRobotVisible agent_id="{agent_id}" distance="{distance}"/>'
-                 '<IsRobotFacingAgent agent_id="{agent_id}"/></Sequence>',
-        reason="2.x has no test of the robot's bearing from the human's heading; a robot within `distance`, "
-               "visible, and heading straight at the human (IsRobotFacingAgent, 0.3 rad) is in its way in "
-               "the head-on encounters the prompt describes. Approximate for a robot crossing in front."),
+        reason="", refusal="2.x has no condition on where the robot is relative to the human's heading "
+                           "(IsRobotVisible has a ~200 deg field of view, IsRobotFacingAgent tests the robot's "
+                           "heading, IsAgentVisible/IsLookingAtMe take agents only); the closest composition, "
+                           "IsRobotVisible + IsRobotFacingAgent, changed verification outcomes in our simulator "
+                           "(a stopped human facing a robot that drives around it walks on and is hit)"),
     "IsGoalReached": Hunav2Translation(template='<IsGoalReached agent_id="{agent_id}"/>',
                                        reason="same node and port in 2.x"),
     "TimeExpiredCondition": Hunav2Translation(
