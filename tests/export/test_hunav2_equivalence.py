@@ -85,3 +85,30 @@ def test_reactions_no_card_uses_verify_the_same(tmp_path: Path) -> None:
         assert socrates == hunav2, node
         acted = [k for k in socrates if k.startswith(("human1 executes", "human1 gives way"))]
         assert acted and all(socrates[k] for k in acted), (node, socrates)  # the reaction really happened
+
+
+def test_follow_human_verifies_the_same(tmp_path: Path) -> None:
+    """FollowHuman -> FollowAgent (stateful, 1-based target id) on a two-person card."""
+    import shutil
+
+    from socnavgen.bt.library import regular_nav_sequence
+    from socnavgen.cards.generate import write_card_run
+    from socnavgen.export.scene import build_scene
+    from socnavgen.run import RunFolder
+
+    from .conformance_helpers import ROOT
+
+    location = ROOT / "examples" / "locations" / "warehouse"
+    run = write_card_run("join-group", location, tmp_path / "run").root
+    body = ('<IsRobotVisible agent_id="{id}" distance="8.0"/>'
+            '<FollowHuman agent_id="{id}" target_id="0" time_step="{dt}"/>')
+    (RunFolder(run).behaviors_dir / "human2.xml").write_text(
+        f'<root main_tree_to_execute="T"><include path="BTRegularNav.xml"/><BehaviorTree ID="T"><Fallback>'
+        f'<Sequence>{body}</Sequence>{regular_nav_sequence()}</Fallback></BehaviorTree></root>')
+    scene, _ = build_scene(run, location)
+    result = outcomes(run, scene, tmp_path / "twin")
+    assert result is not None
+    socrates, hunav2 = result
+    assert socrates == hunav2
+    assert socrates["human2 executes FollowHuman"]
+    shutil.rmtree(tmp_path / "twin")

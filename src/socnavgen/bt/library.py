@@ -450,8 +450,8 @@ def hunav2_refusal(name: str) -> str | None:
 
 # 2.x nodes our translations emit, simulated by socnavgen.sim.nodes_hunav2 (so a hunav2 export can be
 # simulated and verified like its socrates original). Their ports come from HUNAV2_REGISTERED.
-HUNAV2_SIMULATED = ("IsRobotClose", "IsRobotFacingAgent", "SaySomething", "SurprisedNav", "CuriousNav",
-                    "FollowAgent", "AvoidRobot", "ThreateningNav")
+HUNAV2_SIMULATED = ("IsRobotClose", "SaySomething", "SurprisedNav", "CuriousNav", "FollowAgent", "AvoidRobot",
+                    "ThreateningNav")
 _PORT_TYPES = {"int": PortType.INT, "double": PortType.DOUBLE, "bool": PortType.BOOL, "std::string": PortType.STRING}
 
 

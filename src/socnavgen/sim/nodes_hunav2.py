@@ -4,7 +4,6 @@ simulator's dispatch (sim.nodes.IMPLEMENTATIONS) on import.
 
 Semantics from robotics-upo/hunav_sim (2.x agent manager and node sources; reference §5):
 - IsRobotClose: robot centre closer than `threshold` (strict <).
-- IsRobotFacingAgent: the robot's heading is within 0.3 rad of the direction from the robot to the agent.
 - SaySomething: publishes `message`; here the message is the gesture word, shown as that gesture.
 - SurprisedNav: one call of the agent manager's look-at-robot turn (no translation).
 - CuriousNav / approximateRobot: within `stop_distance` turn to face the robot; else walk toward it at
@@ -26,20 +25,11 @@ from socnavgen.bt.library import HUMAN_GESTURES, HUNAV2_FIRST_AGENT_ID
 from socnavgen.sim import nodes
 from socnavgen.sim.bt_runtime import FAILURE, RUNNING, SUCCESS, BTRuntimeError
 
-FACING_TOLERANCE = 0.3  # rad, IsRobotFacingAgent
 GESTURE_OF_WORD = {word: code for code, word in HUMAN_GESTURES.items()}
 
 
 def is_robot_close(sim: Any, leaf: Any, i: int) -> int:
     return SUCCESS if sim.robot_dist[i] < leaf.get("threshold") else FAILURE
-
-
-def is_robot_facing_agent(sim: Any, leaf: Any, i: int) -> int:
-    d = sim.crowd.pos[i] - sim.robot_pos
-    if abs(d) < 1e-9:
-        return SUCCESS
-    off = nodes.wrap(math.atan2(d.imag, d.real) - sim.robot_yaw)
-    return SUCCESS if abs(off) <= FACING_TOLERANCE else FAILURE
 
 
 def say_something(sim: Any, leaf: Any, i: int) -> int:
@@ -110,7 +100,6 @@ def avoid_robot(sim: Any, leaf: Any, i: int) -> int:
 
 IMPLEMENTATIONS = {
     "IsRobotClose": is_robot_close,
-    "IsRobotFacingAgent": is_robot_facing_agent,
     "SaySomething": say_something,
     "AlwaysSuccess": always_success,
     "SurprisedNav": nodes.look_at_robot,  # the same one-step turn toward the robot
