@@ -17,6 +17,7 @@ M = TypeVar("M")
 
 MAX_TEXT_BYTES = 8 * 1024 * 1024  # JSON / YAML / XML a user or a model can hand us
 MAX_IMAGE_BYTES = 64 * 1024 * 1024
+ORDINARY_FILE_MODE = 0o666  # what open() asks for; the process umask then removes bits (usually -> 0644)
 
 
 def read_text_limited(path: Path, limit: int = MAX_TEXT_BYTES) -> str:
@@ -54,12 +55,23 @@ def load_yaml_file(path: Path, limit: int = MAX_TEXT_BYTES) -> Any:
                              hint="fix the YAML syntax at that line") from exc
 
 
+def _umask() -> int:
+    """The process umask (reading it means setting it; restored at once)."""
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
 def atomic_write_bytes(path: Path, data: bytes) -> None:
-    """Write to a temp file in the same folder and rename: a crash never leaves a half file."""
+    """Write to a temp file in the same folder and rename: a crash never leaves a half file.
+
+    mkstemp creates the temp file 0600; it gets the mode an ordinary open() would give (0666 minus
+    the umask) before the rename, so a ROS container running as another user can read exports."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:
+        os.fchmod(fd, ORDINARY_FILE_MODE & ~_umask())
         with os.fdopen(fd, "wb") as fh:
             fh.write(data)
             fh.flush()

@@ -26,6 +26,8 @@ def test_builtin_patterns_map_to_behavior_codes(make_run, tmp_path: Path, refere
     assert agent_shape(p, "human2").keys() <= agent_shape(rp, rp["agents"][0]).keys()
     assert p["human1"]["goals"] == ["g0", "g1"]  # 1.x names goals from g0
     assert not list(out.rglob("*.xml"))  # 1.x loads its own trees
+    # ids numbered as upstream's own agents file numbers them (from 1; the SocRATES fork from 0)
+    assert [rp[a]["id"] for a in rp["agents"]][:2] == [1, 2] == [p["human1"]["id"], p["human2"]["id"]]
 
 
 def test_the_library_regular_tree_itself_is_behavior_1(make_run, tmp_path: Path) -> None:

@@ -9,6 +9,7 @@ import pytest
 import yaml
 from defusedxml import ElementTree as DET
 
+from socnavgen.bt.library import HUNAV2_REGISTERED
 from socnavgen.bt.tree import parse_bt
 from socnavgen.errors import SocnavgenError
 from socnavgen.export import export_run
@@ -32,6 +33,27 @@ def reference_ports(reference_dir: Path) -> dict[str, set[str]]:
     return {e.get("ID"): {p.get("name") for p in e} for e in model}
 
 
+def registered_ports() -> dict[str, set[str]]:
+    return {n.id: {p.name for p in n.ports} for n in HUNAV2_REGISTERED.values()}
+
+
+def test_registered_table_covers_the_reference_model(reference_dir: Path) -> None:
+    """Every node and port of upstream's TreeNodesModel.xml is in our table of what 2.x registers
+    (ours has more: ports the C++ declares that the model file forgot)."""
+    ours = registered_ports()
+    for node, ports in reference_ports(reference_dir).items():
+        if node in ("GoTo", "ConversationFormation", "ApproachAgent", "BlockAgent", "SetGroupWalk", "LookAtAgent",
+                    "LookAtPoint", "IsAnyoneSpeaking", "IsSpeaking", "IsAnyoneLookingAtMe", "IsLookingAtMe"):
+            continue  # registered, but no translation uses them, so the table leaves them out
+        assert node in ours, node
+        if node == "RandomChanceCondition":  # the model file lists agent_id; the C++ does not declare it,
+            ports = ports - {"agent_id"}        # so writing it would fail to load
+        assert ports <= ours[node], (node, ports - ours[node])
+    assert {"max_vel", "duration"} <= ours["ApproachRobot"]
+    assert "duration" in ours["BlockRobot"] and "yaw_tolerance" in ours["LookAtRobot"]
+    assert {"target_x", "target_y"} <= ours["SetGoal"]
+
+
 def test_yaml_matches_upstream_structure(exported: Path, reference_dir: Path) -> None:
     ours = yaml.safe_load((exported / "hunav_gazebo_wrapper/scenarios/demo.yaml").read_text())
     ref = yaml.safe_load((reference_dir / REF_YAML).read_text())
@@ -46,16 +68,22 @@ def test_yaml_matches_upstream_structure(exported: Path, reference_dir: Path) ->
                                  3: {"x": -2.475, "y": 3.225}}
     assert p["human1"]["goals"] == [1, 2] and p["human2"]["goals"] == [3]
     assert p["human1"]["init_pose"]["h"] == pytest.approx(-math.pi / 2, abs=1e-4)
+    # ids as upstream's scenario numbers them (from 1), goal ids are keys of global_goals
+    assert [rp[a]["id"] for a in rp["agents"]] == [1, 2, 3] and [p[a]["id"] for a in p["agents"]] == [1, 2]
+    assert all(type(g) is int and g in p["global_goals"] for a in p["agents"] for g in p[a]["goals"])
+    assert all(type(g) is int and g in rp["global_goals"] for a in rp["agents"] for g in rp[a]["goals"])
 
 
-def test_trees_are_v4_self_contained_and_use_2x_nodes(exported: Path, reference_dir: Path) -> None:
-    text = (exported / TREES / "demo__agent_0_bt.xml").read_text()
-    doc = parse_bt(text, "agent_0")
+def test_trees_are_v4_self_contained_and_use_2x_nodes(exported: Path) -> None:
+    assert not (exported / TREES / "demo__agent_0_bt.xml").exists()  # HuNavSim ids start at 1
+    text = (exported / TREES / "demo__agent_1_bt.xml").read_text()
+    doc = parse_bt(text, "agent_1")
     assert doc.format_version == 4 and doc.root.attrs["BTCPP_format"] == "4"
     assert doc.main_tree == "WaitTree"
     assert doc.includes == [] and "RegularNavTree" in doc.trees  # inlined, not included
-    known = reference_ports(reference_dir)
-    builtins = {"Sequence", "Fallback", "Inverter", "RunOnce", "SetBlackboard", "SubTree"}
+    known = registered_ports()
+    builtins = {"ReactiveSequence", "ReactiveFallback", "Sequence", "Fallback", "Inverter", "RunOnce",
+                "SetBlackboard", "SubTree"}
     for tree in doc.trees.values():
         for elem in list(tree.walk())[1:]:
             assert elem.tag in known or elem.tag in builtins, elem.tag
@@ -64,24 +92,53 @@ def test_trees_are_v4_self_contained_and_use_2x_nodes(exported: Path, reference_
     tags = {e.tag: e.attrs for t in doc.trees.values() for e in t.walk()}
     assert tags["SaySomething"]["message"] == "WAIT"
     assert tags["IsRobotClose"]["threshold"] == "2.0"
-    assert tags["ApproachRobot"]["closest_dist"] == "1.5"
+    assert tags["CuriousNav"]["stop_distance"] == "1.5" and tags["CuriousNav"]["agent_vel"] == "0.8"
+    assert tags["SurprisedNav"]["agent_id"] == "{id}"
+    assert "ApproachRobot" not in tags  # no RUNNING-forever node
+    fallbacks = [e.attrs.get("name") for t in doc.trees.values() for e in t.walk() if e.tag == "Fallback"]
+    assert fallbacks == ["QueueGoalsThenBehave"]  # the tree's own controls became reactive
     assert tags["SubTree"]["id"] == "{agentid}"  # v4 remapping syntax
     set_goals = [e.attrs["goal_id"] for e in doc.trees["WaitTree"].walk() if e.tag == "SetGoal"]
     assert set_goals == ["1", "2"]
 
 
-def test_embedded_and_standalone_models_match_reference_structure(exported: Path, reference_dir: Path) -> None:
-    known = reference_ports(reference_dir)
-    for path in [exported / TREES / "demo__agent_0_bt.xml", exported / TREES / "TreeNodesModel.xml"]:
+def test_agent_ids_start_at_one_and_literal_target_ids_shift(make_run, tmp_path: Path) -> None:
+    follow = REGULAR_TREE.replace(
+        '<SetBlackboard output_key="agentid"', '<FollowHuman agent_id="{id}" target_id="0" time_step="{dt}"/>\n'
+        '            <SetBlackboard output_key="agentid"')
+    out = tmp_path / "out"
+    export_run(make_run(trees={"human1": REGULAR_TREE, "human2": follow}), "hunav2", out, base="demo")
+    params = yaml.safe_load((out / "hunav_gazebo_wrapper/scenarios/demo.yaml").read_text())
+    p = params["hunav_loader"]["ros__parameters"]
+    assert [p["human1"]["id"], p["human2"]["id"]] == [1, 2]
+    doc = parse_bt((out / TREES / "demo__agent_2_bt.xml").read_text(), "a2")
+    follow_agent = next(e for t in doc.trees.values() for e in t.walk() if e.tag == "FollowAgent")
+    assert follow_agent.attrs["target_agent_id"] == "1"  # our human1 (0) is HuNavSim's agent 1
+    assert follow_agent.attrs["duration"] == "0.0" and follow_agent.attrs["max_vel"] == "1.5"
+
+
+def test_gesture_zero_says_nothing(make_run, tmp_path: Path) -> None:
+    quiet = TRANSLATABLE_TREE.replace('message="1"', 'message="0"')
+    out = tmp_path / "out"
+    export_run(make_run(trees={"human1": quiet, "human2": REGULAR_TREE}), "hunav2", out, base="demo")
+    text = (out / TREES / "demo__agent_1_bt.xml").read_text()
+    assert "NO GESTURE" not in text and "<SaySomething" not in text.split("</TreeNodesModel>")[1]
+    assert "<AlwaysSuccess/>" in text
+
+
+def test_embedded_and_standalone_models_match_reference_structure(exported: Path) -> None:
+    known = registered_ports()
+    for path in [exported / TREES / "demo__agent_1_bt.xml", exported / TREES / "TreeNodesModel.xml"]:
         root = DET.parse(path).getroot()
         assert root.tag == "root" and root.get("BTCPP_format") == "4"
         model = root.find("TreeNodesModel")
         assert model is not None and len(model) > 0
         for node in model:
-            assert node.tag in ("Action", "Condition")
+            assert node.tag in ("Action", "Condition", "Decorator")
             assert node.get("ID") in known, node.get("ID")
             for port in node:
-                assert port.tag == "input_port" and port.get("type") in ("int", "double", "bool", "std::string")
+                assert port.tag in ("input_port", "output_port")
+                assert port.get("type") in ("int", "double", "bool", "std::string")
                 assert port.get("name") in known[node.get("ID")]
 
 
@@ -91,10 +148,11 @@ def test_every_untranslatable_node_is_listed_and_nothing_written(make_run, tmp_p
     with pytest.raises(SocnavgenError) as err:
         export_run(run, "hunav2", out)
     message = str(err.value)
-    assert "4 node(s)" in message
+    assert "2 node(s)" in message  # RobotSays is refused; GiveWaytoRobot translates (AvoidRobot)
     for human in ("human1", "human2"):
-        assert f"{human}.xml:6: RobotSays" in message
-        assert f"{human}.xml:7: GiveWaytoRobot" in message
+        assert f"{human}.xml:6: RobotSays cannot be exported: HuNavSim 2.x has no input for what the robot says" \
+            in message
+    assert "GiveWaytoRobot" not in message
     assert not out.exists()
 
 
@@ -102,3 +160,13 @@ def test_unknown_simulator_refused(make_run, tmp_path: Path) -> None:
     with pytest.raises(SocnavgenError, match="simulator"):
         export_run(make_run(trees={"human1": REGULAR_TREE, "human2": REGULAR_TREE}), "hunav2", tmp_path / "o",
                    simulator="Unreal")
+
+
+def test_standalone_model_has_every_registered_port(exported: Path) -> None:
+    model = DET.parse(exported / TREES / "TreeNodesModel.xml").getroot().find("TreeNodesModel")
+    ports = {n.get("ID"): {p.get("name"): p.get("default") for p in n} for n in model}
+    assert ports["ApproachRobot"] == {"agent_id": None, "time_step": None, "closest_dist": None, "max_vel": None,
+                                      "duration": "0.0"}
+    assert ports["BlockRobot"]["duration"] == "0.0" and ports["LookAtRobot"]["yaw_tolerance"] == "0.01"
+    assert {"target_x", "target_y", "goal_id"} <= ports["SetGoal"].keys()
+    assert ports["TimeExpiredCondition"] == {"seconds": "1.0", "ts": "0.01", "only_once": "false"}

@@ -8,10 +8,19 @@ Where the fork's code and the paper disagree, the simulator does what the paper 
 
 from __future__ import annotations
 
+import re
 from enum import StrEnum
-from typing import Literal
+from typing import Literal, get_args
 
 from pydantic import BaseModel, Field
+
+from socnavgen.bt.hunav2_facts import HUNAV2 as HUNAV2
+from socnavgen.bt.hunav2_facts import HUNAV2_BUILTINS as HUNAV2_BUILTINS
+from socnavgen.bt.hunav2_facts import HUNAV2_FIRST_AGENT_ID as HUNAV2_FIRST_AGENT_ID
+from socnavgen.bt.hunav2_facts import HUNAV2_REGISTERED as HUNAV2_REGISTERED
+from socnavgen.bt.hunav2_facts import Hunav2Translation as Hunav2Translation
+from socnavgen.bt.hunav2_facts import RegisteredNode as RegisteredNode
+from socnavgen.bt.hunav2_facts import RegisteredPort as RegisteredPort
 
 
 class PortType(StrEnum):
@@ -32,7 +41,8 @@ class Port(BaseModel):
 
 
 NodeKind = Literal["action", "condition", "control", "decorator", "builtin"]
-Target = Literal["socrates", "hunav2", "hunav1"]
+Target = Literal["socrates", "hunav2", "hunav1"]  # THE list of export targets (export.targets registers one
+TARGETS: tuple[Target, ...] = get_args(Target)    # class per name; bt check/library and the CLI read it)
 
 
 class NodeSpec(BaseModel):
@@ -263,24 +273,64 @@ def prompt_nodes() -> list[NodeSpec]:
     return [n for n in NODES if n.in_prompt]
 
 
-# ---- export translation to HuNavSim 2.x (used by socnavgen.export.hunav2) ----------------------
-class PortTranslation(BaseModel):
-    """How one node's ports become its 2.x counterpart's ports (`NodeSpec.hunav2` names the node):
-    `rename` ours -> theirs (absent = same name), `values` literal codes -> 2.x words, `fixed`
-    ports 2.x needs that our node implies (e.g. our FollowRobot stops 1.5 m from the robot)."""
-
-    rename: dict[str, str] = Field(default_factory=dict)
-    values: dict[str, dict[str, str]] = Field(default_factory=dict)
-    fixed: dict[str, str] = Field(default_factory=dict)
+def hunav2_refusal(name: str) -> str | None:
+    """Why `name` cannot be exported to HuNavSim 2.x (None = it can)."""
+    tr = HUNAV2.get(name)
+    return tr.refusal if tr is not None else None
 
 
-HUNAV2_PORTS: dict[str, PortTranslation] = {
-    "IsRobotNearby": PortTranslation(rename={"distance": "threshold"}),
-    "MakeGesture": PortTranslation(values={"message": {str(k): v for k, v in HUMAN_GESTURES.items()}}),
-    "FollowRobot": PortTranslation(fixed={"closest_dist": "1.5"}),
-    "FollowHuman": PortTranslation(rename={"target_id": "target_agent_id"}, fixed={"duration": "5.0"}),
-    "BlockRobot": PortTranslation(fixed={"front_dist": "1.5"}),
-}
+# 2.x nodes our translations emit, simulated by socnavgen.sim.nodes_hunav2 (so a hunav2 export can be
+# simulated and verified like its socrates original). Their ports come from HUNAV2_REGISTERED.
+HUNAV2_SIMULATED = ("IsRobotClose", "SaySomething", "SurprisedNav", "CuriousNav", "FollowAgent", "AvoidRobot",
+                    "ThreateningNav")
+_PORT_TYPES = {"int": PortType.INT, "double": PortType.DOUBLE, "bool": PortType.BOOL, "std::string": PortType.STRING}
+
+
+def _native_spec(node: RegisteredNode) -> NodeSpec:
+    ports = [Port(name=p.name, type=_PORT_TYPES[p.type], description=f"HuNavSim 2.x port ({p.type})",
+                  required=p.read and p.default is None, default=p.default)
+             for p in node.ports if p.direction == "input"]
+    return NodeSpec(name=node.id, kind="action" if node.kind == "Action" else "condition", ports=ports,
+                    description=f"HuNavSim 2.x {node.kind.lower()} {node.id} (only in hunav2 exports; "
+                                "semantics in socnavgen.sim.nodes_hunav2)",
+                    targets={"hunav2"}, hunav2=node.id, in_prompt=False)
+
+
+NATIVE_HUNAV2 = [_native_spec(HUNAV2_REGISTERED[n]) for n in HUNAV2_SIMULATED] + [
+    NodeSpec(name="AlwaysSuccess", kind="action", description="BT.CPP 4 built-in: SUCCESS, does nothing",
+             targets={"hunav2"}, hunav2="AlwaysSuccess", in_prompt=False)]
+NODES.extend(NATIVE_HUNAV2)
+LIBRARY.update({n.name: n for n in NATIVE_HUNAV2})
+
+
+def _apply_hunav2_support() -> None:
+    """Leaf support for hunav2 comes from HUNAV2 alone (one home): a template = supported, and the
+    node's `hunav2` name is the template's outer element."""
+    for spec in leaf_nodes():
+        if spec.targets == {"hunav2"}:
+            continue  # a 2.x node itself
+        tr = HUNAV2.get(spec.name)
+        if tr is not None and tr.template:
+            spec.targets.add("hunav2")
+            names = re.findall(r"<(\w+)", tr.template)
+            spec.hunav2 = names[0] if len(names) == 1 else "+".join(names[1:])
+        else:
+            spec.targets.discard("hunav2")
+            spec.hunav2 = None
+
+
+_apply_hunav2_support()
+
+
+def hunav2_text(name: str) -> str:
+    """One line for `bt library`, `bt check --target hunav2` and the docs: the 2.x translation and why it
+    behaves the same, or the refusal and why (empty for built-ins, which keep their names)."""
+    tr = HUNAV2.get(name)
+    if tr is None:
+        return ""
+    if tr.template is None:
+        return f"refused: {tr.refusal}"
+    return f"{LIBRARY[name].hunav2 if name in LIBRARY else name}: {tr.reason}"
 
 
 # ==== BEGIN encounter needs (owner: proposal) ===================================================

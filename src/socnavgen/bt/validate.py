@@ -23,11 +23,13 @@ from socnavgen.bt.library import (
     NodeSpec,
     Port,
     PortType,
+    hunav2_refusal,
 )
+from socnavgen.bt.library import TARGETS as LIBRARY_TARGETS
 from socnavgen.bt.tree import MAX_XML_BYTES, BTDocument, BTElement, parse_bt
 from socnavgen.errors import SocnavgenError
 
-TARGETS = ("socrates", "hunav2", "hunav1")
+TARGETS = LIBRARY_TARGETS  # spelled once, in bt.library
 MAX_PROBLEMS = 50  # more than this is noise for a model (and for a person)
 
 ROOT_CHILDREN = ("BehaviorTree", "include", "TreeNodesModel")
@@ -299,6 +301,8 @@ class _Checker:
             self.add(f"<{elem.tag}> needs an ID attribute naming a library node", elem.line)
             return
         spec = LIBRARY.get(name)
+        if spec is not None and spec.targets == {"hunav2"} and self.target != "hunav2":
+            spec = None  # a HuNavSim 2.x node (hunav2 exports only): unknown to the v3 node libraries
         if spec is None:
             self.add(self.unknown_node_message(name), elem.line)
             for child in elem.children:  # still report mistakes below it
@@ -327,9 +331,12 @@ class _Checker:
         # Suggest from every node; list the ones the model is taught (plus the SubTree idiom's built-ins).
         usable = [n.name for n in LIBRARY.values() if (n.in_prompt or n.kind == "builtin")
                   and (self.target not in TARGETS or self.target in n.targets)]
-        return f"unknown node '{name}'{_suggest(name, LIBRARY)}; available: {', '.join(usable)}"
+        known = {k: v for k, v in LIBRARY.items() if self.target == "hunav2" or v.targets != {"hunav2"}}
+        return f"unknown node '{name}'{_suggest(name, known)}; available: {', '.join(usable)}"
 
     def target_message(self, spec: NodeSpec) -> str:
+        if self.target == "hunav2" and hunav2_refusal(spec.name):
+            return f"node '{spec.name}' is not supported by target hunav2: {hunav2_refusal(spec.name)}"
         equivalent = getattr(spec, self.target, None) if self.target != "socrates" else None
         hint = f" (its {self.target} counterpart is '{equivalent}')" if equivalent else ""
         return f"node '{spec.name}' is not supported by target {self.target}{hint}"

@@ -8,7 +8,7 @@ from typing import Annotated
 import typer
 from rich.table import Table
 
-from socnavgen.bt.library import NODES, NodeSpec
+from socnavgen.bt.library import NODES, NodeSpec, hunav2_text
 from socnavgen.bt.validate import TARGETS, validate_bt_file
 from socnavgen.cli.common import console
 from socnavgen.errors import InputFileError
@@ -87,10 +87,11 @@ def _targets_text(spec: NodeSpec) -> str:
 
 def library_markdown() -> str:
     """The node table as Markdown (docs/behavior-trees.md is generated from this)."""
-    lines = ["| node | kind | ports | meaning | targets | simulator note |", "|---|---|---|---|---|---|"]
+    lines = ["| node | kind | ports | meaning | targets | HuNavSim 2.x | simulator note |",
+             "|---|---|---|---|---|---|---|"]
     for spec in NODES:
         cells = [f"`{spec.name}`" + ("" if spec.in_prompt else " *"), spec.kind, _ports_text(spec) or "-",
-                 spec.description, _targets_text(spec), spec.sim_note or ""]
+                 spec.description, _targets_text(spec), hunav2_text(spec.name), spec.sim_note or ""]
         lines.append("| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |")
     lines.append("")
     lines.append("`*` accepted by the validator and the simulator but not shown to the model.")
@@ -115,10 +116,11 @@ def library(
         return
     table = Table(title="behavior-tree node library", show_lines=False)
     table.add_column("node", no_wrap=True)  # names stay whole (copy-paste); the rest folds
-    for column in ("kind", "ports", "meaning", "targets"):
+    for column in ("kind", "ports", "meaning", "targets", "HuNavSim 2.x"):
         table.add_column(column, overflow="fold")
     for spec in NODES:
         if target is not None and target not in spec.targets:
             continue
-        table.add_row(spec.name, spec.kind, _ports_text(spec), spec.description, _targets_text(spec))
+        table.add_row(spec.name, spec.kind, _ports_text(spec), spec.description, _targets_text(spec),
+                      hunav2_text(spec.name))
     console.print(table)

@@ -4,25 +4,16 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from socnavgen.errors import ValidationFailed
-from socnavgen.export.hunav1 import build_hunav1
-from socnavgen.export.hunav2 import base_name, build_hunav2
 from socnavgen.export.models import FORMATS, ExportedFile, ExportFormat, ExportResult, ExportScene
 from socnavgen.export.scene import build_scene
-from socnavgen.export.socrates import build_socrates
+from socnavgen.export.targets import get_target
 from socnavgen.export.writer import write_export
 
 
 def build_files(scene: ExportScene, fmt: ExportFormat, *, base: str | None = None,
                 simulator: str = "Gazebo Classic") -> list[ExportedFile]:
     """All files of one target, in memory (raises before anything is written)."""
-    if fmt == "socrates":
-        return build_socrates(scene)
-    if fmt == "hunav2":
-        return build_hunav2(scene, base_name(base or f"socnavgen_{scene.run_name}"), simulator)
-    if fmt == "hunav1":
-        return build_hunav1(scene)
-    raise ValidationFailed(f"unknown export format {fmt!r}", hint="one of: " + ", ".join(FORMATS))
+    return get_target(fmt).build(scene, base=base or "", simulator=simulator)
 
 
 def export_run(run_dir: Path | str, fmt: ExportFormat, out_dir: Path | str, *, location_dir: Path | str | None = None,

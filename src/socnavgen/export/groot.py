@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from xml.sax.saxutils import escape, quoteattr
 
-from socnavgen.bt.library import HUNAV2_PORTS, NodeSpec, Port, PortType, leaf_nodes
+from socnavgen.bt.library import HUNAV2_REGISTERED, NodeSpec, Port, PortType, leaf_nodes
 from socnavgen.export.models import ExportFormat
 
 GROOT_TYPES = {PortType.INT: "int", PortType.DOUBLE: "double", PortType.BOOL: "bool",
@@ -19,23 +19,6 @@ def _port_line(name: str, type_: str, description: str, default: str | None) -> 
             f"{escape(description)}</input_port>\n")
 
 
-def _hunav2_ports(spec: NodeSpec) -> list[tuple[str, str, str, str | None]]:
-    """Ports of the 2.x counterpart as our translation writes them (see bt.library.HUNAV2_PORTS)."""
-    tr = HUNAV2_PORTS.get(spec.name)
-    out: list[tuple[str, str, str, str | None]] = []
-    for port in spec.ports:
-        name = tr.rename.get(port.name, port.name) if tr else port.name
-        if tr and port.name in tr.values:  # codes become words: what the human says
-            described = ", ".join(f"{k}={v}" for k, v in tr.values[port.name].items())
-            out.append((name, "std::string", f"text said (socnavgen writes the gesture word: {described})",
-                        port.default))
-        else:
-            out.append((name, GROOT_TYPES[port.type], port.description, port.default))
-    for name, value in (tr.fixed.items() if tr else []):
-        out.append((name, "double", f"set by socnavgen export to match {spec.name}", value))
-    return out
-
-
 def _our_ports(spec: NodeSpec) -> list[tuple[str, str, str, str | None]]:
     def describe(p: Port) -> str:
         if p.allowed:
@@ -44,34 +27,37 @@ def _our_ports(spec: NodeSpec) -> list[tuple[str, str, str, str | None]]:
     return [(p.name, GROOT_TYPES[p.type], describe(p), p.default) for p in spec.ports]
 
 
+def _registered_block(names: set[str] | None) -> list[str]:
+    """2.x nodes exactly as HuNavSim 2.x registers them (ids, port names, types, code defaults)."""
+    lines: list[str] = []
+    for node in HUNAV2_REGISTERED.values():
+        if names is not None and node.id not in names:
+            continue
+        lines.append(f"    <{node.kind} ID={quoteattr(node.id)}>\n")
+        for p in node.ports:
+            default = f" default={quoteattr(p.default)}" if p.default is not None else ""
+            tag = f"{p.direction}_port"
+            lines.append(f"      <{tag} name={quoteattr(p.name)} type={quoteattr(p.type)}{default}/>\n")
+        lines.append(f"    </{node.kind}>\n")
+    return lines
+
+
 def model_block(target: ExportFormat, names: set[str] | None = None) -> str:
     """The `<TreeNodesModel>` element (indented for a child of <root>) for `target`'s leaf names.
 
-    socrates: our (fork) names; hunav2: the 2.x names and ports our translation emits. (hunav1
-    runs built-in trees only, so it needs no model.)
-    `names` limits it to nodes actually used (names in the TARGET's vocabulary)."""
+    socrates: our (fork) names; hunav2: the nodes HuNavSim 2.x registers, with their registered ports
+    (hunav1 runs built-in trees only, so it needs no model). `names` limits it to nodes actually used
+    (names in the TARGET's vocabulary)."""
     lines = ["  <TreeNodesModel>\n"]
-    seen: set[str] = set()
-    for spec in leaf_nodes():
-        if target == "hunav2":
-            if spec.hunav2 is None:
+    if target == "hunav2":
+        lines += _registered_block(names)
+    else:
+        for spec in leaf_nodes():
+            if "socrates" not in spec.targets or (names is not None and spec.name not in names):
                 continue
-            node_id, ports = spec.hunav2, _hunav2_ports(spec)
-        else:
-            if "socrates" not in spec.targets:
-                continue
-            node_id, ports = spec.name, _our_ports(spec)
-        if node_id in seen or (names is not None and node_id not in names):
-            continue
-        seen.add(node_id)
-        lines.append(f"    <{GROOT_KIND[spec.kind]} ID={quoteattr(node_id)}>\n")
-        lines += [_port_line(*p) for p in ports]
-        lines.append(f"    </{GROOT_KIND[spec.kind]}>\n")
-    if target == "hunav2":  # the exporter queues goals with 2.x's SetGoal (see export.hunav2)
-        lines += ['    <Action ID="SetGoal">\n',
-                  _port_line("agent_id", "int", "the agent's own id; always {id}", None),
-                  _port_line("goal_id", "int", "id of a global goal of the scenario yaml", None),
-                  "    </Action>\n"]
+            lines.append(f"    <{GROOT_KIND[spec.kind]} ID={quoteattr(spec.name)}>\n")
+            lines += [_port_line(*p) for p in _our_ports(spec)]
+            lines.append(f"    </{GROOT_KIND[spec.kind]}>\n")
     lines.append("  </TreeNodesModel>\n")
     return "".join(lines)
 

@@ -8,12 +8,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from socnavgen.bt.library import LIBRARY, LIBRARY_TREE_XML, LIBRARY_TREES
+from socnavgen.bt.library import HUNAV2_FIRST_AGENT_ID, LIBRARY, LIBRARY_TREE_XML, LIBRARY_TREES
 from socnavgen.bt.tree import BTElement, parse_bt
 from socnavgen.errors import ValidationFailed
 from socnavgen.export.models import ExportedFile, ExportScene, HumanExport
 from socnavgen.export.readme import hunav1_readme
 from socnavgen.export.socrates import check_trees, fork_agents_yaml
+from socnavgen.export.targets import ExportTarget, register
 from socnavgen.export.writer import robot_poses_yaml
 
 EXPLICIT = {"Action", "Condition", "Control", "Decorator"}
@@ -135,7 +136,18 @@ def build_hunav1(scene: ExportScene) -> list[ExportedFile]:
                                hint="export with --format socrates (the SocRATES fork runs any library tree)")
     return [
         ExportedFile(path="hunav_agent_manager/config/agents.yaml",
-                     text=fork_agents_yaml(scene, behaviors, "g", 0)),
+                     text=fork_agents_yaml(scene, behaviors, "g", 0, first_id=HUNAV2_FIRST_AGENT_ID)),
         ExportedFile(path="robot/robot_poses.yaml", text=robot_poses_yaml(scene.robot)),
         ExportedFile(path="README.md", text=hunav1_readme(scene, behaviors)),
     ]
+
+
+@register
+class Hunav1Target(ExportTarget):
+    name = "hunav1"
+    summary = "upstream HuNavSim 1.x: built-in behaviors only (refuses custom trees), ids from 1"
+    btcpp = "3.8"
+    first_agent_id = HUNAV2_FIRST_AGENT_ID
+
+    def build(self, scene: ExportScene, *, base: str, simulator: str) -> list[ExportedFile]:
+        return build_hunav1(scene)

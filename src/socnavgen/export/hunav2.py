@@ -1,7 +1,9 @@
 """Target `hunav2`: upstream HuNavSim 2.x (BT.CPP v4, reference §5 and §8.3).
 
-Each human gets a self-contained `<base>__agent_<id>_bt.xml`: the tree translated node by node
-through `NodeSpec.hunav2` and `bt.library.HUNAV2_PORTS`, the RegularNavTree it uses inlined, goals
+Each human gets a self-contained `<base>__agent_<id>_bt.xml` (ids from 1, as HuNavSim numbers agents):
+the tree translated node by node through `bt.library.HUNAV2` (each leaf becomes the 2.x composition
+the table gives, with the reason it behaves the same), Sequence/Fallback made reactive so that gates
+are re-checked every tick while a stateful 2.x node is RUNNING, the RegularNavTree it uses inlined, goals
 queued by `SetGoal` inside `RunOnce` as upstream's own scenario trees do, and a TreeNodesModel for
 Groot2. A node without a 2.x counterpart stops the export with every such node listed."""
 
@@ -10,7 +12,16 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
-from socnavgen.bt.library import HUNAV2_PORTS, LIBRARY, LIBRARY_TREE_XML, LIBRARY_TREES
+from defusedxml.ElementTree import fromstring
+
+from socnavgen.bt.library import (
+    HUMAN_GESTURES,
+    HUNAV2,
+    HUNAV2_FIRST_AGENT_ID,
+    LIBRARY,
+    LIBRARY_TREE_XML,
+    LIBRARY_TREES,
+)
 from socnavgen.bt.tree import BTDocument, BTElement, parse_bt
 from socnavgen.errors import ValidationFailed
 from socnavgen.export.groot import model_block, tree_nodes_model_xml
@@ -25,6 +36,7 @@ from socnavgen.export.models import (
 )
 from socnavgen.export.readme import hunav2_readme
 from socnavgen.export.socrates import check_trees
+from socnavgen.export.targets import ExportTarget, register
 from socnavgen.export.writer import dump_yaml, element_xml, metres, robot_poses_yaml
 
 WRAPPER = "hunav_gazebo_wrapper"
@@ -49,6 +61,11 @@ class Untranslatable:
         return f"{where}: {self.node} {self.why}"
 
 
+def hunav_id(human: HumanExport) -> int:
+    """HuNavSim's id of a human (1-based; ours are 0-based)."""
+    return human.agent_id + HUNAV2_FIRST_AGENT_ID
+
+
 def base_name(text: str) -> str:
     """yaml_base_name must be a plain file stem: lowercase letters, digits, underscores."""
     stem = re.sub(r"[^a-z0-9_]+", "_", text.lower()).strip("_")
@@ -59,8 +76,21 @@ def _node_name(elem: BTElement) -> str:
     return elem.attrs.get("ID", elem.tag) if elem.tag in EXPLICIT else elem.tag
 
 
+CONTROL_V4 = {"Sequence": "ReactiveSequence", "Fallback": "ReactiveFallback"}
+
+
+def _from_template(xml: str, line: int | None) -> BTElement:
+    root = fromstring(xml)
+    return BTElement(tag=root.tag, attrs=dict(root.attrib), children=[_from_template_el(c, line) for c in root],
+                     line=line)
+
+
+def _from_template_el(el, line: int | None) -> BTElement:  # noqa: ANN001 - ElementTree element
+    return BTElement(tag=el.tag, attrs=dict(el.attrib), children=[_from_template_el(c, line) for c in el], line=line)
+
+
 class _Translator:
-    """v3 (our library) -> v4 (2.x names and ports); collects every node it cannot translate."""
+    """v3 (our library) -> v4 (2.x compositions of `bt.library.HUNAV2`); collects every refusal."""
 
     def __init__(self, source: str) -> None:
         self.source = source
@@ -75,29 +105,36 @@ class _Translator:
         if spec is None:
             self.problems.append(Untranslatable(self.source, elem.line, name, "is not a library node"))
             return BTElement(tag=name, attrs={}, children=children, line=elem.line)
-        if spec.hunav2 is None:
-            self.problems.append(Untranslatable(self.source, elem.line, name,
-                                                f"({spec.kind}) has no HuNavSim 2.x equivalent"))
-            return BTElement(tag=name, attrs={}, children=children, line=elem.line)
         attrs = {k: v for k, v in elem.attrs.items() if not (elem.tag in EXPLICIT and k == "ID")}
+        if spec.kind in ("action", "condition"):
+            return self.leaf(name, attrs, elem.line)
         if name == "SubTree":
             return BTElement(tag="SubTree", attrs=self.subtree_attrs(attrs), children=children, line=elem.line)
-        if spec.kind in ("action", "condition"):
-            self.used_leaves.add(spec.hunav2)
-            attrs = self.leaf_attrs(name, attrs)
-        return BTElement(tag=spec.hunav2, attrs=attrs, children=children, line=elem.line)
+        return BTElement(tag=CONTROL_V4.get(name, name), attrs=attrs, children=children, line=elem.line)
 
-    def leaf_attrs(self, name: str, attrs: dict[str, str]) -> dict[str, str]:
-        tr = HUNAV2_PORTS.get(name)
-        if tr is None:
-            return dict(attrs)
-        out: dict[str, str] = {}
-        for key, value in attrs.items():
-            if key in tr.values and not BLACKBOARD_REF.match(value):
-                value = tr.values[key].get(value.strip(), value)
-            out[tr.rename.get(key, key)] = value
-        for key, value in tr.fixed.items():
-            out.setdefault(key, value)
+    def leaf(self, name: str, attrs: dict[str, str], line: int | None) -> BTElement:
+        tr = HUNAV2.get(name)
+        if tr is None or tr.template is None:
+            why = tr.refusal if tr is not None else "has no HuNavSim 2.x translation"
+            self.problems.append(Untranslatable(self.source, line, name, f"cannot be exported: {why}"))
+            return BTElement(tag=name, attrs={}, children=[], line=line)
+        values = {p.name: p.default for p in LIBRARY[name].ports if p.default is not None}
+        values.update({k: v.strip() for k, v in attrs.items()})
+        for port in tr.target_ports:  # literal agent ids: ours from 0, HuNavSim's from 1
+            if port in values and values[port].lstrip("-").isdigit():
+                values[port] = str(int(values[port]) + HUNAV2_FIRST_AGENT_ID)
+        template = tr.template
+        for port, choices in tr.by_value.items():
+            if values.get(port) in choices:
+                template = choices[values[port]]
+        if "message" in values and values["message"].isdigit():
+            values["message_word"] = HUMAN_GESTURES.get(int(values["message"]), values["message"])
+        try:
+            out = _from_template(template.format(**{k: _attr_text(v) for k, v in values.items()}), line)
+        except KeyError as missing:
+            self.problems.append(Untranslatable(self.source, line, name, f"lacks port {missing}"))
+            return BTElement(tag=name, attrs={}, children=[], line=line)
+        self.used_leaves.update(e.tag for e in out.walk())
         return out
 
     def subtree_attrs(self, attrs: dict[str, str]) -> dict[str, str]:
@@ -112,6 +149,11 @@ class _Translator:
         return out
 
 
+def _attr_text(value: str) -> str:
+    """A value placed inside a template's double-quoted attribute."""
+    return value.replace("&", "&amp;").replace('"', "&quot;").replace("<", "&lt;")
+
+
 def _goal_prelude(goal_ids: list[int]) -> BTElement:
     """Queue the agent's goals once, as upstream's scenario trees do: RunOnce(SetGoal) per goal, the
     last one inverted so the Sequence fails the first tick and the Fallback moves on to walking;
@@ -122,7 +164,7 @@ def _goal_prelude(goal_ids: list[int]) -> BTElement:
     return BTElement("Sequence", {"name": "SetGoals"}, children)
 
 
-def translate_tree(human: HumanExport, goal_ids: list[int]) -> tuple[str, list[Untranslatable]]:
+def translate_tree(human: HumanExport, goal_ids: list[int] | None) -> tuple[str, list[Untranslatable]]:
     """The human's v3 tree as one self-contained v4 file (text), plus what could not be translated."""
     doc: BTDocument = parse_bt(human.tree_xml, human.tree_file)
     tr = _Translator(human.tree_file)
@@ -147,13 +189,14 @@ def translate_tree(human: HumanExport, goal_ids: list[int]) -> tuple[str, list[U
     problems += tr.problems
     if problems:
         return "", problems
-    body = trees[main].children[0]
-    trees[main] = BTElement("BehaviorTree", {"ID": main}, [
-        BTElement("Fallback", {"name": "QueueGoalsThenBehave"}, [_goal_prelude(goal_ids), body])])
+    if goal_ids:  # None: goals come from elsewhere (our simulator reads them from paths.json)
+        body = trees[main].children[0]
+        trees[main] = BTElement("BehaviorTree", {"ID": main}, [
+            BTElement("Fallback", {"name": "QueueGoalsThenBehave"}, [_goal_prelude(goal_ids), body])])
     ordered = [trees[main]] + [t for tid, t in trees.items() if tid != main]
     text = ('<?xml version="1.0" encoding="UTF-8"?>\n'
             f'<root BTCPP_format="4" main_tree_to_execute="{main}">\n'
-            + model_block("hunav2", tr.used_leaves)
+            + model_block("hunav2", tr.used_leaves | {"SetGoal"})
             + "".join(element_xml(t) for t in ordered)
             + "</root>\n")
     return text, []
@@ -180,7 +223,7 @@ def agents_yaml(scene: ExportScene, base: str, simulator: str, goal_ids: dict[st
                     "publish_people": True, "global_goals": table, "agents": [h.name for h in scene.humans]}
     for h in scene.humans:
         params[h.name] = {
-            "id": h.agent_id, "group_id": h.group_id, "skin": h.skin, "max_vel": HUMAN_MAX_VEL,
+            "id": hunav_id(h), "group_id": h.group_id, "skin": h.skin, "max_vel": HUMAN_MAX_VEL,
             "radius": HUMAN_RADIUS, "goal_radius": HUMAN_GOAL_RADIUS, "cyclic_goals": False,
             "init_pose": {"x": metres(h.start.x), "y": metres(h.start.y), "z": HUMAN_Z, "h": metres(h.start.yaw)},
             "behavior": dict(BEHAVIOR_DEFAULTS),
@@ -199,7 +242,8 @@ def build_hunav2(scene: ExportScene, base: str, simulator: str = "Gazebo Classic
     for human in scene.humans:
         text, bad = translate_tree(human, goal_ids[human.name])
         problems += bad
-        files.append(ExportedFile(path=f"{WRAPPER}/behavior_trees/{base}__agent_{human.agent_id}_bt.xml", text=text))
+        files.append(ExportedFile(path=f"{WRAPPER}/behavior_trees/{base}__agent_{hunav_id(human)}_bt.xml",
+                                  text=text))
     if problems:
         raise ValidationFailed(
             f"{len(problems)} node(s) have no HuNavSim 2.x equivalent:\n" + "\n".join(str(p) for p in problems),
@@ -210,3 +254,14 @@ def build_hunav2(scene: ExportScene, base: str, simulator: str = "Gazebo Classic
     files.append(ExportedFile(path="robot/robot_poses.yaml", text=robot_poses_yaml(scene.robot)))
     files.append(ExportedFile(path="README.md", text=hunav2_readme(scene, base, simulator)))
     return files
+
+
+@register
+class Hunav2Target(ExportTarget):
+    name = "hunav2"
+    summary = "upstream HuNavSim 2.x (BT.CPP v4, <base>__agent_<id>_bt.xml per agent, global_goals, ids from 1)"
+    btcpp = "4"
+    first_agent_id = HUNAV2_FIRST_AGENT_ID
+
+    def build(self, scene: ExportScene, *, base: str, simulator: str) -> list[ExportedFile]:
+        return build_hunav2(scene, base_name(base or f"socnavgen_{scene.run_name}"), simulator)

@@ -3,14 +3,13 @@ robot, their trees, and the files a target writes (kept in memory until all are 
 
 from __future__ import annotations
 
-from typing import Literal
-
 from pydantic import BaseModel, Field
 
+from socnavgen.bt.library import TARGETS, Target
 from socnavgen.run.models import PathPlan
 
-ExportFormat = Literal["socrates", "hunav2", "hunav1"]
-FORMATS: tuple[ExportFormat, ...] = ("socrates", "hunav2", "hunav1")
+ExportFormat = Target  # the names of export.targets' registry (spelled once, in bt.library)
+FORMATS: tuple[ExportFormat, ...] = TARGETS
 
 # HuNavSim agent constants (reference §8.1, §9.3): what SocRATES writes for every human.
 HUMAN_Z = 1.25  # Gazebo actor height; HuNavSim overrides it per skin but expects it present

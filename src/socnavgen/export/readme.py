@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+from socnavgen.bt.library import HUNAV2_FIRST_AGENT_ID
 from socnavgen.export.models import ExportScene
 
 
-def _summary(scene: ExportScene) -> str:
+def _summary(scene: ExportScene, first_id: int = 0) -> str:
+    """`first_id`: the target's id of human1 (the fork counts from 0, HuNavSim 1.x/2.x from 1)."""
     humans = "\n".join(
-        f"- {h.name} (agent id {h.agent_id}, group {h.group_id}): starts at node {h.start.node} "
+        f"- {h.name} (agent id {h.agent_id + first_id}, group {h.group_id}): starts at node {h.start.node} "
         f"({h.start.x:.2f}, {h.start.y:.2f}) facing {h.start.yaw:.2f} rad, goals "
         + " -> ".join(g.node for g in h.goals)
         + (f", meets the robot at {h.interaction_point}" if h.interaction_point else "")
@@ -50,7 +52,7 @@ Humans without an interaction point have `""` in `trajectory.json`: the scenario
 def hunav2_readme(scene: ExportScene, base: str, simulator: str) -> str:
     return f"""# HuNavSim 2.x export
 
-{_summary(scene)}
+{_summary(scene, HUNAV2_FIRST_AGENT_ID)}
 ## Where the files go
 | file here | package folder |
 |---|---|
@@ -60,7 +62,7 @@ def hunav2_readme(scene: ExportScene, base: str, simulator: str) -> str:
 
 `yaml_base_name: {base}` selects the tree files; `simulator: {simulator}` selects the wrapper package.
 Each tree is self-contained (RegularNavTree inlined, goals queued with `SetGoal`) and carries a
-`TreeNodesModel`, so it opens directly in Groot2; `TreeNodesModel.xml` holds the whole translated library.
+`TreeNodesModel`, so it opens directly in Groot2; `TreeNodesModel.xml` lists every node HuNavSim 2.x registers with its ports.
 
 ## Launch
 ```
@@ -77,7 +79,7 @@ def hunav1_readme(scene: ExportScene, behaviors: dict[str, int]) -> str:
     table = "\n".join(f"- {name}: behavior {code}" for name, code in behaviors.items())
     return f"""# HuNavSim 1.x export (built-in behaviors only)
 
-{_summary(scene)}
+{_summary(scene, HUNAV2_FIRST_AGENT_ID)}
 {table}
 
 ## Where the files go

@@ -23,6 +23,7 @@ from socnavgen.export.models import (
     HumanExport,
 )
 from socnavgen.export.readme import socrates_readme
+from socnavgen.export.targets import ExportTarget, register
 from socnavgen.export.writer import dump_yaml, metres, robot_poses_yaml
 
 FIRST_LLM_BEHAVIOR = 7  # behavior 7+i -> LLMBT_<i>.xml in the fork
@@ -31,11 +32,12 @@ AGENTS_FILE = "hunav_agent_manager/config/custom_agents.yaml"  # what the wrappe
 WRAPPER_CONFIG = "hunav_gazebo_wrapper/config"
 
 
-def fork_agent_entry(human: HumanExport, behavior: int, goal_prefix: str, first_goal: int) -> dict:
-    """One agent block of the 1.x / fork loader: pose, SFM parameters, named goals {x, y, h}."""
+def fork_agent_entry(human: HumanExport, behavior: int, goal_prefix: str, first_goal: int, first_id: int = 0) -> dict:
+    """One agent block of the 1.x / fork loader: pose, SFM parameters, named goals {x, y, h}.
+    `first_id`: the fork numbers agents from 0 (LLMBT_<id>), upstream 1.x from 1."""
     names = [f"{goal_prefix}{first_goal + k}" for k in range(len(human.goals))]
     entry: dict = {
-        "id": human.agent_id,
+        "id": human.agent_id + first_id,
         "skin": human.skin,
         "behavior": behavior,
         "group_id": human.group_id,
@@ -52,10 +54,11 @@ def fork_agent_entry(human: HumanExport, behavior: int, goal_prefix: str, first_
     return entry
 
 
-def fork_agents_yaml(scene: ExportScene, behaviors: dict[str, int], goal_prefix: str, first_goal: int) -> str:
+def fork_agents_yaml(scene: ExportScene, behaviors: dict[str, int], goal_prefix: str, first_goal: int,
+                     first_id: int = 0) -> str:
     params: dict = {"map": scene.location_name, "publish_people": True, "agents": [h.name for h in scene.humans]}
     for human in scene.humans:
-        params[human.name] = fork_agent_entry(human, behaviors[human.name], goal_prefix, first_goal)
+        params[human.name] = fork_agent_entry(human, behaviors[human.name], goal_prefix, first_goal, first_id)
     return dump_yaml({"hunav_loader": {"ros__parameters": params}})
 
 
@@ -113,3 +116,14 @@ def build_socrates(scene: ExportScene) -> list[ExportedFile]:
         "world_name": scene.location_name})))
     files.append(ExportedFile(path="README.md", text=socrates_readme(scene)))
     return files
+
+
+@register
+class SocratesTarget(ExportTarget):
+    name = "socrates"
+    summary = "the SocRATES fork of HuNavSim (BT.CPP v3, LLMBT_<i>.xml, behavior 7+i, ids from 0)"
+    btcpp = "3.8"
+    first_agent_id = 0
+
+    def build(self, scene: ExportScene, *, base: str, simulator: str) -> list[ExportedFile]:
+        return build_socrates(scene)

@@ -25,7 +25,10 @@ import numpy as np
 from socnavgen.bt.library import leaf_nodes
 from socnavgen.bt.tree import BTDocument
 from socnavgen.errors import ValidationFailed
-from socnavgen.sim import kernels
+from socnavgen.sim import (
+    kernels,
+    nodes_hunav2,  # noqa: F401,E402 - registers the HuNavSim 2.x nodes (hunav2 exports)
+)
 from socnavgen.sim.agents import Crowd, HumanSpec
 from socnavgen.sim.bt_build import build_tree
 from socnavgen.sim.bt_runtime import BehaviorTree

@@ -1,0 +1,114 @@
+"""A run simulated from its socrates trees and from their hunav2 translation (2.x nodes simulated by
+sim.nodes_hunav2) gets the same verification outcome, finding by finding, on every card of every
+bundled location whose trees translate."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from .conformance_helpers import card_scenes
+from .equivalence_helpers import outcomes, relabel, stands_for
+
+
+def test_socrates_and_hunav2_runs_verify_the_same(tmp_path_factory) -> None:  # noqa: ANN001
+    work = Path(tmp_path_factory.mktemp("equivalence"))
+    scenes = card_scenes(str(work / "cards"))
+    compared, refused, different = 0, 0, []
+    for label, scene in scenes:
+        run_dir = work / "cards" / label.replace("/", "__")
+        result = outcomes(run_dir, scene, work / "twins" / label.replace("/", "__"))
+        if result is None:
+            refused += 1
+            continue
+        compared += 1
+        socrates, hunav2 = result
+        if socrates != hunav2:
+            different.append((label, {k: (socrates.get(k), hunav2.get(k)) for k in socrates.keys() | hunav2.keys()
+                                      if socrates.get(k) != hunav2.get(k)}))
+    assert different == []
+    assert compared >= 40 and compared > 4 * refused, (compared, refused)
+
+
+def test_relabel_moves_actions_and_successes_to_the_library_node() -> None:
+    import numpy as np
+
+    from socnavgen.sim.engine import NODE_NAMES
+    from socnavgen.sim.trace import Trace
+
+    tree = ("<root main_tree_to_execute='T'><BehaviorTree ID='T'><Sequence><IsRobotNearby agent_id='{id}' "
+            "distance='2'/><FollowRobot agent_id='{id}' time_step='{dt}'/></Sequence></BehaviorTree></root>")
+    mapping = stands_for(tree)
+    assert mapping == {"IsRobotClose": "IsRobotNearby", "CuriousNav": "FollowRobot"}
+    curious, follow = NODE_NAMES.index("CuriousNav"), NODE_NAMES.index("FollowRobot")
+    close, nearby = NODE_NAMES.index("IsRobotClose"), NODE_NAMES.index("IsRobotNearby")
+    trace = Trace.__new__(Trace)
+    trace.node_names = NODE_NAMES
+    trace.action = np.array([[curious], [-1]], dtype=np.int16)
+    trace.succeeded = np.array([[1 << close], [0]], dtype=np.int64)
+    out = relabel(trace, [mapping])
+    assert out.action[:, 0].tolist() == [follow, -1]
+    assert out.succeeded[0, 0] >> nearby & 1 and not out.succeeded[1, 0]
+
+
+REACTIONS = {
+    "RunAwayFromRobot": '<IsRobotNearby agent_id="{id}" distance="4.0"/>'
+                        '<RunAwayFromRobot agent_id="{id}" time_step="{dt}"/>',
+    "BlockRobot": '<IsRobotVisible agent_id="{id}" distance="6.0"/><BlockRobot agent_id="{id}" time_step="{dt}"/>',
+    "GiveWaytoRobot": '<IsRobotNearby agent_id="{id}" distance="3.0"/>'
+                      '<GiveWaytoRobot agent_id="{id}" time_step="{dt}"/>',
+}
+
+
+def test_reactions_no_card_uses_verify_the_same(tmp_path: Path) -> None:
+    """Translations the cards do not exercise, on a head-on encounter (warehouse frontal-approach)."""
+    import shutil
+
+    from socnavgen.bt.library import regular_nav_sequence
+    from socnavgen.cards.generate import write_card_run
+    from socnavgen.export.scene import build_scene
+    from socnavgen.run import RunFolder
+
+    from .conformance_helpers import ROOT
+
+    location = ROOT / "examples" / "locations" / "warehouse"
+    base = write_card_run("frontal-approach", location, tmp_path / "base")
+    for node, body in REACTIONS.items():
+        run = tmp_path / node
+        shutil.copytree(base.root, run)
+        tree = (f'<root main_tree_to_execute="T"><include path="BTRegularNav.xml"/><BehaviorTree ID="T"><Fallback>'
+                f'<Sequence>{body}</Sequence>{regular_nav_sequence()}</Fallback></BehaviorTree></root>')
+        (RunFolder(run).behaviors_dir / "human1.xml").write_text(tree)
+        scene, _ = build_scene(run, location)
+        result = outcomes(run, scene, tmp_path / f"{node}_twin")
+        assert result is not None
+        socrates, hunav2 = result
+        assert socrates == hunav2, node
+        acted = [k for k in socrates if k.startswith(("human1 executes", "human1 gives way"))]
+        assert acted and all(socrates[k] for k in acted), (node, socrates)  # the reaction really happened
+
+
+def test_follow_human_verifies_the_same(tmp_path: Path) -> None:
+    """FollowHuman -> FollowAgent (stateful, 1-based target id) on a two-person card."""
+    import shutil
+
+    from socnavgen.bt.library import regular_nav_sequence
+    from socnavgen.cards.generate import write_card_run
+    from socnavgen.export.scene import build_scene
+    from socnavgen.run import RunFolder
+
+    from .conformance_helpers import ROOT
+
+    location = ROOT / "examples" / "locations" / "warehouse"
+    run = write_card_run("join-group", location, tmp_path / "run").root
+    body = ('<IsRobotVisible agent_id="{id}" distance="8.0"/>'
+            '<FollowHuman agent_id="{id}" target_id="0" time_step="{dt}"/>')
+    (RunFolder(run).behaviors_dir / "human2.xml").write_text(
+        f'<root main_tree_to_execute="T"><include path="BTRegularNav.xml"/><BehaviorTree ID="T"><Fallback>'
+        f'<Sequence>{body}</Sequence>{regular_nav_sequence()}</Fallback></BehaviorTree></root>')
+    scene, _ = build_scene(run, location)
+    result = outcomes(run, scene, tmp_path / "twin")
+    assert result is not None
+    socrates, hunav2 = result
+    assert socrates == hunav2
+    assert socrates["human2 executes FollowHuman"]
+    shutil.rmtree(tmp_path / "twin")
