@@ -117,7 +117,7 @@ def regular_nav(sim: Any, leaf: Any, i: int) -> int:
     if crowd.paused[i]:
         sim.command_stand(i)
     else:
-        sim.command_walk_goal(i)
+        sim.command_walk_goal(i, v0=crowd.pace[i])
     return SUCCESS
 
 
