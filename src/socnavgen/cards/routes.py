@@ -131,6 +131,8 @@ class RouteBuilder:
                      if path[0] not in starts]
             need = role.min_count or role.count
             picked: list[tuple[list[str], str | None]] = []
+            if role.group and paths:  # a group walks together: every member on the same path, side by side
+                picked = [paths[0]] * role.count
             for path, meets in paths:
                 if path[0] not in {q[0] for q, _ in picked} and len(picked) < role.count:
                     picked.append((path, meets))

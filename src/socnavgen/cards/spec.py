@@ -27,7 +27,7 @@ TEMPLATE_PARTS: dict[str, tuple[str, str, str | None, float | None]] = {
     "follow_robot": ("robot_visible", "follow", None, 6.0),
     "crowd_robot": ("robot_visible", "follow", None, 5.0),
 }
-HIDDEN_UNTIL = 4.0  # m: at a blind corner robot and human see each other only once this close (centres)
+HIDDEN_UNTIL = 5.0  # m: at a blind corner robot and human see each other only once this close (centres)
 GROUP_SPREAD = 2.5  # m: largest distance between two members of a group, the whole run
 _WHEN = {"blocked": "blocked", "near_human": "human_within", "always": "start"}
 

@@ -20,6 +20,7 @@ from socnavgen.sim.robot import DEFAULT_ROBOT, RobotPolicy
 from socnavgen.sim.world import World
 
 SPAWN_SPREAD = 1.5  # m: SocRATES places each human uniformly within 1.5 m of its first node
+GROUP_SPAWN_RADIUS = 0.6  # m: members of a group start this far from their node (0.9-1.2 m apart)
 
 DEFAULT_TREE = regular_walker_xml()
 
@@ -47,11 +48,12 @@ def spawn_points(world: World, first_nodes: list[complex], group_ids: list[int],
             members.setdefault(g, []).append(k)
     out = []
     for k, (node, g) in enumerate(zip(first_nodes, group_ids, strict=True)):
-        if g != -1 and len(members[g]) > 1:
+        if g != -1 and len(members[g]) > 1:  # a group stands together, evenly on a small circle
             angle = members[g].index(k) * 2 * math.pi / len(members[g])
+            rho = GROUP_SPAWN_RADIUS
         else:
             angle = float(rng.uniform(0, 2 * math.pi))
-        rho = float(rng.uniform(0, SPAWN_SPREAD))
+            rho = float(rng.uniform(0, SPAWN_SPREAD))
         point = node
         for attempt in range(12):
             cand = node + rho * (0.7 ** attempt) * complex(math.cos(angle), math.sin(angle))
