@@ -158,7 +158,7 @@ class RouteBuilder:
         """Candidate (path, interaction point) pairs for one role, best first."""
         robot, p = placement.robot, placement.place.node
         i = robot.index(p) if p in robot else len(robot) - 1
-        ahead_of_robot = set(robot[i + 1:])  # where a person must not end up standing
+        ahead_of_robot = set(robot[1:])  # where a person must not end up standing (the robot still has to pass)
         kind = role.role
         if kind == "oncoming":  # starts past the robot's goal: standing on it would block the robot for good
             start = self.beyond(robot)[:1]  # (a route into a room's dead end has no node past its goal)
