@@ -257,6 +257,8 @@ class Simulation:
             self.robot_gesture = self.cues.say
         elif self.gestures is not None:
             self.robot_gesture = self.gestures.gesture(self)
+        elif self.script is not None:
+            self.robot_gesture = 0  # the script's phrase is over
         if self.robot_gesture:
             self.robot_said.add(self.robot_gesture)
 
