@@ -279,7 +279,7 @@ class Simulation:
             for i, j in zip(*np.nonzero(np.triu(overlap > 1e-6)), strict=True):
                 d = pos[i] - pos[j]
                 unit = d / abs(d) if abs(d) > 1e-9 else complex(math.cos(0.7 * (i + 1)), math.sin(0.7 * (j + 1)))
-                depth = radius[i] + radius[j] - abs(d)
+                depth = radius[i] + radius[j] - abs(d) + 1e-4  # just apart: no state exactly on the boundary
                 wi, wj = bool(self.cmd_move[i]), bool(self.cmd_move[j])
                 share_i = 0.5 if wi == wj else (1.0 if wi else 0.0)
                 for k, sign, share in ((i, 1.0, share_i), (j, -1.0, 1.0 - share_i)):
