@@ -202,7 +202,7 @@ class RouteBuilder:
         at a time, so the person is held (SocRATES's interaction-point pause) until the robot is
         through: the meeting node is the first node after the narrow part."""
         robot, card = placement.robot, placement.card
-        past = {"narrow_passage": i + 2}.get(card.place)  # a doorway encounter happens IN the doorway
+        past = {"doorway": i + 1, "narrow_passage": i + 2}.get(card.place)
         if past is not None and past < len(robot):
             return robot[past]
         return placement.place.node
@@ -218,6 +218,8 @@ class RouteBuilder:
         if "behind" in roles and not [n for n in self.g.neighbors(robot[0]) if n not in robot] \
                 and interior and robot.index(place.node) > 1 and len(robot) > 3:
             robot = robot[1:]  # the first node becomes the start of the person behind
+        if "oncoming" in roles and interior and not self.beyond(robot) and self.beyond(robot[::-1]):
+            robot = robot[::-1]  # the far side is a dead end (a room): start there, so the person can come from past the goal
         if roles & {"ahead", "behind", "beside", "oncoming"} and not self.beyond(robot) \
                 and interior and robot.index(place.node) < len(robot) - 2 and len(robot) > 3:
             robot = robot[:-1]  # the last node becomes where the walkers go on to

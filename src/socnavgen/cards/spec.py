@@ -65,8 +65,11 @@ def card_spec(placement: Placement, plan: PathPlan, location: Location) -> Scena
             continue
         enc_id = f"e{len(encounters) + 1}"
         part = _part(h.name, route.role.tree)
-        node_type = str(location.graph.nodes[h.interaction_point].get("type", "") or "INTERACTION POINT")
-        encounters.append(Encounter(id=enc_id, place=node_type, node=h.interaction_point,
+        # the person waits just past a doorway (paths' interaction point), but the encounter is IN the doorway
+        node = placement.place.node if card.place == "doorway" and placement.place.node in plan.robot \
+            else h.interaction_point
+        node_type = str(location.graph.nodes[node].get("type", "") or "INTERACTION POINT")
+        encounters.append(Encounter(id=enc_id, place=node_type, node=node,
                                     robot_does=card.expected_robot_behavior, humans=[part], within=1.0))
         node_encounter.setdefault(h.interaction_point, enc_id)
         if part.trigger == "robot_says" and part.phrase:
