@@ -1,6 +1,7 @@
 """Scenario cards x bundled locations: generated, simulated with the default robot, judged by the strict
 verifier. One row per (location, card): PASS/FAIL, the smallest robot-human gap, the encounter's offset
-from its place (robot-human midpoint at their closest, to the encounter node), and the failing checks.
+from its place (robot-human midpoint while within 2 m, to the encounter node; worst encounter), and the
+failing checks.
 
     python benchmarks/cards_bench.py                 # every card on every bundled location
     python benchmarks/cards_bench.py --robot sfm     # another built-in robot

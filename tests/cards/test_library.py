@@ -10,9 +10,9 @@ import pytest
 
 from socnavgen.bt.validate import validate_bt_text
 from socnavgen.cards.library import all_cards, card_criteria, get_card
+from socnavgen.cards.models import CriterionKind
 from socnavgen.cards.trees import render_template, templates
 from socnavgen.errors import SocnavgenError
-from socnavgen.cards.models import CriterionKind
 
 FRANCIS = ["frontal approach", "pedestrian obstruction", "pedestrian overtaking", "robot overtaking", "down path",
            "intersection no gesture", "intersection wait", "intersection proceed", "blind corner",
