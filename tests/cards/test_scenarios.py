@@ -21,7 +21,6 @@ MEET = 2.0  # m: centre distance that counts as meeting (the verifier's default)
 # (location, card) -> why it does not pass yet (docs/cards.md, "Known failures")
 KNOWN_FAILING: dict[tuple[str, str], str] = {
     ("hospital", "narrow-doorway"): "both sides of the doorway are dead ends: the person waits on the robot's goal",
-    ("hospital", "exiting-elevator"): "the person leaves the elevator lobby before the robot is out",
     ("hospital", "crowd-navigation"): "a crowd held at the lobby entrance blocks the robot's way in",
     ("hospital", "robot-crowding"): "the crowd follows the robot and the meeting drifts 2 m off the node",
     ("warehouse", "narrow-doorway"): "the person waits in the 1 m pinch and the meeting is 2.4 m off it",
@@ -82,3 +81,14 @@ def test_card_spec_states_the_defining_condition(tmp_path: Path, repo_root: Path
     assert obstruction.script.cues[0].trigger.when == "blocked"
     phrase = [c for c in obstruction.criteria if c.kind == "reacts_after_phrase"]
     assert phrase and phrase[0].phrase == "EXCUSE ME" and phrase[0].reaction == "give_way"
+
+
+def test_robot_starts_later_when_its_person_cannot_be_there_in_time(tmp_path: Path, repo_root: Path) -> None:
+    """Pacing both ways: people are slowed down by the throttle; a robot whose encounter node is its second
+    node (leaving an elevator) waits at its start for the person coming from far away."""
+    hospital = repo_root / "examples/locations/hospital"
+    spec = write_card_run("exiting-elevator", hospital, tmp_path / "x").read_spec()
+    waits = [c for c in spec.script.cues if c.trigger.when == "start" and c.wait > 0]
+    assert waits and waits[0].wait > 3.0
+    near = write_card_run("pedestrian-obstruction", hospital, tmp_path / "o").read_spec()
+    assert not [c for c in near.script.cues if c.trigger.when == "start"]  # the person is already there
