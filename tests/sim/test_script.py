@@ -158,3 +158,27 @@ def test_paced_human_meets_the_robot_at_the_node():
     p2 = free.humans[:, 0, 0] + 1j * free.humans[:, 0, 1]
     c2 = np.abs(r2 - p2) <= 2.0
     assert not c2.any() or np.abs((r2 + p2)[c2] / 2 - node).min() > 1.0
+
+
+def test_human_says_cue_and_wait_until_clear():
+    """human1 says WAIT (gesture 1) at once; the robot's cue answers ACKNOWLEDGED and stands still until nobody
+    is in its way; human1 stands in the way for 3 s, then walks off the robot's line."""
+    says_wait = tree_xml('<Fallback><Sequence><Inverter><TimeExpiredCondition seconds="3.0" ts="{dt}" '
+                         'only_once="true"/></Inverter><MakeGesture agent_id="{id}" message="1"/></Sequence>'
+                         '<Sequence><MakeGesture agent_id="{id}" message="0"/>'
+                         '<SubTree ID="RegularNavTree" id="agentid" dt="timestep"/></Sequence></Fallback>')
+    says_wait = says_wait.replace("<Fallback>", '<Sequence><SetBlackboard output_key="agentid" value="{id}"/>'
+                                  '<SetBlackboard output_key="timestep" value="{dt}"/><Fallback>', 1)
+    says_wait = says_wait.replace("</Fallback>\n</BehaviorTree>", "</Fallback></Sequence>\n</BehaviorTree>")
+    script = RobotScript(cues=[RobotCue(trigger=CueTrigger(when="human_says", human="human1", phrase="WAIT"),
+                                        say="ACKNOWLEDGED", hold=1.0, wait_until_clear=True)])
+    person = human(start=(4.5, 5.0), goals=[(4.5, 9.0)])
+    sim = make_sim([person], [says_wait], [(2.0, 5.0), (12.0, 5.0)], policy=ScriptedPolicy(),
+                   script=RobotScriptRunner(script, {}))
+    rows = _run(sim, 200)
+    acknowledged = [t for t, g, _ in rows if g == 3]
+    assert acknowledged and acknowledged[0] < 0.2  # answered at once
+    x = {round(t, 2): p.real for t, _, p in rows}
+    assert x[2.5] == pytest.approx(2.0, abs=0.05)  # stood while human1 was in its way
+    assert x[10.0] > 4.0  # went on once the way was clear
+    assert sim.cues.fired and sim.cues.fired[0][1].startswith("human_says")
