@@ -53,26 +53,25 @@ def test_cli_fails_on_the_broken_scenario(give_way_run: Path) -> None:
 
 
 def test_spec_criteria_on_the_real_simulator(give_way_run: Path) -> None:
-    """spec.json's criteria monitored on a real simulation: the robot saying EXCUSE ME (scripted in paths.json
-    for today's simulator) makes human1 give way after it; without it the reaction criterion fails and only
-    the robot's script is blamed."""
-    from socnavgen.run.spec import Criterion
+    """spec.json's criteria monitored on a real simulation: the default robot plays the script, and its
+    EXCUSE ME makes human1 give way after it; with a script that says nothing the reaction criterion fails and
+    only the robot's script is blamed."""
+    from socnavgen.run.spec import Criterion, RobotScript
 
     from .test_verify_run import _give_way_spec
 
     run = RunFolder(give_way_run)
     spec = _give_way_spec()
-    run.write_spec(spec.model_copy(update={"criteria": [
-        *spec.criteria, Criterion(id="c2", kind="gives_way", human="human1"), Criterion(id="c3", kind="robot_reaches_goal")]}))
+    spec = spec.model_copy(update={"criteria": [
+        *spec.criteria, Criterion(id="c2", kind="gives_way", human="human1"), Criterion(id="c3", kind="robot_reaches_goal")]})
+    run.write_spec(spec.model_copy(update={"script": RobotScript()}))  # a robot that never speaks
     silent = verify_run(give_way_run, simulate_options=FAST)
     assert not silent.passed and silent.spec
-    # the reaction never came, and the meeting at b2 did not happen either (the robot stood stuck behind human1):
+    # they met at b2 (the simulator paces the encounter), but the reaction and the giving way never came:
     # both because the robot never said EXCUSE ME
-    assert {f.criterion for f in silent.failures} == {"c1", "meet_human1_e1"}
+    assert {f.criterion for f in silent.failures} == {"c1", "c2"}
     assert {f.blame for f in silent.failures} == {"robot_script"} and list(silent.blamed()) == ["robot_script"]
-    plan = run.read_paths()
-    plan.robot_gestures = [RobotGestureRule(gesture=4, when="near_human", distance=3.0)]
-    run.write_paths(plan)
+    run.write_spec(spec)  # the script says EXCUSE ME when human1 is within 3.5 m
     (give_way_run / "sim" / "trace.npz").unlink()
     report = verify_run(give_way_run, simulate_options=FAST)
     assert report.passed, report.feedback()
