@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import tempfile
 from pathlib import Path
 from typing import Any, TypeVar
@@ -17,6 +18,43 @@ M = TypeVar("M")
 
 MAX_TEXT_BYTES = 8 * 1024 * 1024  # JSON / YAML / XML a user or a model can hand us
 MAX_IMAGE_BYTES = 64 * 1024 * 1024
+MAX_JSON_DEPTH = 200  # far deeper than any file of ours; json's C parser recurses, deep input crashes it
+MAX_INT_DIGITS = 100  # a coordinate or a count never needs more; Python refuses > 4300 with a ValueError
+
+_JSON_STRING = re.compile(r'"(?:[^"\\]|\\.)*"', re.DOTALL)
+
+
+class JSONLimitError(ValueError):
+    """JSON text breaks a resource limit (nesting depth, integer size)."""
+
+
+def json_depth(text: str) -> int:
+    """Deepest bracket nesting of JSON text, strings ignored (linear time, no recursion)."""
+    import numpy as np
+
+    skeleton = _JSON_STRING.sub("", text).encode("utf-8", "ignore")
+    raw = np.frombuffer(skeleton, dtype=np.uint8)
+    steps = (np.isin(raw, (ord("["), ord("{"))).astype(np.int32)
+             - np.isin(raw, (ord("]"), ord("}"))).astype(np.int32))
+    return int(np.cumsum(steps).max(initial=0))
+
+
+def _bounded_int(literal: str) -> int:
+    if len(literal.lstrip("-")) > MAX_INT_DIGITS:
+        raise JSONLimitError(f"an integer of {len(literal.lstrip('-'))} digits (at most {MAX_INT_DIGITS} allowed)")
+    return int(literal)
+
+
+def parse_json_text(text: str, *, max_depth: int = MAX_JSON_DEPTH) -> Any:
+    """json.loads with limits: nesting deeper than `max_depth` and huge integers raise JSONLimitError
+    (never RecursionError or Python's 4300-digit ValueError); syntax errors raise json.JSONDecodeError."""
+    depth = json_depth(text)
+    if depth > max_depth:
+        raise JSONLimitError(f"JSON nested {depth} levels deep (at most {max_depth} allowed)")
+    try:
+        return json.loads(text, parse_int=_bounded_int)
+    except RecursionError as exc:  # a depth the scan missed (should not happen): still one message
+        raise JSONLimitError("JSON nested too deeply") from exc
 
 
 def read_text_limited(path: Path, limit: int = MAX_TEXT_BYTES) -> str:
@@ -36,16 +74,20 @@ def read_text_limited(path: Path, limit: int = MAX_TEXT_BYTES) -> str:
 def load_json_file(path: Path, limit: int = MAX_TEXT_BYTES) -> Any:
     text = read_text_limited(path, limit)
     try:
-        return json.loads(text)
+        return parse_json_text(text)
     except json.JSONDecodeError as exc:
         raise InputFileError(f"malformed JSON: {exc.msg} (column {exc.colno})", file=path, line=exc.lineno,
                              hint="fix the JSON syntax at that line") from exc
+    except JSONLimitError as exc:
+        raise InputFileError(f"refused: {exc}", file=path, hint="is this the right file?") from exc
 
 
 def load_yaml_file(path: Path, limit: int = MAX_TEXT_BYTES) -> Any:
     text = read_text_limited(path, limit)
     try:
         return yaml.safe_load(text)
+    except RecursionError as exc:
+        raise InputFileError("refused: YAML nested too deeply", file=path, hint="is this the right file?") from exc
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         line = mark.line + 1 if mark is not None else None
