@@ -35,6 +35,7 @@ class Scripted:
     delay: float = 0.0
     drop: bool = False  # close the connection without answering
     raw: bytes | None = None  # body sent as-is (text/html), e.g. what a captive portal answers
+    content_type: str | None = None  # default: text/html for `raw`, application/json otherwise
     drip: float = 0.0  # send the whole response (status line included) one byte every `drip` seconds
 
 
@@ -81,7 +82,7 @@ class FakeOpenAI:
                         self.connection.shutdown(2)
                         return
                     data = item.raw if item.raw is not None else json.dumps(item.body).encode()
-                    kind = "text/html" if item.raw is not None else "application/json"
+                    kind = item.content_type or ("text/html" if item.raw is not None else "application/json")
                     if item.drip:
                         head = (f"HTTP/1.1 {item.status} OK\r\ncontent-type: {kind}\r\n"
                                 f"content-length: {len(data)}\r\n\r\n").encode()

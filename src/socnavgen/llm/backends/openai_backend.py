@@ -194,6 +194,8 @@ class OpenAIBackend(Backend):
         elif mode == "json_object":
             kwargs["response_format"] = {"type": "json_object"}
         response = self._client.chat.completions.create(**kwargs)
+        if isinstance(response, str | bytes):  # the SDK hands back the text of a non-JSON content type
+            raise json.JSONDecodeError("not JSON", str(response)[:100], 0)
         if not getattr(response, "choices", None):
             raise TransientError("the server replied without any choices")
         message = response.choices[0].message
