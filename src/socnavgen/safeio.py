@@ -96,6 +96,16 @@ def load_yaml_file(path: Path, limit: int = MAX_TEXT_BYTES) -> Any:
                              hint="fix the YAML syntax at that line") from exc
 
 
+def check_image_pixels(width: int, height: int, file: Path | str | None = None) -> None:
+    """Refuse an image over the pixel budget from its header, before decoding (a 200 KB PNG can
+    declare 13000 x 13000 px and take gigabytes once decoded)."""
+    from socnavgen.limits import MAX_IMAGE_PIXELS
+
+    if width * height > MAX_IMAGE_PIXELS:
+        raise InputFileError(f"image is {width} x {height} px, more than the {MAX_IMAGE_PIXELS} pixels allowed",
+                             file=file, hint="scale the map down (a few thousand pixels a side is plenty)")
+
+
 def atomic_write_bytes(path: Path, data: bytes) -> None:
     """Write to a temp file in the same folder and rename: a crash never leaves a half file."""
     path = Path(path)

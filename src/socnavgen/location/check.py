@@ -260,7 +260,7 @@ def _check_ids(graph: SceneGraph, lines: _GraphLines, problems: list[Problem]) -
                                     lines.file, line, nodes=[node.id]))
         else:
             seen[node.id] = i
-        if not NODE_ID_PATTERN.match(node.id):
+        if not NODE_ID_PATTERN.fullmatch(node.id):
             problems.append(Problem("error", f"node id {node.id!r} is not 2 lowercase letters or digits",
                                     "use a random 2-character id such as 'k3' (no order, no meaning)",
                                     lines.file, line, nodes=[node.id]))
