@@ -19,7 +19,7 @@ from socnavgen.cli import (
     sim_cmd,
     verify_cmd,
 )
-from socnavgen.cli.common import err_console
+from socnavgen.cli.common import Terminated, err_console, install_signal_handlers, os_error_message
 from socnavgen.errors import SocnavgenError
 
 app = typer.Typer(
@@ -47,11 +47,24 @@ def version() -> None:
 
 def main() -> None:
     """Entry point: user errors become one clear message and exit code 2, never a traceback."""
+    install_signal_handlers()
     try:
         app()
     except SocnavgenError as exc:
-        err_console.print(f"[bold red]error:[/] {exc.render()}", highlight=False)
+        err_console.print(f"[bold red]error:[/] {_redact(exc.render())}", highlight=False)
         sys.exit(2)
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:
         err_console.print("[yellow]interrupted[/]: files already written are complete; re-run to resume")
-        sys.exit(130)
+        sys.exit(143 if isinstance(exc, Terminated) else 130)
+    except OSError as exc:  # disk full, read-only folder, permissions: one message, no traceback
+        err_console.print(f"[bold red]error:[/] {_redact(os_error_message(exc))}", highlight=False)
+        sys.exit(2)
+
+
+def _redact(text: str) -> str:
+    """No key in any form on the terminal; brackets in file names are not rich markup."""
+    from rich.markup import escape
+
+    from socnavgen.llm.redact import redact
+
+    return escape(redact(text))
