@@ -11,6 +11,7 @@ from socnavgen.cli import (
     annotate_cmd,
     bt_cmd,
     cards_cmd,
+    common,
     eval_cmd,
     export_cmd,
     extract_cmd,
@@ -19,7 +20,7 @@ from socnavgen.cli import (
     sim_cmd,
     verify_cmd,
 )
-from socnavgen.cli.common import Terminated, err_console, install_signal_handlers, os_error_message
+from socnavgen.cli.common import err_console, install_signal_handlers, os_error_message
 from socnavgen.errors import SocnavgenError
 
 app = typer.Typer(
@@ -53,12 +54,21 @@ def main() -> None:
     except SocnavgenError as exc:
         err_console.print(f"[bold red]error:[/] {_redact(exc.render())}", highlight=False)
         sys.exit(2)
-    except KeyboardInterrupt as exc:
-        err_console.print("[yellow]interrupted[/]: files already written are complete; re-run to resume")
-        sys.exit(143 if isinstance(exc, Terminated) else 130)
+    except KeyboardInterrupt:
+        _interrupted()
+    except SystemExit as exc:
+        if exc.code == 130:  # typer turns an interrupt (Ctrl+C, or SIGTERM via Terminated) into exit 130
+            _interrupted()
+        raise
     except OSError as exc:  # disk full, read-only folder, permissions: one message, no traceback
         err_console.print(f"[bold red]error:[/] {_redact(os_error_message(exc))}", highlight=False)
         sys.exit(2)
+
+
+def _interrupted() -> None:
+    err_console.print("[yellow]interrupted[/]: files already written are complete; re-run to resume")
+    signum = common.received_signal
+    sys.exit(128 + signum if signum else 130)
 
 
 def _redact(text: str) -> str:

@@ -24,6 +24,9 @@ def progress() -> Progress:
                     MofNCompleteColumn(), TimeElapsedColumn(), console=err_console, transient=False)
 
 
+received_signal: int | None = None
+
+
 class Terminated(KeyboardInterrupt):
     """SIGTERM (a CI cancel, `timeout`, `kill`): unwinds like Ctrl+C, so every `finally` and the run
     folder's manifest handler run and the manifest never stays `running`."""
@@ -34,6 +37,8 @@ def install_signal_handlers() -> None:
     import signal
 
     def handler(signum: int, _frame: object) -> None:
+        global received_signal
+        received_signal = signum  # click re-raises interrupts as new exceptions: main() reads this
         raise Terminated(signal.Signals(signum).name)
 
     for sig in (signal.SIGTERM, signal.SIGHUP):
