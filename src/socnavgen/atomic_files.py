@@ -49,7 +49,8 @@ def write_files_atomically(files: dict[Path, bytes]) -> None:
             staged[path] = _stage(path, data)
         for path in targets:
             backups[path] = _stage(path, path.read_bytes()) if path.is_file() else None
-            os.replace(staged.pop(path), path)
+            os.replace(staged[path], path)
+            del staged[path]
     except BaseException:
         for path, backup in backups.items():  # undo the renames already done
             try:
