@@ -115,3 +115,16 @@ def test_bad_human_name_in_paths_json_is_one_message(run_dir, cli):
 def test_behavior_path_refuses_names_that_are_not_humans(run_dir):
     with pytest.raises(InputFileError):
         RunFolder(run_dir).behavior_path("../../etc/passwd")
+
+
+def test_base_url_credentials_never_reach_request_or_manifest_json(tmp_path):
+    from socnavgen.run import ScenarioRequest
+    from socnavgen.run.models import Manifest
+
+    spec = "openai:gpt-4o@https://bob:hunter2-pw@proxy.example/v1?api-key=AZ-KEY-123&deployment=x"
+    run = RunFolder(tmp_path / "run")
+    run.write_request(ScenarioRequest(location="loc", context="c", task="t", llm=spec))
+    run.write_manifest(Manifest(socnavgen_version="0", created="now", llm=spec))
+    stored = run.request_path.read_text() + run.manifest_path.read_text()
+    assert "hunter2-pw" not in stored and "AZ-KEY-123" not in stored and "bob" not in stored
+    assert "proxy.example/v1" in stored and "deployment=x" in stored
