@@ -65,7 +65,7 @@ class BoundedTransport(httpx.BaseTransport):
         self.inner.close()
 
 
-def run_with_deadline(fn: Callable[[], R], seconds: float, describe: str) -> R:
+def run_with_deadline(fn: Callable[[], R], seconds: float) -> R:
     """Run `fn` in a worker thread and give up after `seconds` (+ grace) with a TransientError.
 
     Covers what the transport cannot: a server that drips its status line and headers. The

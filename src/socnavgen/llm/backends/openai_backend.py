@@ -149,7 +149,7 @@ class OpenAIBackend(Backend):
     def _complete(self, request: Request, timeout: float) -> Completion:
         """One attempt, bounded as a whole: the watchdog stops a reply that drips in forever."""
         self._transport.max_bytes = self.max_reply_bytes
-        return run_with_deadline(lambda: self._complete_once(request, timeout), timeout, self.describe())
+        return run_with_deadline(lambda: self._complete_once(request, timeout), timeout)
 
     def _complete_once(self, request: Request, timeout: float) -> Completion:
         while True:
@@ -195,7 +195,10 @@ class OpenAIBackend(Backend):
             kwargs["response_format"] = {"type": "json_object"}
         response = self._client.chat.completions.create(**kwargs)
         if isinstance(response, str | bytes):  # the SDK hands back the text of a non-JSON content type
-            raise json.JSONDecodeError("not JSON", str(response)[:100], 0)
+            text = response.decode(errors="replace") if isinstance(response, bytes) else response
+            if text.lstrip().startswith("<"):  # an HTML page: a proxy or captive portal, not a flaky server
+                raise json.JSONDecodeError("not JSON", text[:100], 0)
+            raise TransientError("the server replied without any choices")
         if not getattr(response, "choices", None):
             raise TransientError("the server replied without any choices")
         message = response.choices[0].message
