@@ -128,14 +128,14 @@ def test_non_finite_nav2_origin_is_refused(location, cli):
     assert refused_by_check(result, "finite") and no_traceback(result.err)
 
 
-@pytest.mark.parametrize("args", [("verify", "{run}", "--distance", "inf"), ("verify", "{run}", "--distance", "nan"),
-                                  ("verify", "{run}", "--group-fraction", "2"),
+@pytest.mark.parametrize("args", [("verify", "{run}", "--distance", "inf"), ("verify", "{run}", "--distance=nan"),
+                                  ("verify", "{run}", "--passing", "-Infinity"),
                                   ("simulate", "{run}", "--timeout", "inf"), ("simulate", "{run}", "--timeout", "1e9"),
-                                  ("simulate", "{run}", "--timeout", "nan"), ("simulate", "{run}", "--dt", "0")])
+                                  ("simulate", "{run}", "--timeout", "1e999"), ("simulate", "{run}", "--dt", "0")])
 def test_absurd_numbers_on_the_command_line_are_refused(run_dir, cli, args):
     started = time.monotonic()
     result = cli(*(a.format(run=run_dir) for a in args))
-    assert result.code == 2 and "finite number between" in result.err and no_traceback(result.err)
+    assert result.code == 2 and "finite number" in result.err and no_traceback(result.err)
     assert time.monotonic() - started < 5 and not (run_dir / "sim").exists()
 
 

@@ -20,7 +20,7 @@ from socnavgen.cli import (
     sim_cmd,
     verify_cmd,
 )
-from socnavgen.cli.common import err_console, install_signal_handlers, os_error_message
+from socnavgen.cli.common import err_console, install_signal_handlers, non_finite_option, os_error_message
 from socnavgen.errors import SocnavgenError
 
 app = typer.Typer(
@@ -49,6 +49,11 @@ def version() -> None:
 def main() -> None:
     """Entry point: user errors become one clear message and exit code 2, never a traceback."""
     install_signal_handlers()
+    bad = non_finite_option(sys.argv[1:])
+    if bad is not None:
+        err_console.print(f"[bold red]error:[/] {_redact(bad)}: not a finite number\n  -> give an ordinary number "
+                          "(NaN and infinity are refused)", highlight=False)
+        sys.exit(2)
     try:
         app()
     except SocnavgenError as exc:

@@ -75,3 +75,26 @@ def finite_between(low: float, high: float):  # noqa: ANN201 - a typer callback
         return value
 
     return check
+
+
+def non_finite_option(argv: list[str]) -> str | None:
+    """`--option VALUE` (or `--option=VALUE`) whose value reads as NaN or infinity, else None.
+
+    Checked for every command before parsing: a non-finite distance, time or speed never means
+    anything here, and comparisons with NaN silently pass every threshold."""
+    import math
+
+    for i, token in enumerate(argv):
+        if token.startswith("--") and "=" in token:
+            name, value = token.split("=", 1)
+        elif i > 0 and argv[i - 1].startswith("--") and "=" not in argv[i - 1]:
+            name, value = argv[i - 1], token
+        else:
+            continue
+        try:
+            number = float(value)
+        except ValueError:
+            continue
+        if not math.isfinite(number):
+            return f"{name} {value}"
+    return None

@@ -190,29 +190,30 @@ def register(app: typer.Typer) -> None:
 
         if redo and from_run is None:
             raise SocnavgenError("--redo needs --from RUN", hint="e.g. --from runs/x --redo paths")
+        if out or from_run:  # one writer per run folder: a second generate on it is refused, not interleaved
+            RunFolder(out or from_run).hold_lock()
+        if from_run is not None and out is not None and Path(out).resolve() != Path(from_run).resolve():
+            copy_run(from_run, out)
         target = out or from_run
         if target is None:
             raise SocnavgenError("missing --out", hint="name the run folder to write, e.g. --out runs/my_scenario")
-        with RunFolder(target).lock():  # a second generate on the same folder is refused, never interleaved
-            if from_run is not None and out is not None and Path(out).resolve() != Path(from_run).resolve():
-                copy_run(from_run, out)
-            if review and not sys.stdin.isatty():
-                raise SocnavgenError("--review needs an interactive terminal (stdin is not one)",
-                                     hint="run it in a terminal, or leave out --review")
-            if pick > proposals:
-                raise SocnavgenError(f"--pick {pick} but only {proposals} proposal(s) are asked for",
-                                     hint="raise --proposals or lower --pick")
-            request = _request(location, context, task, rough, card, llm, from_run if from_run else None,
-                               proposals=proposals, pick=pick - 1, max_restarts=max_restarts, naive=naive, seed=seed,
-                               temperature=temperature, use_image=not no_image)
-            folder = RunFolder(target)
-            folder.root.mkdir(parents=True, exist_ok=True)
-            model = make_llm(llm, transcript=folder.transcript_path, use_cache=not no_cache, max_parallel=max_parallel,
-                             use_image=not no_image)
-            with progress() as bar:
-                result = generate(request, model, target, redo=set(redo or []) or None,
-                                  review=console_review if review else None, progress=LiveProgress(bar), verify=verify)
-            _summary(result, folder)
-            if verify and result.verify is not None and not result.verify.passed:
-                err_console.print("[red]the verifier still finds problems[/]; see sim/verify.json")
-                raise typer.Exit(1)
+        if review and not sys.stdin.isatty():
+            raise SocnavgenError("--review needs an interactive terminal (stdin is not one)",
+                                 hint="run it in a terminal, or leave out --review")
+        if pick > proposals:
+            raise SocnavgenError(f"--pick {pick} but only {proposals} proposal(s) are asked for",
+                                 hint="raise --proposals or lower --pick")
+        request = _request(location, context, task, rough, card, llm, from_run if from_run else None,
+                           proposals=proposals, pick=pick - 1, max_restarts=max_restarts, naive=naive, seed=seed,
+                           temperature=temperature, use_image=not no_image)
+        folder = RunFolder(target)
+        folder.root.mkdir(parents=True, exist_ok=True)
+        model = make_llm(llm, transcript=folder.transcript_path, use_cache=not no_cache, max_parallel=max_parallel,
+                         use_image=not no_image)
+        with progress() as bar:
+            result = generate(request, model, target, redo=set(redo or []) or None,
+                              review=console_review if review else None, progress=LiveProgress(bar), verify=verify)
+        _summary(result, folder)
+        if verify and result.verify is not None and not result.verify.passed:
+            err_console.print("[red]the verifier still finds problems[/]; see sim/verify.json")
+            raise typer.Exit(1)

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import typer
 
-from socnavgen.cli.common import console, finite_between
+from socnavgen.cli.common import console
 
 
 def register_verify(app: typer.Typer) -> None:
@@ -16,13 +16,13 @@ def register_verify(app: typer.Typer) -> None:
     def verify(
         run: Path = typer.Argument(..., help="Run folder written by `socnavgen generate` (paths.json, behaviors/).",
                                    exists=True, file_okay=False),
-        distance: float = typer.Option(2.5, callback=finite_between(0.01, 100), help="Robot-human centre distance (m) that counts as meeting."),
-        near: float = typer.Option(3.0, callback=finite_between(0, 100), help="How close (m) to the interaction point the meeting must happen."),
-        passing: float = typer.Option(3.0, callback=finite_between(0, 100), help="Robot distance (m) within which GiveWaytoRobot counts as "
+        distance: float = typer.Option(2.5, help="Robot-human centre distance (m) that counts as meeting."),
+        near: float = typer.Option(3.0, help="How close (m) to the interaction point the meeting must happen."),
+        passing: float = typer.Option(3.0, help="Robot distance (m) within which GiveWaytoRobot counts as "
                                                 "giving way while the robot passes."),
-        group_spread: float = typer.Option(3.0, callback=finite_between(0, 100), help="Largest distance (m) between group members that still "
+        group_spread: float = typer.Option(3.0, help="Largest distance (m) between group members that still "
                                                      "counts as together."),
-        group_fraction: float = typer.Option(0.8, callback=finite_between(0, 1), help="Share of the run a group must stay together (0-1)."),
+        group_fraction: float = typer.Option(0.8, help="Share of the run a group must stay together (0-1)."),
         location: Path | None = typer.Option(None, help="Location folder, if request.json's path does not "
                                                         "resolve from here."),
         simulate: bool = typer.Option(True, help="Run the simulator first when RUN/sim/trace.npz is missing."),

@@ -35,7 +35,6 @@ from socnavgen.proposal.path_checks import to_path_plan
 from socnavgen.proposal.review import ReviewHook
 from socnavgen.proposal.templates import render
 from socnavgen.run import Manifest, PathPlan, RunFolder, ScenarioProposal, ScenarioRequest
-from socnavgen.run.folder import LOCK_FILE
 from socnavgen.safeio import atomic_write_json
 
 STAGES = ("scenario", "paths", "behaviors")
@@ -70,10 +69,10 @@ def copy_run(source: Path, out: Path) -> None:
     source, out = Path(source), Path(out)
     if not (source / "request.json").is_file():
         raise SocnavgenError("not a run folder (no request.json)", file=source, hint="give the --out of an earlier run")
-    if out.exists() and any(p.name != LOCK_FILE for p in out.iterdir()):  # our own lock may be there
+    if out.exists() and any(out.iterdir()):
         raise SocnavgenError("the --out folder already exists and is not empty", file=out,
                              hint="choose a new --out, or omit it to regenerate in place")
-    shutil.copytree(source, out, ignore=shutil.ignore_patterns("sim", ".*.tmp", LOCK_FILE), dirs_exist_ok=True)
+    shutil.copytree(source, out, ignore=shutil.ignore_patterns("sim", ".*.tmp"), dirs_exist_ok=True)
 
 
 def _clear(run: RunFolder, stages: set[str], manifest: Manifest) -> None:

@@ -3,7 +3,7 @@ paths.json, behaviors/<human>.xml, transcript.jsonl, manifest.json, sim/).
 
 Every read goes through `contained_path`, so a symlink (a file, or the behaviors/ folder) that
 leads out of the run folder is refused instead of followed. `lock()` makes one process the only
-writer of a run folder at a time.
+writer of a run folder at a time (the lock file sits beside the folder: RUN/../.RUN.socnavgen-lock).
 """
 
 from __future__ import annotations
@@ -24,7 +24,8 @@ from socnavgen.run.spec import ScenarioSpec
 from socnavgen.safeio import atomic_write_text, contained_path, load_model_file, read_text_limited
 
 M = TypeVar("M", bound=BaseModel)
-LOCK_FILE = ".socnavgen.lock"
+LOCK_SUFFIX = ".socnavgen-lock"
+_HELD: dict[str, int] = {}  # lock file -> descriptor, for locks held until the process ends
 
 
 @dataclass
@@ -79,27 +80,44 @@ class RunFolder:
         return contained_path(self.root, f"behaviors/{human}.xml")
 
     # -- locking -----------------------------------------------------------------------------
+    @property
+    def lock_path(self) -> Path:
+        """Beside the folder, not in it: copies and listings of the run never see it."""
+        root = self.root.resolve()
+        return root.parent / f".{root.name}{LOCK_SUFFIX}"
+
     @contextlib.contextmanager
     def lock(self) -> Iterator[None]:
         """Hold the run folder for this process; a second writer is refused at once (never waits).
 
-        An advisory flock on RUN/.socnavgen.lock: released by the kernel when the process dies, so a
-        crash never leaves a stale lock behind."""
-        self.root.mkdir(parents=True, exist_ok=True)
-        path = self.root / LOCK_FILE
-        fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
+        An advisory flock: the kernel releases it when the process dies, so a crash never leaves a
+        stale lock behind."""
+        fd = self._acquire()
         try:
-            try:
-                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-            except BlockingIOError:
-                holder = os.pread(fd, 32, 0).decode(errors="replace").strip() or "?"
-                raise SocnavgenError(f"run folder {self.root} is in use by another socnavgen process (pid {holder})",
-                                     hint="wait for it to finish, or write to another --out") from None
-            os.ftruncate(fd, 0)
-            os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
             yield
         finally:
             os.close(fd)  # closing releases the lock
+
+    def hold_lock(self) -> None:
+        """`lock()` for the rest of this process (a CLI command): released when the process ends.
+        Idempotent within a process, so a program (or a test) may run several commands on one folder."""
+        key = str(self.lock_path)
+        if key not in _HELD:
+            _HELD[key] = self._acquire()
+
+    def _acquire(self) -> int:
+        self.root.parent.resolve().mkdir(parents=True, exist_ok=True)
+        fd = os.open(self.lock_path, os.O_RDWR | os.O_CREAT, 0o644)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            holder = os.pread(fd, 32, 0).decode(errors="replace").strip() or "?"
+            os.close(fd)
+            raise SocnavgenError(f"run folder {self.root} is in use by another socnavgen process (pid {holder})",
+                                 hint="wait for it to finish, or write to another --out") from None
+        os.ftruncate(fd, 0)
+        os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
+        return fd
 
     # -- typed access ------------------------------------------------------------------------
     def _read(self, path: Path, model: type[M]) -> M:
