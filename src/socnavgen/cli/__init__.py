@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import sys
-
 import typer
 
 from socnavgen import __version__
@@ -11,7 +9,6 @@ from socnavgen.cli import (
     annotate_cmd,
     bt_cmd,
     cards_cmd,
-    common,
     eval_cmd,
     export_cmd,
     extract_cmd,
@@ -20,8 +17,6 @@ from socnavgen.cli import (
     sim_cmd,
     verify_cmd,
 )
-from socnavgen.cli.common import err_console, install_signal_handlers, non_finite_option, os_error_message
-from socnavgen.errors import SocnavgenError
 
 app = typer.Typer(
     name="socnavgen",
@@ -48,38 +43,6 @@ def version() -> None:
 
 def main() -> None:
     """Entry point: user errors become one clear message and exit code 2, never a traceback."""
-    install_signal_handlers()
-    bad = non_finite_option(sys.argv[1:])
-    if bad is not None:
-        err_console.print(f"[bold red]error:[/] {_redact(bad)}: not a finite number\n  -> give an ordinary number "
-                          "(NaN and infinity are refused)", highlight=False)
-        sys.exit(2)
-    try:
-        app()
-    except SocnavgenError as exc:
-        err_console.print(f"[bold red]error:[/] {_redact(exc.render())}", highlight=False)
-        sys.exit(2)
-    except KeyboardInterrupt:
-        _interrupted()
-    except SystemExit as exc:
-        if exc.code == 130:  # typer turns an interrupt (Ctrl+C, or SIGTERM via Terminated) into exit 130
-            _interrupted()
-        raise
-    except OSError as exc:  # disk full, read-only folder, permissions: one message, no traceback
-        err_console.print(f"[bold red]error:[/] {_redact(os_error_message(exc))}", highlight=False)
-        sys.exit(2)
+    from socnavgen.cli.guard import run_guarded  # signals, OSError, NaN options, redacted messages
 
-
-def _interrupted() -> None:
-    err_console.print("[yellow]interrupted[/]: files already written are complete; re-run to resume")
-    signum = common.received_signal
-    sys.exit(128 + signum if signum else 130)
-
-
-def _redact(text: str) -> str:
-    """No key in any form on the terminal; brackets in file names are not rich markup."""
-    from rich.markup import escape
-
-    from socnavgen.llm.redact import redact
-
-    return escape(redact(text))
+    run_guarded(app)

@@ -31,7 +31,7 @@ from socnavgen.location.location import (
     load_location,
 )
 from socnavgen.location.models import NODE_ID_PATTERN, SceneGraph
-from socnavgen.safeio import contained_path, load_json_file, read_text_limited
+from socnavgen.safeio import load_json_file, read_text_limited
 
 Level = Literal["error", "warning"]
 
@@ -192,6 +192,8 @@ def _load_graph(path: Path, problems: list[Problem]) -> SceneGraph | None:
         problems.append(Problem("error", f"{SCENE_GRAPH_FILE} is missing",
                                 "draw one with `socnavgen annotate` or `socnavgen location extract`", str(path)))
         return None
+    from socnavgen.safeio import contained_path  # (kept out of the module imports: fewer merge conflicts)
+
     try:
         data = load_json_file(contained_path(path.parent, path.name))  # a symlink may not leave the folder
     except SocnavgenError as exc:
