@@ -128,3 +128,15 @@ def test_base_url_credentials_never_reach_request_or_manifest_json(tmp_path):
     stored = run.request_path.read_text() + run.manifest_path.read_text()
     assert "hunter2-pw" not in stored and "AZ-KEY-123" not in stored and "bob" not in stored
     assert "proxy.example/v1" in stored and "deployment=x" in stored
+
+
+def test_no_key_in_any_form_reaches_the_terminal_or_the_run_folder(tmp_path, cli, location, monkeypatch):
+    monkeypatch.setenv("OPENAI_API_KEY", "sk-terminal-KEY-0123456789 \r")
+    out = tmp_path / "run"
+    result = cli("generate", "--location", location, "--context", "c", "--task", "t", "--no-image", "--out", out,
+                 "--llm", "openai:m@http://alice:pw-Secret9@127.0.0.1:9/v1?api-key=AZ-777")  # nothing listens
+    assert result.code == 2 and "cannot connect" in result.err and no_traceback(result.err)
+    shown = result.out + result.err + "".join(p.read_text() for p in out.rglob("*") if p.is_file())
+    for secret in ("sk-terminal-KEY-0123456789", "pw-Secret9", "AZ-777"):
+        assert secret not in shown
+    assert json.loads((out / "manifest.json").read_text())["status"] == "failed"
