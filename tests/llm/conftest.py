@@ -37,6 +37,7 @@ class Scripted:
     raw: bytes | None = None  # body sent as-is (text/html), e.g. what a captive portal answers
     content_type: str | None = None  # default: text/html for `raw`, application/json otherwise
     drip: float = 0.0  # send the whole response (status line included) one byte every `drip` seconds
+    drip_body_only: bool = False  # with `drip`: status line and headers at once, only the body dripped
 
 
 def ok(content: str, **kw: Any) -> Scripted:
@@ -86,6 +87,10 @@ class FakeOpenAI:
                     if item.drip:
                         head = (f"HTTP/1.1 {item.status} OK\r\ncontent-type: {kind}\r\n"
                                 f"content-length: {len(data)}\r\n\r\n").encode()
+                        if item.drip_body_only:
+                            self.wfile.write(head)
+                            self.wfile.flush()
+                            head = b""
                         for i, byte in enumerate(head + data):
                             if fake.stopped.is_set() or i > 200:
                                 break

@@ -136,7 +136,7 @@ def test_absurd_numbers_on_the_command_line_are_refused(run_dir, cli, args):
     started = time.monotonic()
     result = cli(*(a.format(run=run_dir) for a in args))
     assert result.code == 2 and "finite number" in result.err and no_traceback(result.err)
-    assert time.monotonic() - started < 5 and not (run_dir / "sim").exists()
+    assert time.monotonic() - started < 15 and not (run_dir / "sim").exists()
 
 
 def test_a_step_count_beyond_the_cap_is_refused(run_dir, cli):
@@ -151,7 +151,7 @@ def test_more_humans_than_the_cap_are_refused(run_dir, cli):
     started = time.monotonic()
     result = cli("simulate", run_dir, "--timeout", "10")
     assert result.code == 2 and "humans" in result.err and no_traceback(result.err)
-    assert time.monotonic() - started < 10
+    assert time.monotonic() - started < 20  # 10,000 humans would run for many minutes
 
 
 # ---- deep JSON, huge integers, huge images ----------------------------------------------------
@@ -188,7 +188,7 @@ def test_images_over_the_pixel_budget_are_refused_before_decoding(location, cli)
     started = time.monotonic()
     result = cli("location", "check", location)
     assert refused_by_check(result, "image is 13000 x") and "huge.png" in result.out and no_traceback(result.err)
-    assert time.monotonic() - started < 5
+    assert time.monotonic() - started < 15  # decoding would take seconds and gigabytes
 
 
 # ---- malformed and hostile traces -------------------------------------------------------------
