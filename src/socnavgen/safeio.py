@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import tempfile
 from pathlib import Path
 from typing import Any, TypeVar
@@ -37,16 +38,20 @@ def read_text_limited(path: Path, limit: int = MAX_TEXT_BYTES) -> str:
 def load_json_file(path: Path, limit: int = MAX_TEXT_BYTES) -> Any:
     text = read_text_limited(path, limit)
     try:
-        return json.loads(text)
+        return parse_json_text(text)
     except json.JSONDecodeError as exc:
         raise InputFileError(f"malformed JSON: {exc.msg} (column {exc.colno})", file=path, line=exc.lineno,
                              hint="fix the JSON syntax at that line") from exc
+    except JSONLimitError as exc:
+        raise InputFileError(f"refused: {exc}", file=path, hint="is this the right file?") from exc
 
 
 def load_yaml_file(path: Path, limit: int = MAX_TEXT_BYTES) -> Any:
     text = read_text_limited(path, limit)
     try:
         return yaml.safe_load(text)
+    except RecursionError as exc:
+        raise InputFileError("refused: YAML nested too deeply", file=path, hint="is this the right file?") from exc
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         line = mark.line + 1 if mark is not None else None
@@ -114,3 +119,53 @@ def load_model_file(path: Path, model: type[M], *, hint: str | None = None) -> M
         first = exc.errors()[0]
         where = ".".join(str(p) for p in first["loc"]) or "(top level)"
         raise InputFileError(f"{where}: {first['msg']}", file=path, hint=hint) from exc
+
+
+# ---- limits on what JSON and images may ask of us -----------------------------------------------
+MAX_JSON_DEPTH = 200  # far deeper than any file of ours; json's C parser recurses, deep input crashes it
+MAX_INT_DIGITS = 100  # a coordinate or a count never needs more; Python refuses > 4300 with a ValueError
+
+_JSON_STRING = re.compile(r'"(?:[^"\\]|\\.)*"', re.DOTALL)
+
+
+class JSONLimitError(ValueError):
+    """JSON text breaks a resource limit (nesting depth, integer size)."""
+
+
+def json_depth(text: str) -> int:
+    """Deepest bracket nesting of JSON text, strings ignored (linear time, no recursion)."""
+    import numpy as np
+
+    skeleton = _JSON_STRING.sub("", text).encode("utf-8", "ignore")
+    raw = np.frombuffer(skeleton, dtype=np.uint8)
+    steps = (np.isin(raw, (ord("["), ord("{"))).astype(np.int32)
+             - np.isin(raw, (ord("]"), ord("}"))).astype(np.int32))
+    return int(np.cumsum(steps).max(initial=0))
+
+
+def _bounded_int(literal: str) -> int:
+    if len(literal.lstrip("-")) > MAX_INT_DIGITS:
+        raise JSONLimitError(f"an integer of {len(literal.lstrip('-'))} digits (at most {MAX_INT_DIGITS} allowed)")
+    return int(literal)
+
+
+def parse_json_text(text: str, *, max_depth: int = MAX_JSON_DEPTH) -> Any:
+    """json.loads with limits: nesting deeper than `max_depth` and huge integers raise JSONLimitError
+    (never RecursionError or Python's 4300-digit ValueError); syntax errors raise json.JSONDecodeError."""
+    depth = json_depth(text)
+    if depth > max_depth:
+        raise JSONLimitError(f"JSON nested {depth} levels deep (at most {max_depth} allowed)")
+    try:
+        return json.loads(text, parse_int=_bounded_int)
+    except RecursionError as exc:  # a depth the scan missed (should not happen): still one message
+        raise JSONLimitError("JSON nested too deeply") from exc
+
+
+def check_image_pixels(width: int, height: int, file: Path | str | None = None) -> None:
+    """Refuse an image over the pixel budget from its header, before decoding (a 200 KB PNG can
+    declare 13000 x 13000 px and take gigabytes once decoded)."""
+    from socnavgen.limits import MAX_IMAGE_PIXELS
+
+    if width * height > MAX_IMAGE_PIXELS:
+        raise InputFileError(f"image is {width} x {height} px, more than the {MAX_IMAGE_PIXELS} pixels allowed",
+                             file=file, hint="scale the map down (a few thousand pixels a side is plenty)")

@@ -34,6 +34,10 @@ class Scripted:
     headers: dict[str, str] = field(default_factory=dict)
     delay: float = 0.0
     drop: bool = False  # close the connection without answering
+    raw: bytes | None = None  # body sent as-is (text/html), e.g. what a captive portal answers
+    content_type: str | None = None  # default: text/html for `raw`, application/json otherwise
+    drip: float = 0.0  # send the whole response (status line included) one byte every `drip` seconds
+    drip_body_only: bool = False  # with `drip`: status line and headers at once, only the body dripped
 
 
 def ok(content: str, **kw: Any) -> Scripted:
@@ -51,6 +55,7 @@ class FakeOpenAI:
         self.requests: list[dict[str, Any]] = []
         self.in_flight = 0
         self.max_in_flight = 0
+        self.stopped = threading.Event()
         self._lock = threading.Lock()
         fake = self
 
@@ -77,9 +82,25 @@ class FakeOpenAI:
                         self.close_connection = True
                         self.connection.shutdown(2)
                         return
-                    data = json.dumps(item.body).encode()
+                    data = item.raw if item.raw is not None else json.dumps(item.body).encode()
+                    kind = item.content_type or ("text/html" if item.raw is not None else "application/json")
+                    if item.drip:
+                        head = (f"HTTP/1.1 {item.status} OK\r\ncontent-type: {kind}\r\n"
+                                f"content-length: {len(data)}\r\n\r\n").encode()
+                        if item.drip_body_only:
+                            self.wfile.write(head)
+                            self.wfile.flush()
+                            head = b""
+                        for i, byte in enumerate(head + data):
+                            if fake.stopped.is_set() or i > 200:
+                                break
+                            self.wfile.write(bytes([byte]))
+                            self.wfile.flush()
+                            fake.stopped.wait(item.drip)
+                        self.close_connection = True
+                        return
                     self.send_response(item.status)
-                    self.send_header("content-type", "application/json")
+                    self.send_header("content-type", kind)
                     self.send_header("content-length", str(len(data)))
                     for name, value in item.headers.items():
                         self.send_header(name, value)
@@ -108,6 +129,7 @@ class FakeOpenAI:
         self.script.extend(items)
 
     def close(self) -> None:
+        self.stopped.set()
         self.server.shutdown()
         self.server.server_close()
 

@@ -22,6 +22,7 @@ from socnavgen.annotate import assist
 from socnavgen.annotate.models import SavePayload
 from socnavgen.annotate.store import AnnotationStore, SaveRejected
 from socnavgen.errors import SocnavgenError
+from socnavgen.safeio import JSONLimitError, parse_json_text
 
 MAX_BODY_BYTES = 4 * 1024 * 1024  # a full 1296-node graph is ~150 kB
 MAX_MAP_UPLOAD_BYTES = 16 * 1024 * 1024
@@ -56,7 +57,9 @@ async def read_json_body(request: Request, limit: int = MAX_BODY_BYTES) -> Any:
     """The request body as JSON, refusing non-JSON, cross-site and oversized requests before parsing."""
     data = await read_body(request, ("application/json",), limit)
     try:
-        return json.loads(data.decode("utf-8"))
+        return parse_json_text(data.decode("utf-8"))  # depth and integer limits: never a RecursionError
+    except JSONLimitError as exc:
+        raise RequestRefused(413, f"body refused: {exc}") from exc
     except (UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise RequestRefused(400, f"body is not valid JSON: {exc}") from exc
 

@@ -1,6 +1,6 @@
 """The annotator's view of one location folder: what the page shows, and a save that validates
-everything first and only then replaces files atomically (keeping a .bak), so a failed save never
-loses the previous scene graph."""
+everything first and only then replaces all its files in one transaction (keeping a .bak), so a
+failed save leaves every file as it was."""
 
 from __future__ import annotations
 
@@ -15,7 +15,9 @@ import yaml
 from PIL import Image
 
 from socnavgen.annotate.models import SavePayload
+from socnavgen.atomic_files import write_files_atomically
 from socnavgen.errors import InputFileError, SocnavgenError
+from socnavgen.limits import MAX_IMAGE_PIXELS
 from socnavgen.location.location import (
     LOCATION_FILE,
     SCENE_GRAPH_FILE,
@@ -25,7 +27,7 @@ from socnavgen.location.location import (
 )
 from socnavgen.location.models import Edge, LocationConfig, Node, SceneGraph, Schema
 from socnavgen.location.scene_graph import scene_graph_json
-from socnavgen.safeio import MAX_IMAGE_BYTES, atomic_write_bytes, atomic_write_text, load_yaml_file
+from socnavgen.safeio import MAX_IMAGE_BYTES, atomic_write_bytes, check_image_pixels, load_yaml_file
 
 BACKUP_SUFFIX = ".bak"
 
@@ -76,6 +78,7 @@ class AnnotationStore:
             if path.stat().st_size > MAX_IMAGE_BYTES:
                 raise InputFileError("map image is too large", file=path)
             with Image.open(path) as img:
+                check_image_pixels(*img.size, file=path)
                 rgb = img.convert("RGB")
             buf = io.BytesIO()
             rgb.save(buf, format="PNG")
@@ -136,12 +139,12 @@ class AnnotationStore:
             json_text = scene_graph_json(graph)
             yaml_text = self._location_yaml_with(schema) if schema != self.location.schema else None
 
+            files: dict[Path, bytes] = {}
             if yaml_text is not None:
-                _backup(self.root / LOCATION_FILE)
-                atomic_write_text(self.root / LOCATION_FILE, yaml_text)
-            _backup(self.root / SCENE_GRAPH_FILE)
-            atomic_write_text(self.root / SCENE_GRAPH_FILE, json_text)
-            atomic_write_bytes(self.root / SCENE_GRAPH_IMAGE, png)
+                files.update(_with_backup(self.root / LOCATION_FILE, yaml_text.encode("utf-8")))
+            files.update(_with_backup(self.root / SCENE_GRAPH_FILE, json_text.encode("utf-8")))
+            files[self.root / SCENE_GRAPH_IMAGE] = png
+            write_files_atomically(files)  # every file replaced, or none (then the old ones are all kept)
             self.location = load_location(self.root)
             return {"saved": [LOCATION_FILE] * (yaml_text is not None) + [SCENE_GRAPH_FILE, SCENE_GRAPH_IMAGE],
                     "nodes": len(graph.nodes), "links": len(graph.links), "warnings": self.warnings()}
@@ -177,7 +180,7 @@ class AnnotationStore:
             return None
 
 
-MAX_UPLOAD_PIXELS = 50_000_000
+MAX_UPLOAD_PIXELS = MAX_IMAGE_PIXELS
 
 
 def decode_map_upload(data: bytes, expected_size: tuple[int, int]) -> Image.Image:
@@ -219,6 +222,14 @@ def _with_graph(location: Location, graph: SceneGraph, schema: Schema | None) ->
             copy.__dict__[cached] = location.__dict__[cached]
     copy.__dict__["scene_graph"] = graph
     return copy
+
+
+def _with_backup(path: Path, data: bytes) -> dict[Path, bytes]:
+    """`path` -> new bytes, and its .bak -> the current bytes (when it exists), for one transaction."""
+    files = {path: data}
+    if path.is_file():
+        files[path.with_name(path.name + BACKUP_SUFFIX)] = path.read_bytes()
+    return files
 
 
 def _backup(path: Path) -> None:

@@ -6,7 +6,6 @@ command from the short help below without importing numpy, networkx or the simul
 from __future__ import annotations
 
 import importlib
-import sys
 from collections.abc import Callable
 from functools import cache
 
@@ -112,17 +111,6 @@ def version() -> None:
 
 def main() -> None:
     """Entry point: user errors become one clear message and exit code 2, never a traceback."""
-    from socnavgen.errors import SocnavgenError
+    from socnavgen.cli.guard import run_guarded  # signals, OSError, NaN options, redacted messages
 
-    try:
-        app()
-    except SocnavgenError as exc:
-        from socnavgen.cli.common import err_console
-
-        err_console.print(f"[bold red]error:[/] {exc.render()}", highlight=False)
-        sys.exit(2)
-    except KeyboardInterrupt:
-        from socnavgen.cli.common import err_console
-
-        err_console.print("[yellow]interrupted[/]: files already written are complete; re-run to resume")
-        sys.exit(130)
+    run_guarded(app)

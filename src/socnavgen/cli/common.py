@@ -30,3 +30,17 @@ def progress() -> Progress:
     """Progress bar used by every long command (hidden when output is not a terminal)."""
     return Progress(SpinnerColumn(), TextColumn("[progress.description]{task.description}"), BarColumn(),
                     MofNCompleteColumn(), TimeElapsedColumn(), console=err_console, transient=False)
+
+
+def finite_between(low: float, high: float):  # noqa: ANN201 - a typer callback
+    """Typer callback refusing NaN, infinity and values outside [low, high] (click's ranges let NaN pass)."""
+    import math
+
+    import typer
+
+    def check(value: float | None) -> float | None:
+        if value is not None and not (math.isfinite(value) and low <= value <= high):
+            raise typer.BadParameter(f"{value} is not a finite number between {low:g} and {high:g}")
+        return value
+
+    return check

@@ -28,6 +28,8 @@ def register(app: typer.Typer) -> None:
                                         help="hunav2: yaml_base_name (default socnavgen_<run folder name>)"),
         simulator: str = typer.Option("Gazebo Classic", "--simulator",
                                       help="hunav2: Gazebo Classic, Gazebo Fortress, Isaac Sim or Webots"),
+        force: bool = typer.Option(False, "--force", help="replace the content of a non-empty output folder that "
+                                   "an earlier export did not write"),
     ) -> None:
         """Write the agents yaml, behavior trees, robot waypoints and a README telling where they go.
 
@@ -37,7 +39,8 @@ def register(app: typer.Typer) -> None:
         """
         if fmt not in FORMATS:
             raise ValidationFailed(f"unknown --format {fmt!r}", hint="one of: " + ", ".join(FORMATS))
-        result = export_run(run, fmt, out, location_dir=location, base=name, simulator=simulator)  # type: ignore[arg-type]
+        result = export_run(run, fmt, out, location_dir=location, base=name, simulator=simulator,  # type: ignore[arg-type]
+                            force=force)
         console.print(f"[green]exported[/] {run} as [bold]{fmt}[/] to {out}:")
         for f in result.files:
             console.print(f"  {f}")

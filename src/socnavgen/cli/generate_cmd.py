@@ -221,6 +221,8 @@ def register(app: typer.Typer) -> None:
         # the model is built (spec parsed, key read from the environment) before the run folder exists
         model = make_llm(llm, transcript=folder.transcript_path, use_cache=not no_cache, max_parallel=max_parallel,
                          use_image=not no_image, deadline=deadline)
+        # one writer per run folder: a second generate on it is refused, not interleaved
+        folder.hold_lock()
         if from_run is not None:
             if out is not None and Path(out).resolve() != Path(from_run).resolve():
                 copy_run(from_run, out)

@@ -8,7 +8,9 @@ from pathlib import Path
 
 import typer
 
-from socnavgen.cli.common import console, progress
+from socnavgen.cli.common import console, finite_between, progress
+from socnavgen.errors import SocnavgenError
+from socnavgen.limits import MAX_SIM_SECONDS, MAX_SIM_STEPS
 
 
 def simulate(
@@ -19,8 +21,9 @@ def simulate(
                               "teleoperated robot), `sfm` (a social-force robot), `straight` (a deliberately rude "
                               "robot that drives through people), or your own policy as `package.module:Class` or "
                               "`path/to/file.py:Class` (the RobotPolicy protocol is described in docs/simulator.md)."),
-    dt: float = typer.Option(0.05, "--dt", min=0.001, max=0.5, help="Fixed time step in seconds."),
-    timeout: float = typer.Option(120.0, "--timeout", min=0.1, help="Stop after this many simulated seconds."),
+    dt: float = typer.Option(0.05, "--dt", callback=finite_between(0.001, 0.5), help="Fixed time step in seconds."),
+    timeout: float = typer.Option(120.0, "--timeout", callback=finite_between(0.1, MAX_SIM_SECONDS),
+                                  help=f"Stop after this many simulated seconds (at most {MAX_SIM_SECONDS:g})."),
     seed: int = typer.Option(0, "--seed", help="Seed of the only randomness (spawn offsets): same seed, same run."),
     gif: bool = typer.Option(False, "--gif", help="Also write RUN/sim/animation.gif."),
     no_throttle: bool = typer.Option(False, "--no-throttle", help="Do not hold humans back at the node before their "
@@ -41,6 +44,9 @@ def simulate(
     from socnavgen.sim.robot import load_policy
     from socnavgen.sim.scenario import load_simulation
 
+    if timeout / dt > MAX_SIM_STEPS:
+        raise SocnavgenError(f"--timeout {timeout:g} at --dt {dt:g} is {timeout / dt:.0f} steps, more than the "
+                             f"{MAX_SIM_STEPS} allowed", hint="raise --dt or lower --timeout")
     policy = load_policy(robot)
     config = SimConfig(dt=dt, timeout=timeout, seed=seed)
     loaded = RunFolder(run).location(location)

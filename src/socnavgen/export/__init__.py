@@ -17,11 +17,11 @@ def build_files(scene: ExportScene, fmt: ExportFormat, *, base: str | None = Non
 
 
 def export_run(run_dir: Path | str, fmt: ExportFormat, out_dir: Path | str, *, location_dir: Path | str | None = None,
-               base: str | None = None, simulator: str = "Gazebo Classic") -> ExportResult:
+               base: str | None = None, simulator: str = "Gazebo Classic", force: bool = False) -> ExportResult:
     """Read the run, build every file of `fmt`, then write them atomically under out_dir."""
     scene, _ = build_scene(run_dir, location_dir)
     files = build_files(scene, fmt, base=base, simulator=simulator)
-    written = write_export(out_dir, files)
+    written = write_export(out_dir, files, force=force)
     out = Path(out_dir)
     return ExportResult(format=fmt, out_dir=str(out),
                         files=[str(p.relative_to(out.resolve())) for p in written])

@@ -1,5 +1,5 @@
 """Serialising export output: YAML the ROS 2 loaders read, BT XML from parsed elements, and the
-atomic, contained write of a whole export (nothing is written until every file is ready)."""
+all-or-nothing, contained write of a whole export (the old folder or the new one, never a mix)."""
 
 from __future__ import annotations
 
@@ -8,6 +8,7 @@ from xml.sax.saxutils import escape, quoteattr
 
 import yaml
 
+from socnavgen.atomic_files import replace_folder
 from socnavgen.bt.tree import BTElement
 from socnavgen.errors import InputFileError
 from socnavgen.export.models import ExportedFile, RobotExport
@@ -46,13 +47,20 @@ def robot_poses_yaml(robot: RobotExport) -> str:
     return dump_yaml(data)
 
 
-def write_export(out_dir: Path | str, files: list[ExportedFile]) -> list[Path]:
-    """Write every file under out_dir atomically; refuse any path that would leave it."""
+def write_export(out_dir: Path | str, files: list[ExportedFile], *, force: bool = False) -> list[Path]:
+    """Write the whole export or nothing: every path is checked first, the files are written into a
+    temp folder beside out_dir, and that folder replaces out_dir in one rename (see atomic_files)."""
     out = Path(out_dir)
     if out.exists() and not out.is_dir():
         raise InputFileError("the output path exists and is not a folder", file=out, hint="choose a folder with -o")
-    targets = [contained_path(out, f.path) for f in files]  # all checked before anything is written
-    out.mkdir(parents=True, exist_ok=True)
-    for f, target in zip(files, targets, strict=True):
-        atomic_write_text(target, f.text)
-    return targets
+    relative = [contained_path(out, f.path).relative_to(out.resolve()) for f in files]  # all checked first
+    clashes = sorted({str(r) for r in relative if any(str(o).startswith(str(r) + "/") for o in relative)})
+    if clashes:
+        raise InputFileError(f"export paths clash: {', '.join(clashes)} is both a file and a folder", file=out)
+
+    def fill(staging: Path) -> None:
+        for f, rel in zip(files, relative, strict=True):
+            atomic_write_text(staging / rel, f.text)
+
+    replace_folder(out, fill, force=force)
+    return [out.resolve() / rel for rel in relative]

@@ -2,7 +2,9 @@
 
 The key is the sha256 of everything that shapes a reply (backend, model, messages with image hashes,
 schema, grammar, sampling parameters). Only deterministic requests (temperature 0) are cached by
-default. Entries are written atomically; an unreadable entry counts as a miss.
+default. Entries are written atomically; an unreadable entry counts as a miss. Replies longer than
+MAX_STORED_CHARS are not cached (they are no stage answer), and an entry file is read only up to a
+size limit.
 """
 
 from __future__ import annotations
@@ -14,7 +16,10 @@ from pathlib import Path
 from typing import Any
 
 from socnavgen.llm.redact import redact_data
-from socnavgen.safeio import atomic_write_json
+from socnavgen.llm.transcript import MAX_STORED_CHARS
+from socnavgen.safeio import atomic_write_json, parse_json_text
+
+MAX_ENTRY_BYTES = 8 * MAX_STORED_CHARS  # generous for escapes and metadata
 
 CACHE_FORMAT = 1
 
@@ -42,7 +47,9 @@ class ReplyCache:
     def get(self, key: str) -> dict[str, Any] | None:
         path = self._path(key)
         try:
-            entry = json.loads(path.read_text(encoding="utf-8"))
+            if path.stat().st_size > MAX_ENTRY_BYTES:
+                return None
+            entry = parse_json_text(path.read_text(encoding="utf-8"))
         except (OSError, ValueError):
             return None
         if not isinstance(entry, dict) or entry.get("key") != key or not isinstance(entry.get("raw"), str):
@@ -50,4 +57,6 @@ class ReplyCache:
         return entry
 
     def put(self, key: str, entry: dict[str, Any]) -> None:
+        if len(str(entry.get("raw", ""))) > MAX_STORED_CHARS:
+            return
         atomic_write_json(self._path(key), redact_data({**entry, "key": key}))

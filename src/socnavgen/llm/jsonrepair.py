@@ -8,9 +8,10 @@ read raises `JSONRepairError` whose message tells the model what to fix.
 
 from __future__ import annotations
 
-import json
 import re
 from typing import Any, Literal
+
+from socnavgen.safeio import MAX_INT_DIGITS, parse_json_text
 
 MAX_REPLY_CHARS = 1_000_000  # a reply larger than this is not a stage answer
 MAX_DEPTH = 200
@@ -50,8 +51,8 @@ def extract_json(text: str, expect: Expect = "object") -> Any:
     first_problem: tuple[str, str, int] | None = None
     for candidate in _candidates(text):
         try:
-            value = json.loads(candidate)
-        except (json.JSONDecodeError, RecursionError):
+            value = parse_json_text(candidate, max_depth=MAX_DEPTH)
+        except (ValueError, RecursionError):  # syntax, depth or integer-size limits: the scanner explains
             pass
         else:
             if _fits(value, expect):
@@ -240,6 +241,8 @@ class _Lenient:
         self.pos = match.end()
         literal = match.group(0).lstrip("+")
         if re.fullmatch(r"-?\d+", literal):
+            if len(literal.lstrip("-")) > MAX_INT_DIGITS:
+                raise self.fail(f"an integer of {len(literal.lstrip('-'))} digits is not a sensible value")
             return int(literal)
         return float(literal)
 

@@ -1,36 +1,36 @@
 """Keep secrets out of everything we write: transcripts, cache files, logs and error messages.
 
 Every text the LLM layer persists or shows passes through `redact`, which removes the values of the
-key variables in the environment and anything shaped like a key or an auth header.
+key variables in the environment (raw and stripped), keys registered at run time, credentials in
+URLs, and anything shaped like a key or an auth header. Keys shorter than 8 characters are hidden
+where they stand as a whole token (hiding every substring of a 3-letter key would garble the text).
 """
 
 from __future__ import annotations
 
 import logging
-import os
 import re
 from typing import Any
 
-SECRET_ENV_VARS = ("OPENAI_API_KEY", "AZURE_OPENAI_API_KEY", "OPENROUTER_API_KEY", "OPENAI_ADMIN_KEY",
-                   "ANTHROPIC_API_KEY", "GROQ_API_KEY", "TOGETHER_API_KEY", "MISTRAL_API_KEY")
+from socnavgen.credentials import MASK, hide_url_credentials, known_secrets
+
+SHORT_SECRET = 8  # below this length a key is only hidden as a whole token
 _PATTERNS = [
     (re.compile(r"(?i)\b(bearer)\s+[A-Za-z0-9._~+/=-]{6,}"), r"\1 ***"),
     (re.compile(r"(?i)((?:api[-_]?key|authorization|x-api-key)[\"']?\s*[:=]\s*[\"']?)[^\s\"',}]{6,}"), r"\1***"),
     (re.compile(r"\bsk-[A-Za-z0-9_\-*]{6,}"), "sk-***"),
 ]
-MASK = "***"
-
-
-def _env_secrets() -> list[str]:
-    values = [os.environ.get(name, "") for name in SECRET_ENV_VARS]
-    return sorted({v for v in values if len(v) >= 8}, key=len, reverse=True)
 
 
 def redact(text: str) -> str:
     if not text:
         return text
-    for secret in _env_secrets():
-        text = text.replace(secret, MASK)
+    for secret in known_secrets():
+        if len(secret.strip()) >= SHORT_SECRET:
+            text = text.replace(secret, MASK)
+        else:
+            text = re.sub(r"(?<![A-Za-z0-9_\-])" + re.escape(secret) + r"(?![A-Za-z0-9_\-])", MASK, text)
+    text = hide_url_credentials(text)
     for pattern, replacement in _PATTERNS:
         text = pattern.sub(replacement, text)
     return text

@@ -1,5 +1,8 @@
 """Retrying transient failures with exponential backoff and jitter under an overall deadline.
 
+The backoff is a floor whatever Retry-After says; a longer Retry-After is honoured (with jitter)
+while the deadline allows, otherwise the exchange ends at once with one message.
+
 Backends raise `TransientError` for what may pass (timeouts, 429, 5xx, dropped connections) and
 `LLMError` for what will not (bad key, unknown model, no server); only the former are retried.
 """
@@ -54,10 +57,11 @@ def call_with_retries(attempt_fn: Callable[[float], R], *, describe: str, timeou
         except TransientError as exc:
             elapsed = clock() - start
             remaining = deadline - elapsed
-            if exc.retry_after is not None:
+            # our own backoff is a floor: a server saying `Retry-After: 0` during a 429 storm must not
+            # get a request storm back; its longer waits are honoured, with jitter so clients spread out
+            delay = backoff_delay(attempt, rng)
+            if exc.retry_after is not None and exc.retry_after > delay:
                 delay = exc.retry_after + rng() * min(1.0, 0.1 * exc.retry_after + 0.05)
-            else:
-                delay = backoff_delay(attempt, rng)
             if delay >= remaining:
                 asked = (f"; the server asked to wait {exc.retry_after:g}s"
                          if exc.retry_after is not None and exc.retry_after >= remaining else "")

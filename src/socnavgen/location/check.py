@@ -194,8 +194,10 @@ def _load_graph(path: Path, problems: list[Problem]) -> SceneGraph | None:
         problems.append(Problem("error", f"{SCENE_GRAPH_FILE} is missing",
                                 "draw one with `socnavgen annotate` or `socnavgen location extract`", str(path)))
         return None
+    from socnavgen.safeio import contained_path  # (kept out of the module imports: fewer merge conflicts)
+
     try:
-        data = load_json_file(path)
+        data = load_json_file(contained_path(path.parent, path.name))  # a symlink may not leave the folder
     except SocnavgenError as exc:
         problems.append(_from_error(exc, path))
         return None
@@ -262,7 +264,7 @@ def _check_ids(graph: SceneGraph, lines: _GraphLines, problems: list[Problem]) -
                                     lines.file, line, nodes=[node.id]))
         else:
             seen[node.id] = i
-        if not NODE_ID_PATTERN.match(node.id):
+        if not NODE_ID_PATTERN.fullmatch(node.id):
             problems.append(Problem("error", f"node id {node.id!r} is not 2 lowercase letters or digits",
                                     "use a random 2-character id such as 'k3' (no order, no meaning)",
                                     lines.file, line, nodes=[node.id]))

@@ -93,18 +93,23 @@ def import_socrates(source: Path | str, output: Path | str, *, config: Path | No
     load_image_gray(image_src)  # fails early, with the file named, on a missing or unreadable image
     if image_src.stat().st_size > MAX_IMAGE_BYTES:
         raise InputFileError("map image is too large", file=image_src)
-    graph = read_scene_graph(source / SCENE_GRAPH_FILE)
+    graph = read_scene_graph(contained_path(source, SCENE_GRAPH_FILE))
 
     notes: list[str] = []
     schema = schema_for(graph, config, notes)
     loc_name = name or source.resolve().name
+    # a map named like a file we generate (scene_graph.png ...) would be overwritten by it: rename the copy
+    map_name = image_src.name
+    if map_name in (SCENE_GRAPH_IMAGE, SCENE_GRAPH_FILE, LOCATION_FILE, NAV2_FILE):
+        map_name = "map_image" + image_src.suffix
+        notes.append(f"the map {image_src.name} is stored as {map_name} ({image_src.name} is generated)")
     cfg = LocationConfig(name=loc_name, description=description or default_description(loc_name, schema),
-                         map=image_src.name, nav2_map=NAV2_FILE, schema=schema)
+                         map=map_name, nav2_map=NAV2_FILE, schema=schema)
 
     output.mkdir(parents=True, exist_ok=True)
-    atomic_write_bytes(output / image_src.name, image_src.read_bytes())
+    atomic_write_bytes(output / map_name, image_src.read_bytes())
     nav2_data = load_yaml_file(nav2_path)
-    nav2_data["image"] = image_src.name
+    nav2_data["image"] = map_name
     atomic_write_text(output / NAV2_FILE, yaml.safe_dump(nav2_data, sort_keys=False))
     atomic_write_text(output / LOCATION_FILE, yaml.safe_dump(cfg.model_dump(by_alias=True, exclude_none=True),
                                                              sort_keys=False, width=100, allow_unicode=True))

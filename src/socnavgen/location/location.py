@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
@@ -11,6 +12,7 @@ import numpy as np
 from pydantic import ValidationError
 
 from socnavgen.errors import InputFileError
+from socnavgen.limits import MAX_COORDINATE
 from socnavgen.location.models import LocationConfig, SceneGraph, Schema
 from socnavgen.location.occupancy import OccupancyGrid, Thresholds, load_image_gray, occupancy_from_image
 from socnavgen.location.scene_graph import read_scene_graph, to_networkx
@@ -43,14 +45,15 @@ def read_nav2_yaml(path: Path) -> Nav2Map:
         raise InputFileError("origin must be [x, y, yaw]", file=path)
     try:
         res = float(data["resolution"])
-        if res <= 0:
+        numbers = [res, *(float(v) for v in origin)]
+        if res <= 0 or not all(math.isfinite(v) and abs(v) <= MAX_COORDINATE for v in numbers):
             raise ValueError
         return Nav2Map(
             image=str(data["image"]), resolution=res, origin=[float(v) for v in origin] + [0.0] * (3 - len(origin)),
             thresholds=Thresholds(occupied=float(data.get("occupied_thresh", 0.65)),
                                   free=float(data.get("free_thresh", 0.196)), negate=bool(data.get("negate", 0))))
     except (TypeError, ValueError) as exc:
-        raise InputFileError("resolution must be a positive number and origin numbers", file=path) from exc
+        raise InputFileError("resolution must be a positive number and origin finite numbers", file=path) from exc
 
 
 @dataclass
@@ -96,7 +99,10 @@ class Location:
                                      hint="give an invertible 3x3 matrix (pixel -> world, homogeneous)") from exc
         if self.nav2 is None:
             raise InputFileError("no transform: set `nav2_map` or `pixel_to_world`", file=self.root / LOCATION_FILE)
-        return Transform.from_nav2(self.nav2.resolution, self.nav2.origin, self.image_size[1])
+        try:
+            return Transform.from_nav2(self.nav2.resolution, self.nav2.origin, self.image_size[1])
+        except ValueError as exc:
+            raise InputFileError(f"bad nav2 map: {exc}", file=self.root / str(self.config.nav2_map)) from exc
 
     @cached_property
     def occupancy(self) -> OccupancyGrid:
@@ -109,7 +115,7 @@ class Location:
 
     @cached_property
     def scene_graph(self) -> SceneGraph:
-        return read_scene_graph(self.root / SCENE_GRAPH_FILE)
+        return read_scene_graph(contained_path(self.root, SCENE_GRAPH_FILE))  # a symlink may not leave
 
     @cached_property
     def graph(self) -> nx.Graph:

@@ -2,11 +2,26 @@
 
 from __future__ import annotations
 
+import math
 import re
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator
 
-NODE_ID_PATTERN = re.compile(r"^[a-z0-9]{2}$")
+from socnavgen.limits import MAX_COORDINATE
+
+NODE_ID_PATTERN = re.compile(r"^[a-z0-9]{2}$")  # use .fullmatch: Python's `$` also matches before a final \n
+_CONTROL = re.compile(r"[\x00-\x1f\x7f]")
+
+
+def _finite(values: list[float] | tuple[float, ...], what: str) -> None:
+    if not all(math.isfinite(v) and abs(v) <= MAX_COORDINATE for v in values):
+        raise ValueError(f"{what} must be finite numbers within +-{MAX_COORDINATE:g} (no NaN or infinity)")
+
+
+def _printable(value: str, what: str) -> str:
+    if _CONTROL.search(value):
+        raise ValueError(f"{what} {value!r} contains control characters (newline, tab, ...)")
+    return value
 
 
 class Schema(BaseModel):
@@ -35,6 +50,8 @@ class LocationConfig(BaseModel):
     def _is_3x3(cls, value: list[list[float]] | None) -> list[list[float]] | None:
         if value is not None and (len(value) != 3 or any(len(row) != 3 for row in value)):
             raise ValueError("pixel_to_world must be a 3x3 matrix (three rows of three numbers)")
+        if value is not None:
+            _finite([v for row in value for v in row], "pixel_to_world")
         return value
 
 
@@ -45,11 +62,27 @@ class Node(BaseModel):
     pos: tuple[float, float]
     id: str
 
+    @field_validator("pos")
+    @classmethod
+    def _finite_pos(cls, value: tuple[float, float]) -> tuple[float, float]:
+        _finite(value, "a node position")
+        return value
+
+    @field_validator("id", "type")
+    @classmethod
+    def _no_control(cls, value: str) -> str:
+        return _printable(value, "node id or type")
+
 
 class Edge(BaseModel):
     type: str
     source: str
     target: str
+
+    @field_validator("type", "source", "target")
+    @classmethod
+    def _no_control(cls, value: str) -> str:
+        return _printable(value, "edge field")
 
 
 class SceneGraph(BaseModel):

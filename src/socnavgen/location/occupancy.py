@@ -10,7 +10,7 @@ import numpy as np
 from PIL import Image
 
 from socnavgen.errors import InputFileError
-from socnavgen.safeio import MAX_IMAGE_BYTES
+from socnavgen.safeio import MAX_IMAGE_BYTES, check_image_pixels
 
 
 @dataclass
@@ -76,7 +76,10 @@ def load_image_gray(path: Path) -> np.ndarray:
         raise InputFileError("map image is too large", file=path)
     try:
         with Image.open(path) as img:
+            check_image_pixels(*img.size, file=path)
             return np.asarray(img.convert("L"), dtype=np.uint8)
+    except InputFileError:
+        raise
     except Exception as exc:  # Pillow raises many types for corrupt files
         raise InputFileError(f"cannot read the map image: {exc}", file=path,
                              hint="use a PGM or PNG image") from exc

@@ -13,6 +13,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from socnavgen.limits import MAX_COORDINATE
+
 
 class Transform:
     """Affine pixel->world map held as a 3x3 homogeneous matrix."""
@@ -21,6 +23,8 @@ class Transform:
         m = np.asarray(matrix, dtype=float)
         if m.shape != (3, 3):
             raise ValueError("transform must be 3x3")
+        if not np.isfinite(m).all() or np.abs(m).max() > MAX_COORDINATE:
+            raise ValueError(f"transform holds NaN, infinite or absurd values (|v| > {MAX_COORDINATE:g})")
         if abs(np.linalg.det(m[:2, :2])) < 1e-12:
             raise ValueError("transform is singular (its 2x2 part has zero determinant)")
         self.matrix = m

@@ -1,16 +1,25 @@
 """Paths and atomic reads/writes of a run folder (design contract: request.json, scenario.json,
-paths.json, behaviors/<human>.xml, transcript.jsonl, manifest.json, sim/)."""
+paths.json, behaviors/<human>.xml, transcript.jsonl, manifest.json, sim/).
+
+Every read goes through `contained_path`, so a symlink (a file, or the behaviors/ folder) that
+leads out of the run folder is refused instead of followed. `lock()` makes one process the only
+writer of a run folder at a time (the lock file sits beside the folder: RUN/../.RUN.socnavgen-lock).
+"""
 
 from __future__ import annotations
 
+import contextlib
+import fcntl
 import os
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, TypeVar
 
 from pydantic import BaseModel
 
-from socnavgen.run.models import Manifest, PathPlan, ScenarioProposal, ScenarioRequest
+from socnavgen.errors import InputFileError, SocnavgenError
+from socnavgen.run.models import Manifest, PathPlan, ScenarioProposal, ScenarioRequest, check_human_name
 from socnavgen.run.spec import ScenarioSpec
 from socnavgen.safeio import atomic_write_text, contained_path, load_model_file, read_text_limited
 
@@ -19,6 +28,8 @@ if TYPE_CHECKING:
 
 M = TypeVar("M", bound=BaseModel)
 LOCATION_FILE = "location.yaml"
+LOCK_SUFFIX = ".socnavgen-lock"
+_HELD: dict[str, int] = {}  # lock file -> descriptor, for locks held until the process ends
 
 
 @dataclass
@@ -66,10 +77,55 @@ class RunFolder:
         return self.root / "sim"
 
     def behavior_path(self, human: str) -> Path:
-        return contained_path(self.behaviors_dir, f"{human}.xml")
+        try:
+            check_human_name(human)
+        except ValueError as exc:
+            raise InputFileError(str(exc), file=self.behaviors_dir) from None
+        return contained_path(self.root, f"behaviors/{human}.xml")
+
+    # -- locking -----------------------------------------------------------------------------
+    @property
+    def lock_path(self) -> Path:
+        """Beside the folder, not in it: copies and listings of the run never see it."""
+        root = self.root.resolve()
+        return root.parent / f".{root.name}{LOCK_SUFFIX}"
+
+    @contextlib.contextmanager
+    def lock(self) -> Iterator[None]:
+        """Hold the run folder for this process; a second writer is refused at once (never waits).
+
+        An advisory flock: the kernel releases it when the process dies, so a crash never leaves a
+        stale lock behind."""
+        fd = self._acquire()
+        try:
+            yield
+        finally:
+            os.close(fd)  # closing releases the lock
+
+    def hold_lock(self) -> None:
+        """`lock()` for the rest of this process (a CLI command): released when the process ends.
+        Idempotent within a process, so a program (or a test) may run several commands on one folder."""
+        key = str(self.lock_path)
+        if key not in _HELD:
+            _HELD[key] = self._acquire()
+
+    def _acquire(self) -> int:
+        self.root.parent.resolve().mkdir(parents=True, exist_ok=True)
+        fd = os.open(self.lock_path, os.O_RDWR | os.O_CREAT, 0o644)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            holder = os.pread(fd, 32, 0).decode(errors="replace").strip() or "?"
+            os.close(fd)
+            raise SocnavgenError(f"run folder {self.root} is in use by another socnavgen process (pid {holder})",
+                                 hint="wait for it to finish, or write to another --out") from None
+        os.ftruncate(fd, 0)
+        os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
+        return fd
 
     # -- typed access ------------------------------------------------------------------------
     def _read(self, path: Path, model: type[M]) -> M:
+        path = contained_path(self.root, path.relative_to(self.root))
         return load_model_file(path, model, hint="was this file edited by hand?")
 
     def _write(self, path: Path, value: BaseModel) -> None:
@@ -156,7 +212,8 @@ class RunFolder:
         """human name -> tree XML, for every behaviors/*.xml present."""
         if not self.behaviors_dir.is_dir():
             return {}
-        return {p.stem: read_text_limited(p) for p in sorted(self.behaviors_dir.glob("human*.xml"))}
+        found = sorted(p.stem for p in self.behaviors_dir.glob("human*.xml"))
+        return {name: read_text_limited(self.behavior_path(name)) for name in found}
 
     def has(self, name: str) -> bool:
         return (self.root / name).exists()

@@ -3,9 +3,28 @@ name) has agent id i-1, as in SocRATES."""
 
 from __future__ import annotations
 
+import re
 from typing import Literal
 
-from pydantic import BaseModel, Field
+from pydantic import BaseModel, Field, field_validator
+
+from socnavgen.credentials import hide_url_credentials
+from socnavgen.limits import MAX_HUMANS
+
+HUMAN_NAME = re.compile(r"human([1-9][0-9]{0,3})")
+
+
+def check_human_name(name: str) -> str:
+    """human1..humanMAX_HUMANS and nothing else: the name becomes a file name and an agent id."""
+    match = HUMAN_NAME.fullmatch(name) if isinstance(name, str) else None
+    if match is None or int(match.group(1)) > MAX_HUMANS:
+        raise ValueError(f"human name {str(name)[:40]!r} is not human1..human{MAX_HUMANS}")
+    return name
+
+
+def _public_spec(value: str) -> str:
+    """A --llm spec as stored in request.json and manifest.json: URL credentials hidden."""
+    return hide_url_credentials(value)
 
 
 class ScenarioRequest(BaseModel):
@@ -28,6 +47,11 @@ class ScenarioRequest(BaseModel):
     target: Literal["socrates", "hunav2", "hunav1"] | None = Field(
         default=None, description="export target: only nodes it can run are offered and accepted")
 
+    @field_validator("llm")
+    @classmethod
+    def _public_llm(cls, value: str) -> str:
+        return _public_spec(value)
+
 
 class ScenarioProposal(BaseModel):
     """Stage 1 result (scenario.json)."""
@@ -43,6 +67,11 @@ class HumanPlan(BaseModel):
     path: list[str]  # scene-graph node ids
     group_id: int = -1
     interaction_point: str | None = None  # node id on both this path and the robot's
+
+    @field_validator("name")
+    @classmethod
+    def _valid_name(cls, value: str) -> str:
+        return check_human_name(value)
 
     @property
     def agent_id(self) -> int:
@@ -64,7 +93,7 @@ class PathPlan(BaseModel):
 
     reasoning: str = ""
     robot: list[str]
-    humans: list[HumanPlan]
+    humans: list[HumanPlan] = Field(max_length=MAX_HUMANS)
     robot_gestures: list[RobotGestureRule] = Field(default_factory=list)
 
     def human(self, name: str) -> HumanPlan:
@@ -88,6 +117,11 @@ class Manifest(BaseModel):
     created: str
     llm: str
     model: str | None = None
+
+    @field_validator("llm")
+    @classmethod
+    def _public_llm(cls, value: str) -> str:
+        return _public_spec(value)
     status: Literal["running", "done", "failed"] = "running"
     stages: dict[str, StageRecord] = Field(default_factory=dict)
     message: str | None = None

@@ -10,6 +10,7 @@ fatal one becomes a single sentence naming the backend and what to check.
 from __future__ import annotations
 
 import email.utils
+import json
 import logging
 import os
 import threading
@@ -17,9 +18,18 @@ import time
 from typing import Any
 from urllib.parse import urlparse
 
+import httpx
 import openai
 
+from socnavgen.credentials import hide_url_credentials, register_secret, url_secrets
 from socnavgen.errors import LLMError
+from socnavgen.llm.deadline import (
+    MAX_REPLY_BYTES,
+    BoundedTransport,
+    ReplyTooLarge,
+    run_with_deadline,
+    too_large,
+)
 from socnavgen.llm.engine import Backend, Completion, LLMOptions, Request
 from socnavgen.llm.redact import install_log_redaction, redact
 from socnavgen.llm.retry import TransientError
@@ -104,7 +114,11 @@ class OpenAIBackend(Backend):
     def __init__(self, spec: str, model: str, base_url: str | None, options: LLMOptions) -> None:
         super().__init__(spec, model, options, supports_images=True, supports_grammar=False)
         install_log_redaction()
-        key = os.environ.get("OPENAI_API_KEY", "").strip()
+        raw_key = os.environ.get("OPENAI_API_KEY", "")
+        register_secret(raw_key)
+        for secret in url_secrets(base_url or ""):
+            register_secret(secret)
+        key = raw_key.strip()  # a pasted key often ends in a space or CR; the header must not
         host = urlparse(base_url).hostname if base_url else None
         if not key:
             if base_url is None:
@@ -114,12 +128,15 @@ class OpenAIBackend(Backend):
             key = NO_KEY_PLACEHOLDER  # local and self-hosted servers often need none; a 401 will say so
         self.base_url = base_url
         self.local_server = host in LOCAL_HOSTS if host else False
-        self._client = openai.OpenAI(api_key=key, base_url=base_url, max_retries=0, timeout=options.timeout)
+        self.max_reply_bytes = MAX_REPLY_BYTES
+        self._transport = BoundedTransport()
+        self._client = openai.OpenAI(api_key=key, base_url=base_url, max_retries=0, timeout=options.timeout,
+                                     http_client=httpx.Client(transport=self._transport, follow_redirects=True))
         self._mode_index = 0
         self._mode_lock = threading.Lock()
 
     def describe(self) -> str:
-        return f"{self.spec.split('@', 1)[0]} at {str(self._client.base_url).rstrip('/')}"
+        return f"{self.spec.split('@', 1)[0]} at {hide_url_credentials(str(self._client.base_url).rstrip('/'))}"
 
     def cache_identity(self) -> dict[str, Any]:
         return {"backend": self.kind, "model": self.model, "base_url": str(self._client.base_url)}
@@ -130,6 +147,11 @@ class OpenAIBackend(Backend):
 
     # -- one attempt ------------------------------------------------------------------------------
     def _complete(self, request: Request, timeout: float) -> Completion:
+        """One attempt, bounded as a whole: the watchdog stops a reply that drips in forever."""
+        self._transport.max_bytes = self.max_reply_bytes
+        return run_with_deadline(lambda: self._complete_once(request, timeout), timeout)
+
+    def _complete_once(self, request: Request, timeout: float) -> Completion:
         while True:
             mode, images = self.mode, self.supports_images
             try:
@@ -143,12 +165,20 @@ class OpenAIBackend(Backend):
             except openai.APITimeoutError:
                 raise TransientError(f"no reply within {timeout:.1f}s (timeout)") from None
             except openai.APIConnectionError as exc:
+                if isinstance(_root_cause(exc), ReplyTooLarge):
+                    raise too_large(self.describe(), self.max_reply_bytes) from None
                 if _is_unreachable(exc):
                     raise self._fatal(f"cannot connect ({_root_cause(exc)})",
                                       "is the server running, and is the URL right?") from None
                 raise TransientError(f"connection failed ({_root_cause(exc)})") from None
             except openai.APIResponseValidationError as exc:
                 raise TransientError(f"the server sent a malformed response ({exc})") from None
+            except ReplyTooLarge:
+                raise too_large(self.describe(), self.max_reply_bytes) from None
+            except (json.JSONDecodeError, UnicodeDecodeError):  # HTTP 200 from a proxy or captive portal
+                raise self._fatal("the server answered with a body that is not JSON (a proxy, captive portal "
+                                  "or a URL that is not an OpenAI-compatible API?)",
+                                  "check BASE_URL (it usually ends with /v1) and any proxy settings") from None
             except openai.OpenAIError as exc:
                 raise self._fatal(f"the OpenAI client failed ({type(exc).__name__}: {exc})",
                                   "check the spec and the server") from None
@@ -164,6 +194,11 @@ class OpenAIBackend(Backend):
         elif mode == "json_object":
             kwargs["response_format"] = {"type": "json_object"}
         response = self._client.chat.completions.create(**kwargs)
+        if isinstance(response, str | bytes):  # the SDK hands back the text of a non-JSON content type
+            text = response.decode(errors="replace") if isinstance(response, bytes) else response
+            if text.lstrip().startswith("<"):  # an HTML page: a proxy or captive portal, not a flaky server
+                raise json.JSONDecodeError("not JSON", text[:100], 0)
+            raise TransientError("the server replied without any choices")
         if not getattr(response, "choices", None):
             raise TransientError("the server replied without any choices")
         message = response.choices[0].message
