@@ -35,8 +35,9 @@ def test_a_second_writer_is_refused_while_the_first_holds_the_folder(tmp_path):
 def test_generate_on_a_locked_folder_exits_2_without_touching_it(tmp_path, cli, location):
     out = tmp_path / "run"
     with RunFolder(out).lock():
-        result = cli("generate", "--location", location, "--context", "c", "--task", "t", "--llm", "replay:nothing.yaml",
-                     "--out", out)
+        # a valid model spec (nothing is contacted before the lock is taken) so the lock is what refuses
+        result = cli("generate", "--location", location, "--context", "c", "--task", "t", "--llm",
+                     "openai:m@http://127.0.0.1:9/v1", "--out", out)
     assert result.code == 2 and "in use by another socnavgen process" in result.err and no_traceback(result.err)
     assert not out.exists() or list(out.iterdir()) == []
 
