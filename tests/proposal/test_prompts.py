@@ -259,6 +259,10 @@ def test_grammars_parse_in_llama_cpp(mini_location):
     assert parses(paths_grammar(graph, ["human1", "human2"]))
     assert parses(scenario_grammar(["BLIND CORNER", "CORNER"]))
     assert parses(bt_reply_grammar([0, 1], agent_id=0, max_depth=GRAMMAR_DEPTH))
+    from socnavgen.proposal.tree_grammar import spec_tree_grammar
+    from socnavgen.run.spec import ScenarioSpec
+
+    assert parses(spec_tree_grammar("human1", ScenarioSpec.model_validate(spec_for(2))))
 
 
 def test_tiny_grammar_matcher():

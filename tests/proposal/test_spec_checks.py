@@ -269,3 +269,48 @@ def test_prompt_examples_pass_the_checks():
     for example in template_data("scenario_examples.json"):
         reply = ScenarioReply.model_validate(copy.deepcopy(example["reply"]))
         assert scenario_checker(None)(reply) == []
+
+
+# ---- stage 3 grammar for in-process models ---------------------------------------------------------
+@pytest.mark.parametrize("trigger, reaction", [("robot_blocking", "stop"), ("robot_visible", "give_way"),
+                                               ("always", "walk_past"), ("robot_near", "follow")])
+def test_spec_tree_grammar_admits_only_trees_that_meet_the_spec(trigger, reaction):
+    from socnavgen.bt.validate import validate_bt_text
+    from socnavgen.proposal.tree_grammar import build_spec_tree_grammar
+
+    spec = ScenarioSpec.model_validate({"encounters": [{"id": "e1", "place": "X", "humans": [
+        {"human": "human1", "trigger": trigger, "reaction": reaction}]}]})
+    grammar = build_spec_tree_grammar("human1", spec)
+    assert grammar is not None
+    sentences = list(_sample(grammar, 12))
+    assert sentences
+    for text in sentences:
+        assert grammar.matches(text)
+        tree = json.loads(text)["tree"]
+        assert validate_bt_text(tree, "t.xml", human_ids={0}, agent_id=0) == [], tree
+        assert tree_need_mistakes(tree, "human1", spec) == [], tree
+    wrong = sentences[0].replace("IsRobot", "IsRobo")
+    assert trigger == "always" or not grammar.matches(wrong)
+
+
+def _sample(grammar, limit):  # noqa: ANN001, ANN202 - every alternative once, numbers fixed
+    from socnavgen.proposal.gbnf import Chars, Lit, Ref
+
+    def expand(symbols, choice):  # noqa: ANN001, ANN202
+        out = ""
+        for sym in symbols:
+            if isinstance(sym, Lit):
+                out += sym.text
+            elif isinstance(sym, Ref):
+                alts = grammar.rules[sym.name]
+                out += expand(alts[choice % len(alts)], choice)
+            elif isinstance(sym, Chars):
+                out += ("1" if "0-9" in sym.cls else "a") * max(1, sym.min)
+        return out
+
+    seen = set()
+    for choice in range(limit):
+        text = expand(grammar.rules["root"][0], choice)
+        if text not in seen:
+            seen.add(text)
+            yield text

@@ -105,3 +105,36 @@ def fixtures_markdown(rows: list[FixtureRow]) -> str:
 
 def _yes(flag: bool) -> str:
     return "yes" if flag else "no"
+
+
+def record_fixture(run_dir: Path, out: Path, note: str = "") -> Path:
+    """Turn a recorded run (request.json + transcript.jsonl) into a replay fixture: the request and every
+    raw reply per stage and key, in the order they were served (invalid ones too, so a replay re-asks
+    exactly as the live run did)."""
+    import yaml
+
+    from socnavgen.llm.transcript import read_transcript
+    from socnavgen.safeio import atomic_write_text
+
+    run = RunFolder(run_dir)
+    request = run.read_request()
+    stages: dict[str, object] = {}
+    model = None
+    for entry in read_transcript(run.transcript_path):
+        raw, stage = entry.get("raw"), entry.get("stage")
+        if not isinstance(raw, str) or not isinstance(stage, str):
+            continue
+        model = model or entry.get("model")
+        key = entry.get("key")
+        if key is None:
+            stages.setdefault(stage, []).append(raw)  # type: ignore[union-attr]
+        else:
+            stages.setdefault(stage, {}).setdefault(key, []).append(raw)  # type: ignore[union-attr]
+    fields = {k: v for k, v in request.model_dump(include={"location", "context", "task", "rough", "target"}).items()
+              if v is not None}
+    header = (f"# Replay fixture recorded from a live run ({model or 'unknown model'}); {note}\n"
+              f"# Replay: socnavgen generate --llm replay:THIS ... or socnavgen eval --fixtures DIR\n")
+    text = header + yaml.safe_dump({"request": fields, "stages": stages}, sort_keys=False, allow_unicode=True,
+                                   width=120)
+    atomic_write_text(out, text)
+    return out
