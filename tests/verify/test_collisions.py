@@ -1,42 +1,78 @@
-"""Robot-human collisions: reported with evidence; a warning by default, a failure on request."""
+"""One definition of gap and collision (sim/contact.py): `simulate`'s summary, metrics.json and verify show
+the same numbers for the same run."""
 
 from __future__ import annotations
 
-from socnavgen.verify.evaluate import evaluate
-from socnavgen.verify.models import Expectation, VerifyReport, VerifySettings
+import json
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from socnavgen.cli.common import console
+from socnavgen.cli.sim_cmd import _write_extras
+from socnavgen.location import load_location
+from socnavgen.sim import contact
+from socnavgen.sim.metrics import compute_metrics
+from socnavgen.verify import VerifySettings, verify_trace
 
 from .verify_builders import build_trace
 
-NO_COLLISION = Expectation(kind="no_collision", name="robot never collides with a human", source="paths")
+
+def _pass_by(gap_at_closest: float, steps_still: int = 3):  # noqa: ANN202
+    """Robot at (3, 3) standing; human1 walks along y = 3 toward it and stands with the given surface gap
+    (centre distance = gap + 0.35 + 0.4) for `steps_still` steps, then walks back."""
+    stop = 3.0 + gap_at_closest + 0.75
+    xs = [7.0, 6.0, 5.0] + [stop] * steps_still + [6.0, 7.0]
+    n = len(xs)
+    return build_trace(np.arange(n) * 0.5, [(3.0, 3.0)] * n, [[(x, 3.0)] for x in xs], dt=0.5)
 
 
-def _trace(gap_at_closest: float):
-    # Robot stands at the origin; the human walks along x and stops with a surface gap of
-    # `gap_at_closest` (centre distance = gap + 0.35 + 0.4).
-    stop = gap_at_closest + 0.75
-    xs = [3.0, 2.0, stop, stop]
-    return build_trace([0, 1, 2, 3], [(0.0, 0.0)] * 4, [[(x, 0.0)] for x in xs], dt=1.0)
+def test_gap_and_collision_definition() -> None:
+    trace = _pass_by(-0.20)
+    gaps = contact.trace_gaps(trace)
+    assert gaps.min() == pytest.approx(-0.20)
+    summary = contact.summarize(trace)
+    assert summary.collision_steps == 3 and summary.collision_seconds == pytest.approx(1.5)
+    assert summary.first_collision_time == pytest.approx(1.5) and summary.first_collision_human == "human1"
+    assert summary.worst_overlap == pytest.approx(0.20) and summary.min_gap == pytest.approx(-0.20)
+    # touching within the 1 cm tolerance is not a collision; 2 cm of overlap is
+    assert contact.summarize(_pass_by(-0.005)).collision_steps == 0
+    assert contact.summarize(_pass_by(-0.02)).collision_steps == 3
+    assert contact.summarize(_pass_by(0.30)).describe() == "closest gap 0.30 m to human1 at t=1.5 s"
 
 
-def test_clear_pass_reports_the_closest_gap() -> None:
-    (finding,) = evaluate([NO_COLLISION], _trace(0.30))
-    assert finding.passed and finding.required
-    assert "closest gap 0.30 m to human1 at t=2.0 s" in finding.evidence
+def test_metrics_and_verify_agree_on_collisions(give_way_run: Path, tiny_location: Path) -> None:
+    trace = _pass_by(-0.20, steps_still=5)
+    metrics = compute_metrics(trace)
+    report = verify_trace(give_way_run, trace)
+    (finding,) = [f for f in report.findings if f.kind == "no_collision"]
+    # the robot stood still and human1 walked into it: its tree is to fix (rule C3)
+    assert not finding.passed and finding.required and (finding.blame, finding.blame_human) == ("behaviors", "human1")
+    steps = int(re.search(r"(\d+) steps with a collision", finding.evidence)[1])
+    assert metrics["collisions"] == steps == contact.summarize(trace).collision_steps == 5
+    assert metrics["minimum_distance_to_people"] == 0.0  # the evaluator clamps the gap at 0 ...
+    assert finding.distance == pytest.approx(-0.20)  # ... the verifier shows the overlap itself
+    assert finding.robustness == pytest.approx(-0.19)  # gap + 1 cm tolerance
+    warn = verify_trace(give_way_run, trace, settings=VerifySettings(collisions_fail=False))
+    assert [f.name for f in warn.warnings] == [finding.name]
 
 
-def test_overlap_is_a_warning_by_default_and_does_not_fail_the_report() -> None:
-    (finding,) = evaluate([NO_COLLISION], _trace(-0.20))
-    assert not finding.passed and not finding.required
-    assert "overlap by 0.20 m at t=2.0 s (2 steps" in finding.evidence
-    report = VerifyReport(run="r", passed=True, findings=[finding])
-    assert report.failures == [] and report.warnings == [finding]
+def test_simulate_summary_prints_the_same_numbers(tmp_path: Path, tiny_location: Path) -> None:
+    trace = _pass_by(-0.20, steps_still=4)
+    with console.capture() as cap:
+        _write_extras(trace, load_location(tiny_location), tmp_path, gif=False)
+    printed = cap.get()
+    written = json.loads((tmp_path / "metrics.json").read_text())
+    assert f"collisions = {written['collisions']}" in printed and written["collisions"] == 4
+    assert "closest gap -0.20 m to human1" in printed and "4 steps with a collision" in printed
 
 
-def test_overlap_fails_when_asked() -> None:
-    (finding,) = evaluate([NO_COLLISION], _trace(-0.20), VerifySettings(collisions_fail=True))
-    assert not finding.passed and finding.required
-
-
-def test_touching_within_the_tolerance_is_not_a_collision() -> None:
-    (finding,) = evaluate([NO_COLLISION], _trace(-0.03))
-    assert finding.passed
+def test_a_clear_run_agrees_too(give_way_run: Path) -> None:
+    trace = _pass_by(0.35)
+    (finding,) = [f for f in verify_trace(give_way_run, trace).findings if f.kind == "no_collision"]
+    assert finding.passed and finding.robustness == pytest.approx(0.36)
+    assert "closest gap 0.35 m to human1" in finding.evidence
+    assert compute_metrics(trace)["minimum_distance_to_people"] == pytest.approx(0.35)
+    assert compute_metrics(trace)["collisions"] == 0

@@ -1,84 +1,86 @@
-"""Expectations derived from paths, trees and cards."""
+"""Tree expectations, and the spec derived for runs without spec.json (same strict thresholds)."""
 
 from __future__ import annotations
 
-import pytest
-
 from socnavgen.location import load_location
 from socnavgen.run.models import HumanPlan, PathPlan
-from socnavgen.verify.evaluate import evaluate
-from socnavgen.verify.expectations import card_expectations, derive_expectations, tree_expectations
+from socnavgen.run.spec import Criterion, Encounter, HumanPart, ScenarioSpec
+from socnavgen.verify.derive import derive_spec, with_implied
+from socnavgen.verify.expectations import card_tree_expectations, tree_checks, tree_expectations
+from socnavgen.verify.models import VerifySettings
 
-from .verify_builders import GIVE_WAY_XML, NODE_WORLD, REGULAR_XML, crossing_trace
+from .verify_builders import GIVE_WAY_XML, REGULAR_XML
 
 
-def test_give_way_tree_key_nodes() -> None:
+def test_give_way_tree_key_nodes_and_their_causes() -> None:
     exps = tree_expectations("human1", GIVE_WAY_XML)
     by_node = {e.node: e for e in exps}
-    # the interaction action, checked while the robot passes, plus the two conditions gating it
     assert by_node["GiveWaytoRobot"].kind == "gives_way_while_passing"
-    assert by_node["IsRobotVisible"].kind == "executes"
-    assert "distance=4.0" in by_node["IsRobotVisible"].detail and "GiveWaytoRobot" in by_node["RobotSays"].detail
+    assert by_node["GiveWaytoRobot"].caused_by == [("IsRobotVisible", None), ("RobotSays", 4)]
+    assert by_node["RobotSays"].message == 4 and by_node["RobotSays"].name == "human1: RobotSays(EXCUSE ME) succeeds"
     # MakeGesture(0) is not an interaction; IsRobotNearby sits under an Inverter (must FAIL): not expected
     assert set(by_node) == {"GiveWaytoRobot", "IsRobotVisible", "RobotSays"}
-    assert all(e.human == "human1" and e.source == "tree" and e.stage == "behaviors" for e in exps)
-
-
-def test_gesture_and_block_tree() -> None:
-    xml = """<root main_tree_to_execute="T"><BehaviorTree ID="T"><Fallback>
-      <Sequence><IsRobotBlocking agent_id="{id}" distance="1.5"/><MakeGesture agent_id="{id}" message="3"/>
-        <BlockRobot agent_id="{id}" time_step="{dt}"/></Sequence>
-      <Sequence><HumanSays agent_id="{id}" target_id="1" message="1"/><LookAtRobot agent_id="{id}"/></Sequence>
-    </Fallback></BehaviorTree></root>"""
-    exps = tree_expectations("human2", xml)
-    names = {e.name for e in exps}
-    assert "human2 executes MakeGesture(message=3)" in names
-    gesture = next(e for e in exps if e.node == "MakeGesture")
-    assert gesture.message == 3
-    assert {e.node for e in exps} == {"MakeGesture", "BlockRobot", "LookAtRobot", "IsRobotBlocking", "HumanSays"}
 
 
 def test_regular_tree_has_no_key_nodes() -> None:
     assert tree_expectations("human1", REGULAR_XML) == []
 
 
-def test_path_expectations(tiny_location) -> None:
+def test_derived_spec_is_strict(tiny_location) -> None:
     loc = load_location(tiny_location)
     plan = PathPlan(robot=["a1", "b2", "c3"], humans=[
         HumanPlan(name="human1", path=["c3", "b2"], interaction_point="b2"),
         HumanPlan(name="human2", path=["d4", "b2"], group_id=1),
-        HumanPlan(name="human3", path=["d4", "b2"], group_id=1),
-        HumanPlan(name="human4", path=["a1", "b2"])])
-    exps = derive_expectations(plan, {"human1": GIVE_WAY_XML, "human4": REGULAR_XML}, loc)
-    kinds = [e.kind for e in exps]
-    assert kinds.count("meets_human") == 1  # only the human with an interaction point
-    meet = next(e for e in exps if e.kind == "meets_human")
-    assert meet.human == "human1" and meet.point == pytest.approx(NODE_WORLD["b2"])
-    group = next(e for e in exps if e.kind == "group_together")
-    assert group.human == "human2,human3"
-    goal = next(e for e in exps if e.kind == "robot_reaches_goal")
-    assert goal.point == pytest.approx(NODE_WORLD["c3"]) and goal.stage == "paths"
-    assert "gives_way_while_passing" in kinds
+        HumanPlan(name="human3", path=["d4", "b2"], group_id=1)])
+    card = [{"kind": "meets_human", "human": "human1", "within": 3.5}, {"kind": "robot_reaches_goal"}]
+    spec, judged = derive_spec(plan, loc, card, VerifySettings())
+    (enc,) = spec.encounters
+    assert enc.node == "b2" and enc.within == 1.0 and enc.place == "CORRIDOR"
+    meet = next(c for c, _ in judged if c.kind == "meets")
+    assert meet.distance == 2.0  # the card's 3.5 m is capped at the strict 2 m
+    assert dict((c.kind, src) for c, src in judged)["meets"] == "card"
+    kinds = [c.kind for c, _ in judged]
+    assert kinds == ["meets", "group_together", "robot_reaches_goal", "no_collision", "no_deadlock"]
+    group = next(c for c, _ in judged if c.kind == "group_together")
+    assert group.humans == ["human2", "human3"]
 
 
-def test_card_criteria_become_expectations(tiny_location) -> None:
-    loc = load_location(tiny_location)
-    plan = PathPlan(robot=["a1", "c3"], humans=[HumanPlan(name="human1", path=["c3", "a1"], interaction_point="b2")])
-    exps = card_expectations([{"kind": "meets_human", "within": 2.0}, {"kind": "executes", "node": "GiveWaytoRobot"},
-                              {"kind": "group_together"}, {"kind": "robot_reaches_goal"}, {"kind": "dances"}],
-                             plan, loc)
-    assert [e.kind for e in exps] == ["meets_human", "gives_way_while_passing", "group_together",
-                                      "robot_reaches_goal", "executes"]
-    assert exps[0].within == 2.0 and exps[0].human == "human1" and exps[0].point == pytest.approx(NODE_WORLD["b2"])
-    assert exps[1].human is None  # any human
-    assert all(e.source == "card" for e in exps)
-    assert exps[-1].node is None and "dances" in exps[-1].name
+def test_card_tree_criteria() -> None:
+    exps = card_tree_expectations([{"kind": "executes", "node": "GiveWaytoRobot"}, {"kind": "meets_human"},
+                                   {"kind": "executes", "human": "human1", "node": "MakeGesture"}])
+    assert [e.kind for e in exps] == ["gives_way_while_passing", "executes"]
+    assert exps[0].human is None and all(e.source == "card" for e in exps)
 
 
-def test_unreadable_tree_becomes_a_failing_expectation(tiny_location) -> None:
+def test_unreadable_tree_is_a_failing_check() -> None:
     plan = PathPlan(robot=["a1", "c3"], humans=[HumanPlan(name="human1", path=["c3", "a1"])])
-    exps = derive_expectations(plan, {"human1": "<root><BehaviorTree ID='x'><Sequence></root>"},
-                               load_location(tiny_location))
-    broken = next(e for e in exps if e.human == "human1")
-    (finding,) = evaluate([broken], crossing_trace())
-    assert not finding.passed and "does not parse" in finding.evidence and finding.stage == "behaviors"
+    (exp,) = tree_checks(plan, {"human1": "<root><BehaviorTree ID='x'><Sequence></root>"})
+    assert exp.node is None and "does not parse" in exp.detail
+
+
+def test_implied_criteria() -> None:
+    spec = ScenarioSpec(encounters=[
+        Encounter(id="e1", place="CORNER", node="b2", humans=[HumanPart(human="human1", reaction="stop"),
+                                                                HumanPart(human="human2", reaction="block")])],
+        criteria=[Criterion(id="c1", kind="keeps_away", human="human2", distance=1.0)])
+    judged = with_implied(spec, VerifySettings())
+    ids = [(c.id, src) for c, src in judged]
+    # human1 meets the robot at e1 (implied); human2 must keep away, so no implied meeting; no_collision implied;
+    # no_deadlock NOT implied because human2 is meant to block the robot
+    assert ids == [("c1", "spec"), ("meet_human1_e1", "implied"), ("no_collision", "implied")]
+    rude = spec.model_copy(update={"script": spec.script.model_copy(update={"misbehave": True})})
+    assert [c.id for c, _ in with_implied(rude, VerifySettings())] == ["c1", "meet_human1_e1"]
+
+
+def test_implied_order_and_scripted_waits() -> None:
+    from socnavgen.run.spec import CueTrigger, RobotCue, RobotScript
+
+    spec = ScenarioSpec(
+        script=RobotScript(cues=[RobotCue(trigger=CueTrigger(when="blocked"), wait=30.0)]),
+        encounters=[Encounter(id="e2", place="DOOR", node="d4", order=2, humans=[HumanPart(human="human2")]),
+                    Encounter(id="e1", place="CORNER", node="b2", order=1, humans=[HumanPart(human="human1")])])
+    judged = {c.id: c for c, _ in with_implied(spec, VerifySettings())}
+    order = judged["order_e1_e2"]
+    assert order.kind == "stl" and order.formula.startswith("(not ((dist_human2 <= 2)")
+    assert order.formula.endswith("until ((dist_human1 <= 2) and (mid_human1_to_e1 <= 1))")
+    assert judged["no_deadlock"].seconds == 35.0  # a scripted 30 s wait (+5 s) is no deadlock

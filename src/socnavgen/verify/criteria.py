@@ -24,6 +24,7 @@ encounter's `within` (docs/verify.md has the same table):
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -219,14 +220,19 @@ def _meets_evidence(cc: Compiled, s: Signals) -> Evidence:
     return text, float(t[k]), closest
 
 
+def words(phrase: str | None) -> str:
+    """'excuse_me' -> 'EXCUSE ME' (as the spec and the node library write phrases)."""
+    return (phrase or "").replace("_", " ").upper()
+
+
 def _phrase_evidence(cc: Compiled, s: Signals) -> Evidence:
     h, t = cc.human or "", s.t
     says = s.get(f"robot_says_{cc.phrase}") > 0.5
     first_say = _first(says)
     react = s.get(f"react_{h}_{cc.reaction}") if cc.reaction else np.zeros(len(t))
     first_react = _first(react > 0.5)
-    parts = [f"the robot said {cc.phrase} first at t={t[first_say]:.1f} s" if first_say is not None
-             else f"the robot never said {cc.phrase}"]
+    parts = [f"the robot said {words(cc.phrase)} first at t={t[first_say]:.1f} s" if first_say is not None
+             else f"the robot never said {words(cc.phrase)}"]
     if cc.reaction:
         if first_react is None:
             parts.append(f"{h} never showed {cc.reaction}")
@@ -260,15 +266,16 @@ def _human_evidence(cc: Compiled, s: Signals) -> Evidence:
         text += f"; in the robot's way within {cc.distance:g} m for {way.sum() * s.trace.dt:.1f} s"
     elif cc.criterion.kind == "says" and cc.phrase:
         first = _first(s.get(f"{h}_says_{cc.phrase}") > 0.5)
-        text += f"; {h} said {cc.phrase} first at t={t[first]:.1f} s" if first is not None else \
-            f"; {h} never said {cc.phrase}"
+        text += f"; {h} said {words(cc.phrase)} first at t={t[first]:.1f} s" if first is not None else \
+            f"; {h} never said {words(cc.phrase)}"
     elif cc.criterion.kind == "follows_robot" and cc.phrase:
         first = _first(s.get(f"robot_says_{cc.phrase}") > 0.5)
         far = s.get(f"dist_{h}")
         if first is not None:
-            text += f"; the robot said {cc.phrase} at t={t[first]:.1f} s; farthest after it {far[first:].max():.2f} m"
+            text += (f"; the robot said {words(cc.phrase)} at t={t[first]:.1f} s; farthest after it "
+                     f"{far[first:].max():.2f} m")
         else:
-            text += f"; the robot never said {cc.phrase}"
+            text += f"; the robot never said {words(cc.phrase)}"
     return text, float(t[k]), closest
 
 
@@ -325,7 +332,24 @@ def _deadlock_evidence(cc: Compiled, s: Signals) -> Evidence:
 
 
 def _stl_evidence(cc: Compiled, s: Signals) -> Evidence:
-    return "user formula", None, None
+    """What the formula's signals did: each distance's minimum and when, each 0/1 signal's first true step."""
+    from socnavgen.verify.signals import SIGNAL_KINDS
+    from socnavgen.verify.stl import formula_signals
+
+    units = {}
+    for name in formula_signals(cc.formula):
+        kind = next((k for k in SIGNAL_KINDS if re.fullmatch(k.pattern, name)), None)
+        units[name] = kind.unit if kind else ""
+    parts = []
+    for name, unit in list(units.items())[:4]:
+        values = s.get(name)
+        if unit == "0/1":
+            first = _first(values > 0.5)
+            parts.append(f"{name} first at t={s.t[first]:.1f} s" if first is not None else f"{name} never")
+        else:
+            k = int(np.argmin(values))
+            parts.append(f"{name} min {values[k]:.2f} {unit} at t={s.t[k]:.1f} s")
+    return "; ".join(parts) or "formula", None, None
 
 
 EVIDENCE: dict[str, Callable[[Compiled, Signals], Evidence]] = {

@@ -110,5 +110,6 @@ class VerifyReport(BaseModel):
         """The failing findings as text for a re-query prompt (generate --verify), optionally only those
         blamed on one stage (and human)."""
         chosen = self.failures if blame is None else self.blamed_on(blame, human)
-        return "\n".join(f"- {f.name}: {f.evidence}" + (f" (fix: {f.blame_reason})" if f.blame_reason else "")
-                         for f in chosen)
+        return "\n".join(f"- {f.name}: {f.evidence}"
+                         + (f" (robustness {f.robustness:+.2f})" if f.robustness is not None else "")
+                         + (f" (fix: {f.blame_reason})" if f.blame_reason else "") for f in chosen)

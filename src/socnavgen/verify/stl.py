@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import logging
 import re
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -19,6 +20,8 @@ import numpy as np
 from socnavgen.verify.signals import Signals, UnknownSignal
 
 MAX_FORMULA_CHARS = 1000
+MAX_NESTING = 24  # parentheses or temporal operators: rtamt's parser recurses on each level
+_TEMPORAL = re.compile(r"\b(?:always|eventually|historically|once|until|since|unless|next|prev|not)\b")
 OPERATORS = frozenset({
     "not", "or", "and", "iff", "implies", "xor", "rise", "fall", "always", "eventually", "until", "unless",
     "historically", "once", "since", "next", "prev", "true", "false", "abs", "sqrt", "exp", "pow",
@@ -52,6 +55,17 @@ def formula_signals(formula: str) -> list[str]:
     return list(seen)
 
 
+def _nesting(formula: str) -> int:
+    depth = deepest = 0
+    for ch in formula:
+        if ch == "(":
+            depth += 1
+            deepest = max(deepest, depth)
+        elif ch == ")":
+            depth -= 1
+    return deepest
+
+
 def check_formula(formula: str, signals: Signals) -> list[str]:
     """Raise FormulaError unless the formula is short, a single expression and names only known signals;
     return the signal names it uses."""
@@ -60,6 +74,11 @@ def check_formula(formula: str, signals: Signals) -> list[str]:
     if len(formula) > MAX_FORMULA_CHARS:
         raise FormulaError(f"the formula has {len(formula)} characters (at most {MAX_FORMULA_CHARS}); split it into "
                            "several criteria")
+    depth = max(_nesting(formula), len(_TEMPORAL.findall(formula)))
+    if depth > MAX_NESTING:
+        raise FormulaError(f"the formula nests {depth} levels deep or has as many temporal operators (at most "
+                           f"{MAX_NESTING}); split it into several "
+                           "criteria")
     if _FORBIDDEN.search(formula):
         raise FormulaError("a formula is one expression: no ';', '=', '@', '{' or '}' (compare with ==, <=, >=)")
     names = formula_signals(formula)
@@ -75,7 +94,9 @@ def check_formula(formula: str, signals: Signals) -> list[str]:
 
 def monitor(formula: str, signals: Signals) -> Verdict:
     """Robustness of `formula` over the whole trace (FormulaError for bad formulas)."""
-    import rtamt
+    with warnings.catch_warnings():  # rtamt's antlr runtime imports the deprecated typing.io
+        warnings.simplefilter("ignore", DeprecationWarning)
+        import rtamt
 
     names = check_formula(formula, signals)
     t = signals.t
@@ -98,6 +119,8 @@ def monitor(formula: str, signals: Signals) -> Verdict:
         out = spec.evaluate(data)
     except rtamt.RTAMTException as exc:
         raise FormulaError(_readable(str(exc))) from None
+    except RecursionError:  # pragma: no cover - MAX_NESTING keeps formulas far from this
+        raise FormulaError(f"the formula is too deeply nested (at most {MAX_NESTING} levels)") from None
     finally:
         rtamt_log.setLevel(level)
     series = np.array([float(v) for _, v in out], dtype=float)
@@ -112,3 +135,23 @@ def _readable(message: str) -> str:
         return f"column {max(1, int(m[2]) - len(_PREFIX) + 1)}"
 
     return "STL syntax: " + re.sub(r"(\d+):(\d+):", lambda m: shift(m) + ":", message, count=1)
+
+
+def formula_problems(formula: str, humans: list[str], places: list[str]) -> list[str]:
+    """Problems of a formula before any simulation (for stage-1 checks of spec.json): syntax, length, and
+    signal names against the run's humans and places (encounter ids, goal, node_<id>). [] when fine."""
+    from socnavgen.sim.trace import Trace
+    from socnavgen.sim.world import empty_room
+
+    n = len(humans)
+    trace = Trace(dt=1.0, t=np.array([0.0, 1.0]), robot=np.zeros((2, 6)), humans=np.ones((2, n, 6)),
+                  human_names=list(humans), group_ids=[-1] * n, human_radii=np.full(n, 0.4), robot_radius=0.35,
+                  node_names=[], action=np.full((2, n), -1, np.int16), succeeded=np.zeros((2, n), np.int64),
+                  human_gesture=np.zeros((2, n), np.int8), robot_gesture=np.zeros(2, np.int8),
+                  behavior_state=np.zeros((2, n), np.int8), robot_goal=(0.0, 0.0))
+    signals = Signals(trace, world=empty_room(4.0, 4.0, 0.1), places=dict.fromkeys(places, (0.0, 0.0)))
+    try:
+        monitor(formula, signals)
+    except FormulaError as exc:
+        return [str(exc)]
+    return []

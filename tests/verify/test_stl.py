@@ -1,0 +1,106 @@
+"""STL monitoring of named signals with rtamt: formulas from spec.json are checked (length, one expression,
+known signals, syntax) and each criterion kind's formula is non-vacuous and has the right robustness."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from socnavgen.run.spec import Criterion, Encounter, HumanPart, ScenarioSpec
+from socnavgen.sim.world import empty_room
+from socnavgen.verify.criteria import compile_criterion
+from socnavgen.verify.models import VerifySettings
+from socnavgen.verify.signals import Signals
+from socnavgen.verify.stl import MAX_FORMULA_CHARS, FormulaError, formula_problems, formula_signals, monitor
+
+from .verify_builders import build_trace
+
+
+def _approach(stop_at: float, human_x: float = 6.0) -> Signals:
+    """Robot drives +x at 1 m/s from x = 1 and stops at x = 1 + stop_at; human1 stands at x = human_x facing
+    -x. dt 0.5, 0..10 s, open 20 m room; place e1 at x = 5."""
+    t = np.arange(21) * 0.5
+    rx = np.minimum(t, stop_at) + 1.0
+    hx = np.full_like(t, human_x)
+    trace = build_trace(t, np.stack([rx, np.full_like(t, 10.0)], 1), np.stack([hx, np.full_like(t, 10.0)], 1)[:, None],
+                        goal=(15.0, 10.0))
+    trace.humans[:, 0, 2] = np.pi  # facing the robot
+    trace.robot[:, 2] = 0.0
+    return Signals(trace, world=empty_room(), places={"e1": (5.0, 10.0)})
+
+
+def test_formula_signals_ignore_operators_and_numbers() -> None:
+    assert formula_signals("always[0:1.5e1] ((dist_human1 <= 2) and not (los_human1 > 0.5))") == \
+        ["dist_human1", "los_human1"]
+
+
+@pytest.mark.parametrize(("formula", "message"), [
+    ("", "empty"),
+    ("x" * (MAX_FORMULA_CHARS + 1), "at most 1000"),
+    ("eventually (dist_human1 <= 2); import os", "one expression"),
+    ("a = eventually (dist_human1 <= 2)", "one expression"),
+    ("eventually (dist_human7 <= 2)", "human7 is not in this run"),
+    ("eventually (speed_robbot > 0.3)", "unknown signal 'speed_robbot'"),
+    ("eventually (robot_says_hello > 0.5)", "no phrase 'hello'"),
+    ("eventually (exec_human1_dance > 0.5)", "no library action 'dance'"),
+    ("eventually (mid_human1_to_e9 < 1)", "unknown place 'e9'"),
+    ("eventually (dist_human1 <= ", "STL syntax: column"),
+    ("12 > 3", "names no signal"),
+    ("(" * 400 + "dist_human1 < 1" + ")" * 400, "nests 400 levels deep"),
+    ("eventually " * 60 + "(dist_human1 < 1)", "nests 60 levels deep"),
+])
+def test_bad_formulas_are_refused_clearly(formula: str, message: str) -> None:
+    (problem,) = formula_problems(formula, ["human1"], ["e1"])
+    assert message in problem
+
+
+def test_good_formula_passes_the_static_check() -> None:
+    ok = "always ((dist_human1 <= 1.5 and ahead_human1 > 0.5) implies eventually[0:2] speed_human1 < 0.1)"
+    assert formula_problems(ok, ["human1"], ["e1"]) == []
+
+
+def test_robustness_is_in_the_signal_unit() -> None:
+    s = _approach(stop_at=2.0, human_x=6.0)  # robot stops at x = 3, 3 m from the human
+    assert monitor("eventually (dist_human1 <= 2)", s).robustness == pytest.approx(-1.0)
+    assert monitor("eventually (dist_human1 <= 4)", s).robustness == pytest.approx(1.0)
+    assert monitor("always (gap_human1 >= 0)", s).robustness == pytest.approx(2.25)  # 3 - 0.75
+    assert monitor("eventually (robot_to_e1 <= 0.5)", s).robustness == pytest.approx(-1.5)
+    with pytest.raises(FormulaError):
+        monitor("eventually (nope > 1)", s)
+
+
+def _criterion(s: Signals, **kw) -> float:  # noqa: ANN003
+    c = Criterion(id="c1", **kw)
+    spec = ScenarioSpec(encounters=[Encounter(id="e1", place="CORNER", node="n", humans=[
+        HumanPart(human="human1", reaction="stop")])], criteria=[c])
+    return monitor(compile_criterion(c, spec, VerifySettings(), 0.5).formula, s).robustness
+
+
+def test_criteria_are_not_vacuous() -> None:
+    far = _approach(stop_at=1.0)  # the robot stops 4 m from the standing human: it never comes near
+    near = _approach(stop_at=4.0)  # the robot stops 1.0 m from the human
+    # the human stands still all along: 'stops while the robot is near' needs the robot to come near
+    assert _criterion(far, kind="stops_near_robot", human="human1") < 0
+    assert _criterion(near, kind="stops_near_robot", human="human1") > 0
+    # 'gives way' needs the robot to come within the distance at all
+    assert _criterion(far, kind="gives_way", human="human1") < 0
+    # 'hidden until' needs them to come close (never seen, never met is no blind-corner encounter)
+    assert _criterion(far, kind="hidden_until", human="human1", distance=3.0) < 0
+    # 'keeps away' needs the human to have noticed the robot
+    away = _approach(stop_at=0.0, human_x=7.0)  # 6 m apart: never within the 5 m notice range
+    assert _criterion(away, kind="keeps_away", human="human1", distance=1.5) < 0
+    assert _criterion(far, kind="keeps_away", human="human1", distance=1.5) > 0
+    # meets: near the encounter place e1 (x = 5) and within 2 m
+    assert _criterion(near, kind="meets", human="human1", encounter="e1") > 0
+    assert _criterion(far, kind="meets", human="human1", encounter="e1") < 0
+
+
+def test_gives_way_robustness_follows_the_human() -> None:
+    # the robot stops 1 m from the human, who stays in its way: fails; stepping 1.5 m aside at t = 4 s, within
+    # 2 s of the robot coming within 2 m (t = 3 s): passes
+    staying = _approach(stop_at=4.0)
+    assert _criterion(staying, kind="gives_way", human="human1", seconds=2) < 0
+    stepping = _approach(stop_at=4.0)
+    stepping.trace.humans[8:, 0, 1] = 11.5  # steps 1.5 m aside at t = 4 s
+    stepping._cache.clear()
+    assert _criterion(stepping, kind="gives_way", human="human1", seconds=2) > 0
