@@ -212,6 +212,22 @@ NODES: list[NodeSpec] = [
              targets={"socrates", "hunav2", "hunav1"}, hunav2="SubTree", hunav1="SubTree"),
 ]
 
+# ==== BEGIN latching conditions (owner: sim) ====================================================
+# Conditions whose SUCCESS, once reached, stays: "once the robot said FOLLOW ME, keep following".
+NODES.append(
+    NodeSpec(name="RobotSaid", kind="condition",
+             ports=[_AGENT, Port(name="message", type=PortType.INT, description="gesture code",
+                                 allowed=ROBOT_GESTURES)],
+             description="SUCCESS once the robot has made the gesture `message` at any time so far (and from "
+                         "then on, even after it stopped); use it for reactions that must last, e.g. keep "
+                         "following after the robot said FOLLOW ME.",
+             capability="React for good to something the robot said earlier (it said FOLLOW ME once: keep "
+                        "following)",
+             targets={"socrates"},
+             sim_note="Not in the SocRATES fork or HuNavSim (their RobotSays holds only while the gesture is "
+                      "shown); the simulator remembers every gesture the robot has shown."))
+# ==== END latching conditions ===================================================================
+
 LIBRARY: dict[str, NodeSpec] = {n.name: n for n in NODES}
 
 # Trees the library ships and that a generated tree may `include` (file name -> main tree id).

@@ -131,6 +131,8 @@ class RouteBuilder:
                      if path[0] not in starts]
             need = role.min_count or role.count
             picked: list[tuple[list[str], str | None]] = []
+            if role.group and paths:  # a group walks together: every member on the same path, side by side
+                picked = [paths[0]] * role.count
             for path, meets in paths:
                 if path[0] not in {q[0] for q, _ in picked} and len(picked) < role.count:
                     picked.append((path, meets))
@@ -218,6 +220,20 @@ class RouteBuilder:
         if roles & {"ahead", "behind", "beside"} and not self.beyond(robot) \
                 and interior and robot.index(place.node) < len(robot) - 2 and len(robot) > 3:
             robot = robot[:-1]  # the last node becomes where the walkers go on to
+        if card.place == "blind_corner":
+            robot = self.blind_route(robot, place.node)
         placement = Placement(card=card, place=place, robot=robot)
         placement.humans = self.humans(placement)
         return placement
+
+    def blind_route(self, robot: list[str], p: str) -> list[str]:
+        """A blind corner must be blind: the route's far end (where an oncoming person starts) is cut back
+        until no node of the far leg is in sight of a node of the near leg (a route that wraps around a
+        shelf would otherwise show the person across the room at t = 0)."""
+        i = robot.index(p)
+        near = robot[:i]
+        while len(robot) > i + 2 and any(self.f.sees(a, b) for a in near for b in robot[i + 1:]):
+            robot = robot[:-1]
+        if any(self.f.sees(a, b) for a in near for b in robot[i + 1:]):
+            raise DoesNotFit(f"{p} is not blind: the legs before and after it see each other")
+        return robot
