@@ -10,7 +10,15 @@ from socnavgen.cards.routes import Placement
 from socnavgen.location import Location
 from socnavgen.run import PathPlan
 from socnavgen.run.models import RobotGestureRule
-from socnavgen.run.spec import Criterion, CueTrigger, Encounter, HumanPart, RobotCue, RobotScript, ScenarioSpec
+from socnavgen.run.spec import (
+    Criterion,
+    CueTrigger,
+    Encounter,
+    HumanPart,
+    RobotCue,
+    RobotScript,
+    ScenarioSpec,
+)
 
 # What each tree template of templates.yaml makes its human do, in the spec's words:
 # template -> (trigger, reaction, robot phrase or human phrase (for `say`), trigger distance)

@@ -23,6 +23,7 @@ class FixtureRow(BaseModel):
     trees_valid: bool
     first_attempt: bool  # every stage valid at its first answer
     verified: bool | None  # None: not simulated (an earlier stage failed)
+    verify_rounds: int = 0  # rounds of the recorded --verify loop (0: recorded without --verify)
     failing: list[str] = []  # names of the failing criteria
     min_robustness: float | None = None
 
@@ -41,15 +42,18 @@ def fixture_request(path: Path, root: Path | None = None) -> ScenarioRequest:
 
 
 def replay_fixture(path: Path, out: Path, root: Path | None = None, verify: bool = True) -> FixtureRow:
-    """Replay one fixture into `out` and judge it."""
+    """Replay one fixture into `out` and judge it. A fixture recorded with `--verify` (`verify_loop:
+    true`) is replayed through the same loop, so its re-asked answers are used as they were live."""
     from socnavgen.llm import make_llm
+    from socnavgen.llm.transcript import read_transcript
     from socnavgen.proposal import generate
 
     request = fixture_request(path, root)
+    loop = bool(load_yaml_file(path).get("verify_loop"))
     llm = make_llm(request.llm, transcript=out / "transcript.jsonl", use_cache=False)
-    failed = False
+    failed, report = False, None
     try:
-        generate(request, llm, out)
+        report = generate(request, llm, out, verify=verify and loop).verify
     except StageFailed:
         failed = True
     manifest = RunFolder(out).read_manifest()
@@ -58,16 +62,16 @@ def replay_fixture(path: Path, out: Path, root: Path | None = None, verify: bool
         record = manifest.stages.get(stage)
         return record is not None and record.status == "done"
 
-    first = not failed and all(r.attempts <= 1 for name, r in manifest.stages.items()
-                               if name in ("scenario", "paths") or name.startswith("behaviors:"))
+    checks = [e for e in read_transcript(RunFolder(out).transcript_path) if e.get("kind") == "check"]
     row = FixtureRow(fixture=path.stem, location=Path(request.location).name,
                      humans=len(RunFolder(out).read_scenario().human_behaviors) if ok("scenario") else 0,
                      scenario_valid=ok("scenario"), paths_valid=ok("paths"), trees_valid=ok("behaviors"),
-                     first_attempt=first, verified=None)
+                     first_attempt=not failed and all(e.get("valid") for e in checks), verified=None,
+                     verify_rounds=manifest.stages["verify"].attempts if "verify" in manifest.stages else 0)
     if verify and not failed:
         from socnavgen.verify import verify_run
 
-        report = verify_run(out)
+        report = report or verify_run(out)
         robustness = [f.robustness for f in report.findings if f.robustness is not None]
         row.verified = report.passed
         row.failing = [f.name for f in report.failures]
@@ -86,20 +90,20 @@ def fixture_paths(folder: Path) -> list[Path]:
 
 
 def fixtures_markdown(rows: list[FixtureRow]) -> str:
-    head = ("| fixture | location | humans | scenario + spec valid | paths valid | trees valid | all valid at 1st "
-            "answer | verified in simulation | lowest robustness | failing criteria |\n|---|---|---|---|---|---|---|"
-            "---|---|---|")
+    head = ("| fixture | location | humans | scenario + spec valid | paths valid | trees valid | every answer valid "
+            "at 1st try | verified in simulation | --verify rounds | lowest robustness | failing criteria |\n"
+            "|---|---|---|---|---|---|---|---|---|---|---|")
     lines = [head]
     for r in rows:
         verified = "–" if r.verified is None else ("**yes**" if r.verified else "no")
         lines.append(f"| {r.fixture} | {r.location} | {r.humans} | {_yes(r.scenario_valid)} | {_yes(r.paths_valid)} | "
-                     f"{_yes(r.trees_valid)} | {_yes(r.first_attempt)} | {verified} | "
+                     f"{_yes(r.trees_valid)} | {_yes(r.first_attempt)} | {verified} | {r.verify_rounds or '–'} | "
                      f"{'–' if r.min_robustness is None else f'{r.min_robustness:+.2f}'} | "
                      f"{'; '.join(r.failing) or '–'} |")
     share = [r.verified for r in rows if r.verified is not None]
     lines.append(f"| **all** | | | {sum(r.scenario_valid for r in rows)}/{len(rows)} | "
                  f"{sum(r.paths_valid for r in rows)}/{len(rows)} | {sum(r.trees_valid for r in rows)}/{len(rows)} | "
-                 f"{sum(r.first_attempt for r in rows)}/{len(rows)} | {sum(share)}/{len(rows)} | | |")
+                 f"{sum(r.first_attempt for r in rows)}/{len(rows)} | {sum(share)}/{len(rows)} | | | |")
     return "\n".join(lines)
 
 
@@ -132,9 +136,10 @@ def record_fixture(run_dir: Path, out: Path, note: str = "") -> Path:
             stages.setdefault(stage, {}).setdefault(key, []).append(raw)  # type: ignore[union-attr]
     fields = {k: v for k, v in request.model_dump(include={"location", "context", "task", "rough", "target"}).items()
               if v is not None}
+    loop = "verify" in run.read_manifest().stages
     header = (f"# Replay fixture recorded from a live run ({model or 'unknown model'}); {note}\n"
               f"# Replay: socnavgen generate --llm replay:THIS ... or socnavgen eval --fixtures DIR\n")
-    text = header + yaml.safe_dump({"request": fields, "stages": stages}, sort_keys=False, allow_unicode=True,
-                                   width=120)
+    data = {"request": fields, **({"verify_loop": True} if loop else {}), "stages": stages}
+    text = header + yaml.safe_dump(data, sort_keys=False, allow_unicode=True, width=120)
     atomic_write_text(out, text)
     return out

@@ -80,7 +80,7 @@ class InteractionThrottle:
             idx = len(h.goals) - len(q)  # index in h.goals of the goal the human walks to now
             node_at = h.goals.index(h.node) if h.node in h.goals else -1
             robot_left = self._robot_left(rp, h)
-            if (crowd.behavior_state[i] == 0 and q.goals and 0 <= idx and (idx <= node_at or h.spawn == h.node)
+            if (crowd.behavior_state[i] == 0 and q.goals and idx >= 0 and (idx <= node_at or h.spawn == h.node)
                     and robot_left > self.config.robot_near and sim.robot_dist[i] > self.config.release_distance):
                 points = self.points.setdefault(i, [complex(*g) for g in crowd.specs[i].goals])
                 node_point = self.robot_points[h.robot_index]
