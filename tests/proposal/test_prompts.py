@@ -215,6 +215,10 @@ def test_scenario_grammar_ties_the_count_to_the_behaviors():
     assert not grammar.matches(_grammar_reply(1, human_behaviors={"human1": ""}))
     assert not grammar.matches(_grammar_reply(1, human_behaviors={"human2": "walks"}))
     assert not grammar.matches(_grammar_reply(1, scenario_description="x" * 401))
+    # the answer template's placeholder cannot be copied (the local model did, before)
+    assert not grammar.matches(_grammar_reply(1, human_behaviors={
+        "human1": "<task and behavior towards the robot of Human 1>"}))
+    assert not grammar.matches(_grammar_reply(1, human_behaviors={"human1": "Walks to the shelf},"}))
 
 
 def test_scenario_grammar_only_admits_specs_the_checks_accept(mini_location):
