@@ -15,10 +15,10 @@ from socnavgen.run import RunFolder
 
 FIXTURES = Path(__file__).resolve().parents[1] / "fixtures" / "replay"
 ROOT = Path(__file__).resolve().parents[2]
-NAMES = ["hospital_evacuation", "paper_scene_a", "paper_scene_b", "paper_scene_c"]
+NAMES = ["hospital_evacuation", "paper_scene_a", "paper_scene_b", "paper_scene_b_verify", "paper_scene_c"]
 
 
-def test_the_four_fixtures_are_there():
+def test_the_fixtures_are_there():
     assert [p.stem for p in fixture_paths(FIXTURES)] == NAMES
     rough = {p.stem: fixture_request(p, ROOT).rough for p in fixture_paths(FIXTURES)}
     assert rough["hospital_evacuation"] is None
@@ -34,6 +34,7 @@ def replayed(tmp_path_factory) -> dict[str, tuple[object, Path]]:
 @pytest.mark.parametrize("name", NAMES)
 def test_every_stage_is_valid_at_the_first_answer(replayed, name):
     row, folder = replayed[name]
+    assert row.verify_rounds == (3 if name.endswith("_verify") else 0)  # the loop replayed as recorded
     assert row.scenario_valid and row.paths_valid and row.trees_valid and row.first_attempt
     run = RunFolder(folder)
     spec = run.read_spec()
@@ -45,14 +46,15 @@ def test_every_stage_is_valid_at_the_first_answer(replayed, name):
 
 
 # Verdicts of the strict verifier with the scripted robot: scene B's worker tree (IsRobotBlocking) did
-# not stop him, and the evacuation's paths and porter tree were blamed (both recorded before --verify;
-# their --verify runs are separate fixtures). A strict xfail turns red the day they pass.
-FAILS_WITHOUT_VERIFY_LOOP = {"hospital_evacuation", "paper_scene_b"}
+# not stop him, and the evacuation's paths and trees were blamed. With --verify (paper_scene_b_verify)
+# the re-asked tree makes him stop, but he then stands in the 2 m leg and the robot, which never
+# pushes past a person, times out short of its goal. A strict xfail turns red the day they pass.
+FAILS = {"hospital_evacuation", "paper_scene_b", "paper_scene_b_verify"}
 
 
 @pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.xfail(
-    strict=True, reason="the first answers fail verification; the --verify loop re-asks the blamed parts"))
-    if n in FAILS_WITHOUT_VERIFY_LOOP else n for n in NAMES])
+    strict=True, reason="fails verification today (see FAILS)"))
+    if n in FAILS else n for n in NAMES])
 def test_simulated_and_verified(replayed, name):
     row, _ = replayed[name]
     assert row.verified is True, row.failing
