@@ -1,6 +1,7 @@
 """Scenario cards x bundled locations: generated, simulated with the default robot, judged by the strict
 verifier. One row per (location, card): PASS/FAIL, the smallest robot-human gap, the encounter's offset
-from its place (robot-human midpoint at their closest, to the encounter node), and the failing checks.
+from its place (robot-human midpoint while within 2 m, to the encounter node; worst encounter), and the
+failing checks.
 
     python benchmarks/cards_bench.py                 # every card on every bundled location
     python benchmarks/cards_bench.py --robot sfm     # another built-in robot
@@ -24,11 +25,12 @@ from socnavgen.sim.scenario import simulate_run
 from socnavgen.verify import verify_trace
 
 LOCATIONS = Path(__file__).resolve().parents[1] / "examples" / "locations"
+MEET = 2.0  # m, centre distance that counts as meeting (the verifier's default)
 
 
 def encounter_offset(run, trace, location) -> float | None:  # noqa: ANN001
-    """Largest over the spec's encounters of: distance from the encounter node to the robot-human
-    midpoint at their closest approach (m)."""
+    """Largest over the spec's encounters of: how far from the encounter node the robot and its human meet
+    (the robot-human midpoint, over the steps they are within 2 m of each other; inf if they never are)."""
     spec = run.read_spec()
     if spec is None or not trace.human_names:
         return None
@@ -38,12 +40,11 @@ def encounter_offset(run, trace, location) -> float | None:  # noqa: ANN001
         if not enc.node:
             continue
         node = np.array(location.node_world(enc.node))
-        for part in enc.humans[:1]:
-            k = trace.human_names.index(part.human)
-            s = int(np.argmin(dist[:, k]))
-            mid = (trace.robot[s, :2] + trace.humans[s, k, :2]) / 2
-            off = float(np.linalg.norm(mid - node))
-            worst = off if worst is None else max(worst, off)
+        k = trace.human_names.index(enc.humans[0].human)
+        close = dist[:, k] <= MEET
+        mid = (trace.robot[:, :2] + trace.humans[:, k, :2]) / 2
+        off = float(np.linalg.norm(mid[close] - node, axis=1).min()) if close.any() else float("inf")
+        worst = off if worst is None else max(worst, off)
     return worst
 
 

@@ -35,6 +35,8 @@ TEMPLATE_PARTS: dict[str, tuple[str, str, str | None, float | None]] = {
     "follow_robot": ("robot_visible", "follow", None, 6.0),
     "crowd_robot": ("robot_visible", "follow", None, 5.0),
 }
+ROBOT_CRUISE = 0.6  # m/s
+HUMAN_WALK = 1.2  # m/s: a person's effective walking speed (max 1.5 m/s, slowed by turns and others)
 HIDDEN_UNTIL = 5.0  # m: at a blind corner robot and human see each other only once this close (centres)
 GROUP_SPREAD = 2.5  # m: largest distance between two members of a group, the whole run
 _WHEN = {"blocked": "blocked", "near_human": "human_within", "always": "start"}
@@ -73,8 +75,11 @@ def card_spec(placement: Placement, plan: PathPlan, location: Location) -> Scena
             continue
         enc_id = f"e{len(encounters) + 1}"
         part = _part(h.name, route.role.tree)
-        node_type = str(location.graph.nodes[h.interaction_point].get("type", "") or "INTERACTION POINT")
-        encounters.append(Encounter(id=enc_id, place=node_type, node=h.interaction_point,
+        # the person waits just past a doorway (paths' interaction point), but the encounter is IN the doorway
+        node = placement.place.node if card.place == "doorway" and placement.place.node in plan.robot \
+            else h.interaction_point
+        node_type = str(location.graph.nodes[node].get("type", "") or "INTERACTION POINT")
+        encounters.append(Encounter(id=enc_id, place=node_type, node=node,
                                     robot_does=card.expected_robot_behavior, humans=[part], within=1.0))
         node_encounter.setdefault(h.interaction_point, enc_id)
         if part.trigger == "robot_says" and part.phrase:
@@ -102,5 +107,24 @@ def card_spec(placement: Placement, plan: PathPlan, location: Location) -> Scena
         criteria.append(Criterion(id=f"c{len(criteria) + 1}", kind="no_deadlock", seconds=10.0,
                                   text="the robot never stands 10 s behind someone in its way"))
     cues = [c for c in (_cue(rule, node_encounter) for rule in card.robot_gestures) if c is not None]
+    late = max((_lateness(plan, h.name, h.interaction_point, location) for h in plan.humans
+                if h.interaction_point), default=0.0)
+    if late > 1.0:  # the person cannot be there in time: the robot starts later (pacing only slows people)
+        cues.insert(0, RobotCue(trigger=CueTrigger(when="start"), wait=round(late, 1)))
     script = RobotScript(route=f"{card.task} ({' -> '.join(plan.robot)})", speed=0.6, cues=cues)
     return ScenarioSpec(script=script, encounters=encounters, criteria=criteria)
+
+
+def _path_length(nodes: list[str], location: Location) -> float:
+    pts = [complex(*location.node_world(n)) for n in nodes]
+    return sum(abs(b - a) for a, b in zip(pts, pts[1:], strict=False))
+
+
+def _lateness(plan: PathPlan, human: str, node: str, location: Location) -> float:
+    """Seconds by which `human` would reach `node` after the robot, both going at their cruise speed."""
+    path = next(h.path for h in plan.humans if h.name == human)
+    if node not in path or node not in plan.robot:
+        return 0.0
+    human_time = _path_length(path[:path.index(node) + 1], location) / HUMAN_WALK
+    robot_time = _path_length(plan.robot[:plan.robot.index(node) + 1], location) / ROBOT_CRUISE
+    return max(0.0, human_time - robot_time)

@@ -257,6 +257,8 @@ class Simulation:
             self.robot_gesture = self.cues.say
         elif self.gestures is not None:
             self.robot_gesture = self.gestures.gesture(self)
+        elif self.script is not None:
+            self.robot_gesture = 0  # the script's phrase is over
         if self.robot_gesture:
             self.robot_said.add(self.robot_gesture)
 
@@ -277,7 +279,7 @@ class Simulation:
             for i, j in zip(*np.nonzero(np.triu(overlap > 1e-6)), strict=True):
                 d = pos[i] - pos[j]
                 unit = d / abs(d) if abs(d) > 1e-9 else complex(math.cos(0.7 * (i + 1)), math.sin(0.7 * (j + 1)))
-                depth = radius[i] + radius[j] - abs(d)
+                depth = radius[i] + radius[j] - abs(d) + 1e-4  # just apart: no state exactly on the boundary
                 wi, wj = bool(self.cmd_move[i]), bool(self.cmd_move[j])
                 share_i = 0.5 if wi == wj else (1.0 if wi else 0.0)
                 for k, sign, share in ((i, 1.0, share_i), (j, -1.0, 1.0 - share_i)):

@@ -50,7 +50,7 @@ class ScriptedGestures:
 # ---- the robot's script of spec.json (run/spec.py RobotScript) -----------------------------------
 ROBOT_PHRASE_CODE = {name: code for code, name in ROBOT_GESTURES.items() if code}
 HUMAN_PHRASE_CODE = {name: code for code, name in HUMAN_GESTURES.items() if code}
-CLEAR_DISTANCE = 1.5  # m: `wait_until_clear` waits until nobody is in the robot's way this close
+CLEAR_DISTANCE = 3.0  # m: `wait_until_clear` waits until nobody is in the robot's way this close
 
 
 @dataclass

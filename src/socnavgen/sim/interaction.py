@@ -22,7 +22,7 @@ from typing import Any
 class ThrottleConfig:
     enabled: bool = True
     waypoint_radius: float = 1.5  # robot counts a waypoint as passed within this distance
-    release_distance: float = 1.0  # never hold a human this close to the robot
+    release_distance: float = 2.0  # m: never hold a human this close to the robot (it would stand in its way)
     rule: str = "eta"  # "eta" or "socrates"
     robot_speed: float = 0.6  # m/s, nominal robot speed for the eta rule (the script's cruise speed)
     min_pace: float = 0.3  # m/s: a human who would walk slower than this stands instead (holds)
