@@ -15,7 +15,8 @@ from socnavgen.run import RunFolder
 
 FIXTURES = Path(__file__).resolve().parents[1] / "fixtures" / "replay"
 ROOT = Path(__file__).resolve().parents[2]
-NAMES = ["hospital_evacuation", "paper_scene_a", "paper_scene_b", "paper_scene_b_verify", "paper_scene_c"]
+NAMES = ["hospital_evacuation", "hospital_evacuation_verify", "paper_scene_a", "paper_scene_b", "paper_scene_b_verify",
+         "paper_scene_c"]
 
 
 def test_the_fixtures_are_there():
@@ -32,10 +33,12 @@ def replayed(tmp_path_factory) -> dict[str, tuple[object, Path]]:
 
 
 @pytest.mark.parametrize("name", NAMES)
-def test_every_stage_is_valid_at_the_first_answer(replayed, name):
+def test_every_stage_is_valid(replayed, name):
     row, folder = replayed[name]
-    assert row.verify_rounds == (3 if name.endswith("_verify") else 0)  # the loop replayed as recorded
-    assert row.scenario_valid and row.paths_valid and row.trees_valid and row.first_attempt
+    assert (row.verify_rounds >= 1) == name.endswith("_verify")  # the loop replays only where it was recorded
+    assert row.scenario_valid and row.paths_valid and row.trees_valid
+    # every first answer was valid; in the evacuation's --verify run one re-asked tree was corrected once
+    assert row.first_attempt == (name != "hospital_evacuation_verify")
     run = RunFolder(folder)
     spec = run.read_spec()
     assert spec is not None and spec.encounters and all(e.node for e in spec.encounters)
@@ -45,11 +48,13 @@ def test_every_stage_is_valid_at_the_first_answer(replayed, name):
         assert tree_need_mistakes(xml, human, spec) == []
 
 
-# Verdicts of the strict verifier with the scripted robot: scene B's worker tree (IsRobotBlocking) did
-# not stop him, and the evacuation's paths and trees were blamed. With --verify (paper_scene_b_verify)
-# the re-asked tree makes him stop, but he then stands in the 2 m leg and the robot, which never
-# pushes past a person, times out short of its goal. A strict xfail turns red the day they pass.
-FAILS = {"hospital_evacuation", "paper_scene_b", "paper_scene_b_verify"}
+# Verdicts of the strict verifier on the merged simulator (scripted robot whose wait_until_clear looks
+# 3 m ahead). Failing today: scene B's first tree does not stop the worker (its --verify run fixes it
+# in 2 rounds); scene C's robot waits for the group to clear 3 m ahead, the workers step aside but stay
+# within that, and it times out (it PASSED with the previous simulator commit); the evacuation's
+# patient falls behind the robot and the visitor, in a group with her, is 2 m from the door node (its
+# --verify run fixed the porter's deadlock, not those). A strict xfail turns red the day one passes.
+FAILS = {"hospital_evacuation", "hospital_evacuation_verify", "paper_scene_b", "paper_scene_c"}
 
 
 @pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.xfail(
