@@ -194,7 +194,9 @@ class RouteBuilder:
         ring = self.near_nodes(p, {robot[-1]})
         if kind == "circular":
             ring = [n for n in ring if n not in robot]
-        paths = [self.across(s, p, ahead_of_robot | {robot[-1]}) for s in ring]
+        # a crowd walking to where the robot starts traps it there; a few circling people do not
+        forbid = ahead_of_robot | {robot[-1]} | (set() if kind == "circular" else {robot[0]})
+        paths = [self.across(s, p, forbid) for s in ring]
         return [(path, p) for path in paths if path is not None]
 
     def meeting_node(self, placement: Placement, i: int) -> str:

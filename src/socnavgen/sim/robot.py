@@ -408,7 +408,13 @@ class ScriptedPolicy(WaypointsPolicy):
             self.speed = 0.0
             return RobotAction(0.0, 0.0)
         action = super().act(obs)
-        v = keep_clear(obs, complex(action.vx, action.vy))
+        v = complex(action.vx, action.vy)
+        target, _ = self.tracker.target(obs)
+        ahead = target - obs.position_c
+        if abs(ahead) > 1e-9 and (v * (ahead / abs(ahead)).conjugate()).real < 0:
+            v -= (v * (ahead / abs(ahead)).conjugate()).real * ahead / abs(ahead)  # never retreat: a crowd
+            # pushing it back would drive it the wrong way for good; it sidesteps or waits instead
+        v = keep_clear(obs, v)
         if abs(v) < abs(complex(action.vx, action.vy)) - 1e-9:
             self.speed = min(self.speed, abs(v))
         return RobotAction(v.real, v.imag, action.gesture)
