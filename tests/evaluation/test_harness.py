@@ -17,7 +17,10 @@ TREE = """<root main_tree_to_execute='StopTree'>
   <include path='BTRegularNav.xml'/>
   <BehaviorTree ID='StopTree'>
     <Fallback name='StopOrWalk'>
-      <IsRobotBlocking agent_id='{id}' distance='1.0'/>
+      <Sequence name='Stop'>
+        <IsRobotBlocking agent_id='{id}' distance='1.0'/>
+        <LookAtRobot agent_id='{id}'/>
+      </Sequence>
       <Sequence name='Walk'>
         <SetBlackboard output_key='agentid' value='{id}'/>
         <SetBlackboard output_key='timestep' value='{dt}'/>
@@ -29,10 +32,13 @@ TREE = """<root main_tree_to_execute='StopTree'>
 
 SCENARIO = {"scenario_description": "A worker meets the robot at a blind corner and stops.",
             "number_of_humans": 1, "human_behaviors": {"Human 1": "Stops while the robot blocks the way."},
-            "expected_robot_behavior": "Slow down at the corner and pass."}
+            "expected_robot_behavior": "Slow down at the corner and pass.",
+            "spec": {"encounters": [{"id": "e1", "place": "BLIND CORNER", "humans": [
+                {"human": "human1", "trigger": "robot_blocking", "reaction": "stop", "distance": 1.0}]}],
+                     "criteria": [{"id": "c1", "kind": "meets", "human": "human1", "encounter": "e1"}]}}
 PATHS = {"reasoning": "f7 is a blind corner on both paths.",
          "trajectories": {"robot": ["6r", "f7", "54"], "human1": ["54", "f7", "6r"]},
-         "group_ids": {"human1": -1}, "interaction_points": {"human1": "f7"}}
+         "group_ids": {"human1": -1}, "interaction_points": {"human1": "f7"}, "encounter_nodes": {"e1": "f7"}}
 BROKEN_TREE = TREE.replace("IsRobotBlocking", "IsRobotScary")
 
 

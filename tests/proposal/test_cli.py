@@ -138,3 +138,32 @@ def test_review_needs_a_terminal(tmp_path, warehouse):
     result = CliRunner().invoke(app, ["generate", "--location", str(warehouse), *ARGS, "--review", "--llm",
                                       f"replay:{FIXTURES / 'warehouse_blind_corner.yaml'}", "--out", str(tmp_path)])
     assert "--review needs an interactive terminal" in str(result.exception)
+
+
+def test_target_and_deadline_reach_the_request_and_the_model(tmp_path, warehouse, monkeypatch):
+    import socnavgen.llm as llm_module
+
+    seen = {}
+    real = llm_module.make_llm
+
+    def spy(spec, **kwargs):  # noqa: ANN001, ANN003, ANN202
+        seen.update(kwargs)
+        return real(spec, **kwargs)
+
+    monkeypatch.setattr(llm_module, "make_llm", spy)
+    out = tmp_path / "run"
+    result = CliRunner().invoke(app, ["generate", "--location", str(warehouse), *ARGS, "--llm",
+                                      f"replay:{FIXTURES / 'warehouse_blind_corner.yaml'}", "--out", str(out),
+                                      "--target", "hunav2", "--deadline", "1800"])
+    assert seen["deadline"] == 1800.0
+    assert RunFolder(out).read_request().target == "hunav2"
+    # the fixture's worker reacts with IsRobotBlocking, which hunav2 cannot run: stage 1 refuses its spec
+    assert result.exit_code != 0
+    assert "cannot be detected by any node hunav2 runs" in RunFolder(out).manifest_path.read_text()
+
+
+def test_unknown_target_is_one_clear_message(tmp_path, warehouse):
+    result = CliRunner().invoke(app, ["generate", "--location", str(warehouse), *ARGS, "--out", str(tmp_path / "r"),
+                                      "--target", "gazebo"])
+    assert "unknown --target 'gazebo'" in str(result.exception)
+    assert not (tmp_path / "r" / "request.json").exists()

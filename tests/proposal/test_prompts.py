@@ -215,6 +215,10 @@ def test_scenario_grammar_ties_the_count_to_the_behaviors():
     assert not grammar.matches(_grammar_reply(1, human_behaviors={"human1": ""}))
     assert not grammar.matches(_grammar_reply(1, human_behaviors={"human2": "walks"}))
     assert not grammar.matches(_grammar_reply(1, scenario_description="x" * 401))
+    # the answer template's placeholder cannot be copied (the local model did, before)
+    assert not grammar.matches(_grammar_reply(1, human_behaviors={
+        "human1": "<task and behavior towards the robot of Human 1>"}))
+    assert not grammar.matches(_grammar_reply(1, human_behaviors={"human1": "Walks to the shelf},"}))
 
 
 def test_scenario_grammar_only_admits_specs_the_checks_accept(mini_location):
@@ -259,6 +263,10 @@ def test_grammars_parse_in_llama_cpp(mini_location):
     assert parses(paths_grammar(graph, ["human1", "human2"]))
     assert parses(scenario_grammar(["BLIND CORNER", "CORNER"]))
     assert parses(bt_reply_grammar([0, 1], agent_id=0, max_depth=GRAMMAR_DEPTH))
+    from socnavgen.proposal.tree_grammar import spec_tree_grammar
+    from socnavgen.run.spec import ScenarioSpec
+
+    assert parses(spec_tree_grammar("human1", ScenarioSpec.model_validate(spec_for(2))))
 
 
 def test_tiny_grammar_matcher():

@@ -247,3 +247,14 @@ def test_findings_without_blame_are_not_sent_to_any_stage(tmp_path, mini_locatio
     assert isinstance(run, Run), run
     assert len(seen) == 1 and len(llm.calls) == 4  # scenario, paths, 2 trees: no re-ask
     assert manifest(tmp_path / "run")["status"] == "failed"
+
+
+def test_paths_and_a_blamed_tree_are_reasked_in_the_same_round(tmp_path, mini_location):
+    verify, seen = _verifier(_report(False, [_finding("paths"), _finding("behaviors", human="human1")]),
+                             _report(True, []))
+    script = full_script(tmp_path, paths=[paths_reply(), paths_reply()],
+                         behaviors={"human1": [tree_reply(), tree_reply()], "human2": [tree_reply()]})
+    run, llm = run_replay(script, mini_location, tmp_path / "run", verify=True, verifier=verify)
+    assert isinstance(run, Run), run
+    later = stages_called(llm)[4:]  # after scenario, paths, two trees
+    assert later == [("paths", None), ("behaviors", "human1")] and len(seen) == 2

@@ -47,6 +47,8 @@ def evaluate(
     temperature: float = typer.Option(0.7, "--temperature", help="sampling temperature (runs differ above 0)"),
     max_restarts: int = typer.Option(2, "--max-restarts", min=0, help="conversation restarts per stage"),
     show_suite: bool = typer.Option(False, "--show-suite", help="print the bundled suite YAML and exit"),
+    fixtures: Path | None = typer.Option(None, "--fixtures", help="instead: replay the recorded model fixtures "
+                                                                  "in this folder, verify them, print Table III"),
 ) -> None:
     """Measure scenario, path and behavior-tree validity as the SocRATES paper did, on any model.
 
@@ -62,6 +64,9 @@ def evaluate(
 
     if show_suite:
         print_machine((resources.files("socnavgen.evaluation") / "data" / DEFAULT_SUITE).read_text())
+        return
+    if fixtures is not None:
+        _replay_fixtures(fixtures, out, verify)
         return
     suite = load_suite(suite_file)
     settings = EvalSettings(llm=llm, out=out, runs=runs, proposals=proposals,
@@ -91,3 +96,26 @@ def evaluate(
     if "I" in settings.tables:
         console.print(_table("Table I: proposals passing stage-1 checks", table1(outcomes), "scene"))
     console.print("wrote " + ", ".join(str(f) for f in files))
+
+
+def _replay_fixtures(folder: Path, out: Path, verify: bool) -> None:
+    """`eval --fixtures DIR`: Table III's 'verified in simulation' over recorded capable-model replies."""
+    from socnavgen.errors import SocnavgenError
+    from socnavgen.evaluation.fixtures import fixture_paths, fixtures_markdown, replay_fixture
+    from socnavgen.safeio import atomic_write_text
+
+    paths = fixture_paths(folder)
+    if not paths:
+        raise SocnavgenError("no fixture with a recorded request in this folder", file=folder,
+                             hint="fixtures are YAML files with `request:` and `stages:` (tests/fixtures/replay)")
+    rows = []
+    with progress() as bar:
+        task = bar.add_task("replaying fixtures", total=len(paths))
+        for path in paths:
+            rows.append(replay_fixture(path, out / "fixtures" / path.stem, root=Path.cwd(), verify=verify))
+            bar.update(task, advance=1, description=f"{path.stem}: verified={rows[-1].verified}")
+    text = fixtures_markdown(rows)
+    out.mkdir(parents=True, exist_ok=True)
+    atomic_write_text(out / "fixtures.md", text + "\n")
+    console.print(text, markup=False)
+    console.print(f"wrote {out / 'fixtures.md'}")

@@ -85,7 +85,7 @@ def _outcome(job: Job) -> RunOutcome:
 def _propose_only(job: Job, llm) -> None:  # noqa: ANN001 - an LLM
     """Table I measures stage 1 alone: one checked proposal per run folder."""
     from socnavgen.proposal.conversation import Policy, Recorder
-    from socnavgen.proposal.scenario import propose_scenarios, to_proposal
+    from socnavgen.proposal.scenario import propose_scenarios, to_proposal, to_spec
 
     run = RunFolder(job.folder)
     run.root.mkdir(parents=True, exist_ok=True)
@@ -97,6 +97,9 @@ def _propose_only(job: Job, llm) -> None:  # noqa: ANN001 - an LLM
     try:
         outcomes = propose_scenarios(job.request, load_location(job.request.location), llm, recorder, policy)
         run.write_scenario(to_proposal(outcomes[0].value))
+        spec = to_spec(outcomes[0].value)
+        if spec is not None:
+            run.write_spec(spec)
         recorder.set_status("scenario", None, "done")
         manifest.status = "done"
     except StageFailed as exc:

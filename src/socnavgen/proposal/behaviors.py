@@ -24,6 +24,7 @@ from socnavgen.proposal.conversation import Outcome, Policy, Recorder, converse
 from socnavgen.proposal.facts import physical_facts_text
 from socnavgen.proposal.replies import BehaviorReply
 from socnavgen.proposal.templates import render, template_data
+from socnavgen.proposal.tree_grammar import spec_tree_grammar
 from socnavgen.proposal.tree_needs import needs_text, tree_need_mistakes
 from socnavgen.run import HumanPlan, PathPlan, ScenarioProposal
 from socnavgen.run.spec import ScenarioSpec
@@ -109,7 +110,9 @@ def ask_behavior(messages: list[ChatMessage], name: str, humans: list[str], llm:
                  ) -> Outcome[BehaviorReply]:
     grammar = None
     if getattr(llm, "supports_grammar", False):
-        grammar = bt_reply_grammar([agent_id(h) for h in humans], agent_id=agent_id(name), max_depth=GRAMMAR_DEPTH)
+        grammar = spec_tree_grammar(name, spec, target or "socrates") or bt_reply_grammar(
+            [agent_id(h) for h in humans], agent_id=agent_id(name), target=target or "socrates",
+            max_depth=GRAMMAR_DEPTH)
     return converse(llm, messages, BehaviorReply, tree_checker(name, humans, spec, target), stage=STAGE, key=name,
                     recorder=recorder, policy=policy, grammar=grammar, max_tokens=MAX_TOKENS)
 

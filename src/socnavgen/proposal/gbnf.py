@@ -120,9 +120,16 @@ TEXT_CHAR = '^"\\\\\\x00-\\x1f'
 TEXT_START = '^"\\\\\\x00-\\x20'
 
 
-def text_rules(grammar: Grammar, name: str, max_chars: int, *, non_empty: bool) -> str:
+# Prose (scenario texts): no angle brackets or braces either, so a small model cannot copy the answer
+# template's `<...>` placeholders or spill JSON punctuation into a behavior.
+PROSE_CHAR = '^"\\\\<>{}\\x00-\\x1f'
+PROSE_START = '^"\\\\<>{}\\x00-\\x20'
+
+
+def text_rules(grammar: Grammar, name: str, max_chars: int, *, non_empty: bool, prose: bool = False) -> str:
+    char, start = (PROSE_CHAR, PROSE_START) if prose else (TEXT_CHAR, TEXT_START)
     if non_empty:
-        grammar.add(name, [Chars(TEXT_START, 1, 1), Chars(TEXT_CHAR, 0, max_chars - 1)])
+        grammar.add(name, [Chars(start, 1, 1), Chars(char, 0, max_chars - 1)])
     else:
-        grammar.add(name, [Chars(TEXT_CHAR, 0, max_chars)])
+        grammar.add(name, [Chars(char, 0, max_chars)])
     return name

@@ -5,6 +5,7 @@ attempt budget, and it stores the same run files, so the evaluation compares lik
 from __future__ import annotations
 
 from socnavgen.bt.describe import library_text
+from socnavgen.bt.library import Target
 from socnavgen.llm.base import ChatMessage
 from socnavgen.location import Location
 from socnavgen.proposal.behaviors import pretty_xml, tree_checker
@@ -24,10 +25,10 @@ MAX_TOKENS = 4096
 def naive_messages(request: ScenarioRequest, location: Location) -> list[ChatMessage]:
     return [ChatMessage(role="user", content=render(
         "naive_user.md", context=request.context, task=request.task, location=location_text(location),
-        rough=request.rough or "None", scene_graph=scene_graph_text(location), library=library_text()))]
+        rough=request.rough or "None", scene_graph=scene_graph_text(location), library=library_text(request.target or "socrates")))]
 
 
-def naive_parts(reply: NaiveReply, location: Location) -> dict[str, list[str]]:
+def naive_parts(reply: NaiveReply, location: Location, target: Target | None = None) -> dict[str, list[str]]:
     """Mistakes per part (scenario, paths, trees): the evaluation scores path and tree validity apart."""
     scenario = check_scenario(ScenarioReply.model_validate(reply.model_dump()))
     humans = sorted({h for k in reply.human_behaviors if (h := human_name(k))}, key=lambda s: int(s[5:]))
@@ -38,7 +39,7 @@ def naive_parts(reply: NaiveReply, location: Location) -> dict[str, list[str]]:
         if name not in given:
             trees.append(f"trees: {name} has no tree")
         else:
-            trees += tree_checker(name, humans)(_tree_reply(given[name]))
+            trees += tree_checker(name, humans, None, target)(_tree_reply(given[name]))
     trees += [f"trees: '{k}' is not a human of the scenario" for k in given if k not in humans]
     return {"scenario": scenario, "paths": paths, "trees": trees}
 
@@ -57,7 +58,7 @@ def generate_naive(pipeline: Stages) -> tuple[ScenarioProposal, PathPlan, dict[s
     pipeline.recorder.set_status(STAGE, None, "running")
 
     def check(reply: NaiveReply) -> list[str]:
-        return [m for part in naive_parts(reply, location).values() for m in part]
+        return [m for part in naive_parts(reply, location, pipeline.request.target).values() for m in part]
 
     outcome = converse(pipeline.llm, naive_messages(pipeline.request, location), NaiveReply, check, stage=STAGE,
                        key=None, recorder=pipeline.recorder, policy=pipeline.policy, max_tokens=MAX_TOKENS)

@@ -163,9 +163,9 @@ def build_scenario_grammar(max_humans: int = MAX_HUMANS, description_chars: int 
         per_human.append([*body, Lit("]}}")])
     g.add("root", [Lit('{"scenario_description": "'), Ref("long"), Lit('", "number_of_humans": '), Ref("humans")])
     g.add("humans", *per_human)
-    text_rules(g, "long", description_chars, non_empty=True)
-    text_rules(g, "short", behavior_chars, non_empty=True)
-    text_rules(g, "route", 120, non_empty=True)
+    text_rules(g, "long", description_chars, non_empty=True, prose=True)
+    text_rules(g, "short", behavior_chars, non_empty=True, prose=True)
+    text_rules(g, "route", 120, non_empty=True, prose=True)
     places = node_types or ["PLACE"]
     g.add("place", *[[Lit(p)] for p in places])
     triggers = [t for t in _PLAIN_TRIGGERS if t == "always" or nodes_for_trigger(t, target or "socrates")]

@@ -5,6 +5,7 @@ its blame says can fix each one (verify/blame.py):
                         is never asked to fix what only the robot can cause
   paths              -> stage 2, with the findings
   behaviors + human  -> stage 3 for that human only, with that human's findings
+                        (paths and trees blamed in the same round are both re-asked, paths first)
 
 A finding without blame (a verifier from before blame existed) is not sent to any stage. When stage 1
 changes who takes part or where, the paths and trees that depended on it are regenerated; when only the
@@ -93,14 +94,14 @@ def verify_and_repair(stages: Stages, scenario: ScenarioProposal, spec: Scenario
                 if spec is not None:
                     run.write_spec(spec)
             continue
-        if blamed.get("paths"):
-            paths, spec = stages.paths(scenario, _ungrounded(spec), correction=_correction(blamed["paths"]))
-            continue
         corrections = {human: _correction(report.blamed_on("behaviors", human)) for human in report.humans_to_fix()
                        if human in scenario.human_behaviors}
-        if not corrections:  # nothing a stage can fix (no blame given): asking again would change nothing
+        if not blamed.get("paths") and not corrections:  # no blame given: asking again would change nothing
             break
-        trees = stages.behaviors(scenario, paths, spec, corrections)
+        if blamed.get("paths"):
+            paths, spec = stages.paths(scenario, _ungrounded(spec), correction=_correction(blamed["paths"]))
+        if corrections:  # the blamed trees in the same round (on the new paths, if they changed)
+            trees = stages.behaviors(scenario, paths, spec, corrections)
     recorder.set_status(STAGE, None, "failed")
     recorder.progress(ProgressEvent(STAGE, None, "failed", message="the verifier still finds problems"))
     assert report is not None

@@ -1,0 +1,145 @@
+"""Table III over recorded capable-model fixtures: each fixture (tests/fixtures/replay/*.yaml with a
+`request:` beside its `stages:`) is replayed through the real pipeline, every stage checked as a live
+run would be, then simulated and verified. The table says, per fixture, whether each stage was valid
+(at the first answer) and whether the scenario was verified in simulation (with its robustness)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from pydantic import BaseModel
+
+from socnavgen.errors import SocnavgenError, StageFailed
+from socnavgen.run import RunFolder, ScenarioRequest
+from socnavgen.safeio import load_yaml_file
+
+
+class FixtureRow(BaseModel):
+    fixture: str
+    location: str
+    humans: int
+    scenario_valid: bool
+    paths_valid: bool
+    trees_valid: bool
+    first_attempt: bool  # every stage valid at its first answer
+    verified: bool | None  # None: not simulated (an earlier stage failed)
+    verify_rounds: int = 0  # rounds of the recorded --verify loop (0: recorded without --verify)
+    failing: list[str] = []  # names of the failing criteria
+    min_robustness: float | None = None
+
+
+def fixture_request(path: Path, root: Path | None = None) -> ScenarioRequest:
+    """The request recorded with a fixture; a relative location is resolved against `root`."""
+    data = load_yaml_file(path)
+    raw = data.get("request") if isinstance(data, dict) else None
+    if not isinstance(raw, dict):
+        raise SocnavgenError("a fixture needs a top-level 'request:' (location, context, task, rough)", file=path)
+    request = ScenarioRequest.model_validate({**raw, "llm": f"replay:{path}"})
+    location = Path(request.location)
+    if not location.is_absolute() and root is not None:
+        request = request.model_copy(update={"location": str(root / location)})
+    return request
+
+
+def replay_fixture(path: Path, out: Path, root: Path | None = None, verify: bool = True) -> FixtureRow:
+    """Replay one fixture into `out` and judge it. A fixture recorded with `--verify` (`verify_loop:
+    true`) is replayed through the same loop, so its re-asked answers are used as they were live."""
+    from socnavgen.llm import make_llm
+    from socnavgen.llm.transcript import read_transcript
+    from socnavgen.proposal import generate
+
+    request = fixture_request(path, root)
+    loop = bool(load_yaml_file(path).get("verify_loop"))
+    llm = make_llm(request.llm, transcript=out / "transcript.jsonl", use_cache=False)
+    failed, report = False, None
+    try:
+        report = generate(request, llm, out, verify=verify and loop).verify
+    except StageFailed:
+        failed = True
+    manifest = RunFolder(out).read_manifest()
+
+    def ok(stage: str) -> bool:
+        record = manifest.stages.get(stage)
+        return record is not None and record.status == "done"
+
+    checks = [e for e in read_transcript(RunFolder(out).transcript_path) if e.get("kind") == "check"]
+    row = FixtureRow(fixture=path.stem, location=Path(request.location).name,
+                     humans=len(RunFolder(out).read_scenario().human_behaviors) if ok("scenario") else 0,
+                     scenario_valid=ok("scenario"), paths_valid=ok("paths"), trees_valid=ok("behaviors"),
+                     first_attempt=not failed and all(e.get("valid") for e in checks), verified=None,
+                     verify_rounds=manifest.stages["verify"].attempts if "verify" in manifest.stages else 0)
+    if verify and not failed:
+        from socnavgen.verify import verify_run
+
+        report = report or verify_run(out)
+        robustness = [f.robustness for f in report.findings if f.robustness is not None]
+        row.verified = report.passed
+        row.failing = [f.name for f in report.failures]
+        row.min_robustness = round(min(robustness), 2) if robustness else None
+    return row
+
+
+def fixture_paths(folder: Path) -> list[Path]:
+    """Fixtures with a recorded request (scripts without one are unit-test scripts, not fixtures)."""
+    found = []
+    for path in sorted(Path(folder).glob("*.yaml")):
+        data = load_yaml_file(path)
+        if isinstance(data, dict) and isinstance(data.get("request"), dict):
+            found.append(path)
+    return found
+
+
+def fixtures_markdown(rows: list[FixtureRow]) -> str:
+    head = ("| fixture | location | humans | scenario + spec valid | paths valid | trees valid | every answer valid "
+            "at 1st try | verified in simulation | --verify rounds | lowest robustness | failing criteria |\n"
+            "|---|---|---|---|---|---|---|---|---|---|---|")
+    lines = [head]
+    for r in rows:
+        verified = "–" if r.verified is None else ("**yes**" if r.verified else "no")
+        lines.append(f"| {r.fixture} | {r.location} | {r.humans} | {_yes(r.scenario_valid)} | {_yes(r.paths_valid)} | "
+                     f"{_yes(r.trees_valid)} | {_yes(r.first_attempt)} | {verified} | {r.verify_rounds or '–'} | "
+                     f"{'–' if r.min_robustness is None else f'{r.min_robustness:+.2f}'} | "
+                     f"{'; '.join(r.failing) or '–'} |")
+    share = [r.verified for r in rows if r.verified is not None]
+    lines.append(f"| **all** | | | {sum(r.scenario_valid for r in rows)}/{len(rows)} | "
+                 f"{sum(r.paths_valid for r in rows)}/{len(rows)} | {sum(r.trees_valid for r in rows)}/{len(rows)} | "
+                 f"{sum(r.first_attempt for r in rows)}/{len(rows)} | {sum(share)}/{len(rows)} | | | |")
+    return "\n".join(lines)
+
+
+def _yes(flag: bool) -> str:
+    return "yes" if flag else "no"
+
+
+def record_fixture(run_dir: Path, out: Path, note: str = "") -> Path:
+    """Turn a recorded run (request.json + transcript.jsonl) into a replay fixture: the request and every
+    raw reply per stage and key, in the order they were served (invalid ones too, so a replay re-asks
+    exactly as the live run did)."""
+    import yaml
+
+    from socnavgen.llm.transcript import read_transcript
+    from socnavgen.safeio import atomic_write_text
+
+    run = RunFolder(run_dir)
+    request = run.read_request()
+    stages: dict[str, object] = {}
+    model = None
+    for entry in read_transcript(run.transcript_path):
+        raw, stage = entry.get("raw"), entry.get("stage")
+        if not isinstance(raw, str) or not isinstance(stage, str):
+            continue
+        model = model or entry.get("model")
+        key = entry.get("key")
+        if key is None:
+            stages.setdefault(stage, []).append(raw)  # type: ignore[union-attr]
+        else:
+            stages.setdefault(stage, {}).setdefault(key, []).append(raw)  # type: ignore[union-attr]
+    fields = {k: v for k, v in request.model_dump(include={"location", "context", "task", "rough", "target"}).items()
+              if v is not None}
+    loop = "verify" in run.read_manifest().stages
+    header = (f"# Replay fixture recorded from a live run ({model or 'unknown model'}); {note}\n"
+              f"# Replay: socnavgen generate --llm replay:THIS ... or socnavgen eval --fixtures DIR\n")
+    data = {"request": fields, **({"verify_loop": True} if loop else {}), "stages": stages}
+    text = header + yaml.safe_dump(data, sort_keys=False, allow_unicode=True, width=120)
+    atomic_write_text(out, text)
+    return out

@@ -1,0 +1,66 @@
+"""The capable-model fixtures (tests/fixtures/replay/: the paper's scenes A, B, C with Table II's rough
+scenarios verbatim, and a hospital evacuation without rough scenario; replies written by a separate
+engineer who read only the requests) replayed through the real pipeline: every stage valid at its
+first answer, the spec grounded, every tree meeting its encounter; then simulated and verified."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from socnavgen.evaluation.fixtures import fixture_paths, fixture_request, replay_fixture
+from socnavgen.proposal.tree_needs import tree_need_mistakes
+from socnavgen.run import RunFolder
+
+FIXTURES = Path(__file__).resolve().parents[1] / "fixtures" / "replay"
+ROOT = Path(__file__).resolve().parents[2]
+NAMES = ["hospital_evacuation", "hospital_evacuation_verify", "paper_scene_a", "paper_scene_b", "paper_scene_b_verify",
+         "paper_scene_c"]
+
+
+def test_the_fixtures_are_there():
+    assert [p.stem for p in fixture_paths(FIXTURES)] == NAMES
+    rough = {p.stem: fixture_request(p, ROOT).rough for p in fixture_paths(FIXTURES)}
+    assert rough["hospital_evacuation"] is None
+    assert rough["paper_scene_b"].startswith("Robot turns at a blind corner and encounters a human.")
+
+
+@pytest.fixture(scope="module")
+def replayed(tmp_path_factory) -> dict[str, tuple[object, Path]]:
+    out = tmp_path_factory.mktemp("fixtures")
+    return {p.stem: (replay_fixture(p, out / p.stem, root=ROOT), out / p.stem) for p in fixture_paths(FIXTURES)}
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_every_stage_is_valid(replayed, name):
+    row, folder = replayed[name]
+    assert (row.verify_rounds >= 1) == name.endswith("_verify")  # the loop replays only where it was recorded
+    assert row.scenario_valid and row.paths_valid and row.trees_valid
+    # every first answer was valid; in the evacuation's --verify run one re-asked tree was corrected once
+    assert row.first_attempt == (name != "hospital_evacuation_verify")
+    run = RunFolder(folder)
+    spec = run.read_spec()
+    assert spec is not None and spec.encounters and all(e.node for e in spec.encounters)
+    scenario = run.read_scenario()
+    assert set(spec.humans()) == set(scenario.human_behaviors)
+    for human, xml in run.behaviors().items():
+        assert tree_need_mistakes(xml, human, spec) == []
+
+
+# Verdicts of the strict verifier on the merged simulator (scripted robot whose wait_until_clear looks
+# 3 m ahead). Failing today: scene B's first tree does not stop the worker (its --verify run fixes it
+# in 2 rounds); scene C's robot waits for the group to clear 3 m ahead, the workers step aside but stay
+# within that, and it times out (it PASSED with the previous simulator commit); the evacuation's
+# patient falls behind the robot and the visitor, in a group with her, is 2 m from the door node (its
+# --verify run fixed the porter's deadlock, not those). A strict xfail turns red the day one passes.
+FAILS = {"hospital_evacuation", "hospital_evacuation_verify", "paper_scene_b", "paper_scene_c"}
+
+
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.xfail(
+    strict=True, reason="fails verification today (see FAILS)"))
+    if n in FAILS else n for n in NAMES])
+def test_simulated_and_verified(replayed, name):
+    row, _ = replayed[name]
+    assert row.verified is True, row.failing
+    assert row.min_robustness is not None and row.min_robustness >= 0
