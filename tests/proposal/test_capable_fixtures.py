@@ -48,12 +48,12 @@ def test_every_stage_is_valid(replayed, name):
         assert tree_need_mistakes(xml, human, spec) == []
 
 
-# Verdicts of the strict verifier on the merged simulator (scripted robot whose wait_until_clear looks
-# 3 m ahead). Failing today: scene B's first tree does not stop the worker (its --verify run fixes it
-# in 2 rounds); scene C's robot waits for the group to clear 3 m ahead, the workers step aside but stay
-# within that, and it times out (it PASSED with the previous simulator commit); the evacuation's
-# patient falls behind the robot and the visitor, in a group with her, is 2 m from the door node (its
-# --verify run fixed the porter's deadlock, not those). A strict xfail turns red the day one passes.
+# Verdicts of the strict verifier on the merged simulator. Failing today: scene B's first tree does not stop
+# the worker (its --verify run fixes it in 2 rounds); scene C: the robot asks the group again and gets
+# through, but human3, who stepped aside 2 m off the intersection, is never met within 1 m of it; the
+# evacuation's patient falls behind the robot and the visitor, in a group with her, is 2 m from the door
+# node (its --verify run fixed the porter's deadlock, not those). A strict xfail turns red the day one
+# passes.
 FAILS = {"hospital_evacuation", "hospital_evacuation_verify", "paper_scene_b", "paper_scene_c"}
 
 

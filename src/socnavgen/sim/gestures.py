@@ -51,6 +51,8 @@ class ScriptedGestures:
 ROBOT_PHRASE_CODE = {name: code for code, name in ROBOT_GESTURES.items() if code}
 HUMAN_PHRASE_CODE = {name: code for code, name in HUMAN_GESTURES.items() if code}
 CLEAR_DISTANCE = 3.0  # m: `wait_until_clear` waits until nobody is in the robot's way this close
+CLEAR_PATIENCE = 8.0  # s: still blocked after this long, the robot asks again (its cue's phrase) ...
+CLEAR_REPEATS = 2  # ... this many times, then stops waiting and drives around like an operator would
 
 
 @dataclass
@@ -64,15 +66,20 @@ class CueState:
     fired: list[tuple[float, str]] = field(default_factory=list)  # (t, cue) of every cue fired so far
 
 
-def person_in_way(sim: Any, distance: float) -> bool:
-    """Someone within `distance` (centres) ahead of the robot's direction of travel, in its way."""
+SWEPT_MARGIN = 0.1  # m beyond both radii: someone this close to the robot's line ahead is still in its way
+
+
+def person_in_way(sim: Any, distance: float, *, swept_only: bool = False) -> bool:
+    """Someone within `distance` (centres) ahead of the robot's direction of travel, in its way: in a cone
+    ahead (to notice people coming), or (`swept_only`) only inside the corridor the robot's body sweeps, so
+    that people who stepped aside do not keep a robot waiting "until clear"."""
     if sim.crowd.n == 0:
         return False
     rel = sim.crowd.pos - sim.robot_pos
     near = np.abs(rel) <= distance
     local = rel * sim.robot_direction().conjugate()
-    ahead = (np.abs(np.angle(local)) <= FRONT_CONE) | ((local.real > 0) & (np.abs(local.imag) <
-                                                                            sim.crowd.radius + sim.robot_radius))
+    swept = (local.real > 0) & (np.abs(local.imag) < sim.crowd.radius + sim.robot_radius + SWEPT_MARGIN)
+    ahead = swept if swept_only else (np.abs(np.angle(local)) <= FRONT_CONE) | swept
     return bool((near & ahead).any())
 
 
@@ -90,6 +97,8 @@ class RobotScriptRunner:
         self.say_until = [-math.inf] * n
         self.wait_until = [-math.inf] * n
         self.until_clear = [False] * n
+        self.clear_since = [math.inf] * n  # when the current wait-until-clear began (or was renewed)
+        self.repeats = [0] * n
         self.state = CueState(speed=script.speed, misbehave=script.misbehave)
 
     def _holds(self, cue: RobotCue, sim: Any) -> bool:
@@ -125,6 +134,7 @@ class RobotScriptRunner:
             if cue.wait:
                 self.wait_until[k] = t + cue.wait
             self.until_clear[k] = cue.wait_until_clear
+            self.clear_since[k], self.repeats[k] = t, 0
             if cue.speed is not None:
                 state.speed = cue.speed
             state.fired.append((round(t, 3), _describe(cue)))
@@ -135,10 +145,25 @@ class RobotScriptRunner:
             if t < self.wait_until[k]:
                 wait = True
             elif self.until_clear[k]:
-                self.until_clear[k] = person_in_way(sim, max(cue.trigger.distance, CLEAR_DISTANCE))
+                self.until_clear[k] = person_in_way(sim, max(cue.trigger.distance, CLEAR_DISTANCE), swept_only=True)
+                if self.until_clear[k] and t - self.clear_since[k] >= CLEAR_PATIENCE:
+                    self._ask_again_or_give_up(k, cue, t)
                 wait = wait or self.until_clear[k]
         state.say, state.wait = say, wait
         return state
+
+    def _ask_again_or_give_up(self, k: int, cue: RobotCue, t: float) -> None:
+        """A wait until clear that lasts: say the cue's phrase again (a person who reacts only while the
+        robot speaks gets another chance), and after CLEAR_REPEATS tries stop waiting (the robot then goes
+        around where there is room, as after any wait): a scripted wait never becomes a deadlock."""
+        if cue.say and self.repeats[k] < CLEAR_REPEATS:
+            self.repeats[k] += 1
+            self.clear_since[k] = t
+            self.say_until[k] = t + cue.hold
+            self.state.fired.append((round(t, 3), f"still blocked: say {cue.say} again"))
+        else:
+            self.until_clear[k] = False
+            self.state.fired.append((round(t, 3), "still blocked: stop waiting, go around"))
 
 
 def _human_index(name: str | None, n: int) -> int | None:

@@ -32,5 +32,36 @@ def report_table(report: VerifyReport) -> Table:
     return table
 
 
+WIDE = 140  # columns below which the report is a list (eight table columns would fold word by word)
+
+
+def _mark(f: object) -> str:
+    return "[green]ok[/]" if f.passed else ("[red]FAIL[/]" if f.required else "[yellow]warn[/]")  # type: ignore[attr-defined]
+
+
+def report_lines(report: VerifyReport) -> list[str]:
+    """The report as a list for narrow terminals and pipes: one finding per paragraph, nothing folded."""
+    verdict = "[bold green]PASSED[/]" if report.passed else f"[bold red]FAILED[/] ({len(report.failures)} failing)"
+    lines = [f"verify {report.run}: {verdict}"]
+    for f in report.findings:
+        numbers = ", ".join(part for part in (
+            "" if f.time is None else f"t={f.time:.1f} s", "" if f.distance is None else f"{f.distance:.2f} m",
+            "" if f.robustness is None else f"robustness {f.robustness:+.2f}") if part)
+        lines.append(f"{_mark(f)} {f.name} [dim]({f.source}{'; ' + numbers if numbers else ''})[/]")
+        lines.append(f"     {f.evidence}")
+        if not f.passed and f.blame:
+            who = f" {f.blame_human}" if f.blame_human else ""
+            lines.append(f"     fix: {f.blame}{who}: {f.blame_reason}")
+    lines.append(f"{report.trace_seconds:.1f} s simulated, {report.trace_steps} steps, criteria from "
+                 + ("spec.json" if report.spec else "paths, trees and card")
+                 + (f", ended by {report.end_reason}" if report.end_reason else ""))
+    return lines
+
+
 def print_report(report: VerifyReport, console: Console) -> None:
-    console.print(report_table(report))
+    """A table on a wide terminal; a list otherwise (80 columns, pipes)."""
+    if console.width >= WIDE:
+        console.print(report_table(report))
+    else:
+        for line in report_lines(report):
+            console.print(line, highlight=False)
