@@ -5,6 +5,7 @@ dummy nodes registered under exactly the ids HuNavSim 2.x registers."""
 from __future__ import annotations
 
 import itertools
+import json
 from functools import cache
 from pathlib import Path
 
@@ -48,7 +49,12 @@ def replay_trees() -> list[tuple[str, str]]:
         elif isinstance(node, list):
             for i, v in enumerate(node):
                 walk(v, f"{where}[{i}]")
-        elif isinstance(node, str) and "<root" in node and "<BehaviorTree" in node:
+        elif isinstance(node, str) and node.lstrip().startswith("{") and "<root" in node:
+            try:  # a recorded reply: the JSON object the model answered ({"reasoning": ..., "tree": "<root ...>"})
+                walk(json.loads(node), where)
+            except json.JSONDecodeError:
+                return
+        elif isinstance(node, str) and node.lstrip().startswith("<root") and "<BehaviorTree" in node:
             found.append((where, node))
 
     for path in REPLAY:
