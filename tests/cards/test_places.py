@@ -31,7 +31,8 @@ def test_blind_corner_found_by_geometry(tmp_path: Path) -> None:
     fit = place_card(get_card("blind-corner"), finder.location)
     assert fit.fits
     robot, human = fit.placement.robot, fit.placement.humans[0]
-    assert "tt" in robot[1:-1] and human.path == robot[::-1] and human.meets_at == "tt"
+    assert "tt" in robot[1:-1] and human.path[1:] == robot[::-1] and human.meets_at == "tt"
+    assert human.path[0] not in robot  # starts past the robot's goal, not on it
 
 
 def test_intersection_and_narrow_edge_found_by_geometry(tmp_path: Path) -> None:

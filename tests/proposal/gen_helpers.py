@@ -47,9 +47,20 @@ def scenario_reply(n: int = 2, **changes: object) -> dict:
              "number_of_humans": n,
              "human_behaviors": {f"human{i}": f"Worker {i} walks to the corner and stops when the robot blocks "
                                               f"the way." for i in range(1, n + 1)},
-             "expected_robot_behavior": "Slow down at the corner and say EXCUSE ME."}
+             "expected_robot_behavior": "Slow down at the corner and say EXCUSE ME.",
+             "spec": spec_for(n)}
     reply.update(changes)
     return reply
+
+
+def spec_for(n: int = 2) -> dict:
+    """A spec in which every worker stops (looks at the robot) when it blocks the way at the blind corner."""
+    return {"script": {"route": "along the loop through the blind corner", "cues": []},
+            "encounters": [{"id": "e1", "place": "BLIND CORNER", "humans": [
+                {"human": f"human{i}", "trigger": "robot_blocking", "reaction": "stop", "distance": 0.5}
+                for i in range(1, n + 1)]}],
+            "criteria": [{"id": f"c{i}", "kind": "meets", "human": f"human{i}", "encounter": "e1"}
+                         for i in range(1, n + 1)]}
 
 
 def paths_reply(**changes: object) -> dict:
@@ -57,7 +68,8 @@ def paths_reply(**changes: object) -> dict:
              "interaction_points": {"human1": "11", "human2": "11"},
              "trajectories": {"robot": ["32", "ch", "11", "07"], "human1": ["07", "11", "ch"],
                               "human2": ["f7", "07", "11"]},
-             "group_ids": {"human1": -1, "human2": -1}}
+             "group_ids": {"human1": -1, "human2": -1},
+             "encounter_nodes": {"e1": "11"}}
     reply.update(changes)
     return reply
 

@@ -92,8 +92,9 @@ def test_from_and_redo_on_the_command_line(tmp_path, warehouse):
     second = tmp_path / "second"
     redo = tmp_path / "redo.yaml"
     redo.write_text("stages:\n  behaviors:\n    human1:\n      - " + json.dumps(json.dumps({
-        "reasoning": "wait", "tree": "<root main_tree_to_execute='W'><BehaviorTree ID='W'>"
-                                     "<MakeGesture agent_id='{id}' message='1'/></BehaviorTree></root>"})) + "\n")
+        "reasoning": "wait", "tree": "<root main_tree_to_execute='W'><BehaviorTree ID='W'><Sequence>"
+                                     "<IsRobotBlocking agent_id='{id}' distance='0.5'/>"
+                                     "<MakeGesture agent_id='{id}' message='1'/></Sequence></BehaviorTree></root>"})) + "\n")
     result = runner.invoke(app, ["generate", "--from", str(first), "--redo", "behaviors", "--llm", f"replay:{redo}",
                                  "--out", str(second)])
     assert result.exit_code == 0, result.output

@@ -7,7 +7,7 @@ import json
 import re
 
 import pytest
-from gen_helpers import STOP_TREE, paths_reply, scenario_reply
+from gen_helpers import STOP_TREE, paths_reply, scenario_reply, spec_for
 
 from socnavgen.bt.describe import capabilities_text, library_text, regular_nav_text
 from socnavgen.bt.library import prompt_nodes
@@ -111,7 +111,26 @@ def test_every_tree_shown_to_the_model_is_valid():
 
 # -- grammars -------------------------------------------------------------------------------------
 def _answer(**changes: object) -> str:
-    return json.dumps(paths_reply(**changes))
+    changes.setdefault("encounter_nodes", {})
+    reply = paths_reply(**changes)
+    if not reply["encounter_nodes"]:
+        del reply["encounter_nodes"]
+    return json.dumps(reply)
+
+
+def test_paths_grammar_grounds_the_encounter_on_a_node_of_its_place(mini_location):
+    from socnavgen.run.spec import ScenarioSpec
+
+    graph = _location(mini_location).graph
+    spec = ScenarioSpec.model_validate(spec_for(2))  # one encounter at a BLIND CORNER: only node 11 is one
+    grammar = build_paths_grammar(graph, ["human1", "human2"], spec)
+    assert grammar.matches(_answer(encounter_nodes={"e1": "11"}))
+    assert not grammar.matches(_answer())  # without encounter_nodes
+    assert not grammar.matches(_answer(encounter_nodes={"e1": "ch"}))
+    assert not grammar.matches(_answer(interaction_points={"human1": "ch", "human2": "ch"},
+                                       trajectories={"robot": ["ch", "d9"], "human1": ["ch"],
+                                                     "human2": ["0e", "32", "ch"]},
+                                       encounter_nodes={"e1": "ch"}))
 
 
 def test_paths_grammar_accepts_valid_replies(mini_location):
@@ -173,16 +192,47 @@ def _sentences(grammar: Grammar, limit: int):  # noqa: ANN202
         yield expand("root", 0)
 
 
+def _grammar_spec(n: int, place: str = "BLIND CORNER", trigger: str = "robot_blocking") -> dict:
+    """The small spec shape the stage-1 grammar produces."""
+    return {"script": {"route": "along the loop", "cues": []},
+            "encounters": [{"id": "e1", "place": place, "humans": [
+                {"human": f"human{i}", "trigger": trigger, "reaction": "stop"} for i in range(1, n + 1)]}],
+            "criteria": [{"id": f"c{i}", "kind": "meets", "human": f"human{i}", "encounter": "e1"}
+                         for i in range(1, n + 1)]}
+
+
+def _grammar_reply(n: int, **changes: object) -> str:
+    return json.dumps(scenario_reply(n=n, spec=_grammar_spec(max(n, 1)), **changes))
+
+
 def test_scenario_grammar_ties_the_count_to_the_behaviors():
-    grammar = build_scenario_grammar()
-    assert grammar.matches(json.dumps(scenario_reply(n=2)))
-    assert grammar.matches(json.dumps(scenario_reply(n=8)))
-    assert not grammar.matches(json.dumps(scenario_reply(n=2, number_of_humans=3)))
-    assert not grammar.matches(json.dumps(scenario_reply(n=9)))
-    assert not grammar.matches(json.dumps(scenario_reply(n=0)))
-    assert not grammar.matches(json.dumps(scenario_reply(n=1, human_behaviors={"human1": ""})))
-    assert not grammar.matches(json.dumps(scenario_reply(n=1, human_behaviors={"human2": "walks"})))
-    assert not grammar.matches(json.dumps(scenario_reply(n=1, scenario_description="x" * 401)))
+    grammar = build_scenario_grammar(node_types=["BLIND CORNER", "CORNER"])
+    assert grammar.matches(_grammar_reply(2))
+    assert grammar.matches(_grammar_reply(8))
+    assert not grammar.matches(_grammar_reply(2, number_of_humans=3))
+    assert not grammar.matches(_grammar_reply(9))
+    assert not grammar.matches(_grammar_reply(0))
+    assert not grammar.matches(_grammar_reply(1, human_behaviors={"human1": ""}))
+    assert not grammar.matches(_grammar_reply(1, human_behaviors={"human2": "walks"}))
+    assert not grammar.matches(_grammar_reply(1, scenario_description="x" * 401))
+
+
+def test_scenario_grammar_only_admits_specs_the_checks_accept(mini_location):
+    """The spec part: places of the location, triggers that need no further field, every human in the
+    encounter with a meets criterion; and what it admits passes stage 1's checks."""
+    from socnavgen.proposal.replies import ScenarioReply
+    from socnavgen.proposal.scenario import scenario_checker
+
+    location = _location(mini_location)
+    grammar = build_scenario_grammar(node_types=list(location.schema.node_types))
+    assert grammar.matches(_grammar_reply(2))
+    assert not grammar.matches(json.dumps(scenario_reply(n=2, spec=_grammar_spec(2, place="KITCHEN"))))
+    assert not grammar.matches(json.dumps(scenario_reply(n=2, spec=_grammar_spec(2, trigger="robot_says"))))
+    assert not grammar.matches(json.dumps(scenario_reply(n=2, spec=_grammar_spec(1))))  # human2 left out
+    check = scenario_checker(location)
+    assert check(ScenarioReply.model_validate_json(_grammar_reply(2))) == []
+    # hunav1 runs no IsRobotBlocking: the grammar for that target does not offer robot_blocking
+    assert not build_scenario_grammar(node_types=["BLIND CORNER"], target="hunav1").matches(_grammar_reply(2))
 
 
 def test_grammars_parse_in_llama_cpp(mini_location):
@@ -207,7 +257,7 @@ def test_grammars_parse_in_llama_cpp(mini_location):
     graph = _location(mini_location).graph
     assert not parses("root ::= undefined-rule")  # the check can fail
     assert parses(paths_grammar(graph, ["human1", "human2"]))
-    assert parses(scenario_grammar())
+    assert parses(scenario_grammar(["BLIND CORNER", "CORNER"]))
     assert parses(bt_reply_grammar([0, 1], agent_id=0, max_depth=GRAMMAR_DEPTH))
 
 

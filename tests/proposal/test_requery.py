@@ -120,12 +120,13 @@ def test_scenario_checks_requery(tmp_path, mini_location, case):
 
 
 def test_scenario_human_names_are_normalised(tmp_path, mini_location):
-    reply = scenario_reply(n=2, human_behaviors={"Human 2": "stands", "Human 1": "walks"})
+    reply = scenario_reply(n=2, human_behaviors={"Human 2": "Stands at the corner and watches the robot",
+                                                 "Human 1": "Walks past the corner to the shelves"})
     script = write_script(tmp_path / "s.yaml", {"scenario": [reply], "paths": [paths_reply()],
                                                 "behaviors": GOOD_TREES})
     run, _ = run_replay(script, mini_location, tmp_path / "run")
     assert list(run.scenario.human_behaviors) == ["human1", "human2"]
-    assert run.scenario.human_behaviors["human2"] == "stands"
+    assert run.scenario.human_behaviors["human2"] == "Stands at the corner and watches the robot"
 
 
 def test_invalid_tree_is_requeried_with_the_validator_message(tmp_path, mini_location):

@@ -18,7 +18,7 @@ from gen_helpers import (
 )
 
 from socnavgen.errors import LLMError, SocnavgenError
-from socnavgen.proposal import Run, pipeline
+from socnavgen.proposal import Run
 from socnavgen.proposal.pipeline import copy_run
 from socnavgen.proposal.review import ReviewDecision
 from socnavgen.run import RunFolder
@@ -62,8 +62,8 @@ def test_redo_paths_keeps_the_scenario_and_redoes_the_trees(tmp_path, mini_locat
     assert isinstance(run, Run)
     folder = RunFolder(out)
     scenario_before = folder.scenario_path.read_text()
-    new_paths = paths_reply(trajectories={"robot": ["d9", "ch", "11"], "human1": ["11", "ch"], "human2": ["ch"]},
-                            interaction_points={"human1": "ch", "human2": "ch"})
+    new_paths = paths_reply(trajectories={"robot": ["d9", "ch", "11"], "human1": ["11", "ch"], "human2": ["ch", "11"]},
+                            interaction_points={"human1": "11", "human2": "11"})
     script = write_script(tmp_path / "redo.yaml", {"paths": [new_paths], "behaviors": GOOD_TREES})
     run, llm = run_replay(script, mini_location, out, redo={"paths"})
     assert isinstance(run, Run), run
@@ -166,30 +166,84 @@ def test_naive_baseline_uses_the_same_checks_and_files(tmp_path, mini_location):
     assert manifest(out)["stages"]["naive"]["attempts"] == 2
 
 
-class _Finding:
-    def __init__(self, stage, human=None):  # noqa: ANN001
-        self.name, self.evidence, self.stage, self.human, self.passed = "meets_human", "never closer than 6 m", \
-            stage, human, False
+def _finding(blame, human=None, evidence="never closer than 6 m"):  # noqa: ANN001, ANN202
+    from socnavgen.verify.models import Finding
+
+    return Finding(name="c1 meets", kind="meets", passed=False, evidence=evidence, human=human, blame=blame,
+                   blame_human=human if blame == "behaviors" else None, blame_reason=f"{blame} can fix it")
 
 
-class _Report:
-    def __init__(self, passed, findings):  # noqa: ANN001
-        self.passed, self.findings = passed, findings
+def _report(passed, findings):  # noqa: ANN001, ANN202
+    from socnavgen.verify.models import VerifyReport
+
+    return VerifyReport(run="run", passed=passed, findings=findings)
 
 
-def test_verify_requeries_the_blamed_stage(tmp_path, mini_location, monkeypatch):
-    reports = iter([_Report(False, [_Finding("paths")]), _Report(True, [])])
+def _verifier(*reports):  # noqa: ANN002, ANN202
+    queue = iter(reports)
     seen = []
 
-    def fake_verify(run_dir):  # noqa: ANN001, ANN202
+    def verify(run_dir):  # noqa: ANN001, ANN202
         seen.append(run_dir)
-        return next(reports)
+        return next(queue)
+    return verify, seen
 
-    monkeypatch.setattr(pipeline, "verifier", lambda: fake_verify)
+
+def test_verify_requeries_the_blamed_stage(tmp_path, mini_location):
+    verify, seen = _verifier(_report(False, [_finding("paths")]), _report(True, []))
     script = full_script(tmp_path, paths=[paths_reply(), paths_reply()])
-    run, llm = run_replay(script, mini_location, tmp_path / "run", verify=True)
+    run, llm = run_replay(script, mini_location, tmp_path / "run", verify=True, verifier=verify)
     assert isinstance(run, Run), run
     asks = [m for s, _k, m in llm.calls if s == "paths"]
     assert len(asks) == 2 and "never closer than 6 m" in asks[1][-1].content
     assert run.verify.passed and len(seen) == 2
     assert manifest(tmp_path / "run")["stages"]["verify"]["status"] == "done"
+    assert manifest(tmp_path / "run")["status"] == "done"
+
+
+def test_robot_script_failure_goes_back_to_the_spec_never_to_the_trees(tmp_path, mini_location):
+    """What only the robot can cause (it never said EXCUSE ME) re-asks stage 1 with the finding; the trees
+    and paths are kept when the encounters did not change, and no behaviors stage is asked."""
+    said = scenario_reply()
+    said["spec"]["script"]["cues"] = [{"trigger": {"when": "blocked", "distance": 2.0}, "say": "EXCUSE ME"}]
+    verify, _ = _verifier(_report(False, [_finding("robot_script", evidence="the robot never said EXCUSE ME")]),
+                          _report(True, []))
+    script = full_script(tmp_path, scenario=[scenario_reply(), said])
+    out = tmp_path / "run"
+    run, llm = run_replay(script, mini_location, out, verify=True, verifier=verify)
+    assert isinstance(run, Run), run
+    assert stages_called(llm).count(("scenario", None)) == 2
+    assert [k for s, k in stages_called(llm) if s == "behaviors"] == ["human1", "human2"]  # only the first time
+    assert "the robot never said EXCUSE ME" in [m for s, _k, m in llm.calls if s == "scenario"][1][-1].content
+    spec = RunFolder(out).read_spec()
+    assert spec.script.cues[0].say == "EXCUSE ME" and spec.encounters[0].node == "11"  # grounding carried over
+
+
+def test_a_behaviors_failure_reasks_only_that_humans_tree(tmp_path, mini_location):
+    verify, _ = _verifier(_report(False, [_finding("behaviors", human="human2")]), _report(True, []))
+    script = full_script(tmp_path, behaviors={"human1": [tree_reply()], "human2": [tree_reply(), tree_reply()]})
+    run, llm = run_replay(script, mini_location, tmp_path / "run", verify=True, verifier=verify)
+    assert isinstance(run, Run), run
+    assert [k for s, k in stages_called(llm) if s == "behaviors"] == ["human1", "human2", "human2"] or \
+        [k for s, k in stages_called(llm) if s == "behaviors"] == ["human2", "human1", "human2"]
+
+
+def test_a_run_whose_verification_fails_does_not_say_done(tmp_path, mini_location):
+    failing = _report(False, [_finding("paths")])
+    verify, seen = _verifier(failing, failing, failing)
+    script = full_script(tmp_path, paths=[paths_reply()] * 3)
+    out = tmp_path / "run"
+    run, _ = run_replay(script, mini_location, out, verify=True, verifier=verify)
+    assert isinstance(run, Run), run
+    assert not run.verify.passed and len(seen) == 3
+    record = manifest(out)
+    assert record["stages"]["verify"]["status"] == "failed"
+    assert record["status"] == "failed" and "never closer than 6 m" in record["message"]
+
+
+def test_findings_without_blame_are_not_sent_to_any_stage(tmp_path, mini_location):
+    verify, seen = _verifier(_report(False, [_finding(None)]), _report(True, []))
+    run, llm = run_replay(full_script(tmp_path), mini_location, tmp_path / "run", verify=True, verifier=verify)
+    assert isinstance(run, Run), run
+    assert len(seen) == 1 and len(llm.calls) == 4  # scenario, paths, 2 trees: no re-ask
+    assert manifest(tmp_path / "run")["status"] == "failed"

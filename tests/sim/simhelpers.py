@@ -41,6 +41,6 @@ def human(name: str = "human1", start=(2.0, 5.0), goals=((18.0, 5.0),), **kw) ->
 
 
 def make_sim(humans: list[HumanSpec], trees: list[str], robot_path, policy=None, world: World | None = None,  # noqa: ANN001
-             gestures=None, throttle=None, **config) -> Simulation:  # noqa: ANN001
+             gestures=None, throttle=None, script=None, **config) -> Simulation:  # noqa: ANN001
     return Simulation(world or empty_room(20.0, 10.0), humans, trees, list(robot_path), policy or Stay(),
-                      SimConfig(**config), gestures=gestures, throttle=throttle)
+                      SimConfig(**config), gestures=gestures, throttle=throttle, script=script)

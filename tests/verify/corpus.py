@@ -176,9 +176,9 @@ def base_spec() -> ScenarioSpec:
             RobotCue(trigger=CueTrigger(when="start"), say="FOLLOW ME"),
             RobotCue(trigger=CueTrigger(when="blocked"), say="EXCUSE ME", wait_until_clear=True)]),
         encounters=[
-            Encounter(id="e1", place="BLIND CORNER", node="corner", humans=[
+            Encounter(id="e1", place="BLIND CORNER", node="corner", order=2, humans=[
                 HumanPart(human="human1", trigger="robot_says", phrase="EXCUSE ME", reaction="give_way")]),
-            Encounter(id="e2", place="DOCK", node="dock", humans=[
+            Encounter(id="e2", place="DOCK", node="dock", order=1, humans=[
                 HumanPart(human="human2", trigger="robot_says", phrase="FOLLOW ME", reaction="follow", latch=True),
                 HumanPart(human="human3", reaction="join")])],
         criteria=[
@@ -301,6 +301,9 @@ CASES: list[Case] = [
          scene=lambda s: _h1(_robot(s, STUCK_ROBOT), STAYS, [(5.5, 20.0, "LookAtRobot")])),
     Case("collision", passes=False, failing="no_collision", blame="robot_script",
          scene=lambda s: _robot(s, [(0.0, *DOCK), (18.1 - 8.5 + 5.4, *EAST), (20.0, *EAST)])),
+    Case("human_walks_into_standing_robot", passes=False, failing="no_collision", blame="behaviors",
+         blame_human="human1", scene=lambda s: _h1(s, [(0.0, 6.3, 5.2), (5.5, 6.3, 1.9), (7.0, 5.215, 1.525),
+                                                       (9.0, 3.0, 1.525), (20.0, 3.0, 1.525)])),
     Case("met_too_far", passes=False, failing="c1", blame="paths",
          scene=lambda s: _robot(s, [(0.0, *DOCK), (3.0, 3.775, 1.525), (8.5, 3.775, 1.525), (18.1, *EAST),
                                     (20.0, *EAST)])),
@@ -328,6 +331,9 @@ CASES: list[Case] = [
          spec=lambda sp: _crit(sp, "c11", formula="eventually (speed_robbot > 0.3)")),
     Case("criterion_contradicts_encounter", passes=False, failing="c4", blame="spec",
          spec=lambda sp: _crit(sp, "c4", phrase="WAIT")),
+    Case("encounters_out_of_order", passes=False, failing="order_e1_e2", blame="paths",
+         spec=lambda sp: sp.model_copy(update={"encounters": [sp.encounters[0].model_copy(update={"order": 1}),
+                                                              sp.encounters[1].model_copy(update={"order": 2})]})),
     Case("meeting_closer_than_bodies", passes=False, failing="c1", blame="spec",
          spec=lambda sp: _crit(sp, "c1", distance=0.5)),
     Case("legacy_met_too_far", passes=False, failing="robot meets human1", blame="paths", spec=None,

@@ -48,7 +48,8 @@ def test_metrics_and_verify_agree_on_collisions(give_way_run: Path, tiny_locatio
     metrics = compute_metrics(trace)
     report = verify_trace(give_way_run, trace)
     (finding,) = [f for f in report.findings if f.kind == "no_collision"]
-    assert not finding.passed and finding.required and finding.blame == "robot_script"
+    # the robot stood still and human1 walked into it: its tree is to fix (rule C3)
+    assert not finding.passed and finding.required and (finding.blame, finding.blame_human) == ("behaviors", "human1")
     steps = int(re.search(r"(\d+) steps with a collision", finding.evidence)[1])
     assert metrics["collisions"] == steps == contact.summarize(trace).collision_steps == 5
     assert metrics["minimum_distance_to_people"] == 0.0  # the evaluator clamps the gap at 0 ...

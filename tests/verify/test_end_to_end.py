@@ -50,3 +50,32 @@ def test_cli_fails_on_the_broken_scenario(give_way_run: Path) -> None:
     result = CliRunner().invoke(cli_app(), ["verify", str(give_way_run), "--json"])
     assert result.exit_code == 1, result.output
     assert '"passed": false' in result.stdout
+
+
+def test_spec_criteria_on_the_real_simulator(give_way_run: Path) -> None:
+    """spec.json's criteria monitored on a real simulation: the robot saying EXCUSE ME (scripted in paths.json
+    for today's simulator) makes human1 give way after it; without it the reaction criterion fails and only
+    the robot's script is blamed."""
+    from socnavgen.run.spec import Criterion
+
+    from .test_verify_run import _give_way_spec
+
+    run = RunFolder(give_way_run)
+    spec = _give_way_spec()
+    run.write_spec(spec.model_copy(update={"criteria": [
+        *spec.criteria, Criterion(id="c2", kind="gives_way", human="human1"), Criterion(id="c3", kind="robot_reaches_goal")]}))
+    silent = verify_run(give_way_run, simulate_options=FAST)
+    assert not silent.passed and silent.spec
+    # the reaction never came, and the meeting at b2 did not happen either (the robot stood stuck behind human1):
+    # both because the robot never said EXCUSE ME
+    assert {f.criterion for f in silent.failures} == {"c1", "meet_human1_e1"}
+    assert {f.blame for f in silent.failures} == {"robot_script"} and list(silent.blamed()) == ["robot_script"]
+    plan = run.read_paths()
+    plan.robot_gestures = [RobotGestureRule(gesture=4, when="near_human", distance=3.0)]
+    run.write_paths(plan)
+    (give_way_run / "sim" / "trace.npz").unlink()
+    report = verify_run(give_way_run, simulate_options=FAST)
+    assert report.passed, report.feedback()
+    assert all(f.robustness > 0 for f in report.findings if f.robustness is not None)
+    c1 = next(f for f in report.findings if f.criterion == "c1")
+    assert "after it" in c1.evidence

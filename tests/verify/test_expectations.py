@@ -63,10 +63,24 @@ def test_implied_criteria() -> None:
         Encounter(id="e1", place="CORNER", node="b2", humans=[HumanPart(human="human1", reaction="stop"),
                                                                 HumanPart(human="human2", reaction="block")])],
         criteria=[Criterion(id="c1", kind="keeps_away", human="human2", distance=1.0)])
-    judged = with_implied(spec)
+    judged = with_implied(spec, VerifySettings())
     ids = [(c.id, src) for c, src in judged]
     # human1 meets the robot at e1 (implied); human2 must keep away, so no implied meeting; no_collision implied;
     # no_deadlock NOT implied because human2 is meant to block the robot
     assert ids == [("c1", "spec"), ("meet_human1_e1", "implied"), ("no_collision", "implied")]
     rude = spec.model_copy(update={"script": spec.script.model_copy(update={"misbehave": True})})
-    assert [c.id for c, _ in with_implied(rude)] == ["c1", "meet_human1_e1"]
+    assert [c.id for c, _ in with_implied(rude, VerifySettings())] == ["c1", "meet_human1_e1"]
+
+
+def test_implied_order_and_scripted_waits() -> None:
+    from socnavgen.run.spec import CueTrigger, RobotCue, RobotScript
+
+    spec = ScenarioSpec(
+        script=RobotScript(cues=[RobotCue(trigger=CueTrigger(when="blocked"), wait=30.0)]),
+        encounters=[Encounter(id="e2", place="DOOR", node="d4", order=2, humans=[HumanPart(human="human2")]),
+                    Encounter(id="e1", place="CORNER", node="b2", order=1, humans=[HumanPart(human="human1")])])
+    judged = {c.id: c for c, _ in with_implied(spec, VerifySettings())}
+    order = judged["order_e1_e2"]
+    assert order.kind == "stl" and order.formula.startswith("(not ((dist_human2 <= 2)")
+    assert order.formula.endswith("until ((dist_human1 <= 2) and (mid_human1_to_e1 <= 1))")
+    assert judged["no_deadlock"].seconds == 35.0  # a scripted 30 s wait (+5 s) is no deadlock

@@ -46,6 +46,8 @@ def test_formula_signals_ignore_operators_and_numbers() -> None:
     ("eventually (mid_human1_to_e9 < 1)", "unknown place 'e9'"),
     ("eventually (dist_human1 <= ", "STL syntax: column"),
     ("12 > 3", "names no signal"),
+    ("(" * 400 + "dist_human1 < 1" + ")" * 400, "nests 400 levels deep"),
+    ("eventually " * 60 + "(dist_human1 < 1)", "nests 60 levels deep"),
 ])
 def test_bad_formulas_are_refused_clearly(formula: str, message: str) -> None:
     (problem,) = formula_problems(formula, ["human1"], ["e1"])

@@ -117,3 +117,69 @@ def test_real_card_criteria(give_way_run: Path) -> None:
     assert [f.kind for f in cards] == ["meets", "robot_reaches_goal", "gives_way_while_passing"]
     assert all(f.passed for f in cards), report.feedback()
     assert cards[0].time == pytest.approx(4.5) and cards[0].distance == pytest.approx(1.41)  # first within 2 m
+
+
+def _give_way_spec(**criterion):  # noqa: ANN003, ANN202
+    from socnavgen.run.spec import (
+        Criterion,
+        CueTrigger,
+        Encounter,
+        HumanPart,
+        RobotCue,
+        RobotScript,
+        ScenarioSpec,
+    )
+
+    crit = {"id": "c1", "kind": "reacts_after_phrase", "human": "human1", "phrase": "EXCUSE ME",
+            "reaction": "give_way", "seconds": 2.0, **criterion}
+    return ScenarioSpec(
+        script=RobotScript(cues=[RobotCue(trigger=CueTrigger(when="human_within", distance=3.5), say="EXCUSE ME")]),
+        encounters=[Encounter(id="e1", place="CORRIDOR", node="b2", humans=[
+            HumanPart(human="human1", trigger="robot_says", phrase="EXCUSE ME", reaction="give_way")])],
+        criteria=[Criterion(**crit)])
+
+
+def test_spec_decides_and_the_cli_shows_robustness_and_blame(give_way_run: Path) -> None:
+    from socnavgen.run.folder import RunFolder
+
+    RunFolder(give_way_run).write_spec(_give_way_spec())
+    save_trace(give_way_run)
+    runner = CliRunner()
+    ok = runner.invoke(cli_app(), ["verify", str(give_way_run), "--no-simulate", "--json"])
+    assert ok.exit_code == 0, ok.output
+    report = json.loads(ok.stdout)
+    assert report["spec"] is True
+    crit = next(f for f in report["findings"] if f["criterion"] == "c1")
+    assert crit["passed"] and crit["robustness"] == pytest.approx(0.5)
+    assert "EXCUSE ME" in crit["formula"] or "excuse_me" in crit["formula"]
+    # implied by the encounter: the meeting at b2, no collision, no deadlock
+    assert {f["criterion"] for f in report["findings"] if f["source"] == "implied"} == \
+        {"meet_human1_e1", "no_collision", "no_deadlock"}
+    save_trace(give_way_run, say_excuse_me=False)
+    bad = runner.invoke(cli_app(), ["verify", str(give_way_run), "--no-simulate", "--json"])
+    assert bad.exit_code == 1
+    failing = [f for f in json.loads(bad.stdout)["findings"] if not f["passed"] and f["required"]]
+    assert [(f["criterion"], f["blame"]) for f in failing] == [("c1", "robot_script")]
+    # the tree checks still run, as warnings: the spec decides
+    assert any(f["node"] == "RobotSays" and not f["passed"] and not f["required"]
+               for f in json.loads(bad.stdout)["findings"])
+
+
+def test_a_bad_formula_is_a_spec_finding_not_a_crash(give_way_run: Path) -> None:
+    from socnavgen.run.folder import RunFolder
+
+    RunFolder(give_way_run).write_spec(_give_way_spec(kind="stl", formula="eventually (dist_human9 < 1)"))
+    save_trace(give_way_run)
+    report = verify_run(give_way_run, simulate_if_missing=False)
+    crit = next(f for f in report.findings if f.criterion == "c1")
+    assert not crit.passed and crit.blame == "spec" and "human9 is not in this run" in crit.evidence
+    assert report.blamed_on("spec") == [crit]
+
+
+def test_malformed_spec_is_a_user_error(give_way_run: Path) -> None:
+    (give_way_run / "spec.json").write_text('{"criteria": [{"id": "c1", "kind": "dances"}]}')
+    save_trace(give_way_run)
+    result = CliRunner().invoke(cli_app(), ["verify", str(give_way_run), "--no-simulate"])
+    assert isinstance(result.exception, InputFileError)  # the main CLI turns it into one message, exit 2
+    with pytest.raises(InputFileError, match="spec.json"):
+        verify_run(give_way_run, simulate_if_missing=False)

@@ -212,6 +212,22 @@ NODES: list[NodeSpec] = [
              targets={"socrates", "hunav2", "hunav1"}, hunav2="SubTree", hunav1="SubTree"),
 ]
 
+# ==== BEGIN latching conditions (owner: sim) ====================================================
+# Conditions whose SUCCESS, once reached, stays: "once the robot said FOLLOW ME, keep following".
+NODES.append(
+    NodeSpec(name="RobotSaid", kind="condition",
+             ports=[_AGENT, Port(name="message", type=PortType.INT, description="gesture code",
+                                 allowed=ROBOT_GESTURES)],
+             description="SUCCESS once the robot has made the gesture `message` at any time so far (and from "
+                         "then on, even after it stopped); use it for reactions that must last, e.g. keep "
+                         "following after the robot said FOLLOW ME.",
+             capability="React for good to something the robot said earlier (it said FOLLOW ME once: keep "
+                        "following)",
+             targets={"socrates"},
+             sim_note="Not in the SocRATES fork or HuNavSim (their RobotSays holds only while the gesture is "
+                      "shown); the simulator remembers every gesture the robot has shown."))
+# ==== END latching conditions ===================================================================
+
 LIBRARY: dict[str, NodeSpec] = {n.name: n for n in NODES}
 
 # Trees the library ships and that a generated tree may `include` (file name -> main tree id).
@@ -281,3 +297,52 @@ HUNAV2_PORTS: dict[str, PortTranslation] = {
     "FollowHuman": PortTranslation(rename={"target_id": "target_agent_id"}, fixed={"duration": "5.0"}),
     "BlockRobot": PortTranslation(fixed={"front_dist": "1.5"}),
 }
+
+
+# ==== BEGIN encounter needs (owner: proposal) ===================================================
+# What a tree must contain for each part of an encounter of the scenario spec (run/spec.py): the
+# conditions that DETECT a human's trigger, and the actions that REALIZE its reaction. Stage 3 checks
+# every tree against this table, prompts quote it, stage 1 refuses parts a target cannot run.
+# `PART_PORTS` says which port of the node must carry which value of the spec part:
+#   robot_phrase -> the robot's gesture code of `phrase`; human_phrase -> the human gesture code of
+#   `phrase` (or of `says` for the reaction say); other -> the agent id of `other`.
+TRIGGER_NODES: dict[str, tuple[str, ...]] = {
+    "always": (),
+    "robot_visible": ("IsRobotVisible",),
+    "robot_near": ("IsRobotNearby", "IsRobotVisible"),
+    "robot_blocking": ("IsRobotBlocking",),
+    "robot_says": ("RobotSays", "RobotSaid"),
+    "robot_moving": ("RobotMoved",),
+    "human_says": ("HumanSays",),
+    "time": ("TimeExpiredCondition",),
+}
+REACTION_NODES: dict[str, tuple[str, ...]] = {
+    "walk_past": ("RegularNav",),
+    "stop": ("LookAtRobot", "MakeGesture"),
+    "look": ("LookAtRobot",),
+    "give_way": ("GiveWaytoRobot",),
+    "follow": ("FollowRobot",),
+    "block": ("BlockRobot",),
+    "avoid": ("RunAwayFromRobot",),
+    "say": ("MakeGesture",),
+    "follow_human": ("FollowHuman",),
+    "wait_then_go": ("LookAtRobot", "MakeGesture"),
+    "join": ("FollowHuman", "RegularNav"),
+}
+PART_PORTS: dict[tuple[str, str], dict[str, str]] = {
+    ("trigger", "robot_says"): {"message": "robot_phrase"},
+    ("trigger", "human_says"): {"message": "human_phrase", "target_id": "other"},
+    ("reaction", "say"): {"message": "human_phrase"},
+    ("reaction", "follow_human"): {"target_id": "other"},
+}
+
+
+def nodes_for_trigger(trigger: str, target: Target = "socrates") -> list[str]:
+    """Library nodes (of `target`) that detect a spec trigger; [] for `always` or when none runs there."""
+    return [n for n in TRIGGER_NODES.get(trigger, ()) if n in LIBRARY and target in LIBRARY[n].targets]
+
+
+def nodes_for_reaction(reaction: str, target: Target = "socrates") -> list[str]:
+    """Library nodes (of `target`) that realize a spec reaction."""
+    return [n for n in REACTION_NODES.get(reaction, ()) if n in LIBRARY and target in LIBRARY[n].targets]
+# ==== END encounter needs ======================================================================

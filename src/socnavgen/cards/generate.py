@@ -16,6 +16,7 @@ from socnavgen.cards.library import all_cards, get_card
 from socnavgen.cards.models import Card
 from socnavgen.cards.places import PlaceFinder
 from socnavgen.cards.routes import DoesNotFit, Placement, RouteBuilder
+from socnavgen.cards.spec import card_spec
 from socnavgen.cards.trees import render_template
 from socnavgen.errors import ValidationFailed
 from socnavgen.location import Location, load_location
@@ -133,6 +134,7 @@ def write_card_run(card_name: str, location_dir: Path | str, out_dir: Path | str
         human_behaviors={h.name: r.role.behavior for h, r in zip(plan.humans, placement.humans, strict=True)},
         expected_robot_behavior=card.expected_robot_behavior))
     run.write_paths(plan)
+    run.write_spec(card_spec(placement, plan, location))
     for name, xml in trees.items():
         run.write_behavior(name, xml)
     done = StageRecord(status="done", attempts=1)

@@ -24,7 +24,7 @@ RobotRoute = Literal["through", "into", "out_of", "ends_at", "starts_at"]
 
 # How a human's path is built from the robot's route and P (see generate.py):
 HumanRoleKind = Literal[
-    "oncoming",  # the robot's route reversed: starts where the robot ends, meets it at P
+    "oncoming",  # the robot's route reversed, from one node past the robot's goal; meets it at P
     "crossing",  # through P along branches the robot does not use; count > 1 = a stream along that branch
     "standing",  # stays at P (a one-node path)
     "ahead",  # starts on the robot's route ahead of it and walks the same way to its end

@@ -131,6 +131,8 @@ class RouteBuilder:
                      if path[0] not in starts]
             need = role.min_count or role.count
             picked: list[tuple[list[str], str | None]] = []
+            if role.group and paths:  # a group walks together: every member on the same path, side by side
+                picked = [paths[0]] * role.count
             for path, meets in paths:
                 if path[0] not in {q[0] for q, _ in picked} and len(picked) < role.count:
                     picked.append((path, meets))
@@ -156,10 +158,11 @@ class RouteBuilder:
         """Candidate (path, interaction point) pairs for one role, best first."""
         robot, p = placement.robot, placement.place.node
         i = robot.index(p) if p in robot else len(robot) - 1
-        ahead_of_robot = set(robot[i + 1:])  # where a person must not end up standing
+        ahead_of_robot = set(robot[1:])  # where a person must not end up standing (the robot still has to pass)
         kind = role.role
-        if kind == "oncoming":
-            return [(robot[::-1], self.meeting_node(placement, i))]
+        if kind == "oncoming":  # starts past the robot's goal: standing on it would block the robot for good
+            start = self.beyond(robot)[:1]  # (a route into a room's dead end has no node past its goal)
+            return [([*start, *robot[::-1]], self.meeting_node(placement, i))]
         if kind == "standing":
             return [([p], p)]
         full = robot + self.beyond(robot)[:1]  # same-direction walkers go on past the robot's goal
@@ -215,9 +218,28 @@ class RouteBuilder:
         if "behind" in roles and not [n for n in self.g.neighbors(robot[0]) if n not in robot] \
                 and interior and robot.index(place.node) > 1 and len(robot) > 3:
             robot = robot[1:]  # the first node becomes the start of the person behind
-        if roles & {"ahead", "behind", "beside"} and not self.beyond(robot) \
+        if "oncoming" in roles and interior and not self.beyond(robot) and self.beyond(robot[::-1]):
+            robot = robot[::-1]  # the far side is a dead end (a room): start there, so the person can come from past the goal
+        if roles & {"ahead", "behind", "beside", "oncoming"} and not self.beyond(robot) \
                 and interior and robot.index(place.node) < len(robot) - 2 and len(robot) > 3:
             robot = robot[:-1]  # the last node becomes where the walkers go on to
+        if card.place == "blind_corner":
+            robot = self.blind_route(robot, place.node)
         placement = Placement(card=card, place=place, robot=robot)
         placement.humans = self.humans(placement)
         return placement
+
+    def blind_route(self, robot: list[str], p: str) -> list[str]:
+        """A blind corner must be blind: the route's far end (where an oncoming person starts) is cut back
+        until no node of the far leg is in sight of a node of the near leg (a route that wraps around a
+        shelf would otherwise show the person across the room at t = 0)."""
+        i = robot.index(p)
+        near = robot[:i]
+        def seen(route: list[str]) -> bool:
+            return any(self.f.sees(a, b) for a in near for b in route[i + 1:] + self.beyond(route)[:1])
+
+        while len(robot) > i + 2 and seen(robot):
+            robot = robot[:-1]
+        if seen(robot):
+            raise DoesNotFit(f"{p} is not blind: the legs before and after it see each other")
+        return robot

@@ -19,6 +19,7 @@ from socnavgen.proposal.conversation import ProgressEvent
 from socnavgen.proposal.review import ReviewDecision
 from socnavgen.run import RunFolder, ScenarioRequest
 
+TARGETS = ("socrates", "hunav2", "hunav1")
 STAGE_TITLES = {"scenario": "stage 1 scenario", "paths": "stage 2 paths", "behaviors": "stage 3 trees",
                 "naive": "naive (all at once)", "verify": "verify"}
 
@@ -112,7 +113,12 @@ def _summary(run, folder: RunFolder) -> None:  # noqa: ANN001 - a proposal.Run
         group = f", group {human.group_id}" if human.group_id >= 0 else ""
         meet = f", meets the robot at {human.interaction_point}" if human.interaction_point else ""
         console.print(f"[bold]{human.name}[/]: {' -> '.join(human.path)}{group}{meet}", highlight=False)
-    files = [folder.request_path, folder.scenario_path, folder.paths_path,
+    spec = getattr(run, "spec", None)
+    for encounter in spec.encounters if spec is not None else []:
+        who = ", ".join(f"{p.human} {p.reaction} on {p.trigger}" for p in encounter.humans)
+        console.print(f"[bold]encounter {encounter.id}[/] at {encounter.node or encounter.place}: {who}",
+                      highlight=False)
+    files = [folder.request_path, folder.scenario_path, folder.spec_path, folder.paths_path,
              *[folder.behavior_path(h) for h in run.behaviors], folder.transcript_path, folder.manifest_path]
     root = folder.root.resolve()
     console.print("files: " + ", ".join(str(p.resolve().relative_to(root)) for p in files if p.exists()),
@@ -163,6 +169,11 @@ def register(app: typer.Typer) -> None:
                           ] = False,
         naive: Annotated[bool, typer.Option("--naive", help="Baseline: one prompt for everything, no tutorials "
                                                             "or examples (for evaluation).")] = False,
+        export_target: Annotated[str | None, typer.Option(
+            "--target", help="Export target (socrates, hunav2, hunav1): only nodes it can run are offered and "
+                             "accepted.")] = None,
+        deadline: Annotated[float, typer.Option(
+            "--deadline", min=1.0, help="Seconds one model exchange may take, retries included.")] = 600.0,
         from_run: Annotated[Path | None, typer.Option(
             "--from", help="Start from an earlier run (copied to --out if given, else changed in place).")] = None,
         redo: Annotated[list[str] | None, typer.Option(
@@ -198,20 +209,24 @@ def register(app: typer.Typer) -> None:
         if review and not sys.stdin.isatty():
             raise SocnavgenError("--review needs an interactive terminal (stdin is not one)",
                                  hint="run it in a terminal, or leave out --review")
+        if export_target is not None and export_target not in TARGETS:
+            raise SocnavgenError(f"unknown --target {export_target!r}", hint=f"use one of {', '.join(TARGETS)}")
         if pick > proposals:
             raise SocnavgenError(f"--pick {pick} but only {proposals} proposal(s) are asked for",
                                  hint="raise --proposals or lower --pick")
         request = _request(location, context, task, rough, card, llm, from_run if from_run else None,
                            proposals=proposals, pick=pick - 1, max_restarts=max_restarts, naive=naive, seed=seed,
-                           temperature=temperature, use_image=not no_image)
+                           temperature=temperature, use_image=not no_image,
+                           **({"target": export_target} if export_target is not None else {}))
         folder = RunFolder(target)
         folder.root.mkdir(parents=True, exist_ok=True)
         model = make_llm(llm, transcript=folder.transcript_path, use_cache=not no_cache, max_parallel=max_parallel,
-                         use_image=not no_image)
+                         use_image=not no_image, deadline=deadline)
         with progress() as bar:
             result = generate(request, model, target, redo=set(redo or []) or None,
                               review=console_review if review else None, progress=LiveProgress(bar), verify=verify)
         _summary(result, folder)
         if verify and result.verify is not None and not result.verify.passed:
-            err_console.print("[red]the verifier still finds problems[/]; see sim/verify.json")
+            err_console.print("[red]the verifier still finds problems[/] (manifest status: failed); see "
+                              "sim/verify.json")
             raise typer.Exit(1)

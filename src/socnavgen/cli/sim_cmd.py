@@ -13,9 +13,11 @@ from socnavgen.cli.common import console, progress
 
 def simulate(
     run: Path = typer.Argument(..., help="Run folder (holds request.json, paths.json, behaviors/*.xml)."),
-    robot: str = typer.Option("waypoints", "--robot", help="Robot plugin: `waypoints` (follows its path, slows "
-                              "and stops for people in front, like the paper's teleoperated robot), `sfm` (a "
-                              "social-force robot), or your own policy as `package.module:Class` or "
+    robot: str = typer.Option("scripted", "--robot", help="Robot plugin: `scripted` (default: plays spec.json's "
+                              "robot script - speech, waits, speed - and never pushes into people), `waypoints` "
+                              "(follows its path, slows and stops for people in front, like the paper's "
+                              "teleoperated robot), `sfm` (a social-force robot), `straight` (a deliberately rude "
+                              "robot that drives through people), or your own policy as `package.module:Class` or "
                               "`path/to/file.py:Class` (see RobotPolicy in the README)."),
     dt: float = typer.Option(0.05, "--dt", min=0.001, max=0.5, help="Fixed time step in seconds."),
     timeout: float = typer.Option(120.0, "--timeout", min=0.1, help="Stop after this many simulated seconds."),

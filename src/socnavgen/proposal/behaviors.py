@@ -16,13 +16,17 @@ from defusedxml import minidom
 
 from socnavgen.bt.describe import library_text, regular_nav_text
 from socnavgen.bt.grammar import bt_reply_grammar
+from socnavgen.bt.library import Target
 from socnavgen.bt.validate import validate_bt_text
 from socnavgen.errors import StageFailed
 from socnavgen.llm.base import LLM, ChatMessage
 from socnavgen.proposal.conversation import Outcome, Policy, Recorder, converse
+from socnavgen.proposal.facts import physical_facts_text
 from socnavgen.proposal.replies import BehaviorReply
 from socnavgen.proposal.templates import render, template_data
+from socnavgen.proposal.tree_needs import needs_text, tree_need_mistakes
 from socnavgen.run import HumanPlan, PathPlan, ScenarioProposal
+from socnavgen.run.spec import ScenarioSpec
 
 STAGE = "behaviors"
 MAX_TOKENS = 1536
@@ -57,19 +61,30 @@ def agent_id(name: str) -> int:
     return HumanPlan(name=name, path=[]).agent_id
 
 
-def behavior_messages(name: str, scenario: ScenarioProposal, paths: PathPlan | None) -> list[ChatMessage]:
-    user = render("bt_user.md", tutorial=render("bt_tutorial.md"), library=library_text(),
+def behavior_messages(name: str, scenario: ScenarioProposal, paths: PathPlan | None,
+                      spec: ScenarioSpec | None = None, target: Target | None = None) -> list[ChatMessage]:
+    context = human_context(name, scenario, paths)
+    needs = needs_text(name, spec, target or "socrates")
+    if needs:
+        context += "\n" + needs
+    user = render("bt_user.md", tutorial=render("bt_tutorial.md"), library=library_text(target or "socrates"),
                   regular_nav=regular_nav_text(), examples=examples_text(), human=name, agent_id=agent_id(name),
-                  behavior=scenario.human_behaviors[name], context=human_context(name, scenario, paths))
+                  behavior=scenario.human_behaviors[name], context=context, facts=physical_facts_text())
     return [ChatMessage(role="system", content=render("bt_system.md")), ChatMessage(role="user", content=user)]
 
 
-def tree_checker(name: str, humans: list[str]) -> Callable[[BehaviorReply], list[str]]:
+def tree_checker(name: str, humans: list[str], spec: ScenarioSpec | None = None,
+                 target: Target | None = None) -> Callable[[BehaviorReply], list[str]]:
+    """The validator's problems (nodes the target cannot run included); on a valid tree, what its
+    encounter parts need and it lacks."""
     ids = {agent_id(h) for h in humans}
 
     def check(reply: BehaviorReply) -> list[str]:
-        return [str(p) for p in validate_bt_text(reply.tree, f"behaviors/{name}.xml", human_ids=ids,
-                                                 agent_id=agent_id(name))]
+        problems = [str(p) for p in validate_bt_text(reply.tree, f"behaviors/{name}.xml", target=target or "socrates",
+                                                     human_ids=ids, agent_id=agent_id(name))]
+        if problems:
+            return problems
+        return tree_need_mistakes(reply.tree, name, spec, target or "socrates")
     return check
 
 
@@ -90,17 +105,19 @@ def _strip_blank_text(node) -> None:  # noqa: ANN001 - a minidom node
 
 
 def ask_behavior(messages: list[ChatMessage], name: str, humans: list[str], llm: LLM, recorder: Recorder,
-                 policy: Policy) -> Outcome[BehaviorReply]:
+                 policy: Policy, spec: ScenarioSpec | None = None, target: Target | None = None
+                 ) -> Outcome[BehaviorReply]:
     grammar = None
     if getattr(llm, "supports_grammar", False):
         grammar = bt_reply_grammar([agent_id(h) for h in humans], agent_id=agent_id(name), max_depth=GRAMMAR_DEPTH)
-    return converse(llm, messages, BehaviorReply, tree_checker(name, humans), stage=STAGE, key=name,
+    return converse(llm, messages, BehaviorReply, tree_checker(name, humans, spec, target), stage=STAGE, key=name,
                     recorder=recorder, policy=policy, grammar=grammar, max_tokens=MAX_TOKENS)
 
 
 def design_behaviors(names: list[str], scenario: ScenarioProposal, paths: PathPlan | None, llm: LLM,
                      recorder: Recorder, policy: Policy,
-                     on_done: Callable[[str, Outcome[BehaviorReply]], None]) -> dict[str, Outcome[BehaviorReply]]:
+                     on_done: Callable[[str, Outcome[BehaviorReply]], None], spec: ScenarioSpec | None = None,
+                     target: Target | None = None) -> dict[str, Outcome[BehaviorReply]]:
     """Ask for every human in `names` in parallel (the LLM bounds concurrency); `on_done` runs as each
     tree arrives, so finished trees are saved even if another human's stage fails."""
     humans = list(scenario.human_behaviors)
@@ -108,7 +125,8 @@ def design_behaviors(names: list[str], scenario: ScenarioProposal, paths: PathPl
     failures: list[StageFailed] = []
 
     def one(name: str) -> None:
-        outcome = ask_behavior(behavior_messages(name, scenario, paths), name, humans, llm, recorder, policy)
+        outcome = ask_behavior(behavior_messages(name, scenario, paths, spec, target), name, humans, llm, recorder,
+                               policy, spec, target)
         on_done(name, outcome)
         results[name] = outcome
 

@@ -4,8 +4,6 @@ attempt budget, and it stores the same run files, so the evaluation compares lik
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 from socnavgen.bt.describe import library_text
 from socnavgen.llm.base import ChatMessage
 from socnavgen.location import Location
@@ -15,11 +13,9 @@ from socnavgen.proposal.path_checks import check_paths, to_path_plan
 from socnavgen.proposal.paths import scene_graph_text
 from socnavgen.proposal.replies import BehaviorReply, NaiveReply, PathsReply, ScenarioReply, human_name
 from socnavgen.proposal.scenario import check_scenario, location_text, to_proposal
+from socnavgen.proposal.stages import Stages
 from socnavgen.proposal.templates import render
 from socnavgen.run import PathPlan, ScenarioProposal, ScenarioRequest
-
-if TYPE_CHECKING:
-    from socnavgen.proposal.pipeline import _Pipeline
 
 STAGE = "naive"
 MAX_TOKENS = 4096
@@ -51,7 +47,7 @@ def _tree_reply(tree: str) -> BehaviorReply:
     return BehaviorReply(tree=tree)
 
 
-def generate_naive(pipeline: _Pipeline) -> tuple[ScenarioProposal, PathPlan, dict[str, str]]:
+def generate_naive(pipeline: Stages) -> tuple[ScenarioProposal, PathPlan, dict[str, str]]:
     run = pipeline.run
     if run.scenario_path.is_file() and run.paths_path.is_file():
         scenario = run.read_scenario()

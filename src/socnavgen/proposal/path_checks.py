@@ -9,6 +9,7 @@ import networkx as nx
 
 from socnavgen.proposal.replies import PathsReply, human_name
 from socnavgen.run import HumanPlan, PathPlan
+from socnavgen.run.spec import ScenarioSpec
 
 
 def _names(humans: list[str]) -> str:
@@ -40,8 +41,8 @@ def _by_human(mapping: dict, what: str, humans: list[str], mistakes: list[str]) 
     return out
 
 
-def check_paths(reply: PathsReply, graph: nx.Graph, humans: list[str]) -> list[str]:
-    """Every mistake of a stage-2 answer, given the scene graph and stage 1's human names."""
+def check_paths(reply: PathsReply, graph: nx.Graph, humans: list[str], spec: ScenarioSpec | None = None) -> list[str]:
+    """Every mistake of a stage-2 answer, given the scene graph, stage 1's human names and its spec."""
     mistakes: list[str] = []
     trajectories = dict(reply.trajectories)
     robot_key = next((k for k in trajectories if k.strip().lower() == "robot"), None)
@@ -76,7 +77,57 @@ def check_paths(reply: PathsReply, graph: nx.Graph, humans: list[str]) -> list[s
                 if point not in robot:
                     mistakes.append(f"the interaction point {point} of {name} is not on the robot's path")
     mistakes += _group_mistakes(groups)  # type: ignore[arg-type]
+    if spec is not None:
+        mistakes += _encounter_mistakes(reply, graph, spec, robot, paths, points)  # type: ignore[arg-type]
     return mistakes
+
+
+def _encounter_mistakes(reply: PathsReply, graph: nx.Graph, spec: ScenarioSpec, robot: list[str],
+                        paths: dict[str, list[str]], points: dict[str, str | None]) -> list[str]:
+    """Each encounter grounded on one node of its kind of place, on the robot's path and its humans'."""
+    mistakes: list[str] = []
+    ids = [e.id for e in spec.encounters]
+    for key in reply.encounter_nodes:
+        if key not in ids:
+            mistakes.append(f"encounter_nodes: '{key}' is not an encounter of the scenario ({', '.join(ids)})")
+    single = {h: [e for e in spec.encounters if any(p.human == h for p in e.humans)] for h in paths}
+    for enc in spec.encounters:
+        node = reply.encounter_nodes.get(enc.id)
+        if node is None:
+            mistakes.append(f"encounter_nodes: {enc.id} has no node; give the {enc.place} node where encounter "
+                            f"{enc.id} happens")
+            continue
+        if node not in graph:
+            mistakes.append(f"encounter {enc.id}: node '{node}' is not in the scene graph")
+            continue
+        kind = str(graph.nodes[node].get("type", ""))
+        if kind.upper() != enc.place.strip().upper():
+            fitting = sorted(n for n, d in graph.nodes(data=True)
+                             if str(d.get("type", "")).upper() == enc.place.strip().upper())
+            hint = f" (nodes of that type: {', '.join(fitting)})" if fitting else ""
+            mistakes.append(f"encounter {enc.id} happens at a {enc.place} but node {node} is a {kind}; choose a "
+                            f"{enc.place} node{hint}")
+        if node not in robot:
+            mistakes.append(f"the node {node} of encounter {enc.id} is not on the robot's path")
+        for part in enc.humans:
+            path = paths.get(part.human)
+            if path is None:
+                continue
+            if node not in path:
+                mistakes.append(f"the node {node} of encounter {enc.id} is not on {part.human}'s path")
+            point = points.get(part.human)
+            if point is not None and point != node and len(single.get(part.human, [])) == 1:
+                mistakes.append(f"the interaction point {point} of {part.human} differs from the node {node} of its "
+                                f"encounter {enc.id}; use {node}")
+    return mistakes
+
+
+def ground_spec(spec: ScenarioSpec, reply: PathsReply) -> ScenarioSpec:
+    """The spec with each encounter's node set from a CHECKED stage-2 reply."""
+    grounded = spec.model_copy(deep=True)
+    for enc in grounded.encounters:
+        enc.node = reply.encounter_nodes.get(enc.id, enc.node)
+    return grounded
 
 
 def _group_mistakes(groups: dict[str, int]) -> list[str]:
@@ -95,12 +146,18 @@ def _group_mistakes(groups: dict[str, int]) -> list[str]:
     return mistakes
 
 
-def to_path_plan(reply: PathsReply, humans: list[str]) -> PathPlan:
-    """Convert a CHECKED reply into the stored model."""
+def to_path_plan(reply: PathsReply, humans: list[str], spec: ScenarioSpec | None = None) -> PathPlan:
+    """Convert a CHECKED reply into the stored model (a human without an interaction point meets the
+    robot at the node of its first encounter)."""
     trajectories = {("robot" if k.strip().lower() == "robot" else human_name(k) or k): v
                     for k, v in reply.trajectories.items()}
     groups = {human_name(k): v for k, v in reply.group_ids.items()}
     points = {human_name(k): v for k, v in reply.interaction_points.items()}
+    if spec is not None:
+        for enc in sorted(spec.encounters, key=lambda e: e.order):
+            for part in enc.humans:
+                if points.get(part.human) is None and enc.id in reply.encounter_nodes:
+                    points[part.human] = reply.encounter_nodes[enc.id]
     return PathPlan(reasoning=reply.reasoning, robot=list(trajectories["robot"]),
                     humans=[HumanPlan(name=name, path=list(trajectories[name]), group_id=groups.get(name, -1),
                                       interaction_point=points.get(name)) for name in humans])

@@ -17,6 +17,7 @@ from functools import cache
 import networkx as nx
 
 from socnavgen.proposal.gbnf import Grammar, Lit, Ref, Symbol, text_rules
+from socnavgen.run.spec import ScenarioSpec
 
 REASONING_CHARS = 160
 GROUP_IDS = (1, 2)
@@ -26,14 +27,25 @@ def _q(node: str) -> Lit:
     return Lit(json.dumps(node))
 
 
-def build_paths_grammar(graph: nx.Graph, humans: list[str]) -> Grammar:
+def _meeting_candidates(graph: nx.Graph, spec: ScenarioSpec | None) -> set[str] | None:
+    """With a spec, the meeting point is also every encounter's node: it must be of each encounter's place."""
+    if spec is None or not spec.encounters:
+        return None
+    places = {e.place.strip().upper() for e in spec.encounters}
+    fitting = {n for n, data in graph.nodes(data=True) if str(data.get("type", "")).upper() in places}
+    return fitting if len(places) == 1 and fitting else None
+
+
+def build_paths_grammar(graph: nx.Graph, humans: list[str], spec: ScenarioSpec | None = None) -> Grammar:
     g = Grammar()
     nodes = sorted(graph.nodes)
     index = {n: i for i, n in enumerate(nodes)}
     text_rules(g, "reasoning", REASONING_CHARS, non_empty=False)
     meets: list[list[Symbol]] = []
+    candidates = _meeting_candidates(graph, spec)
+    encounter_ids = [e.id for e in spec.encounters] if spec is not None else []
     for x in nodes:
-        if graph.degree(x) == 0:
+        if graph.degree(x) == 0 or (candidates is not None and x not in candidates):
             continue
         xi = index[x]
         dist = nx.single_source_shortest_path_length(graph, x)
@@ -47,8 +59,11 @@ def build_paths_grammar(graph: nx.Graph, humans: list[str]) -> Grammar:
         body: list[Symbol] = [Lit("{" + points + '}, "trajectories": {"robot": ['), Ref(f"robot{xi}"), Lit("]")]
         for h in humans:
             body += [Lit(f', "{h}": ['), Ref(f"walk{xi}"), Lit("]")]
-        body += [Lit('}, "group_ids": '), Ref("groups"), Lit("}")]
-        meets.append(body)
+        body += [Lit('}, "group_ids": '), Ref("groups")]
+        if encounter_ids:
+            grounded = ", ".join(f'"{e}": {json.dumps(x)}' for e in encounter_ids)
+            body.append(Lit(', "encounter_nodes": {' + grounded + "}"))
+        meets.append([*body, Lit("}")])
     if not meets:
         raise ValueError("the scene graph has no edge: no path can be planned")
     g.add("meet", *meets)
@@ -118,9 +133,9 @@ def _moves(c1: int, c2: int) -> list[tuple[int, tuple[int, int]]]:
     return moves
 
 
-def paths_grammar(graph: nx.Graph, humans: list[str]) -> str:
+def paths_grammar(graph: nx.Graph, humans: list[str], spec: ScenarioSpec | None = None) -> str:
     """The GBNF text passed as `grammar=` to `llm.chat` for stage 2."""
-    return build_paths_grammar(graph, humans).to_gbnf()
+    return build_paths_grammar(graph, humans, spec).to_gbnf()
 
 
 __all__ = ["build_paths_grammar", "paths_grammar"]

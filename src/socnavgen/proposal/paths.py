@@ -18,48 +18,88 @@ from socnavgen.llm.base import LLM, ChatMessage
 from socnavgen.location import Location
 from socnavgen.location.location import SCENE_GRAPH_IMAGE
 from socnavgen.proposal.conversation import Outcome, Policy, Recorder, converse
+from socnavgen.proposal.facts import edge_width, is_narrow, physical_facts_text
 from socnavgen.proposal.path_checks import check_paths
 from socnavgen.proposal.path_grammar import paths_grammar
 from socnavgen.proposal.replies import PathsReply
 from socnavgen.proposal.templates import render
 from socnavgen.proposal.tutorial import generate_tutorial, tutorial_text
 from socnavgen.run import PathPlan, ScenarioProposal
+from socnavgen.run.spec import ScenarioSpec
 
 STAGE = "paths"
-MAX_TOKENS = 1024
+MAX_TOKENS = 1536
+ENCOUNTER_RULE = ("7. encounter_nodes: for each encounter of the scenario, the node where it happens. It must be of the "
+                  "encounter's kind of place (node type), on the robot's path and on the path of every human of "
+                  "that encounter; a human's interaction point is the node of its encounter.")
 
 
 def scene_graph_text(location: Location) -> str:
-    """The node-link JSON, one node or edge per line: complete, but a fraction of the indented size."""
+    """The node-link JSON, one node or edge per line: complete, but a fraction of the indented size.
+    Each node has its position in metres beside its pixel `pos`; each edge its free width and whether
+    one standing person closes it to the robot."""
     sg = location.scene_graph
-    nodes = ",\n".join("  " + json.dumps({"id": n.id, "type": n.type, "pos": [round(n.pos[0]), round(n.pos[1])]})
-                       for n in sg.nodes)
-    links = ",\n".join("  " + json.dumps({"source": e.source, "target": e.target, "type": e.type}) for e in sg.links)
+
+    def node(n) -> str:  # noqa: ANN001 - a scene-graph node
+        x, y = location.node_world(n.id)
+        return json.dumps({"id": n.id, "type": n.type, "pos": [round(n.pos[0]), round(n.pos[1])],
+                           "xy_m": [round(x, 1), round(y, 1)]})
+
+    def link(e) -> str:  # noqa: ANN001 - a scene-graph edge
+        width = edge_width(location, e.source, e.target)
+        item = {"source": e.source, "target": e.target, "type": e.type}
+        if width != float("inf"):
+            item["width_m"] = width
+        item["narrow"] = is_narrow(location, e.source, e.target)
+        return json.dumps(item)
+
+    nodes = ",\n".join("  " + node(n) for n in sg.nodes)
+    links = ",\n".join("  " + link(e) for e in sg.links)
     return '{"directed": false, "nodes": [\n' + nodes + '\n], "links": [\n' + links + "\n]}"
+
+
+def encounters_text(spec: ScenarioSpec | None) -> str:
+    """The spec's encounters as stage 2 must ground them."""
+    if spec is None or not spec.encounters:
+        return "The scenario names no encounters."
+    lines = ["Encounters of the scenario (ground each on ONE node in encounter_nodes):"]
+    for enc in sorted(spec.encounters, key=lambda e: e.order):
+        parts = "; ".join(f"{p.human}: {p.reaction} on {p.trigger}" for p in enc.humans)
+        lines.append(f"- {enc.id} (order {enc.order}) at a {enc.place} node, with {parts}. Robot: {enc.robot_does}")
+    return "\n".join(lines)
 
 
 def reply_json(plan_or_reply: dict) -> str:
     return json.dumps(plan_or_reply, ensure_ascii=False)
 
 
-def answer_dict(reasoning: str, robot: list[str], humans: dict[str, tuple[list[str], int, str | None]]) -> dict:
-    """A stage-2 answer in the order the grammar uses: reasoning, interaction points, trajectories, groups."""
-    return {"reasoning": reasoning,
-            "interaction_points": {h: v[2] for h, v in humans.items()},
-            "trajectories": {"robot": robot, **{h: v[0] for h, v in humans.items()}},
-            "group_ids": {h: v[1] for h, v in humans.items()}}
+def answer_dict(reasoning: str, robot: list[str], humans: dict[str, tuple[list[str], int, str | None]],
+                encounter_nodes: dict[str, str] | None = None) -> dict:
+    """A stage-2 answer in the order the grammar uses: reasoning, interaction points, trajectories, groups
+    (then the encounters' nodes when the scenario has a spec)."""
+    answer = {"reasoning": reasoning,
+              "interaction_points": {h: v[2] for h, v in humans.items()},
+              "trajectories": {"robot": robot, **{h: v[0] for h, v in humans.items()}},
+              "group_ids": {h: v[1] for h, v in humans.items()}}
+    if encounter_nodes:
+        answer["encounter_nodes"] = dict(encounter_nodes)
+    return answer
 
 
-def plan_to_answer(plan: PathPlan) -> dict:
+def plan_to_answer(plan: PathPlan, spec: ScenarioSpec | None = None) -> dict:
+    nodes = {e.id: e.node for e in spec.encounters if e.node} if spec is not None else None
     return answer_dict(plan.reasoning, plan.robot,
-                       {h.name: (h.path, h.group_id, h.interaction_point) for h in plan.humans})
+                       {h.name: (h.path, h.group_id, h.interaction_point) for h in plan.humans}, nodes)
 
 
-def format_line(humans: list[str]) -> str:
-    return reply_json({"reasoning": "<short reasoning>",
-                       "interaction_points": {h: "<node id>" for h in humans},
-                       "trajectories": {"robot": ["<node id>", "..."], **{h: ["<node id>", "..."] for h in humans}},
-                       "group_ids": {h: "<-1 or group id>" for h in humans}})
+def format_line(humans: list[str], spec: ScenarioSpec | None = None) -> str:
+    answer = {"reasoning": "<short reasoning>",
+              "interaction_points": {h: "<node id>" for h in humans},
+              "trajectories": {"robot": ["<node id>", "..."], **{h: ["<node id>", "..."] for h in humans}},
+              "group_ids": {h: "<-1 or group id>" for h in humans}}
+    if spec is not None and spec.encounters:
+        answer["encounter_nodes"] = {e.id: "<node id>" for e in spec.encounters}
+    return reply_json(answer)
 
 
 def map_examples(graph: nx.Graph, seed: int = 0) -> list[tuple[str, list[str], dict]]:
@@ -104,7 +144,7 @@ def scenario_text(scenario: ScenarioProposal) -> str:
 
 
 def paths_messages(location: Location, scenario: ScenarioProposal, *, seed: int = 0,
-                   images: bool = True) -> list[ChatMessage]:
+                   images: bool = True, spec: ScenarioSpec | None = None) -> list[ChatMessage]:
     graph = location.graph
     humans = list(scenario.human_behaviors)
     examples = "\n\n".join(render("paths_example.md", scenario=text, humans=", ".join(names), answer=reply_json(ans))
@@ -112,7 +152,9 @@ def paths_messages(location: Location, scenario: ScenarioProposal, *, seed: int 
     user = render("paths_user.md", scene_graph=scene_graph_text(location),
                   node_types=", ".join(location.schema.node_types), edge_types=", ".join(location.schema.edge_types),
                   tutorial=tutorial_text(generate_tutorial(graph, seed)), examples=examples,
-                  scenario=scenario_text(scenario), humans=", ".join(humans), format=format_line(humans))
+                  scenario=scenario_text(scenario), humans=", ".join(humans), format=format_line(humans, spec),
+                  facts=physical_facts_text(), encounters=encounters_text(spec),
+                  encounter_rule=ENCOUNTER_RULE if spec is not None and spec.encounters else "")
     picture: list[Path] = []
     image = location.root / SCENE_GRAPH_IMAGE
     if images and image.is_file():
@@ -122,9 +164,9 @@ def paths_messages(location: Location, scenario: ScenarioProposal, *, seed: int 
 
 
 def plan_paths(messages: list[ChatMessage], location: Location, scenario: ScenarioProposal, llm: LLM,
-               recorder: Recorder, policy: Policy) -> Outcome[PathsReply]:
+               recorder: Recorder, policy: Policy, spec: ScenarioSpec | None = None) -> Outcome[PathsReply]:
     humans = list(scenario.human_behaviors)
     graph = location.graph
-    grammar = paths_grammar(graph, humans) if getattr(llm, "supports_grammar", False) else None
-    return converse(llm, messages, PathsReply, lambda reply: check_paths(reply, graph, humans), stage=STAGE,
+    grammar = paths_grammar(graph, humans, spec) if getattr(llm, "supports_grammar", False) else None
+    return converse(llm, messages, PathsReply, lambda reply: check_paths(reply, graph, humans, spec), stage=STAGE,
                     key=None, recorder=recorder, policy=policy, grammar=grammar, max_tokens=MAX_TOKENS)

@@ -8,39 +8,30 @@ depend on them) before resuming.
 
 from __future__ import annotations
 
-import json
 import shutil
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from socnavgen import __version__
 from socnavgen.errors import LLMError, SocnavgenError, StageFailed
-from socnavgen.llm.base import LLM, ChatMessage
-from socnavgen.location import Location, load_location
-from socnavgen.proposal import behaviors as bt_stage
-from socnavgen.proposal import paths as path_stage
-from socnavgen.proposal import scenario as scenario_stage
-from socnavgen.proposal.conversation import (
-    Outcome,
-    Policy,
-    ProgressEvent,
-    ProgressFn,
-    Recorder,
-    converse,
-    no_progress,
-)
-from socnavgen.proposal.path_checks import to_path_plan
+from socnavgen.llm.base import LLM
+from socnavgen.location import load_location
+from socnavgen.proposal.conversation import ProgressFn, Recorder, no_progress
+from socnavgen.proposal.naive import generate_naive
 from socnavgen.proposal.review import ReviewHook
-from socnavgen.proposal.templates import render
+from socnavgen.proposal.stages import Stages
+from socnavgen.proposal.verify_loop import Verifier, verify_and_repair
 from socnavgen.run import Manifest, PathPlan, RunFolder, ScenarioProposal, ScenarioRequest
-from socnavgen.safeio import atomic_write_json
+from socnavgen.run.spec import ScenarioSpec
+
+if TYPE_CHECKING:
+    from socnavgen.verify.models import VerifyReport
 
 STAGES = ("scenario", "paths", "behaviors")
 # Fields that define WHAT was asked: a folder holding another request is not resumed silently.
-IDENTITY_FIELDS = ("location", "context", "task", "rough", "card", "naive")
-MAX_REVIEW_ROUNDS = 10
+IDENTITY_FIELDS = ("location", "context", "task", "rough", "card", "naive", "target")
 
 
 @dataclass
@@ -50,7 +41,8 @@ class Run:
     paths: PathPlan
     behaviors: dict[str, str] = field(default_factory=dict)
     manifest: Manifest | None = None
-    verify: object | None = None  # the verifier's report when --verify ran
+    verify: VerifyReport | None = None  # the verifier's report when --verify ran
+    spec: ScenarioSpec | None = None
 
 
 def stages_to_redo(redo: set[str] | None) -> set[str]:
@@ -79,8 +71,14 @@ def _clear(run: RunFolder, stages: set[str], manifest: Manifest) -> None:
     if "scenario" in stages:
         run.scenario_path.unlink(missing_ok=True)
         run.proposals_path.unlink(missing_ok=True)
+        run.spec_path.unlink(missing_ok=True)
     if "paths" in stages:
         run.paths_path.unlink(missing_ok=True)
+        spec = run.read_spec() if run.spec_path.is_file() else None
+        if spec is not None:  # its grounding belongs to the paths being redone
+            for encounter in spec.encounters:
+                encounter.node = None
+            run.write_spec(spec)
     if "behaviors" in stages and run.behaviors_dir.is_dir():
         for xml in run.behaviors_dir.glob("*.xml"):
             xml.unlink()
@@ -111,158 +109,12 @@ def _open_manifest(run: RunFolder, request: ScenarioRequest, llm: LLM) -> Manife
     return manifest
 
 
-class _Pipeline:
-    def __init__(self, request: ScenarioRequest, llm: LLM, run: RunFolder, location: Location,
-                 recorder: Recorder, review: ReviewHook | None) -> None:
-        self.request, self.llm, self.run, self.location = request, llm, run, location
-        self.recorder, self.review = recorder, review
-        self.policy = Policy(request.max_requeries, request.max_restarts, request.temperature)
-
-    def emit(self, stage: str, key: str | None, kind: str, message: str = "") -> None:
-        self.recorder.progress(ProgressEvent(stage, key, kind, message=message))  # type: ignore[arg-type]
-
-    def reviewed(self, stage: str, key: str | None, outcome: Outcome, first: Callable[[Policy], Outcome],
-                 again: Callable[[list[ChatMessage]], Outcome], show: Callable[[Outcome], str]) -> Outcome:
-        """Loop accept / retry (fresh conversation, warmer) / edit (the request sent after the answer)."""
-        if self.review is None:
-            return outcome
-        for round_ in range(1, MAX_REVIEW_ROUNDS + 1):
-            decision = self.review(stage, key, show(outcome))
-            if decision.action == "accept":
-                break
-            if decision.action == "retry":
-                warmer = Policy(self.policy.max_requeries, self.policy.max_restarts,
-                                min(1.0, self.policy.temperature + 0.3 * round_))
-                outcome = first(warmer)
-            else:
-                edit = ChatMessage(role="user", content=render("review_edit.md", request=decision.request))
-                outcome = again([*outcome.history, edit])
-        return outcome
-
-    # -- stage 1 -----------------------------------------------------------------------------------
-    def scenario(self) -> ScenarioProposal:
-        if self.run.scenario_path.is_file():
-            self.emit("scenario", None, "skipped", "scenario.json exists")
-            return self.run.read_scenario()
-        self.recorder.set_status("scenario", None, "running")
-        self.emit("scenario", None, "start")
-        outcomes = scenario_stage.propose_scenarios(self.request, self.location, self.llm, self.recorder, self.policy)
-        proposals = [scenario_stage.to_proposal(o.value) for o in outcomes]
-        pick = self.request.pick
-        if not 0 <= pick < len(proposals):
-            raise SocnavgenError(f"--pick {pick + 1} but only {len(proposals)} proposal(s) were made",
-                                 hint="--pick counts from 1 and must be at most --proposals")
-        atomic_write_json(self.run.proposals_path, [p.model_dump() for p in proposals])
-        chosen = outcomes[pick]
-
-        def first(policy: Policy) -> Outcome:
-            return converse(
-                self.llm, scenario_stage.scenario_messages(self.request, self.location), scenario_stage.ScenarioReply,
-                scenario_stage.check_scenario, stage="scenario", key=None, recorder=self.recorder, policy=policy,
-                grammar=self._grammar(scenario_stage.scenario_grammar), max_tokens=scenario_stage.MAX_TOKENS)
-
-        def again(messages: list[ChatMessage]) -> Outcome:
-            return converse(
-                self.llm, messages, scenario_stage.ScenarioReply, scenario_stage.check_scenario, stage="scenario",
-                key=None, recorder=self.recorder, policy=self.policy,
-                grammar=self._grammar(scenario_stage.scenario_grammar), max_tokens=scenario_stage.MAX_TOKENS)
-
-        chosen = self.reviewed("scenario", None, chosen, first, again,
-                               lambda o: scenario_stage.to_proposal(o.value).model_dump_json(indent=2))
-        proposal = scenario_stage.to_proposal(chosen.value)
-        self.run.write_scenario(proposal)
-        self.recorder.set_status("scenario", None, "done")
-        self.emit("scenario", None, "done", f"{proposal.number_of_humans} human(s)")
-        return proposal
-
-    def _grammar(self, build: Callable[[], str]) -> str | None:
-        return build() if getattr(self.llm, "supports_grammar", False) else None
-
-    # -- stage 2 -----------------------------------------------------------------------------------
-    def paths(self, scenario: ScenarioProposal, correction: str | None = None) -> PathPlan:
-        if self.run.paths_path.is_file() and correction is None:
-            self.emit("paths", None, "skipped", "paths.json exists")
-            return self.run.read_paths()
-        self.recorder.set_status("paths", None, "running")
-        self.emit("paths", None, "start")
-        images = self.request.use_image and getattr(self.llm, "supports_images", False)
-        base = path_stage.paths_messages(self.location, scenario, seed=self.request.seed, images=images)
-        messages = list(base)
-        if correction is not None:  # the verifier's findings, after the answer that produced them
-            previous = path_stage.plan_to_answer(self.run.read_paths())
-            messages += [ChatMessage(role="assistant", content=json.dumps(previous)),
-                         ChatMessage(role="user", content=correction)]
-        humans = list(scenario.human_behaviors)
-
-        def first(policy: Policy) -> Outcome:
-            return path_stage.plan_paths(base, self.location, scenario, self.llm, self.recorder, policy)
-
-        def again(history: list[ChatMessage]) -> Outcome:
-            return path_stage.plan_paths(history, self.location, scenario, self.llm, self.recorder, self.policy)
-
-        outcome = again(messages)
-        outcome = self.reviewed("paths", None, outcome, first, again,
-                                lambda o: to_path_plan(o.value, humans).model_dump_json(indent=2))
-        plan = to_path_plan(outcome.value, humans)
-        self.run.write_paths(plan)
-        self.recorder.set_status("paths", None, "done")
-        self.emit("paths", None, "done", f"robot {' '.join(plan.robot)}")
-        return plan
-
-    # -- stage 3 -----------------------------------------------------------------------------------
-    def behaviors(self, scenario: ScenarioProposal, paths: PathPlan,
-                  corrections: dict[str, str] | None = None) -> dict[str, str]:
-        humans = list(scenario.human_behaviors)
-        existing = self.run.behaviors()
-        todo = [h for h in humans if h not in existing or (corrections and h in corrections)]
-        for extra in set(existing) - set(humans):  # left over from an earlier scenario
-            self.run.behavior_path(extra).unlink(missing_ok=True)
-        if not todo:
-            self.emit("behaviors", None, "skipped", "every tree exists")
-            return {h: existing[h] for h in humans}
-        self.recorder.set_status("behaviors", None, "running")
-        self.emit("behaviors", None, "start", f"{len(todo)} tree(s)")
-        accepted: dict[str, Outcome] = {}
-
-        def save(name: str, outcome: Outcome) -> None:
-            if self.review is None:
-                self.run.write_behavior(name, bt_stage.pretty_xml(outcome.value.tree))
-                self.recorder.set_status("behaviors", name, "done")
-                self.emit("behaviors", name, "done")
-            accepted[name] = outcome
-
-        if corrections:
-            for name in [h for h in todo if h in corrections]:
-                messages = [*bt_stage.behavior_messages(name, scenario, paths),
-                            ChatMessage(role="assistant", content=json.dumps(
-                                {"reasoning": "", "tree": existing.get(name, "")})),
-                            ChatMessage(role="user", content=corrections[name])]
-                save(name, bt_stage.ask_behavior(messages, name, humans, self.llm, self.recorder, self.policy))
-            todo = [h for h in todo if h not in corrections]
-        if todo:
-            bt_stage.design_behaviors(todo, scenario, paths, self.llm, self.recorder, self.policy, save)
-        if self.review is not None:
-            for name in sorted(accepted, key=humans.index):
-                def first(policy: Policy, name: str = name) -> Outcome:
-                    return bt_stage.ask_behavior(bt_stage.behavior_messages(name, scenario, paths), name, humans,
-                                                 self.llm, self.recorder, policy)
-
-                def again(history: list[ChatMessage], name: str = name) -> Outcome:
-                    return bt_stage.ask_behavior(history, name, humans, self.llm, self.recorder, self.policy)
-
-                outcome = self.reviewed("behaviors", name, accepted[name], first, again,
-                                        lambda o: bt_stage.pretty_xml(o.value.tree))
-                self.run.write_behavior(name, bt_stage.pretty_xml(outcome.value.tree))
-                self.recorder.set_status("behaviors", name, "done")
-        self.recorder.set_status("behaviors", None, "done")
-        self.emit("behaviors", None, "done")
-        return self.run.behaviors()
-
-
 def generate(request: ScenarioRequest, llm: LLM, out: Path, *, redo: set[str] | None = None,
-             review: ReviewHook | None = None, progress: ProgressFn = no_progress, verify: bool = False) -> Run:
+             review: ReviewHook | None = None, progress: ProgressFn = no_progress, verify: bool = False,
+             verifier: Verifier | None = None) -> Run:
     """Run (or resume) the pipeline into `out`. Raises StageFailed / LLMError with the run folder intact
-    and manifest.json saying `failed`."""
+    and manifest.json saying `failed`. With `verify`, a run whose verification still fails ends with
+    manifest status `failed` (the files are kept; `Run.verify` holds the report)."""
     run = RunFolder(Path(out))
     run.root.mkdir(parents=True, exist_ok=True)
     location = load_location(request.location)
@@ -271,19 +123,19 @@ def generate(request: ScenarioRequest, llm: LLM, out: Path, *, redo: set[str] | 
     _clear(run, stages_to_redo(redo), manifest)
     recorder = Recorder(run, manifest, progress)
     recorder.save()
-    pipeline = _Pipeline(request, llm, run, location, recorder, review)
+    stages = Stages(request, llm, run, location, recorder, review)
+    spec = None
     try:
         if request.naive:
-            from socnavgen.proposal.naive import generate_naive
-            scenario, paths, trees = generate_naive(pipeline)
+            scenario, paths, trees = generate_naive(stages)
         else:
-            scenario = pipeline.scenario()
-            paths = pipeline.paths(scenario)
-            trees = pipeline.behaviors(scenario, paths)
+            scenario, spec = stages.scenario()
+            paths, spec = stages.paths(scenario, spec)
+            trees = stages.behaviors(scenario, paths, spec)
         report = None
         if verify:
-            from socnavgen.proposal.verify_loop import verify_and_repair
-            scenario, paths, trees, report = verify_and_repair(pipeline, scenario, paths, trees)
+            scenario, spec, paths, trees, report = verify_and_repair(stages, scenario, spec, paths, trees,
+                                                                     verifier or default_verifier())
     except (StageFailed, LLMError) as exc:
         _mark_failed(manifest, exc.message)
         recorder.save()
@@ -292,9 +144,14 @@ def generate(request: ScenarioRequest, llm: LLM, out: Path, *, redo: set[str] | 
         _mark_failed(manifest, f"interrupted ({type(exc).__name__}: {exc})")
         recorder.save()
         raise
-    manifest.status = "done"
+    if report is not None and not report.passed:
+        manifest.status = "failed"
+        manifest.message = "verification failed: " + "; ".join(f"{f.name}: {f.evidence}" for f in report.failures)[:2000]
+    else:
+        manifest.status, manifest.message = "done", None
     recorder.save()
-    return Run(folder=run, scenario=scenario, paths=paths, behaviors=trees, manifest=manifest, verify=report)
+    return Run(folder=run, scenario=scenario, paths=paths, behaviors=trees, manifest=manifest, verify=report,
+               spec=spec)
 
 
 def _mark_failed(manifest: Manifest, message: str) -> None:
@@ -304,8 +161,8 @@ def _mark_failed(manifest: Manifest, message: str) -> None:
             record.status = "failed"
 
 
-def verifier() -> Callable[[Path], object]:
-    """The verifier `--verify` calls (a seam tests can replace)."""
+def default_verifier() -> Verifier:
+    """The verifier `--verify` calls (tests may pass their own to `generate`)."""
     from socnavgen.verify import verify_run
 
     return verify_run

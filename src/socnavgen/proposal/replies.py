@@ -31,6 +31,8 @@ class ScenarioReply(BaseModel):
         validation_alias=AliasChoices("human_behaviors", "human_behavior", "human_behaviour", "human_behaviours"))
     expected_robot_behavior: str = Field(
         validation_alias=AliasChoices("expected_robot_behavior", "expected_robot_behaviour"))
+    # The scenario spec (run/spec.py), checked by proposal.spec_checks so each mistake is named.
+    spec: dict | None = Field(default=None, validation_alias=AliasChoices("spec", "scenario_spec"))
 
 
 class PathsReply(BaseModel):
@@ -42,6 +44,9 @@ class PathsReply(BaseModel):
                                       validation_alias=AliasChoices("group_ids", "group_id", "groups"))
     interaction_points: dict[str, str | None] = Field(
         default_factory=dict, validation_alias=AliasChoices("interaction_points", "interaction_point"))
+    # Stage 2 grounds each encounter of the spec on a node: {"e1": "f7"}.
+    encounter_nodes: dict[str, str] = Field(
+        default_factory=dict, validation_alias=AliasChoices("encounter_nodes", "encounters"))
 
     @field_validator("trajectories", mode="before")
     @classmethod
@@ -50,7 +55,7 @@ class PathsReply(BaseModel):
             return {k: [_node_id(n) for n in v] if isinstance(v, list) else v for k, v in value.items()}
         return value
 
-    @field_validator("interaction_points", mode="before")
+    @field_validator("interaction_points", "encounter_nodes", mode="before")
     @classmethod
     def _point_as_text(cls, value: object) -> object:
         if isinstance(value, dict):

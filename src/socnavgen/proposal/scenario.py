@@ -9,19 +9,28 @@ single "list of N" reply would.
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
+from typing import get_args
 
 from socnavgen.bt.describe import capabilities_text
+from socnavgen.bt.library import Target, nodes_for_reaction, nodes_for_trigger
 from socnavgen.llm.base import LLM, ChatMessage
 from socnavgen.location import Location
 from socnavgen.proposal.conversation import Outcome, Policy, Recorder, converse
+from socnavgen.proposal.facts import physical_facts_text, robot_vocabulary_text
 from socnavgen.proposal.gbnf import Grammar, Lit, Ref, Symbol, text_rules
 from socnavgen.proposal.replies import ScenarioReply, human_name
+from socnavgen.proposal.spec_checks import MIN_BEHAVIOR_WORDS, parse_spec, prose_mistakes, spec_mistakes
 from socnavgen.proposal.templates import render, template_data
 from socnavgen.run import ScenarioProposal, ScenarioRequest
+from socnavgen.run.spec import CriterionKind, HumanTrigger, Reaction, ScenarioSpec
 
 STAGE = "scenario"
 MAX_HUMANS = 8
-MAX_TOKENS = 1024
+MAX_TOKENS = 2048
+# Triggers / reactions a grammar-bound model may pick: those that need no further field.
+_PLAIN_TRIGGERS = ("always", "robot_visible", "robot_near", "robot_blocking", "robot_moving")
+_PLAIN_REACTIONS = ("walk_past", "stop", "look", "give_way", "follow", "block", "avoid", "wait_then_go")
 
 
 def location_text(location: Location) -> str:
@@ -30,10 +39,28 @@ def location_text(location: Location) -> str:
                   node_types=", ".join(schema.node_types), edge_types=", ".join(schema.edge_types))
 
 
+def spec_help_text(target: Target | None = None) -> str:
+    """How to write the spec: its vocabulary (from run/spec.py and the library), and the physical facts."""
+    return render("scenario_spec.md", vocabulary=robot_vocabulary_text(), facts=physical_facts_text(),
+                  kinds=", ".join(get_args(CriterionKind)), target=target_text(target))
+
+
+def target_text(target: Target | None) -> str:
+    if target is None:
+        return ""
+    triggers = [t for t in get_args(HumanTrigger) if t == "always" or nodes_for_trigger(t, target)]
+    reactions = [r for r in get_args(Reaction) if nodes_for_reaction(r, target)]
+    return (f"The scenario will be exported to {target}: use only the triggers {', '.join(triggers)} and the "
+            f"reactions {', '.join(reactions)} (the others cannot run there).")
+
+
 def scenario_messages(request: ScenarioRequest, location: Location,
                       previous: list[ScenarioProposal] | None = None) -> list[ChatMessage]:
     """System (definition, capabilities, rules), the hand-written examples as earlier turns, the request."""
-    messages = [ChatMessage(role="system", content=render("scenario_system.md", capabilities=capabilities_text()))]
+    target = request.target
+    messages = [ChatMessage(role="system", content=render(
+        "scenario_system.md", capabilities=capabilities_text(target or "socrates"),
+        spec_help=spec_help_text(target)))]
     for example in template_data("scenario_examples.json"):
         messages.append(ChatMessage(role="user", content=render(
             "scenario_user.md", context=example["context"], task=example["task"], location=example["location"],
@@ -49,12 +76,34 @@ def scenario_messages(request: ScenarioRequest, location: Location,
     return messages
 
 
+def scenario_checker(location: Location | None, target: Target | None = None,
+                     require_spec: bool = True) -> Callable[[ScenarioReply], list[str]]:
+    """The stage-1 check: the prose (no placeholders, echoes, empty behaviors) and the spec."""
+    node_types = list(location.schema.node_types) if location is not None else None
+
+    def check(reply: ScenarioReply) -> list[str]:
+        mistakes = check_scenario(reply)
+        if reply.spec is None and not require_spec:
+            return mistakes
+        spec, invalid = parse_spec(reply.spec)
+        mistakes += invalid
+        if spec is not None:
+            humans = [n for k in reply.human_behaviors if (n := human_name(k))]
+            mistakes += spec_mistakes(spec, humans, node_types, target)
+        return mistakes
+    return check
+
+
+def to_spec(reply: ScenarioReply) -> ScenarioSpec | None:
+    """The spec of a CHECKED reply (None when the reply had none: the naive baseline)."""
+    return parse_spec(reply.spec)[0] if reply.spec is not None else None
+
+
 def check_scenario(reply: ScenarioReply) -> list[str]:
+    """The prose part of a stage-1 reply."""
     mistakes: list[str] = []
-    if not reply.scenario_description.strip():
-        mistakes.append("scenario_description is empty")
-    if not reply.expected_robot_behavior.strip():
-        mistakes.append("expected_robot_behavior is empty")
+    mistakes += prose_mistakes("scenario_description", reply.scenario_description, min_words=MIN_BEHAVIOR_WORDS)
+    mistakes += prose_mistakes("expected_robot_behavior", reply.expected_robot_behavior, min_words=MIN_BEHAVIOR_WORDS)
     names = []
     for key, text in reply.human_behaviors.items():
         name = human_name(key)
@@ -62,8 +111,7 @@ def check_scenario(reply: ScenarioReply) -> list[str]:
             mistakes.append(f"human_behaviors: '{key}' is not a human name; name the humans human1, human2, ...")
             continue
         names.append(name)
-        if not str(text).strip():
-            mistakes.append(f"human_behaviors: the behavior of {name} is empty")
+        mistakes += prose_mistakes(f"human_behaviors: the behavior of {name}", str(text), min_words=MIN_BEHAVIOR_WORDS)
     n = reply.number_of_humans
     if not 1 <= n <= MAX_HUMANS:
         mistakes.append(f"number_of_humans is {n}; a scenario has 1 to {MAX_HUMANS} humans")
@@ -84,40 +132,66 @@ def to_proposal(reply: ScenarioReply) -> ScenarioProposal:
                             expected_robot_behavior=reply.expected_robot_behavior.strip())
 
 
-def scenario_grammar() -> str:
+def scenario_grammar(node_types: list[str] | None = None, target: Target | None = None) -> str:
     """The GBNF text passed as `grammar=` for stage 1."""
-    return build_scenario_grammar().to_gbnf()
+    return build_scenario_grammar(node_types=node_types, target=target).to_gbnf()
 
 
 def build_scenario_grammar(max_humans: int = MAX_HUMANS, description_chars: int = 400,
-                           behavior_chars: int = 240) -> Grammar:
+                           behavior_chars: int = 240, node_types: list[str] | None = None,
+                           target: Target | None = None) -> Grammar:
     """Replies of 1..max_humans humans whose count, names and behaviors agree, all texts non-empty and
-    bounded (a small model otherwise rambles until the token limit cuts the JSON)."""
+    bounded (a small model otherwise rambles until the token limit cuts the JSON), with a small spec:
+    one encounter at a node type of the location, each human with a trigger and a reaction that need no
+    further field (and that `target` can run), and a `meets` criterion per human."""
     g = Grammar()
     per_human: list[list[Symbol]] = []
     for n in range(1, max_humans + 1):
         body: list[Symbol] = [Lit(f'{n}, "human_behaviors": {{')]
         for i in range(1, n + 1):
             body += [Lit(("" if i == 1 else ", ") + f'"human{i}": "'), Ref("short"), Lit('"')]
-        per_human.append([*body, Lit("}")])
-    g.add("root", [Lit('{"scenario_description": "'), Ref("long"), Lit('", "number_of_humans": '), Ref("humans"),
-                   Lit(', "expected_robot_behavior": "'), Ref("short"), Lit('"}')])
+        body += [Lit('}, "expected_robot_behavior": "'), Ref("short"),
+                 Lit('", "spec": {"script": {"route": "'), Ref("route"),
+                 Lit('", "cues": []}, "encounters": [{"id": "e1", "place": "'), Ref("place"), Lit('", "humans": [')]
+        for i in range(1, n + 1):
+            body += [Lit(("" if i == 1 else ", ") + f'{{"human": "human{i}", "trigger": "'), Ref("trigger"),
+                     Lit('", "reaction": "'), Ref("reaction"), Lit('"}')]
+        body.append(Lit(']}], "criteria": ['))
+        for i in range(1, n + 1):
+            body.append(Lit(("" if i == 1 else ", ") +
+                            f'{{"id": "c{i}", "kind": "meets", "human": "human{i}", "encounter": "e1"}}'))
+        per_human.append([*body, Lit("]}}")])
+    g.add("root", [Lit('{"scenario_description": "'), Ref("long"), Lit('", "number_of_humans": '), Ref("humans")])
     g.add("humans", *per_human)
     text_rules(g, "long", description_chars, non_empty=True)
     text_rules(g, "short", behavior_chars, non_empty=True)
+    text_rules(g, "route", 120, non_empty=True)
+    places = node_types or ["PLACE"]
+    g.add("place", *[[Lit(p)] for p in places])
+    triggers = [t for t in _PLAIN_TRIGGERS if t == "always" or nodes_for_trigger(t, target or "socrates")]
+    reactions = [r for r in _PLAIN_REACTIONS if nodes_for_reaction(r, target or "socrates")]
+    g.add("trigger", *[[Lit(t)] for t in triggers])
+    g.add("reaction", *[[Lit(r)] for r in reactions])
     return g
 
 
 def propose_scenarios(request: ScenarioRequest, location: Location, llm: LLM, recorder: Recorder,
                       policy: Policy) -> list[Outcome[ScenarioReply]]:
     """`request.proposals` checked proposals, each asked to differ from the ones before."""
-    grammar = scenario_grammar() if getattr(llm, "supports_grammar", False) else None
+    grammar = stage_grammar(llm, location, request.target)
+    check = scenario_checker(location, request.target)
     outcomes: list[Outcome[ScenarioReply]] = []
     count = max(1, request.proposals)
     for k in range(count):
         previous = [to_proposal(o.value) for o in outcomes]
         key = None if count == 1 else f"proposal{k + 1}"
-        outcomes.append(converse(llm, scenario_messages(request, location, previous), ScenarioReply, check_scenario,
+        outcomes.append(converse(llm, scenario_messages(request, location, previous), ScenarioReply, check,
                                  stage=STAGE, key=key, recorder=recorder, policy=policy, grammar=grammar,
                                  max_tokens=MAX_TOKENS))
     return outcomes
+
+
+def stage_grammar(llm: LLM, location: Location, target: Target | None) -> str | None:
+    if not getattr(llm, "supports_grammar", False):
+        return None
+    return scenario_grammar(list(location.schema.node_types), target)

@@ -1,60 +1,117 @@
-"""`--verify`: simulate the generated run, and when the intended interaction did not happen, re-query
-the stage the verifier blames (paths or behaviors) with its findings as the correction, up to the
-restart budget. The verifier (socnavgen.verify) is optional: without it `--verify` says so."""
+"""`--verify`: simulate the generated run and, while the verifier still finds failures, re-ask ONLY what
+its blame says can fix each one (verify/blame.py):
+
+  robot_script, spec -> stage 1 (the spec: the robot's script, the encounters, the criteria); a tree
+                        is never asked to fix what only the robot can cause
+  paths              -> stage 2, with the findings
+  behaviors + human  -> stage 3 for that human only, with that human's findings
+
+A finding without blame (a verifier from before blame existed) is not sent to any stage. When stage 1
+changes who takes part or where, the paths and trees that depended on it are regenerated; when only the
+robot's script changed, they are kept (the grounding is carried over). Up to the restart budget."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from collections.abc import Callable
+from pathlib import Path
+from typing import TYPE_CHECKING
 
 from socnavgen.proposal.conversation import ProgressEvent, bullet_list
+from socnavgen.proposal.stages import Stages
 from socnavgen.proposal.templates import render
 from socnavgen.run import PathPlan, ScenarioProposal
+from socnavgen.run.spec import ScenarioSpec
 
 if TYPE_CHECKING:
-    from socnavgen.proposal.pipeline import _Pipeline
+    from socnavgen.verify.models import Finding, VerifyReport
 
 STAGE = "verify"
+Verifier = Callable[[Path], "VerifyReport"]
+Outcome = tuple[ScenarioProposal, ScenarioSpec | None, PathPlan, dict[str, str], "VerifyReport"]
 
 
-def _describe(finding: Any) -> str:
-    who = f" ({finding.human})" if getattr(finding, "human", None) else ""
-    return f"{getattr(finding, 'name', 'check')}{who}: {getattr(finding, 'evidence', '')}".strip()
+def describe(finding: Finding) -> str:
+    who = f" ({finding.human})" if finding.human else ""
+    fix = f" - fix: {finding.blame_reason}" if finding.blame_reason else ""
+    return f"{finding.name}{who}: {finding.evidence}{fix}"
 
 
-def verify_and_repair(pipeline: _Pipeline, scenario: ScenarioProposal, paths: PathPlan,
-                      trees: dict[str, str]) -> tuple[ScenarioProposal, PathPlan, dict[str, str], Any]:
-    from socnavgen.proposal.pipeline import verifier
+def _correction(findings: list[Finding]) -> str:
+    return render("verify_correction.md", findings=bullet_list([describe(f) for f in findings]))
 
-    verify_run = verifier()
-    run, recorder = pipeline.run, pipeline.recorder
-    report: Any = None
-    for round_ in range(pipeline.policy.max_restarts + 1):
+
+def _shape(spec: ScenarioSpec | None) -> object:
+    """What paths and trees depend on: who meets the robot where, doing what."""
+    if spec is None:
+        return None
+    return [(e.id, e.place, [(p.human, p.trigger, p.phrase, p.reaction, p.says, p.other) for p in e.humans])
+            for e in sorted(spec.encounters, key=lambda e: e.id)]
+
+
+def _carry_grounding(old: ScenarioSpec | None, new: ScenarioSpec | None) -> ScenarioSpec | None:
+    if old is None or new is None:
+        return new
+    nodes = {e.id: e.node for e in old.encounters}
+    grounded = new.model_copy(deep=True)
+    for encounter in grounded.encounters:
+        encounter.node = nodes.get(encounter.id)
+    return grounded
+
+
+def verify_and_repair(stages: Stages, scenario: ScenarioProposal, spec: ScenarioSpec | None, paths: PathPlan,
+                      trees: dict[str, str], verify_run: Verifier) -> Outcome:
+    run, recorder = stages.run, stages.recorder
+    report: VerifyReport | None = None
+    for round_ in range(stages.policy.max_restarts + 1):
         (run.sim_dir / "trace.npz").unlink(missing_ok=True)  # the trace of the previous answer is stale
         recorder.set_status(STAGE, None, "running")
         recorder.progress(ProgressEvent(STAGE, None, "attempt", round_ + 1))
         report = verify_run(run.root)
         recorder.update(STAGE, None, lambda r: setattr(r, "attempts", r.attempts + 1))
-        # Warnings (e.g. a collision, which judges the robot, not the scenario) are not the model's to fix.
-        failing = [f for f in report.findings if not f.passed and getattr(f, "required", True)]
-        recorder.mistakes(STAGE, None, [_describe(f) for f in failing])
+        failing = report.failures  # warnings are not the model's to fix
+        recorder.mistakes(STAGE, None, [describe(f) for f in failing])
         if report.passed:
             recorder.set_status(STAGE, None, "done")
             recorder.progress(ProgressEvent(STAGE, None, "done"))
-            return scenario, paths, trees, report
-        if round_ == pipeline.policy.max_restarts:
+            return scenario, spec, paths, trees, report
+        if round_ == stages.policy.max_restarts:
             break
-        recorder.progress(ProgressEvent(STAGE, None, "invalid", round_ + 1, message="; ".join(map(_describe, failing))))
-        blamed_paths = [f for f in failing if getattr(f, "stage", None) == "paths"]
-        if blamed_paths:
-            text = render("verify_correction.md", findings=bullet_list([_describe(f) for f in blamed_paths]))
-            paths = pipeline.paths(scenario, correction=text)
+        recorder.progress(ProgressEvent(STAGE, None, "invalid", round_ + 1, message="; ".join(map(describe, failing))))
+        blamed = report.blamed()
+        to_spec = blamed.get("robot_script", []) + blamed.get("spec", [])
+        if to_spec:
+            old = spec
+            scenario, spec = stages.scenario(correction=_correction(to_spec))
+            if _shape(spec) != _shape(old) or list(scenario.human_behaviors) != [h.name for h in paths.humans]:
+                run.paths_path.unlink(missing_ok=True)
+                for xml in run.behaviors_dir.glob("*.xml"):
+                    xml.unlink()
+                paths, spec = stages.paths(scenario, spec)
+                trees = stages.behaviors(scenario, paths, spec)
+            else:
+                spec = _carry_grounding(old, spec)
+                if spec is not None:
+                    run.write_spec(spec)
             continue
-        corrections: dict[str, str] = {}
-        for human in scenario.human_behaviors:
-            mine = [f for f in failing if getattr(f, "human", None) in (human, None)]
-            if mine:
-                corrections[human] = render("verify_correction.md", findings=bullet_list([_describe(f) for f in mine]))
-        trees = pipeline.behaviors(scenario, paths, corrections or None)
+        if blamed.get("paths"):
+            paths, spec = stages.paths(scenario, _ungrounded(spec), correction=_correction(blamed["paths"]))
+            continue
+        corrections = {human: _correction(report.blamed_on("behaviors", human)) for human in report.humans_to_fix()
+                       if human in scenario.human_behaviors}
+        if not corrections:  # nothing a stage can fix (no blame given): asking again would change nothing
+            break
+        trees = stages.behaviors(scenario, paths, spec, corrections)
     recorder.set_status(STAGE, None, "failed")
     recorder.progress(ProgressEvent(STAGE, None, "failed", message="the verifier still finds problems"))
-    return scenario, paths, trees, report
+    assert report is not None
+    return scenario, spec, paths, trees, report
+
+
+def _ungrounded(spec: ScenarioSpec | None) -> ScenarioSpec | None:
+    """The spec as stage 2 grounds it afresh."""
+    if spec is None:
+        return None
+    fresh = spec.model_copy(deep=True)
+    for encounter in fresh.encounters:
+        encounter.node = None
+    return fresh

@@ -25,6 +25,8 @@ class ScenarioRequest(BaseModel):
     seed: int = 0
     temperature: float = 0.0
     use_image: bool = True
+    target: Literal["socrates", "hunav2", "hunav1"] | None = Field(
+        default=None, description="export target: only nodes it can run are offered and accepted")
 
 
 class ScenarioProposal(BaseModel):

@@ -97,6 +97,7 @@ class Crowd:
         self.gesture = [0] * n
         self.behavior_state = [0] * n
         self.paused = [False] * n
+        self.pace = self.max_vel.tolist()  # walking speed RegularNav asks for (the throttle slows walkers down)
 
     def refresh_goal(self, i: int) -> None:
         """Mirror the front of agent i's queue into the goal arrays after the queue changed."""

@@ -5,11 +5,14 @@ Per step (reference §1.1, simplified to one process):
 1. interaction holds are updated; every tree is ticked once, in agent-id order, on the current snapshot
    (distances to the robot and environment forces were computed for it at the end of the last step);
    actions only set motion commands;
-2. the robot plugin acts on the same snapshot (a move into a wall is refused);
+2. the spec's script cues are updated; the robot plugin acts on the same snapshot (a move into a wall is
+   refused);
 3. one social-force step for every walking human (desired force toward its command target + social incl.
    the robot + obstacle + group forces); humans that did not walk report zero velocity (as in Gazebo);
    goals reached inside their radius are consumed; then the environment forces for the new state;
-4. the robot's gesture comes from the policy or the scripted rules; the new state is recorded.
+4. bodies that overlap are separated (humans never walk into the robot or each other);
+5. the robot's gesture comes from the policy, the spec's script cues or the plan's rules; the new state
+   is recorded.
 Deterministic: the only randomness (spawn offsets) comes from a seeded numpy Generator.
 """
 
@@ -29,7 +32,7 @@ from socnavgen.sim import kernels
 from socnavgen.sim.agents import Crowd, HumanSpec
 from socnavgen.sim.bt_build import build_tree
 from socnavgen.sim.bt_runtime import BehaviorTree
-from socnavgen.sim.gestures import ScriptedGestures
+from socnavgen.sim.gestures import CueState, RobotScriptRunner, ScriptedGestures
 from socnavgen.sim.interaction import InteractionThrottle
 from socnavgen.sim.nodes import IMPLEMENTATIONS
 from socnavgen.sim.robot import GOAL_TOLERANCE, ROBOT_RADIUS, Observation, RobotAction, RobotPolicy
@@ -39,6 +42,7 @@ from socnavgen.sim.world import World
 
 NODE_NAMES = [n.name for n in leaf_nodes()]
 NODE_INDEX = {name: k for k, name in enumerate(NODE_NAMES)}
+CONTACT_SLACK = 0.005  # m: bodies are kept at least this far apart by the contact step
 
 
 @dataclass
@@ -61,7 +65,7 @@ class Simulation:
                  robot_path: list[tuple[float, float]], policy: RobotPolicy, config: SimConfig | None = None,
                  gestures: ScriptedGestures | None = None, throttle: InteractionThrottle | None = None,
                  tree_names: list[str] | None = None, base_dir: Path | None = None, meta: dict | None = None,
-                 use_kernels: bool | None = None) -> None:
+                 use_kernels: bool | None = None, script: RobotScriptRunner | None = None) -> None:
         if len(trees) != len(humans):
             raise ValueError("one tree per human")
         self.config = config or SimConfig()
@@ -88,6 +92,9 @@ class Simulation:
         self.robot_omega = 0.0
         self.robot_radius = float(self.config.robot_radius)
         self.robot_gesture = 0
+        self.robot_said: set[int] = set()  # every gesture the robot has shown so far (RobotSaid)
+        self.script = script
+        self.cues = script.state if script is not None else CueState()
         self.t = 0.0
         self.obs = Observation(self)
         # per-step scratch read by the nodes
@@ -225,10 +232,17 @@ class Simulation:
             self.face_robot_after_step.clear()
             for tree in self.trees:
                 tree.tick(dt)
+        if self.script is not None:
+            self.cues = self.script.update(self)
         action = self.policy.act(self.obs)
         self._apply_robot(action)
         if n:
-            if self._physics(do_step=True):
+            before = crowd.pos.copy()
+            reached = self._physics(do_step=True)
+            if self._resolve_contacts(before):
+                self._rdist[:] = np.abs(self.robot_pos - crowd.pos)
+                self.robot_dist = self._rdist.tolist()
+            if reached:
                 for i in np.flatnonzero(self.reached).tolist():
                     crowd.queues[i].consume()
                     crowd.refresh_goal(i)
@@ -239,8 +253,53 @@ class Simulation:
         self.t += dt
         if action.gesture is not None:
             self.robot_gesture = int(action.gesture)
+        elif self.cues.say:
+            self.robot_gesture = self.cues.say
         elif self.gestures is not None:
             self.robot_gesture = self.gestures.gesture(self)
+        elif self.script is not None:
+            self.robot_gesture = 0  # the script's phrase is over
+        if self.robot_gesture:
+            self.robot_said.add(self.robot_gesture)
+
+    def _resolve_contacts(self, before: np.ndarray) -> bool:
+        """Bodies do not interpenetrate (HuNavSim's agents are solid in Gazebo): a human whose own step
+        took it into the robot is put back on the robot's surface (never closer than it already was, so an
+        overlap the ROBOT causes stays visible as a collision); two humans that overlap are pushed apart
+        along the line of their centres, the walkers taking the whole correction from someone standing.
+        Corrections that would end inside a wall are dropped. Returns whether anyone was moved."""
+        crowd, rp = self.crowd, self.robot_pos
+        pos, radius = crowd.pos, crowd.radius
+        moved = False
+        n = crowd.n
+        if n >= 2:
+            diff = pos[:, None] - pos[None, :]
+            overlap = radius[:, None] + radius[None, :] - np.abs(diff)
+            np.fill_diagonal(overlap, -1.0)
+            for i, j in zip(*np.nonzero(np.triu(overlap > 1e-6)), strict=True):
+                d = pos[i] - pos[j]
+                unit = d / abs(d) if abs(d) > 1e-9 else complex(math.cos(0.7 * (i + 1)), math.sin(0.7 * (j + 1)))
+                depth = radius[i] + radius[j] - abs(d) + 1e-4  # just apart: no state exactly on the boundary
+                wi, wj = bool(self.cmd_move[i]), bool(self.cmd_move[j])
+                share_i = 0.5 if wi == wj else (1.0 if wi else 0.0)
+                for k, sign, share in ((i, 1.0, share_i), (j, -1.0, 1.0 - share_i)):
+                    cand = pos[k] + sign * unit * depth * share
+                    if share > 0 and self.world.clearance_at_point(cand) >= 0.5 * radius[k]:
+                        pos[k] = cand
+                        moved = True
+        # last, the robot: nobody ends a step deeper into it than the robot's own move put them
+        reach = radius + self.robot_radius
+        gap_new = np.abs(pos - rp) - reach
+        if (gap_new < CONTACT_SLACK).any():
+            allowed = np.minimum(np.abs(before - rp) - reach, CONTACT_SLACK)
+            for i in np.flatnonzero(gap_new < allowed - 1e-9).tolist():
+                away = pos[i] - rp
+                unit = away / abs(away) if abs(away) > 1e-9 else -self._robot_dir
+                cand = rp + unit * (reach[i] + allowed[i])
+                if self.world.clearance_at_point(cand) >= 0.5 * radius[i]:
+                    pos[i] = cand
+                    moved = True
+        return moved
 
     def _apply_robot(self, action: RobotAction) -> None:
         if not isinstance(action, RobotAction):
@@ -312,6 +371,8 @@ class Simulation:
         meta.update(seed=cfg.seed, timeout=cfg.timeout, robot_goal_radius=cfg.goal_tolerance,
                     kernels="numba" if self._fast else "numpy",
                     human_goals={crowd.names[i]: [list(g) for g in crowd.specs[i].goals] for i in range(n)})
+        if self.script is not None:
+            meta["script_cues_fired"] = [list(f) for f in self.cues.fired]
         if self.throttle is not None:
             meta["held_seconds"] = {crowd.names[i]: s * self.dt for i, s in self.throttle.paused_steps.items()}
             meta["throttle_skipped"] = self.throttle.skipped

@@ -6,8 +6,10 @@ exactly like `pause_nav` in the fork. Two release rules:
 * `socrates`: the fork's rule - release once the robot's current waypoint is the interaction node (the
   robot counts a waypoint as passed within 1.5 m). With a long last leg and a fast human the encounter
   then happens well before the node.
-* `eta` (default): release once the robot's remaining path to the node is no longer than the human's
-  distance to it scaled by their speeds (robot nominal speed / human speed), so both arrive together.
+* `eta` (default): pace the human all the way to the node from the robot's ETA there (its remaining path
+  at the script's cruise speed): walk at the speed that arrives together with the robot (slow down),
+  stand while that speed would be a crawl (hold, or start later), and wait at the node itself if still
+  early; full speed once the robot is close to the node. So both arrive together and meet AT the node.
 """
 
 from __future__ import annotations
@@ -20,9 +22,11 @@ from typing import Any
 class ThrottleConfig:
     enabled: bool = True
     waypoint_radius: float = 1.5  # robot counts a waypoint as passed within this distance
-    release_distance: float = 1.0  # never hold a human this close to the robot
+    release_distance: float = 2.0  # m: never hold a human this close to the robot (it would stand in its way)
     rule: str = "eta"  # "eta" or "socrates"
-    robot_speed: float = 0.6  # m/s, nominal robot speed for the eta rule (the waypoints robot's top speed)
+    robot_speed: float = 0.6  # m/s, nominal robot speed for the eta rule (the script's cruise speed)
+    min_pace: float = 0.3  # m/s: a human who would walk slower than this stands instead (holds)
+    robot_near: float = 0.5  # m: once the robot is this close to the node (along its path), full speed
 
 
 @dataclass
@@ -56,14 +60,54 @@ class InteractionThrottle:
                 continue
             goals = path[1:] if len(path) > 1 else [path[0]]
             self.held.append(_Held(agent, goals, path[0], node, self.robot_goals.index(node)))
+        self.points: dict[int, list[complex]] = {}  # agent -> world points of its goals (set on first update)
 
     def update(self, sim: Any) -> None:
-        """Advance the robot's waypoint index and set crowd.paused for this step."""
+        """Advance the robot's waypoint index and set crowd.paused (and crowd.pace) for this step."""
         if not self.config.enabled or not self.held:
             return
         rp = sim.robot_pos
         while self.k < len(self.robot_points) - 1 and abs(self.robot_points[self.k] - rp) <= self.config.waypoint_radius:
             self.k += 1
+        if self.config.rule == "socrates":
+            self._socrates(sim)
+            return
+        crowd = sim.crowd
+        for h in self.held:
+            i = h.agent
+            q = crowd.queues[i]
+            pause, pace = False, float(crowd.max_vel[i])
+            idx = len(h.goals) - len(q)  # index in h.goals of the goal the human walks to now
+            node_at = h.goals.index(h.node) if h.node in h.goals else -1
+            robot_left = self._robot_left(rp, h)
+            if (crowd.behavior_state[i] == 0 and q.goals and idx >= 0 and (idx <= node_at or h.spawn == h.node)
+                    and robot_left > self.config.robot_near and sim.robot_dist[i] > self.config.release_distance):
+                points = self.points.setdefault(i, [complex(*g) for g in crowd.specs[i].goals])
+                node_point = self.robot_points[h.robot_index]
+                if h.spawn == h.node or idx > node_at:
+                    human_left = abs(node_point - crowd.pos[i])
+                else:
+                    human_left = abs(points[idx] - crowd.pos[i]) + sum(
+                        abs(points[j + 1] - points[j]) for j in range(idx, node_at))
+                eta = robot_left / max(self.config.robot_speed, 1e-3)
+                want = human_left / max(eta, 1e-3)
+                if want < self.config.min_pace:
+                    pause = True
+                else:
+                    pace = min(pace, want)
+            crowd.paused[i] = pause
+            crowd.pace[i] = pace
+            if pause:
+                self.paused_steps[i] = self.paused_steps.get(i, 0) + 1
+
+    def _robot_left(self, rp: complex, h: _Held) -> float:
+        """The robot's remaining path length to h's interaction node (0 once past it)."""
+        if self.k > h.robot_index:
+            return 0.0
+        return abs(self.robot_points[self.k] - rp) + self.cumulative[h.robot_index] - self.cumulative[self.k]
+
+    def _socrates(self, sim: Any) -> None:
+        """The fork's rule: hold on the leg before the node until the robot's current waypoint is the node."""
         crowd = sim.crowd
         for h in self.held:
             i = h.agent
@@ -75,14 +119,8 @@ class InteractionThrottle:
             pause = (crowd.behavior_state[i] == 0
                      and sim.robot_dist[i] > self.config.release_distance
                      and (next_node == h.node or h.spawn == h.node)
-                     and self.k < h.robot_index)
-            if pause and self.config.rule == "socrates":
-                pause = self.robot_goals[self.k] != h.node
-            elif pause:
-                remaining = abs(self.robot_points[self.k] - rp) + self.cumulative[h.robot_index] - \
-                    self.cumulative[self.k]
-                human_left = abs(self.robot_points[h.robot_index] - crowd.pos[i])
-                pause = remaining > human_left * self.config.robot_speed / max(float(crowd.max_vel[i]), 1e-3)
+                     and self.k < h.robot_index
+                     and self.robot_goals[self.k] != h.node)
             crowd.paused[i] = pause
             if pause:
                 self.paused_steps[i] = self.paused_steps.get(i, 0) + 1

@@ -86,6 +86,11 @@ def robot_says(sim: Any, leaf: Any, i: int) -> int:
     return SUCCESS if sim.robot_gesture == leaf.get("message") else FAILURE
 
 
+def robot_said(sim: Any, leaf: Any, i: int) -> int:
+    """Latching RobotSays: the robot showed the gesture at some step so far."""
+    return SUCCESS if leaf.get("message") in sim.robot_said else FAILURE
+
+
 def human_says(sim: Any, leaf: Any, i: int) -> int:
     return SUCCESS if sim.crowd.gesture[_target_human(sim, leaf)] == leaf.get("message") else FAILURE
 
@@ -112,7 +117,7 @@ def regular_nav(sim: Any, leaf: Any, i: int) -> int:
     if crowd.paused[i]:
         sim.command_stand(i)
     else:
-        sim.command_walk_goal(i)
+        sim.command_walk_goal(i, v0=crowd.pace[i])
     return SUCCESS
 
 
@@ -296,6 +301,7 @@ IMPLEMENTATIONS: dict[str, Callable[[Any, Any, int], int]] = {
     "IsGoalReached": is_goal_reached,
     "TimeExpiredCondition": time_expired,
     "RobotSays": robot_says,
+    "RobotSaid": robot_said,
     "HumanSays": human_says,
     "RobotMoved": robot_moved,
     "UpdateGoal": update_goal,

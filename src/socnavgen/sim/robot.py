@@ -2,8 +2,8 @@
 
 A policy is any class with `act(observation) -> RobotAction` (and optionally `reset(observation)`),
 loadable from the command line as `--robot module:Class` or `--robot path/to/file.py:Class`.
-Scripted robot speech (PathPlan.robot_gestures) is applied by the engine unless the policy returns
-its own gesture.
+Scripted robot speech (spec.json's script cues, then PathPlan.robot_gestures) is applied by the engine
+unless the policy returns its own gesture; every policy sees the script's cues as `obs.cues`.
 """
 
 from __future__ import annotations
@@ -88,6 +88,17 @@ class Observation:
     @property
     def human_gestures(self) -> list[int]:
         return list(self._sim.crowd.gesture)
+
+    @property
+    def cues(self) -> Any:
+        """What the scenario's robot script asks now (sim.gestures.CueState): `say` (gesture code, 0 none),
+        `wait` (stand still), `speed` (cruise m/s), `misbehave`, `fired` [(t, cue)]."""
+        return self._sim.cues
+
+    @property
+    def robot_said(self) -> set[int]:
+        """Every gesture code the robot has shown so far."""
+        return set(self._sim.robot_said)
 
     @property
     def world(self) -> Any:
@@ -351,15 +362,90 @@ class SFMPolicy:
         return RobotAction(v.real, v.imag)
 
 
-BUILTIN = {"waypoints": WaypointsPolicy, "sfm": SFMPolicy}
+KEEP_CLEAR = 0.03  # m: the scripted robot never moves closer than this gap to anyone
+
+
+def keep_clear(obs: Observation, v: complex, margin: float = KEEP_CLEAR) -> complex:
+    """`v` without the part that would take the robot closer than `margin` (surface gap) to a person:
+    the robot may slide past or back off, never push into someone."""
+    people = obs.human_positions_c
+    if len(people) == 0 or v == 0:
+        return v
+    p, dt = obs.position_c, obs.dt
+    reach = obs.human_radii + obs.radius + margin
+    for _ in range(3):  # a second person may be met after sliding along the first
+        rel = people - (p + v * dt)
+        close = np.flatnonzero(np.abs(rel) < reach)
+        if len(close) == 0:
+            return v
+        for k in close.tolist():
+            d = complex(people[k] - p)
+            if abs(d) < 1e-9:
+                continue
+            n = d / abs(d)
+            toward = (v * n.conjugate()).real
+            if toward > 0:
+                v -= toward * n
+    return v if (np.abs(people - (p + v * dt)) >= np.minimum(reach, np.abs(people - p))).all() else 0j
+
+
+class ScriptedPolicy(WaypointsPolicy):
+    """The default robot: plays the scenario's robot script (spec.json; obs.cues): cruises at the script's
+    speed, stands still while a cue says wait (or until its way is clear), and says what the cues say (the
+    engine shows `cues.say`). Otherwise it drives like the waypoints robot, and it never moves into a
+    person (keep_clear) unless the script says the robot misbehaves on purpose."""
+
+    def __init__(self, **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        self._rude = StraightPolicy()
+
+    def act(self, obs: Observation) -> RobotAction:
+        cues = obs.cues
+        if cues.misbehave:
+            return self._rude.act(obs)
+        self.max_speed = cues.speed
+        if cues.wait:
+            self.speed = 0.0
+            return RobotAction(0.0, 0.0)
+        action = super().act(obs)
+        v = keep_clear(obs, complex(action.vx, action.vy))
+        if abs(v) < abs(complex(action.vx, action.vy)) - 1e-9:
+            self.speed = min(self.speed, abs(v))
+        return RobotAction(v.real, v.imag, action.gesture)
+
+
+class StraightPolicy:
+    """A deliberately bad robot: straight at each waypoint at cruise speed, through people (for campaigns
+    that must catch a rude robot). It only slides along walls and slows down for its goal."""
+
+    def __init__(self, max_speed: float = 0.6) -> None:
+        self.max_speed = max_speed
+        self.tracker = _WaypointTracker(GOAL_TOLERANCE * 2)
+
+    def act(self, obs: Observation) -> RobotAction:
+        target, last = self.tracker.target(obs)
+        to = target - obs.position_c
+        dist = abs(to)
+        if last and dist <= GOAL_TOLERANCE * 0.5:
+            return RobotAction(0.0, 0.0)
+        speed = min(self.max_speed, math.sqrt(2 * 0.8 * dist)) if last else self.max_speed
+        v = slide_along_walls(obs, to / max(dist, 1e-9) * speed)
+        return RobotAction(v.real, v.imag)
+
+
+# the registry of built-in robots (`--robot NAME`); `scripted` is the default
+BUILTIN: dict[str, type] = {"scripted": ScriptedPolicy, "waypoints": WaypointsPolicy, "sfm": SFMPolicy,
+                            "straight": StraightPolicy}
+DEFAULT_ROBOT = "scripted"
 
 
 def load_policy(spec: str) -> RobotPolicy:
-    """`waypoints`, `sfm`, `package.module:Class` or `path/to/file.py:Class` -> a policy instance."""
+    """`scripted`, `waypoints`, `sfm`, `straight`, `package.module:Class` or `path/to/file.py:Class` -> a policy
+    instance."""
     if spec in BUILTIN:
         return BUILTIN[spec]()
     if ":" not in spec:
-        raise InputFileError(f"unknown robot {spec!r}", hint="use waypoints, sfm, module:Class or file.py:Class")
+        raise InputFileError(f"unknown robot {spec!r}", hint="use " + ", ".join(BUILTIN) + ", module:Class or file.py:Class")
     module_name, _, class_name = spec.rpartition(":")
     try:
         if module_name.endswith(".py"):

@@ -14,12 +14,13 @@ from socnavgen.location import Location, load_location
 from socnavgen.run import RunFolder
 from socnavgen.sim.agents import HumanSpec
 from socnavgen.sim.engine import SimConfig, Simulation
-from socnavgen.sim.gestures import ScriptedGestures
+from socnavgen.sim.gestures import RobotScriptRunner, ScriptedGestures
 from socnavgen.sim.interaction import InteractionThrottle, ThrottleConfig
-from socnavgen.sim.robot import RobotPolicy
+from socnavgen.sim.robot import DEFAULT_ROBOT, RobotPolicy
 from socnavgen.sim.world import World
 
 SPAWN_SPREAD = 1.5  # m: SocRATES places each human uniformly within 1.5 m of its first node
+GROUP_SPAWN_RADIUS = 0.6  # m: members of a group start this far from their node (0.9-1.2 m apart)
 
 DEFAULT_TREE = regular_walker_xml()
 
@@ -47,11 +48,12 @@ def spawn_points(world: World, first_nodes: list[complex], group_ids: list[int],
             members.setdefault(g, []).append(k)
     out = []
     for k, (node, g) in enumerate(zip(first_nodes, group_ids, strict=True)):
-        if g != -1 and len(members[g]) > 1:
+        if g != -1 and len(members[g]) > 1:  # a group stands together, evenly on a small circle
             angle = members[g].index(k) * 2 * math.pi / len(members[g])
+            rho = GROUP_SPAWN_RADIUS
         else:
             angle = float(rng.uniform(0, 2 * math.pi))
-        rho = float(rng.uniform(0, SPAWN_SPREAD))
+            rho = float(rng.uniform(0, SPAWN_SPREAD))
         point = node
         for attempt in range(12):
             cand = node + rho * (0.7 ** attempt) * complex(math.cos(angle), math.sin(angle))
@@ -112,7 +114,14 @@ def load_simulation(run_dir: Path, policy: RobotPolicy, config: SimConfig | None
             defaulted.append(h.name)
     node_points = {n: w(n) for n in known}
     robot_path = [location.node_world(n) for n in plan.robot]
-    thr = InteractionThrottle(throttle or ThrottleConfig(), list(plan.robot), [complex(*p) for p in robot_path],
+    spec = run.read_spec()
+    script = None
+    throttle = throttle or ThrottleConfig()
+    if spec is not None:
+        script = RobotScriptRunner(spec.script, {e.id: node_points[e.node] for e in spec.encounters
+                                                 if e.node in node_points})
+        throttle.robot_speed = spec.script.speed
+    thr = InteractionThrottle(throttle, list(plan.robot), [complex(*p) for p in robot_path],
                               [(h.agent_id, list(h.path), h.interaction_point, h.group_id) for h in humans])
     meta = {
         "run": str(run.root), "location": location.name, "robot_nodes": list(plan.robot),
@@ -121,14 +130,14 @@ def load_simulation(run_dir: Path, policy: RobotPolicy, config: SimConfig | None
                                for h in humans if h.interaction_point in known},
         "interaction_nodes": {h.name: h.interaction_point for h in humans if h.interaction_point},
         "default_trees": defaulted, "policy": type(policy).__name__,
-        "throttle": (throttle or ThrottleConfig()).__dict__,
+        "throttle": throttle.__dict__, "spec": spec is not None,
     }
     return Simulation(world, specs, trees, robot_path, policy, config,
                       gestures=ScriptedGestures(plan.robot_gestures, node_points), throttle=thr,
-                      tree_names=names, base_dir=run.behaviors_dir, meta=meta)
+                      tree_names=names, base_dir=run.behaviors_dir, meta=meta, script=script)
 
 
-def simulate_run(run_dir: Path, robot: str | RobotPolicy = "waypoints", location=None,  # noqa: ANN001
+def simulate_run(run_dir: Path, robot: str | RobotPolicy = DEFAULT_ROBOT, location=None,  # noqa: ANN001
                  dt: float = 0.05, timeout: float = 120.0, seed: int = 0, throttle: bool | ThrottleConfig = True,
                  progress=None, save: bool = True):  # noqa: ANN001, ANN201 - returns a Trace
     """One call from a run folder to its trace (saved as RUN/sim/trace.npz unless save=False).

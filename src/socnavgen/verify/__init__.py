@@ -1,7 +1,9 @@
-"""Verification: derive checkable expectations from a run's paths, trees and card, and judge them on the
-simulation trace (pass/fail with evidence)."""
+"""Verification: monitor a run's acceptance criteria (spec.json, else derived from paths, trees and card) on
+the simulation trace as signal temporal logic, with robustness, evidence, and blame for every failure."""
 
 from socnavgen.verify.models import Expectation, Finding, VerifyReport, VerifySettings
 from socnavgen.verify.runner import verify_run, verify_trace
+from socnavgen.verify.stl import formula_problems
 
-__all__ = ["Expectation", "Finding", "VerifyReport", "VerifySettings", "verify_run", "verify_trace"]
+__all__ = ["Expectation", "Finding", "VerifyReport", "VerifySettings", "formula_problems", "verify_run",
+           "verify_trace"]

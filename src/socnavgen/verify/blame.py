@@ -7,10 +7,12 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
       keeps_away farther than a meeting it also asks for, a formula that cannot be monitored) -> spec
   C1  collision, with a robot that is not meant to misbehave                                   -> robot_script
   C2  collision demanded away by a spec whose robot misbehaves on purpose                      -> spec
+  C3  (checked before C1) a human walked into the robot while it stood still                  -> behaviors(h)
   D1  deadlock / goal not reached behind a human whose reaction waits for a robot phrase the
       robot never said                                                                        -> robot_script
   D2  deadlock / goal not reached behind a human (the human's tree keeps it in the way)        -> behaviors(h)
-  P1  the criterion waits for a robot phrase the robot never said                              -> robot_script
+  P1  the criterion (or, for meets / stops / gives_way / says / blocks, its encounter) waits for
+      a robot phrase the robot never said                                                       -> robot_script
   P2  the reaction happened before its cause (the tree is not gated on the phrase)             -> behaviors(h)
   N1  the robot, or the human, never came within `within` of the encounter node                -> paths
   N2  both reached the node but never within the distance at the same time (timing, place)    -> paths
@@ -35,8 +37,9 @@ import numpy as np
 
 from socnavgen.run.models import PathPlan
 from socnavgen.run.spec import Blame, Criterion, ScenarioSpec
+from socnavgen.sim import contact
 from socnavgen.verify.criteria import MIN_MEET, Compiled, deadlock_culprit
-from socnavgen.verify.signals import ROBOT_PHRASES, Signals, phrase_id
+from socnavgen.verify.signals import ROBOT_PHRASES, STILL_SPEED, Signals, phrase_id
 from socnavgen.verify.stl import formula_signals
 
 Verdict = tuple[Blame, str | None, str]  # blame, human (for behaviors), reason
@@ -68,6 +71,18 @@ def spec_problem(c: Criterion, spec: ScenarioSpec) -> str | None:
         if meet is not None and (meet.distance or 2.0) < (c.distance or 1.5):
             return (f"criterion {c.id} keeps {c.human} {c.distance or 1.5:g} m away, but criterion {meet.id} asks "
                     f"them to meet within {meet.distance or 2.0:g} m")
+    return None
+
+
+def _walked_into_robot(s: Signals) -> str | None:
+    """The human who walked into the robot while it stood still (rule C3), at the first collision."""
+    summary = contact.summarize(s.trace)
+    if not summary.collided or summary.first_collision_time is None:
+        return None
+    k = int(np.searchsorted(s.t, summary.first_collision_time))
+    who = summary.first_collision_human
+    if s.speed("robot")[k] < STILL_SPEED and who and s.speed(who)[k] >= STILL_SPEED:
+        return who
     return None
 
 
@@ -107,6 +122,9 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
     if kind == "no_collision":
         if spec.script.misbehave:
             return "spec", None, "the script wants a misbehaving robot but a criterion forbids collisions"
+        walker = _walked_into_robot(s)
+        if walker:
+            return "behaviors", walker, f"{walker} walked into the standing robot: its tree must stop or go around"
         return "robot_script", None, "the robot ran into a person: its script must stop or wait (wait_until_clear)"
     if kind in ("no_deadlock", "robot_reaches_goal"):
         stuck = _stuck(cc, s, spec, settings_deadlock)
@@ -118,7 +136,7 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
     if kind == "stl":
         return _blame_formula(cc, s)
     robot_phrase = cc.phrase if kind in ("reacts_after_phrase", "follows_robot") else \
-        _waited_phrase(spec, h) if kind in ("says", "stops_near_robot", "gives_way", "blocks_robot") else None
+        _waited_phrase(spec, h) if kind in ("meets", "says", "stops_near_robot", "gives_way", "blocks_robot") else None
     if _never_said(s, robot_phrase):
         return ("robot_script", None,
                 f"the robot never said {robot_phrase.replace('_', ' ').upper()}: add a cue that says it")
@@ -177,7 +195,8 @@ def _blame_formula(cc: Compiled, s: Signals) -> Verdict:
         if m:
             who = m[1] or m[2]
             return "behaviors", who, f"the formula asks something of {who}'s behavior"
-    return "paths", None, "the formula's geometry did not happen"
+    what = cc.criterion.text or "the formula's geometry"
+    return "paths", None, f"{what}: not so in the simulation; check where and when the paths meet"
 
 
 def blame_tree_check(node: str | None, message: int | None, human: str | None, s: Signals | None,

@@ -24,6 +24,7 @@ encounter's `within` (docs/verify.md has the same table):
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -331,7 +332,24 @@ def _deadlock_evidence(cc: Compiled, s: Signals) -> Evidence:
 
 
 def _stl_evidence(cc: Compiled, s: Signals) -> Evidence:
-    return "user formula", None, None
+    """What the formula's signals did: each distance's minimum and when, each 0/1 signal's first true step."""
+    from socnavgen.verify.signals import SIGNAL_KINDS
+    from socnavgen.verify.stl import formula_signals
+
+    units = {}
+    for name in formula_signals(cc.formula):
+        kind = next((k for k in SIGNAL_KINDS if re.fullmatch(k.pattern, name)), None)
+        units[name] = kind.unit if kind else ""
+    parts = []
+    for name, unit in list(units.items())[:4]:
+        values = s.get(name)
+        if unit == "0/1":
+            first = _first(values > 0.5)
+            parts.append(f"{name} first at t={s.t[first]:.1f} s" if first is not None else f"{name} never")
+        else:
+            k = int(np.argmin(values))
+            parts.append(f"{name} min {values[k]:.2f} {unit} at t={s.t[k]:.1f} s")
+    return "; ".join(parts) or "formula", None, None
 
 
 EVIDENCE: dict[str, Callable[[Compiled, Signals], Evidence]] = {

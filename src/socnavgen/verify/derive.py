@@ -17,6 +17,26 @@ from socnavgen.run.spec import Criterion, Encounter, HumanPart, ScenarioSpec
 from socnavgen.verify.models import Source, VerifySettings
 
 Judged = list[tuple[Criterion, Source]]
+WAIT_MARGIN = 5.0  # s a scripted wait may overrun before it counts as a deadlock
+
+
+def _met(human: str, enc: Encounter, distance: float) -> str:
+    return f"((dist_{human} <= {distance:g}) and (mid_{human}_to_{enc.id} <= {enc.within:g}))"
+
+
+def _order_criteria(spec: ScenarioSpec, settings: VerifySettings) -> Judged:
+    """Encounters with a smaller `order` happen first: for each pair of consecutive orders, the later
+    encounter's meeting does not happen before the earlier one's (an stl criterion, blamed on paths)."""
+    ordered = sorted((e for e in spec.encounters if e.humans), key=lambda e: e.order)
+    out: Judged = []
+    for first, then in zip(ordered, ordered[1:], strict=False):
+        if first.order == then.order:
+            continue
+        a, b = first.humans[0].human, then.humans[0].human
+        out.append((Criterion(id=f"order_{first.id}_{then.id}", kind="stl",
+                              formula=f"(not {_met(b, then, settings.distance)}) until {_met(a, first, settings.distance)}",
+                              text=f"{first.id} ({a}) happens before {then.id} ({b})"), "implied"))
+    return out
 
 
 def _node_type(location: Any, node: str) -> str:
@@ -75,7 +95,7 @@ def derive_spec(plan: PathPlan, location: Any, card_criteria: list[dict] | None,
     return spec, judged
 
 
-def with_implied(spec: ScenarioSpec) -> Judged:
+def with_implied(spec: ScenarioSpec, settings: VerifySettings) -> Judged:
     """The spec's criteria and those its encounters imply (source `implied`)."""
     judged: Judged = [(c, "spec") for c in spec.criteria]
     kinds_of: dict[str | None, set[str]] = {}
@@ -90,14 +110,17 @@ def with_implied(spec: ScenarioSpec) -> Judged:
                                      encounter=enc.id, text=f"robot meets {part.human} at {enc.node or enc.place} "
                                                             f"({enc.id})"), "implied"))
             kinds_of.setdefault(part.human, set()).add("meets")
+    judged.extend(_order_criteria(spec, settings))
     present = {c.kind for c in spec.criteria}
     blocking = any(p.reaction == "block" for e in spec.encounters for p in e.humans)
     if "no_collision" not in present and not spec.script.misbehave and spec.encounters:
         judged.append((Criterion(id="no_collision", kind="no_collision", text="robot never collides with a human"),
                        "implied"))
     if "no_deadlock" not in present and not spec.script.misbehave and not blocking and spec.encounters:
-        judged.append((Criterion(id="no_deadlock", kind="no_deadlock", text="robot never stuck behind a person"),
-                       "implied"))
+        longest_wait = max((cue.wait for cue in spec.script.cues), default=0.0)
+        seconds = max(settings.deadlock_seconds, longest_wait + WAIT_MARGIN)  # a scripted wait is no deadlock
+        judged.append((Criterion(id="no_deadlock", kind="no_deadlock", seconds=seconds,
+                                 text="robot never stuck behind a person"), "implied"))
     return judged
 
 

@@ -68,19 +68,22 @@ def judge(trace: Trace, *, plan: PathPlan, location: Any, spec: ScenarioSpec | N
     if spec is None:
         used, judged = derive_spec(plan, location, card_criteria, settings)
     else:
-        used, judged = spec, with_implied(spec)
+        used, judged = spec, with_implied(spec, settings)
     goal_radius = settings.goal_radius or float((trace.meta or {}).get("robot_goal_radius", DEFAULT_GOAL_RADIUS))
-    world = None
+    world_factory = None
     node_points: dict[str, tuple[float, float]] = {}
     if location is not None:
         from socnavgen.sim.world import World
 
-        world = World.from_location(location)
+        def world_factory() -> World:
+            return World.from_location(location)
+
         node_points = {n: tuple(location.node_world(n)) for n in location.scene_graph.node_ids()}
     places = encounter_places(used, plan, location)
     if trace.robot_goal is None and plan.robot and location is not None:
         places["goal"] = tuple(location.node_world(plan.robot[-1]))
-    signals = Signals(trace, world=world, places=places, node_points=node_points, goal_radius=goal_radius)
+    signals = Signals(trace, world_factory=world_factory, places=places, node_points=node_points,
+                      goal_radius=goal_radius)
     findings: list[Finding] = []
     if trace.steps == 0:
         findings = [Finding(name=_title(c), kind=c.kind, passed=False, evidence="the trace is empty", source=src,

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from socnavgen.bt.library import HUMAN_GESTURES, LIBRARY, ROBOT_GESTURES
+from socnavgen.bt.library import HUMAN_GESTURES, LIBRARY, REACTION_NODES, ROBOT_GESTURES
 from socnavgen.sim import contact
 from socnavgen.sim.trace import VX, VY, YAW, Trace
 
@@ -29,14 +29,10 @@ WAY_MARGIN = 0.1  # m: a human is "in the robot's way" when its disc is within t
 BLOCK_GAP = 1.0  # m: someone in the robot's way with a gap up to this blocks it (deadlock)
 FAR = 1.0e3  # value of a distance that does not exist (no humans)
 
-# What counts as evidence that a human performs a spec reaction (spec.py `Reaction`): library actions
-# executed, or a physical fact. The verifier's reading of the words, documented in docs/verify.md.
-REACTION_EVIDENCE: dict[str, tuple[str, ...]] = {
-    "walk_past": ("RegularNav",), "look": ("LookAtRobot",), "give_way": ("GiveWaytoRobot",),
-    "follow": ("FollowRobot",), "block": ("BlockRobot",), "avoid": ("RunAwayFromRobot", "GiveWaytoRobot"),
-    "follow_human": ("FollowHuman",), "join": ("FollowHuman", "RegularNav"),
-    "stop": (), "wait_then_go": (), "say": (),  # physical: standing still after walking / any gesture
-}
+# Reactions judged by what the human physically does rather than by the nodes that implement them
+# (bt.library.REACTION_NODES is the one home of those): stopping is standing still after having walked,
+# saying is showing a gesture. Every other reaction counts on the steps one of its nodes executes.
+PHYSICAL_REACTIONS = ("stop", "wait_then_go", "say")
 
 
 def phrase_id(phrase: str) -> str:
@@ -79,9 +75,11 @@ class Signals:
     """The signals of one trace. `places`: named world points (encounter ids, `goal`, `node_<id>`)."""
 
     def __init__(self, trace: Trace, *, world=None, places: dict[str, tuple[float, float]] | None = None,  # noqa: ANN001
-                 node_points: dict[str, tuple[float, float]] | None = None, goal_radius: float = 0.5) -> None:
+                 node_points: dict[str, tuple[float, float]] | None = None, goal_radius: float = 0.5,
+                 world_factory: Callable[[], object] | None = None) -> None:
         self.trace = trace
         self.world = world
+        self._world_factory = world_factory  # builds the World only if a formula needs line of sight
         self.places = dict(places or {})
         if trace.robot_goal is not None and "goal" not in self.places:
             self.places["goal"] = tuple(trace.robot_goal)
@@ -135,6 +133,8 @@ class Signals:
     def line_of_sight(self) -> np.ndarray:
         """(T, H) 1 where the robot and each human see each other (walls of the occupancy map)."""
         if self._los is None:
+            if self.world is None and self._world_factory is not None:
+                self.world = self._world_factory()
             if self.world is None:
                 raise UnknownSignal("line of sight needs the run's location (map)")
             robot = self.trace.robot[:, 0] + 1j * self.trace.robot[:, 1]
@@ -269,16 +269,17 @@ def _moved(s: Signals, m: re.Match) -> np.ndarray:
 
 
 def reaction_evidence(s: Signals, human: str, reaction: str, says: str | None = None) -> np.ndarray:
-    """(T,) bool: steps showing `human` performing the spec reaction (REACTION_EVIDENCE)."""
+    """(T,) bool: steps showing `human` performing the spec reaction: physical for PHYSICAL_REACTIONS,
+    else executing one of its bt.library.REACTION_NODES actions."""
     i = s.human(human)
     if reaction in ("stop", "wait_then_go"):
         return (s.speed(human) < STOP_SPEED) & (moved(s, human) > 0.5)
     if reaction == "say":
         gest = np.asarray(s.trace.human_gesture[:, i])
         return gest == HUMAN_PHRASES[phrase_id(says)] if says else gest != 0
-    nodes = REACTION_EVIDENCE.get(reaction)
+    nodes = REACTION_NODES.get(reaction)
     if nodes is None:
-        raise UnknownSignal(f"unknown reaction {reaction!r} ({', '.join(REACTION_EVIDENCE)})")
+        raise UnknownSignal(f"unknown reaction {reaction!r} ({', '.join(REACTION_NODES)})")
     out = np.zeros(s.trace.steps, dtype=bool)
     for node in nodes:
         out |= s.trace.executed(i, node)
@@ -322,5 +323,6 @@ SIGNAL_KINDS: tuple[SignalKind, ...] = (
     SignalKind(rf"moved_{_H}", "moved_<human>", "0/1", f"the human has walked {MOVED_DISTANCE} m from its start",
                _moved),
     SignalKind(rf"react_{_H}_([a-z_]+)", "react_<human>_<reaction>", "0/1",
-               "evidence of a spec reaction (REACTION_EVIDENCE: give_way, stop, look, follow, ...)", _react),
+               "evidence of a spec reaction: its library actions executing (bt.library.REACTION_NODES); stop, "
+               "wait_then_go: slower than 0.1 m/s after having walked; say: showing a gesture", _react),
 )

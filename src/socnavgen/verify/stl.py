@@ -20,6 +20,8 @@ import numpy as np
 from socnavgen.verify.signals import Signals, UnknownSignal
 
 MAX_FORMULA_CHARS = 1000
+MAX_NESTING = 24  # parentheses or temporal operators: rtamt's parser recurses on each level
+_TEMPORAL = re.compile(r"\b(?:always|eventually|historically|once|until|since|unless|next|prev|not)\b")
 OPERATORS = frozenset({
     "not", "or", "and", "iff", "implies", "xor", "rise", "fall", "always", "eventually", "until", "unless",
     "historically", "once", "since", "next", "prev", "true", "false", "abs", "sqrt", "exp", "pow",
@@ -53,6 +55,17 @@ def formula_signals(formula: str) -> list[str]:
     return list(seen)
 
 
+def _nesting(formula: str) -> int:
+    depth = deepest = 0
+    for ch in formula:
+        if ch == "(":
+            depth += 1
+            deepest = max(deepest, depth)
+        elif ch == ")":
+            depth -= 1
+    return deepest
+
+
 def check_formula(formula: str, signals: Signals) -> list[str]:
     """Raise FormulaError unless the formula is short, a single expression and names only known signals;
     return the signal names it uses."""
@@ -61,6 +74,11 @@ def check_formula(formula: str, signals: Signals) -> list[str]:
     if len(formula) > MAX_FORMULA_CHARS:
         raise FormulaError(f"the formula has {len(formula)} characters (at most {MAX_FORMULA_CHARS}); split it into "
                            "several criteria")
+    depth = max(_nesting(formula), len(_TEMPORAL.findall(formula)))
+    if depth > MAX_NESTING:
+        raise FormulaError(f"the formula nests {depth} levels deep or has as many temporal operators (at most "
+                           f"{MAX_NESTING}); split it into several "
+                           "criteria")
     if _FORBIDDEN.search(formula):
         raise FormulaError("a formula is one expression: no ';', '=', '@', '{' or '}' (compare with ==, <=, >=)")
     names = formula_signals(formula)
@@ -101,6 +119,8 @@ def monitor(formula: str, signals: Signals) -> Verdict:
         out = spec.evaluate(data)
     except rtamt.RTAMTException as exc:
         raise FormulaError(_readable(str(exc))) from None
+    except RecursionError:  # pragma: no cover - MAX_NESTING keeps formulas far from this
+        raise FormulaError(f"the formula is too deeply nested (at most {MAX_NESTING} levels)") from None
     finally:
         rtamt_log.setLevel(level)
     series = np.array([float(v) for _, v in out], dtype=float)

@@ -1,0 +1,175 @@
+"""Checks of the scenario spec (spec.json) and of stage 1's prose: each mistake is named in words
+that tell the model (or the user who edited spec.json) what to fix.
+
+Prose: placeholders (`<...>`), echoes of the answer template and empty behaviors are rejected.
+Spec: validated by the models of run/spec.py, then for consistency with the scenario (its humans),
+the location (node types), the robot script (a phrase a human waits for must be said by the robot)
+and the export target (a trigger or reaction needs a node the target can run)."""
+
+from __future__ import annotations
+
+import re
+
+from pydantic import ValidationError
+
+from socnavgen.bt.library import Target, nodes_for_reaction, nodes_for_trigger
+from socnavgen.run.spec import Criterion, Encounter, ScenarioSpec
+
+# Criterion kinds that are about one human and therefore need `human`.
+_PER_HUMAN = {"meets", "stops_near_robot", "reacts_after_phrase", "gives_way", "follows_robot", "hidden_until",
+              "says", "keeps_away", "blocks_robot"}
+_GLOBAL = {"robot_reaches_goal", "no_collision", "no_deadlock", "stl"}
+MIN_BEHAVIOR_WORDS = 4
+_PLACEHOLDER = re.compile(r"<[^<>]{0,80}>|^\s*\.\.\.\s*$|\[[A-Z _]{3,40}\]")
+# Phrases of the answer template (scenario_user.md); a reply that contains one copied the template.
+TEMPLATE_ECHOES = ("task and behavior towards the robot", "detailed description", "what the robot should do",
+                   "number of humans", "short reasoning", "node id")
+
+
+def prose_mistakes(field: str, text: str, *, min_words: int = 1) -> list[str]:
+    """Empty text, a placeholder, a template echo, stray JSON punctuation: each a named mistake."""
+    stripped = str(text).strip()
+    if not stripped:
+        return [f"{field} is empty; write it out"]
+    mistakes: list[str] = []
+    lowered = stripped.lower()
+    echo = next((e for e in TEMPLATE_ECHOES if e in lowered), None)
+    if echo:
+        mistakes.append(f"{field} copies the answer template ('{echo}'); write the real content instead")
+    elif _PLACEHOLDER.search(stripped):
+        found = _PLACEHOLDER.search(stripped).group(0)  # type: ignore[union-attr]
+        mistakes.append(f"{field} contains the placeholder '{found}'; replace it with the real content")
+    if re.search(r"[{}]\s*,?\s*$", stripped) or stripped.startswith(("{", "}")):
+        mistakes.append(f"{field} ends or starts with JSON punctuation ({stripped[-3:]!r}); it must be plain text")
+    if not mistakes and len(re.findall(r"[A-Za-z]{2,}", stripped)) < min_words:
+        mistakes.append(f"{field} is too short to be a behavior ('{stripped}'); say what the person does and "
+                        f"how they react to the robot")
+    return mistakes
+
+
+def parse_spec(data: object) -> tuple[ScenarioSpec | None, list[str]]:
+    """Validate `data` with the spec models; mistakes name the field path."""
+    if data is None:
+        return None, ["spec is missing; add the \"spec\" object (robot script, encounters, criteria)"]
+    try:
+        return ScenarioSpec.model_validate(data), []
+    except ValidationError as exc:
+        out = []
+        for err in exc.errors()[:12]:
+            where = ".".join(str(p) for p in err["loc"])
+            out.append(f"spec.{where}: {err['msg']}" if where else f"spec: {err['msg']}")
+        return None, out
+
+
+def _human_refs(criterion: Criterion) -> list[str]:
+    return [h for h in [criterion.human, *criterion.humans] if h]
+
+
+def _robot_says(spec: ScenarioSpec) -> set[str]:
+    return {c.say for c in spec.script.cues if c.say}
+
+
+def _human_says(spec: ScenarioSpec) -> dict[str, set[str]]:
+    said: dict[str, set[str]] = {}
+    for enc in spec.encounters:
+        for part in enc.humans:
+            if part.reaction == "say" and part.says:
+                said.setdefault(part.human, set()).add(part.says)
+    return said
+
+
+def _checks_encounter(criterion: Criterion, encounter: Encounter) -> bool:
+    if criterion.encounter == encounter.id:
+        return True
+    if criterion.kind in _GLOBAL:
+        return False
+    members = {p.human for p in encounter.humans}
+    return bool(set(_human_refs(criterion)) & members)
+
+
+def spec_mistakes(spec: ScenarioSpec, humans: list[str], node_types: list[str] | None = None,
+                  target: Target | None = None) -> list[str]:
+    """Consistency of a validated spec with the scenario's humans, the location and the target."""
+    mistakes: list[str] = []
+    ids = [e.id for e in spec.encounters]
+    if not spec.encounters:
+        mistakes.append("spec.encounters is empty; describe at least one encounter (who meets the robot, where)")
+    for dup in sorted({i for i in ids if ids.count(i) > 1}):
+        mistakes.append(f"spec.encounters: the id {dup} is used twice; number the encounters e1, e2, ...")
+    in_encounters = {p.human for e in spec.encounters for p in e.humans}
+    for name in humans:
+        if name not in in_encounters:
+            mistakes.append(f"spec.encounters: {name} of human_behaviors takes part in no encounter; add {name} "
+                            f"to the encounter it is in")
+    for name in sorted(in_encounters - set(humans), key=lambda n: int(n[5:])):
+        mistakes.append(f"spec.encounters: {name} is not one of the humans of human_behaviors "
+                        f"({', '.join(humans)})")
+    types = {t.upper(): t for t in (node_types or [])}
+    robot_phrases, human_phrases = _robot_says(spec), _human_says(spec)
+    for enc in spec.encounters:
+        if types and enc.place.strip().upper() not in types:
+            mistakes.append(f"encounter {enc.id}: place '{enc.place}' is not a node type of the location; use one "
+                            f"of {', '.join(types.values())}")
+        seen: set[str] = set()
+        for part in enc.humans:
+            who = f"encounter {enc.id}, {part.human}"
+            if part.human in seen:
+                mistakes.append(f"{who}: listed twice in the same encounter")
+            seen.add(part.human)
+            if part.trigger == "robot_says" and part.phrase and part.phrase not in robot_phrases:
+                mistakes.append(f"{who}: reacts when the robot says {part.phrase}, but no cue of spec.script.cues "
+                                f"says {part.phrase}; add a cue that says it (or change the trigger)")
+            if part.trigger == "human_says" and part.other:
+                if part.other not in humans:
+                    mistakes.append(f"{who}: waits for {part.other}, who is not a human of the scenario")
+                elif part.phrase not in human_phrases.get(part.other, set()):
+                    mistakes.append(f"{who}: waits for {part.other} to say {part.phrase}, but {part.other} never "
+                                    f"has the reaction say {part.phrase}")
+            if part.reaction == "follow_human" and not part.other:
+                mistakes.append(f"{who}: reaction follow_human names the human to follow in `other`")
+            if part.other == part.human:
+                mistakes.append(f"{who}: `other` is {part.human} itself; name another human")
+            if target is not None:
+                if part.trigger != "always" and not nodes_for_trigger(part.trigger, target):
+                    mistakes.append(f"{who}: trigger {part.trigger} cannot be detected by any node {target} runs; "
+                                    f"choose another trigger")
+                if not nodes_for_reaction(part.reaction, target):
+                    mistakes.append(f"{who}: reaction {part.reaction} has no node {target} runs; choose another "
+                                    f"reaction")
+        if not any(_checks_encounter(c, enc) for c in spec.criteria):
+            mistakes.append(f"encounter {enc.id} has no acceptance criterion that checks it; add one (e.g. kind "
+                            f"meets for {enc.humans[0].human} with encounter {enc.id})")
+    for cue in spec.script.cues:
+        if cue.trigger.encounter and cue.trigger.encounter not in ids:
+            mistakes.append(f"spec.script.cues: the cue on {cue.trigger.when} names encounter "
+                            f"{cue.trigger.encounter}, which is not in spec.encounters ({', '.join(ids)})")
+        if cue.trigger.human and cue.trigger.human not in humans:
+            mistakes.append(f"spec.script.cues: the cue names {cue.trigger.human}, who is not a human of the scenario")
+    mistakes += _criteria_mistakes(spec, humans, ids, robot_phrases)
+    return mistakes
+
+
+def _criteria_mistakes(spec: ScenarioSpec, humans: list[str], ids: list[str], robot_phrases: set[str]) -> list[str]:
+    mistakes: list[str] = []
+    cids = [c.id for c in spec.criteria]
+    for dup in sorted({i for i in cids if cids.count(i) > 1}):
+        mistakes.append(f"spec.criteria: the id {dup} is used twice; number the criteria c1, c2, ...")
+    for c in spec.criteria:
+        for name in _human_refs(c):
+            if name not in humans:
+                mistakes.append(f"criterion {c.id}: {name} is not a human of the scenario ({', '.join(humans)})")
+        if c.encounter and c.encounter not in ids:
+            mistakes.append(f"criterion {c.id}: encounter {c.encounter} is not in spec.encounters ({', '.join(ids)})")
+        if c.kind in _PER_HUMAN and not c.human:
+            mistakes.append(f"criterion {c.id}: kind {c.kind} names the `human` it is about")
+        if c.kind == "group_together" and len(c.humans) < 2:
+            mistakes.append(f"criterion {c.id}: group_together lists at least two `humans`")
+        if c.kind == "reacts_after_phrase":
+            if not c.phrase:
+                mistakes.append(f"criterion {c.id}: reacts_after_phrase names the robot's `phrase`")
+            elif c.phrase not in robot_phrases:
+                mistakes.append(f"criterion {c.id}: waits for the robot to say {c.phrase}, but no cue of "
+                                f"spec.script.cues says it")
+        if c.kind == "stl" and not (c.formula or "").strip():
+            mistakes.append(f"criterion {c.id}: kind stl needs its `formula`")
+    return mistakes

@@ -1,0 +1,160 @@
+"""The robot plays its script (spec.json cues), never pushes into people; bodies do not interpenetrate;
+RobotSaid latches; the straight robot is rude on purpose; humans are paced to meet at their node."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from socnavgen.bt.library import LIBRARY, ROBOT_GESTURES
+from socnavgen.run.spec import CueTrigger, RobotCue, RobotScript
+from socnavgen.sim.contact import overlapping
+from socnavgen.sim.gestures import RobotScriptRunner
+from socnavgen.sim.interaction import InteractionThrottle, ThrottleConfig
+from socnavgen.sim.robot import BUILTIN, DEFAULT_ROBOT, ScriptedPolicy, StraightPolicy, load_policy
+from tests.sim.simhelpers import REGULAR, Drive, Stay, human, make_sim, tree_xml
+
+EXCUSE_ME = next(k for k, v in ROBOT_GESTURES.items() if v == "EXCUSE ME")
+FOLLOW_ME = next(k for k, v in ROBOT_GESTURES.items() if v == "FOLLOW ME")
+STANDING = tree_xml('<Sequence><LookAtRobot agent_id="{id}"/></Sequence>')
+
+
+def _gaps(sim_trace) -> np.ndarray:  # noqa: ANN001
+    from socnavgen.sim.contact import trace_gaps
+
+    return trace_gaps(sim_trace)
+
+
+def _run(sim, steps: int) -> list[tuple[float, int, complex]]:  # noqa: ANN001
+    out = []
+    for _ in range(steps):
+        sim.step()
+        out.append((sim.t, sim.robot_gesture, sim.robot_pos))
+    return out
+
+
+def test_registry_has_the_four_robots_and_scripted_is_default():
+    assert set(BUILTIN) >= {"scripted", "waypoints", "sfm", "straight"}
+    assert DEFAULT_ROBOT == "scripted"
+    assert isinstance(load_policy("straight"), StraightPolicy)
+
+
+def test_cue_says_phrase_when_a_human_comes_within_distance_and_holds_it():
+    script = RobotScript(cues=[RobotCue(trigger=CueTrigger(when="human_within", distance=3.0), say="EXCUSE ME",
+                                        hold=2.0)])
+    sim = make_sim([human(start=(10.0, 5.0), goals=[(10.0, 5.0)])], [STANDING], [(2.0, 5.0), (18.0, 5.0)],
+                   policy=ScriptedPolicy(), script=RobotScriptRunner(script, {}))
+    rows = _run(sim, 400)
+    said = [(t, abs(p - complex(10.0, 5.0))) for t, g, p in rows if g == EXCUSE_ME]
+    assert said, "the robot never said EXCUSE ME"
+    first_t, first_d = said[0]
+    assert first_d <= 3.0 + 0.05  # not before the human was within 3 m
+    assert all(g != EXCUSE_ME for t, g, _ in rows if t < first_t)
+    held = [t for t, _ in said]
+    assert held[-1] - held[0] == pytest.approx(2.0, abs=0.1)  # held 2 s, once
+
+
+def test_wait_cue_stands_still_for_its_seconds_then_drives_on():
+    script = RobotScript(cues=[RobotCue(trigger=CueTrigger(when="after", seconds=1.0), wait=2.0)])
+    sim = make_sim([], [], [(2.0, 5.0), (18.0, 5.0)], policy=ScriptedPolicy(), script=RobotScriptRunner(script, {}))
+    rows = _run(sim, 120)
+    x = {round(t, 2): p.real for t, _, p in rows}
+    assert x[1.5] == pytest.approx(x[2.9], abs=1e-6)  # standing between 1 s and 3 s
+    assert x[1.0] > 2.05 and x[5.0] > x[3.1] + 0.3  # drove before and after
+
+
+def test_speed_cue_sets_the_cruise_speed():
+    script = RobotScript(speed=0.3, cues=[RobotCue(trigger=CueTrigger(when="after", seconds=6.0), speed=0.8)])
+    sim = make_sim([], [], [(1.0, 5.0), (19.0, 5.0)], policy=ScriptedPolicy(), script=RobotScriptRunner(script, {}))
+    _run(sim, 100)
+    assert abs(sim.robot_vel) == pytest.approx(0.3, abs=0.02)
+    _run(sim, 40)
+    assert abs(sim.robot_vel) == pytest.approx(0.8, abs=0.02)
+
+
+def test_scripted_robot_never_moves_into_a_person_walking_at_it():
+    walker = human(start=(12.0, 5.0), goals=[(1.0, 5.0)])
+    sim = make_sim([walker], [tree_xml(REGULAR)], [(2.0, 5.0), (18.0, 5.0)], policy=ScriptedPolicy(), timeout=40)
+    trace = sim.run()
+    assert not overlapping(_gaps(trace)).any()
+
+
+def test_straight_robot_drives_through_a_standing_person():
+    stander = human(start=(8.0, 5.0), goals=[(8.0, 5.0)])
+    sim = make_sim([stander], [STANDING], [(2.0, 5.0), (14.0, 5.0)], policy=StraightPolicy(), timeout=40)
+    trace = sim.run()
+    assert overlapping(_gaps(trace)).any()  # the rude robot is caught as a collision
+    assert trace.end_reason == "robot_goal"
+
+
+def test_humans_walking_into_each_other_do_not_interpenetrate():
+    a = human("human1", start=(3.0, 5.0), goals=[(17.0, 5.0)])
+    b = human("human2", start=(17.0, 5.02), goals=[(3.0, 5.0)])
+    sim = make_sim([a, b], [tree_xml(REGULAR)] * 2, [(1.0, 1.0)], timeout=20)
+    trace = sim.run()
+    d = np.abs((trace.humans[:, 0, 0] - trace.humans[:, 1, 0]) + 1j * (trace.humans[:, 0, 1] - trace.humans[:, 1, 1]))
+    assert d.min() >= 0.8 - 1e-6
+
+
+def test_a_shared_last_goal_does_not_stack_people():
+    people = [human(f"human{k + 1}", start=(4.0 + k, 3.0 + 2 * k), goals=[(12.0, 5.0)]) for k in range(3)]
+    sim = make_sim(people, [tree_xml(REGULAR)] * 3, [(1.0, 1.0)], timeout=30)
+    trace = sim.run()
+    last = trace.humans[-1, :, 0] + 1j * trace.humans[-1, :, 1]
+    pair = np.abs(last[:, None] - last[None, :]) + np.eye(3) * 9
+    assert pair.min() >= 0.8 - 1e-6  # two radii: touching at most
+
+
+def test_a_human_does_not_walk_into_a_standing_robot():
+    walker = human(start=(14.0, 5.0), goals=[(2.0, 5.0)])
+    sim = make_sim([walker], [tree_xml(REGULAR)], [(8.0, 5.0)], policy=Stay(), timeout=20)
+    assert not overlapping(_gaps(sim.run())).any()
+
+
+def test_robot_said_latches_while_robot_says_does_not():
+    assert "RobotSaid" in LIBRARY and LIBRARY["RobotSaid"].kind == "condition"
+    follow = tree_xml(f'<Fallback><Sequence><RobotSaid agent_id="{{id}}" message="{FOLLOW_ME}"/>'
+                      f'<MakeGesture agent_id="{{id}}" message="1"/></Sequence>'
+                      f'<MakeGesture agent_id="{{id}}" message="0"/></Fallback>')
+    now_only = tree_xml(f'<Fallback><Sequence><RobotSays agent_id="{{id}}" message="{FOLLOW_ME}"/>'
+                        f'<MakeGesture agent_id="{{id}}" message="1"/></Sequence>'
+                        f'<MakeGesture agent_id="{{id}}" message="0"/></Fallback>')
+
+    class SayOnce:
+        def act(self, obs):  # noqa: ANN001, ANN202
+            return Drive(0.0, gesture=FOLLOW_ME if 0.5 <= obs.t < 1.0 else 0).act(obs)
+
+    people = [human("human1", start=(5.0, 5.0), goals=[(5.0, 5.0)]), human("human2", start=(5.0, 8.0), goals=[(5.0, 8.0)])]
+    sim = make_sim(people, [follow, now_only], [(2.0, 2.0)], policy=SayOnce())
+    _run(sim, 5)
+    assert sim.crowd.gesture[0] == 0 and sim.crowd.gesture[1] == 0  # not said yet
+    _run(sim, 10)
+    assert list(sim.crowd.gesture) == [1, 1]  # both react while it is said
+    _run(sim, 40)
+    assert sim.crowd.gesture[0] == 1  # latched
+    assert sim.crowd.gesture[1] == 0  # RobotSays lets go
+
+
+def test_paced_human_meets_the_robot_at_the_node():
+    node = complex(10.0, 5.0)
+    walker = human(start=(16.0, 5.4), goals=[(13.0, 5.4), (10.0, 5.4), (2.0, 5.4)])
+    robot_nodes = ["r0", "r1", "n", "r3"]
+    robot_points = [complex(1.0, 4.6), complex(5.0, 4.6), complex(10.0, 4.6), complex(18.0, 4.6)]
+    throttle = InteractionThrottle(ThrottleConfig(), robot_nodes, robot_points,
+                                   [(0, ["h0", "h1", "n", "h3"], "n", -1)])
+    sim = make_sim([walker], [tree_xml(REGULAR)], [(p.real, p.imag) for p in robot_points], policy=ScriptedPolicy(),
+                   throttle=throttle, timeout=60)
+    trace = sim.run()
+    robot = trace.robot[:, 0] + 1j * trace.robot[:, 1]
+    person = trace.humans[:, 0, 0] + 1j * trace.humans[:, 0, 1]
+    close = np.abs(robot - person) <= 2.0
+    assert close.any()
+    mid = (robot + person) / 2
+    assert np.abs(mid[close] - node).min() <= 1.0
+    # without pacing, the fast human would be far past the node when the robot arrives
+    free = make_sim([human(start=(16.0, 5.4), goals=[(13.0, 5.4), (10.0, 5.4), (2.0, 5.4)])], [tree_xml(REGULAR)],
+                    [(p.real, p.imag) for p in robot_points], policy=ScriptedPolicy(), timeout=60).run()
+    r2 = free.robot[:, 0] + 1j * free.robot[:, 1]
+    p2 = free.humans[:, 0, 0] + 1j * free.humans[:, 0, 1]
+    c2 = np.abs(r2 - p2) <= 2.0
+    assert not c2.any() or np.abs((r2 + p2)[c2] / 2 - node).min() > 1.0

@@ -1,0 +1,84 @@
+"""Blame rules not pinned by the corpus: each failing finding names what can fix it (docs/verify.md)."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+import pytest
+
+from socnavgen.run.models import HumanPlan
+from socnavgen.run.spec import Criterion, ScenarioSpec
+from socnavgen.verify import VerifyReport, verify_trace
+from socnavgen.verify.blame import spec_problem
+
+from .corpus import (
+    DOCK,
+    STAYS,
+    STUCK_ROBOT,
+    _h1,
+    _robot,
+    base_plan,
+    base_scene,
+    base_spec,
+    build,
+    make_corner_location,
+    write_case_run,
+)
+
+
+@pytest.fixture(scope="module")
+def corner(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return make_corner_location(tmp_path_factory.mktemp("blame") / "corner")
+
+
+def _verify(tmp: Path, corner: Path, spec: ScenarioSpec | None, scene, plan=None) -> VerifyReport:  # noqa: ANN001
+    return verify_trace(write_case_run(tmp, corner, spec, plan), build(scene))
+
+
+def _finding(report: VerifyReport, cid: str):  # noqa: ANN202
+    return next(f for f in report.findings if f.criterion == cid)
+
+
+def test_deadlock_behind_a_human_waiting_for_an_unsaid_phrase_is_the_scripts(tmp_path: Path, corner: Path) -> None:
+    scene = _h1(_robot(base_scene(), STUCK_ROBOT, says=[(0.2, 2.0, 5)]), STAYS, [(5.5, 20.0, "LookAtRobot")])
+    report = _verify(tmp_path / "r", corner, base_spec(), scene)
+    dead = _finding(report, "c10")
+    assert not dead.passed and dead.blame == "robot_script" and "EXCUSE ME" in dead.blame_reason
+    assert dead.robustness == pytest.approx(10 - 14.6, abs=0.11)  # stuck 14.6 s, limit 10 s
+    assert report.blamed_on("robot_script") and not report.blamed_on("paths")
+
+
+def test_collision_wanted_by_a_misbehaving_script_is_the_specs(tmp_path: Path, corner: Path) -> None:
+    spec = base_spec()
+    spec = spec.model_copy(update={"script": spec.script.model_copy(update={"misbehave": True}),
+                                   "criteria": [*spec.criteria, Criterion(id="c12", kind="no_collision")]})
+    scene = _robot(base_scene(), [(0.0, *DOCK), (15.0, 10.975, 1.525), (20.0, 10.975, 1.525)])
+    crash = _finding(_verify(tmp_path / "r", corner, spec, scene), "c12")
+    assert not crash.passed and crash.blame == "spec"
+
+
+def test_group_on_different_paths_is_the_paths(tmp_path: Path, corner: Path) -> None:
+    plan = base_plan()
+    plan.humans[2] = HumanPlan(name="human3", path=["dock", "corner", "north"], group_id=0, interaction_point="dock")
+    scene = replace(base_scene(), follow={"human2": (1.2, 1.525)})  # human3 stays at the dock
+    group = _finding(_verify(tmp_path / "r", corner, base_spec(), scene, plan), "c8")
+    assert not group.passed and group.blame == "paths" and "different paths" in group.blame_reason
+
+
+@pytest.mark.parametrize(("criterion", "words"), [
+    (Criterion(id="x", kind="stops_near_robot", human="human3"), "walk past"),
+    (Criterion(id="x", kind="meets", human="human9"), "takes part in no encounter"),
+    (Criterion(id="x", kind="meets", human="human1", encounter="e7"), "does not have"),
+    (Criterion(id="x", kind="keeps_away", human="human1", distance=3.0), "asks them to meet within 2"),
+    (Criterion(id="x", kind="follows_robot", human="human2", phrase="WAIT"), "reacts to FOLLOW ME"),
+])
+def test_criteria_contradicting_their_spec(criterion: Criterion, words: str) -> None:
+    spec = base_spec()
+    spec = spec.model_copy(update={"encounters": [spec.encounters[0], spec.encounters[1].model_copy(update={
+        "humans": [spec.encounters[1].humans[0], spec.encounters[1].humans[1].model_copy(
+            update={"reaction": "walk_past"})]})]})
+    spec = spec.model_copy(update={"criteria": [*spec.criteria, criterion]})
+    problem = spec_problem(criterion, spec)
+    assert problem is not None and words in problem
+    assert spec_problem(spec.criteria[0], spec) is None
