@@ -23,7 +23,6 @@ def campaign_yaml(cards: list[str], policies: list[str], seeds: int, timeout: fl
 
 @pytest.fixture
 def small_spec() -> CampaignSpec:
-    """2 scenarios x 2 policies (the waypoints robot and a bad one) x 2 seeds."""
-    text = campaign_yaml(["blind-corner", "parallel-traffic"],
-                         ["waypoints", f"{{name: bad, robot: '{POLICIES}:StraightThrough'}}"], 2)
+    """2 scenarios x 2 policies (the default scripted robot and the bad `straight` one) x 2 seeds."""
+    text = campaign_yaml(["blind-corner", "parallel-traffic"], ["scripted", "{name: bad, robot: straight}"], 2)
     return parse_campaign(text)

@@ -24,10 +24,10 @@ def test_inline_and_local_processes_write_the_same_table(small_spec, tmp_path) -
                       f"path_efficiency from '{tmp_path / 'inline' / 'episodes.parquet'}' "
                       f"order by scenario, policy, seed").fetchall()
     assert [(r[0], r[1], r[2]) for r in rows] == [(s, p, k) for s in ("warehouse/blind-corner", "warehouse/parallel-traffic")
-                                                  for p in ("bad", "waypoints") for k in (0, 1)]
+                                                  for p in ("bad", "scripted") for k in (0, 1)]
     assert all(r[3] == "ok" and r[6] is not None and r[7].startswith("[") for r in rows)
     bad = [r[5] for r in rows if r[1] == "bad"]
-    good = [r[5] for r in rows if r[1] == "waypoints"]
+    good = [r[5] for r in rows if r[1] == "scripted"]
     assert sum(bad) > sum(good)  # driving through people shows in the table
 
 
