@@ -112,3 +112,17 @@ def test_library_and_verify_simulations_write_what_simulate_writes(tmp_path: Pat
     sim = run / "sim"
     assert {"trace.npz", "metrics.json", "trajectories.png", "verify.json"} <= {p.name for p in sim.iterdir()}
     assert "time_to_reach_goal" in json.loads((sim / "metrics.json").read_text())
+
+
+def test_metrics_json_carries_units_and_definitions(tmp_path: Path) -> None:
+    import json
+
+    run = tmp_path / "fa"
+    write_card_run("frontal-approach", REPO / "examples" / "locations" / "warehouse", run)
+    simulate_run(run, timeout=30.0, plot=False)
+    data = json.loads((run / "sim" / "metrics.json").read_text())
+    definitions = data.pop("definitions")
+    assert set(definitions) == set(data)  # every metric written is defined
+    assert definitions["minimum_distance_to_people"]["unit"] == "m"
+    assert definitions["collisions"]["unit"] and definitions["path_efficiency"]["formula"]
+    assert "path_irregularity" in data and "static_obstacle_collisions" in data

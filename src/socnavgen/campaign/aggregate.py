@@ -8,8 +8,8 @@ from typing import Any
 import numpy as np
 import pyarrow as pa
 
-from socnavgen.campaign.definitions import better_direction
 from socnavgen.campaign.stats import Estimate, Paired, bootstrap_mean, paired_difference
+from socnavgen.sim.metric_definitions import better_direction
 
 KEY_METRICS = ("success", "collisions", "minimum_distance_to_people", "time_to_reach_goal", "path_efficiency",
                "path_irregularity", "static_obstacle_collisions", "intimate_space_intrusions")

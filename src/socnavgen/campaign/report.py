@@ -9,9 +9,9 @@ from pathlib import Path
 from typing import Any
 
 from socnavgen.campaign.aggregate import Aggregates, aggregate
-from socnavgen.campaign.definitions import metric_definitions
 from socnavgen.campaign.store import read_episodes
 from socnavgen.safeio import atomic_write_text
+from socnavgen.sim.metric_definitions import metric_definitions
 
 REPORT_DIR = "report"
 NAVIGATION = ("path_irregularity", "path_efficiency", "static_obstacle_collisions", "min_obstacle_clearance")

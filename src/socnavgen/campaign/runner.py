@@ -56,7 +56,7 @@ def settings_of(spec: CampaignSpec) -> EpisodeSettings:
 
 def write_definitions(out: Path, metrics: list[str] | None) -> None:
     """metrics.json: every metric column with its unit and formula (the report shows the same)."""
-    from socnavgen.campaign.definitions import metric_definitions
+    from socnavgen.sim.metric_definitions import metric_definitions
 
     atomic_write_json(out / METRICS_FILE, metric_definitions(metrics))
 

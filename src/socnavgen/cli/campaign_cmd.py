@@ -98,8 +98,8 @@ def report(
 @app.command("metrics")
 def metrics() -> None:
     """List every metric column with its unit and meaning (formulas for the navigation metrics)."""
-    from socnavgen.campaign.definitions import metric_definitions
     from socnavgen.cli.common import console
+    from socnavgen.sim.metric_definitions import metric_definitions
 
     for name, d in metric_definitions().items():
         console.print(f"[bold]{name}[/] [{d['unit']}]: {d['meaning']}", highlight=False)

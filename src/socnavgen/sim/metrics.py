@@ -353,8 +353,12 @@ def _json_safe(value: Any) -> Any:
 
 
 def metrics_json(metrics: dict[str, Any]) -> str:
-    """Strict JSON (non-finite numbers such as a never-reached time to collision become null)."""
-    return json.dumps({k: _json_safe(v) for k, v in metrics.items()}, indent=2) + "\n"
+    """Strict JSON (non-finite numbers such as a never-reached time to collision become null), every metric
+    followed by a `definitions` object: unit, meaning (and formula where ours) of each one."""
+    from socnavgen.sim.metric_definitions import metric_definitions
+
+    values = {k: _json_safe(v) for k, v in metrics.items() if k != "definitions"}
+    return json.dumps({**values, "definitions": metric_definitions(list(values))}, indent=2) + "\n"
 
 
 def write_metrics(metrics: dict[str, Any], path: Path) -> None:

@@ -26,10 +26,11 @@ def write_outputs(trace: Any, location: Any, out_dir: Path | str, *, plot: bool 
     """Write metrics.json (+ trajectories.png, + animation.gif) for `trace` into `out_dir`.
 
     `location` is the loaded Location the trace was simulated on (pass the object: it is not re-read)."""
-    from socnavgen.sim.metrics import compute_metrics, write_metrics
+    from socnavgen.sim.metrics import compute_metrics, navigation_metrics, write_metrics
+    from socnavgen.sim.world import World
 
     out = Path(out_dir)
-    metrics = compute_metrics(trace, location)
+    metrics = {**compute_metrics(trace, location), **navigation_metrics(trace, World.from_location(location))}
     files = {"metrics": out / METRICS_FILE}
     write_metrics(metrics, files["metrics"])
     if plot:

@@ -1,6 +1,7 @@
-"""Units and meanings of every metric column (metrics.json of a campaign, and the report's glossary).
-The three navigation metrics HuNavSim's evaluator leaves as TODO carry their formulas from
-sim.metrics.NAVIGATION_METRICS (their one home)."""
+"""Unit, meaning and better direction of every metric socnavgen computes: one table, read by the
+`definitions` of every metrics.json (simulate, verify, campaigns), the campaign report's glossary and its
+paired comparisons. The navigation metrics HuNavSim's evaluator leaves as TODO carry their formulas from
+sim.metrics.NAVIGATION_METRICS."""
 
 from __future__ import annotations
 
@@ -48,11 +49,10 @@ _BETTER_NAVIGATION = {"path_irregularity": "lower", "path_efficiency": "higher",
 
 def metric_definitions(metrics: list[str] | tuple[str, ...] | None = None) -> dict[str, dict[str, Any]]:
     """{metric: {unit, meaning, better[, formula]}} for the chosen metric columns (default: all)."""
-    from socnavgen.campaign.columns import known_metric_names
-    from socnavgen.sim.metrics import NAVIGATION_METRICS
+    from socnavgen.sim.metrics import EVALUATOR_METRICS, NAVIGATION_METRICS, OWN_METRICS
 
     out: dict[str, dict[str, Any]] = {}
-    for name in metrics or known_metric_names():
+    for name in metrics or (*OWN_METRICS, *NAVIGATION_METRICS, *EVALUATOR_METRICS):
         if name in NAVIGATION_METRICS:
             out[name] = {**NAVIGATION_METRICS[name], "better": _BETTER_NAVIGATION.get(name)}
         else:
