@@ -24,8 +24,8 @@ step "3. Export it for HuNavSim (SocRATES fork and upstream 2.x)"
 $SNG export "$OUT/run" --format socrates -o "$OUT/export_socrates"
 $SNG export "$OUT/run" --format hunav2 -o "$OUT/export_hunav2" || echo "(hunav2 refused this run: the nodes listed above have no 2.x equivalent)"
 
-step "4. Simulate it headless, with metrics and an animation"
-$SNG simulate "$OUT/run" --robot waypoints --gif
+step "4. Simulate it headless (the robot plays the scenario's script), with metrics and an animation"
+$SNG simulate "$OUT/run" --gif
 
 step "5. Verify that the intended interaction happens"
 $SNG verify "$OUT/run" || echo "(the 135M smoke-test model proves the plumbing, not scenario quality: see the findings above)"
@@ -41,6 +41,11 @@ step "7. Another card exported for upstream HuNavSim 2.x (BT.CPP v4, nodes trans
 rm -rf "$OUT/card_frontal_approach"
 $SNG cards generate frontal-approach --location "$LOC" -o "$OUT/card_frontal_approach"
 $SNG export "$OUT/card_frontal_approach" --format hunav2 -o "$OUT/card_frontal_approach/export_hunav2"
+
+step "8. A small campaign: 3 cards x 3 robots (scripted, sfm, straight) x 3 seeds, and its report"
+rm -rf "$OUT/campaign"
+$SNG campaign run examples/campaigns/demo.yaml -o "$OUT/campaign"
+$SNG campaign report "$OUT/campaign"
 
 step "Done: outputs in $OUT/"
 find "$OUT" -maxdepth 3 -type f | sort | head -60
