@@ -154,8 +154,8 @@ def test_target_and_deadline_reach_the_request_and_the_model(tmp_path, warehouse
     out = tmp_path / "run"
     result = CliRunner().invoke(app, ["generate", "--location", str(warehouse), *ARGS, "--llm",
                                       f"replay:{FIXTURES / 'warehouse_blind_corner.yaml'}", "--out", str(out),
-                                      "--target", "hunav2", "--deadline", "1800"])
-    assert seen["deadline"] == 1800.0
+                                      "--target", "hunav2", "--deadline", "1800", "--timeout", "900"])
+    assert seen["deadline"] == 1800.0 and seen["timeout"] == 900.0  # a slow local server can be waited for
     assert RunFolder(out).read_request().target == "hunav2"
     # the fixture's worker reacts with IsRobotBlocking, which hunav2 cannot run: stage 1 refuses its spec
     assert result.exit_code != 0

@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from socnavgen.campaign.scenarios import Scenario
+from socnavgen.text import count
 
 # what each verifier finding keeps in the row (fields a verifier version lacks are simply left out)
 VERDICT_FIELDS = {"name", "kind", "passed", "required", "human", "criterion", "robustness", "blame", "blame_human"}
@@ -171,7 +172,7 @@ def run_episode(ep: Episode, settings: EpisodeSettings, cache: WorkerCache | Non
 def _why_not(metrics: dict[str, Any], trace: Any) -> str:
     reasons = []
     if metrics.get("collisions"):
-        reasons.append(f"collision with a person ({metrics['collisions']} steps in contact)")
+        reasons.append(f"collision with a person ({count(int(metrics['collisions']), 'step')} in contact)")
     if not metrics.get("completed") and trace.end_reason != "robot_goal":
         reasons.append(f"goal not reached ({trace.end_reason})")
     return "; ".join(reasons) or "goal not reached"

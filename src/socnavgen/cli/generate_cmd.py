@@ -172,8 +172,12 @@ def register(app: typer.Typer) -> None:
         export_target: Annotated[str | None, typer.Option(
             "--target", help="Export target (socrates, hunav2, hunav1): only nodes it can run are offered and "
                              "accepted.")] = None,
+        timeout: Annotated[float, typer.Option(
+            "--timeout", min=1.0, max=86400.0,
+            help="Seconds one model request may take (a big local model on a CPU needs minutes).")] = 120.0,
         deadline: Annotated[float, typer.Option(
-            "--deadline", min=1.0, help="Seconds one model exchange may take, retries included.")] = 600.0,
+            "--deadline", min=1.0, max=86400.0,
+            help="Seconds one model exchange may take, retries included (at least --timeout).")] = 600.0,
         from_run: Annotated[Path | None, typer.Option(
             "--from", help="Start from an earlier run (copied to --out if given, else changed in place).")] = None,
         redo: Annotated[list[str] | None, typer.Option(
@@ -220,7 +224,7 @@ def register(app: typer.Typer) -> None:
         folder = RunFolder(target)
         # the model is built (spec parsed, key read from the environment) before the run folder exists
         model = make_llm(llm, transcript=folder.transcript_path, use_cache=not no_cache, max_parallel=max_parallel,
-                         use_image=not no_image, deadline=deadline)
+                         use_image=not no_image, timeout=timeout, deadline=max(deadline, timeout))
         # one writer per run folder: a second generate on it is refused, not interleaved
         folder.hold_lock()
         if from_run is not None:

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from socnavgen.sim.trace import Trace
+from socnavgen.text import count
 
 OVERLAP_TOLERANCE = 0.01  # m: discs overlapping by more than this are a collision
 
@@ -73,7 +74,7 @@ class ContactSummary:
             return "no humans"
         text = f"closest gap {self.min_gap:.2f} m to {self.min_gap_human} at t={self.min_gap_time:.1f} s"
         if self.collided:
-            text += (f"; {self.collision_steps} steps with a collision ({self.collision_seconds:.1f} s), first with "
+            text += (f"; {count(self.collision_steps, 'step')} with a collision ({self.collision_seconds:.1f} s), first with "
                      f"{self.first_collision_human} at t={self.first_collision_time:.1f} s, worst overlap "
                      f"{self.worst_overlap:.2f} m")
         return text

@@ -9,6 +9,7 @@ import numpy as np
 
 from socnavgen.bt.library import HUMAN_GESTURES, LIBRARY, ROBOT_GESTURES
 from socnavgen.sim.trace import Trace
+from socnavgen.text import count
 from socnavgen.verify.models import Expectation, Finding, VerifySettings
 
 
@@ -85,7 +86,7 @@ def _one(exp: Expectation, trace: Trace, i: int, settings: VerifySettings) -> tu
                                         f"{_label(gate, message)} held ({first})", time=trace.t[k],
                             distance=dist[k], human=name), True
     return _finding(exp, True, f"{name}: {label} first at t={trace.t[k]:.2f} s (robot {dist[k]:.2f} m away), "
-                               f"{int(steps.sum())} steps", time=trace.t[k], distance=dist[k], human=name), False
+                               f"{count(int(steps.sum()), 'step')}", time=trace.t[k], distance=dist[k], human=name), False
 
 
 def evaluate(expectations: list[Expectation], trace: Trace,
