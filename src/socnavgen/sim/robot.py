@@ -323,7 +323,8 @@ def _segment_clear(world: Any, a: complex, b: complex, clearance: float) -> bool
 
 class SFMPolicy:
     """The robot as one more social-force agent heading for its waypoints (it does not wait: it
-    negotiates its way around people)."""
+    negotiates its way around people), with the same safety layer as the default robot (keep_clear: the
+    social force alone lets it brush into people that stand still)."""
 
     def __init__(self, max_speed: float = 0.6, waypoint_tolerance: float = 0.5,
                  params: SFMParams | None = None) -> None:
@@ -333,7 +334,9 @@ class SFMPolicy:
 
     def act(self, obs: Observation) -> RobotAction:
         target, last = self.tracker.target(obs)
-        return self.toward(obs, target, last)
+        action = self.toward(obs, target, last)
+        v = keep_clear(obs, complex(action.vx, action.vy))  # a social robot: negotiates, never pushes into people
+        return RobotAction(v.real, v.imag)
 
     def toward(self, obs: Observation, target: complex, last: bool = False) -> RobotAction:
         """One social-force step toward `target` (slowing down for it when it is the last waypoint)."""
