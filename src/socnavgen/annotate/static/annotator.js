@@ -61,11 +61,12 @@
 
   // ---------- edits ----------
   async function guessType(px, py) { // until the user picks a type, the map suggests one (DOORWAY, ROOM)
-    if (st.typeChosen) return st.nodeType;
+    const atClick = st.nodeType; // the type selected when the user clicked (a pick made meanwhile is for later clicks)
+    if (st.typeChosen) return atClick;
     try {
       const {ok, data} = await post("/api/guess-type", {x: px, y: py, node_types: st.schema.node_types});
-      return ok && data.type && st.schema.node_types.includes(data.type) ? data.type : st.nodeType;
-    } catch (e) { return st.nodeType; }
+      return ok && data.type && st.schema.node_types.includes(data.type) ? data.type : atClick;
+    } catch (e) { return atClick; }
   }
   async function addNode(x, y) {
     if (!st.nodeType) { status("add a node type first", "error"); return; }
