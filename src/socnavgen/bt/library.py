@@ -68,7 +68,8 @@ ROBOT_GESTURES: dict[int, str] = {0: "NO GESTURE", 1: "WAIT", 2: "PROCEED", 3: "
                                   5: "FOLLOW ME"}
 
 # Distances the prompt explains, so the model picks sensible numbers.
-DISTANCE_WORDS = {0.5: "very close", 1.0: "close", 2.0: "moderate distance", 5.0: "far"}
+# centre to centre: the robot (0.35 m) and a person (0.4 m) touch at 0.75 m, so "very close" is 1 m
+DISTANCE_WORDS = {1.0: "very close", 1.5: "close", 2.5: "moderate distance", 5.0: "far"}
 
 _AGENT = Port(name="agent_id", type=PortType.INT, description="the agent's own id; always write {id}")
 _STEP = Port(name="time_step", type=PortType.DOUBLE, description="simulation step; always write {dt}")
