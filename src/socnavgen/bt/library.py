@@ -223,7 +223,7 @@ NODES: list[NodeSpec] = [
              targets={"socrates", "hunav2", "hunav1"}, hunav2="SubTree", hunav1="SubTree"),
 ]
 
-# ==== BEGIN latching conditions (owner: sim) ====================================================
+# ==== BEGIN latching conditions ================================================================
 # Conditions whose SUCCESS, once reached, stays: "once the robot said FOLLOW ME, keep following".
 NODES.append(
     NodeSpec(name="RobotSaid", kind="condition",
@@ -350,7 +350,7 @@ def hunav2_text(name: str) -> str:
     return f"{LIBRARY[name].hunav2 if name in LIBRARY else name}: {tr.reason}"
 
 
-# ==== BEGIN encounter needs (owner: proposal) ===================================================
+# ==== BEGIN encounter needs ==================================================================
 # What a tree must contain for each part of an encounter of the scenario spec (run/spec.py): the
 # conditions that DETECT a human's trigger, and the actions that REALIZE its reaction. Stage 3 checks
 # every tree against this table, prompts quote it, stage 1 refuses parts a target cannot run.

@@ -365,7 +365,7 @@ def write_metrics(metrics: dict[str, Any], path: Path) -> None:
     atomic_write_text(Path(path), metrics_json(metrics))
 
 
-# -- Metrics HuNavSim's evaluator leaves as TODO (campaign engineer) ----------------------------------------
+# -- Metrics HuNavSim's evaluator leaves as TODO ------------------------------------------------------------
 # Formulas and units are in NAVIGATION_METRICS (written to metrics.json's "definitions" by campaigns and
 # shown in the campaign report). They need the walls, hence a World (sim.world) rather than a Location.
 NAVIGATION_METRICS = {
