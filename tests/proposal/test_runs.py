@@ -183,7 +183,8 @@ def _verifier(*reports):  # noqa: ANN002, ANN202
     queue = iter(reports)
     seen = []
 
-    def verify(run_dir):  # noqa: ANN001, ANN202
+    def verify(run_dir, location=None):  # noqa: ANN001, ANN202
+        assert location is not None and location.name  # the pipeline's loaded Location, not a path to re-read
         seen.append(run_dir)
         return next(queue)
     return verify, seen

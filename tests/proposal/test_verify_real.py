@@ -48,8 +48,8 @@ def test_verify_reasks_exactly_the_blamed_stage(tmp_path: Path, warehouse_dir: P
 
     from socnavgen.verify import verify_run
 
-    def recording_verify(run_dir: Path):  # noqa: ANN202
-        report = verify_run(run_dir)
+    def recording_verify(run_dir: Path, location=None):  # noqa: ANN001, ANN202
+        report = verify_run(run_dir, location=location)
         first_reports.append(report)
         return report
 

@@ -14,7 +14,6 @@ robot's script changed, they are kept (the grounding is carried over). Up to the
 from __future__ import annotations
 
 from collections.abc import Callable
-from pathlib import Path
 from typing import TYPE_CHECKING
 
 from socnavgen.proposal.conversation import ProgressEvent, bullet_list
@@ -27,7 +26,7 @@ if TYPE_CHECKING:
     from socnavgen.verify.models import Finding, VerifyReport
 
 STAGE = "verify"
-Verifier = Callable[[Path], "VerifyReport"]
+Verifier = Callable[..., "VerifyReport"]  # verify_run(run_dir, location=Location) -> VerifyReport
 Outcome = tuple[ScenarioProposal, ScenarioSpec | None, PathPlan, dict[str, str], "VerifyReport"]
 
 
@@ -67,7 +66,7 @@ def verify_and_repair(stages: Stages, scenario: ScenarioProposal, spec: Scenario
         (run.sim_dir / "trace.npz").unlink(missing_ok=True)  # the trace of the previous answer is stale
         recorder.set_status(STAGE, None, "running")
         recorder.progress(ProgressEvent(STAGE, None, "attempt", round_ + 1))
-        report = verify_run(run.root)
+        report = verify_run(run.root, location=stages.location)  # the loaded location: not re-read per round
         recorder.update(STAGE, None, lambda r: setattr(r, "attempts", r.attempts + 1))
         failing = report.failures  # warnings are not the model's to fix
         recorder.mistakes(STAGE, None, [describe(f) for f in failing])
