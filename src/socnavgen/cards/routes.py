@@ -10,7 +10,9 @@ import networkx as nx
 
 from socnavgen.cards.models import Card, HumanRole
 from socnavgen.cards.places import Candidate, PlaceFinder
+from socnavgen.cards.trees import sight_distance
 
+CONVERGE_WALK = 2.0  # m a converging person walks after seeing the robot before they meet
 REACH = 3  # nodes on each side of the place the robot's route extends to (when the graph allows)
 
 
@@ -141,8 +143,10 @@ class RouteBuilder:
             for k, (path, meets) in enumerate(picked):
                 starts.add(path[0])
                 # in a stream or a crowd only the first person is held back to meet the robot at P;
-                # the others pass when they pass (holding all of them would bunch them at P)
-                out.append(HumanRoute(role=role, path=path, meets_at=meets if k == 0 else None, group_id=gid))
+                # the others pass when they pass (holding all of them would bunch them at P); a converging
+                # crowd is meant to bunch around the robot at P, so every one of them is paced to it
+                held = k == 0 or role.role == "converging"
+                out.append(HumanRoute(role=role, path=path, meets_at=meets if held else None, group_id=gid))
         return out
 
     def shortfall(self, role: HumanRole, p: str, got: int, need: int) -> str:
@@ -190,12 +194,19 @@ class RouteBuilder:
             ring = sorted(self.near_nodes(p, set(robot)), key=lambda n: (self.f.distance(n, p), n))
             paths = [nx.shortest_path(self.g, s, p) for s in ring]
             return [(path, None) for path in paths if not set(path[:-1]) & set(robot)]
-        # converging / through_place / circular: from nodes around P across P, never stopping ahead of the robot
+        # converging / through_place / circular: from nodes around P across P, never stopping ahead of the robot,
+        # never starting on the robot's way to P (held there to meet at P, a person blocks the robot before P)
         ring = self.near_nodes(p, {robot[-1]})
         if kind == "circular":
             ring = [n for n in ring if n not in robot]
+        before_p = set(robot[:i])
+        off_route = [n for n in ring if n not in before_p]
+        ring = off_route + [n for n in ring if n in before_p]
         # a crowd walking to where the robot starts traps it there; a few circling people do not
         forbid = ahead_of_robot | {robot[-1]} | (set() if kind == "circular" else {robot[0]})
+        if kind == "converging":  # out of the robot's sight at t = 0, or they crowd it at its start, not at P
+            sight = sight_distance(role.tree)
+            ring = [n for n in ring if self.f.distance(n, robot[0]) > sight]
         paths = [self.across(s, p, forbid) for s in ring]
         return [(path, p) for path in paths if path is not None]
 
@@ -227,9 +238,22 @@ class RouteBuilder:
             robot = robot[:-1]  # the last node becomes where the walkers go on to
         if card.place == "blind_corner":
             robot = self.blind_route(robot, place.node)
+        self.check_lead_in(card, robot, place.node)
         placement = Placement(card=card, place=place, robot=robot)
         placement.humans = self.humans(placement)
         return placement
+
+    def check_lead_in(self, card: Card, robot: list[str], p: str) -> None:
+        """People who come up to the robot once they see it must not see it before it is on its way: the
+        robot's way to P is longer than their sight plus the walk to meet it, or they crowd it at its start."""
+        sight = max((sight_distance(r.tree) for r in card.humans if r.role == "converging"), default=0.0)
+        if not sight or p not in robot:
+            return
+        k = robot.index(p)
+        lead = sum(self.f.distance(a, b) for a, b in zip(robot[:k], robot[1:k + 1], strict=True))
+        if lead < sight + CONVERGE_WALK:
+            raise DoesNotFit(f"the robot's way to {p} is {lead:.1f} m: people who come up to it within "
+                             f"{sight:g} m would crowd it at its start")
 
     def blind_route(self, robot: list[str], p: str) -> list[str]:
         """A blind corner must be blind: the route's far end (where an oncoming person starts) is cut back

@@ -24,6 +24,19 @@ def templates() -> dict[str, object]:
     return dict(yaml.safe_load(text)["templates"])
 
 
+def sight_distance(template: str) -> float:
+    """The farthest a template's conditions look for the robot (m): a person placed closer than this to
+    the robot's start reacts at t = 0, before any encounter can be paced."""
+    def walk(node: object) -> float:
+        if isinstance(node, list):
+            return max((walk(n) for n in node), default=0.0)
+        if isinstance(node, dict):
+            found = [float(v) for k, v in node.items() if k == "distance" and isinstance(v, int | float)]
+            return max([*found, *(walk(v) for v in node.values())], default=0.0)
+        return 0.0
+    return walk(templates().get(template))
+
+
 def _regular(pad: str) -> str:
     return regular_nav_sequence(pad)
 
