@@ -66,10 +66,8 @@ def test_every_fitting_card_generates_exports_and_writes_its_spec(bundled_locati
             assert enc.node in path and enc.node in plan.robot, (fit.card.name, enc.node)
             if fit.card.place == "doorway":
                 assert enc.node == fit.placement.place.node
-        dead_ends = (bundled_location.name, fit.card.name) == ("hospital", "narrow-doorway")  # both sides end
         for h in plan.humans:  # nobody starts on the robot's goal (it would drive into them)
-            assert h.path[0] != plan.robot[-1] or fit.card.route in ("into", "out_of") or dead_ends, \
-                (fit.card.name, h.name)
+            assert h.path[0] != plan.robot[-1] or fit.card.route in ("into", "out_of"), (fit.card.name, h.name)
         result = export_run(run.root, "socrates", tmp_path / "out" / fit.card.name)
         assert "hunav_agent_manager/config/custom_agents.yaml" in result.files
         try:

@@ -20,11 +20,6 @@ MEET = 2.0  # m: centre distance that counts as meeting (the verifier's default)
 
 # (location, card) -> why it does not pass yet (docs/cards.md, "Known failures")
 KNOWN_FAILING: dict[tuple[str, str], str] = {
-    ("hospital", "narrow-doorway"): "both sides of the doorway are dead ends: the person waits on the robot's goal",
-    ("hospital", "crowd-navigation"): "human1 starts on the robot's second node and they meet 1.5 m before the lobby",
-    ("hospital", "robot-crowding"): "the crowd follows the robot and the meeting drifts 2 m off the node",
-    ("warehouse", "narrow-doorway"): "the person waits in the 1 m pinch and the meeting is 2.4 m off it",
-    ("warehouse", "robot-crowding"): "the crowd follows the robot and the meeting drifts 1.2 m off the node",
 }
 
 

@@ -10,6 +10,14 @@ from .conformance_helpers import card_scenes
 from .equivalence_helpers import outcomes, relabel, stands_for
 
 
+# Where 2.x lacks the behaviour, the outcome may differ; each case is named with why (docs/export.md). The
+# test fails if another card diverges or if this one stops diverging (then remove it here).
+KNOWN_DIVERGENT = {
+    "hospital/narrow-doorway": "2.x has no side-step: GiveWaytoRobot becomes AvoidRobot, which keeps heading "
+                               "for the door, so in the 1.2 m hospital door the robot stands > 10 s behind the person",
+}
+
+
 def test_socrates_and_hunav2_runs_verify_the_same(tmp_path_factory) -> None:  # noqa: ANN001
     work = Path(tmp_path_factory.mktemp("equivalence"))
     scenes = card_scenes(str(work / "cards"))
@@ -25,7 +33,7 @@ def test_socrates_and_hunav2_runs_verify_the_same(tmp_path_factory) -> None:  # 
         if socrates != hunav2:
             different.append((label, {k: (socrates.get(k), hunav2.get(k)) for k in socrates.keys() | hunav2.keys()
                                       if socrates.get(k) != hunav2.get(k)}))
-    assert different == []
+    assert {label for label, _ in different} == set(KNOWN_DIVERGENT), different
     assert compared >= 40 and compared > 4 * refused, (compared, refused)
 
 

@@ -12,7 +12,6 @@ from socnavgen.cards.models import Card, HumanRole
 from socnavgen.cards.places import Candidate, PlaceFinder
 from socnavgen.cards.trees import sight_distance
 
-CONVERGE_WALK = 2.0  # m a converging person walks after seeing the robot before they meet
 REACH = 3  # nodes on each side of the place the robot's route extends to (when the graph allows)
 
 
@@ -26,6 +25,7 @@ class HumanRoute:
     path: list[str]
     meets_at: str | None  # interaction point (a node on both paths), None for same-direction roles
     group_id: int = -1
+    encounter: bool = True  # False: paced to meets_at with the others of its crowd, judged with the first one
 
 
 @dataclass
@@ -146,7 +146,8 @@ class RouteBuilder:
                 # the others pass when they pass (holding all of them would bunch them at P); a converging
                 # crowd is meant to bunch around the robot at P, so every one of them is paced to it
                 held = k == 0 or role.role == "converging"
-                out.append(HumanRoute(role=role, path=path, meets_at=meets if held else None, group_id=gid))
+                out.append(HumanRoute(role=role, path=path, meets_at=meets if held else None, group_id=gid,
+                                      encounter=k == 0))
         return out
 
     def shortfall(self, role: HumanRole, p: str, got: int, need: int) -> str:
@@ -166,6 +167,9 @@ class RouteBuilder:
         kind = role.role
         if kind == "oncoming":  # starts past the robot's goal: standing on it would block the robot for good
             start = self.beyond(robot)[:1]  # (a route into a room's dead end has no node past its goal)
+            if not start and placement.card.place == "doorway":
+                # through a door from a dead-end room the person waits for the robot on the robot's own goal
+                return []
             return [([*start, *robot[::-1]], self.meeting_node(placement, i))]
         if kind == "standing":
             return [([p], p)]
@@ -206,16 +210,17 @@ class RouteBuilder:
         forbid = ahead_of_robot | {robot[-1]} | (set() if kind == "circular" else {robot[0]})
         if kind == "converging":  # out of the robot's sight at t = 0, or they crowd it at its start, not at P
             sight = sight_distance(role.tree)
-            ring = [n for n in ring if self.f.distance(n, robot[0]) > sight]
+            ring = [n for n in ring if self.f.distance(n, robot[0]) > sight or not self.f.sees(n, robot[0])]
         paths = [self.across(s, p, forbid) for s in ring]
         return [(path, p) for path in paths if path is not None]
 
     def meeting_node(self, placement: Placement, i: int) -> str:
-        """Where an oncoming person meets the robot. Through a door or a narrow passage only one fits
-        at a time, so the person is held (SocRATES's interaction-point pause) until the robot is
-        through: the meeting node is the first node after the narrow part."""
+        """Where an oncoming person meets the robot. Through a narrow passage only one fits at a time, so
+        the person is held until the robot is through: the meeting node is the first node after it. At a
+        doorway they meet AT the door: the person, paced to arrive with the robot, steps aside next to
+        it (its tree) and the robot goes through first."""
         robot, card = placement.robot, placement.card
-        past = {"doorway": i + 1, "narrow_passage": i + 2}.get(card.place)
+        past = {"narrow_passage": i + 2}.get(card.place)
         if past is not None and past < len(robot):
             return robot[past]
         return placement.place.node
@@ -245,13 +250,13 @@ class RouteBuilder:
 
     def check_lead_in(self, card: Card, robot: list[str], p: str) -> None:
         """People who come up to the robot once they see it must not see it before it is on its way: the
-        robot's way to P is longer than their sight plus the walk to meet it, or they crowd it at its start."""
+        robot's way to P is at least their sight (or P cannot see the start), or they crowd it at its start."""
         sight = max((sight_distance(r.tree) for r in card.humans if r.role == "converging"), default=0.0)
-        if not sight or p not in robot:
-            return
+        if not sight or p not in robot or not self.f.sees(robot[0], p):
+            return  # a wall hides the start from P: they cannot see the robot before it comes round
         k = robot.index(p)
         lead = sum(self.f.distance(a, b) for a, b in zip(robot[:k], robot[1:k + 1], strict=True))
-        if lead < sight + CONVERGE_WALK:
+        if lead < sight:
             raise DoesNotFit(f"the robot's way to {p} is {lead:.1f} m: people who come up to it within "
                              f"{sight:g} m would crowd it at its start")
 

@@ -31,6 +31,7 @@ TEMPLATE_PARTS: dict[str, tuple[str, str, str | None, float | None]] = {
     "say_wait_and_walk": ("robot_near", "say", "WAIT", 3.0),
     "stop_and_say_proceed": ("robot_near", "say", "PROCEED", 2.0),
     "wait_while_robot_near": ("robot_near", "look", None, 2.5),
+    "wait_aside_while_robot_near": ("robot_near", "give_way", None, 2.0),
     "wait_for_follower": ("robot_near", "wait_then_go", None, 4.0),
     "follow_robot": ("robot_visible", "follow", None, 6.0),
     "crowd_robot": ("robot_visible", "follow", None, 5.0),
@@ -71,11 +72,11 @@ def card_spec(placement: Placement, plan: PathPlan, location: Location) -> Scena
     criteria: list[Criterion] = []
     node_encounter: dict[str, str] = {}
     for h, route in zip(plan.humans, placement.humans, strict=True):
-        if not h.interaction_point:
+        if not h.interaction_point or not route.encounter:
             continue
         enc_id = f"e{len(encounters) + 1}"
         part = _part(h.name, route.role.tree)
-        # the person waits just past a doorway (paths' interaction point), but the encounter is IN the doorway
+        # a doorway encounter is IN the doorway (the door node, even if a person is paced to another node)
         node = placement.place.node if card.place == "doorway" and placement.place.node in plan.robot \
             else h.interaction_point
         node_type = str(location.graph.nodes[node].get("type", "") or "INTERACTION POINT")

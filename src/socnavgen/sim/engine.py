@@ -270,7 +270,8 @@ class Simulation:
         took it into the robot is put back on the robot's surface (never closer than it already was, so an
         overlap the ROBOT causes stays visible as a collision); two humans that overlap are pushed apart
         along the line of their centres, the walkers taking the whole correction from someone standing.
-        Corrections that would end inside a wall are dropped. Returns whether anyone was moved."""
+        Corrections that would end inside a wall are dropped (between humans) or the human's step is not
+        taken (into the robot). Returns whether anyone was moved."""
         crowd, rp = self.crowd, self.robot_pos
         pos, radius = crowd.pos, crowd.radius
         moved = False
@@ -299,9 +300,10 @@ class Simulation:
                 away = pos[i] - rp
                 unit = away / abs(away) if abs(away) > 1e-9 else -self._robot_dir
                 cand = rp + unit * (reach[i] + allowed[i])
-                if self.world.clearance_at_point(cand) >= 0.5 * radius[i]:
-                    pos[i] = cand
-                    moved = True
+                if self.world.clearance_at_point(cand) < 0.5 * radius[i]:
+                    cand = complex(before[i])  # no room beside the robot (a wall): the step is not taken
+                pos[i] = cand
+                moved = True
         return moved
 
     def _apply_robot(self, action: RobotAction) -> None:
