@@ -9,7 +9,6 @@ from pathlib import Path
 from .conformance_helpers import card_scenes
 from .equivalence_helpers import outcomes, relabel, stands_for
 
-
 # Where 2.x lacks the behaviour, the outcome may differ; each case is named with why (docs/export.md). The
 # test fails if another card diverges or if this one stops diverging (then remove it here).
 KNOWN_DIVERGENT = {
