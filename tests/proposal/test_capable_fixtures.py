@@ -49,12 +49,11 @@ def test_every_stage_is_valid(replayed, name):
 
 
 # Verdicts of the strict verifier on the merged simulator. Failing today: scene B's first tree does not stop
-# the worker (its --verify run fixes it in 2 rounds); scene C: the robot asks the group again and gets
-# through, but human3, who stepped aside 2 m off the intersection, is never met within 1 m of it; the
+# the worker (its --verify run fixes it in 2 rounds); the
 # evacuation's patient falls behind the robot and the visitor, in a group with her, is 2 m from the door
 # node (its --verify run fixed the porter's deadlock, not those). A strict xfail turns red the day one
 # passes.
-FAILS = {"hospital_evacuation", "hospital_evacuation_verify", "paper_scene_b", "paper_scene_c"}
+FAILS = {"hospital_evacuation", "hospital_evacuation_verify", "paper_scene_b"}
 
 
 @pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.xfail(

@@ -319,6 +319,13 @@ CASES: list[Case] = [
          scene=lambda s: _h1(s, says=[])),
     Case("group_apart", passes=False, failing="c8", blame="behaviors", blame_human="human3",
          scene=lambda s: replace(s, follow={"human2": s.follow["human2"]})),
+    # a group is met where the robot meets any member (derive.with_implied); group_together keeps them near
+    Case("group_met_by_one_member", passes=True,
+         scene=lambda s: replace(s, follow={"human2": s.follow["human2"], "human3": (2.0, 0.725)},
+                                 humans={**s.humans, "human3": [(0.0, 0.0, 0.725)]})),  # never within 2 m
+    Case("group_met_off_its_node", passes=False, failing="robot meets the group", blame="paths",
+         spec=lambda sp: sp.model_copy(update={"encounters": [sp.encounters[0],
+                                                              sp.encounters[1].model_copy(update={"node": "north"})]})),
     Case("follower_stays_behind", passes=False, failing="c7", blame="behaviors", blame_human="human2",
          scene=lambda s: replace(s, follow={"human3": s.follow["human3"]})),
     Case("follow_me_never_said", passes=False, failing="c7", blame="robot_script",

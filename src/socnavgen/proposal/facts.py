@@ -29,8 +29,9 @@ class Body:
 
     @property
     def blocking_width(self) -> float:
-        """A passage narrower than this is closed to the robot by one person standing in it."""
-        return round(2 * self.human_radius + 2 * self.robot_radius + PASS_MARGIN, 2)
+        """A passage narrower than this is closed to the robot by one person standing in its middle: the
+        robot's body must fit beside the person's on one side (a person at the wall leaves more)."""
+        return round(2 * self.human_radius + 2 * (2 * self.robot_radius) + PASS_MARGIN, 2)
 
 
 @cache
@@ -42,7 +43,9 @@ def body() -> Body:
 
 
 def physical_facts_text() -> str:
-    b = body()
+    from socnavgen.verify.models import VerifySettings  # the verifier's own thresholds
+
+    b, meet = body(), VerifySettings()
     touch = b.human_radius + b.robot_radius
     return "\n".join([
         "PHYSICAL FACTS of the simulator (plan with these numbers):",
@@ -52,7 +55,13 @@ def physical_facts_text() -> str:
         f"- Every distance (conditions of the trees, the spec's `distance`) is measured between CENTRES: at "
         f"{touch:g} m a person and the robot touch, so 'very close' is about 1.0 m and 'close' about 1.5-2 m.",
         f"- A passage narrower than {b.blocking_width:g} m is blocked for the robot by one person standing in "
-        f"it (the scene graph marks such edges \"narrow\": true).",
+        f"its middle (the scene graph marks such edges \"narrow\": true); a person who waits for the robot "
+        f"there must step aside (give_way), or wait before the passage.",
+        f"- How an encounter is checked: the robot and the human 'meet' when their centres are within "
+        f"{meet.distance:g} m (or the criterion's `distance`) while the point halfway between them is within "
+        f"the encounter's `within` ({meet.near:g} m by default) of the encounter's node. A group (humans listed "
+        f"together in a group_together criterion) is met where the robot meets any member: members stepping "
+        f"aside is their reaction; a `meets` criterion may name the group's `humans`.",
         "- Positions: `pos` is the pixel position of a node in the map image; `xy_m` is the same point in "
         "metres in the world frame (x east, y north), so distances between nodes can be computed from it.",
     ])

@@ -164,8 +164,9 @@ def _criteria_mistakes(spec: ScenarioSpec, humans: list[str], ids: list[str], ro
                 mistakes.append(f"criterion {c.id}: {name} is not a human of the scenario ({', '.join(humans)})")
         if c.encounter and c.encounter not in ids:
             mistakes.append(f"criterion {c.id}: encounter {c.encounter} is not in spec.encounters ({', '.join(ids)})")
-        if c.kind in _PER_HUMAN and not c.human:
-            mistakes.append(f"criterion {c.id}: kind {c.kind} names the `human` it is about")
+        if c.kind in _PER_HUMAN and not c.human and not (c.kind == "meets" and len(c.humans) >= 2):
+            mistakes.append(f"criterion {c.id}: kind {c.kind} names the `human` it is about"
+                            + (" (or the `humans` of a group)" if c.kind == "meets" else ""))
         if c.kind == "group_together" and len(c.humans) < 2:
             mistakes.append(f"criterion {c.id}: group_together lists at least two `humans`")
         if c.kind == "reacts_after_phrase":

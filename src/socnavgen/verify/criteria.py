@@ -95,15 +95,18 @@ def compile_criterion(c: Criterion, spec: ScenarioSpec, settings: VerifySettings
     enc, part = encounter_of(c, spec)
     out = Compiled(criterion=c, formula="", human=c.human, encounter=enc, part=part)
     k = c.kind
-    if k == "meets":
-        h = _need_human(c)
+    if k == "meets":  # `human`, or a group (`humans`): the robot meets the group where it meets any member
+        members = [c.human] if c.human else list(c.humans)
+        if not members:
+            raise FormulaError(f"criterion {c.id} (meets) names no `human` (or `humans` of a group)")
         d = out.distance = c.distance or settings.distance
         if enc is not None:
             w = enc.within
-            out.formula = f"eventually ((dist_{h} <= {d:g}) and (mid_{h}_to_{enc.id} <= {w:g}))"
+            met = [f"((dist_{h} <= {d:g}) and (mid_{h}_to_{enc.id} <= {w:g}))" for h in members]
         else:
             out.notes.append("no encounter place: only the distance is checked")
-            out.formula = f"eventually (dist_{h} <= {d:g})"
+            met = [f"(dist_{h} <= {d:g})" for h in members]
+        out.formula = f"eventually ({' or '.join(met)})" if len(met) > 1 else f"eventually {met[0]}"
     elif k == "stops_near_robot":
         h = _need_human(c)
         d = out.distance = c.distance or DEFAULTS[k]
@@ -200,7 +203,18 @@ def _first(mask: np.ndarray) -> int | None:
 
 
 def _meets_evidence(cc: Compiled, s: Signals) -> Evidence:
-    h, t = cc.human or "", s.t
+    members = [cc.human] if cc.human else list(cc.criterion.humans)
+    if len(members) > 1:  # a group: the evidence of the member met first, else of the closest one
+        each = [(_meets_evidence_of(cc, s, h), h) for h in members]
+        met = [(ev, h) for ev, h in each if f"{h} met at " in ev[0]]
+        if met:
+            return min(met, key=lambda eh: eh[0][1] or 0.0)[0]
+        return min(each, key=lambda eh: eh[0][2] if eh[0][2] is not None else float("inf"))[0]
+    return _meets_evidence_of(cc, s, members[0] if members else "")
+
+
+def _meets_evidence_of(cc: Compiled, s: Signals, h: str) -> Evidence:
+    t = s.t
     dist = s.get(f"dist_{h}")
     k, closest = _closest(s, h)
     text = f"closest {closest:.2f} m at t={t[k]:.1f} s"

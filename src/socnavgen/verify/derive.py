@@ -102,7 +102,18 @@ def with_implied(spec: ScenarioSpec, settings: VerifySettings) -> Judged:
     for c in spec.criteria:
         for name in [c.human, *c.humans]:
             kinds_of.setdefault(name, set()).add(c.kind)
+    groups = [set(c.humans) for c in spec.criteria if c.kind == "group_together" and len(c.humans) >= 2]
     for enc in spec.encounters:
+        for group in groups:  # a group is met where the robot meets any member (one stepping aside is the
+            members = [p.human for p in enc.humans if p.human in group]  # reaction); group_together keeps
+            if len(members) < 2:  # every member near the others
+                continue
+            if not any("meets" in kinds_of.get(h, set()) for h in members):
+                judged.append((Criterion(id=f"meet_group_{enc.id}", kind="meets", humans=members, encounter=enc.id,
+                                         text=f"robot meets the group ({', '.join(members)}) at "
+                                              f"{enc.node or enc.place} ({enc.id})"), "implied"))
+            for h in members:
+                kinds_of.setdefault(h, set()).add("meets")
         for part in enc.humans:
             if {"meets", "keeps_away"} & kinds_of.get(part.human, set()) or part.reaction in ("avoid",):
                 continue
