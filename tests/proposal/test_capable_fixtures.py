@@ -15,7 +15,7 @@ from socnavgen.run import RunFolder
 
 FIXTURES = Path(__file__).resolve().parents[1] / "fixtures" / "replay"
 ROOT = Path(__file__).resolve().parents[2]
-NAMES = ["hospital_evacuation", "hospital_evacuation_verify", "paper_scene_a", "paper_scene_b", "paper_scene_b_verify",
+NAMES = ["hospital_evacuation", "hospital_evacuation_v2_verify", "hospital_evacuation_verify", "paper_scene_a", "paper_scene_b", "paper_scene_b_verify",
          "paper_scene_c"]
 
 
@@ -37,8 +37,9 @@ def test_every_stage_is_valid(replayed, name):
     row, folder = replayed[name]
     assert (row.verify_rounds >= 1) == name.endswith("_verify")  # the loop replays only where it was recorded
     assert row.scenario_valid and row.paths_valid and row.trees_valid
-    # every first answer was valid; in the evacuation's --verify run one re-asked tree was corrected once
-    assert row.first_attempt == (name != "hospital_evacuation_verify")
+    # every first answer was valid; in the old evacuation's --verify run one re-asked tree needed a correction
+    # (which replies a --verify replay reaches depends on the simulator's verdicts, so it may not get there)
+    assert row.first_attempt or name == "hospital_evacuation_verify"
     run = RunFolder(folder)
     spec = run.read_spec()
     assert spec is not None and spec.encounters and all(e.node for e in spec.encounters)
@@ -49,10 +50,11 @@ def test_every_stage_is_valid(replayed, name):
 
 
 # Verdicts of the strict verifier on the merged simulator. Failing today: scene B's first tree does not stop
-# the worker (its --verify run fixes it in 2 rounds); the
-# evacuation's patient falls behind the robot and the visitor, in a group with her, is 2 m from the door
-# node (its --verify run fixed the porter's deadlock, not those). A strict xfail turns red the day one
-# passes.
+# the worker (its --verify run fixes it in 2 rounds); in the first evacuation recording the robot detours
+# to the nurse station while the patient, whose tree follows only while the robot is in sight, walks her
+# own route and falls 20 m behind (the model's answer; its --verify run did not fix it). The second
+# evacuation recording (v2, with --verify) passes at its first answers. A strict xfail turns red the day
+# one passes.
 FAILS = {"hospital_evacuation", "hospital_evacuation_verify", "paper_scene_b"}
 
 

@@ -21,6 +21,8 @@ from socnavgen.sim.bt_runtime import FAILURE, SUCCESS, BTRuntimeError
 BLOCKING_CONE = 0.5  # rad
 ROBOT_MOVED_SPEED = 0.1  # m/s
 FOLLOW_STOP = 1.5  # m
+FOLLOW_WAY_AHEAD = 2.0  # m: a follower this close ahead of the robot, on its path, steps aside first
+FOLLOW_WAY_MARGIN = 0.2  # m of free space beside the robot's path that counts as out of its way
 FOLLOW_GAIN = 1.8 / 10.0  # follow speed = 1.8 * r / max_dist_view(10)
 RUN_AWAY_SPEED = 0.6
 RUN_AWAY_GAIN = 20 * 0.2  # 20 * sigma_obs
@@ -142,8 +144,33 @@ def _follow(sim: Any, i: int, target: complex, target_radius: float) -> None:
 
 
 def follow_robot(sim: Any, leaf: Any, i: int) -> int:
+    """Follow the robot; a follower standing in the robot's way (ahead of it, on its remaining path) first
+    steps aside and lets it pass, as a person told FOLLOW ME by a robot coming up behind does, instead of
+    walking up to it and standing 1.5 m in front of it for good."""
+    state = sim.give_way[i]
+    stepping_aside = state is not None and sim.crowd.behavior_state[i] == 2 and state["phase"] != "resume"
+    if stepping_aside or _in_robot_way(sim, i):
+        give_way_to_robot(sim, leaf, i)
+        if sim.give_way[i]["phase"] != "resume":
+            return SUCCESS
     _follow(sim, i, sim.robot_pos, sim.robot_radius)
     return SUCCESS
+
+
+def _in_robot_way(sim: Any, i: int) -> bool:
+    """The human stands on the robot's remaining path, ahead of it within FOLLOW_WAY_AHEAD metres."""
+    p = sim.crowd.pos[i]
+    if abs(p - sim.robot_pos) > FOLLOW_WAY_AHEAD or abs(sim.robot_pos - sim.robot_waypoints[-1]) <= \
+            sim.config.goal_tolerance:
+        return False
+    _, seg = robot_progress(sim)
+    upcoming = np.concatenate([[sim.robot_pos], sim.robot_waypoints[seg + 1:]])
+    if len(upcoming) < 2:
+        return False
+    _, along, dist = _project(p, upcoming[:-1], upcoming[1:])
+    k = int(np.argmin(dist))
+    ahead = float(np.sum(np.abs(upcoming[1:k + 1] - upcoming[:k]))) + float(along[k])
+    return bool(dist[k] < float(sim.crowd.radius[i]) + sim.robot_radius + FOLLOW_WAY_MARGIN and ahead > 0.0)
 
 
 def follow_human(sim: Any, leaf: Any, i: int) -> int:
