@@ -14,6 +14,8 @@ import logging
 import re
 import warnings
 from dataclasses import dataclass
+from functools import lru_cache
+from typing import Any
 
 import numpy as np
 
@@ -102,18 +104,12 @@ def monitor(formula: str, signals: Signals) -> Verdict:
     t = signals.t
     if len(t) == 0:
         raise FormulaError("the trace is empty")
-    spec = rtamt.StlDiscreteTimeSpecification()
-    for name in names:
-        spec.declare_var(name, "float")
-    spec.declare_var(_OUT, "float")
     dt = float(signals.trace.dt) if signals.trace.dt > 0 else float(np.median(np.diff(t))) if len(t) > 1 else 1.0
-    spec.set_sampling_period(dt, "s", 0.1)
-    spec.spec = _PREFIX + formula
     rtamt_log = logging.getLogger()
     level = rtamt_log.level
     try:
         rtamt_log.setLevel(logging.ERROR)  # rtamt warns on the root logger about implicit declarations
-        spec.parse()
+        spec = _parsed(formula, tuple(names), dt)
         data = {"time": [float(x) for x in t]}
         data.update({name: [float(v) for v in signals.get(name)] for name in names})
         out = spec.evaluate(data)
@@ -125,6 +121,23 @@ def monitor(formula: str, signals: Signals) -> Verdict:
         rtamt_log.setLevel(level)
     series = np.array([float(v) for _, v in out], dtype=float)
     return Verdict(robustness=float(series[0]) if len(series) else float("-inf"), series=series)
+
+
+@lru_cache(maxsize=256)
+def _parsed(formula: str, names: tuple[str, ...], dt: float) -> Any:
+    """A parsed rtamt specification, kept per formula: parsing costs about as much as evaluating, and a
+    campaign checks the same few formulas on every episode (offline `evaluate` keeps no state between
+    calls: the same data gives the same robustness)."""
+    import rtamt
+
+    spec = rtamt.StlDiscreteTimeSpecification()
+    for name in names:
+        spec.declare_var(name, "float")
+    spec.declare_var(_OUT, "float")
+    spec.set_sampling_period(dt, "s", 0.1)
+    spec.spec = _PREFIX + formula
+    spec.parse()
+    return spec
 
 
 def _readable(message: str) -> str:
