@@ -139,7 +139,7 @@ class Signals:
                 raise UnknownSignal("line of sight needs the run's location (map)")
             robot = self.trace.robot[:, 0] + 1j * self.trace.robot[:, 1]
             humans = self.trace.humans[:, :, 0] + 1j * self.trace.humans[:, :, 1]
-            self._los = np.stack([self.world.line_of_sight(robot[k], humans[k]) for k in range(self.trace.steps)]) \
+            self._los = self.world.segments_clear(robot[:, None], humans) \
                 if humans.shape[1] else np.zeros((self.trace.steps, 0), dtype=bool)
         return self._los
 
