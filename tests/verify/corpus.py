@@ -330,6 +330,9 @@ CASES: list[Case] = [
          scene=lambda s: replace(s, follow={"human3": s.follow["human3"]})),
     Case("follow_me_never_said", passes=False, failing="c7", blame="robot_script",
          scene=lambda s: replace(s, robot_says=[(6.0, 8.0, 4)])),
+    # R3: the person gave way, yet the robot never moves again: its script keeps it waiting, not the paths
+    Case("robot_waits_for_nothing", passes=False, failing="c9", blame="robot_script",
+         scene=lambda s: _robot(s, STUCK_ROBOT)),
     Case("robot_stops_short", passes=False, failing="c9", blame="paths",
          scene=lambda s: _robot(s, [*s.robot[:3], (13.0, 8.0, 1.525), (20.0, 8.0, 1.525)])),
     Case("stl_formula_fails", passes=False, failing="c11", blame="robot_script",

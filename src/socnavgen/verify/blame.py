@@ -21,7 +21,9 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
   G1  a group apart whose members walk different paths                                          -> paths
   G2  a group apart on one path                                                                -> behaviors(farthest)
   R1  the trigger held (the robot near / said the phrase) but the reaction never ran           -> behaviors(h)
-  R2  robot_reaches_goal failed without a deadlock                                             -> paths
+  R3  robot_reaches_goal failed, the robot ending still with nobody in its way while its script has
+      waiting cues (wait, wait_until_clear, a human's phrase)                                   -> robot_script
+  R2  robot_reaches_goal failed without a deadlock (otherwise)                                -> paths
   T1  tree checks (no spec.json): a RobotSays gate whose gesture the robot never made           -> robot_script
   T2  tree checks: IsRobotVisible / IsRobotNearby never succeeded                               -> paths
   T3  tree checks: any other node never ran, or ran before its cause                           -> behaviors(h)
@@ -112,6 +114,18 @@ def _stuck(cc: Compiled, s: Signals, spec: ScenarioSpec, settings_deadlock: floa
     return ("behaviors", who, f"{who} stood in the robot's way {dead.max():.0f} s: its tree must give way")
 
 
+def _scripted_wait(s: Signals, spec: ScenarioSpec, settings_deadlock: float) -> Verdict | None:
+    """Rule R3: the robot ended standing still for longer than the deadlock limit with nobody in its way,
+    and its script has cues that make it stand (wait, wait until clear, a human's phrase): the script."""
+    stalled, in_way = s.get("stalled"), s.blocked()
+    waits = [c for c in spec.script.cues if c.wait or c.wait_until_clear or c.trigger.when == "human_says"]
+    if not waits or stalled[-1] < settings_deadlock or in_way[-1]:
+        return None
+    return ("robot_script", None, f"the robot stood still for its last {stalled[-1]:.0f} s with nobody in its way: "
+                                  "a cue of its script keeps it waiting (wait, wait_until_clear or a phrase that "
+                                  "never comes); shorten the wait or change its trigger")
+
+
 def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan | None,
                     settings_deadlock: float) -> Verdict:
     """Apply the rule table to one failing, monitored criterion."""
@@ -132,6 +146,9 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
             return stuck
         if kind == "no_deadlock":
             return "robot_script", None, "the robot stood still too long: its script's waits are too long"
+        waiting = _scripted_wait(s, spec, settings_deadlock)
+        if waiting:
+            return waiting
         return "paths", None, "the robot did not reach its goal: check the robot path"
     if kind == "stl":
         return _blame_formula(cc, s)
