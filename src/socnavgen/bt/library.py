@@ -155,9 +155,12 @@ NODES: list[NodeSpec] = [
              capability="Stop and look at the robot",
              targets={"socrates", "hunav2"}, hunav2="LookAtRobot", hunav1="SurprisedNav"),
     NodeSpec(name="FollowRobot", kind="action", ports=[_AGENT, _STEP],
-             description="One step following the robot; the human stops 1.5 m behind it and faces it.",
+             description="One step following the robot; the human stops 1.5 m behind it and faces it. A follower "
+                         "standing in the robot's way (ahead of it on its path) first steps aside and lets it pass.",
              capability="Follow the robot",
-             targets={"socrates", "hunav2"}, hunav2="ApproachRobot", hunav1="CuriousNav"),
+             targets={"socrates", "hunav2"}, hunav2="ApproachRobot", hunav1="CuriousNav",
+             sim_note="HuNavSim's follower walks up to the robot even from in front of it and stands 1.5 m ahead "
+                      "of it, blocking it for good; ours steps aside first (GiveWaytoRobot's side step)."),
     NodeSpec(name="FollowHuman", kind="action",
              ports=[_AGENT, Port(name="target_id", type=PortType.INT, description="id of the human to follow"),
                     _STEP],
