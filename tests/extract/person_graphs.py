@@ -28,6 +28,7 @@ class PersonMap:
     meters_per_pixel: float
     aliases: dict[str, str] = field(default_factory=dict)
     rooms: list[tuple[float, float]] = field(default_factory=list)  # a point inside every room
+    partial: str = ""  # the part of the map the person drew on, when not all of it
 
 
 def person_map(name: str, workdir: Path) -> PersonMap:
@@ -43,7 +44,8 @@ def person_map(name: str, workdir: Path) -> PersonMap:
         folder = Path(__file__).parent / "data" / name
         graph = read_scene_graph(folder / "scene_graph.json")
         nav2 = read_nav2_yaml(folder / "map.yaml")
-        return PersonMap(name, folder / "map.yaml", graph, float(nav2.resolution), aliases=entry["aliases"])
+        return PersonMap(name, folder / "map.yaml", graph, float(nav2.resolution), aliases=entry["aliases"],
+                         partial=entry.get("partial", ""))
     hand = load_location(ROOT / "examples" / "locations" / name)
     return PersonMap(name, hand.root / "map.yaml", hand.scene_graph, hand.transform.meters_per_pixel,
                      aliases=entry["aliases"], rooms=[tuple(p) for p in entry["rooms"]])

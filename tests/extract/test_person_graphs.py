@@ -47,8 +47,8 @@ def test_score_counts_a_missing_node_and_a_wrong_type() -> None:
 
 
 def test_socrates_hospital_picture_stays_readable(tmp_path: Path) -> None:
-    """SocRATES's scanned hospital still gives far too many nodes (see the report), but its picture
-    has no overlapping label: the crowded ones are moved aside or thinned."""
+    """SocRATES's scanned hospital still gives more nodes than a person would draw (see the report),
+    but its picture has no overlapping label: the crowded ones are moved aside or thinned."""
     pm = person_map("socrates_hospital", tmp_path)
     location, stats = extract_location(pm.map_yaml, tmp_path / "out", ExtractOptions(seed=1))
     _, layout = render_location_with_layout(location)
@@ -56,3 +56,17 @@ def test_socrates_hospital_picture_stays_readable(tmp_path: Path) -> None:
     assert not any(a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
                    for i, a in enumerate(boxes) for b in boxes[i + 1:])
     assert stats.rooms >= 10 and len(boxes) >= 0.8 * stats.nodes
+
+
+def test_a_partial_graph_is_compared_where_the_person_drew() -> None:
+    """A person who drew one corridor is compared with the nodes near that corridor, not the whole map."""
+    from socnavgen.location.extract_score import within_drawn_part
+    from socnavgen.location.models import Edge, Node, SceneGraph
+
+    person = SceneGraph(nodes=[Node(id="aa", type="CORNER", pos=(0, 0)), Node(id="bb", type="CORNER", pos=(200, 0))],
+                        links=[Edge(source="aa", target="bb", type="PASSAGEWAY")])
+    extracted = SceneGraph(nodes=[Node(id="cc", type="SIMPLE NODE", pos=(100, 30)),  # 1.5 m off the corridor
+                                  Node(id="dd", type="ROOM", pos=(100, 50)),  # 2.5 m off: another room
+                                  Node(id="ee", type="DEAD END", pos=(230, 0))])  # 1.5 m past its end
+    kept = within_drawn_part(person, extracted, 0.05)
+    assert [n.id for n in kept.nodes] == ["cc", "ee"]

@@ -4,7 +4,8 @@ Free space -> skeleton (thin centre lines of the walkable area) -> topological g
 ends become nodes, skeleton branches become edges) -> cleaned (short spurs pruned, close nodes
 merged) -> doorways inserted at clearance bottlenecks -> every edge made a straight segment that
 keeps clear of walls (curved branches split, adding SIMPLE NODEs) -> nodes and edges typed from
-geometry (degree, clearance, turn angle, line of sight). The result is a draft for the annotator.
+geometry (degree, clearance, turn angle, line of sight) -> repaired until it passes `location check`
+as one connected graph (extract_repair.py). The result is a draft for the annotator.
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from skimage.draw import polygon as draw_polygon
 from skimage.morphology import skeletonize
 
 from socnavgen.errors import InputFileError, ValidationFailed
+from socnavgen.location.extract_repair import connect_parts, reroute_blocked
 from socnavgen.location.extract_types import (  # noqa: F401  (the vocabulary is re-exported from here)
     BLIND_CORNER,
     CORNER,
@@ -382,9 +384,14 @@ def extract_scene_graph(occ: OccupancyGrid, meters_per_pixel: float,
         rooms = replace_rooms(graph, coords, doors | mouths, free, walls, wall_clearance, clearance, meters_per_pixel,
                               geo.room_cover_m)
         coords, room_nodes, extra_nodes = rooms.coords, rooms.room_nodes, rooms.extra_nodes
+        doors -= rooms.false_doors
+        mouths -= rooms.false_doors
+        dissolve_chains(graph, keep=set(graph.nodes) - rooms.false_doors)
         stats.rooms = len(room_nodes)
         _drop_orphans(graph, keep=room_nodes | extra_nodes)
+    coords = connect_parts(graph, coords, clearance, geo.mpp)
     straighten(graph, coords, clearance, geo)
+    coords = reroute_blocked(graph, coords, clearance, geo.mpp)
 
     def node_type(n: int) -> str:
         if n in room_nodes:

@@ -73,6 +73,20 @@ def score(person: SceneGraph, extracted: SceneGraph, meters_per_pixel: float, *,
                  missed=missed)
 
 
+def within_drawn_part(person: SceneGraph, extracted: SceneGraph, meters_per_pixel: float,
+                      margin_m: float = 2.0) -> SceneGraph:
+    """The extracted nodes within `margin_m` of what the person drew (their nodes and edges): a graph
+    drawn over one lobby is compared with what was extracted there, not with the whole building."""
+    from shapely.geometry import LineString, MultiPoint, Point
+    from shapely.ops import unary_union
+
+    pos = {n.id: tuple(n.pos) for n in person.nodes}
+    shapes = [MultiPoint(list(pos.values()))] + [LineString([pos[e.source], pos[e.target]])
+                                                 for e in person.links if e.source in pos and e.target in pos]
+    drawn = unary_union(shapes).buffer(margin_m / meters_per_pixel)
+    return SceneGraph(nodes=[n for n in extracted.nodes if drawn.covers(Point(tuple(n.pos)))])
+
+
 def rooms_with_room_node(extracted: SceneGraph, rooms: list[tuple[float, float]], blocked: np.ndarray,
                          meters_per_pixel: float, room_type: str = "ROOM", door_m: float = 1.3) -> int:
     """How many of the rooms (one point inside each) have a ROOM node inside them. A room is the part

@@ -17,12 +17,15 @@ import numpy as np
 from scipy import ndimage
 from skimage.morphology import skeletonize
 
-from socnavgen.location.traverse import segment_walkable
+from socnavgen.location.traverse import first_tight_pixel, segment_walkable
 
 CLUTTER_SIDE_M = 3.5  # an obstacle free of the walls whose bounding box fits in this square is furniture ...
 CLUTTER_AREA_M2 = 4.0  # ... when it also covers at most this area
 CORRIDOR_WIDTH_M = 2.6  # pieces narrower than this ...
-CORRIDOR_ASPECT = 2.5  # ... and at least this many times longer than wide are corridors
+CORRIDOR_ASPECT = 2.5
+HALL_HOLES = 0.15  # a piece with blocks inside covering this much of it (or three blocks or more) is a hall
+ROOM_FILL = 0.6  # ... unless their box is twice a corridor's width and at least this full of floor
+ROOM_M2_PER_COVER = 5.0  # a room gets one node per this many squared coverage radii of floor (~100 m2 at 4.5 m)  # ... and at least this many times longer than wide are corridors
 
 
 def furniture_mask(blocked: np.ndarray, meters_per_pixel: float) -> np.ndarray:
@@ -69,6 +72,39 @@ def cut_at_doors(free: np.ndarray, door_points: dict[int, tuple[int, int]], clea
     return free & ~cut
 
 
+def pieces_around(door_points: dict[int, tuple[int, int]], labels: np.ndarray,
+                  clearance: np.ndarray) -> dict[int, set[int]]:
+    """For every doorway, the labels of the pieces of free space just outside its cut."""
+    around = {}
+    h, w = labels.shape
+    for d, (r, c) in door_points.items():
+        inner = float(clearance[r, c]) + 2.0
+        outer = inner + 3.0
+        k = int(math.ceil(outer))
+        r0, r1, c0, c1 = max(0, r - k), min(h, r + k + 1), max(0, c - k), min(w, c + k + 1)
+        yy, xx = np.mgrid[r0:r1, c0:c1]
+        dist2 = (yy - r) ** 2 + (xx - c) ** 2
+        ring = labels[r0:r1, c0:c1][(dist2 > inner ** 2) & (dist2 <= outer ** 2)]
+        around[d] = {int(v) for v in np.unique(ring[ring > 0])}
+    return around
+
+
+def side_gaps(around: dict[int, set[int]], regions: dict[int, Region]) -> set[int]:
+    """Doorways of a passage piece open at two or more ends, all into one and the same room: the tight
+    side of a table or a bed standing in that room, not a passage of its own. Returned to be dropped."""
+    drop: set[int] = set()
+    for label, region in regions.items():
+        if region.kind != "corridor" or region.hall:
+            continue
+        doors = [d for d, labels in around.items() if label in labels]
+        others = set().union(*(around[d] for d in doors)) - {label} if doors else set()
+        if len(doors) >= 2 and len(others) == 1:  # open at both ends, into the same room
+            (other,) = others
+            if regions[other].kind == "room" and regions[other].area_m2 > region.area_m2:
+                drop.update(doors)
+    return drop
+
+
 def classify_regions(labels: np.ndarray, count: int, structural: np.ndarray, clearance: np.ndarray,
                      meters_per_pixel: float) -> dict[int, Region]:
     """Room or corridor for every labelled piece of free space (label 0 is not free)."""
@@ -87,9 +123,17 @@ def classify_regions(labels: np.ndarray, count: int, structural: np.ndarray, cle
         widths = clearance[box][skel] if skel.any() else clearance[box][mask]
         width = 2.0 * float(np.median(widths)) * meters_per_pixel
         length = float(skel.sum()) * meters_per_pixel + 2 * spur * meters_per_pixel
-        elongated = width <= CORRIDOR_WIDTH_M and length >= CORRIDOR_ASPECT * width
-        kind = "corridor" if holes.any() or elongated else "room"
-        regions[label] = Region(label=label, kind=kind, area_m2=area, width_m=width, hall=bool(holes.any()),
+        rows, cols = box
+        box_h, box_w = (rows.stop - rows.start) * meters_per_pixel, (cols.stop - cols.start) * meters_per_pixel
+        # a walled box much wider than a corridor, mostly floor, is a room whose furniture narrows the aisles
+        boxy = min(box_h, box_w) >= 2 * CORRIDOR_WIDTH_M and \
+            float(filled.sum()) * meters_per_pixel ** 2 >= ROOM_FILL * box_h * box_w
+        elongated = width <= CORRIDOR_WIDTH_M and length >= CORRIDOR_ASPECT * width and not boxy
+        # racks or wall blocks standing inside make a hall; one table island in a room does not
+        hall = bool(holes.any()) and (float(holes.sum()) >= HALL_HOLES * float(filled.sum())
+                                      or ndimage.label(holes)[1] >= 3)
+        kind = "corridor" if hall or elongated else "room"
+        regions[label] = Region(label=label, kind=kind, area_m2=area, width_m=width, hall=hall,
                                 elongated=elongated)
     return regions
 
@@ -136,11 +180,16 @@ def place_room_nodes(mask: np.ndarray, clearance: np.ndarray, door_points: list[
     assert best is not None
     nodes = [best]
     cover = cover_m / meters_per_pixel
+    area_m2 = float(mask.sum()) * meters_per_pixel ** 2
+    budget = max(3, round(area_m2 / (ROOM_M2_PER_COVER * cover_m ** 2)))  # a person names a big room's parts, not every spot
     inner = mask & (clearance >= max(person, 0.6 / meters_per_pixel))
+    # only the part of the room a person can walk to from the first node: furniture may wall off a nook
+    reach, _ = ndimage.label(mask & (clearance >= min(person, float(clearance[best]))))
+    inner &= reach == reach[best]
     if not inner.any():
         return nodes
     ir, ic = np.nonzero(inner)
-    for _ in range(12):
+    while len(nodes) < min(budget, 12):
         d = np.min([np.hypot(ir - r, ic - c) for r, c in nodes], axis=0)
         far = int(np.argmax(d))
         if d[far] <= cover:
@@ -164,6 +213,7 @@ class RoomGraph:
     room_nodes: set[int] = field(default_factory=set)
     extra_nodes: set[int] = field(default_factory=set)
     regions: dict[int, Region] = field(default_factory=dict)
+    false_doors: set[int] = field(default_factory=set)  # bottlenecks with the same piece on both sides
 
 
 def _region_of_path(path: list[int], coords: np.ndarray, labels: np.ndarray) -> int:
@@ -179,9 +229,14 @@ def replace_rooms(graph, coords: np.ndarray, doors: set[int], free: np.ndarray, 
     joined to the room's doorways. `graph` (a networkx MultiGraph of skeleton pixel indices with a
     `path` per edge) is changed in place; new nodes get indices past the end of `coords`."""
     door_points = {d: (int(coords[d][0]), int(coords[d][1])) for d in doors if d in graph}
-    pieces = cut_at_doors(free, door_points, wall_clearance)
-    labels, count = ndimage.label(pieces)
-    regions = classify_regions(labels, count, walls, wall_clearance, meters_per_pixel)
+    for _ in range(4):  # cut, then forget the cuts that separate nothing (or only a room from its own nook)
+        labels, count = ndimage.label(cut_at_doors(free, door_points, wall_clearance))
+        around = pieces_around(door_points, labels, wall_clearance)
+        regions = classify_regions(labels, count, walls, wall_clearance, meters_per_pixel)
+        false = {d for d, pieces in around.items() if len(pieces) < 2} or side_gaps(around, regions)
+        if not false:
+            break
+        door_points = {d: p for d, p in door_points.items() if d not in false}
     door_regions: dict[int, set[int]] = {d: set() for d in door_points}
     edge_regions = {}
     for u, v, key, data in graph.edges(keys=True, data=True):
@@ -203,7 +258,7 @@ def replace_rooms(graph, coords: np.ndarray, doors: set[int], free: np.ndarray, 
         r, c = coords[n]
         if n not in door_points and labels[r, c] in rooms:
             graph.remove_node(n)
-    result = RoomGraph(coords=coords, regions=regions)
+    result = RoomGraph(coords=coords, regions=regions, false_doors={d for d in doors if d in graph} - set(door_points))
     points_all = [tuple(int(v) for v in p) for p in coords]
     for label in sorted(rooms):
         region = regions[label]
@@ -289,7 +344,7 @@ def _join_room(graph, ids: list[int], doors: list[int], points: list[tuple[int, 
         if ok:
             chain(a, [min(ok, key=lambda p: math.dist(p, points[a]) + math.dist(p, points[b]))], b)
         else:
-            chain(a, _pulled_path(points[a], points[b], clearance, mpp, box), b)
+            chain(a, pulled_path(points[a], points[b], clearance, mpp, box), b)
 
     if len(ids) > 1:  # a shortest tree over the pairs that see each other, parts joined by walkable paths
         seen = nx.Graph()
@@ -310,28 +365,38 @@ def _join_room(graph, ids: list[int], doors: list[int], points: list[tuple[int, 
     return waypoints
 
 
-def _pulled_path(a: tuple[int, int], b: tuple[int, int], clearance: np.ndarray, mpp: float,
-                 window: tuple[slice, slice]) -> list[tuple[int, int]]:
+def pulled_path(a: tuple[int, int], b: tuple[int, int], clearance: np.ndarray, mpp: float,
+                window: tuple[slice, slice]) -> list[tuple[int, int]]:
     """Waypoints (row, col) of the shortest walkable way from a to b inside `window` (the room's box),
-    pulled tight: each straight piece is one a person can walk. Empty when there is no such way (the
-    edge is then left straight)."""
+    pulled tight: each straight piece is one a person can walk, or, where only a tight gap leads there,
+    one whose line is at least clear of obstacles (`location check` then warns that people squeeze).
+    Empty when there is no such way (the edge is then left straight)."""
     from skimage.graph import MCP_Geometric
 
-    need = min(0.4 / mpp, float(clearance[a]), float(clearance[b]))
+    need = max(1.0, min(0.4 / mpp, float(clearance[a]), float(clearance[b])))
     r0, c0 = max(0, window[0].start), max(0, window[1].start)
     view = clearance[window]
-    costs = np.where(view >= max(1.0, need), 1.0, np.inf)
     la, lb = (a[0] - r0, a[1] - c0), (b[0] - r0, b[1] - c0)
-    costs[la] = costs[lb] = 1.0
-    mcp = MCP_Geometric(costs, fully_connected=True)
-    cumulative, _ = mcp.find_costs([la], [lb])
-    if not math.isfinite(float(cumulative[lb])):
+    for threshold in dict.fromkeys((need, min(need, 2.0))):
+        costs = np.where(view >= threshold, 1.0, np.inf)
+        costs[la] = costs[lb] = 1.0
+        mcp = MCP_Geometric(costs, fully_connected=True)
+        cumulative, _ = mcp.find_costs([la], [lb])
+        if math.isfinite(float(cumulative[lb])):
+            break
+    else:
         return []
     path = [(int(p[0]) + r0, int(p[1]) + c0) for p in mcp.traceback(lb)]
+
+    def straight_ok(p: tuple[int, int], q: tuple[int, int]) -> bool:
+        if threshold >= need:
+            return segment_walkable(clearance, p[::-1], q[::-1], mpp)
+        return first_tight_pixel(clearance, p[::-1], q[::-1], threshold) is None
+
     vias, i = [], 0
     while True:
         j = len(path) - 1
-        while j > i + 1 and not segment_walkable(clearance, path[i][::-1], path[j][::-1], mpp):
+        while j > i + 1 and not straight_ok(path[i], path[j]):
             j -= 1
         if j == len(path) - 1:
             return vias

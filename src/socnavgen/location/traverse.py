@@ -162,7 +162,6 @@ def edge_verdict(clearance: np.ndarray, a: tuple[float, float], b: tuple[float, 
         return verdict
     verdict.level = "warning" if first_tight_pixel(clearance, a, b, 1.0) is None else "error"
     return verdict
-    return verdict
 
 
 def segment_walkable(clearance: np.ndarray, a: tuple[float, float], b: tuple[float, float],
