@@ -2,9 +2,11 @@
 
 Furniture and clutter (small obstacles standing free of the walls) are first filled in, so they
 neither split rooms nor make nodes. The free space is then cut at the doorways (short bottlenecks
-found on the skeleton) and each piece is classified:
-- ROOM: a compact piece with no structural obstacle inside (one ROOM node, plus OPEN AREA nodes when
-  it is too large for one node to stand for all of it);
+found on the skeleton); a cut that separates nothing, or only a room from a tight gap beside its own
+table, is forgotten and the space cut again. Each piece is classified:
+- ROOM: a compact piece with no structural obstacle inside, or a walled box much wider than a
+  corridor whose beds or desks along the walls narrow its aisle (one ROOM node, plus OPEN AREA nodes
+  when it is too large for one node to stand for all of it);
 - corridor / hall: an elongated piece, or one with racks or walls inside (the skeleton graph is kept).
 """
 
@@ -22,10 +24,10 @@ from socnavgen.location.traverse import first_tight_pixel, segment_walkable
 CLUTTER_SIDE_M = 3.5  # an obstacle free of the walls whose bounding box fits in this square is furniture ...
 CLUTTER_AREA_M2 = 4.0  # ... when it also covers at most this area
 CORRIDOR_WIDTH_M = 2.6  # pieces narrower than this ...
-CORRIDOR_ASPECT = 2.5
+CORRIDOR_ASPECT = 2.5  # ... and at least this many times longer than wide are corridors ...
+ROOM_FILL = 0.6  # ... unless their box is twice a corridor's width both ways and at least this full of floor
 HALL_HOLES = 0.15  # a piece with blocks inside covering this much of it (or three blocks or more) is a hall
-ROOM_FILL = 0.6  # ... unless their box is twice a corridor's width and at least this full of floor
-ROOM_M2_PER_COVER = 5.0  # a room gets one node per this many squared coverage radii of floor (~100 m2 at 4.5 m)  # ... and at least this many times longer than wide are corridors
+ROOM_M2_PER_COVER = 5.0  # a room gets one node per this many squared coverage radii of floor (~100 m2 at 4.5 m)
 
 
 def furniture_mask(blocked: np.ndarray, meters_per_pixel: float) -> np.ndarray:
