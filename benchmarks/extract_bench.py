@@ -8,7 +8,7 @@ with the person's graphs of tests/extract/data/person_graphs.json): node counts,
 with a ROOM node, recall (person's nodes with a compatible extracted node within 2 m) and precision
 (extracted nodes with a compatible person's node within 2 m), and the extraction time. SocRATES's
 graphs cover one part of their maps (a lobby, a corridor loop): they are compared with the extracted
-nodes inside that part (the hull of the person's nodes + 2 m); "whole map" is the full extracted count.
+nodes within 2 m of what the person drew (their nodes and edges); "whole map" is the full extracted count.
 """
 
 from __future__ import annotations

@@ -12,7 +12,7 @@ import math
 import networkx as nx
 import numpy as np
 
-from socnavgen.location.rooms import pulled_path
+from socnavgen.location.rooms import add_chain, pulled_path
 from socnavgen.location.traverse import edge_verdict
 
 
@@ -27,12 +27,8 @@ def connect_parts(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarra
     main = list(parts[0])
     for part in parts[1:]:
         a, b = min(((x, y) for x in part for y in main), key=lambda pair: math.dist(points[pair[0]], points[pair[1]]))
-        previous = a
-        for via in pulled_path(points[a], points[b], clearance, mpp, _window(points[a], points[b], int(6.0 / mpp))):
-            points.append((int(via[0]), int(via[1])))
-            graph.add_edge(previous, len(points) - 1, path=[previous, len(points) - 1], start=previous)
-            previous = len(points) - 1
-        graph.add_edge(previous, b, path=[previous, b], start=previous)
+        add_chain(graph, points, a, pulled_path(points[a], points[b], clearance, mpp,
+                                                _window(points[a], points[b], int(6.0 / mpp))), b)
         main += list(part)
     return np.array(points, dtype=coords.dtype).reshape(-1, 2)
 
@@ -59,10 +55,5 @@ def reroute_blocked(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndar
             if not nx.has_path(graph, u, v):
                 graph.add_edge(u, v, path=[u, v], start=u)  # nothing better: `location check` will name it
             continue
-        previous = u
-        for via in vias:
-            points.append((int(via[0]), int(via[1])))
-            graph.add_edge(previous, len(points) - 1, path=[previous, len(points) - 1], start=previous)
-            previous = len(points) - 1
-        graph.add_edge(previous, v, path=[previous, v], start=previous)
+        add_chain(graph, points, u, vias, v)
     return np.array(points, dtype=coords.dtype).reshape(-1, 2)

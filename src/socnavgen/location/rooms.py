@@ -231,14 +231,19 @@ def replace_rooms(graph, coords: np.ndarray, doors: set[int], free: np.ndarray, 
     joined to the room's doorways. `graph` (a networkx MultiGraph of skeleton pixel indices with a
     `path` per edge) is changed in place; new nodes get indices past the end of `coords`."""
     door_points = {d: (int(coords[d][0]), int(coords[d][1])) for d in doors if d in graph}
-    for _ in range(4):  # cut, then forget the cuts that separate nothing (or only a room from its own nook)
+    for _ in range(8):  # cut, then forget the cuts that separate nothing (or only a room from its own nook)
         labels, count = ndimage.label(cut_at_doors(free, door_points, wall_clearance))
         around = pieces_around(door_points, labels, wall_clearance)
-        regions = classify_regions(labels, count, walls, wall_clearance, meters_per_pixel)
-        false = {d for d, pieces in around.items() if len(pieces) < 2} or side_gaps(around, regions)
-        if not false:
-            break
+        false = {d for d, pieces in around.items() if len(pieces) < 2}
+        if not false:  # the pieces are final unless a room's own side gap is among them
+            regions = classify_regions(labels, count, walls, wall_clearance, meters_per_pixel)
+            false = side_gaps(around, regions)
+            if not false:
+                break
         door_points = {d: p for d, p in door_points.items() if d not in false}
+    else:  # out of rounds: the pieces of the doorways kept so far
+        labels, count = ndimage.label(cut_at_doors(free, door_points, wall_clearance))
+        regions = classify_regions(labels, count, walls, wall_clearance, meters_per_pixel)
     door_regions: dict[int, set[int]] = {d: set() for d in door_points}
     edge_regions = {}
     for u, v, key, data in graph.edges(keys=True, data=True):
@@ -328,13 +333,7 @@ def _join_room(graph, ids: list[int], doors: list[int], points: list[tuple[int, 
     spots = spots[:: max(1, len(spots) // 600)]
 
     def chain(a: int, vias: list[tuple[int, int]], b: int) -> None:
-        previous = a
-        for via in vias:
-            points.append((int(via[0]), int(via[1])))
-            waypoints.append(len(points) - 1)
-            graph.add_edge(previous, len(points) - 1, path=[previous, len(points) - 1], start=previous)
-            previous = len(points) - 1
-        graph.add_edge(previous, b, path=[previous, b], start=previous)
+        waypoints.extend(add_chain(graph, points, a, vias, b))
 
     def add(a: int, b: int) -> None:
         if _visible(points, clearance, a, b, mpp) or not len(spots):
@@ -365,6 +364,19 @@ def _join_room(graph, ids: list[int], doors: list[int], points: list[tuple[int, 
         seen = [n for n in ids if _visible(points, clearance, d, n, mpp)]
         add(d, min(seen or ids, key=lambda n: dist(d, n)))
     return waypoints
+
+
+def add_chain(graph, points: list[tuple[int, int]], a: int, vias: list[tuple[int, int]], b: int) -> list[int]:
+    """Join nodes a and b through waypoints `vias` (row, col), appended to `points` as new nodes; the
+    new node indices are returned."""
+    added, previous = [], a
+    for via in vias:
+        points.append((int(via[0]), int(via[1])))
+        added.append(len(points) - 1)
+        graph.add_edge(previous, added[-1], path=[previous, added[-1]], start=previous)
+        previous = added[-1]
+    graph.add_edge(previous, b, path=[previous, b], start=previous)
+    return added
 
 
 def pulled_path(a: tuple[int, int], b: tuple[int, int], clearance: np.ndarray, mpp: float,
