@@ -24,6 +24,7 @@ from skimage.draw import polygon as draw_polygon
 from skimage.morphology import skeletonize
 
 from socnavgen.errors import InputFileError, ValidationFailed
+from socnavgen.location.doorways import insert_doorways, split_at
 from socnavgen.location.extract_repair import connect_parts, reroute_blocked
 from socnavgen.location.extract_types import (  # noqa: F401  (the vocabulary is re-exported from here)
     BLIND_CORNER,
@@ -185,8 +186,21 @@ def dissolve_chains(graph: nx.MultiGraph, keep: set[int]) -> None:
         graph.add_edge(a, b, path=path, start=a)
 
 
-def prune_spurs(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray, geo: Geometry) -> bool:
-    """Drop dead-end branches shorter than the local width (skeleton noise toward wall corners)."""
+def _is_recess(coords: np.ndarray, tip: int, junction: int, length: float, clearance: np.ndarray,
+               real: np.ndarray | None, geo: Geometry) -> bool:
+    """Whether the dead-end branch junction -> tip runs into a walled recess a person can step into (an
+    entrance, a bay): it reaches well past the wall it opens from, and is wide at its tip, where a branch
+    into a wall corner narrows to nothing and one beside a desk is narrowed by the desk (`real`)."""
+    (rj, cj), (rt, ct) = coords[junction], coords[tip]
+    at_tip = clearance[rt, ct]
+    return bool(at_tip >= geo.recess_width / 2 and length + at_tip - clearance[rj, cj] >= geo.recess_depth
+                and (real is None or real[rt, ct] >= at_tip - 1.0))
+
+
+def prune_spurs(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray, geo: Geometry,
+                real: np.ndarray | None = None) -> bool:
+    """Drop dead-end branches shorter than the local width (skeleton noise toward wall corners), but not
+    one into a walled recess (`real`: the clearance from every obstacle, furniture included)."""
     changed = False
     for n in [n for n in graph.nodes if graph.degree(n) == 1]:
         if n not in graph or graph.degree(n) != 1:
@@ -194,23 +208,30 @@ def prune_spurs(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray,
         _, other, data = next(iter(graph.edges(n, data=True)))
         if graph.degree(other) < 3:
             continue
-        rc = coords[other]
-        if _length(data["path"], coords) < max(geo.min_spur, 1.5 * clearance[rc[0], rc[1]]):
+        length, rc = _length(data["path"], coords), coords[other]
+        if length < max(geo.min_spur, 1.5 * clearance[rc[0], rc[1]]) \
+                and not _is_recess(coords, n, other, length, clearance, real, geo):
             graph.remove_node(n)
             changed = True
     return changed
 
 
-def merge_close(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray, geo: Geometry) -> bool:
-    """Contract branches shorter than the merge distance, keeping the node with more clearance."""
+def merge_close(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray, geo: Geometry,
+                real: np.ndarray | None = None) -> bool:
+    """Contract branches shorter than the merge distance (a dead end's measured to the wall ahead; one
+    into a walled recess is kept), keeping the node with more clearance."""
     changed = False
     for u, v, key, data in sorted(graph.edges(keys=True, data=True), key=lambda e: len(e[3]["path"])):
         if u == v or u not in graph or v not in graph or not graph.has_edge(u, v, key):
             continue
         data = graph.edges[u, v, key]  # the snapshot may be stale after earlier merges
-        if _length(data["path"], coords) >= geo.merge:
-            continue
         ru, rv = coords[u], coords[v]
+        # a dead end's skeleton stops half a corridor short of the wall: a person measures to the wall
+        reach = sum(float(clearance[r[0], r[1]]) for n, r in ((u, ru), (v, rv)) if graph.degree(n) == 1)
+        length = _length(data["path"], coords)
+        if length + reach >= geo.merge or any(graph.degree(a) == 1 and graph.degree(b) >= 3 and _is_recess(
+                coords, a, b, length, clearance, real, geo) for a, b in ((u, v), (v, u))):
+            continue
         keep, drop = (u, v) if clearance[ru[0], ru[1]] >= clearance[rv[0], rv[1]] else (v, u)
         bridge = _oriented(data, keep)  # keep -> drop
         graph.remove_edge(u, v, key)
@@ -243,52 +264,6 @@ def drop_noise_loops(graph: nx.MultiGraph, coords: np.ndarray, walls: np.ndarray
     return changed
 
 
-def insert_doorways(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray,
-                    geo: Geometry) -> tuple[set[int], set[int]]:
-    """Add a node at each short bottleneck (clearance much smaller on both sides): doors; and at each
-    mouth where a long narrow passage opens into wider space: passage ends. Both bound rooms."""
-    doors: set[int] = set()
-    mouths: set[int] = set()
-    window = int(max(6, 2.0 / geo.mpp))
-    for u, v, key, data in list(graph.edges(keys=True, data=True)):
-        path = data["path"]
-        c = clearance[coords[path, 0], coords[path, 1]]
-        labels, count = ndimage.label(c <= geo.door_half)
-        cuts, ends = [], []
-        for run in range(1, count + 1):
-            idx = np.nonzero(labels == run)[0]
-            low = c[idx].min()
-            core = idx[c[idx] <= 1.15 * low + 1.0]  # the narrowest stretch: the opening itself
-            s, e = int(core[0]), int(core[-1])
-            left, right = c[max(0, s - window):s], c[e + 1:e + 1 + window]
-            if (e - s) * geo.mpp > 1.5:  # a passage: mark where it opens into wider space
-                if low <= geo.narrow_half:
-                    ends += [i for i, side in ((s, left), (e, right))
-                             if 3 <= i <= len(path) - 4 and len(side) and side.max() >= 1.5 * low]
-                continue
-            if s < 3 or e > len(path) - 4:
-                continue  # too close to an end
-            mid = int(core[len(core) // 2])
-            if len(left) and len(right) and min(left.max(), right.max()) >= 1.5 * low:
-                cuts.append(mid)
-        if cuts or ends:
-            graph.remove_edge(u, v, key)
-            added = dict(zip(sorted(set(cuts + ends)), _split_at(graph, data, cuts + ends), strict=True))
-            doors.update(added[i] for i in cuts)
-            mouths.update(added[i] for i in ends if i not in cuts)
-    return doors, mouths
-
-
-def _split_at(graph: nx.MultiGraph, data: dict, cuts: list[int]) -> list[int]:
-    """Split an edge's path at path indices `cuts`, adding a node at each; returns the new nodes."""
-    path, bounds, added = data["path"], [0, *sorted(set(cuts)), len(data["path"]) - 1], []
-    for a, b in zip(bounds, bounds[1:], strict=False):
-        graph.add_edge(path[a], path[b], path=path[a:b + 1], start=path[a])
-    for i in sorted(set(cuts)):
-        added.append(path[i])
-    return added
-
-
 # ---------------------------------------------------------------- straight, clear edges
 def chord_ok(a: np.ndarray, b: np.ndarray, clearance: np.ndarray, need: float) -> bool:
     """Clearance along the rasterised segment, drawn both ways (Bresenham is not symmetric and
@@ -311,7 +286,7 @@ def straighten(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray, 
                 cuts = [len(path) // 2]
             if cuts:
                 graph.remove_edge(u, v, key)
-                _split_at(graph, data, cuts)
+                split_at(graph, data, cuts)
         parallel = {(min(a, b), max(a, b)) for a, b, k in graph.edges(keys=True) if k > 0}
         if not parallel:
             return
@@ -319,7 +294,7 @@ def straighten(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray, 
             for key, data in sorted(graph.get_edge_data(u, v).items())[1:]:
                 graph.remove_edge(u, v, key)
                 if len(data["path"]) > 2:
-                    _split_at(graph, data, [len(data["path"]) // 2])
+                    split_at(graph, data, [len(data["path"]) // 2])
 
 
 def _cuts(pts: np.ndarray, clearance: np.ndarray, geo: Geometry, i: int, j: int) -> list[int]:
@@ -370,9 +345,9 @@ def extract_scene_graph(occ: OccupancyGrid, meters_per_pixel: float,
     stats.raw_nodes = graph.number_of_nodes()
     graph.remove_nodes_from([n for n in list(graph.nodes) if graph.degree(n) == 0 and len(graph) > 1])
     for _ in range(50):
-        changed = prune_spurs(graph, coords, wall_clearance, geo)
+        changed = prune_spurs(graph, coords, wall_clearance, geo, clearance)
         dissolve_chains(graph, keep=set())
-        changed |= merge_close(graph, coords, wall_clearance, geo)
+        changed |= merge_close(graph, coords, wall_clearance, geo, clearance)
         changed |= drop_noise_loops(graph, coords, walls)
         dissolve_chains(graph, keep=set())
         if not changed:

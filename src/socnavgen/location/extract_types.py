@@ -11,6 +11,7 @@ import numpy as np
 from skimage.draw import line as raster_line
 
 from socnavgen.location.models import Schema
+from socnavgen.location.rooms import CORRIDOR_WIDTH_M
 
 ROOM, INTERSECTION, CORNER, BLIND_CORNER = "ROOM", "INTERSECTION", "CORNER", "BLIND CORNER"
 DEAD_END = "DEAD END"
@@ -19,6 +20,8 @@ PASSAGEWAY, NARROW_PASSAGEWAY = "PASSAGEWAY", "NARROW PASSAGEWAY"
 EXTRACT_SCHEMA = Schema(
     node_types=[ROOM, DOORWAY, INTERSECTION, CORNER, BLIND_CORNER, DEAD_END, OPEN_AREA, NARROW_PASSAGE, SIMPLE_NODE],
     edge_types=[PASSAGEWAY, NARROW_PASSAGEWAY])
+# a walled recess two people wide (an entrance, a bay) and this deep past its wall is a place of its own
+RECESS_WIDTH_M, RECESS_DEPTH_M = 1.6, 0.5
 
 
 @dataclass
@@ -51,7 +54,10 @@ class Geometry:
         self.max_edge = max(4.0, opts.max_edge_m / density / mpp)
         self.narrow_half = round(opts.narrow_width_m / 2 / mpp, 6) + 1.0  # one pixel of rasterisation slack
         self.door_half = round(opts.door_width_m / 2 / mpp, 6) + 1.0
-        self.open_half = round(opts.open_width_m / 2 / mpp, 6)
+        self.recess_width = RECESS_WIDTH_M / mpp
+        self.recess_depth = RECESS_DEPTH_M / mpp
+        self.corridor_half = round(CORRIDOR_WIDTH_M / 2 / mpp, 6) + 1.0
+        self.open_half = round(opts.open_width_m / 2 / mpp, 6) - 1.0  # the same slack, the other way
         self.look = max(3.0, 1.5 / mpp)  # how far along each leg a corner's line-of-sight test looks
         self.room_cover_m = opts.room_cover_m / density
         self.wall_clearance: np.ndarray | None = None  # clearance from walls without specks, set per map
@@ -89,7 +95,12 @@ def type_node(graph: nx.MultiGraph, n: int, coords: np.ndarray, walls: np.ndarra
             return BLIND_CORNER
     if turns:
         return CORNER
-    return NARROW_PASSAGE if here < geo.narrow_half else SIMPLE_NODE
+    if here < geo.narrow_half:
+        return NARROW_PASSAGE
+    # a waypoint beside an open space (a rack's end, a wide bay) stands in that space for a person
+    k = int(max(2, 1.0 / geo.mpp))
+    near = clearance[max(0, r - k):r + k + 1, max(0, c - k):c + k + 1]
+    return OPEN_AREA if near.max() >= geo.open_half else SIMPLE_NODE
 
 
 def type_edge(a: np.ndarray, b: np.ndarray, clearance: np.ndarray, geo: Geometry) -> str:

@@ -19,7 +19,7 @@ import numpy as np
 from scipy import ndimage
 from skimage.morphology import skeletonize
 
-from socnavgen.location.traverse import first_tight_pixel, segment_walkable
+from socnavgen.location.traverse import edge_verdict, first_tight_pixel, segment_walkable
 
 CLUTTER_SIDE_M = 3.5  # an obstacle free of the walls whose bounding box fits in this square is furniture ...
 CLUTTER_AREA_M2 = 4.0  # ... when it also covers at most this area
@@ -27,7 +27,12 @@ CORRIDOR_WIDTH_M = 2.6  # pieces narrower than this ...
 CORRIDOR_ASPECT = 2.5  # ... and at least this many times longer than wide are corridors ...
 ROOM_FILL = 0.6  # ... unless their box is twice a corridor's width both ways and at least this full of floor
 HALL_HOLES = 0.15  # a piece with blocks inside covering this much of it (or three blocks or more) is a hall
+CLOSET_M2 = 6.0  # a dead-end piece behind one door this small is a room (an elevator) even when long
+OPEN_SPOT_M = 0.75  # a room's node stands where two people pass (a 1.5 m disc fits), if there is such a spot
 ROOM_M2_PER_COVER = 5.0  # a room gets one node per this many squared coverage radii of floor (~100 m2 at 4.5 m)
+DOOR_FRONT_DOORS = 3  # in a room with this many doorways, one farther than ...
+DOOR_FRONT_FAR = 0.6  # ... this many coverage radii from the room's nodes ...
+DOOR_FRONT_M = 1.5  # ... gets a node this far inside the room, on the way to the nearest one
 
 
 def furniture_mask(blocked: np.ndarray, meters_per_pixel: float) -> np.ndarray:
@@ -127,6 +132,7 @@ def classify_regions(labels: np.ndarray, count: int, structural: np.ndarray, cle
         length = float(skel.sum()) * meters_per_pixel + 2 * spur * meters_per_pixel
         rows, cols = box
         box_h, box_w = (rows.stop - rows.start) * meters_per_pixel, (cols.stop - cols.start) * meters_per_pixel
+        length = min(length, box_h + box_w - width)  # a spine fits in its box: a closet is not long
         # a walled box much wider than a corridor, mostly floor, is a room whose furniture narrows the aisles
         boxy = min(box_h, box_w) >= 2 * CORRIDOR_WIDTH_M and \
             float(filled.sum()) * meters_per_pixel ** 2 >= ROOM_FILL * box_h * box_w
@@ -160,11 +166,14 @@ def _without_spurs(skeleton: np.ndarray, steps: int) -> np.ndarray:
 
 def place_room_nodes(mask: np.ndarray, clearance: np.ndarray, door_points: list[tuple[int, int]],
                      meters_per_pixel: float, cover_m: float) -> list[tuple[int, int]]:
-    """(row, col) of the nodes standing for one room: first a roomy spot near the middle that sees the
-    most doorways, then, while some walkable part of the room is farther than `cover_m` from
-    every node, the farthest such spot (people name the corners of a big room too)."""
+    """(row, col) of the nodes standing for one room: first the open spot nearest its middle (where a
+    person writes the room's name: not squeezed between desks; seeing a doorway only breaks near-ties),
+    then, while some walkable part of the room is farther than `cover_m` from every node, the farthest
+    such spot (people name the corners of a big room too)."""
     person = 0.4 / meters_per_pixel
-    roomy = mask & (clearance >= person)
+    roomy = mask & (clearance >= OPEN_SPOT_M / meters_per_pixel)
+    if not roomy.any():
+        roomy = mask & (clearance >= person)
     if not roomy.any():
         roomy = mask & (clearance >= max(1.0, clearance[mask].max() * 0.8))
     rows, cols = np.nonzero(roomy)
@@ -176,7 +185,7 @@ def place_room_nodes(mask: np.ndarray, clearance: np.ndarray, door_points: list[
         p = (int(rows[i]), int(cols[i]))
         seen = sum(segment_walkable(clearance, (p[1], p[0]), (d[1], d[0]), meters_per_pixel) for d in door_points)
         off_centre = math.dist(p, centre) * meters_per_pixel
-        score = seen * 2.0 + min(clearance[p] * meters_per_pixel, 1.0) - 0.4 * off_centre
+        score = seen * 0.8 + 0.5 * min(clearance[p] * meters_per_pixel, 1.0) - off_centre
         if score > best_score:
             best, best_score = p, score
     assert best is not None
@@ -255,8 +264,8 @@ def replace_rooms(graph, coords: np.ndarray, doors: set[int], free: np.ndarray, 
         region.doors = sorted(d for d, regs in door_regions.items() if label in regs)
         if region.area_m2 < 2.0:  # a sliver between two cuts is a passage
             region.kind = "corridor"
-        elif len(region.doors) == 1 and not region.hall and not region.elongated:  # a dead-end space: closet, elevator, office
-            region.kind = "room"
+        elif len(region.doors) == 1 and not region.hall and (not region.elongated or region.area_m2 <= CLOSET_M2):
+            region.kind = "room"  # a dead-end space behind one door: closet, elevator, office
     rooms = {label for label, r in regions.items() if r.kind == "room"}
     for (u, v, key), label in edge_regions.items():
         if label in rooms:
@@ -276,7 +285,8 @@ def replace_rooms(graph, coords: np.ndarray, doors: set[int], free: np.ndarray, 
         result.room_nodes.add(ids[0])
         result.extra_nodes.update(ids[1:])
         graph.add_nodes_from(ids)
-        waypoints = _join_room(graph, ids, region.doors, points_all, clearance, meters_per_pixel, mask)
+        waypoints = _join_room(graph, ids, region.doors, points_all, clearance, meters_per_pixel, mask,
+                               cover_m)
         result.extra_nodes.update(waypoints)
     _contract_close(graph, points_all, clearance, meters_per_pixel, result.room_nodes, result.extra_nodes)
     result.coords = np.array(points_all, dtype=coords.dtype).reshape(-1, 2)
@@ -308,13 +318,17 @@ def _contract_close(graph, points: list[tuple[int, int]], clearance: np.ndarray,
 
 
 def _visible(points: list[tuple[int, int]], clearance: np.ndarray, a: int, b: int, mpp: float) -> bool:
-    return segment_walkable(clearance, (points[a][1], points[a][0]), (points[b][1], points[b][0]), mpp)
+    """Whether a person walks straight from node a to b: the disc fits, or (THE traversability rule)
+    only chairs or desks stand in the way with a short step round them, as a person draws across a room."""
+    pa, pb = (points[a][1], points[a][0]), (points[b][1], points[b][0])
+    return segment_walkable(clearance, pa, pb, mpp) or edge_verdict(clearance, pa, pb, mpp).level == "ok"
 
 
 def _join_room(graph, ids: list[int], doors: list[int], points: list[tuple[int, int]], clearance: np.ndarray,
-               mpp: float, mask: np.ndarray) -> list[int]:
+               mpp: float, mask: np.ndarray, cover_m: float) -> list[int]:
     """Room nodes joined by a shortest tree (pairs that see each other first), each doorway to the
-    nearest room node it sees; where two ends do not see each other a waypoint both see is added
+    nearest room node it sees (through a node just inside the door when that room node is far); where
+    two ends do not see each other a waypoint both see is added
     (returned), so every edge stays walkable."""
     import networkx as nx
 
@@ -360,9 +374,17 @@ def _join_room(graph, ids: list[int], doors: list[int], points: list[tuple[int, 
             a, b = min(((x, y) for x in joined for y in part), key=lambda pair: dist(*pair))
             add(a, b)
             joined = joined + part
+    front_px = DOOR_FRONT_M / mpp
     for d in doors:
         seen = [n for n in ids if _visible(points, clearance, d, n, mpp)]
-        add(d, min(seen or ids, key=lambda n: dist(d, n)))
+        n = min(seen or ids, key=lambda n: dist(d, n))
+        # a big room people cross between several doors: they meet just inside each door
+        if seen and len(doors) >= DOOR_FRONT_DOORS and dist(d, n) * mpp > DOOR_FRONT_FAR * cover_m:
+            t = front_px / dist(d, n)
+            front = tuple(int(round(a + t * (b - a))) for a, b in zip(points[d], points[n], strict=True))
+            chain(d, [front], n)
+        else:
+            add(d, n)
     return waypoints
 
 
