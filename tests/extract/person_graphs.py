@@ -17,7 +17,7 @@ from tests.extract.synthetic_maps import RES, write_map
 ROOT = Path(__file__).resolve().parents[2]
 DATA = json.loads((Path(__file__).parent / "data" / "person_graphs.json").read_text())
 NAMES = ["home", "hospital", "warehouse", "office", "clinic"]  # the maps of the "done when"
-SOCRATES = ["socrates_hospital", "socrates_arena"]  # SocRATES's maps and graphs (Apache-2.0, see NOTICE)
+SOCRATES = ["socrates_hospital", "socrates_arena", "socrates_small_warehouse"]  # SocRATES's maps and graphs (Apache-2.0, see NOTICE)
 
 
 @dataclass

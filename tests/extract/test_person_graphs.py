@@ -70,3 +70,16 @@ def test_a_partial_graph_is_compared_where_the_person_drew() -> None:
                                   Node(id="ee", type="DEAD END", pos=(230, 0))])  # 1.5 m past its end
     kept = within_drawn_part(person, extracted, 0.05)
     assert [n.id for n in kept.nodes] == ["cc", "ee"]
+
+
+def test_socrates_small_warehouse_is_drawn_as_aisles_not_one_room(tmp_path: Path) -> None:
+    """SocRATES's small warehouse (a 13.5 x 20 m floor of racks and shelf rows, the person's graph covers
+    all of it): a floor that large is not one place, so its lanes are drawn (it was one ROOM and five
+    OPEN AREA nodes for the person's 18); size within 0.5-2x, recall above its measured 0.67."""
+    pm = person_map("socrates_small_warehouse", tmp_path)
+    assert not pm.partial
+    location, stats = extract_location(pm.map_yaml, tmp_path / "out", ExtractOptions(seed=1))
+    s = score(pm.graph, location.scene_graph, pm.meters_per_pixel, aliases=pm.aliases)
+    assert 0.5 <= s.size_ratio <= 2.0, (s.extracted_nodes, s.person_nodes)
+    assert stats.rooms == 0 and stats.types.get("INTERSECTION", 0) >= 5, stats.types
+    assert s.recall >= 0.65, s.missed

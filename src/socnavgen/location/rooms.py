@@ -27,6 +27,7 @@ CORRIDOR_WIDTH_M = 2.6  # pieces narrower than this ...
 CORRIDOR_ASPECT = 2.5  # ... and at least this many times longer than wide are corridors ...
 ROOM_FILL = 0.6  # ... unless their box is twice a corridor's width both ways and at least this full of floor
 HALL_HOLES = 0.15  # a piece with blocks inside covering this much of it (or three blocks or more) is a hall
+HALL_M2 = 150.0  # ... and so is any piece of at least this much floor
 CLOSET_M2 = 6.0  # a dead-end piece behind one door this small is a room (an elevator) even when long
 OPEN_SPOT_M = 0.75  # a room's node stands where two people pass (a 1.5 m disc fits), if there is such a spot
 ROOM_M2_PER_COVER = 5.0  # a room gets one node per this many squared coverage radii of floor (~100 m2 at 4.5 m)
@@ -140,6 +141,8 @@ def classify_regions(labels: np.ndarray, count: int, structural: np.ndarray, cle
         # racks or wall blocks standing inside make a hall; one table island in a room does not
         hall = bool(holes.any()) and (float(holes.sum()) >= HALL_HOLES * float(filled.sum())
                                       or ndimage.label(holes)[1] >= 3)
+        # a floor this large is not one place: a person draws its lanes (a warehouse, an open-plan hall)
+        hall = hall or area >= HALL_M2
         kind = "corridor" if hall or elongated else "room"
         regions[label] = Region(label=label, kind=kind, area_m2=area, width_m=width, hall=hall,
                                 elongated=elongated)
