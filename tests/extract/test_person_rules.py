@@ -120,3 +120,18 @@ def test_a_rooms_node_stands_in_its_open_middle_not_at_its_door(map_factory, tmp
     (room,) = [n for n in location.scene_graph.nodes if n.type == "ROOM"]
     assert math.dist(room.pos, (140, 120)) * 0.05 <= 2.5, room.pos  # the room's middle
     assert math.dist(room.pos, (240, 40)) * 0.05 >= 4.0, room.pos  # not by the door
+
+
+def slot_map() -> np.ndarray:
+    """A 1.6 m corridor with a 0.5 m wide, 2 m deep slot between two cabinets in its south wall (a scan's
+    gap between beds): walkable for the skeleton, but nobody's place."""
+    img = blank(200, 400)
+    carve(img, 40, 72, 20, 380)  # corridor rows 40-72
+    carve(img, 72, 112, 195, 205)  # the slot: 10 px (0.5 m) wide, 40 px (2 m) deep
+    return img
+
+
+def test_a_dead_end_gap_nobody_fits_in_gets_no_node(map_factory, tmp_path) -> None:
+    location = extracted(map_factory, tmp_path, slot_map(), "slot")
+    assert not [n for n in location.scene_graph.nodes if n.pos[1] > 76], location.scene_graph.nodes
+    assert "INTERSECTION" not in {n.type for n in location.scene_graph.nodes}  # no junction for it either

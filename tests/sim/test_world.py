@@ -41,3 +41,16 @@ def test_line_of_sight_on_a_flipped_rotated_transform():
     c = complex(*transform.pixel_to_world(20, 90))
     assert world.line_of_sight(a, np.array([b, c])).tolist() == [False, True]
     assert world.free_along(a, (b - a) / abs(b - a), 6.0, 0.3) == pytest.approx(2.7, abs=0.1)
+
+
+def test_segments_clear_agrees_with_line_of_sight_segment_by_segment():
+    """The verifier's batched sight test draws each segment as the simulator's line_of_sight draws it
+    alone, whatever the lengths of the other segments in the batch (short ones near walls included)."""
+    world = empty_room(12.0, 8.0, walls=[(3.0, 2.0, 3.4, 6.0), (7.0, 0.0, 7.3, 5.0), (5.0, 6.5, 5.05, 6.55)])
+    rng = np.random.default_rng(7)
+    a = rng.uniform(0.3, 11.7, 400) + 1j * rng.uniform(0.3, 7.7, 400)
+    b = a + (rng.uniform(-1, 1, 400) + 1j * rng.uniform(-1, 1, 400)) * rng.choice([0.05, 0.5, 4.0, 12.0], 400)
+    batched = world.segments_clear(a, b, chunk=16)
+    one_by_one = [bool(world.line_of_sight(complex(p), complex(q))[0]) for p, q in zip(a, b, strict=True)]
+    assert batched.tolist() == one_by_one
+    assert 20 < sum(one_by_one) < 380  # both answers occur

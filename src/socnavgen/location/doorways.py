@@ -40,6 +40,8 @@ def insert_doorways(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndar
                     near_end = [i for i in (s, e) if min(i, len(path) - 1 - i) < geo.merge]
                     if len(near_end) == 1 and (e - s) > 2 * geo.merge:
                         marks = [i for i in marks if i not in near_end] + [(s + e) // 2]
+                    elif len(marks) == 2 and (e - s) <= 2 * geo.merge:  # a short passage: one node names it
+                        marks = [(s + e) // 2]
                     ends += marks
                 continue
             if s < 3 or e > len(path) - 4:

@@ -209,7 +209,9 @@ def prune_spurs(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarray,
         if graph.degree(other) < 3:
             continue
         length, rc = _length(data["path"], coords), coords[other]
-        if length < max(geo.min_spur, 1.5 * clearance[rc[0], rc[1]]) \
+        far = coords[_oriented(data, other)[len(data["path"]) // 2:]]  # the branch's outer half
+        slot = real is not None and np.median(real[far[:, 0], far[:, 1]]) < geo.slot_half  # nobody fits in
+        if slot or length < max(geo.min_spur, 1.5 * clearance[rc[0], rc[1]]) \
                 and not _is_recess(coords, n, other, length, clearance, real, geo):
             graph.remove_node(n)
             changed = True

@@ -22,6 +22,7 @@ EXTRACT_SCHEMA = Schema(
     edge_types=[PASSAGEWAY, NARROW_PASSAGEWAY])
 # a walled recess two people wide (an entrance, a bay) and this deep past its wall is a place of its own
 RECESS_WIDTH_M, RECESS_DEPTH_M = 1.6, 0.5
+SLOT_WIDTH_M = 0.6  # a dead end narrower than a person's shoulders at its tip is a gap, not a place
 
 
 @dataclass
@@ -49,12 +50,13 @@ class Geometry:
         density = max(opts.detail, 0.05)
         self.mpp = mpp
         self.gap_r = max(1.0, opts.min_gap_m / 2 / mpp)
-        self.min_spur = opts.min_spur_m / mpp
+        self.min_spur = opts.min_spur_m / min(density, 1.0) / mpp  # a coarser graph drops longer side branches
         self.merge = max(2.0, opts.merge_m / density / mpp)
         self.max_edge = max(4.0, opts.max_edge_m / density / mpp)
         self.narrow_half = round(opts.narrow_width_m / 2 / mpp, 6) + 1.0  # one pixel of rasterisation slack
         self.door_half = round(opts.door_width_m / 2 / mpp, 6) + 1.0
         self.recess_width = RECESS_WIDTH_M / mpp
+        self.slot_half = SLOT_WIDTH_M / 2 / mpp
         self.recess_depth = RECESS_DEPTH_M / mpp
         self.corridor_half = round(CORRIDOR_WIDTH_M / 2 / mpp, 6) + 1.0
         self.open_half = round(opts.open_width_m / 2 / mpp, 6) - 1.0  # the same slack, the other way

@@ -23,11 +23,12 @@ from socnavgen.location.traverse import edge_verdict, first_tight_pixel, segment
 
 CLUTTER_SIDE_M = 3.5  # an obstacle free of the walls whose bounding box fits in this square is furniture ...
 CLUTTER_AREA_M2 = 4.0  # ... when it also covers at most this area
+CLUTTER_THIN_M = 0.6  # a longer one of at most that area is furniture too when this thin on average (a desk row)
 CORRIDOR_WIDTH_M = 2.6  # pieces narrower than this ...
 CORRIDOR_ASPECT = 2.5  # ... and at least this many times longer than wide are corridors ...
 ROOM_FILL = 0.6  # ... unless their box is twice a corridor's width both ways and at least this full of floor
 HALL_HOLES = 0.15  # a piece with blocks inside covering this much of it (or three blocks or more) is a hall
-HALL_M2 = 150.0  # ... and so is any piece of at least this much floor
+HALL_M2 = 200.0  # ... and so is any piece of at least this much floor
 CLOSET_M2 = 6.0  # a dead-end piece behind one door this small is a room (an elevator) even when long
 OPEN_SPOT_M = 0.75  # a room's node stands where two people pass (a 1.5 m disc fits), if there is such a spot
 ROOM_M2_PER_COVER = 5.0  # a room gets one node per this many squared coverage radii of floor (~100 m2 at 4.5 m)
@@ -51,7 +52,8 @@ def furniture_mask(blocked: np.ndarray, meters_per_pixel: float) -> np.ndarray:
         rows, cols = box
         on_border = rows.start == 0 or cols.start == 0 or rows.stop == h or cols.stop == w
         extent = max(rows.stop - rows.start, cols.stop - cols.start)
-        keep[label] = not on_border and extent <= side and areas[label] <= area
+        thin = areas[label] <= area and areas[label] / extent * meters_per_pixel <= CLUTTER_THIN_M  # a desk row
+        keep[label] = not on_border and (extent <= side and areas[label] <= area or thin)
     return keep[labels]
 
 
@@ -214,7 +216,12 @@ def place_room_nodes(mask: np.ndarray, clearance: np.ndarray, door_points: list[
         ranked = near[np.argsort(-clearance[ir[near], ic[near]])][:: max(1, len(near) // 40)]
         seen = [k for k in ranked if any(segment_walkable(clearance, (ic[k], ir[k]), (c, r), meters_per_pixel)
                                          for r, c in nodes)]
-        k = seen[0] if seen else ranked[0]  # one that an existing node sees, so the room's edges are walkable
+        if not seen:  # else the best few a person walks to past a chair (THE traversability rule)
+            seen = [k for k in ranked[:6] if any(edge_verdict(clearance, (ic[k], ir[k]), (c, r),
+                                                              meters_per_pixel).level == "ok" for r, c in nodes)]
+        if not seen:  # the rest of the room is behind furniture from every node: a person stops naming parts
+            break
+        k = seen[0]  # one that an existing node sees, so the room's edges are walkable
         nodes.append((int(ir[k]), int(ic[k])))
     return nodes
 
@@ -382,13 +389,27 @@ def _join_room(graph, ids: list[int], doors: list[int], points: list[tuple[int, 
         seen = [n for n in ids if _visible(points, clearance, d, n, mpp)]
         n = min(seen or ids, key=lambda n: dist(d, n))
         # a big room people cross between several doors: they meet just inside each door
+        front = None
         if seen and len(doors) >= DOOR_FRONT_DOORS and dist(d, n) * mpp > DOOR_FRONT_FAR * cover_m:
-            t = front_px / dist(d, n)
-            front = tuple(int(round(a + t * (b - a))) for a, b in zip(points[d], points[n], strict=True))
+            front = _front_spot(points[d], points[n], front_px, clearance, mpp)
+        if front is not None:
             chain(d, [front], n)
         else:
             add(d, n)
     return waypoints
+
+
+def _front_spot(door: tuple[int, int], node: tuple[int, int], front_px: float, clearance: np.ndarray,
+                mpp: float) -> tuple[int, int] | None:
+    """The first spot at least `front_px` inside the room on the way from a doorway to a room node where
+    a person stands clear of every obstacle (the way may pass a chair); None when there is none."""
+    length = math.dist(door, node)
+    for along in np.arange(front_px, length - front_px / 2, 2.0):
+        t = along / length
+        spot = (int(round(door[0] + t * (node[0] - door[0]))), int(round(door[1] + t * (node[1] - door[1]))))
+        if clearance[spot] * mpp >= 0.4:
+            return spot
+    return None
 
 
 def add_chain(graph, points: list[tuple[int, int]], a: int, vias: list[tuple[int, int]], b: int) -> list[int]:

@@ -131,13 +131,22 @@ class World:
         out = np.ones(flat_a.shape, dtype=bool)
         if not self.has_obstacles or flat_a.size == 0:
             return out.reshape(a.shape)
-        for start in range(0, flat_a.size, chunk):
-            pa, pb = flat_a[start:start + chunk], flat_b[start:start + chunk]
-            samples = max(2, int(np.ceil(np.abs(pb - pa).max() / (0.5 * self.mpp))) + 1)
-            pts = pa[:, None] + np.outer(pb - pa, np.linspace(0.0, 1.0, samples))
-            rows, cols, inside = self.to_cells(pts)
+        # each segment is sampled as line_of_sight samples it alone (its own count, from its own length), all
+        # segments' samples in one flat array: a batch of short segments does not pay for its longest one
+        counts = np.maximum(2, np.ceil(np.abs(flat_b - flat_a) / (0.5 * self.mpp)).astype(np.intp) + 1)
+        for lo in range(0, flat_a.size, chunk):
+            c = counts[lo:lo + chunk]
+            seg = np.repeat(np.arange(c.size), c)
+            first = np.cumsum(c) - c
+            k = np.arange(seg.size) - first[seg]
+            frac = k * (1.0 / (c - 1))[seg]  # as np.linspace(0, 1, count) computes it ...
+            frac[first + c - 1] = 1.0  # ... with its last sample exactly at the end
+            pa, pb = flat_a[lo:lo + chunk][seg], flat_b[lo:lo + chunk][seg]
+            rows, cols, inside = self.to_cells(pa + (pb - pa) * frac)
             hit = self.blocked[rows, cols] | ~inside
-            out[start:start + chunk] = ~hit[:, 1:-1].any(axis=1)
+            hit[first] = False  # the end cells hold the two bodies themselves
+            hit[first + c - 1] = False
+            out[lo:lo + chunk] = ~np.logical_or.reduceat(hit, first)
         return out.reshape(a.shape)
 
     def free_along(self, start: complex, direction: complex, max_distance: float, radius: float) -> float:
