@@ -103,6 +103,7 @@ class Simulation:
         # per-step scratch read by the nodes
         self.robot_dist: list[float] = [0.0] * n
         self._in_sight: dict[int, bool] = {}
+        self._pairs: list[tuple[int, int]] | None = None
         self.give_way: list[dict | None] = [None] * n
         self.face_robot_after_step: dict[int, float] = {}
         self.tick_action = [-1] * n
@@ -277,10 +278,11 @@ class Simulation:
         moved = False
         n = crowd.n
         if n >= 2:
-            diff = pos[:, None] - pos[None, :]
-            overlap = radius[:, None] + radius[None, :] - np.abs(diff)
-            np.fill_diagonal(overlap, -1.0)
-            for i, j in zip(*np.nonzero(np.triu(overlap > 1e-6)), strict=True):
+            if self._pairs is None or len(self._pairs) != n * (n - 1) // 2:
+                self._pairs = [(i, j) for i in range(n) for j in range(i + 1, n)]  # every pair once, i < j
+            pl, rl = pos.tolist(), radius.tolist()  # scalar checks: a handful of people, no numpy overhead
+            hits = [(i, j) for i, j in self._pairs if rl[i] + rl[j] - abs(pl[i] - pl[j]) > 1e-6]
+            for i, j in hits:
                 d = pos[i] - pos[j]
                 unit = d / abs(d) if abs(d) > 1e-9 else complex(math.cos(0.7 * (i + 1)), math.sin(0.7 * (j + 1)))
                 depth = radius[i] + radius[j] - abs(d) + 1e-4  # just apart: no state exactly on the boundary
@@ -292,15 +294,18 @@ class Simulation:
                         pos[k] = cand
                         moved = True
         # last, the robot: nobody ends a step deeper into it than the robot's own move put them
-        reach = radius + self.robot_radius
-        gap_new = np.abs(pos - rp) - reach
-        if (gap_new < CONTACT_SLACK).any():
-            allowed = np.minimum(np.abs(before - rp) - reach, CONTACT_SLACK)
-            for i in np.flatnonzero(gap_new < allowed - 1e-9).tolist():
-                away = pos[i] - rp
+        robot_r = self.robot_radius
+        for i, (p_i, r_i) in enumerate(zip(pos.tolist(), radius.tolist(), strict=True)):
+            reach = r_i + robot_r
+            gap_new = abs(p_i - rp) - reach
+            if gap_new >= CONTACT_SLACK:
+                continue
+            allowed = min(abs(complex(before[i]) - rp) - reach, CONTACT_SLACK)
+            if gap_new < allowed - 1e-9:
+                away = p_i - rp
                 unit = away / abs(away) if abs(away) > 1e-9 else -self._robot_dir
-                cand = rp + unit * (reach[i] + allowed[i])
-                if self.world.clearance_at_point(cand) < 0.5 * radius[i]:
+                cand = rp + unit * (reach + allowed)
+                if self.world.clearance_at_point(cand) < 0.5 * r_i:
                     cand = complex(before[i])  # no room beside the robot (a wall): the step is not taken
                 pos[i] = cand
                 moved = True
