@@ -19,6 +19,7 @@ from typing import Any
 
 import numpy as np
 
+from socnavgen.verify import stl_numpy
 from socnavgen.verify.signals import Signals, UnknownSignal
 
 MAX_FORMULA_CHARS = 1000
@@ -110,16 +111,18 @@ def monitor(formula: str, signals: Signals) -> Verdict:
     try:
         rtamt_log.setLevel(logging.ERROR)  # rtamt warns on the root logger about implicit declarations
         spec = _parsed(formula, tuple(names), dt)
-        data = {"time": [float(x) for x in t]}
-        data.update({name: [float(v) for v in signals.get(name)] for name in names})
-        out = spec.evaluate(data)
+        try:  # rtamt's semantics with numpy, whole trace at once; rtamt itself for what it does not cover
+            series = stl_numpy.evaluate(spec, {name: signals.get(name) for name in names})
+        except stl_numpy.NotSupported:
+            data = {"time": [float(x) for x in t]}
+            data.update({name: [float(v) for v in signals.get(name)] for name in names})
+            series = np.array([float(v) for _, v in spec.evaluate(data)], dtype=float)
     except rtamt.RTAMTException as exc:
         raise FormulaError(_readable(str(exc))) from None
     except RecursionError:  # pragma: no cover - MAX_NESTING keeps formulas far from this
         raise FormulaError(f"the formula is too deeply nested (at most {MAX_NESTING} levels)") from None
     finally:
         rtamt_log.setLevel(level)
-    series = np.array([float(v) for _, v in out], dtype=float)
     return Verdict(robustness=float(series[0]) if len(series) else float("-inf"), series=series)
 
 
