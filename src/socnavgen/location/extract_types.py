@@ -22,7 +22,7 @@ EXTRACT_SCHEMA = Schema(
     edge_types=[PASSAGEWAY, NARROW_PASSAGEWAY])
 # a walled recess two people wide (an entrance, a bay) and this deep past its wall is a place of its own
 RECESS_WIDTH_M, RECESS_DEPTH_M = 1.6, 0.5
-SLOT_WIDTH_M = 0.6  # a dead end narrower than a person's shoulders at its tip is a gap, not a place
+SLOT_WIDTH_M = 0.6  # a dead-end branch whose outer half is narrower than shoulders is a gap, not a place
 
 
 @dataclass

@@ -23,7 +23,6 @@ from socnavgen.location.traverse import edge_verdict, first_tight_pixel, segment
 
 CLUTTER_SIDE_M = 3.5  # an obstacle free of the walls whose bounding box fits in this square is furniture ...
 CLUTTER_AREA_M2 = 4.0  # ... when it also covers at most this area
-CLUTTER_THIN_M = 0.6  # a longer one of at most that area is furniture too when this thin on average (a desk row)
 CORRIDOR_WIDTH_M = 2.6  # pieces narrower than this ...
 CORRIDOR_ASPECT = 2.5  # ... and at least this many times longer than wide are corridors ...
 ROOM_FILL = 0.6  # ... unless their box is twice a corridor's width both ways and at least this full of floor
@@ -52,8 +51,7 @@ def furniture_mask(blocked: np.ndarray, meters_per_pixel: float) -> np.ndarray:
         rows, cols = box
         on_border = rows.start == 0 or cols.start == 0 or rows.stop == h or cols.stop == w
         extent = max(rows.stop - rows.start, cols.stop - cols.start)
-        thin = areas[label] <= area and areas[label] / extent * meters_per_pixel <= CLUTTER_THIN_M  # a desk row
-        keep[label] = not on_border and (extent <= side and areas[label] <= area or thin)
+        keep[label] = not on_border and extent <= side and areas[label] <= area
     return keep[labels]
 
 
