@@ -140,3 +140,21 @@ def test_infinite_differences_fall_back_instead_of_guessing() -> None:
     data = {"dist_a": np.array([np.inf, 1.0]), "mid_a": np.array([np.inf, 0.0])}
     with pytest.raises(stl_numpy.NotSupported):
         numpy_series("(dist_a - mid_a) >= 0", data)
+
+
+def test_a_reversed_interval_is_a_formula_error_not_a_crash() -> None:
+    """eventually[1:0.5] is an empty window: rtamt's evaluate fails with a bare ValueError (the numpy path
+    leaves such bounds to it); monitor says what to change instead."""
+    from socnavgen.verify.stl import FormulaError, monitor
+
+    class Stub:
+        t = np.arange(20) * DT
+        trace = type("T", (), {"dt": DT})()
+
+        def get(self, name: str) -> np.ndarray:
+            return np.linspace(0.0, 3.0, 20)
+
+    with pytest.raises(FormulaError, match=r"a <= b"):
+        monitor("eventually[1:0.5] (dist_a > 1)", Stub())
+    # the window at t = 0 ends at sample 10 of 20 evenly spread over 0..3
+    assert monitor("eventually[0:0.5] (dist_a > 1)", Stub()).robustness == pytest.approx(3.0 * 10 / 19 - 1.0)

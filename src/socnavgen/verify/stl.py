@@ -119,6 +119,9 @@ def monitor(formula: str, signals: Signals) -> Verdict:
             series = np.array([float(v) for _, v in spec.evaluate(data)], dtype=float)
     except rtamt.RTAMTException as exc:
         raise FormulaError(_readable(str(exc))) from None
+    except (ValueError, ArithmeticError) as exc:  # rtamt on e.g. eventually[2:1] (an empty window), x / 0
+        raise FormulaError(f"the formula cannot be evaluated on this trace ({exc}); check that every "
+                           "interval [a:b] has a <= b and that nothing is divided by zero") from None
     except RecursionError:  # pragma: no cover - MAX_NESTING keeps formulas far from this
         raise FormulaError(f"the formula is too deeply nested (at most {MAX_NESTING} levels)") from None
     finally:

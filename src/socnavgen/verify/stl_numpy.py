@@ -55,6 +55,13 @@ class _Walker:
     def __init__(self, data: dict[str, np.ndarray], n: int, bounds: Any) -> None:
         self.data, self.n, self.bounds = data, n, bounds
 
+    def window(self, node: Any) -> tuple[int, int]:
+        """The bounds in samples, as rtamt converts them; anything but 0 <= begin <= end is left to rtamt."""
+        begin, end = self.bounds(node)
+        if not 0 <= begin <= end:
+            raise NotSupported(f"bounds [{begin}:{end}]")
+        return begin, end
+
     def visit(self, node: Any) -> np.ndarray:
         method = getattr(self, "_" + type(node).__name__, None)
         if method is None:
@@ -161,19 +168,19 @@ class _Walker:
 
     # -- timed operators (bounds in samples from rtamt's interpreter)
     def _TimedEventually(self, node: Any) -> np.ndarray:
-        begin, end = self.bounds(node)
+        begin, end = self.window(node)
         return _future_window(self._children(node)[0], begin, end, -INF, np.max)
 
     def _TimedAlways(self, node: Any) -> np.ndarray:
-        begin, end = self.bounds(node)
+        begin, end = self.window(node)
         return _future_window(self._children(node)[0], begin, end, INF, np.min)
 
     def _TimedOnce(self, node: Any) -> np.ndarray:
-        begin, end = self.bounds(node)
+        begin, end = self.window(node)
         return _past_window(self._children(node)[0], begin, end, -INF, np.max)
 
     def _TimedHistorically(self, node: Any) -> np.ndarray:
-        begin, end = self.bounds(node)
+        begin, end = self.window(node)
         return _past_window(self._children(node)[0], begin, end, INF, np.min)
 
     # -- one-step operators
