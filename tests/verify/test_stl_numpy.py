@@ -65,6 +65,18 @@ def signals(kind: str, n: int, rng: np.random.Generator) -> dict[str, np.ndarray
     return out
 
 
+class TraceSignals:
+    """What monitor() reads of verify.signals.Signals: the sample times, the trace's dt, named signals."""
+
+    def __init__(self, data: dict[str, np.ndarray]) -> None:
+        self.data = data
+        self.t = np.arange(len(next(iter(data.values())))) * DT
+        self.trace = type("Trace", (), {"dt": DT})()
+
+    def get(self, name: str) -> np.ndarray:
+        return self.data[name]
+
+
 def rtamt_series(formula: str, data: dict[str, np.ndarray]) -> np.ndarray:
     names = tuple(formula_signals(formula))
     spec = _parsed(formula, names, DT)
@@ -116,22 +128,13 @@ def test_a_one_sample_trace_is_monitored() -> None:
 
 
 def test_what_numpy_does_not_cover_falls_back_to_rtamt() -> None:
-    from socnavgen.verify.signals import Signals  # noqa: F401 - monitor's signature
     from socnavgen.verify.stl import monitor
 
     formula = "(dist_a / mid_a) <= 1"  # division: Python raises on zero, numpy would not
     data = {"dist_a": np.array([1.0, 2.0, 3.0]), "mid_a": np.array([2.0, 2.0, 2.0])}
     with pytest.raises(stl_numpy.NotSupported):
         numpy_series(formula, data)
-
-    class Stub:
-        t = np.array([0.0, DT, 2 * DT])
-        trace = type("T", (), {"dt": DT})()
-
-        def get(self, name: str) -> np.ndarray:
-            return data[name]
-
-    verdict = monitor(formula, Stub())
+    verdict = monitor(formula, TraceSignals(data))
     assert verdict.series.tolist() == rtamt_series(formula, data).tolist() == [0.5, 0.0, -0.5]
 
 
@@ -147,14 +150,8 @@ def test_a_reversed_interval_is_a_formula_error_not_a_crash() -> None:
     leaves such bounds to it); monitor says what to change instead."""
     from socnavgen.verify.stl import FormulaError, monitor
 
-    class Stub:
-        t = np.arange(20) * DT
-        trace = type("T", (), {"dt": DT})()
-
-        def get(self, name: str) -> np.ndarray:
-            return np.linspace(0.0, 3.0, 20)
-
+    signals = TraceSignals({"dist_a": np.linspace(0.0, 3.0, 20)})
     with pytest.raises(FormulaError, match=r"a <= b"):
-        monitor("eventually[1:0.5] (dist_a > 1)", Stub())
+        monitor("eventually[1:0.5] (dist_a > 1)", signals)
     # the window at t = 0 ends at sample 10 of 20 evenly spread over 0..3
-    assert monitor("eventually[0:0.5] (dist_a > 1)", Stub()).robustness == pytest.approx(3.0 * 10 / 19 - 1.0)
+    assert monitor("eventually[0:0.5] (dist_a > 1)", signals).robustness == pytest.approx(3.0 * 10 / 19 - 1.0)

@@ -151,37 +151,30 @@ class _Walker:
 
     def _Until(self, node: Any) -> np.ndarray:
         """out[i] = max(right[i], min(left[i], out[i+1])), out[n] = -inf: one pass from the end."""
-        left, right = (a.tolist() for a in self._children(node))
-        out, following = [0.0] * self.n, -INF
-        for i in range(self.n - 1, -1, -1):
-            following = max(min(left[i], following), right[i])
-            out[i] = following
-        return np.array(out)
+        return self._chain(node, range(self.n - 1, -1, -1))
 
     def _Since(self, node: Any) -> np.ndarray:
+        """The same recurrence from the start: out[i] = max(right[i], min(left[i], out[i-1]))."""
+        return self._chain(node, range(self.n))
+
+    def _chain(self, node: Any, order: range) -> np.ndarray:
         left, right = (a.tolist() for a in self._children(node))
-        out, previous = [0.0] * self.n, -INF
-        for i in range(self.n):
-            previous = max(min(left[i], previous), right[i])
-            out[i] = previous
+        out, carried = [0.0] * self.n, -INF
+        for i in order:
+            carried = max(min(left[i], carried), right[i])
+            out[i] = carried
         return np.array(out)
 
-    # -- timed operators (bounds in samples from rtamt's interpreter)
-    def _TimedEventually(self, node: Any) -> np.ndarray:
-        begin, end = self.window(node)
-        return _future_window(self._children(node)[0], begin, end, -INF, np.max)
+    # -- timed operators (bounds in samples from rtamt's interpreter): window side, padding, reduction
+    TIMED = {"TimedEventually": (True, -INF, np.max), "TimedAlways": (True, INF, np.min),
+             "TimedOnce": (False, -INF, np.max), "TimedHistorically": (False, INF, np.min)}
 
-    def _TimedAlways(self, node: Any) -> np.ndarray:
+    def _timed(self, node: Any) -> np.ndarray:
+        future, fill, reduce = self.TIMED[type(node).__name__]
         begin, end = self.window(node)
-        return _future_window(self._children(node)[0], begin, end, INF, np.min)
+        return (_future_window if future else _past_window)(self._children(node)[0], begin, end, fill, reduce)
 
-    def _TimedOnce(self, node: Any) -> np.ndarray:
-        begin, end = self.window(node)
-        return _past_window(self._children(node)[0], begin, end, -INF, np.max)
-
-    def _TimedHistorically(self, node: Any) -> np.ndarray:
-        begin, end = self.window(node)
-        return _past_window(self._children(node)[0], begin, end, INF, np.min)
+    _TimedEventually = _TimedAlways = _TimedOnce = _TimedHistorically = _timed
 
     # -- one-step operators
     def _Previous(self, node: Any) -> np.ndarray:
