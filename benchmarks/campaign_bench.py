@@ -6,6 +6,7 @@ Also: cost growth with the campaign size (local executor), and `socnavgen --help
     python benchmarks/campaign_bench.py            # the table (a few minutes)
     python benchmarks/campaign_bench.py --quick    # smaller counts
     python benchmarks/campaign_bench.py --full     # + the 10,000-episode point of the growth table
+    python benchmarks/campaign_bench.py --dt-check # does dt 0.1 s change outcomes? (every card, bundled maps)
 """
 
 from __future__ import annotations
@@ -23,20 +24,22 @@ LOCATIONS = [REPO / "examples" / "locations" / "warehouse"]
 CLI = "import sys; from socnavgen.cli import main; sys.argv = ['socnavgen', *sys.argv[1:]]; main()"
 
 
-def spec_for(seeds: int, card: str = "crowd-navigation", locations: list[Path] = LOCATIONS):  # noqa: ANN201
+def spec_for(seeds: int, card: str = "crowd-navigation", locations: list[Path] = LOCATIONS,  # noqa: ANN201
+             policy: str = "waypoints", dt: float = 0.05):
     from socnavgen.campaign.spec import parse_campaign
 
     listed = ", ".join(str(p) for p in locations)
     return parse_campaign(f"scenarios:\n  - cards: [{card}]\n    locations: [{listed}]\n"
-                          f"policies: [waypoints]\nseeds: {seeds}\nsimulation: {{timeout: 60}}\n")
+                          f"policies: [{policy}]\nseeds: {seeds}\nsimulation: {{timeout: 60, dt: {dt}}}\n")
 
 
 def campaign_rate(seeds: int, executor: str, workers: int | None, root: Path, tag: str,
-                  card: str = "crowd-navigation", locations: list[Path] = LOCATIONS) -> tuple[int, float, float]:
+                  card: str = "crowd-navigation", locations: list[Path] = LOCATIONS, policy: str = "waypoints",
+                  dt: float = 0.05) -> tuple[int, float, float]:
     """(episodes, wall seconds, CPU seconds of this process) of one campaign run."""
     from socnavgen.campaign.runner import run_campaign
 
-    spec = spec_for(seeds, card, locations)
+    spec = spec_for(seeds, card, locations, policy, dt)
     out = root / tag
     from socnavgen.campaign.scenarios import build_suite
 
@@ -78,12 +81,46 @@ def help_seconds(repeats: int = 5) -> float:
     return best
 
 
+def dt_check(root: Path, seeds: int = 2) -> None:
+    """Every card on every bundled location, default robot, at dt 0.05 and 0.1 s: how often the episode's
+    success and the verifier's verdict agree, and the CPU cost of each."""
+    from socnavgen.campaign.runner import run_campaign
+    from socnavgen.campaign.spec import parse_campaign
+    from socnavgen.campaign.store import read_episodes
+
+    maps = ", ".join(str(REPO / "examples" / "locations" / m) for m in ("warehouse", "hospital", "home"))
+    tables, costs = {}, {}
+    for dt in (0.05, 0.1):
+        spec = parse_campaign(f"scenarios:\n  - cards: all\n    locations: [{maps}]\npolicies: [scripted]\n"
+                              f"seeds: {seeds}\nsimulation: {{timeout: 60, dt: {dt}}}\n")
+        cpu = time.process_time()
+        run_campaign(spec, root / f"dt{dt}", executor="inline", workers=1, batch_size=8)
+        costs[dt] = time.process_time() - cpu
+        tables[dt] = {(r["scenario"], r["seed"]): r for r in read_episodes(root / f"dt{dt}").to_pylist()}
+    keys = sorted(tables[0.05])
+    n = len(keys)
+    print(f"\nTime step check: {n} episodes (every card x bundled location x {seeds} seeds, scripted robot)")
+    print("| | dt 0.05 s | dt 0.1 s |\n|---|---:|---:|")
+    print(f"| CPU ms per episode (incl. building the cards) | {1000 * costs[0.05] / n:.1f} | {1000 * costs[0.1] / n:.1f} |")
+    for col in ("success", "verified"):
+        rate = [sum(bool(tables[dt][k].get(col)) for k in keys) / n for dt in (0.05, 0.1)]
+        print(f"| {col} rate | {rate[0]:.3f} | {rate[1]:.3f} |")
+    for col in ("success", "verified"):
+        same = sum(bool(tables[0.05][k].get(col)) == bool(tables[0.1][k].get(col)) for k in keys)
+        print(f"| same `{col}` in both | {same}/{n} | |")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true")
     parser.add_argument("--full", action="store_true")
+    parser.add_argument("--dt-check", action="store_true", help="only compare outcomes at dt 0.05 and 0.1 s")
     args = parser.parse_args()
     cores = os.cpu_count() or 1
+    if args.dt_check:
+        with tempfile.TemporaryDirectory() as tmp:
+            dt_check(Path(tmp))
+        return
     with tempfile.TemporaryDirectory() as tmp:
         root = Path(tmp)
         from socnavgen.campaign.scenarios import build_suite
@@ -100,6 +137,10 @@ def main() -> None:
         total, wall, cpu = campaign_rate(seeds, "inline", 1, root, "inline")
         rows.append(("campaign, one process (inline)", total, total / wall))
         rows.append(("campaign, one process, per CPU second (load-independent)", total, total / cpu))
+        total, _, cpu = campaign_rate(seeds, "inline", 1, root, "scripted", policy="scripted")
+        rows.append(("  the same with the default (scripted) robot, per CPU second", total, total / cpu))
+        total, _, cpu = campaign_rate(seeds, "inline", 1, root, "dt10", dt=0.1)
+        rows.append(("  the same at dt 0.1 s (simulation: {dt: 0.1}), per CPU second", total, total / cpu))
         total, wall, _ = campaign_rate(seeds, "local", cores, root, "local")
         rows.append((f"campaign, local executor ({cores} workers)", total, total / wall))
         print(f"\nEpisodes/s, 5-person 60 s scenarios (crowd-navigation on the warehouse), waypoints robot, "

@@ -125,3 +125,32 @@ def test_kernel_environment_forces_equal_the_reference(n):
                     world.transform.inverse.copy(), rpos, rvel, 0.05, False)
     assert np.allclose(cc[2], ref, atol=1e-9)
     assert np.allclose(fc[3], np.abs(rpos - pos))
+
+
+@pytest.mark.skipif(not kernels.AVAILABLE, reason="numba not installed: only the numpy path exists")
+@pytest.mark.parametrize("seed", range(6))
+def test_compiled_contacts_equal_the_reference(seed):
+    """Crowds packed tight beside a wall and the robot: the compiled contact step moves the same people to the
+    same places as the reference (both run on copies of one state)."""
+    rng = np.random.default_rng(seed)
+    world = empty_room(10.0, 6.0, walls=[(4.0, 0.0, 4.4, 3.0)])
+    n = 8
+    humans = [human(f"human{i + 1}", start=(3.0 + rng.uniform(-0.6, 0.6), 3.0 + rng.uniform(-0.8, 0.8)),
+                    goals=[(8.0, 5.0)]) for i in range(n)]
+    sims = [make_sim(humans, [tree_xml(REGULAR)] * n, [(2.6, 3.1), (9.0, 3.0)], Drive(0.5), world=world)
+            for _ in range(2)]
+    sims[1]._fast = False
+    before = sims[0].crowd.pos + rng.normal(0, 0.2, n) + 1j * rng.normal(0, 0.2, n)
+    walking = rng.random(n) < 0.5
+    results = []
+    for sim in sims:
+        sim.cmd_move[:] = walking
+        results.append((sim._resolve_contacts(before.copy()), sim.crowd.pos.copy()))
+    (moved_fast, pos_fast), (moved_ref, pos_ref) = results
+    assert moved_fast and moved_ref  # eight people within 1.6 m of each other: some overlap
+    assert np.abs(pos_fast - pos_ref).max() < 1e-12
+    assert np.abs(pos_fast - humans_start(humans)).max() > 0.01  # it did separate someone
+
+
+def humans_start(humans):  # noqa: ANN001, ANN201
+    return np.array([complex(*h.start) for h in humans])

@@ -35,7 +35,6 @@ from socnavgen.sim.bt_runtime import (
     Repeat,
     Sequence,
     SetBlackboard,
-    SubTree,
     _blackboard_key,
 )
 
@@ -190,7 +189,7 @@ class _Builder:
         auto = (attrs.pop("_autoremap", "false").lower() == "true"
                 or attrs.pop("__autoremap", "false").lower() == "true")
         if shared:
-            return SubTree(self._tree(tree_id, bb, depth + 1))
+            return self._tree(tree_id, bb, depth + 1)  # a SubTree ticks as its root: no wrapper
         child_bb = Blackboard(parent=bb, autoremap=auto)
         for key, value in attrs.items():
             if key.startswith("_"):
@@ -204,7 +203,7 @@ class _Builder:
                 child_bb.remap[key] = value  # v3: a plain name is the parent's key
             else:
                 child_bb.data[key] = value  # v4 / SubTreePlus: a plain value is a literal
-        return SubTree(self._tree(tree_id, child_bb, depth + 1))
+        return self._tree(tree_id, child_bb, depth + 1)
 
 
 def build_tree(source: str | BTDocument, sim: Any, owner: int, implementations: dict[str, Callable],

@@ -263,19 +263,6 @@ class SetBlackboard(Node):
         return SUCCESS
 
 
-class SubTree(Node):
-    __slots__ = ("root",)
-
-    def __init__(self, root: Node) -> None:
-        self.root = root
-
-    def tick(self) -> int:
-        return self.root.tick()
-
-    def reset(self) -> None:
-        self.root.reset()
-
-
 class Leaf(Node):
     """A library leaf bound to one agent's tree. The node function gets (sim, leaf, agent index) and reads
     other ports through `leaf.get`. Port keys are resolved through SubTree remapping once, at build time

@@ -272,8 +272,12 @@ class Simulation:
         overlap the ROBOT causes stays visible as a collision); two humans that overlap are pushed apart
         along the line of their centres, the walkers taking the whole correction from someone standing.
         Corrections that would end inside a wall are dropped (between humans) or the human's step is not
-        taken (into the robot). Returns whether anyone was moved."""
+        taken (into the robot). Returns whether anyone was moved. This is the reference; the compiled twin
+        sim.kernels.resolve_contacts runs when numba is there."""
         crowd, rp = self.crowd, self.robot_pos
+        if self._fast:
+            return kernels.resolve_contacts(crowd.pos, crowd.radius, self.cmd_move, before, rp, self.robot_radius,
+                                            self._robot_dir, self.world.clearance, self._affine, CONTACT_SLACK)
         pos, radius = crowd.pos, crowd.radius
         moved = False
         n = crowd.n

@@ -60,6 +60,8 @@ class InteractionThrottle:
                 continue
             goals = path[1:] if len(path) > 1 else [path[0]]
             self.held.append(_Held(agent, goals, path[0], node, self.robot_goals.index(node)))
+        # agent -> index of its interaction node among its goals (-1: not among them); read every step
+        self.node_at = {h.agent: h.goals.index(h.node) if h.node in h.goals else -1 for h in self.held}
         self.points: dict[int, list[complex]] = {}  # agent -> world points of its goals (set on first update)
 
     def update(self, sim: Any) -> None:
@@ -78,11 +80,13 @@ class InteractionThrottle:
             q = crowd.queues[i]
             pause, pace = False, float(crowd.max_vel[i])
             idx = len(h.goals) - len(q)  # index in h.goals of the goal the human walks to now
-            node_at = h.goals.index(h.node) if h.node in h.goals else -1
+            node_at = self.node_at[i]
             robot_left = self._robot_left(rp, h)
             if (crowd.behavior_state[i] == 0 and q.goals and idx >= 0 and (idx <= node_at or h.spawn == h.node)
                     and robot_left > self.config.robot_near and sim.robot_dist[i] > self.config.release_distance):
-                points = self.points.setdefault(i, [complex(*g) for g in crowd.specs[i].goals])
+                points = self.points.get(i)
+                if points is None:
+                    points = self.points[i] = [complex(*g) for g in crowd.specs[i].goals]
                 node_point = self.robot_points[h.robot_index]
                 if h.spawn == h.node or idx > node_at:
                     human_left = abs(node_point - crowd.pos[i])

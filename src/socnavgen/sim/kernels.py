@@ -213,3 +213,88 @@ def advance(cs, fs, cc, fc, bc, labels, sizes, prm, obs_table, affine, rpos, rve
         f_env[i] = f
         rdist[i] = abs(rpos - pi)
     return n_reached
+
+
+@njit(cache=True, inline="always")
+def _clearance(clearance, affine, p):  # noqa: ANN001, ANN202
+    """World.clearance_at_point: metres to the nearest wall at p's pixel, 0 outside the map."""
+    x, y = p.real, p.imag
+    c = int(math.floor(affine[0, 0] * x + affine[0, 1] * y + affine[0, 2] + 0.5))
+    r = int(math.floor(affine[1, 0] * x + affine[1, 1] * y + affine[1, 2] + 0.5))
+    if c < 0 or r < 0 or c >= clearance.shape[1] or r >= clearance.shape[0]:
+        return 0.0
+    return clearance[r, c]
+
+
+@njit(cache=True)
+def resolve_contacts(pos, radius, move, before, rpos, robot_r, rdir, clearance, affine, slack):  # noqa: ANN001, ANN201
+    """Compiled Simulation._resolve_contacts (the reference and its rules are there): overlapping humans
+    are pushed apart along their centre line (walkers take the correction from someone standing), then
+    nobody ends deeper in the robot than the robot's own move put them. In place; returns whether anyone
+    was moved."""
+    n = pos.shape[0]
+    moved = False
+    snap = pos.copy()
+    hits = np.empty((max(n * (n - 1) // 2, 1), 2), dtype=np.int64)
+    nh = 0
+    for i in range(n):
+        for j in range(i + 1, n):
+            if radius[i] + radius[j] - abs(snap[i] - snap[j]) > 1e-6:
+                hits[nh, 0], hits[nh, 1] = i, j
+                nh += 1
+    for h in range(nh):
+        i, j = hits[h, 0], hits[h, 1]
+        d = pos[i] - pos[j]
+        dist = abs(d)
+        unit = d / dist if dist > 1e-9 else complex(math.cos(0.7 * (i + 1)), math.sin(0.7 * (j + 1)))
+        depth = radius[i] + radius[j] - dist + 1e-4
+        wi, wj = move[i], move[j]
+        share_i = 0.5 if wi == wj else (1.0 if wi else 0.0)
+        for side in range(2):
+            k = i if side == 0 else j
+            sign = 1.0 if side == 0 else -1.0
+            share = share_i if side == 0 else 1.0 - share_i
+            cand = pos[k] + sign * unit * depth * share
+            if share > 0 and _clearance(clearance, affine, cand) >= 0.5 * radius[k]:
+                pos[k] = cand
+                moved = True
+    for i in range(n):
+        p_i = pos[i]
+        reach = radius[i] + robot_r
+        gap_new = abs(p_i - rpos) - reach
+        if gap_new >= slack:
+            continue
+        allowed = min(abs(before[i] - rpos) - reach, slack)
+        if gap_new < allowed - 1e-9:
+            away = p_i - rpos
+            dist = abs(away)
+            unit = away / dist if dist > 1e-9 else -rdir
+            cand = rpos + unit * (reach + allowed)
+            if _clearance(clearance, affine, cand) < 0.5 * radius[i]:
+                cand = before[i]
+            pos[i] = cand
+            moved = True
+    return moved
+
+
+@njit(cache=True)
+def segments_clear(blocked, affine, a, b, half_pixel, out):  # noqa: ANN001, ANN201
+    """Compiled World.segments_clear (the numpy reference is there): segment s is sampled at
+    max(2, ceil(length / half_pixel) + 1) evenly spaced points, as np.linspace spaces them; it is clear when
+    no sample but the two ends falls on a blocked cell or off the map. Stops at the first blocked sample."""
+    h, w = blocked.shape
+    for s in range(a.shape[0]):
+        pa = a[s]
+        d = b[s] - pa
+        count = max(2, int(math.ceil(abs(d) / half_pixel)) + 1)
+        step = 1.0 / (count - 1)
+        clear = True
+        for k in range(1, count - 1):
+            p = pa + d * (k * step)
+            x, y = p.real, p.imag
+            c = int(math.floor(affine[0, 0] * x + affine[0, 1] * y + affine[0, 2] + 0.5))
+            r = int(math.floor(affine[1, 0] * x + affine[1, 1] * y + affine[1, 2] + 0.5))
+            if c < 0 or r < 0 or c >= w or r >= h or blocked[r, c]:
+                clear = False
+                break
+        out[s] = clear

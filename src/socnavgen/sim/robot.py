@@ -77,6 +77,10 @@ class Observation:
         return np.column_stack([p.real, p.imag])
 
     @property
+    def human_count(self) -> int:
+        return self._sim.crowd.n
+
+    @property
     def human_velocities(self) -> np.ndarray:
         v = self._sim.crowd.vel
         return np.column_stack([v.real, v.imag])
@@ -151,18 +155,23 @@ class _WaypointTracker:
         self.index = 1
         self.tolerance = tolerance
         self.line_clearance = line_clearance
+        self._source: np.ndarray | None = None
+        self._points: list[complex] = []  # the waypoints as Python complex (read every step)
 
     def target(self, obs: Observation) -> tuple[complex, bool]:
         """Current waypoint and whether it is the last; advances past waypoints reached."""
         wps = obs.waypoints_c
-        if len(wps) == 0:
+        if wps is not self._source:
+            self._source, self._points = wps, [complex(w) for w in wps.tolist()]
+        pts = self._points
+        last = len(pts) - 1
+        if last < 0:
             return obs.position_c, True
-        self.index = min(self.index, len(wps) - 1)
+        self.index = min(self.index, last)
         p = obs.position_c
-        while self.index < len(wps) - 1 and self._reached(obs, p, complex(wps[self.index]),
-                                                            complex(wps[self.index + 1])):
+        while self.index < last and self._reached(obs, p, pts[self.index], pts[self.index + 1]):
             self.index += 1
-        return complex(wps[self.index]), self.index == len(wps) - 1
+        return pts[self.index], self.index == last
 
     def _reached(self, obs: Observation, p: complex, wp: complex, following: complex) -> bool:
         d = abs(wp - p)
@@ -371,25 +380,26 @@ KEEP_CLEAR = 0.03  # m: the scripted robot never moves closer than this gap to a
 def keep_clear(obs: Observation, v: complex, margin: float = KEEP_CLEAR) -> complex:
     """`v` without the part that would take the robot closer than `margin` (surface gap) to a person:
     the robot may slide past or back off, never push into someone."""
-    people = obs.human_positions_c
-    if len(people) == 0 or v == 0:
+    if v == 0 or obs.human_count == 0:
         return v
-    p, dt = obs.position_c, obs.dt
-    reach = obs.human_radii + obs.radius + margin
+    people = obs.human_positions_c.tolist()  # a handful of people: scalar arithmetic beats numpy calls
+    p, dt, rr = obs.position_c, obs.dt, obs.radius
+    reach = [r + rr + margin for r in obs.human_radii.tolist()]
     for _ in range(3):  # a second person may be met after sliding along the first
-        rel = people - (p + v * dt)
-        close = np.flatnonzero(np.abs(rel) < reach)
-        if len(close) == 0:
+        nxt = p + v * dt
+        close = [k for k, q in enumerate(people) if abs(q - nxt) < reach[k]]
+        if not close:
             return v
-        for k in close.tolist():
-            d = complex(people[k] - p)
+        for k in close:
+            d = people[k] - p
             if abs(d) < 1e-9:
                 continue
             n = d / abs(d)
             toward = (v * n.conjugate()).real
             if toward > 0:
                 v -= toward * n
-    return v if (np.abs(people - (p + v * dt)) >= np.minimum(reach, np.abs(people - p))).all() else 0j
+    nxt = p + v * dt
+    return v if all(abs(q - nxt) >= min(reach[k], abs(q - p)) for k, q in enumerate(people)) else 0j
 
 
 class ScriptedPolicy(WaypointsPolicy):

@@ -15,6 +15,7 @@ from scipy import ndimage
 
 from socnavgen.location.occupancy import OccupancyGrid
 from socnavgen.location.transform import Transform
+from socnavgen.sim import kernels
 
 # The Gazebo wrapper sends at most one obstacle point per human, the nearest within 10 m.
 OBSTACLE_RANGE = 10.0
@@ -109,11 +110,14 @@ class World:
     def is_free(self, point: complex, radius: float) -> bool:
         return bool(self.clearance_at(np.array([point]))[0] >= radius)
 
-    def line_of_sight(self, a: complex, b: np.ndarray | complex) -> np.ndarray:
-        """True where the straight segment a->b crosses no blocked cell (one a, one or many b)."""
+    def line_of_sight(self, a: complex, b: np.ndarray | complex, reference: bool = False) -> np.ndarray:
+        """True where the straight segment a->b crosses no blocked cell (one a, one or many b). `reference`:
+        the numpy path even where the compiled one exists (tests compare the two)."""
         b = np.atleast_1d(np.asarray(b, dtype=complex))
         if not self.has_obstacles:
             return np.ones(b.shape, dtype=bool)
+        if b.size == 1 and kernels.AVAILABLE and not reference:  # one segment: sampled the same way, compiled
+            return self.segments_clear(np.atleast_1d(np.asarray(a, dtype=complex)), b)
         length = np.abs(b - a)
         samples = max(2, int(np.ceil(length.max() / (0.5 * self.mpp))) + 1)
         frac = np.linspace(0.0, 1.0, samples)
@@ -123,13 +127,18 @@ class World:
         # the end cells hold the two bodies themselves; a body touching a wall must not hide the other
         return ~hit[:, 1:-1].any(axis=1)
 
-    def segments_clear(self, a: np.ndarray, b: np.ndarray, chunk: int = 4096) -> np.ndarray:
-        """line_of_sight for many segments a[k] -> b[k] at once (same shapes), in chunks that bound memory:
-        the verifier asks it for every step and person of a trace."""
+    def segments_clear(self, a: np.ndarray, b: np.ndarray, chunk: int = 4096, reference: bool = False) -> np.ndarray:
+        """line_of_sight for many segments a[k] -> b[k] at once (same shapes): the verifier asks it for every
+        step and person of a trace. Compiled (sim.kernels) when numba is there; else (or with `reference`) numpy,
+        in chunks that bound memory."""
         a, b = np.broadcast_arrays(np.asarray(a, dtype=complex), np.asarray(b, dtype=complex))
         flat_a, flat_b = a.ravel(), b.ravel()
         out = np.ones(flat_a.shape, dtype=bool)
         if not self.has_obstacles or flat_a.size == 0:
+            return out.reshape(a.shape)
+        if kernels.AVAILABLE and not reference:
+            kernels.segments_clear(self.blocked, self.transform.inverse, np.ascontiguousarray(flat_a),
+                                   np.ascontiguousarray(flat_b), 0.5 * self.mpp, out)
             return out.reshape(a.shape)
         # each segment is sampled as line_of_sight samples it alone (its own count, from its own length), all
         # segments' samples in one flat array: a batch of short segments does not pay for its longest one
