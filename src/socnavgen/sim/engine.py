@@ -125,6 +125,7 @@ class Simulation:
             for i, tree in enumerate(trees)]
         # compiled kernel (numba) when available; the numpy path (sim.sfm) is the reference
         self._fast = kernels.AVAILABLE if use_kernels is None else (use_kernels and kernels.AVAILABLE)
+        self.compiled = self._fast  # run() in one compiled call (sim.compiled); False: step by step in Python
         prm = self.params
         self._prm = np.array([prm.k_des, prm.tau, prm.k_gaze, prm.k_coh, prm.k_rep, prm.k_obs, prm.sigma_obs,
                               prm.k_soc, prm.lam, prm.gamma, prm.n, prm.n_prime,
@@ -340,20 +341,19 @@ class Simulation:
         return abs(self._robot_goal - self.robot_pos) <= self.config.goal_tolerance
 
     def run(self, progress: Callable[[int, int], None] | None = None) -> Trace:
-        """Run to the robot's goal, the timeout, or until nothing will change; return the trace."""
+        """Run to the robot's goal, the timeout, or until nothing will change; return the trace. Compiled in
+        one call (sim.compiled) when numba is there and the policy and trees have compiled twins; else, or
+        when a tree fails while running (the error is then raised here), step by step in Python."""
+        if self.compiled and self._fast and self.t == 0.0:
+            from socnavgen.sim.compiled.episode import run_compiled
+
+            trace = run_compiled(self, progress)
+            if trace is not None:
+                return trace
         cfg, crowd, n = self.config, self.crowd, self.crowd.n
         max_steps = int(math.ceil(cfg.timeout / self.dt))
-        T = max_steps + 1
-        pos = np.zeros((T, n), dtype=complex)
-        vel = np.zeros((T, n), dtype=complex)
-        yaw = np.zeros((T, n))
-        omega = np.zeros((T, n))
-        action = np.full((T, n), -1, dtype=np.int16)
-        succeeded = np.zeros((T, n), dtype=np.int64)
-        gesture = np.zeros((T, n), dtype=np.int8)
-        bstate = np.zeros((T, n), dtype=np.int8)
-        robot = np.zeros((T, 6))
-        rgest = np.zeros(T, dtype=np.int8)
+        columns = self.trace_columns(max_steps + 1)
+        pos, vel, yaw, omega, action, succeeded, gesture, bstate, robot, rgest = columns
 
         def record(k: int) -> None:
             pos[k], vel[k], yaw[k], omega[k] = crowd.pos, crowd.vel, crowd.yaw, crowd.omega
@@ -365,7 +365,7 @@ class Simulation:
 
         record(0)
         reason, idle, k = "timeout", 0.0, 0
-        for k in range(1, T):
+        for k in range(1, max_steps + 1):
             self.step()
             record(k)
             if progress is not None and k % 200 == 0:
@@ -377,9 +377,24 @@ class Simulation:
             if idle >= cfg.idle_end and all(crowd.done(i) for i in range(n)):
                 reason = "all_done"
                 break
-        steps = k + 1
         if progress is not None:
             progress(max_steps, max_steps)
+        self.meta.setdefault("engine", "python")
+        return self.trace_from(columns, k + 1, reason)
+
+    def trace_columns(self, rows: int) -> list[np.ndarray]:
+        """Empty trace columns for `rows` steps: pos, vel, yaw, omega, action, succeeded, gesture, behavior
+        state (each (rows, humans)), robot (rows, 6), robot gesture (rows,)."""
+        n = self.crowd.n
+        return [np.zeros((rows, n), dtype=complex), np.zeros((rows, n), dtype=complex), np.zeros((rows, n)),
+                np.zeros((rows, n)), np.full((rows, n), -1, dtype=np.int16), np.zeros((rows, n), dtype=np.int64),
+                np.zeros((rows, n), dtype=np.int8), np.zeros((rows, n), dtype=np.int8), np.zeros((rows, 6)),
+                np.zeros(rows, dtype=np.int8)]
+
+    def trace_from(self, columns: list[np.ndarray], steps: int, reason: str) -> Trace:
+        """The Trace of the first `steps` recorded rows, with the run's meta."""
+        cfg, crowd, n = self.config, self.crowd, self.crowd.n
+        pos, vel, yaw, omega, action, succeeded, gesture, bstate, robot, rgest = columns
         humans = np.stack([pos.real, pos.imag, yaw, vel.real, vel.imag, omega], axis=-1)[:steps]
         meta = dict(self.meta)
         meta.update(seed=cfg.seed, timeout=cfg.timeout, robot_goal_radius=cfg.goal_tolerance,

@@ -35,6 +35,7 @@ GIVE_WAY_MARGIN = 0.5  # m of free space between the human and the robot's side 
 GIVE_WAY_ARRIVED = 0.15  # m
 SIDE_STEP_DIRECTIONS = 16  # directions tried for the side step
 SIDE_STEP_MAX = 3.0  # m: the farthest a human walks to get out of the robot's way
+SEGMENT_TIE = 1e-9  # m: segments this much farther than the nearest count as equally near
 
 
 def wrap(a: float) -> float:
@@ -168,7 +169,7 @@ def _in_robot_way(sim: Any, i: int) -> bool:
     if len(upcoming) < 2:
         return False
     _, along, dist = _project(p, upcoming[:-1], upcoming[1:])
-    k = int(np.argmin(dist))
+    k = nearest_segment(dist)
     ahead = float(np.sum(np.abs(upcoming[1:k + 1] - upcoming[:k]))) + float(along[k])
     return bool(dist[k] < float(sim.crowd.radius[i]) + sim.robot_radius + FOLLOW_WAY_MARGIN and ahead > 0.0)
 
@@ -250,12 +251,19 @@ def robot_progress(sim: Any) -> tuple[float, int]:
         offsets = np.concatenate([[0.0], np.cumsum(lengths)[:-1]])
         first = cache["seg"]
         _, along, dist = _project(sim.robot_pos, a[first:], b[first:])
-        k = int(np.argmin(dist))
+        k = nearest_segment(dist)
         seg = first + k
         value = (float(offsets[seg] + along[k]), seg)
         cache["seg"] = seg
     cache["t"], cache["value"] = sim.t, value
     return value
+
+
+def nearest_segment(dist: np.ndarray) -> int:
+    """The first segment within SEGMENT_TIE of the nearest: a point at a corner of the path is as near to both
+    segments that meet there, and which one is "nearer" must not depend on the last bit of the arithmetic
+    (numpy's vectorised loops and scalar code round differently; the compiled twin must choose the same)."""
+    return int(np.flatnonzero(dist <= dist.min() + SEGMENT_TIE)[0])
 
 
 def _project(points: Any, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -285,7 +293,7 @@ def _plan_side_step(sim: Any, i: int) -> dict:
         upcoming = np.array([sim.robot_pos, sim.robot_pos + sim.robot_direction() * 0.01])
     a, b = upcoming[:-1], upcoming[1:]
     _, along, dist = _project(p, a, b)
-    k = int(np.argmin(dist))
+    k = nearest_segment(dist)
     at = progress + float(np.sum(np.abs(b[:k] - a[:k]))) + float(along[k])  # arc length of the human's spot
     state = {"target": p, "phase": "aside", "at": at}
     if dist[k] >= want:
