@@ -278,7 +278,8 @@ class Simulation:
         crowd, rp = self.crowd, self.robot_pos
         if self._fast:
             return kernels.resolve_contacts(crowd.pos, crowd.radius, self.cmd_move, before, rp, self.robot_radius,
-                                            self._robot_dir, self.world.clearance, self._affine, CONTACT_SLACK)
+                                            self._robot_dir, self.world.clearance, self._affine, CONTACT_SLACK,
+                                            np.empty(crowd.n, dtype=complex))
         pos, radius = crowd.pos, crowd.radius
         moved = False
         n = crowd.n

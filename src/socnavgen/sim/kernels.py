@@ -107,98 +107,123 @@ def _social_grid(pos, vel, cutoff, k_soc, lam, gamma, nn, npr, out):  # noqa: AN
         out[i] = f
 
 
-@njit(cache=True)
-def advance(cs, fs, cc, fc, bc, labels, sizes, prm, obs_table, affine, rpos, rvel, dt, do_step):  # noqa: ANN001, ANN201
-    """If do_step: desired + group forces and one SFM step for walkers using the environment force of the
-    previous call (walkers move, others get zero velocity, turners turn, reached goals are flagged).
-    Then: environment forces (social incl. the robot, nearest obstacle) for the current positions.
-    Returns the number of agents that reached their real goal."""
+@no_alloc
+def _move(cs, fs, cc, fc, bc, labels, sizes, prm, dt, work):  # noqa: ANN001, ANN202
+    """Desired + group forces and one SFM step for walkers, using the environment force of the previous call
+    (walkers move, others get zero velocity, turners turn, reached goals are flagged). work rows 0, 1, 3:
+    scratch for the unit desired directions, the forces and the group centres. Returns #goals reached."""
     n = cs.shape[1]
     pos, vel, goal = cs[0], cs[1], cs[2]
     yaw, radius, goal_r, omega = fs[0], fs[1], fs[2], fs[3]
     tgt, extra, f_env = cc[0], cc[1], cc[2]
-    tgt_r, v0, turn_yaw, rdist = fc[0], fc[1], fc[2], fc[3]
+    tgt_r, v0, turn_yaw = fc[0], fc[1], fc[2]
     move, use_goal, turn, has_goal, reached = bc[0], bc[1], bc[2], bc[3], bc[4]
     k_des, tau, k_gaze, k_coh, k_rep = prm[0], prm[1], prm[2], prm[3], prm[4]
-    k_obs, sigma, k_soc, lam, gamma, nn, npr, cutoff = prm[5], prm[6], prm[7], prm[8], prm[9], prm[10], prm[11], prm[12]
-    obs_range, has_obs, mpp = prm[13], prm[14] > 0, prm[15]
+    e, force, csum = work[0], work[1], work[3]
     n_reached = 0
-    if do_step:
-        e = np.zeros(n, dtype=np.complex128)
-        force = np.zeros(n, dtype=np.complex128)
+    for i in range(n):
+        e[i] = 0j
+        if use_goal[i]:
+            g, gr, hg = goal[i], goal_r[i], has_goal[i]
+        else:
+            g, gr, hg = tgt[i], tgt_r[i], True
+        to = g - pos[i]
+        dist = abs(to)
+        if hg and dist > gr:
+            e[i] = to / dist
+            force[i] = k_des * (v0[i] * e[i] - vel[i]) / tau
+        else:
+            force[i] = -vel[i] / tau
+        force[i] += f_env[i] + extra[i]
+    ngroups = sizes.shape[0]
+    if ngroups > 0:
+        for g in range(ngroups):
+            csum[g] = 0j
         for i in range(n):
-            if use_goal[i]:
-                g, gr, hg = goal[i], goal_r[i], has_goal[i]
-            else:
-                g, gr, hg = tgt[i], tgt_r[i], True
-            to = g - pos[i]
-            dist = abs(to)
-            if hg and dist > gr:
-                e[i] = to / dist
-                force[i] = k_des * (v0[i] * e[i] - vel[i]) / tau
-            else:
-                force[i] = -vel[i] / tau
-            force[i] += f_env[i] + extra[i]
-        ngroups = sizes.shape[0]
-        if ngroups > 0:
-            csum = np.zeros(ngroups, dtype=np.complex128)
-            for i in range(n):
-                if labels[i] >= 0:
-                    csum[labels[i]] += pos[i]
-            for i in range(n):
-                lab = labels[i]
-                if lab < 0:
-                    continue
-                size = sizes[lab]
-                centre = csum[lab] / size
-                u = (size * centre - pos[i]) / (size - 1) - pos[i]
-                em = e[i]
-                dot = (em * u.conjugate()).real
-                e2 = abs(em) ** 2
-                if dot < 0 and e2 > 0:
-                    force[i] += k_gaze * dot / e2 * em
-                wv = centre - pos[i]
-                force[i] += k_coh * (math.tanh(abs(wv) - (size - 1) / 2) + 1) / 2 * wv
-                rep = 0j
-                for j in range(n):
-                    if j != i and labels[j] == lab:
-                        dij = pos[i] - pos[j]
-                        if abs(dij) < radius[i] + radius[j]:
-                            rep += dij
-                force[i] += k_rep * rep
+            if labels[i] >= 0:
+                csum[labels[i]] += pos[i]
         for i in range(n):
-            old = yaw[i]
-            reached[i] = False
-            if move[i]:
-                v = vel[i] + force[i] * dt
-                speed = abs(v)
-                if speed > v0[i]:
-                    v = v * (v0[i] / speed)
-                    speed = v0[i]
-                if speed > 1e-9:
-                    yaw[i] = math.atan2(v.imag, v.real)
-                pos[i] = pos[i] + v * dt
-                vel[i] = v
-                if use_goal[i] and has_goal[i] and abs(goal[i] - pos[i]) <= goal_r[i]:
-                    reached[i] = True
-                    n_reached += 1
-            else:
-                vel[i] = 0j
-                if turn[i]:
-                    yaw[i] = (turn_yaw[i] + math.pi) % (2 * math.pi) - math.pi
-            omega[i] = ((yaw[i] - old + math.pi) % (2 * math.pi) - math.pi) / dt
-    h, w = obs_table.shape
-    cut2 = cutoff * cutoff
-    social = np.zeros(n, dtype=np.complex128)
-    if n > GRID_MIN and cutoff < 1e6:
-        _social_grid(pos, vel, cutoff, k_soc, lam, gamma, nn, npr, social)
-    else:
+            lab = labels[i]
+            if lab < 0:
+                continue
+            size = sizes[lab]
+            centre = csum[lab] / size
+            u = (size * centre - pos[i]) / (size - 1) - pos[i]
+            em = e[i]
+            dot = (em * u.conjugate()).real
+            e2 = abs(em) ** 2
+            if dot < 0 and e2 > 0:
+                force[i] += k_gaze * dot / e2 * em
+            wv = centre - pos[i]
+            force[i] += k_coh * (math.tanh(abs(wv) - (size - 1) / 2) + 1) / 2 * wv
+            rep = 0j
+            for j in range(n):
+                if j != i and labels[j] == lab:
+                    dij = pos[i] - pos[j]
+                    if abs(dij) < radius[i] + radius[j]:
+                        rep += dij
+            force[i] += k_rep * rep
+    for i in range(n):
+        old = yaw[i]
+        reached[i] = False
+        if move[i]:
+            v = vel[i] + force[i] * dt
+            speed = abs(v)
+            if speed > v0[i]:
+                v = v * (v0[i] / speed)
+                speed = v0[i]
+            if speed > 1e-9:
+                yaw[i] = math.atan2(v.imag, v.real)
+            pos[i] = pos[i] + v * dt
+            vel[i] = v
+            if use_goal[i] and has_goal[i] and abs(goal[i] - pos[i]) <= goal_r[i]:
+                reached[i] = True
+                n_reached += 1
+        else:
+            vel[i] = 0j
+            if turn[i]:
+                yaw[i] = (turn_yaw[i] + math.pi) % (2 * math.pi) - math.pi
+        omega[i] = ((yaw[i] - old + math.pi) % (2 * math.pi) - math.pi) / dt
+    return n_reached
+
+
+@no_alloc
+def _social_dense(pos, vel, prm, out, pairs):  # noqa: ANN001, ANN202
+    """Human-human social forces over every pair, each pair's force computed once: the force is exactly
+    antisymmetric (f_ji = -f_ij bit for bit: every step of _pair changes sign with d and dv or keeps it), and
+    each sum runs over j in order as before. pairs: (n, n) scratch, or (0, 0) to compute each force twice."""
+    n = pos.shape[0]
+    cut2 = prm[12] * prm[12]
+    if pairs.shape[0] < n:
         for i in range(n):
             f = 0j
             for j in range(n):
                 if j != i:
-                    f += _pair(pos[j] - pos[i], vel[i] - vel[j], cut2, k_soc, lam, gamma, nn, npr)
-            social[i] = f
+                    f += _pair(pos[j] - pos[i], vel[i] - vel[j], cut2, prm[7], prm[8], prm[9], prm[10], prm[11])
+            out[i] = f
+        return
+    for i in range(n):
+        for j in range(i + 1, n):
+            f = _pair(pos[j] - pos[i], vel[i] - vel[j], cut2, prm[7], prm[8], prm[9], prm[10], prm[11])
+            pairs[i, j] = f
+            pairs[j, i] = -f
+    for i in range(n):
+        f = 0j
+        for j in range(n):
+            if j != i:
+                f += pairs[i, j]
+        out[i] = f
+
+
+@no_alloc
+def _environment(cs, fs, cc, fc, prm, obs_table, affine, rpos, rvel, social):  # noqa: ANN001, ANN202
+    """Environment force (social incl. the robot, nearest obstacle) and distance to the robot of everyone."""
+    n = cs.shape[1]
+    pos, vel, radius, f_env, rdist = cs[0], cs[1], fs[1], cc[2], fc[3]
+    k_obs, sigma, k_soc, lam, gamma, nn, npr, cutoff = prm[5], prm[6], prm[7], prm[8], prm[9], prm[10], prm[11], prm[12]
+    obs_range, has_obs, mpp = prm[13], prm[14] > 0, prm[15]
+    h, w = obs_table.shape
+    cut2 = cutoff * cutoff
     for i in range(n):
         pi = pos[i]
         f = social[i] + _pair(rpos - pi, vel[i] - rvel, cut2, k_soc, lam, gamma, nn, npr)
@@ -219,6 +244,39 @@ def advance(cs, fs, cc, fc, bc, labels, sizes, prm, obs_table, affine, rpos, rve
                 f += k_obs * math.exp(-(dist - radius[i]) / sigma) * dd / dist
         f_env[i] = f
         rdist[i] = abs(rpos - pi)
+
+
+def advance_work(n: int) -> np.ndarray:
+    """Scratch for advance_small: rows e, force, social, group centres, then an (n, n) block of pair forces."""
+    return np.zeros((4 + n, max(n, 1)), dtype=np.complex128)
+
+
+@no_alloc
+def advance_small(cs, fs, cc, fc, bc, labels, sizes, prm, obs_table, affine, rpos, rvel, dt, do_step, work):  # noqa: ANN001, ANN201
+    """advance for crowds of at most GRID_MIN people, allocating nothing (work = advance_work(n))."""
+    n_reached = _move(cs, fs, cc, fc, bc, labels, sizes, prm, dt, work) if do_step else 0
+    _social_dense(cs[0], cs[1], prm, work[2], work[4:])
+    _environment(cs, fs, cc, fc, prm, obs_table, affine, rpos, rvel, work[2])
+    return n_reached
+
+
+@njit(cache=True)
+def advance(cs, fs, cc, fc, bc, labels, sizes, prm, obs_table, affine, rpos, rvel, dt, do_step):  # noqa: ANN001, ANN201
+    """If do_step: desired + group forces and one SFM step for walkers using the environment force of the
+    previous call (walkers move, others get zero velocity, turners turn, reached goals are flagged).
+    Then: environment forces (social incl. the robot, nearest obstacle) for the current positions.
+    Returns the number of agents that reached their real goal."""
+    n = cs.shape[1]
+    if n <= GRID_MIN:
+        return advance_small(cs, fs, cc, fc, bc, labels, sizes, prm, obs_table, affine, rpos, rvel, dt, do_step,
+                             np.zeros((4 + n, max(n, 1)), dtype=np.complex128))  # advance_work(n)
+    work = np.zeros((4, n), dtype=np.complex128)
+    n_reached = _move(cs, fs, cc, fc, bc, labels, sizes, prm, dt, work) if do_step else 0
+    if prm[12] < 1e6:
+        _social_grid(cs[0], cs[1], prm[12], prm[7], prm[8], prm[9], prm[10], prm[11], work[2])
+    else:
+        _social_dense(cs[0], cs[1], prm, work[2], work[:0, :0])
+    _environment(cs, fs, cc, fc, prm, obs_table, affine, rpos, rvel, work[2])
     return n_reached
 
 
@@ -233,38 +291,34 @@ def _clearance(clearance, affine, p):  # noqa: ANN001, ANN202
     return clearance[r, c]
 
 
-@njit(cache=True)
-def resolve_contacts(pos, radius, move, before, rpos, robot_r, rdir, clearance, affine, slack):  # noqa: ANN001, ANN201
+@no_alloc
+def resolve_contacts(pos, radius, move, before, rpos, robot_r, rdir, clearance, affine, slack, snap):  # noqa: ANN001, ANN201
     """Compiled Simulation._resolve_contacts (the reference and its rules are there): overlapping humans
     are pushed apart along their centre line (walkers take the correction from someone standing), then
     nobody ends deeper in the robot than the robot's own move put them. In place; returns whether anyone
-    was moved."""
+    was moved. snap: scratch for the positions before any correction (overlaps are found on them)."""
     n = pos.shape[0]
     moved = False
-    snap = pos.copy()
-    hits = np.empty((max(n * (n - 1) // 2, 1), 2), dtype=np.int64)
-    nh = 0
+    for i in range(n):
+        snap[i] = pos[i]
     for i in range(n):
         for j in range(i + 1, n):
-            if radius[i] + radius[j] - abs(snap[i] - snap[j]) > 1e-6:
-                hits[nh, 0], hits[nh, 1] = i, j
-                nh += 1
-    for h in range(nh):
-        i, j = hits[h, 0], hits[h, 1]
-        d = pos[i] - pos[j]
-        dist = abs(d)
-        unit = d / dist if dist > 1e-9 else complex(math.cos(0.7 * (i + 1)), math.sin(0.7 * (j + 1)))
-        depth = radius[i] + radius[j] - dist + 1e-4
-        wi, wj = move[i], move[j]
-        share_i = 0.5 if wi == wj else (1.0 if wi else 0.0)
-        for side in range(2):
-            k = i if side == 0 else j
-            sign = 1.0 if side == 0 else -1.0
-            share = share_i if side == 0 else 1.0 - share_i
-            cand = pos[k] + sign * unit * depth * share
-            if share > 0 and _clearance(clearance, affine, cand) >= 0.5 * radius[k]:
-                pos[k] = cand
-                moved = True
+            if not radius[i] + radius[j] - abs(snap[i] - snap[j]) > 1e-6:
+                continue
+            d = pos[i] - pos[j]
+            dist = abs(d)
+            unit = d / dist if dist > 1e-9 else complex(math.cos(0.7 * (i + 1)), math.sin(0.7 * (j + 1)))
+            depth = radius[i] + radius[j] - dist + 1e-4
+            wi, wj = move[i], move[j]
+            share_i = 0.5 if wi == wj else (1.0 if wi else 0.0)
+            for side in range(2):
+                k = i if side == 0 else j
+                sign = 1.0 if side == 0 else -1.0
+                share = share_i if side == 0 else 1.0 - share_i
+                cand = pos[k] + sign * unit * depth * share
+                if share > 0 and _clearance(clearance, affine, cand) >= 0.5 * radius[k]:
+                    pos[k] = cand
+                    moved = True
     for i in range(n):
         p_i = pos[i]
         reach = radius[i] + robot_r

@@ -36,6 +36,12 @@ GIVE_WAY_ARRIVED = 0.15  # m
 SIDE_STEP_DIRECTIONS = 16  # directions tried for the side step
 SIDE_STEP_MAX = 3.0  # m: the farthest a human walks to get out of the robot's way
 SEGMENT_TIE = 1e-9  # m: segments this much farther than the nearest count as equally near
+SIDE_STEP_SPACING = 0.1  # m: candidate spots every 0.1 m along each direction, from 0.1 m on
+SIDE_STEP_TURN_COST = 0.3  # m of walk a radian away from straight sideways is worth
+SIDE_STEP_FAR_COST = 0.05  # per m of walk, against clearance, when no spot is far enough
+ASIDE_RADIUS = 0.05  # m: the side-step target is reached within this
+PASSED_MARGIN = 0.3  # m beyond both radii: the robot has passed the human's spot on its path
+RUN_AWAY_MIN_GAP = 0.05  # m: the run-away push is computed as if no closer than this to the robot
 
 
 def wrap(a: float) -> float:
@@ -189,7 +195,7 @@ def run_away_from_robot(sim: Any, leaf: Any, i: int) -> int:
     extra = 0j
     if r > 1e-9:
         # fork: 20*sigma/(r - R) * unit; we keep it repulsive inside R instead of flipping its sign
-        extra = RUN_AWAY_GAIN / max(r - crowd.radius[i], 0.05) * away / r
+        extra = RUN_AWAY_GAIN / max(r - crowd.radius[i], RUN_AWAY_MIN_GAP) * away / r
     sim.command_walk_goal(i, v0=RUN_AWAY_SPEED, extra=extra)
     return SUCCESS
 
@@ -218,7 +224,7 @@ def give_way_to_robot(sim: Any, leaf: Any, i: int) -> int:
     if state["phase"] == "aside" and abs(state["target"] - p) <= GIVE_WAY_ARRIVED:
         state["phase"] = "wait"
     if state["phase"] == "aside":
-        sim.command_walk(i, state["target"], 0.05, float(crowd.max_vel[i]), real_goal=False)
+        sim.command_walk(i, state["target"], ASIDE_RADIUS, float(crowd.max_vel[i]), real_goal=False)
     elif state["phase"] == "wait":
         d = sim.robot_pos - p
         sim.command_turn(i, math.atan2(d.imag, d.real))
@@ -232,7 +238,7 @@ def _robot_has_passed(sim: Any, i: int, state: dict) -> bool:
     if abs(sim.robot_pos - sim.robot_waypoints[-1]) <= sim.config.goal_tolerance:
         return True
     progress, _ = robot_progress(sim)
-    clear = sim.crowd.radius[i] + sim.robot_radius + 0.3
+    clear = sim.crowd.radius[i] + sim.robot_radius + PASSED_MARGIN
     return progress > state["at"] + clear and abs(sim.robot_pos - sim.crowd.pos[i]) > clear
 
 
@@ -309,7 +315,7 @@ def _plan_side_step(sim: Any, i: int) -> dict:
         room = sim.world.free_along(p, u, SIDE_STEP_MAX, radius)
         if room <= 0.0:
             continue
-        s = np.arange(0.1, room + 1e-9, 0.1)
+        s = np.arange(SIDE_STEP_SPACING, room + 1e-9, SIDE_STEP_SPACING)
         if len(s) == 0:
             continue
         spots = p + u * s
@@ -317,11 +323,11 @@ def _plan_side_step(sim: Any, i: int) -> dict:
         ok = np.flatnonzero(d >= want)
         deviation = abs(math.remainder(2 * math.pi * j / SIDE_STEP_DIRECTIONS, 2 * math.pi))
         if len(ok):
-            key = (0, float(s[ok[0]]) + 0.3 * deviation)  # shortest walk, straight sideways preferred
+            key = (0, float(s[ok[0]]) + SIDE_STEP_TURN_COST * deviation)  # shortest walk, straight sideways preferred
             spot = spots[ok[0]]
         else:
             m = int(np.argmax(d))
-            key = (1, -float(d[m]) + 0.05 * float(s[m]))
+            key = (1, -float(d[m]) + SIDE_STEP_FAR_COST * float(s[m]))
             spot = spots[m]
         if best_key is None or key < best_key:
             best_key, best = key, complex(spot)

@@ -93,7 +93,7 @@ def avoid_robot(sim: Any, leaf: Any, i: int) -> int:
     r = abs(away)
     extra = 0j
     if 1e-9 < r < leaf.get("safe_distance"):
-        extra = nodes.RUN_AWAY_GAIN / max(r - crowd.radius[i], 0.05) * away / r
+        extra = nodes.RUN_AWAY_GAIN / max(r - crowd.radius[i], nodes.RUN_AWAY_MIN_GAP) * away / r
     sim.command_walk_goal(i, v0=leaf.get("runaway_vel"), extra=extra)
     return _timed(sim, leaf)
 

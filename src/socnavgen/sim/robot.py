@@ -32,6 +32,7 @@ LOOK_WALL = 0.3  # s of motion looked ahead for walls
 WALL_PUSH = 0.15  # m/s at most, back out of a wall the robot grazes
 AROUND_LOOK = 1.0  # m: room looked for on either side before going around someone
 AROUND_BIAS = 0.1  # m/s sideways while going around (a person dead ahead pushes straight back otherwise)
+GOAL_DECEL = 0.8  # m/s2: the social-force and the straight robots slow down for their goal at this rate
 OCCUPIED_REACH = 2.0  # m: an intermediate waypoint someone stands on is skipped once the robot is this close
 
 
@@ -354,7 +355,7 @@ class SFMPolicy:
         dist = abs(to)
         if last and dist <= GOAL_TOLERANCE * 0.5:
             return RobotAction(0.0, 0.0)
-        v0 = min(self.max_speed, math.sqrt(2 * 0.8 * dist)) if last else self.max_speed
+        v0 = min(self.max_speed, math.sqrt(2 * GOAL_DECEL * dist)) if last else self.max_speed
         force = prm.k_des * (v0 * to / max(dist, 1e-9) - v) / prm.tau
         hp = obs.human_positions_c
         if len(hp):
@@ -447,7 +448,7 @@ class StraightPolicy:
         dist = abs(to)
         if last and dist <= GOAL_TOLERANCE * 0.5:
             return RobotAction(0.0, 0.0)
-        speed = min(self.max_speed, math.sqrt(2 * 0.8 * dist)) if last else self.max_speed
+        speed = min(self.max_speed, math.sqrt(2 * GOAL_DECEL * dist)) if last else self.max_speed
         v = slide_along_walls(obs, to / max(dist, 1e-9) * speed)
         return RobotAction(v.real, v.imag)
 

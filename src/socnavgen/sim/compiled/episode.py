@@ -63,6 +63,7 @@ from socnavgen.sim.compiled.lower import (
 from socnavgen.sim.compiled.robots import robot_params, store_params
 from socnavgen.sim.compiled.script import LOG_ASK_AGAIN, LOG_FIRED, Q_SAY, Q_SPEED, Q_WAIT, TS_K
 from socnavgen.sim.gestures import _describe
+from socnavgen.sim.kernels import advance_work
 
 REASONS = {REASON_GOAL: "robot_goal", REASON_ALL_DONE: "all_done"}
 _PHASES = {"aside": GW_ASIDE, "wait": GW_WAIT, "resume": GW_RESUME}
@@ -169,7 +170,7 @@ def run_compiled(sim: Any, progress: Callable[[int, int], None] | None = None) -
         sim.meta["compiled_skipped"] = str(exc)
         return None
     W = world_tuple(sim.world)
-    K = (sim._labels, sim._sizes, sim._prm, sim._obs_table, sim._affine)
+    K = (sim._labels, sim._sizes, sim._prm, sim._obs_table, sim._affine, advance_work(sim.crowd.n))
     from socnavgen.sim.engine import CONTACT_SLACK
 
     cfg = np.array([sim.dt, max_steps, cfg_.idle_end, cfg_.goal_tolerance, CONTACT_SLACK, has_throttle, has_script,

@@ -42,7 +42,7 @@ RI_ROWS = 6
 # scratch rows
 SF_A, SF_B, SF_FLAGS, SF_LEFT, SF_LEFT_IM = range(5)
 SF_ROWS = 5
-SC_BEFORE, SC_FORCES = range(2)
+SC_BEFORE, SC_SNAP = range(2)
 SC_ROWS = 2
 
 # program: node kinds

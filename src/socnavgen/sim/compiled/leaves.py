@@ -55,6 +55,7 @@ from socnavgen.sim.compiled.layout import (
 )
 from socnavgen.sim.kernels import no_alloc
 from socnavgen.sim.nodes import (
+    ASIDE_RADIUS,
     BLOCK_AHEAD,
     BLOCK_FACE,
     BLOCK_RADIUS,
@@ -67,12 +68,17 @@ from socnavgen.sim.nodes import (
     GIVE_WAY_ARRIVED,
     GIVE_WAY_MARGIN,
     LOOK_TURN_RATE,
+    PASSED_MARGIN,
     ROBOT_MOVED_SPEED,
     RUN_AWAY_GAIN,
+    RUN_AWAY_MIN_GAP,
     RUN_AWAY_SPEED,
     SEGMENT_TIE,
     SIDE_STEP_DIRECTIONS,
+    SIDE_STEP_FAR_COST,
     SIDE_STEP_MAX,
+    SIDE_STEP_SPACING,
+    SIDE_STEP_TURN_COST,
 )
 
 LEAF_NAMES = [n.name for n in leaf_nodes()]
@@ -338,12 +344,13 @@ def plan_side_step(S, W, i):  # noqa: ANN001, ANN201
         room = free_along(W, p, u, SIDE_STEP_MAX, radius)
         if room <= 0.0:
             continue
-        count = int(math.ceil((room + 1e-9 - 0.1) / 0.1))  # len(np.arange(0.1, room + 1e-9, 0.1))
+        # len(np.arange(SPACING, room + 1e-9, SPACING)); its values are SPACING + m * SPACING
+        count = int(math.ceil((room + 1e-9 - SIDE_STEP_SPACING) / SIDE_STEP_SPACING))
         if count <= 0:
             continue
         first_ok, far_m, far_d = -1, 0, -np.inf
         for m in range(count):
-            spot = p + u * (0.1 + m * 0.1)
+            spot = p + u * (SIDE_STEP_SPACING + m * SIDE_STEP_SPACING)
             d = np.inf
             for s in range(segments):
                 d = min(d, project(spot, path_point(S, seg, s, fallback), path_point(S, seg, s + 1, fallback))[1])
@@ -353,9 +360,11 @@ def plan_side_step(S, W, i):  # noqa: ANN001, ANN201
             if d > far_d:
                 far_m, far_d = m, d
         if first_ok >= 0:
-            rank, key, spot = 0, (0.1 + first_ok * 0.1) + 0.3 * SIDE_DEVIATIONS[j], p + u * (0.1 + first_ok * 0.1)
+            s_ok = SIDE_STEP_SPACING + first_ok * SIDE_STEP_SPACING
+            rank, key, spot = 0, s_ok + SIDE_STEP_TURN_COST * SIDE_DEVIATIONS[j], p + u * s_ok
         else:
-            rank, key, spot = 1, -far_d + 0.05 * (0.1 + far_m * 0.1), p + u * (0.1 + far_m * 0.1)
+            s_far = SIDE_STEP_SPACING + far_m * SIDE_STEP_SPACING
+            rank, key, spot = 1, -far_d + SIDE_STEP_FAR_COST * s_far, p + u * s_far
         if not found or rank < best_rank or (rank == best_rank and key < best_key):
             found, best_rank, best_key, best = True, rank, key, spot
     hc[HC_GW_TARGET][i] = best
@@ -367,7 +376,7 @@ def robot_has_passed(S, i):  # noqa: ANN001, ANN201
     if abs(rp - wps[wps.shape[0] - 1]) <= rf[RF_GOAL_TOL]:
         return True
     progress, _ = robot_progress(S)
-    clear = S[1][1][i] + rf[RF_RADIUS] + 0.3
+    clear = S[1][1][i] + rf[RF_RADIUS] + PASSED_MARGIN
     return progress > S[6][HF_GW_AT][i] + clear and abs(rp - S[0][0][i]) > clear
 
 
@@ -386,7 +395,7 @@ def give_way(S, W, i):  # noqa: ANN001, ANN201
         hi[HI_GW_PHASE][i] = GW_WAIT
     phase = hi[HI_GW_PHASE][i]
     if phase == GW_ASIDE:
-        walk(S, i, target, 0.05, hf[HF_MAXVEL][i])
+        walk(S, i, target, ASIDE_RADIUS, hf[HF_MAXVEL][i])
     elif phase == GW_WAIT:
         d = S[9][RC_POS] - p
         turn(S, i, math.atan2(d.imag, d.real))
@@ -425,7 +434,7 @@ def push_away(S, i, gain_limit):  # noqa: ANN001, ANN201
     away = S[0][0][i] - S[9][RC_POS]
     r = abs(away)
     if 1e-9 < r < gain_limit:
-        return np_div(RUN_AWAY_GAIN / max(r - S[1][1][i], 0.05) * away, r)
+        return np_div(RUN_AWAY_GAIN / max(r - S[1][1][i], RUN_AWAY_MIN_GAP) * away, r)
     return 0j
 
 

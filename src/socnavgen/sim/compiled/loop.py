@@ -1,7 +1,7 @@
 """The episode loop, compiled: the twin of Simulation.step / _apply_robot / run (sim.engine, the reference,
 whose docstring lists the order of a step). The physics and the contacts are sim.kernels' own functions.
 
-K = (labels, sizes, prm, obstacle table, affine) as kernels.advance takes them;
+K = (labels, sizes, prm, obstacle table, affine) as kernels.advance takes them, and its work array;
 cols = the trace columns (pos, vel, yaw, omega, action, succeeded, gesture, behavior state, robot, robot gesture);
 cfg = (dt, max steps, idle end, goal tolerance, contact slack, has throttle, has script, has rules).
 """
@@ -35,12 +35,13 @@ from socnavgen.sim.compiled.layout import (
     RI_SAID,
     RI_STEP,
     SC_BEFORE,
+    SC_SNAP,
 )
 from socnavgen.sim.compiled.leaves import goal_reached, pop_goal, refresh_goal
 from socnavgen.sim.compiled.robots import PC_HEADING, PI_HAS_HEADING, heading_kind, policy_act
 from socnavgen.sim.compiled.script import Q_SAY, rules_gesture, script_update, throttle_update
 from socnavgen.sim.compiled.vm import tick_tree
-from socnavgen.sim.kernels import advance, njit, no_alloc, resolve_contacts
+from socnavgen.sim.kernels import GRID_MIN, advance, advance_small, njit, no_alloc, resolve_contacts
 
 REASON_TIMEOUT, REASON_GOAL, REASON_ALL_DONE = 0, 1, 2
 CF_DT, CF_MAX_STEPS, CF_IDLE_END, CF_GOAL_TOL, CF_SLACK, CF_THROTTLE, CF_SCRIPT, CF_RULES = range(8)
@@ -67,11 +68,11 @@ def apply_robot(S, W, R, v):  # noqa: ANN001, ANN201
     rc[RC_POS], rc[RC_VEL] = new, v
 
 
-@njit(cache=True)
-def step(S, W, P, K, R, T, C, G, cfg):  # noqa: ANN001, ANN201
-    """Simulation.step; ERROR when a tree fails (the reference raises there)."""
-    cs, fs, cc, fc, bc, hi, hf = S[0], S[1], S[2], S[3], S[4], S[5], S[6]
-    rc, rf, ri = S[9], S[10], S[11]
+@no_alloc
+def before_physics(S, W, P, R, T, C, cfg):  # noqa: ANN001, ANN201
+    """Simulation.step up to the physics: pacing, every tree, the script, the robot; ERROR when a tree fails
+    (the reference raises there)."""
+    cs, bc, hi = S[0], S[4], S[5]
     n = cs.shape[1]
     dt = cfg[CF_DT]
     if n:
@@ -92,12 +93,22 @@ def step(S, W, P, K, R, T, C, G, cfg):  # noqa: ANN001, ANN201
     if cfg[CF_SCRIPT]:
         script_update(S, C)
     apply_robot(S, W, R, policy_act(S, W, R, C[5]))
+    before = S[16][SC_BEFORE]
+    for i in range(n):
+        before[i] = cs[0][i]
+    return 0
+
+
+@no_alloc
+def after_physics(S, W, C, G, cfg, reached):  # noqa: ANN001, ANN201
+    """Simulation.step after the physics: contacts, goals reached, faces turned, the clock, the robot's
+    gesture."""
+    cs, fs, fc, bc, hi, hf = S[0], S[1], S[3], S[4], S[5], S[6]
+    rc, rf, ri = S[9], S[10], S[11]
+    n = cs.shape[1]
     if n:
-        before = S[16][SC_BEFORE]
-        before[:n] = cs[0]
-        reached = advance(cs, fs, cc, fc, bc, K[0], K[1], K[2], K[3], K[4], rc[RC_POS], rc[RC_VEL], dt, True)
-        if resolve_contacts(cs[0], fs[1], bc[0], before[:n], rc[RC_POS], rf[RF_RADIUS], rc[RC_DIR], W[0], W[3],
-                            cfg[CF_SLACK]):
+        if resolve_contacts(cs[0], fs[1], bc[0], S[16][SC_BEFORE][:n], rc[RC_POS], rf[RF_RADIUS], rc[RC_DIR], W[0],
+                            W[3], cfg[CF_SLACK], S[16][SC_SNAP]):
             for i in range(n):
                 fc[3][i] = abs(rc[RC_POS] - cs[0][i])
         if reached:
@@ -110,7 +121,7 @@ def step(S, W, P, K, R, T, C, G, cfg):  # noqa: ANN001, ANN201
                 d = rc[RC_POS] - cs[0][i]
                 if abs(d) <= hf[HF_FACE_WITHIN][i]:
                     fs[0][i] = math.atan2(d.imag, d.real)
-    rf[RF_T] += dt
+    rf[RF_T] += cfg[CF_DT]
     ri[RI_STEP] += 1
     say = C[5][Q_SAY]
     if say != 0:
@@ -121,7 +132,6 @@ def step(S, W, P, K, R, T, C, G, cfg):  # noqa: ANN001, ANN201
         ri[RI_GESTURE] = 0
     if ri[RI_GESTURE] != 0:
         ri[RI_SAID] |= 1 << ri[RI_GESTURE]
-    return 0
 
 
 @no_alloc
@@ -153,27 +163,39 @@ def human_done(S, i):  # noqa: ANN001, ANN201
 @njit(cache=True)
 def run_episode(S, W, P, K, R, T, C, G, cols, cfg, goal):  # noqa: ANN001, ANN201
     """Simulation.run: to the robot's goal, the timeout, or until nothing will change. Returns (steps,
-    reason), steps = ERROR when a tree failed."""
-    n = S[0].shape[1]
+    reason), steps = ERROR when a tree failed. The physics of a small crowd allocates nothing (K's work)."""
+    cs, fs, cc, fc, bc, rc = S[0], S[1], S[2], S[3], S[4], S[9]
+    labels, sizes, prm, table, affine, work = K
+    n = cs.shape[1]
     dt, idle_end, tol = cfg[CF_DT], cfg[CF_IDLE_END], cfg[CF_GOAL_TOL]
     total = int(cfg[CF_MAX_STEPS]) + 1
     record(S, cols, 0)
     reason, idle, k = REASON_TIMEOUT, 0.0, 0
     for k in range(1, total):
-        if step(S, W, P, K, R, T, C, G, cfg) == ERROR:
+        if before_physics(S, W, P, R, T, C, cfg) == ERROR:
             return ERROR, 0
+        reached = 0
+        if n > GRID_MIN:
+            reached = advance(cs, fs, cc, fc, bc, labels, sizes, prm, table, affine, rc[RC_POS], rc[RC_VEL], dt, True)
+        elif n:
+            reached = advance_small(cs, fs, cc, fc, bc, labels, sizes, prm, table, affine, rc[RC_POS], rc[RC_VEL], dt,
+                                    True, work)
+        after_physics(S, W, C, G, cfg, reached)
         record(S, cols, k)
-        if abs(goal - S[9][RC_POS]) <= tol:
+        if abs(goal - rc[RC_POS]) <= tol:
             reason = REASON_GOAL
             break
-        idle = idle + dt if abs(S[9][RC_VEL]) < 1e-3 else 0.0
-        if idle >= idle_end:
-            done = True
-            for i in range(n):
-                if not human_done(S, i):
-                    done = False
-                    break
-            if done:
-                reason = REASON_ALL_DONE
-                break
+        idle = idle + dt if abs(rc[RC_VEL]) < 1e-3 else 0.0
+        if idle >= idle_end and all_done(S):
+            reason = REASON_ALL_DONE
+            break
     return k + 1, reason
+
+
+@no_alloc
+def all_done(S):  # noqa: ANN001, ANN201
+    """Crowd.done for everyone (a loop: numba compiles no generator into all())."""
+    for i in range(S[0].shape[1]):  # noqa: SIM110
+        if not human_done(S, i):
+            return False
+    return True

@@ -36,6 +36,7 @@ from socnavgen.sim.robot import (
     AROUND_BIAS,
     AROUND_LOOK,
     CLOSE_REACH,
+    GOAL_DECEL,
     GOAL_TOLERANCE,
     KEEP_CLEAR,
     LOOK_WALL,
@@ -224,7 +225,7 @@ def sfm_toward(S, W, R, target, max_speed, last):  # noqa: ANN001, ANN201
     dist = abs(to)
     if last and dist <= GOAL_TOLERANCE * 0.5:
         return 0j
-    v0 = min(max_speed, math.sqrt(2 * 0.8 * dist)) if last else max_speed
+    v0 = min(max_speed, math.sqrt(2 * GOAL_DECEL * dist)) if last else max_speed
     force = sfm[SP_K_DES] * (v0 * to / max(dist, 1e-9) - v) / sfm[SP_TAU]
     n = cs.shape[1]
     if n:
@@ -377,7 +378,7 @@ def straight_act(S, W, R, max_speed, second):  # noqa: ANN001, ANN201
     dist = abs(to)
     if last and dist <= GOAL_TOLERANCE * 0.5:
         return 0j
-    speed = min(max_speed, math.sqrt(2 * 0.8 * dist)) if last else max_speed
+    speed = min(max_speed, math.sqrt(2 * GOAL_DECEL * dist)) if last else max_speed
     return slide_along_walls(S, W, to / max(dist, 1e-9) * speed)
 
 
