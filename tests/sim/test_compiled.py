@@ -192,7 +192,7 @@ def test_the_side_step_is_the_reference_one(seed: int) -> None:
     from socnavgen.sim.compiled.episode import _state
     from socnavgen.sim.compiled.geometry import world_tuple
     from socnavgen.sim.compiled.layout import HC_GW_TARGET, HF_GW_AT
-    from socnavgen.sim.compiled.leaves import plan_side_step
+    from socnavgen.sim.compiled.path import plan_side_step
 
     rng = np.random.default_rng(seed)
     world = empty_room(12.0, 8.0, walls=[(5.0, 0.0, 5.4, 3.0), (8.0, 5.0, 8.4, 8.0)])

@@ -9,18 +9,12 @@ import math
 import numpy as np
 
 from socnavgen.bt.library import HUMAN_GESTURES, HUNAV2_FIRST_AGENT_ID, leaf_nodes
-from socnavgen.sim.agents import GOAL_SLACK
-from socnavgen.sim.compiled.geometry import free_along, line_of_sight, np_div, pairwise_sum, project
+from socnavgen.sim.compiled.geometry import np_div
 from socnavgen.sim.compiled.layout import (
     ERROR,
     FAILURE,
-    GW_ASIDE,
     GW_RESUME,
-    GW_WAIT,
-    HC_GW_TARGET,
     HF_FACE_WITHIN,
-    HF_GW_AT,
-    HF_MAXVEL,
     HF_PACE,
     HI_BSTATE,
     HI_FACE,
@@ -28,34 +22,32 @@ from socnavgen.sim.compiled.layout import (
     HI_GW,
     HI_GW_PHASE,
     HI_PAUSED,
-    HI_QCYCLIC,
-    HI_QLEN,
-    HI_QSTART,
-    HI_SIGHT,
     PORT_LITERAL,
-    RC_DIR,
     RC_POS,
     RC_VEL,
-    RF_GOAL_TOL,
-    RF_PROGRESS,
     RF_RADIUS,
     RF_YAW,
     RI_GESTURE,
-    RI_PROGRESS_SEG,
-    RI_PROGRESS_STEP,
     RI_SAID,
-    RI_SEG,
-    RI_STEP,
     RUNNING,
-    SF_A,
-    SF_LEFT,
     SUCCESS,
     T_INT,
     T_UNSET,
 )
+from socnavgen.sim.compiled.motion import (
+    bearing,
+    goal_reached,
+    in_sight,
+    pop_goal,
+    refresh_goal,
+    stand,
+    turn,
+    walk,
+    walk_goal,
+)
+from socnavgen.sim.compiled.path import give_way, in_robot_way
 from socnavgen.sim.kernels import no_alloc
 from socnavgen.sim.nodes import (
-    ASIDE_RADIUS,
     BLOCK_AHEAD,
     BLOCK_FACE,
     BLOCK_RADIUS,
@@ -63,22 +55,11 @@ from socnavgen.sim.nodes import (
     BLOCKING_CONE,
     FOLLOW_GAIN,
     FOLLOW_STOP,
-    FOLLOW_WAY_AHEAD,
-    FOLLOW_WAY_MARGIN,
-    GIVE_WAY_ARRIVED,
-    GIVE_WAY_MARGIN,
     LOOK_TURN_RATE,
-    PASSED_MARGIN,
     ROBOT_MOVED_SPEED,
     RUN_AWAY_GAIN,
     RUN_AWAY_MIN_GAP,
     RUN_AWAY_SPEED,
-    SEGMENT_TIE,
-    SIDE_STEP_DIRECTIONS,
-    SIDE_STEP_FAR_COST,
-    SIDE_STEP_MAX,
-    SIDE_STEP_SPACING,
-    SIDE_STEP_TURN_COST,
 )
 
 LEAF_NAMES = [n.name for n in leaf_nodes()]
@@ -119,17 +100,6 @@ P_TARGET_AGENT, P_CLOSEST, P_MAX_VEL, P_FA_DURATION = (_port("FollowAgent", p) f
                                                         ("target_agent_id", "closest_dist", "max_vel", "duration"))
 P_SAFE, P_RUNAWAY_VEL, P_AR_DURATION = (_port("AvoidRobot", p) for p in ("safe_distance", "runaway_vel", "duration"))
 
-# GiveWaytoRobot's side-step directions and how far each turns from straight sideways (nodes._plan_side_step)
-_ANGLES = [2 * math.pi * j / SIDE_STEP_DIRECTIONS for j in range(SIDE_STEP_DIRECTIONS)]
-SIDE_UNITS = np.array([complex(math.cos(a), math.sin(a)) for a in _ANGLES])
-SIDE_DEVIATIONS = np.array([abs(math.remainder(a, 2 * math.pi)) for a in _ANGLES])
-PI2 = 2 * math.pi
-
-
-@no_alloc
-def wrap(a):  # noqa: ANN001, ANN201
-    return (a + math.pi) % PI2 - math.pi
-
 
 @no_alloc
 def port(P, k, p):  # noqa: ANN001, ANN201
@@ -141,267 +111,6 @@ def port(P, k, p):  # noqa: ANN001, ANN201
     if s == PORT_LITERAL:
         return P[4][k, p], P[5][k, p]
     return 0.0, -1
-
-
-# ---- commands (Simulation.command_*) ------------------------------------------------------------------
-@no_alloc
-def walk_goal(S, i, v0, extra):  # noqa: ANN001, ANN201
-    fc, bc, cc = S[3], S[4], S[2]
-    bc[0][i] = True
-    bc[1][i] = True
-    fc[1][i] = v0
-    cc[1][i] = extra
-    bc[2][i] = False
-
-
-@no_alloc
-def walk(S, i, target, radius, v0):  # noqa: ANN001, ANN201
-    fc, bc, cc = S[3], S[4], S[2]
-    bc[0][i] = True
-    bc[1][i] = False
-    cc[0][i] = target
-    fc[0][i] = radius
-    fc[1][i] = v0
-    cc[1][i] = 0j
-    bc[2][i] = False
-
-
-@no_alloc
-def turn(S, i, yaw):  # noqa: ANN001, ANN201
-    S[4][0][i] = False
-    S[4][2][i] = True
-    S[3][2][i] = yaw
-
-
-@no_alloc
-def stand(S, i):  # noqa: ANN001, ANN201
-    S[4][0][i] = False
-    S[4][2][i] = False
-
-
-# ---- goal queues (agents.GoalQueue as a ring per human) ------------------------------------------------
-@no_alloc
-def refresh_goal(S, i):  # noqa: ANN001, ANN201
-    """Crowd.refresh_goal."""
-    cs, bc, hi, qbuf = S[0], S[4], S[5], S[8]
-    if hi[HI_QLEN][i] > 0:
-        bc[3][i] = True
-        cs[2][i] = qbuf[i, hi[HI_QSTART][i]]
-    else:
-        bc[3][i] = False
-        cs[2][i] = cs[0][i]
-
-
-@no_alloc
-def pop_goal(S, i, keep_last):  # noqa: ANN001, ANN201
-    """GoalQueue.update_goal (keep_last) / consume: drop the front (not the only one with keep_last);
-    a cyclic queue appends it again."""
-    hi, qbuf = S[5], S[8]
-    n = hi[HI_QLEN][i]
-    if n == 0:
-        return
-    cap = qbuf.shape[1]
-    start = hi[HI_QSTART][i]
-    g = qbuf[i, start]
-    if not keep_last or n != 1:
-        start = (start + 1) % cap
-        n -= 1
-    if hi[HI_QCYCLIC][i]:
-        qbuf[i, (start + n) % cap] = g
-        n += 1
-    hi[HI_QSTART][i] = start
-    hi[HI_QLEN][i] = n
-
-
-@no_alloc
-def goal_reached(S, i):  # noqa: ANN001, ANN201
-    """GoalQueue.reached (IsGoalReached)."""
-    cs, fs, hi, qbuf = S[0], S[1], S[5], S[8]
-    return hi[HI_QLEN][i] > 0 and abs(qbuf[i, hi[HI_QSTART][i]] - cs[0][i]) <= fs[2][i] + GOAL_SLACK
-
-
-# ---- queries ----------------------------------------------------------------------------------------
-@no_alloc
-def in_sight(S, W, i):  # noqa: ANN001, ANN201
-    """Simulation.robot_in_sight: computed at most once per human and step."""
-    hi = S[5]
-    seen = hi[HI_SIGHT][i]
-    if seen < 0:
-        seen = 1 if line_of_sight(W, S[9][RC_POS], S[0][0][i]) else 0
-        hi[HI_SIGHT][i] = seen
-    return seen == 1
-
-
-@no_alloc
-def bearing(S, i):  # noqa: ANN001, ANN201
-    """nodes.robot_bearing."""
-    d = S[9][RC_POS] - S[0][0][i]
-    return wrap(math.atan2(d.imag, d.real) - S[1][0][i])
-
-
-@no_alloc
-def robot_progress(S):  # noqa: ANN001, ANN201
-    """nodes.robot_progress: (arc length, segment) of the robot's projection on its path, searched from the
-    last segment found; once per step."""
-    rf, ri, wps, wpoff = S[10], S[11], S[12], S[13]
-    if ri[RI_PROGRESS_STEP] == ri[RI_STEP]:
-        return rf[RF_PROGRESS], ri[RI_PROGRESS_SEG]
-    value, seg = 0.0, 0
-    if wps.shape[0] >= 2:
-        rp = S[9][RC_POS]
-        first = ri[RI_SEG]
-        nearest = np.inf
-        for s in range(first, wps.shape[0] - 1):
-            nearest = min(nearest, project(rp, wps[s], wps[s + 1])[1])
-        for s in range(first, wps.shape[0] - 1):  # nodes.nearest_segment: the first within the tie
-            along, dist = project(rp, wps[s], wps[s + 1])
-            if dist <= nearest + SEGMENT_TIE:
-                seg, value = s, wpoff[s] + along
-                break
-        ri[RI_SEG] = seg
-    ri[RI_PROGRESS_STEP] = ri[RI_STEP]
-    rf[RF_PROGRESS], ri[RI_PROGRESS_SEG] = value, seg
-    return value, seg
-
-
-@no_alloc
-def path_size(S, seg, fallback):  # noqa: ANN001, ANN201
-    """Points of the robot's upcoming path: its position, then its waypoints after segment `seg`
-    (`fallback`: its position and a point 1 cm ahead, as _plan_side_step uses when there is no path)."""
-    return 2 if fallback else max(S[12].shape[0] - seg, 1)
-
-
-@no_alloc
-def path_point(S, seg, j, fallback):  # noqa: ANN001, ANN201
-    rp = S[9][RC_POS]
-    if fallback:
-        return rp if j == 0 else rp + S[9][RC_DIR] * 0.01
-    return rp if j == 0 else S[12][seg + j]
-
-
-@no_alloc
-def nearest_segment(S, p, seg, fallback):  # noqa: ANN001, ANN201
-    """(index, along, distance) of the upcoming path's segment nearest to p (nodes.nearest_segment: the
-    first within SEGMENT_TIE of the nearest)."""
-    nearest = np.inf
-    for s in range(path_size(S, seg, fallback) - 1):
-        nearest = min(nearest, project(p, path_point(S, seg, s, fallback), path_point(S, seg, s + 1, fallback))[1])
-    for s in range(path_size(S, seg, fallback) - 1):
-        along, dist = project(p, path_point(S, seg, s, fallback), path_point(S, seg, s + 1, fallback))
-        if dist <= nearest + SEGMENT_TIE:
-            return s, along, dist
-    return 0, 0.0, np.inf
-
-
-@no_alloc
-def arc_before(S, seg, k, fallback):  # noqa: ANN001, ANN201
-    """np.sum(np.abs(b[:k] - a[:k])) over the upcoming path's first k segments."""
-    lengths = S[14][SF_A]
-    for j in range(k):
-        lengths[j] = abs(path_point(S, seg, j + 1, fallback) - path_point(S, seg, j, fallback))
-    return pairwise_sum(lengths, 0, k, S[15], S[14][SF_LEFT])
-
-
-@no_alloc
-def in_robot_way(S, i):  # noqa: ANN001, ANN201
-    """nodes._in_robot_way."""
-    p, rp, wps = S[0][0][i], S[9][RC_POS], S[12]
-    if abs(p - rp) > FOLLOW_WAY_AHEAD or abs(rp - wps[wps.shape[0] - 1]) <= S[10][RF_GOAL_TOL]:
-        return False
-    _, seg = robot_progress(S)
-    if path_size(S, seg, False) < 2:
-        return False
-    k, along, dist = nearest_segment(S, p, seg, False)
-    ahead = arc_before(S, seg, k, False) + along
-    return dist < S[1][1][i] + S[10][RF_RADIUS] + FOLLOW_WAY_MARGIN and ahead > 0.0
-
-
-# ---- give way (nodes.give_way_to_robot, _plan_side_step, _robot_has_passed) ------------------------------
-@no_alloc
-def plan_side_step(S, W, i):  # noqa: ANN001, ANN201
-    """nodes._plan_side_step: sets the human's give-way target, phase and arc position."""
-    cs, fs, hi, hf, hc = S[0], S[1], S[5], S[6], S[7]
-    p = cs[0][i]
-    radius = fs[1][i]
-    want = radius + S[10][RF_RADIUS] + GIVE_WAY_MARGIN
-    progress, seg = robot_progress(S)
-    fallback = path_size(S, seg, False) < 2
-    k, along, dist = nearest_segment(S, p, seg, fallback)
-    hf[HF_GW_AT][i] = progress + arc_before(S, seg, k, fallback) + along
-    hi[HI_GW_PHASE][i] = GW_ASIDE
-    hc[HC_GW_TARGET][i] = p
-    if dist >= want:
-        return
-    a_k, b_k = path_point(S, seg, k, fallback), path_point(S, seg, k + 1, fallback)
-    seg_dir = b_k - a_k
-    seg_dir = np_div(seg_dir, abs(seg_dir)) if abs(seg_dir) > 1e-9 else S[9][RC_DIR]
-    lateral = ((p - a_k) * seg_dir.conjugate()).imag
-    prefer = seg_dir * 1j * (1.0 if lateral >= 0 else -1.0)
-    segments = path_size(S, seg, fallback) - 1
-    found, best_rank, best_key, best = False, 0, 0.0, p
-    for j in range(SIDE_STEP_DIRECTIONS):
-        u = prefer * SIDE_UNITS[j]
-        room = free_along(W, p, u, SIDE_STEP_MAX, radius)
-        if room <= 0.0:
-            continue
-        # len(np.arange(SPACING, room + 1e-9, SPACING)); its values are SPACING + m * SPACING
-        count = int(math.ceil((room + 1e-9 - SIDE_STEP_SPACING) / SIDE_STEP_SPACING))
-        if count <= 0:
-            continue
-        first_ok, far_m, far_d = -1, 0, -np.inf
-        for m in range(count):
-            spot = p + u * (SIDE_STEP_SPACING + m * SIDE_STEP_SPACING)
-            d = np.inf
-            for s in range(segments):
-                d = min(d, project(spot, path_point(S, seg, s, fallback), path_point(S, seg, s + 1, fallback))[1])
-            if d >= want:
-                first_ok = m
-                break
-            if d > far_d:
-                far_m, far_d = m, d
-        if first_ok >= 0:
-            s_ok = SIDE_STEP_SPACING + first_ok * SIDE_STEP_SPACING
-            rank, key, spot = 0, s_ok + SIDE_STEP_TURN_COST * SIDE_DEVIATIONS[j], p + u * s_ok
-        else:
-            s_far = SIDE_STEP_SPACING + far_m * SIDE_STEP_SPACING
-            rank, key, spot = 1, -far_d + SIDE_STEP_FAR_COST * s_far, p + u * s_far
-        if not found or rank < best_rank or (rank == best_rank and key < best_key):
-            found, best_rank, best_key, best = True, rank, key, spot
-    hc[HC_GW_TARGET][i] = best
-
-
-@no_alloc
-def robot_has_passed(S, i):  # noqa: ANN001, ANN201
-    rp, wps, rf = S[9][RC_POS], S[12], S[10]
-    if abs(rp - wps[wps.shape[0] - 1]) <= rf[RF_GOAL_TOL]:
-        return True
-    progress, _ = robot_progress(S)
-    clear = S[1][1][i] + rf[RF_RADIUS] + PASSED_MARGIN
-    return progress > S[6][HF_GW_AT][i] + clear and abs(rp - S[0][0][i]) > clear
-
-
-@no_alloc
-def give_way(S, W, i):  # noqa: ANN001, ANN201
-    cs, hi, hf, hc = S[0], S[5], S[6], S[7]
-    p = cs[0][i]
-    if hi[HI_BSTATE][i] != 2 or hi[HI_GW][i] == 0:
-        hi[HI_BSTATE][i] = 2
-        hi[HI_GW][i] = 1
-        plan_side_step(S, W, i)
-    if hi[HI_GW_PHASE][i] != GW_RESUME and robot_has_passed(S, i):
-        hi[HI_GW_PHASE][i] = GW_RESUME
-    target = hc[HC_GW_TARGET][i]
-    if hi[HI_GW_PHASE][i] == GW_ASIDE and abs(target - p) <= GIVE_WAY_ARRIVED:
-        hi[HI_GW_PHASE][i] = GW_WAIT
-    phase = hi[HI_GW_PHASE][i]
-    if phase == GW_ASIDE:
-        walk(S, i, target, ASIDE_RADIUS, hf[HF_MAXVEL][i])
-    elif phase == GW_WAIT:
-        d = S[9][RC_POS] - p
-        turn(S, i, math.atan2(d.imag, d.real))
-    else:
-        walk_goal(S, i, hf[HF_MAXVEL][i], 0j)
-    return SUCCESS
 
 
 @no_alloc

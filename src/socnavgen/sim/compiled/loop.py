@@ -37,7 +37,7 @@ from socnavgen.sim.compiled.layout import (
     SC_BEFORE,
     SC_SNAP,
 )
-from socnavgen.sim.compiled.leaves import goal_reached, pop_goal, refresh_goal
+from socnavgen.sim.compiled.motion import goal_reached, pop_goal, refresh_goal
 from socnavgen.sim.compiled.robots import PC_HEADING, PI_HAS_HEADING, heading_kind, policy_act
 from socnavgen.sim.compiled.script import Q_SAY, rules_gesture, script_update, throttle_update
 from socnavgen.sim.compiled.vm import tick_tree
