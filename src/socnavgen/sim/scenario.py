@@ -9,9 +9,9 @@ from pathlib import Path
 import numpy as np
 
 from socnavgen.bt.library import regular_walker_xml
+from socnavgen.bt.tree import BTDocument
 from socnavgen.errors import ValidationFailed
-from socnavgen.run import RunFolder
-from socnavgen.run.checks import plan_mistakes
+from socnavgen.run import LoadedRun, load_run
 from socnavgen.sim.agents import HumanSpec
 from socnavgen.sim.engine import SimConfig, Simulation
 from socnavgen.sim.gestures import RobotScriptRunner, ScriptedGestures
@@ -51,22 +51,24 @@ def spawn_points(world: World, first_nodes: list[complex], group_ids: list[int],
     return out
 
 
-def load_simulation(run_dir: Path, policy: RobotPolicy, config: SimConfig | None = None,
+def load_simulation(run_dir: Path | str | LoadedRun, policy: RobotPolicy, config: SimConfig | None = None,
                     throttle: ThrottleConfig | None = None, location=None,  # noqa: ANN001
                     *, world: World | None = None) -> Simulation:
-    """A ready Simulation of a run folder. `location`: a loaded Location (passed on, not re-read), a folder,
+    """A ready Simulation of a run. `run_dir`: a LoadedRun (its files are not read again: campaign workers
+    keep one per scenario) or a run folder; `location`: a loaded Location (passed on, not re-read), a folder,
     or None for the one request.json names (RunFolder.location); `world`: an already built World of that
     location (campaign workers keep both across episodes)."""
     config = config or SimConfig()
-    run = RunFolder(Path(run_dir))
+    run = load_run(run_dir)
     location = run.location(location)
-    plan = run.read_paths()
+    plan = run.paths()
     world = world if world is not None else World.from_location(location)
     known = set(location.scene_graph.node_ids())
-    problems = plan_mistakes(plan, location.graph, interaction_points=False)
+    problems = run.plan_mistakes(location, interaction_points=False)
     humans = sorted(plan.humans, key=lambda h: h.agent_id)
     if problems:
-        raise ValidationFailed("cannot simulate this run:\n  " + "\n  ".join(problems), file=run.paths_path)
+        raise ValidationFailed("cannot simulate this run:\n  " + "\n  ".join(problems),
+                               file=run.folder.paths_path)
 
     def w(node: str) -> complex:
         return complex(*location.node_world(node))
@@ -84,10 +86,11 @@ def load_simulation(run_dir: Path, policy: RobotPolicy, config: SimConfig | None
                                interaction_point=location.node_world(h.interaction_point)
                                if h.interaction_point in known else None))
     xmls = run.behaviors()
-    trees, names, defaulted = [], [], []
+    trees: list[str | BTDocument] = []
+    names, defaulted = [], []
     for h in humans:
         if h.name in xmls:
-            trees.append(xmls[h.name])
+            trees.append(run.behavior_tree(h.name))  # parsed once per run, under the name below
             names.append(str(run.behavior_path(h.name)))
         else:
             trees.append(DEFAULT_TREE)
@@ -95,7 +98,7 @@ def load_simulation(run_dir: Path, policy: RobotPolicy, config: SimConfig | None
             defaulted.append(h.name)
     node_points = {n: w(n) for n in known}
     robot_path = [location.node_world(n) for n in plan.robot]
-    spec = run.read_spec()
+    spec = run.spec()
     script = None
     throttle = throttle or ThrottleConfig()
     if spec is not None:
@@ -115,10 +118,10 @@ def load_simulation(run_dir: Path, policy: RobotPolicy, config: SimConfig | None
     }
     return Simulation(world, specs, trees, robot_path, policy, config,
                       gestures=ScriptedGestures(plan.robot_gestures, node_points), throttle=thr,
-                      tree_names=names, base_dir=run.behaviors_dir, meta=meta, script=script)
+                      tree_names=names, base_dir=run.folder.behaviors_dir, meta=meta, script=script)
 
 
-def simulate_run(run_dir: Path, robot: str | RobotPolicy = DEFAULT_ROBOT, location=None,  # noqa: ANN001
+def simulate_run(run_dir: Path | str | LoadedRun, robot: str | RobotPolicy = DEFAULT_ROBOT, location=None,  # noqa: ANN001
                  dt: float = 0.05, timeout: float = 120.0, seed: int = 0, throttle: bool | ThrottleConfig = True,
                  progress=None, save: bool = True, plot: bool = True, gif: bool = False):  # noqa: ANN001, ANN201
     """One call from a run folder to its trace. With `save` (default) it writes what `socnavgen simulate`
@@ -131,12 +134,12 @@ def simulate_run(run_dir: Path, robot: str | RobotPolicy = DEFAULT_ROBOT, locati
     policy = load_policy(robot) if isinstance(robot, str) else robot
     if isinstance(throttle, bool):
         throttle = ThrottleConfig(enabled=throttle)
-    run = RunFolder(Path(run_dir))
+    run = load_run(run_dir)
     loaded = run.location(location)
-    sim = load_simulation(run.root, policy, SimConfig(dt=dt, timeout=timeout, seed=seed), throttle, loaded)
+    sim = load_simulation(run, policy, SimConfig(dt=dt, timeout=timeout, seed=seed), throttle, loaded)
     sim.meta["robot_plugin"] = robot if isinstance(robot, str) else type(robot).__name__
     trace = sim.run(progress=progress)
     if save:
-        trace.save(run.sim_dir / "trace.npz")
-        write_outputs(trace, loaded, run.sim_dir, plot=plot, gif=gif)
+        trace.save(run.folder.sim_dir / "trace.npz")
+        write_outputs(trace, loaded, run.folder.sim_dir, plot=plot, gif=gif)
     return trace
