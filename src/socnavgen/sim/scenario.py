@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -18,6 +19,9 @@ from socnavgen.sim.gestures import RobotScriptRunner, ScriptedGestures
 from socnavgen.sim.interaction import InteractionThrottle, ThrottleConfig
 from socnavgen.sim.robot import DEFAULT_ROBOT, RobotPolicy
 from socnavgen.sim.world import World
+
+if TYPE_CHECKING:
+    from socnavgen.location import Location
 
 SPAWN_SPREAD = 1.5  # m: SocRATES places each human uniformly within 1.5 m of its first node
 GROUP_SPAWN_RADIUS = 0.6  # m: members of a group start this far from their node (0.9-1.2 m apart)
@@ -51,6 +55,12 @@ def spawn_points(world: World, first_nodes: list[complex], group_ids: list[int],
     return out
 
 
+def node_worlds(run: LoadedRun, location: Location) -> dict[str, tuple[float, float]]:
+    """Location.node_world of every scene-graph node, worked out once per run and location (read only)."""
+    return run.for_location("sim.node_worlds", location,
+                            lambda: {n: location.node_world(n) for n in location.scene_graph.node_ids()})
+
+
 def load_simulation(run_dir: Path | str | LoadedRun, policy: RobotPolicy, config: SimConfig | None = None,
                     throttle: ThrottleConfig | None = None, location=None,  # noqa: ANN001
                     *, world: World | None = None) -> Simulation:
@@ -63,7 +73,7 @@ def load_simulation(run_dir: Path | str | LoadedRun, policy: RobotPolicy, config
     location = run.location(location)
     plan = run.paths()
     world = world if world is not None else World.from_location(location)
-    known = set(location.scene_graph.node_ids())
+    at = node_worlds(run, location)  # Location.node_world of every scene-graph node
     problems = run.plan_mistakes(location, interaction_points=False)
     humans = sorted(plan.humans, key=lambda h: h.agent_id)
     if problems:
@@ -71,20 +81,19 @@ def load_simulation(run_dir: Path | str | LoadedRun, policy: RobotPolicy, config
                                file=run.folder.paths_path)
 
     def w(node: str) -> complex:
-        return complex(*location.node_world(node))
+        return complex(*at[node])
 
     rng = np.random.default_rng(config.seed)
     starts = spawn_points(world, [w(h.path[0]) for h in humans], [h.group_id for h in humans], 0.4, rng)
     specs = []
     for h, start in zip(humans, starts, strict=True):
         goal_nodes = h.path[1:] if len(h.path) > 1 else h.path[:1]
-        goals = [location.node_world(n) for n in goal_nodes]
+        goals = [at[n] for n in goal_nodes]
         first = complex(*goals[0]) - start
         yaw = math.atan2(first.imag, first.real) if abs(first) > 1e-9 else 0.0
         specs.append(HumanSpec(name=h.name, start=(start.real, start.imag), goals=goals, yaw=yaw,
                                group_id=h.group_id, path_nodes=list(h.path),
-                               interaction_point=location.node_world(h.interaction_point)
-                               if h.interaction_point in known else None))
+                               interaction_point=at.get(h.interaction_point)))
     xmls = run.behaviors()
     trees: list[str | BTDocument] = []
     names, defaulted = [], []
@@ -96,8 +105,8 @@ def load_simulation(run_dir: Path | str | LoadedRun, policy: RobotPolicy, config
             trees.append(DEFAULT_TREE)
             names.append(f"<default RegularNav tree for {h.name}>")
             defaulted.append(h.name)
-    node_points = {n: w(n) for n in known}
-    robot_path = [location.node_world(n) for n in plan.robot]
+    node_points = {n: w(n) for n in at}
+    robot_path = [at[n] for n in plan.robot]
     spec = run.spec()
     script = None
     throttle = throttle or ThrottleConfig()
@@ -110,8 +119,7 @@ def load_simulation(run_dir: Path | str | LoadedRun, policy: RobotPolicy, config
     meta = {
         "run": str(run.root), "location": location.name, "robot_nodes": list(plan.robot),
         "human_paths": {h.name: list(h.path) for h in humans},
-        "interaction_points": {h.name: [*location.node_world(h.interaction_point)]
-                               for h in humans if h.interaction_point in known},
+        "interaction_points": {h.name: [*at[h.interaction_point]] for h in humans if h.interaction_point in at},
         "interaction_nodes": {h.name: h.interaction_point for h in humans if h.interaction_point},
         "default_trees": defaulted, "policy": type(policy).__name__,
         "throttle": throttle.__dict__, "spec": spec is not None,
