@@ -132,3 +132,14 @@ def test_obstacle_lookup_equals_the_reference(corridor) -> None:  # noqa: ANN001
     for got, want in zip(lookup.nearest(points), reference.nearest(lookup, points), strict=True):
         assert np.array_equal(got, want)
     assert lookup.nearest(points)[1].any() and not lookup.nearest(points)[1].all()
+
+
+@pytest.mark.parametrize("case", ["5 people", "no people", "one person, one step", "zero time step", "float32 trace"])
+def test_navigation_metrics_equal_the_reference_formulas(case: str, corridor) -> None:  # noqa: ANN001
+    from socnavgen.sim.world import World
+
+    trace = random_trace(**CASES[case])
+    for world in (World.from_location(corridor), None):
+        new, old = metrics.navigation_metrics(trace, world), reference.navigation_metrics(trace, world)
+        assert {k: v for k, v in new.items() if not same(v, old[k])} == {}
+    assert new["path_irregularity"] is not None or case == "one person, one step"

@@ -480,7 +480,7 @@ def navigation_metrics(trace: Trace, world: Any) -> dict[str, Any]:
     out: dict[str, Any] = dict.fromkeys(NAVIGATION_METRICS)
     if len(pr) == 0:
         return out
-    length = float(_norm(np.diff(pr, axis=0)).sum())
+    length = float(contact.lengths(np.diff(pr, axis=0)).sum())
     goals = robot_goals(trace)
     if length > 1e-9:
         turning = float(np.abs(wrap(np.diff(yaw))).sum())
@@ -492,7 +492,7 @@ def navigation_metrics(trace: Trace, world: Any) -> dict[str, Any]:
         out["path_irregularity"] = max(0.0, turning - needed) / length
     radius = float(trace.meta.get("robot_goal_radius", SUCCESS_GOAL_RADIUS)) if isinstance(trace.meta, dict) \
         else SUCCESS_GOAL_RADIUS
-    if goals and float(_norm(pr - np.asarray(goals[-1])).min()) <= radius and length > 1e-9:
+    if goals and float(contact.lengths(pr - np.asarray(goals[-1])).min()) <= radius and length > 1e-9:
         reference = float(np.hypot(*(np.asarray(goals[-1]) - pr[0])))
         out["path_efficiency"] = min(1.0, reference / length)
     if world is not None:
