@@ -45,11 +45,9 @@ class LoadedRun:
     def derived(self, key: Any, build: Callable[[], T]) -> T:
         """`build()` computed once for this run and kept under `key` (hashable): what a later stage derives
         from the run alone (the verifier's criteria, a card's criteria). Nothing is kept when it raises."""
-        try:
-            return self._memo[key]
-        except KeyError:
-            value = self._memo[key] = build()
-            return value
+        if key not in self._memo:  # build outside any handler: its errors carry no unrelated context
+            self._memo[key] = build()
+        return self._memo[key]
 
     def for_location(self, key: Any, location: Any, build: Callable[[], T]) -> T:
         """`derived` for values that also depend on a loaded Location (kept per Location object: the same
