@@ -74,6 +74,19 @@ def _nesting(formula: str) -> int:
 def check_formula(formula: str, signals: Signals) -> list[str]:
     """Raise FormulaError unless the formula is short, a single expression and names only known signals;
     return the signal names it uses."""
+    names = list(_checked_text(formula))
+    for name in names:
+        try:
+            signals.get(name)
+        except UnknownSignal as exc:
+            raise FormulaError(str(exc)) from None
+    return names
+
+
+@lru_cache(maxsize=1024)
+def _checked_text(formula: str) -> tuple[str, ...]:
+    """The checks of check_formula that read the text alone, kept per formula (a campaign checks the same
+    few on every episode; a refused formula is not kept and is refused again, with the same message)."""
     if not formula or not formula.strip():
         raise FormulaError("the formula is empty")
     if len(formula) > MAX_FORMULA_CHARS:
@@ -89,12 +102,7 @@ def check_formula(formula: str, signals: Signals) -> list[str]:
     names = formula_signals(formula)
     if not names:
         raise FormulaError("the formula names no signal")
-    for name in names:
-        try:
-            signals.get(name)
-        except UnknownSignal as exc:
-            raise FormulaError(str(exc)) from None
-    return names
+    return tuple(names)
 
 
 @lru_cache(maxsize=1)
