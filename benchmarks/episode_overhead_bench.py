@@ -5,7 +5,8 @@ the 5-person crowd-navigation card on the warehouse (60 s timeout, `waypoints` r
 "before" runs the same measurement on another revision of the source (extracted with `git archive`, in a
 subprocess), calling with run folder paths (all the old API had); "after" is this tree as a campaign worker
 calls it (one LoadedRun per scenario, kept across episodes); "after, paths" is this tree called with paths
-(a caller that keeps nothing). The last line says whether both revisions gave the same metrics and report.
+(a caller that keeps nothing). The last line says whether every column gave the same re-simulated trace,
+metrics and verify report.
 
     python benchmarks/episode_overhead_bench.py --before 4425df4
     python benchmarks/episode_overhead_bench.py                 # this tree only
