@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import duckdb
 import pyarrow.parquet as pq
 
 from socnavgen.campaign import episode as episode_module
 from socnavgen.campaign.runner import run_campaign
 from socnavgen.campaign.spec import parse_campaign
+from socnavgen.run.folder import RunFolder
 from tests.campaign.conftest import POLICIES, campaign_yaml
 
 VOLATILE = ["wall_seconds"]
@@ -47,8 +50,14 @@ def test_crash_and_hang_fail_their_episode_only(tmp_path) -> None:  # noqa: ANN0
 def test_a_worker_loads_each_location_once(small_spec, tmp_path, monkeypatch) -> None:  # noqa: ANN001
     cache = episode_module.WorkerCache()
     monkeypatch.setattr(episode_module, "WORKER_CACHE", cache)
+    read = []
+    original = RunFolder.read_paths
+    monkeypatch.setattr(RunFolder, "read_paths", lambda self: read.append(self.root.name) or original(self))
     run_campaign(small_spec, tmp_path / "o", executor="inline")
     assert cache.loads == 1 and len(cache.worlds) == 1
+    # one LoadedRun per scenario, shared by its 4 episodes' simulations and verifications: paths.json read once
+    assert sorted(Path(r).name for r in cache.runs) == ["blind-corner", "parallel-traffic"]
+    assert sorted(read[-2:]) == ["blind-corner", "parallel-traffic"] and len(read) == 4  # 2 while building the suite
 
 
 def test_metric_selection_and_definitions(tmp_path) -> None:  # noqa: ANN001

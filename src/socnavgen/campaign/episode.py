@@ -55,11 +55,22 @@ def episode_key(scenario: str, policy: str, seed: int) -> str:
 
 @dataclass
 class WorkerCache:
-    """What a worker keeps between episodes: locations and worlds by folder, run folder contents."""
+    """What a worker keeps between episodes: locations and worlds by folder, and each scenario's run folder
+    read once (a LoadedRun, handed to both the simulator and the verifier; run folders do not change
+    during a campaign)."""
 
     locations: dict[str, Any] = field(default_factory=dict)
     worlds: dict[str, Any] = field(default_factory=dict)
+    runs: dict[str, Any] = field(default_factory=dict)
     loads: int = 0  # how many locations this worker loaded (tests check it stays at one per location)
+
+    def run(self, run_dir: str) -> Any:
+        """The scenario's LoadedRun (its files are read on first use, then kept)."""
+        if run_dir not in self.runs:
+            from socnavgen.run.loaded import LoadedRun
+
+            self.runs[run_dir] = LoadedRun(Path(run_dir))
+        return self.runs[run_dir]
 
     def location(self, location_dir: str) -> tuple[Any, Any]:
         if location_dir not in self.locations:
@@ -130,8 +141,8 @@ def simulate_episode(ep: Episode, settings: EpisodeSettings, cache: WorkerCache 
     cache = cache or WORKER_CACHE
     location, world = cache.location(ep.scenario.location_dir)
     policy = load_policy(ep.robot)
-    sim = load_simulation(Path(ep.scenario.run_dir), policy, SimConfig(dt=settings.dt, timeout=settings.timeout,
-                                                                      seed=ep.seed),
+    sim = load_simulation(cache.run(ep.scenario.run_dir), policy,
+                          SimConfig(dt=settings.dt, timeout=settings.timeout, seed=ep.seed),
                           ThrottleConfig(enabled=settings.throttle), location=location, world=world)
     sim.meta["robot_plugin"] = ep.robot
     return sim.run(progress=deadline.check if deadline else None), location, world
@@ -141,6 +152,7 @@ def run_episode(ep: Episode, settings: EpisodeSettings, cache: WorkerCache | Non
     """The episode's row: identity, outcome, every chosen metric, the verifier's verdicts."""
     from socnavgen.sim.metrics import compute_metrics, navigation_metrics
 
+    cache = cache or WORKER_CACHE
     row = _identity(ep)
     start = time.perf_counter()
     try:
@@ -160,7 +172,7 @@ def run_episode(ep: Episode, settings: EpisodeSettings, cache: WorkerCache | Non
     if settings.verify:
         from socnavgen.verify.runner import verify_trace
 
-        report = verify_trace(ep.scenario.run_dir, trace, location=location)
+        report = verify_trace(cache.run(ep.scenario.run_dir), trace, location=location)
         row["verified"] = bool(report.passed)
         row["verify_failed"] = "; ".join(f.name for f in report.failures)
         row["verdicts"] = json.dumps([f.model_dump(mode="json", include=VERDICT_FIELDS) for f in report.findings])

@@ -1,6 +1,7 @@
 """The run folder: one generated scenario, as plain files every later stage reads."""
 
 from socnavgen.run.folder import RunFolder
+from socnavgen.run.loaded import LoadedRun, load_run
 from socnavgen.run.models import (
     HumanPlan,
     Manifest,
@@ -12,5 +13,5 @@ from socnavgen.run.models import (
 )
 from socnavgen.run.spec import Criterion, Encounter, HumanPart, RobotCue, RobotScript, ScenarioSpec
 
-__all__ = ["Criterion", "Encounter", "HumanPart", "RobotCue", "RobotScript", "ScenarioSpec", "HumanPlan", "Manifest", "PathPlan", "RobotGestureRule", "RunFolder", "ScenarioProposal",
-           "ScenarioRequest", "StageRecord"]
+__all__ = ["Criterion", "Encounter", "HumanPart", "RobotCue", "RobotScript", "ScenarioSpec", "HumanPlan", "LoadedRun", "Manifest", "PathPlan", "RobotGestureRule", "RunFolder", "ScenarioProposal",
+           "ScenarioRequest", "StageRecord", "load_run"]

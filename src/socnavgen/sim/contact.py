@@ -21,11 +21,22 @@ from socnavgen.text import count
 OVERLAP_TOLERANCE = 0.01  # m: discs overlapping by more than this are a collision
 
 
+def lengths(v: np.ndarray) -> np.ndarray:
+    """Lengths of (..., 2) vectors: sqrt(x*x + y*y), bit for bit what np.linalg.norm(v, axis=-1) computes
+    (it squares, adds the two squares, takes the root), without its temporaries."""
+    x, y = v[..., 0], v[..., 1]
+    return np.sqrt(x * x + y * y)
+
+
 def centre_distances(robot_xy: np.ndarray, humans_xy: np.ndarray) -> np.ndarray:
-    """(T, H) centre distances from (T, 2) robot and (T, H, 2) human positions."""
+    """(T, H) centre distances from (T, 2) robot and (T, H, 2) human positions: sqrt(dx*dx + dy*dy) per
+    component, the very operations np.linalg.norm(humans - robot, axis=-1) performs, without its (T, H, 2)
+    temporaries."""
     robot_xy = np.asarray(robot_xy, dtype=float)
     humans_xy = np.asarray(humans_xy, dtype=float)
-    return np.linalg.norm(humans_xy - robot_xy[:, None, :], axis=-1)
+    dx = humans_xy[..., 0] - robot_xy[:, None, 0]
+    dy = humans_xy[..., 1] - robot_xy[:, None, 1]
+    return np.sqrt(dx * dx + dy * dy)
 
 
 def gaps_from(robot_xy: np.ndarray, humans_xy: np.ndarray, robot_radius: float,
@@ -80,12 +91,17 @@ class ContactSummary:
         return text
 
 
-def summarize(trace: Trace) -> ContactSummary:
-    """Contacts of a whole trace (every step)."""
+def collision_steps(gaps: np.ndarray) -> int:
+    """How many steps of (T, H) `gaps` have a collision."""
+    return int(np.count_nonzero(overlapping(gaps).any(axis=1)))
+
+
+def summarize(trace: Trace, gaps: np.ndarray | None = None) -> ContactSummary:
+    """Contacts of a whole trace (every step). `gaps`: trace_gaps(trace), when the caller has it already."""
     h = trace.humans.shape[1] if trace.humans.ndim == 3 else 0
     if trace.steps == 0 or h == 0:
         return ContactSummary(0, 0.0, None, None, 0.0, None, None, None, {})
-    gaps = trace_gaps(trace)
+    gaps = trace_gaps(trace) if gaps is None else gaps
     hits = overlapping(gaps)
     per_step = hits.any(axis=1)
     steps = int(per_step.sum())

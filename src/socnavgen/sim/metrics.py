@@ -37,7 +37,7 @@ import numpy as np
 
 from socnavgen.safeio import atomic_write_text
 from socnavgen.sim import contact
-from socnavgen.sim.trace import OMEGA, VX, VY, YAW, Trace
+from socnavgen.sim.trace import OMEGA, VX, VY, YAW, Trace, X, Y
 
 EVALUATOR_GOAL_RADIUS = 0.2  # m, `completed`
 COLLISION_DISTANCE = 0.02  # m, evaluator collision threshold (its README says 0.01; the code uses 0.02)
@@ -78,30 +78,54 @@ def _norm(v: np.ndarray) -> np.ndarray:
     return np.linalg.norm(v, axis=-1)
 
 
+def hypot2(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """sqrt(x*x + y*y): bit for bit np.linalg.norm(stack([x, y], -1), axis=-1) (which squares, adds the two
+    squares and takes the root), without building the (..., 2) array or reducing over a 2-long axis."""
+    return np.sqrt(x * x + y * y)
+
+
+def _social_force_xy(dx: np.ndarray, dy: np.ndarray, dvx: np.ndarray, dvy: np.ndarray, dist: np.ndarray,
+                     sfm: EvaluatorSFM) -> tuple[np.ndarray, np.ndarray]:
+    """social_force per component: (dx, dy) = p_src - p_dst, dist = its length, (dvx, dvy) = v_dst - v_src.
+    The same operations in the same order as on (..., 2) arrays, hence the same values."""
+    safe = np.where(dist > 0, dist, 1.0)
+    hx, hy = dx / safe, dy / safe
+    ix, iy = sfm.lambda_ * dvx + hx, sfm.lambda_ * dvy + hy
+    length = hypot2(ix, iy)
+    ok = (dist > 0) & (length > 0)
+    length_safe = np.where(length > 0, length, 1.0)
+    tx, ty = ix / length_safe, iy / length_safe
+    # Evaluator quirk: the second atan2 takes (x, y), then one +-2pi correction.
+    theta = np.arctan2(hy, hx) - np.arctan2(tx, ty)
+    theta = np.where(theta > math.pi, theta - 2 * math.pi, np.where(theta < -math.pi, theta + 2 * math.pi, theta))
+    b = sfm.gamma * length_safe
+    f_vel = -np.exp(-dist / b - (sfm.n_prime * b * theta) ** 2)
+    f_ang = -np.sign(theta) * np.exp(-dist / b - (sfm.n * b * theta) ** 2)
+    fx = sfm.k_social * (f_vel * tx + f_ang * -ty)  # normal = (-t_y, t_x)
+    fy = sfm.k_social * (f_vel * ty + f_ang * tx)
+    return np.where(ok, fx, 0.0), np.where(ok, fy, 0.0)
+
+
 def social_force(p_src: np.ndarray, v_src: np.ndarray, p_dst: np.ndarray, v_dst: np.ndarray,
                  sfm: EvaluatorSFM = EvaluatorSFM()) -> np.ndarray:
     """Force exerted BY the agent at p_src ON the agent at p_dst, evaluator variant; broadcasts over leading
     axes of (..., 2) arrays. Coincident agents give zero instead of NaN."""
     p_src, v_src, p_dst, v_dst = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (p_src, v_src, p_dst,
                                                                                               v_dst)))
-    diff = p_src - p_dst
-    dist = _norm(diff)
+    diff, dv = p_src - p_dst, v_dst - v_src
+    fx, fy = _social_force_xy(diff[..., 0], diff[..., 1], dv[..., 0], dv[..., 1], hypot2(diff[..., 0], diff[..., 1]),
+                              sfm)
+    return np.stack([fx, fy], axis=-1)
+
+
+def _obstacle_force_xy(dx: np.ndarray, dy: np.ndarray, radius: np.ndarray | float, has_obstacle: np.ndarray,
+                       sfm: EvaluatorSFM) -> tuple[np.ndarray, np.ndarray]:
+    """obstacle_force per component, (dx, dy) = p - obstacle."""
+    dist = hypot2(dx, dy)
+    ok = np.asarray(has_obstacle, dtype=bool) & (dist > 0)
     safe = np.where(dist > 0, dist, 1.0)
-    d_hat = diff / safe[..., None]
-    inter = sfm.lambda_ * (v_dst - v_src) + d_hat
-    length = _norm(inter)
-    ok = (dist > 0) & (length > 0)
-    length_safe = np.where(length > 0, length, 1.0)
-    t_hat = inter / length_safe[..., None]
-    # Evaluator quirk: the second atan2 takes (x, y), then one +-2pi correction.
-    theta = np.arctan2(d_hat[..., 1], d_hat[..., 0]) - np.arctan2(t_hat[..., 0], t_hat[..., 1])
-    theta = np.where(theta > math.pi, theta - 2 * math.pi, np.where(theta < -math.pi, theta + 2 * math.pi, theta))
-    b = sfm.gamma * length_safe
-    f_vel = -np.exp(-dist / b - (sfm.n_prime * b * theta) ** 2)
-    f_ang = -np.sign(theta) * np.exp(-dist / b - (sfm.n * b * theta) ** 2)
-    normal = np.stack([-t_hat[..., 1], t_hat[..., 0]], axis=-1)
-    force = sfm.k_social * (f_vel[..., None] * t_hat + f_ang[..., None] * normal)
-    return np.where(ok[..., None], force, 0.0)
+    scale = sfm.k_obstacle * np.exp(-(safe - radius) / sfm.sigma_obstacle) / safe
+    return np.where(ok, scale * dx, 0.0), np.where(ok, scale * dy, 0.0)
 
 
 def obstacle_force(p: np.ndarray, radius: np.ndarray | float, obstacle: np.ndarray, has_obstacle: np.ndarray,
@@ -109,11 +133,7 @@ def obstacle_force(p: np.ndarray, radius: np.ndarray | float, obstacle: np.ndarr
     """Obstacle force of ONE closest obstacle point per agent (the wrapper sends at most one); zero where
     `has_obstacle` is false or the agent stands exactly on the point."""
     diff = np.asarray(p, dtype=float) - np.asarray(obstacle, dtype=float)
-    dist = _norm(diff)
-    ok = np.asarray(has_obstacle, dtype=bool) & (dist > 0)
-    safe = np.where(dist > 0, dist, 1.0)
-    mag = sfm.k_obstacle * np.exp(-(safe - radius) / sfm.sigma_obstacle)
-    return np.where(ok[..., None], (mag / safe)[..., None] * diff, 0.0)
+    return np.stack(_obstacle_force_xy(diff[..., 0], diff[..., 1], radius, has_obstacle, sfm), axis=-1)
 
 
 class ObstacleLookup:
@@ -129,6 +149,7 @@ class ObstacleLookup:
         if not self.empty:
             rows, cols = ndimage.distance_transform_edt(~blocked, return_distances=False, return_indices=True)
             self.rows, self.cols = rows, cols
+            self._rows_flat, self._cols_flat = rows.ravel(), cols.ravel()  # one gather by flat index
 
     def nearest(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(..., 2) world points -> (nearest obstacle world points, mask: one exists within OBSTACLE_RANGE)."""
@@ -140,9 +161,11 @@ class ObstacleLookup:
         # Integer pixel coordinates name pixel centres (location.transform convention): round.
         cols = np.clip(np.rint(px[:, 0]).astype(int), 0, self.shape[1] - 1)
         rows = np.clip(np.rint(px[:, 1]).astype(int), 0, self.shape[0] - 1)
-        ob_px = np.stack([self.cols[rows, cols], self.rows[rows, cols]], axis=-1).astype(float)
+        cell = rows * self.shape[1] + cols
+        ob_px = np.empty((len(flat), 2))
+        ob_px[:, 0], ob_px[:, 1] = self._cols_flat[cell], self._rows_flat[cell]
         ob_world = self.transform.pixels_to_world(ob_px)
-        within = _norm(ob_world - flat) <= OBSTACLE_RANGE
+        within = hypot2(ob_world[:, 0] - flat[:, 0], ob_world[:, 1] - flat[:, 1]) <= OBSTACLE_RANGE
         return ob_world.reshape(pts.shape), within.reshape(pts.shape[:-1])
 
 
@@ -189,17 +212,22 @@ def _collision_counts(pr: np.ndarray, yaw_r: np.ndarray, v_r: np.ndarray, pa: np
                       v_a: np.ndarray, gap: np.ndarray) -> tuple[int, int]:
     """Evaluator rule: alpha = bearing of the robot seen from the agent, alpha2 = atan2(x', y') of the agent
     in the robot frame (swapped arguments); smaller |alpha| -> robot hit person, larger -> person hit robot,
-    equal with equal speeds -> both; speeds must differ otherwise. Counts (sample, agent) pairs."""
+    equal with equal speeds -> both; speeds must differ otherwise. Counts (sample, agent) pairs. Scalar math
+    on the few pairs in contact (Python floats are the same IEEE doubles as numpy's, without its per-scalar cost)."""
     robot_hits = person_hits = 0
-    for i, a in zip(*np.nonzero(gap < COLLISION_DISTANCE), strict=True):
-        dx, dy = pr[i] - pa[i, a]
-        alpha = math.atan2(-dx * math.sin(yaw_a[i, a]) + dy * math.cos(yaw_a[i, a]),
-                           dx * math.cos(yaw_a[i, a]) + dy * math.sin(yaw_a[i, a]))
+    steps, agents = np.nonzero(gap < COLLISION_DISTANCE)
+    if not len(steps):
+        return 0, 0
+    columns = (pr[steps, 0], pr[steps, 1], pa[steps, agents, 0], pa[steps, agents, 1], yaw_r[steps],
+               yaw_a[steps, agents], v_r[steps], v_a[steps, agents])
+    for rx, ry, ax, ay, yr_, ya, vr, va in zip(*(c.tolist() for c in columns), strict=True):
+        dx, dy = rx - ax, ry - ay
+        alpha = math.atan2(-dx * math.sin(ya) + dy * math.cos(ya), dx * math.cos(ya) + dy * math.sin(ya))
         ex, ey = -dx, -dy
-        xr = ex * math.cos(yaw_r[i]) + ey * math.sin(yaw_r[i])
-        yr = -ex * math.sin(yaw_r[i]) + ey * math.cos(yaw_r[i])
+        xr = ex * math.cos(yr_) + ey * math.sin(yr_)
+        yr = -ex * math.sin(yr_) + ey * math.cos(yr_)
         alpha2 = math.atan2(xr, yr)
-        same_speed = v_r[i] == v_a[i, a]
+        same_speed = vr == va
         if abs(alpha) < abs(alpha2) and not same_speed:
             robot_hits += 1
         elif abs(alpha) > abs(alpha2) and not same_speed:
@@ -210,13 +238,12 @@ def _collision_counts(pr: np.ndarray, yaw_r: np.ndarray, v_r: np.ndarray, pa: np
     return robot_hits, person_hits
 
 
-def time_to_collision(rel_pos: np.ndarray, rel_vel: np.ndarray, radius: np.ndarray | float) -> np.ndarray:
-    """Constant-velocity time until two discs touch (0 if they overlap now, inf if never); (..., 2) inputs."""
-    p = np.asarray(rel_pos, dtype=float)
-    v = np.asarray(rel_vel, dtype=float)
-    c = np.sum(p * p, axis=-1) - np.asarray(radius, dtype=float) ** 2
-    a = np.sum(v * v, axis=-1)
-    b = np.sum(p * v, axis=-1)  # half of the linear coefficient
+def _time_to_collision_xy(px: np.ndarray, py: np.ndarray, vx: np.ndarray, vy: np.ndarray,
+                          radius: np.ndarray | float) -> np.ndarray:
+    """time_to_collision per component: relative position (px, py), relative velocity (vx, vy)."""
+    c = (px * px + py * py) - np.asarray(radius, dtype=float) ** 2
+    a = vx * vx + vy * vy
+    b = px * vx + py * vy  # half of the linear coefficient
     disc = b * b - a * c
     with np.errstate(divide="ignore", invalid="ignore"):
         t_hit = (-b - np.sqrt(np.maximum(disc, 0.0))) / a
@@ -224,22 +251,58 @@ def time_to_collision(rel_pos: np.ndarray, rel_vel: np.ndarray, radius: np.ndarr
     return np.where(c <= 0, 0.0, ttc)
 
 
-def _own_metrics(trace: Trace) -> dict[str, Any]:
-    """success, collisions and min_time_to_collision on EVERY step (sampling would miss short contacts)."""
-    pr = trace.robot[:, :2]
-    pa = trace.humans[:, :, :2]
-    radii = trace.robot_radius + np.asarray(trace.human_radii, dtype=float)
-    if trace.humans.shape[1]:
-        collisions = contact.summarize(trace).collision_steps  # the one definition (sim/contact.py)
-        ttc = time_to_collision(pa - pr[:, None, :], trace.humans[:, :, VX:VY + 1] - trace.robot[:, None, VX:VY + 1],
-                                radii[None, :])
+def time_to_collision(rel_pos: np.ndarray, rel_vel: np.ndarray, radius: np.ndarray | float) -> np.ndarray:
+    """Constant-velocity time until two discs touch (0 if they overlap now, inf if never); (..., 2) inputs."""
+    p = np.asarray(rel_pos, dtype=float)
+    v = np.asarray(rel_vel, dtype=float)
+    return _time_to_collision_xy(p[..., 0], p[..., 1], v[..., 0], v[..., 1], radius)
+
+
+@dataclass(frozen=True)
+class _Pairs:
+    """Robot-human geometry of a trace's steps, every (T, H) array computed once and shared by the metrics:
+    human minus robot position (dx, dy) and velocity (dvx, dvy), centre distance, surface gap."""
+
+    dx: np.ndarray
+    dy: np.ndarray
+    dvx: np.ndarray
+    dvy: np.ndarray
+    centre: np.ndarray
+    gap: np.ndarray
+
+
+def _pairs(rob: np.ndarray, hum: np.ndarray, robot_radius: float, human_radii: np.ndarray) -> _Pairs:
+    dx, dy = hum[:, :, X] - rob[:, None, X], hum[:, :, Y] - rob[:, None, Y]
+    centre = hypot2(dx, dy)  # = contact.centre_distances
+    return _Pairs(dx=dx, dy=dy, dvx=hum[:, :, VX] - rob[:, None, VX], dvy=hum[:, :, VY] - rob[:, None, VY],
+                  centre=centre, gap=centre - (float(robot_radius) + human_radii.reshape(1, -1)))  # = contact.gaps_from
+
+
+def _own_metrics(trace: Trace, pairs: _Pairs | None = None, to_goal: np.ndarray | None = None) -> dict[str, Any]:
+    """success, collisions and min_time_to_collision on EVERY step (sampling would miss short contacts).
+    `pairs` and `to_goal` (distance of every step to the last goal): the same values compute_metrics already
+    has when it saw every step of a float64 trace."""
+    h = trace.humans.shape[1]
+    if h:
+        radii = trace.robot_radius + np.asarray(trace.human_radii, dtype=float)
+        if pairs is None:
+            collisions = contact.summarize(trace).collision_steps  # the one definition (sim/contact.py)
+            rel_pos, rel_vel = trace.humans[:, :, :2] - trace.robot[:, None, :2], \
+                trace.humans[:, :, VX:VY + 1] - trace.robot[:, None, VX:VY + 1]
+            ttc = time_to_collision(rel_pos, rel_vel, radii[None, :])
+        else:
+            collisions = contact.collision_steps(pairs.gap)
+            ttc = _time_to_collision_xy(pairs.dx, pairs.dy, pairs.dvx, pairs.dvy, radii[None, :])
         min_ttc = float(ttc.min()) if ttc.size else math.inf
     else:
         collisions, min_ttc = 0, math.inf
     goals = robot_goals(trace)
     radius = float(trace.meta.get("robot_goal_radius", SUCCESS_GOAL_RADIUS)) if isinstance(trace.meta, dict) \
         else SUCCESS_GOAL_RADIUS
-    reached = bool(goals) and trace.steps > 0 and float(_norm(pr - np.asarray(goals[-1])).min()) <= radius
+    if goals and trace.steps > 0 and to_goal is None:
+        pr = trace.robot[:, :2] - np.asarray(goals[-1])
+        to_goal = hypot2(pr[:, 0], pr[:, 1])
+    reached = bool(goals) and trace.steps > 0 and float(to_goal.min()) <= radius
     return {"success": bool(reached and collisions == 0), "collisions": collisions, "min_time_to_collision": min_ttc}
 
 
@@ -247,28 +310,34 @@ def compute_metrics(trace: Trace, location: Any = None, *, sample_hz: float | No
                     robot_obstacles: bool = True, sfm: EvaluatorSFM = EvaluatorSFM()) -> dict[str, Any]:
     """Every hunav_evaluator metric (names as in HuNavSim's result files) plus success, collisions and
     min_time_to_collision. `sample_hz`: None = every step (evaluator `frequency: 0`), 1.0 = metrics.yaml.
-    `location` supplies obstacle points for the obstacle forces (0 without it)."""
+    `location` supplies obstacle points for the obstacle forces (0 without it).
+
+    Vectors are handled per component ((T, H) arrays of x and y, robot-human differences computed once):
+    the same operations as on (T, H, 2) arrays and np.linalg.norm, so the same values, at a fraction of the
+    numpy calls (tests/metrics/test_metrics_reference.py checks them against the formulas as written)."""
     idx = sample_indices(trace.t, sample_hz)
     n = len(idx)
     if n == 0:
         return {**dict.fromkeys(EVALUATOR_METRICS), **_own_metrics(trace), "samples": 0}
-    t = np.asarray(trace.t, dtype=float)[idx]
-    rob = np.asarray(trace.robot, dtype=float)[idx]
-    hum = np.asarray(trace.humans, dtype=float)[idx].reshape(n, -1, 6)
+    every = n == trace.steps  # no sampling: the arrays are the trace's own
+    t = np.asarray(trace.t, dtype=float)
+    rob = np.asarray(trace.robot, dtype=float)
+    hum = np.asarray(trace.humans, dtype=float).reshape(trace.steps, -1, 6)
+    if not every:
+        t, rob, hum = t[idx], rob[idx], hum[idx]
     h = hum.shape[1]
     r_r = float(trace.robot_radius)
     r_a = np.asarray(trace.human_radii, dtype=float).reshape(h)
-    pr, vr_vec = rob[:, :2], rob[:, VX:VY + 1]
-    pa, va_vec = hum[:, :, :2], hum[:, :, VX:VY + 1]
-    v_r, w_r = _norm(vr_vec), rob[:, OMEGA]
-    v_a = _norm(va_vec)
-    centre = contact.centre_distances(pr, pa)  # (n, h)
-    gap = contact.gaps_from(pr, pa, r_r, r_a)  # sim/contact.py: the gap every report uses
+    rx, ry, w_r = rob[:, X], rob[:, Y], rob[:, OMEGA]
+    v_r = hypot2(rob[:, VX], rob[:, VY])
+    v_a = hypot2(hum[:, :, VX], hum[:, :, VY])
+    pairs = _pairs(rob, hum, r_r, r_a)
+    centre, gap = pairs.centre, pairs.gap
     m: dict[str, Any] = {}
 
     duration = float(t[-1] - t[0])
     m["time_to_reach_goal"] = duration
-    m["path_length"] = float(_norm(np.diff(pr, axis=0)).sum())
+    m["path_length"] = float(hypot2(np.diff(rx), np.diff(ry)).sum())
     m["cumulative_heading_changes"] = float(np.abs(wrap(rob[:-1, YAW] - rob[1:, YAW])).sum())
     closest = np.maximum(0.0, gap.min(axis=1)) if h else np.full(n, NO_AGENT_DISTANCE)
     m["avg_distance_to_closest_person"] = float(closest.sum()) / n if h else 0.0
@@ -280,6 +349,7 @@ def compute_metrics(trace: Trace, location: Any = None, *, sample_hz: float | No
 
     groups = sorted({g for g in trace.group_ids if g != -1})
     if groups:
+        pr, pa = rob[:, :2], hum[:, :, :2]
         front = pa + GROUP_CENTER_OFFSET * np.stack([np.cos(hum[:, :, YAW]), np.sin(hum[:, :, YAW])], axis=-1)
         ids = np.asarray(trace.group_ids)
         centres = np.stack([front[:, ids == g].mean(axis=1) for g in groups], axis=1)  # (n, G, 2)
@@ -292,8 +362,9 @@ def compute_metrics(trace: Trace, location: Any = None, *, sample_hz: float | No
             m[f"group_{zone}_space_intrusions"] = 0.0
 
     goals = np.asarray(robot_goals(trace), dtype=float).reshape(-1, 2)
+    to_goal = None
     if len(goals):
-        to_goal = _norm(pr[:, None, :] - goals[None, :, :])  # (n, G)
+        to_goal = hypot2(rx[:, None] - goals[None, :, 0], ry[:, None] - goals[None, :, 1])  # (n, G)
         m["completed"] = bool((to_goal[-1] - EVALUATOR_GOAL_RADIUS < 0).any())
         m["minimum_distance_to_target"] = float(to_goal.min())
         m["final_distance_to_target"] = float(to_goal[-1].min())
@@ -302,7 +373,8 @@ def compute_metrics(trace: Trace, location: Any = None, *, sample_hz: float | No
         m["minimum_distance_to_target"] = NO_AGENT_DISTANCE
         m["final_distance_to_target"] = NO_AGENT_DISTANCE
 
-    robot_hits, person_hits = _collision_counts(pr, rob[:, YAW], v_r, pa, hum[:, :, YAW], v_a, gap) if h else (0, 0)
+    robot_hits, person_hits = _collision_counts(rob[:, :2], rob[:, YAW], v_r, hum[:, :, :2], hum[:, :, YAW], v_a,
+                                                gap) if h else (0, 0)
     m["robot_on_person_collision"] = robot_hits
     m["person_on_robot_collision"] = person_hits
     # Quirk kept: signed omega comparison.
@@ -319,27 +391,34 @@ def compute_metrics(trace: Trace, location: Any = None, *, sample_hz: float | No
     m["avg_closest_pedestrian_velocity"] = (
         float(v_a[np.arange(n), centre.argmin(axis=1)].sum()) / n if h else 0.0)
 
-    # Social-force metrics (evaluator SFM).
-    on_agents = social_force(pr[:, None, :], vr_vec[:, None, :], pa, va_vec, sfm) if h else np.zeros((n, 0, 2))
-    on_robot = social_force(pa, va_vec, pr[:, None, :], vr_vec[:, None, :], sfm) if h else np.zeros((n, 0, 2))
-    m["social_force_on_agents"] = float(_norm(on_agents).sum())
-    m["social_force_on_robot"] = float(_norm(on_robot).sum())
+    # Social-force metrics (evaluator SFM): by the robot on each agent, by each agent on the robot.
+    hx, hy, hvx, hvy = hum[:, :, X], hum[:, :, Y], hum[:, :, VX], hum[:, :, VY]
+    rx_, ry_, rvx, rvy = rx[:, None], ry[:, None], rob[:, None, VX], rob[:, None, VY]
+    agents_x, agents_y = _social_force_xy(rx_ - hx, ry_ - hy, hvx - rvx, hvy - rvy, centre, sfm)
+    robot_x, robot_y = _social_force_xy(hx - rx_, hy - ry_, rvx - hvx, rvy - hvy, centre, sfm)
+    on_agents = hypot2(agents_x, agents_y)  # (n, h)
+    m["social_force_on_agents"] = float(on_agents.sum())
+    m["social_force_on_robot"] = float(hypot2(robot_x, robot_y).sum())
     lookup = obstacle_lookup(location) if location is not None else None
     if lookup is not None and robot_obstacles:
-        ob_r, has_r = lookup.nearest(pr)
-        f_obs_r = obstacle_force(pr, r_r, ob_r, has_r, sfm)
+        ob_r, has_r = lookup.nearest(rob[:, :2])
+        f_obs_r = hypot2(*_obstacle_force_xy(rx - ob_r[:, 0], ry - ob_r[:, 1], r_r, has_r, sfm))
     else:
-        f_obs_r = np.zeros((n, 2))
-    m["social_work"] = float((_norm(on_robot.sum(axis=1)) + _norm(f_obs_r) + _norm(on_agents).sum(axis=1)).sum())
+        f_obs_r = np.zeros(n)
+    # summed over agents as a (n, h, 2) array, as the formula is written: the order of that sum decides the last bit
+    on_robot = np.stack([robot_x, robot_y], axis=-1).sum(axis=1)
+    m["social_work"] = float((hypot2(on_robot[:, 0], on_robot[:, 1]) + f_obs_r + on_agents.sum(axis=1)).sum())
     if h and lookup is not None:
-        ob_a, has_a = lookup.nearest(pa)
-        m["obstacle_force_on_agents"] = float(_norm(obstacle_force(pa, r_a[None, :], ob_a, has_a, sfm)).mean(axis=1)
-                                              .sum())
+        ob_a, has_a = lookup.nearest(hum[:, :, :2])
+        obstacle = _obstacle_force_xy(hx - ob_a[..., 0], hy - ob_a[..., 1], r_a[None, :], has_a, sfm)
+        m["obstacle_force_on_agents"] = float(hypot2(*obstacle).mean(axis=1).sum())
     else:
         m["obstacle_force_on_agents"] = 0.0 if h else None
-    m["obstacle_force_on_robot"] = float(_norm(f_obs_r).sum())
+    m["obstacle_force_on_robot"] = float(f_obs_r.sum())
 
-    m.update(_own_metrics(trace))
+    full = every and trace.robot.dtype == np.float64 and trace.humans.dtype == np.float64
+    m.update(_own_metrics(trace, pairs if full and h else None, to_goal[:, -1] if full and to_goal is not None
+                          else None))
     m["samples"] = n
     return m
 
@@ -401,7 +480,7 @@ def navigation_metrics(trace: Trace, world: Any) -> dict[str, Any]:
     out: dict[str, Any] = dict.fromkeys(NAVIGATION_METRICS)
     if len(pr) == 0:
         return out
-    length = float(_norm(np.diff(pr, axis=0)).sum())
+    length = float(contact.lengths(np.diff(pr, axis=0)).sum())
     goals = robot_goals(trace)
     if length > 1e-9:
         turning = float(np.abs(wrap(np.diff(yaw))).sum())
@@ -413,7 +492,7 @@ def navigation_metrics(trace: Trace, world: Any) -> dict[str, Any]:
         out["path_irregularity"] = max(0.0, turning - needed) / length
     radius = float(trace.meta.get("robot_goal_radius", SUCCESS_GOAL_RADIUS)) if isinstance(trace.meta, dict) \
         else SUCCESS_GOAL_RADIUS
-    if goals and float(_norm(pr - np.asarray(goals[-1])).min()) <= radius and length > 1e-9:
+    if goals and float(contact.lengths(pr - np.asarray(goals[-1])).min()) <= radius and length > 1e-9:
         reference = float(np.hypot(*(np.asarray(goals[-1]) - pr[0])))
         out["path_efficiency"] = min(1.0, reference / length)
     if world is not None:

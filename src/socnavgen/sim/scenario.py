@@ -5,19 +5,23 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from socnavgen.bt.library import regular_walker_xml
+from socnavgen.bt.tree import BTDocument
 from socnavgen.errors import ValidationFailed
-from socnavgen.run import RunFolder
-from socnavgen.run.checks import plan_mistakes
+from socnavgen.run import LoadedRun, load_run
 from socnavgen.sim.agents import HumanSpec
 from socnavgen.sim.engine import SimConfig, Simulation
 from socnavgen.sim.gestures import RobotScriptRunner, ScriptedGestures
 from socnavgen.sim.interaction import InteractionThrottle, ThrottleConfig
 from socnavgen.sim.robot import DEFAULT_ROBOT, RobotPolicy
 from socnavgen.sim.world import World
+
+if TYPE_CHECKING:
+    from socnavgen.location import Location
 
 SPAWN_SPREAD = 1.5  # m: SocRATES places each human uniformly within 1.5 m of its first node
 GROUP_SPAWN_RADIUS = 0.6  # m: members of a group start this far from their node (0.9-1.2 m apart)
@@ -51,51 +55,59 @@ def spawn_points(world: World, first_nodes: list[complex], group_ids: list[int],
     return out
 
 
-def load_simulation(run_dir: Path, policy: RobotPolicy, config: SimConfig | None = None,
+def node_worlds(run: LoadedRun, location: Location) -> dict[str, tuple[float, float]]:
+    """Location.node_world of every scene-graph node, worked out once per run and location (read only)."""
+    return run.for_location("sim.node_worlds", location,
+                            lambda: {n: location.node_world(n) for n in location.scene_graph.node_ids()})
+
+
+def load_simulation(run_dir: Path | str | LoadedRun, policy: RobotPolicy, config: SimConfig | None = None,
                     throttle: ThrottleConfig | None = None, location=None,  # noqa: ANN001
                     *, world: World | None = None) -> Simulation:
-    """A ready Simulation of a run folder. `location`: a loaded Location (passed on, not re-read), a folder,
+    """A ready Simulation of a run. `run_dir`: a LoadedRun (its files are not read again: campaign workers
+    keep one per scenario) or a run folder; `location`: a loaded Location (passed on, not re-read), a folder,
     or None for the one request.json names (RunFolder.location); `world`: an already built World of that
     location (campaign workers keep both across episodes)."""
     config = config or SimConfig()
-    run = RunFolder(Path(run_dir))
+    run = load_run(run_dir)
     location = run.location(location)
-    plan = run.read_paths()
+    plan = run.paths()
     world = world if world is not None else World.from_location(location)
-    known = set(location.scene_graph.node_ids())
-    problems = plan_mistakes(plan, location.graph, interaction_points=False)
+    at = node_worlds(run, location)  # Location.node_world of every scene-graph node
+    problems = run.plan_mistakes(location, interaction_points=False)
     humans = sorted(plan.humans, key=lambda h: h.agent_id)
     if problems:
-        raise ValidationFailed("cannot simulate this run:\n  " + "\n  ".join(problems), file=run.paths_path)
+        raise ValidationFailed("cannot simulate this run:\n  " + "\n  ".join(problems),
+                               file=run.folder.paths_path)
 
     def w(node: str) -> complex:
-        return complex(*location.node_world(node))
+        return complex(*at[node])
 
     rng = np.random.default_rng(config.seed)
     starts = spawn_points(world, [w(h.path[0]) for h in humans], [h.group_id for h in humans], 0.4, rng)
     specs = []
     for h, start in zip(humans, starts, strict=True):
         goal_nodes = h.path[1:] if len(h.path) > 1 else h.path[:1]
-        goals = [location.node_world(n) for n in goal_nodes]
+        goals = [at[n] for n in goal_nodes]
         first = complex(*goals[0]) - start
         yaw = math.atan2(first.imag, first.real) if abs(first) > 1e-9 else 0.0
         specs.append(HumanSpec(name=h.name, start=(start.real, start.imag), goals=goals, yaw=yaw,
                                group_id=h.group_id, path_nodes=list(h.path),
-                               interaction_point=location.node_world(h.interaction_point)
-                               if h.interaction_point in known else None))
+                               interaction_point=at.get(h.interaction_point)))
     xmls = run.behaviors()
-    trees, names, defaulted = [], [], []
+    trees: list[str | BTDocument] = []
+    names, defaulted = [], []
     for h in humans:
         if h.name in xmls:
-            trees.append(xmls[h.name])
+            trees.append(run.behavior_tree(h.name))  # parsed once per run, under the name below
             names.append(str(run.behavior_path(h.name)))
         else:
             trees.append(DEFAULT_TREE)
             names.append(f"<default RegularNav tree for {h.name}>")
             defaulted.append(h.name)
-    node_points = {n: w(n) for n in known}
-    robot_path = [location.node_world(n) for n in plan.robot]
-    spec = run.read_spec()
+    node_points = {n: w(n) for n in at}
+    robot_path = [at[n] for n in plan.robot]
+    spec = run.spec()
     script = None
     throttle = throttle or ThrottleConfig()
     if spec is not None:
@@ -107,18 +119,17 @@ def load_simulation(run_dir: Path, policy: RobotPolicy, config: SimConfig | None
     meta = {
         "run": str(run.root), "location": location.name, "robot_nodes": list(plan.robot),
         "human_paths": {h.name: list(h.path) for h in humans},
-        "interaction_points": {h.name: [*location.node_world(h.interaction_point)]
-                               for h in humans if h.interaction_point in known},
+        "interaction_points": {h.name: [*at[h.interaction_point]] for h in humans if h.interaction_point in at},
         "interaction_nodes": {h.name: h.interaction_point for h in humans if h.interaction_point},
         "default_trees": defaulted, "policy": type(policy).__name__,
         "throttle": throttle.__dict__, "spec": spec is not None,
     }
     return Simulation(world, specs, trees, robot_path, policy, config,
                       gestures=ScriptedGestures(plan.robot_gestures, node_points), throttle=thr,
-                      tree_names=names, base_dir=run.behaviors_dir, meta=meta, script=script)
+                      tree_names=names, base_dir=run.folder.behaviors_dir, meta=meta, script=script)
 
 
-def simulate_run(run_dir: Path, robot: str | RobotPolicy = DEFAULT_ROBOT, location=None,  # noqa: ANN001
+def simulate_run(run_dir: Path | str | LoadedRun, robot: str | RobotPolicy = DEFAULT_ROBOT, location=None,  # noqa: ANN001
                  dt: float = 0.05, timeout: float = 120.0, seed: int = 0, throttle: bool | ThrottleConfig = True,
                  progress=None, save: bool = True, plot: bool = True, gif: bool = False):  # noqa: ANN001, ANN201
     """One call from a run folder to its trace. With `save` (default) it writes what `socnavgen simulate`
@@ -131,12 +142,12 @@ def simulate_run(run_dir: Path, robot: str | RobotPolicy = DEFAULT_ROBOT, locati
     policy = load_policy(robot) if isinstance(robot, str) else robot
     if isinstance(throttle, bool):
         throttle = ThrottleConfig(enabled=throttle)
-    run = RunFolder(Path(run_dir))
+    run = load_run(run_dir)
     loaded = run.location(location)
-    sim = load_simulation(run.root, policy, SimConfig(dt=dt, timeout=timeout, seed=seed), throttle, loaded)
+    sim = load_simulation(run, policy, SimConfig(dt=dt, timeout=timeout, seed=seed), throttle, loaded)
     sim.meta["robot_plugin"] = robot if isinstance(robot, str) else type(robot).__name__
     trace = sim.run(progress=progress)
     if save:
-        trace.save(run.sim_dir / "trace.npz")
-        write_outputs(trace, loaded, run.sim_dir, plot=plot, gif=gif)
+        trace.save(run.folder.sim_dir / "trace.npz")
+        write_outputs(trace, loaded, run.folder.sim_dir, plot=plot, gif=gif)
     return trace

@@ -39,7 +39,6 @@ import numpy as np
 
 from socnavgen.run.models import PathPlan
 from socnavgen.run.spec import Blame, Criterion, ScenarioSpec
-from socnavgen.sim import contact
 from socnavgen.verify.criteria import MIN_MEET, Compiled, deadlock_culprit
 from socnavgen.verify.signals import ROBOT_PHRASES, STILL_SPEED, Signals, phrase_id
 from socnavgen.verify.stl import formula_signals
@@ -78,7 +77,7 @@ def spec_problem(c: Criterion, spec: ScenarioSpec) -> str | None:
 
 def _walked_into_robot(s: Signals) -> str | None:
     """The human who walked into the robot while it stood still (rule C3), at the first collision."""
-    summary = contact.summarize(s.trace)
+    summary = s.contacts()
     if not summary.collided or summary.first_collision_time is None:
         return None
     k = int(np.searchsorted(s.t, summary.first_collision_time))

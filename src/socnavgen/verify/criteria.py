@@ -315,7 +315,7 @@ def _goal_evidence(cc: Compiled, s: Signals) -> Evidence:
 
 
 def _collision_evidence(cc: Compiled, s: Signals) -> Evidence:
-    summary = contact.summarize(s.trace)
+    summary = s.contacts()
     return summary.describe(), summary.min_gap_time, summary.min_gap
 
 
@@ -326,7 +326,7 @@ def deadlock_culprit(s: Signals) -> tuple[int, str | None]:
     best, who = np.inf, None
     for i, name in enumerate(s.trace.human_names):
         if s.in_way(i)[k]:
-            gap = float(contact.trace_gaps(s.trace)[k, i])
+            gap = float(s.gaps()[k, i])
             if gap < best:
                 best, who = gap, name
     return k, who
@@ -338,7 +338,7 @@ def _deadlock_evidence(cc: Compiled, s: Signals) -> Evidence:
     if dead[k] <= 0:
         return "the robot was never stuck behind someone", None, None
     start = s.t[k] - dead[k] + s.trace.dt
-    gap = float(contact.trace_gaps(s.trace)[k, s.human(who)]) if who else None
+    gap = float(s.gaps()[k, s.human(who)]) if who else None
     text = f"the robot stood still {dead[k]:.1f} s from t={start:.1f} s with {who or 'someone'} in its way"
     if gap is not None:
         text += f" ({gap:.2f} m gap)"

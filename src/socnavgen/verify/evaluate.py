@@ -8,6 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from socnavgen.bt.library import HUMAN_GESTURES, LIBRARY, ROBOT_GESTURES
+from socnavgen.sim import contact
 from socnavgen.sim.trace import Trace
 from socnavgen.text import count
 from socnavgen.verify.models import Expectation, Finding, VerifySettings
@@ -22,7 +23,7 @@ def _finding(exp: Expectation, passed: bool, evidence: str, *, time: float | Non
 
 
 def _robot_human_distance(trace: Trace, i: int) -> np.ndarray:
-    return np.linalg.norm(trace.robot[:, :2] - trace.humans[:, i, :2], axis=1)
+    return contact.lengths(trace.robot[:, :2] - trace.humans[:, i, :2])
 
 
 def node_steps(trace: Trace, i: int, node: str, message: int | None) -> np.ndarray:

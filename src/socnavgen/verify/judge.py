@@ -3,6 +3,7 @@ failure, and assemble the VerifyReport. Pure: everything comes in as objects, no
 
 from __future__ import annotations
 
+from dataclasses import dataclass, field
 from typing import Any
 
 from socnavgen.run.models import PathPlan
@@ -13,7 +14,7 @@ from socnavgen.verify.criteria import Compiled, compile_criterion, evidence
 from socnavgen.verify.derive import derive_spec, encounter_places, with_implied
 from socnavgen.verify.evaluate import evaluate, node_steps
 from socnavgen.verify.expectations import tree_checks
-from socnavgen.verify.models import Finding, Source, VerifyReport, VerifySettings
+from socnavgen.verify.models import Expectation, Finding, Source, VerifyReport, VerifySettings
 from socnavgen.verify.signals import Signals
 from socnavgen.verify.stl import FormulaError, monitor
 
@@ -32,13 +33,73 @@ def _with_blame(finding: Finding, blame: str, human: str | None, reason: str) ->
                                       "stage": blame if blame in ("paths", "behaviors") else None})
 
 
+@dataclass
+class Prepared:
+    """What judging needs from the run alone (plan, location, spec, trees, card, settings), worked out once
+    per run: a campaign keeps it with the LoadedRun and judges every episode's trace with it."""
+
+    used: ScenarioSpec  # spec.json, else the spec derived from paths and card
+    judged: list[tuple[Criterion, Source]]
+    places: dict[str, tuple[float, float]]  # encounter places
+    node_points: dict[str, tuple[float, float]]
+    expectations: list[Expectation]
+    plan: PathPlan
+    location: Any
+    _compiled: dict[tuple[int, float], Compiled | FormulaError] = field(default_factory=dict)
+    _problems: dict[int, str | None] = field(default_factory=dict)
+    _goal: tuple[float, float] | None = None
+
+    def compiled(self, k: int, settings: VerifySettings, goal_radius: float) -> Compiled:
+        """compile_criterion of the k-th judged criterion (FormulaError when it cannot be compiled)."""
+        key = (k, goal_radius)
+        if key not in self._compiled:
+            try:
+                self._compiled[key] = compile_criterion(self.judged[k][0], self.used, settings, goal_radius)
+            except FormulaError as exc:
+                self._compiled[key] = exc
+        found = self._compiled[key]
+        if isinstance(found, FormulaError):
+            raise FormulaError(str(found))
+        return found
+
+    def problem(self, k: int) -> str | None:
+        """spec_problem of the k-th judged criterion."""
+        if k not in self._problems:
+            self._problems[k] = spec_problem(self.judged[k][0], self.used)
+        return self._problems[k]
+
+    def plan_goal(self) -> tuple[float, float]:
+        """World point of the robot path's last node (the goal of a trace that records none)."""
+        if self._goal is None:
+            self._goal = tuple(self.location.node_world(self.plan.robot[-1]))
+        return self._goal
+
+
+def prepare(plan: PathPlan, location: Any, spec: ScenarioSpec | None, trees: dict[str, str],
+            card_criteria: list[dict] | None, settings: VerifySettings) -> Prepared:
+    """The run-only part of `judge`: criteria (spec.json's and the implied ones, else derived), places,
+    the location's node points and the tree checks."""
+    if spec is None:
+        used, judged = derive_spec(plan, location, card_criteria, settings)
+    else:
+        used, judged = spec, with_implied(spec, settings)
+    node_points: dict[str, tuple[float, float]] = {}
+    if location is not None:
+        node_points = {n: tuple(location.node_world(n)) for n in location.scene_graph.node_ids()}
+    return Prepared(used=used, judged=judged, places=encounter_places(used, plan, location), node_points=node_points,
+                    expectations=tree_checks(plan, trees, card_criteria), plan=plan, location=location)
+
+
 def judge_criterion(c: Criterion, source: Source, spec: ScenarioSpec, plan: PathPlan | None, signals: Signals,
-                    settings: VerifySettings, goal_radius: float) -> Finding:
-    """One criterion: compiled, monitored with rtamt, explained, and blamed when it fails."""
+                    settings: VerifySettings, goal_radius: float, *, prepared: Prepared | None = None,
+                    index: int = 0) -> Finding:
+    """One criterion: compiled, monitored with rtamt, explained, and blamed when it fails. `prepared` (with
+    the criterion's `index` in it) keeps the compiled formula and the spec check across traces."""
     base = Finding(name=_title(c), kind=c.kind, passed=False, evidence="", human=c.human, source=source,
                    criterion=c.id, required=not (c.kind == "no_collision" and not settings.collisions_fail))
     try:
-        cc: Compiled = compile_criterion(c, spec, settings, goal_radius)
+        cc: Compiled = prepared.compiled(index, settings, goal_radius) if prepared is not None else \
+            compile_criterion(c, spec, settings, goal_radius)
         base.formula = cc.formula
         verdict = monitor(cc.formula, signals)
     except FormulaError as exc:
@@ -48,7 +109,7 @@ def judge_criterion(c: Criterion, source: Source, spec: ScenarioSpec, plan: Path
             return _with_blame(failed, "paths", None, "ground the encounter on a scene-graph node")
         return _with_blame(failed, "spec", None, str(exc))
     text, time, distance = evidence(cc, signals)
-    problem = spec_problem(c, spec)
+    problem = prepared.problem(index) if prepared is not None else spec_problem(c, spec)
     robustness = None if problem else round(verdict.robustness, 3)  # a contradictory criterion has no margin
     passed = problem is None and verdict.robustness >= 0
     shown = text if problem is None else f"{text}; {problem}"
@@ -62,35 +123,35 @@ def judge_criterion(c: Criterion, source: Source, spec: ScenarioSpec, plan: Path
 
 
 def judge(trace: Trace, *, plan: PathPlan, location: Any, spec: ScenarioSpec | None, trees: dict[str, str],
-          card_criteria: list[dict] | None, settings: VerifySettings, run_name: str = "") -> VerifyReport:
+          card_criteria: list[dict] | None, settings: VerifySettings, run_name: str = "",
+          prepared: Prepared | None = None) -> VerifyReport:
     """The whole verdict on a trace. With `spec` its criteria decide and the tree checks are diagnostics;
-    without, criteria are derived from the paths and card and the tree checks are required too."""
-    if spec is None:
-        used, judged = derive_spec(plan, location, card_criteria, settings)
-    else:
-        used, judged = spec, with_implied(spec, settings)
+    without, criteria are derived from the paths and card and the tree checks are required too. `prepared`:
+    `prepare` of these very arguments, kept from an earlier trace of the same run."""
+    if prepared is None:
+        prepared = prepare(plan, location, spec, trees, card_criteria, settings)
+    used, judged = prepared.used, prepared.judged
     goal_radius = settings.goal_radius or float((trace.meta or {}).get("robot_goal_radius", DEFAULT_GOAL_RADIUS))
     world_factory = None
-    node_points: dict[str, tuple[float, float]] = {}
     if location is not None:
         from socnavgen.sim.world import World
 
         def world_factory() -> World:
             return World.from_location(location)
 
-        node_points = {n: tuple(location.node_world(n)) for n in location.scene_graph.node_ids()}
-    places = encounter_places(used, plan, location)
+    places = dict(prepared.places)
     if trace.robot_goal is None and plan.robot and location is not None:
-        places["goal"] = tuple(location.node_world(plan.robot[-1]))
-    signals = Signals(trace, world_factory=world_factory, places=places, node_points=node_points,
+        places["goal"] = prepared.plan_goal()
+    signals = Signals(trace, world_factory=world_factory, places=places, node_points=prepared.node_points,
                       goal_radius=goal_radius)
     findings: list[Finding] = []
     if trace.steps == 0:
         findings = [Finding(name=_title(c), kind=c.kind, passed=False, evidence="the trace is empty", source=src,
                             criterion=c.id, blame="paths", stage="paths") for c, src in judged]
     else:
-        findings = [judge_criterion(c, src, used, plan, signals, settings, goal_radius) for c, src in judged]
-    expectations = tree_checks(plan, trees, card_criteria)
+        findings = [judge_criterion(c, src, used, plan, signals, settings, goal_radius, prepared=prepared, index=k)
+                    for k, (c, src) in enumerate(judged)]
+    expectations = prepared.expectations
     for exp, (finding, before_cause) in zip(expectations, evaluate(expectations, trace, settings), strict=True):
         finding.required = spec is None
         if not finding.passed:

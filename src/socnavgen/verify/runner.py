@@ -9,34 +9,42 @@ from typing import Any
 
 from socnavgen.errors import InputFileError
 from socnavgen.run.folder import RunFolder
+from socnavgen.run.loaded import LoadedRun, load_run
 from socnavgen.safeio import atomic_write_text
 from socnavgen.sim.trace import Trace
-from socnavgen.verify.judge import judge
+from socnavgen.verify.judge import judge, prepare
 from socnavgen.verify.models import VerifyReport, VerifySettings
 
 TRACE_FILE = "trace.npz"
 REPORT_FILE = "verify.json"
 
 
-def card_criteria_for(run: RunFolder) -> list[dict] | None:
-    """The scenario card's success criteria, when the run came from a card."""
-    if not run.request_path.is_file() or not run.read_request().card:
-        return None
-    from socnavgen.cards.library import card_criteria
+def card_criteria_for(run: RunFolder | LoadedRun) -> list[dict] | None:
+    """The scenario card's success criteria, when the run came from a card (kept with a LoadedRun)."""
+    loaded = load_run(run)
 
-    return card_criteria(run.root)
+    def build() -> list[dict] | None:
+        if not loaded.has_request() or not loaded.request().card:
+            return None
+        from socnavgen.cards.library import card_criteria
+
+        return card_criteria(loaded.root)
+
+    return loaded.derived("verify.card_criteria", build)
 
 
-def simulate_missing(run_dir: Path, **options: Any) -> Trace:
+def simulate_missing(run_dir: Path | str | LoadedRun, **options: Any) -> Trace:
     """Run the headless simulator on the run (saving RUN/sim/trace.npz) and return the trace. `options`:
     robot (the simulator's default policy when absent), location, dt, timeout, seed."""
     from socnavgen.sim.scenario import simulate_run
 
-    return simulate_run(Path(run_dir), **options)
+    return simulate_run(run_dir if isinstance(run_dir, LoadedRun) else Path(run_dir), **options)
 
 
-def load_trace(run: RunFolder, *, simulate_if_missing: bool, simulate_options: dict | None = None) -> Trace:
-    path = run.sim_dir / TRACE_FILE
+def load_trace(run: RunFolder | LoadedRun, *, simulate_if_missing: bool,
+               simulate_options: dict | None = None) -> Trace:
+    folder = run.folder if isinstance(run, LoadedRun) else run
+    path = folder.sim_dir / TRACE_FILE
     if path.is_file():
         try:
             return Trace.load(path)
@@ -45,16 +53,23 @@ def load_trace(run: RunFolder, *, simulate_if_missing: bool, simulate_options: d
                                  hint="re-run `socnavgen simulate RUN`") from exc
     if not simulate_if_missing:
         raise InputFileError("no simulation trace", file=path, hint="run `socnavgen simulate RUN` first")
-    return simulate_missing(run.root, **(simulate_options or {}))
+    return simulate_missing(run if isinstance(run, LoadedRun) else run.root, **(simulate_options or {}))
 
 
-def verify_trace(run_dir: Path | str, trace: Trace, *, location: Any = None,
+def verify_trace(run_dir: Path | str | LoadedRun, trace: Trace, *, location: Any = None,
                  settings: VerifySettings | None = None) -> VerifyReport:
-    """Judge an in-memory trace against the run's criteria (nothing written)."""
-    run = RunFolder(Path(run_dir))
+    """Judge an in-memory trace against the run's criteria (nothing written). `run_dir`: a LoadedRun (what
+    the verifier derives from the run alone, criteria and tree checks, is kept with it: campaign workers keep
+    one per scenario) or a run folder."""
+    run = load_run(run_dir)
     loc = run.location(location)
-    return judge(trace, plan=run.read_paths(), location=loc, spec=run.read_spec(), trees=run.behaviors(),
-                 card_criteria=card_criteria_for(run), settings=settings or VerifySettings(), run_name=str(run.root))
+    plan, spec, trees = run.paths(), run.spec(), run.behaviors()
+    cards = card_criteria_for(run)
+    settings = settings or VerifySettings()
+    prepared = run.for_location(("verify.prepared", settings.model_dump_json()), loc,
+                                lambda: prepare(plan, loc, spec, trees, cards, settings))
+    return judge(trace, plan=plan, location=loc, spec=spec, trees=trees, card_criteria=cards, settings=settings,
+                 run_name=str(run.root), prepared=prepared)
 
 
 def verify_run(run_dir: Path | str, *, simulate_if_missing: bool = True, location: Any = None,
@@ -64,8 +79,8 @@ def verify_run(run_dir: Path | str, *, simulate_if_missing: bool = True, locatio
     seed), judge every criterion, write RUN/sim/verify.json. `thresholds` override VerifySettings fields
     (distance=2.0, near=1.0, passing=2.5, group_spread=2.5, deadlock_seconds=10, reaction_seconds=5,
     collisions_fail=True); unknown names are ignored."""
-    run = RunFolder(Path(run_dir))
-    if not run.paths_path.is_file():
+    run = load_run(run_dir)
+    if not run.folder.paths_path.is_file():
         raise InputFileError("no paths.json in this run", file=run.root,
                              hint="verify needs a generated run (socnavgen generate ... --out RUN)")
     fields = VerifySettings.model_fields
@@ -75,7 +90,7 @@ def verify_run(run_dir: Path | str, *, simulate_if_missing: bool = True, locatio
     options = dict(simulate_options or {})
     options.setdefault("location", loaded)
     trace = load_trace(run, simulate_if_missing=simulate_if_missing, simulate_options=options)
-    report = verify_trace(run.root, trace, location=loaded, settings=settings)
+    report = verify_trace(run, trace, location=loaded, settings=settings)
     if write:
-        atomic_write_text(run.sim_dir / REPORT_FILE, report.model_dump_json(indent=2) + "\n")
+        atomic_write_text(run.folder.sim_dir / REPORT_FILE, report.model_dump_json(indent=2) + "\n")
     return report

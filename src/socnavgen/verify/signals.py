@@ -14,6 +14,7 @@ import math
 import re
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -58,13 +59,16 @@ class SignalKind:
 
 
 def _runlength(flags: np.ndarray, dt: float) -> np.ndarray:
-    """Seconds each step has been inside a continuous run of True (0 where False)."""
-    out = np.zeros(len(flags))
-    acc = 0.0
-    for k, flag in enumerate(flags):
-        acc = acc + dt if flag else 0.0
-        out[k] = acc
-    return out
+    """Seconds each step has been inside a continuous run of True (0 where False): dt added once per step of
+    the run (dt, dt + dt, ...), the j-th step of every run reading the j-th partial sum of one cumsum."""
+    flags = np.asarray(flags, dtype=bool)
+    n = len(flags)
+    if not n:
+        return np.zeros(0)
+    sums = np.cumsum(np.full(n, float(dt)))  # sequential: sums[j] = sums[j - 1] + dt, as a running total
+    steps = np.arange(n)
+    run_start = np.maximum.accumulate(np.where(flags, -1, steps))  # last False at or before each step
+    return np.where(flags, sums[np.maximum(steps - run_start - 1, 0)], 0.0)
 
 
 def _latched(flags: np.ndarray) -> np.ndarray:
@@ -88,6 +92,12 @@ class Signals:
         self.goal_radius = goal_radius
         self._cache: dict[str, np.ndarray] = {}
         self._los: np.ndarray | None = None
+        self._kept: dict[object, object] = {}  # geometry several signals, evidence and blame share
+
+    def _keep(self, key: object, build: Callable[[], object]) -> object:
+        if key not in self._kept:
+            self._kept[key] = build()
+        return self._kept[key]
 
     @property
     def t(self) -> np.ndarray:
@@ -97,14 +107,12 @@ class Signals:
     def get(self, name: str) -> np.ndarray:
         """The (T,) float signal `name`; UnknownSignal with what exists when there is no such signal."""
         if name not in self._cache:
-            for kind in SIGNAL_KINDS:
-                match = re.fullmatch(kind.pattern, name)
-                if match:
-                    self._cache[name] = np.asarray(kind.build(self, match), dtype=float)
-                    break
-            else:
+            found = _kind_of(name)
+            if found is None:
                 raise UnknownSignal(f"unknown signal {name!r}; signals are: "
                                     + ", ".join(k.shown for k in SIGNAL_KINDS) + " (docs/verify.md)")
+            kind, match = found
+            self._cache[name] = np.asarray(kind.build(self, match), dtype=float)
         return self._cache[name]
 
     def human(self, name: str) -> int:
@@ -127,8 +135,25 @@ class Signals:
         return self.trace.humans[:, self.human(who), :2]
 
     def speed(self, who: str) -> np.ndarray:
-        state = self.trace.robot if who == "robot" else self.trace.humans[:, self.human(who)]
-        return np.linalg.norm(state[:, VX:VY + 1], axis=1)
+        def build() -> np.ndarray:
+            state = self.trace.robot if who == "robot" else self.trace.humans[:, self.human(who)]
+            vx, vy = state[:, VX], state[:, VY]
+            return np.sqrt(vx * vx + vy * vy)  # np.linalg.norm(state[:, VX:VY + 1], axis=1), bit for bit
+
+        return self._keep(("speed", who), build)
+
+    def distances(self) -> np.ndarray:
+        """(T, H) robot-human centre distances (contact.trace_distances), computed once."""
+        return self._keep("distances", lambda: contact.trace_distances(self.trace))
+
+    def gaps(self) -> np.ndarray:
+        """(T, H) robot-human surface gaps (contact.trace_gaps), computed once."""
+        return self._keep("gaps", lambda: contact.trace_gaps(self.trace))
+
+    def contacts(self) -> contact.ContactSummary:
+        """contact.summarize of the trace, computed once."""
+        return self._keep("contacts", lambda: contact.summarize(self.trace, gaps=self.gaps()
+                                                                if self.trace.humans.ndim == 3 else None))
 
     def line_of_sight(self) -> np.ndarray:
         """(T, H) 1 where the robot and each human see each other (walls of the occupancy map)."""
@@ -145,35 +170,42 @@ class Signals:
 
     def in_way(self, i: int) -> np.ndarray:
         """1 where human i is ahead of the robot (along its heading) inside its swept corridor."""
-        rel = self.trace.humans[:, i, :2] - self.trace.robot[:, :2]
-        yaw = self.trace.robot[:, YAW]
-        along = rel[:, 0] * np.cos(yaw) + rel[:, 1] * np.sin(yaw)
-        lateral = np.abs(-rel[:, 0] * np.sin(yaw) + rel[:, 1] * np.cos(yaw))
-        half = self.trace.robot_radius + float(np.asarray(self.trace.human_radii)[i]) + WAY_MARGIN
-        return (along > 0) & (lateral <= half)
+        def build() -> np.ndarray:
+            robot, human = self.trace.robot, self.trace.humans[:, i]
+            ex, ey = human[:, 0] - robot[:, 0], human[:, 1] - robot[:, 1]  # human minus robot
+            cos, sin = self._keep("heading", lambda: (np.cos(robot[:, YAW]), np.sin(robot[:, YAW])))
+            along = ex * cos + ey * sin
+            lateral = np.abs(-ex * sin + ey * cos)
+            half = self.trace.robot_radius + float(np.asarray(self.trace.human_radii)[i]) + WAY_MARGIN
+            return (along > 0) & (lateral <= half)
+
+        return self._keep(("in_way", i), build)
 
     def blocked(self) -> np.ndarray:
         """1 where some human stands in the robot's way within BLOCK_GAP."""
-        h = len(self.trace.human_names)
-        if not h:
-            return np.zeros(self.trace.steps, dtype=bool)
-        gaps = contact.trace_gaps(self.trace)
-        return np.stack([self.in_way(i) & (gaps[:, i] <= BLOCK_GAP) for i in range(h)], axis=1).any(axis=1)
+        def build() -> np.ndarray:
+            h = len(self.trace.human_names)
+            if not h:
+                return np.zeros(self.trace.steps, dtype=bool)
+            gaps = self.gaps()
+            return np.stack([self.in_way(i) & (gaps[:, i] <= BLOCK_GAP) for i in range(h)], axis=1).any(axis=1)
+
+        return self._keep("blocked", build)
 
 
 # ---- builders ------------------------------------------------------------------------------------
 def _dist(s: Signals, m: re.Match) -> np.ndarray:
-    return contact.trace_distances(s.trace)[:, s.human(m[1])]
+    return s.distances()[:, s.human(m[1])]
 
 
 def _gap(s: Signals, m: re.Match) -> np.ndarray:
-    return contact.trace_gaps(s.trace)[:, s.human(m[1])]
+    return s.gaps()[:, s.human(m[1])]
 
 
 def _gap_min(s: Signals, m: re.Match) -> np.ndarray:
     if not s.trace.human_names:
         return np.full(s.trace.steps, FAR)
-    return contact.trace_gaps(s.trace).min(axis=1)
+    return s.gaps().min(axis=1)
 
 
 def _speed(s: Signals, m: re.Match) -> np.ndarray:
@@ -194,7 +226,7 @@ def _stalled(s: Signals, m: re.Match) -> np.ndarray:
 def _deadlock(s: Signals, m: re.Match) -> np.ndarray:
     at_goal = np.zeros(s.trace.steps, dtype=bool)
     if "goal" in s.places:
-        at_goal = np.linalg.norm(s.pos("robot") - s.place("goal"), axis=1) <= s.goal_radius
+        at_goal = contact.lengths(s.pos("robot") - s.place("goal")) <= s.goal_radius
     return _runlength((s.speed("robot") < STILL_SPEED) & s.blocked() & ~at_goal, s.trace.dt)
 
 
@@ -247,21 +279,21 @@ def _holds(s: Signals, m: re.Match) -> np.ndarray:
 
 
 def _to_place(s: Signals, m: re.Match) -> np.ndarray:
-    return np.linalg.norm(s.pos(m[1]) - s.place(m[2]), axis=1)
+    return contact.lengths(s.pos(m[1]) - s.place(m[2]))
 
 
 def _spread(s: Signals, m: re.Match) -> np.ndarray:
     names = m[1].split("_")
     idx = [s.human(n) for n in names]
     pos = s.trace.humans[:, :, :2]
-    pairs = [np.linalg.norm(pos[:, a] - pos[:, b], axis=1) for a, b in itertools.combinations(idx, 2)]
+    pairs = [contact.lengths(pos[:, a] - pos[:, b]) for a, b in itertools.combinations(idx, 2)]
     return np.max(np.stack(pairs, axis=1), axis=1)
 
 
 def moved(s: Signals, human: str) -> np.ndarray:
     """1 from the first step the human is MOVED_DISTANCE from where it started."""
     p = s.pos(human)
-    return _latched(np.linalg.norm(p - p[:1], axis=1) >= MOVED_DISTANCE)
+    return _latched(contact.lengths(p - p[:1]) >= MOVED_DISTANCE)
 
 
 def _moved(s: Signals, m: re.Match) -> np.ndarray:
@@ -326,3 +358,13 @@ SIGNAL_KINDS: tuple[SignalKind, ...] = (
                "evidence of a spec reaction: its library actions executing (bt.library.REACTION_NODES); stop, "
                "wait_then_go: slower than 0.1 m/s after having walked; say: showing a gesture", _react),
 )
+
+
+@lru_cache(maxsize=4096)
+def _kind_of(name: str) -> tuple[SignalKind, re.Match] | None:
+    """The kind a signal name belongs to, with its match (names repeat on every trace of a campaign)."""
+    for kind in SIGNAL_KINDS:
+        match = re.fullmatch(kind.pattern, name)
+        if match:
+            return kind, match
+    return None

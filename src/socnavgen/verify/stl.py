@@ -13,6 +13,8 @@ from __future__ import annotations
 import logging
 import re
 import warnings
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any
@@ -72,6 +74,19 @@ def _nesting(formula: str) -> int:
 def check_formula(formula: str, signals: Signals) -> list[str]:
     """Raise FormulaError unless the formula is short, a single expression and names only known signals;
     return the signal names it uses."""
+    names = list(_checked_text(formula))
+    for name in names:
+        try:
+            signals.get(name)
+        except UnknownSignal as exc:
+            raise FormulaError(str(exc)) from None
+    return names
+
+
+@lru_cache(maxsize=1024)
+def _checked_text(formula: str) -> tuple[str, ...]:
+    """The checks of check_formula that read the text alone, kept per formula (a campaign checks the same
+    few on every episode; a refused formula is not kept and is refused again, with the same message)."""
     if not formula or not formula.strip():
         raise FormulaError("the formula is empty")
     if len(formula) > MAX_FORMULA_CHARS:
@@ -87,36 +102,48 @@ def check_formula(formula: str, signals: Signals) -> list[str]:
     names = formula_signals(formula)
     if not names:
         raise FormulaError("the formula names no signal")
-    for name in names:
-        try:
-            signals.get(name)
-        except UnknownSignal as exc:
-            raise FormulaError(str(exc)) from None
-    return names
+    return tuple(names)
+
+
+@lru_cache(maxsize=1)
+def _rtamt() -> Any:
+    """The rtamt module, imported once (its antlr runtime imports the deprecated typing.io)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        import rtamt
+
+    return rtamt
+
+
+@contextmanager
+def _quiet_root_logger() -> Iterator[None]:
+    """rtamt warns on the root logger (implicit declarations): silenced around what calls into it."""
+    root = logging.getLogger()
+    level = root.level
+    root.setLevel(logging.ERROR)
+    try:
+        yield
+    finally:
+        root.setLevel(level)
 
 
 def monitor(formula: str, signals: Signals) -> Verdict:
     """Robustness of `formula` over the whole trace (FormulaError for bad formulas)."""
-    with warnings.catch_warnings():  # rtamt's antlr runtime imports the deprecated typing.io
-        warnings.simplefilter("ignore", DeprecationWarning)
-        import rtamt
-
+    rtamt = _rtamt()
     names = check_formula(formula, signals)
     t = signals.t
     if len(t) == 0:
         raise FormulaError("the trace is empty")
     dt = float(signals.trace.dt) if signals.trace.dt > 0 else float(np.median(np.diff(t))) if len(t) > 1 else 1.0
-    rtamt_log = logging.getLogger()
-    level = rtamt_log.level
     try:
-        rtamt_log.setLevel(logging.ERROR)  # rtamt warns on the root logger about implicit declarations
         spec = _parsed(formula, tuple(names), dt)
         try:  # rtamt's semantics with numpy, whole trace at once; rtamt itself for what it does not cover
             series = stl_numpy.evaluate(spec, {name: signals.get(name) for name in names})
         except stl_numpy.NotSupported:
             data = {"time": [float(x) for x in t]}
             data.update({name: [float(v) for v in signals.get(name)] for name in names})
-            series = np.array([float(v) for _, v in spec.evaluate(data)], dtype=float)
+            with _quiet_root_logger():
+                series = np.array([float(v) for _, v in spec.evaluate(data)], dtype=float)
     except rtamt.RTAMTException as exc:
         raise FormulaError(_readable(str(exc))) from None
     except (ValueError, ArithmeticError) as exc:  # rtamt on e.g. eventually[2:1] (an empty window), x / 0
@@ -124,8 +151,6 @@ def monitor(formula: str, signals: Signals) -> Verdict:
                            "interval [a:b] has a <= b and that nothing is divided by zero") from None
     except RecursionError:  # pragma: no cover - MAX_NESTING keeps formulas far from this
         raise FormulaError(f"the formula is too deeply nested (at most {MAX_NESTING} levels)") from None
-    finally:
-        rtamt_log.setLevel(level)
     return Verdict(robustness=float(series[0]) if len(series) else float("-inf"), series=series)
 
 
@@ -134,15 +159,15 @@ def _parsed(formula: str, names: tuple[str, ...], dt: float) -> Any:
     """A parsed rtamt specification, kept per formula: parsing costs about as much as evaluating, and a
     campaign checks the same few formulas on every episode (offline `evaluate` keeps no state between
     calls: the same data gives the same robustness)."""
-    import rtamt
-
-    spec = rtamt.StlDiscreteTimeSpecification()
-    for name in names:
-        spec.declare_var(name, "float")
-    spec.declare_var(_OUT, "float")
-    spec.set_sampling_period(dt, "s", 0.1)
-    spec.spec = _PREFIX + formula
-    spec.parse()
+    rtamt = _rtamt()
+    with _quiet_root_logger():
+        spec = rtamt.StlDiscreteTimeSpecification()
+        for name in names:
+            spec.declare_var(name, "float")
+        spec.declare_var(_OUT, "float")
+        spec.set_sampling_period(dt, "s", 0.1)
+        spec.spec = _PREFIX + formula
+        spec.parse()
     return spec
 
 
