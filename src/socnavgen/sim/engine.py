@@ -68,7 +68,10 @@ class Simulation:
                  robot_path: list[tuple[float, float]], policy: RobotPolicy, config: SimConfig | None = None,
                  gestures: ScriptedGestures | None = None, throttle: InteractionThrottle | None = None,
                  tree_names: list[str] | None = None, base_dir: Path | None = None, meta: dict | None = None,
-                 use_kernels: bool | None = None, script: RobotScriptRunner | None = None) -> None:
+                 use_kernels: bool | None = None, script: RobotScriptRunner | None = None,
+                 program: tuple | None = None) -> None:
+        """`program`: these trees already built and lowered for the compiled run (compiled.lower.program_of,
+        kept per scenario by load_simulation): the Python trees are then built only if the reference needs them."""
         if len(trees) != len(humans):
             raise ValueError("one tree per human")
         self.config = config or SimConfig()
@@ -119,10 +122,11 @@ class Simulation:
         self.cmd_move, self.cmd_use_goal, self.cmd_turn, self.reached = self.bc[0], self.bc[1], self.bc[2], self.bc[4]
         self.bc[3] = crowd.has_goal
         crowd.has_goal = self.bc[3]
-        self.trees: list[BehaviorTree] = [
-            build_tree(tree, self, i, IMPLEMENTATIONS, NODE_INDEX, base_dir=base_dir,
-                       name=(tree_names[i] if tree_names else f"tree of agent {i}"))
-            for i, tree in enumerate(trees)]
+        self._tree_sources = (list(trees), tree_names, base_dir)
+        self._trees: list[BehaviorTree] | None = None
+        self.program = program
+        if program is None:
+            self._trees = self._build_trees()  # builds (and checks) every tree now
         # compiled kernel (numba) when available; the numpy path (sim.sfm) is the reference
         self._fast = kernels.AVAILABLE if use_kernels is None else (use_kernels and kernels.AVAILABLE)
         self.compiled = self._fast  # run() in one compiled call (sim.compiled); False: step by step in Python
@@ -139,6 +143,18 @@ class Simulation:
         self._physics(do_step=False)
         if hasattr(policy, "reset"):
             policy.reset(self.obs)
+
+    def _build_trees(self) -> list[BehaviorTree]:
+        trees, names, base_dir = self._tree_sources
+        return [build_tree(tree, self, i, IMPLEMENTATIONS, NODE_INDEX, base_dir=base_dir,
+                           name=(names[i] if names else f"tree of agent {i}")) for i, tree in enumerate(trees)]
+
+    @property
+    def trees(self) -> list[BehaviorTree]:
+        """Every human's behavior tree, bound to this simulation (built on first use when a program was given)."""
+        if self._trees is None:
+            self._trees = self._build_trees()
+        return self._trees
 
     # -- queries used by the nodes ------------------------------------------------------------
     def robot_in_sight(self, i: int) -> bool:

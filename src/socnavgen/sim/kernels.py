@@ -37,11 +37,16 @@ except ImportError:  # pragma: no cover
         return lambda f: f
 
 
-def no_alloc(fn):  # noqa: ANN001, ANN201
+def no_alloc(fn=None, *, inline: bool = False):  # noqa: ANN001, ANN201
     """Compile a function that creates no array (and returns none) without reference counting (numba's
     _nrt=False): the compiled episode calls such helpers millions of times, and the reference counts of the
-    arrays they touch cost ~40 ns per call where the call itself inlines to nothing."""
-    return njit(cache=True, _nrt=False)(fn)
+    arrays they touch cost ~40 ns per call where the call itself inlines to nothing. `inline`: numba inlines
+    the function into its callers (for a big function called per step with the state tuples, whose arrays
+    would otherwise be passed field by field on every call)."""
+    if fn is None:
+        return lambda f: no_alloc(f, inline=inline)
+    options = {"inline": "always"} if inline else {}
+    return njit(cache=True, _nrt=False, **options)(fn)
 
 
 GRID_MIN = 64  # above this many humans, neighbours come from a grid of cut-off sized cells (linear cost)

@@ -13,6 +13,7 @@ from socnavgen.bt.library import regular_walker_xml
 from socnavgen.bt.tree import BTDocument
 from socnavgen.errors import ValidationFailed
 from socnavgen.run import LoadedRun, load_run
+from socnavgen.sim import kernels
 from socnavgen.sim.agents import HumanSpec
 from socnavgen.sim.engine import SimConfig, Simulation
 from socnavgen.sim.gestures import RobotScriptRunner, ScriptedGestures
@@ -124,9 +125,16 @@ def load_simulation(run_dir: Path | str | LoadedRun, policy: RobotPolicy, config
         "default_trees": defaulted, "policy": type(policy).__name__,
         "throttle": throttle.__dict__, "spec": spec is not None,
     }
+    program = None
+    if kernels.AVAILABLE:  # the trees built and lowered once per run, for every compiled episode of it
+        from socnavgen.sim.compiled.lower import program_of
+
+        program = run.derived(("sim.program", tuple(names)),
+                              lambda: program_of(trees, names, run.folder.behaviors_dir))
     return Simulation(world, specs, trees, robot_path, policy, config,
                       gestures=ScriptedGestures(plan.robot_gestures, node_points), throttle=thr,
-                      tree_names=names, base_dir=run.folder.behaviors_dir, meta=meta, script=script)
+                      tree_names=names, base_dir=run.folder.behaviors_dir, meta=meta, script=script,
+                      program=program)
 
 
 def simulate_run(run_dir: Path | str | LoadedRun, robot: str | RobotPolicy = DEFAULT_ROBOT, location=None,  # noqa: ANN001

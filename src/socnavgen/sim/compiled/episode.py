@@ -55,6 +55,7 @@ from socnavgen.sim.compiled.loop import REASON_ALL_DONE, REASON_GOAL, run_episod
 from socnavgen.sim.compiled.lower import (
     MAX_GESTURE,
     Unsupported,
+    fresh_program,
     lower_rules,
     lower_script,
     lower_throttle,
@@ -162,7 +163,7 @@ def run_compiled(sim: Any, progress: Callable[[int, int], None] | None = None) -
     max_steps = int(math.ceil(cfg_.timeout / sim.dt))
     try:
         S = _state(sim)
-        P = lower_trees(sim.trees)
+        P = fresh_program(sim.program) if sim.program is not None else lower_trees(sim.trees)
         T, has_throttle = lower_throttle(sim.throttle, sim.crowd.specs)
         C, has_script = lower_script(sim.script, sim.cues, sim.crowd.n, max_steps)
         G, has_rules = lower_rules(sim.gestures)

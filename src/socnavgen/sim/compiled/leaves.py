@@ -171,7 +171,7 @@ def human_port(P, k, p, n, offset):  # noqa: ANN001, ANN201
     return h if 0 <= h < n else -1
 
 
-@no_alloc
+@no_alloc(inline=True)
 def tick_leaf(code, k, i, S, W, P, dt):  # noqa: ANN001, ANN201, C901
     """One leaf of the library for agent i (sim.nodes / sim.nodes_hunav2: IMPLEMENTATIONS)."""
     cs, fs, hi, hf, rc, rf, ri = S[0], S[1], S[5], S[6], S[9], S[10], S[11]

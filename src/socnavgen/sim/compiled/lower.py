@@ -212,6 +212,32 @@ def lower_trees(trees: list[rt.BehaviorTree]) -> tuple:
     return program.arrays(roots, dt_slots)
 
 
+# which arrays of P an episode changes (current child, leaf states, blackboard, the interpreter's stack)
+_MUTABLE = (1, 2, 6, 7, 11)
+
+
+def program_of(trees: list, tree_names: list[str] | None, base_dir: Any) -> tuple | None:
+    """The lowered program of these trees (XML or parsed), built once and copied for every Simulation of them
+    (fresh_program): a campaign runs one scenario's trees thousands of times. None when they cannot be
+    lowered, or do not build (the Simulation then builds them itself and reports what is wrong)."""
+    from socnavgen.sim.bt_build import build_tree
+    from socnavgen.sim.engine import NODE_INDEX
+    from socnavgen.sim.nodes import IMPLEMENTATIONS
+
+    try:
+        built = [build_tree(tree, None, i, IMPLEMENTATIONS, NODE_INDEX, base_dir=base_dir,
+                            name=(tree_names[i] if tree_names else f"tree of agent {i}"))
+                 for i, tree in enumerate(trees)]
+        return lower_trees(built)
+    except Exception:  # noqa: BLE001 - Unsupported, or a tree error the Simulation raises itself
+        return None
+
+
+def fresh_program(template: tuple) -> tuple:
+    """A copy of a lowered program an episode may change (the read-only parts are shared)."""
+    return tuple(a.copy() if k in _MUTABLE else a for k, a in enumerate(template))
+
+
 def lower_throttle(throttle: Any, specs: list[Any]) -> tuple[tuple, bool]:
     """(T, in use) for an InteractionThrottle (or None)."""
     if throttle is None:

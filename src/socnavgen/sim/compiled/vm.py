@@ -48,7 +48,7 @@ from socnavgen.sim.compiled.leaves import port, tick_leaf
 from socnavgen.sim.kernels import no_alloc
 
 
-@no_alloc
+@no_alloc(inline=True)
 def leaf_agent(k, S, P):  # noqa: ANN001, ANN201
     """Leaf.agent(): the `agent_id` port (the owner without one); -1 where the reference raises."""
     p = P[0][NI_AGENT_PORT, k]
@@ -61,7 +61,7 @@ def leaf_agent(k, S, P):  # noqa: ANN001, ANN201
     return int(v)
 
 
-@no_alloc
+@no_alloc(inline=True)
 def run_leaf(k, S, W, P, dt):  # noqa: ANN001, ANN201
     """ConditionLeaf.tick / ActionLeaf.tick: the leaf, then what the trace records of it."""
     ni, hi = P[0], S[5]
@@ -86,7 +86,7 @@ def run_leaf(k, S, W, P, dt):  # noqa: ANN001, ANN201
     return st
 
 
-@no_alloc
+@no_alloc(inline=True)
 def tick_tree(agent, S, W, P, dt):  # noqa: ANN001, ANN201, C901
     """BehaviorTree.tick for one agent's tree: set its `dt`, tick from the root; ERROR where the reference
     raises."""
