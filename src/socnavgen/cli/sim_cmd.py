@@ -53,6 +53,10 @@ def simulate(
     sim = load_simulation(run, policy, config, ThrottleConfig(enabled=not no_throttle), loaded)
     sim.meta["robot_plugin"] = robot
     total = int(round(timeout / dt))
+    from socnavgen.sim import compiled
+
+    if sim.compiled and not compiled.cache_ready():
+        console.print(f"[dim]{compiled.COMPILING_NOTE}[/]", highlight=False)
     start = time.perf_counter()
     with progress() as bar:
         task = bar.add_task(f"simulating {run.name}", total=total)

@@ -48,4 +48,12 @@ def _drop_stale_cache() -> None:
         pass
 
 
+def cache_ready() -> bool:
+    """Whether this machine has the compiled episode cached (numba compiles it on first use: ~40 s)."""
+    return any((_HERE / "__pycache__").glob("loop.run_episode-*.nbi"))
+
+
+COMPILING_NOTE = ("first compiled run on this machine: numba compiles the simulator once (about 40 s per "
+                  "process that starts at the same time); later runs start at once")
+
 _drop_stale_cache()
