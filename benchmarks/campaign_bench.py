@@ -1,9 +1,11 @@
 """Campaign throughput: episodes per second for the 5-person cards (crowd-navigation on the warehouse; the
 hospital's lobby fits only 3 people of that card), 60 s scenarios, no plots, `waypoints` robot, with verification and every metric; beside a loop of
 `socnavgen simulate` calls and of in-process `simulate_run` + metrics (which reload the location each time).
-Also: cost growth with the campaign size (local executor), and `socnavgen --help` start-up.
+Also: cost growth with the campaign size (one process), and `socnavgen --help` start-up. CPU seconds are
+those of the thread that runs the episodes. Run it once before measuring on a new machine: the first
+compiled episode compiles the simulator (~40 s, cached).
 
-    python benchmarks/campaign_bench.py            # the table (a few minutes)
+    python benchmarks/campaign_bench.py            # the table (under a minute)
     python benchmarks/campaign_bench.py --quick    # smaller counts
     python benchmarks/campaign_bench.py --full     # + the 10,000-episode point of the growth table
     python benchmarks/campaign_bench.py --dt-check # does dt 0.1 s change outcomes? (every card, bundled maps)
@@ -36,7 +38,9 @@ def spec_for(seeds: int, card: str = "crowd-navigation", locations: list[Path] =
 def campaign_rate(seeds: int, executor: str, workers: int | None, root: Path, tag: str,
                   card: str = "crowd-navigation", locations: list[Path] = LOCATIONS, policy: str = "waypoints",
                   dt: float = 0.05) -> tuple[int, float, float]:
-    """(episodes, wall seconds, CPU seconds of this process) of one campaign run."""
+    """(episodes, wall seconds, CPU seconds of this thread) of one campaign run. The calling thread's CPU
+    time: the inline executor runs every episode on it, and numpy's idle BLAS threads (which spin after a
+    small matrix product) would otherwise count as work."""
     from socnavgen.campaign.runner import run_campaign
 
     spec = spec_for(seeds, card, locations, policy, dt)
@@ -44,9 +48,9 @@ def campaign_rate(seeds: int, executor: str, workers: int | None, root: Path, ta
     from socnavgen.campaign.scenarios import build_suite
 
     build_suite(spec, out)  # cards instantiated before the clock starts (a campaign does it once)
-    start, cpu = time.perf_counter(), time.process_time()
+    start, cpu = time.perf_counter(), time.thread_time()
     result = run_campaign(spec, out, executor=executor, workers=workers, batch_size=8)
-    return result.total, time.perf_counter() - start, time.process_time() - cpu
+    return result.total, time.perf_counter() - start, time.thread_time() - cpu
 
 
 def simulate_loop(runs: list[Path], count: int) -> float:

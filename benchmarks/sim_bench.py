@@ -4,7 +4,8 @@ Scene: an open walled square sized for a constant density (0.1 pedestrians per m
 every pedestrian walking a cyclic two-goal route with the RegularNav tree exactly as the generator writes it
 (SetBlackboard x2 + SubTree RegularNavTree), and the robot crossing with the `waypoints` plugin. The same
 crowd (positions, goals, walls) runs in pysocialforce with its default forces and step width set to our dt.
-Times are CPU seconds of this process (time.process_time), i.e. one core, unaffected by other load.
+Times are CPU seconds of the simulating thread (time.thread_time): one core, unaffected by other load
+and by numpy's idle BLAS threads (which spin for a while after the large matrix product that builds a map).
 
     python benchmarks/sim_bench.py              # the table (about a minute)
     python benchmarks/sim_bench.py --quick      # fewer steps
@@ -51,9 +52,9 @@ def run_ours(n: int, steps: int, use_kernels: bool) -> float:
     world = empty_room(side, side, resolution=0.1)
     sim = Simulation(world, humans, [DEFAULT_TREE] * n, [(0.8, side / 2), (side - 0.8, side / 2)],
                      WaypointsPolicy(), SimConfig(dt=DT, timeout=steps * DT, idle_end=1e9), use_kernels=use_kernels)
-    start = time.process_time()
+    start = time.thread_time()
     trace = sim.run()
-    elapsed = time.process_time() - start
+    elapsed = time.thread_time() - start
     return elapsed / max(trace.steps - 1, 1)
 
 
@@ -94,9 +95,9 @@ def run_pysocialforce(n: int, steps: int) -> float | str:
             warnings.simplefilter("ignore", RuntimeWarning)
             sim = psf.Simulator(state, groups=None, obstacles=walls, config_file=cfg.name)
             sim.step(2)  # numba compilation happens here, not in the timing
-            start = time.process_time()
+            start = time.thread_time()
             sim.step(steps)
-            return (time.process_time() - start) / steps
+            return (time.thread_time() - start) / steps
     finally:
         os.unlink(cfg.name)
 
