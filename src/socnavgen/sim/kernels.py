@@ -220,6 +220,24 @@ def _social_dense(pos, vel, prm, out, pairs):  # noqa: ANN001, ANN202
         out[i] = f
 
 
+@njit(cache=True, inline="always")
+def obstacle_point(obs_table, affine, mpp, p):  # noqa: ANN001, ANN201
+    """World.nearest_obstacles for one point: the nearest blocked pixel's centre (the pixel clamped to the
+    map) moved half a pixel toward p, i.e. near the obstacle's surface."""
+    h, w = obs_table.shape
+    x, y = p.real, p.imag
+    px = affine[0, 0] * x + affine[0, 1] * y + affine[0, 2]
+    py = affine[1, 0] * x + affine[1, 1] * y + affine[1, 2]
+    c = min(max(int(math.floor(px + 0.5)), 0), w - 1)
+    r = min(max(int(math.floor(py + 0.5)), 0), h - 1)
+    o = obs_table[r, c]
+    d = p - o
+    dist = abs(d)
+    if dist > 0.5 * mpp:
+        o = o + d * (0.5 * mpp / dist)
+    return o
+
+
 @no_alloc
 def _environment(cs, fs, cc, fc, prm, obs_table, affine, rpos, rvel, social):  # noqa: ANN001, ANN202
     """Environment force (social incl. the robot, nearest obstacle) and distance to the robot of everyone."""
@@ -227,24 +245,13 @@ def _environment(cs, fs, cc, fc, prm, obs_table, affine, rpos, rvel, social):  #
     pos, vel, radius, f_env, rdist = cs[0], cs[1], fs[1], cc[2], fc[3]
     k_obs, sigma, k_soc, lam, gamma, nn, npr, cutoff = prm[5], prm[6], prm[7], prm[8], prm[9], prm[10], prm[11], prm[12]
     obs_range, has_obs, mpp = prm[13], prm[14] > 0, prm[15]
-    h, w = obs_table.shape
     cut2 = cutoff * cutoff
     for i in range(n):
         pi = pos[i]
         f = social[i] + _pair(rpos - pi, vel[i] - rvel, cut2, k_soc, lam, gamma, nn, npr)
         if has_obs:
-            x, y = pi.real, pi.imag
-            px = affine[0, 0] * x + affine[0, 1] * y + affine[0, 2]
-            py = affine[1, 0] * x + affine[1, 1] * y + affine[1, 2]
-            c = min(max(int(math.floor(px + 0.5)), 0), w - 1)
-            r = min(max(int(math.floor(py + 0.5)), 0), h - 1)
-            o = obs_table[r, c]
-            dd = pi - o
+            dd = pi - obstacle_point(obs_table, affine, mpp, pi)
             dist = abs(dd)
-            if dist > 0.5 * mpp:  # nearest blocked pixel centre moved half a pixel toward the agent (World)
-                o = o + dd * (0.5 * mpp / dist)
-                dd = pi - o
-                dist = abs(dd)
             if dist <= obs_range and dist > 1e-9:
                 f += k_obs * math.exp(-(dist - radius[i]) / sigma) * dd / dist
         f_env[i] = f

@@ -8,11 +8,9 @@ The world travels as one tuple W = (clearance, blocked, obstacle table, affine, 
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
-from socnavgen.sim.kernels import _clearance, no_alloc, segment_clear
+from socnavgen.sim.kernels import _clearance, no_alloc, obstacle_point, segment_clear
 
 PW_BLOCK = 128  # numpy's pairwise-summation block
 
@@ -160,18 +158,7 @@ def nearest_obstacle(W, p):  # noqa: ANN001, ANN201
     """World.nearest_obstacles for one point: (the obstacle point, whether it is within range)."""
     if W[4][2] == 0.0:
         return 0j, False
-    table, affine, mpp = W[2], W[3], W[4][0]
-    h, w = table.shape
-    x, y = p.real, p.imag
-    px = affine[0, 0] * x + affine[0, 1] * y + affine[0, 2]
-    py = affine[1, 0] * x + affine[1, 1] * y + affine[1, 2]
-    c = min(max(int(math.floor(px + 0.5)), 0), w - 1)
-    r = min(max(int(math.floor(py + 0.5)), 0), h - 1)
-    o = table[r, c]
-    d = p - o
-    dist = abs(d)
-    if dist > 0.5 * mpp:
-        o = o + d * (0.5 * mpp / dist)
+    o = obstacle_point(W[2], W[3], W[4][0], p)
     return o, abs(p - o) <= W[4][1]
 
 
