@@ -92,8 +92,8 @@ class SocNavEnv(gym.Env):
         location, world = self.cache.location(location_dir)
         self.policy = _External()
         sim_seed = int(options.get("sim_seed", self.np_random.integers(2**31 - 1)))
-        self.sim = load_simulation(Path(run_dir), self.policy, SimConfig(dt=self.dt, timeout=self.timeout,
-                                                                         seed=sim_seed),
+        self.sim = load_simulation(self.cache.run(run_dir), self.policy, SimConfig(dt=self.dt, timeout=self.timeout,
+                                                                                   seed=sim_seed),
                                    ThrottleConfig(enabled=self.throttle), location=location, world=world)
         self._dist = self._goal_distance()
         return self._observation(), {"scenario": run_dir, "sim_seed": sim_seed}
