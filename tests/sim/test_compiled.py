@@ -184,10 +184,20 @@ def test_a_blackboard_holding_text_runs_step_by_step() -> None:
     assert "SetBlackboard of a literal" in trace.meta["compiled_skipped"]
 
 
+ROOMS = {  # (width, height, walls, robot path): a room with walls, and a corridor too narrow to leave the path
+    "room": (12.0, 8.0, [(5.0, 0.0, 5.4, 3.0), (8.0, 5.0, 8.4, 8.0)],
+             [(1.0, 4.0), (4.0, 4.2), (6.5, 3.8), (7.0, 1.2), (11.0, 1.2)]),
+    "corridor": (12.0, 2.2, [], [(0.8, 1.1), (6.0, 1.1), (11.2, 1.0)]),
+}
+
+
 @pytest.mark.parametrize("seed", range(3))
-def test_the_side_step_is_the_reference_one(seed: int) -> None:
+@pytest.mark.parametrize("room", sorted(ROOMS))
+def test_the_side_step_is_the_reference_one(room: str, seed: int) -> None:
     """GiveWaytoRobot's plan (where to stand, from which arc position) for people scattered around a robot on
-    a bent path in a room with walls: the compiled plan equals nodes._plan_side_step every time."""
+    a bent path in a room with walls, and in a corridor where no spot is far enough from the path (the
+    fallback: the spot farthest from it, shorter walks preferred): the compiled plan equals
+    nodes._plan_side_step every time."""
     from socnavgen.sim import nodes
     from socnavgen.sim.compiled.episode import _state
     from socnavgen.sim.compiled.geometry import world_tuple
@@ -195,15 +205,16 @@ def test_the_side_step_is_the_reference_one(seed: int) -> None:
     from socnavgen.sim.compiled.path import plan_side_step
 
     rng = np.random.default_rng(seed)
-    world = empty_room(12.0, 8.0, walls=[(5.0, 0.0, 5.4, 3.0), (8.0, 5.0, 8.4, 8.0)])
-    people = [human(f"human{k + 1}", start=(float(rng.uniform(0.8, 11.2)), float(rng.uniform(0.8, 7.2))))
-              for k in range(12)]
-    path = [(1.0, 4.0), (4.0, 4.2), (6.5, 3.8), (7.0, 1.2), (11.0, 1.2)]
+    width, height, walls, path = ROOMS[room]
+    world = empty_room(width, height, walls=walls)
+    people = [human(f"human{k + 1}", start=(float(rng.uniform(0.8, width - 0.8)),
+                                            float(rng.uniform(0.7, height - 0.7)))) for k in range(12)]
     moved = 0
     for _ in range(25):  # robot positions along the first legs (a fresh simulation each: plans are per step)
         sim = make_sim(people, [tree_xml(REGULAR)] * 12, path, policy=load_policy("waypoints"), world=world)
-        sim.robot_pos = complex(*path[0]) + complex(rng.uniform(0, 5), rng.uniform(-0.4, 0.4))
-        sim.crowd.pos[:] += rng.normal(0, 0.5, 12) + 1j * rng.normal(0, 0.5, 12)
+        sim.robot_pos = complex(*path[0]) + complex(rng.uniform(0, 5), rng.uniform(-0.3, 0.3))
+        spread = 0.5 if room == "room" else 0.15
+        sim.crowd.pos[:] += rng.normal(0, spread, 12) + 1j * rng.normal(0, spread, 12)
         S, W = _state(sim), world_tuple(world)
         for i in range(12):
             want = nodes._plan_side_step(sim, i)

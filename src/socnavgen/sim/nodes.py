@@ -39,6 +39,8 @@ SEGMENT_TIE = 1e-9  # m: segments this much farther than the nearest count as eq
 SIDE_STEP_SPACING = 0.1  # m: candidate spots every 0.1 m along each direction, from 0.1 m on
 SIDE_STEP_TURN_COST = 0.3  # m of walk a radian away from straight sideways is worth
 SIDE_STEP_FAR_COST = 0.05  # per m of walk, against clearance, when no spot is far enough
+SIDE_STEP_TIE = 1e-9  # spots and directions this close in distance or cost are as good: the first is taken
+# (mirrored directions and walks along the path are exactly as good; the last bit must not choose)
 ASIDE_RADIUS = 0.05  # m: the side-step target is reached within this
 PASSED_MARGIN = 0.3  # m beyond both radii: the robot has passed the human's spot on its path
 RUN_AWAY_MIN_GAP = 0.05  # m: the run-away push is computed as if no closer than this to the robot
@@ -326,10 +328,10 @@ def _plan_side_step(sim: Any, i: int) -> dict:
             key = (0, float(s[ok[0]]) + SIDE_STEP_TURN_COST * deviation)  # shortest walk, straight sideways preferred
             spot = spots[ok[0]]
         else:
-            m = int(np.argmax(d))
+            m = int(np.flatnonzero(d >= d.max() - SIDE_STEP_TIE)[0])  # the first of the farthest spots
             key = (1, -float(d[m]) + SIDE_STEP_FAR_COST * float(s[m]))
             spot = spots[m]
-        if best_key is None or key < best_key:
+        if best_key is None or key[0] < best_key[0] or (key[0] == best_key[0] and key[1] < best_key[1] - SIDE_STEP_TIE):
             best_key, best = key, complex(spot)
     state["target"] = best
     return state

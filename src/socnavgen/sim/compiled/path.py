@@ -30,6 +30,7 @@ from socnavgen.sim.compiled.layout import (
     RI_SEG,
     RI_STEP,
     SF_A,
+    SF_B,
     SF_LEFT,
     SUCCESS,
 )
@@ -47,6 +48,7 @@ from socnavgen.sim.nodes import (
     SIDE_STEP_FAR_COST,
     SIDE_STEP_MAX,
     SIDE_STEP_SPACING,
+    SIDE_STEP_TIE,
     SIDE_STEP_TURN_COST,
 )
 
@@ -164,7 +166,8 @@ def plan_side_step(S, W, i):  # noqa: ANN001, ANN201
         count = int(math.ceil((room + 1e-9 - SIDE_STEP_SPACING) / SIDE_STEP_SPACING))
         if count <= 0:
             continue
-        first_ok, far_m, far_d = -1, 0, -np.inf
+        first_ok, far_d = -1, -np.inf
+        ds = S[14][SF_B]  # each spot's distance from the path
         for m in range(count):
             spot = p + u * (SIDE_STEP_SPACING + m * SIDE_STEP_SPACING)
             d = np.inf
@@ -173,15 +176,18 @@ def plan_side_step(S, W, i):  # noqa: ANN001, ANN201
             if d >= want:
                 first_ok = m
                 break
-            if d > far_d:
-                far_m, far_d = m, d
+            ds[m] = d
+            far_d = max(far_d, d)
         if first_ok >= 0:
             s_ok = SIDE_STEP_SPACING + first_ok * SIDE_STEP_SPACING
             rank, key, spot = 0, s_ok + SIDE_STEP_TURN_COST * SIDE_DEVIATIONS[j], p + u * s_ok
         else:
+            far_m = 0
+            while ds[far_m] < far_d - SIDE_STEP_TIE:  # the first of the farthest spots
+                far_m += 1
             s_far = SIDE_STEP_SPACING + far_m * SIDE_STEP_SPACING
-            rank, key, spot = 1, -far_d + SIDE_STEP_FAR_COST * s_far, p + u * s_far
-        if not found or rank < best_rank or (rank == best_rank and key < best_key):
+            rank, key, spot = 1, -ds[far_m] + SIDE_STEP_FAR_COST * s_far, p + u * s_far
+        if not found or rank < best_rank or (rank == best_rank and key < best_key - SIDE_STEP_TIE):
             found, best_rank, best_key, best = True, rank, key, spot
     hc[HC_GW_TARGET][i] = best
 
