@@ -26,7 +26,7 @@ def _cli(*args: str, **kwargs) -> subprocess.Popen:  # noqa: ANN003
 def test_kill_9_and_resume(tmp_path) -> None:  # noqa: ANN001
     cards = ["blind-corner", "down-path"]
     policies = ["waypoints", f"{{name: bad, robot: '{POLICIES}:StraightThrough'}}"]
-    seeds = 12
+    seeds = 40  # enough that the campaign is still running after its first part file (flushed every 32 rows)
     file = tmp_path / "c.yaml"
     file.write_text(campaign_yaml(cards, policies, seeds))
     out = tmp_path / "out"

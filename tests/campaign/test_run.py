@@ -6,6 +6,7 @@ from pathlib import Path
 
 import duckdb
 import pyarrow.parquet as pq
+import pytest
 
 from socnavgen.campaign import episode as episode_module
 from socnavgen.campaign.runner import run_campaign
@@ -102,3 +103,29 @@ def test_a_different_campaign_in_the_same_folder_is_refused(small_spec, tmp_path
     run_campaign(small_spec.model_copy(update={"seeds": [0]}), tmp_path / "o", executor="inline")
     with pytest.raises(InputFileError, match="different campaign"):
         run_campaign(small_spec.model_copy(update={"seeds": [0, 5]}), tmp_path / "o", executor="inline")
+
+
+def test_compiling_the_simulator_does_not_count_against_an_episode(small_spec, tmp_path, monkeypatch) -> None:  # noqa: ANN001
+    """On a new machine numba compiles the simulator in each worker's first episode (~40 s): that happens
+    before the episode's wall-clock limit starts. A compile slower than the limit must not fail an episode
+    (it did on a fresh clone: Ray's first episode per worker failed its 20 s limit)."""
+    import time
+
+    from socnavgen.sim import kernels
+    from socnavgen.sim.compiled import episode as compiled_episode
+
+    if not kernels.AVAILABLE:
+        pytest.skip("numba not installed: nothing is compiled")
+    calls = []
+    real = compiled_episode.warm_up
+
+    def slow_compile() -> None:
+        calls.append(1)
+        time.sleep(1.5)  # longer than the episodes' limit below
+        real()
+
+    monkeypatch.setattr(compiled_episode, "warm_up", slow_compile)
+    spec = small_spec.model_copy(update={"seeds": [0], "simulation": small_spec.simulation.model_copy(
+        update={"wall_timeout": 1.0})})
+    result = run_campaign(spec, tmp_path / "o", executor="inline")
+    assert calls and result.failed == 0 and result.ran == 4

@@ -154,6 +154,7 @@ def run_episode(ep: Episode, settings: EpisodeSettings, cache: WorkerCache | Non
 
     cache = cache or WORKER_CACHE
     row = _identity(ep)
+    _warm_up_compiled()
     start = time.perf_counter()
     try:
         with _Deadline(settings.wall_timeout) as deadline:
@@ -179,6 +180,17 @@ def run_episode(ep: Episode, settings: EpisodeSettings, cache: WorkerCache | Non
     row["failure_reason"] = None if row["success"] else _why_not(metrics, trace)
     row["wall_seconds"] = time.perf_counter() - start
     return row
+
+
+def _warm_up_compiled() -> None:
+    """The compiled simulator ready in this worker before its first episode's clock starts (numba compiles it
+    on a new machine: ~40 s that are no episode's fault)."""
+    from socnavgen.sim import kernels
+
+    if kernels.AVAILABLE:
+        from socnavgen.sim.compiled.episode import warm_up
+
+        warm_up()
 
 
 def _why_not(metrics: dict[str, Any], trace: Any) -> str:

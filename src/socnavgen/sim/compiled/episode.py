@@ -185,3 +185,26 @@ def run_compiled(sim: Any, progress: Callable[[int, int], None] | None = None) -
     if progress is not None:
         progress(max_steps, max_steps)
     return sim.trace_from(columns, steps, REASONS.get(reason, "timeout"))
+
+
+_WARM = False
+
+
+def warm_up() -> None:
+    """Compile (or load from the cache) the compiled episode in this process now, on a tiny built-in
+    scenario: campaign workers call it before their first episode, so that numba's first compile (~40 s on
+    a new machine) is not counted against an episode's wall-clock limit."""
+    global _WARM
+    if _WARM:
+        return
+    from socnavgen.bt.library import regular_walker_xml
+    from socnavgen.sim.agents import HumanSpec
+    from socnavgen.sim.engine import SimConfig, Simulation
+    from socnavgen.sim.robot import WaypointsPolicy
+    from socnavgen.sim.world import empty_room
+
+    sim = Simulation(empty_room(4.0, 4.0, resolution=0.1), [HumanSpec(name="human1", start=(1.0, 1.0),
+                                                                       goals=[(3.0, 3.0)])],
+                     [regular_walker_xml()], [(1.0, 3.0), (3.0, 1.0)], WaypointsPolicy(), SimConfig(timeout=0.1))
+    run_compiled(sim)
+    _WARM = True
