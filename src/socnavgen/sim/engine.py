@@ -14,6 +14,8 @@ Per step (reference §1.1, simplified to one process):
 5. the robot's gesture comes from the policy, the spec's script cues or the plan's rules; the new state
    is recorded.
 Deterministic: the only randomness (spawn offsets) comes from a seeded numpy Generator.
+Simulation.run() hands the whole episode to sim.compiled (one numba call) when it can; step() here is the
+reference it is tested against, and the path for a robot policy of the user's.
 """
 
 from __future__ import annotations
@@ -354,6 +356,11 @@ class Simulation:
         self.robot_omega = ((self.robot_yaw - old_yaw + math.pi) % (2 * math.pi) - math.pi) / self.dt
         self.robot_pos, self.robot_vel = new, v
 
+    @property
+    def max_steps(self) -> int:
+        """Steps of a run that reaches its timeout."""
+        return int(math.ceil(self.config.timeout / self.dt))
+
     def robot_at_goal(self) -> bool:
         return abs(self._robot_goal - self.robot_pos) <= self.config.goal_tolerance
 
@@ -368,7 +375,7 @@ class Simulation:
             if trace is not None:
                 return trace
         cfg, crowd, n = self.config, self.crowd, self.crowd.n
-        max_steps = int(math.ceil(cfg.timeout / self.dt))
+        max_steps = self.max_steps
         columns = self.trace_columns(max_steps + 1)
         pos, vel, yaw, omega, action, succeeded, gesture, bstate, robot, rgest = columns
 

@@ -8,10 +8,10 @@ policies of `sim.robot`: those modules stay the readable reference (and the only
 robot policy); every constant is imported from them, and tests/sim/test_compiled.py checks that both paths
 give the same trace on every scenario card and robot.
 
-`Simulation.run()` takes this path by itself when it can (`compiled.lower.lower_simulation` says why
-not otherwise, e.g. a policy class of the user's, a tree whose blackboard holds text); a tree that fails
-while running (a port reading an unset key) makes the compiled run give up and the reference run raises
-the error with its file and line.
+`Simulation.run()` takes this path by itself when it can (`episode.run_compiled`; otherwise the trace's
+meta["compiled_skipped"] says why: a policy class of the user's, a tree whose blackboard holds text...); a
+tree that fails while running (a port reading an unset key) makes the compiled run give up and the
+reference run raises the error with its file and line.
 """
 
 from __future__ import annotations

@@ -63,6 +63,7 @@ from socnavgen.sim.compiled.lower import (
 )
 from socnavgen.sim.compiled.robots import robot_params, store_params
 from socnavgen.sim.compiled.script import LOG_ASK_AGAIN, LOG_FIRED, Q_SAY, Q_SPEED, Q_WAIT, TS_K
+from socnavgen.sim.engine import CONTACT_SLACK
 from socnavgen.sim.gestures import _describe
 from socnavgen.sim.kernels import advance_work
 
@@ -112,7 +113,7 @@ def _state(sim: Any) -> tuple:
             np.zeros((SC_ROWS, scratch), dtype=complex))
 
 
-def _give_back(sim: Any, S: tuple, T: tuple, C: tuple, R: tuple, k_steps: int) -> None:
+def _give_back(sim: Any, S: tuple, T: tuple, C: tuple, R: tuple) -> None:
     """The Simulation's state after the compiled run (crowd, robot, throttle, script, policy)."""
     crowd = sim.crowd
     cs, fs, cc, fc, bc, hi, hf, hc, qbuf, rc, rf, ri = S[:12]
@@ -132,7 +133,7 @@ def _give_back(sim: Any, S: tuple, T: tuple, C: tuple, R: tuple, k_steps: int) -
     sim.robot_gesture = int(ri[RI_GESTURE])
     sim.robot_said = {g for g in range(MAX_GESTURE + 1) if (int(ri[RI_SAID]) >> g) & 1}
     if sim.throttle is not None:
-        sim.throttle.k = int(T[8][TS_K])
+        sim.throttle.k = int(T[7][TS_K])
         paused = [i for i in range(crowd.n) if hi[HI_PAUSED_STEPS, i] > 0]
         paused.sort(key=lambda i: hi[HI_FIRST_PAUSE, i])  # the reference's dict fills in order of first pause
         sim.throttle.paused_steps = {i: int(hi[HI_PAUSED_STEPS, i]) for i in paused}
@@ -153,14 +154,11 @@ def _give_back(sim: Any, S: tuple, T: tuple, C: tuple, R: tuple, k_steps: int) -
 
 def run_compiled(sim: Any, progress: Callable[[int, int], None] | None = None) -> Any:
     """The trace of `sim` run compiled, or None (with sim.meta["compiled_skipped"] saying why) when it cannot."""
-    import math
-
     R = robot_params(sim.policy)
     if R is None:
         sim.meta["compiled_skipped"] = f"robot policy {type(sim.policy).__name__} has no compiled twin"
         return None
-    cfg_ = sim.config
-    max_steps = int(math.ceil(cfg_.timeout / sim.dt))
+    cfg_, max_steps = sim.config, sim.max_steps
     try:
         S = _state(sim)
         P = fresh_program(sim.program) if sim.program is not None else lower_trees(sim.trees)
@@ -172,8 +170,6 @@ def run_compiled(sim: Any, progress: Callable[[int, int], None] | None = None) -
         return None
     W = world_tuple(sim.world)
     K = (sim._labels, sim._sizes, sim._prm, sim._obs_table, sim._affine, advance_work(sim.crowd.n))
-    from socnavgen.sim.engine import CONTACT_SLACK
-
     cfg = np.array([sim.dt, max_steps, cfg_.idle_end, cfg_.goal_tolerance, CONTACT_SLACK, has_throttle, has_script,
                     has_rules], dtype=float)
     columns = sim.trace_columns(max_steps + 1)
@@ -181,7 +177,7 @@ def run_compiled(sim: Any, progress: Callable[[int, int], None] | None = None) -
     if steps < 0:
         sim.meta["compiled_skipped"] = "a behavior tree failed while running"
         return None
-    _give_back(sim, S, T, C, R, steps)
+    _give_back(sim, S, T, C, R)
     if progress is not None:
         progress(max_steps, max_steps)
     return sim.trace_from(columns, steps, REASONS.get(reason, "timeout"))

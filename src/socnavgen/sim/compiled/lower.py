@@ -272,8 +272,7 @@ def lower_throttle(throttle: Any, specs: list[Any]) -> tuple[tuple, bool]:
         state[:] = (throttle.k, int(config.enabled), RULE_ETA if config.rule == "eta" else RULE_SOCRATES, h)
     rpoints = rpoints if rpoints.size else np.zeros(1, dtype=complex)
     cumulative = cumulative if cumulative.size else np.zeros(1)
-    return (ti, np.zeros((1, max(h, 1))), points, goal_is_node, robot_goal_is_node, rpoints, cumulative, conf,
-            state), throttle is not None
+    return (ti, points, goal_is_node, robot_goal_is_node, rpoints, cumulative, conf, state), throttle is not None
 
 
 def lower_script(script: Any, cues: Any, n: int, max_steps: int) -> tuple[tuple, bool]:

@@ -2,9 +2,9 @@
 (InteractionThrottle), sim.gestures (RobotScriptRunner, ScriptedGestures, person_in_way). Arrays are built
 by compiled.lower; the cue log records (time, cue, event) and is turned into the reference's text there.
 
-T (throttle) = (ti int64 (TI_*, held), tf float (rows, held), points complex (held, goals), goal_is_node
-               bool (held, goals), robot_goal_is_node bool (held, robot goals), robot_points complex,
-               cumulative float, conf float (TC_*), state int64 (k, enabled, rule, held count))
+T (throttle) = (ti int64 (TI_*, held), points complex (held, goals), goal_is_node bool (held, goals),
+               robot_goal_is_node bool (held, robot goals), robot_points complex, cumulative float,
+               conf float (TC_*), state int64 (TS_*: k, enabled, rule, held count))
 C (cues)     = (ci int64 (C, CI_*), cf float (C, CF_*), points complex (C,), state int64 (C, CS_*),
                times float (C, CT_*), cue_state float (Q_*), log_t float (E,), log_i int64 (E, 2),
                counts int64 (log entries, cues))
@@ -77,7 +77,7 @@ def person_in_way(S, distance, swept_only):  # noqa: ANN001, ANN201
 @no_alloc
 def throttle_update(S, T):  # noqa: ANN001, ANN201
     """InteractionThrottle.update: advance the robot's waypoint index, set paused and pace of the held."""
-    ti, tf, points, goal_is_node, robot_goal_is_node, rpoints, cumulative, conf, ts = T
+    ti, points, goal_is_node, robot_goal_is_node, rpoints, cumulative, conf, ts = T
     if ts[TS_ENABLED] == 0 or ts[TS_HELD] == 0:
         return
     cs, hi, hf, rdist = S[0], S[5], S[6], S[3][3]
