@@ -223,3 +223,21 @@ def test_the_side_step_is_the_reference_one(room: str, seed: int) -> None:
             assert S[6][HF_GW_AT][i] == pytest.approx(want["at"], abs=1e-9)
             moved += abs(want["target"] - sim.crowd.pos[i]) > 0.05
     assert moved >= 30  # many people really had to step aside
+
+
+def test_sums_are_numpys_bit_for_bit() -> None:
+    """The twins' sums (np.sum's pairwise summation spelled out) against np.sum itself, for every length up to
+    two blocks and some longer, floats and complex numbers, magnitudes mixed so the order shows."""
+    from socnavgen.sim.compiled.geometry import pairwise_sum, pairwise_sum_complex
+
+    rng = np.random.default_rng(0)
+    frames, left, left_im = np.zeros((64, 3), dtype=np.int64), np.zeros(64), np.zeros(64)
+    sequential_differs = 0
+    for n in [*range(0, 300), 1000, 4097]:
+        a = rng.random(n) * rng.choice([1.0, 1e3, 1e-3], n)
+        assert pairwise_sum(a, 0, n, frames, left) == np.sum(a), n
+        assert pairwise_sum(np.concatenate([[7.0], a]), 1, n, frames, left) == np.sum(a), n  # from an offset
+        sequential_differs += sum(a.tolist()) != np.sum(a)
+        c = a + 1j * rng.random(n)[::-1]
+        assert pairwise_sum_complex(c.real.copy(), c.imag.copy(), n, frames, left, left_im) == np.sum(c), n
+    assert sequential_differs > 50  # a plain running sum would not pass: the order matters

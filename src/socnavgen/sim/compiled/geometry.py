@@ -52,36 +52,6 @@ def _block_sum(a, lo, n):  # noqa: ANN001, ANN202
 
 
 @no_alloc
-def pairwise_sum(a, lo, n, frames, left):  # noqa: ANN001, ANN201
-    """np.sum(a[lo:lo + n]) for float64, bit for bit: numpy sums blocks of PW_BLOCK and adds halves (split
-    at a multiple of 8) recursively. The recursion runs on the caller's frames (int64 (64, 3)) and `left`
-    (float (64,)): numba's cache cannot link a self-recursive function, and these helpers allocate nothing."""
-    if n <= PW_BLOCK:
-        return _block_sum(a, lo, n)
-    frames[0, 0], frames[0, 1], frames[0, 2], sp, value = lo, n, 0, 1, 0.0
-    while sp > 0:
-        f = sp - 1
-        size = frames[f, 1]
-        half = size // 2
-        half -= half % 8
-        if size <= PW_BLOCK:
-            value = _block_sum(a, frames[f, 0], size)
-            sp -= 1
-        elif frames[f, 2] == 0:
-            frames[f, 2] = 1
-            frames[sp, 0], frames[sp, 1], frames[sp, 2] = frames[f, 0], half, 0
-            sp += 1
-        elif frames[f, 2] == 1:
-            left[f], frames[f, 2] = value, 2
-            frames[sp, 0], frames[sp, 1], frames[sp, 2] = frames[f, 0] + half, size - half, 0
-            sp += 1
-        else:
-            value = left[f] + value
-            sp -= 1
-    return value
-
-
-@no_alloc
 def _block_sum_complex(re, im, lo, m):  # noqa: ANN001, ANN202
     """numpy's complex pairwise_sum on a block of at most PW_BLOCK / 2 terms (2m interleaved floats, the real
     and imaginary parts in alternate accumulators)."""
@@ -114,29 +84,51 @@ def _block_sum_complex(re, im, lo, m):  # noqa: ANN001, ANN202
 
 
 @no_alloc
-def pairwise_sum_complex(re, im, m, frames, left_re, left_im):  # noqa: ANN001, ANN201
-    """np.sum of the m complex numbers re[:m] + 1j * im[:m], bit for bit (blocks of PW_BLOCK floats, halves
-    split at a multiple of 8 floats), on the caller's frames as pairwise_sum."""
-    frames[0, 0], frames[0, 1], frames[0, 2], sp, value = 0, m, 0, 1, 0j
+def _pairwise(re, im, lo, n, as_complex, frames, left_re, left_im):  # noqa: ANN001, ANN202
+    """numpy's pairwise summation of n terms from lo: floats re (as_complex False) or complex re + 1j * im.
+    numpy sums blocks of PW_BLOCK floats and adds two halves split after a multiple of 8 floats, recursively;
+    the recursion runs on the caller's frames (int64 (64, 3)) and left parts (float (64,) each): numba's cache
+    cannot link a self-recursive function, and these helpers allocate nothing."""
+    floats = 2 if as_complex else 1  # floats per term
+    frames[0, 0], frames[0, 1], frames[0, 2], sp, value = lo, n, 0, 1, 0j
     while sp > 0:
         f = sp - 1
         size = frames[f, 1]
-        half = (size - size % 8) // 2  # numpy splits the 2 * size floats after size - size % 8 of them
-        if 2 * size <= PW_BLOCK:
-            value = _block_sum_complex(re, im, frames[f, 0], size)
+        half = floats * size // 2
+        half = (half - half % 8) // floats  # terms in the first half
+        if floats * size <= PW_BLOCK:
+            start = frames[f, 0]
+            value = _block_sum_complex(re, im, start, size) if as_complex else complex(_block_sum(re, start, size))
             sp -= 1
         elif frames[f, 2] == 0:
             frames[f, 2] = 1
             frames[sp, 0], frames[sp, 1], frames[sp, 2] = frames[f, 0], half, 0
             sp += 1
         elif frames[f, 2] == 1:
-            left_re[f], left_im[f], frames[f, 2] = value.real, value.imag, 2
+            left_re[f], frames[f, 2] = value.real, 2
+            if as_complex:
+                left_im[f] = value.imag
             frames[sp, 0], frames[sp, 1], frames[sp, 2] = frames[f, 0] + half, size - half, 0
             sp += 1
         else:
-            value = complex(left_re[f], left_im[f]) + value
+            value = complex(left_re[f] + value.real, (left_im[f] if as_complex else 0.0) + value.imag)
             sp -= 1
     return value
+
+
+@no_alloc
+def pairwise_sum(a, lo, n, frames, left):  # noqa: ANN001, ANN201
+    """np.sum(a[lo:lo + n]) for float64, bit for bit (`left` holds the halves' sums; its second use below is
+    never written in this mode)."""
+    if n <= PW_BLOCK:
+        return _block_sum(a, lo, n)
+    return _pairwise(a, a, lo, n, False, frames, left, left).real
+
+
+@no_alloc
+def pairwise_sum_complex(re, im, m, frames, left_re, left_im):  # noqa: ANN001, ANN201
+    """np.sum of the m complex numbers re[:m] + 1j * im[:m], bit for bit."""
+    return _pairwise(re, im, 0, m, True, frames, left_re, left_im)
 
 
 @no_alloc
