@@ -68,7 +68,7 @@ ROBOT_GESTURES: dict[int, str] = {0: "NO GESTURE", 1: "WAIT", 2: "PROCEED", 3: "
                                   5: "FOLLOW ME"}
 
 # Distances the prompt explains, so the model picks sensible numbers.
-# centre to centre: the robot (0.35 m) and a person (0.4 m) touch at 0.75 m, so "very close" is 1 m
+# centre to centre: robot and person touch at bodies.TOUCH_DISTANCE (0.75 m), so "very close" is 1 m
 DISTANCE_WORDS = {1.0: "very close", 1.5: "close", 2.5: "moderate distance", 5.0: "far"}
 
 _AGENT = Port(name="agent_id", type=PortType.INT, description="the agent's own id; always write {id}")
