@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import time
 
-from socnavgen.sim.robot import RobotAction
+from socnavgen.sim import RobotAction
 
 
 class StraightThrough:

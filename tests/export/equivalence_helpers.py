@@ -12,7 +12,7 @@ from socnavgen.bt.tree import parse_bt
 from socnavgen.export.hunav2 import translate_tree
 from socnavgen.export.models import ExportScene
 from socnavgen.run import RunFolder
-from socnavgen.sim.scenario import simulate_run
+from socnavgen.sim import simulate_run
 from socnavgen.sim.trace import Trace
 from socnavgen.verify.runner import verify_trace
 

@@ -39,7 +39,7 @@ def test_socrates_and_hunav2_runs_verify_the_same(tmp_path_factory) -> None:  # 
 def test_relabel_moves_actions_and_successes_to_the_library_node() -> None:
     import numpy as np
 
-    from socnavgen.sim.engine import NODE_NAMES
+    from socnavgen.sim.engine.simulation import NODE_NAMES
     from socnavgen.sim.trace import Trace
 
     tree = ("<root main_tree_to_execute='T'><BehaviorTree ID='T'><Sequence><IsRobotNearby agent_id='{id}' "

@@ -7,16 +7,16 @@ import pytest
 
 from socnavgen.bt.library import leaf_nodes
 from socnavgen.errors import ValidationFailed
-from socnavgen.sim.bt_runtime import BTRuntimeError
-from socnavgen.sim.engine import NODE_NAMES
-from socnavgen.sim.nodes import IMPLEMENTATIONS
+from socnavgen.sim.engine.errors import BTRuntimeError
+from socnavgen.sim.engine.simulation import NODE_NAMES
+from socnavgen.sim.people.leaves import LEAVES
 
 from .simhelpers import REGULAR, human, make_sim, tree_xml
 
 
-def test_every_library_leaf_has_an_implementation_and_nothing_else():
+def test_every_library_leaf_has_a_function_and_nothing_else():
     names = {n.name for n in leaf_nodes()}
-    assert names == set(IMPLEMENTATIONS)
+    assert names == set(LEAVES)
     assert [n.name for n in leaf_nodes()] == NODE_NAMES  # trace bit order follows the table
     assert len(NODE_NAMES) <= 63  # fits the int64 success bitmask
 
@@ -24,7 +24,7 @@ def test_every_library_leaf_has_an_implementation_and_nothing_else():
 def gesture_after_one_step(body: str, fmt: int = 3, robot_at=(3.0, 5.0)) -> int:
     sim = make_sim([human(start=(2.0, 5.0))], [tree_xml(body, fmt)], [robot_at, (19.0, 5.0)])
     sim.step()
-    return sim.crowd.gesture[0]
+    return int(sim.people[0].gesture)
 
 
 @pytest.mark.parametrize(("body", "expected"), [
@@ -74,18 +74,25 @@ def test_subtree_remaps_ports_live_v3_and_v4(fmt, me_ref, code_ref):
     xml = SUBTREE_DOC.format(fmt=' BTCPP_format="4"' if fmt == 4 else "", code=2, me_ref=me_ref, code_ref=code_ref)
     sims = make_sim([human(), human("human2", start=(4.0, 5.0))], [xml, xml], [(10.0, 5.0), (19.0, 5.0)])
     sims.step()
-    assert sims.crowd.gesture == [2, 2]  # each tree's {id} reached MakeGesture through two remaps
-    main_bb = sims.trees[1].blackboard
-    assert main_bb.get("me") == 1
-    with pytest.raises(KeyError):  # the subtree's own key stays in its isolated blackboard
-        main_bb.get("inside")
+    assert list(sims.people.gesture) == [2, 2]  # each tree's {id} reached MakeGesture through two remaps
+
+
+def test_a_subtrees_own_keys_stay_in_its_blackboard():
+    """The subtree writes `inside`; its caller reading `{inside}` afterwards finds it unset: blackboards of
+    SubTrees are isolated unless remapped."""
+    xml = SUBTREE_DOC.format(fmt="", code=2, me_ref="me", code_ref="code").replace(
+        '<SubTree ID="Say" agent_id="me" msg="code"/>',
+        '<SubTree ID="Say" agent_id="me" msg="code"/><MakeGesture agent_id="{id}" message="{inside}"/>')
+    sim = make_sim([human()], [xml], [(10.0, 5.0), (19.0, 5.0)])
+    with pytest.raises(BTRuntimeError, match="`inside` that is not set"):
+        sim.step()
 
 
 def test_v4_subtree_plain_value_is_a_literal():
     xml = SUBTREE_DOC.format(fmt=' BTCPP_format="4"', code=0, me_ref="{me}", code_ref="3")
     sim = make_sim([human()], [xml], [(10.0, 5.0), (19.0, 5.0)])
     sim.step()
-    assert sim.crowd.gesture == [3]
+    assert list(sim.people.gesture) == [3]
 
 
 def test_reading_a_key_nobody_wrote_is_a_located_error():
@@ -124,16 +131,21 @@ def test_regular_nav_tree_from_the_library_include_walks_to_the_goal():
 
 
 def test_repeat_decorator_ticks_its_child_n_times():
-    body = ('<Repeat num_cycles="3"><TimeExpiredCondition seconds="100" ts="1" only_once="true"/></Repeat>')
-    # the condition fails at once -> Repeat stops after one tick; with a succeeding child it runs 3 times
-    sim = make_sim([human()], [tree_xml(body)], [(10.0, 5.0)])
-    sim.step()
-    leaf = sim.trees[0].root.child
-    assert leaf.state["acc"] == 1.0
+    # a failing child stops Repeat after one tick: the timer (1 s per tick, 2.5 s to go) fires on the 3rd step
+    body = ('<Fallback><Repeat num_cycles="3"><TimeExpiredCondition seconds="2.5" ts="1" only_once="true"/>'
+            '</Repeat><MakeGesture agent_id="{id}" message="0"/></Fallback>')
+    sim = make_sim([human()], [tree_xml(body)], [(10.0, 5.0), (12.0, 5.0)], timeout=0.2)
+    trace = sim.run()
+    assert trace.fired(0, "TimeExpiredCondition").tolist() == [False, False, False, True, True]
+    # with a succeeding child it runs 3 times within one tick
     body = '<Repeat num_cycles="3"><UpdateGoal agent_id="{id}"/></Repeat>'
     sim = make_sim([human(goals=[(5, 5), (6, 5), (7, 5), (8, 5)])], [tree_xml(body)], [(10.0, 5.0)])
     sim.step()
-    assert [g.real for g in sim.crowd.queues[0].goals] == [8.0]
+    assert [g.real for g in sim.goals_of(0)] == [8.0]
+    retry = '<RetryUntilSuccessful num_attempts="3"><UpdateGoal agent_id="{id}"/></RetryUntilSuccessful>'
+    sim = make_sim([human(goals=[(5, 5), (6, 5), (7, 5), (8, 5)])], [tree_xml(retry)], [(10.0, 5.0)])
+    sim.step()
+    assert [g.real for g in sim.goals_of(0)] == [6.0, 7.0, 8.0]  # it succeeded at once: one try
 
 
 @pytest.mark.parametrize("name", ["LLMBT_0.xml", "LLMBT_1.xml", "LLMBT_2.xml", "BTCuriousNav.xml", "BTRegularNav.xml"])
@@ -142,7 +154,7 @@ def test_socrates_fork_trees_run(reference_dir, name):
     sim = make_sim([human(start=(4.0, 5.0), goals=[(15.0, 5.0)])], [xml], [(2.0, 5.0), (3.0, 5.0)])
     for _ in range(20):
         sim.step()
-    assert sim.tick_action[0] >= 0  # some action ran every tick
+        assert sim.people[0].action >= 0  # some action ran every tick
 
 
 def test_stale_socrates_placeholder_tree_is_refused(reference_dir):

@@ -8,10 +8,9 @@ import pytest
 
 from socnavgen.bt.library import LIBRARY, ROBOT_GESTURES
 from socnavgen.run.spec import CueTrigger, RobotCue, RobotScript
+from socnavgen.sim import BUILTIN, DEFAULT_ROBOT, PacingPlan, ThrottleConfig, load_policy
 from socnavgen.sim.contact import overlapping
-from socnavgen.sim.gestures import RobotScriptRunner
-from socnavgen.sim.interaction import InteractionThrottle, ThrottleConfig
-from socnavgen.sim.robot import BUILTIN, DEFAULT_ROBOT, ScriptedPolicy, StraightPolicy, load_policy
+from socnavgen.sim.robot.api import ScriptedPolicy, StraightPolicy
 from tests.sim.simhelpers import REGULAR, Drive, Stay, human, make_sim, tree_xml
 
 EXCUSE_ME = next(k for k, v in ROBOT_GESTURES.items() if v == "EXCUSE ME")
@@ -29,7 +28,7 @@ def _run(sim, steps: int) -> list[tuple[float, int, complex]]:  # noqa: ANN001
     out = []
     for _ in range(steps):
         sim.step()
-        out.append((sim.t, sim.robot_gesture, sim.robot_pos))
+        out.append((sim.t, int(sim.robot.gesture), complex(sim.robot.pos)))
     return out
 
 
@@ -43,7 +42,7 @@ def test_cue_says_phrase_when_a_human_comes_within_distance_and_holds_it():
     script = RobotScript(cues=[RobotCue(trigger=CueTrigger(when="human_within", distance=3.0), say="EXCUSE ME",
                                         hold=2.0)])
     sim = make_sim([human(start=(10.0, 5.0), goals=[(10.0, 5.0)])], [STANDING], [(2.0, 5.0), (18.0, 5.0)],
-                   policy=ScriptedPolicy(), script=RobotScriptRunner(script, {}))
+                   policy=ScriptedPolicy(), script=script)
     rows = _run(sim, 400)
     said = [(t, abs(p - complex(10.0, 5.0))) for t, g, p in rows if g == EXCUSE_ME]
     assert said, "the robot never said EXCUSE ME"
@@ -56,7 +55,7 @@ def test_cue_says_phrase_when_a_human_comes_within_distance_and_holds_it():
 
 def test_wait_cue_stands_still_for_its_seconds_then_drives_on():
     script = RobotScript(cues=[RobotCue(trigger=CueTrigger(when="after", seconds=1.0), wait=2.0)])
-    sim = make_sim([], [], [(2.0, 5.0), (18.0, 5.0)], policy=ScriptedPolicy(), script=RobotScriptRunner(script, {}))
+    sim = make_sim([], [], [(2.0, 5.0), (18.0, 5.0)], policy=ScriptedPolicy(), script=script)
     rows = _run(sim, 120)
     x = {round(t, 2): p.real for t, _, p in rows}
     assert x[1.5] == pytest.approx(x[2.9], abs=1e-6)  # standing between 1 s and 3 s
@@ -65,11 +64,11 @@ def test_wait_cue_stands_still_for_its_seconds_then_drives_on():
 
 def test_speed_cue_sets_the_cruise_speed():
     script = RobotScript(speed=0.3, cues=[RobotCue(trigger=CueTrigger(when="after", seconds=6.0), speed=0.8)])
-    sim = make_sim([], [], [(1.0, 5.0), (19.0, 5.0)], policy=ScriptedPolicy(), script=RobotScriptRunner(script, {}))
+    sim = make_sim([], [], [(1.0, 5.0), (19.0, 5.0)], policy=ScriptedPolicy(), script=script)
     _run(sim, 100)
-    assert abs(sim.robot_vel) == pytest.approx(0.3, abs=0.02)
+    assert abs(sim.robot.vel) == pytest.approx(0.3, abs=0.02)
     _run(sim, 40)
-    assert abs(sim.robot_vel) == pytest.approx(0.8, abs=0.02)
+    assert abs(sim.robot.vel) == pytest.approx(0.8, abs=0.02)
 
 
 def test_scripted_robot_never_moves_into_a_person_walking_at_it():
@@ -127,12 +126,12 @@ def test_robot_said_latches_while_robot_says_does_not():
     people = [human("human1", start=(5.0, 5.0), goals=[(5.0, 5.0)]), human("human2", start=(5.0, 8.0), goals=[(5.0, 8.0)])]
     sim = make_sim(people, [follow, now_only], [(2.0, 2.0)], policy=SayOnce())
     _run(sim, 5)
-    assert sim.crowd.gesture[0] == 0 and sim.crowd.gesture[1] == 0  # not said yet
+    assert list(sim.people.gesture) == [0, 0]  # not said yet
     _run(sim, 10)
-    assert list(sim.crowd.gesture) == [1, 1]  # both react while it is said
+    assert list(sim.people.gesture) == [1, 1]  # both react while it is said
     _run(sim, 40)
-    assert sim.crowd.gesture[0] == 1  # latched
-    assert sim.crowd.gesture[1] == 0  # RobotSays lets go
+    assert sim.people[0].gesture == 1  # latched
+    assert sim.people[1].gesture == 0  # RobotSays lets go
 
 
 def test_paced_human_meets_the_robot_at_the_node():
@@ -140,10 +139,9 @@ def test_paced_human_meets_the_robot_at_the_node():
     walker = human(start=(16.0, 5.4), goals=[(13.0, 5.4), (10.0, 5.4), (2.0, 5.4)])
     robot_nodes = ["r0", "r1", "n", "r3"]
     robot_points = [complex(1.0, 4.6), complex(5.0, 4.6), complex(10.0, 4.6), complex(18.0, 4.6)]
-    throttle = InteractionThrottle(ThrottleConfig(), robot_nodes, robot_points,
-                                   [(0, ["h0", "h1", "n", "h3"], "n", -1)])
+    pacing = PacingPlan(ThrottleConfig(), robot_nodes, [(0, ["h0", "h1", "n", "h3"], "n", -1)])
     sim = make_sim([walker], [tree_xml(REGULAR)], [(p.real, p.imag) for p in robot_points], policy=ScriptedPolicy(),
-                   throttle=throttle, timeout=60)
+                   pacing=pacing, timeout=60)
     trace = sim.run()
     robot = trace.robot[:, 0] + 1j * trace.robot[:, 1]
     person = trace.humans[:, 0, 0] + 1j * trace.humans[:, 0, 1]
@@ -174,7 +172,7 @@ def test_human_says_cue_and_wait_until_clear():
                                         say="ACKNOWLEDGED", hold=1.0, wait_until_clear=True)])
     person = human(start=(4.5, 5.0), goals=[(4.5, 9.0)])
     sim = make_sim([person], [says_wait], [(2.0, 5.0), (12.0, 5.0)], policy=ScriptedPolicy(),
-                   script=RobotScriptRunner(script, {}))
+                   script=script)
     rows = _run(sim, 200)
     acknowledged = [t for t, g, _ in rows if g == 3]
     assert acknowledged and acknowledged[0] < 0.2  # answered at once

@@ -37,7 +37,9 @@ class InlineExecutor:
 
 def _warm_up() -> None:
     """Load the compiled kernels once in the parent so forked workers do not each compile them."""
-    from socnavgen.sim import engine  # noqa: F401
+    from socnavgen.sim import warm_up
+
+    warm_up()
 
 
 class LocalExecutor:

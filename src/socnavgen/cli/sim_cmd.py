@@ -39,10 +39,14 @@ def simulate(
     Example: socnavgen simulate runs/blind_corner --robot waypoints --gif
     """
     from socnavgen.run import RunFolder
-    from socnavgen.sim.engine import SimConfig
-    from socnavgen.sim.interaction import ThrottleConfig
-    from socnavgen.sim.robot import load_policy
-    from socnavgen.sim.scenario import load_simulation
+    from socnavgen.sim import (
+        COMPILING_NOTE,
+        SimConfig,
+        ThrottleConfig,
+        cache_ready,
+        load_policy,
+        load_simulation,
+    )
 
     if timeout / dt > MAX_SIM_STEPS:
         raise SocnavgenError(f"--timeout {timeout:g} at --dt {dt:g} is {timeout / dt:.0f} steps, more than the "
@@ -50,13 +54,11 @@ def simulate(
     policy = load_policy(robot)
     config = SimConfig(dt=dt, timeout=timeout, seed=seed)
     loaded = RunFolder(run).location(location)
+    if not cache_ready():
+        console.print(f"[dim]{COMPILING_NOTE}[/]", highlight=False)
     sim = load_simulation(run, policy, config, ThrottleConfig(enabled=not no_throttle), loaded)
     sim.meta["robot_plugin"] = robot
     total = int(round(timeout / dt))
-    from socnavgen.sim import compiled
-
-    if sim.compiled and not compiled.cache_ready():
-        console.print(f"[dim]{compiled.COMPILING_NOTE}[/]", highlight=False)
     start = time.perf_counter()
     with progress() as bar:
         task = bar.add_task(f"simulating {run.name}", total=total)
@@ -78,7 +80,7 @@ def simulate(
 
 def _write_extras(trace, location, out: Path, gif: bool) -> None:  # noqa: ANN001 - Trace, Location
     """metrics.json, trajectories.png and (with --gif) animation.gif, through the sim's public writer."""
-    from socnavgen.sim.outputs import write_outputs
+    from socnavgen.sim import write_outputs
 
     written = write_outputs(trace, location, out, gif=gif)
     metrics = written.metrics

@@ -36,7 +36,7 @@ def card_criteria_for(run: RunFolder | LoadedRun) -> list[dict] | None:
 def simulate_missing(run_dir: Path | str | LoadedRun, **options: Any) -> Trace:
     """Run the headless simulator on the run (saving RUN/sim/trace.npz) and return the trace. `options`:
     robot (the simulator's default policy when absent), location, dt, timeout, seed."""
-    from socnavgen.sim.scenario import simulate_run
+    from socnavgen.sim import simulate_run
 
     return simulate_run(run_dir if isinstance(run_dir, LoadedRun) else Path(run_dir), **options)
 

@@ -185,8 +185,8 @@ def _readable(message: str) -> str:
 def formula_problems(formula: str, humans: list[str], places: list[str]) -> list[str]:
     """Problems of a formula before any simulation (for stage-1 checks of spec.json): syntax, length, and
     signal names against the run's humans and places (encounter ids, goal, node_<id>). [] when fine."""
+    from socnavgen.sim import empty_room
     from socnavgen.sim.trace import Trace
-    from socnavgen.sim.world import empty_room
 
     n = len(humans)
     trace = Trace(dt=1.0, t=np.array([0.0, 1.0]), robot=np.zeros((2, 6)), humans=np.ones((2, n, 6)),

@@ -1,0 +1,197 @@
+"""One step of the simulation, and the episode as a generator of steps (compiled).
+
+Per step:
+1. pacing sets who is held at their interaction point; every tree is ticked once (person-id order) on the
+   current snapshot (distances to the robot and environment forces were computed for it at the end of the
+   last step); actions only set motion commands;
+2. the robot's script plays; the robot's policy acts on the same snapshot - a built-in one right here, a
+   Python one between two resumptions of the generator (it answers through `s.action[0]`); its velocity is
+   capped at the robot's max speed and a move that would cross or end inside a wall is refused;
+3. one social-force step for every walking person, then the contact step (people.physics);
+4. goals reached are consumed, people blocking the robot face it, the clock advances, the robot's gesture
+   is the policy's, else the script's; the new state is recorded.
+
+The generator yields an event whenever Python has something to do: ACT (a Python policy must answer),
+STEPPED (one step done, when asked for single steps), PROGRESS (every `progress_every` steps), ENDED (the
+run ended: clock.end says why) or FAILED (a tree could not go on: clock.error_* say where). All the state
+lives in `s`, so a new generator resumes where the last one stopped.
+"""
+
+from __future__ import annotations
+
+import math
+
+from socnavgen.sim.engine.state import ALL_DONE, ROBOT_GOAL, RUNNING, TIMEOUT
+from socnavgen.sim.jit import generator, jit
+from socnavgen.sim.people.pacing import pace
+from socnavgen.sim.people.physics import advance, resolve_contacts
+from socnavgen.sim.people.state import done, pop_goal
+from socnavgen.sim.people.vm import ERROR, tick
+from socnavgen.sim.robot.policies import act
+from socnavgen.sim.robot.script import play, rules_gesture
+from socnavgen.sim.world.queries import swept_clear
+
+STEPPED, ACT, PROGRESS, ENDED, FAILED = 0, 1, 2, 3, 4
+TURNING_SPEED = 0.05  # m/s: a robot slower than this keeps its yaw
+IDLE_SPEED = 1e-3  # m/s: a robot slower than this is idle (the run ends once everything stopped)
+
+
+@jit
+def think(s):  # noqa: ANN001, ANN201
+    """Pacing, every tree, the script: what everyone wants this step. ERROR when a tree cannot go on."""
+    people = s.people
+    for i in range(people.shape[0]):
+        p = people[i]
+        p.sees_robot = -1
+        p.walks, p.turns, p.face_robot_within = False, False, 0.0
+        p.action, p.action_moves, p.succeeded = -1, False, 0
+        s.scratch.before[i] = p.pos  # the contact step compares with where everyone stood
+    if people.shape[0]:
+        pace(s)
+    for i in range(people.shape[0]):
+        if tick(s, i) == ERROR:
+            return ERROR
+    play(s)
+    return 0
+
+
+@jit
+def drive(s, v, heading, has_heading):  # noqa: ANN001, ANN201
+    """Move the robot at velocity v, within its limits: at most its max speed, and never across or into a
+    wall (such a move is refused). It faces `heading` when given, else where it moves."""
+    robot, dt = s.robot[0], s.clock[0].dt
+    if not (math.isfinite(v.real) and math.isfinite(v.imag)):
+        v = 0j
+    if abs(v) > robot.max_speed:
+        v = v * (robot.max_speed / abs(v))
+    new = robot.pos + v * dt
+    if v != 0 and not swept_clear(s.world, robot.pos, new, 0.5 * robot.radius):
+        v, new = 0j, robot.pos
+    old = robot.yaw
+    if abs(v) > TURNING_SPEED:
+        facing = heading if has_heading and abs(heading) > 0 else v
+        robot.yaw = math.atan2(facing.imag, facing.real)
+        robot.heading = facing / abs(facing)
+    robot.omega = ((robot.yaw - old + math.pi) % (2 * math.pi) - math.pi) / dt
+    robot.pos, robot.vel = new, v
+
+
+@jit
+def settle(s, reached, gesture):  # noqa: ANN001, ANN201
+    """After the walking step: contacts, goals consumed, faces turned, the clock, the robot's gesture."""
+    people, robot, clock, scratch = s.people, s.robot[0], s.clock[0], s.scratch
+    if resolve_contacts(people, robot, s.world, clock.contact_slack, scratch.before, scratch.snap):
+        for i in range(people.shape[0]):
+            people[i].robot_distance = abs(robot.pos - people[i].pos)
+    for i in range(people.shape[0]):
+        p = people[i]
+        if reached and p.reached:
+            pop_goal(people, s.goals, i, False)
+        if p.face_robot_within > 0:
+            d = robot.pos - p.pos
+            if abs(d) <= p.face_robot_within:
+                p.yaw = math.atan2(d.imag, d.real)
+    clock.t += clock.dt
+    clock.step += 1
+    robot.scripted = s.script.now[0].say if s.script.now[0].say != 0 else rules_gesture(s)
+    robot.gesture = gesture if gesture >= 0 else robot.scripted
+    if robot.gesture != 0:
+        robot.said |= 1 << robot.gesture
+
+
+@jit
+def record(s):  # noqa: ANN001, ANN201
+    """The current state into the trace's row of this step (steps beyond its rows are not recorded)."""
+    k, cols, robot = s.clock[0].step, s.trace, s.robot[0]
+    if k >= cols.robot.shape[0]:
+        return
+    for i in range(s.people.shape[0]):
+        p = s.people[i]
+        cols.pos[k, i], cols.vel[k, i], cols.yaw[k, i], cols.omega[k, i] = p.pos, p.vel, p.yaw, p.omega
+        cols.action[k, i], cols.succeeded[k, i] = p.action, p.succeeded
+        cols.gesture[k, i], cols.behavior[k, i] = p.gesture, p.behavior
+    cols.robot[k, 0], cols.robot[k, 1], cols.robot[k, 2] = robot.pos.real, robot.pos.imag, robot.yaw
+    cols.robot[k, 3], cols.robot[k, 4], cols.robot[k, 5] = robot.vel.real, robot.vel.imag, robot.omega
+    cols.robot_gesture[k] = robot.gesture
+
+
+@jit
+def ending(s):  # noqa: ANN001, ANN201
+    """Why the run ends after this step (RUNNING: it goes on)."""
+    robot, clock = s.robot[0], s.clock[0]
+    if abs(robot.goal - robot.pos) <= robot.goal_tolerance:
+        return ROBOT_GOAL
+    clock.idle = clock.idle + clock.dt if abs(robot.vel) < IDLE_SPEED else 0.0
+    if clock.idle >= clock.idle_end:
+        finished = True
+        for i in range(s.people.shape[0]):
+            finished = finished and done(s.people, s.goals, i)
+        if finished:
+            return ALL_DONE
+    return TIMEOUT if clock.step >= clock.max_steps else RUNNING
+
+
+@jit(alloc=True)
+def act_and_walk(s, python):  # noqa: ANN001, ANN201
+    """The robot's move (`python`: the answer a Python policy left in s.action) and everyone's walking step;
+    returns the event to hand to Python after it (-1: none, go on)."""
+    clock = s.clock[0]
+    if python:
+        action = s.action[0]
+        drive(s, complex(action.vx, action.vy), action.heading, action.has_heading)
+        gesture = action.gesture
+    else:
+        policy = s.policy[0]
+        drive(s, act(s), policy.heading, policy.has_heading)
+        gesture = -1
+    reached = walk(s)
+    settle(s, reached, gesture)
+    record(s)
+    clock.end = ending(s)
+    if clock.stop_at_end and clock.end != RUNNING:
+        return ENDED
+    if clock.each_step:
+        return STEPPED
+    if clock.progress_every > 0 and clock.step % clock.progress_every == 0:
+        return PROGRESS
+    return -1
+
+
+@jit(alloc=True)
+def walk(s):  # noqa: ANN001, ANN201
+    """Everyone's social-force step; how many reached their real goal."""
+    if s.people.shape[0] == 0:
+        return 0
+    robot = s.robot[0]
+    return advance(s.people, s.group_sizes, s.forces, s.world, robot.pos, robot.vel, s.clock[0].dt, s.scratch, True)
+
+
+@jit
+def timed_out(s):  # noqa: ANN001, ANN201
+    clock = s.clock[0]
+    if clock.stop_at_end and clock.step >= clock.max_steps:
+        clock.end = TIMEOUT
+        return True
+    return False
+
+
+@generator
+def episode(s):  # noqa: ANN001, ANN201
+    """Steps until the run ends (clock.stop_at_end) or forever, yielding the events above. It holds no
+    record across a yield (numba's generators would keep a copy): everything lives in `s`."""
+    while True:
+        if timed_out(s):
+            yield ENDED
+            return
+        if think(s) == ERROR:
+            yield FAILED
+            return
+        python = s.clock[0].python_policy
+        if python:
+            yield ACT
+        event = act_and_walk(s, python)
+        if event == ENDED:
+            yield ENDED
+            return
+        if event >= 0:
+            yield event
