@@ -98,7 +98,7 @@ def test_wall_force_desired_force_and_integration_match_the_formulas():
     people, _, sizes = crowd([10 + 5j], [0.5 + 0j])
     p = people[0]
     p.walks, p.to_goal, p.target, p.target_radius, p.desired_speed = True, False, 10 + 9j, 0.5, 1.5
-    scratch = new_scratch(1, 0, 2)
+    scratch = new_scratch(1, 0)
     move(people, sizes, prm, 0.1, scratch)
     assert scratch.force[0] == pytest.approx(2.0 * (1.5j - 0.5) / 0.5)  # toward the target at 1.5 m/s
     v = 0.5 + scratch.force[0] * 0.1

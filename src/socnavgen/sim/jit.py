@@ -36,19 +36,19 @@ except ImportError:  # pragma: no cover
 
 
 def jit(fn: Callable | None = None, *, inline: bool = False, alloc: bool = False) -> Any:
-    """Compile `fn` (cached). Unless `alloc` (the function creates arrays), without reference counting:
-    the episode calls its helpers millions of times and counting references of the arrays they touch costs
-    ~40 ns a call. `inline`: numba inlines the function into its callers (big functions that take the whole
-    state, whose arrays would otherwise be passed one by one on every call)."""
+    """Compile `fn` (cached), without reference counting unless `alloc` (the function creates arrays):
+    numba counts a reference for every record it takes out of an array, which costs more than the work in
+    the tree interpreter's and the physics' loops (a tree tick: 0.24 -> 0.06 us). `inline`: numba inlines the
+    function into its callers."""
     if fn is None:
         return lambda f: jit(f, inline=inline, alloc=alloc)
     if not AVAILABLE:
         return fn
     options: dict[str, Any] = {"cache": True}
-    if not alloc:
-        options["_nrt"] = False
     if inline:
         options["inline"] = "always"
+    if not alloc:
+        options["_nrt"] = False
     return numba.njit(**options)(fn)
 
 
@@ -70,7 +70,7 @@ def dispatcher(name: str, functions: Sequence[Callable], arity: int) -> Callable
     env: dict[str, Any] = {f"f{k}": f for k, f in enumerate(functions)}
     exec("\n".join(lines), env)  # noqa: S102 - our own generated source, no user input
     if AVAILABLE:
-        overload(env[name], jit_options={"_nrt": False})(env["implement"])
+        overload(env[name], jit_options={"_nrt": False}, inline="always")(env["implement"])
     return env[name]
 
 

@@ -33,3 +33,13 @@ def table(dtype: np.dtype, rows: int, **columns: Any) -> np.recarray:
 def record(dtype: np.dtype, **fields: Any) -> np.record:
     """One record (a view into a one-row table: writes from compiled code land in it)."""
     return table(dtype, 1, **fields)[0]
+
+
+class Columns:
+    """Every field of a table as a numpy view (`columns.pos[i]`): reading one value this way costs ~50 ns
+    from Python, where a record's attribute costs ~1.5 us."""
+
+    def __init__(self, rows: np.ndarray) -> None:
+        base = rows.view(np.ndarray)
+        for name in base.dtype.names:
+            setattr(self, name, base[name])

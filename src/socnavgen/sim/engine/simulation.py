@@ -27,6 +27,7 @@ from socnavgen.sim.engine.state import (
     END_REASONS,
     ROBOT,
     RUNNING,
+    Episode,
     State,
     singleton,
     trace_columns,
@@ -36,6 +37,7 @@ from socnavgen.sim.people.pacing import PacingPlan, lower_pacing
 from socnavgen.sim.people.physics import SFMParams, advance, new_scratch
 from socnavgen.sim.people.state import HumanSpec, new_people
 from socnavgen.sim.people.trees import Program, lower_trees
+from socnavgen.sim.records import Columns
 from socnavgen.sim.robot import policies
 from socnavgen.sim.robot.api import BuiltinPolicy, Observation, checked_action
 from socnavgen.sim.robot.script import fired, lower_script
@@ -138,15 +140,17 @@ class Simulation:
             clock=clock, robot=self.robot_table, action=singleton(ACTION, gesture=-1),
             policy=policy.parameters() if not python_policy else singleton(policies.POLICY, kind=policies.PYTHON),
             people=people, goals=goals, group_sizes=sizes, waypoints=waypoints,
-            offsets=np.concatenate([[0.0], np.cumsum(np.abs(np.diff(waypoints)))]),
-            world=world.map, forces=config.sfm, scratch=new_scratch(n, len(sizes), len(waypoints)),
-            trees=self.program.fresh(),
-            script=lower_script(speech.script, speech.encounter_points, rules, speech.node_points, n, self.max_steps),
-            pacing=pacing_state, trace=trace_columns(self.max_steps + 1, n))
+            offsets=np.concatenate([[0.0], np.cumsum(np.abs(np.diff(waypoints)))]), world=world.map,
+            forces=config.sfm, work=np.zeros((2, max(len(waypoints), 64) + 8)))
+        self.episode = Episode(
+            self.state, self.program.fresh(),
+            lower_script(speech.script, speech.encounter_points, rules, speech.node_points, n, self.max_steps),
+            pacing_state, new_scratch(n, len(sizes)), trace_columns(self.max_steps + 1, n))
         self._generator: Any = None
+        self._clock, self._action = Columns(self.state.clock), Columns(self.state.action)  # fast from Python
         if n:
-            advance(people, sizes, config.sfm, world.map, waypoints[0], 0j, dt, self.state.scratch, False)
-        stepper.record(self.state)
+            advance(people, sizes, config.sfm, world.map, waypoints[0], 0j, dt, self.episode.scratch, False)
+        stepper.record(self.state, self.episode.trace)
         self.obs = Observation(self)
         if python_policy and hasattr(policy, "reset"):
             policy.reset(self.obs)
@@ -163,7 +167,7 @@ class Simulation:
 
     @property
     def t(self) -> float:
-        return float(self.state.clock[0].t)
+        return self._clock.t.item(0)
 
     @property
     def people(self) -> np.recarray:
@@ -193,20 +197,21 @@ class Simulation:
     def _resume(self, until: int, progress: Callable[[int, int], None] | None = None) -> None:
         """Resume the episode until the event `until` (STEPPED or ENDED), answering ACT with the policy."""
         if self._generator is None:
-            self._generator = stepper.episode(self.state)
-        policy, obs, action, state = self.policy, self.obs, self.state.action[0], self.state
+            self._generator = stepper.episode(self.episode)
+        policy, obs, action, clock = self.policy, self.obs, self._action, self._clock
         for event in self._generator:
             if event == stepper.ACT:
                 v, gesture = checked_action(policy.act(obs), policy)
-                action.vx, action.vy, action.gesture = v.real, v.imag, gesture
+                action.vx[0], action.vy[0], action.gesture[0] = v.real, v.imag, gesture
                 heading = getattr(policy, "heading", None)
-                action.has_heading = isinstance(heading, complex | float | int) and heading != 0
-                if action.has_heading:
-                    action.heading = complex(heading)
+                turned = isinstance(heading, complex | float | int) and heading != 0
+                action.has_heading[0] = turned
+                if turned:
+                    action.heading[0] = heading
             elif event == until:
                 return
             elif event == stepper.PROGRESS and progress is not None:
-                progress(int(state.clock[0].step), self.max_steps)
+                progress(clock.step.item(0), self.max_steps)
             elif event == stepper.FAILED:
                 self._generator = None
                 raise tree_error(self.state, self.program)
@@ -215,15 +220,15 @@ class Simulation:
     def step(self) -> None:
         """One time step: every tree ticks on the current snapshot, the robot acts on the same snapshot, then
         everyone moves at once."""
-        clock = self.state.clock[0]
-        clock.each_step, clock.stop_at_end, clock.progress_every = True, False, 0
+        clock = self._clock
+        clock.each_step[0], clock.stop_at_end[0], clock.progress_every[0] = True, False, 0
         self._resume(stepper.STEPPED)
 
     def run(self, progress: Callable[[int, int], None] | None = None) -> Trace:
         """Run to the robot's goal, the timeout, or until nothing will change; return the trace."""
-        clock = self.state.clock[0]
-        clock.each_step, clock.stop_at_end, clock.end = False, True, RUNNING
-        clock.progress_every = PROGRESS_EVERY if progress is not None else 0
+        clock = self._clock
+        clock.each_step[0], clock.stop_at_end[0], clock.end[0] = False, True, RUNNING
+        clock.progress_every[0] = PROGRESS_EVERY if progress is not None else 0
         self._generator = None
         self._resume(stepper.ENDED, progress)
         if progress is not None:
@@ -237,8 +242,8 @@ class Simulation:
     def trace(self) -> Trace:
         """The trace of every step recorded so far, with the run's meta."""
         s, config = self.state, self.config
-        steps = min(int(s.clock[0].step) + 1, s.trace.robot.shape[0])
-        cols = s.trace
+        steps = min(int(s.clock[0].step) + 1, self.episode.trace.robot.shape[0])
+        cols = self.episode.trace
         humans = np.stack([cols.pos.real, cols.pos.imag, cols.yaw, cols.vel.real, cols.vel.imag, cols.omega],
                           axis=-1)[:steps]
         meta = dict(self.meta)
@@ -246,7 +251,7 @@ class Simulation:
                     kernels="numba" if AVAILABLE else "python",
                     human_goals={h.name: [list(g) for g in h.goals] for h in self.humans})
         if self.cue_list:
-            meta["script_cues_fired"] = [list(f) for f in fired(s.script, self.cue_list)]
+            meta["script_cues_fired"] = [list(f) for f in fired(self.episode.script, self.cue_list)]
         if self.paced:
             held = sorted((int(p.first_held), i) for i, p in enumerate(s.people) if p.held_steps > 0)
             meta["held_seconds"] = {self.humans[i].name: int(s.people[i].held_steps) * self.dt for _, i in held}

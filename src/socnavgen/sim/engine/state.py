@@ -59,8 +59,9 @@ def trace_columns(rows: int, n: int) -> TraceColumns:
 
 
 class State(NamedTuple):
-    # single records are one-row tables (s.robot[0].pos): numba's generators copy a record held as such
-    clock: np.recarray  # CLOCK
+    """What every part of the step reads: the clock, the robot, the people and the map."""
+
+    clock: np.recarray  # CLOCK (one row; single records live in one-row tables: s.robot[0].pos)
     robot: np.recarray  # ROBOT
     action: np.recarray  # ACTION: the answer of a policy of the user's
     policy: np.recarray  # robot.policies.POLICY: a built-in robot's parameters and state
@@ -71,10 +72,18 @@ class State(NamedTuple):
     offsets: np.ndarray  # (W,) arc length of the path at each waypoint
     world: WorldMap
     forces: SFMParams
-    scratch: Scratch
+    work: np.ndarray  # (2, m) float scratch of the path geometry (people.give_way)
+
+
+class Episode(NamedTuple):
+    """The State and what only one part reads: the trees, the script, pacing, physics scratch, the trace.
+    Compiled functions take the parts they need: passing a tuple of arrays costs per array, every call."""
+
+    state: State
     trees: Trees
     script: Script
     pacing: Pacing
+    scratch: Scratch
     trace: TraceColumns
 
 

@@ -37,7 +37,7 @@ IDLE_SPEED = 1e-3  # m/s: a robot slower than this is idle (the run ends once ev
 
 
 @jit
-def think(s):  # noqa: ANN001, ANN201
+def think(s, trees, pacing, script, scratch):  # noqa: ANN001, ANN201
     """Pacing, every tree, the script: what everyone wants this step. ERROR when a tree cannot go on."""
     people = s.people
     for i in range(people.shape[0]):
@@ -45,13 +45,15 @@ def think(s):  # noqa: ANN001, ANN201
         p.sees_robot = -1
         p.walks, p.turns, p.face_robot_within = False, False, 0.0
         p.action, p.action_moves, p.succeeded = -1, False, 0
-        s.scratch.before[i] = p.pos  # the contact step compares with where everyone stood
+        scratch.before[i] = p.pos  # the contact step compares with where everyone stood
     if people.shape[0]:
-        pace(s)
+        pace(s, pacing)
+    nodes, ports, slots, texts, kids, stack, args = trees
+    dt = s.clock[0].dt
     for i in range(people.shape[0]):
-        if tick(s, i) == ERROR:
+        if tick(s, nodes, ports, slots, texts, kids, stack, args, dt, i) == ERROR:
             return ERROR
-    play(s)
+    play(s, script)
     return 0
 
 
@@ -77,9 +79,9 @@ def drive(s, v, heading, has_heading):  # noqa: ANN001, ANN201
 
 
 @jit
-def settle(s, reached, gesture):  # noqa: ANN001, ANN201
+def settle(s, script, scratch, reached, gesture):  # noqa: ANN001, ANN201
     """After the walking step: contacts, goals consumed, faces turned, the clock, the robot's gesture."""
-    people, robot, clock, scratch = s.people, s.robot[0], s.clock[0], s.scratch
+    people, robot, clock = s.people, s.robot[0], s.clock[0]
     if resolve_contacts(people, robot, s.world, clock.contact_slack, scratch.before, scratch.snap):
         for i in range(people.shape[0]):
             people[i].robot_distance = abs(robot.pos - people[i].pos)
@@ -93,26 +95,27 @@ def settle(s, reached, gesture):  # noqa: ANN001, ANN201
                 p.yaw = math.atan2(d.imag, d.real)
     clock.t += clock.dt
     clock.step += 1
-    robot.scripted = s.script.now[0].say if s.script.now[0].say != 0 else rules_gesture(s)
+    say = script.now[0].say
+    robot.scripted = say if say != 0 else rules_gesture(s, script.rules)
     robot.gesture = gesture if gesture >= 0 else robot.scripted
     if robot.gesture != 0:
         robot.said |= 1 << robot.gesture
 
 
 @jit
-def record(s):  # noqa: ANN001, ANN201
+def record(s, trace):  # noqa: ANN001, ANN201
     """The current state into the trace's row of this step (steps beyond its rows are not recorded)."""
-    k, cols, robot = s.clock[0].step, s.trace, s.robot[0]
-    if k >= cols.robot.shape[0]:
+    k, robot = s.clock[0].step, s.robot[0]
+    if k >= trace.robot.shape[0]:
         return
     for i in range(s.people.shape[0]):
         p = s.people[i]
-        cols.pos[k, i], cols.vel[k, i], cols.yaw[k, i], cols.omega[k, i] = p.pos, p.vel, p.yaw, p.omega
-        cols.action[k, i], cols.succeeded[k, i] = p.action, p.succeeded
-        cols.gesture[k, i], cols.behavior[k, i] = p.gesture, p.behavior
-    cols.robot[k, 0], cols.robot[k, 1], cols.robot[k, 2] = robot.pos.real, robot.pos.imag, robot.yaw
-    cols.robot[k, 3], cols.robot[k, 4], cols.robot[k, 5] = robot.vel.real, robot.vel.imag, robot.omega
-    cols.robot_gesture[k] = robot.gesture
+        trace.pos[k, i], trace.vel[k, i], trace.yaw[k, i], trace.omega[k, i] = p.pos, p.vel, p.yaw, p.omega
+        trace.action[k, i], trace.succeeded[k, i] = p.action, p.succeeded
+        trace.gesture[k, i], trace.behavior[k, i] = p.gesture, p.behavior
+    trace.robot[k, 0], trace.robot[k, 1], trace.robot[k, 2] = robot.pos.real, robot.pos.imag, robot.yaw
+    trace.robot[k, 3], trace.robot[k, 4], trace.robot[k, 5] = robot.vel.real, robot.vel.imag, robot.omega
+    trace.robot_gesture[k] = robot.gesture
 
 
 @jit
@@ -131,22 +134,10 @@ def ending(s):  # noqa: ANN001, ANN201
     return TIMEOUT if clock.step >= clock.max_steps else RUNNING
 
 
-@jit(alloc=True)
-def act_and_walk(s, python):  # noqa: ANN001, ANN201
-    """The robot's move (`python`: the answer a Python policy left in s.action) and everyone's walking step;
-    returns the event to hand to Python after it (-1: none, go on)."""
+@jit
+def after(s):  # noqa: ANN001, ANN201
+    """The event to hand to Python after this step (-1: none, go on)."""
     clock = s.clock[0]
-    if python:
-        action = s.action[0]
-        drive(s, complex(action.vx, action.vy), action.heading, action.has_heading)
-        gesture = action.gesture
-    else:
-        policy = s.policy[0]
-        drive(s, act(s), policy.heading, policy.has_heading)
-        gesture = -1
-    reached = walk(s)
-    settle(s, reached, gesture)
-    record(s)
     clock.end = ending(s)
     if clock.stop_at_end and clock.end != RUNNING:
         return ENDED
@@ -157,13 +148,26 @@ def act_and_walk(s, python):  # noqa: ANN001, ANN201
     return -1
 
 
+@jit
+def move_robot(s, script):  # noqa: ANN001, ANN201
+    """The robot's move: a Python policy's answer (left in s.action), else the built-in policy's; returns the
+    gesture the policy makes (-1: none, the script's)."""
+    if s.clock[0].python_policy:
+        action = s.action[0]
+        drive(s, complex(action.vx, action.vy), action.heading, action.has_heading)
+        return action.gesture
+    policy = s.policy[0]
+    drive(s, act(s, script.now[0]), policy.heading, policy.has_heading)
+    return -1
+
+
 @jit(alloc=True)
-def walk(s):  # noqa: ANN001, ANN201
+def walk(s, scratch):  # noqa: ANN001, ANN201
     """Everyone's social-force step; how many reached their real goal."""
     if s.people.shape[0] == 0:
         return 0
     robot = s.robot[0]
-    return advance(s.people, s.group_sizes, s.forces, s.world, robot.pos, robot.vel, s.clock[0].dt, s.scratch, True)
+    return advance(s.people, s.group_sizes, s.forces, s.world, robot.pos, robot.vel, s.clock[0].dt, scratch, True)
 
 
 @jit
@@ -176,20 +180,24 @@ def timed_out(s):  # noqa: ANN001, ANN201
 
 
 @generator
-def episode(s):  # noqa: ANN001, ANN201
+def episode(e):  # noqa: ANN001, ANN201
     """Steps until the run ends (clock.stop_at_end) or forever, yielding the events above. It holds no
-    record across a yield (numba's generators would keep a copy): everything lives in `s`."""
+    record across a yield (numba's generators would keep a copy): everything lives in the episode's arrays."""
+    s, trees, script, pacing, scratch, trace = e
     while True:
         if timed_out(s):
             yield ENDED
             return
-        if think(s) == ERROR:
+        if think(s, trees, pacing, script, scratch) == ERROR:
             yield FAILED
             return
-        python = s.clock[0].python_policy
-        if python:
+        if s.clock[0].python_policy:
             yield ACT
-        event = act_and_walk(s, python)
+        gesture = move_robot(s, script)
+        reached = walk(s, scratch)
+        settle(s, script, scratch, reached, gesture)
+        record(s, trace)
+        event = after(s)
         if event == ENDED:
             yield ENDED
             return

@@ -136,7 +136,7 @@ def plan_side_step(s, i):  # noqa: ANN001, ANN201
     side = 1.0 if ((p.pos - a) * along_path.conjugate()).imag >= 0 else -1.0
     prefer = along_path * 1j * side  # away from the path on the person's side
     segments = path_size(s, seg, fallback) - 1
-    distances = s.scratch.floats[0]
+    distances = s.work[0]
     found, best_rank, best_cost, best = False, 0, 0.0, p.pos
     for j in range(SIDE_STEP_DIRECTIONS):
         u = prefer * SIDE_UNITS[j]
@@ -203,13 +203,13 @@ def give_way(s, i):  # noqa: ANN001, ANN201
 
 
 @leaf("GiveWaytoRobot")
-def give_way_to_robot(s, k, i, a):  # noqa: ANN001, ANN201, ARG001
+def give_way_to_robot(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     give_way(s, i)
     return SUCCESS
 
 
 @leaf("FollowRobot")
-def follow_robot(s, k, i, a):  # noqa: ANN001, ANN201, ARG001
+def follow_robot(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     """Follow the robot; a follower standing in the robot's way (ahead of it, on its remaining path) first
     steps aside and lets it pass, as a person told FOLLOW ME by a robot coming up behind does."""
     p = s.people[i]

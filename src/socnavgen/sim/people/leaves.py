@@ -2,7 +2,7 @@
 
 Adding a leaf is one row in the node library (bt/library.py) and one function here, decorated with
 `@leaf("Name")`: the interpreter dispatches to it by the row's position. A leaf gets the simulation state
-`s`, its node `k` (its memory is s.trees.nodes[k].memory), the person `i` it acts for (its agent_id
+`s`, its node's record (`node.memory` is its own number to keep), the person `i` it acts for (its agent_id
 port) and its ports by name, `a[Port.distance]`; it returns SUCCESS, FAILURE or RUNNING, or
 `bad_port(Port.x)` when a port's value cannot be used (the run then stops with the tree's file and line).
 
@@ -41,7 +41,7 @@ LOOK_TURN_RATE = 0.01 * math.pi / 0.001
 def leaf(name: str) -> Callable[[Callable], Callable]:
     """Register the function of library leaf `name`."""
     def register(fn: Callable) -> Callable:
-        LEAVES[name] = compiled = jit(fn)
+        LEAVES[name] = compiled = jit(fn, inline=True)
         return compiled
     return register
 
@@ -81,31 +81,30 @@ def human(s, a, column, offset):  # noqa: ANN001, ANN201
 
 # ---- conditions -------------------------------------------------------------------------------------
 @leaf("IsRobotVisible")
-def is_robot_visible(s, k, i, a):  # noqa: ANN001, ANN201, ARG001
+def is_robot_visible(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     return SUCCESS if s.people[i].robot_distance <= a[Port.distance] and sees_robot(s, i) else FAILURE
 
 
 @leaf("IsRobotNearby")
-def is_robot_nearby(s, k, i, a):  # noqa: ANN001, ANN201, ARG001
+def is_robot_nearby(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     return SUCCESS if s.people[i].robot_distance <= a[Port.distance] else FAILURE
 
 
 @leaf("IsRobotBlocking")
-def is_robot_blocking(s, k, i, a):  # noqa: ANN001, ANN201, ARG001
+def is_robot_blocking(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     if s.people[i].robot_distance > a[Port.distance] or abs(robot_bearing(s, i)) > BLOCKING_CONE:
         return FAILURE
     return SUCCESS if sees_robot(s, i) else FAILURE
 
 
 @leaf("IsGoalReached")
-def is_goal_reached(s, k, i, a):  # noqa: ANN001, ANN201, ARG001
+def is_goal_reached(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     return SUCCESS if goal_reached(s.people, s.goals, i) else FAILURE
 
 
 @leaf("TimeExpiredCondition")
-def time_expired(s, k, i, a):  # noqa: ANN001, ANN201, ARG001
+def time_expired(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     """Accumulates `ts` per tick of this node; SUCCESS once `seconds` are reached (§3.2)."""
-    node = s.trees.nodes[k]
     elapsed = node.memory + a[Port.ts]
     if elapsed < a[Port.seconds]:
         node.memory = elapsed
@@ -115,19 +114,19 @@ def time_expired(s, k, i, a):  # noqa: ANN001, ANN201, ARG001
 
 
 @leaf("RobotSays")
-def robot_says(s, k, i, a):  # noqa: ANN001, ANN201, ARG001
+def robot_says(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     return SUCCESS if s.robot[0].gesture == a[Port.message] else FAILURE
 
 
 @leaf("RobotSaid")
-def robot_said(s, k, i, a):  # noqa: ANN001, ANN201, ARG001
+def robot_said(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     """Latching RobotSays: the robot showed the gesture at some step so far."""
     m = a[Port.message]
     return SUCCESS if 0 <= m < 63 and m == math.floor(m) and (s.robot[0].said >> int(m)) & 1 == 1 else FAILURE
 
 
 @leaf("HumanSays")
-def human_says(s, k, i, a):  # noqa: ANN001, ANN201, ARG001
+def human_says(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     h = human(s, a, Port.target_id, 0)
     if h < 0:
         return bad_port(Port.target_id)
@@ -135,25 +134,25 @@ def human_says(s, k, i, a):  # noqa: ANN001, ANN201, ARG001
 
 
 @leaf("RobotMoved")
-def robot_moved(s, k, i, a):  # noqa: ANN001, ANN201, ARG001
+def robot_moved(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     return SUCCESS if abs(s.robot[0].vel) > ROBOT_MOVED_SPEED else FAILURE
 
 
 # ---- actions ------------------------------------------------------------------------------------------
 @leaf("UpdateGoal")
-def update_goal(s, k, i, a):  # noqa: ANN001, ANN201, ARG001
+def update_goal(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     pop_goal(s.people, s.goals, i, True)
     return SUCCESS
 
 
 @leaf("MakeGesture")
-def make_gesture(s, k, i, a):  # noqa: ANN001, ANN201, ARG001
+def make_gesture(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     s.people[i].gesture = int(a[Port.message])
     return SUCCESS
 
 
 @leaf("RegularNav")
-def regular_nav(s, k, i, a):  # noqa: ANN001, ANN201, ARG001
+def regular_nav(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     """Social-force walking toward the goal; a person held at its interaction point stands (pacing)."""
     p = s.people[i]
     p.behavior = 0
@@ -175,7 +174,7 @@ def look_at_robot_step(s, i):  # noqa: ANN001, ANN201
 
 
 @leaf("LookAtRobot")
-def look_at_robot(s, k, i, a):  # noqa: ANN001, ANN201, ARG001
+def look_at_robot(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     look_at_robot_step(s, i)
     return SUCCESS
 
@@ -193,7 +192,7 @@ def follow(s, i, target, target_radius):  # noqa: ANN001, ANN201
 
 
 @leaf("FollowHuman")
-def follow_human(s, k, i, a):  # noqa: ANN001, ANN201, ARG001
+def follow_human(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     h = human(s, a, Port.target_id, 0)
     if h < 0:
         return bad_port(Port.target_id)
@@ -214,7 +213,7 @@ def push_away(s, i, within):  # noqa: ANN001, ANN201
 
 
 @leaf("RunAwayFromRobot")
-def run_away_from_robot(s, k, i, a):  # noqa: ANN001, ANN201, ARG001
+def run_away_from_robot(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     s.people[i].behavior = 1
     walk_to_goal(s.people, i, RUN_AWAY_SPEED, push_away(s, i, math.inf))
     return SUCCESS
@@ -231,6 +230,6 @@ def block(s, i, ahead):  # noqa: ANN001, ANN201
 
 
 @leaf("BlockRobot")
-def block_robot(s, k, i, a):  # noqa: ANN001, ANN201, ARG001
+def block_robot(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     block(s, i, BLOCK_AHEAD)
     return SUCCESS

@@ -27,23 +27,23 @@ from socnavgen.sim.people.trees import FAILURE, RUNNING, SUCCESS, Port
 
 
 @leaf("IsRobotClose")
-def is_robot_close(s, k, i, a):  # noqa: ANN001, ANN201, ARG001
+def is_robot_close(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     return SUCCESS if s.people[i].robot_distance < a[Port.threshold] else FAILURE
 
 
 @leaf("SaySomething")
-def say_something(s, k, i, a):  # noqa: ANN001, ANN201, ARG001
+def say_something(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     s.people[i].gesture = int(a[Port.message])  # the word's gesture code (0 for any other text)
     return SUCCESS
 
 
 @leaf("AlwaysSuccess")
-def always_success(s, k, i, a):  # noqa: ANN001, ANN201, ARG001
+def always_success(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     return SUCCESS
 
 
 @leaf("SurprisedNav")
-def surprised_nav(s, k, i, a):  # noqa: ANN001, ANN201, ARG001
+def surprised_nav(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     look_at_robot_step(s, i)
     return SUCCESS
 
@@ -60,9 +60,8 @@ def approach(s, i, target, radius, stop, max_speed):  # noqa: ANN001, ANN201
 
 
 @jit
-def timed(s, k, duration):  # noqa: ANN001, ANN201
+def timed(s, node, duration):  # noqa: ANN001, ANN201
     """A stateful 2.x node: RUNNING until `duration` (> 0) seconds of being ticked, then SUCCESS."""
-    node = s.trees.nodes[k]
     elapsed = node.memory + s.clock[0].dt
     if duration > 0 and elapsed >= duration:
         node.memory = 0.0
@@ -72,29 +71,29 @@ def timed(s, k, duration):  # noqa: ANN001, ANN201
 
 
 @leaf("CuriousNav")
-def curious_nav(s, k, i, a):  # noqa: ANN001, ANN201, ARG001
+def curious_nav(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     approach(s, i, s.robot[0].pos, s.robot[0].radius, a[Port.stop_distance], a[Port.agent_vel])
     return SUCCESS
 
 
 @leaf("ThreateningNav")
-def threatening_nav(s, k, i, a):  # noqa: ANN001, ANN201, ARG001
+def threatening_nav(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     block(s, i, a[Port.goal_dist])
     return SUCCESS
 
 
 @leaf("FollowAgent")
-def follow_agent(s, k, i, a):  # noqa: ANN001, ANN201, ARG001
+def follow_agent(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     h = human(s, a, Port.target_agent_id, HUNAV2_FIRST_AGENT_ID)
     if h < 0:
         return bad_port(Port.target_agent_id)
     if h != i:
         approach(s, i, s.people[h].pos, s.people[h].radius, a[Port.closest_dist], a[Port.max_vel])
-    return timed(s, k, a[Port.duration])
+    return timed(s, node, a[Port.duration])
 
 
 @leaf("AvoidRobot")
-def avoid_robot(s, k, i, a):  # noqa: ANN001, ANN201, ARG001
+def avoid_robot(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     s.people[i].behavior = 1
     walk_to_goal(s.people, i, a[Port.runaway_vel], push_away(s, i, a[Port.safe_distance]))
-    return timed(s, k, a[Port.duration])
+    return timed(s, node, a[Port.duration])

@@ -93,10 +93,9 @@ def lower_pacing(plan: PacingPlan | None, goals: list[list[complex]]) -> tuple[P
 
 
 @jit
-def pace(s):  # noqa: ANN001, ANN201, C901
+def pace(s, pacing):  # noqa: ANN001, ANN201, C901
     """Advance the robot's waypoint index; set `held` (and `pace`, the speed RegularNav walks at) of every
     paced person for this step."""
-    pacing = s.pacing
     settings = pacing.settings[0]
     if not settings.enabled:
         return

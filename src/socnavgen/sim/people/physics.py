@@ -50,15 +50,12 @@ class Scratch(NamedTuple):
     pairs: np.ndarray  # (n, n) complex: each pair's social force (small crowds), else (0, 0)
     before: np.ndarray  # (n,) complex: positions before the step (contacts)
     snap: np.ndarray  # (n,) complex: positions before the contact corrections
-    floats: np.ndarray  # (2, m) float: per-segment and per-spot scratch of the path geometry
 
 
-def new_scratch(n: int, groups: int, points: int) -> Scratch:
+def new_scratch(n: int, groups: int) -> Scratch:
     small = n <= GRID_MIN
-    m = max(points, 64) + 8
     return Scratch(np.zeros(n, complex), np.zeros(n, complex), np.zeros(n, complex), np.zeros(max(groups, 1), complex),
-                   np.zeros((n, n) if small else (0, 0), complex), np.zeros(n, complex), np.zeros(n, complex),
-                   np.zeros((2, m)))
+                   np.zeros((n, n) if small else (0, 0), complex), np.zeros(n, complex), np.zeros(n, complex))
 
 
 @jit

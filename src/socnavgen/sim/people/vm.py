@@ -59,55 +59,54 @@ def fail(s, k, kind, column, value):  # noqa: ANN001, ANN201
     return ERROR
 
 
-@jit
-def read_port(s, k, port):  # noqa: ANN001, ANN201
-    """Port `port` of leaf k into trees.args[its column]; ERROR (recorded) when it cannot be read."""
-    trees = s.trees
-    pr = trees.ports[port]
+@jit(inline=True)
+def read_port(ports, slots, texts, args, port):  # noqa: ANN001, ANN201
+    """Port `port` of a leaf into args[its column]: 0, or what went wrong (UNSET_KEY, NOT_CONVERTIBLE)."""
+    pr = ports[port]
     if pr.slot == LITERAL:
-        trees.args[pr.column] = pr.literal
-        return SUCCESS
-    slot = trees.slots[pr.slot]
+        args[pr.column] = pr.literal
+        return 0
+    slot = slots[pr.slot]
     if slot.type == UNSET:
-        return fail(s, k, UNSET_KEY, pr.column, 0.0)
+        return UNSET_KEY
     if slot.type != TEXT:
-        trees.args[pr.column] = slot.value
-        return SUCCESS
-    text = trees.texts[int(slot.value)]
+        args[pr.column] = slot.value
+        return 0
+    text = texts[int(slot.value)]
     if pr.type == INT and text.int_ok:
-        trees.args[pr.column] = text.as_int
+        args[pr.column] = text.as_int
     elif pr.type == DOUBLE and text.double_ok:
-        trees.args[pr.column] = text.as_double
+        args[pr.column] = text.as_double
     elif pr.type == BOOL and text.bool_ok:
-        trees.args[pr.column] = text.as_bool
+        args[pr.column] = text.as_bool
     elif pr.type == TEXT:
-        trees.args[pr.column] = text.gesture
+        args[pr.column] = text.gesture
     else:
-        return fail(s, k, NOT_CONVERTIBLE, pr.column, slot.value)
-    return SUCCESS
+        return NOT_CONVERTIBLE
+    return 0
 
 
-@jit
-def run_leaf(s, k):  # noqa: ANN001, ANN201
+@jit(inline=True)
+def run_leaf(s, people, nodes, ports, slots, texts, args, k):  # noqa: ANN001, ANN201
     """A leaf's tick: its ports, the person it acts for, the leaf, and what the trace records of it."""
-    trees = s.trees
-    node = trees.nodes[k]
+    node = nodes[k]
     has_agent = False
     for port in range(node.first_port, node.first_port + node.port_count):
-        if read_port(s, k, port) == ERROR:
-            return ERROR
-        has_agent = has_agent or trees.ports[port].column == Port.agent_id
+        problem = read_port(ports, slots, texts, args, port)
+        if problem:
+            return fail(s, k, problem, ports[port].column, slots[ports[port].slot].value)
+        has_agent = has_agent or ports[port].column == Port.agent_id
     i = node.owner
     if has_agent:
-        v = trees.args[Port.agent_id]
-        if not (v == math.floor(v) and 0 <= v < s.people.shape[0]):
+        v = args[Port.agent_id]
+        if not (v == math.floor(v) and 0 <= v < people.shape[0]):
             return fail(s, k, NOT_AN_AGENT, Port.agent_id, v)
         i = int(v)
-    st = call_leaf(node.leaf, s, k, i, trees.args)
+    st = call_leaf(node.leaf, s, node, i, args)
     if st <= BAD_PORT:
         column = BAD_PORT - st
-        return fail(s, k, UNUSABLE, column, trees.args[column])
-    owner = s.people[node.owner]
+        return fail(s, k, UNUSABLE, column, args[column])
+    owner = people[node.owner]
     if st == SUCCESS or (node.kind == CONDITION and st != FAILURE):
         owner.succeeded |= 1 << node.leaf
     if node.kind == ACTION and (node.moves or not owner.action_moves):
@@ -116,13 +115,13 @@ def run_leaf(s, k):  # noqa: ANN001, ANN201
 
 
 @jit
-def tick(s, i):  # noqa: ANN001, ANN201, C901
-    """Tick person i's tree once from its root: SUCCESS, FAILURE, RUNNING, or ERROR."""
-    trees = s.trees
-    nodes, kids, stack = trees.nodes, trees.kids, trees.stack
-    person = s.people[i]
-    trees.slots[person.dt_slot].value = s.clock[0].dt
-    trees.slots[person.dt_slot].type = DOUBLE
+def tick(s, nodes, ports, slots, texts, kids, stack, args, dt, i):  # noqa: ANN001, ANN201, C901
+    """Tick person i's tree once from its root: SUCCESS, FAILURE, RUNNING, or ERROR. The program's arrays
+    (trees.Trees) come one by one: the interpreter runs for every person every step."""
+    people = s.people
+    person = people[i]
+    slots[person.dt_slot].value = dt
+    slots[person.dt_slot].type = DOUBLE
     stack[0, 0], stack[0, 1], stack[0, 2] = person.tree, -1, 0
     depth = 1
     ret = SUCCESS
@@ -132,16 +131,16 @@ def tick(s, i):  # noqa: ANN001, ANN201, C901
         node = nodes[k]
         kind = node.kind
         if kind in (CONDITION, ACTION):
-            ret = run_leaf(s, k)
+            ret = run_leaf(s, people, nodes, ports, slots, texts, args, k)
             if ret == ERROR:
                 return ERROR
             depth -= 1
             continue
         if kind == SET_BLACKBOARD:
-            source = trees.slots[node.source_slot]
+            source = slots[node.source_slot]
             if source.type == UNSET:
                 return fail(s, k, COPY_UNSET, -1, 0.0)
-            trees.slots[node.out_slot].value, trees.slots[node.out_slot].type = source.value, source.type
+            slots[node.out_slot].value, slots[node.out_slot].type = source.value, source.type
             ret = SUCCESS
             depth -= 1
             continue

@@ -21,7 +21,7 @@ import numpy as np
 from socnavgen.bodies import ROBOT_RADIUS
 from socnavgen.bt.library import ROBOT_GESTURES
 from socnavgen.errors import InputFileError
-from socnavgen.sim.records import table
+from socnavgen.sim.records import Columns, table
 from socnavgen.sim.robot import policies
 from socnavgen.sim.robot.script import Script, fired
 
@@ -57,27 +57,27 @@ class Cues:
     """What the scenario's robot script asks now (every policy sees it as `obs.cues`)."""
 
     def __init__(self, script: Script, cues: list) -> None:
-        self._script, self._cues = script, cues
+        self._script, self._cues, self._now = script, cues, Columns(script.now)
 
     @property
     def say(self) -> int:
         """Robot gesture code the script makes now (0: none)."""
-        return int(self._script.now[0].say)
+        return self._now.say.item(0)
 
     @property
     def wait(self) -> bool:
         """Stand still now (a scripted wait, or waiting until the way is clear)."""
-        return bool(self._script.now[0].wait)
+        return self._now.wait.item(0)
 
     @property
     def speed(self) -> float:
         """Cruise speed (m/s) the script sets."""
-        return float(self._script.now[0].speed)
+        return self._now.speed.item(0)
 
     @property
     def misbehave(self) -> bool:
         """The scenario wants a rude robot (no stopping for people)."""
-        return bool(self._script.now[0].misbehave)
+        return self._now.misbehave.item(0)
 
     @property
     def fired(self) -> list[tuple[float, str]]:
@@ -91,7 +91,7 @@ class Observation:
 
     def __init__(self, sim: Any) -> None:
         s = sim.state
-        self._clock, self._robot, self.world = s.clock[0], s.robot[0], sim.world
+        self._clock, self._robot, self.world = Columns(s.clock), Columns(s.robot), sim.world
         robot = sim.robot_table
         self.position = _view(robot, "pos", float, pair=True)[0]
         self.velocity = _view(robot, "vel", float, pair=True)[0]
@@ -105,30 +105,30 @@ class Observation:
         self.waypoints_c = s.waypoints.view()
         self.waypoints_c.flags.writeable = False
         self.waypoints = self.waypoints_c.view(float).reshape(-1, 2)
-        self.cues = Cues(s.script, sim.cue_list)
+        self.cues = Cues(sim.episode.script, sim.cue_list)
         self.radius = float(s.robot[0].radius)
         self.dt = float(s.clock[0].dt)
 
     @property
     def t(self) -> float:
-        return float(self._clock.t)
+        return self._clock.t.item(0)
 
     @property
     def yaw(self) -> float:
-        return float(self._robot.yaw)
+        return self._robot.yaw.item(0)
 
     @property
     def position_c(self) -> complex:
-        return complex(self._robot.pos)
+        return self._robot.pos.item(0)
 
     @property
     def velocity_c(self) -> complex:
-        return complex(self._robot.vel)
+        return self._robot.vel.item(0)
 
     @property
     def robot_said(self) -> set[int]:
         """Every gesture code the robot has shown so far."""
-        said = int(self._robot.said)
+        said = self._robot.said.item(0)
         return {g for g in range(64) if said >> g & 1}
 
 

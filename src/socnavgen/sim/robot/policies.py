@@ -261,8 +261,8 @@ def straight_act(s, max_speed, rude):  # noqa: ANN001, ANN201
 
 
 @jit
-def scripted_act(s):  # noqa: ANN001, ANN201
-    policy, now = s.policy[0], s.script.now[0]
+def scripted_act(s, now):  # noqa: ANN001, ANN201
+    policy = s.policy[0]
     if now.misbehave:
         return straight_act(s, policy.rude_max_speed, True)
     policy.max_speed = now.speed
@@ -285,8 +285,8 @@ def scripted_act(s):  # noqa: ANN001, ANN201
 
 
 @jit
-def act(s):  # noqa: ANN001, ANN201
-    """The built-in policy's velocity for this step."""
+def act(s, now):  # noqa: ANN001, ANN201
+    """The built-in policy's velocity for this step (`now`: what the script asks, script.now[0])."""
     kind = s.policy[0].kind
     if kind == STRAIGHT:
         return straight_act(s, s.policy[0].max_speed, False)
@@ -295,4 +295,4 @@ def act(s):  # noqa: ANN001, ANN201
         return keep_clear(s, sfm_toward(s, target, s.policy[0].max_speed, last))
     if kind == WAYPOINTS:
         return waypoints_act(s)
-    return scripted_act(s)
+    return scripted_act(s, now)

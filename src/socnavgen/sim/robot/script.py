@@ -164,10 +164,10 @@ def log(script, t, c, event):  # noqa: ANN001, ANN201
 
 
 @jit
-def play(s):  # noqa: ANN001, ANN201
+def play(s, script):  # noqa: ANN001, ANN201
     """Fire the cues whose trigger became true; then what the robot says now, whether it waits, its cruise
     speed."""
-    script, t = s.script, s.clock[0].t
+    t = s.clock[0].t
     now = script.now[0]
     for c in range(script.cues.shape[0]):
         cue = script.cues[c]
@@ -210,11 +210,11 @@ def play(s):  # noqa: ANN001, ANN201
 
 
 @jit
-def rules_gesture(s):  # noqa: ANN001, ANN201
+def rules_gesture(s, rules):  # noqa: ANN001, ANN201
     """The gesture of the first rule whose condition held within its last `duration` seconds (0: none)."""
     t = s.clock[0].t
-    for r in range(s.script.rules.shape[0]):
-        rule = s.script.rules[r]
+    for r in range(rules.shape[0]):
+        rule = rules[r]
         if holds(s, rule.when, -1, -1, rule.point, rule.has_point, 0.0, AT_NODE if rule.when == AT_ENCOUNTER
                  else rule.distance):
             rule.last_true = t
