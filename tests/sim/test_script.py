@@ -180,3 +180,53 @@ def test_human_says_cue_and_wait_until_clear():
     assert x[2.5] == pytest.approx(2.0, abs=0.05)  # stood while human1 was in its way
     assert x[10.0] > 4.0  # went on once the way was clear
     assert sim.cues.fired and sim.cues.fired[0][1].startswith("human_says")
+
+
+def test_at_encounter_and_blocked_cues_fire_where_they_say():
+    """`at_encounter`: when the robot comes within `distance` of the encounter's point; `blocked`: when a person
+    stands ahead of the robot within `distance`, in its way (someone beside its path does not count)."""
+    script = RobotScript(cues=[
+        RobotCue(trigger=CueTrigger(when="at_encounter", encounter="e1", distance=2.0), say="PROCEED", hold=0.5),
+        RobotCue(trigger=CueTrigger(when="blocked", distance=2.0), say="EXCUSE ME", hold=0.5)])
+    beside = human("human1", start=(6.0, 7.0), goals=[(6.0, 7.0)])
+    ahead = human("human2", start=(14.0, 5.0), goals=[(14.0, 5.0)])
+    sim = make_sim([beside, ahead], [STANDING] * 2, [(2.0, 5.0), (18.0, 5.0)], policy=ScriptedPolicy(),
+                   script=script, encounters={"e1": 9.0 + 5.0j}, timeout=30)
+    rows = _run(sim, 500)
+    fired = {text.split(":")[0]: t for t, text in sim.cues.fired}
+    x_at = {round(t, 2): p.real for t, _, p in rows}
+    assert abs(x_at[round(fired["at_encounter"], 2)] - 7.0) < 0.1  # 2 m before the point at x = 9
+    assert 14.0 - 0.75 - 2.0 - 0.1 < x_at[round(fired["blocked"], 2)] < 14.0 - 0.75  # person 2 m ahead at most
+    assert [g for _, g, p in rows if 5.0 < p.real < 7.0] == [0] * len([1 for _, _, p in rows if 5.0 < p.real < 7.0])
+
+
+def test_waiting_until_clear_asks_again_then_gives_up():
+    """Someone who never moves out of the way: the robot waits, says its phrase again twice (every 8 s), then
+    stops waiting and goes around - the script never becomes a deadlock."""
+    script = RobotScript(cues=[RobotCue(trigger=CueTrigger(when="blocked", distance=2.5), say="EXCUSE ME", hold=1.0,
+                                        wait_until_clear=True)])
+    sim = make_sim([human(start=(8.0, 5.0), goals=[(8.0, 5.0)])], [STANDING], [(2.0, 5.0), (14.0, 5.0)],
+                   policy=ScriptedPolicy(), script=script, timeout=60, idle_end=60)  # no early end while it waits
+    trace = sim.run()
+    events = [text for _, text in sim.cues.fired]
+    assert events[0].startswith("blocked") and events[1:3] == ["still blocked: say EXCUSE ME again"] * 2
+    assert events[3] == "still blocked: stop waiting, go around"
+    times = [t for t, _ in sim.cues.fired]
+    assert times[1] - times[0] == pytest.approx(8.0, abs=0.06) and times[3] - times[2] == pytest.approx(8.0, abs=0.06)
+    assert trace.end_reason == "robot_goal"  # it went around
+    said = trace.robot_gesture == EXCUSE_ME
+    assert 2.9 <= said.sum() * trace.dt <= 3.2  # the phrase three times, 1 s each
+
+
+def test_gesture_rules_hold_their_gesture_for_their_duration():
+    from socnavgen.run.models import RobotGestureRule
+
+    rules = [RobotGestureRule(gesture=2, when="near_human", distance=3.0, duration=1.0)]
+    walker = human(start=(14.0, 5.0), goals=[(14.0, 9.5)])  # crosses near the robot's path, then away
+    sim = make_sim([walker], [tree_xml(REGULAR)], [(11.5, 5.0), (19.0, 5.0)], policy=Stay(), rules=rules, timeout=8)
+    trace = sim.run()
+    near = np.hypot(*(trace.humans[:, 0, :2] - trace.robot[:, :2]).T) <= 3.0
+    shown = trace.robot_gesture == 2
+    last_near = np.flatnonzero(near)[-1]
+    assert shown[near][1:].all()  # while someone is near
+    assert shown[last_near + 1:last_near + 20].all() and not shown[last_near + 22:].any()  # then 1 s more
