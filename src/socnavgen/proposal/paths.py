@@ -16,9 +16,10 @@ import networkx as nx
 
 from socnavgen.llm.base import LLM, ChatMessage
 from socnavgen.location import Location
+from socnavgen.location.inventory import inventory_text
 from socnavgen.location.location import SCENE_GRAPH_IMAGE
 from socnavgen.proposal.conversation import Outcome, Policy, Recorder, converse
-from socnavgen.proposal.facts import edge_width, is_narrow, physical_facts_text
+from socnavgen.proposal.facts import groups_text, pacing_text, physical_facts_text
 from socnavgen.proposal.path_checks import check_paths
 from socnavgen.proposal.path_grammar import paths_grammar
 from socnavgen.proposal.replies import PathsReply
@@ -46,11 +47,11 @@ def scene_graph_text(location: Location) -> str:
                            "xy_m": [round(x, 1), round(y, 1)]})
 
     def link(e) -> str:  # noqa: ANN001 - a scene-graph edge
-        width = edge_width(location, e.source, e.target)
+        passage = location.inventory.passage(e.source, e.target)
         item = {"source": e.source, "target": e.target, "type": e.type}
-        if width != float("inf"):
-            item["width_m"] = width
-        item["narrow"] = is_narrow(location, e.source, e.target)
+        if passage is not None:
+            item["width_m"] = passage.width_m
+            item["narrow"] = passage.narrow
         return json.dumps(item)
 
     nodes = ",\n".join("  " + node(n) for n in sg.nodes)
@@ -153,7 +154,8 @@ def paths_messages(location: Location, scenario: ScenarioProposal, *, seed: int 
                   node_types=", ".join(location.schema.node_types), edge_types=", ".join(location.schema.edge_types),
                   tutorial=tutorial_text(generate_tutorial(graph, seed)), examples=examples,
                   scenario=scenario_text(scenario), humans=", ".join(humans), format=format_line(humans, spec),
-                  facts=physical_facts_text(), encounters=encounters_text(spec),
+                  facts="\n".join([physical_facts_text(), pacing_text(), groups_text()]),
+                  encounters=encounters_text(spec), inventory=inventory_text(location),
                   encounter_rule=ENCOUNTER_RULE if spec is not None and spec.encounters else "")
     picture: list[Path] = []
     image = location.root / SCENE_GRAPH_IMAGE
@@ -168,5 +170,5 @@ def plan_paths(messages: list[ChatMessage], location: Location, scenario: Scenar
     humans = list(scenario.human_behaviors)
     graph = location.graph
     grammar = paths_grammar(graph, humans, spec) if getattr(llm, "supports_grammar", False) else None
-    return converse(llm, messages, PathsReply, lambda reply: check_paths(reply, graph, humans, spec), stage=STAGE,
-                    key=None, recorder=recorder, policy=policy, grammar=grammar, max_tokens=MAX_TOKENS)
+    return converse(llm, messages, PathsReply, lambda reply: check_paths(reply, graph, humans, spec, location),
+                    stage=STAGE, key=None, recorder=recorder, policy=policy, grammar=grammar, max_tokens=MAX_TOKENS)
