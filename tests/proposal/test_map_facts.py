@@ -84,14 +84,22 @@ def test_the_target_says_which_nodes_it_lacks(home):
     assert "lacks the nodes" not in _stage1_prompt(home)[0]
 
 
-def test_stage2_widths_are_the_inventorys(home):
+def test_stage2_widths_are_the_inventorys_and_it_knows_where_people_may_start(home):
     import json
 
-    from socnavgen.proposal.paths import scene_graph_text
+    from socnavgen.location.placement import start_rule_text
+    from socnavgen.proposal.paths import paths_messages, scene_graph_text
+    from socnavgen.run import ScenarioProposal
 
     links = json.loads(scene_graph_text(home))["links"]
     door = next(e for e in links if {e["source"], e["target"]} == {"2n", "1f"})
     assert door["width_m"] == home.inventory.width("2n", "1f") and door["narrow"] is True
+    scenario = ScenarioProposal(scenario_description="The robot brings tea to the living room.", number_of_humans=1,
+                                human_behaviors={"human1": "A resident walks to the kitchen."},
+                                expected_robot_behavior="Pass politely.")
+    prompt = paths_messages(home, scenario, images=False)[-1].content
+    assert "PLACE INVENTORY" in prompt and "7. " + start_rule_text() in prompt
+    assert "from the robot's start (1.8 m for a group" in start_rule_text()
 
 
 # ---- stage 1 refuses what cannot work here, and passes what can ---------------------------------------
@@ -218,3 +226,14 @@ def test_stage2_grounds_a_hidden_until_encounter_only_where_it_is_blind_enough(w
     assert ground(["up", "co", "54", "f7"], ["6r", "f7", "54"], "54") == []
     same_way = ground(["up", "co", "54", "f7"], ["up", "co", "54"], "54")  # walking in behind the robot
     assert any("they see each other from afar" in m for m in same_way), same_way
+
+
+def test_every_cue_trigger_is_explained_from_the_models_docstring():
+    from typing import get_args
+
+    from socnavgen.proposal.facts import cue_triggers_text
+    from socnavgen.run.spec import CueTrigger
+
+    text = cue_triggers_text()
+    for when in get_args(CueTrigger.model_fields["when"].annotation):
+        assert f"{when} (" in text and f"{when} ()" not in text, when  # each with its meaning

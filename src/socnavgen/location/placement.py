@@ -32,6 +32,17 @@ def _centre_distance_needed(a_ring: float, b_ring: float, a_radius: float, b_rad
     return a_ring + b_ring + a_radius + b_radius + START_GAP
 
 
+def start_rule_text() -> str:
+    """The rule in words, for the prompts (numbers from the bodies)."""
+    alone = _centre_distance_needed(0.0, 0.0, PERSON_RADIUS, ROBOT_RADIUS)
+    people = _centre_distance_needed(0.0, 0.0, PERSON_RADIUS, PERSON_RADIUS)
+    return (f"Where everybody starts: the robot's goal is not its start; a person starts at least {alone:.1f} m "
+            f"from the robot's start ({alone + GROUP_SPAWN_RADIUS:.1f} m for a group, whose members stand on a "
+            f"{GROUP_SPAWN_RADIUS:g} m circle around their shared first node) and at least {people:.2f} m from "
+            f"any other person who is not in their group (use xy_m to measure); nobody starts on the robot's "
+            f"goal unless their path walks away from it.")
+
+
 def route_problems(robot: list[str]) -> list[str]:
     """A robot route that goes nowhere."""
     if len(robot) >= 2 and robot[0] == robot[-1]:
@@ -69,8 +80,9 @@ def start_problems(location: Location, robot: list[str], walkers: list[Walker]) 
             problems.append(f"{w.name} starts at {start}, {where}: they would start touching or too close; start "
                             f"{w.name} at a node at least {need:.1f} m from {robot[0]}")
         if len(robot) >= 2 and goal != robot[0] and dist(start, goal) < need and _stays(w.path, goal, dist, need):
-            problems.append(f"{w.name} starts at {start}, on the robot's goal {goal}, and does not walk away from it: "
-                            f"the robot could never arrive; start {w.name} elsewhere or let them walk away")
+            where = "on the robot's goal" if start == goal else f"{dist(start, goal):.1f} m from the robot's goal"
+            problems.append(f"{w.name} starts at {start}, {where} {goal}, and does not walk away from it: the robot "
+                            f"could never arrive; start {w.name} elsewhere or let them walk away")
     for i, a in enumerate(starts):
         for b in starts[i + 1:]:
             if a.group >= 0 and a.group == b.group:
