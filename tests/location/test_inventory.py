@@ -49,6 +49,7 @@ def test_a_dead_end_too_tight_to_pass_a_person_cannot_hold_an_encounter(tmp_path
     reason = location.inventory.unworkable_reason("DINING AREA")
     assert reason is not None and "rr is reached only through a way narrower than a person (0.4 m)" in reason
     assert location.inventory.unworkable_reason("CORRIDOR") is None  # mm has three ways
+    assert location.inventory.unworkable_reason("KITCHEN") == "this map has no KITCHEN node"
     text = inventory_text(location)
     assert "DINING AREA: rr (dead end from mm" in text and "NOTE: no DINING AREA node can hold an encounter" in text
     assert "Too narrow for a person" in text and "mm-rr 0.4 m" in text

@@ -237,3 +237,21 @@ def test_every_cue_trigger_is_explained_from_the_models_docstring():
     text = cue_triggers_text()
     for when in get_args(CueTrigger.model_fields["when"].annotation):
         assert f"{when} (" in text and f"{when} ()" not in text, when  # each with its meaning
+
+
+def test_the_stage1_grammar_offers_only_places_that_can_work_here(home):
+    from socnavgen.proposal.scenario import build_scenario_grammar, workable_places
+
+    places = workable_places(home)
+    assert "DINING AREA" not in places and {"LIVING ROOM", "BEDROOM", "DOORWAY"} <= set(places)
+    grammar = build_scenario_grammar(node_types=places)
+    reply = _reply("LIVING ROOM").model_dump(exclude={"spec"})
+    spec = {"script": {"route": "through the home", "cues": []},
+            "encounters": [{"id": "e1", "place": "DINING AREA", "humans": [
+                {"human": "human1", "trigger": "robot_near", "reaction": "give_way"}]}],
+            "criteria": [{"id": "c1", "kind": "meets", "human": "human1", "encounter": "e1"}]}
+    import json
+
+    assert not grammar.matches(json.dumps({**reply, "spec": spec}))
+    spec["encounters"][0]["place"] = "LIVING ROOM"
+    assert grammar.matches(json.dumps({**reply, "spec": spec}))

@@ -119,7 +119,7 @@ class PlaceInventory:
         beside a person without room to pass them."""
         nodes = self.of_type(place)
         if not nodes:
-            return None
+            return f"this map has no {place} node"
         why = {n.id: self._unusable(n) for n in nodes}
         if not all(why.values()):
             return None
@@ -187,19 +187,19 @@ def inventory_text(location: Location) -> str:
     for turn in inv.blind_turns:
         blind[turn.node] = min(turn.sight_m, blind.get(turn.node, turn.sight_m))
     lines = ["PLACE INVENTORY of this map (measured on its scene graph and map; plan the scenario with it):",
-             f"Kinds of place: node type: its nodes (ways = edges leaving the node; a dead end has one, so a route "
-             f"can only start, end or turn around there; free = width of free floor at the node; the robot "
-             f"and a person pass each other only where at least {PASS_WIDTH:g} m is free):"]
+             f"Kinds of place, each node type with its nodes (ways = edges leaving the node; a dead end has one, "
+             f"so a route can only start, end or turn around there; free = width of free floor at the node; the "
+             f"robot and a person pass each other only where at least {PASS_WIDTH:g} m is free):"]
     types = list(location.schema.node_types) or sorted({n.type for n in inv.nodes.values()})
     for kind in types:
         members = inv.of_type(kind)
         if members:
             lines.append(f"- {kind}: " + _listing([_node_words(n, blind) for n in members]))
-    unworkable = [reason for kind in types if (reason := inv.unworkable_reason(kind))]
+    unworkable = [reason for kind in types if inv.of_type(kind) and (reason := inv.unworkable_reason(kind))]
     lines += [f"NOTE: {reason}. A route may still start or end there." for reason in unworkable]
     if inv.doorways:
-        lines.append("Doorways (a person standing in one closes it to the robot; narrower than "
-                     f"{PASS_WIDTH:g} m: one body at a time):")
+        lines.append("Doorways and other pinch points (a person standing in one closes it to the robot; narrower "
+                     f"than {PASS_WIDTH:g} m: one body at a time):")
         lines += [f"- {d.node} ({inv.nodes[d.node].type}): {d.width_m:.1f} m wide, between "
                   + " and ".join(f"{s} ({inv.nodes[s].type})" for s in d.sides) for d in inv.doorways[:MAX_LISTED]]
     doors = {d.node for d in inv.doorways}

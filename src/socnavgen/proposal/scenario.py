@@ -215,4 +215,9 @@ def propose_scenarios(request: ScenarioRequest, location: Location, llm: LLM, re
 def stage_grammar(llm: LLM, location: Location, target: Target | None) -> str | None:
     if not getattr(llm, "supports_grammar", False):
         return None
-    return scenario_grammar(list(location.schema.node_types), target)
+    return scenario_grammar(workable_places(location), target)
+
+
+def workable_places(location: Location) -> list[str]:
+    """The node types where an encounter can work on this map (the place inventory), in schema order."""
+    return [t for t in location.schema.node_types if location.inventory.unworkable_reason(t) is None]
