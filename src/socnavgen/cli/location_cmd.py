@@ -139,6 +139,8 @@ def from_world(
     strict: bool = typer.Option(False, "--strict", help="Fail when a model or mesh cannot be found or read "
                                                         "(default: list them and go on)."),
     name: str | None = typer.Option(None, "--name", help="Location name (default: the folder name)."),
+    detail: float = typer.Option(1.0, "--detail", min=0.1, max=10.0,
+                                 help="Finer (>1) or coarser (<1) scene graph, as in `location extract`."),
     seed: int | None = typer.Option(None, "--seed", help="Make the random node ids reproducible."),
     force: bool = typer.Option(False, "--force", help="Replace a location already in the output folder."),
 ) -> None:
@@ -163,7 +165,7 @@ def from_world(
         raise typer.BadParameter(f"--head {head} must be above --ankle {ankle}")
     options = WorldImportOptions(
         slice=SliceOptions(resolution=resolution, ankle=ankle, head=head, floor_z=floor_z, bounds=bounds),
-        extract=ExtractOptions(seed=seed), strict=strict, name=name, force=force)
+        extract=ExtractOptions(detail=detail, seed=seed), strict=strict, name=name, force=force)
     with progress_bar() as bar:
         task = bar.add_task("reading the world", total=None)
 
