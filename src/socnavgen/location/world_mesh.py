@@ -137,16 +137,32 @@ def primitive(geom: Geometry) -> Triangles:
         R = trimesh.geometry.align_vectors([0, 0, 1], n)[:3, :3]
         return Triangles(corners @ R.T, np.array([[0, 1, 2], [0, 2, 3]]))
     elif kind == "polyline":
-        from shapely.geometry import Polygon
-
-        polygon = Polygon(geom.points).buffer(0)
-        if polygon.is_empty:
-            raise MeshError("the polyline encloses no area")
-        mesh = trimesh.creation.extrude_polygon(polygon if polygon.geom_type == "Polygon" else
-                                                max(polygon.geoms, key=lambda p: p.area), height=max(size[0], 1e-6))
+        return _prism(geom.points, max(size[0], 1e-6))
     else:
         raise MeshError(f"geometry {kind} is not supported")
     return Triangles(np.asarray(mesh.vertices, dtype=float), np.asarray(mesh.faces, dtype=np.int64))
+
+
+def _prism(points: tuple[tuple[float, float], ...], height: float) -> Triangles:
+    """A polyline extruded from z = 0 to `height`: walls along its outline, caps triangulated inside it."""
+    import shapely
+
+    polygon = shapely.Polygon(points).buffer(0)
+    if polygon.is_empty:
+        raise MeshError("the polyline encloses no area")
+    if polygon.geom_type != "Polygon":
+        polygon = max(polygon.geoms, key=lambda p: p.area)
+    ring = np.asarray(polygon.exterior.coords)[:-1]
+    n = len(ring)
+    caps = [np.asarray(t.exterior.coords)[:3] for t in shapely.get_parts(shapely.constrained_delaunay_triangles(polygon))]
+    vertices = [np.c_[ring, np.zeros(n)], np.c_[ring, np.full(n, height)]]
+    faces = [[i, (i + 1) % n, n + i] for i in range(n)] + [[(i + 1) % n, n + (i + 1) % n, n + i] for i in range(n)]
+    base = 2 * n
+    for tri in caps:
+        vertices += [np.c_[tri, np.zeros(3)], np.c_[tri, np.full(3, height)]]
+        faces += [[base, base + 2, base + 1], [base + 3, base + 4, base + 5]]
+        base += 6
+    return Triangles(np.concatenate(vertices), np.asarray(faces, dtype=np.int64))
 
 
 class MeshLibrary:
