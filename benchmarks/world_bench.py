@@ -15,10 +15,11 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from socnavgen.location.world_import import WorldImportOptions, import_world  # noqa: E402
-from socnavgen.location.world_raster import SliceOptions  # noqa: E402
 from tests.world.compare import best_rigid_iou, iou_in_world  # noqa: E402
 from tests.world.conftest import DATA, static_model, unpack, world_file  # noqa: E402
+
+from socnavgen.location.world_import import WorldImportOptions, import_world  # noqa: E402
+from socnavgen.location.world_raster import SliceOptions  # noqa: E402
 
 
 def generated_world(folder: Path, count: int = 2000) -> Path:
