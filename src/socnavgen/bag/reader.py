@@ -77,6 +77,9 @@ class Recording:
 
 def _bag_error(path: Path, exc: BaseException) -> BagError:
     text = str(exc)
+    if "Unrecognized storage format" in text:
+        return BagError(f"not a ROS 2 bag (a {path.suffix or 'file'} without a storage plugin)", file=path,
+                        hint="pass a rosbag2 folder, a .mcap or a .db3 file")
     if "end magic" in text or "magic is invalid" in text and path.suffix == ".mcap":
         return BagError("the MCAP file is truncated or damaged (it has no valid end; was the recording killed "
                         "before it closed?)", file=path,
