@@ -39,4 +39,22 @@ def _verification_section(status: VerificationStatus) -> str:
     return f"\n## Verification\n\n{status.message}.\n"
 
 
-__all__ = ["FORMATS", "ExportResult", "build_files", "build_scene", "export_run"]
+
+
+def target_refusals(run_dir: Path | str, *, location_dir: Path | str | None = None) -> dict[str, str]:
+    """Every export target that would refuse this run -> its message (the same one `export` prints), built in
+    memory from one scene; targets missing from the result export it. For `generate`: say it before anyone
+    tries to export."""
+    from socnavgen.errors import SocnavgenError
+
+    scene, _ = build_scene(run_dir, location_dir)
+    refused: dict[str, str] = {}
+    for fmt in FORMATS:
+        try:
+            build_files(scene, fmt)
+        except SocnavgenError as exc:
+            refused[fmt] = exc.message
+    return refused
+
+
+__all__ = ["FORMATS", "ExportResult", "build_files", "build_scene", "export_run", "target_refusals"]
