@@ -243,8 +243,9 @@ def test_stage_three_requeries_a_tree_that_lacks_its_trigger(tmp_path, mini_loca
 
 # ---- physical facts ---------------------------------------------------------------------------------
 def test_prompts_carry_the_simulators_numbers(mini_location):
+    from socnavgen.bodies import PERSON_MAX_SPEED as HUMAN_MAX_VEL
+    from socnavgen.bodies import PERSON_RADIUS as HUMAN_RADIUS
     from socnavgen.proposal.paths import scene_graph_text
-    from socnavgen.sim.agents import HUMAN_MAX_VEL, HUMAN_RADIUS
     from socnavgen.sim.robot import ROBOT_RADIUS
 
     facts = physical_facts_text()

@@ -13,9 +13,6 @@ FORMATS: tuple[ExportFormat, ...] = TARGETS
 
 # HuNavSim agent constants (reference §8.1, §9.3): what SocRATES writes for every human.
 HUMAN_Z = 1.25  # Gazebo actor height; HuNavSim overrides it per skin but expects it present
-HUMAN_RADIUS = 0.4
-HUMAN_MAX_VEL = 1.5
-HUMAN_GOAL_RADIUS = 0.5
 SKIN_COUNT = 9  # Gazebo actor meshes 0..8
 
 

@@ -36,10 +36,9 @@ class Body:
 
 @cache
 def body() -> Body:
-    from socnavgen.sim.agents import HUMAN_MAX_VEL, HUMAN_RADIUS  # the simulator's own numbers
-    from socnavgen.sim.robot import ROBOT_RADIUS
+    from socnavgen.bodies import PERSON_MAX_SPEED, PERSON_RADIUS, ROBOT_RADIUS
 
-    return Body(HUMAN_RADIUS, HUMAN_MAX_VEL, ROBOT_RADIUS, RobotScript().speed)
+    return Body(PERSON_RADIUS, PERSON_MAX_SPEED, ROBOT_RADIUS, RobotScript().speed)
 
 
 def physical_facts_text() -> str:
