@@ -21,6 +21,7 @@ from socnavgen.bag.reader import (
     gesture_series,
     read_recording,
 )
+from socnavgen.bodies import PERSON_RADIUS, ROBOT_RADIUS
 from socnavgen.limits import MAX_SIM_STEPS
 from socnavgen.sim.trace import Trace
 
@@ -29,8 +30,6 @@ if TYPE_CHECKING:
     from socnavgen.run import PathPlan
 
 DEFAULT_DT = 0.05  # s, the simulator's default step
-ROBOT_RADIUS = 0.35  # m, the Gazebo wrapper's robot radius, used when the recording says 0
-HUMAN_RADIUS = 0.4
 SAME_TIME = 1e-6  # s: a grid time this close to a sample is that sample (no interpolation)
 CLOCK_BACK_TOLERANCE = 1_000_000  # ns: stamps may wobble by a millisecond; a larger step back is a jump
 
@@ -261,14 +260,14 @@ def recording_to_trace(rec: Recording, plan: PathPlan, location: Location,
         [location.node_world(node) for node in plan.robot]
     goal = meta_in.get("robot_goal") if meta_in else None
     goal = tuple(map(float, goal)) if goal else (rec.goal or (waypoints[-1] if waypoints else None))
-    robot_radius = robots[0].radius if robots[0].radius > 0 else ROBOT_RADIUS
+    robot_radius = robots[0].radius if robots[0].radius > 0 else ROBOT_RADIUS  # the wrapper's, when it says 0
     meta = dict(meta_in.get("meta") or {}) if isinstance(meta_in.get("meta"), dict) else {}
     agent_ids = {name: ident for ident, name in mapping.items()}
     meta["bag"] = {"file": str(rec.path), "hunav_msgs": rec.flavour, "topics": rec.topics, "agent_ids": agent_ids,
                    "states": int(n), "recorded_seconds": float(r[-1]), "dt": dt}
     trace = Trace(
         dt=dt, t=grid, robot=_interp(robot, i, j, w), humans=_interp(states, i, j, w), human_names=names,
-        group_ids=[int(g) for g in groups], human_radii=np.where(radii > 0, radii, HUMAN_RADIUS),
+        group_ids=[int(g) for g in groups], human_radii=np.where(radii > 0, radii, PERSON_RADIUS),
         robot_radius=float(robot_radius), node_names=node_names, action=action, succeeded=succeeded,
         human_gesture=gesture[i], robot_gesture=np.clip(robot_gesture, -128, 127).astype(np.int8),
         behavior_state=bstate[i], robot_goal=goal, robot_waypoints=[tuple(p) for p in waypoints],

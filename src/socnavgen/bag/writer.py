@@ -21,6 +21,7 @@ from rosbags.rosbag2 import StoragePlugin, Writer
 
 from socnavgen.bag import markers
 from socnavgen.bag.types import AGENT, AGENTS, Flavour, header, pose, twist, typestore
+from socnavgen.bodies import PERSON_GOAL_RADIUS, PERSON_MAX_SPEED, ROBOT_GOAL_TOLERANCE
 from socnavgen.errors import InputFileError
 from socnavgen.sim.trace import OMEGA, VX, VY, YAW, Trace, X, Y
 
@@ -31,8 +32,6 @@ if TYPE_CHECKING:
 FORMAT_VERSION = 1  # of the /socnavgen/meta JSON
 ROBOT_AGENT_ID = 1000  # HuNavSim's robot agent carries the simulator's model id; any id no human has
 PERSON, ROBOT = 1, 2  # hunav_msgs/Agent type constants
-HUMAN_DESIRED_VELOCITY = 1.5
-HUMAN_GOAL_RADIUS = 0.5
 FIRST_LLM_BEHAVIOR = 7  # the SocRATES fork's behavior code of LLMBT_<id>.xml
 BEH_REGULAR = 1
 
@@ -76,7 +75,7 @@ def first_agent_id(options: BagWriteOptions) -> int:
 
 def _agent(store: Any, flavour: Flavour, *, ident: int, kind: int, name: str, behavior: int, group: int,
            state: np.ndarray, radius: float, bstate: int, gesture: int, goals: list, goal_radius: float,
-           skin: int = 0, desired: float = HUMAN_DESIRED_VELOCITY) -> Any:
+           skin: int = 0, desired: float = PERSON_MAX_SPEED) -> Any:
     speed = math.hypot(float(state[VX]), float(state[VY]))
     fields = dict(id=ident, type=kind, skin=skin, behavior=behavior, name=name, behavior_state=bstate,
                   group_id=group, position=pose(store, state[X], state[Y], float(state[YAW])), yaw=float(state[YAW]),
@@ -157,7 +156,8 @@ def _write(trace: Trace, bag: Path, location: Location | None, plan: PathPlan | 
         human_goals = trace.meta.get("human_goals") if isinstance(trace.meta, dict) else None
         goal_poses = {name: [pose(store, g[0], g[1], 0.0) for g in (human_goals or {}).get(name, [])]
                       for name in trace.human_names}
-        robot_goal_radius = float(trace.meta.get("robot_goal_radius", 0.2)) if isinstance(trace.meta, dict) else 0.2
+        robot_goal_radius = float(trace.meta.get("robot_goal_radius", ROBOT_GOAL_TOLERANCE)) \
+            if isinstance(trace.meta, dict) else ROBOT_GOAL_TOLERANCE
         last_gesture: int | None = None
         for k, stamp_ns in enumerate(ns):
             _step(store, options.flavour, conns, put, trace, k, stamp_ns, first, goal_poses, goal_pose,
@@ -189,7 +189,7 @@ def _step(store: Any, flavour: Flavour, conns: dict, put: Any, trace: Trace, k: 
             store, flavour, ident=agent_id + first, kind=PERSON, name=name, behavior=behavior,
             group=int(trace.group_ids[i]), state=trace.humans[k, i], radius=float(trace.human_radii[i]),
             bstate=int(trace.behavior_state[k, i]), gesture=int(trace.human_gesture[k, i]),
-            goals=goal_poses.get(name, []), goal_radius=HUMAN_GOAL_RADIUS, skin=agent_id % 9))
+            goals=goal_poses.get(name, []), goal_radius=PERSON_GOAL_RADIUS, skin=agent_id % 9))
     put(conns["humans"], stamp_ns, types[AGENTS](header=header(store, stamp_ns), agents=agents))
     yaw = float(robot[YAW])
     c, s = math.cos(yaw), math.sin(yaw)  # odometry twist is in the robot's frame (REP 105)

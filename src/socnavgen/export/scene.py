@@ -6,9 +6,9 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+from socnavgen.bodies import PERSON_RADIUS
 from socnavgen.errors import InputFileError, ValidationFailed
 from socnavgen.export.models import (
-    HUMAN_RADIUS,
     SKIN_COUNT,
     ExportScene,
     HumanExport,
@@ -63,7 +63,7 @@ def spawn_starts(location: Location, plan: PathPlan, seed: int) -> dict[str, tup
 
     humans = sorted(plan.humans, key=lambda h: h.agent_id)
     nodes = [complex(*location.node_world(h.path[0])) for h in humans]
-    points = spawn_points(World.from_location(location), nodes, [h.group_id for h in humans], HUMAN_RADIUS,
+    points = spawn_points(World.from_location(location), nodes, [h.group_id for h in humans], PERSON_RADIUS,
                           np.random.default_rng(seed))
     starts = {}
     for human, point in zip(humans, points, strict=True):
