@@ -1,5 +1,5 @@
 """A run simulated from its socrates trees and from their hunav2 translation (2.x nodes simulated by
-sim.nodes_hunav2) gets the same verification outcome, finding by finding, on every card of every
+sim.people.leaves_hunav2) gets the same verification outcome, finding by finding, on every card of every
 bundled location whose trees translate."""
 
 from __future__ import annotations

@@ -58,7 +58,7 @@ def test_how_the_spec_plays_out_comes_from_its_sources(home):
     from socnavgen.bodies import GROUP_SPAWN_RADIUS
     from socnavgen.proposal.facts import STL_EXAMPLE
     from socnavgen.run.spec import Encounter, RobotCue
-    from socnavgen.sim.interaction import ThrottleConfig
+    from socnavgen.sim import ThrottleConfig
     from socnavgen.verify.signals import SIGNAL_KINDS
     from socnavgen.verify.stl import formula_problems
 

@@ -343,7 +343,7 @@ def hunav2_refusal(name: str) -> str | None:
     return tr.refusal if tr is not None else None
 
 
-# 2.x nodes our translations emit, simulated by socnavgen.sim.nodes_hunav2 (so a hunav2 export can be
+# 2.x nodes our translations emit, simulated by socnavgen.sim.people.leaves_hunav2 (so a hunav2 export can be
 # simulated and verified like its socrates original). Their ports come from HUNAV2_REGISTERED.
 HUNAV2_SIMULATED = ("IsRobotClose", "SaySomething", "SurprisedNav", "CuriousNav", "FollowAgent", "AvoidRobot",
                     "ThreateningNav")
@@ -361,7 +361,7 @@ def _native_spec(node: RegisteredNode) -> NodeSpec:
     return NodeSpec(name=node.id, kind="action" if node.kind == "Action" else "condition", ports=ports,
                     moves=any(p.name == "time_step" for p in ports),
                     description=f"HuNavSim 2.x {node.kind.lower()} {node.id} (only in hunav2 exports; "
-                                "semantics in socnavgen.sim.nodes_hunav2)",
+                                "semantics in socnavgen.sim.people.leaves_hunav2)",
                     targets={"hunav2"}, hunav2=node.id, in_prompt=False)
 
 

@@ -75,7 +75,7 @@ def physical_facts_text() -> str:
 
 def pacing_text() -> str:
     """How the simulator holds a person back so that the encounter happens at its node (sim/interaction.py)."""
-    from socnavgen.sim.interaction import ThrottleConfig
+    from socnavgen.sim import ThrottleConfig
 
     pace = ThrottleConfig()
     return (f"- Pacing: a person who is alone (group id -1) and has an interaction point on the robot's path "

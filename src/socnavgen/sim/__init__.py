@@ -25,7 +25,7 @@ _EXPORTS = {
     "PacingPlan": "socnavgen.sim.people.pacing", "HumanSpec": "socnavgen.sim.people.state",
     "World": "socnavgen.sim.world.grid", "empty_room": "socnavgen.sim.world.grid",
     "warm_up": "socnavgen.sim.engine.warm", "cache_ready": "socnavgen.sim.jit", "COMPILING_NOTE": "socnavgen.sim.jit",
-    "write_outputs": "socnavgen.sim.outputs.files",
+    "write_outputs": "socnavgen.sim.outputs.files", "spawn_points": "socnavgen.sim.engine.scenario",
 }
 __all__ = sorted(_EXPORTS)
 
