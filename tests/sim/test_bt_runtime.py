@@ -21,6 +21,19 @@ def test_every_library_leaf_has_a_function_and_nothing_else():
     assert len(NODE_NAMES) <= 63  # fits the int64 success bitmask
 
 
+def test_every_control_and_decorator_of_the_library_runs():
+    """What bt check accepts the simulator runs: each control's flow and each decorator's rule has its node
+    kind in the interpreter."""
+    from socnavgen.bt.library import LIBRARY
+    from socnavgen.sim.people.trees import CONTROLS, DECORATORS
+
+    controls = [s for s in LIBRARY.values() if s.kind == "control"]
+    decorators = [s for s in LIBRARY.values() if s.kind == "decorator"]
+    assert len(controls) >= 4 and len(decorators) >= 6
+    assert all((s.flow, s.reactive) in CONTROLS for s in controls)
+    assert all(s.rule in DECORATORS for s in decorators)
+
+
 def gesture_after_one_step(body: str, fmt: int = 3, robot_at=(3.0, 5.0)) -> int:
     sim = make_sim([human(start=(2.0, 5.0))], [tree_xml(body, fmt)], [robot_at, (19.0, 5.0)])
     sim.step()
@@ -78,14 +91,14 @@ def test_subtree_remaps_ports_live_v3_and_v4(fmt, me_ref, code_ref):
 
 
 def test_a_subtrees_own_keys_stay_in_its_blackboard():
-    """The subtree writes `inside`; its caller reading `{inside}` afterwards finds it unset: blackboards of
-    SubTrees are isolated unless remapped."""
+    """The subtree writes `inside`; its caller reading `{inside}` afterwards would find it unset: blackboards
+    of SubTrees are isolated unless remapped (the tree is refused before it runs, with the line)."""
     xml = SUBTREE_DOC.format(fmt="", code=2, me_ref="me", code_ref="code").replace(
         '<SubTree ID="Say" agent_id="me" msg="code"/>',
         '<SubTree ID="Say" agent_id="me" msg="code"/><MakeGesture agent_id="{id}" message="{inside}"/>')
-    sim = make_sim([human()], [xml], [(10.0, 5.0), (19.0, 5.0)])
-    with pytest.raises(BTRuntimeError, match="`inside` that is not set"):
-        sim.step()
+    with pytest.raises(ValidationFailed, match=":6: MakeGesture message='{inside}': blackboard key 'inside' is "
+                                               "never set"):
+        make_sim([human()], [xml], [(10.0, 5.0), (19.0, 5.0)])
 
 
 def test_v4_subtree_plain_value_is_a_literal():
@@ -95,12 +108,16 @@ def test_v4_subtree_plain_value_is_a_literal():
     assert list(sim.people.gesture) == [3]
 
 
-def test_reading_a_key_nobody_wrote_is_a_located_error():
-    body = '<MakeGesture agent_id="{id}" message="{nothing}"/>'
+def test_reading_a_key_that_a_skipped_branch_would_have_written_stops_the_run_with_its_line():
+    """`{x}` is written before it is read in document order (bt check accepts it), but the branch that writes
+    it fails first: the read finds nothing and the run stops, naming the line."""
+    body = ('<Fallback><Sequence><IsRobotNearby agent_id="{id}" distance="0.1"/>'
+            '<SetBlackboard output_key="x" value="2"/></Sequence>\n<MakeGesture agent_id="{id}" message="{x}"/>'
+            '</Fallback>')
     sim = make_sim([human()], [tree_xml(body)], [(10.0, 5.0), (19.0, 5.0)])
     with pytest.raises(BTRuntimeError) as err:
         sim.step()
-    assert "nothing" in err.value.message and err.value.line == 4
+    assert "reads blackboard key `x` that is not set" in err.value.message and err.value.line == 5
 
 
 def test_building_lists_every_problem_with_lines():
@@ -110,16 +127,19 @@ def test_building_lists_every_problem_with_lines():
     with pytest.raises(ValidationFailed) as err:
         make_sim([human()], [tree_xml(body)], [(10.0, 5.0), (19.0, 5.0)])
     text = err.value.message
-    assert "unknown node <FlyAway>" in text
-    assert "missing the required port `distance`" in text
-    assert "has no port `speed`" in text
-    assert "`message` = 'loud' is not a int" in text
-    assert ":5:" in text and ":6:" in text  # line numbers of the offending elements
+    assert ":4: unknown node 'FlyAway'" in text
+    assert ":5: IsRobotNearby is missing required port 'distance'" in text
+    assert ":6: unknown port 'speed' on RegularNav" in text
+    assert ":7: MakeGesture message='loud': message must be an integer" in text
 
 
 def test_unknown_subtree_and_missing_include_are_reported():
     xml = '<root main_tree_to_execute="M"><BehaviorTree ID="M"><SubTree ID="Nope"/></BehaviorTree></root>'
-    with pytest.raises(ValidationFailed, match="SubTree ID 'Nope' is not defined"):
+    with pytest.raises(ValidationFailed, match="SubTree ID 'Nope' names no BehaviorTree"):
+        make_sim([human()], [xml], [(10.0, 5.0), (19.0, 5.0)])
+    xml = ('<root main_tree_to_execute="M"><BehaviorTree ID="M"><SubTree ID="RegularNavTree" id="agentid" '
+           'dt="timestep"/></BehaviorTree></root>')
+    with pytest.raises(ValidationFailed, match="needs <include path='BTRegularNav.xml'/>"):
         make_sim([human()], [xml], [(10.0, 5.0), (19.0, 5.0)])
 
 

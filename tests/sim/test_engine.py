@@ -97,7 +97,7 @@ def test_simulate_reports_a_broken_tree_with_its_line(tmp_path):
     run = make_run(tmp_path, tree=tree_xml('<Sequence>\n<Dance agent_id="{id}"/>\n</Sequence>'))
     result = CliRunner().invoke(app, ["simulate", str(run)])
     assert result.exit_code != 0
-    assert "unknown node <Dance>" in str(result.exception)
+    assert "behaviors/human1.xml:5: unknown node 'Dance'" in str(result.exception)
 
 
 def test_custom_policy_from_a_file(tmp_path):

@@ -3,6 +3,8 @@ text, and a tree that cannot go on stopping the run with its file and line (whet
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -75,25 +77,42 @@ def test_a_shared_blackboard_subtree_writes_into_its_callers_blackboard():
 
 
 @pytest.mark.parametrize(("body", "line", "message"), [
-    ('<MakeGesture agent_id="{id}"\n message="{nothing}"/>', 4, "reads blackboard key `nothing` that is not set"),
-    ('<Sequence><SetBlackboard output_key="d" value="far"/>\n<IsRobotNearby agent_id="{id}" distance="{d}"/>'
-     '</Sequence>', 5, "port `distance` got 'far'"),
-    ('<Sequence><SetBlackboard output_key="who" value="7"/>\n<MakeGesture agent_id="{who}" message="1"/>'
-     '</Sequence>', 5, "agent_id 7 is not an agent (0..0)"),
+    ('<Fallback><Sequence><IsRobotNearby agent_id="{id}" distance="0.1"/><SetBlackboard output_key="x" value="2"/>'
+     '</Sequence>\n<MakeGesture agent_id="{id}" message="{x}"/></Fallback>', 5,
+     "MakeGesture: port `message` reads blackboard key `x` that is not set"),
     ('<Sequence>\n<HumanSays agent_id="{id}" target_id="4" message="1"/></Sequence>', 5,
      "port `target_id` = 4 is not a human id"),
-    ('<Sequence>\n<FollowAgent agent_id="{id}" target_agent_id="0" time_step="{dt}" closest_dist="1" max_vel="1" '
-     'duration="0"/></Sequence>', 5, "port `target_agent_id` = 0 is not a human id"),
-    ('<Sequence>\n<SetBlackboard output_key="a" value="{b}"/></Sequence>', 5,
-     "value reads blackboard key `b` that is not set"),
+    ('<Sequence>\n<FollowAgent agent_id="{id}" target_agent_id="3" time_step="{dt}" closest_dist="1" max_vel="1" '
+     'duration="0"/></Sequence>', 5, "port `target_agent_id` = 3 is not a human id"),
+    ('<Fallback><Sequence><IsRobotNearby agent_id="{id}" distance="0.1"/><SetBlackboard output_key="a" value="1"/>'
+     '</Sequence>\n<SetBlackboard output_key="b" value="{a}"/></Fallback>', 5,
+     "value reads blackboard key `a` that is not set"),
 ])
 def test_a_tree_that_cannot_go_on_names_its_file_and_line(body: str, line: int, message: str):
+    """What only running can tell (a branch that would have set a key was skipped, an id beyond the crowd)
+    stops the run, stepped or not, with the tree's file and the node's line."""
     for stepping in (True, False):
         sim = make_sim([human()], [tree_xml(body, fmt=4 if "FollowAgent" in body else 3)], ROBOT, timeout=2.0)
         with pytest.raises(BTRuntimeError) as err:
             sim.step() if stepping else sim.run()
         assert message in err.value.message, err.value.message
         assert err.value.line == line and err.value.file == "tree of agent 0"
+
+
+@pytest.mark.parametrize(("body", "message"), [
+    ('<MakeGesture agent_id="{id}"\n message="{nothing}"/>', ":4: MakeGesture message='{nothing}': blackboard key "
+     "'nothing' is never set"),
+    ('<Sequence><SetBlackboard output_key="d" value="far"/>\n<IsRobotNearby agent_id="{id}" distance="{d}"/>'
+     '</Sequence>', ":5: IsRobotNearby distance='{d}': {d} holds 'far', and distance must be a number"),
+    ('<Sequence><SetBlackboard output_key="who" value="7"/>\n<MakeGesture agent_id="{who}" message="1"/>'
+     '</Sequence>', ":5: MakeGesture agent_id='{who}': agent_id must be {id}"),
+])
+def test_what_the_tree_language_refuses_is_refused_before_the_run_with_its_line(body: str, message: str):
+    """The simulator reads trees with bt check's parser: a tree it refuses never starts running."""
+    from socnavgen.errors import ValidationFailed
+
+    with pytest.raises(ValidationFailed, match=re.escape(message)):
+        make_sim([human()], [tree_xml(body)], ROBOT)
 
 
 def test_regular_walkers_and_the_walking_idiom_agree():

@@ -12,7 +12,6 @@ import numpy as np
 
 from socnavgen.bodies import PERSON_RADIUS
 from socnavgen.bt.library import regular_walker_xml
-from socnavgen.bt.tree import BTDocument
 from socnavgen.errors import ValidationFailed
 from socnavgen.run import LoadedRun, load_run
 from socnavgen.sim.engine.simulation import RobotSpeech, SimConfig, Simulation
@@ -91,11 +90,11 @@ def load_simulation(run_dir: Path | str | LoadedRun, policy: Any, config: SimCon
                                group_id=h.group_id, path_nodes=list(h.path),
                                interaction_point=at.get(h.interaction_point)))
     xmls = run.behaviors()
-    trees: list[str | BTDocument] = []
+    trees: list[str] = []
     names, defaulted = [], []
     for h in humans:
         if h.name in xmls:
-            trees.append(run.behavior_tree(h.name))  # parsed once per run, under the name below
+            trees.append(xmls[h.name])
             names.append(str(run.behavior_path(h.name)))
         else:
             trees.append(DEFAULT_TREE)
@@ -119,9 +118,9 @@ def load_simulation(run_dir: Path | str | LoadedRun, policy: Any, config: SimCon
         "default_trees": defaulted, "policy": type(policy).__name__, "throttle": throttle.__dict__,
         "spec": spec is not None,
     }
-    program = run.derived(("sim.program", tuple(names)), lambda: lower_trees(trees, names, run.folder.behaviors_dir))
+    program = run.derived(("sim.program", tuple(names)), lambda: lower_trees(trees, names))
     return Simulation(world, specs, trees, [at[n] for n in plan.robot], policy, config, speech=speech,
-                      pacing=pacing, tree_names=names, base_dir=run.folder.behaviors_dir, meta=meta, program=program)
+                      pacing=pacing, tree_names=names, meta=meta, program=program)
 
 
 def simulate_run(run_dir: Path | str | LoadedRun, robot: str | Any = DEFAULT_ROBOT, location: Any = None,

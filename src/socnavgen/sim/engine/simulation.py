@@ -7,14 +7,12 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from socnavgen.bodies import ROBOT_GOAL_TOLERANCE, ROBOT_MAX_SPEED, ROBOT_RADIUS
 from socnavgen.bt.library import ROBOT_GESTURES, leaf_nodes
-from socnavgen.bt.tree import BTDocument
 from socnavgen.errors import ValidationFailed
 from socnavgen.limits import MAX_COORDINATE, MAX_SIM_PEOPLE, MAX_SIM_STEPS
 from socnavgen.run.models import RobotGestureRule
@@ -98,10 +96,9 @@ def _points(name: str, points: Any) -> np.ndarray:
 
 
 class Simulation:
-    def __init__(self, world: World, humans: list[HumanSpec], trees: list[str | BTDocument],
-                 robot_path: list[tuple[float, float]], policy: Any, config: SimConfig | None = None,
-                 speech: RobotSpeech | None = None, pacing: PacingPlan | None = None,
-                 tree_names: list[str] | None = None, base_dir: Path | None = None, meta: dict | None = None,
+    def __init__(self, world: World, humans: list[HumanSpec], trees: list[str], robot_path: list[tuple[float, float]],
+                 policy: Any, config: SimConfig | None = None, speech: RobotSpeech | None = None,
+                 pacing: PacingPlan | None = None, tree_names: list[str] | None = None, meta: dict | None = None,
                  program: Program | None = None) -> None:
         """`program`: these trees already lowered (people.trees.lower_trees, kept per scenario by
         load_simulation); the Simulation copies what an episode changes."""
@@ -119,7 +116,7 @@ class Simulation:
         waypoints = _points("the robot's path", robot_path)
         if len(waypoints) == 0:
             raise ValidationFailed("the robot needs at least one waypoint")
-        self.program = program or lower_trees(trees, tree_names, base_dir)
+        self.program = program or lower_trees(trees, tree_names)
         n, dt = len(humans), float(config.dt)
         people, goals, sizes = new_people(humans)
         people.tree, people.dt_slot = self.program.roots, self.program.dt_slots

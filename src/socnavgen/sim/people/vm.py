@@ -173,7 +173,11 @@ def tick(s, nodes, ports, slots, texts, kids, stack, args, dt, i):  # noqa: ANN0
             else:
                 ret = go_on
         elif kind == REPEAT:
-            limit = max(node.cycles, 1) if node.cycles >= 0 else 1000
+            cycles = node.cycles
+            if node.cycles_slot != LITERAL:  # num_cycles / num_attempts from the blackboard
+                held = slots[node.cycles_slot]
+                cycles = int(texts[int(held.value)].as_int if held.type == TEXT else held.value)
+            limit = max(cycles, 1)
             stop = FAILURE if node.until == SUCCESS else SUCCESS
             if pos < 0:
                 stack[top, 2] = 0
