@@ -46,6 +46,7 @@ def measure(n: int, kind: str) -> float:
         from socnavgen.sim import HumanSpec, RobotAction, SimConfig, Simulation, empty_room, load_policy
     except ImportError:  # before the facade
         from socnavgen.sim.agents import HumanSpec
+
         from socnavgen.sim.engine import SimConfig, Simulation
         from socnavgen.sim.robot import RobotAction, load_policy
         from socnavgen.sim.world import empty_room
