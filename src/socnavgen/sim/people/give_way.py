@@ -10,6 +10,7 @@ import math
 
 import numpy as np
 
+from socnavgen import proxemics
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.leaves import follow, leaf
 from socnavgen.sim.people.state import turn, walk_to, walk_to_goal
@@ -17,8 +18,8 @@ from socnavgen.sim.people.trees import SUCCESS
 from socnavgen.sim.world.queries import free_along
 
 FOLLOW_WAY_AHEAD = 2.0  # m: a follower this close ahead of the robot, on its path, steps aside first
-FOLLOW_WAY_MARGIN = 0.2  # m of free space beside the robot's path that counts as out of its way
-GIVE_WAY_MARGIN = 0.5  # m of free space between the person and the robot's side when stepped aside
+FOLLOW_WAY_MARGIN = proxemics.WAY_MARGIN_FOLLOW  # m beside the robot's path that still counts as in its way
+GIVE_WAY_MARGIN = proxemics.GIVE_WAY_CLEARANCE  # m of free space between the person and the robot when aside
 GIVE_WAY_ARRIVED = 0.15  # m
 SIDE_STEP_DIRECTIONS = 16  # directions tried for the side step
 SIDE_STEP_MAX = 3.0  # m: the farthest a person walks to get out of the robot's way

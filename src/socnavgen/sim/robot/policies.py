@@ -17,6 +17,7 @@ import math
 
 import numpy as np
 
+from socnavgen import proxemics
 from socnavgen.bodies import ROBOT_GOAL_TOLERANCE
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.physics import pair_force, wall_force
@@ -24,7 +25,7 @@ from socnavgen.sim.records import layout
 from socnavgen.sim.world.queries import clearance_at, nearest_obstacle, path_clear
 
 PYTHON, SCRIPTED, WAYPOINTS, SFM, STRAIGHT = range(5)  # PYTHON: a policy object of the user's, called per step
-SWEPT_MARGIN = 0.05  # m beyond the two radii: a person this close to the robot's path line blocks it
+SWEPT_MARGIN = proxemics.WAY_MARGIN_DRIVE  # m beyond the two radii: a person this close to its path blocks it
 NUDGE_BAND = 0.35  # m beyond the radii: the robot edges sideways away from a person this close to its path
 NUDGE_SPEED = 0.25  # m/s
 NUDGE_ROOM = 0.3  # m: edging sideways only where this much room is left beside the robot (not into a jamb)

@@ -18,6 +18,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from socnavgen import proxemics
 from socnavgen.bt.library import HUMAN_GESTURES, ROBOT_GESTURES
 from socnavgen.run.models import RobotGestureRule
 from socnavgen.run.spec import RobotCue, RobotScript
@@ -26,8 +27,6 @@ from socnavgen.sim.records import layout, table
 
 ROBOT_PHRASE_CODE = {name: code for code, name in ROBOT_GESTURES.items() if code}
 HUMAN_PHRASE_CODE = {name: code for code, name in HUMAN_GESTURES.items() if code}
-FRONT_CONE = 0.6  # rad: "in front of the robot" for `blocked`
-SWEPT_MARGIN = 0.1  # m beyond both radii: someone this close to the robot's line ahead is in its way
 CLEAR_DISTANCE = 3.0  # m: `wait_until_clear` waits until nobody is in the robot's way this close
 CLEAR_PATIENCE = 8.0  # s: still blocked after this long, the robot asks again (its cue's phrase) ...
 CLEAR_REPEATS = 2  # ... this many times, then stops waiting and drives around like an operator would
@@ -114,21 +113,21 @@ def fired(script: Script, cues: list[RobotCue]) -> list[tuple[float, str]]:
     return out
 
 
+blocking = jit(proxemics.blocking)  # the one "in the robot's way" (socnavgen.proxemics), compiled
+
+
 @jit
 def person_in_way(s, distance, swept_only):  # noqa: ANN001, ANN201
     """Someone within `distance` (centres) ahead of the robot's direction of travel, in its way: in a cone
     ahead (to notice people coming), or (`swept_only`) only inside the corridor its body sweeps, so that
     people who stepped aside do not keep a robot waiting "until clear"."""
     robot = s.robot[0]
-    back = robot.heading.conjugate()
+    r, h = robot.pos, robot.heading
+    cone = -1.0 if swept_only else proxemics.FRONT_CONE_SCRIPT
     for i in range(s.people.shape[0]):
         p = s.people[i]
-        rel = p.pos - robot.pos
-        if not abs(rel) <= distance:
-            continue
-        local = rel * back
-        swept = local.real > 0 and abs(local.imag) < p.radius + robot.radius + SWEPT_MARGIN
-        if swept or (not swept_only and abs(math.atan2(local.imag, local.real)) <= FRONT_CONE):
+        if blocking(r.real, r.imag, h.real, h.imag, p.pos.real, p.pos.imag, robot.radius, p.radius, distance,
+                    proxemics.WAY_MARGIN_SCRIPT, cone):
             return True
     return False
 
