@@ -97,12 +97,12 @@ class SocNavEnv(gym.Env):
         return self._observation(), {"scenario": run_dir, "sim_seed": sim_seed}
 
     def _goal_distance(self) -> float:
-        robot = self.sim.robot
-        return abs(robot.goal - robot.pos)
+        obs = self.sim.obs
+        return abs(obs.waypoints_c[-1] - obs.position_c)
 
     def _observation(self) -> dict:
-        robot, obs = self.sim.robot, self.sim.obs
-        r = complex(robot.pos)
+        obs = self.sim.obs
+        r, v = obs.position_c, obs.velocity_c
         people = np.zeros((self.max_people, 5), dtype=np.float32)
         mask = np.zeros(self.max_people, dtype=np.int8)
         if obs.human_count:
@@ -113,11 +113,10 @@ class SocNavEnv(gym.Env):
             people[:k, 2:4] = obs.human_velocities[order]
             people[:k, 4] = obs.human_gestures[order]
             mask[:k] = 1
-        goal = robot.goal - r
-        return {"robot": np.array([r.real, r.imag, robot.yaw, robot.vel.real, robot.vel.imag],
-                                  dtype=np.float32).clip(-BOUND, BOUND),
+        goal = obs.waypoints_c[-1] - r
+        return {"robot": np.array([r.real, r.imag, obs.yaw, v.real, v.imag], dtype=np.float32).clip(-BOUND, BOUND),
                 "goal": np.array([goal.real, goal.imag], dtype=np.float32).clip(-BOUND, BOUND),
-                "people": people.clip(-BOUND, BOUND), "people_mask": mask, "cue": int(robot.scripted)}
+                "people": people.clip(-BOUND, BOUND), "people_mask": mask, "cue": obs.scripted_gesture}
 
     def _checked(self, action: Any) -> RobotAction:
         """The env's action as a RobotAction; ValueError naming what is wrong when it is not in the action
@@ -147,12 +146,12 @@ class SocNavEnv(gym.Env):
         self.sim.step()
         sim = self.sim
         dist = self._goal_distance()
-        robot, obs = sim.robot, sim.obs
-        contact = bool(obs.human_count and (np.abs(obs.human_positions_c - robot.pos) < obs.human_radii
-                                            + robot.radius).any())
+        obs = sim.obs
+        contact = bool(obs.human_count and (np.abs(obs.human_positions_c - obs.position_c) < obs.human_radii
+                                            + obs.radius).any())
         reward = (self._dist - dist) - STEP_PENALTY - (CONTACT_PENALTY if contact else 0.0)
         self._dist = dist
-        terminated = sim.robot_at_goal()
+        terminated = dist <= sim.config.goal_tolerance
         if terminated:
             reward += GOAL_REWARD
         truncated = not terminated and sim.t >= self.timeout - 1e-9

@@ -41,7 +41,7 @@ LOOK_TURN_RATE = 0.01 * math.pi / 0.001
 def leaf(name: str) -> Callable[[Callable], Callable]:
     """Register the function of library leaf `name`."""
     def register(fn: Callable) -> Callable:
-        LEAVES[name] = compiled = jit(fn, inline=True)
+        LEAVES[name] = compiled = jit(fn)
         return compiled
     return register
 

@@ -126,6 +126,12 @@ class Observation:
         return self._robot.vel.item(0)
 
     @property
+    def scripted_gesture(self) -> int:
+        """The gesture the scenario's script and gesture rules make now (what the robot shows unless its
+        policy answers with its own)."""
+        return self._robot.scripted.item(0)
+
+    @property
     def robot_said(self) -> set[int]:
         """Every gesture code the robot has shown so far."""
         said = self._robot.said.item(0)
