@@ -92,6 +92,10 @@ KNOWN_MODULE_CYCLES = {
     frozenset({"socnavgen.export.targets", "socnavgen.export.hunav1"}),
     frozenset({"socnavgen.export.socrates", "socnavgen.export.targets", "socnavgen.export.hunav1"}),
     frozenset({"socnavgen.export.socrates", "socnavgen.export.targets", "socnavgen.export.hunav2"}),
+    frozenset({"socnavgen.location.location", "socnavgen.location.inventory"}),  # the place inventory
+    frozenset({"socnavgen.location.location", "socnavgen.location.inventory", "socnavgen.location.passages"}),
+    frozenset({"socnavgen.location.location", "socnavgen.location.inventory", "socnavgen.location.places",
+               "socnavgen.location"}),
 }
 
 
