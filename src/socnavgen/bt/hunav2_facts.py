@@ -93,8 +93,6 @@ HUNAV2_REGISTERED: dict[str, RegisteredNode] = {n.id: n for n in [
     RegisteredNode(id="TimeDelay", kind="Decorator", ports=_rp("delay:double=1.0")),
 ]}
 
-# v4 built-ins the translation uses beyond the node library's own controls (export.hunav2's goal prelude).
-HUNAV2_EXTRA_BUILTINS = ("RunOnce",)
 HUNAV2_FIRST_AGENT_ID = 1  # HuNavSim 1.x and 2.x number agents from 1 (the SocRATES fork from 0)
 
 
@@ -104,8 +102,8 @@ class Hunav2Translation(BaseModel):
     `template` is one v4 element (or a composition) with `{port}` placeholders filled from the node's
     own ports (`{{id}}` writes a literal `{id}`); `by_value` picks another template for particular
     literal values of a port. `refusal` (no template) says why 2.x cannot express the node.
-    Control nodes are not listed: Sequence/Fallback become ReactiveSequence/ReactiveFallback (see
-    export.hunav2), the other built-ins keep their names."""
+    Control nodes and built-ins are not listed: each library row's `hunav2` names what it becomes
+    (Sequence/Fallback their reactive forms, the others keep their names)."""
 
     template: str | None = None
     by_value: dict[str, dict[str, str]] = Field(default_factory=dict)
