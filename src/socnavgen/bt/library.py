@@ -439,13 +439,16 @@ def hunav2_text(name: str) -> str:
 # `PART_PORTS` says which port of the node must carry which value of the spec part:
 #   robot_phrase -> the robot's gesture code of `phrase`; human_phrase -> the human gesture code of
 #   `phrase` (or of `says` for the reaction say); other -> the agent id of `other`.
-TRIGGER_NODES: dict[str, tuple[str, ...]] = {"always": ()}
-REACTION_NODES: dict[str, tuple[str, ...]] = {}
-for _spec in NODES:
-    for _trigger in _spec.detects:
-        TRIGGER_NODES[_trigger] = (*TRIGGER_NODES.get(_trigger, ()), _spec.name)
-    for _reaction in _spec.realizes:
-        REACTION_NODES[_reaction] = (*REACTION_NODES.get(_reaction, ()), _spec.name)
+def _encounter_table(field: Literal["detects", "realizes"]) -> dict[str, tuple[str, ...]]:
+    table: dict[str, tuple[str, ...]] = {}
+    for spec in NODES:
+        for key in getattr(spec, field):
+            table[key] = (*table.get(key, ()), spec.name)
+    return table
+
+
+TRIGGER_NODES: dict[str, tuple[str, ...]] = {"always": (), **_encounter_table("detects")}
+REACTION_NODES: dict[str, tuple[str, ...]] = _encounter_table("realizes")
 PART_PORTS: dict[tuple[str, str], dict[str, str]] = {
     ("trigger", "robot_says"): {"message": "robot_phrase"},
     ("trigger", "human_says"): {"message": "human_phrase", "target_id": "other"},
@@ -456,10 +459,10 @@ PART_PORTS: dict[tuple[str, str], dict[str, str]] = {
 
 def nodes_for_trigger(trigger: str, target: Target = "socrates") -> list[str]:
     """Library nodes (of `target`) that detect a spec trigger; [] for `always` or when none runs there."""
-    return [n for n in TRIGGER_NODES.get(trigger, ()) if n in LIBRARY and target in LIBRARY[n].targets]
+    return [n.name for n in NODES if trigger in n.detects and target in n.targets]
 
 
 def nodes_for_reaction(reaction: str, target: Target = "socrates") -> list[str]:
     """Library nodes (of `target`) that realize a spec reaction."""
-    return [n for n in REACTION_NODES.get(reaction, ()) if n in LIBRARY and target in LIBRARY[n].targets]
+    return [n.name for n in NODES if reaction in n.realizes and target in n.targets]
 # ==== END encounter needs ======================================================================
