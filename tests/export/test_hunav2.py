@@ -175,3 +175,37 @@ def test_standalone_model_has_every_registered_port(exported: Path) -> None:
     assert ports["BlockRobot"]["duration"] == "0.0" and ports["LookAtRobot"]["yaw_tolerance"] == "0.01"
     assert {"target_x", "target_y", "goal_id"} <= ports["SetGoal"].keys()
     assert ports["TimeExpiredCondition"] == {"seconds": "1.0", "ts": "0.01", "only_once": "false"}
+
+
+SHARED = """<root main_tree_to_execute="M">
+  <BehaviorTree ID="M">
+    <Sequence>
+      <SetBlackboard output_key="near" value="2"/>
+      <SubTree ID="Look" __shared_blackboard="1"/>
+    </Sequence>
+  </BehaviorTree>
+  <BehaviorTree ID="Look">
+    <Sequence><IsRobotNearby agent_id="{id}" distance="{near}"/><LookAtRobot agent_id="{id}"/></Sequence>
+  </BehaviorTree>
+</root>"""
+
+
+@pytest.mark.parametrize("xml, call", [
+    (SHARED, {"ID": "Look", "_autoremap": "true"}),  # v3 shared blackboard -> v4 autoremap
+    (SHARED.replace('<root main_tree_to_execute="M">', '<root main_tree_to_execute="M" BTCPP_format="4">')
+     .replace(' __shared_blackboard="1"', ' id="{id}" near="2.5"').replace('output_key="near" value="2"',
+                                                                         'output_key="x" value="1"'),
+     {"ID": "Look", "id": "{id}", "near": "2.5"}),  # a v4 constant stays a constant
+])
+def test_subtree_semantics_survive_the_translation(xml: str, call: dict[str, str]) -> None:
+    from socnavgen.bt.loader_rules import hunav2_problems
+    from socnavgen.export.hunav2 import translate_tree
+
+    from .conformance_helpers import human_for
+
+    text, refused = translate_tree(human_for(xml, "t.xml"), [1])
+    assert refused == [] and hunav2_problems(text) == []
+    doc, _ = parse_document(text, "t", hunav2_vocabulary())
+    assert doc is not None and doc.trees["M"].root is not None
+    (subtree,) = [n for n in doc.trees["M"].root.walk() if n.name == "SubTree"]
+    assert dict(subtree.attrs) == call

@@ -151,9 +151,10 @@ HUNAV2: dict[str, Hunav2Translation] = {
         reason="SaySomething publishes the gesture's word; gesture 0 (stop gesturing) says nothing and, "
                "like MakeGesture, succeeds without moving"),
     "LookAtRobot": Hunav2Translation(
-        template='<SurprisedNav agent_id="{agent_id}" time_step="{{dt}}" beh_duration="0.0" only_once="false"/>',
+        template='<SurprisedNav agent_id="{agent_id}" beh_duration="0.0" only_once="false"/>',
         reason="SurprisedNav is 2.x's one-step turn toward the robot that finishes in the tick, as ours "
                "does; 2.x's LookAtRobot stays RUNNING until aligned, which would stop re-checking the gate"),
+    # (SurprisedNav declares time_step but never reads it: left out, LookAtRobot has no {dt} to pass)
     "FollowRobot": Hunav2Translation(
         template='<CuriousNav agent_id="{agent_id}" time_step="{time_step}" beh_duration="0.0" '
                  'only_once="false" agent_vel="0.8" stop_distance="1.5"/>',

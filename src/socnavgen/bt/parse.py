@@ -206,7 +206,7 @@ class _Parser:
             return Node(name, "unknown", {}, children, elem.line, self.source, label, attrs)
         self.arity(spec, len(children), elem.line)
         if spec.kind == "subtree":
-            call = self.call(attrs, elem.line)
+            call = self.call(dict(attrs), elem.line)
             return Node(name, spec.kind, {}, children, elem.line, self.source, label, attrs, call)
         ports = self.ports(spec, attrs, elem.line)
         return Node(name, spec.kind, ports, children, elem.line, self.source, label, attrs)
