@@ -53,7 +53,7 @@ from socnavgen.location.location import (
     read_nav2_yaml,
 )
 from socnavgen.location.models import Edge, Node, SceneGraph, Schema
-from socnavgen.location.occupancy import OccupancyGrid
+from socnavgen.location.occupancy import OccupancyGrid, clearance_from
 from socnavgen.location.rooms import furniture_mask, replace_rooms
 from socnavgen.location.scene_graph import ID_ALPHABET, write_scene_graph
 from socnavgen.location.traverse import edge_verdict, required_clearance_px
@@ -337,7 +337,7 @@ def extract_scene_graph(occ: OccupancyGrid, meters_per_pixel: float,
     furniture = furniture_mask(occ.blocked, meters_per_pixel) if opts.rooms else np.zeros_like(occ.blocked)
     structure = OccupancyGrid(occupied=occ.occupied & ~furniture, unknown=occ.unknown & ~furniture)
     walls = without_specks(structure.blocked, max(2, int((0.25 / meters_per_pixel) ** 2)))
-    wall_clearance = ndimage.distance_transform_edt(~walls)  # what a person perceives: width, doors
+    wall_clearance = clearance_from(walls)  # what a person perceives: width, doors
     geo.wall_clearance = wall_clearance
     free = walkable_space(structure, geo.gap_r, opts.keep_all_components)  # rooms are cut from this
     skel = skeletonize(walkable_space(occ, geo.gap_r, opts.keep_all_components))  # edges must stay walkable
