@@ -24,7 +24,7 @@ from skimage.draw import polygon as draw_polygon
 from skimage.morphology import skeletonize
 
 from socnavgen.errors import InputFileError, ValidationFailed
-from socnavgen.location.doorways import insert_doorways, split_at
+from socnavgen.location.doorways import add_exits, insert_doorways, split_at
 from socnavgen.location.extract_repair import connect_parts, reroute_blocked
 from socnavgen.location.extract_types import (  # noqa: F401  (the vocabulary is re-exported from here)
     BLIND_CORNER,
@@ -340,7 +340,8 @@ def extract_scene_graph(occ: OccupancyGrid, meters_per_pixel: float,
     wall_clearance = clearance_from(walls)  # what a person perceives: width, doors
     geo.wall_clearance = wall_clearance
     free = walkable_space(structure, geo.gap_r, opts.keep_all_components)  # rooms are cut from this
-    skel = skeletonize(walkable_space(occ, geo.gap_r, opts.keep_all_components))  # edges must stay walkable
+    walk = walkable_space(occ, geo.gap_r, opts.keep_all_components)
+    skel = skeletonize(walk)  # edges must stay walkable
     coords, adjacency = skeleton_adjacency(skel)
     stats = ExtractStats(skeleton_pixels=len(coords))
     graph = trace_branches(coords, adjacency)
@@ -366,11 +367,14 @@ def extract_scene_graph(occ: OccupancyGrid, meters_per_pixel: float,
         dissolve_chains(graph, keep=set(graph.nodes) - rooms.false_doors)
         stats.rooms = len(room_nodes)
         _drop_orphans(graph, keep=room_nodes | extra_nodes)
+    coords, exits = add_exits(graph, coords, walk, occ.blocked, clearance, geo.mpp)
     coords = connect_parts(graph, coords, clearance, geo.mpp)
     straighten(graph, coords, clearance, geo)
     coords = reroute_blocked(graph, coords, clearance, geo.mpp)
 
     def node_type(n: int) -> str:
+        if n in exits:
+            return DOORWAY
         if n in room_nodes:
             return ROOM
         if n in extra_nodes:
