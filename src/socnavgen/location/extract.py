@@ -54,7 +54,7 @@ from socnavgen.location.location import (
 )
 from socnavgen.location.models import Edge, Node, SceneGraph, Schema
 from socnavgen.location.occupancy import OccupancyGrid, clearance_from
-from socnavgen.location.rooms import furniture_mask, replace_rooms
+from socnavgen.location.rooms import big_blocks, furniture_mask, replace_rooms
 from socnavgen.location.scene_graph import ID_ALPHABET, write_scene_graph
 from socnavgen.location.traverse import edge_verdict, required_clearance_px
 from socnavgen.safeio import (
@@ -360,7 +360,7 @@ def extract_scene_graph(occ: OccupancyGrid, meters_per_pixel: float,
     extra_nodes: set[int] = set()
     if opts.rooms:
         rooms = replace_rooms(graph, coords, doors | mouths, free, walls, wall_clearance, clearance, meters_per_pixel,
-                              geo.room_cover_m)
+                              geo.room_cover_m, big_blocks(furniture, meters_per_pixel))
         coords, room_nodes, extra_nodes = rooms.coords, rooms.room_nodes, rooms.extra_nodes
         doors -= rooms.false_doors
         mouths -= rooms.false_doors

@@ -27,7 +27,8 @@ CORRIDOR_WIDTH_M = 2.6  # pieces narrower than this ...
 CORRIDOR_ASPECT = 2.5  # ... and at least this many times longer than wide are corridors ...
 ROOM_FILL = 0.6  # ... unless their box is twice a corridor's width both ways and at least this full of floor
 HALL_HOLES = 0.15  # a piece with blocks inside covering this much of it (or three blocks or more) is a hall
-HALL_M2 = 200.0  # ... and so is any piece of at least this much floor
+HALL_M2 = 200.0  # ... and so is any piece of at least this much floor ...
+STORE_BLOCKS, STORE_BLOCK_M2 = 3, 3.0  # ... or one with this many pieces of furniture this big (shelves, pallets)
 CLOSET_M2 = 6.0  # a dead-end piece behind one door this small is a room (an elevator) even when narrow ...
 CLOSET_SIDE_M = 3.0  # ... and no longer than this (a longer one is a dead-end aisle, not a pocket)
 
@@ -110,9 +111,18 @@ def side_gaps(around: dict[int, set[int]], regions: dict[int, Region]) -> set[in
     return drop
 
 
+def big_blocks(furniture: np.ndarray, meters_per_pixel: float) -> np.ndarray:
+    """The pieces of furniture of STORE_BLOCK_M2 or more (shelves, pallet stacks, a bed), labelled."""
+    labels, count = ndimage.label(furniture, structure=np.ones((3, 3)))
+    big = np.bincount(labels.ravel(), minlength=count + 1) * meters_per_pixel ** 2 >= STORE_BLOCK_M2
+    big[0] = False
+    return np.where(big[labels], labels, 0)
+
+
 def classify_regions(labels: np.ndarray, count: int, structural: np.ndarray, clearance: np.ndarray,
-                     meters_per_pixel: float) -> dict[int, Region]:
-    """Room or corridor for every labelled piece of free space (label 0 is not free)."""
+                     meters_per_pixel: float, blocks: np.ndarray | None = None) -> dict[int, Region]:
+    """Room or corridor for every labelled piece of free space (label 0 is not free); `blocks`: the big
+    furniture (big_blocks)."""
     regions: dict[int, Region] = {}
     boxes = ndimage.find_objects(labels)
     for label in range(1, count + 1):
@@ -138,8 +148,10 @@ def classify_regions(labels: np.ndarray, count: int, structural: np.ndarray, cle
         # racks or wall blocks standing inside make a hall; one table island in a room does not
         hall = bool(holes.any()) and (float(holes.sum()) >= HALL_HOLES * float(filled.sum())
                                       or ndimage.label(holes)[1] >= 3)
-        # a floor this large is not one place: a person draws its lanes (a warehouse, an open-plan hall)
-        hall = hall or area >= HALL_M2
+        # a floor this large is not one place, nor one holding several shelves or pallet stacks (a room holds
+        # a bed or a sofa): a person draws its lanes (a warehouse, a store, an open-plan hall)
+        stored = 0 if blocks is None else int((np.unique(blocks[box][filled]) > 0).sum())
+        hall = hall or area >= HALL_M2 or stored >= STORE_BLOCKS
         kind = "corridor" if hall or elongated else "room"
         regions[label] = Region(label=label, kind=kind, area_m2=area, width_m=width, hall=hall,
                                 elongated=elongated, long_side_m=max(box_h, box_w))
@@ -183,7 +195,7 @@ def _region_of_path(path: list[int], coords: np.ndarray, labels: np.ndarray) -> 
 
 def replace_rooms(graph, coords: np.ndarray, doors: set[int], free: np.ndarray, walls: np.ndarray,
                   wall_clearance: np.ndarray, clearance: np.ndarray, meters_per_pixel: float,
-                  cover_m: float) -> RoomGraph:
+                  cover_m: float, blocks: np.ndarray | None = None) -> RoomGraph:
     """Cut the free space at the doorways, and replace the skeleton inside every room by room nodes
     joined to the room's doorways. `graph` (a networkx MultiGraph of skeleton pixel indices with a
     `path` per edge) is changed in place; new nodes get indices past the end of `coords`."""
@@ -193,14 +205,14 @@ def replace_rooms(graph, coords: np.ndarray, doors: set[int], free: np.ndarray, 
         around = pieces_around(door_points, labels, wall_clearance)
         false = {d for d, pieces in around.items() if len(pieces) < 2}
         if not false:  # the pieces are final unless a room's own side gap is among them
-            regions = classify_regions(labels, count, walls, wall_clearance, meters_per_pixel)
+            regions = classify_regions(labels, count, walls, wall_clearance, meters_per_pixel, blocks)
             false = side_gaps(around, regions)
             if not false:
                 break
         door_points = {d: p for d, p in door_points.items() if d not in false}
     else:  # out of rounds: the pieces of the doorways kept so far
         labels, count = ndimage.label(cut_at_doors(free, door_points, wall_clearance))
-        regions = classify_regions(labels, count, walls, wall_clearance, meters_per_pixel)
+        regions = classify_regions(labels, count, walls, wall_clearance, meters_per_pixel, blocks)
     door_regions: dict[int, set[int]] = {d: set() for d in door_points}
     edge_regions = {}
     for u, v, key, data in graph.edges(keys=True, data=True):

@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from socnavgen.bodies import PERSON_HEIGHT
 from socnavgen.location.sdf import Shape
 from socnavgen.location.world_mesh import MeshError, MeshLibrary, Triangles, extent
 
@@ -29,7 +30,7 @@ MAX_OBJECT_M = 5_000.0  # one collision shape wider than 5 km is an absurd scale
 class SliceOptions:
     resolution: float = 0.05  # metres per cell (nav2's usual)
     ankle: float = 0.1  # the slab starts here above the floor: a carpet, a door sill, a floor tile are not obstacles
-    head: float = 1.8  # and ends here: a door lintel, a ceiling lamp or a roof are not obstacles
+    head: float = PERSON_HEIGHT  # and ends here: a door lintel, a ceiling lamp or a roof are not obstacles
     floor_z: float = 0.0
     margin: float = 0.3  # floor kept around the outermost obstacle: narrower than a person, so the ground
     # around a building never joins its walkable floor
@@ -290,12 +291,17 @@ def slice_shapes(shapes: list[Shape], options: SliceOptions, library: MeshLibrar
     return placed, problems, len(cache)
 
 
-def rasterize(placed: list[Placed], options: SliceOptions, max_cells: int) -> Raster:
-    """The grid: origin on a multiple of the resolution, covering the obstacles plus the margin."""
+def rasterize(placed: list[Placed], options: SliceOptions, max_cells: int,
+              grid: tuple[tuple[float, float], tuple[int, int]] | None = None) -> Raster:
+    """The grid: origin on a multiple of the resolution, covering the obstacles plus the margin (or the
+    `grid` given: origin and (height, width) of another raster, so two slabs share their cells)."""
     from socnavgen.errors import ValidationFailed
 
     res = options.resolution
-    if options.bounds is not None:
+    if grid is not None:
+        (ox, oy), (h, w) = grid
+        xmin, ymin, xmax, ymax = ox, oy, ox + w * res, oy + h * res
+    elif options.bounds is not None:
         xmin, ymin, xmax, ymax = options.bounds
     else:
         boxes = [b for b in (p.bounds() for p in placed) if b is not None]
@@ -306,8 +312,9 @@ def rasterize(placed: list[Placed], options: SliceOptions, max_cells: int) -> Ra
         ymin = min(b[1] for b in boxes) - options.margin
         xmax = max(b[2] for b in boxes) + options.margin
         ymax = max(b[3] for b in boxes) + options.margin
-    ox, oy = round(math.floor(xmin / res) * res, 9), round(math.floor(ymin / res) * res, 9)
-    w, h = math.ceil((xmax - ox) / res), math.ceil((ymax - oy) / res)
+    if grid is None:
+        ox, oy = round(math.floor(xmin / res) * res, 9), round(math.floor(ymin / res) * res, 9)
+        w, h = math.ceil((xmax - ox) / res), math.ceil((ymax - oy) / res)
     if w <= 0 or h <= 0:
         raise ValidationFailed("the map bounds are empty", hint="give --bounds xmin ymin xmax ymax with xmin < xmax")
     if w * h > max_cells:
