@@ -120,8 +120,15 @@ def add_exits(graph: nx.MultiGraph, coords: np.ndarray, walk: np.ndarray, blocke
     points = [tuple(int(v) for v in p) for p in coords]
     nodes = sorted(graph.nodes)
     exits: set[int] = set()
-    for box in ndimage.find_objects(runs):
-        if box is None or max(box[0].stop - box[0].start, box[1].stop - box[1].start) * mpp < min_width_m:
+    for label, box in enumerate(ndimage.find_objects(runs), start=1):
+        if box is None:
+            continue
+        grown = tuple(slice(max(0, b.start - 1), b.stop + 1) for b in box)
+        # the walkable floor touching the outside: across the opening, as wide as it (a gap nobody fits in
+        # is not entered by the walkable floor, which only touches its inner end)
+        touch = (runs[grown] == label) & ndimage.binary_dilation(outside[grown], structure=np.ones((3, 3)))
+        rows, cols = np.nonzero(touch)
+        if not len(rows) or math.hypot(np.ptp(rows) + 1, np.ptp(cols) + 1) * mpp < min_width_m:
             continue
         centre = np.array([(box[0].start + box[0].stop) / 2, (box[1].start + box[1].stop) / 2])
         reach = int(0.6 / mpp) + 1  # the node stands in the opening or just inside it

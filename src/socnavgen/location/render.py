@@ -72,12 +72,14 @@ def _text_colour(hex_colour: str) -> str:
 @dataclass
 class Layout:
     """Where things went in the picture: the crop of the map (image pixels), the scale, each node's
-    label box (picture pixels, x0, y0, x1, y1) and the nodes whose label had no free place (thinned)."""
+    label box (picture pixels, x0, y0, x1, y1), the nodes whose label had no free place (thinned) and the
+    scale bar's box (no label covers it)."""
 
     crop: tuple[int, int, int, int]
     scale: float
     boxes: dict[str, tuple[float, float, float, float]]
     thinned: list[str]
+    scale_bar: tuple[float, float, float, float] | None = None
 
     def at(self, pos: tuple[float, float]) -> tuple[float, float]:
         """Picture pixel of the centre of map pixel `pos`."""
@@ -185,6 +187,7 @@ def render_with_layout(gray: np.ndarray, graph: SceneGraph, schema: Schema, *, t
     bar = _scale_bar(size, scale, metres_per_pixel) if metres_per_pixel else None
     if bar:  # under the nodes: a node there keeps its dot, its label moves aside
         _draw_scale_bar(draw, size, *bar)
+        layout.scale_bar = bar[2]
     layout.boxes, layout.thinned = place_labels(positions, sizes, (size[0], size[1]), (bar[2],) if bar else ())
     dot = max(4, line_width + 1)
     for n in graph.nodes:  # nodes whose label moved or was thinned keep a dot at their true place

@@ -30,7 +30,8 @@ HALL_HOLES = 0.15  # a piece with blocks inside covering this much of it (or thr
 HALL_M2 = 200.0  # ... and so is any piece of at least this much floor ...
 STORE_BLOCKS, STORE_BLOCK_M2 = 3, 3.0  # ... or one with this many pieces of furniture this big (shelves, pallets)
 CLOSET_M2 = 6.0  # a dead-end piece behind one door this small is a room (an elevator) even when narrow ...
-CLOSET_SIDE_M = 3.0  # ... and no longer than this (a longer one is a dead-end aisle, not a pocket)
+CLOSET_WIDER = 1.2  # ... unless it is no wider than this times its door and twice as long as wide: the end of
+# the passage through that door (a dead-end aisle between racks), not a place of its own
 
 
 def furniture_mask(blocked: np.ndarray, meters_per_pixel: float) -> np.ndarray:
@@ -62,6 +63,7 @@ class Region:
     width_m: float
     hall: bool = False  # structural obstacles inside (racks, wall blocks)
     elongated: bool = False  # narrow and long: a corridor
+    widest_m: float = 0.0  # the widest disc that fits in it
     long_side_m: float = 0.0  # the longer side of its bounding box
     doors: list[int] = field(default_factory=list)  # skeleton node ids of the doorways on its boundary
 
@@ -154,7 +156,8 @@ def classify_regions(labels: np.ndarray, count: int, structural: np.ndarray, cle
         hall = hall or area >= HALL_M2 or stored >= STORE_BLOCKS
         kind = "corridor" if hall or elongated else "room"
         regions[label] = Region(label=label, kind=kind, area_m2=area, width_m=width, hall=hall,
-                                elongated=elongated, long_side_m=max(box_h, box_w))
+                                elongated=elongated, widest_m=2.0 * float(clearance[box][mask].max()) * meters_per_pixel,
+                                long_side_m=max(box_h, box_w))
     return regions
 
 
@@ -224,9 +227,13 @@ def replace_rooms(graph, coords: np.ndarray, doors: set[int], free: np.ndarray, 
         region.doors = sorted(d for d, regs in door_regions.items() if label in regs)
         if region.area_m2 < 2.0:  # a sliver between two cuts is a passage
             region.kind = "corridor"
-        elif len(region.doors) == 1 and not region.hall and (not region.elongated or region.area_m2 <= CLOSET_M2
-                                                             and region.long_side_m <= CLOSET_SIDE_M):
-            region.kind = "room"  # a dead-end space behind one door: closet, elevator, office
+        elif len(region.doors) == 1 and not region.hall:
+            door_m = 2 * float(wall_clearance[door_points[region.doors[0]]]) * meters_per_pixel
+            if region.widest_m < min(CORRIDOR_WIDTH_M, CLOSET_WIDER * door_m) \
+                    and region.long_side_m >= 2 * region.widest_m:
+                region.kind = "corridor"  # as narrow as its door and long: a passage's dead end (an aisle)
+            elif not region.elongated or region.area_m2 <= CLOSET_M2:
+                region.kind = "room"  # a dead-end space behind one door: closet, elevator, office
     rooms = {label for label, r in regions.items() if r.kind == "room"}
     for (u, v, key), label in edge_regions.items():
         if label in rooms:
