@@ -38,9 +38,11 @@ from socnavgen.location.world_mesh import MeshLibrary
 from socnavgen.location.world_raster import (
     FREE,
     OCCUPIED,
+    OPEN_MARGIN,
     UNKNOWN,
     Raster,
     SliceOptions,
+    enclosed,
     rasterize,
     slice_shapes,
     trinary,
@@ -189,6 +191,8 @@ def import_world(world_file: Path | str, out: Path | str, model_dirs: list[Path]
                                file=world_file, hint="add their folders with --models, fix them, or drop --strict")
     t = time.perf_counter()
     raster = rasterize(placed, opts.slice, MAX_IMAGE_PIXELS)
+    if opts.slice.bounds is None and not enclosed(raster, opts.slice):  # open ground: walked round its edges
+        raster = rasterize(placed, replace(opts.slice, margin=max(opts.slice.margin, OPEN_MARGIN)), MAX_IMAGE_PIXELS)
     image = trinary(raster)
     walked = image if opts.slice.head >= PERSON_HEIGHT else person_slab(world, opts.slice, library, raster)
     seconds["raster"] = time.perf_counter() - t

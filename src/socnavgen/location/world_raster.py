@@ -22,6 +22,8 @@ from socnavgen.bodies import PERSON_HEIGHT
 from socnavgen.location.sdf import Shape
 from socnavgen.location.world_mesh import MeshError, MeshLibrary, Triangles, extent
 
+OPEN_MARGIN = 1.5  # m of ground kept round a world standing in open ground: people walk round its outer things
+ENCLOSED = 0.7  # ... unless its outermost obstacles line this much of its outline (a building: walls, a door)
 HEIGHT_CLASSES = (("low", 1.0), ("waist to head", 2.0), ("tall", math.inf))  # top of an obstacle, metres
 MAX_OBJECT_M = 5_000.0  # one collision shape wider than 5 km is an absurd scale, not a building
 
@@ -33,7 +35,7 @@ class SliceOptions:
     head: float = PERSON_HEIGHT  # and ends here: a door lintel, a ceiling lamp or a roof are not obstacles
     floor_z: float = 0.0
     margin: float = 0.3  # floor kept around the outermost obstacle: narrower than a person, so the ground
-    # around a building never joins its walkable floor
+    # around a building never joins its walkable floor (OPEN_MARGIN round a world with no outer walls)
     bounds: tuple[float, float, float, float] | None = None  # (xmin, ymin, xmax, ymax) in metres, or automatic
 
 
@@ -340,6 +342,18 @@ def rasterize(placed: list[Placed], options: SliceOptions, max_cells: int,
         height_class[surf | solid] = cls  # classes go from low to tall: the tallest wins
     return Raster(origin=(ox, oy), resolution=res, occupied=occupied, interior=interior & ~occupied,
                   height_class=height_class)
+
+
+def enclosed(raster: Raster, options: SliceOptions) -> bool:
+    """Whether the world's outermost obstacles line most of the map's outline (a building's walls, broken
+    by a door or two) rather than stand in open ground (rows of shelves, pillars): then the narrow
+    margin keeps the ground outside from joining its floor; else people walk round the outer things."""
+    band = max(1, round((options.margin + 0.3) / options.resolution))
+    blocked = raster.occupied | raster.interior
+    h, w = blocked.shape
+    lined = sum(int(side.sum()) for side in (blocked[:band].any(axis=0), blocked[-band:].any(axis=0),
+                                              blocked[:, :band].any(axis=1), blocked[:, -band:].any(axis=1)))
+    return lined >= ENCLOSED * 2 * (h + w)
 
 
 OCCUPIED, UNKNOWN, FREE = 0, 205, 254  # map_saver's trinary grey levels
