@@ -8,7 +8,6 @@ never raises: it becomes a problem.
 
 from __future__ import annotations
 
-import difflib
 import math
 import re
 from collections.abc import Iterable
@@ -28,6 +27,7 @@ from socnavgen.bt.library import (
 from socnavgen.bt.library import TARGETS as LIBRARY_TARGETS
 from socnavgen.bt.tree import MAX_XML_BYTES, BTDocument, BTElement, parse_bt
 from socnavgen.errors import SocnavgenError
+from socnavgen.text import close_matches
 
 TARGETS = LIBRARY_TARGETS  # spelled once, in bt.library
 MAX_PROBLEMS = 50  # more than this is noise for a model (and for a person)
@@ -115,7 +115,7 @@ def _display(kind: str) -> str:
 
 
 def _suggest(word: str, options: Iterable[str]) -> str:
-    close = difflib.get_close_matches(word, list(options), n=1, cutoff=0.6)
+    close = close_matches(word, options)
     return f" (did you mean '{close[0]}'?)" if close else ""
 
 

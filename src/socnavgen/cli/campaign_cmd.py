@@ -39,6 +39,7 @@ def run(
 
     Example: socnavgen campaign run suite.yaml -o campaigns/suite --executor ray
     """
+    from rich.markup import escape
     from rich.progress import (
         BarColumn,
         MofNCompleteColumn,
@@ -51,6 +52,7 @@ def run(
     from socnavgen.campaign.runner import run_campaign
     from socnavgen.campaign.spec import load_campaign
     from socnavgen.cli.common import console, err_console
+    from socnavgen.text import count
 
     spec = load_campaign(file)
     from socnavgen.sim import compiled
@@ -72,6 +74,11 @@ def run(
                               progress=progress)
     for note in result.suite.skipped:
         console.print(f"  [yellow]skipped[/] {note}", highlight=False)
+    for problem in result.problems:
+        err_console.print(f"[yellow]warning:[/] {escape(problem)}", highlight=False)
+    for why, n in result.rerun.items():
+        console.print(f"  [yellow]run again[/]: {count(n, 'episode')} whose {escape(why)} changed since its row "
+                      "was written", highlight=False)
     console.print(f"[bold]{result.total}[/] episodes ({result.skipped_done} already done, {result.ran} run, "
                   f"{result.failed} failed) -> {result.out / 'episodes.parquet'}", highlight=False)
     console.print(f"  next: socnavgen campaign report {result.out}", highlight=False)
@@ -91,10 +98,19 @@ def report(
 
     Example: socnavgen campaign report campaigns/suite --gifs 5
     """
-    from socnavgen.campaign.report import write_report
-    from socnavgen.cli.common import console
+    from rich.markup import escape
 
-    paths = write_report(out, gifs=gifs, resamples=boot, baseline=baseline)
+    from socnavgen.campaign.report import write_report
+    from socnavgen.cli.common import console, err_console
+
+    if not out.is_dir():
+        from socnavgen.errors import InputFileError
+
+        raise InputFileError("no such campaign folder", file=out, hint="give the -o folder of `socnavgen campaign run`")
+    notes: list[str] = []
+    paths = write_report(out, gifs=gifs, resamples=boot, baseline=baseline, notes=notes)
+    for note in notes:
+        err_console.print(f"[yellow]warning:[/] {escape(note)}", highlight=False)
     for path in paths:
         console.print(f"  -> {path}", highlight=False)
 
