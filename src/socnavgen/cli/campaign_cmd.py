@@ -8,19 +8,30 @@ import typer
 
 app = typer.Typer(no_args_is_help=True, help="Run robot policies over scenario suites x seeds; report with CIs.")
 
-EXAMPLE = """name: smoke
+EXAMPLE = """# A campaign: robot policies x scenarios x seeds. Run it as it is:
+#   socnavgen campaign run suite.yaml -o campaigns/suite
+# Paths are relative to this file (or absolute).
+name: smoke
 scenarios:
-  - cards: all                      # or a list: [blind-corner, crowd-navigation]
-    locations: [examples/locations/warehouse, examples/locations/hospital]
-  - runs: [runs/blind_corner]       # run folders (paths relative to this file)
-  - folder: runs/                   # every run folder inside
+  - cards: [blind-corner, frontal-approach]   # or `cards: all`; cards that do not fit a location are skipped
+    locations: [{warehouse}]
+  # - runs: [runs/blind_corner]     # run folders written by `socnavgen generate` / `cards generate`
+  # - folder: runs/                 # every run folder inside a folder
 policies:
-  - waypoints                       # built-in name, or
-  - {name: mine, robot: my_robot.py:MyPolicy}   # module:Class / file.py:Class
-seeds: 10                           # 0..9, or a list [1, 5, 7]
-simulation: {dt: 0.05, timeout: 60, throttle: true, wall_timeout: 30}
-metrics: [success, collisions, path_efficiency]  # optional: default every metric
+  - scripted                        # built-in robots: scripted, waypoints, sfm, straight
+  - waypoints
+  # - {{name: mine, robot: my_robot.py:MyPolicy}}   # your own: file.py:Class or package.module:Class
+seeds: 3                            # 0..2, or a list [1, 5, 7]
+simulation: {{dt: 0.05, timeout: 60, throttle: true, wall_timeout: 30}}
+# metrics: [success, collisions, path_efficiency]   # default: every metric (`socnavgen campaign metrics`)
 """
+
+
+def example_text() -> str:
+    """The example campaign, naming the bundled warehouse where it is (so it runs from any folder)."""
+    bundled = Path(__file__).resolve().parents[3] / "examples" / "locations" / "warehouse"
+    return EXAMPLE.format(warehouse=bundled if (bundled / "location.yaml").is_file() else
+                          "examples/locations/warehouse")
 
 
 @app.command("run")
@@ -129,5 +140,8 @@ def metrics() -> None:
 
 @app.command("example")
 def example() -> None:
-    """Print an example campaign file."""
-    print(EXAMPLE, end="")
+    """Print an example campaign file that runs as it is.
+
+    Example: socnavgen campaign example > suite.yaml && socnavgen campaign run suite.yaml -o campaigns/suite
+    """
+    print(example_text(), end="")
