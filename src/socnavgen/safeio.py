@@ -47,16 +47,24 @@ def load_json_file(path: Path, limit: int = MAX_TEXT_BYTES) -> Any:
 
 
 def load_yaml_file(path: Path, limit: int = MAX_TEXT_BYTES) -> Any:
-    text = read_text_limited(path, limit)
+    return parse_yaml_text(read_text_limited(path, limit), path)
+
+
+def parse_yaml_text(text: str, file: Path | str) -> Any:
+    """yaml.safe_load with one message naming `file` for everything it can raise: malformed YAML (with its
+    line), nesting too deep, an integer of thousands of digits (Python refuses to read it)."""
     try:
         return yaml.safe_load(text)
     except RecursionError as exc:
-        raise InputFileError("refused: YAML nested too deeply", file=path, hint="is this the right file?") from exc
+        raise InputFileError("refused: YAML nested too deeply", file=file, hint="is this the right file?") from exc
+    except ValueError as exc:  # int() of more than 4300 digits, raised while constructing the value
+        raise InputFileError("refused: a number with thousands of digits", file=file,
+                             hint="is this the right file? (keys and values are names and ordinary numbers)") from exc
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         line = mark.line + 1 if mark is not None else None
         problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
-        raise InputFileError(f"malformed YAML: {problem}", file=path, line=line,
+        raise InputFileError(f"malformed YAML: {problem}", file=file, line=line,
                              hint="fix the YAML syntax at that line") from exc
 
 

@@ -22,7 +22,7 @@ from pydantic import (
 
 from socnavgen.errors import InputFileError
 from socnavgen.limits import MAX_SIM_STEPS
-from socnavgen.safeio import read_text_limited
+from socnavgen.safeio import parse_yaml_text, read_text_limited
 from socnavgen.text import did_you_mean
 
 MAX_SEEDS = 100_000
@@ -205,13 +205,11 @@ def _line_of(node: yaml.Node | None, loc: tuple[Any, ...]) -> int | None:
 
 
 def parse_campaign(text: str, file: Path | str = "<campaign>", base_dir: Path | None = None) -> CampaignSpec:
+    data = parse_yaml_text(text, file)
     try:
-        data = yaml.safe_load(text)
         root = yaml.compose(text, Loader=yaml.SafeLoader)
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        raise InputFileError(f"malformed YAML: {getattr(exc, 'problem', None) or exc}", file=file,
-                             line=mark.line + 1 if mark else None, hint="fix the YAML syntax at that line") from exc
+    except RecursionError as exc:
+        raise InputFileError("refused: YAML nested too deeply", file=file) from exc
     if not isinstance(data, dict):
         raise InputFileError("a campaign file is a YAML mapping with scenarios:, policies:, seeds:", file=file,
                              line=1, hint="see docs/campaign.md for an example")

@@ -80,6 +80,7 @@ def show(
     from socnavgen.location.render import write_location_png
 
     location = load_location(folder)
+    location.transform  # noqa: B018 - a broken transform (NaN, infinite resolution) is one message, not a picture
     out = output or folder / SCENE_GRAPH_IMAGE
     write_location_png(location, out)
     console.print(f"wrote {out}", highlight=False, soft_wrap=True)
