@@ -16,7 +16,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from socnavgen.errors import InputFileError
-from socnavgen.safeio import atomic_write_bytes
+from socnavgen.safeio import atomic_write_bytes, ordinary_mode
 
 EXPORT_MARKER = ".socnavgen-export"  # names a folder socnavgen wrote, so a re-export may replace it
 
@@ -24,6 +24,7 @@ EXPORT_MARKER = ".socnavgen-export"  # names a folder socnavgen wrote, so a re-e
 def _stage(path: Path, data: bytes) -> Path:
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:
+        os.fchmod(fd, ordinary_mode())  # mkstemp's 0600 would make the saved files private
         with os.fdopen(fd, "wb") as fh:
             fh.write(data)
             fh.flush()

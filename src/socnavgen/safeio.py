@@ -75,6 +75,12 @@ def _umask() -> int:
     return mask
 
 
+def ordinary_mode() -> int:
+    """The mode an ordinary open() gives a new file (0666 minus the umask): temp files (mkstemp: 0600) get it
+    before they are renamed into place."""
+    return ORDINARY_FILE_MODE & ~_umask()
+
+
 def atomic_write_bytes(path: Path, data: bytes) -> None:
     """Write to a temp file in the same folder and rename: a crash never leaves a half file.
 
@@ -84,7 +90,7 @@ def atomic_write_bytes(path: Path, data: bytes) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:
-        os.fchmod(fd, ORDINARY_FILE_MODE & ~_umask())
+        os.fchmod(fd, ordinary_mode())
         with os.fdopen(fd, "wb") as fh:
             fh.write(data)
             fh.flush()

@@ -6,7 +6,9 @@ from pathlib import Path
 
 import typer
 
-app = typer.Typer(no_args_is_help=True, help="Run robot policies over scenario suites x seeds; report with CIs.")
+from socnavgen.cli import typer_app
+
+app = typer_app(no_args_is_help=True, help="Run robot policies over scenario suites x seeds; report with CIs.")
 
 EXAMPLE = """# A campaign: robot policies x scenarios x seeds. Run it as it is:
 #   socnavgen campaign run suite.yaml -o campaigns/suite

@@ -8,12 +8,13 @@ from pathlib import Path
 import typer
 from rich.table import Table
 
+from socnavgen.cli import typer_app
 from socnavgen.cli.common import console
 from socnavgen.errors import InputFileError
 from socnavgen.location.check import check_location
 from socnavgen.location.location import SCENE_GRAPH_IMAGE, load_location
 
-app = typer.Typer(help="location commands", no_args_is_help=True)
+app = typer_app(help="location commands", no_args_is_help=True)
 
 
 @app.command("check")
@@ -32,8 +33,10 @@ def check(
     Example: socnavgen location check examples/locations/warehouse
     """
     if not folder.is_dir():  # a user error (exit 2), not a finding of the check (exit 1)
-        raise InputFileError("no such location folder", file=folder,
-                             hint="give the folder that holds location.yaml, the map and scene_graph.json")
+        from socnavgen.location.location import nearby_locations
+
+        raise InputFileError("no such location folder", file=folder, hint=nearby_locations(folder) or
+                             "give the folder that holds location.yaml, the map and scene_graph.json")
     report = check_location(folder)
     if as_json:
         print(json.dumps({"location": str(folder), "ok": report.ok, "nodes": report.nodes, "edges": report.edges,

@@ -29,7 +29,7 @@ def register_verify(app: typer.Typer) -> None:
                                                           "way."),
         location: Path | None = typer.Option(None, help="Location folder, if request.json's path does not "
                                                         "resolve from here."),
-        simulate: bool = typer.Option(True, help="Run the simulator first when RUN/sim/trace.npz is missing."),
+        simulate: bool = typer.Option(True, help="Run the simulator first when RUN/sim/trace.npz is missing or stale (made from files that changed since)."),
         robot: str | None = typer.Option(None, help="Robot plugin for that simulation (default: the simulator's; "
                                                     "see `socnavgen simulate --help`)."),
         collisions_fail: bool = typer.Option(True, "--collisions-fail/--collisions-warn", help=(
