@@ -251,8 +251,18 @@ def register(app: typer.Typer) -> None:
 
 def _forget_if_empty(folder: RunFolder, created: bool) -> None:
     """A run folder this command created, for a model that never answered (server unreachable, key refused):
-    nothing of the scenario was made, so the folder (request, manifest, transcript of the failure) goes."""
+    no reply came, so the folder (request, manifest, transcript of the failed exchange) goes. A folder with any
+    reply is kept: its manifest says why the stage failed."""
     import shutil
 
-    if created and not folder.scenario_path.exists() and not folder.paths_path.exists():
+    from socnavgen.llm.transcript import read_transcript
+
+    if not created:
+        return
+    try:
+        answered = any(entry.get("raw") is not None for entry in read_transcript(folder.transcript_path)) \
+            if folder.transcript_path.is_file() else False
+    except Exception:  # noqa: BLE001 - an unreadable transcript: keep the folder, say nothing more
+        return
+    if not answered:
         shutil.rmtree(folder.root, ignore_errors=True)
