@@ -94,3 +94,19 @@ def test_ray_survives_a_worker_that_exits(tmp_path, monkeypatch) -> None:  # noq
     result, rows, _ = _run(tmp_path, "ExitsHard", "ray", seeds=2, wall=10.0, workers=2, batch_size=2)
     _check(rows, 2, "worker died")
     assert result.failed == 2
+
+
+def test_a_verifier_that_runs_out_of_memory_fails_its_episode_only(tmp_path, monkeypatch) -> None:  # noqa: ANN001
+    """An STL formula that could not be allocated ended the whole campaign (the verifier ran outside the
+    episode's error handling)."""
+    from socnavgen.verify import runner
+
+    def no_memory(*args, **kwargs):  # noqa: ANN002, ANN003, ANN202
+        raise MemoryError("Unable to allocate 14.9 GiB for an array")
+
+    monkeypatch.setattr(runner, "verify_trace", no_memory)
+    text = campaign_yaml(["blind-corner"], ["waypoints"], 2, timeout=20, wall_timeout=10)
+    result = run_campaign(parse_campaign(text), tmp_path / "o", executor="inline")
+    rows = pq.read_table(tmp_path / "o" / "episodes.parquet").to_pylist()
+    assert result.failed == 2 and len(rows) == 2
+    assert all(r["failure_reason"].startswith("crash: MemoryError: Unable to allocate") for r in rows)

@@ -107,6 +107,11 @@ def campaign_table(out: Path) -> tuple[Any, list[str]]:
         pass  # a folder from an older socnavgen: report what is there
     finished = (out / TABLE).is_file()
     table, notes = read_episodes(out, plan)  # the plan chooses rows only when they come from the parts
+    if table.num_rows == 0:
+        from socnavgen.errors import InputFileError
+
+        raise InputFileError("no episode of this campaign has a row yet", file=out,
+                             hint="run (or finish) it with `socnavgen campaign run FILE -o OUT`")
     if not finished:
         total = f" of {len(plan)}" if plan is not None else ""
         notes.insert(0, f"unfinished campaign: {table.num_rows}{total} episodes have a row (it was stopped before "
