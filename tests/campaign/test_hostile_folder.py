@@ -42,7 +42,7 @@ def test_editing_a_policy_runs_its_episodes_again_and_only_those(tmp_path) -> No
     (tmp_path / "mine.py").write_text(source.replace("* 1.2", "* 0.4"))  # a slower robot
     second = run_campaign(load_campaign(file), out, executor="inline")
     assert second.ran == 2 and second.skipped_done == 2
-    assert second.rerun == {"policy mine's source or parameters": 2}
+    assert second.rerun == {"policy mine's source or parameters changed": 2}
     after = {r["episode"]: r for r in _rows(out)}
     assert len(after) == 4
     for key, row in after.items():
@@ -62,11 +62,11 @@ def test_changed_settings_and_scenario_files_run_again_and_more_seeds_run_only_t
     assert (more.ran, more.skipped_done, more.rerun) == (2, 2, {})
     file.write_text(file.read_text().replace("timeout: 20", "timeout: 19"))
     settings = run_campaign(load_campaign(file), out, executor="inline")
-    assert settings.ran == 4 and settings.rerun == {"the simulation settings": 4}
+    assert settings.ran == 4 and settings.rerun == {"the simulation settings changed": 4}
     paths = out / "scenarios" / "warehouse" / "blind-corner" / "paths.json"
     paths.write_text(json.dumps(json.loads(paths.read_text())))  # same plan, other bytes: still another input
     scenario = run_campaign(load_campaign(file), out, executor="inline")
-    assert scenario.rerun == {"scenario warehouse/blind-corner's files": 4}
+    assert scenario.rerun == {"scenario warehouse/blind-corner's files changed": 4}
     assert len(_rows(out)) == 4
 
 

@@ -64,9 +64,17 @@ def test_a_kill_between_two_writes_leaves_no_set_that_looks_complete(cli, card_r
     assert cli("simulate", card_run, "--robot", "straight", "--timeout", "30").code == 130
     sim = card_run / "sim"
     assert (sim / "trace.npz").is_file() and not (sim / "metrics.json").exists()  # not the earlier trace's
-    assert not (sim / "outputs.json").exists()
+    assert json.loads((sim / "outputs.json").read_text()) == {"complete": False}
     refused = cli("verify", card_run, "--no-simulate")
-    assert refused.code == 2 and "interrupted" in refused.err
+    assert refused.code == 2 and "interrupted before its outputs were complete" in refused.err
+
+
+def test_a_trace_without_any_record_is_judged_as_it_is_and_said_so(cli, card_run) -> None:  # noqa: ANN001
+    """A trace made by hand or by an older socnavgen (no outputs.json at all) is judged, with a note."""
+    assert cli("simulate", card_run, "--timeout", "30").code == 0
+    (card_run / "sim" / "outputs.json").unlink()
+    result = cli("verify", card_run, "--no-simulate")
+    assert result.code in (0, 1) and "has no outputs.json" in result.err and "judged as it is" in result.err
 
 
 def test_two_simulations_of_one_run_folder_are_refused(cli, card_run) -> None:  # noqa: ANN001

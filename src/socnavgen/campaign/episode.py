@@ -166,9 +166,9 @@ def run_episode(ep: Episode, settings: EpisodeSettings, cache: WorkerCache | Non
         with _Deadline(settings.wall_timeout) as deadline:
             measured = _measure(ep, settings, cache, deadline)
     except EpisodeTimeout as exc:
-        return _failed(row, f"timeout: {exc}", start)
+        return failed_row(ep, f"timeout: {exc}", time.perf_counter() - start)
     except (Exception, SystemExit) as exc:  # noqa: BLE001 - a policy's crash (even sys.exit) fails its episode
-        return _failed(row, f"crash: {type(exc).__name__}: {exc} ({_where(exc)})", start)
+        return failed_row(ep, f"crash: {type(exc).__name__}: {exc} ({_where(exc)})", time.perf_counter() - start)
     row.update(measured, wall_seconds=time.perf_counter() - start)
     return row
 
@@ -226,14 +226,9 @@ def _where(exc: BaseException) -> str:
     return f"{Path(last.filename).name}:{last.lineno}"
 
 
-def _failed(row: dict[str, Any], reason: str, start: float) -> dict[str, Any]:
-    row.update(status="failed", failure_reason=reason[:500], end_reason="error", success=False,
-               wall_seconds=time.perf_counter() - start)
-    return row
-
-
 def failed_row(ep: Episode, reason: str, wall_seconds: float | None = None) -> dict[str, Any]:
-    """The row of an episode that produced none (its worker died or was stopped): identity and why."""
+    """The row of a failed episode (it crashed, timed out, or its worker died or was stopped): identity and
+    why; no metric."""
     return {**_identity(ep), "status": "failed", "failure_reason": reason[:500], "end_reason": "error",
             "success": False, "wall_seconds": wall_seconds}
 

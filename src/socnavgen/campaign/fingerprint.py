@@ -46,10 +46,10 @@ def what_changed(old: str | None, new: str, scenario: str, policy: str) -> str:
     """Why a stored row's inputs differ from the episode's now, in words."""
     before, now = (old or "").split("/"), new.split("/")
     if len(before) != len(now):
-        return "a row written before inputs were recorded"
+        return "its row records no inputs (an older socnavgen wrote it)"
     names = ("socnavgen's version", "the simulation settings", f"scenario {scenario}'s files",
              f"policy {policy}'s source or parameters")
-    return ", ".join(n for n, a, b in zip(names, before, now, strict=True) if a != b) or "its inputs"
+    return ", ".join(n for n, a, b in zip(names, before, now, strict=True) if a != b) + " changed"
 
 
 def inputs_of(spec: CampaignSpec, suite: Suite, settings: EpisodeSettings) -> Inputs:

@@ -90,8 +90,7 @@ def run(
     for problem in result.problems:
         err_console.print(f"[yellow]warning:[/] {escape(problem)}", highlight=False)
     for why, n in result.rerun.items():
-        console.print(f"  [yellow]run again[/]: {count(n, 'episode')} whose {escape(why)} changed since its row "
-                      "was written", highlight=False)
+        console.print(f"  [yellow]run again[/]: {count(n, 'episode')} ({escape(why)})", highlight=False)
     console.print(f"[bold]{result.total}[/] episodes ({result.skipped_done} already done, {result.ran} run, "
                   f"{result.failed} failed) -> {result.out / 'episodes.parquet'}", highlight=False)
     console.print(f"  next: socnavgen campaign report {result.out}", highlight=False)

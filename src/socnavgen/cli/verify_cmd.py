@@ -68,12 +68,15 @@ def register_verify(app: typer.Typer) -> None:
 
 def _say_if_stale(folder, location: Path | None, simulate: bool) -> None:  # noqa: ANN001 - RunFolder
     """A note when RUN/sim/trace.npz is not the run's current simulation (verify simulates it again)."""
-    from socnavgen.cli.common import err_console
-    from socnavgen.sim.outputs import stale_reason
+    from rich.markup import escape
 
-    if simulate and (folder.sim_dir / "trace.npz").is_file() and folder.paths_path.is_file():
+    from socnavgen.cli.common import err_console
+    from socnavgen.sim.outputs import stale_reason, unrecorded
+
+    if unrecorded(folder.root):
+        err_console.print(f"[yellow]note:[/] {escape(str(folder.sim_dir))} has no outputs.json (a trace made by hand "
+                          "or by an older socnavgen): judged as it is", highlight=False)
+    elif simulate and (folder.sim_dir / "trace.npz").is_file() and folder.paths_path.is_file():
         reason = stale_reason(folder.root, folder.location(location))
         if reason:
-            from rich.markup import escape
-
             err_console.print(f"[yellow]note:[/] {escape(reason)}: simulating again", highlight=False)

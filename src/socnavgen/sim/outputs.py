@@ -81,9 +81,10 @@ def folder_identity(path: Path | str) -> tuple[int, int]:
 
 def save_run_outputs(trace: Any, location: Any, run_root: Path | str, made: MadeFrom, *,
                      identity: tuple[int, int] | None = None, plot: bool = True, gif: bool = False) -> SimOutputs:
-    """Replace RUN/sim/ with the outputs of `trace`: the earlier set (and the verify.json that judged it) is
-    removed first, the record of what this trace was made from is written last. A kill in between leaves
-    files without that record, which `stale_reason` reports and `verify` never takes for a finished set.
+    """Replace RUN/sim/ with the outputs of `trace`: outputs.json first says a set is being written, the earlier
+    set (and the verify.json that judged it) is removed, the new files written, and outputs.json last records
+    what this trace was made from. A kill in between leaves outputs.json saying the set is incomplete, which
+    `stale_reason` reports and `verify` never takes for a finished set.
 
     `identity` (folder_identity of the run folder when the simulation started) refuses to write when the run
     folder was moved or replaced meanwhile, instead of recreating its old path."""
@@ -103,9 +104,10 @@ def save_run_outputs(trace: Any, location: Any, run_root: Path | str, made: Made
                              "nothing was written", hint="simulate it again where it is now")
     out = root / "sim"
     out.mkdir(exist_ok=True)  # the run folder itself is never recreated
-    for name in OURS:
+    atomic_write_json(out / STAMP_FILE, {"complete": False})
+    for name in OURS[1:]:
         (out / name).unlink(missing_ok=True)
-    record = _digests(root, location, made.robot)
+    record: dict[str, Any] = {"complete": True, **_digests(root, location, made.robot)}
     trace.save(out / TRACE_FILE)
     written = write_outputs(trace, location, out, plot=plot, gif=gif)
     files = {TRACE_FILE: out / TRACE_FILE, **{p.name: p for p in written.files.values()}}
@@ -141,15 +143,18 @@ def recorded_options(run_root: Path | str) -> dict[str, Any]:
 
 
 def stale_reason(run_root: Path | str, location: Any) -> str | None:
-    """Why RUN/sim/trace.npz is not the run's current simulation (None when it is): no record of what it was
-    made from (interrupted, or written by an older socnavgen), a file changed since, or another robot's
-    policy source changed."""
+    """Why RUN/sim/trace.npz is not the run's current simulation, or None: its outputs were being written when
+    the process stopped, the trace is not the one recorded, a run or location file changed since, the robot
+    policy's source changed, or another socnavgen version made it. A trace with no outputs.json at all (made
+    by hand or by a socnavgen before these records) is None here: `unrecorded` tells that case."""
     import hashlib
 
     root = Path(run_root)
     stamp = read_stamp(root)
     if stamp is None:
-        return f"{root / 'sim'} has no {STAMP_FILE}: the simulation was interrupted or made by an older socnavgen"
+        return None
+    if stamp.get("complete") is not True:
+        return f"the simulation that wrote {root / 'sim'} was interrupted before its outputs were complete"
     files = stamp.get("files") if isinstance(stamp.get("files"), dict) else {}
     trace = root / "sim" / TRACE_FILE
     if not trace.is_file() or files.get(TRACE_FILE) != hashlib.sha256(trace.read_bytes()).hexdigest():
@@ -167,3 +172,9 @@ def stale_reason(run_root: Path | str, location: Any) -> str | None:
     if now["version"] != stamp.get("version"):
         return f"{trace} was simulated by socnavgen {stamp.get('version')}, this is {now['version']}"
     return None
+
+
+def unrecorded(run_root: Path | str) -> bool:
+    """RUN/sim/trace.npz exists without outputs.json: made by hand or by an older socnavgen (judged as it is)."""
+    sim = Path(run_root) / "sim"
+    return (sim / TRACE_FILE).is_file() and not (sim / STAMP_FILE).exists()

@@ -43,9 +43,10 @@ def simulate_missing(run_dir: Path | str | LoadedRun, **options: Any) -> Trace:
 
 def load_trace(run: RunFolder | LoadedRun, *, simulate_if_missing: bool,
                simulate_options: dict | None = None) -> Trace:
-    """RUN/sim/trace.npz when it is the run's current simulation; otherwise (missing, half-written, or made
-    from files that changed since: sim/outputs.stale_reason) simulated again with the robot and settings it
-    was made with (`simulate_options` override them), or refused without `simulate_if_missing`."""
+    """RUN/sim/trace.npz when it is the run's current simulation (or has no record at all: a trace made by
+    hand is judged as it is); otherwise (missing, half-written, or made from files that changed since:
+    sim/outputs.stale_reason) simulated again with the robot and settings it was made with (`simulate_options`
+    override them), or refused without `simulate_if_missing`."""
     from socnavgen.sim.outputs import recorded_options, stale_reason
 
     folder = run.folder if isinstance(run, LoadedRun) else run
