@@ -10,17 +10,17 @@ from typing import Any
 
 import numpy as np
 
+from socnavgen.bodies import INTIMATE_SPACE as INTIMATE
+from socnavgen.bodies import PERSONAL_SPACE as PERSONAL
+from socnavgen.bodies import ROBOT_GOAL_TOLERANCE as EVALUATOR_GOAL_RADIUS
+from socnavgen.bodies import SOCIAL_SPACE as SOCIAL
 from socnavgen.sim.metrics import (
     COLLISION_DISTANCE,
-    EVALUATOR_GOAL_RADIUS,
     EVALUATOR_METRICS,
     GROUP_CENTER_OFFSET,
-    INTIMATE,
     NAVIGATION_METRICS,
     NO_AGENT_DISTANCE,
     OBSTACLE_RANGE,
-    PERSONAL,
-    SOCIAL,
     SUCCESS_GOAL_RADIUS,
     EvaluatorSFM,
     obstacle_lookup,

@@ -9,9 +9,10 @@ import math
 import numpy as np
 import pytest
 
+from socnavgen.proxemics import BLOCK_GAP_VERIFY, WAY_MARGIN_VERIFY
 from socnavgen.sim import contact
 from socnavgen.verify import signals as signals_module
-from socnavgen.verify.signals import BLOCK_GAP, WAY_MARGIN, Signals
+from socnavgen.verify.signals import Signals
 
 from .verify_builders import build_trace
 
@@ -62,9 +63,9 @@ def test_shared_geometry_equals_the_formulas(steps: int, humans: int) -> None:
         rel = trace.humans[:, i, :2] - trace.robot[:, :2]
         along = rel[:, 0] * np.cos(yaw) + rel[:, 1] * np.sin(yaw)
         lateral = np.abs(-rel[:, 0] * np.sin(yaw) + rel[:, 1] * np.cos(yaw))
-        in_way = (along > 0) & (lateral <= trace.robot_radius + float(trace.human_radii[i]) + WAY_MARGIN)
+        in_way = (along > 0) & (lateral < trace.robot_radius + float(trace.human_radii[i]) + WAY_MARGIN_VERIFY)
         assert np.array_equal(s.in_way(i), in_way)
-        blocked |= in_way & (distances[:, i] - trace.robot_radius - trace.human_radii[i] <= BLOCK_GAP)
+        blocked |= in_way & (distances[:, i] - trace.robot_radius - trace.human_radii[i] <= BLOCK_GAP_VERIFY)
     assert np.array_equal(s.blocked(), blocked)
     summary = s.contacts()
     assert summary == contact.summarize(trace)

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 from defusedxml.ElementTree import fromstring
 
+from socnavgen.bodies import PERSON_GOAL_RADIUS, PERSON_MAX_SPEED, PERSON_RADIUS
 from socnavgen.bt.library import (
     HUMAN_GESTURES,
     HUNAV2,
@@ -26,9 +27,6 @@ from socnavgen.bt.tree import BTDocument, BTElement, parse_bt
 from socnavgen.errors import ValidationFailed
 from socnavgen.export.groot import model_block, tree_nodes_model_xml
 from socnavgen.export.models import (
-    HUMAN_GOAL_RADIUS,
-    HUMAN_MAX_VEL,
-    HUMAN_RADIUS,
     HUMAN_Z,
     ExportedFile,
     ExportScene,
@@ -223,8 +221,8 @@ def agents_yaml(scene: ExportScene, base: str, simulator: str, goal_ids: dict[st
                     "publish_people": True, "global_goals": table, "agents": [h.name for h in scene.humans]}
     for h in scene.humans:
         params[h.name] = {
-            "id": hunav_id(h), "group_id": h.group_id, "skin": h.skin, "max_vel": HUMAN_MAX_VEL,
-            "radius": HUMAN_RADIUS, "goal_radius": HUMAN_GOAL_RADIUS, "cyclic_goals": False,
+            "id": hunav_id(h), "group_id": h.group_id, "skin": h.skin, "max_vel": PERSON_MAX_SPEED,
+            "radius": PERSON_RADIUS, "goal_radius": PERSON_GOAL_RADIUS, "cyclic_goals": False,
             "init_pose": {"x": metres(h.start.x), "y": metres(h.start.y), "z": HUMAN_Z, "h": metres(h.start.yaw)},
             "behavior": dict(BEHAVIOR_DEFAULTS),
             "goals": goal_ids[h.name],

@@ -8,15 +8,13 @@ from __future__ import annotations
 
 import json
 
+from socnavgen.bodies import PERSON_GOAL_RADIUS, PERSON_MAX_SPEED, PERSON_RADIUS
 from socnavgen.bt.library import LIBRARY_TREE_XML
 from socnavgen.bt.tree import parse_bt
 from socnavgen.bt.validate import format_problems, validate_bt_text
 from socnavgen.errors import ValidationFailed
 from socnavgen.export.groot import tree_nodes_model_xml
 from socnavgen.export.models import (
-    HUMAN_GOAL_RADIUS,
-    HUMAN_MAX_VEL,
-    HUMAN_RADIUS,
     HUMAN_Z,
     ExportedFile,
     ExportScene,
@@ -41,11 +39,11 @@ def fork_agent_entry(human: HumanExport, behavior: int, goal_prefix: str, first_
         "skin": human.skin,
         "behavior": behavior,
         "group_id": human.group_id,
-        "max_vel": HUMAN_MAX_VEL,
-        "radius": HUMAN_RADIUS,
+        "max_vel": PERSON_MAX_SPEED,
+        "radius": PERSON_RADIUS,
         "init_pose": {"x": metres(human.start.x), "y": metres(human.start.y), "z": HUMAN_Z,
                       "h": metres(human.start.yaw)},
-        "goal_radius": HUMAN_GOAL_RADIUS,
+        "goal_radius": PERSON_GOAL_RADIUS,
         "cyclic_goals": False,
         "goals": names,
     }

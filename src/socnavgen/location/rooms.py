@@ -19,7 +19,8 @@ import numpy as np
 from scipy import ndimage
 from skimage.morphology import skeletonize
 
-from socnavgen.location.traverse import PERSON_RADIUS_M, edge_verdict, first_tight_pixel, segment_walkable
+from socnavgen.bodies import PERSON_RADIUS
+from socnavgen.location.traverse import edge_verdict, first_tight_pixel, segment_walkable
 
 CLUTTER_SIDE_M = 3.5  # an obstacle free of the walls whose bounding box fits in this square is furniture ...
 CLUTTER_AREA_M2 = 4.0  # ... when it also covers at most this area
@@ -405,7 +406,7 @@ def _front_spot(door: tuple[int, int], node: tuple[int, int], front_px: float, c
     for along in np.arange(front_px, length - front_px / 2, 2.0):
         t = along / length
         spot = (int(round(door[0] + t * (node[0] - door[0]))), int(round(door[1] + t * (node[1] - door[1]))))
-        if clearance[spot] * mpp >= PERSON_RADIUS_M:
+        if clearance[spot] * mpp >= PERSON_RADIUS:
             return spot
     return None
 

@@ -19,7 +19,8 @@ from typing import Literal
 
 import numpy as np
 
-PERSON_RADIUS_M = 0.4  # the project's human radius (TEAM conventions, SocRATES)
+from socnavgen.bodies import PERSON_RADIUS
+
 DETOUR_FACTOR, DETOUR_EXTRA_M = 1.25, 0.5  # a detour is short: at most 1.25 x the straight length + 0.5 m ...
 DETOUR_BAND_M = 1.0  # ... and never farther than this from the straight line
 CLUTTER_M = 1.5  # an obstacle whose bounding box fits in this square can be stepped around
@@ -40,7 +41,7 @@ class EdgeVerdict:
 
 
 def required_clearance_px(clearance: np.ndarray, a: tuple[float, float], b: tuple[float, float],
-                          meters_per_pixel: float, radius_m: float = PERSON_RADIUS_M) -> float:
+                          meters_per_pixel: float, radius_m: float = PERSON_RADIUS) -> float:
     """Clearance (pixels) the straight segment must keep: the person's radius, or less when an end node
     itself stands in a narrower spot (never under one pixel: the line must at least be free)."""
     ends = [float(clearance[int(round(p[1])), int(round(p[0]))]) for p in (a, b)]
@@ -140,7 +141,7 @@ def _parallel_detour(clearance: np.ndarray, a: tuple[float, float], b: tuple[flo
 
 
 def edge_verdict(clearance: np.ndarray, a: tuple[float, float], b: tuple[float, float], meters_per_pixel: float,
-                 radius_m: float = PERSON_RADIUS_M) -> EdgeVerdict:
+                 radius_m: float = PERSON_RADIUS) -> EdgeVerdict:
     """Apply the rule to the edge a-b (pixel positions) on a clearance map (pixels to the nearest
     blocked pixel, as OccupancyGrid.clearance_px)."""
     need = required_clearance_px(clearance, a, b, meters_per_pixel, radius_m)
@@ -165,7 +166,7 @@ def edge_verdict(clearance: np.ndarray, a: tuple[float, float], b: tuple[float, 
 
 
 def segment_walkable(clearance: np.ndarray, a: tuple[float, float], b: tuple[float, float],
-                     meters_per_pixel: float, radius_m: float = PERSON_RADIUS_M) -> bool:
+                     meters_per_pixel: float, radius_m: float = PERSON_RADIUS) -> bool:
     """The straight test alone (no detour search): what `location extract` guarantees for its own edges."""
     need = required_clearance_px(clearance, a, b, meters_per_pixel, radius_m)
     return first_tight_pixel(clearance, a, b, need) is None

@@ -7,11 +7,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-# HuNavSim / SocRATES defaults (reference §1.3, §9.3)
-HUMAN_RADIUS = 0.4
-HUMAN_MAX_VEL = 1.5
-GOAL_RADIUS = 0.5
-GOAL_SLACK = 0.1  # IsGoalReached: radius + 0.1 m
+from socnavgen.bodies import PERSON_GOAL_RADIUS, PERSON_GOAL_SLACK, PERSON_MAX_SPEED, PERSON_RADIUS
 
 
 @dataclass
@@ -23,9 +19,9 @@ class HumanSpec:
     goals: list[tuple[float, float]]
     yaw: float = 0.0
     group_id: int = -1
-    radius: float = HUMAN_RADIUS
-    max_vel: float = HUMAN_MAX_VEL
-    goal_radius: float = GOAL_RADIUS
+    radius: float = PERSON_RADIUS
+    max_vel: float = PERSON_MAX_SPEED
+    goal_radius: float = PERSON_GOAL_RADIUS
     cyclic: bool = False
     interaction_point: tuple[float, float] | None = None
     path_nodes: list[str] = field(default_factory=list)
@@ -65,7 +61,7 @@ class GoalQueue:
             if self.cyclic:
                 self.goals.append(g)
 
-    def reached(self, pos: complex, slack: float = GOAL_SLACK) -> bool:
+    def reached(self, pos: complex, slack: float = PERSON_GOAL_SLACK) -> bool:
         """IsGoalReached: non-empty and within radius + slack of the front goal."""
         return bool(self.goals) and abs(self.goals[0] - pos) <= self.radius + slack
 

@@ -27,6 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
+from socnavgen.bodies import ROBOT_GOAL_TOLERANCE, ROBOT_RADIUS
 from socnavgen.bt.library import leaf_nodes
 from socnavgen.bt.tree import BTDocument
 from socnavgen.errors import ValidationFailed
@@ -40,7 +41,7 @@ from socnavgen.sim.bt_runtime import BehaviorTree
 from socnavgen.sim.gestures import CueState, RobotScriptRunner, ScriptedGestures
 from socnavgen.sim.interaction import InteractionThrottle
 from socnavgen.sim.nodes import IMPLEMENTATIONS
-from socnavgen.sim.robot import GOAL_TOLERANCE, ROBOT_RADIUS, Observation, RobotAction, RobotPolicy
+from socnavgen.sim.robot import Observation, RobotAction, RobotPolicy
 from socnavgen.sim.sfm import Groups, SFMParams, desired_forces, integrate, obstacle_forces, social_forces
 from socnavgen.sim.trace import Trace
 from socnavgen.sim.world import World
@@ -57,7 +58,7 @@ class SimConfig:
     seed: int = 0
     sfm: SFMParams = field(default_factory=SFMParams)
     robot_radius: float = ROBOT_RADIUS
-    goal_tolerance: float = GOAL_TOLERANCE
+    goal_tolerance: float = ROBOT_GOAL_TOLERANCE
     idle_end: float = 10.0  # end when every human is done and the robot has not moved for this long
 
 

@@ -35,14 +35,13 @@ from typing import Any
 
 import numpy as np
 
+from socnavgen.bodies import INTIMATE_SPACE, PERSONAL_SPACE, ROBOT_GOAL_TOLERANCE, SOCIAL_SPACE
 from socnavgen.safeio import atomic_write_text
 from socnavgen.sim import contact
 from socnavgen.sim.trace import OMEGA, VX, VY, YAW, Trace, X, Y
 
-EVALUATOR_GOAL_RADIUS = 0.2  # m, `completed`
 COLLISION_DISTANCE = 0.02  # m, evaluator collision threshold (its README says 0.01; the code uses 0.02)
 NO_AGENT_DISTANCE = 10000.0  # the evaluator's "infinity"
-INTIMATE, PERSONAL, SOCIAL = 0.45, 1.2, 3.6  # proxemic zone limits (m)
 GROUP_CENTER_OFFSET = 1.5  # m in front of each group member
 OBSTACLE_RANGE = 10.0  # m, the wrapper sends the nearest obstacle point within this range
 SUCCESS_GOAL_RADIUS = 0.5  # m, default for `success`; Trace.meta["robot_goal_radius"] overrides
@@ -343,9 +342,9 @@ def compute_metrics(trace: Trace, location: Any = None, *, sample_hz: float | No
     m["avg_distance_to_closest_person"] = float(closest.sum()) / n if h else 0.0
     m["minimum_distance_to_people"] = float(np.maximum(0.0, gap).min()) if h else None
     m["maximum_distance_to_people"] = float((centre - r_r).max()) if h else None
-    m["intimate_space_intrusions"] = _zone_share(closest, -math.inf, INTIMATE, n)
-    m["personal_space_intrusions"] = _zone_share(closest, INTIMATE, PERSONAL, n)
-    m["social_space_intrusions"] = _zone_share(closest, PERSONAL, SOCIAL, n)
+    m["intimate_space_intrusions"] = _zone_share(closest, -math.inf, INTIMATE_SPACE, n)
+    m["personal_space_intrusions"] = _zone_share(closest, INTIMATE_SPACE, PERSONAL_SPACE, n)
+    m["social_space_intrusions"] = _zone_share(closest, PERSONAL_SPACE, SOCIAL_SPACE, n)
 
     groups = sorted({g for g in trace.group_ids if g != -1})
     if groups:
@@ -354,9 +353,9 @@ def compute_metrics(trace: Trace, location: Any = None, *, sample_hz: float | No
         ids = np.asarray(trace.group_ids)
         centres = np.stack([front[:, ids == g].mean(axis=1) for g in groups], axis=1)  # (n, G, 2)
         g_dist = (_norm(pr[:, None, :] - centres) - r_r).min(axis=1)
-        m["group_intimate_space_intrusions"] = _zone_share(g_dist, -math.inf, INTIMATE, n)
-        m["group_personal_space_intrusions"] = _zone_share(g_dist, INTIMATE, PERSONAL, n)
-        m["group_social_space_intrusions"] = _zone_share(g_dist, PERSONAL, SOCIAL, n)
+        m["group_intimate_space_intrusions"] = _zone_share(g_dist, -math.inf, INTIMATE_SPACE, n)
+        m["group_personal_space_intrusions"] = _zone_share(g_dist, INTIMATE_SPACE, PERSONAL_SPACE, n)
+        m["group_social_space_intrusions"] = _zone_share(g_dist, PERSONAL_SPACE, SOCIAL_SPACE, n)
     else:
         for zone in ("intimate", "personal", "social"):
             m[f"group_{zone}_space_intrusions"] = 0.0
@@ -365,7 +364,7 @@ def compute_metrics(trace: Trace, location: Any = None, *, sample_hz: float | No
     to_goal = None
     if len(goals):
         to_goal = hypot2(rx[:, None] - goals[None, :, 0], ry[:, None] - goals[None, :, 1])  # (n, G)
-        m["completed"] = bool((to_goal[-1] - EVALUATOR_GOAL_RADIUS < 0).any())
+        m["completed"] = bool((to_goal[-1] - ROBOT_GOAL_TOLERANCE < 0).any())
         m["minimum_distance_to_target"] = float(to_goal.min())
         m["final_distance_to_target"] = float(to_goal[-1].min())
     else:

@@ -17,11 +17,10 @@ from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 
+from socnavgen.bodies import ROBOT_GOAL_TOLERANCE, ROBOT_RADIUS
 from socnavgen.errors import InputFileError
 from socnavgen.sim.sfm import SFMParams, _pair_force
 
-ROBOT_RADIUS = 0.35  # Gazebo wrapper
-GOAL_TOLERANCE = 0.2  # hunav_evaluator "completed"
 SWEPT_MARGIN = 0.05  # m beyond the two radii: a person this close to the robot's path line blocks it
 NUDGE_BAND = 0.35  # m beyond the radii: the robot edges sideways away from a person this close to its path
 NUDGE_SPEED = 0.25  # m/s
@@ -256,7 +255,7 @@ class WaypointsPolicy:
     def act(self, obs: Observation) -> RobotAction:
         target, last = self.tracker.target(obs)
         p = obs.position_c
-        arrive = GOAL_TOLERANCE * 0.5
+        arrive = ROBOT_GOAL_TOLERANCE * 0.5
         if last and abs(target - p) < self.slow_gap + 1.0:
             target, arrive = self._reachable_goal(obs, target)
         to = target - p
@@ -316,13 +315,13 @@ class WaypointsPolicy:
         goal's circle, which still counts as arrived."""
         people, radii = obs.human_positions_c, obs.human_radii
         if len(people) == 0:
-            return goal, GOAL_TOLERANCE * 0.5
+            return goal, ROBOT_GOAL_TOLERANCE * 0.5
         d = np.abs(people - goal)
         k = int(np.argmin(d - radii))
         if d[k] >= radii[k] + obs.radius + SWEPT_MARGIN + 0.1 or d[k] < 1e-6:
-            return goal, GOAL_TOLERANCE * 0.5
+            return goal, ROBOT_GOAL_TOLERANCE * 0.5
         away = (goal - complex(people[k])) / d[k]
-        return goal + away * GOAL_TOLERANCE * 0.75, GOAL_TOLERANCE * 0.15
+        return goal + away * ROBOT_GOAL_TOLERANCE * 0.75, ROBOT_GOAL_TOLERANCE * 0.15
 
 
 def _segment_clear(world: Any, a: complex, b: complex, clearance: float) -> bool:
@@ -353,7 +352,7 @@ class SFMPolicy:
         p, v, prm = obs.position_c, obs.velocity_c, self.params
         to = target - p
         dist = abs(to)
-        if last and dist <= GOAL_TOLERANCE * 0.5:
+        if last and dist <= ROBOT_GOAL_TOLERANCE * 0.5:
             return RobotAction(0.0, 0.0)
         v0 = min(self.max_speed, math.sqrt(2 * GOAL_DECEL * dist)) if last else self.max_speed
         force = prm.k_des * (v0 * to / max(dist, 1e-9) - v) / prm.tau
@@ -440,13 +439,13 @@ class StraightPolicy:
 
     def __init__(self, max_speed: float = 0.6) -> None:
         self.max_speed = max_speed
-        self.tracker = _WaypointTracker(GOAL_TOLERANCE * 2)
+        self.tracker = _WaypointTracker(ROBOT_GOAL_TOLERANCE * 2)
 
     def act(self, obs: Observation) -> RobotAction:
         target, last = self.tracker.target(obs)
         to = target - obs.position_c
         dist = abs(to)
-        if last and dist <= GOAL_TOLERANCE * 0.5:
+        if last and dist <= ROBOT_GOAL_TOLERANCE * 0.5:
             return RobotAction(0.0, 0.0)
         speed = min(self.max_speed, math.sqrt(2 * GOAL_DECEL * dist)) if last else self.max_speed
         v = slide_along_walls(obs, to / max(dist, 1e-9) * speed)

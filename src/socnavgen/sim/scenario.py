@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from socnavgen.bodies import PERSON_RADIUS
 from socnavgen.bt.library import regular_walker_xml
 from socnavgen.bt.tree import BTDocument
 from socnavgen.errors import ValidationFailed
@@ -85,7 +86,7 @@ def load_simulation(run_dir: Path | str | LoadedRun, policy: RobotPolicy, config
         return complex(*at[node])
 
     rng = np.random.default_rng(config.seed)
-    starts = spawn_points(world, [w(h.path[0]) for h in humans], [h.group_id for h in humans], 0.4, rng)
+    starts = spawn_points(world, [w(h.path[0]) for h in humans], [h.group_id for h in humans], PERSON_RADIUS, rng)
     specs = []
     for h, start in zip(humans, starts, strict=True):
         goal_nodes = h.path[1:] if len(h.path) > 1 else h.path[:1]

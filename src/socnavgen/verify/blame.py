@@ -37,9 +37,10 @@ import re
 
 import numpy as np
 
+from socnavgen.bodies import PERSON_RADIUS, ROBOT_RADIUS, TOUCH_DISTANCE
 from socnavgen.run.models import PathPlan
 from socnavgen.run.spec import Blame, Criterion, ScenarioSpec
-from socnavgen.verify.criteria import MIN_MEET, Compiled, deadlock_culprit
+from socnavgen.verify.criteria import Compiled, deadlock_culprit
 from socnavgen.verify.signals import ROBOT_PHRASES, STILL_SPEED, Signals, phrase_id
 from socnavgen.verify.stl import formula_signals
 
@@ -54,9 +55,9 @@ def spec_problem(c: Criterion, spec: ScenarioSpec) -> str | None:
     for name in [c.human, *c.humans]:
         if name and humans and name not in humans:
             return f"criterion {c.id} is about {name}, who takes part in no encounter"
-    if c.kind == "meets" and c.distance is not None and c.distance < MIN_MEET:
-        return (f"criterion {c.id} asks for a meeting closer than {MIN_MEET} m centre to centre: "
-                "that is a collision (0.35 m robot + 0.4 m human radius)")
+    if c.kind == "meets" and c.distance is not None and c.distance < TOUCH_DISTANCE:
+        return (f"criterion {c.id} asks for a meeting closer than {TOUCH_DISTANCE:g} m centre to centre: "
+                f"that is a collision ({ROBOT_RADIUS:g} m robot + {PERSON_RADIUS:g} m human radius)")
     parts = spec.parts_of(c.human) if c.human else []
     if c.encounter:
         parts = [(e, p) for e, p in parts if e.id == c.encounter]

@@ -39,7 +39,6 @@ from socnavgen.verify.stl import FormulaError
 DEFAULTS = {"stops_near_robot": 1.5, "gives_way": 2.0, "follows_robot": 2.0, "hidden_until": 3.0,
             "keeps_away": 1.5, "blocks_robot": 1.5}  # metres, when the criterion gives no distance
 NOTICE_RANGE = 5.0  # m: a human notices a visible robot this close (keeps_away)
-MIN_MEET = 0.75  # m: robot radius + human radius; a meeting closer than this is a collision
 
 
 @dataclass

@@ -18,6 +18,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from socnavgen import proxemics
 from socnavgen.bt.library import HUMAN_GESTURES, LIBRARY, REACTION_NODES, ROBOT_GESTURES
 from socnavgen.sim import contact
 from socnavgen.sim.trace import VX, VY, YAW, Trace
@@ -26,8 +27,6 @@ STILL_SPEED = 0.05  # m/s: the robot stands still below this
 STOP_SPEED = 0.1  # m/s: a human has stopped below this
 MOVED_DISTANCE = 0.5  # m: a human "has walked" once this far from where it started
 AHEAD_HALF_ANGLE = 45.0  # degrees: the robot is "ahead of" a human inside this cone around the human's heading
-WAY_MARGIN = 0.1  # m: a human is "in the robot's way" when its disc is within this of the robot's swept corridor
-BLOCK_GAP = 1.0  # m: someone in the robot's way with a gap up to this blocks it (deadlock)
 FAR = 1.0e3  # value of a distance that does not exist (no humans)
 
 # Reactions judged by what the human physically does rather than by the nodes that implement them
@@ -172,23 +171,21 @@ class Signals:
         """1 where human i is ahead of the robot (along its heading) inside its swept corridor."""
         def build() -> np.ndarray:
             robot, human = self.trace.robot, self.trace.humans[:, i]
-            ex, ey = human[:, 0] - robot[:, 0], human[:, 1] - robot[:, 1]  # human minus robot
             cos, sin = self._keep("heading", lambda: (np.cos(robot[:, YAW]), np.sin(robot[:, YAW])))
-            along = ex * cos + ey * sin
-            lateral = np.abs(-ex * sin + ey * cos)
-            half = self.trace.robot_radius + float(np.asarray(self.trace.human_radii)[i]) + WAY_MARGIN
-            return (along > 0) & (lateral <= half)
+            return proxemics.in_way(robot[:, 0], robot[:, 1], cos, sin, human[:, 0], human[:, 1],
+                                    float(self.trace.robot_radius), float(np.asarray(self.trace.human_radii)[i]),
+                                    proxemics.WAY_MARGIN_VERIFY)
 
         return self._keep(("in_way", i), build)
 
     def blocked(self) -> np.ndarray:
-        """1 where some human stands in the robot's way within BLOCK_GAP."""
+        """1 where some human stands in the robot's way within proxemics.BLOCK_GAP_VERIFY."""
         def build() -> np.ndarray:
             h = len(self.trace.human_names)
             if not h:
                 return np.zeros(self.trace.steps, dtype=bool)
             gaps = self.gaps()
-            return np.stack([self.in_way(i) & (gaps[:, i] <= BLOCK_GAP) for i in range(h)], axis=1).any(axis=1)
+            return np.stack([self.in_way(i) & (gaps[:, i] <= proxemics.BLOCK_GAP_VERIFY) for i in range(h)], axis=1).any(axis=1)
 
         return self._keep("blocked", build)
 
@@ -331,7 +328,7 @@ SIGNAL_KINDS: tuple[SignalKind, ...] = (
     SignalKind(r"robot_still", "robot_still", "0/1", f"robot speed below {STILL_SPEED} m/s", _robot_still),
     SignalKind(r"stalled", "stalled", "s", "how long the robot has been standing still, continuously", _stalled),
     SignalKind(r"deadlock", "deadlock", "s", f"how long the robot has stood still with someone in its way within "
-               f"{BLOCK_GAP} m gap (not at its goal), continuously", _deadlock),
+               f"{proxemics.BLOCK_GAP_VERIFY} m gap (not at its goal), continuously", _deadlock),
     SignalKind(r"robot_(says|said)_([a-z_]+)", "robot_says_<phrase>, robot_said_<phrase>", "0/1",
                "the robot makes the phrase now / has made it at some time so far (excuse_me, follow_me, wait, "
                "proceed, acknowledged)", _robot_says),

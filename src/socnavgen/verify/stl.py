@@ -21,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from socnavgen.bodies import PERSON_RADIUS, ROBOT_RADIUS
 from socnavgen.verify import stl_numpy
 from socnavgen.verify.signals import Signals, UnknownSignal
 
@@ -189,7 +190,7 @@ def formula_problems(formula: str, humans: list[str], places: list[str]) -> list
 
     n = len(humans)
     trace = Trace(dt=1.0, t=np.array([0.0, 1.0]), robot=np.zeros((2, 6)), humans=np.ones((2, n, 6)),
-                  human_names=list(humans), group_ids=[-1] * n, human_radii=np.full(n, 0.4), robot_radius=0.35,
+                  human_names=list(humans), group_ids=[-1] * n, human_radii=np.full(n, PERSON_RADIUS), robot_radius=ROBOT_RADIUS,
                   node_names=[], action=np.full((2, n), -1, np.int16), succeeded=np.zeros((2, n), np.int64),
                   human_gesture=np.zeros((2, n), np.int8), robot_gesture=np.zeros(2, np.int8),
                   behavior_state=np.zeros((2, n), np.int8), robot_goal=(0.0, 0.0))

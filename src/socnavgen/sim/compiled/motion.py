@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 
-from socnavgen.sim.agents import GOAL_SLACK
+from socnavgen.bodies import PERSON_GOAL_SLACK
 from socnavgen.sim.compiled.geometry import line_of_sight
 from socnavgen.sim.compiled.layout import (
     HI_QCYCLIC,
@@ -96,7 +96,7 @@ def pop_goal(S, i, keep_last):  # noqa: ANN001, ANN201
 def goal_reached(S, i):  # noqa: ANN001, ANN201
     """GoalQueue.reached (IsGoalReached)."""
     cs, fs, hi, qbuf = S[0], S[1], S[5], S[8]
-    return hi[HI_QLEN][i] > 0 and abs(qbuf[i, hi[HI_QSTART][i]] - cs[0][i]) <= fs[2][i] + GOAL_SLACK
+    return hi[HI_QLEN][i] > 0 and abs(qbuf[i, hi[HI_QSTART][i]] - cs[0][i]) <= fs[2][i] + PERSON_GOAL_SLACK
 
 
 # ---- queries ----------------------------------------------------------------------------------------

@@ -11,6 +11,7 @@ import math
 
 import numpy as np
 
+from socnavgen.bodies import ROBOT_GOAL_TOLERANCE
 from socnavgen.sim.compiled.geometry import (
     clearance_at,
     nearest_obstacle,
@@ -37,7 +38,6 @@ from socnavgen.sim.robot import (
     AROUND_LOOK,
     CLOSE_REACH,
     GOAL_DECEL,
-    GOAL_TOLERANCE,
     KEEP_CLEAR,
     LOOK_WALL,
     NUDGE_BAND,
@@ -223,7 +223,7 @@ def sfm_toward(S, W, R, target, max_speed, last):  # noqa: ANN001, ANN201
     p, v, dt = S[9][RC_POS], S[9][RC_VEL], S[10][RF_DT]
     to = target - p
     dist = abs(to)
-    if last and dist <= GOAL_TOLERANCE * 0.5:
+    if last and dist <= ROBOT_GOAL_TOLERANCE * 0.5:
         return 0j
     v0 = min(max_speed, math.sqrt(2 * GOAL_DECEL * dist)) if last else max_speed
     force = sfm[SP_K_DES] * (v0 * to / max(dist, 1e-9) - v) / sfm[SP_TAU]
@@ -286,7 +286,7 @@ def reachable_goal(S, goal):  # noqa: ANN001, ANN201
     cs, fs = S[0], S[1]
     n = cs.shape[1]
     if n == 0:
-        return goal, GOAL_TOLERANCE * 0.5
+        return goal, ROBOT_GOAL_TOLERANCE * 0.5
     k, best = 0, np.inf
     for i in range(n):
         key = abs(cs[0][i] - goal) - fs[1][i]
@@ -294,9 +294,9 @@ def reachable_goal(S, goal):  # noqa: ANN001, ANN201
             k, best = i, key
     dk = abs(cs[0][k] - goal)
     if dk >= fs[1][k] + S[10][RF_RADIUS] + SWEPT_MARGIN + 0.1 or dk < 1e-6:
-        return goal, GOAL_TOLERANCE * 0.5
+        return goal, ROBOT_GOAL_TOLERANCE * 0.5
     away = (goal - cs[0][k]) / dk
-    return goal + away * GOAL_TOLERANCE * 0.75, GOAL_TOLERANCE * 0.15
+    return goal + away * ROBOT_GOAL_TOLERANCE * 0.75, ROBOT_GOAL_TOLERANCE * 0.15
 
 
 @no_alloc
@@ -323,7 +323,7 @@ def waypoints_act(S, W, R):  # noqa: ANN001, ANN201, C901
     pf, pi, pc = R[1], R[2], R[3]
     target, last = track(S, W, R, False)
     p, dt = S[9][RC_POS], S[10][RF_DT]
-    arrive = GOAL_TOLERANCE * 0.5
+    arrive = ROBOT_GOAL_TOLERANCE * 0.5
     if last and abs(target - p) < pf[PF_SLOW_GAP] + 1.0:
         target, arrive = reachable_goal(S, target)
     to = target - p
@@ -376,7 +376,7 @@ def straight_act(S, W, R, max_speed, second):  # noqa: ANN001, ANN201
     target, last = track(S, W, R, second)
     to = target - S[9][RC_POS]
     dist = abs(to)
-    if last and dist <= GOAL_TOLERANCE * 0.5:
+    if last and dist <= ROBOT_GOAL_TOLERANCE * 0.5:
         return 0j
     speed = min(max_speed, math.sqrt(2 * GOAL_DECEL * dist)) if last else max_speed
     return slide_along_walls(S, W, to / max(dist, 1e-9) * speed)

@@ -1,0 +1,26 @@
+"""Bodies and the distances between them: the one home of the physical facts that every stage shares
+(prompts, cards, paths, simulator, metrics, verifier, exporters, map checks). Import them from here;
+never type a radius or a sum of radii again.
+
+Values are HuNavSim's and the SocRATES Gazebo wrapper's (see ../shared/reference/hunav-node-library.md
+§1.3, §9.3) unless said otherwise.
+"""
+
+from __future__ import annotations
+
+# -- bodies ---------------------------------------------------------------------------------------
+PERSON_RADIUS = 0.4  # m: a simulated person's disc (HuNavSim agent radius)
+ROBOT_RADIUS = 0.35  # m: the robot's disc (SocRATES Gazebo wrapper)
+TOUCH_DISTANCE = PERSON_RADIUS + ROBOT_RADIUS  # m centre to centre: robot and person touch (0.75)
+PERSON_TOUCH_DISTANCE = 2 * PERSON_RADIUS  # m centre to centre: two people touch (0.8)
+GROUP_SPAWN_RADIUS = 0.6  # m: the members of a group start evenly on a circle this far from their first node
+
+# -- motion ---------------------------------------------------------------------------------------
+PERSON_MAX_SPEED = 1.5  # m/s: HuNavSim's max_vel default
+PERSON_GOAL_RADIUS = 0.5  # m: a person's goal is reached within this (HuNavSim goal_radius)
+PERSON_GOAL_SLACK = 0.1  # m: IsGoalReached accepts goal_radius + this
+ROBOT_GOAL_TOLERANCE = 0.2  # m: hunav_evaluator's "completed"
+
+# -- contact and proxemics (gaps are surface to surface: centre distance minus both radii) ---------
+CONTACT_MARGIN = 0.05  # m: a robot-person gap at or under this is contact (bodies touching)
+INTIMATE_SPACE, PERSONAL_SPACE, SOCIAL_SPACE = 0.45, 1.2, 3.6  # m: Hall's proxemic zone limits (gaps)

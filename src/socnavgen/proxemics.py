@@ -1,0 +1,73 @@
+""""In the robot's way": the ONE predicate the simulator (robot driving, script cues, gesture rules) and the
+verifier share, with one named margin per use. Body sizes come from socnavgen.bodies.
+
+A person is in the robot's way when the person's centre is ahead of the robot's centre along the robot's
+heading and inside the corridor the robot's body sweeps, widened by the person's radius and a margin:
+
+    along  = (p - r) . h          > 0
+    across = |(p - r) x h|        < robot_radius + person_radius + margin
+
+(r, p: robot and person centres; h: the robot's unit heading). `in_front` is the wider notion a robot uses
+to notice people coming (within a cone around its heading), and `blocking` the script's "blocked": within a
+centre distance and (in the way or in front).
+
+Every function is self-contained (it calls no other function of this module, so each can be compiled alone)
+plain scalar arithmetic (comparisons, +, -, *, abs, ** 0.5, and `&` / `|` on the
+booleans): numba compiles it as it is (the simulator wraps it in its own njit), and the same function works
+elementwise on numpy arrays (the verifier calls it on whole traces at once). No `if`, `and` or `or` on
+values, so keep it that way when editing (tests/test_proxemics.py runs all three ways).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+# -- margins of the corridor, metres beyond the two radii, one per use ----------------------------------
+WAY_MARGIN_DRIVE = 0.05  # the robot's own driving (waypoints, scripted, sfm): slows and stops for such a person
+WAY_MARGIN_SCRIPT = 0.1  # script cues and gesture rules `blocked`, `wait_until_clear` (sim.gestures)
+WAY_MARGIN_VERIFY = 0.1  # the verifier's inway_<human>: gives_way, blocks_robot, deadlock
+WAY_MARGIN_FOLLOW = 0.2  # a FollowRobot follower this close to the robot's remaining path steps aside first
+FRONT_CONE_SCRIPT = 0.6  # rad: "in front of the robot" for the script's `blocked` (noticing people coming)
+BLOCK_GAP_VERIFY = 1.0  # m surface gap: someone in the robot's way this close holds it up (verifier: deadlock)
+GIVE_WAY_CLEARANCE = 0.5  # m: a person who gave way leaves this much free space beside the robot's body
+
+Num = Any  # a float, or a numpy array of floats (elementwise)
+
+
+def way_coordinates(rx: Num, ry: Num, hx: Num, hy: Num, px: Num, py: Num) -> tuple[Num, Num]:
+    """(along, across) of the person at (px, py) in the robot's frame: robot at (rx, ry) heading along the
+    unit vector (hx, hy); `along` > 0 ahead, `across` >= 0 the distance from the robot's line of travel."""
+    dx = px - rx
+    dy = py - ry
+    return dx * hx + dy * hy, abs(dy * hx - dx * hy)
+
+
+def in_way(rx: Num, ry: Num, hx: Num, hy: Num, px: Num, py: Num, robot_radius: Num, person_radius: Num,
+           margin: Num) -> Num:
+    """The person is ahead of the robot inside the corridor its body sweeps, widened by `margin` (one of the
+    WAY_MARGIN_* of this module)."""
+    dx = px - rx
+    dy = py - ry
+    return (dx * hx + dy * hy > 0.0) & (abs(dy * hx - dx * hy) < robot_radius + person_radius + margin)
+
+
+def in_front(rx: Num, ry: Num, hx: Num, hy: Num, px: Num, py: Num, cone: Num) -> Num:
+    """The person's centre is within `cone` radians (0 to pi) of the robot's heading, seen from the robot's
+    centre (a person exactly on the robot's centre counts)."""
+    dx = px - rx
+    dy = py - ry
+    return dx * hx + dy * hy >= (dx * dx + dy * dy) ** 0.5 * math.cos(cone)
+
+
+def blocking(rx: Num, ry: Num, hx: Num, hy: Num, px: Num, py: Num, robot_radius: Num, person_radius: Num,
+             distance: Num, margin: Num, cone: Num) -> Num:
+    """The script's "blocked": the person within `distance` (centres) and in the robot's way (margin) or in
+    front of it (cone; a negative cone: only in the way, as `wait_until_clear` asks)."""
+    dx = px - rx
+    dy = py - ry
+    along = dx * hx + dy * hy
+    centre = (dx * dx + dy * dy) ** 0.5
+    swept = (along > 0.0) & (abs(dy * hx - dx * hy) < robot_radius + person_radius + margin)
+    front = (cone >= 0.0) & (along >= centre * math.cos(cone))
+    return (centre <= distance) & (swept | front)
