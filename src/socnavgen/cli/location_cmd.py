@@ -9,12 +9,13 @@ import typer
 from rich.table import Table
 
 from socnavgen.bodies import PERSON_HEIGHT
+from socnavgen.cli import typer_app
 from socnavgen.cli.common import console, finite_between
 from socnavgen.errors import InputFileError
 from socnavgen.location.check import check_location
 from socnavgen.location.location import SCENE_GRAPH_IMAGE, load_location
 
-app = typer.Typer(help="location commands", no_args_is_help=True)
+app = typer_app(help="location commands", no_args_is_help=True)
 
 
 @app.command("check")
@@ -33,8 +34,10 @@ def check(
     Example: socnavgen location check examples/locations/warehouse
     """
     if not folder.is_dir():  # a user error (exit 2), not a finding of the check (exit 1)
-        raise InputFileError("no such location folder", file=folder,
-                             hint="give the folder that holds location.yaml, the map and scene_graph.json")
+        from socnavgen.location.location import nearby_locations
+
+        raise InputFileError("no such location folder", file=folder, hint=nearby_locations(folder) or
+                             "give the folder that holds location.yaml, the map and scene_graph.json")
     report = check_location(folder)
     if as_json:
         print(json.dumps({"location": str(folder), "ok": report.ok, "nodes": report.nodes, "edges": report.edges,
@@ -81,6 +84,7 @@ def show(
     from socnavgen.location.render import write_location_png
 
     location = load_location(folder)
+    location.transform  # noqa: B018 - a broken transform (NaN, infinite resolution) is one message, not a picture
     out = output or folder / SCENE_GRAPH_IMAGE
     write_location_png(location, out)
     console.print(f"wrote {out}", highlight=False, soft_wrap=True)

@@ -52,7 +52,7 @@ from socnavgen.location.location import (
     load_location,
     read_nav2_yaml,
 )
-from socnavgen.location.models import Edge, Node, SceneGraph, Schema
+from socnavgen.location.models import DESCRIBE_ME, Edge, Node, SceneGraph, Schema
 from socnavgen.location.occupancy import OccupancyGrid, clearance_from
 from socnavgen.location.rooms import big_blocks, furniture_mask, replace_rooms
 from socnavgen.location.scene_graph import ID_ALPHABET, write_scene_graph
@@ -415,7 +415,7 @@ def describe(stats: ExtractStats, width_m: float, height_m: float, free_m2: floa
     counts = ", ".join(f"{k} {t.lower()}{'s' if k != 1 else ''}" for t, k in sorted(stats.types.items()))
     return (f"An indoor area of about {width_m:.0f} m x {height_m:.0f} m with {free_m2:.0f} m2 of walkable "
             f"floor. Its scene graph (extracted automatically from the occupancy map) has {counts}. "
-            "Replace this text with what the place is and who moves around in it.")
+            + DESCRIBE_ME)
 
 
 # ---------------------------------------------------------------- location folders
@@ -443,8 +443,7 @@ def start_location_folder(map_yaml: Path, out_dir: Path, *, name: str | None = N
     if map_yaml.resolve() != (out_dir / yaml_name).resolve():
         atomic_write_text(out_dir / yaml_name, yaml.safe_dump(data, sort_keys=False))
     schema = schema or EXTRACT_SCHEMA
-    config = {"name": name or out_dir.resolve().name, "description": description or
-              "Describe the place here: what it is, its areas, and who moves around in it.",
+    config = {"name": name or out_dir.resolve().name, "description": description or DESCRIBE_ME,
               "map": image_name, "nav2_map": yaml_name,
               "schema": {"node_types": list(schema.node_types), "edge_types": list(schema.edge_types)}}
     atomic_write_text(out_dir / LOCATION_FILE, yaml.safe_dump(config, sort_keys=False, allow_unicode=True, width=100))
