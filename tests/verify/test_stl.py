@@ -16,12 +16,14 @@ from socnavgen.verify.stl import MAX_FORMULA_CHARS, FormulaError, formula_proble
 from .verify_builders import build_trace
 
 
-def _approach(stop_at: float, human_x: float = 6.0) -> Signals:
+def _approach(stop_at: float, human_x: float = 6.0, human_from: float | None = None) -> Signals:
     """Robot drives +x at 1 m/s from x = 1 and stops at x = 1 + stop_at; human1 stands at x = human_x facing
-    -x. dt 0.5, 0..10 s, open 20 m room; place e1 at x = 5."""
+    -x (or walks there from x = human_from during the first 3 s). dt 0.5, 0..10 s, open 20 m room; place e1
+    at x = 5."""
     t = np.arange(21) * 0.5
     rx = np.minimum(t, stop_at) + 1.0
-    hx = np.full_like(t, human_x)
+    hx = np.full_like(t, human_x) if human_from is None else \
+        np.where(t < 3.0, human_from + (human_x - human_from) * t / 3.0, human_x)
     trace = build_trace(t, np.stack([rx, np.full_like(t, 10.0)], 1), np.stack([hx, np.full_like(t, 10.0)], 1)[:, None],
                         goal=(15.0, 10.0))
     trace.humans[:, 0, 2] = np.pi  # facing the robot
@@ -79,9 +81,12 @@ def _criterion(s: Signals, **kw) -> float:  # noqa: ANN003
 def test_criteria_are_not_vacuous() -> None:
     far = _approach(stop_at=1.0)  # the robot stops 4 m from the standing human: it never comes near
     near = _approach(stop_at=4.0)  # the robot stops 1.0 m from the human
-    # the human stands still all along: 'stops while the robot is near' needs the robot to come near
+    # 'stops while the robot is near' needs the robot to come near, and the human to have walked first: one
+    # standing still all along never stopped (no cause, then reaction)
     assert _criterion(far, kind="stops_near_robot", human="human1") < 0
-    assert _criterion(near, kind="stops_near_robot", human="human1") > 0
+    assert _criterion(near, kind="stops_near_robot", human="human1") < 0
+    walked = _approach(stop_at=4.0, human_from=8.0)  # walks 8 -> 6 while the robot comes, then stands
+    assert _criterion(walked, kind="stops_near_robot", human="human1") > 0
     # 'gives way' needs the robot to come within the distance at all
     assert _criterion(far, kind="gives_way", human="human1") < 0
     # 'hidden until' needs them to come close (never seen, never met is no blind-corner encounter)
@@ -91,8 +96,10 @@ def test_criteria_are_not_vacuous() -> None:
     assert _criterion(away, kind="keeps_away", human="human1", distance=1.5) < 0
     assert _criterion(far, kind="keeps_away", human="human1", distance=1.5) > 0
     # meets: near the encounter place e1 (x = 5) and within 2 m
-    assert _criterion(near, kind="meets", human="human1", encounter="e1") > 0
+    assert _criterion(walked, kind="meets", human="human1", encounter="e1") > 0
     assert _criterion(far, kind="meets", human="human1", encounter="e1") < 0
+    # ... after an approach: the same two standing 1.9 m apart from the start never met
+    assert _criterion(_approach(stop_at=0.0, human_x=2.9), kind="meets", human="human1") < 0
 
 
 def test_gives_way_robustness_follows_the_human() -> None:

@@ -146,10 +146,10 @@ def spec_mistakes(spec: ScenarioSpec, humans: list[str], node_types: list[str] |
         if cue.trigger.human and cue.trigger.human not in humans:
             mistakes.append(f"spec.script.cues: the cue names {cue.trigger.human}, who is not a human of the scenario")
     mistakes += _criteria_mistakes(spec, humans, ids, robot_phrases)
-    if not mistakes:  # the verifier's own rule for a criterion that contradicts its spec (blame: spec)
-        from socnavgen.verify.blame import spec_problem
+    if not mistakes:  # the verifier's own checks: criteria contradicting their spec, formulas it cannot monitor
+        from socnavgen.verify.checks import spec_problems
 
-        mistakes += [problem for c in spec.criteria if (problem := spec_problem(c, spec))]
+        mistakes += spec_problems(spec)
     return mistakes
 
 
