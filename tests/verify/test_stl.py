@@ -111,3 +111,88 @@ def test_gives_way_robustness_follows_the_human() -> None:
     stepping.trace.humans[8:, 0, 1] = 11.5  # steps 1.5 m aside at t = 4 s
     stepping._cache.clear()
     assert _criterion(stepping, kind="gives_way", human="human1", seconds=2) > 0
+
+
+def _long_trace(steps: int = 2400) -> Signals:
+    t = np.arange(steps) * 0.05
+    trace = build_trace(t, np.stack([0.01 * t, np.zeros_like(t)], 1),
+                        np.stack([6.0 - 0.04 * t, 0.5 * np.sin(t)], 1)[:, None], dt=0.05)
+    return Signals(trace, world=empty_room())
+
+
+def test_huge_bounds_cost_what_the_trace_costs() -> None:
+    """Bounds are clipped to the trace: eventually[0:100000000] tried to allocate 14.9 GiB, [0:10000000] ran 255 s
+    at 3.3 GB (issue 30); now both are the unbounded operator, in the memory of a few series."""
+    import tracemalloc
+
+    s = _long_trace()
+    tracemalloc.start()
+    try:
+        for bound in ("100000000", "10000000"):
+            assert monitor(f"eventually[0:{bound}] (dist_human1 < 2)", s).series.tolist() == \
+                monitor("eventually (dist_human1 < 2)", s).series.tolist()
+        assert monitor("always[50000000:90000000] (dist_human1 < 2)", s).series.tolist() == [np.inf] * 2400
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 16e6, peak
+
+
+def test_a_long_bounded_until_is_exact_and_linear() -> None:
+    """until[0:60] on a 2400-step trace (rtamt: cubic in the bound, over a minute): the same values as the
+    definition, max over d in [a, b] of min(right[i+d], min(left[i..i+d-1])), computed here by brute force."""
+    s = _long_trace()
+    left, right = s.get("dist_human1") - 1.0, s.get("speed_human1") - 0.3
+    for lo, hi in ((0, 60), (2, 7.5)):
+        got = monitor(f"(dist_human1 > 1) until[{lo:g}:{hi:g}] (speed_human1 > 0.3)", s).series
+        a, b = int(round(lo / 0.05)), int(round(hi / 0.05))
+        want = np.full(2400, -np.inf)
+        for i in range(0, 2400, 37):
+            best = -np.inf
+            for d in range(a, b + 1):
+                if i + d >= 2400:
+                    break
+                best = max(best, min(right[i + d], left[i:i + d].min(initial=np.inf)))
+            want[i] = best
+        assert np.array_equal(got[::37], want[::37])
+
+
+def test_stage_one_refuses_what_cannot_be_monitored() -> None:
+    """formula_problems (stage 1 calls it through verify.checks.spec_problems): intervals no episode can hold or
+    the simulator's step cannot sample, reversed intervals, arithmetic that fails; a fine formula passes."""
+    huge = formula_problems("eventually[0:10000000] (dist_human1 < 2)", ["human1"], [])
+    assert len(huge) == 1 and "longer than any episode" in huge[0]
+    assert "multiple of the simulation step" in formula_problems("eventually[0:0.03] (dist_human1 < 2)",
+                                                                 ["human1"], [])[0]
+    assert "a <= b" in formula_problems("eventually[1:0.5] (dist_human1 < 2)", ["human1"], [])[0]
+    assert formula_problems("(dist_human1 > 1) until[0:60] (speed_human1 > 0.3)", ["human1"], []) == []
+    assert formula_problems("eventually[0:0.5] (dist_human1 < 2)", ["human1"], []) == []
+
+
+def test_the_stage_one_spec_check_asks_the_verifier() -> None:
+    from socnavgen.proposal.spec_checks import spec_mistakes
+    from socnavgen.verify.checks import spec_problems
+
+    spec = ScenarioSpec(encounters=[Encounter(id="e1", place="CORNER", node="n", humans=[
+        HumanPart(human="human1", reaction="stop")])], criteria=[
+        Criterion(id="c1", kind="meets", human="human1", encounter="e1"),
+        Criterion(id="c2", kind="stl", formula="eventually[0:100000000] (dist_human1 < 2)"),
+        Criterion(id="c3", kind="stl", formula="eventually (mid_human1_to_node_x7 < 1)")])
+    assert [p.split(":")[0] for p in spec_problems(spec)] == ["criterion c2"]
+    assert any("criterion c2" in m and "longer than any episode" in m for m in spec_mistakes(spec, ["human1"], ["CORNER"]))
+    assert "unknown place 'node_x7'" in spec_problems(spec, node_ids=["n"])[1]
+
+
+def test_a_formula_too_large_for_its_trace_is_refused() -> None:
+    from socnavgen.verify import stl
+
+    s = _long_trace()
+    big = " and ".join(["(dist_human1 < 2)"] * 40)
+    assert monitor(big, s).robustness is not None
+    old = stl.MAX_STL_CELLS
+    try:
+        stl.MAX_STL_CELLS = 100_000
+        with pytest.raises(FormulaError, match="too many to monitor"):
+            monitor(big, s)
+    finally:
+        stl.MAX_STL_CELLS = old

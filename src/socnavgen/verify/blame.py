@@ -273,14 +273,14 @@ def _blame_meeting(cc: Compiled, s: Signals, h: str) -> Verdict:
             return "paths", None, f"the robot and {h} start within {d:g} m: start them apart so that they approach"
         return "paths", None, f"the robot never came within {d:g} m of {h}"
     e, within, node = cc.encounter.id, cc.encounter.within, cc.encounter.node or cc.encounter.id
-    if s.get(f"robot_to_{e}").min() > within:
-        return "paths", None, f"the robot never came within {within:g} m of {node}"
-    if s.get(f"{h}_to_{e}").min() > within:
-        return "paths", None, f"{h} never came within {within:g} m of {node}"
     near = (s.get(f"dist_{h}") <= d) & (s.get(f"mid_{h}_to_{e}") <= within)
     if near.any() and not met_mask(s, h, cc.encounter, d).any():
         return "paths", None, (f"the robot and {h} were together at {node} only without approaching each other (from "
                                "where they started): start them farther apart, or from other nodes")
+    if s.get(f"robot_to_{e}").min() > within:
+        return "paths", None, f"the robot never came within {within:g} m of {node}"
+    if s.get(f"{h}_to_{e}").min() > within:
+        return "paths", None, f"{h} never came within {within:g} m of {node}"
     if near.any() and cc.previous is not None:
         return "paths", None, (f"{h} meets the robot only once, at {cc.previous.node or cc.previous.id}: this "
                                f"encounter needs its own meeting at {node}")

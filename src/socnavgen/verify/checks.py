@@ -10,7 +10,7 @@ from socnavgen.run.spec import ScenarioSpec
 from socnavgen.verify.blame import spec_problem
 from socnavgen.verify.stl import formula_problems
 
-_NODE_PLACE = re.compile(r"\bnode_[a-z0-9]+\b")
+_NODE_PLACE = re.compile(r"_to_(node_[a-z0-9]+)")
 
 
 def spec_problems(spec: ScenarioSpec, node_ids: list[str] | None = None) -> list[str]:
