@@ -50,7 +50,7 @@ def test_unknown_or_out_of_range_thresholds_are_errors(give_way_run: Path) -> No
 def test_the_cli_options_are_the_settings(give_way_run: Path) -> None:
     runner = CliRunner()
     text = runner.invoke(cli_app(), ["verify", "--help"], terminal_width=200).stdout
-    for name, info in VerifySettings.model_fields.items():
+    for name in VerifySettings.model_fields:
         if name != "collisions_fail":
             assert f"--{name.replace('_', '-')}" in text, name
     assert f"default: {VerifySettings().deadlock_seconds}" in " ".join(text.split())
