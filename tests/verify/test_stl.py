@@ -81,12 +81,13 @@ def _criterion(s: Signals, **kw) -> float:  # noqa: ANN003
 def test_criteria_are_not_vacuous() -> None:
     far = _approach(stop_at=1.0)  # the robot stops 4 m from the standing human: it never comes near
     near = _approach(stop_at=4.0)  # the robot stops 1.0 m from the human
-    # 'stops while the robot is near' needs the robot to come near, and the human to have walked first: one
-    # standing still all along never stopped (no cause, then reaction)
+    # 'stops while the robot is near' needs the robot to come near (the cause), then the human still: walking
+    # then stopping, or waiting still as the robot comes; never a robot that starts near a still human
     assert _criterion(far, kind="stops_near_robot", human="human1") < 0
-    assert _criterion(near, kind="stops_near_robot", human="human1") < 0
+    assert _criterion(near, kind="stops_near_robot", human="human1") > 0
     walked = _approach(stop_at=4.0, human_from=8.0)  # walks 8 -> 6 while the robot comes, then stands
     assert _criterion(walked, kind="stops_near_robot", human="human1") > 0
+    assert _criterion(_approach(stop_at=0.0, human_x=2.2), kind="stops_near_robot", human="human1") < 0
     # 'gives way' needs the robot to come within the distance at all
     assert _criterion(far, kind="gives_way", human="human1") < 0
     # 'hidden until' needs them to come close (never seen, never met is no blind-corner encounter)

@@ -8,8 +8,7 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
       keeps_away), keeps_away farther than a meeting it also asks for, a placeholder for its text, a
       formula that cannot be monitored)                                                       -> spec
   S2  the criterion's place cannot work on this map: its encounter's place is no node type of the map,
-      every node of that type is a dead end nobody walks through, or it asks for a hidden approach on
-      a map without a blind corner                                                            -> spec
+      or it asks for a hidden approach on a map without a blind corner                        -> spec
   C1  collision, with a robot that is not meant to misbehave                                   -> robot_script
   C2  collision demanded away by a spec whose robot misbehaves on purpose                      -> spec
   C3  (checked before C1) a human walked into the robot while it stood still                  -> behaviors(h)
@@ -59,7 +58,7 @@ from socnavgen.verify.criteria import Compiled
 from socnavgen.verify.evidence import deadlock_culprit, met_mask
 from socnavgen.verify.signals import ROBOT_PHRASES, Signals, phrase_id
 from socnavgen.verify.stl import formula_signals
-from socnavgen.verify.thresholds import KIND_DISTANCE, MEET_DISTANCE, STILL_SPEED, WALK_SPEED
+from socnavgen.verify.thresholds import APPROACH, KIND_DISTANCE, MEET_DISTANCE, STILL_SPEED
 
 Verdict = tuple[Blame, str | None, str]  # blame, human (for behaviors), reason
 
@@ -125,17 +124,10 @@ def place_problem(cc: Compiled, location: Any) -> str | None:
     if place not in types:
         return (f"encounter {enc.id} is at a {enc.place}, which this map does not have (its places: "
                 f"{', '.join(sorted(types))}): choose a place of this map")
-    passing = {"walk_past", "give_way", "avoid", "wait_then_go"}
-    if any(p.reaction in passing for p in enc.humans) and all(_degree(graph, n) <= 1 for n in types[place]):
-        return (f"every {enc.place} of this map is a dead end ({', '.join(types[place])}): nobody walks past anyone "
-                f"there; choose a place people pass through")
     if cc.criterion.kind == "hidden_until" and not any("BLIND" in t for t in types):
         return "this map has no blind corner: nothing hides one from the other; ask for another encounter"
     return None
 
-
-def _degree(graph: Any, node: str) -> int:
-    return sum((link.source == node) + (link.target == node) for link in getattr(graph, "links", []))
 
 
 def _walked_into_robot(s: Signals) -> str | None:
@@ -294,16 +286,16 @@ def _missing_cause(cc: Compiled, s: Signals, h: str) -> Verdict | None:
         return "paths", None, (f"{h} was never in the robot's way within {d:g} m: nothing to give way to; make "
                                "their paths meet head-on")
     if kind == "follows_robot" and cc.encounter is not None:
-        there = s.get(f"mid_{h}_to_{cc.encounter.id}") <= cc.encounter.within
+        there = s.get(f"{h}_to_{cc.encounter.id}") <= cc.encounter.within + (cc.distance or 0.0)
         if cc.phrase:
             there &= s.get(f"robot_says_{cc.phrase}") > 0.5
         if not there.any():
             node = cc.encounter.node or cc.encounter.id
-            return "paths", None, (f"the robot and {h} were never together at {node}"
+            return "paths", None, (f"{h} was never near {node}"
                                    + (f" while the robot said {cc.phrase.replace('_', ' ').upper()}" if cc.phrase
                                       else "") + ": the following must start there")
-    if kind == "stops_near_robot" and not (s.get(f"speed_{h}") > WALK_SPEED).any():
-        return "behaviors", h, f"{h} never walked: a stop near the robot must follow walking"
+    if kind == "stops_near_robot" and not (s.get(f"closer_{h}") >= APPROACH).any():
+        return "paths", None, f"the robot never came closer to {h} than where they started"
     return None
 
 

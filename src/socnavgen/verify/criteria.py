@@ -6,11 +6,12 @@ h = the criterion's human, e = its encounter (named, else the first one h takes 
 S = seconds, W = the encounter's `within`, P = the robot phrase, A = thresholds.APPROACH. A meeting
 `met(h, e)` is an approach, at the place:
 
-  (dist_h <= D) and (mid_h_to_e <= W) and (closer_h >= A)
-  and ((closer_robot_to_e >= A) or (robot_to_e <= W)) and ((closer_h_to_e >= A) or (h_to_e <= W))
+  (dist_h <= D) and (mid_h_to_e <= W) and (closer_h >= A) and came(robot, e) and came(h, e),
+  came(x, e) = (closer_x_to_e >= A) or (x_to_e + closer_x_to_e <= W)
 
-(they came A closer to each other than at the start, each came A closer to the place or is at it), so a
-meeting at t = 0, or between two bodies that never moved, is none. docs/verify.md shows the same table.
+(they came A closer to each other than at the start; each came A closer to the place, or waited at it from
+the start: x_to_e + closer_x_to_e is x's distance to the place at the start), so a meeting at t = 0, or
+between two bodies that never moved, is none. docs/verify.md shows the same table.
 """
 
 from __future__ import annotations
@@ -80,14 +81,19 @@ def encounter_of(c: Criterion, spec: ScenarioSpec) -> tuple[Encounter | None, Hu
     return enc, part
 
 
+def came_to(who: str, place: str, within: float) -> str:
+    """`who` came APPROACH closer to the place than at the start, or started within `within` of it (waiting
+    there): x_to_p + closer_x_to_p is x's distance to the place at the start."""
+    return f"((closer_{who}_to_{place} >= {APPROACH:g}) or (({who}_to_{place} + closer_{who}_to_{place}) <= {within:g}))"
+
+
 def met_expression(h: str, enc: Encounter | None, distance: float) -> str:
     """The STL of "the robot meets h at e": within `distance`, at the place, after an approach (module doc)."""
     near = f"(dist_{h} <= {distance:g}) and (closer_{h} >= {APPROACH:g})"
     if enc is None:
         return f"({near})"
-    w = f"{enc.within:g}"
-    return (f"({near} and (mid_{h}_to_{enc.id} <= {w}) and ((closer_robot_to_{enc.id} >= {APPROACH:g}) or "
-            f"(robot_to_{enc.id} <= {w})) and ((closer_{h}_to_{enc.id} >= {APPROACH:g}) or ({h}_to_{enc.id} <= {w})))")
+    return (f"({near} and (mid_{h}_to_{enc.id} <= {enc.within:g}) and {came_to('robot', enc.id, enc.within)} and "
+            f"{came_to(h, enc.id, enc.within)})")
 
 
 def previous_encounter(spec: ScenarioSpec, enc: Encounter, human: str) -> Encounter | None:
@@ -135,8 +141,8 @@ def _stops_near_robot(c: Criterion, ctx: Context, out: Compiled) -> None:
     h = _need_human(c)
     d = out.distance = c.distance or KIND_DISTANCE[c.kind]
     s = out.seconds = c.seconds or ctx.settings.reaction_seconds
-    notice = max(d + 1.0, STOP_NOTICE_RANGE)
-    out.formula = (f"eventually ((dist_{h} <= {notice:g}) and (speed_{h} > {WALK_SPEED:g}) and (eventually[0:{s:g}] "
+    notice = max(d + 1.0, STOP_NOTICE_RANGE)  # the cause: the robot comes near (an approach, not where it started)
+    out.formula = (f"eventually ((dist_{h} <= {notice:g}) and (closer_{h} >= {APPROACH:g}) and (eventually[0:{s:g}] "
                    f"(always[0:{STOP_HOLD:g}] ((dist_{h} <= {d:g}) and {_b(f'ahead_{h}')} and "
                    f"(speed_{h} <= {STOP_SPEED:g})))))")
 
@@ -168,7 +174,7 @@ def _follows_robot(c: Criterion, ctx: Context, out: Compiled) -> None:
     s = out.seconds = c.seconds or ctx.settings.reaction_seconds
     follow = f"((always (way_{h} <= {d:g})) and (eventually (speed_{h} > {WALK_SPEED:g})))"
     enc = out.encounter
-    there = f" and (mid_{h}_to_{enc.id} <= {enc.within:g})" if enc is not None else ""  # it starts at its place
+    there = f" and ({h}_to_{enc.id} <= {enc.within + d:g})" if enc is not None else ""  # h near its place then
     out.formula = (f"eventually ({_b(f'robot_says_{p}')}{there} and (eventually[0:{s:g}] {follow}))" if p
                    else f"eventually ({follow}{there})")
 
@@ -249,18 +255,19 @@ CRITERION_KINDS: dict[str, CriterionKind] = {k.name: k for k in (
     CriterionKind("meets", "eventually met(h, e)  (a second encounter of h: eventually (met(h, e) and once "
                   "((dist_h > D) and once met(h, e_before))))", "an approach at the place, its own meeting",
                   _meets),
-    CriterionKind("stops_near_robot", "eventually ((dist_h <= max(D + 1, 3)) and (speed_h > 0.3) and "
+    CriterionKind("stops_near_robot", "eventually ((dist_h <= max(D + 1, 3)) and (closer_h >= A) and "
                   "eventually[0:S] always[0:1] (dist_h <= D and ahead_h and speed_h <= 0.1))",
-                  "h walked while the robot came near, then stood 1 s ahead of it", _stops_near_robot),
+                  "the robot came near (they approached), then h stood still 1 s ahead of it", _stops_near_robot),
     CriterionKind("reacts_after_phrase", "(not react_h_R) until robot_says_P  and  eventually (robot_says_P and "
                   "eventually[0:S] react_h_R)", "the phrase said first, the reaction seen after it",
                   _reacts_after_phrase),
     CriterionKind("gives_way", "eventually (dist_h <= D and inway_h)  and  always ((dist_h <= D and inway_h) "
                   "implies eventually[0:S] aside_h)", "h was in the robot's way and moved out of it itself",
                   _gives_way),
-    CriterionKind("follows_robot", "eventually (robot_says_P and mid_h_to_e <= W and eventually[0:S] ((always "
-                  "way_h <= D) and eventually speed_h > 0.3))  (no P: eventually (... and mid_h_to_e <= W))",
-                  "after the phrase at its place, within D along the walkable way to the end, walking",
+    CriterionKind("follows_robot", "eventually (robot_says_P and h_to_e <= W + D and eventually[0:S] ((always "
+                  "way_h <= D) and eventually speed_h > 0.3))  (no P: eventually (... and h_to_e <= W + D))",
+                  "after the phrase, said with h near its place, within D along the walkable way to the end, "
+                  "walking",
                   _follows_robot),
     CriterionKind("hidden_until", "(not los_h) until (dist_h <= D and closer_h >= A)",
                   "they must approach and come within D", _hidden_until),

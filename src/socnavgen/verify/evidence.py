@@ -38,8 +38,13 @@ def met_mask(s: Signals, h: str, enc, distance: float) -> np.ndarray:  # noqa: A
     if enc is None:
         return ok
     e, w = enc.id, enc.within
-    return (ok & (s.get(f"mid_{h}_to_{e}") <= w) & ((s.get(f"closer_robot_to_{e}") >= APPROACH) | (s.get(f"robot_to_{e}") <= w))
-            & ((s.get(f"closer_{h}_to_{e}") >= APPROACH) | (s.get(f"{h}_to_{e}") <= w)))
+    return ok & (s.get(f"mid_{h}_to_{e}") <= w) & came_to(s, "robot", e, w) & came_to(s, h, e, w)
+
+
+def came_to(s: Signals, who: str, place: str, within: float) -> np.ndarray:
+    """criteria.came_to with numpy: came APPROACH closer to the place, or started within `within` of it."""
+    to = s.get(f"{who}_to_{place}")
+    return (s.get(f"closer_{who}_to_{place}") >= APPROACH) | (to[:1] <= within)
 
 
 def _meets_evidence(cc: Compiled, s: Signals) -> Evidence:
@@ -98,10 +103,10 @@ def _no_approach(cc: Compiled, s: Signals, h: str, j: int) -> str:
     if cc.encounter is None:
         return ""
     e, w = cc.encounter.id, cc.encounter.within
-    if s.get(f"closer_robot_to_{e}")[j] < APPROACH and s.get(f"robot_to_{e}")[j] > w:
+    if not came_to(s, "robot", e, w)[j]:
         return "the robot had not come toward the place"
-    if s.get(f"closer_{h}_to_{e}")[j] < APPROACH and s.get(f"{h}_to_{e}")[j] > w:
-        return f"{h} had not come toward the place"
+    if not came_to(s, h, e, w)[j]:
+        return f"{h} had not come toward the place, nor waited at it"
     return ""
 
 
@@ -134,8 +139,8 @@ def _human_evidence(cc: Compiled, s: Signals) -> Evidence:
         near = s.get(f"dist_{h}") <= (cc.distance or 0)
         text += f"; slowest while within {cc.distance:g} m: {speed[near].min():.2f} m/s" if near.any() else \
             f"; never within {cc.distance:g} m"
-        if kind == "stops_near_robot" and not (speed > WALK_SPEED).any():
-            text += f"; {h} never walked (a stop must follow walking)"
+        if kind == "stops_near_robot" and not (s.get(f"closer_{h}") >= APPROACH).any():
+            text += "; the robot never came any closer than at the start"
     elif kind == "hidden_until":
         seen = _first(s.get(f"los_{h}") > 0.5)
         if seen is not None:

@@ -130,17 +130,17 @@ def judge_criterion(c: Criterion, source: Source, spec: ScenarioSpec, plan: Path
 
 
 def ended_early(trace: Trace, goal: tuple[float, float] | None, goal_radius: float) -> str | None:
-    """Why the run ended before anything could happen (a robot whose goal is its start, a run shorter than
-    MIN_RUN_SECONDS), or None."""
+    """Why the run ended before anything could happen (shorter than MIN_RUN_SECONDS, e.g. a robot whose goal is
+    its start), or None."""
     seconds = float(trace.t[-1] - trace.t[0])
+    if seconds >= MIN_RUN_SECONDS:
+        return None
     why = f"the run ended after {seconds:.2f} s ({trace.end_reason or 'no reason given'})"
     if goal is not None:
         off = float(((trace.robot[0, 0] - goal[0]) ** 2 + (trace.robot[0, 1] - goal[1]) ** 2) ** 0.5)
         if off <= goal_radius:
             return f"{why}: the robot's goal is where it starts ({off:.2f} m away), so nothing could happen"
-    if seconds < MIN_RUN_SECONDS:
-        return f"{why}, before anything could happen"
-    return None
+    return f"{why}, before anything could happen"
 
 
 def judge(trace: Trace, *, plan: PathPlan, location: Any, spec: ScenarioSpec | None, trees: dict[str, str],
