@@ -1,33 +1,32 @@
-"""All-or-nothing writes of several files and of whole folders: after any failure (disk full, a
-read-only file, a target that is a folder, a crash between renames) the reader sees either the old
-state or the new one, never a mix.
+"""All-or-nothing writes of several files: after any failure (disk full, a read-only file, a target that
+is a folder, a crash between renames) the reader sees either the old state or the new one, never a mix.
 
 `write_files_atomically` stages every file as a temp file beside its target, then renames them in
-turn, restoring the earlier ones if a later rename fails. `replace_folder` builds a folder's new
-content in a sibling temp folder and swaps it in with two renames.
+turn, restoring the earlier ones if a later rename fails.
 """
 
 from __future__ import annotations
 
 import os
-import shutil
 import tempfile
-from collections.abc import Callable
 from pathlib import Path
 
 from socnavgen.errors import InputFileError
-from socnavgen.safeio import atomic_write_bytes
 
-EXPORT_MARKER = ".socnavgen-export"  # names a folder socnavgen wrote, so a re-export may replace it
+EXPORT_MARKER = ".socnavgen-export"  # lists what an export wrote in its folder, so a re-export replaces only that
 
 
 def _stage(path: Path, data: bytes) -> Path:
+    """A temp file beside `path` holding `data`, with the mode `path` has (an ordinary file's, 0666 minus the
+    umask, when it is new: mkstemp's 0600 would hide exports from a ROS container running as another user)."""
+    mode = path.stat().st_mode & 0o777 if path.is_file() else 0o666 & ~_umask()
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:
         with os.fdopen(fd, "wb") as fh:
             fh.write(data)
             fh.flush()
             os.fsync(fh.fileno())
+        os.chmod(tmp, mode)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
@@ -66,40 +65,6 @@ def write_files_atomically(files: dict[Path, bytes]) -> None:
     for backup in backups.values():
         if backup is not None:
             backup.unlink(missing_ok=True)
-
-
-def replace_folder(out: Path, fill: Callable[[Path], None], *, force: bool = False) -> None:
-    """Build the new content of `out` with `fill(temp_folder)`, then swap it in whole.
-
-    An existing `out` is replaced only when it is empty, was written by socnavgen (EXPORT_MARKER),
-    or `force` is given; so a user's folder is never mixed with ours, and no stale file of an
-    earlier export survives."""
-    out = Path(out)
-    if out.is_symlink() or (out.exists() and not out.is_dir()):
-        raise InputFileError("the output path exists and is not a folder", file=out, hint="choose a folder with -o")
-    if out.is_dir() and any(out.iterdir()) and not (out / EXPORT_MARKER).is_file() and not force:
-        raise InputFileError("the output folder is not empty and was not written by socnavgen export", file=out,
-                             hint="choose a new or empty folder, or pass --force to replace its content")
-    out.parent.mkdir(parents=True, exist_ok=True)
-    staging = Path(tempfile.mkdtemp(prefix=f".{out.name}.new.", dir=out.parent))
-    try:
-        fill(staging)
-        atomic_write_bytes(staging / EXPORT_MARKER, b"written by socnavgen export; replaced whole on re-export\n")
-        os.chmod(staging, 0o777 & ~_umask())
-        if out.is_dir():
-            old = Path(tempfile.mkdtemp(prefix=f".{out.name}.old.", dir=out.parent))
-            os.replace(out, old / "content")
-            try:
-                os.replace(staging, out)
-            except BaseException:
-                os.replace(old / "content", out)
-                raise
-            shutil.rmtree(old, ignore_errors=True)
-        else:
-            os.replace(staging, out)
-    finally:
-        if staging.exists():
-            shutil.rmtree(staging, ignore_errors=True)
 
 
 def _umask() -> int:

@@ -239,8 +239,11 @@ def test_version_4_files() -> None:
            "<SubTree ID='RegularNavTree' id='{agentid}' dt='{timestep}'/></Sequence></BehaviorTree>\n"
            f"{INCLUDE}\n</root>")
     assert validate_bt_text(xml) == []
-    plain = xml.replace("id='{agentid}'", "id='agentid'")
-    assert "in BTCPP_format 4 a remapping is written id='{key}'" in messages(validate_bt_text(plain))
+    plain = validate_bt_text(xml.replace("id='{agentid}'", "id='agentid'"))  # v4: a plain value is a constant
+    assert len(plain) == 1 and plain[0].line == 2, messages(plain)
+    assert ("SubTree 'RegularNavTree' id='agentid': in BTCPP_format 4 a plain value is a constant, not the "
+            "caller's entry (agent_id must be {id}") in plain[0].message
+    assert "write id='{agentid}' to pass the entry 'agentid'" in plain[0].message
 
 
 def test_explicit_node_syntax_and_comments_and_declaration() -> None:
@@ -366,8 +369,14 @@ def test_shared_blackboard_and_autoremap() -> None:
     assert validate_bt_text(v3) == []
     assert "must be true or false" in messages(validate_bt_text(v3.replace("'true'", "'maybe'")))
     v4 = ("<root BTCPP_format='4' main_tree_to_execute='T'><BehaviorTree ID='T'><Sequence>"
-          "<SetBlackboard output_key='{agentid}' value='{id}'/>"
+          "<SetBlackboard output_key='agentid' value='{id}'/>"
           "<SubTree ID='RegularNavTree' _autoremap='true'/></Sequence></BehaviorTree>"
           f"{INCLUDE}</root>")
     assert validate_bt_text(v4) == []
-    assert "output_key is a blackboard key name" in messages(validate_bt_text(v4.replace(" BTCPP_format='4'", "")))
+    # each format's own flag only: BT.CPP 4 ignores __shared_blackboard, 3.8 takes _autoremap for a remap
+    assert "is not BTCPP_format 3 syntax; write __shared_blackboard='true'" in messages(
+        validate_bt_text(v4.replace(" BTCPP_format='4'", "")))
+    assert "is not BTCPP_format 4 syntax; write _autoremap='true'" in messages(validate_bt_text(
+        v4.replace("_autoremap", "__shared_blackboard")))
+    # BT.CPP (3.8 and 4) reads output_key as the key's NAME: '{agentid}' would name the key by agentid's value
+    assert "output_key is a blackboard key name" in messages(validate_bt_text(v4.replace("'agentid'", "'{agentid}'")))

@@ -39,7 +39,9 @@ def test_agents_yaml_matches_fork_file(exported: Path, reference_dir: Path) -> N
     a = p["human1"]
     assert (a["id"], a["behavior"], a["cyclic_goals"], a["radius"], a["max_vel"]) == (0, 7, False, 0.4, 1.5)
     assert p["human2"]["behavior"] == 8
-    assert a["init_pose"] == {"x": -0.475, "y": 3.225, "z": 1.25, "h": pytest.approx(-math.pi / 2, abs=1e-4)}
+    pose = a["init_pose"]
+    assert set(pose) == {"x", "y", "z", "h"} and pose["z"] == 1.25
+    assert math.dist((pose["x"], pose["y"]), (-0.475, 3.225)) <= 1.5  # spawned around node cc (test_spawn.py)
     assert [(a[g]["x"], a[g]["y"]) for g in a["goals"]] == [(-0.475, 2.475), (-1.475, 2.475)]
 
 

@@ -31,8 +31,9 @@ def test_export_refuses_a_foreign_non_empty_folder_and_leaves_it_alone(run_dir, 
     result = cli("export", run_dir, "-o", out)
     assert result.code == 2 and "not written by socnavgen export" in result.err and "--force" in result.err
     assert no_traceback(result.err) and snapshot(out) == before
-    assert cli("export", run_dir, "-o", out, "--force").code == 0
-    assert (out / "README.md").read_text() != "my own notes" and (out / EXPORT_MARKER).is_file()
+    result = cli("export", run_dir, "-o", out, "--force")  # --force never replaces a file export did not write
+    assert result.code == 2 and "it did not write" in result.err and "README.md" in result.err
+    assert snapshot(out) == before and not (out / EXPORT_MARKER).exists()
 
 
 def test_re_export_leaves_no_stale_file_of_the_earlier_export(run_dir, tmp_path):
@@ -52,23 +53,25 @@ def test_re_export_leaves_no_stale_file_of_the_earlier_export(run_dir, tmp_path)
 def test_a_failure_half_way_through_an_export_keeps_the_old_export(run_dir, tmp_path, monkeypatch):
     out = tmp_path / "export"
     export_run(run_dir, "socrates", out)
+    (out / "README.md").write_text((out / "README.md").read_text())  # same content: still the export's
+    paths = json.loads((run_dir / "paths.json").read_text())
+    paths["humans"][0]["group_id"] = 3  # the next export differs in its agents yaml
+    (run_dir / "paths.json").write_text(json.dumps(paths))
     before = snapshot(out)
     calls = {"n": 0}
-    import socnavgen.safeio as safeio
+    real = os.replace
 
-    real = safeio.atomic_write_bytes
-
-    def fail_on_third(path, data):  # noqa: ANN001
+    def fail_on_third(src, dst):  # noqa: ANN001
         calls["n"] += 1
         if calls["n"] == 3:
-            raise OSError(28, "No space left on device", str(path))
-        real(path, data)
+            raise OSError(28, "No space left on device", str(dst))
+        real(src, dst)
 
-    monkeypatch.setattr(safeio, "atomic_write_bytes", fail_on_third)
+    monkeypatch.setattr("socnavgen.atomic_files.os.replace", fail_on_third)
     with pytest.raises(OSError):
         export_run(run_dir, "socrates", out)
     assert snapshot(out) == before
-    assert [p.name for p in tmp_path.iterdir() if p.name.startswith(".")] == []
+    assert [p.name for p in out.rglob(".*") if p.name != EXPORT_MARKER] == []  # no temp file left
 
 
 def test_an_export_target_that_is_a_file_is_refused(run_dir, tmp_path):

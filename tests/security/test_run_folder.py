@@ -89,7 +89,7 @@ def test_file_system_errors_end_in_one_message(tmp_path, cli, run_dir, monkeypat
     def refuse(path, data):  # noqa: ANN001
         raise OSError(number, os.strerror(number), str(path))
 
-    monkeypatch.setattr("socnavgen.safeio.atomic_write_bytes", refuse)  # what a full or read-only disk does
+    monkeypatch.setattr("socnavgen.atomic_files._stage", refuse)  # what a full or read-only disk does
     out = tmp_path / "export"
     result = cli("export", run_dir, "-o", out)
     assert result.code == 2 and hint in result.err and os.strerror(number) in result.err

@@ -3,6 +3,8 @@ known signals, syntax) and each criterion kind's formula is non-vacuous and has 
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -159,7 +161,7 @@ def test_a_long_bounded_until_is_exact_and_linear() -> None:
 
 
 def test_stage_one_refuses_what_cannot_be_monitored() -> None:
-    """formula_problems (stage 1 calls it through verify.checks.spec_problems): intervals no episode can hold or
+    """formula_problems (stage 1's spec check calls it): intervals no episode can hold or
     the simulator's step cannot sample, reversed intervals, arithmetic that fails; a fine formula passes."""
     huge = formula_problems("eventually[0:10000000] (dist_human1 < 2)", ["human1"], [])
     assert len(huge) == 1 and "longer than any episode" in huge[0]
@@ -170,18 +172,23 @@ def test_stage_one_refuses_what_cannot_be_monitored() -> None:
     assert formula_problems("eventually[0:0.5] (dist_human1 < 2)", ["human1"], []) == []
 
 
-def test_the_stage_one_spec_check_asks_the_verifier() -> None:
+def test_the_stage_one_spec_check_refuses_an_unbounded_formula() -> None:
+    """Issue 30: stage 1 accepted eventually[0:10000000]; its spec check asks formula_problems, which refuses it."""
+    from socnavgen.location import load_location
     from socnavgen.proposal.spec_checks import spec_mistakes
-    from socnavgen.verify.checks import spec_problems
 
-    spec = ScenarioSpec(encounters=[Encounter(id="e1", place="CORNER", node="n", humans=[
+    location = load_location(Path(__file__).resolve().parents[2] / "examples" / "locations" / "warehouse")
+    corner = next(n.id for n in location.scene_graph.nodes if n.type == "BLIND CORNER")
+    spec = ScenarioSpec(encounters=[Encounter(id="e1", place="BLIND CORNER", node=corner, humans=[
         HumanPart(human="human1", reaction="stop")])], criteria=[
         Criterion(id="c1", kind="meets", human="human1", encounter="e1"),
-        Criterion(id="c2", kind="stl", formula="eventually[0:100000000] (dist_human1 < 2)"),
-        Criterion(id="c3", kind="stl", formula="eventually (mid_human1_to_node_x7 < 1)")])
-    assert [p.split(":")[0] for p in spec_problems(spec)] == ["criterion c2"]
-    assert any("criterion c2" in m and "longer than any episode" in m for m in spec_mistakes(spec, ["human1"], ["CORNER"]))
-    assert "unknown place 'node_x7'" in spec_problems(spec, node_ids=["n"])[1]
+        Criterion(id="c2", kind="stl", formula="eventually[0:100000000] (dist_human1 < 2)")])
+    mistakes = spec_mistakes(spec, ["human1"], list(location.schema.node_types), location=location)
+    assert [m for m in mistakes if "criterion c2" in m and "longer than any episode" in m], mistakes
+    fine = spec.model_copy(update={"criteria": [spec.criteria[0], Criterion(
+        id="c2", kind="stl", formula="eventually[0:30] (dist_human1 < 2)")]})
+    assert not [m for m in spec_mistakes(fine, ["human1"], list(location.schema.node_types), location=location)
+                if "criterion c2" in m]
 
 
 def test_a_formula_too_large_for_its_trace_is_refused() -> None:

@@ -93,9 +93,8 @@ HUNAV2_REGISTERED: dict[str, RegisteredNode] = {n.id: n for n in [
     RegisteredNode(id="TimeDelay", kind="Decorator", ports=_rp("delay:double=1.0")),
 ]}
 
-# The v4 built-ins our translations use (BT.CPP 4 registers them itself).
-HUNAV2_BUILTINS = ("ReactiveSequence", "ReactiveFallback", "Sequence", "Fallback", "Inverter", "ForceSuccess",
-                   "ForceFailure", "RunOnce", "AlwaysSuccess", "SubTree", "SetBlackboard")
+# v4 built-ins the translation uses beyond the node library's own controls (export.hunav2's goal prelude).
+HUNAV2_EXTRA_BUILTINS = ("RunOnce",)
 HUNAV2_FIRST_AGENT_ID = 1  # HuNavSim 1.x and 2.x number agents from 1 (the SocRATES fork from 0)
 
 

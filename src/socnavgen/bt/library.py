@@ -15,7 +15,7 @@ from typing import Literal, get_args
 from pydantic import BaseModel, Field
 
 from socnavgen.bt.hunav2_facts import HUNAV2 as HUNAV2
-from socnavgen.bt.hunav2_facts import HUNAV2_BUILTINS as HUNAV2_BUILTINS
+from socnavgen.bt.hunav2_facts import HUNAV2_EXTRA_BUILTINS
 from socnavgen.bt.hunav2_facts import HUNAV2_FIRST_AGENT_ID as HUNAV2_FIRST_AGENT_ID
 from socnavgen.bt.hunav2_facts import HUNAV2_REGISTERED as HUNAV2_REGISTERED
 from socnavgen.bt.hunav2_facts import Hunav2Translation as Hunav2Translation
@@ -38,9 +38,27 @@ class Port(BaseModel):
     default: str | None = None
     # Codes a message port may take (gesture tables); None = any value of the type.
     allowed: dict[int, str] | None = None
+    # The root blackboard entry the port must read ({id}: the agent's own id, {dt}: the step), directly
+    # or through SubTree remaps and SetBlackboard copies; a literal or any other entry is refused.
+    reads_root: Literal["id", "dt"] | None = None
+    other_human: bool = False  # holds another human's id (checked against the scenario's humans)
+    # Bounds of a number literal; doubles are distances, durations and speeds: never negative.
+    minimum: float | None = None
+    maximum: float | None = None
+
+    def bounds(self) -> tuple[float | None, float | None]:
+        low = 0.0 if self.minimum is None and self.type is PortType.DOUBLE else self.minimum
+        return low, self.maximum
 
 
-NodeKind = Literal["action", "condition", "control", "decorator", "builtin"]
+NodeKind = Literal["action", "condition", "control", "decorator", "builtin", "subtree"]
+Flow = Literal["sequence", "fallback"]  # how a control node goes through its children
+# What a decorator does with its child's status (BT.CPP v3.8 semantics, docs/behavior-trees.md):
+#   invert: SUCCESS <-> FAILURE; force_success / force_failure: the status once the child finished;
+#   repeat: tick the child again within the tick while it succeeds, `count` times in all, then SUCCESS;
+#   retry: tick it again while it fails, `count` times in all, then FAILURE; keep_running: RUNNING until
+#   the child fails. RUNNING always passes through.
+DecoratorRule = Literal["invert", "force_success", "force_failure", "repeat", "retry", "keep_running"]
 Target = Literal["socrates", "hunav2", "hunav1"]  # THE list of export targets (export.targets registers one
 TARGETS: tuple[Target, ...] = get_args(Target)    # class per name; bt check/library and the CLI read it)
 
@@ -58,6 +76,16 @@ class NodeSpec(BaseModel):
     in_prompt: bool = True  # listed for the model (built-ins are explained by the tutorial)
     min_children: int = 0
     max_children: int | None = 0
+    # control nodes: sequence-like or fallback-like, and reactive (earlier children re-ticked every tick,
+    # a child after the one that stopped the pass is halted) or with memory (resume at the RUNNING child)
+    flow: Flow | None = None
+    reactive: bool = False
+    rule: DecoratorRule | None = None  # decorators
+    count_port: str | None = None  # repeat / retry: the int port holding the number of attempts
+    # leaves: the properties the simulator, the verifier and stage 3 read
+    moves: bool = False  # an action that commands the body (a tick's action is the last that moved)
+    gate: bool = False  # a condition whose SUCCESS lets an interaction run (verifier expectations)
+    interaction: bool = False  # an action that is an interaction with the robot or another human
 
     def port(self, name: str) -> Port | None:
         return next((p for p in self.ports if p.name == name), None)
@@ -71,28 +99,41 @@ ROBOT_GESTURES: dict[int, str] = {0: "NO GESTURE", 1: "WAIT", 2: "PROCEED", 3: "
 # centre to centre: robot and person touch at bodies.TOUCH_DISTANCE (0.75 m), so "very close" is 1 m
 DISTANCE_WORDS = {1.0: "very close", 1.5: "close", 2.5: "moderate distance", 5.0: "far"}
 
-_AGENT = Port(name="agent_id", type=PortType.INT, description="the agent's own id; always write {id}")
-_STEP = Port(name="time_step", type=PortType.DOUBLE, description="simulation step; always write {dt}")
+_AGENT = Port(name="agent_id", type=PortType.INT, description="the agent's own id; always write {id}",
+              reads_root="id")
+_STEP = Port(name="time_step", type=PortType.DOUBLE, description="simulation step; always write {dt}",
+             reads_root="dt")
+MAX_REPEAT = 1000  # attempts of Repeat / RetryUntilSuccessful: all happen within one tick
 
 
 def _dist(meaning: str) -> Port:
     return Port(name="distance", type=PortType.DOUBLE, description=meaning)
 
 
+def _builtin(name: str, kind: NodeKind, description: str, *, in_prompt: bool = False, hunav2: str | None = None,
+             ports: list[Port] | None = None, **fields: object) -> NodeSpec:
+    """A node BT.CPP itself registers: every target runs it under its own name (hunav2: `hunav2` when the
+    translation changes it). Controls take one or more children, decorators exactly one, the rest none."""
+    children = {"control": (1, None), "decorator": (1, 1)}.get(kind, (0, 0))
+    return NodeSpec(name=name, kind=kind, description=description, in_prompt=in_prompt, ports=ports or [],
+                    targets=set(TARGETS), hunav2=hunav2 or name, hunav1=name, min_children=children[0],
+                    max_children=children[1], **fields)
+
+
 NODES: list[NodeSpec] = [
     # ---- conditions -------------------------------------------------------------------------
-    NodeSpec(name="IsRobotVisible", kind="condition", ports=[_AGENT, _dist("metres")],
+    NodeSpec(name="IsRobotVisible", kind="condition", ports=[_AGENT, _dist("metres")], gate=True,
              description="SUCCESS when the robot is within `distance` metres and in line of sight of the human "
                          "(not hidden behind a wall).",
              capability="Check whether the robot is visible to the human (within a distance, not behind a wall)",
              targets={"socrates", "hunav2", "hunav1"}, hunav2="IsRobotVisible", hunav1="IsRobotVisible",
              sim_note="The fork has no line-of-sight test and a field of view over 180 deg; we test line of "
                       "sight on the occupancy map, as the prompt says."),
-    NodeSpec(name="IsRobotNearby", kind="condition", ports=[_AGENT, _dist("metres")],
+    NodeSpec(name="IsRobotNearby", kind="condition", ports=[_AGENT, _dist("metres")], gate=True,
              description="SUCCESS when the robot is within `distance` metres of the human, walls or not.",
              capability="Check whether the robot is near the human",
              targets={"socrates", "hunav2"}, hunav2="IsRobotClose"),
-    NodeSpec(name="IsRobotBlocking", kind="condition", ports=[_AGENT, _dist("metres")],
+    NodeSpec(name="IsRobotBlocking", kind="condition", ports=[_AGENT, _dist("metres")], gate=True,
              description="SUCCESS when the robot is within `distance` metres, in line of sight, and in front of "
                          "the human (within about 30 degrees of its heading), i.e. in its way.",
              capability="Check whether the robot is blocking the human's path",
@@ -114,19 +155,20 @@ NODES: list[NodeSpec] = [
                          "to do something only for the first `seconds`.",
              capability="Do something only for a limited time, or only after some time has passed",
              targets={"socrates", "hunav1"}, hunav1="TimeExpiredCondition"),
-    NodeSpec(name="RobotSays", kind="condition",
+    NodeSpec(name="RobotSays", kind="condition", gate=True,
              ports=[_AGENT, Port(name="message", type=PortType.INT, description="gesture code",
                                  allowed=ROBOT_GESTURES)],
              description="SUCCESS while the robot is making the gesture `message`.",
              capability="React to what the robot says: WAIT, PROCEED, ACKNOWLEDGED, EXCUSE ME, FOLLOW ME",
              targets={"socrates"}),
-    NodeSpec(name="HumanSays", kind="condition",
-             ports=[_AGENT, Port(name="target_id", type=PortType.INT, description="id of the other human (0-based)"),
+    NodeSpec(name="HumanSays", kind="condition", gate=True,
+             ports=[_AGENT, Port(name="target_id", type=PortType.INT, description="id of the other human (0-based)",
+                                 other_human=True),
                     Port(name="message", type=PortType.INT, description="gesture code", allowed=HUMAN_GESTURES)],
              description="SUCCESS while human `target_id` is making the gesture `message`.",
              capability="React to a gesture of another human",
              targets={"socrates"}),
-    NodeSpec(name="RobotMoved", kind="condition", ports=[_AGENT],
+    NodeSpec(name="RobotMoved", kind="condition", ports=[_AGENT], gate=True,
              description="SUCCESS while the robot is moving (speed above 0.1 m/s).",
              capability="Check whether the robot is currently moving",
              targets={"socrates"},
@@ -136,94 +178,84 @@ NODES: list[NodeSpec] = [
     NodeSpec(name="UpdateGoal", kind="action", ports=[_AGENT],
              description="Move on to the next goal of the human's goal list (the last goal is kept).",
              capability=None, targets={"socrates", "hunav2", "hunav1"}, hunav2="UpdateGoal", hunav1="UpdateGoal"),
-    NodeSpec(name="RegularNav", kind="action", ports=[_AGENT, _STEP],
+    NodeSpec(name="RegularNav", kind="action", ports=[_AGENT, _STEP], moves=True,
              description="One step of normal social-force walking toward the current goal; the robot is "
                          "treated as an ordinary obstacle.",
              capability="Walk normally to its goal, treating the robot as an ordinary obstacle",
              targets={"socrates", "hunav2", "hunav1"}, hunav2="RegularNav", hunav1="RegularNav",
              sim_note="The fork leaves the robot out of the social force of LLM-tree agents; we include it, "
                       "as the prompt says."),
-    NodeSpec(name="MakeGesture", kind="action",
+    NodeSpec(name="MakeGesture", kind="action", interaction=True,
              ports=[_AGENT, Port(name="message", type=PortType.INT, description="gesture code",
                                  allowed=HUMAN_GESTURES)],
              description="The human makes the gesture `message` and keeps making it until another MakeGesture "
                          "changes it (0 stops). No motion.",
              capability="Say WAIT, PROCEED or EXCUSE ME to the robot",
              targets={"socrates"}, hunav2="SaySomething"),
-    NodeSpec(name="LookAtRobot", kind="action", ports=[_AGENT],
+    NodeSpec(name="LookAtRobot", kind="action", ports=[_AGENT], moves=True, interaction=True,
              description="The human stops and turns to face the robot.",
              capability="Stop and look at the robot",
              targets={"socrates", "hunav2"}, hunav2="LookAtRobot", hunav1="SurprisedNav"),
-    NodeSpec(name="FollowRobot", kind="action", ports=[_AGENT, _STEP],
+    NodeSpec(name="FollowRobot", kind="action", ports=[_AGENT, _STEP], moves=True, interaction=True,
              description="One step following the robot; the human stops 1.5 m behind it and faces it. A follower "
                          "standing in the robot's way (ahead of it on its path) first steps aside and lets it pass.",
              capability="Follow the robot",
              targets={"socrates", "hunav2"}, hunav2="ApproachRobot", hunav1="CuriousNav",
              sim_note="HuNavSim's follower walks up to the robot even from in front of it and stands 1.5 m ahead "
                       "of it, blocking it for good; ours steps aside first (GiveWaytoRobot's side step)."),
-    NodeSpec(name="FollowHuman", kind="action",
-             ports=[_AGENT, Port(name="target_id", type=PortType.INT, description="id of the human to follow"),
+    NodeSpec(name="FollowHuman", kind="action", moves=True, interaction=True,
+             ports=[_AGENT, Port(name="target_id", type=PortType.INT, description="id of the human to follow",
+                                 other_human=True),
                     _STEP],
              description="One step following human `target_id`, stopping 1.5 m from them.",
              capability="Follow another human",
              targets={"socrates", "hunav2"}, hunav2="FollowAgent"),
-    NodeSpec(name="RunAwayFromRobot", kind="action", ports=[_AGENT, _STEP],
+    NodeSpec(name="RunAwayFromRobot", kind="action", ports=[_AGENT, _STEP], moves=True, interaction=True,
              description="One step of scared walking: slow (0.6 m/s) and strongly pushed away from the robot "
                          "while still heading for the goal.",
              capability="Be scared of the robot and avoid it",
              targets={"socrates", "hunav1"}, hunav1="ScaredNav"),
-    NodeSpec(name="GiveWaytoRobot", kind="action", ports=[_AGENT, _STEP],
+    NodeSpec(name="GiveWaytoRobot", kind="action", ports=[_AGENT, _STEP], moves=True, interaction=True,
              description="One step of giving way: the human steps to the side of the robot's path, waits there "
                          "while the robot passes, then resumes toward its goal.",
              capability="Give way to the robot (step aside, let it pass)",
              targets={"socrates"},
              sim_note="The fork computes the side step and then discards it (a plain walking step); we "
                       "really step aside, as the prompt says."),
-    NodeSpec(name="BlockRobot", kind="action", ports=[_AGENT, _STEP],
+    NodeSpec(name="BlockRobot", kind="action", ports=[_AGENT, _STEP], moves=True, interaction=True,
              description="One step moving quickly to a point 1.5 m in front of the robot, facing it when close, "
                          "to block its way.",
              capability="Move in front of the robot and block it",
              targets={"socrates", "hunav2", "hunav1"}, hunav2="BlockRobot", hunav1="ThreateningNav"),
-    # ---- control flow and built-ins (explained by the BT tutorial) ---------------------------
-    NodeSpec(name="Sequence", kind="control", description="ticks children in order; fails at the first failure",
-             ports=[Port(name="name", type=PortType.STRING, description="free text", required=False)],
-             targets={"socrates", "hunav2", "hunav1"}, hunav2="Sequence", hunav1="Sequence",
-             min_children=1, max_children=None),
-    NodeSpec(name="Fallback", kind="control", description="ticks children in order; succeeds at the first success",
-             ports=[Port(name="name", type=PortType.STRING, description="free text", required=False)],
-             targets={"socrates", "hunav2", "hunav1"}, hunav2="Fallback", hunav1="Fallback",
-             min_children=1, max_children=None),
-    NodeSpec(name="ReactiveSequence", kind="control", in_prompt=False,
-             description="like Sequence, re-checking earlier children every tick",
-             ports=[Port(name="name", type=PortType.STRING, description="free text", required=False)],
-             targets={"socrates", "hunav2", "hunav1"}, hunav2="ReactiveSequence", hunav1="ReactiveSequence",
-             min_children=1, max_children=None),
-    NodeSpec(name="ReactiveFallback", kind="control", in_prompt=False,
-             description="like Fallback, re-checking earlier children every tick",
-             ports=[Port(name="name", type=PortType.STRING, description="free text", required=False)],
-             targets={"socrates", "hunav2", "hunav1"}, hunav2="ReactiveFallback", hunav1="ReactiveFallback",
-             min_children=1, max_children=None),
-    NodeSpec(name="Inverter", kind="decorator", description="turns SUCCESS into FAILURE and back",
-             ports=[Port(name="name", type=PortType.STRING, description="free text", required=False)],
-             targets={"socrates", "hunav2", "hunav1"}, hunav2="Inverter", hunav1="Inverter",
-             min_children=1, max_children=1),
-    NodeSpec(name="ForceSuccess", kind="decorator", in_prompt=False, description="always SUCCESS",
-             ports=[Port(name="name", type=PortType.STRING, description="free text", required=False)],
-             targets={"socrates", "hunav2", "hunav1"}, hunav2="ForceSuccess", hunav1="ForceSuccess",
-             min_children=1, max_children=1),
-    NodeSpec(name="ForceFailure", kind="decorator", in_prompt=False, description="always FAILURE",
-             ports=[Port(name="name", type=PortType.STRING, description="free text", required=False)],
-             targets={"socrates", "hunav2", "hunav1"}, hunav2="ForceFailure", hunav1="ForceFailure",
-             min_children=1, max_children=1),
-    NodeSpec(name="SetBlackboard", kind="builtin",
+    # ---- control flow and built-ins (explained by the BT tutorial; BT.CPP registers them in v3 and v4) --
+    _builtin("Sequence", "control", "ticks children in order; fails at the first failure", flow="sequence",
+             in_prompt=True, hunav2="ReactiveSequence"),
+    _builtin("Fallback", "control", "ticks children in order; succeeds at the first success", flow="fallback",
+             in_prompt=True, hunav2="ReactiveFallback"),
+    _builtin("ReactiveSequence", "control", "like Sequence, re-checking earlier children every tick",
+             flow="sequence", reactive=True),
+    _builtin("ReactiveFallback", "control", "like Fallback, re-checking earlier children every tick",
+             flow="fallback", reactive=True),
+    _builtin("Inverter", "decorator", "turns SUCCESS into FAILURE and back", rule="invert", in_prompt=True),
+    _builtin("ForceSuccess", "decorator", "always SUCCESS", rule="force_success"),
+    _builtin("ForceFailure", "decorator", "always FAILURE", rule="force_failure"),
+    _builtin("Repeat", "decorator", "ticks its child again while it succeeds, `num_cycles` times within the tick",
+             rule="repeat", count_port="num_cycles",
+             ports=[Port(name="num_cycles", type=PortType.INT, description="how many times", minimum=1,
+                         maximum=MAX_REPEAT)]),
+    _builtin("RetryUntilSuccessful", "decorator",
+             "ticks its child again while it fails, at most `num_attempts` times within the tick",
+             rule="retry", count_port="num_attempts",
+             ports=[Port(name="num_attempts", type=PortType.INT, description="how many attempts", minimum=1,
+                         maximum=MAX_REPEAT)]),
+    _builtin("KeepRunningUntilFailure", "decorator", "RUNNING while its child succeeds; FAILURE when it fails",
+             rule="keep_running"),
+    _builtin("SetBlackboard", "builtin", "writes `value` into the blackboard entry `output_key`", in_prompt=True,
              ports=[Port(name="output_key", type=PortType.STRING, description="blackboard key to write"),
-                    Port(name="value", type=PortType.STRING, description="value or {key} to copy")],
-             description="writes `value` into the blackboard entry `output_key`",
-             targets={"socrates", "hunav2", "hunav1"}, hunav2="SetBlackboard", hunav1="SetBlackboard"),
-    NodeSpec(name="SubTree", kind="builtin",
-             ports=[Port(name="ID", type=PortType.STRING, description="id of the BehaviorTree to run")],
-             description="runs another BehaviorTree; extra attributes remap its ports to parent keys",
-             targets={"socrates", "hunav2", "hunav1"}, hunav2="SubTree", hunav1="SubTree"),
+                    Port(name="value", type=PortType.STRING, description="value or {key} to copy")]),
+    _builtin("SubTree", "subtree", "runs another BehaviorTree; extra attributes remap its ports to parent keys",
+             in_prompt=True,
+             ports=[Port(name="ID", type=PortType.STRING, description="id of the BehaviorTree to run")]),
 ]
 
 # ==== BEGIN latching conditions ================================================================
@@ -243,6 +275,9 @@ NODES.append(
 # ==== END latching conditions ===================================================================
 
 LIBRARY: dict[str, NodeSpec] = {n.name: n for n in NODES}
+
+# Entries every agent's root blackboard holds (HuNavSim sets them before each tick).
+ROOT_KEYS: dict[str, PortType] = {"id": PortType.INT, "dt": PortType.DOUBLE}
 
 # Trees the library ships and that a generated tree may `include` (file name -> main tree id).
 LIBRARY_TREES: dict[str, str] = {"BTRegularNav.xml": "RegularNavTree"}
@@ -285,6 +320,15 @@ def regular_walker_xml(tree_id: str = "MainTree") -> str:
             f'  <BehaviorTree ID="{tree_id}">\n{regular_nav_sequence("    ")}  </BehaviorTree>\n</root>\n')
 
 
+def known_nodes(target: Target | None = None) -> dict[str, NodeSpec]:
+    """The nodes a tree may name: every library node (what the simulator runs), or those `target`'s loader
+    knows; HuNavSim 2.x's own nodes are unknown to the v3 node libraries of socrates and hunav1. A known
+    node the target cannot run is named as such by `bt check --target`."""
+    if target is None or target == "hunav2":
+        return dict(LIBRARY)
+    return {name: spec for name, spec in LIBRARY.items() if spec.targets != {"hunav2"}}
+
+
 def leaf_nodes() -> list[NodeSpec]:
     return [n for n in NODES if n.kind in ("action", "condition")]
 
@@ -306,11 +350,16 @@ HUNAV2_SIMULATED = ("IsRobotClose", "SaySomething", "SurprisedNav", "CuriousNav"
 _PORT_TYPES = {"int": PortType.INT, "double": PortType.DOUBLE, "bool": PortType.BOOL, "std::string": PortType.STRING}
 
 
+_ROOT_PORTS: dict[str, Literal["id", "dt"]] = {"agent_id": "id", "time_step": "dt"}
+
+
 def _native_spec(node: RegisteredNode) -> NodeSpec:
+    """A 2.x node as a library row; its navigation steps (the nodes with a time_step) move the person."""
     ports = [Port(name=p.name, type=_PORT_TYPES[p.type], description=f"HuNavSim 2.x port ({p.type})",
-                  required=p.read and p.default is None, default=p.default)
+                  required=p.read and p.default is None, default=p.default, reads_root=_ROOT_PORTS.get(p.name))
              for p in node.ports if p.direction == "input"]
     return NodeSpec(name=node.id, kind="action" if node.kind == "Action" else "condition", ports=ports,
+                    moves=any(p.name == "time_step" for p in ports),
                     description=f"HuNavSim 2.x {node.kind.lower()} {node.id} (only in hunav2 exports; "
                                 "semantics in socnavgen.sim.nodes_hunav2)",
                     targets={"hunav2"}, hunav2=node.id, in_prompt=False)
@@ -321,6 +370,11 @@ NATIVE_HUNAV2 = [_native_spec(HUNAV2_REGISTERED[n]) for n in HUNAV2_SIMULATED] +
              targets={"hunav2"}, hunav2="AlwaysSuccess", in_prompt=False)]
 NODES.extend(NATIVE_HUNAV2)
 LIBRARY.update({n.name: n for n in NATIVE_HUNAV2})
+
+
+# BT.CPP 4 built-ins a HuNavSim 2.x file may hold (HuNavSim registers only its leaves).
+HUNAV2_BUILTINS = tuple(n.name for n in NODES if n.kind not in ("action", "condition")) + HUNAV2_EXTRA_BUILTINS \
+    + ("AlwaysSuccess",)
 
 
 def _apply_hunav2_support() -> None:

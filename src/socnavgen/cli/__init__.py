@@ -50,6 +50,7 @@ COMMANDS: dict[str, tuple[Callable[[], click.Command], str]] = {
     "generate": (_single("generate_cmd", "register", "generate"),
                  "Generate a scenario: scenario -> paths -> behavior trees (SocRATES pipeline)."),
     "cards": (_group("cards_cmd"), "The 25 canonical scenario cards of Francis et al."),
+    "run": (_group("run_cmd"), "Bring in runs made elsewhere (SocRATES's saved scenarios)."),
     "bt": (_group("bt_cmd"), "Behavior-tree tools: validate hand-written trees, show the node library."),
     "export": (_single("export_cmd", "register", "export"), "Write the files HuNavSim loads for a run."),
     "simulate": (_single("sim_cmd", "register", "simulate"), "Simulate a run headless (2D, no ROS)."),

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import typer
 
-from socnavgen.cli.common import console
+from socnavgen.cli.common import console, err_console
 from socnavgen.errors import ValidationFailed
 from socnavgen.export import FORMATS, export_run
 
@@ -28,8 +28,10 @@ def register(app: typer.Typer) -> None:
                                         help="hunav2: yaml_base_name (default socnavgen_<run folder name>)"),
         simulator: str = typer.Option("Gazebo Classic", "--simulator",
                                       help="hunav2: Gazebo Classic, Gazebo Fortress, Isaac Sim or Webots"),
-        force: bool = typer.Option(False, "--force", help="replace the content of a non-empty output folder that "
-                                   "an earlier export did not write"),
+        force: bool = typer.Option(False, "--force", help="write into a non-empty folder no export wrote; its files "
+                                   "are never replaced or deleted (an export that would overwrite one is refused)"),
+        seed: int = typer.Option(0, "--seed", help="where people start around their first node: the same spread as "
+                                 "`simulate --seed` (so a group does not start inside each other)"),
     ) -> None:
         """Write the agents yaml, behavior trees, robot waypoints and a README telling where they go.
 
@@ -40,8 +42,16 @@ def register(app: typer.Typer) -> None:
         if fmt not in FORMATS:
             raise ValidationFailed(f"unknown --format {fmt!r}", hint="one of: " + ", ".join(FORMATS))
         result = export_run(run, fmt, out, location_dir=location, base=name, simulator=simulator,  # type: ignore[arg-type]
-                            force=force)
+                            force=force, seed=seed)
         console.print(f"[green]exported[/] {run} as [bold]{fmt}[/] to {out}:")
         for f in result.files:
             console.print(f"  {f}")
+        if result.removed:
+            console.print(f"removed {len(result.removed)} file(s) of the earlier export: {', '.join(result.removed)}",
+                          highlight=False)
+        if result.kept:
+            console.print(f"left alone {len(result.kept)} file(s) no export wrote: {', '.join(result.kept[:10])}",
+                          highlight=False)
         console.print(f"see {Path(out) / 'README.md'} for where the files go and how to launch")
+        if result.verification != "passed":
+            err_console.print(f"[yellow]warning[/]: {result.verification_message}", highlight=False)

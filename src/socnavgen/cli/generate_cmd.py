@@ -126,6 +126,29 @@ def _summary(run, folder: RunFolder) -> None:  # noqa: ANN001 - a proposal.Run
     console.print(f"tokens: {total_in} in, {total_out} out", highlight=False)
 
 
+def _export_check(folder: RunFolder, target: str | None) -> None:
+    """Say now which export targets will refuse the trees (an export weeks later should not be the first to
+    tell): a warning for the run's own --target, a note for the others."""
+    from socnavgen.export import target_refusals
+
+    if not folder.paths_path.is_file() or not folder.behaviors():
+        return
+    try:
+        refused = target_refusals(folder.root)
+    except SocnavgenError:
+        return  # the run is incomplete or invalid: generate has already said why
+    for fmt, message in refused.items():
+        if fmt == "hunav1" and target != "hunav1":
+            continue  # 1.x runs only its built-in behaviors: refusing custom trees is its nature, not news
+        first = message.splitlines()[0]
+        detail = "; ".join(line.strip() for line in message.splitlines()[1:4])
+        if fmt == (target or "socrates"):
+            err_console.print(f"[yellow]warning[/]: `export --format {fmt}` (this run's target) will refuse it: "
+                              f"{first} {detail}", highlight=False)
+        else:
+            console.print(f"[dim]note: `export --format {fmt}` will refuse it: {first} {detail}[/]", highlight=False)
+
+
 def register(app: typer.Typer) -> None:
     """Add `generate` to the main app."""
 
@@ -236,6 +259,7 @@ def register(app: typer.Typer) -> None:
             result = generate(request, model, target, redo=set(redo or []) or None,
                               review=console_review if review else None, progress=LiveProgress(bar), verify=verify)
         _summary(result, folder)
+        _export_check(folder, request.target)
         if verify and result.verify is not None and not result.verify.passed:
             err_console.print("[red]the verifier still finds problems[/] (manifest status: failed); see "
                               "sim/verify.json")

@@ -8,7 +8,7 @@ from pathlib import Path
 import typer
 from rich.table import Table
 
-from socnavgen.cli.common import console
+from socnavgen.cli.common import console, finite_between
 from socnavgen.errors import InputFileError
 from socnavgen.location.check import check_location
 from socnavgen.location.location import SCENE_GRAPH_IMAGE, load_location
@@ -116,3 +116,80 @@ def import_socrates(
     if not report.ok:
         console.print(f"run `socnavgen location check {output}` for the details", highlight=False, soft_wrap=True)
     raise typer.Exit(0 if report.ok else 1)
+
+
+@app.command("from-world")
+def from_world(
+    world: Path = typer.Argument(..., help="Gazebo world file (.world or .sdf, SDF 1.4-1.9)."),
+    output: Path = typer.Option(..., "-o", "--output", help="Location folder to create."),
+    models: list[Path] = typer.Option([], "--models", help="Folder of Gazebo models (NAME/model.sdf) for "
+                                                          "model:// URIs; repeat it. GAZEBO_MODEL_PATH and "
+                                                          "GZ_SIM_RESOURCE_PATH are searched too."),
+    resolution: float = typer.Option(0.05, "--resolution", callback=finite_between(0.005, 1.0),
+                                     help="Metres per map cell."),
+    ankle: float = typer.Option(0.1, "--ankle", callback=finite_between(0.0, 10.0),
+                                help="Bottom of the slab (m above the floor): lower things are walked over."),
+    head: float = typer.Option(1.8, "--head", callback=finite_between(0.01, 20.0),
+                               help="Top of the slab (m above the floor): higher things are walked under. "
+                                    "0.5 gives what a robot's laser sees (shelves on legs become their legs)."),
+    floor_z: float = typer.Option(0.0, "--floor-z", callback=finite_between(-1e4, 1e4),
+                                  help="Height of the floor in the world (m)."),
+    bounds: tuple[float, float, float, float] | None = typer.Option(
+        None, "--bounds", help="Map only XMIN YMIN XMAX YMAX (metres); default: everything, plus a 0.3 m margin."),
+    strict: bool = typer.Option(False, "--strict", help="Fail when a model or mesh cannot be found or read "
+                                                        "(default: list them and go on)."),
+    name: str | None = typer.Option(None, "--name", help="Location name (default: the folder name)."),
+    detail: float = typer.Option(1.0, "--detail", min=0.1, max=10.0,
+                                 help="Finer (>1) or coarser (<1) scene graph, as in `location extract`."),
+    seed: int | None = typer.Option(None, "--seed", help="Make the random node ids reproducible."),
+    force: bool = typer.Option(False, "--force", help="Replace a location already in the output folder."),
+) -> None:
+    """Turn a Gazebo world into a ready location: map, overhead picture, scene graph, description draft.
+
+    Reads the world and the models it includes (model://NAME from --models and the Gazebo model
+    paths), slices every collision shape (box, cylinder, sphere, capsule, ellipsoid, plane,
+    polyline, DAE/STL/OBJ mesh) between --ankle and --head into a nav2 map (map.pgm + map.yaml, world
+    frame, origin on a multiple of the resolution), draws overhead.png with the same transform,
+    extracts the scene graph, drafts location.yaml's description from the model names, runs
+    `location check` and lists the scenario cards that fit. Models that cannot be used are listed by
+    name (exit code 0) unless --strict.
+
+    Example: socnavgen location from-world worlds/small_warehouse.world --models models -o locations/warehouse
+    """
+    from socnavgen.cli.common import progress as progress_bar
+    from socnavgen.location.extract import ExtractOptions
+    from socnavgen.location.world_import import WorldImportOptions, import_world
+    from socnavgen.location.world_raster import SliceOptions
+
+    if head <= ankle:
+        raise typer.BadParameter(f"--head {head} must be above --ankle {ankle}")
+    options = WorldImportOptions(
+        slice=SliceOptions(resolution=resolution, ankle=ankle, head=head, floor_z=floor_z, bounds=bounds),
+        extract=ExtractOptions(detail=detail, seed=seed), strict=strict, name=name, force=force)
+    with progress_bar() as bar:
+        task = bar.add_task("reading the world", total=None)
+
+        def report(stage: str, done: int, total: int) -> None:
+            bar.update(task, description=stage, completed=done, total=total)
+
+        result = import_world(world, output, list(models), options, progress=report)
+        bar.update(task, description="done", completed=1, total=1)
+    for line in result.skipped:
+        console.print(f"[yellow]skipped:[/] {line}", highlight=False, soft_wrap=True)
+    w, h = result.size
+    console.print(f"{world}: {len(result.world.models)} models, {len(result.world.shapes)} collision shapes "
+                  f"({result.footprints} distinct slices); map {w} x {h} cells at {resolution} m, origin "
+                  f"({result.origin[0]:g}, {result.origin[1]:g}); {result.stats.nodes} nodes, {result.stats.edges} "
+                  f"edges; {sum(result.seconds.values()):.1f} s", highlight=False, soft_wrap=True)
+    report_check = check_location(output)
+    console.print(f"location check: {len(report_check.errors)} error(s), {len(report_check.warnings)} warning(s)",
+                  highlight=False)
+    if report_check.ok:
+        from socnavgen.cards.generate import fit_all
+
+        fitting = [f.card.name for f in fit_all(load_location(output)) if f.fits]
+        console.print(f"cards that fit ({len(fitting)}): {', '.join(fitting) or 'none'}", highlight=False,
+                      soft_wrap=True)
+    console.print(f"wrote {output}/ (map.pgm, map.yaml, overhead.png, location.yaml, scene_graph.json, "
+                  f"scene_graph.png) - review with: socnavgen annotate {output}", highlight=False, soft_wrap=True)
+    raise typer.Exit(0 if report_check.ok else 1)

@@ -30,6 +30,11 @@ def simulate(
                                      "interaction point (SocRATES does, so that the encounter happens there)."),
     location: Path | None = typer.Option(None, "--location", help="Location folder, if request.json's path does "
                                          "not resolve from here."),
+    bag: Path | None = typer.Option(None, "--bag", "--mcap", help="Also write the episode as a ROS 2 bag folder "
+                                    "(MCAP storage) that Foxglove and RViz open: odometry, tf, people as "
+                                    "hunav_msgs, the map, scene graph and paths as markers."),
+    bag_msgs: str = typer.Option("socrates", "--bag-msgs", help="hunav_msgs of the bag: socrates (the SocRATES "
+                                 "fork's, with gestures) or hunav (upstream HuNavSim 1.x/2.x, without)."),
 ) -> None:
     """Simulate a run without ROS: humans walk with HuNavSim's social force model driven by the run's behavior
     trees, the robot by a plugin. Writes RUN/sim/trace.npz (per-step poses, velocities, active BT node,
@@ -37,6 +42,8 @@ def simulate(
     --gif, animation.gif. Deterministic for a seed.
 
     Example: socnavgen simulate runs/blind_corner --robot waypoints --gif
+
+    Example: socnavgen simulate runs/blind_corner --bag runs/blind_corner/sim/episode_bag
     """
     from socnavgen.run import RunFolder
     from socnavgen.sim.engine import SimConfig
@@ -47,6 +54,10 @@ def simulate(
     if timeout / dt > MAX_SIM_STEPS:
         raise SocnavgenError(f"--timeout {timeout:g} at --dt {dt:g} is {timeout / dt:.0f} steps, more than the "
                              f"{MAX_SIM_STEPS} allowed", hint="raise --dt or lower --timeout")
+    if bag_msgs not in ("socrates", "hunav"):
+        raise SocnavgenError(f"--bag-msgs {bag_msgs!r}", hint="socrates (the fork's hunav_msgs, with gestures) or hunav")
+    if bag is not None and (bag.exists() or bag.is_symlink()):  # refused before minutes of simulation
+        raise SocnavgenError("the bag folder already exists", file=bag, hint="remove it or choose another --bag name")
     policy = load_policy(robot)
     config = SimConfig(dt=dt, timeout=timeout, seed=seed)
     loaded = RunFolder(run).location(location)
@@ -74,6 +85,11 @@ def simulate(
     for note in trace.meta.get("throttle_skipped") or []:
         console.print(f"  [yellow]not throttled[/]: {note}", highlight=False)
     _write_extras(trace, loaded, out, gif)
+    if bag is not None:
+        from socnavgen.cli.bag_cmd import write_episode_bag
+
+        mcap = write_episode_bag(trace, run, loaded, bag, bag_msgs)
+        console.print(f"  bag -> {bag} (open {mcap} in Foxglove; `ros2 bag play {bag}` for RViz)", highlight=False)
 
 
 def _write_extras(trace, location, out: Path, gif: bool) -> None:  # noqa: ANN001 - Trace, Location

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import typer
 
-from socnavgen.cli.common import console
+from socnavgen.cli.common import console, finite_between
 from socnavgen.verify.models import VerifySettings
 
 _FIELDS = VerifySettings.model_fields  # the one source of the thresholds' defaults and meanings
@@ -42,6 +42,24 @@ def register_verify(app: typer.Typer) -> None:
                                              help="A robot-human contact (gap <= 0.05 m) fails verification "
                                                   "(default), or is only a warning."),
         as_json: bool = typer.Option(False, "--json", help="Print the report as JSON instead of a table."),
+        bag: Path | None = typer.Option(None, "--bag", exists=True, help=(
+            "Judge a ROS 2 bag of the run recorded in HuNavSim (rosbag2 folder, .mcap or .db3) instead of the "
+            "headless simulation; the trace, metrics.json and verify.json go to RUN/bags/NAME/.")),
+        humans_topic: str = typer.Option("/human_states", help="--bag: topic of the humans (hunav_msgs/Agents)."),
+        robot_topic: str = typer.Option("/robot_states", help="--bag: topic of the robot (hunav_msgs/Agent)."),
+        goal_topic: str = typer.Option("/goal_pose", help="--bag: robot goal (PoseStamped), optional in the bag."),
+        robot_gesture_topic: str = typer.Option("/robot_gesture", help="--bag: robot gesture (UInt32), optional."),
+        agent_ids: str = typer.Option("auto", help="--bag: how agent ids number the humans: socrates (human1 = "
+                                                   "0), hunav (human1 = 1, hunav2/hunav1 exports) or auto."),
+        agent_map: str | None = typer.Option(None, help="--bag: explicit ids, e.g. 7=human1,8=human2."),
+        hunav_msgs: str = typer.Option("auto", help="--bag: hunav_msgs definitions when the bag has none: "
+                                                    "socrates (the fork), hunav (upstream) or auto."),
+        dt: float | None = typer.Option(None, callback=finite_between(0.001, 1.0), help=(
+            "--bag: resampling step in seconds (default: the bag's own for socnavgen bags, else 0.05).")),
+        max_gap: float = typer.Option(2.0, callback=finite_between(0.01, 3600.0), help=(
+            "--bag: longest pause (s) between human states before the recording counts as broken.")),
+        start_tolerance: float = typer.Option(3.0, callback=finite_between(0.0, 1000.0), help=(
+            "--bag: how far (m) an agent may start from the first node of its path.")),
     ) -> None:
         """Check that the scenario does what it says, on the headless simulation of the run.
 
@@ -53,11 +71,14 @@ def register_verify(app: typer.Typer) -> None:
         no deadlock; goal reached), plus every interaction node of each tree really running after its cause.
         The report is written to RUN/sim/verify.json. Exit code 1 when a criterion fails.
 
+        With --bag, a recording of the run in HuNavSim (Gazebo) is judged instead, by the same criteria and
+        metrics: docs/verify.md says which topics it reads and how agents are matched to the run's humans.
+
         Example: socnavgen verify runs/blind_corner --distance 2.0
+
+        Example: socnavgen verify runs/blind_corner --bag recordings/blind_corner_0
         """
         from socnavgen.errors import SocnavgenError
-        from socnavgen.verify import verify_run
-        from socnavgen.verify.report import print_report
 
         try:
             settings = VerifySettings.with_overrides(
@@ -66,6 +87,19 @@ def register_verify(app: typer.Typer) -> None:
                 collisions_fail=collisions_fail)
         except ValueError as exc:
             raise SocnavgenError(str(exc), hint="see `socnavgen verify --help` for each option's range") from None
+        if bag is not None:
+            from socnavgen.cli.bag_cmd import read_options, verify_bag
+
+            options = read_options(humans_topic=humans_topic, robot_topic=robot_topic, goal_topic=goal_topic,
+                                   gesture_topic=robot_gesture_topic, agent_ids=agent_ids, agent_map=agent_map,
+                                   hunav_msgs=hunav_msgs, dt=dt, max_gap=max_gap, start_tolerance=start_tolerance)
+            if not verify_bag(run, bag, location=location, settings=settings.model_dump(), options=options,
+                              as_json=as_json):
+                raise typer.Exit(1)
+            return
+        from socnavgen.verify import verify_run
+        from socnavgen.verify.report import print_report
+
         report = verify_run(run, simulate_if_missing=simulate, location=location, settings=settings,
                             simulate_options={"robot": robot} if robot else None)
         if as_json:

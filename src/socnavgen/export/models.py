@@ -26,7 +26,8 @@ class WorldPoint(BaseModel):
 
 
 class HumanExport(BaseModel):
-    """One human as HuNavSim spawns it: at the first node of its path, facing the next one."""
+    """One human as HuNavSim spawns it: near the first node of its path, where `simulate` spawns it (same seed),
+    facing its first goal."""
 
     name: str  # human1, human2, ...
     agent_id: int  # 0-based, as SocRATES (human1 -> 0)
@@ -67,3 +68,7 @@ class ExportResult(BaseModel):
     format: ExportFormat
     out_dir: str
     files: list[str] = Field(default_factory=list)
+    kept: list[str] = Field(default_factory=list, description="files in the folder no export wrote: left alone")
+    removed: list[str] = Field(default_factory=list, description="files of the earlier export it no longer has")
+    verification: str = Field(default="never", description="passed | failed | never | stale | unreadable")
+    verification_message: str = ""

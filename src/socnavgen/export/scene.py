@@ -6,8 +6,15 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+from socnavgen.bodies import PERSON_RADIUS
 from socnavgen.errors import InputFileError, ValidationFailed
-from socnavgen.export.models import SKIN_COUNT, ExportScene, HumanExport, RobotExport, WorldPoint
+from socnavgen.export.models import (
+    SKIN_COUNT,
+    ExportScene,
+    HumanExport,
+    RobotExport,
+    WorldPoint,
+)
 from socnavgen.location import Location
 from socnavgen.run import PathPlan, RunFolder
 from socnavgen.run.checks import plan_mistakes
@@ -45,8 +52,30 @@ def _check_nodes(plan: PathPlan, location: Location, run: RunFolder) -> None:
                                file=run.paths_path, hint="was the run generated on another location?")
 
 
-def build_scene(run_dir: Path | str, location_dir: Path | str | None = None) -> tuple[ExportScene, Location]:
-    """Read request.json, paths.json and behaviors/*.xml; place every human and the robot in metres."""
+def spawn_starts(location: Location, plan: PathPlan, seed: int) -> dict[str, tuple[float, float, float]]:
+    """Where each human starts (x, y, yaw): exactly where `simulate --seed SEED` spawns it, by the simulator's
+    own function (sim.scenario.spawn_points, with the same random generator and arguments), so that people
+    sharing a first node stand apart in Gazebo as in our simulation; yaw toward the first goal, as simulated."""
+    import numpy as np
+
+    from socnavgen.sim.scenario import spawn_points
+    from socnavgen.sim.world import World
+
+    humans = sorted(plan.humans, key=lambda h: h.agent_id)
+    nodes = [complex(*location.node_world(h.path[0])) for h in humans]
+    points = spawn_points(World.from_location(location), nodes, [h.group_id for h in humans], PERSON_RADIUS,
+                          np.random.default_rng(seed))
+    starts = {}
+    for human, point in zip(humans, points, strict=True):
+        goal = complex(*location.node_world(human.path[1] if len(human.path) > 1 else human.path[0])) - point
+        starts[human.name] = (point.real, point.imag, math.atan2(goal.imag, goal.real) if abs(goal) > 1e-9 else 0.0)
+    return starts
+
+
+def build_scene(run_dir: Path | str, location_dir: Path | str | None = None, *,
+                seed: int = 0) -> tuple[ExportScene, Location]:
+    """Read request.json, paths.json and behaviors/*.xml; place every human and the robot in metres (humans
+    where the simulator spawns them with `seed`)."""
     run = RunFolder(Path(run_dir))
     if not run.paths_path.is_file():
         raise InputFileError("this run has no paths.json yet", file=run.root,
@@ -61,9 +90,11 @@ def build_scene(run_dir: Path | str, location_dir: Path | str | None = None) -> 
                              hint="every human in paths.json needs behaviors/<human>.xml")
 
     humans: list[HumanExport] = []
+    starts = spawn_starts(location, plan, seed)
     for human in sorted(plan.humans, key=lambda h: h.agent_id):
         points = world_path(location, human.path)
-        start = points[0]
+        x, y, yaw = starts[human.name]
+        start = WorldPoint(node=human.path[0], x=x, y=y, yaw=yaw)
         goals = points[1:] if len(points) > 1 else [points[0]]  # single node: walk to (stay at) it
         humans.append(HumanExport(
             name=human.name, agent_id=human.agent_id, group_id=human.group_id, skin=skin_for(human.agent_id),

@@ -146,13 +146,18 @@ def render_scene_graph(gray: np.ndarray, graph: SceneGraph, schema: Schema, *, t
 
 
 def render_with_layout(gray: np.ndarray, graph: SceneGraph, schema: Schema, *, title: str = "",
-                       metres_per_pixel: float | None = None) -> tuple[Image.Image, Layout]:
+                       metres_per_pixel: float | None = None,
+                       picture: np.ndarray | None = None) -> tuple[Image.Image, Layout]:
+    """`picture`: the map in colour (an overhead view, same size as `gray`), drawn instead of the grey levels."""
     crop = known_crop(gray, graph)
     x0, y0, x1, y1 = crop
     view = gray[y0:y1, x0:x1]
     h, w = view.shape
     scale = choose_scale(w, h)
-    base = Image.fromarray(view, mode="L").convert("RGB")
+    if picture is not None and picture.shape[:2] == gray.shape:
+        base = Image.fromarray(np.ascontiguousarray(picture[y0:y1, x0:x1]), mode="RGB")
+    else:
+        base = Image.fromarray(view, mode="L").convert("RGB")
     size = (max(1, round(w * scale)), max(1, round(h * scale)))
     resample = Image.Resampling.NEAREST if scale >= 1 else Image.Resampling.LANCZOS
     base = base.resize(size, resample)
@@ -242,8 +247,28 @@ def render_location_with_layout(location: Location) -> tuple[Image.Image, Layout
         mpp = location.transform.meters_per_pixel
     except Exception:  # a broken transform must not stop the picture; `location check` reports it
         mpp = None
-    return render_with_layout(location.map_gray, location.scene_graph, location.schema, title=location.name,
-                              metres_per_pixel=mpp)
+    gray, picture = location.map_gray, _colour_map(location)
+    if location.config.occupancy_image:  # `map` is a picture: crop by where the walls are, draw the picture
+        from socnavgen.location.occupancy import load_image_gray
+        from socnavgen.safeio import contained_path
+
+        occupancy_gray = load_image_gray(contained_path(location.root, location.config.occupancy_image))
+        if occupancy_gray.shape == gray.shape:
+            picture = picture if picture is not None else np.repeat(gray[:, :, None], 3, axis=2)
+            gray = occupancy_gray
+    return render_with_layout(gray, location.scene_graph, location.schema, title=location.name,
+                              metres_per_pixel=mpp, picture=picture)
+
+
+def _colour_map(location: Location) -> np.ndarray | None:
+    """The map image as RGB when it is a colour picture (an overhead view), else None."""
+    try:
+        with Image.open(location.map_path) as img:
+            if img.mode not in ("RGB", "RGBA", "P"):
+                return None
+            return np.asarray(img.convert("RGB"))
+    except Exception:  # the grey map was already read (and checked) by map_gray; a picture is optional
+        return None
 
 
 def png_bytes(image: Image.Image) -> bytes:
