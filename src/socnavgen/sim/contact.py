@@ -134,5 +134,5 @@ def summarize(trace: Trace, gaps: np.ndarray | None = None) -> ContactSummary:
         collision_steps=steps, collision_seconds=round(steps * dt, 6), first_collision_time=first_t,
         first_collision_human=first_h, worst_overlap=float(max(0.0, -gaps.min())),
         min_gap=float(gaps[k, j]), min_gap_time=float(trace.t[k]), min_gap_human=trace.human_names[j],
-        steps_per_human={n: int(hits[:, i].sum()) for i, n in enumerate(trace.human_names)},
+        steps_per_human=dict(zip(trace.human_names, np.count_nonzero(hits, axis=0).tolist(), strict=True)),
         intimate_seconds=round(int(np.count_nonzero(closest < INTIMATE_SPACE)) * dt, 6))

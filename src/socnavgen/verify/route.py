@@ -4,6 +4,8 @@ progress; the deadlock signal counts time without progress, not time standing st
 
 from __future__ import annotations
 
+import bisect
+
 import numpy as np
 
 from socnavgen.sim import contact
@@ -24,16 +26,14 @@ def route_progress(robot_xy: np.ndarray, waypoints: list[tuple[float, float]]) -
         return driven, np.zeros((t, 2))
     start, seg, lens = pts[:-1][keep], seg[keep], lens[keep]
     before = np.concatenate([[0.0], np.cumsum(lens)[:-1]])
-    rel_x = robot_xy[:, None, 0] - start[None, :, 0]
-    rel_y = robot_xy[:, None, 1] - start[None, :, 1]
-    u = np.clip((rel_x * seg[None, :, 0] + rel_y * seg[None, :, 1]) / (lens * lens)[None, :], 0.0, 1.0)
-    off_x, off_y = rel_x - u * seg[None, :, 0], rel_y - u * seg[None, :, 1]
-    dist = off_x * off_x + off_y * off_y
-    nearest = np.argmin(dist, axis=1)
-    rows = np.arange(t)
-    progress = before[nearest] + u[rows, nearest] * lens[nearest]
-    tangent = seg[nearest] / lens[nearest][:, None]
-    return progress, tangent
+    unit = seg / lens[:, None]
+    rel_x = robot_xy[:, 0:1] - start[:, 0]  # (T, S): the robot from each segment's start
+    rel_y = robot_xy[:, 1:2] - start[:, 1]
+    along = np.clip(rel_x * unit[:, 0] + rel_y * unit[:, 1], 0.0, lens)  # metres along each segment
+    off_x, off_y = rel_x - along * unit[:, 0], rel_y - along * unit[:, 1]
+    nearest = np.argmin(off_x * off_x + off_y * off_y, axis=1)
+    progress = before[nearest] + along[np.arange(t), nearest]
+    return progress, unit[nearest]
 
 
 def progress_events(progress: np.ndarray, step: float) -> np.ndarray:
@@ -43,10 +43,9 @@ def progress_events(progress: np.ndarray, step: float) -> np.ndarray:
     events = np.zeros(len(best), dtype=bool)
     if not len(best):
         return events
-    ref = best[0]
-    k = int(np.searchsorted(best, ref + step, side="left"))
-    while k < len(best):
+    values = best.tolist()  # monotone: each next event is one bisection away (a route of L m has L / step events)
+    k = bisect.bisect_left(values, values[0] + step)
+    while k < len(values):
         events[k] = True
-        ref = best[k]
-        k = int(np.searchsorted(best, ref + step, side="left"))
+        k = bisect.bisect_left(values, values[k] + step, k)
     return events

@@ -150,8 +150,9 @@ class Signals:
         return self._keep("distances", lambda: contact.trace_distances(self.trace))
 
     def gaps(self) -> np.ndarray:
-        """(T, H) robot-human surface gaps (contact.trace_gaps), computed once."""
-        return self._keep("gaps", lambda: contact.trace_gaps(self.trace))
+        """(T, H) robot-human surface gaps (contact.trace_gaps: the centre distances minus both radii)."""
+        radii = float(self.trace.robot_radius) + np.asarray(self.trace.human_radii, dtype=float).reshape(1, -1)
+        return self._keep("gaps", lambda: self.distances() - radii)
 
     def contacts(self) -> contact.ContactSummary:
         """contact.summarize of the trace, computed once."""
@@ -168,16 +169,26 @@ class Signals:
                 if humans.shape[1] else np.zeros((self.trace.steps, 0), dtype=bool)
         return self._los
 
+    def _ways(self, along: str) -> np.ndarray:
+        """(T, H) 1 where each human is in the robot's way (proxemics.in_way, WAY_MARGIN_VERIFY) along its heading
+        (`along` = "heading") or along its route's direction ("route"; 0 where the robot has no route)."""
+        def build() -> np.ndarray:
+            robot, humans = self.trace.robot, self.trace.humans
+            if along == "heading":
+                hx, hy = np.cos(robot[:, YAW]), np.sin(robot[:, YAW])
+            else:
+                hx, hy = self.route()[1].T
+            way = proxemics.in_way(robot[:, 0:1], robot[:, 1:2], hx[:, None], hy[:, None], humans[:, :, 0],
+                                   humans[:, :, 1], float(self.trace.robot_radius),
+                                   np.asarray(self.trace.human_radii, dtype=float).reshape(1, -1),
+                                   proxemics.WAY_MARGIN_VERIFY)
+            return way if along == "heading" else way & ((hx != 0) | (hy != 0))[:, None]
+
+        return self._keep(("ways", along), build)
+
     def in_way(self, i: int) -> np.ndarray:
         """1 where human i is ahead of the robot (along its heading) inside its swept corridor."""
-        def build() -> np.ndarray:
-            robot, human = self.trace.robot, self.trace.humans[:, i]
-            cos, sin = self._keep("heading", lambda: (np.cos(robot[:, YAW]), np.sin(robot[:, YAW])))
-            return proxemics.in_way(robot[:, 0], robot[:, 1], cos, sin, human[:, 0], human[:, 1],
-                                    float(self.trace.robot_radius), float(np.asarray(self.trace.human_radii)[i]),
-                                    proxemics.WAY_MARGIN_VERIFY)
-
-        return self._keep(("in_way", i), build)
+        return self._ways("heading")[:, i]
 
     def route(self) -> tuple[np.ndarray, np.ndarray]:
         """(progress (T,) m, tangent (T, 2)) of the robot along its waypoints (verify/route.py), computed once."""
@@ -192,25 +203,29 @@ class Signals:
     def in_route_way(self, i: int) -> np.ndarray:
         """1 where human i is in the robot's way along its heading OR along its route's direction (a robot
         turning or jittering in place does not stop being held up by the person ahead on its route)."""
-        def build() -> np.ndarray:
-            robot, human = self.trace.robot, self.trace.humans[:, i]
-            _, tangent = self.route()
-            along_route = proxemics.in_way(robot[:, 0], robot[:, 1], tangent[:, 0], tangent[:, 1], human[:, 0],
-                                           human[:, 1], float(self.trace.robot_radius),
-                                           float(np.asarray(self.trace.human_radii)[i]), proxemics.WAY_MARGIN_VERIFY)
-            return self.in_way(i) | (along_route & (np.abs(tangent).sum(axis=1) > 0))
-
-        return self._keep(("in_route_way", i), build)
+        return self._ways("heading")[:, i] | self._ways("route")[:, i]
 
     def holding_up(self) -> np.ndarray:
-        """(T, H) 1 where a human stands in the robot's way (heading or route) within proxemics.BLOCK_GAP_VERIFY."""
+        """(T, H) 1 where a human stands in the robot's way (heading or route) within proxemics.BLOCK_GAP_VERIFY.
+        The way is only worked out for the (step, human) pairs that close (usually few)."""
         def build() -> np.ndarray:
-            h = len(self.trace.human_names)
-            if not h:
-                return np.zeros((self.trace.steps, 0), dtype=bool)
-            gaps = self.gaps()
-            return np.stack([self.in_route_way(i) & (gaps[:, i] <= proxemics.BLOCK_GAP_VERIFY) for i in range(h)],
-                            axis=1)
+            close = self.gaps() <= proxemics.BLOCK_GAP_VERIFY
+            out = np.zeros(close.shape, dtype=bool)
+            if not close.any():
+                return out
+            k, i = np.nonzero(close)
+            rx, ry, yaw = self.trace.robot[k, 0], self.trace.robot[k, 1], self.trace.robot[k, YAW]
+            px, py = self.trace.humans[k, i, 0], self.trace.humans[k, i, 1]
+            radius = np.asarray(self.trace.human_radii, dtype=float)[i]
+            tangent = self.route()[1][k]
+
+            def way(hx: np.ndarray, hy: np.ndarray) -> np.ndarray:
+                return proxemics.in_way(rx, ry, hx, hy, px, py, float(self.trace.robot_radius), radius,
+                                        proxemics.WAY_MARGIN_VERIFY)
+
+            tx, ty = tangent[:, 0], tangent[:, 1]
+            out[k, i] = way(np.cos(yaw), np.sin(yaw)) | (way(tx, ty) & ((tx != 0) | (ty != 0)))
+            return out
 
         return self._keep("holding_up", build)
 
@@ -271,11 +286,14 @@ def _stalled(s: Signals, m: re.Match) -> np.ndarray:
 
 
 def _deadlock(s: Signals, m: re.Match) -> np.ndarray:
+    blocked = s.blocked()
+    if not blocked.any():  # nobody ever holds the robot up: no need to follow its route
+        return np.zeros(s.trace.steps)
     at_goal = np.zeros(s.trace.steps, dtype=bool)
     if "goal" in s.places:
         at_goal = contact.lengths(s.pos("robot") - s.place("goal")) <= s.goal_radius
     stuck = ~progress_events(s.route()[0], PROGRESS_STEP)
-    return _runlength(stuck & s.blocked() & ~at_goal, s.trace.dt)
+    return _runlength(stuck & blocked & ~at_goal, s.trace.dt)
 
 
 def _progress(s: Signals, m: re.Match) -> np.ndarray:

@@ -23,6 +23,7 @@ depend on argument order; bounds with begin > end): the caller reports the formu
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -46,17 +47,21 @@ def evaluate(spec: Any, data: dict[str, np.ndarray]) -> np.ndarray:
         spec.offline_interpreter.set_ast(spec.ast)
         spec.set_ast_flag = True
     walker = _Walker(arrays, n, spec.offline_interpreter.time_unit_transformer)
-    return walker.visit(spec.ast.specs[-1])
+    with np.errstate(invalid="ignore", over="ignore"):  # inf - inf: every node's result is checked for NaN
+        return walker.visit(spec.ast.specs[-1])
 
 
 def count_nodes(spec: Any) -> int:
-    """How many nodes the parsed formula has (each holds one series while it is evaluated)."""
-    stack, seen = [spec.ast.specs[-1]], 0
-    while stack:
-        node = stack.pop()
-        seen += 1
-        stack.extend(getattr(node, "children", []) or [])
-    return seen
+    """How many nodes the parsed formula has (each holds one series while it is evaluated); kept on the spec."""
+    found = getattr(spec, "_socnavgen_nodes", None)
+    if found is None:
+        stack, found = [spec.ast.specs[-1]], 0
+        while stack:
+            node = stack.pop()
+            found += 1
+            stack.extend(getattr(node, "children", []) or [])
+        spec._socnavgen_nodes = found
+    return found
 
 
 def sliding(x: np.ndarray, width: int, reduce: Any) -> np.ndarray:
@@ -117,6 +122,25 @@ def _per_sample(fn: Any, *columns: np.ndarray) -> np.ndarray:
     return np.array([fn(*values) for values in zip(*(c.tolist() for c in columns), strict=True)], dtype=float)
 
 
+def _no_nan(x: np.ndarray) -> np.ndarray:
+    if np.isnan(x).any():
+        raise NotSupported("NaN")
+    return x
+
+
+@lru_cache(maxsize=1)
+def _comparisons() -> dict[Any, Any]:
+    """rtamt's comparison operators -> their robustness (left, right): the same expressions as its visitor."""
+    from rtamt.semantics.enumerations.comp_oper import StlComparisonOperator as Op
+
+    return {Op.EQ.value: lambda a, b: -np.abs(a - b), Op.NEQ.value: lambda a, b: np.abs(a - b),
+            Op.LEQ.value: lambda a, b: b - a, Op.LESS.value: lambda a, b: b - a,
+            Op.GEQ.value: lambda a, b: a - b, Op.GREATER.value: lambda a, b: a - b}
+
+
+_DISPATCH: dict[type, Any] = {}  # rtamt node class -> the _Walker method evaluating it
+
+
 class _Walker:
     def __init__(self, data: dict[str, np.ndarray], n: int, bounds: Any) -> None:
         self.data, self.n, self.bounds = data, n, bounds
@@ -130,14 +154,13 @@ class _Walker:
         return min(begin, self.n), min(end, self.n)
 
     def visit(self, node: Any) -> np.ndarray:
-        method = getattr(self, "_" + type(node).__name__, None)
+        kind = type(node)
+        method = _DISPATCH.get(kind)
         if method is None:
-            raise NotSupported(type(node).__name__)
-        with np.errstate(invalid="ignore", over="ignore"):  # inf - inf is caught just below
-            out = method(node)
-        if np.isnan(out).any():  # inf - inf: rtamt's min / max then depend on argument order
-            raise NotSupported("NaN")
-        return out
+            method = _DISPATCH[kind] = getattr(_Walker, "_" + kind.__name__, None)
+            if method is None:
+                raise NotSupported(kind.__name__)
+        return method(self, node)
 
     def _children(self, node: Any) -> list[np.ndarray]:
         """The operands as rtamt reads them: its first two children (its parser may repeat some)."""
@@ -154,45 +177,38 @@ class _Walker:
 
     def _Predicate(self, node: Any) -> np.ndarray:
         left, right = self._children(node)
-        op = node.operator.value
-        from rtamt.semantics.enumerations.comp_oper import StlComparisonOperator as Op
-
-        if op == Op.EQ.value:
-            return -np.abs(left - right)
-        if op == Op.NEQ.value:
-            return np.abs(left - right)
-        if op in (Op.LEQ.value, Op.LESS.value):
-            return right - left
-        if op in (Op.GEQ.value, Op.GREATER.value):
-            return left - right
-        raise NotSupported(f"comparison {op}")
+        rule = _comparisons().get(node.operator.value)
+        if rule is None:
+            raise NotSupported(f"comparison {node.operator.value}")
+        return _no_nan(rule(left, right))
 
     def _Abs(self, node: Any) -> np.ndarray:
         return np.abs(self._children(node)[0])
 
+    # inf - inf, 0 * inf: NaN, whose min / max in rtamt depend on argument order (checked where it can arise)
     def _Addition(self, node: Any) -> np.ndarray:
         left, right = self._children(node)
-        return left + right
+        return _no_nan(left + right)
 
     def _Subtraction(self, node: Any) -> np.ndarray:
         left, right = self._children(node)
-        return left - right
+        return _no_nan(left - right)
 
     def _Multiplication(self, node: Any) -> np.ndarray:
         left, right = self._children(node)
-        return left * right
+        return _no_nan(left * right)
 
     def _Division(self, node: Any) -> np.ndarray:  # Python's / raises on zero, as in rtamt
-        return _per_sample(lambda a, b: a / b, *self._children(node))
+        return _no_nan(_per_sample(lambda a, b: a / b, *self._children(node)))
 
     def _Sqrt(self, node: Any) -> np.ndarray:
-        return _per_sample(math.sqrt, self._children(node)[0])
+        return _no_nan(_per_sample(math.sqrt, self._children(node)[0]))
 
     def _Exp(self, node: Any) -> np.ndarray:
-        return _per_sample(math.exp, self._children(node)[0])
+        return _no_nan(_per_sample(math.exp, self._children(node)[0]))
 
     def _Pow(self, node: Any) -> np.ndarray:
-        return _per_sample(math.pow, *self._children(node))
+        return _no_nan(_per_sample(math.pow, *self._children(node)))
 
     # -- Boolean connectives
     def _Neg(self, node: Any) -> np.ndarray:
