@@ -7,8 +7,9 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
       reaction its encounter does not give the human (follows_robot / blocks_robot / gives_way /
       keeps_away), keeps_away farther than a meeting it also asks for, a placeholder for its text, a
       formula that cannot be monitored)                                                       -> spec
-  S2  the criterion's place cannot work on this map: its encounter's place is no node type of the map,
-      or it asks for a hidden approach on a map without a blind corner                        -> spec
+  S2  the criterion's place cannot work on this map (location/inventory.py: no node of that type, every one
+      unreachable or a dead end too tight to pass a person), or it asks for a hidden approach where no
+      node of that type is a blind turn                                                       -> spec
   C1  collision, with a robot that is not meant to misbehave                                   -> robot_script
   C2  collision demanded away by a spec whose robot misbehaves on purpose                      -> spec
   C3  (checked before C1) a human walked into the robot while it stood still                  -> behaviors(h)
@@ -112,20 +113,18 @@ _PLACEHOLDER_TEXT = re.compile(r"\s*(placeholder|todo|tbd|xxx|\.\.\.|<[^<>]*>|cr
 
 
 def place_problem(cc: Compiled, location: Any) -> str | None:
-    """Rule S2: why the criterion's place cannot work on this map, or None."""
+    """Rule S2: why the criterion's place cannot work on this map (location/inventory.py, the measure stage 1's
+    checks use too), or None."""
     enc = cc.encounter
-    graph = getattr(location, "scene_graph", None)
-    if enc is None or graph is None:
+    inventory = getattr(location, "inventory", None) if enc is not None else None
+    if inventory is None:
         return None
-    types: dict[str, list[str]] = {}
-    for node in graph.node_ids():
-        types.setdefault(str(graph.node(node).type).upper(), []).append(node)
-    place = enc.place.strip().upper()
-    if place not in types:
-        return (f"encounter {enc.id} is at a {enc.place}, which this map does not have (its places: "
-                f"{', '.join(sorted(types))}): choose a place of this map")
-    if cc.criterion.kind == "hidden_until" and not any("BLIND" in t for t in types):
-        return "this map has no blind corner: nothing hides one from the other; ask for another encounter"
+    reason = inventory.unworkable_reason(enc.place)
+    if reason:
+        return f"encounter {enc.id} happens at a {enc.place}, but {reason}: choose a place of this map that can work"
+    if cc.criterion.kind == "hidden_until" and not inventory.blind_nodes(enc.place):
+        return (f"no {enc.place} node of this map hides one way from the other: nothing can stay hidden there; "
+                "choose a blind turn of the map or drop the criterion")
     return None
 
 
