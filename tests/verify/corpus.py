@@ -320,7 +320,8 @@ CASES: list[Case] = [
     Case("wrong_place", passes=False, failing="c1", blame="paths",
          spec=lambda sp: sp.model_copy(update={"encounters": [sp.encounters[0].model_copy(update={"node": "east"}),
                                                               sp.encounters[1]]})),
-    Case("blind_corner_not_blind", passes=False, failing="c2", blame="paths", blind=False),
+    # the same run on a map without the wall: no node of the map is a blind turn, so no path can hide them (S2)
+    Case("blind_corner_not_blind", passes=False, failing="c2", blame="spec", blind=False),
     Case("seen_too_early_for_spec", passes=False, failing="c2", blame="paths",
          spec=lambda sp: _crit(sp, "c2", distance=1.0)),
     Case("never_stops", passes=False, failing="c3", blame="behaviors", blame_human="human1",
