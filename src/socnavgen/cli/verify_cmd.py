@@ -93,7 +93,7 @@ def register_verify(app: typer.Typer) -> None:
             options = read_options(humans_topic=humans_topic, robot_topic=robot_topic, goal_topic=goal_topic,
                                    gesture_topic=robot_gesture_topic, agent_ids=agent_ids, agent_map=agent_map,
                                    hunav_msgs=hunav_msgs, dt=dt, max_gap=max_gap, start_tolerance=start_tolerance)
-            if not verify_bag(run, bag, location=location, settings=settings.model_dump(), options=options,
+            if not verify_bag(run, bag, location=location, settings=settings, options=options,
                               as_json=as_json):
                 raise typer.Exit(1)
             return
