@@ -11,10 +11,11 @@ import numpy as np
 import pytest
 
 from socnavgen.cli.common import console
-from socnavgen.cli.sim_cmd import _write_extras
+from socnavgen.cli.sim_cmd import _print_outputs
 from socnavgen.location import load_location
 from socnavgen.sim import contact
 from socnavgen.sim.metrics import compute_metrics
+from socnavgen.sim.outputs import write_outputs
 from socnavgen.verify import VerifySettings, verify_trace
 
 from .verify_builders import build_trace
@@ -65,7 +66,7 @@ def test_metrics_and_verify_agree_on_collisions(give_way_run: Path, tiny_locatio
 def test_simulate_summary_prints_the_same_numbers(tmp_path: Path, tiny_location: Path) -> None:
     trace = _pass_by(-0.20, steps_still=4)
     with console.capture() as cap:
-        _write_extras(trace, load_location(tiny_location), tmp_path, gif=False)
+        _print_outputs(trace, write_outputs(trace, load_location(tiny_location), tmp_path))
     printed = cap.get()
     written = json.loads((tmp_path / "metrics.json").read_text())
     assert f"collisions = {written['collisions']}" in printed and written["collisions"] == 4

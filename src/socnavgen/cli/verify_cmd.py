@@ -9,14 +9,19 @@ import typer
 from socnavgen.cli.common import console, finite_between
 from socnavgen.verify.models import VerifySettings
 
-_FIELDS = VerifySettings.model_fields  # the one source of the thresholds' defaults and meanings
+_FIELDS = VerifySettings.model_fields  # the one source of the thresholds' defaults, ranges and meanings
 
 
 def _option(name: str) -> object:
-    """A typer option for the VerifySettings field `name`: its default and its description as help."""
+    """A typer option for the VerifySettings field `name`: its default, its range (NaN, infinity and values
+    outside it refused with one message) and its description as help."""
     info = _FIELDS[name]
+    low = next((float(getattr(m, "gt", getattr(m, "ge", 0.0))) for m in info.metadata
+                if hasattr(m, "gt") or hasattr(m, "ge")), 0.0)
+    high = next((float(getattr(m, "le", getattr(m, "lt", 0.0))) for m in info.metadata
+                 if hasattr(m, "le") or hasattr(m, "lt")), 1e9)
     text = info.description or ""
-    return typer.Option(info.default, help=text[:1].upper() + text[1:] + ".")
+    return typer.Option(info.default, callback=finite_between(low, high), help=text[:1].upper() + text[1:] + ".")
 
 
 def register_verify(app: typer.Typer) -> None:
@@ -35,7 +40,7 @@ def register_verify(app: typer.Typer) -> None:
         goal_radius: float | None = _option("goal_radius"),
         location: Path | None = typer.Option(None, help="Location folder, if request.json's path does not "
                                                         "resolve from here."),
-        simulate: bool = typer.Option(True, help="Run the simulator first when RUN/sim/trace.npz is missing."),
+        simulate: bool = typer.Option(True, help="Run the simulator first when RUN/sim/trace.npz is missing or stale (made from files that changed since)."),
         robot: str | None = typer.Option(None, help="Robot plugin for that simulation (default: the simulator's; "
                                                     "see `socnavgen simulate --help`)."),
         collisions_fail: bool = typer.Option(_FIELDS["collisions_fail"].default, "--collisions-fail/--collisions-warn",
@@ -79,6 +84,7 @@ def register_verify(app: typer.Typer) -> None:
         Example: socnavgen verify runs/blind_corner --bag recordings/blind_corner_0
         """
         from socnavgen.errors import SocnavgenError
+        from socnavgen.run import RunFolder
 
         try:
             settings = VerifySettings.with_overrides(
@@ -87,19 +93,21 @@ def register_verify(app: typer.Typer) -> None:
                 collisions_fail=collisions_fail)
         except ValueError as exc:
             raise SocnavgenError(str(exc), hint="see `socnavgen verify --help` for each option's range") from None
+        folder = RunFolder(run)
+        folder.hold_lock()  # verify writes RUN/sim (and may simulate): one writer at a time
         if bag is not None:
             from socnavgen.cli.bag_cmd import read_options, verify_bag
 
             options = read_options(humans_topic=humans_topic, robot_topic=robot_topic, goal_topic=goal_topic,
                                    gesture_topic=robot_gesture_topic, agent_ids=agent_ids, agent_map=agent_map,
                                    hunav_msgs=hunav_msgs, dt=dt, max_gap=max_gap, start_tolerance=start_tolerance)
-            if not verify_bag(run, bag, location=location, settings=settings, options=options,
-                              as_json=as_json):
+            if not verify_bag(run, bag, location=location, settings=settings, options=options, as_json=as_json):
                 raise typer.Exit(1)
             return
         from socnavgen.verify import verify_run
         from socnavgen.verify.report import print_report
 
+        _say_if_stale(folder, location, simulate)
         report = verify_run(run, simulate_if_missing=simulate, location=location, settings=settings,
                             simulate_options={"robot": robot} if robot else None)
         if as_json:
@@ -108,3 +116,19 @@ def register_verify(app: typer.Typer) -> None:
             print_report(report, console)
         if not report.passed:
             raise typer.Exit(1)
+
+
+def _say_if_stale(folder, location: Path | None, simulate: bool) -> None:  # noqa: ANN001 - RunFolder
+    """A note when RUN/sim/trace.npz is not the run's current simulation (verify simulates it again)."""
+    from rich.markup import escape
+
+    from socnavgen.cli.common import err_console
+    from socnavgen.sim.outputs import stale_reason, unrecorded
+
+    if unrecorded(folder.root):
+        err_console.print(f"[yellow]note:[/] {escape(str(folder.sim_dir))} has no outputs.json (a trace made by hand "
+                          "or by an older socnavgen): judged as it is", highlight=False)
+    elif simulate and (folder.sim_dir / "trace.npz").is_file() and folder.paths_path.is_file():
+        reason = stale_reason(folder.root, folder.location(location))
+        if reason:
+            err_console.print(f"[yellow]note:[/] {escape(reason)}: simulating again", highlight=False)

@@ -43,17 +43,30 @@ def simulate_missing(run_dir: Path | str | LoadedRun, **options: Any) -> Trace:
 
 def load_trace(run: RunFolder | LoadedRun, *, simulate_if_missing: bool,
                simulate_options: dict | None = None) -> Trace:
+    """RUN/sim/trace.npz when it is the run's current simulation (or has no record at all: a trace made by
+    hand is judged as it is); otherwise (missing, half-written, or made from files that changed since:
+    sim/outputs.stale_reason) simulated again with the robot and settings it was made with (`simulate_options`
+    override them), or refused without `simulate_if_missing`."""
+    from socnavgen.sim.outputs import recorded_options, stale_reason
+
     folder = run.folder if isinstance(run, LoadedRun) else run
     path = folder.sim_dir / TRACE_FILE
+    options = dict(simulate_options or {})
+    stale = None
     if path.is_file():
-        try:
-            return Trace.load(path)
-        except (OSError, ValueError, KeyError) as exc:
-            raise InputFileError(f"cannot read the trace: {exc}", file=path,
-                                 hint="re-run `socnavgen simulate RUN`") from exc
+        stale = stale_reason(folder.root, options.get("location") or run.location())
+        if stale is None:
+            try:
+                return Trace.load(path)
+            except (OSError, ValueError, KeyError) as exc:
+                raise InputFileError(f"cannot read the trace: {exc}", file=path,
+                                     hint="re-run `socnavgen simulate RUN`") from exc
+        options = {**recorded_options(folder.root), **options}
     if not simulate_if_missing:
-        raise InputFileError("no simulation trace", file=path, hint="run `socnavgen simulate RUN` first")
-    return simulate_missing(run if isinstance(run, LoadedRun) else run.root, **(simulate_options or {}))
+        raise InputFileError(f"stale simulation: {stale}" if stale else "no simulation trace", file=path,
+                             hint="run `socnavgen simulate RUN` again first" if stale else
+                             "run `socnavgen simulate RUN` first")
+    return simulate_missing(run if isinstance(run, LoadedRun) else run.root, **options)
 
 
 def verify_trace(run_dir: Path | str | LoadedRun, trace: Trace, *, location: Any = None,
