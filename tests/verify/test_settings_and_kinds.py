@@ -55,4 +55,6 @@ def test_the_cli_options_are_the_settings(give_way_run: Path) -> None:
             assert f"--{name.replace('_', '-')}" in text, name
     assert f"default: {VerifySettings().deadlock_seconds}" in " ".join(text.split())
     bad = runner.invoke(cli_app(), ["verify", str(give_way_run), "--no-simulate", "--near", "-1"])
-    assert bad.exit_code != 0 and "near" in str(bad.exception)
+    assert bad.exit_code == 2 and "--near" in bad.output and "between 0 and 50" in bad.output  # the field's range
+    zero = runner.invoke(cli_app(), ["verify", str(give_way_run), "--no-simulate", "--near", "0"])
+    assert zero.exit_code != 0 and "near" in str(zero.exception)  # gt=0: VerifySettings says so
