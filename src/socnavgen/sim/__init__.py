@@ -26,6 +26,9 @@ _EXPORTS = {
     "World": "socnavgen.sim.world.grid", "empty_room": "socnavgen.sim.world.grid",
     "warm_up": "socnavgen.sim.engine.warm", "cache_ready": "socnavgen.sim.jit", "COMPILING_NOTE": "socnavgen.sim.jit",
     "write_outputs": "socnavgen.sim.outputs.files", "spawn_points": "socnavgen.sim.engine.scenario",
+    "MadeFrom": "socnavgen.sim.outputs.files", "folder_identity": "socnavgen.sim.outputs.files",
+    "save_run_outputs": "socnavgen.sim.outputs.files", "stale_reason": "socnavgen.sim.outputs.files",
+    "unrecorded": "socnavgen.sim.outputs.files", "recorded_options": "socnavgen.sim.outputs.files",
 }
 __all__ = sorted(_EXPORTS)
 
