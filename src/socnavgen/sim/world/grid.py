@@ -60,6 +60,16 @@ class World:
         return cache[key]
 
     # -- queries on any number of complex world points ---------------------------------------------
+    def to_cells(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(rows, cols, inside) of complex world points, the cells queries.cell_of gives; points outside the
+        map are clamped to its border (inside says which)."""
+        points = np.asarray(points, dtype=complex)
+        a = self.map.affine
+        cols = np.floor(a[0, 0] * points.real + a[0, 1] * points.imag + a[0, 2] + 0.5).astype(np.intp)
+        rows = np.floor(a[1, 0] * points.real + a[1, 1] * points.imag + a[1, 2] + 0.5).astype(np.intp)
+        inside = (cols >= 0) & (cols < self.width) & (rows >= 0) & (rows < self.height)
+        return np.clip(rows, 0, self.height - 1), np.clip(cols, 0, self.width - 1), inside
+
     def nearest_obstacles(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The nearest wall point of each point (on the wall's surface) and whether it is within range."""
         flat = np.ascontiguousarray(np.asarray(points, dtype=complex).ravel())
