@@ -47,8 +47,7 @@ def jit(fn: Callable | None = None, *, inline: bool = False, alloc: bool = False
     options: dict[str, Any] = {"cache": True}
     if inline:
         options["inline"] = "always"
-    if not alloc:
-        options["_nrt"] = False
+    options["_nrt"] = alloc  # said either way: a callee left unsaid inherits its caller's
     return numba.njit(**options)(fn)
 
 

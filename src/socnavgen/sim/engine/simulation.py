@@ -7,6 +7,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -148,11 +149,15 @@ class Simulation:
         if n:
             advance(people, sizes, config.sfm, world.map, waypoints[0], 0j, dt, self.episode.scratch, False)
         stepper.record(self.state, self.episode.trace)
-        self.obs = Observation(self)
         if python_policy and hasattr(policy, "reset"):
             policy.reset(self.obs)
 
     # -- what the state holds now ------------------------------------------------------------------
+    @cached_property
+    def obs(self) -> Observation:
+        """What a policy sees: views of this simulation's state (made when first asked)."""
+        return Observation(self)
+
     @property
     def max_steps(self) -> int:
         """Steps of a run that reaches its timeout."""
@@ -241,8 +246,8 @@ class Simulation:
         s, config = self.state, self.config
         steps = min(int(s.clock[0].step) + 1, self.episode.trace.robot.shape[0])
         cols = self.episode.trace
-        humans = np.stack([cols.pos.real, cols.pos.imag, cols.yaw, cols.vel.real, cols.vel.imag, cols.omega],
-                          axis=-1)[:steps]
+        pos, vel = cols.pos[:steps], cols.vel[:steps]
+        humans = np.stack([pos.real, pos.imag, cols.yaw[:steps], vel.real, vel.imag, cols.omega[:steps]], axis=-1)
         meta = dict(self.meta)
         meta.update(seed=config.seed, timeout=config.timeout, robot_goal_radius=config.goal_tolerance,
                     kernels="numba" if AVAILABLE else "python",

@@ -58,7 +58,7 @@ def new_scratch(n: int, groups: int) -> Scratch:
                    np.zeros((n, n) if small else (0, 0), complex), np.zeros(n, complex), np.zeros(n, complex))
 
 
-@jit
+@jit(inline=True)
 def pair_force(d, dv, prm):  # noqa: ANN001, ANN201
     """Social force on i from j (reference §6.4) for d = p_j - p_i, dv = v_i - v_j; 0 beyond the cut-off
     and between coincident bodies."""
@@ -83,7 +83,7 @@ def pair_force(d, dv, prm):  # noqa: ANN001, ANN201
     return -prm.k_soc * that * (f_v + 1j * f_theta)
 
 
-@jit
+@jit(inline=True)
 def wall_force(p, radius, world, prm):  # noqa: ANN001, ANN201
     """Repulsion of the nearest wall point (reference §6.3 with one point, as the Gazebo wrapper sends)."""
     point, valid = nearest_obstacle(world, p)
@@ -238,7 +238,7 @@ def move(people, group_sizes, prm, dt, scratch):  # noqa: ANN001, ANN201
     return reached
 
 
-@jit(alloc=True)
+@jit
 def advance(people, group_sizes, prm, world, robot_pos, robot_vel, dt, scratch, step):  # noqa: ANN001, ANN201
     """(step) move the walkers; then the environment forces of the (new) positions. Returns how many people
     reached their real goal."""

@@ -26,7 +26,7 @@ class WorldMap(NamedTuple):
     has_obstacles: bool
 
 
-@jit
+@jit(inline=True)
 def cell_of(world, p):  # noqa: ANN001, ANN201
     """(row, col) of the pixel holding world point p (may lie outside the map)."""
     a = world.affine
@@ -35,19 +35,19 @@ def cell_of(world, p):  # noqa: ANN001, ANN201
     return row, col
 
 
-@jit
+@jit(inline=True)
 def inside(world, row, col):  # noqa: ANN001, ANN201
     return 0 <= row < world.blocked.shape[0] and 0 <= col < world.blocked.shape[1]
 
 
-@jit
+@jit(inline=True)
 def clearance_at(world, p):  # noqa: ANN001, ANN201
     """Metres from p's cell to the nearest wall (0 outside the map)."""
     row, col = cell_of(world, p)
     return world.clearance[row, col] if inside(world, row, col) else 0.0
 
 
-@jit
+@jit(inline=True)
 def nearest_obstacle(world, p):  # noqa: ANN001, ANN201
     """(the nearest wall point, whether it is within the obstacle range): the nearest blocked cell's centre
     (p's cell clamped to the map) moved half a cell toward p, i.e. on the wall's surface."""
