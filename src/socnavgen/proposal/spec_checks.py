@@ -13,9 +13,9 @@ import re
 
 from pydantic import ValidationError
 
-from socnavgen.bt.library import Target, nodes_for_reaction, nodes_for_trigger
+from socnavgen.bt.library import Target, nodes_for_reaction
 from socnavgen.location import Location
-from socnavgen.proposal.facts import latching_node
+from socnavgen.proposal.facts import can_latch, detecting_nodes
 from socnavgen.proposal.replies import human_name
 from socnavgen.run.spec import Criterion, Encounter, ScenarioSpec
 from socnavgen.verify.criteria import DEFAULTS as CRITERION_DEFAULTS
@@ -158,12 +158,12 @@ def spec_mistakes(spec: ScenarioSpec, humans: list[str], node_types: list[str] |
                 mistakes.append(f"{who}: reaction follow_human names the human to follow in `other`")
             if part.other == part.human:
                 mistakes.append(f"{who}: `other` is {part.human} itself; name another human")
-            if part.latch and part.trigger != "always" and latching_node(part.trigger, target or "socrates") is None:
-                mistakes.append(f"{who}: latch is true, but a tree cannot remember the trigger {part.trigger}; "
-                                f"give the robot a cue that says a phrase when it happens and trigger on robot_says "
-                                f"that phrase (or set latch false)")
+            if part.latch and part.trigger != "always" and not can_latch(part.trigger, target or "socrates"):
+                mistakes.append(f"{who}: latch is true, but a {target} tree cannot remember the trigger "
+                                f"{part.trigger} (it re-checks every condition at each tick); set latch false "
+                                f"(the reaction then lasts while its trigger holds, or `lasts` seconds)")
             if target is not None:
-                if part.trigger != "always" and not nodes_for_trigger(part.trigger, target):
+                if part.trigger != "always" and not detecting_nodes(part.trigger, target)[0]:
                     mistakes.append(f"{who}: trigger {part.trigger} cannot be detected by any node {target} runs; "
                                     f"choose another trigger")
                 if not nodes_for_reaction(part.reaction, target):
@@ -256,6 +256,13 @@ def place_mistakes(spec: ScenarioSpec, location: Location) -> list[str]:
         if reason:
             mistakes.append(f"encounter {enc.id} happens at a {enc.place}, but {reason}; choose a place where the "
                             f"robot can meet and pass a person (see the PLACE INVENTORY)")
+            continue
+        cramped = inventory.no_room_to_step_aside(enc.place)
+        for part in enc.humans if cramped else []:
+            if part.reaction == "give_way":
+                mistakes.append(f"encounter {enc.id}: {part.human} gives way at a {enc.place}, but {cramped}; let "
+                                f"them give way at a place with room before it, or walk out ahead of the robot "
+                                f"(walk_past), or wait (stop) before the narrow part")
     for c in spec.criteria:
         if c.kind != "hidden_until" or not c.human:
             continue
