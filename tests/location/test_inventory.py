@@ -4,7 +4,6 @@ three bundled locations and on SocRATES's own maps: dead ends, doorway widths, b
 from __future__ import annotations
 
 import re
-
 from pathlib import Path
 
 import numpy as np

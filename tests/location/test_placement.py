@@ -64,3 +64,22 @@ def test_nobody_stands_on_the_robots_goal_but_someone_may_leave_it(warehouse) ->
 
 def test_unknown_nodes_are_left_to_the_path_checks(warehouse) -> None:
     assert start_problems(warehouse, ["up", "zz"], [Walker("human1", ["qq"])]) == []
+
+
+@pytest.mark.parametrize("pixels, refused", [(24, False), (22, True)])  # 1.2 m and 1.1 m at 0.05 m/px
+def test_the_start_rule_is_one_comparison_stated_as_it_is_checked(tmp_path: Path, pixels: int, refused: bool) -> None:
+    """"At least 1.2 m" between a person's and the robot's start nodes, measured between their positions as
+    the prompt shows them: exactly 1.2 m passes (a player's answer was refused there), 1.1 m does not."""
+    from socnavgen.location.placement import node_distance, start_rule_text
+    from tests import synthetic
+
+    root = synthetic.write_location(tmp_path / "room", synthetic.walled_room(100, 200),
+                                    {"r0": (40, 50), "p1": (40 + pixels, 50), "far": (160, 50)},
+                                    [("r0", "p1"), ("p1", "far")])
+    room = load_location(root)
+    assert "a person starts at least 1.2 m from the robot's start" in start_rule_text()
+    assert "exactly 1.2 m is allowed" in start_rule_text()
+    problems = start_problems(room, ["r0", "far"], [Walker("human1", ["p1", "far"])])
+    assert bool(problems) is refused, (node_distance(room, "r0", "p1"), problems)
+    if refused:
+        assert "1.10 m from where the robot starts (r0)" in problems[0] and "at least 1.2 m" in problems[0]

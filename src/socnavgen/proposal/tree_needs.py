@@ -9,8 +9,9 @@ The rest of a part is checked the same way, each as a gate of the action:
 - the trigger time carries its `seconds` on TimeExpiredCondition;
 - a reaction that `lasts` (wait_then_go too) is gated by an inverted TimeExpiredCondition of that many
   seconds (the action runs for the first `lasts` seconds);
-- a latched part keeps its action for good: RobotSaid for a robot phrase, or the action inside
-  KeepRunningUntilFailure after its condition (facts.LATCH_NODE);
+- a latched part keeps its action for good: the action inside KeepRunningUntilFailure after its
+  condition (facts.LATCH_NODE). A robot phrase may also be latched by RobotSaid or by the tree's own
+  memory (recorded trees hold "heard FOLLOW ME, or already left the room"): not checked;
 - a person whose `otherwise` is stand has a stop action that no trigger gates (what they do meanwhile);
 - of two parts of one person, the later encounter's takes over: its branch comes first in the Fallback
   that chooses between them.
@@ -290,12 +291,9 @@ def _part_mistakes(nodes: list[Placed], enc: Encounter, part: HumanPart, target:
     if timer is not None and not any(_gated(a, path, timer) for a, path in actions):
         return [f"{what}: the reaction lasts {part.lasting():g} s; put <Inverter><{TIMER} seconds='{part.lasting():g}' "
                 f"ts='{{dt}}' only_once='true'/></Inverter> before {reaction.describe()} in its Sequence"]
-    if part.latch and trigger is not None:
-        said = latching_node(part.trigger, target)
-        by_said = said is not None and any(_gated(a, path, Need((said,), trigger.ports)) for a, path in actions)
-        if not by_said and not any(_latched(a, path, trigger) for a, path in actions):
-            return [f"{what}: the reaction is latched (it lasts for good once triggered); "
-                    f"{_latch_words(part, target)}"]
+    if part.latch and trigger is not None and latching_node(part.trigger, target) is None \
+            and not any(_latched(a, path, trigger) for a, path in actions):
+        return [f"{what}: the reaction is latched (it lasts for good once triggered); {_latch_words(part, target)}"]
     return []
 
 
