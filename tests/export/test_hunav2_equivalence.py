@@ -11,9 +11,15 @@ from .equivalence_helpers import outcomes, relabel, stands_for
 
 # Where 2.x lacks the behaviour, the outcome may differ; each case is named with why (docs/export.md). The
 # test fails if another card diverges or if this one stops diverging (then remove it here).
+# Since contact is a gap of 5 cm or less (issue 25), whether a person brushes the robot (the simulator puts people
+# who walk into it back on its surface, 5 mm away) depends on small differences between the twins' motion.
+_BRUSH = "only one twin touches the person (gap <= 5 cm); the other passes as close as "
 KNOWN_DIVERGENT = {
-    "hospital/narrow-doorway": "2.x has no side-step: GiveWaytoRobot becomes AvoidRobot, which keeps heading "
-                               "for the door, so in the 1.2 m hospital door the robot stands > 10 s behind the person",
+    "hospital/narrow-doorway": "2.x has no side-step: GiveWaytoRobot becomes AvoidRobot, which keeps away; the "
+                               "socrates person side-steps in the 1.2 m door against the robot (gap 0.00 m)",
+    "home/accompanying-peer": _BRUSH + "a few cm (the hunav2 twin touches)",
+    "hospital/robot-crowding": _BRUSH + "a few cm (the hunav2 twin touches)",
+    "warehouse/robot-crowding": _BRUSH + "a few cm (the socrates twin touches)",
 }
 
 

@@ -8,6 +8,7 @@ from pathlib import Path
 import typer
 from rich.table import Table
 
+from socnavgen.bodies import PERSON_HEIGHT
 from socnavgen.cli import typer_app
 from socnavgen.cli.common import console, finite_between
 from socnavgen.errors import InputFileError
@@ -133,9 +134,10 @@ def from_world(
                                      help="Metres per map cell."),
     ankle: float = typer.Option(0.1, "--ankle", callback=finite_between(0.0, 10.0),
                                 help="Bottom of the slab (m above the floor): lower things are walked over."),
-    head: float = typer.Option(1.8, "--head", callback=finite_between(0.01, 20.0),
+    head: float = typer.Option(PERSON_HEIGHT, "--head", callback=finite_between(0.01, 20.0),
                                help="Top of the slab (m above the floor): higher things are walked under. "
-                                    "0.5 gives what a robot's laser sees (shelves on legs become their legs)."),
+                                    "0.5 gives what a robot's laser sees (shelves on legs become their legs); "
+                                    "the scene graph still keeps people out from under the shelves."),
     floor_z: float = typer.Option(0.0, "--floor-z", callback=finite_between(-1e4, 1e4),
                                   help="Height of the floor in the world (m)."),
     bounds: tuple[float, float, float, float] | None = typer.Option(

@@ -18,8 +18,8 @@ from socnavgen.location import Location
 from socnavgen.proposal.facts import can_latch, detecting_nodes
 from socnavgen.proposal.replies import human_name
 from socnavgen.run.spec import Criterion, Encounter, ScenarioSpec
-from socnavgen.verify.criteria import DEFAULTS as CRITERION_DEFAULTS
 from socnavgen.verify.stl import formula_problems
+from socnavgen.verify.thresholds import KIND_DISTANCE as CRITERION_DEFAULTS
 
 # Criterion kinds that are about one human and therefore need `human`.
 _PER_HUMAN = {"meets", "stops_near_robot", "reacts_after_phrase", "gives_way", "follows_robot", "hidden_until",
