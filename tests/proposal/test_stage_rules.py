@@ -110,3 +110,35 @@ def test_stage1_shows_positions_and_to_vision_models_the_annotated_map(warehouse
     assert fitted_scenario_messages(request, warehouse, Text())[-1].images == []
     no_image = request.model_copy(update={"use_image": False})
     assert fitted_scenario_messages(no_image, warehouse, Vision())[-1].images == []
+
+
+# ---- in-process models: the grammars keep give_way where there is room ------------------------------
+def test_the_grammars_of_small_models_offer_give_way_only_where_there_is_room(warehouse):
+    import json
+
+    from socnavgen.proposal.path_grammar import build_paths_grammar
+    from socnavgen.proposal.scenario import build_scenario_grammar, stage_grammar
+
+    class Small:
+        supports_grammar = True
+
+    assert "reaction-tight" in stage_grammar(Small(), warehouse, None)  # AISLE END is tight on this map
+    grammar = build_scenario_grammar(node_types=["AISLE END", "BLIND CORNER"], tight={"AISLE END"})
+    reply = _reply(_encounter("e1", "AISLE END")).model_dump(exclude={"spec"})
+    spec = {"script": {"route": "from the entrance to the racks", "cues": []},
+            "encounters": [{"id": "e1", "place": "AISLE END", "humans": [
+                {"human": "human1", "trigger": "robot_near", "reaction": "give_way"}]}],
+            "criteria": [{"id": "c1", "kind": "meets", "human": "human1", "encounter": "e1"}]}
+    assert not grammar.matches(json.dumps({**reply, "spec": spec}))
+    spec["encounters"][0]["humans"][0]["reaction"] = "walk_past"
+    assert grammar.matches(json.dumps({**reply, "spec": spec}))
+    spec["encounters"][0].update(place="BLIND CORNER", humans=[{"human": "human1", "trigger": "robot_near",
+                                                                 "reaction": "give_way"}])
+    assert grammar.matches(json.dumps({**reply, "spec": spec}))
+
+    corner = to_spec(_reply(_encounter("e1", "BLIND CORNER")))
+    cramped = {n for n, facts in warehouse.inventory.nodes.items() if not facts.turnable}
+    paths = build_paths_grammar(warehouse.graph, ["human1"], corner, cramped)
+    meeting = {r for r in paths.rules if r.startswith("robot")}
+    index = {n: i for i, n in enumerate(sorted(warehouse.graph.nodes))}
+    assert f"robot{index['f7']}" in meeting and f"robot{index['54']}" not in meeting  # 54: 1.4 m free

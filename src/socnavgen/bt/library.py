@@ -249,10 +249,10 @@ NODES: list[NodeSpec] = [
              ports=[Port(name="num_attempts", type=PortType.INT, description="how many attempts", minimum=1,
                          maximum=MAX_REPEAT)]),
     _builtin("KeepRunningUntilFailure", "decorator",
-             "ticks its child and answers RUNNING while it succeeds (FAILURE when it fails). A Sequence keeps a "
-             "RUNNING child: on later ticks it resumes there without checking the conditions before it, so "
-             "<Sequence> condition, <KeepRunningUntilFailure> action </KeepRunningUntilFailure></Sequence> keeps "
-             "the action going for good once the condition held (a latch)", rule="keep_running", in_prompt=True),
+             "ticks its child, RUNNING while it succeeds (FAILURE when it fails). Right after a condition in a "
+             "Sequence it latches: the Sequence resumes at it on later ticks without checking the condition "
+             "again, so the action goes on for good once the condition held", rule="keep_running",
+             in_prompt=True),
     _builtin("SetBlackboard", "builtin", "writes `value` into the blackboard entry `output_key`", in_prompt=True,
              ports=[Port(name="output_key", type=PortType.STRING, description="blackboard key to write"),
                     Port(name="value", type=PortType.STRING, description="value or {key} to copy")]),

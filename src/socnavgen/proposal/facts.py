@@ -61,7 +61,9 @@ def body() -> Body:
     return Body(PERSON_RADIUS, PERSON_MAX_SPEED, ROBOT_RADIUS, RobotScript().speed)
 
 
-def physical_facts_text() -> str:
+def physical_facts_text(scene_graph: bool = False) -> str:
+    """The bodies, speeds and distances every stage plans with; `scene_graph`: how to read node positions
+    (stage 2, whose prompt has the scene graph's `pos` and `xy_m`)."""
     from socnavgen.verify.models import VerifySettings  # the verifier's own thresholds
 
     b, meet = body(), VerifySettings()
@@ -81,8 +83,9 @@ def physical_facts_text() -> str:
         f"the encounter's `within` ({meet.near:g} m by default) of the encounter's node. A group (humans listed "
         f"together in a group_together criterion) is met where the robot meets any member: members stepping "
         f"aside is their reaction; a `meets` criterion may name the group's `humans`.",
-        "- Positions: `pos` is the pixel position of a node in the map image; `xy_m` is the same point in "
-        "metres in the world frame (x east, y north), so distances between nodes can be computed from it.",
+        *(["- Positions: `pos` is the pixel position of a node in the map image; `xy_m` is the same point in "
+           "metres in the world frame (x east, y north), so distances between nodes can be computed from it."]
+          if scene_graph else []),
     ])
 
 

@@ -174,7 +174,7 @@ def paths_messages(location: Location, scenario: ScenarioProposal, *, seed: int 
                   node_types=", ".join(location.schema.node_types), edge_types=", ".join(location.schema.edge_types),
                   tutorial=tutorial, examples=examples,
                   scenario=scenario_text(scenario), humans=", ".join(humans), format=format_line(humans, spec),
-                  facts="\n".join([physical_facts_text(), pacing_text(), groups_text()]),
+                  facts="\n".join([physical_facts_text(scene_graph=True), pacing_text(), groups_text()]),
                   encounters=encounters_text(spec),
                   inventory=inventory_text(location, positions=False, detail="inventory" not in left_out),
                   start_rule=start_rule_text(), point_rule=POINT_RULE,
@@ -201,6 +201,7 @@ def plan_paths(messages: list[ChatMessage], location: Location, scenario: Scenar
                recorder: Recorder, policy: Policy, spec: ScenarioSpec | None = None) -> Outcome[PathsReply]:
     humans = list(scenario.human_behaviors)
     graph = location.graph
-    grammar = paths_grammar(graph, humans, spec) if getattr(llm, "supports_grammar", False) else None
+    cramped = {n for n, facts in location.inventory.nodes.items() if not facts.turnable}
+    grammar = paths_grammar(graph, humans, spec, cramped) if getattr(llm, "supports_grammar", False) else None
     return converse(llm, messages, PathsReply, lambda reply: check_paths(reply, graph, humans, spec, location),
                     stage=STAGE, key=None, recorder=recorder, policy=policy, grammar=grammar, max_tokens=MAX_TOKENS)

@@ -176,19 +176,22 @@ def to_proposal(reply: ScenarioReply) -> ScenarioProposal:
                             expected_robot_behavior=reply.expected_robot_behavior.strip())
 
 
-def scenario_grammar(node_types: list[str] | None = None, target: Target | None = None) -> str:
+def scenario_grammar(node_types: list[str] | None = None, target: Target | None = None,
+                     tight: set[str] | None = None) -> str:
     """The GBNF text passed as `grammar=` for stage 1."""
-    return build_scenario_grammar(node_types=node_types, target=target).to_gbnf()
+    return build_scenario_grammar(node_types=node_types, target=target, tight=tight).to_gbnf()
 
 
 def build_scenario_grammar(max_humans: int = MAX_HUMANS, description_chars: int = 400,
                            behavior_chars: int = 240, node_types: list[str] | None = None,
-                           target: Target | None = None) -> Grammar:
+                           target: Target | None = None, tight: set[str] | None = None) -> Grammar:
     """Replies of 1..max_humans humans whose count, names and behaviors agree, all texts non-empty and
     bounded (a small model otherwise rambles until the token limit cuts the JSON), with a small spec:
     one encounter at a node type of the location, each human with a trigger and a reaction that need no
-    further field (and that `target` can run), and a `meets` criterion per human."""
+    further field (and that `target` can run; no give_way at the `tight` places, where nobody can step
+    aside), and a `meets` criterion per human."""
     g = Grammar()
+    places = node_types or ["PLACE"]
     per_human: list[list[Symbol]] = []
     for n in range(1, max_humans + 1):
         body: list[Symbol] = [Lit(f'{n}, "human_behaviors": {{')]
@@ -196,26 +199,29 @@ def build_scenario_grammar(max_humans: int = MAX_HUMANS, description_chars: int 
             body += [Lit(("" if i == 1 else ", ") + f'"human{i}": "'), Ref("short"), Lit('"')]
         body += [Lit('}, "expected_robot_behavior": "'), Ref("short"),
                  Lit('", "spec": {"script": {"route": "'), Ref("route"),
-                 Lit('", "cues": []}, "encounters": [{"id": "e1", "place": "'), Ref("place"), Lit('", "humans": [')]
-        for i in range(1, n + 1):
-            body += [Lit(("" if i == 1 else ", ") + f'{{"human": "human{i}", "trigger": "'), Ref("trigger"),
-                     Lit('", "reaction": "'), Ref("reaction"), Lit('"}')]
-        body.append(Lit(']}], "criteria": ['))
-        for i in range(1, n + 1):
-            body.append(Lit(("" if i == 1 else ", ") +
-                            f'{{"id": "c{i}", "kind": "meets", "human": "human{i}", "encounter": "e1"}}'))
-        per_human.append([*body, Lit("]}}")])
+                 Lit('", "cues": []}, "encounters": [{"id": "e1", "place": "'), Ref(f"encounter{n}")]
+        per_human.append(body)
+        criteria = ", ".join(f'{{"id": "c{i}", "kind": "meets", "human": "human{i}", "encounter": "e1"}}'
+                             for i in range(1, n + 1))
+        alternatives = []
+        for place in places:
+            reaction = "reaction-tight" if place in (tight or set()) else "reaction"
+            alt: list[Symbol] = [Lit(place), Lit('", "humans": [')]
+            for i in range(1, n + 1):
+                alt += [Lit(("" if i == 1 else ", ") + f'{{"human": "human{i}", "trigger": "'), Ref("trigger"),
+                        Lit('", "reaction": "'), Ref(reaction), Lit('"}')]
+            alternatives.append([*alt, Lit(f']}}], "criteria": [{criteria}]}}}}')])
+        g.add(f"encounter{n}", *alternatives)
     g.add("root", [Lit('{"scenario_description": "'), Ref("long"), Lit('", "number_of_humans": '), Ref("humans")])
     g.add("humans", *per_human)
     text_rules(g, "long", description_chars, non_empty=True, prose=True)
     text_rules(g, "short", behavior_chars, non_empty=True, prose=True)
     text_rules(g, "route", 120, non_empty=True, prose=True)
-    places = node_types or ["PLACE"]
-    g.add("place", *[[Lit(p)] for p in places])
     triggers = [t for t in _PLAIN_TRIGGERS if t == "always" or detecting_nodes(t, target or "socrates")[0]]
     reactions = [r for r in _PLAIN_REACTIONS if nodes_for_reaction(r, target or "socrates")]
     g.add("trigger", *[[Lit(t)] for t in triggers])
     g.add("reaction", *[[Lit(r)] for r in reactions])
+    g.add("reaction-tight", *[[Lit(r)] for r in reactions if r != "give_way"])
     return g
 
 
@@ -239,7 +245,9 @@ def propose_scenarios(request: ScenarioRequest, location: Location, llm: LLM, re
 def stage_grammar(llm: LLM, location: Location, target: Target | None) -> str | None:
     if not getattr(llm, "supports_grammar", False):
         return None
-    return scenario_grammar(workable_places(location), target)
+    places = workable_places(location)
+    tight = {p for p in places if location.inventory.no_room_to_step_aside(p)}
+    return scenario_grammar(places, target, tight)
 
 
 def workable_places(location: Location) -> list[str]:
