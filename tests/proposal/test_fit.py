@@ -15,6 +15,7 @@ from socnavgen.llm.base import ChatMessage
 from socnavgen.llm.budget import SAFETY_TOKENS, estimate_tokens
 from socnavgen.location import load_location
 from socnavgen.proposal import behaviors, paths, scenario
+from socnavgen.proposal.behaviors import examples_text
 from socnavgen.proposal.fit import CUTS, fit_history
 from socnavgen.run import HumanPlan, PathPlan, ScenarioProposal
 from socnavgen.run.spec import ScenarioSpec
@@ -46,6 +47,7 @@ def warehouse():
 REQUEST = request_for(WAREHOUSE, context="Delivery robot in a small warehouse; CONTEXT-MARK",
                       task="Carry a box; TASK-MARK", rough="The robot meets a worker; ROUGH-MARK")
 EXAMPLE_CONTEXT = "care home for elderly residents"  # the first hand-written example's context
+SECOND_EXAMPLE = "guides visitors in a busy hospital"  # the second one's
 
 
 def _full(warehouse) -> int:  # noqa: ANN001
@@ -73,35 +75,34 @@ def test_a_model_without_a_known_context_gets_the_whole_prompt(warehouse):
     assert [m.content for m in whole] == [m.content for m in scenario.scenario_messages(REQUEST, warehouse)]
 
 
-def test_stage1_leaves_out_the_examples_first_then_the_signal_list_then_the_inventory_detail(warehouse):
-    full = _full(warehouse)
-    room = full + scenario.MAX_TOKENS + SAFETY_TOKENS
-    whole = _stage1(warehouse, room)
-    assert EXAMPLE_CONTEXT in whole and SIGNAL_KINDS[0].meaning in whole and "Narrow passages" in whole
+def test_stage1_leaves_out_what_a_small_model_needs_least_in_the_documented_order(warehouse):
+    """Each context one token too small for the prompt at the previous level gets the next level: more
+    examples, then the signal meanings, then the inventory detail, then the last example."""
+    def size(k: int) -> int:
+        return estimate_tokens(scenario.scenario_messages(REQUEST, warehouse, left_out=frozenset(CUTS[:k])))
 
-    no_examples = _stage1(warehouse, room - 1)
-    _kept(no_examples)
-    assert EXAMPLE_CONTEXT not in no_examples
-    assert SIGNAL_KINDS[0].meaning in no_examples and "Narrow passages" in no_examples
-
-    short = estimate_tokens(scenario.scenario_messages(REQUEST, warehouse, left_out=frozenset(CUTS[:1])))
-    no_signals = _stage1(warehouse, short + scenario.MAX_TOKENS + SAFETY_TOKENS - 1)
-    _kept(no_signals)
+    whole = _stage1(warehouse, size(0) + scenario.MAX_TOKENS + SAFETY_TOKENS)
+    assert EXAMPLE_CONTEXT in whole and SECOND_EXAMPLE in whole
+    assert SIGNAL_KINDS[0].meaning in whole and "Narrow passages" in whole
+    levels = [_stage1(warehouse, size(k) + scenario.MAX_TOKENS + SAFETY_TOKENS - 1) for k in range(4)]
+    for text in levels:
+        _kept(text)
+        assert SECOND_EXAMPLE not in text
+    one_example, no_signals, no_detail, no_example = levels
+    assert EXAMPLE_CONTEXT in one_example and SIGNAL_KINDS[0].meaning in one_example  # the first example stays
     assert SIGNAL_KINDS[0].meaning not in no_signals and all(k.shown in no_signals for k in SIGNAL_KINDS)
-    assert "Narrow passages" in no_signals
-
-    shorter = estimate_tokens(scenario.scenario_messages(REQUEST, warehouse, left_out=frozenset(CUTS[:2])))
-    no_detail = _stage1(warehouse, shorter + scenario.MAX_TOKENS + SAFETY_TOKENS - 1)
-    _kept(no_detail)
-    assert "Narrow passages" not in no_detail and "Blind turns (" not in no_detail
+    assert "Narrow passages" in no_signals and EXAMPLE_CONTEXT in no_signals
+    assert "Narrow passages" not in no_detail and "Blind turns (" not in no_detail and EXAMPLE_CONTEXT in no_detail
     assert "No room to step aside (give_way) at:" in no_detail  # where nobody can give way stays
+    assert EXAMPLE_CONTEXT not in no_example
 
 
 def test_a_prompt_that_cannot_fit_is_one_clear_error(warehouse):
     with pytest.raises(LLMError) as caught:
         scenario.fitted_scenario_messages(REQUEST, warehouse, SmallModel(scenario.MAX_TOKENS + 500))
     message = caught.value.render()
-    assert "stage scenario: the prompt takes" in message and "even without examples, signals, inventory" in message
+    assert "stage scenario: the prompt takes" in message and "even without more_examples, signals, inventory, " \
+        "examples, tutorials" in message
     assert "SOCNAVGEN_GGUF_N_CTX" in message
 
 
@@ -120,13 +121,14 @@ def test_stage2_and_stage3_shorten_in_the_same_order(warehouse):
     full = estimate_tokens(paths.paths_messages(warehouse, PROPOSAL, spec=SPEC, images=False))
     model = SmallModel(full + paths.MAX_TOKENS + SAFETY_TOKENS - 1)
     text = "\n".join(m.content for m in paths.fitted_paths_messages(warehouse, PROPOSAL, model, REQUEST, SPEC))
-    assert "EXAMPLES (scenarios on this map" not in text and "SCENE GRAPH TUTORIAL" in text
+    assert text.count('"reasoning": "') == 1 + 1 and "SCENE GRAPH TUTORIAL" in text  # 1 example + the format
     assert "Rules:" in text and "encounter_nodes" in text and PROPOSAL.scenario_description in text
 
     full = estimate_tokens(behaviors.behavior_messages("human1", PROPOSAL, PLAN, SPEC))
     model = SmallModel(full + behaviors.MAX_TOKENS + SAFETY_TOKENS - 1)
     text = "\n".join(m.content for m in behaviors.fitted_behavior_messages("human1", PROPOSAL, PLAN, model, SPEC))
-    assert "EXAMPLES" not in text and "Q: How does a human" in text  # the examples go before the tutorial
+    assert "EXAMPLES" in text and "Q: How does a human" in text  # the first example stays, and the tutorial
+    assert len(text.split("EXAMPLES")[1].split("Behavior:")) < len(examples_text().split("Behavior:"))
     assert "NODE LIBRARY" in text and "Your tree must" in text and "Answer with exactly this JSON object" in text
     bare = "\n".join(m.content for m in behaviors.behavior_messages("human1", PROPOSAL, PLAN, SPEC,
                                                                     left_out=frozenset(CUTS)))
@@ -159,7 +161,7 @@ def test_a_run_on_a_small_context_sends_fitted_prompts_and_says_so(tmp_path, mon
     assert not isinstance(run, Exception), run
     entries = [json.loads(line) for line in (out / "transcript.jsonl").read_text().splitlines()]
     fits = [e for e in entries if e.get("kind") == "fit"]
-    assert fits and fits[0]["stage"] == "scenario" and fits[0]["left_out"] == ["examples"]
+    assert fits and fits[0]["stage"] == "scenario" and fits[0]["left_out"] == ["more_examples"]
     asked = next(e for e in entries if e.get("stage") == "scenario" and "messages" in e)
     sent = "\n".join(m["content"] for m in asked["messages"])
-    assert EXAMPLE_CONTEXT not in sent and "TASK-MARK" in sent
+    assert SECOND_EXAMPLE not in sent and EXAMPLE_CONTEXT in sent and "TASK-MARK" in sent

@@ -23,7 +23,7 @@ from socnavgen.errors import StageFailed
 from socnavgen.llm.base import LLM, ChatMessage
 from socnavgen.proposal.conversation import Outcome, Policy, Recorder, converse
 from socnavgen.proposal.facts import export_text, physical_facts_text
-from socnavgen.proposal.fit import NOTHING, Cut, Note, fit_prompt
+from socnavgen.proposal.fit import NOTHING, Cut, Note, examples_kept, fit_prompt
 from socnavgen.proposal.replies import BehaviorReply
 from socnavgen.proposal.templates import render, template_data
 from socnavgen.proposal.tree_grammar import spec_tree_grammar
@@ -38,10 +38,10 @@ MAX_TOKENS = 1536
 GRAMMAR_DEPTH = 3
 
 
-def examples_text() -> str:
+def examples_text(left_out: Cut = NOTHING) -> str:
     return "\n\n".join(render("bt_example.md", behavior=ex["behavior"].strip(),
                               answer=json.dumps({"reasoning": ex["reasoning"].strip(), "tree": ex["tree"].strip()}))
-                       for ex in template_data("bt_examples.yaml"))
+                       for ex in examples_kept(left_out, template_data("bt_examples.yaml")))
 
 
 def human_context(name: str, scenario: ScenarioProposal, paths: PathPlan | None) -> str:
@@ -74,7 +74,7 @@ def behavior_messages(name: str, scenario: ScenarioProposal, paths: PathPlan | N
     if needs:
         context += "\n" + needs
     tutorial = render("bt_tutorial.md") + ("" if "tutorials" in left_out else "\n\n" + render("bt_tutorial_qa.md"))
-    examples = "" if "examples" in left_out else "EXAMPLES\n" + examples_text()
+    examples = "EXAMPLES\n" + examples_text(left_out) if "examples" not in left_out else ""
     user = render("bt_user.md", tutorial=tutorial, library=library_text(target or "socrates"),
                   export=export_text(target), regular_nav=regular_nav_text(), examples=examples, human=name,
                   agent_id=agent_id(name), behavior=scenario.human_behaviors[name], context=context,

@@ -4,14 +4,16 @@ A backend that knows its context (gguf and `local`: llm/budget.py) gets each sta
 prompt and the stage's longest answer fit in it. When they do not, the stage builds its prompt again
 leaving out, one after the other in this order (CUTS), what a small model needs least:
 
-1. `examples`  - the hand-written worked examples (stage 1's example scenarios, stage 2's map examples,
-                 stage 3's example trees);
-2. `signals`   - the meaning of each STL signal (stage 1; their names stay);
-3. `inventory` - the place inventory's detail lists (narrow passages, each blind turn's two ways, where
-                 groups fit); the kinds of place with their nodes, what cannot work, the doorways and
-                 where nobody can step aside stay;
-4. `tutorials` - the question-and-answer tutorials (stage 2's scene-graph tutorial, stage 3's tree Q&A;
-                 the syntax rules stay).
+1. `more_examples` - every worked example but the first of each stage (stage 1's example scenarios,
+                     stage 2's map examples, stage 3's example trees);
+2. `signals`       - the meaning of each STL signal (stage 1; their names stay);
+3. `inventory`     - the place inventory's detail lists (narrow passages, each blind turn's two ways,
+                     where groups fit); the kinds of place with their nodes, what cannot work, the
+                     doorways and where nobody can step aside stay;
+4. `examples`      - the last worked example (a small model copies the answer's shape from it: without
+                     any, SmolLM2-135M wrote "Human 1" as a person's behavior);
+5. `tutorials`     - the question-and-answer tutorials (stage 2's scene-graph tutorial, stage 3's tree
+                     Q&A; the syntax rules stay).
 
 The request (context, task, location, rough scenario, the scenario and its spec), the rules, the facts
 and the answer format are never left out. A prompt that does not fit even then is an error naming its
@@ -31,9 +33,16 @@ from socnavgen.llm.budget import context_tokens, count_tokens, prompt_room
 
 log = logging.getLogger("socnavgen.proposal")
 
-CUTS: tuple[str, ...] = ("examples", "signals", "inventory", "tutorials")
+CUTS: tuple[str, ...] = ("more_examples", "signals", "inventory", "examples", "tutorials")
 Cut = frozenset[str]
 NOTHING: Cut = frozenset()
+
+
+def examples_kept(left_out: Cut, examples: list) -> list:  # noqa: ANN001 - any list of examples
+    """The worked examples a prompt keeps: all, the first, or none (CUTS 1 and 4)."""
+    if "examples" in left_out:
+        return []
+    return examples[:1] if "more_examples" in left_out else list(examples)
 Builder = Callable[[Cut], list[ChatMessage]]
 Note = Callable[[dict], None]
 

@@ -22,7 +22,7 @@ from socnavgen.location.location import SCENE_GRAPH_IMAGE
 from socnavgen.location.placement import Walker, shown_position, start_problems, start_rule_text
 from socnavgen.proposal.conversation import Outcome, Policy, Recorder, converse
 from socnavgen.proposal.facts import groups_text, pacing_text, physical_facts_text
-from socnavgen.proposal.fit import NOTHING, Cut, Note, fit_prompt
+from socnavgen.proposal.fit import NOTHING, Cut, Note, examples_kept, fit_prompt
 from socnavgen.proposal.path_checks import check_paths
 from socnavgen.proposal.path_grammar import paths_grammar
 from socnavgen.proposal.replies import PathsReply
@@ -165,9 +165,10 @@ def paths_messages(location: Location, scenario: ScenarioProposal, *, seed: int 
     detail, the tutorial)."""
     graph = location.graph
     humans = list(scenario.human_behaviors)
-    examples = "" if "examples" in left_out else "EXAMPLES (scenarios on this map, with correct answers):\n" + \
-        "\n\n".join(render("paths_example.md", scenario=text, humans=", ".join(names), answer=reply_json(ans))
-                    for text, names, ans in map_examples(graph, seed, location))
+    shown = examples_kept(left_out, map_examples(graph, seed, location))
+    examples = "EXAMPLES (scenarios on this map, with correct answers):\n" + "\n\n".join(
+        render("paths_example.md", scenario=text, humans=", ".join(names), answer=reply_json(ans))
+        for text, names, ans in shown) if shown else ""
     tutorial = "" if "tutorials" in left_out else "SCENE GRAPH TUTORIAL (questions about this map, with their " \
         "correct answers):\n" + tutorial_text(generate_tutorial(graph, seed))
     user = render("paths_user.md", scene_graph=scene_graph_text(location),

@@ -27,7 +27,7 @@ from socnavgen.proposal.facts import (
     robot_vocabulary_text,
     scenario_rules_text,
 )
-from socnavgen.proposal.fit import NOTHING, Cut, Note, fit_prompt
+from socnavgen.proposal.fit import NOTHING, Cut, Note, examples_kept, fit_prompt
 from socnavgen.proposal.gbnf import Grammar, Lit, Ref, Symbol, text_rules
 from socnavgen.proposal.replies import ScenarioReply, human_name
 from socnavgen.proposal.spec_checks import (
@@ -87,7 +87,7 @@ def scenario_messages(request: ScenarioRequest, location: Location,
     messages = [ChatMessage(role="system", content=render(
         "scenario_system.md", capabilities=capabilities_text(target or "socrates"),
         spec_help=spec_help_text(target, signals="signals" not in left_out)))]
-    examples = [] if "examples" in left_out else template_data("scenario_examples.json")
+    examples = examples_kept(left_out, template_data("scenario_examples.json"))
     for example in examples:
         messages.append(ChatMessage(role="user", content=render(
             "scenario_user.md", context=example["context"], task=example["task"], location=example["location"],
