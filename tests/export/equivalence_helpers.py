@@ -7,8 +7,8 @@ import re
 import shutil
 from pathlib import Path
 
+from socnavgen.bt.expand import load_instance
 from socnavgen.bt.library import HUNAV2, LIBRARY
-from socnavgen.bt.tree import parse_bt
 from socnavgen.export.hunav2 import translate_tree
 from socnavgen.export.models import ExportScene
 from socnavgen.run import RunFolder
@@ -20,14 +20,14 @@ from socnavgen.verify.runner import verify_trace
 def stands_for(tree_xml: str) -> dict[str, str]:
     """2.x node -> the library node of this tree it translates (the 2.x node recording that action)."""
     out: dict[str, str] = {}
-    for elem in parse_bt(tree_xml, "t").root.walk():
-        tr = HUNAV2.get(elem.tag)
-        if tr is None or tr.template is None or elem.tag not in LIBRARY:
+    for node in load_instance(tree_xml, "t").root.walk():
+        tr = HUNAV2.get(node.name)
+        if tr is None or tr.template is None or node.name not in LIBRARY:
             continue
         templates = [tr.template] + [t for c in tr.by_value.values() for t in c.values()]
         for template in templates:
             names = re.findall(r"<(\w+)", template)
-            out.setdefault(names[-1] if names[0] == "Sequence" else names[0], elem.tag)
+            out.setdefault(names[-1] if names[0] == "Sequence" else names[0], node.name)
     return out
 
 

@@ -74,11 +74,15 @@ GOOD = """<root BTCPP_format="4" main_tree_to_execute="T"><BehaviorTree ID="T">
 
 
 @pytest.mark.parametrize("leaf,message", [
-    ('<ApproachRobot agent_id="{id}" time_step="{dt}" closest_dist="1.5" duration="1"/>', "'max_vel' has no default"),
+    ('<ApproachRobot agent_id="{id}" time_step="{dt}" closest_dist="1.5" duration="1"/>',
+     "ApproachRobot is missing required port 'max_vel'"),
     ('<CuriousNav agent_id="{id}" time_step="{dt}" stop_distance="1.5" agent_vel="1" speed="2"/>',
-     "'speed' is not declared"),
-    ('<RobotSays agent_id="{id}" message="4"/>', "node not recognized"),
+     "unknown port 'speed' on CuriousNav"),
+    ('<RobotSays agent_id="{id}" message="4"/>', "unknown node 'RobotSays'"),
     ('<SubTree ID="Missing"/>', "names no BehaviorTree"),
+    ('<IsRobotClose agent_id="{agentid}"/>', "blackboard key 'agentid' is never set"),
+    ('<RunOnce><SetGoal agent_id="{id}"/></RunOnce>', "SetGoal is missing required port 'goal_id'"),
+    ('<TimeDelay delay="1"/>', "TimeDelay must have exactly one child"),
 ])
 def test_loader_rules_reject(leaf: str, message: str) -> None:
     problems = hunav2_problems(GOOD.replace("{leaf}", leaf))
@@ -88,6 +92,7 @@ def test_loader_rules_reject(leaf: str, message: str) -> None:
 def test_loader_rules_accept_a_correct_tree() -> None:
     ok = GOOD.replace("{leaf}", '<ApproachRobot agent_id="{id}" time_step="{dt}" closest_dist="1.5" max_vel="1.5"/>')
     assert hunav2_problems(ok) == []
+    assert hunav2_problems(ok.replace(' BTCPP_format="4"', "")) == ['<tree>: BTCPP_format must be "4" for BT.CPP 4']
     assert "ApproachRobot" in load_and_tick(ok, "ok")
 
 

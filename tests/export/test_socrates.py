@@ -10,7 +10,7 @@ import pytest
 import yaml
 from defusedxml import ElementTree as DET
 
-from socnavgen.bt.tree import parse_bt
+from socnavgen.bt.parse import parse_document
 from socnavgen.errors import SocnavgenError
 from socnavgen.export import export_run
 from socnavgen.export.models import ExportedFile
@@ -47,16 +47,17 @@ def test_agents_yaml_matches_fork_file(exported: Path, reference_dir: Path) -> N
 
 def test_trees_are_v3_and_selected_by_behavior(exported: Path, reference_dir: Path) -> None:
     trees = exported / "hunav_agent_manager/behavior_trees"
-    docs = {i: parse_bt((trees / f"LLMBT_{i}.xml").read_text(), f"LLMBT_{i}.xml") for i in (0, 1)}
-    assert all(d.format_version == 3 for d in docs.values())
-    assert docs[0].main_tree == "GiveWayTree" and docs[1].main_tree == "WalkTree"
+    docs = {i: parse_document((trees / f"LLMBT_{i}.xml").read_text(), f"LLMBT_{i}.xml") for i in (0, 1)}
+    assert all(problems == [] and d is not None and d.format_version == 3 for d, problems in docs.values())
+    assert docs[0][0].main_tree == "GiveWayTree" and docs[1][0].main_tree == "WalkTree"
     assert (trees / "LLMBT_0.xml").read_text().strip() == GIVE_WAY_TREE.strip()
-    ours = parse_bt((trees / "BTRegularNav.xml").read_text())
-    ref = parse_bt((reference_dir / "data/socrates-hunav/behavior_trees/BTRegularNav.xml").read_text())
+    ours, _ = parse_document((trees / "BTRegularNav.xml").read_text())
+    ref, problems = parse_document((reference_dir / "data/socrates-hunav/behavior_trees/BTRegularNav.xml").read_text())
+    assert ours is not None and ref is not None and problems == []
 
-    def skeleton(e):  # noqa: ANN001, ANN202
-        return (e.tag, tuple(sorted(k for k in e.attrs if k != "name")), tuple(skeleton(c) for c in e.children))
-    assert skeleton(ours.trees["RegularNavTree"]) == skeleton(ref.trees["RegularNavTree"])
+    def skeleton(n):  # noqa: ANN001, ANN202
+        return (n.name, tuple(sorted(n.ports)), tuple(skeleton(c) for c in n.children))
+    assert skeleton(ours.trees["RegularNavTree"].root) == skeleton(ref.trees["RegularNavTree"].root)
 
 
 def test_robot_poses_and_trajectory_match_wrapper_files(exported: Path, reference_dir: Path) -> None:

@@ -217,7 +217,9 @@ GIVE_WAY_TREE = """<root main_tree_to_execute="T">
       </Sequence>
       <Sequence>
         <MakeGesture agent_id="{id}" message="0"/>
-        <SubTree ID="RegularNavTree" id="{id}" dt="{dt}"/>
+        <SetBlackboard output_key="agentid" value="{id}"/>
+        <SetBlackboard output_key="timestep" value="{dt}"/>
+        <SubTree ID="RegularNavTree" id="agentid" dt="timestep"/>
       </Sequence>
     </Fallback>
   </BehaviorTree>
@@ -225,7 +227,13 @@ GIVE_WAY_TREE = """<root main_tree_to_execute="T">
 """
 WALK_TREE = """<root main_tree_to_execute="W">
   <include path="BTRegularNav.xml"/>
-  <BehaviorTree ID="W"><SubTree ID="RegularNavTree" id="{id}" dt="{dt}"/></BehaviorTree>
+  <BehaviorTree ID="W">
+    <Sequence>
+      <SetBlackboard output_key="agentid" value="{id}"/>
+      <SetBlackboard output_key="timestep" value="{dt}"/>
+      <SubTree ID="RegularNavTree" id="agentid" dt="timestep"/>
+    </Sequence>
+  </BehaviorTree>
 </root>
 """
 

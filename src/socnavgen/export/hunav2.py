@@ -2,8 +2,9 @@
 
 Each human gets a self-contained `<base>__agent_<id>_bt.xml` (ids from 1, as HuNavSim numbers agents):
 the tree translated node by node through `bt.library.HUNAV2` (each leaf becomes the 2.x composition
-the table gives, with the reason it behaves the same), Sequence/Fallback made reactive so that gates
-are re-checked every tick while a stateful 2.x node is RUNNING, the RegularNavTree it uses inlined, goals
+the table gives, with the reason it behaves the same), controls and built-ins under their row's `hunav2`
+name (Sequence/Fallback become reactive so that gates are re-checked every tick while a stateful 2.x node
+is RUNNING), SubTree remapping in v4 syntax, the RegularNavTree it uses inlined, goals
 queued by `SetGoal` inside `RunOnce` as upstream's own scenario trees do, and a TreeNodesModel for
 Groot2. A node without a 2.x counterpart stops the export with every such node listed."""
 
@@ -11,19 +12,13 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass
-
-from defusedxml.ElementTree import fromstring
+from xml.sax.saxutils import escape
 
 from socnavgen.bodies import PERSON_GOAL_RADIUS, PERSON_MAX_SPEED, PERSON_RADIUS
-from socnavgen.bt.library import (
-    HUMAN_GESTURES,
-    HUNAV2,
-    HUNAV2_FIRST_AGENT_ID,
-    LIBRARY,
-    LIBRARY_TREE_XML,
-    LIBRARY_TREES,
-)
-from socnavgen.bt.tree import BTDocument, BTElement, parse_bt
+from socnavgen.bt.expand import check_text
+from socnavgen.bt.library import HUMAN_GESTURES, HUNAV2, HUNAV2_FIRST_AGENT_ID, NodeSpec
+from socnavgen.bt.model import Node, SubTreeCall, literal_text
+from socnavgen.bt.tree import BTElement, read_xml
 from socnavgen.errors import ValidationFailed
 from socnavgen.export.groot import model_block, tree_nodes_model_xml
 from socnavgen.export.models import (
@@ -38,13 +33,16 @@ from socnavgen.export.targets import ExportTarget, register
 from socnavgen.export.writer import dump_yaml, element_xml, metres, robot_poses_yaml
 
 WRAPPER = "hunav_gazebo_wrapper"
-EXPLICIT = {"Action", "Condition", "Control", "Decorator"}  # <Action ID="X"/> form
-NOT_NODES = {"TreeNodesModel"}
-BLACKBOARD_REF = re.compile(r"^\{[^{}]+\}$")
 SIMULATORS = ("Gazebo Classic", "Gazebo Fortress", "Isaac Sim", "Webots")
 # behavior block of a 2.x agent: configuration 0 = the default factors below (reference §5)
 BEHAVIOR_DEFAULTS = {"type": "Regular", "configuration": 0, "goal_force_factor": 2.0,
                      "obstacle_force_factor": 10.0, "social_force_factor": 5.0, "other_force_factor": 20.0}
+# Queue the agent's goals once, as upstream's scenario trees do: RunOnce(SetGoal) per goal, the last one
+# inverted so the Sequence fails the first tick and the Fallback moves on to the tree (its last child);
+# afterwards every RunOnce is skipped.
+GOAL_QUEUE = ('<Fallback name="QueueGoalsThenBehave"><Sequence name="SetGoals">{first}<Inverter>{last}</Inverter>'
+              '</Sequence></Fallback>')
+GOAL_SET = '<RunOnce><SetGoal agent_id="{{id}}" goal_id="{goal}"/></RunOnce>'
 
 
 @dataclass(frozen=True)
@@ -70,132 +68,92 @@ def base_name(text: str) -> str:
     return stem or "socnavgen"
 
 
-def _node_name(elem: BTElement) -> str:
-    return elem.attrs.get("ID", elem.tag) if elem.tag in EXPLICIT else elem.tag
-
-
-CONTROL_V4 = {"Sequence": "ReactiveSequence", "Fallback": "ReactiveFallback"}
-
-
-def _from_template(xml: str, line: int | None) -> BTElement:
-    root = fromstring(xml)
-    return BTElement(tag=root.tag, attrs=dict(root.attrib), children=[_from_template_el(c, line) for c in root],
-                     line=line)
-
-
-def _from_template_el(el, line: int | None) -> BTElement:  # noqa: ANN001 - ElementTree element
-    return BTElement(tag=el.tag, attrs=dict(el.attrib), children=[_from_template_el(c, line) for c in el], line=line)
+def _element(xml: str, line: int | None = None) -> BTElement:
+    """A v4 element written as text (a translation template, the goal queue), with `line` on every node."""
+    def relined(elem: BTElement) -> BTElement:
+        return BTElement(elem.tag, elem.attrs, [relined(c) for c in elem.children], line)
+    return relined(read_xml(xml, "bt.library.HUNAV2", tag=None))
 
 
 class _Translator:
-    """v3 (our library) -> v4 (2.x compositions of `bt.library.HUNAV2`); collects every refusal."""
+    """Our typed tree (v3 or v4) -> v4 with HuNavSim 2.x's nodes (the compositions of `bt.library.HUNAV2`);
+    controls and built-ins take their `hunav2` name from the library row; collects every refusal."""
 
     def __init__(self, source: str) -> None:
         self.source = source
         self.problems: list[Untranslatable] = []
         self.used_leaves: set[str] = set()
-        self.subtrees: set[str] = set()
+        self.called: list[str] = []
 
-    def element(self, elem: BTElement) -> BTElement:
-        name = _node_name(elem)
-        spec = LIBRARY.get(name)
-        children = [self.element(c) for c in elem.children if c.tag not in NOT_NODES]
-        if spec is None:
-            self.problems.append(Untranslatable(self.source, elem.line, name, "is not a library node"))
-            return BTElement(tag=name, attrs={}, children=children, line=elem.line)
-        attrs = {k: v for k, v in elem.attrs.items() if not (elem.tag in EXPLICIT and k == "ID")}
+    def node(self, node: Node) -> BTElement:
+        spec = node.spec
+        assert spec is not None  # a Document without problems
         if spec.kind in ("action", "condition"):
-            return self.leaf(name, attrs, elem.line)
-        if name == "SubTree":
-            return BTElement(tag="SubTree", attrs=self.subtree_attrs(attrs), children=children, line=elem.line)
-        return BTElement(tag=CONTROL_V4.get(name, name), attrs=attrs, children=children, line=elem.line)
+            return self.leaf(node, spec)
+        attrs = {"name": node.label} if node.label is not None else {}
+        if node.call is not None:
+            attrs = {"ID": node.call.tree, **attrs, **self.remapping(node.call)}
+            self.called.append(node.call.tree)
+        else:
+            attrs.update({k: literal_text(v) for k, v in node.ports.items()})
+        return BTElement(spec.hunav2 or spec.name, attrs, [self.node(c) for c in node.children], node.line)
 
-    def leaf(self, name: str, attrs: dict[str, str], line: int | None) -> BTElement:
-        tr = HUNAV2.get(name)
+    def leaf(self, node: Node, spec: NodeSpec) -> BTElement:
+        tr = HUNAV2.get(node.name)
         if tr is None or tr.template is None:
             why = tr.refusal if tr is not None else "has no HuNavSim 2.x translation"
-            self.problems.append(Untranslatable(self.source, line, name, f"cannot be exported: {why}"))
-            return BTElement(tag=name, attrs={}, children=[], line=line)
-        values = {p.name: p.default for p in LIBRARY[name].ports if p.default is not None}
-        values.update({k: v.strip() for k, v in attrs.items()})
+            self.problems.append(Untranslatable(self.source, node.line, node.name, f"cannot be exported: {why}"))
+            return BTElement(node.name, {}, [], node.line)
+        typed = {p.name: value for p in spec.ports if (value := node.value(p.name)) is not None}
         for port in tr.target_ports:  # literal agent ids: ours from 0, HuNavSim's from 1
-            if port in values and values[port].lstrip("-").isdigit():
-                values[port] = str(int(values[port]) + HUNAV2_FIRST_AGENT_ID)
+            if isinstance(typed.get(port), int):
+                typed[port] = typed[port] + HUNAV2_FIRST_AGENT_ID
+        values = {k: literal_text(v) for k, v in typed.items()}
+        if isinstance(typed.get("message"), int):
+            values["message_word"] = HUMAN_GESTURES.get(typed["message"], values["message"])
         template = tr.template
         for port, choices in tr.by_value.items():
-            if values.get(port) in choices:
-                template = choices[values[port]]
-        if "message" in values and values["message"].isdigit():
-            values["message_word"] = HUMAN_GESTURES.get(int(values["message"]), values["message"])
-        try:
-            out = _from_template(template.format(**{k: _attr_text(v) for k, v in values.items()}), line)
-        except KeyError as missing:
-            self.problems.append(Untranslatable(self.source, line, name, f"lacks port {missing}"))
-            return BTElement(tag=name, attrs={}, children=[], line=line)
+            template = choices.get(values.get(port, ""), template)
+        out = _element(template.format(**{k: escape(v, {'"': "&quot;"}) for k, v in values.items()}), node.line)
         self.used_leaves.update(e.tag for e in out.walk())
         return out
 
-    def subtree_attrs(self, attrs: dict[str, str]) -> dict[str, str]:
-        """v3 remaps a subtree port with a plain parent key (`id="agentid"`); v4 writes `{agentid}`."""
-        out: dict[str, str] = {}
-        for key, value in attrs.items():
-            if key in ("ID", "name", "_autoremap") or BLACKBOARD_REF.match(value):
-                out[key] = value
-            else:
-                out[key] = "{" + value + "}"
-        self.subtrees.add(attrs.get("ID", ""))
+    @staticmethod
+    def remapping(call: SubTreeCall) -> dict[str, str]:
+        """v4 remapping: `{key}` names the caller's entry, a plain value is a constant; a v3 shared
+        blackboard becomes v4's _autoremap (every key is the caller's of the same name)."""
+        out = {k: literal_text(v) for k, v in call.remap.items()}
+        if call.shared or call.autoremap:
+            out["_autoremap"] = "true"
         return out
 
 
-def _attr_text(value: str) -> str:
-    """A value placed inside a template's double-quoted attribute."""
-    return value.replace("&", "&amp;").replace('"', "&quot;").replace("<", "&lt;")
-
-
-def _goal_prelude(goal_ids: list[int]) -> BTElement:
-    """Queue the agent's goals once, as upstream's scenario trees do: RunOnce(SetGoal) per goal, the
-    last one inverted so the Sequence fails the first tick and the Fallback moves on to walking;
-    afterwards every RunOnce is skipped."""
-    children = [BTElement("RunOnce", {}, [BTElement("SetGoal", {"agent_id": "{id}", "goal_id": str(g)})])
-                for g in goal_ids]
-    children[-1] = BTElement("Inverter", {}, [children[-1]])
-    return BTElement("Sequence", {"name": "SetGoals"}, children)
-
-
 def translate_tree(human: HumanExport, goal_ids: list[int] | None) -> tuple[str, list[Untranslatable]]:
-    """The human's v3 tree as one self-contained v4 file (text), plus what could not be translated."""
-    doc: BTDocument = parse_bt(human.tree_xml, human.tree_file)
+    """The human's tree (one bt check accepts) as one self-contained v4 file (text), plus what could not be
+    translated."""
+    doc, instance, problems = check_text(human.tree_xml, human.tree_file)
+    if doc is None or instance is None or doc.main_tree is None:
+        return "", [Untranslatable(human.tree_file, p.line, "tree", p.message) for p in problems]
     tr = _Translator(human.tree_file)
-    problems: list[Untranslatable] = []
-    main = doc.main_tree or next(iter(doc.trees), None)
-    if main is None or main not in doc.trees:
-        problems.append(Untranslatable(human.tree_file, doc.root.line, "root", f"main tree {main!r} not found"))
-        return "", problems
-    trees = {tid: BTElement("BehaviorTree", {"ID": tid}, [tr.element(c) for c in t.children], t.line)
-             for tid, t in doc.trees.items()}
-    library_ids = {tid: fname for fname, tid in LIBRARY_TREES.items()}
-    for include in doc.includes:
-        if include not in LIBRARY_TREE_XML:
-            problems.append(Untranslatable(human.tree_file, doc.root.line, f"include {include!r}",
-                                           "is not a library tree; 2.x files must be self-contained"))
-    for tid in sorted(tr.subtrees - set(trees)):
-        if tid in library_ids:
-            lib = parse_bt(LIBRARY_TREE_XML[library_ids[tid]], library_ids[tid])
-            trees[tid] = BTElement("BehaviorTree", {"ID": tid}, [tr.element(c) for c in lib.trees[tid].children])
-        else:
-            problems.append(Untranslatable(human.tree_file, None, f"SubTree {tid!r}", "names no known tree"))
-    problems += tr.problems
-    if problems:
-        return "", problems
+    trees = {tid: tr.node(t.root) for tid, t in doc.trees.items() if t.root is not None}
+    while missing := [tid for tid in tr.called if tid not in trees]:  # library trees, inlined
+        for tid in missing:
+            tree = doc.tree(tid)
+            assert tree is not None and tree.root is not None
+            trees[tid] = tr.node(tree.root)
+    if tr.problems:
+        return "", tr.problems
+    main = doc.main_tree
     if goal_ids:  # None: goals come from elsewhere (our simulator reads them from paths.json)
-        body = trees[main].children[0]
-        trees[main] = BTElement("BehaviorTree", {"ID": main}, [
-            BTElement("Fallback", {"name": "QueueGoalsThenBehave"}, [_goal_prelude(goal_ids), body])])
-    ordered = [trees[main]] + [t for tid, t in trees.items() if tid != main]
+        sets = [GOAL_SET.format(goal=g) for g in goal_ids]
+        top = _element(GOAL_QUEUE.format(first="".join(sets[:-1]), last=sets[-1]))
+        top.children.append(trees[main])
+        trees[main] = top
+    ordered = [main, *(tid for tid in trees if tid != main)]
     text = ('<?xml version="1.0" encoding="UTF-8"?>\n'
             f'<root BTCPP_format="4" main_tree_to_execute="{main}">\n'
             + model_block("hunav2", tr.used_leaves | {"SetGoal"})
-            + "".join(element_xml(t) for t in ordered)
+            + "".join(element_xml(BTElement("BehaviorTree", {"ID": tid}, [trees[tid]])) for tid in ordered)
             + "</root>\n")
     return text, []
 

@@ -9,8 +9,8 @@ from __future__ import annotations
 import json
 
 from socnavgen.bodies import PERSON_GOAL_RADIUS, PERSON_MAX_SPEED, PERSON_RADIUS
+from socnavgen.bt.expand import load_instance
 from socnavgen.bt.library import LIBRARY_TREE_XML
-from socnavgen.bt.tree import parse_bt
 from socnavgen.bt.validate import format_problems, validate_bt_text
 from socnavgen.errors import ValidationFailed
 from socnavgen.export.groot import tree_nodes_model_xml
@@ -97,10 +97,10 @@ def build_socrates(scene: ExportScene) -> list[ExportedFile]:
     files: list[ExportedFile] = []
     behaviors: dict[str, int] = {}
     for human in scene.humans:
-        doc = parse_bt(human.tree_xml, human.tree_file)
+        doc = load_instance(human.tree_xml, human.tree_file).document  # checked above
         if doc.format_version != 3:
             raise ValidationFailed("the SocRATES fork runs BT.CPP v3 trees; this one says BTCPP_format=\"4\"",
-                                   file=human.tree_file, line=doc.root.line)
+                                   file=human.tree_file, line=doc.line)
         behaviors[human.name] = FIRST_LLM_BEHAVIOR + human.agent_id
         files.append(ExportedFile(path=f"{TREES_DIR}/LLMBT_{human.agent_id}.xml", text=human.tree_xml.rstrip() + "\n"))
     for name, xml in LIBRARY_TREE_XML.items():
