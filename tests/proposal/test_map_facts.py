@@ -145,7 +145,7 @@ def test_a_says_criterion_for_someone_who_never_speaks_is_refused(home):
     mistakes = check(_reply("LIVING ROOM", criteria=[
         {"id": "c1", "kind": "meets", "human": "human1", "encounter": "e1"},
         {"id": "c2", "kind": "says", "human": "human1", "phrase": "WAIT", "text": "placeholder"}]))
-    assert any("criterion c2 (says) asks something of human1 that its encounter never has it do" in m
+    assert any("criterion c2 asks human1 to say WAIT, but the behavior of human1 never mentions it" in m
                for m in mistakes), mistakes
     assert any("criterion c2: text contains the placeholder 'placeholder'" in m for m in mistakes)
     speaks = _reply("LIVING ROOM", part={"reaction": "say", "says": "WAIT"},
@@ -159,10 +159,10 @@ def test_a_says_criterion_for_someone_who_never_speaks_is_refused(home):
     assert any("never mentions it" in m for m in check(silent_prose))
 
 
-@pytest.mark.parametrize("kind, reaction, expected", [
-    ("follows_robot", "walk_past", "its encounter never has it do"),
-    ("blocks_robot", "give_way", "its encounter never has it do"),
-    ("keeps_away", "follow", "contradicts human1's reaction follow"),
+@pytest.mark.parametrize("kind, reaction, expected", [  # the verifier's rule S1 (verify/blame.py contradictions)
+    ("follows_robot", "walk_past", "asks human1 for what its encounter does not have it do (its reaction: walk_past"),
+    ("blocks_robot", "give_way", "asks human1 for what its encounter does not have it do (its reaction: give_way"),
+    ("keeps_away", "follow", "asks human1 for what its encounter does not have it do (its reaction: follow"),
 ])
 def test_criteria_that_contradict_the_persons_reaction_are_refused(home, kind, reaction, expected):
     check = scenario_checker(home)
