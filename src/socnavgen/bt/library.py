@@ -269,8 +269,11 @@ NODES: list[NodeSpec] = [
              rule="retry", count_port="num_attempts",
              ports=[Port(name="num_attempts", type=PortType.INT, description="how many attempts", minimum=1,
                          maximum=MAX_REPEAT)]),
-    _builtin("KeepRunningUntilFailure", "decorator", "RUNNING while its child succeeds; FAILURE when it fails",
-             rule="keep_running"),
+    _builtin("KeepRunningUntilFailure", "decorator",
+             "ticks its child, RUNNING while it succeeds (FAILURE when it fails). Right after a condition in a "
+             "Sequence it latches: the Sequence resumes at it on later ticks without checking the condition "
+             "again, so the action goes on for good once the condition held", rule="keep_running",
+             in_prompt=True),
     _builtin("SetBlackboard", "builtin", "writes `value` into the blackboard entry `output_key`", in_prompt=True,
              ports=[Port(name="output_key", type=PortType.STRING, description="blackboard key to write"),
                     Port(name="value", type=PortType.STRING, description="value or {key} to copy")]),
