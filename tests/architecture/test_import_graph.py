@@ -96,6 +96,7 @@ KNOWN_MODULE_CYCLES = {
     frozenset({"socnavgen.location.location", "socnavgen.location.inventory", "socnavgen.location.passages"}),
     frozenset({"socnavgen.location.location", "socnavgen.location.inventory", "socnavgen.location.places",
                "socnavgen.location"}),
+    frozenset({"socnavgen.location.location", "socnavgen.location.inventory", "socnavgen.location.placement"}),
 }
 
 

@@ -125,10 +125,10 @@ def test_the_latch_holds_in_the_simulator():
     for body, last in ((latched, 1), (plain, 2)):
         sim = make_sim([human(start=(2.0, 5.0))], [tree_xml(body)], [(3.0, 5.0), (19.0, 5.0)], Drive(1.0))
         sim.step()
-        assert sim.crowd.gesture[0] == 1
+        assert sim.people.gesture[0] == 1
         for _ in range(60):  # 6 s at 1 m/s: the robot is far away
             sim.step()
-        assert abs(sim.robot_pos - complex(2.0, 5.0)) > 4.0 and sim.crowd.gesture[0] == last
+        assert abs(sim.robot.pos - complex(2.0, 5.0)) > 4.0 and sim.people.gesture[0] == last
 
 
 def test_a_target_that_rechecks_every_condition_cannot_latch():
