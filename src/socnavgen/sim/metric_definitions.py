@@ -80,6 +80,12 @@ _SOCIAL: dict[str, tuple[str, str, str | None, str]] = {
                            "mean over the card's checks that applied of [check passed] (sim/behaviour_checks.py)"),
 }
 
+# Read from other columns of a campaign's table by its report, not computed per trace
+_DERIVED: dict[str, tuple[str, str, str | None, str]] = {
+    "timeout": ("bool", "the episode ran out of simulated time before the robot reached its goal", "lower",
+                "end_reason == 'timeout'"),
+}
+
 # Readable names for tables and figures (units are added where they are shown)
 LABELS: dict[str, str] = {
     "success": "Contact-free success", "reached_goal": "Reached goal", "collisions": "Contact steps",
@@ -104,6 +110,7 @@ LABELS: dict[str, str] = {
     "walkable_path_efficiency": "Path efficiency", "route_length_walkable": "Shortest walkable route",
     "mean_jerk": "Jerk", "intimate_space_seconds": "Intimate-space time", "personal_space_seconds": "Personal-space time",
     "ttc_under_1s": "Time with TTC < 1 s", "ttc_seconds": "TTC distribution", "expected_behaviour": "Expected behaviour",
+    "timeout": "Timeouts",
 }
 
 
@@ -120,8 +127,8 @@ def _definition(name: str) -> dict[str, Any]:
 
     if name in NAVIGATION_METRICS:
         return {**NAVIGATION_METRICS[name], "better": _BETTER_NAVIGATION.get(name)}
-    if name in _SOCIAL:
-        unit, meaning, better, formula = _SOCIAL[name]
+    if name in _SOCIAL or name in _DERIVED:
+        unit, meaning, better, formula = _SOCIAL.get(name) or _DERIVED[name]
         return {"unit": unit, "meaning": meaning, "better": better, "formula": formula}
     unit, meaning, better = _EVALUATOR.get(name, ("", "", None))
     return {"unit": unit, "meaning": meaning, "better": better}
