@@ -92,7 +92,7 @@ def aggregate(table: pa.Table, *, resamples: int = 2000, baseline: str | None = 
     per_scenario = {(s, p): {m: est((scenario_col == s) & (policy_col == p), m)
                              for m in ("success", "reached_goal") if m in data}
                     for s in scenarios for p in policies}
-    baseline = baseline if baseline in policies else policies[0]
+    baseline = baseline if baseline in policies else str(policy_col[0])  # default: the campaign's first policy
     return Aggregates(
         policies=policies, scenarios=scenarios, locations=locations, metrics=metrics, per_policy=per_policy,
         per_location=per_location, per_scenario=per_scenario,
