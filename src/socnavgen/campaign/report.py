@@ -297,11 +297,12 @@ def write_report(out: Path | str, *, gifs: int = 3, resamples: int = 2000, basel
     table, found = campaign_table(out)
     if notes is not None:
         notes.extend(found)
-    agg = aggregate(table, resamples=resamples, baseline=baseline)
+    agg = aggregate(table, resamples=resamples, baseline=baseline, worst=max(10, 4 * gifs))
     report = out / REPORT_DIR
     sections = _sections(agg)
     figures = _figures(agg, report / "figures")
-    shown = agg.worst[:gifs]
+    # GIFs of different (scenario, policy) pairs, the worst of each: eight seeds of one failure show nothing new
+    shown = list({(r["scenario"], r["policy"]): r for r in reversed(agg.worst)}.values())[::-1][:gifs]
     rendered = render_gifs(out, shown) if gifs else {}
     captions = {r["episode"]: _caption(r) for r in shown}
     title = f"Campaign report: {out.name} ({agg.episodes} episodes, {len(agg.policies)} policies, " \
