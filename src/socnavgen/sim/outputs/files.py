@@ -59,9 +59,12 @@ def write_outputs(trace: Any, location: Any, out_dir: Path | str, *, plot: bool 
 
 
 # -- RUN/sim/ as one set: what the outputs were made from, so a stale or half-written set is never taken ----
-STAMP_FILE = "outputs.json"  # written last: without it (or with other digests) the outputs do not count
-TRACE_FILE = "trace.npz"
-VERIFY_FILE = "verify.json"  # written by `verify`; judged one trace, so it goes when the trace is replaced
+# outputs.json is written last: without it (or with other digests) the outputs do not count; verify.json (written
+# by `verify`) judged one trace, so it goes when the trace is replaced. The names live with the run folder.
+from socnavgen.run.verification import RECORD as STAMP_FILE  # noqa: E402
+from socnavgen.run.verification import REPORT as VERIFY_FILE  # noqa: E402
+from socnavgen.run.verification import TRACE as TRACE_FILE  # noqa: E402
+
 OURS = (STAMP_FILE, VERIFY_FILE, TRACE_FILE, METRICS_FILE, PLOT_FILE, GIF_FILE, MP4_FILE, "trajectories.svg",
         "trajectories.pdf")
 
