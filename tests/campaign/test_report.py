@@ -20,7 +20,7 @@ def test_report_ranks_the_bad_policy_worst_and_is_self_contained(small_spec, tmp
     assert agg.paired["bad"]["collisions"].losses >= 3  # worse on most of the same scenario+seed pairs
     assert agg.worst[0]["policy"] == "bad"
 
-    html_path, md_path, ranking_path = write_report(out, gifs=1, resamples=500, baseline="scripted")
+    html_path, md_path, ranking_path = write_report(out, gifs=1, resamples=500, baseline="scripted")  # ReportFiles
     page = html_path.read_text()
     assert len(re.findall(r'src="data:image/png;base64,', page)) == 3  # ranking bars, TTC, success heatmap
     for name in ("ranking", "ttc", "success"):  # and each as vector figures beside the page, for papers

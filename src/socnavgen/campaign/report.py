@@ -10,7 +10,7 @@ import json
 import textwrap
 from itertools import pairwise
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -289,8 +289,16 @@ def _caption(row: dict[str, Any]) -> str:
     return f"{row['scenario']}, policy {row['policy']}, seed {row['seed']}: {why}"
 
 
+class ReportFiles(NamedTuple):
+    """What `write_report` wrote, by name (iterable, so callers may list them)."""
+
+    html: Path  # the self-contained page
+    summary: Path  # summary.md
+    ranking: Path  # the ranking table alone (`campaign report --markdown`)
+
+
 def write_report(out: Path | str, *, gifs: int = 3, resamples: int = 2000, baseline: str | None = None,
-                 notes: list[str] | None = None) -> list[Path]:
+                 notes: list[str] | None = None) -> ReportFiles:
     """Write the report; `notes` (if given) receives what the reader must know (an unfinished campaign,
     unreadable files), which the page and the summary also show at the top."""
     out = Path(out)
@@ -336,4 +344,4 @@ def write_report(out: Path | str, *, gifs: int = 3, resamples: int = 2000, basel
                                                          if (report / "figures" / f"{n}.svg").is_file())), ""]
     atomic_write_text(report / "summary.md", "\n".join(md))
     atomic_write_text(report / RANKING_FILE, ranking_markdown(agg) + "\n")
-    return [report / "index.html", report / "summary.md", report / RANKING_FILE]
+    return ReportFiles(report / "index.html", report / "summary.md", report / RANKING_FILE)
