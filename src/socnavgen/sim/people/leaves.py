@@ -17,7 +17,8 @@ import math
 from collections.abc import Callable
 
 from socnavgen.sim.jit import jit
-from socnavgen.sim.people.state import goal_reached, pop_goal, stand, turn, walk_to, walk_to_goal
+from socnavgen.sim.people.routing import head
+from socnavgen.sim.people.state import ROUTE_ROBOT, goal_reached, pop_goal, stand, turn, walk_to, walk_to_goal
 from socnavgen.sim.people.trees import FAILURE, SUCCESS, Port
 from socnavgen.sim.world.queries import line_of_sight
 
@@ -180,15 +181,16 @@ def look_at_robot(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
 
 
 @jit
-def follow(s, i, target, target_radius):  # noqa: ANN001, ANN201
-    """Within FOLLOW_STOP face the target without moving; else walk toward it at FOLLOW_GAIN * distance."""
+def follow(s, i, target, target_radius, route):  # noqa: ANN001, ANN201
+    """Within FOLLOW_STOP (along the walkable way) face the target without moving; else walk toward it, around
+    walls (`route`: people.routing), at FOLLOW_GAIN * that distance."""
     s.people[i].behavior = 1
-    d = target - s.people[i].pos
-    r = abs(d)
+    _, r = head(s, i, target, route)
     if r <= FOLLOW_STOP:
+        d = target - s.people[i].pos
         turn(s.people, i, math.atan2(d.imag, d.real))
     else:
-        walk_to(s.people, i, target, target_radius, FOLLOW_GAIN * r)
+        walk_to(s.people, i, target, target_radius, FOLLOW_GAIN * r, route)
 
 
 @leaf("FollowHuman")
@@ -197,7 +199,7 @@ def follow_human(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     if h < 0:
         return bad_port(Port.target_id)
     if h != i:
-        follow(s, i, s.people[h].pos, s.people[h].radius)
+        follow(s, i, s.people[h].pos, s.people[h].radius, h)
     return SUCCESS
 
 
@@ -225,7 +227,7 @@ def block(s, i, ahead):  # noqa: ANN001, ANN201
     p = s.people[i]
     p.behavior = 1
     walk_to(s.people, i, s.robot[0].pos + ahead * complex(math.cos(s.robot[0].yaw), math.sin(s.robot[0].yaw)),
-            BLOCK_RADIUS, BLOCK_SPEED)
+            BLOCK_RADIUS, BLOCK_SPEED, ROUTE_ROBOT)
     p.face_robot_within = BLOCK_FACE
 
 

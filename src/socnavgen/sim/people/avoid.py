@@ -1,0 +1,118 @@
+"""People and the robot's body: a walking person steers around the robot as people step around someone
+standing or walking in their way, and never walks into it.
+
+`steer_around_robot` (after the trees, on the step's snapshot): when the robot is in the way of the person's
+walk - their velocity relative to the robot's would bring them within the passing gap of its body within
+HORIZON s - they head along the tangent of the robot's body widened by that gap: on the side they are
+already on, or on the other when that side leaves them no room (walls). The gap is PASS_GAP where there is
+room, down to MIN_PASS_GAP in a tight spot; with room on neither side they slow down to stand WAIT_GAP from
+the robot until it moves. A person whose target is at the robot (following it) does not steer around it.
+
+`keep_off` (the walking step, once the robot has moved): the part of a person's velocity that would bring
+them closer than KEEP_GAP to the robot's body is dropped, so they slide along it or stop. The contact step
+(physics.resolve_contacts) stays the last resort, for people other people push.
+
+HuNavSim's people only meet the robot through its social force (REGULAR agents; the SocRATES fork leaves even
+that out for its trees), which does not keep them off it: the prompt tells the model that RegularNav treats
+the robot as an obstacle, and people do walk around one.
+"""
+
+from __future__ import annotations
+
+import cmath
+import math
+
+from socnavgen.sim.jit import jit
+from socnavgen.sim.world.queries import clearance_at
+
+PASS_GAP = 0.5  # m: the gap a person leaves passing the robot where there is room (beyond intimate space)
+MIN_PASS_GAP = 0.1  # m: the least gap a person squeezes past the robot with
+ROOM_STEP = 0.05  # m: passing gaps tried from PASS_GAP down
+FIT_CLEARANCE = 0.35  # m: the passing spot must keep a person's body (0.4 m, 5 cm slack) off the walls
+WAIT_GAP = 0.3  # m: with no room to pass, a person stands this far from the robot
+WAIT_TIME = 1.0  # s: ... slowing down to get there in about this time
+KEEP_GAP = 0.1  # m: a person's own step never brings them closer than this to the robot's body
+HORIZON = 3.0  # s: a robot the person would come that close to within this time is in their way
+STEER_RANGE = 4.0  # m between centres: farther robots are not steered around
+
+
+@jit
+def room_beside(s, i, normal, reach):  # noqa: ANN001, ANN201
+    """The largest passing gap (PASS_GAP down to MIN_PASS_GAP) beside the robot on the side `normal` (unit)
+    where person i's body fits off the walls; -1 when none does."""
+    robot = s.robot[0]
+    gap = PASS_GAP
+    while gap >= MIN_PASS_GAP - 1e-9:
+        if clearance_at(s.world, robot.pos + normal * (reach + gap)) >= FIT_CLEARANCE:
+            return gap
+        gap -= ROOM_STEP
+    return -1.0
+
+
+@jit
+def steer_around_robot(s, i):  # noqa: ANN001, ANN201
+    """Turn walker i's heading (p.via, p.desired_speed) around the robot when the robot is in their way."""
+    p, robot = s.people[i], s.robot[0]
+    rel = robot.pos - p.pos
+    dist = abs(rel)
+    reach = p.radius + robot.radius
+    target = p.goal if p.to_goal else p.target
+    if dist > STEER_RANGE or dist < 1e-9 or abs(target - robot.pos) < reach + PASS_GAP:
+        return
+    if abs(target - p.pos) < dist - reach:  # arrives before reaching the robot
+        return
+    ahead = p.via - p.pos
+    if abs(ahead) < 1e-9:
+        return
+    e = ahead / abs(ahead)
+    w = p.desired_speed * e - robot.vel  # the walk relative to the robot
+    speed_rel = abs(w)
+    if speed_rel < 1e-6:
+        return
+    frame = rel * (w / speed_rel).conjugate()  # the robot in the frame of the relative walk
+    along, across = frame.real, frame.imag
+    if along <= 0 or along > HORIZON * speed_rel:
+        return
+    if abs(across) >= reach + PASS_GAP:  # it passes the robot with room to spare
+        return
+    unit = rel / dist
+    right, left = unit * -1j, unit * 1j  # beside the robot, as the person sees it
+    room_right, room_left = room_beside(s, i, right, reach), room_beside(s, i, left, reach)
+    # pass on the side the walk already leans to (the robot on the left: pass it on its right), else the roomier
+    clockwise = across > 0 or (across == 0 and room_right >= room_left)
+    room = room_right if clockwise else room_left
+    if room < 0:
+        clockwise, room = not clockwise, room_left if clockwise else room_right
+    if room < 0:  # no room on either side: stand WAIT_GAP from it until it moves
+        if abs(across) < reach + MIN_PASS_GAP:
+            gap = dist - reach
+            following = max(0.0, (robot.vel * e.conjugate()).real)
+            p.desired_speed = min(p.desired_speed, max(0.0, gap - WAIT_GAP) / WAIT_TIME + following)
+        return
+    if abs(across) >= reach + room:
+        return
+    alpha = math.asin(min(1.0, (reach + room) / dist))
+    tangent = unit * cmath.exp(-1j * alpha if clockwise else 1j * alpha)
+    v = robot.vel + speed_rel * tangent
+    speed = abs(v)
+    if speed < 1e-9:
+        return
+    p.desired_speed = min(p.desired_speed, speed)
+    p.via = p.pos + v / speed * max(abs(ahead), 1.0)
+
+
+@jit(inline=True)
+def keep_off(v, pos, robot_pos, reach, dt):  # noqa: ANN001, ANN201
+    """Velocity v of a person at `pos` without the part that would take them closer than KEEP_GAP to the
+    robot's body (never closer than they are, when the robot came closer itself)."""
+    away = pos - robot_pos
+    dist = abs(away)
+    if dist < 1e-9:
+        return v
+    gap = dist - reach
+    if gap > KEEP_GAP + 2.0 * abs(v) * dt:
+        return v
+    unit = away / dist
+    radial = (v * unit.conjugate()).real
+    lowest = (min(KEEP_GAP, gap) - gap) / dt
+    return v + (lowest - radial) * unit if radial < lowest else v
