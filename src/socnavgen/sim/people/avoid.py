@@ -5,8 +5,10 @@ standing or walking in their way, and never walks into it.
 walk - their velocity relative to the robot's would bring them within the passing gap of its body within
 HORIZON s - they head along the tangent of the robot's body widened by that gap: on the side they are
 already on, or on the other when that side leaves them no room (walls). The gap is PASS_GAP where there is
-room, down to MIN_PASS_GAP in a tight spot; with room on neither side they slow down to stand WAIT_GAP from
-the robot until it moves. A person whose target is at the robot (following it) does not steer around it.
+room, down to MIN_PASS_GAP past a standing robot in a tight spot (MOVING_PASS_GAP past a moving one); with
+room on neither side they slow down to stand WAIT_GAP from the robot until it moves, or walk WAIT_GAP behind
+it when it goes their way. A way round that would take them backwards (a robot crossing in front, moving
+away along their side) is not taken: they stop and let it go by. A person whose target is at the robot (following it) does not steer around it.
 
 `keep_off` (the walking step, once the robot has moved): the part of a person's velocity that would bring
 them closer than KEEP_GAP to the robot's body is dropped, so they slide along it or stop. The contact step
@@ -23,30 +25,43 @@ import cmath
 import math
 
 from socnavgen.sim.jit import jit
-from socnavgen.sim.world.queries import clearance_at
+from socnavgen.sim.world.queries import clearance_at, line_of_sight
 
 PASS_GAP = 0.5  # m: the gap a person leaves passing the robot where there is room (beyond intimate space)
-MIN_PASS_GAP = 0.1  # m: the least gap a person squeezes past the robot with
+MIN_PASS_GAP = 0.1  # m: the least gap a person squeezes past a standing robot with
+MOVING_PASS_GAP = 0.3  # m: the least gap a person overtakes or meets a moving robot with
+BACK_ANGLE = 1.8  # rad: a way round the robot this far off the walking direction goes back the way they came
+MOVING = 0.1  # m/s: a robot faster than this is moving
 ROOM_STEP = 0.05  # m: passing gaps tried from PASS_GAP down
 FIT_CLEARANCE = 0.35  # m: the passing spot must keep a person's body (0.4 m, 5 cm slack) off the walls
-WAIT_GAP = 0.3  # m: with no room to pass, a person stands this far from the robot
+WAIT_GAP = 0.5  # m: with no room to pass, a person stands (or walks behind it) this far from the robot
 WAIT_TIME = 1.0  # s: ... slowing down to get there in about this time
 KEEP_GAP = 0.1  # m: a person's own step never brings them closer than this to the robot's body
 HORIZON = 3.0  # s: a robot the person would come that close to within this time is in their way
 STEER_RANGE = 4.0  # m between centres: farther robots are not steered around
+FIELD_OF_VIEW = 1.75  # rad either side of the walking direction (a person's visual field spans about 200 deg)
 
 
 @jit
-def room_beside(s, i, normal, reach):  # noqa: ANN001, ANN201
-    """The largest passing gap (PASS_GAP down to MIN_PASS_GAP) beside the robot on the side `normal` (unit)
-    where person i's body fits off the walls; -1 when none does."""
+def room_beside(s, normal, reach, least):  # noqa: ANN001, ANN201
+    """The largest passing gap (PASS_GAP down to `least`) beside the robot on the side `normal` (unit)
+    where a person's body fits off the walls; -1 when none does."""
     robot = s.robot[0]
     gap = PASS_GAP
-    while gap >= MIN_PASS_GAP - 1e-9:
+    while gap >= least - 1e-9:
         if clearance_at(s.world, robot.pos + normal * (reach + gap)) >= FIT_CLEARANCE:
             return gap
         gap -= ROOM_STEP
     return -1.0
+
+
+@jit
+def sees(s, i):  # noqa: ANN001, ANN201
+    """Line of sight from person i to the robot (computed at most once per step: p.sees_robot)."""
+    p = s.people[i]
+    if p.sees_robot < 0:
+        p.sees_robot = 1 if line_of_sight(s.world, s.robot[0].pos, p.pos) else 0
+    return p.sees_robot == 1
 
 
 @jit
@@ -65,6 +80,8 @@ def steer_around_robot(s, i):  # noqa: ANN001, ANN201
     if abs(ahead) < 1e-9:
         return
     e = ahead / abs(ahead)
+    if (rel * e.conjugate()).real < dist * math.cos(FIELD_OF_VIEW) or not sees(s, i):
+        return
     w = p.desired_speed * e - robot.vel  # the walk relative to the robot
     speed_rel = abs(w)
     if speed_rel < 1e-6:
@@ -77,28 +94,46 @@ def steer_around_robot(s, i):  # noqa: ANN001, ANN201
         return
     unit = rel / dist
     right, left = unit * -1j, unit * 1j  # beside the robot, as the person sees it
-    room_right, room_left = room_beside(s, i, right, reach), room_beside(s, i, left, reach)
+    # a moving robot is passed with more room, unless the person is already beside it (they carry on past)
+    least = MOVING_PASS_GAP if abs(robot.vel) > MOVING and dist - reach > WAIT_GAP else MIN_PASS_GAP
+    room_right, room_left = room_beside(s, right, reach, least), room_beside(s, left, reach, least)
     # pass on the side the walk already leans to (the robot on the left: pass it on its right), else the roomier
     clockwise = across > 0 or (across == 0 and room_right >= room_left)
     room = room_right if clockwise else room_left
     if room < 0:
         clockwise, room = not clockwise, room_left if clockwise else room_right
-    if room < 0:  # no room on either side: stand WAIT_GAP from it until it moves
-        if abs(across) < reach + MIN_PASS_GAP:
+    if room < 0:  # no room on either side: stand (or walk behind it) WAIT_GAP from it
+        if abs(across) < reach + least:
             gap = dist - reach
             following = max(0.0, (robot.vel * e.conjugate()).real)
             p.desired_speed = min(p.desired_speed, max(0.0, gap - WAIT_GAP) / WAIT_TIME + following)
         return
     if abs(across) >= reach + room:
         return
-    alpha = math.asin(min(1.0, (reach + room) / dist))
-    tangent = unit * cmath.exp(-1j * alpha if clockwise else 1j * alpha)
-    v = robot.vel + speed_rel * tangent
+    v = passing(robot.vel, unit, dist, reach + room, speed_rel, clockwise)
+    if backwards(v, e):  # that way goes back: pass on the other side, or let it go by
+        other = room_left if clockwise else room_right
+        v = passing(robot.vel, unit, dist, reach + other, speed_rel, not clockwise) if other >= 0 else 0j
+        if backwards(v, e) or abs(v) < 1e-9:
+            p.desired_speed = 0.0
+            return
     speed = abs(v)
-    if speed < 1e-9:
-        return
     p.desired_speed = min(p.desired_speed, speed)
     p.via = p.pos + v / speed * max(abs(ahead), 1.0)
+
+
+@jit(inline=True)
+def backwards(v, e):  # noqa: ANN001, ANN201
+    """Velocity v takes a person walking along e (unit) back the way they came (more than BACK_ANGLE off)."""
+    return (v * e.conjugate()).real < abs(v) * math.cos(BACK_ANGLE)
+
+
+@jit(inline=True)
+def passing(robot_vel, unit, dist, clear, speed_rel, clockwise):  # noqa: ANN001, ANN201
+    """The velocity that passes the robot (at `unit` * dist from the person, moving at robot_vel) at centre
+    distance `clear`, on the given side, at relative speed speed_rel."""
+    alpha = math.asin(min(1.0, clear / dist))
+    return robot_vel + speed_rel * unit * cmath.exp(-1j * alpha if clockwise else 1j * alpha)
 
 
 @jit(inline=True)

@@ -17,10 +17,10 @@ import math
 from collections.abc import Callable
 
 from socnavgen.sim.jit import jit
+from socnavgen.sim.people.avoid import sees
 from socnavgen.sim.people.routing import head
 from socnavgen.sim.people.state import ROUTE_ROBOT, goal_reached, pop_goal, stand, turn, walk_to, walk_to_goal
 from socnavgen.sim.people.trees import FAILURE, SUCCESS, Port
-from socnavgen.sim.world.queries import line_of_sight
 
 LEAVES: dict[str, Callable] = {}
 BAD_PORT = -10  # a leaf's status BAD_PORT - column: the port in that column holds an unusable value
@@ -67,10 +67,7 @@ def robot_bearing(s, i):  # noqa: ANN001, ANN201
 @jit
 def sees_robot(s, i):  # noqa: ANN001, ANN201
     """Line of sight from person i to the robot, computed at most once per step."""
-    p = s.people[i]
-    if p.sees_robot < 0:
-        p.sees_robot = 1 if line_of_sight(s.world, s.robot[0].pos, p.pos) else 0
-    return p.sees_robot == 1
+    return sees(s, i)
 
 
 @jit
