@@ -31,7 +31,7 @@ PASS_GAP = 0.5  # m: the gap a person leaves passing the robot where there is ro
 MIN_PASS_GAP = 0.1  # m: the least gap a person squeezes past a standing robot with
 MOVING_PASS_GAP = 0.3  # m: the least gap a person overtakes or meets a moving robot with
 BACK_ANGLE = 1.8  # rad: a way round the robot this far off the walking direction goes back the way they came
-YIELD_ANGLE = 1.1  # rad: a way round a MOVING robot this far off it means walking along with it: they let it go by
+YIELD_ANGLE = 1.1  # rad: a way round a robot crossing (not oncoming) this far off means walking along with it
 MOVING = 0.1  # m/s: a robot faster than this is moving
 ROOM_STEP = 0.05  # m: passing gaps tried from PASS_GAP down
 FIT_CLEARANCE = 0.35  # m: the passing spot must keep a person's body (0.4 m, 5 cm slack) off the walls
@@ -94,11 +94,13 @@ def steer_around_robot(s, i):  # noqa: ANN001, ANN201
     if abs(across) >= reach + PASS_GAP:  # it passes the robot with room to spare
         return
     unit = rel / dist
-    right, left = unit * -1j, unit * 1j  # beside the robot, as the person sees it
+    u = w / speed_rel  # room on a side: the person fits beside the robot as they see it, or abeam on their walk
+    right, left = unit * -1j, unit * 1j
     # a moving robot is passed with more room, unless the person is already alongside it (they carry on past)
     alongside = (rel * e.conjugate()).real < reach
     least = MOVING_PASS_GAP if abs(robot.vel) > MOVING and not alongside else MIN_PASS_GAP
-    room_right, room_left = room_beside(s, right, reach, least), room_beside(s, left, reach, least)
+    room_right = max(room_beside(s, right, reach, least), room_beside(s, u * -1j, reach, least))
+    room_left = max(room_beside(s, left, reach, least), room_beside(s, u * 1j, reach, least))
     # pass on the side the walk already leans to (the robot on the left: pass it on its right), else the roomier
     clockwise = across > 0 or (across == 0 and room_right >= room_left)
     room = room_right if clockwise else room_left
@@ -113,8 +115,10 @@ def steer_around_robot(s, i):  # noqa: ANN001, ANN201
     if abs(across) >= reach + room:
         return
     v = passing(robot.vel, unit, dist, reach + room, speed_rel, clockwise)
-    # round a standing robot any way but back; a moving one is let go by rather than walked along with
-    limit = BACK_ANGLE if abs(robot.vel) <= MOVING else YIELD_ANGLE
+    # round a standing or oncoming robot any way but back; one crossing or going their way is let go by rather
+    # than walked along with
+    crossing = abs(robot.vel) > MOVING and (robot.vel * e.conjugate()).real >= 0.0  # not coming at them
+    limit = YIELD_ANGLE if crossing else BACK_ANGLE
     if off_way(v, e, limit):  # pass on the other side, or stop and let it go by
         other = room_left if clockwise else room_right
         v = passing(robot.vel, unit, dist, reach + other, speed_rel, not clockwise) if other >= 0 else 0j
