@@ -10,7 +10,14 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from socnavgen.bodies import CONTACT_MARGIN, GROUP_SPAWN_RADIUS, INTIMATE_SPACE, PERSON_RADIUS, ROBOT_RADIUS
+from socnavgen.bodies import (
+    CONTACT_MARGIN,
+    GROUP_SPAWN_RADIUS,
+    INTIMATE_SPACE,
+    PERSON_MAX_SPEED,
+    PERSON_RADIUS,
+    ROBOT_RADIUS,
+)
 from socnavgen.bt.library import regular_walker_xml
 from socnavgen.errors import ValidationFailed
 from socnavgen.run import LoadedRun, load_run
@@ -92,13 +99,17 @@ def load_simulation(run_dir: Path | str | LoadedRun, policy: Any, config: SimCon
     rng = np.random.default_rng(config.seed)
     starts = spawn_points(world, [complex(*at[h.path[0]]) for h in humans], [h.group_id for h in humans],
                           PERSON_RADIUS, rng, complex(*at[plan.robot[0]]) if plan.robot else None)
+    spec = run.spec()
+    traits = spec.people if spec is not None else {}
     specs = []
     for h, start in zip(humans, starts, strict=True):
+        person = traits.get(h.name)
+        speed = person.speed if person is not None and person.speed is not None else PERSON_MAX_SPEED
         goals = [at[n] for n in (h.path[1:] if len(h.path) > 1 else h.path[:1])]
         first = complex(*goals[0]) - start
         specs.append(HumanSpec(name=h.name, start=(start.real, start.imag), goals=goals,
                                yaw=math.atan2(first.imag, first.real) if abs(first) > 1e-9 else 0.0,
-                               group_id=h.group_id, path_nodes=list(h.path),
+                               group_id=h.group_id, path_nodes=list(h.path), max_vel=speed,
                                interaction_point=at.get(h.interaction_point)))
     xmls = run.behaviors()
     trees: list[str] = []
@@ -112,7 +123,6 @@ def load_simulation(run_dir: Path | str | LoadedRun, policy: Any, config: SimCon
             names.append(f"<default RegularNav tree for {h.name}>")
             defaulted.append(h.name)
     node_points = {n: complex(*p) for n, p in at.items()}
-    spec = run.spec()
     throttle = throttle or ThrottleConfig()
     speech = RobotSpeech(rules=list(plan.robot_gestures), node_points=node_points)
     if spec is not None:
