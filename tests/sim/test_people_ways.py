@@ -76,3 +76,14 @@ def test_a_follower_follows_the_robot_around_a_wall():
                      path, load_policy("waypoints"), world=empty_room(20.0, 10.0, walls=walls), timeout=60).run()
     assert trace.humans[-1, 0, 0] > 10.5  # through the door
     assert abs(final(trace) - complex(trace.robot[-1, 0], trace.robot[-1, 1])) < 4.0
+
+
+def test_a_group_whose_members_react_differently_splits_instead_of_freezing():
+    """Two members of one group: one follows the robot driving off one way, the other walks its path the other
+    way. Each goes their own way at a walking pace (the group force held both in a knot at 0.1-0.2 m/s)."""
+    trees = [tree_xml(REGULAR), tree_xml('<FollowRobot agent_id="{id}" time_step="{dt}"/>')]
+    people = [human("human1", start=(10.0, 5.3), goals=[(18.0, 5.0)], group_id=0),
+              human("human2", start=(10.0, 4.7), goals=[(18.0, 5.0)], group_id=0)]
+    trace = make_sim(people, trees, [(8.0, 5.0), (1.0, 5.0)], Drive(-0.8), timeout=8).run()
+    assert trace.humans[-1, 0, 0] > 15.0  # the walker is well on its way east
+    assert trace.humans[-1, 1, 0] < 7.0  # the follower went west after the robot
