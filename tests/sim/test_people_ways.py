@@ -87,3 +87,13 @@ def test_a_group_whose_members_react_differently_splits_instead_of_freezing():
     trace = make_sim(people, trees, [(8.0, 5.0), (1.0, 5.0)], Drive(-0.8), timeout=8).run()
     assert trace.humans[-1, 0, 0] > 15.0  # the walker is well on its way east
     assert trace.humans[-1, 1, 0] < 7.0  # the follower went west after the robot
+
+
+def test_a_person_with_a_start_delay_stands_until_then_and_walks_after():
+    """HumanSpec.start_delay (campaigns draw it per seed): the person stands at its spawn point, facing its
+    first goal, until the delay is over; then its tree runs as usual."""
+    trace = make_sim([human(start=(2.0, 5.0), goals=[(18.0, 5.0)], start_delay=2.0)], [tree_xml(REGULAR)],
+                     [(10.0, 8.5), (10.5, 8.5)], Stay(), timeout=5).run()
+    before = trace.t < 2.0 - 1e-9
+    assert np.allclose(trace.humans[before, 0, 0], 2.0) and np.allclose(trace.humans[before, 0, 1], 5.0)
+    assert trace.humans[-1, 0, 0] > 4.0

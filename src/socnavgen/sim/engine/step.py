@@ -56,6 +56,8 @@ def think(s, trees, pacing, script, scratch):  # noqa: ANN001, ANN201
     nodes, ports, slots, texts, kids, stack, args = trees
     dt = s.clock[0].dt
     for i in range(people.shape[0]):
+        if s.clock[0].t < people[i].start_delay:  # not started yet: stands at its spawn point
+            continue
         if tick(s, nodes, ports, slots, texts, kids, stack, args, dt, i) == ERROR:
             return ERROR
     plan(s)

@@ -33,12 +33,14 @@ class HumanSpec:
     cyclic: bool = False
     interaction_point: tuple[float, float] | None = None
     path_nodes: list[str] = field(default_factory=list)
+    start_delay: float = 0.0  # s: stands at its spawn point, facing its first goal, until then (its tree waits)
 
 
 PERSON = layout([
     # body and motion
     ("pos", "c16"), ("vel", "c16"), ("yaw", "f8"), ("omega", "f8"), ("radius", "f8"), ("max_speed", "f8"),
     ("group", "i8"),  # label of its group (0..G-1, groups of two or more), -1 alone
+    ("start_delay", "f8"),  # s: its tree is not ticked (it stands) before then
     # goal queue: the front goal, and the ring goals[i, start:start + count] (wrapping)
     ("goal", "c16"), ("goal_radius", "f8"), ("has_goal", "?"), ("queue_start", "i8"), ("queue_count", "i8"),
     ("cyclic", "?"),
@@ -80,7 +82,8 @@ def new_people(specs: list[HumanSpec]) -> tuple[np.recarray, np.ndarray, np.ndar
     people = table(PERSON, n, pos=[complex(*s.start) for s in specs], yaw=[s.yaw for s in specs],
                    radius=[s.radius for s in specs], max_speed=[s.max_vel for s in specs], group=labels,
                    goal_radius=[s.goal_radius for s in specs], cyclic=[s.cyclic for s in specs],
-                   pace=[s.max_vel for s in specs], sees_robot=-1, action=-1, via_step=-1, via_mark=-1,
+                   pace=[s.max_vel for s in specs], start_delay=[s.start_delay for s in specs], sees_robot=-1,
+                   action=-1, via_step=-1, via_mark=-1,
                    goal_mark=-1)
     capacity = max([len(s.goals) for s in specs] + [0]) + 2  # a cyclic queue re-appends before it pops
     goals = np.zeros((n, capacity), dtype=complex)
