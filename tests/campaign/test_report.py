@@ -8,19 +8,12 @@ import re
 from socnavgen.campaign.aggregate import aggregate
 from socnavgen.campaign.report import md_tables, write_report
 from socnavgen.campaign.runner import run_campaign
-from socnavgen.campaign.spec import parse_campaign
 from socnavgen.campaign.store import read_episodes
-from tests.campaign.conftest import campaign_yaml
 
 
-def test_report_ranks_the_bad_policy_worst_and_is_self_contained(tmp_path) -> None:  # noqa: ANN001
-    """Two scenarios where a rude robot meets people who cannot see it coming in time (a blind corner, an
-    intersection between racks): people step round a robot they see (parallel traffic gives the straight
-    robot nobody to touch: people overtake it and keep off it), so rudeness shows where they cannot."""
+def test_report_ranks_the_bad_policy_worst_and_is_self_contained(small_spec, tmp_path) -> None:  # noqa: ANN001
     out = tmp_path / "o"
-    spec = parse_campaign(campaign_yaml(["blind-corner", "intersection-no-gesture"],
-                                        ["scripted", "{name: bad, robot: straight}"], 2))
-    run_campaign(spec, out, executor="inline")
+    run_campaign(small_spec, out, executor="inline")
     agg = aggregate(read_episodes(out)[0], resamples=500, baseline="scripted")
     bad, good = agg.per_policy["bad"]["collisions"], agg.per_policy["scripted"]["collisions"]
     assert bad.mean > good.mean
