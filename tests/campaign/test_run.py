@@ -27,7 +27,7 @@ def test_inline_and_local_processes_write_the_same_table(small_spec, tmp_path) -
     rows = duckdb.sql(f"select scenario, policy, seed, status, success, minimum_distance_to_people, verified, "
                       f"verdicts, path_efficiency from '{tmp_path / 'inline' / 'episodes.parquet'}' "
                       f"order by scenario, policy, seed").fetchall()
-    assert [(r[0], r[1], r[2]) for r in rows] == [(s, p, k) for s in ("warehouse/blind-corner", "warehouse/parallel-traffic")
+    assert [(r[0], r[1], r[2]) for r in rows] == [(s, p, k) for s in ("warehouse/blind-corner", "warehouse/intersection-no-gesture")
                                                   for p in ("bad", "scripted") for k in (0, 1)]
     assert all(r[3] == "ok" and r[6] is not None and r[7].startswith("[") for r in rows)
     bad = [r[5] for r in rows if r[1] == "bad"]
@@ -57,8 +57,8 @@ def test_a_worker_loads_each_location_once(small_spec, tmp_path, monkeypatch) ->
     run_campaign(small_spec, tmp_path / "o", executor="inline")
     assert cache.loads == 1 and len(cache.worlds) == 1
     # one LoadedRun per scenario, shared by its 4 episodes' simulations and verifications: paths.json read once
-    assert sorted(Path(r).name for r in cache.runs) == ["blind-corner", "parallel-traffic"]
-    assert sorted(read[-2:]) == ["blind-corner", "parallel-traffic"] and len(read) == 4  # 2 while building the suite
+    assert sorted(Path(r).name for r in cache.runs) == ["blind-corner", "intersection-no-gesture"]
+    assert sorted(read[-2:]) == ["blind-corner", "intersection-no-gesture"] and len(read) == 4  # 2 while building the suite
 
 
 def test_metric_selection_and_definitions(tmp_path) -> None:  # noqa: ANN001

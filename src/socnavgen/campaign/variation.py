@@ -34,7 +34,7 @@ from socnavgen.bodies import PERSON_TOP_SPEED
 SPEED_MEAN, SPEED_SD, SPEED_RANGE = 1.34, 0.26, (0.5, PERSON_TOP_SPEED)
 SPACE_MEAN, SPACE_SD, SPACE_RANGE = 1.0, 0.2, (0.5, 1.5)
 DELAY_MEAN, DELAY_MAX = 0.8, 3.0
-APPLIED = ("speed",)  # traits the simulator takes today; the others wait for it (SIM_NEEDS.md)
+APPLIED = ("speed", "start_delay")  # traits the simulator takes today; the others wait for it (SIM_NEEDS.md)
 STREAM = 0x50_45_4F_50_4C_45  # "PEOPLE": the variation's random stream, apart from the simulator's spawn draws
 
 DISTRIBUTIONS = {
@@ -53,7 +53,7 @@ class Traits(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True)
     speed: float  # m/s: desired (max) walking speed
     personal_space: float  # m: preferred distance to others (not applied yet)
-    start_delay: float  # s: stands this long before walking (not applied yet)
+    start_delay: float  # s: stands this long before walking (HumanSpec.start_delay)
 
 
 def _clipped_normal(rng: np.random.Generator, mean: float, sd: float, low: float, high: float) -> float:
@@ -88,14 +88,16 @@ def people_of(run: Any) -> tuple[list[str], dict[str, float]]:
 
 def apply_traits(sim: Any, traits: dict[str, Traits]) -> None:
     """Give the simulation's people their drawn speeds (what HumanSpec.max_vel sets: the desired speed and the
-    pace a paced person starts from), before it runs. Until load_simulation takes per-person traits
-    (SIM_NEEDS.md), this writes the two fields of Simulation.people that max_vel initialises."""
+    pace a paced person starts from) and start delays (HumanSpec.start_delay), before it runs. Until
+    load_simulation takes per-person traits (SIM_NEEDS.md), this writes the fields of Simulation.people that
+    those HumanSpec fields initialise."""
     people = sim.people
     for i, human in enumerate(sim.humans):
         mine = traits.get(human.name)
         if mine is not None:
             people.max_speed[i] = mine.speed
             people.pace[i] = mine.speed
+            people.start_delay[i] = mine.start_delay
 
 
 def summary(traits: dict[str, Traits]) -> dict[str, Any]:
