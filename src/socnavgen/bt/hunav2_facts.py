@@ -111,6 +111,7 @@ class Hunav2Translation(BaseModel):
     by_value: dict[str, dict[str, str]] = Field(default_factory=dict)
     reason: str
     refusal: str | None = None
+    by_script: bool = False  # no template: the export writes the robot script's condition (export.speech)
     target_ports: tuple[str, ...] = ()  # ports holding an agent id (shifted to 2.x's 1-based ids)
 
 
@@ -133,11 +134,16 @@ HUNAV2: dict[str, Hunav2Translation] = {
         template='<TimeExpiredCondition seconds="{seconds}" ts="{ts}" only_once="{only_once}"/>',
         reason="2.x registers TimeExpiredCondition with the same ports, defaults and accumulator"),
     "RobotSays": Hunav2Translation(
-        reason="", refusal="HuNavSim 2.x has no input for what the robot says: there is no robot gesture "
-                           "topic, and IsSpeaking/IsAnyoneSpeaking listen to agents only"),
+        by_script=True,
+        reason="approximated: HuNavSim 2.x has no input for what the robot says, so the export writes the condition "
+               "under which the robot's script says the phrase (blocked / at an encounter: the robot within the "
+               "cue's distance, in view, IsRobotVisible; near a person: IsRobotClose; start / after: the time "
+               "window, TimeExpiredCondition), without the seconds the phrase is held; refused when the script "
+               "says it when another person speaks or at a place this person does not pass"),
     "RobotSaid": Hunav2Translation(
-        reason="", refusal="HuNavSim 2.x has no input for what the robot says (see RobotSays), so it cannot "
-                           "remember it either"),
+        by_script=True,
+        reason="approximated as RobotSays (the script's condition), latched: once it held, the tree runs with "
+               "RobotSaid true for good"),
     "HumanSays": Hunav2Translation(
         reason="", refusal="2.x conditions tell whether another agent is speaking (IsSpeaking), not which "
                            "message it says; HumanSays tests the gesture code"),

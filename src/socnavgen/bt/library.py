@@ -388,6 +388,9 @@ def _apply_hunav2_support() -> None:
             spec.targets.add("hunav2")
             names = re.findall(r"<(\w+)", tr.template)
             spec.hunav2 = names[0] if len(names) == 1 else "+".join(names[1:])
+        elif tr is not None and tr.by_script:
+            spec.targets.add("hunav2")
+            spec.hunav2 = "the script's condition"
         else:
             spec.targets.discard("hunav2")
             spec.hunav2 = None
@@ -402,6 +405,8 @@ def hunav2_text(name: str) -> str:
     tr = HUNAV2.get(name)
     if tr is None:
         return ""
+    if tr.by_script:
+        return f"the robot script's condition: {tr.reason}"
     if tr.template is None:
         return f"refused: {tr.refusal}"
     return f"{LIBRARY[name].hunav2 if name in LIBRARY else name}: {tr.reason}"

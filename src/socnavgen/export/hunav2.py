@@ -10,7 +10,7 @@ Groot2. A node without a 2.x counterpart stops the export with every such node l
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from defusedxml.ElementTree import fromstring
 
@@ -20,10 +20,10 @@ from socnavgen.bt.library import (
     HUNAV2,
     HUNAV2_FIRST_AGENT_ID,
     LIBRARY,
-    LIBRARY_TREE_XML,
-    LIBRARY_TREES,
 )
-from socnavgen.bt.tree import BTDocument, BTElement, parse_bt
+from socnavgen.bt.model import BLACKBOARD_REF, Node, Ref, Value, literal_text
+from socnavgen.bt.parse import parse_document
+from socnavgen.bt.write import document_xml, node
 from socnavgen.errors import ValidationFailed
 from socnavgen.export.groot import model_block, tree_nodes_model_xml
 from socnavgen.export.models import (
@@ -33,14 +33,14 @@ from socnavgen.export.models import (
     HumanExport,
 )
 from socnavgen.export.readme import hunav2_readme
+from socnavgen.export.robot_script import script_yaml
 from socnavgen.export.socrates import check_trees
+from socnavgen.export.speech import Spoken, rewrite_phrases
 from socnavgen.export.targets import ExportTarget, register
-from socnavgen.export.writer import dump_yaml, element_xml, metres, robot_poses_yaml
+from socnavgen.export.timing import Hold, hold_root, with_waiting_goals
+from socnavgen.export.writer import dump_yaml, metres, robot_poses_yaml
 
 WRAPPER = "hunav_gazebo_wrapper"
-EXPLICIT = {"Action", "Condition", "Control", "Decorator"}  # <Action ID="X"/> form
-NOT_NODES = {"TreeNodesModel"}
-BLACKBOARD_REF = re.compile(r"^\{[^{}]+\}$")
 SIMULATORS = ("Gazebo Classic", "Gazebo Fortress", "Isaac Sim", "Webots")
 # behavior block of a 2.x agent: configuration 0 = the default factors below (reference §5)
 BEHAVIOR_DEFAULTS = {"type": "Regular", "configuration": 0, "goal_force_factor": 2.0,
@@ -70,54 +70,53 @@ def base_name(text: str) -> str:
     return stem or "socnavgen"
 
 
-def _node_name(elem: BTElement) -> str:
-    return elem.attrs.get("ID", elem.tag) if elem.tag in EXPLICIT else elem.tag
-
-
 CONTROL_V4 = {"Sequence": "ReactiveSequence", "Fallback": "ReactiveFallback"}
 
 
-def _from_template(xml: str, line: int | None) -> BTElement:
-    root = fromstring(xml)
-    return BTElement(tag=root.tag, attrs=dict(root.attrib), children=[_from_template_el(c, line) for c in root],
-                     line=line)
-
-
-def _from_template_el(el, line: int | None) -> BTElement:  # noqa: ANN001 - ElementTree element
-    return BTElement(tag=el.tag, attrs=dict(el.attrib), children=[_from_template_el(c, line) for c in el], line=line)
+def _from_template(el, line: int | None) -> Node:  # noqa: ANN001 - ElementTree element
+    """A filled-in template element as a typed node (2.x names; port texts kept as written)."""
+    spec = LIBRARY.get(el.tag)
+    ports: dict[str, Value] = {k: Ref(v[1:-1]) if BLACKBOARD_REF.match(v) else v for k, v in el.attrib.items()}
+    return Node(el.tag, spec.kind if spec is not None else "action", ports,
+                tuple(_from_template(c, line) for c in el), line)
 
 
 class _Translator:
-    """v3 (our library) -> v4 (2.x compositions of `bt.library.HUNAV2`); collects every refusal."""
+    """A typed v3 tree of our library -> the 2.x compositions of `bt.library.HUNAV2`; collects every refusal.
+    Sequence/Fallback become reactive, except the controls in `keep` (the export's own latches, which must
+    remember their RUNNING child)."""
 
-    def __init__(self, source: str) -> None:
-        self.source = source
+    def __init__(self, source: str, keep: set[Node]) -> None:
+        self.source, self.keep = source, keep
         self.problems: list[Untranslatable] = []
         self.used_leaves: set[str] = set()
         self.subtrees: set[str] = set()
 
-    def element(self, elem: BTElement) -> BTElement:
-        name = _node_name(elem)
-        spec = LIBRARY.get(name)
-        children = [self.element(c) for c in elem.children if c.tag not in NOT_NODES]
-        if spec is None:
-            self.problems.append(Untranslatable(self.source, elem.line, name, "is not a library node"))
-            return BTElement(tag=name, attrs={}, children=children, line=elem.line)
-        attrs = {k: v for k, v in elem.attrs.items() if not (elem.tag in EXPLICIT and k == "ID")}
+    def node(self, n: Node) -> Node:
+        spec = n.spec
+        if spec is None or n.kind == "unknown":
+            self.problems.append(Untranslatable(self.source, n.line, n.name, "is not a library node"))
+            return n
+        if n.call is not None:
+            self.subtrees.add(n.call.tree)
+            return n
         if spec.kind in ("action", "condition"):
-            return self.leaf(name, attrs, elem.line)
-        if name == "SubTree":
-            return BTElement(tag="SubTree", attrs=self.subtree_attrs(attrs), children=children, line=elem.line)
-        return BTElement(tag=CONTROL_V4.get(name, name), attrs=attrs, children=children, line=elem.line)
+            if spec.targets == {"hunav2"}:  # already a 2.x node (the export's own conditions)
+                self.used_leaves.add(n.name)
+                return n
+            return self.leaf(n)
+        name = n.name if n in self.keep else CONTROL_V4.get(n.name, n.name)
+        return replace(n, name=name, children=tuple(self.node(c) for c in n.children))
 
-    def leaf(self, name: str, attrs: dict[str, str], line: int | None) -> BTElement:
-        tr = HUNAV2.get(name)
+    def leaf(self, n: Node) -> Node:
+        tr = HUNAV2.get(n.name)
         if tr is None or tr.template is None:
-            why = tr.refusal if tr is not None else "has no HuNavSim 2.x translation"
-            self.problems.append(Untranslatable(self.source, line, name, f"cannot be exported: {why}"))
-            return BTElement(tag=name, attrs={}, children=[], line=line)
-        values = {p.name: p.default for p in LIBRARY[name].ports if p.default is not None}
-        values.update({k: v.strip() for k, v in attrs.items()})
+            why = "has no HuNavSim 2.x translation" if tr is None else tr.refusal or (
+                "becomes the robot script's condition, which needs the run (export the run, not the tree alone)")
+            self.problems.append(Untranslatable(self.source, n.line, n.name, f"cannot be exported: {why}"))
+            return n
+        values = {p.name: p.default for p in LIBRARY[n.name].ports if p.default is not None}
+        values.update({k: literal_text(v).strip() for k, v in n.ports.items()})
         for port in tr.target_ports:  # literal agent ids: ours from 0, HuNavSim's from 1
             if port in values and values[port].lstrip("-").isdigit():
                 values[port] = str(int(values[port]) + HUNAV2_FIRST_AGENT_ID)
@@ -128,23 +127,13 @@ class _Translator:
         if "message" in values and values["message"].isdigit():
             values["message_word"] = HUMAN_GESTURES.get(int(values["message"]), values["message"])
         try:
-            out = _from_template(template.format(**{k: _attr_text(v) for k, v in values.items()}), line)
+            out = _from_template(fromstring(template.format(**{k: _attr_text(v) for k, v in values.items()})),
+                                 n.line)
         except KeyError as missing:
-            self.problems.append(Untranslatable(self.source, line, name, f"lacks port {missing}"))
-            return BTElement(tag=name, attrs={}, children=[], line=line)
-        self.used_leaves.update(e.tag for e in out.walk())
-        return out
-
-    def subtree_attrs(self, attrs: dict[str, str]) -> dict[str, str]:
-        """v3 remaps a subtree port with a plain parent key (`id="agentid"`); v4 writes `{agentid}`."""
-        out: dict[str, str] = {}
-        for key, value in attrs.items():
-            if key in ("ID", "name", "_autoremap") or BLACKBOARD_REF.match(value):
-                out[key] = value
-            else:
-                out[key] = "{" + value + "}"
-        self.subtrees.add(attrs.get("ID", ""))
-        return out
+            self.problems.append(Untranslatable(self.source, n.line, n.name, f"lacks port {missing}"))
+            return n
+        self.used_leaves.update(x.name for x in out.walk())
+        return replace(out, label=n.label)
 
 
 def _attr_text(value: str) -> str:
@@ -152,52 +141,67 @@ def _attr_text(value: str) -> str:
     return value.replace("&", "&amp;").replace('"', "&quot;").replace("<", "&lt;")
 
 
-def _goal_prelude(goal_ids: list[int]) -> BTElement:
+def _goal_prelude(goal_ids: list[int]) -> Node:
     """Queue the agent's goals once, as upstream's scenario trees do: RunOnce(SetGoal) per goal, the
     last one inverted so the Sequence fails the first tick and the Fallback moves on to walking;
-    afterwards every RunOnce is skipped."""
-    children = [BTElement("RunOnce", {}, [BTElement("SetGoal", {"agent_id": "{id}", "goal_id": str(g)})])
+    afterwards every RunOnce is skipped. (SetGoal and RunOnce are 2.x / BT.CPP 4 nodes our library lacks.)"""
+    children = [Node("RunOnce", "decorator", {}, (Node("SetGoal", "action", {"agent_id": Ref("id"), "goal_id": g}),))
                 for g in goal_ids]
-    children[-1] = BTElement("Inverter", {}, [children[-1]])
-    return BTElement("Sequence", {"name": "SetGoals"}, children)
+    children[-1] = node("Inverter", children[-1])
+    return Node("Sequence", "control", {}, tuple(children), label="SetGoals")
 
 
-def translate_tree(human: HumanExport, goal_ids: list[int] | None) -> tuple[str, list[Untranslatable]]:
-    """The human's v3 tree as one self-contained v4 file (text), plus what could not be translated."""
-    doc: BTDocument = parse_bt(human.tree_xml, human.tree_file)
-    tr = _Translator(human.tree_file)
+@dataclass
+class Translated:
+    """One person's 2.x tree file, what could not be translated, and the phrase conditions it approximates."""
+
+    text: str
+    problems: list[Untranslatable]
+    spoken: list[Spoken]
+
+
+def translate_person(human: HumanExport, goal_ids: list[int] | None, scene: ExportScene | None = None,
+                     hold: Hold | None = None) -> Translated:
+    """The person's tree as one self-contained v4 file. With `scene`: phrase conditions made geometric
+    (export.speech); with `hold`: the person timed (export.timing); without, the tree alone (as written)."""
+    doc, parse_problems = parse_document(human.tree_xml, human.tree_file)
+    if doc is None or parse_problems or doc.main is None or doc.main.root is None:
+        why = "; ".join(p.message for p in parse_problems) or f"main tree {doc and doc.main_tree!r} not found"
+        return Translated("", [Untranslatable(human.tree_file, doc.line if doc else None, "root", why)], [])
+    keep: set[Node] = set()
+    roots = {tid: t.root for tid, t in doc.trees.items() if t.root is not None}
+    spoken: list[Spoken] = []
     problems: list[Untranslatable] = []
-    main = doc.main_tree or next(iter(doc.trees), None)
-    if main is None or main not in doc.trees:
-        problems.append(Untranslatable(human.tree_file, doc.root.line, "root", f"main tree {main!r} not found"))
-        return "", problems
-    trees = {tid: BTElement("BehaviorTree", {"ID": tid}, [tr.element(c) for c in t.children], t.line)
-             for tid, t in doc.trees.items()}
-    library_ids = {tid: fname for fname, tid in LIBRARY_TREES.items()}
-    for include in doc.includes:
-        if include not in LIBRARY_TREE_XML:
-            problems.append(Untranslatable(human.tree_file, doc.root.line, f"include {include!r}",
-                                           "is not a library tree; 2.x files must be self-contained"))
+    if scene is not None:
+        roots, spoken = rewrite_phrases(doc, human, scene, keep)
+        problems += [Untranslatable(human.tree_file, s.line, s.node, f"cannot be exported: {s.text}")
+                     for s in spoken if s.refused]
+    if hold is not None:
+        roots[doc.main_tree] = hold_root(roots[doc.main_tree], hold, keep)
+    tr = _Translator(human.tree_file, keep)
+    trees = {tid: tr.node(root) for tid, root in roots.items()}
     for tid in sorted(tr.subtrees - set(trees)):
-        if tid in library_ids:
-            lib = parse_bt(LIBRARY_TREE_XML[library_ids[tid]], library_ids[tid])
-            trees[tid] = BTElement("BehaviorTree", {"ID": tid}, [tr.element(c) for c in lib.trees[tid].children])
+        tree = doc.included.get(tid)
+        if tree is not None and tree.root is not None:
+            trees[tid] = tr.node(tree.root)
         else:
             problems.append(Untranslatable(human.tree_file, None, f"SubTree {tid!r}", "names no known tree"))
     problems += tr.problems
     if problems:
-        return "", problems
+        return Translated("", problems, spoken)
+    main = doc.main_tree
     if goal_ids:  # None: goals come from elsewhere (our simulator reads them from paths.json)
-        body = trees[main].children[0]
-        trees[main] = BTElement("BehaviorTree", {"ID": main}, [
-            BTElement("Fallback", {"name": "QueueGoalsThenBehave"}, [_goal_prelude(goal_ids), body])])
-    ordered = [trees[main]] + [t for tid, t in trees.items() if tid != main]
-    text = ('<?xml version="1.0" encoding="UTF-8"?>\n'
-            f'<root BTCPP_format="4" main_tree_to_execute="{main}">\n'
-            + model_block("hunav2", tr.used_leaves | {"SetGoal"})
-            + "".join(element_xml(t) for t in ordered)
-            + "</root>\n")
-    return text, []
+        trees[main] = Node("Fallback", "control", {}, (_goal_prelude(goal_ids), trees[main]),
+                           label="QueueGoalsThenBehave")
+    text = document_xml(doc, version=4, roots=trees, includes=(),
+                        head=model_block("hunav2", tr.used_leaves | {"SetGoal"}))
+    return Translated('<?xml version="1.0" encoding="UTF-8"?>\n' + text, [], spoken)
+
+
+def translate_tree(human: HumanExport, goal_ids: list[int] | None) -> tuple[str, list[Untranslatable]]:
+    """The person's tree alone, translated (no timing, no phrase conditions): (text, what could not be)."""
+    out = translate_person(human, goal_ids)
+    return out.text, out.problems
 
 
 def global_goals(scene: ExportScene) -> tuple[dict[int, dict[str, float]], dict[str, list[int]]]:
@@ -234,14 +238,17 @@ def build_hunav2(scene: ExportScene, base: str, simulator: str = "Gazebo Classic
     if simulator not in SIMULATORS:
         raise ValidationFailed(f"unknown simulator {simulator!r}", hint="one of: " + ", ".join(SIMULATORS))
     check_trees(scene)
+    scene, holds = with_waiting_goals(scene)
     table, goal_ids = global_goals(scene)
     files: list[ExportedFile] = []
     problems: list[Untranslatable] = []
+    spoken: dict[str, list[Spoken]] = {}
     for human in scene.humans:
-        text, bad = translate_tree(human, goal_ids[human.name])
-        problems += bad
+        out = translate_person(human, goal_ids[human.name], scene, holds.get(human.name))
+        problems += out.problems
+        spoken[human.name] = out.spoken
         files.append(ExportedFile(path=f"{WRAPPER}/behavior_trees/{base}__agent_{hunav_id(human)}_bt.xml",
-                                  text=text))
+                                  text=out.text))
     if problems:
         raise ValidationFailed(
             f"{len(problems)} node(s) have no HuNavSim 2.x equivalent:\n" + "\n".join(str(p) for p in problems),
@@ -250,7 +257,8 @@ def build_hunav2(scene: ExportScene, base: str, simulator: str = "Gazebo Classic
     files.append(ExportedFile(path=f"{WRAPPER}/scenarios/{base}.yaml",
                               text=agents_yaml(scene, base, simulator, goal_ids, table)))
     files.append(ExportedFile(path="robot/robot_poses.yaml", text=robot_poses_yaml(scene.robot)))
-    files.append(ExportedFile(path="README.md", text=hunav2_readme(scene, base, simulator)))
+    files.append(ExportedFile(path="robot/robot_script.yaml", text=script_yaml(scene)))
+    files.append(ExportedFile(path="README.md", text=hunav2_readme(scene, base, simulator, spoken, holds)))
     return files
 
 
