@@ -13,6 +13,7 @@ PERSON_RADIUS = 0.4  # m: a simulated person's disc (HuNavSim agent radius)
 ROBOT_RADIUS = 0.35  # m: the robot's disc (SocRATES Gazebo wrapper)
 TOUCH_DISTANCE = PERSON_RADIUS + ROBOT_RADIUS  # m centre to centre: robot and person touch (0.75)
 PERSON_TOUCH_DISTANCE = 2 * PERSON_RADIUS  # m centre to centre: two people touch (0.8)
+GROUP_SPAWN_RADIUS = 0.6  # m: the members of a group start evenly on a circle this far from their first node
 
 # -- motion ---------------------------------------------------------------------------------------
 PERSON_MAX_SPEED = 1.5  # m/s: HuNavSim's max_vel default

@@ -6,8 +6,8 @@ from pathlib import Path
 
 from socnavgen.cards.generate import place_card
 from socnavgen.cards.library import get_card
-from socnavgen.cards.places import PlaceFinder, type_matches
 from socnavgen.location import load_location
+from socnavgen.location.places import PlaceFinder, type_matches
 
 from .cards_helpers import cross, l_corridor
 

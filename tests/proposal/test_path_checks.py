@@ -41,17 +41,37 @@ MISTAKES = {
                          "human1's path is empty"),
     "no robot": ({"trajectories": {"human1": ["07", "11", "ch"], "human2": ["f7", "07", "11"]}},
                  "the robot has no path"),
+    # where everybody starts (location/placement.py)
+    "goal is start": ({"trajectories": {"robot": ["32", "ch", "32"], "human1": ["11", "ch"],
+                                        "human2": ["07", "11", "ch"]},
+                       "interaction_points": {"human1": "ch", "human2": "ch"}},
+                      "the robot's goal is its start (32)"),
+    "on the robot": ({"trajectories": {"robot": ["32", "ch", "11", "07"], "human1": ["32", "ch", "11"],
+                                       "human2": ["f7", "07", "11"]}},
+                     "human1 starts at 32, where the robot starts"),
+    "on each other": ({"trajectories": {"robot": ["32", "ch", "11", "07"], "human1": ["f7", "07", "11"],
+                                        "human2": ["f7", "07", "11"]}},
+                      "human1 and human2 start 0.0 m apart (f7, f7)"),
+    "on the goal": ({"trajectories": {"robot": ["32", "ch", "11", "07"], "human1": ["07", "11", "ch"],
+                                      "human2": ["07"]},
+                     "interaction_points": {"human1": "11", "human2": "07"}},
+                    "human2 starts at 07, on the robot's goal 07, and does not walk away"),
 }
 
 
 @pytest.fixture
-def graph(mini_location):
-    return load_location(mini_location).graph
+def location(mini_location):
+    return load_location(mini_location)
 
 
-def test_a_valid_reply_has_no_mistake(graph):
+@pytest.fixture
+def graph(location):
+    return location.graph
+
+
+def test_a_valid_reply_has_no_mistake(graph, location):
     reply = PathsReply.model_validate(paths_reply())
-    assert check_paths(reply, graph, HUMANS) == []
+    assert check_paths(reply, graph, HUMANS) == [] and check_paths(reply, graph, HUMANS, location=location) == []
     plan = to_path_plan(reply, HUMANS)
     assert plan.robot == ["32", "ch", "11", "07"]
     assert [(h.name, h.group_id, h.interaction_point) for h in plan.humans] == [("human1", -1, "11"),
@@ -59,10 +79,19 @@ def test_a_valid_reply_has_no_mistake(graph):
 
 
 @pytest.mark.parametrize("case", sorted(MISTAKES))
-def test_each_mistake_is_named(graph, case):
+def test_each_mistake_is_named(graph, location, case):
     changes, expected = MISTAKES[case]
-    mistakes = check_paths(PathsReply.model_validate(paths_reply(**changes)), graph, HUMANS)
+    mistakes = check_paths(PathsReply.model_validate(paths_reply(**changes)), graph, HUMANS, location=location)
     assert any(expected in m for m in mistakes), mistakes
+
+
+def test_a_group_shares_its_node_and_someone_may_leave_the_robots_goal(graph, location):
+    group = paths_reply(trajectories={"robot": ["32", "ch", "11", "07"], "human1": ["f7", "07", "11"],
+                                      "human2": ["f7", "07", "11"]}, group_ids={"human1": 1, "human2": 1})
+    assert check_paths(PathsReply.model_validate(group), graph, HUMANS, location=location) == []
+    leaving = paths_reply()  # human1 starts on the robot's goal 07 and walks away to ch
+    assert paths_reply()["trajectories"]["human1"][0] == paths_reply()["trajectories"]["robot"][-1]
+    assert check_paths(PathsReply.model_validate(leaving), graph, HUMANS, location=location) == []
 
 
 def test_every_mistake_is_listed_at_once(graph):

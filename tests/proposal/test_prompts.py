@@ -80,12 +80,15 @@ def test_paths_prompt_on_the_warehouse_holds_a_real_edge(warehouse_dir):
     assert all(f'"id": "{n}"' in text for n in location.graph.nodes)
 
 
-def test_map_examples_are_valid_on_the_map(mini_location):
-    graph = _location(mini_location).graph
-    examples = map_examples(graph, seed=2)
-    assert len(examples) == 2
-    for _text, humans, answer in examples:
-        assert check_paths(PathsReply.model_validate(answer), graph, humans) == []
+def test_map_examples_are_valid_on_the_map(mini_location, repo_root):
+    """Every check holds for the examples, where everybody starts included, on every bundled map."""
+    for root in [mini_location, *(repo_root / "examples" / "locations" / n for n in ("warehouse", "hospital", "home"))]:
+        location = _location(root)
+        for seed in range(3):
+            examples = map_examples(location.graph, seed=seed, location=location)
+            assert len(examples) == 2
+            for _text, humans, answer in examples:
+                assert check_paths(PathsReply.model_validate(answer), location.graph, humans, location=location) == []
 
 
 def test_behavior_prompt_holds_library_tutorial_examples_and_context():

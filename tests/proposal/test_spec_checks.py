@@ -12,7 +12,7 @@ from gen_helpers import STOP_TREE, paths_reply, scenario_reply, spec_for, tree_r
 
 from socnavgen.bt.library import LIBRARY, REACTION_NODES, TRIGGER_NODES
 from socnavgen.location import load_location
-from socnavgen.proposal.facts import edge_width, is_narrow, physical_facts_text
+from socnavgen.proposal.facts import physical_facts_text
 from socnavgen.proposal.path_checks import check_paths
 from socnavgen.proposal.replies import PathsReply, ScenarioReply
 from socnavgen.proposal.scenario import scenario_checker, scenario_messages
@@ -255,12 +255,6 @@ def test_prompts_carry_the_simulators_numbers(mini_location):
     nodes = json.loads(scene_graph_text(location))["nodes"]
     node = next(n for n in nodes if n["id"] == "11")
     assert node["xy_m"] == [round(v, 1) for v in location.node_world("11")]
-
-
-def test_narrow_edges_are_measured_on_the_map(warehouse_dir):
-    location = load_location(warehouse_dir)
-    assert is_narrow(location, "hd", "ki") and edge_width(location, "hd", "ki") < 1.2  # a 1 m aisle
-    assert not is_narrow(location, "up", "ki")  # the 3 m passageway
 
 
 def test_prompt_examples_pass_the_checks():

@@ -1,6 +1,6 @@
 """`cards generate`: a card + a location -> an ordinary run folder, with no LLM.
 
-Finds the card's place on the scene graph (places.py), builds the robot's route and every human's
+Finds the card's place on the scene graph (location/places.py), builds the robot's route and every human's
 path (routes.py), writes trees from the card's templates (trees.py), and checks the result like
 stage 2 and 3 answers are checked (edges exist, interaction points on both paths, trees valid)."""
 
@@ -14,12 +14,12 @@ from socnavgen import __version__
 from socnavgen.bt.validate import format_problems, validate_bt_text
 from socnavgen.cards.library import all_cards, get_card
 from socnavgen.cards.models import Card
-from socnavgen.cards.places import PlaceFinder
 from socnavgen.cards.routes import DoesNotFit, Placement, RouteBuilder
 from socnavgen.cards.spec import card_spec
 from socnavgen.cards.trees import render_template
 from socnavgen.errors import ValidationFailed
 from socnavgen.location import Location, load_location
+from socnavgen.location.places import PlaceFinder
 from socnavgen.run import (
     HumanPlan,
     Manifest,

@@ -10,7 +10,7 @@ from pydantic import BaseModel, ConfigDict, Field
 
 from socnavgen.run.models import RobotGestureRule
 
-# Places a card can need on the scene graph (found by type keywords and by geometry, see places.py).
+# Places a card can need on the scene graph (found by type keywords and by geometry, see location/places.py).
 Feature = Literal["any", "corridor", "open_area", "intersection", "blind_corner", "narrow_passage", "doorway",
                   "room_entry", "elevator_entry"]
 

@@ -9,8 +9,9 @@ from dataclasses import dataclass, field
 import networkx as nx
 
 from socnavgen.cards.models import Card, HumanRole
-from socnavgen.cards.places import Candidate, PlaceFinder
 from socnavgen.cards.trees import sight_distance
+from socnavgen.location.placement import Walker, start_problems
+from socnavgen.location.places import Candidate, PlaceFinder
 
 REACH = 3  # nodes on each side of the place the robot's route extends to (when the graph allows)
 
@@ -122,6 +123,7 @@ class RouteBuilder:
     def humans(self, placement: Placement) -> list[HumanRoute]:
         card, robot = placement.card, placement.robot
         starts: set[str] = {robot[0]}
+        placed: list[Walker] = []
         out: list[HumanRoute] = []
         group = 0
         for role in card.humans:
@@ -134,14 +136,20 @@ class RouteBuilder:
             need = role.min_count or role.count
             picked: list[tuple[list[str], str | None]] = []
             if role.group and paths:  # a group walks together: every member on the same path, side by side
-                picked = [paths[0]] * role.count
+                members = [Walker(f"member{k + 1}", paths[0][0], gid) for k in range(role.count)]
+                if not start_problems(self.f.location, robot, placed + members):
+                    picked = [paths[0]] * role.count
             for path, meets in paths:
-                if path[0] not in {q[0] for q, _ in picked} and len(picked) < role.count:
+                if path[0] not in {q[0] for q, _ in picked} and len(picked) < role.count \
+                        and not start_problems(self.f.location, robot,
+                                               [*placed, *(Walker("other", q, gid) for q, _ in picked),
+                                                Walker("this", path, gid)]):
                     picked.append((path, meets))
             if len(picked) < need:
                 raise DoesNotFit(self.shortfall(role, placement.place.node, len(picked), need))
             for k, (path, meets) in enumerate(picked):
                 starts.add(path[0])
+                placed.append(Walker(f"human{len(out) + 1}", path, gid))
                 # in a stream or a crowd only the first person is held back to meet the robot at P;
                 # the others pass when they pass (holding all of them would bunch them at P); a converging
                 # crowd is meant to bunch around the robot at P, so every one of them is paced to it
@@ -157,7 +165,7 @@ class RouteBuilder:
                 "gathering": f"enough nodes around {p} for the group to come from (off the robot's route)",
                 "circular": f"enough nodes around {p} to cross from", "through_place": f"enough nodes around {p}",
                 "converging": f"enough nodes around {p}"}.get(role.role, "room for the humans")
-        return f"needs {what} ({need} {role.role} human(s), found {got})"
+        return f"needs {what} ({need} {role.role} human(s) starting clear of everybody else, found {got})"
 
     def role_paths(self, role: HumanRole, placement: Placement, starts: set[str]) -> list[tuple[list[str], str | None]]:
         """Candidate (path, interaction point) pairs for one role, best first."""

@@ -8,6 +8,7 @@ from __future__ import annotations
 from socnavgen.bt.library import ROBOT_GESTURES
 from socnavgen.cards.routes import Placement
 from socnavgen.location import Location
+from socnavgen.location.inventory import BLIND_SIGHT_M
 from socnavgen.run import PathPlan
 from socnavgen.run.models import RobotGestureRule
 from socnavgen.run.spec import (
@@ -38,7 +39,7 @@ TEMPLATE_PARTS: dict[str, tuple[str, str, str | None, float | None]] = {
 }
 ROBOT_CRUISE = 0.6  # m/s
 HUMAN_WALK = 1.2  # m/s: a person's effective walking speed (max 1.5 m/s, slowed by turns and others)
-HIDDEN_UNTIL = 5.0  # m: at a blind corner robot and human see each other only once this close (centres)
+HIDDEN_UNTIL = BLIND_SIGHT_M  # m: at a blind corner robot and human see each other only once this close (centres)
 GROUP_SPREAD = 2.5  # m: largest distance between two members of a group, the whole run
 _WHEN = {"blocked": "blocked", "near_human": "human_within", "always": "start"}
 

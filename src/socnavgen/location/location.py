@@ -6,6 +6,7 @@ import math
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import networkx as nx
 import numpy as np
@@ -18,6 +19,9 @@ from socnavgen.location.occupancy import OccupancyGrid, Thresholds, load_image_g
 from socnavgen.location.scene_graph import read_scene_graph, to_networkx
 from socnavgen.location.transform import Transform
 from socnavgen.safeio import contained_path, load_yaml_file
+
+if TYPE_CHECKING:
+    from socnavgen.location.inventory import PlaceInventory
 
 LOCATION_FILE = "location.yaml"
 SCENE_GRAPH_FILE = "scene_graph.json"
@@ -120,6 +124,13 @@ class Location:
     @cached_property
     def graph(self) -> nx.Graph:
         return to_networkx(self.scene_graph)
+
+    @cached_property
+    def inventory(self) -> PlaceInventory:
+        """The place inventory (location/inventory.py), measured once per loaded location."""
+        from socnavgen.location.inventory import place_inventory
+
+        return place_inventory(self)
 
     def node_world(self, node_id: str) -> tuple[float, float]:
         """World position of a node: the only path from a node id to metres."""

@@ -18,7 +18,7 @@ from pydantic import BaseModel
 
 from socnavgen.errors import StageFailed
 from socnavgen.llm.base import LLM, ChatMessage, Usage
-from socnavgen.llm.transcript import Transcript, utc_now
+from socnavgen.llm.transcript import Transcript, read_transcript, utc_now
 from socnavgen.proposal.templates import render
 from socnavgen.run import Manifest, RunFolder, StageRecord
 
@@ -112,6 +112,25 @@ class Recorder:
 class Outcome(Generic[T]):
     value: T
     history: list[ChatMessage] = field(default_factory=list)  # the conversation, ending with the accepted reply
+
+
+def accepted_reply(run: RunFolder, stage: str, key: str | None) -> str | None:
+    """The model's own last accepted reply of a stage (and key) as it wrote it, reasoning included, from
+    transcript.jsonl (None when there is none, e.g. a run made without a model): what a re-ask puts back
+    into the conversation before the new request."""
+    if not run.transcript_path.is_file():
+        return None
+    last: str | None = None
+    accepted: str | None = None
+    for entry in read_transcript(run.transcript_path):
+        if entry.get("stage") != stage or entry.get("key") != key:
+            continue
+        if entry.get("kind") == "check":
+            if entry.get("valid") and last is not None:
+                accepted = last
+        elif isinstance(entry.get("raw"), str):
+            last = entry["raw"]
+    return accepted[:MAX_ECHO_CHARS] if accepted is not None else None
 
 
 def bullet_list(items: list[str]) -> str:

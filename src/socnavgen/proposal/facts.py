@@ -1,23 +1,31 @@
-"""The physical facts every prompt tells the model, generated from where each fact lives (the
-simulator's agent constants, the spec's defaults, the node library, the location's map), so the
-numbers the model reads are the numbers the simulator uses.
-
-Also the narrow places of a map: an edge whose free width is below a person's diameter plus the
-robot's (plus a hand's breadth) is blocked by one standing person."""
+"""The facts every prompt tells the model, generated from where each fact lives (the bodies, the
+simulator's pacing and group constants, the spec's models and defaults, the node library, the
+verifier's signals, the location's map), so the numbers the model reads are the numbers the
+simulator and the verifier use. Nothing here is typed twice: a fact that changes at its source
+changes in the prompts."""
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 from functools import cache
 from typing import get_args
 
-import numpy as np
+from socnavgen.bt.library import (
+    HUMAN_GESTURES,
+    LIBRARY,
+    ROBOT_GESTURES,
+    Target,
+    nodes_for_trigger,
+    prompt_nodes,
+)
+from socnavgen.location.inventory import BLOCKING_WIDTH
+from socnavgen.run.spec import CueTrigger, Encounter, HumanTrigger, Reaction, RobotCue, RobotScript
 
-from socnavgen.bt.library import HUMAN_GESTURES, LIBRARY, ROBOT_GESTURES, Target
-from socnavgen.location import Location
-from socnavgen.run.spec import CueTrigger, HumanTrigger, Reaction, RobotScript
-
-PASS_MARGIN = 0.1  # m of slack a robot needs beside a standing person
+# Conditions of the library whose SUCCESS stays once reached (bt/library.py's "latching conditions"), by the
+# trigger they latch. A spec part with latch: true needs one of them.
+LATCHING_CONDITIONS: dict[str, str] = {"robot_says": "RobotSaid"}
+STL_EXAMPLE = "eventually[0:60] (robot_says_excuse_me > 0.5 and dist_human1 <= 2.0)"
 
 
 @dataclass(frozen=True)
@@ -29,9 +37,8 @@ class Body:
 
     @property
     def blocking_width(self) -> float:
-        """A passage narrower than this is closed to the robot by one person standing in its middle: the
-        robot's body must fit beside the person's on one side (a person at the wall leaves more)."""
-        return round(2 * self.human_radius + 2 * (2 * self.robot_radius) + PASS_MARGIN, 2)
+        """A passage narrower than this is closed to the robot by one person standing in its middle."""
+        return BLOCKING_WIDTH
 
 
 @cache
@@ -66,6 +73,79 @@ def physical_facts_text() -> str:
     ])
 
 
+def pacing_text() -> str:
+    """How the simulator holds a person back so that the encounter happens at its node (sim/interaction.py)."""
+    from socnavgen.sim.interaction import ThrottleConfig
+
+    pace = ThrottleConfig()
+    return (f"- Pacing: a person who is alone (group id -1) and has an interaction point on the robot's path "
+            f"(after the robot's start) is paced to arrive there together with the robot: while the robot is "
+            f"still far, they walk slower, or stand at their start (or at the node) when they would walk slower "
+            f"than {pace.min_pace:g} m/s. Only walking normally (RegularNav) is paced; nobody is held within "
+            f"{pace.release_distance:g} m of the robot, and once the robot is {pace.robot_near:g} m from the node "
+            f"they walk at full speed. So put the interaction point where the encounter should happen: the person "
+            f"waits for the robot there. Members of a group and people without an interaction point are never "
+            f"paced: they walk from the start.")
+
+
+def groups_text() -> str:
+    """How groups are simulated (sim/scenario.py spawns them, sim/sfm.py holds them together)."""
+    from socnavgen.bodies import GROUP_SPAWN_RADIUS
+
+    return (f"- Groups: humans who share a group id (at least two) start evenly on a circle of "
+            f"{GROUP_SPAWN_RADIUS:g} m around their first node and are pulled toward each other while they walk "
+            f"(group forces of the social force model): give every member the same path and the same reaction. "
+            f"People who must act differently (one gives way, another follows the robot) are better separate "
+            f"humans with group id -1, or the group force holds them back.")
+
+
+def encounter_within_text() -> str:
+    field = Encounter.model_fields["within"]
+    most = next((m.le for m in field.metadata if getattr(m, "le", None) is not None), None)
+    return (f"- An encounter's \"within\" ({field.default:g} m unless set, at most {most:g} m) is how close to the "
+            f"encounter's node the meeting must happen (the point halfway between the robot and the person). "
+            f"Set it yourself when the place is wide or people meet spread out: a group in a lobby, a meeting "
+            f"just before a doorway.")
+
+
+def cue_once_text() -> str:
+    once = RobotCue.model_fields["once"].default
+    return (f"- A cue fires {'once, the first time its trigger holds' if once else 'each time its trigger holds'}, "
+            f"unless it says \"once\": {str(not once).lower()} (then it fires again each time its trigger becomes "
+            f"true, e.g. wait every time the follower falls behind).")
+
+
+def latch_text() -> str:
+    latching = ", ".join(f"{trigger} ({node})" for trigger, node in LATCHING_CONDITIONS.items())
+    return (f"- \"latch\": true keeps a reaction going once its trigger fired. A tree can latch only these triggers: "
+            f"{latching}. To latch a reaction on anything else (the robot came near, a person fell behind), give "
+            f"the robot a cue that SAYS a phrase on that event (e.g. trigger human_within human1 2 m, say FOLLOW "
+            f"ME) and make the person's trigger robot_says that phrase, with latch: true. Without a latch a "
+            f"reaction lasts only while its trigger holds.")
+
+
+def stl_text() -> str:
+    """How to write a `stl` criterion: the syntax and the signals (verify/stl.py, verify/signals.py)."""
+    from socnavgen.verify.signals import SIGNAL_KINDS
+    from socnavgen.verify.stl import MAX_FORMULA_CHARS, MAX_NESTING
+
+    signals = "; ".join(f"{k.shown} ({k.unit}): {k.meaning}" for k in SIGNAL_KINDS)
+    return (f"- A criterion of kind stl holds a signal temporal logic \"formula\": one expression of at most "
+            f"{MAX_FORMULA_CHARS} characters and {MAX_NESTING} nested levels, with the operators always, "
+            f"eventually, historically, once, until, since (bounds in seconds, e.g. eventually[0:5]), and, or, "
+            f"not, implies, and comparisons (<, <=, >, >=); 0/1 signals are compared with 0.5. Example: "
+            f"\"{STL_EXAMPLE}\" (within the first 60 s the robot says EXCUSE ME while human1 is within 2 m). "
+            f"Signals: {signals}. Use the other kinds when one fits: they are checked with care for cause and "
+            f"effect.")
+
+
+def cue_triggers_text() -> str:
+    """Each cue trigger with its meaning, read from CueTrigger's docstring (the one place that explains them)."""
+    meanings = dict(re.findall(r"^\s+([a-z_]+)\s+(\S.*)$", CueTrigger.__doc__ or "", re.MULTILINE))
+    return ", ".join(f"{when} ({meanings.get(when, '').strip()})"
+                     for when in get_args(CueTrigger.model_fields["when"].annotation))
+
+
 def robot_vocabulary_text() -> str:
     """The robot's script vocabulary, from the spec models (the words the validator accepts)."""
     robot_words = ", ".join(v for k, v in ROBOT_GESTURES.items() if k)
@@ -79,43 +159,21 @@ def robot_vocabulary_text() -> str:
     ])
 
 
+def scenario_rules_text() -> str:
+    """What stage 1 must know about how its spec plays out (pacing, within, cues, groups, latch, stl)."""
+    return "\n".join(["HOW THE SPEC PLAYS OUT:", pacing_text(), encounter_within_text(), cue_once_text(),
+                      groups_text(), latch_text(), stl_text()])
+
+
 def target_nodes(target: Target) -> list[str]:
     return [name for name, spec in LIBRARY.items() if target in spec.targets]
 
 
-# ---- the map's narrow places -----------------------------------------------------------------------
-_WIDTHS: dict[str, dict[tuple[str, str], float]] = {}
+def missing_nodes(target: Target) -> list[str]:
+    """Nodes the prompts offer for the simulator that `target` cannot run."""
+    return [n.name for n in prompt_nodes() if target not in n.targets]
 
 
-def _edge_widths(location: Location) -> dict[tuple[str, str], float]:
-    key = str(location.root.resolve())
-    if key not in _WIDTHS:
-        _WIDTHS[key] = _measure_edges(location)
-    return _WIDTHS[key]
-
-
-def _measure_edges(location: Location) -> dict[tuple[str, str], float]:
-    occ = location.occupancy
-    clearance = occ.clearance_px
-    mpp = location.transform.meters_per_pixel
-    widths: dict[tuple[str, str], float] = {}
-    sg = location.scene_graph
-    for edge in sg.links:
-        a, b = np.array(sg.node(edge.source).pos, float), np.array(sg.node(edge.target).pos, float)
-        steps = max(2, int(np.linalg.norm(b - a)))
-        ts = np.linspace(0.15, 0.85, steps)  # the ends sit in rooms or at junctions; the neck is between
-        pts = a[None, :] + ts[:, None] * (b - a)[None, :]
-        cols = np.clip(np.round(pts[:, 0]).astype(int), 0, occ.width - 1)
-        rows = np.clip(np.round(pts[:, 1]).astype(int), 0, occ.height - 1)
-        widths[(edge.source, edge.target)] = round(float(2 * clearance[rows, cols].min() * mpp), 2)
-    return widths
-
-
-def edge_width(location: Location, a: str, b: str) -> float:
-    """Free width (m) of the passage between nodes a and b: twice the smallest wall clearance along it."""
-    widths = _edge_widths(location)
-    return widths.get((a, b), widths.get((b, a), float("inf")))
-
-
-def is_narrow(location: Location, a: str, b: str) -> bool:
-    return edge_width(location, a, b) < body().blocking_width
+def latching_node(trigger: str, target: Target = "socrates") -> str | None:
+    node = LATCHING_CONDITIONS.get(trigger)
+    return node if node is not None and node in nodes_for_trigger(trigger, target) else None

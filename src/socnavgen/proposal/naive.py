@@ -24,7 +24,7 @@ MAX_TOKENS = 4096
 
 def naive_messages(request: ScenarioRequest, location: Location) -> list[ChatMessage]:
     return [ChatMessage(role="user", content=render(
-        "naive_user.md", context=request.context, task=request.task, location=location_text(location),
+        "naive_user.md", context=request.context, task=request.task, location=location_text(location, inventory=False),
         rough=request.rough or "None", scene_graph=scene_graph_text(location), library=library_text(request.target or "socrates")))]
 
 
@@ -32,7 +32,7 @@ def naive_parts(reply: NaiveReply, location: Location, target: Target | None = N
     """Mistakes per part (scenario, paths, trees): the evaluation scores path and tree validity apart."""
     scenario = check_scenario(ScenarioReply.model_validate(reply.model_dump()))
     humans = sorted({h for k in reply.human_behaviors if (h := human_name(k))}, key=lambda s: int(s[5:]))
-    paths = check_paths(PathsReply.model_validate(reply.model_dump()), location.graph, humans)
+    paths = check_paths(PathsReply.model_validate(reply.model_dump()), location.graph, humans, location=location)
     trees: list[str] = []
     given = {human_name(k) or k: v for k, v in reply.trees.items()}
     for name in humans:

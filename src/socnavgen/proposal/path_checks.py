@@ -7,8 +7,11 @@ from collections import defaultdict
 
 import networkx as nx
 
+from socnavgen.location import Location
+from socnavgen.location.placement import Walker, route_problems, start_problems
 from socnavgen.location.scene_graph import path_mistakes
 from socnavgen.proposal.replies import PathsReply, human_name
+from socnavgen.proposal.spec_checks import HIDDEN_UNTIL_DEFAULT
 from socnavgen.run import HumanPlan, PathPlan
 from socnavgen.run.spec import ScenarioSpec
 
@@ -34,8 +37,10 @@ def _by_human(mapping: dict, what: str, humans: list[str], mistakes: list[str]) 
     return out
 
 
-def check_paths(reply: PathsReply, graph: nx.Graph, humans: list[str], spec: ScenarioSpec | None = None) -> list[str]:
-    """Every mistake of a stage-2 answer, given the scene graph, stage 1's human names and its spec."""
+def check_paths(reply: PathsReply, graph: nx.Graph, humans: list[str], spec: ScenarioSpec | None = None,
+                location: Location | None = None) -> list[str]:
+    """Every mistake of a stage-2 answer, given the scene graph, stage 1's human names and its spec; with the
+    location, also where everybody starts (location/placement.py: nobody on or against another body)."""
     mistakes: list[str] = []
     trajectories = dict(reply.trajectories)
     robot_key = next((k for k in trajectories if k.strip().lower() == "robot"), None)
@@ -46,6 +51,7 @@ def check_paths(reply: PathsReply, graph: nx.Graph, humans: list[str], spec: Sce
     elif len(robot) < 2:
         mistakes.append(f"the robot path needs at least two nodes (a start and a goal), it has {len(robot)}")
     mistakes += check_path(graph, "robot path", robot)
+    mistakes += route_problems(robot)
 
     paths = _by_human(trajectories, "trajectories", humans, mistakes)
     groups = _by_human(reply.group_ids, "group_ids", humans, mistakes)
@@ -70,9 +76,49 @@ def check_paths(reply: PathsReply, graph: nx.Graph, humans: list[str], spec: Sce
                 if point not in robot:
                     mistakes.append(f"the interaction point {point} of {name} is not on the robot's path")
     mistakes += _group_mistakes(groups)  # type: ignore[arg-type]
+    if location is not None and robot:  # where everybody starts
+        walkers = [Walker(name, list(paths[name]), int(groups.get(name, -1)))  # type: ignore[arg-type, call-overload]
+                   for name in humans if paths.get(name)]
+        mistakes += [p for p in start_problems(location, robot, walkers) if p not in route_problems(robot)]
     if spec is not None:
         mistakes += _encounter_mistakes(reply, graph, spec, robot, paths, points)  # type: ignore[arg-type]
+        if location is not None:
+            mistakes += _blind_mistakes(reply, spec, location, robot, paths)  # type: ignore[arg-type]
     return mistakes
+
+
+def _blind_mistakes(reply: PathsReply, spec: ScenarioSpec, location: Location, robot: list[str],
+                    paths: dict[str, list[str]]) -> list[str]:
+    """A hidden_until criterion needs its encounter at a node where the robot's way in and the person's way in
+    hide each other on this map until they are close enough (location/inventory.py's blind turns)."""
+    mistakes = []
+    inventory = location.inventory
+    for c in spec.criteria:
+        if c.kind != "hidden_until" or not c.human:
+            continue
+        enc = spec.encounter(c.encounter) if c.encounter else next((e for e, _ in spec.parts_of(c.human)), None)
+        node = reply.encounter_nodes.get(enc.id) if enc is not None else None
+        if enc is None or node not in inventory.nodes:
+            continue
+        legs = {_before(robot, node), _before(paths.get(c.human, []), node)}
+        turns = [t for t in inventory.blind_turns if t.node == node and (None in legs or {t.a, t.b} == legs)]
+        distance = c.distance or HIDDEN_UNTIL_DEFAULT
+        if turns and min(t.sight_m for t in turns) <= distance:
+            continue
+        fitting = [f"{t.node} between {t.a} and {t.b} ({t.sight_m:.1f} m)" for t in inventory.blind_nodes(enc.place)
+                   if t.sight_m <= distance]
+        hint = f"; blind enough: {', '.join(fitting)}" if fitting else ""
+        seen = f"from {min(t.sight_m for t in turns):.1f} m" if turns else "from afar"
+        mistakes.append(f"criterion {c.id} needs the robot and {c.human} hidden from each other until {distance:g} m, "
+                        f"but coming into node {node} of encounter {enc.id} the way they do, they see each other "
+                        f"{seen}{hint}")
+    return mistakes
+
+
+def _before(path: list[str], node: str) -> str | None:
+    """The node a path comes from into `node` (None: it starts there or never gets there)."""
+    i = path.index(node) if node in path else 0
+    return path[i - 1] if i > 0 else None
 
 
 def _encounter_mistakes(reply: PathsReply, graph: nx.Graph, spec: ScenarioSpec, robot: list[str],

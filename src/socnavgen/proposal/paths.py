@@ -16,9 +16,11 @@ import networkx as nx
 
 from socnavgen.llm.base import LLM, ChatMessage
 from socnavgen.location import Location
+from socnavgen.location.inventory import inventory_text
 from socnavgen.location.location import SCENE_GRAPH_IMAGE
+from socnavgen.location.placement import Walker, start_problems, start_rule_text
 from socnavgen.proposal.conversation import Outcome, Policy, Recorder, converse
-from socnavgen.proposal.facts import edge_width, is_narrow, physical_facts_text
+from socnavgen.proposal.facts import groups_text, pacing_text, physical_facts_text
 from socnavgen.proposal.path_checks import check_paths
 from socnavgen.proposal.path_grammar import paths_grammar
 from socnavgen.proposal.replies import PathsReply
@@ -29,7 +31,7 @@ from socnavgen.run.spec import ScenarioSpec
 
 STAGE = "paths"
 MAX_TOKENS = 1536
-ENCOUNTER_RULE = ("7. encounter_nodes: for each encounter of the scenario, the node where it happens. It must be of the "
+ENCOUNTER_RULE = ("8. encounter_nodes: for each encounter of the scenario, the node where it happens. It must be of the "
                   "encounter's kind of place (node type), on the robot's path and on the path of every human of "
                   "that encounter; a human's interaction point is the node of its encounter.")
 
@@ -46,11 +48,11 @@ def scene_graph_text(location: Location) -> str:
                            "xy_m": [round(x, 1), round(y, 1)]})
 
     def link(e) -> str:  # noqa: ANN001 - a scene-graph edge
-        width = edge_width(location, e.source, e.target)
+        passage = location.inventory.passage(e.source, e.target)
         item = {"source": e.source, "target": e.target, "type": e.type}
-        if width != float("inf"):
-            item["width_m"] = width
-        item["narrow"] = is_narrow(location, e.source, e.target)
+        if passage is not None:
+            item["width_m"] = passage.width_m
+            item["narrow"] = passage.narrow
         return json.dumps(item)
 
     nodes = ",\n".join("  " + node(n) for n in sg.nodes)
@@ -102,17 +104,23 @@ def format_line(humans: list[str], spec: ScenarioSpec | None = None) -> str:
     return reply_json(answer)
 
 
-def map_examples(graph: nx.Graph, seed: int = 0) -> list[tuple[str, list[str], dict]]:
+def map_examples(graph: nx.Graph, seed: int = 0, location: Location | None = None) -> list[tuple[str, list[str], dict]]:
     """Two example scenarios with paths computed on THIS graph: a head-on encounter in a passage and a
-    group of two standing on the robot's way. Returns (scenario text, humans, answer)."""
+    group of two standing on the robot's way. Returns (scenario text, humans, answer). With the location,
+    only placements where everybody starts clear of everybody else (location/placement.py)."""
     rng = random.Random(seed + 1)
     examples: list[tuple[str, list[str], dict]] = []
+
+    def clear(robot: list[str], walkers: list[Walker]) -> bool:
+        return location is None or not start_problems(location, robot, walkers)
+
     routes = [p for a, targets in sorted(nx.all_pairs_shortest_path(graph)) for b, p in sorted(targets.items())
               if a < b and len(p) >= 3]
     if not routes:
         return examples
     longest = max(len(p) for p in routes)
-    route = rng.choice([p for p in routes if len(p) >= min(longest, 4)])
+    long_routes = [p for p in routes if len(p) >= min(longest, 4)]
+    route = rng.choice([p for p in long_routes if clear(p, [Walker("human1", p[::-1])])] or long_routes)
     mid = route[len(route) // 2]
     kind = graph.nodes[mid].get("type", "node")
     examples.append((
@@ -123,7 +131,9 @@ def map_examples(graph: nx.Graph, seed: int = 0) -> list[tuple[str, list[str], d
         answer_dict(f"The shortest route {', '.join(route)} joins the two ends; the worker walks it backwards, "
                     f"so both pass {mid}, where they meet. One human, no group: -1.",
                     route, {"human1": (list(reversed(route)), -1, mid)})))
-    short = rng.choice([p for p in routes if len(p) == 3] or routes)
+    shorts = [p for p in routes if len(p) == 3] or routes
+    short = rng.choice([p for p in shorts if clear(p, [Walker("human1", [p[1]], 1), Walker("human2", [p[1]], 1)])]
+                       or shorts)
     spot = short[1]
     kind = graph.nodes[spot].get("type", "node")
     examples.append((
@@ -148,12 +158,14 @@ def paths_messages(location: Location, scenario: ScenarioProposal, *, seed: int 
     graph = location.graph
     humans = list(scenario.human_behaviors)
     examples = "\n\n".join(render("paths_example.md", scenario=text, humans=", ".join(names), answer=reply_json(ans))
-                           for text, names, ans in map_examples(graph, seed))
+                           for text, names, ans in map_examples(graph, seed, location))
     user = render("paths_user.md", scene_graph=scene_graph_text(location),
                   node_types=", ".join(location.schema.node_types), edge_types=", ".join(location.schema.edge_types),
                   tutorial=tutorial_text(generate_tutorial(graph, seed)), examples=examples,
                   scenario=scenario_text(scenario), humans=", ".join(humans), format=format_line(humans, spec),
-                  facts=physical_facts_text(), encounters=encounters_text(spec),
+                  facts="\n".join([physical_facts_text(), pacing_text(), groups_text()]),
+                  encounters=encounters_text(spec), inventory=inventory_text(location),
+                  start_rule=start_rule_text(),
                   encounter_rule=ENCOUNTER_RULE if spec is not None and spec.encounters else "")
     picture: list[Path] = []
     image = location.root / SCENE_GRAPH_IMAGE
@@ -168,5 +180,5 @@ def plan_paths(messages: list[ChatMessage], location: Location, scenario: Scenar
     humans = list(scenario.human_behaviors)
     graph = location.graph
     grammar = paths_grammar(graph, humans, spec) if getattr(llm, "supports_grammar", False) else None
-    return converse(llm, messages, PathsReply, lambda reply: check_paths(reply, graph, humans, spec), stage=STAGE,
-                    key=None, recorder=recorder, policy=policy, grammar=grammar, max_tokens=MAX_TOKENS)
+    return converse(llm, messages, PathsReply, lambda reply: check_paths(reply, graph, humans, spec, location),
+                    stage=STAGE, key=None, recorder=recorder, policy=policy, grammar=grammar, max_tokens=MAX_TOKENS)

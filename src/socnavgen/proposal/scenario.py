@@ -16,11 +16,24 @@ from socnavgen.bt.describe import capabilities_text
 from socnavgen.bt.library import Target, nodes_for_reaction, nodes_for_trigger
 from socnavgen.llm.base import LLM, ChatMessage
 from socnavgen.location import Location
+from socnavgen.location.inventory import inventory_text
 from socnavgen.proposal.conversation import Outcome, Policy, Recorder, converse
-from socnavgen.proposal.facts import physical_facts_text, robot_vocabulary_text
+from socnavgen.proposal.facts import (
+    cue_triggers_text,
+    missing_nodes,
+    physical_facts_text,
+    robot_vocabulary_text,
+    scenario_rules_text,
+)
 from socnavgen.proposal.gbnf import Grammar, Lit, Ref, Symbol, text_rules
 from socnavgen.proposal.replies import ScenarioReply, human_name
-from socnavgen.proposal.spec_checks import MIN_BEHAVIOR_WORDS, parse_spec, prose_mistakes, spec_mistakes
+from socnavgen.proposal.spec_checks import (
+    MIN_BEHAVIOR_WORDS,
+    parse_spec,
+    prose_mistakes,
+    prose_spec_mistakes,
+    spec_mistakes,
+)
 from socnavgen.proposal.templates import render, template_data
 from socnavgen.run import ScenarioProposal, ScenarioRequest
 from socnavgen.run.spec import CriterionKind, HumanTrigger, Reaction, ScenarioSpec
@@ -33,16 +46,21 @@ _PLAIN_TRIGGERS = ("always", "robot_visible", "robot_near", "robot_blocking", "r
 _PLAIN_REACTIONS = ("walk_past", "stop", "look", "give_way", "follow", "block", "avoid", "wait_then_go")
 
 
-def location_text(location: Location) -> str:
+def location_text(location: Location, inventory: bool = True) -> str:
+    """The user's description of the location, its schema, and (unless `inventory` is False: the naive
+    baseline) the place inventory measured on its map."""
     schema = location.schema
     return render("scenario_location.md", description=location.config.description.strip(),
-                  node_types=", ".join(schema.node_types), edge_types=", ".join(schema.edge_types))
+                  node_types=", ".join(schema.node_types), edge_types=", ".join(schema.edge_types),
+                  inventory=inventory_text(location) if inventory else "")
 
 
 def spec_help_text(target: Target | None = None) -> str:
-    """How to write the spec: its vocabulary (from run/spec.py and the library), and the physical facts."""
+    """How to write the spec: its vocabulary (from run/spec.py and the library), how it plays out in the
+    simulator, and the physical facts."""
     return render("scenario_spec.md", vocabulary=robot_vocabulary_text(), facts=physical_facts_text(),
-                  kinds=", ".join(get_args(CriterionKind)), target=target_text(target))
+                  kinds=", ".join(get_args(CriterionKind)), target=target_text(target), rules=scenario_rules_text(),
+                  cue_triggers=cue_triggers_text())
 
 
 def target_text(target: Target | None) -> str:
@@ -50,8 +68,10 @@ def target_text(target: Target | None) -> str:
         return ""
     triggers = [t for t in get_args(HumanTrigger) if t == "always" or nodes_for_trigger(t, target)]
     reactions = [r for r in get_args(Reaction) if nodes_for_reaction(r, target)]
+    lacks = missing_nodes(target)
+    lacking = f" {target} lacks the nodes {', '.join(lacks)}." if lacks else ""
     return (f"The scenario will be exported to {target}: use only the triggers {', '.join(triggers)} and the "
-            f"reactions {', '.join(reactions)} (the others cannot run there).")
+            f"reactions {', '.join(reactions)} (the others cannot run there).{lacking}")
 
 
 def scenario_messages(request: ScenarioRequest, location: Location,
@@ -89,7 +109,8 @@ def scenario_checker(location: Location | None, target: Target | None = None,
         mistakes += invalid
         if spec is not None:
             humans = [n for k in reply.human_behaviors if (n := human_name(k))]
-            mistakes += spec_mistakes(spec, humans, node_types, target)
+            mistakes += spec_mistakes(spec, humans, node_types, target, location)
+            mistakes += prose_spec_mistakes(reply.human_behaviors, spec)
         return mistakes
     return check
 
@@ -194,4 +215,9 @@ def propose_scenarios(request: ScenarioRequest, location: Location, llm: LLM, re
 def stage_grammar(llm: LLM, location: Location, target: Target | None) -> str | None:
     if not getattr(llm, "supports_grammar", False):
         return None
-    return scenario_grammar(list(location.schema.node_types), target)
+    return scenario_grammar(workable_places(location), target)
+
+
+def workable_places(location: Location) -> list[str]:
+    """The node types where an encounter can work on this map (the place inventory), in schema order."""
+    return [t for t in location.schema.node_types if location.inventory.unworkable_reason(t) is None]

@@ -8,19 +8,26 @@ and the export target (a trigger or reaction needs a node the target can run).""
 
 from __future__ import annotations
 
+import math
 import re
 
 from pydantic import ValidationError
 
 from socnavgen.bt.library import Target, nodes_for_reaction, nodes_for_trigger
+from socnavgen.location import Location
+from socnavgen.proposal.facts import latching_node
+from socnavgen.proposal.replies import human_name
 from socnavgen.run.spec import Criterion, Encounter, ScenarioSpec
+from socnavgen.verify.criteria import DEFAULTS as CRITERION_DEFAULTS
+from socnavgen.verify.stl import formula_problems
 
 # Criterion kinds that are about one human and therefore need `human`.
 _PER_HUMAN = {"meets", "stops_near_robot", "reacts_after_phrase", "gives_way", "follows_robot", "hidden_until",
               "says", "keeps_away", "blocks_robot"}
 _GLOBAL = {"robot_reaches_goal", "no_collision", "no_deadlock", "stl"}
 MIN_BEHAVIOR_WORDS = 4
-_PLACEHOLDER = re.compile(r"<[^<>]{0,80}>|^\s*\.\.\.\s*$|\[[A-Z _]{3,40}\]")
+HIDDEN_UNTIL_DEFAULT = CRITERION_DEFAULTS["hidden_until"]
+_PLACEHOLDER = re.compile(r"<[^<>]{0,80}>|^\s*\.\.\.\s*$|\[[A-Z _]{3,40}\]|(?i:\b(?:placeholder|todo|tbd|lorem ipsum)\b)")
 # Phrases of the answer template (scenario_user.md); a reply that contains one copied the template.
 TEMPLATE_ECHOES = ("task and behavior towards the robot", "detailed description", "what the robot should do",
                    "number of humans", "short reasoning", "node id")
@@ -44,6 +51,27 @@ def prose_mistakes(field: str, text: str, *, min_words: int = 1) -> list[str]:
     if not mistakes and len(re.findall(r"[A-Za-z]{2,}", stripped)) < min_words:
         mistakes.append(f"{field} is too short to be a behavior ('{stripped}'); say what the person does and "
                         f"how they react to the robot")
+    return mistakes
+
+
+def _words(text: str) -> list[str]:
+    return re.findall(r"[a-z]+", text.lower())
+
+
+def prose_spec_mistakes(behaviors: dict[str, str], spec: ScenarioSpec) -> list[str]:
+    """Where the spec has a person do what their own behavior text never says: a phrase they say."""
+    texts = {human_name(k) or k: _words(str(v)) for k, v in behaviors.items()}
+    mistakes = []
+    for enc in spec.encounters:
+        for part in enc.humans:
+            words = texts.get(part.human)
+            if part.reaction != "say" or not part.says or words is None:
+                continue
+            phrase = _words(part.says)
+            if not any(words[i:i + len(phrase)] == phrase for i in range(len(words))):
+                mistakes.append(f"encounter {enc.id}: {part.human} says {part.says} in the spec, but the behavior of "
+                                f"{part.human} never mentions it; say in human_behaviors when and why {part.human} "
+                                f"says {part.says}, or change the reaction")
     return mistakes
 
 
@@ -88,8 +116,9 @@ def _checks_encounter(criterion: Criterion, encounter: Encounter) -> bool:
 
 
 def spec_mistakes(spec: ScenarioSpec, humans: list[str], node_types: list[str] | None = None,
-                  target: Target | None = None) -> list[str]:
-    """Consistency of a validated spec with the scenario's humans, the location and the target."""
+                  target: Target | None = None, location: Location | None = None) -> list[str]:
+    """Consistency of a validated spec with the scenario's humans, the location (its node types and, when
+    given, what its map allows: location/inventory.py) and the target."""
     mistakes: list[str] = []
     ids = [e.id for e in spec.encounters]
     if not spec.encounters:
@@ -129,6 +158,10 @@ def spec_mistakes(spec: ScenarioSpec, humans: list[str], node_types: list[str] |
                 mistakes.append(f"{who}: reaction follow_human names the human to follow in `other`")
             if part.other == part.human:
                 mistakes.append(f"{who}: `other` is {part.human} itself; name another human")
+            if part.latch and part.trigger != "always" and latching_node(part.trigger, target or "socrates") is None:
+                mistakes.append(f"{who}: latch is true, but a tree cannot remember the trigger {part.trigger}; "
+                                f"give the robot a cue that says a phrase when it happens and trigger on robot_says "
+                                f"that phrase (or set latch false)")
             if target is not None:
                 if part.trigger != "always" and not nodes_for_trigger(part.trigger, target):
                     mistakes.append(f"{who}: trigger {part.trigger} cannot be detected by any node {target} runs; "
@@ -146,6 +179,10 @@ def spec_mistakes(spec: ScenarioSpec, humans: list[str], node_types: list[str] |
         if cue.trigger.human and cue.trigger.human not in humans:
             mistakes.append(f"spec.script.cues: the cue names {cue.trigger.human}, who is not a human of the scenario")
     mistakes += _criteria_mistakes(spec, humans, ids, robot_phrases)
+    mistakes += [m for c in spec.criteria if (m := _contradiction(c, spec))]
+    if location is not None:
+        mistakes += place_mistakes(spec, location)
+        mistakes += _formula_mistakes(spec, humans, location)
     if not mistakes:  # the verifier's own rule for a criterion that contradicts its spec (blame: spec)
         from socnavgen.verify.blame import spec_problem
 
@@ -177,4 +214,75 @@ def _criteria_mistakes(spec: ScenarioSpec, humans: list[str], ids: list[str], ro
                                 f"spec.script.cues says it")
         if c.kind == "stl" and not (c.formula or "").strip():
             mistakes.append(f"criterion {c.id}: kind stl needs its `formula`")
+        if c.text.strip():
+            mistakes += prose_mistakes(f"criterion {c.id}: text", c.text)
     return mistakes
+
+
+# Criterion kinds that only a person with one of these reactions can satisfy.
+_NEEDS_REACTION = {"says": ("say",), "follows_robot": ("follow",), "blocks_robot": ("block",)}
+_DEFIES = {"keeps_away": ("follow", "block")}  # reactions that make a criterion impossible
+
+
+def _contradiction(c: Criterion, spec: ScenarioSpec) -> str | None:
+    """A criterion that says what the person's own encounter parts say they never do."""
+    if not c.human:
+        return None
+    parts = [p for e, p in spec.parts_of(c.human) if not c.encounter or e.id == c.encounter]
+    if not parts:
+        return None
+    reactions = {p.reaction for p in parts}
+    said = {p.says for p in parts if p.reaction == "say" and p.says}
+    needed = _NEEDS_REACTION.get(c.kind)
+    if needed and not reactions & set(needed):
+        return (f"criterion {c.id} ({c.kind}) asks something of {c.human} that its encounter never has it do (its "
+                f"reaction is {', '.join(sorted(reactions))}); give {c.human} the reaction {' or '.join(needed)} "
+                f"or drop the criterion")
+    if c.kind == "says" and c.phrase and said and c.phrase not in said:
+        return (f"criterion {c.id} asks {c.human} to say {c.phrase}, but its encounter has it say "
+                f"{', '.join(sorted(said))}")
+    if c.kind == "reacts_after_phrase" and c.reaction and c.reaction not in reactions:
+        return (f"criterion {c.id} expects the reaction {c.reaction} of {c.human}, but its encounter has "
+                f"{', '.join(sorted(reactions))}")
+    if c.kind in _DEFIES and reactions & set(_DEFIES[c.kind]):
+        return (f"criterion {c.id} ({c.kind}) contradicts {c.human}'s reaction "
+                f"{', '.join(sorted(reactions & set(_DEFIES[c.kind])))}")
+    return None
+
+
+def place_mistakes(spec: ScenarioSpec, location: Location) -> list[str]:
+    """Encounters at places that cannot work on THIS map (location/inventory.py measures it)."""
+    inventory = location.inventory
+    mistakes: list[str] = []
+    for enc in spec.encounters:
+        reason = inventory.unworkable_reason(enc.place)
+        if reason:
+            mistakes.append(f"encounter {enc.id} happens at a {enc.place}, but {reason}; choose a place where the "
+                            f"robot can meet and pass a person (see the PLACE INVENTORY)")
+    for c in spec.criteria:
+        if c.kind != "hidden_until" or not c.human:
+            continue
+        enc = spec.encounter(c.encounter) if c.encounter else next((e for e, _ in spec.parts_of(c.human)), None)
+        if enc is None:
+            continue
+        turns = inventory.blind_nodes(enc.place)
+        if not turns:
+            blind = sorted({f"{inventory.nodes[t.node].type} {t.node}" for t in inventory.blind_turns})
+            where = f"blind turns of this map: {', '.join(blind[:8])}" if blind else "this map has no blind turn"
+            mistakes.append(f"criterion {c.id} (hidden_until) needs a blind turn, but no {enc.place} node of this map "
+                            f"hides one way from the other ({where}); move encounter {enc.id} or drop the criterion")
+            continue
+        distance = c.distance or HIDDEN_UNTIL_DEFAULT
+        closest = turns[0].sight_m
+        if distance < closest:
+            mistakes.append(f"criterion {c.id} (hidden_until) asks that they see each other only within {distance:g} "
+                            f"m, but at the {enc.place} nodes of this map they first see each other {closest:.1f} m "
+                            f"apart or more; set its distance to at least {math.ceil(closest + 0.5):g}")
+    return mistakes
+
+
+def _formula_mistakes(spec: ScenarioSpec, humans: list[str], location: Location) -> list[str]:
+    """`stl` formulas that cannot be monitored on this run (the verifier's own check)."""
+    places = [e.id for e in spec.encounters] + [f"node_{n}" for n in location.graph.nodes]
+    return [f"criterion {c.id}: {problem}" for c in spec.criteria if c.kind == "stl" and (c.formula or "").strip()
+            for problem in formula_problems(c.formula or "", humans, places)]

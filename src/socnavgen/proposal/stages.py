@@ -13,7 +13,7 @@ from socnavgen.location import Location
 from socnavgen.proposal import behaviors as bt_stage
 from socnavgen.proposal import paths as path_stage
 from socnavgen.proposal import scenario as scenario_stage
-from socnavgen.proposal.conversation import Outcome, Policy, ProgressEvent, Recorder, converse
+from socnavgen.proposal.conversation import Outcome, Policy, ProgressEvent, Recorder, accepted_reply, converse
 from socnavgen.proposal.path_checks import check_paths, ground_spec, to_path_plan
 from socnavgen.proposal.replies import PathsReply
 from socnavgen.proposal.review import ReviewHook
@@ -63,7 +63,7 @@ class Stages:
         if spec is None:
             return None
         mistakes = spec_mistakes(spec, list(scenario.human_behaviors), list(self.location.schema.node_types),
-                                 self.request.target)
+                                 self.request.target, self.location)
         if grounded:
             mistakes += [f"encounter {e.id} has no node: re-run stage 2 (--redo paths)"
                          for e in spec.encounters if not e.node]
@@ -72,6 +72,21 @@ class Stages:
                                  file=self.run.spec_path,
                                  hint="fix spec.json, or regenerate it with --from RUN --redo scenario")
         return spec
+
+    def previous_scenario(self) -> str:
+        """Stage 1's accepted answer as the model wrote it (its own words and reasoning), else rebuilt
+        from scenario.json and spec.json."""
+        keys = [None] if self.request.proposals <= 1 else [f"proposal{self.request.pick + 1}", None]
+        for key in keys:
+            raw = accepted_reply(self.run, "scenario", key)
+            if raw is not None:
+                return raw
+        scenario = self.run.read_scenario()
+        previous: dict = scenario.model_dump()
+        spec = self.run.read_spec()
+        if spec is not None:
+            previous["spec"] = spec.model_dump(mode="json", exclude_defaults=True)
+        return json.dumps(previous)
 
     def scenario(self, correction: str | None = None) -> tuple[ScenarioProposal, ScenarioSpec | None]:
         """Stage 1: the prose and its spec. `correction` (from --verify) re-asks with the previous answer."""
@@ -93,13 +108,8 @@ class Stages:
             return again(scenario_stage.scenario_messages(self.request, self.location), policy)
 
         if correction is not None:
-            previous = {**self.run.read_scenario().model_dump(exclude={"number_of_humans"}),
-                        "number_of_humans": self.run.read_scenario().number_of_humans}
-            spec = self.run.read_spec()
-            if spec is not None:
-                previous["spec"] = spec.model_dump(mode="json", exclude_defaults=True)
             chosen = again([*scenario_stage.scenario_messages(self.request, self.location),
-                            ChatMessage(role="assistant", content=json.dumps(previous)),
+                            ChatMessage(role="assistant", content=self.previous_scenario()),
                             ChatMessage(role="user", content=correction)])
         else:
             outcomes = scenario_stage.propose_scenarios(self.request, self.location, self.llm, self.recorder,
@@ -133,7 +143,7 @@ class Stages:
             grounded = self.read_spec(scenario, grounded=spec is not None)
             if grounded is not None:
                 answer = PathsReply.model_validate(path_stage.plan_to_answer(plan, grounded))
-                mistakes = check_paths(answer, self.location.graph, humans, grounded)
+                mistakes = check_paths(answer, self.location.graph, humans, grounded, self.location)
                 if mistakes:
                     raise InputFileError("paths.json and spec.json disagree: " + "; ".join(mistakes[:5]),
                                          file=self.run.paths_path,
@@ -145,8 +155,9 @@ class Stages:
         base = path_stage.paths_messages(self.location, scenario, seed=self.request.seed, images=images, spec=spec)
         messages = list(base)
         if correction is not None:  # the verifier's findings, after the answer that produced them
-            previous = path_stage.plan_to_answer(self.run.read_paths(), self.run.read_spec())
-            messages += [ChatMessage(role="assistant", content=json.dumps(previous)),
+            previous = accepted_reply(self.run, "paths", None) or json.dumps(
+                path_stage.plan_to_answer(self.run.read_paths(), self.run.read_spec()))
+            messages += [ChatMessage(role="assistant", content=previous),
                          ChatMessage(role="user", content=correction)]
 
         def first(policy: Policy) -> Outcome:
@@ -198,9 +209,10 @@ class Stages:
 
         if corrections:
             for name in [h for h in todo if h in corrections]:
+                previous = accepted_reply(self.run, "behaviors", name) or json.dumps(
+                    {"reasoning": "", "tree": existing.get(name, "")})
                 messages = [*bt_stage.behavior_messages(name, scenario, paths, spec, target),
-                            ChatMessage(role="assistant", content=json.dumps(
-                                {"reasoning": "", "tree": existing.get(name, "")})),
+                            ChatMessage(role="assistant", content=previous),
                             ChatMessage(role="user", content=corrections[name])]
                 save(name, ask(messages, name))
             todo = [h for h in todo if h not in corrections]

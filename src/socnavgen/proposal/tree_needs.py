@@ -109,6 +109,7 @@ def script_text(spec: ScenarioSpec) -> str:
         when = {"start": "at the start", "at_encounter": f"within {t.distance:g} m of encounter {t.encounter}",
                 "blocked": f"when someone stands in its way within {t.distance:g} m",
                 "human_within": f"when {t.human or 'anyone'} is within {t.distance:g} m",
+                "human_farther": f"when {t.human or 'anyone'} is farther than {t.distance:g} m",
                 "human_says": f"when {t.human or 'someone'} says {t.phrase}",
                 "after": f"{t.seconds:g} s after the start"}[t.when]
         acts = []

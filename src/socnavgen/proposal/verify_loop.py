@@ -1,15 +1,18 @@
-"""`--verify`: simulate the generated run and, while the verifier still finds failures, re-ask ONLY what
-its blame says can fix each one (verify/blame.py):
+"""`--verify`: simulate the generated run and, while the verifier still finds failures, re-ask ONLY the
+stage its blame names (verify/blame.py), as REASK says:
 
-  robot_script, spec -> stage 1 (the spec: the robot's script, the encounters, the criteria); a tree
-                        is never asked to fix what only the robot can cause
-  paths              -> stage 2, with the findings
-  behaviors + human  -> stage 3 for that human only, with that human's findings
-                        (paths and trees blamed in the same round are both re-asked, paths first)
+  robot_script, spec, scenario -> stage 1 (the scenario and its spec: the robot's script, the encounters
+                                  and their places, the criteria); a tree is never asked to fix what only
+                                  the robot, the spec or the choice of place can cause
+  paths                        -> stage 2, with the findings
+  behaviors + human            -> stage 3 for that human only, with that human's findings
+                                  (paths and trees blamed in the same round are both re-asked, paths first)
 
-A finding without blame (a verifier from before blame existed) is not sent to any stage. When stage 1
-changes who takes part or where, the paths and trees that depended on it are regenerated; when only the
-robot's script changed, they are kept (the grounding is carried over). Up to the restart budget."""
+A finding without blame, or with a blame no stage can fix, is not sent anywhere. Each re-ask continues
+the stage's conversation after the model's own accepted answer (its words and reasoning, from the
+transcript). When stage 1 changes who takes part or where, the paths and trees that depended on it are
+regenerated; when only the robot's script changed, they are kept (the grounding is carried over). Up to
+the restart budget."""
 
 from __future__ import annotations
 
@@ -26,6 +29,9 @@ if TYPE_CHECKING:
     from socnavgen.verify.models import Finding, VerifyReport
 
 STAGE = "verify"
+# The stage that can fix what each blame names (verify/blame.py), the loop's one routing rule.
+REASK: dict[str, str] = {"robot_script": "scenario", "spec": "scenario", "scenario": "scenario",
+                         "paths": "paths", "behaviors": "behaviors"}
 Verifier = Callable[..., "VerifyReport"]  # verify_run(run_dir, location=Location) -> VerifyReport
 Outcome = tuple[ScenarioProposal, ScenarioSpec | None, PathPlan, dict[str, str], "VerifyReport"]
 
@@ -38,6 +44,18 @@ def describe(finding: Finding) -> str:
 
 def _correction(findings: list[Finding]) -> str:
     return render("verify_correction.md", findings=bullet_list([describe(f) for f in findings]))
+
+
+def routed(report: VerifyReport) -> dict[str, list[Finding]]:
+    """The failing findings per stage to re-ask (REASK); findings no stage can fix are left out."""
+    out: dict[str, list[Finding]] = {}
+    for finding in report.failures:
+        stage = REASK.get(finding.blame or "")
+        if stage == "behaviors" and not finding.blame_human:
+            continue  # a tree to fix, but whose: nobody to ask
+        if stage is not None:
+            out.setdefault(stage, []).append(finding)
+    return out
 
 
 def _shape(spec: ScenarioSpec | None) -> object:
@@ -77,11 +95,10 @@ def verify_and_repair(stages: Stages, scenario: ScenarioProposal, spec: Scenario
         if round_ == stages.policy.max_restarts:
             break
         recorder.progress(ProgressEvent(STAGE, None, "invalid", round_ + 1, message="; ".join(map(describe, failing))))
-        blamed = report.blamed()
-        to_spec = blamed.get("robot_script", []) + blamed.get("spec", [])
-        if to_spec:
+        stages_to_ask = routed(report)
+        if stages_to_ask.get("scenario"):
             old = spec
-            scenario, spec = stages.scenario(correction=_correction(to_spec))
+            scenario, spec = stages.scenario(correction=_correction(stages_to_ask["scenario"]))
             if _shape(spec) != _shape(old) or list(scenario.human_behaviors) != [h.name for h in paths.humans]:
                 run.paths_path.unlink(missing_ok=True)
                 for xml in run.behaviors_dir.glob("*.xml"):
@@ -93,13 +110,17 @@ def verify_and_repair(stages: Stages, scenario: ScenarioProposal, spec: Scenario
                 if spec is not None:
                     run.write_spec(spec)
             continue
-        corrections = {human: _correction(report.blamed_on("behaviors", human)) for human in report.humans_to_fix()
-                       if human in scenario.human_behaviors}
-        if not blamed.get("paths") and not corrections:  # no blame given: asking again would change nothing
+        trees_to_fix: dict[str, list[Finding]] = {}
+        for finding in stages_to_ask.get("behaviors", []):
+            if finding.blame_human in scenario.human_behaviors:
+                trees_to_fix.setdefault(str(finding.blame_human), []).append(finding)
+        if not stages_to_ask.get("paths") and not trees_to_fix:  # nothing a stage can fix: asking changes nothing
             break
-        if blamed.get("paths"):
-            paths, spec = stages.paths(scenario, _ungrounded(spec), correction=_correction(blamed["paths"]))
-        if corrections:  # the blamed trees in the same round (on the new paths, if they changed)
+        if stages_to_ask.get("paths"):
+            paths, spec = stages.paths(scenario, _ungrounded(spec), correction=_correction(stages_to_ask["paths"]))
+        if trees_to_fix:  # the blamed trees in the same round (on the new paths, if they changed)
+            corrections = {human: _correction(found) for human, found in
+                           sorted(trees_to_fix.items(), key=lambda kv: int(kv[0][5:]))}
             trees = stages.behaviors(scenario, paths, spec, corrections)
     recorder.set_status(STAGE, None, "failed")
     recorder.progress(ProgressEvent(STAGE, None, "failed", message="the verifier still finds problems"))

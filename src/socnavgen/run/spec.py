@@ -37,13 +37,14 @@ class CueTrigger(BaseModel):
     start         at t = 0
     at_encounter  the robot is within `distance` of the node of encounter `encounter`
     blocked       a person stands within `distance` ahead of the robot, in its way
-    human_within  `human` (any human when None) is within `distance` of the robot
-    human_says    `human` (any when None) makes the phrase `phrase`
+    human_within  `human` (any human when not given) is within `distance` of the robot
+    human_farther `human` (any human when not given) is farther than `distance` from the robot (a guide waits for a slow follower)
+    human_says    `human` (any when not given) makes the phrase `phrase`
     after         `seconds` after the start
     """
 
     model_config = ConfigDict(extra="forbid")
-    when: Literal["start", "at_encounter", "blocked", "human_within", "human_says", "after"]
+    when: Literal["start", "at_encounter", "blocked", "human_within", "human_farther", "human_says", "after"]
     encounter: str | None = None
     human: str | None = None
     phrase: HumanPhrase | None = None
@@ -171,7 +172,7 @@ CriterionKind = Literal[
     "stl",  # `formula`: a raw STL formula over the named signals (docs/verify.md lists them)
 ]
 
-Blame = Literal["robot_script", "paths", "behaviors", "spec"]
+Blame = Literal["robot_script", "paths", "behaviors", "spec", "scenario"]
 
 
 class Criterion(BaseModel):

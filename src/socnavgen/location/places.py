@@ -1,4 +1,5 @@
-"""Where on a location's scene graph a card can happen. Schemas name node types differently per
+"""Where on a location's scene graph a kind of place is (scenario cards place themselves with it; the
+place inventory of the prompts describes the map with it). Schemas name node types differently per
 location ("BLIND CORNER", "Corner", "DOOR", "ENTRANCE/EXIT"...), so places are found by KEYWORDS in
 the type names and, where the words are missing, by GEOMETRY: node degree, free space around a
 node (occupancy clearance) and whether two nodes can see each other."""

@@ -1,0 +1,102 @@
+"""Where bodies may START on a map: the one rule the scenario cards and stage 2's checks share.
+
+Every person starts at the first node of their path (a group's members on a circle of GROUP_SPAWN_RADIUS
+around it), the robot at the first node of its route. Nobody starts on or against another body: the
+gap (surface to surface) between two starting bodies is at least START_GAP, so nobody is inside
+another's intimate space at t = 0. Nobody starts on the robot's goal unless they walk away from it
+(someone leaving the room the robot is about to enter): a person standing on the goal, or walking to
+it, keeps the robot from ever arriving. And a robot whose goal is its start has nowhere to go."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from socnavgen.bodies import GROUP_SPAWN_RADIUS, INTIMATE_SPACE, PERSON_RADIUS, ROBOT_RADIUS
+from socnavgen.location.location import Location
+
+START_GAP = INTIMATE_SPACE  # m: smallest gap between two bodies where they start
+
+
+@dataclass(frozen=True)
+class Walker:
+    """A person as placement sees them: name, path of node ids, group id (-1 alone)."""
+
+    name: str
+    path: list[str]
+    group: int = -1
+
+
+def _centre_distance_needed(a_ring: float, b_ring: float, a_radius: float, b_radius: float) -> float:
+    """Node-to-node distance that keeps START_GAP between two bodies, each anywhere on its ring."""
+    return a_ring + b_ring + a_radius + b_radius + START_GAP
+
+
+def start_rule_text() -> str:
+    """The rule in words, for the prompts (numbers from the bodies)."""
+    alone = _centre_distance_needed(0.0, 0.0, PERSON_RADIUS, ROBOT_RADIUS)
+    people = _centre_distance_needed(0.0, 0.0, PERSON_RADIUS, PERSON_RADIUS)
+    return (f"Where everybody starts: the robot's goal is not its start; a person starts at least {alone:.1f} m "
+            f"from the robot's start ({alone + GROUP_SPAWN_RADIUS:.1f} m for a group, whose members stand on a "
+            f"{GROUP_SPAWN_RADIUS:g} m circle around their shared first node) and at least {people:.2f} m from "
+            f"any other person who is not in their group (use xy_m to measure); nobody starts on the robot's "
+            f"goal unless their path walks away from it.")
+
+
+def route_problems(robot: list[str]) -> list[str]:
+    """A robot route that goes nowhere."""
+    if len(robot) >= 2 and robot[0] == robot[-1]:
+        return [f"the robot's goal is its start ({robot[0]}): end the robot's path at another node, or it arrives "
+                f"before anything happens"]
+    return []
+
+
+def start_problems(location: Location, robot: list[str], walkers: list[Walker]) -> list[str]:
+    """Every way these starts break the rule (route_problems included), in words that say what to change."""
+    problems = route_problems(robot)
+    known = set(location.graph.nodes)
+    if not robot or any(n not in known for n in [robot[0], robot[-1]]):
+        return problems
+    members: dict[int, int] = {}
+    for w in walkers:
+        if w.group >= 0:
+            members[w.group] = members.get(w.group, 0) + 1
+
+    def ring(w: Walker) -> float:
+        return GROUP_SPAWN_RADIUS if w.group >= 0 and members[w.group] > 1 else 0.0
+
+    def dist(a: str, b: str) -> float:
+        (ax, ay), (bx, by) = location.node_world(a), location.node_world(b)
+        return math.hypot(bx - ax, by - ay)
+
+    starts = [w for w in walkers if w.path and set(w.path) <= known]  # unknown nodes are reported elsewhere
+    goal = robot[-1]
+    for w in starts:
+        start = w.path[0]
+        need = _centre_distance_needed(ring(w), 0.0, PERSON_RADIUS, ROBOT_RADIUS)
+        d = dist(start, robot[0])
+        if d < need:
+            where = "where the robot starts" if start == robot[0] else f"{d:.1f} m from where the robot starts ({robot[0]})"
+            problems.append(f"{w.name} starts at {start}, {where}: they would start touching or too close; start "
+                            f"{w.name} at a node at least {need:.1f} m from {robot[0]}")
+        if len(robot) >= 2 and goal != robot[0] and dist(start, goal) < need and _stays(w.path, goal, dist, need):
+            where = "on the robot's goal" if start == goal else f"{dist(start, goal):.1f} m from the robot's goal"
+            problems.append(f"{w.name} starts at {start}, {where} {goal}, and does not walk away from it: the robot "
+                            f"could never arrive; start {w.name} elsewhere or let them walk away")
+    for i, a in enumerate(starts):
+        for b in starts[i + 1:]:
+            if a.group >= 0 and a.group == b.group:
+                continue  # a group shares its node: its members stand on their circle
+            need = _centre_distance_needed(ring(a), ring(b), PERSON_RADIUS, PERSON_RADIUS)
+            d = dist(a.path[0], b.path[0])
+            if d < need:
+                problems.append(f"{a.name} and {b.name} start {d:.1f} m apart ({a.path[0]}, {b.path[0]}): they would "
+                                f"start on each other; start them at nodes at least {need:.1f} m apart, or make them "
+                                f"one group (same group id)")
+    return problems
+
+
+def _stays(path: list[str], goal: str, dist, need: float) -> bool:  # noqa: ANN001 - the distance function above
+    """Whether a person who starts at the goal stays there: their path never leaves the goal's
+    neighbourhood, or comes back to end on it."""
+    return all(dist(n, goal) < need for n in path) or dist(path[-1], goal) < need

@@ -1,0 +1,125 @@
+"""`--verify` re-asks the stage its blame names (verify_loop.REASK), replayed through the real pipeline: a
+place that cannot work or a criterion the spec contradicts goes back to the scenario + spec stage (and
+the paths and trees that depended on the old place are made again); a re-ask continues after the model's
+OWN accepted answer, reasoning included; a finding no stage can fix is sent nowhere."""
+
+from __future__ import annotations
+
+import copy
+import json
+
+import pytest
+from gen_helpers import manifest, paths_reply, run_replay, scenario_reply, tree_reply, write_script
+
+from socnavgen.proposal import Run
+from socnavgen.run import RunFolder
+
+
+def _finding(blame, human=None, evidence="never closer than 6 m"):  # noqa: ANN001, ANN202
+    from socnavgen.verify.models import Finding
+
+    return Finding(name="c1 meets", kind="meets", passed=False, evidence=evidence, human=human, blame=blame,
+                   blame_human=human if blame == "behaviors" else None, blame_reason=f"{blame} can fix it")
+
+
+def _verifier(*reports):  # noqa: ANN002, ANN202
+    from socnavgen.verify.models import VerifyReport
+
+    queue = iter([VerifyReport(run="run", passed=not findings, findings=findings) for findings in reports])
+    seen = []
+
+    def verify(run_dir, location=None):  # noqa: ANN001, ANN202
+        seen.append(run_dir)
+        return next(queue)
+    return verify, seen
+
+
+def _asked(llm, stage, key=None):  # noqa: ANN001, ANN202
+    return [m for s, k, m in llm.calls if s == stage and k == key]
+
+
+def _at_intersection() -> dict:
+    """The scenario moved from the BLIND CORNER to the INTERSECTION (node ch)."""
+    reply = scenario_reply()
+    reply["spec"]["encounters"][0]["place"] = "INTERSECTION"
+    return reply
+
+
+@pytest.mark.parametrize("blame", ["spec", "scenario"])
+def test_a_place_that_cannot_work_goes_back_to_the_scenario_stage(tmp_path, mini_location, blame):
+    moved_paths = paths_reply(interaction_points={"human1": "ch", "human2": "ch"}, encounter_nodes={"e1": "ch"},
+                              trajectories={"robot": ["32", "ch", "11", "07"], "human1": ["d9", "ch", "11"],
+                                            "human2": ["f7", "d9", "ch"]})
+    script = write_script(tmp_path / "s.yaml", {
+        "scenario": [scenario_reply(), _at_intersection()], "paths": [paths_reply(), moved_paths],
+        "behaviors": {"human1": [tree_reply(), tree_reply()], "human2": [tree_reply(), tree_reply()]}})
+    verify, seen = _verifier([_finding(blame, evidence="no BLIND CORNER of this map hides the worker")], [])
+    run, llm = run_replay(script, mini_location, tmp_path / "run", verify=True, verifier=verify)
+    assert isinstance(run, Run), run
+    calls = [(s, k) for s, k, _ in llm.calls]
+    assert calls.count(("scenario", None)) == 2 and calls.count(("paths", None)) == 2
+    assert sorted(k for s, k in calls if s == "behaviors") == ["human1", "human1", "human2", "human2"]
+    reask = _asked(llm, "scenario")[1]
+    assert "no BLIND CORNER of this map hides the worker" in reask[-1].content
+    spec = RunFolder(tmp_path / "run").read_spec()
+    assert spec.encounters[0].place == "INTERSECTION" and spec.encounters[0].node == "ch"
+    assert run.verify.passed and len(seen) == 2
+
+
+def test_a_reask_keeps_the_models_own_answer_and_reasoning(tmp_path, mini_location):
+    """The trees' re-ask shows the model its own reply (reasoning and all), not an empty reasoning; so do
+    the paths' and the scenario's."""
+    tree = tree_reply()
+    tree["reasoning"] = "She stops when the robot blocks her: IsRobotBlocking gates LookAtRobot."
+    paths = paths_reply(reasoning="Both walk toward 11, the blind corner, from opposite sides.")
+    scenario = scenario_reply()
+    scenario["note"] = "my own aside"  # whatever the model wrote comes back as it wrote it
+    script = write_script(tmp_path / "s.yaml", {
+        "scenario": [scenario, scenario_reply()], "paths": [paths, paths_reply()],
+        "behaviors": {"human1": [tree, tree_reply()], "human2": [tree_reply()]}})
+    verify, _ = _verifier([_finding("paths"), _finding("behaviors", human="human1")],
+                          [_finding("robot_script", evidence="the robot never slowed down")], [])
+    run, llm = run_replay(script, mini_location, tmp_path / "run", verify=True, verifier=verify)
+    assert isinstance(run, Run), run
+    tree_reask = _asked(llm, "behaviors", "human1")[1]
+    assert json.loads(tree_reask[-2].content)["reasoning"] == tree["reasoning"]
+    paths_reask = _asked(llm, "paths")[1]
+    assert json.loads(paths_reask[-2].content)["reasoning"] == paths["reasoning"]
+    scenario_reask = _asked(llm, "scenario")[1]
+    assert json.loads(scenario_reask[-2].content)["note"] == "my own aside"
+    assert "the robot never slowed down" in scenario_reask[-1].content
+
+
+def test_the_answer_is_rebuilt_from_the_files_when_there_is_no_transcript(tmp_path, mini_location):
+    from socnavgen.proposal.conversation import accepted_reply
+
+    script = write_script(tmp_path / "s.yaml", {"scenario": [scenario_reply()], "paths": [paths_reply()],
+                                                "behaviors": {"human1": [tree_reply()], "human2": [tree_reply()]}})
+    run, _ = run_replay(script, mini_location, tmp_path / "run")
+    folder = RunFolder(tmp_path / "run")
+    assert json.loads(accepted_reply(folder, "paths", None))["reasoning"] == "they meet at 11"
+    folder.transcript_path.unlink()
+    assert accepted_reply(folder, "paths", None) is None
+
+
+def test_a_failed_reply_is_not_taken_for_the_accepted_one(tmp_path, mini_location):
+    from socnavgen.proposal.conversation import accepted_reply
+
+    bad = paths_reply(trajectories={"robot": ["0e", "07"], "human1": ["07"], "human2": ["07"]})
+    script = write_script(tmp_path / "s.yaml", {"scenario": [scenario_reply()], "paths": [bad, paths_reply()],
+                                                "behaviors": {"human1": [tree_reply()], "human2": [tree_reply()]}})
+    run_replay(script, mini_location, tmp_path / "run")
+    assert json.loads(accepted_reply(RunFolder(tmp_path / "run"), "paths", None)) == paths_reply()
+
+
+def test_findings_no_stage_can_fix_are_sent_nowhere(tmp_path, mini_location):
+    from socnavgen.proposal.verify_loop import REASK
+
+    nobody = copy.deepcopy(_finding("behaviors", human="human1"))
+    nobody.blame_human = None  # a tree to fix, but whose?
+    script = write_script(tmp_path / "s.yaml", {"scenario": [scenario_reply()], "paths": [paths_reply()],
+                                                "behaviors": {"human1": [tree_reply()], "human2": [tree_reply()]}})
+    verify, seen = _verifier([nobody, _finding(None)], [])
+    run, llm = run_replay(script, mini_location, tmp_path / "run", verify=True, verifier=verify)
+    assert len(seen) == 1 and len(llm.calls) == 4 and manifest(tmp_path / "run")["status"] == "failed"
+    assert set(REASK.values()) == {"scenario", "paths", "behaviors"}
