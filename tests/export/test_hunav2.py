@@ -83,7 +83,7 @@ def test_trees_are_v4_self_contained_and_use_2x_nodes(exported: Path) -> None:
     assert doc.includes == [] and "RegularNavTree" in doc.trees  # inlined, not included
     known = registered_ports()
     builtins = {"ReactiveSequence", "ReactiveFallback", "Sequence", "Fallback", "Inverter", "RunOnce",
-                "SetBlackboard", "SubTree"}
+                "SetBlackboard", "SubTree", "KeepRunningUntilFailure", "ForceSuccess"}
     for tree in doc.trees.values():
         for elem in list(tree.walk())[1:]:
             assert elem.tag in known or elem.tag in builtins, elem.tag
@@ -144,14 +144,14 @@ def test_embedded_and_standalone_models_match_reference_structure(exported: Path
 
 def test_every_untranslatable_node_is_listed_and_nothing_written(make_run, tmp_path: Path) -> None:
     out = tmp_path / "out"
-    run = make_run(trees={"human1": GIVE_WAY_TREE, "human2": GIVE_WAY_TREE})
+    moved = GIVE_WAY_TREE.replace('<RobotSays agent_id="{id}" message="4"/>', '<RobotMoved agent_id="{id}"/>')
+    run = make_run(trees={"human1": moved, "human2": moved})
     with pytest.raises(SocnavgenError) as err:
         export_run(run, "hunav2", out)
     message = str(err.value)
-    assert "2 node(s)" in message  # RobotSays is refused; GiveWaytoRobot translates (AvoidRobot)
+    assert "2 node(s)" in message  # RobotMoved is refused; GiveWaytoRobot translates (AvoidRobot)
     for human in ("human1", "human2"):
-        assert f"{human}.xml:6: RobotSays cannot be exported: HuNavSim 2.x has no input for what the robot says" \
-            in message
+        assert f"{human}.xml:6: RobotMoved cannot be exported: no 2.x condition reads the robot's velocity" in message
     assert "GiveWaytoRobot" not in message
     assert not out.exists()
 

@@ -6,15 +6,14 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from socnavgen.export.as_target import relabel, stands_for
+
 from .conformance_helpers import card_scenes
-from .equivalence_helpers import outcomes, relabel, stands_for
+from .equivalence_helpers import outcomes
 
 # Where 2.x lacks the behaviour, the outcome may differ; each case is named with why (docs/export.md). The
 # test fails if another card diverges or if this one stops diverging (then remove it here).
-KNOWN_DIVERGENT = {
-    "hospital/narrow-doorway": "2.x has no side-step: GiveWaytoRobot becomes AvoidRobot, which keeps heading "
-                               "for the door, so in the 1.2 m hospital door the robot stands > 10 s behind the person",
-}
+KNOWN_DIVERGENT: dict[str, str] = {}
 
 
 def test_socrates_and_hunav2_runs_verify_the_same(tmp_path_factory) -> None:  # noqa: ANN001

@@ -19,6 +19,10 @@ from socnavgen.export.writer import write_export
 from .export_helpers import GIVE_WAY_TREE, REGULAR_TREE, agent_shape, shape
 
 
+def skeleton_of(e):  # noqa: ANN001, ANN201 - BTElement -> nested tuples (tags and attributes)
+    return (e.tag, tuple(sorted(e.attrs.items())), tuple(skeleton_of(c) for c in e.children))
+
+
 @pytest.fixture
 def exported(make_run, tmp_path: Path) -> Path:
     out = tmp_path / "out"
@@ -50,7 +54,13 @@ def test_trees_are_v3_and_selected_by_behavior(exported: Path, reference_dir: Pa
     docs = {i: parse_bt((trees / f"LLMBT_{i}.xml").read_text(), f"LLMBT_{i}.xml") for i in (0, 1)}
     assert all(d.format_version == 3 for d in docs.values())
     assert docs[0].main_tree == "GiveWayTree" and docs[1].main_tree == "WalkTree"
-    assert (trees / "LLMBT_0.xml").read_text().strip() == GIVE_WAY_TREE.strip()
+    # human1 meets the robot at ee: its tree is wrapped in its timing (export.timing), its own tree inside intact
+    timing = docs[0].trees["GiveWayTree"].children[0]
+    assert (timing.tag, timing.attrs["name"]) == ("ReactiveFallback", "socnavgen_timing")
+    own = parse_bt(GIVE_WAY_TREE).trees["GiveWayTree"].children[0]
+    inner = next(e for e in timing.walk() if e.tag == "ForceSuccess").children[0]
+    assert skeleton_of(inner) == skeleton_of(own)
+    assert (trees / "LLMBT_1.xml").read_text().strip() == REGULAR_TREE.strip()  # human2 has no meeting place
     ours = parse_bt((trees / "BTRegularNav.xml").read_text())
     ref = parse_bt((reference_dir / "data/socrates-hunav/behavior_trees/BTRegularNav.xml").read_text())
 
@@ -71,8 +81,9 @@ def test_robot_poses_and_trajectory_match_wrapper_files(exported: Path, referenc
     ref = json.loads((ref_cfg / "trajectory.json").read_text())
     assert list(traj) == list(ref)
     assert traj["trajectories"]["robot"] == ["aa", "ee", "bb", "cc"]
-    # every human has an interaction point entry (the wrapper indexes it); "" = never paused
-    assert traj["interaction_points"] == {"human1": "ee", "human2": ""}
+    # every human has an interaction point entry (the wrapper indexes it); "" = never paused: human2 has none,
+    # human1's tree waits for the robot itself (the wrapper's pause would hold it a second time)
+    assert traj["interaction_points"] == {"human1": "", "human2": ""}
     launch = yaml.safe_load((cfg / "launch_params.yaml").read_text())
     assert set(launch) == set(yaml.safe_load((ref_cfg / "launch_params.yaml").read_text()))
 

@@ -123,11 +123,12 @@ HUNAV2: dict[str, Hunav2Translation] = {
         template='<IsRobotClose agent_id="{agent_id}" threshold="{distance}"/>',
         reason="IsRobotClose is the distance-only test (robot closer than `threshold`)"),
     "IsRobotBlocking": Hunav2Translation(
-        reason="", refusal="2.x has no condition on where the robot is relative to the human's heading "
-                           "(IsRobotVisible has a ~200 deg field of view, IsRobotFacingAgent tests the robot's "
-                           "heading, IsAgentVisible/IsLookingAtMe take agents only); the closest composition, "
-                           "IsRobotVisible + IsRobotFacingAgent, changed verification outcomes in our simulator "
-                           "(a stopped human facing a robot that drives around it walks on and is hit)"),
+        template='<IsRobotVisible agent_id="{agent_id}" distance="{distance}"/>',
+        reason="approximated: 2.x has no condition on where the robot is relative to the person's heading, so "
+               "the person reacts to the robot within `distance` in view (2.x IsRobotVisible: a ~200 deg field of "
+               "view, not the 30 deg cone); a person who stops for it keeps standing while the robot is that close "
+               "(IsRobotVisible + IsRobotFacingAgent, the closest composition, let a stopped person walk on into a "
+               "robot driving around it)"),
     "IsGoalReached": Hunav2Translation(template='<IsGoalReached agent_id="{agent_id}"/>',
                                        reason="same node and port in 2.x"),
     "TimeExpiredCondition": Hunav2Translation(
@@ -180,10 +181,11 @@ HUNAV2: dict[str, Hunav2Translation] = {
         reason="AvoidRobot walks on at 0.6 m/s pushed away from the robot; 2.x's ScaredNav reads a port it "
                "does not declare (safe_distance) and throws. Stateful: reactive controls halt it"),
     "GiveWaytoRobot": Hunav2Translation(
-        template='<AvoidRobot agent_id="{agent_id}" time_step="{time_step}" safe_distance="1.5" '
-                 'runaway_vel="1.0" duration="0.0"/>',
-        reason="2.x has no side-step; AvoidRobot keeps the human heading for its goal while moving out of "
-               "the robot's way (1.5 m safe distance). Stateful: reactive controls halt it"),
+        template='<AvoidRobot agent_id="{agent_id}" time_step="{time_step}" safe_distance="2.0" '
+                 'runaway_vel="0.6" duration="0.0"/>',
+        reason="2.x has no side-step; AvoidRobot keeps the human heading for its goal, slowly (0.6 m/s), pushed "
+               "out of the robot's way from 2.0 m (the push outweighs the slow walk, so a person whose goal lies "
+               "beyond the robot backs off instead of pressing on). Stateful: reactive controls halt it"),
     "BlockRobot": Hunav2Translation(
         template='<ThreateningNav agent_id="{agent_id}" time_step="{time_step}" beh_duration="0.0" '
                  'only_once="false" goal_dist="1.5"/>',

@@ -21,7 +21,7 @@ def _summary(scene: ExportScene, first_id: int = 0) -> str:
             + "\n" + humans + "\n\nAll coordinates are metres in the map frame of the location's nav2 map.\n")
 
 
-def timing_section(holds: dict[str, Hold]) -> str:
+def timing_section(holds: dict[str, Hold] | None) -> str:
     """How the timed people wait for the robot (their trees do it: export.timing)."""
     if not holds:
         return ""
@@ -42,8 +42,9 @@ def script_section(scene: ExportScene, where: str, how: str) -> str:
             f"in world coordinates. {how}\n")
 
 
-def spoken_section(spoken: dict) -> str:
+def spoken_section(spoken: dict | None) -> str:
     """hunav2: what each phrase condition of the trees became (HuNavSim 2.x cannot hear the robot)."""
+    spoken = spoken or {}
     lines = [f"- {name} line {s.line}: {s.node}: {s.text}" for name, notes in spoken.items() for s in notes]
     if not lines:
         return ""
@@ -79,7 +80,7 @@ A teleop script can read `robot_poses.yaml` the same way: `initial_pose {{x, y, 
 `waypoints[].position {{x, y, yaw}}` (yaw toward the next waypoint).
 Humans without an interaction point have `""` in `trajectory.json`: the scenario manager never pauses them;
 nor does it pause the people whose trees wait for the robot themselves (Timing below).
-{timing_section(holds or {{}})}{script_section(scene, "hunav_gazebo_wrapper/config/robot_script.yaml",
+{timing_section(holds)}{script_section(scene, "hunav_gazebo_wrapper/config/robot_script.yaml",
     "The fork hears the robot on `/robot_gesture`: run `python3 hunav_gazebo_wrapper/scripts/"
     "socnavgen_robot_gestures.py hunav_gazebo_wrapper/config/robot_script.yaml` beside the simulation "
     "(ROS 2 with the fork's hunav_msgs, and `pip install socnavgen`); it plays the script from the robot's and "
@@ -111,8 +112,8 @@ ros2 launch hunav_gazebo_wrapper simulation.launch.py configuration_file:={base}
     gzpose_Y:={scene.robot.start.yaw:.3f}
 ```
 The robot then drives the waypoints of `robot/robot_poses.yaml` (nav2 waypoint follower or teleop).
-{timing_section(holds or {{}})}{script_section(scene, "robot/robot_script.yaml",
-    "HuNavSim 2.x people cannot hear it; the robot still plays it (its operator, or your robot's speech).")}{spoken_section(spoken or {{}})}"""
+{timing_section(holds)}{script_section(scene, "robot/robot_script.yaml",
+    "HuNavSim 2.x people cannot hear it; the robot still plays it (its operator, or your robot's speech).")}{spoken_section(spoken)}"""
 
 
 def hunav1_readme(scene: ExportScene, behaviors: dict[str, int]) -> str:

@@ -11,6 +11,7 @@ phrase, as seen from the person - an approximation, listed per node in the expor
                                                    the robot within the distance (IsRobotNearby)
                         rule at_node               the robot within 1 m, in view, for a person passing the node
                         start / after / always     the same time window (TimeExpiredCondition)
+                      (each distance condition counts only once it has held HEARD_AFTER s: see there)
                         human_says                 refused: 2.x cannot tell which phrase another person says
                       no cue says m: never (Inverter(AlwaysSuccess))
     RobotSaid(m)   -> the same condition, latched at the root: once it held, the tree runs with RobotSaid
@@ -33,6 +34,9 @@ from socnavgen.run.spec import RobotCue
 
 PHRASE_NODES = ("RobotSays", "RobotSaid")
 AT_NODE_DISTANCE = 1.0  # m: a paths.json `at_node` rule holds with the robot this close to the node
+HEARD_AFTER = 0.5  # s: a geometric phrase condition must first have held this long (a person takes a moment to
+# hear the robot; the script's own trigger - someone AHEAD within the distance - is stricter than "near, in
+# view", so without it a person at a corner would react before the robot speaks)
 
 
 @dataclass(frozen=True)
@@ -61,12 +65,17 @@ def _any(conditions: list[Node]) -> Node:
     return unique[0] if len(unique) == 1 else node("Fallback", *unique)
 
 
+def _heard(condition: Node) -> Node:
+    """`condition`, once it has held HEARD_AFTER seconds (counted while it holds; from then on at once)."""
+    return node("Sequence", condition, node("TimeExpiredCondition", seconds=HEARD_AFTER, ts="{dt}", only_once=True))
+
+
 def _visible(distance: float) -> Node:
-    return node("IsRobotVisible", agent_id="{id}", distance=distance)
+    return _heard(node("IsRobotVisible", agent_id="{id}", distance=distance))
 
 
 def _near(distance: float) -> Node:
-    return node("IsRobotNearby", agent_id="{id}", distance=distance)
+    return _heard(node("IsRobotNearby", agent_id="{id}", distance=distance))
 
 
 def _window(start: float, hold: float, latched: bool) -> Node:

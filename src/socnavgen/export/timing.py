@@ -40,6 +40,7 @@ RELEASE_MARGIN = 0.1  # m: a person stops a few centimetres either side of its w
 TIMEOUT_FACTOR, TIMEOUT_SLACK = 3.0, 10.0  # released at the latest after 3x the nominal time + 10 s
 SAMPLE = 0.05  # m: the robot's path is sampled this finely to find where the release really happens
 WAIT_KEY = "socnavgen_wait"  # the blackboard entry the waiting step writes (standing still does nothing else)
+RELEASE_NODE, TIMEOUT_NODE, COUNT_NODE = "socnavgen_robot_close", "socnavgen_timeout", "socnavgen_goal_count"
 
 
 @dataclass(frozen=True)
@@ -212,15 +213,18 @@ def hold_root(root: Node, hold: Hold, keep: set[Node]) -> Node:
     """`root` (the person's tree) run only once the hold of `hold` is over; until then walk, then wait.
 
     The goals are counted with a TimeExpiredCondition ticked only when IsGoalReached succeeds, with ts=1: it
-    adds one per goal reached (the tick before UpdateGoal moves on) and latches at `goals_first`."""
-    release = node("Fallback", node("IsRobotNearby", agent_id="{id}", distance=hold.release_distance),
-                   node("TimeExpiredCondition", seconds=hold.timeout, ts="{dt}", only_once=True),
-                   label="socnavgen_robot_near")
+    adds one per goal reached (the tick before UpdateGoal moves on) and latches at `goals_first`. The nodes
+    the export adds are named socnavgen_* (Groot2 shows the names)."""
+    release = node("Fallback",
+                   node("IsRobotNearby", agent_id="{id}", distance=hold.release_distance, label=RELEASE_NODE),
+                   node("TimeExpiredCondition", seconds=hold.timeout, ts="{dt}", only_once=True, label=TIMEOUT_NODE),
+                   label="socnavgen_release")
     wait = stand_node()
     if hold.goals_first:
-        counted = node("Sequence", node("IsGoalReached", agent_id="{id}"),
-                       node("TimeExpiredCondition", seconds=float(hold.goals_first), ts=1.0, only_once=True),
-                       label="socnavgen_goals_reached")
+        counted = node("Sequence", node("IsGoalReached", agent_id="{id}", label="socnavgen_goal_reached"),
+                       node("TimeExpiredCondition", seconds=float(hold.goals_first), ts=1.0, only_once=True,
+                            label=COUNT_NODE),
+                       label="socnavgen_at_waiting_goal")
         wait = latch(counted, wait, walk_node(), keep, "socnavgen_approach")
     return latch(release, root, wait, keep, "socnavgen_timing")
 
