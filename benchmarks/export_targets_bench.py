@@ -2,8 +2,9 @@
 fixture, simulated from each target's exported trees (socrates, hunav2) with our pacing off and a waypoint
 robot at 0.5x, 1x and 1.5x its script's cruise speed (socnavgen.export.as_target), judged by the verifier.
 Counted against what verifies in our own simulator (the scripted robot, our pacing, the run's own trees);
-a refused export counts as not verified. The reference column is the same robot at the same speed with our
-pacing and the run's own trees: what the robot itself manages.
+a refused export counts as not verified. Two references, the same robot at the same speed with our pacing
+instead of the export's timing: with the run's own trees (what the robot itself manages), and with the hunav2
+translation (what the translation alone does).
 
     python benchmarks/export_targets_bench.py                      # the full matrix (~3 min on 2 cores)
     python benchmarks/export_targets_bench.py --robot waypoints    # the plain waypoints robot (pushes into people)
@@ -30,6 +31,8 @@ from socnavgen.verify import verify_trace
 ROOT = Path(__file__).resolve().parents[1]
 LOCATIONS = ROOT / "examples" / "locations"
 FIXTURES = ROOT / "tests" / "fixtures" / "replay"
+OWN, TRANSLATED = "(our pacing, own trees)", "(our pacing, hunav2 trees)"
+UNTIMED = {t: f"({t} trees without timing)" for t in ("socrates", "hunav2")}
 
 
 def runs(work: Path, location: str | None, card: str | None, fixtures: bool) -> list[tuple[str, str, Path]]:
@@ -70,8 +73,18 @@ def main() -> None:
             for speed in SPEEDS:  # the robot itself: our pacing, the run's own trees
                 robot = ROBOTS[args.robot](max_speed=scene.robot_speed * speed, delay=start_wait(scene))
                 ok = verify_trace(run, simulate_run(run, robot=robot, save=False)).passed
-                count = tally[(kind, "reference", speed)]
+                count = tally[(kind, OWN, speed)]
                 count[0], count[2] = count[0] + ok, count[2] + 1
+            for target in TIMED_TARGETS:
+                plain = target_twin(run, target, work / "plain" / target / label.replace("/", "__"), timing=False)
+                for speed in SPEEDS:  # no timing in the trees: as the target runs them, and with our pacing
+                    for row, pacing in ((UNTIMED[target], False), (TRANSLATED, True)):
+                        if row == TRANSLATED and target != "hunav2":
+                            continue
+                        count = tally[(kind, row, speed)]
+                        count[2] += 1
+                        count[1] += bool(plain.refused)
+                        count[0] += not plain.refused and run_as_target(plain, speed, args.robot, pacing=pacing).passed
             for target in TIMED_TARGETS:
                 twin = target_twin(run, target, work / "twins" / target / label.replace("/", "__"))
                 for speed in SPEEDS:
@@ -88,7 +101,7 @@ def main() -> None:
     print(f"\nAs the targets run them: {args.robot} robot at x its cruise speed; our pacing off; verified / refused "
           "/ total of the runs that verify in our simulator")
     print("\n| target | speed | cards | % | fixtures | % |\n|---|---:|---|---:|---|---:|")
-    for target in (*TIMED_TARGETS, "reference"):
+    for target in (*TIMED_TARGETS, *UNTIMED.values(), OWN, TRANSLATED):
         for speed in SPEEDS:
             cells = []
             for kind in ("cards", "fixtures"):

@@ -139,8 +139,9 @@ HUNAV2: dict[str, Hunav2Translation] = {
         reason="approximated: HuNavSim 2.x has no input for what the robot says, so the export writes the condition "
                "under which the robot's script says the phrase (blocked / at an encounter: the robot within the "
                "cue's distance, in view, IsRobotVisible; near a person: IsRobotClose; start / after: the time "
-               "window, TimeExpiredCondition), without the seconds the phrase is held; refused when the script "
-               "says it when another person speaks or at a place this person does not pass"),
+               "window, TimeExpiredCondition), without the seconds the phrase is held; a phrase said to another "
+               "person or at a place this person does not pass is not heard; refused when the script says it "
+               "when a person speaks (2.x cannot tell which phrase)"),
     "RobotSaid": Hunav2Translation(
         by_script=True,
         reason="approximated as RobotSays (the script's condition), latched: once it held, the tree runs with "

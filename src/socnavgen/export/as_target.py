@@ -149,12 +149,13 @@ def _twin_location(location_dir: Path, scene: ExportScene, holds: dict[str, Hold
     return location, paths
 
 
-def target_twin(run_dir: Path | str, target: str, work: Path | str) -> Twin:
-    """The run as `target` runs it, written under `work` (replaced if there)."""
+def target_twin(run_dir: Path | str, target: str, work: Path | str, *, timing: bool = True) -> Twin:
+    """The run as `target` runs it, written under `work` (replaced if there). `timing=False`: the exported
+    trees without their timing (to run with our pacing instead: what the translation alone does)."""
     original = load_run(run_dir)
     scene, _ = build_scene(original.root)
     twin = Twin(original=original, target=target, robot_speed=scene.robot_speed, start_wait=start_wait(scene))
-    timed_scene, holds = with_waiting_goals(scene)
+    timed_scene, holds = with_waiting_goals(scene) if timing else (scene, {})
     try:
         trees = _trees(timed_scene, holds, target)
     except SocnavgenError as exc:
@@ -180,10 +181,15 @@ def target_twin(run_dir: Path | str, target: str, work: Path | str) -> Twin:
     return twin
 
 
-def run_as_target(twin: Twin, speed: float, robot: str = "careful", seed: int = 0):  # noqa: ANN201 - VerifyReport
-    """Simulate the twin with the robot at `speed` x its cruise speed; the verdict on the ORIGINAL run."""
+def run_as_target(twin: Twin, speed: float, robot: str = "careful", seed: int = 0,  # noqa: ANN201 - VerifyReport
+                  pacing: bool = False):
+    """Simulate the twin with the robot at `speed` x its cruise speed; the verdict on the ORIGINAL run.
+    `pacing`: our simulator's pacing on (a reference, with a twin made with timing=False)."""
     assert twin.run is not None, twin.refused
-    throttle = ThrottleConfig(rule="socrates") if twin.target == "socrates" else ThrottleConfig(enabled=False)
+    if pacing:
+        throttle = ThrottleConfig()
+    else:
+        throttle = ThrottleConfig(rule="socrates") if twin.target == "socrates" else ThrottleConfig(enabled=False)
     policy = ROBOTS[robot](max_speed=twin.robot_speed * speed, delay=twin.start_wait)
     trace = simulate_run(twin.run, robot=policy, location=twin.location,
                          seed=seed, throttle=throttle, save=False)

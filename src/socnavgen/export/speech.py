@@ -6,9 +6,10 @@ phrase, as seen from the person - an approximation, listed per node in the expor
     RobotSays(m)   -> the condition of every cue (spec.json) and gesture rule (paths.json) that says m, OR-ed:
                         blocked / rule blocked     the robot within the cue's distance, in view (IsRobotVisible)
                         at_encounter               the same, for a person whose path goes through the
-                                                   encounter's node (else refused: said elsewhere)
+                                                   encounter's node (else not heard: said elsewhere)
                         human_within (this person, anyone, or the person's group) / rule near_human
-                                                   the robot within the distance (IsRobotNearby)
+                                                   the robot within the distance (IsRobotNearby); said to
+                                                   another person: not heard
                         rule at_node               the robot within 1 m, in view, for a person passing the node
                         start / after / always     the same time window (TimeExpiredCondition)
                       (each distance condition counts only once it has held HEARD_AFTER s: see there)
@@ -33,6 +34,7 @@ from socnavgen.export.timing import latch
 from socnavgen.run.spec import RobotCue
 
 PHRASE_NODES = ("RobotSays", "RobotSaid")
+REFUSED = "refused: "  # marks a cue no condition can express (vs one this person does not hear)
 AT_NODE_DISTANCE = 1.0  # m: a paths.json `at_node` rule holds with the robot this close to the node
 HEARD_AFTER = 0.5  # s: a geometric phrase condition must first have held this long (a person takes a moment to
 # hear the robot; the script's own trigger - someone AHEAD within the distance - is stricter than "near, in
@@ -95,7 +97,8 @@ class _Speech:
         self.group = {h.name for h in scene.humans if h.group_id != -1 and h.group_id == human.group_id}
 
     def cue(self, cue: RobotCue, latched: bool) -> tuple[Node | None, str]:
-        """(condition, what it approximates) or (None, why none exists)."""
+        """(condition, what it approximates); (None, why) for a phrase this person does not hear (said to
+        someone else, elsewhere); REFUSED in `why` when no condition can say when it is said."""
         trig = cue.trigger
         if trig.when in ("start", "after"):
             start = trig.seconds if trig.when == "after" else 0.0
@@ -105,7 +108,7 @@ class _Speech:
         if trig.when == "at_encounter":
             enc = self.scene.spec.encounter(trig.encounter or "") if self.scene.spec else None
             if enc is None or enc.node not in self.human.path:
-                return None, (f"it is said at encounter {trig.encounter} ({enc.node if enc else '?'}), which "
+                return None, (f"not heard when said at encounter {trig.encounter} ({enc.node if enc else '?'}), which "
                               f"{self.human.name}'s path does not pass")
             return _visible(trig.distance), (f"at encounter {trig.encounter} ({enc.node}) within {trig.distance:g} m: "
                                              f"the robot within {trig.distance:g} m of {self.human.name}, in view")
@@ -113,9 +116,9 @@ class _Speech:
             if trig.human in (None, self.human.name) or trig.human in self.group:
                 who = "anyone" if trig.human is None else trig.human
                 return _near(trig.distance), f"{who} within {trig.distance:g} m: the robot within {trig.distance:g} m"
-            return None, f"it is said when {trig.human} (not {self.human.name} or its group) is near the robot"
-        return None, f"it is said when {trig.human or 'someone'} says {trig.phrase}: HuNavSim 2.x cannot tell which " \
-                     "phrase a person says"
+            return None, f"not heard when said to {trig.human} (not {self.human.name} or its group)"
+        return None, f"{REFUSED}it is said when {trig.human or 'someone'} says {trig.phrase}: HuNavSim 2.x cannot " \
+                     "tell which phrase a person says"
 
     def rule(self, rule, latched: bool) -> tuple[Node | None, str]:  # noqa: ANN001 - run.models.RobotGestureRule
         if rule.when == "always":
@@ -127,22 +130,25 @@ class _Speech:
             return _near(rule.distance), f"rule near_human {rule.distance:g} m: the robot within {rule.distance:g} m"
         if rule.node in self.human.path:
             return _visible(AT_NODE_DISTANCE), f"rule at_node {rule.node}: the robot within {AT_NODE_DISTANCE:g} m, in view"
-        return None, f"it is said at node {rule.node}, which {self.human.name}'s path does not pass"
+        return None, f"not heard when said at node {rule.node}, which {self.human.name}'s path does not pass"
 
     def condition(self, message: int, latched: bool) -> tuple[Node | None, str]:
-        """The condition under which the robot says `message`, or (None, why there is none)."""
+        """The condition under which this person hears the robot say `message`, or (None, why none can say it).
+        A phrase said to someone else or at a place the person does not pass is not heard (the robot speaks
+        to those near it); only a phrase said when a person speaks cannot be told at all."""
         phrase = ROBOT_GESTURES.get(message, str(message))
         found: list[tuple[Node | None, str]] = []
         if self.scene.spec is not None:
             found += [self.cue(c, latched) for c in self.scene.spec.script.cues if c.say == phrase]
         found += [self.rule(r, latched) for r in self.scene.plan.robot_gestures if r.gesture == message]
-        missing = [why for cond, why in found if cond is None]
-        if missing:
-            return None, f"the robot says {phrase} ({message}) but " + "; ".join(missing)
-        if not found:
-            return _never(), f"the robot's script never says {phrase}: never"
+        refused = [why.removeprefix(REFUSED) for cond, why in found if cond is None and why.startswith(REFUSED)]
+        if refused:
+            return None, f"the robot says {phrase} ({message}) but " + "; ".join(refused)
+        heard = [(c, why) for c, why in found if c is not None]
         what = "; ".join(why for _, why in found)
-        return _any([c for c, _ in found if c is not None]), f"{phrase} ({message}) is said on {what}"
+        if not heard:
+            return _never(), f"{phrase} ({message}): never" + (f" ({what})" if what else ": the script never says it")
+        return _any([c for c, _ in heard]), f"{phrase} ({message}) is heard on {what}"
 
 
 def rebuild(root: Node, swap: Callable[[Node], Node | None], keep: set[Node]) -> Node:
