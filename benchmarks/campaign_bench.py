@@ -100,7 +100,7 @@ def dt_check(root: Path, seeds: int = 2) -> None:
         cpu = time.process_time()
         run_campaign(spec, root / f"dt{dt}", executor="inline", workers=1, batch_size=8)
         costs[dt] = time.process_time() - cpu
-        tables[dt] = {(r["scenario"], r["seed"]): r for r in read_episodes(root / f"dt{dt}").to_pylist()}
+        tables[dt] = {(r["scenario"], r["seed"]): r for r in read_episodes(root / f"dt{dt}")[0].to_pylist()}
     keys = sorted(tables[0.05])
     n = len(keys)
     print(f"\nTime step check: {n} episodes (every card x bundled location x {seeds} seeds, scripted robot)")

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 # -- bodies ---------------------------------------------------------------------------------------
 PERSON_RADIUS = 0.4  # m: a simulated person's disc (HuNavSim agent radius)
+PERSON_HEIGHT = 1.8  # m: what a walking person's body fills above the floor: a shelf lower than this blocks
 ROBOT_RADIUS = 0.35  # m: the robot's disc (SocRATES Gazebo wrapper)
 TOUCH_DISTANCE = PERSON_RADIUS + ROBOT_RADIUS  # m centre to centre: robot and person touch (0.75)
 PERSON_TOUCH_DISTANCE = 2 * PERSON_RADIUS  # m centre to centre: two people touch (0.8)

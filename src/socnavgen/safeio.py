@@ -47,16 +47,24 @@ def load_json_file(path: Path, limit: int = MAX_TEXT_BYTES) -> Any:
 
 
 def load_yaml_file(path: Path, limit: int = MAX_TEXT_BYTES) -> Any:
-    text = read_text_limited(path, limit)
+    return parse_yaml_text(read_text_limited(path, limit), path)
+
+
+def parse_yaml_text(text: str, file: Path | str) -> Any:
+    """yaml.safe_load with one message naming `file` for everything it can raise: malformed YAML (with its
+    line), nesting too deep, an integer of thousands of digits (Python refuses to read it)."""
     try:
         return yaml.safe_load(text)
     except RecursionError as exc:
-        raise InputFileError("refused: YAML nested too deeply", file=path, hint="is this the right file?") from exc
+        raise InputFileError("refused: YAML nested too deeply", file=file, hint="is this the right file?") from exc
+    except ValueError as exc:  # int() of more than 4300 digits, raised while constructing the value
+        raise InputFileError("refused: a number with thousands of digits", file=file,
+                             hint="is this the right file? (keys and values are names and ordinary numbers)") from exc
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         line = mark.line + 1 if mark is not None else None
         problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
-        raise InputFileError(f"malformed YAML: {problem}", file=path, line=line,
+        raise InputFileError(f"malformed YAML: {problem}", file=file, line=line,
                              hint="fix the YAML syntax at that line") from exc
 
 
@@ -65,6 +73,12 @@ def _umask() -> int:
     mask = os.umask(0o022)
     os.umask(mask)
     return mask
+
+
+def ordinary_mode() -> int:
+    """The mode an ordinary open() gives a new file (0666 minus the umask): temp files (mkstemp: 0600) get it
+    before they are renamed into place."""
+    return ORDINARY_FILE_MODE & ~_umask()
 
 
 def atomic_write_bytes(path: Path, data: bytes) -> None:
@@ -76,7 +90,7 @@ def atomic_write_bytes(path: Path, data: bytes) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:
-        os.fchmod(fd, ORDINARY_FILE_MODE & ~_umask())
+        os.fchmod(fd, ordinary_mode())
         with os.fdopen(fd, "wb") as fh:
             fh.write(data)
             fh.flush()

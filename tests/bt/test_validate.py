@@ -143,8 +143,11 @@ def test_subtree_loop_is_reported() -> None:
 
 
 @pytest.mark.parametrize(("xml", "expected", "line"), [
-    ("<root><BehaviorTree ID='T'><RobotMoved agent_id='{id}'/></BehaviorTree></root>",
-     "<root> has no main_tree_to_execute attribute", 1),
+    ("<root><BehaviorTree ID='T'><RobotMoved agent_id='{id}'/></BehaviorTree><BehaviorTree ID='U'>"
+     "<RobotMoved agent_id='{id}'/></BehaviorTree></root>", "<root> has no main_tree_to_execute attribute", 1),
+    # BT.CPP runs the only tree it knows; an included file's trees count
+    ("<root><include path='BTRegularNav.xml'/><BehaviorTree ID='T'><RobotMoved agent_id='{id}'/></BehaviorTree>"
+     "</root>", "<root> has no main_tree_to_execute attribute", 1),
     (tree("<RobotMoved agent_id='{id}'/>", main="Main"), "main_tree_to_execute='Main' names no <BehaviorTree>", 1),
     ("<root main_tree_to_execute='T'>\n<BehaviorTree ID='T'>\n<RobotMoved agent_id='{id}'/>\n"
      "<RobotMoved agent_id='{id}'/>\n</BehaviorTree>\n</root>", "must have exactly one child node, it has 2", 2),
@@ -234,7 +237,7 @@ def test_unknown_target() -> None:
 
 
 def test_version_4_files() -> None:
-    xml = ("<root BTCPP_format='4'>\n<BehaviorTree ID='T'><Sequence>"
+    xml = ("<root BTCPP_format='4' main_tree_to_execute='T'>\n<BehaviorTree ID='T'><Sequence>"
            "<SetBlackboard output_key='agentid' value='{id}'/><SetBlackboard output_key='timestep' value='{dt}'/>"
            "<SubTree ID='RegularNavTree' id='{agentid}' dt='{timestep}'/></Sequence></BehaviorTree>\n"
            f"{INCLUDE}\n</root>")

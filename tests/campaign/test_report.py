@@ -14,7 +14,7 @@ from socnavgen.campaign.store import read_episodes
 def test_report_ranks_the_bad_policy_worst_and_is_self_contained(small_spec, tmp_path) -> None:  # noqa: ANN001
     out = tmp_path / "o"
     run_campaign(small_spec, out, executor="inline")
-    agg = aggregate(read_episodes(out), resamples=500, baseline="scripted")
+    agg = aggregate(read_episodes(out)[0], resamples=500, baseline="scripted")
     bad, good = agg.per_policy["bad"]["collisions"], agg.per_policy["scripted"]["collisions"]
     assert bad.mean > good.mean
     assert agg.paired["bad"]["collisions"].losses >= 3  # worse on most of the same scenario+seed pairs

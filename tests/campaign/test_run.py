@@ -95,14 +95,14 @@ def test_run_folders_and_a_folder_of_runs(tmp_path) -> None:  # noqa: ANN001
     assert {r["location"] for r in rows} == {"warehouse"}
 
 
-def test_a_different_campaign_in_the_same_folder_is_refused(small_spec, tmp_path) -> None:  # noqa: ANN001
-    import pytest
-
+def test_a_changed_campaign_runs_only_what_it_adds_and_another_is_refused(small_spec, tmp_path) -> None:  # noqa: ANN001
     from socnavgen.errors import InputFileError
 
     run_campaign(small_spec.model_copy(update={"seeds": [0]}), tmp_path / "o", executor="inline")
-    with pytest.raises(InputFileError, match="different campaign"):
-        run_campaign(small_spec.model_copy(update={"seeds": [0, 5]}), tmp_path / "o", executor="inline")
+    more = run_campaign(small_spec.model_copy(update={"seeds": [0, 5]}), tmp_path / "o", executor="inline")
+    assert (more.skipped_done, more.ran) == (4, 4)
+    with pytest.raises(InputFileError, match="another campaign"):
+        run_campaign(small_spec.model_copy(update={"name": "other"}), tmp_path / "o", executor="inline")
 
 
 def test_compiling_the_simulator_does_not_count_against_an_episode(small_spec, tmp_path, monkeypatch) -> None:  # noqa: ANN001
@@ -129,4 +129,4 @@ def test_compiling_the_simulator_does_not_count_against_an_episode(small_spec, t
     spec = small_spec.model_copy(update={"seeds": [0], "simulation": small_spec.simulation.model_copy(
         update={"wall_timeout": 1.0})})
     result = run_campaign(spec, tmp_path / "o", executor="inline")
-    assert len(calls) == 4 and result.failed == 0 and result.ran == 4  # asked before every episode
+    assert len(calls) == 5 and result.failed == 0 and result.ran == 4  # in the parent, then before every episode

@@ -43,7 +43,7 @@ def test_good_file_parses_with_shorthands() -> None:
     (GOOD.replace("timeout: 30", "timeout: -1"), 11, "simulation.timeout"),
     (GOOD.replace("path_efficiency]", "path_eficiency]"), 12, "unknown metric"),
     (GOOD.replace("  - folder: runs/", "  - folders: runs/"), 6, "folders"),
-    (GOOD.replace("name: mine", "name: waypoints"), 8, "repeated: waypoints"),
+    (GOOD.replace("name: mine", "name: waypoints"), 7, "repeated: waypoints"),  # the `policies:` line
     (GOOD.replace("seeds: 3", "seedz: 3"), 10, "seedz"),
     (GOOD.replace("policies:", "policies: [\n"), None, "malformed YAML"),
     ("- just a list\n", 1, "YAML mapping"),

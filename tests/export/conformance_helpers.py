@@ -12,7 +12,7 @@ from pathlib import Path
 import yaml
 
 from socnavgen.bt.library import HUNAV2_REGISTERED
-from socnavgen.bt.tree import BTElement, parse_bt
+from socnavgen.bt.tree import BTElement, read_xml
 from socnavgen.cards.generate import fit_all, write_card_run
 from socnavgen.export.models import ExportScene, HumanExport, WorldPoint
 from socnavgen.export.scene import build_scene
@@ -71,14 +71,15 @@ def human_for(xml: str, label: str) -> HumanExport:
 def without_leaf_ports(text: str) -> str:
     """The same tree with the ports of 2.x leaves removed (their `name` kept): behaviortreepy cannot declare
     ports, so BT.CPP would reject every one; the ports themselves are checked by bt.loader_rules against the table."""
-    doc = parse_bt(text, "tree")
+    root = read_xml(text, "tree")
 
     def strip(elem: BTElement) -> BTElement:
         attrs = {k: v for k, v in elem.attrs.items() if k == "name" or elem.tag not in HUNAV2_REGISTERED}
         return BTElement(elem.tag, attrs, [strip(c) for c in elem.children])
 
-    trees = "".join(element_xml(strip(t)) for t in doc.trees.values())
-    return f'<root BTCPP_format="4" main_tree_to_execute="{doc.main_tree}">\n{trees}</root>\n'
+    trees = "".join(element_xml(strip(t)) for t in root.children if t.tag == "BehaviorTree")
+    main = root.attrs["main_tree_to_execute"]
+    return f'<root BTCPP_format="4" main_tree_to_execute="{main}">\n{trees}</root>\n'
 
 
 def btcpp_factory(ticks: list[str]):  # noqa: ANN201 - behaviortreepy factory

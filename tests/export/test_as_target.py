@@ -1,11 +1,13 @@
 """Proof in our simulator that exported scenarios happen as the targets run them (issue 27): every card on
-every bundled location and every replay fixture, simulated from the socrates and hunav2 exports with our pacing
-off and a waypoint robot (export.as_target), verifies whenever the run verifies in our own simulator (the
-scripted robot, our pacing, its own trees) - at least 95 % of the cards, the fixtures but the named misses.
+every bundled location and every replay fixture that verifies in our own simulator (the scripted robot, our
+pacing, its own trees) is simulated from the socrates and hunav2 exports with our pacing off and a waypoint
+robot (export.as_target), and judged. The export's timing must do what our pacing does: a run the same robot
+manages with our pacing and the run's own trees (the reference) verifies as the target runs it, but for the
+named misses (KNOWN_LOST, each with why; the test fails if another is lost or one of them verifies again).
 
 Kept fast: each card runs at ONE robot speed, 0.5x, 1x and 1.5x in turn (so each speed covers a third of the
-cards); the fixtures at all three. The full matrix (every card at every speed, and the robot's own reference)
-is `python benchmarks/export_targets_bench.py` (docs/export.md has its table)."""
+cards); the fixtures at all three. The full matrix (every card at every speed, with the references) is
+`python benchmarks/export_targets_bench.py` (docs/export.md has its table)."""
 
 from __future__ import annotations
 
@@ -13,56 +15,75 @@ from pathlib import Path
 
 import pytest
 
-from socnavgen.export.as_target import SPEEDS, TIMED_TARGETS, run_as_target, target_twin
+from socnavgen.export.as_target import ROBOTS, SPEEDS, TIMED_TARGETS, run_as_target, target_twin
+from socnavgen.export.scene import build_scene
+from socnavgen.export.timing import start_wait
 from socnavgen.sim.scenario import simulate_run
 from socnavgen.verify.runner import verify_trace
 
-# (target, fixture, speed) -> why it does not verify as the target runs it; the test fails if another misses
-# or if one of these starts to verify (then remove it here).
-KNOWN_MISSES = {
-    ("socrates", "paper_scene_b_verify", 0.5): "the waypoint robot turns the blind corner into the worker who "
-                                               "stops there and never gets past (also with our own pacing at 1x)",
-    ("socrates", "paper_scene_b_verify", 1.0): "as at 0.5x",
-    ("socrates", "paper_scene_b_verify", 1.5): "as at 0.5x",
-    ("hunav2", "paper_scene_b_verify", 0.5): "as for socrates",
-    ("hunav2", "paper_scene_b_verify", 1.0): "as for socrates",
-    ("hunav2", "paper_scene_b_verify", 1.5): "as for socrates",
-    ("socrates", "hospital_evacuation_v2_verify", 1.5): "a robot at 0.75 m/s outruns the patient who follows it "
-                                                        "(also with our own pacing)",
-    ("hunav2", "hospital_evacuation_v2_verify", 1.5): "as for socrates",
+# (target, card, speed) -> why it misses as the target runs it although our pacing makes it with the same robot
+_CROSSING = ("the robot at 0.9 m/s and the released person reach the 1g crossing together and the person walks "
+             "into its side (gap <= 5 cm is contact); our pacing slows the person down instead of holding it")
+KNOWN_LOST = {
+    ("socrates", "hospital/intersection-no-gesture", 1.5): _CROSSING,
+    ("hunav2", "hospital/intersection-no-gesture", 1.5): _CROSSING,
+    ("socrates", "hospital/narrow-hallway", 0.5): "the person giving way in the 1.2 m hallway brushes the robot "
+                                                  "creeping past at 0.3 m/s (gap <= 5 cm)",
+    ("hunav2", "home/accompanying-peer", 1.5): "the 2.x companion (CuriousNav, 0.8 m/s) stays beside the robot at "
+                                               "0.9 m/s and keeps it from its goal",
 }
 
 
 @pytest.fixture(scope="module")
-def outcomes(bundled_runs, tmp_path_factory) -> list[tuple[str, str, str, float, bool, str]]:  # noqa: ANN001
-    """(kind, label, target, speed, verified, why not) of every run that verifies in our simulator."""
+def outcomes(bundled_runs, tmp_path_factory) -> list[tuple]:  # noqa: ANN001
+    """(kind, label, target, speed, verified, reference verified, why not) of every run that verifies in our
+    simulator; the reference is the same robot at the same speed with our pacing and the run's own trees."""
     work = Path(tmp_path_factory.mktemp("as_target"))
     rows = []
     for k, (kind, label, run) in enumerate(bundled_runs):
         if not verify_trace(run, simulate_run(run, save=False)).passed:
             continue
+        scene, _ = build_scene(run)
         speeds = SPEEDS if kind == "fixtures" else (SPEEDS[k % len(SPEEDS)],)
+        reference = {}
+        for speed in speeds:
+            robot = ROBOTS["careful"](max_speed=scene.robot_speed * speed, delay=start_wait(scene))
+            reference[speed] = verify_trace(run, simulate_run(run, robot=robot, save=False)).passed
         for target in TIMED_TARGETS:
             twin = target_twin(run, target, work / target / label.replace("/", "__"))
             for speed in speeds:
                 if twin.refused:
-                    rows.append((kind, label, target, speed, False, "refused: " + twin.refused))
+                    rows.append((kind, label, target, speed, False, reference[speed], "refused: " + twin.refused))
                     continue
                 report = run_as_target(twin, speed)
-                rows.append((kind, label, target, speed, report.passed, "; ".join(f.name for f in report.failures)))
+                rows.append((kind, label, target, speed, report.passed, reference[speed],
+                             "; ".join(f.name for f in report.failures)))
     return rows
 
 
 @pytest.mark.parametrize("target", TIMED_TARGETS)
 def test_cards_happen_as_the_target_runs_them(outcomes, target: str) -> None:  # noqa: ANN001
     rows = [r for r in outcomes if r[0] == "cards" and r[2] == target]
-    assert len(rows) >= 60 and {r[3] for r in rows} == set(SPEEDS)  # nearly every card verifies in our simulator
-    missed = [f"{label} at {speed:g}x: {why}" for _, label, _, speed, ok, why in rows if not ok]
-    assert len(missed) <= 0.05 * len(rows), missed
+    assert len(rows) >= 25 and {r[3] for r in rows} == set(SPEEDS)  # the cards that verify in our simulator
+    lost = {(target, label, speed): why for _, label, _, speed, ok, ref, why in rows if ref and not ok}
+    known = {k: v for k, v in KNOWN_LOST.items() if k[0] == target}
+    assert set(lost) == set(known), lost  # what our pacing manages, the exported timing manages
+    missed = [f"{label} at {speed:g}x: {why}" for _, label, _, speed, ok, _, why in rows if not ok]
+    assert len(missed) <= 0.1 * len(rows), missed
 
 
 def test_fixtures_happen_as_the_targets_run_them(outcomes) -> None:  # noqa: ANN001
     rows = [r for r in outcomes if r[0] == "fixtures"]
-    assert {r[1] for r in rows} >= {"paper_scene_a", "paper_scene_c", "hospital_evacuation_v2_verify"}
-    missed = {(target, label, speed): why for _, label, target, speed, ok, why in rows if not ok}
-    assert set(missed) == set(KNOWN_MISSES), {k: v for k, v in missed.items() if k not in KNOWN_MISSES}
+    assert rows and {r[2] for r in rows} == set(TIMED_TARGETS)
+    lost = [f"{target} {label} at {speed:g}x: {why}" for _, label, target, speed, ok, ref, why in rows if ref and not ok]
+    assert lost == []
+
+
+def test_the_check_can_fail(bundled_runs, tmp_path: Path) -> None:
+    """The trees without their timing lose encounters our pacing makes: the same check on them fails."""
+    cards = [(label, run) for kind, label, run in bundled_runs if kind == "cards" and "intersection" in label]
+    lost = 0
+    for label, run in cards:
+        twin = target_twin(run, "socrates", tmp_path / label.replace("/", "__"), timing=False)
+        lost += not run_as_target(twin, 1.0).passed
+    assert lost > 0.05 * len(cards), (lost, len(cards))

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import pytest
@@ -57,3 +58,22 @@ def test_tree_of_1x_nodes_in_a_custom_shape_is_refused(make_run, tmp_path: Path)
     # IsRobotNearby has no 1.x node; TRANSLATABLE_TREE also has a custom shape
     with pytest.raises(SocnavgenError, match="IsRobotNearby"):
         export_run(make_run(trees={"human1": TRANSLATABLE_TREE, "human2": REGULAR_TREE}), "hunav1", tmp_path / "o")
+
+
+@pytest.mark.parametrize("variant", [
+    lambda t: t.replace('distance="10"', 'distance="10.0"').replace('only_once="true"', 'only_once="TRUE"'),
+    lambda t: t.replace('seconds="30"', 'seconds=" 30 "'),  # the port's double, however it is written
+    lambda t: t.replace("<FollowRobot", '<Action ID="FollowRobot"'),  # the explicit form
+    lambda t: t.replace('<Sequence name="RegNav">', "<Sequence><Sequence>").replace(
+        "</Sequence>\n        </Fallback>", "</Sequence></Sequence>\n        </Fallback>"),  # nested controls
+])
+def test_same_meaning_is_the_same_builtin(variant) -> None:  # noqa: ANN001
+    from socnavgen.export.hunav1 import builtin_behavior
+
+    from .conformance_helpers import human_for
+
+    tree = variant(CURIOUS_TREE)
+    assert tree != CURIOUS_TREE
+    assert builtin_behavior(human_for(tree, "t.xml")) == (5, [])
+    # a port left out holds its default (only_once false): another behavior
+    assert builtin_behavior(human_for(re.sub(' only_once="[^"]*"', "", tree), "t.xml"))[0] is None

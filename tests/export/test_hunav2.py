@@ -10,7 +10,8 @@ import yaml
 from defusedxml import ElementTree as DET
 
 from socnavgen.bt.library import HUNAV2_REGISTERED
-from socnavgen.bt.tree import parse_bt
+from socnavgen.bt.loader_rules import hunav2_vocabulary
+from socnavgen.bt.parse import parse_document
 from socnavgen.errors import SocnavgenError
 from socnavgen.export import export_run
 
@@ -77,29 +78,32 @@ def test_yaml_matches_upstream_structure(exported: Path, reference_dir: Path) ->
 def test_trees_are_v4_self_contained_and_use_2x_nodes(exported: Path) -> None:
     assert not (exported / TREES / "demo__agent_0_bt.xml").exists()  # HuNavSim ids start at 1
     text = (exported / TREES / "demo__agent_1_bt.xml").read_text()
-    doc = parse_bt(text, "agent_1")
-    assert doc.format_version == 4 and doc.root.attrs["BTCPP_format"] == "4"
+    doc, problems = parse_document(text, "agent_1", hunav2_vocabulary())  # what 2.x's factory knows
+    assert problems == [] and doc is not None
+    assert doc.format_version == 4 and 'BTCPP_format="4"' in text
     assert doc.main_tree == "WaitTree"
-    assert doc.includes == [] and "RegularNavTree" in doc.trees  # inlined, not included
+    assert doc.includes == () and "RegularNavTree" in doc.trees  # inlined, not included
     known = registered_ports()
     builtins = {"ReactiveSequence", "ReactiveFallback", "Sequence", "Fallback", "Inverter", "RunOnce",
                 "SetBlackboard", "SubTree", "KeepRunningUntilFailure", "ForceSuccess"}
-    for tree in doc.trees.values():
-        for elem in list(tree.walk())[1:]:
-            assert elem.tag in known or elem.tag in builtins, elem.tag
-            if elem.tag in known:  # every port we write is a port 2.x declares
-                assert set(elem.attrs) - {"name"} <= known[elem.tag], (elem.tag, elem.attrs)
-    tags = {e.tag: e.attrs for t in doc.trees.values() for e in t.walk()}
+    nodes = [n for t in doc.trees.values() if t.root is not None for n in t.root.walk()]
+    for node in nodes:
+        assert node.name in known or node.name in builtins, node.name
+        if node.name in known:  # every port we write is a port 2.x declares
+            assert set(node.attrs) - {"name"} <= known[node.name], (node.name, node.attrs)
+    tags = {n.name: n.attrs for n in nodes}
     assert tags["SaySomething"]["message"] == "WAIT"
     assert tags["IsRobotClose"]["threshold"] == "2.0"
     assert tags["CuriousNav"]["stop_distance"] == "1.5" and tags["CuriousNav"]["agent_vel"] == "0.8"
     assert tags["SurprisedNav"]["agent_id"] == "{id}"
     assert "ApproachRobot" not in tags  # no RUNNING-forever node
-    fallbacks = [e.attrs.get("name") for t in doc.trees.values() for e in t.walk() if e.tag == "Fallback"]
+    fallbacks = [n.label for n in nodes if n.name == "Fallback"]
     assert fallbacks == ["QueueGoalsThenBehave"]  # the tree's own controls became reactive
     assert tags["SubTree"]["id"] == "{agentid}"  # v4 remapping syntax
-    set_goals = [e.attrs["goal_id"] for e in doc.trees["WaitTree"].walk() if e.tag == "SetGoal"]
-    assert set_goals == ["1", "2"]
+    main = doc.trees["WaitTree"].root
+    assert main is not None
+    set_goals = [n.ports["goal_id"] for n in main.walk() if n.name == "SetGoal"]
+    assert set_goals == [1, 2]
 
 
 def test_agent_ids_start_at_one_and_literal_target_ids_shift(make_run, tmp_path: Path) -> None:
@@ -111,8 +115,9 @@ def test_agent_ids_start_at_one_and_literal_target_ids_shift(make_run, tmp_path:
     params = yaml.safe_load((out / "hunav_gazebo_wrapper/scenarios/demo.yaml").read_text())
     p = params["hunav_loader"]["ros__parameters"]
     assert [p["human1"]["id"], p["human2"]["id"]] == [1, 2]
-    doc = parse_bt((out / TREES / "demo__agent_2_bt.xml").read_text(), "a2")
-    follow_agent = next(e for t in doc.trees.values() for e in t.walk() if e.tag == "FollowAgent")
+    doc, problems = parse_document((out / TREES / "demo__agent_2_bt.xml").read_text(), "a2", hunav2_vocabulary())
+    assert doc is not None and problems == []
+    follow_agent = next(n for t in doc.trees.values() if t.root for n in t.root.walk() if n.name == "FollowAgent")
     assert follow_agent.attrs["target_agent_id"] == "1"  # our human1 (0) is HuNavSim's agent 1
     assert follow_agent.attrs["duration"] == "0.0" and follow_agent.attrs["max_vel"] == "1.5"
 
@@ -170,3 +175,37 @@ def test_standalone_model_has_every_registered_port(exported: Path) -> None:
     assert ports["BlockRobot"]["duration"] == "0.0" and ports["LookAtRobot"]["yaw_tolerance"] == "0.01"
     assert {"target_x", "target_y", "goal_id"} <= ports["SetGoal"].keys()
     assert ports["TimeExpiredCondition"] == {"seconds": "1.0", "ts": "0.01", "only_once": "false"}
+
+
+SHARED = """<root main_tree_to_execute="M">
+  <BehaviorTree ID="M">
+    <Sequence>
+      <SetBlackboard output_key="near" value="2"/>
+      <SubTree ID="Look" __shared_blackboard="1"/>
+    </Sequence>
+  </BehaviorTree>
+  <BehaviorTree ID="Look">
+    <Sequence><IsRobotNearby agent_id="{id}" distance="{near}"/><LookAtRobot agent_id="{id}"/></Sequence>
+  </BehaviorTree>
+</root>"""
+
+
+@pytest.mark.parametrize("xml, call", [
+    (SHARED, {"ID": "Look", "_autoremap": "true"}),  # v3 shared blackboard -> v4 autoremap
+    (SHARED.replace('<root main_tree_to_execute="M">', '<root main_tree_to_execute="M" BTCPP_format="4">')
+     .replace(' __shared_blackboard="1"', ' id="{id}" near="2.5"').replace('output_key="near" value="2"',
+                                                                         'output_key="x" value="1"'),
+     {"ID": "Look", "id": "{id}", "near": "2.5"}),  # a v4 constant stays a constant
+])
+def test_subtree_semantics_survive_the_translation(xml: str, call: dict[str, str]) -> None:
+    from socnavgen.bt.loader_rules import hunav2_problems
+    from socnavgen.export.hunav2 import translate_tree
+
+    from .conformance_helpers import human_for
+
+    text, refused = translate_tree(human_for(xml, "t.xml"), [1])
+    assert refused == [] and hunav2_problems(text) == []
+    doc, _ = parse_document(text, "t", hunav2_vocabulary())
+    assert doc is not None and doc.trees["M"].root is not None
+    (subtree,) = [n for n in doc.trees["M"].root.walk() if n.name == "SubTree"]
+    assert dict(subtree.attrs) == call

@@ -92,6 +92,40 @@ def test_every_replayed_run_exports_with_timing_and_phrase_conditions_and_loads(
     assert exported >= 5, exported
 
 
+# ---- the checks can fail ---------------------------------------------------------------------
+GOOD = """<root BTCPP_format="4" main_tree_to_execute="T"><BehaviorTree ID="T">
+<ReactiveSequence><IsRobotClose agent_id="{id}" threshold="2.0"/>{leaf}</ReactiveSequence>
+</BehaviorTree></root>"""
+
+
+@pytest.mark.parametrize("leaf,message", [
+    ('<ApproachRobot agent_id="{id}" time_step="{dt}" closest_dist="1.5" duration="1"/>',
+     "ApproachRobot is missing required port 'max_vel'"),
+    ('<CuriousNav agent_id="{id}" time_step="{dt}" stop_distance="1.5" agent_vel="1" speed="2"/>',
+     "unknown port 'speed' on CuriousNav"),
+    ('<RobotSays agent_id="{id}" message="4"/>', "unknown node 'RobotSays'"),
+    ('<SubTree ID="Missing"/>', "names no BehaviorTree"),
+    ('<IsRobotClose agent_id="{agentid}"/>', "blackboard key 'agentid' is never set"),
+    ('<RunOnce><SetGoal agent_id="{id}"/></RunOnce>', "SetGoal is missing required port 'goal_id'"),
+    ('<TimeDelay delay="1"/>', "TimeDelay must have exactly one child"),
+])
+def test_loader_rules_reject(leaf: str, message: str) -> None:
+    problems = hunav2_problems(GOOD.replace("{leaf}", leaf))
+    assert any(message in p for p in problems), problems
+
+
+def test_loader_rules_accept_a_correct_tree() -> None:
+    ok = GOOD.replace("{leaf}", '<ApproachRobot agent_id="{id}" time_step="{dt}" closest_dist="1.5" max_vel="1.5"/>')
+    assert hunav2_problems(ok) == []
+    assert hunav2_problems(ok.replace(' BTCPP_format="4"', "")) == ['<tree>: BTCPP_format must be "4" for BT.CPP 4']
+    assert "ApproachRobot" in load_and_tick(ok, "ok")
+
+
+def test_real_btcpp_rejects_a_node_hunav2_does_not_register() -> None:
+    with pytest.raises(RuntimeError, match="RobotSays"):
+        load_and_tick(GOOD.replace("{leaf}", '<RobotSays agent_id="{id}" message="4"/>'), "bad")
+
+
 def scripted_factory(answers: dict[str, list[bool]], ticks: list[str]):  # noqa: ANN201
     """BT.CPP 4 with every 2.x leaf registered; a condition named in `answers` answers from its list (then its
     last answer for good), every other condition fails; actions succeed. Ticks are logged by node name."""

@@ -13,7 +13,21 @@ from .equivalence_helpers import outcomes
 
 # Where 2.x lacks the behaviour, the outcome may differ; each case is named with why (docs/export.md). The
 # test fails if another card diverges or if this one stops diverging (then remove it here).
-KNOWN_DIVERGENT: dict[str, str] = {}
+# Since contact is a gap of 5 cm or less (issue 25), whether a person brushes the robot (the simulator puts people
+# who walk into it back on its surface, 5 mm away) depends on small differences between the twins' motion.
+_BRUSH = "only one twin touches the person (gap <= 5 cm); the other passes as close as "
+_SIDE_STEP = ("the socrates person side-steps (GiveWaytoRobot) right against the robot passing it (gap <= 5 cm: "
+              "contact); 2.x has no side step, its AvoidRobot keeps 2 m away and the hunav2 twin passes")
+KNOWN_DIVERGENT = {
+    "hospital/narrow-doorway": "2.x has no side-step: GiveWaytoRobot becomes AvoidRobot, which keeps away; the "
+                               "socrates person side-steps in the 1.2 m door against the robot (gap 0.00 m)",
+    "home/robot-overtaking": _SIDE_STEP,
+    "hospital/robot-overtaking": _SIDE_STEP,
+    "warehouse/robot-overtaking": _SIDE_STEP,
+    "home/accompanying-peer": _BRUSH + "a few cm (the hunav2 twin touches)",
+    "hospital/robot-crowding": _BRUSH + "a few cm (the hunav2 twin touches)",
+    "warehouse/robot-crowding": _BRUSH + "a few cm (the socrates twin touches)",
+}
 
 
 def test_socrates_and_hunav2_runs_verify_the_same(tmp_path_factory) -> None:  # noqa: ANN001

@@ -10,7 +10,7 @@ import pytest
 import yaml
 from defusedxml import ElementTree as DET
 
-from socnavgen.bt.tree import parse_bt
+from socnavgen.bt.parse import parse_document
 from socnavgen.errors import SocnavgenError
 from socnavgen.export import export_run
 from socnavgen.export.models import ExportedFile
@@ -19,8 +19,8 @@ from socnavgen.export.writer import write_export
 from .export_helpers import GIVE_WAY_TREE, REGULAR_TREE, agent_shape, shape
 
 
-def skeleton_of(e):  # noqa: ANN001, ANN201 - BTElement -> nested tuples (tags and attributes)
-    return (e.tag, tuple(sorted(e.attrs.items())), tuple(skeleton_of(c) for c in e.children))
+def skeleton(n):  # noqa: ANN001, ANN201 - bt.model.Node -> nested tuples (names and ports)
+    return (n.name, tuple(sorted(n.ports)), tuple(skeleton(c) for c in n.children))
 
 
 @pytest.fixture
@@ -51,22 +51,20 @@ def test_agents_yaml_matches_fork_file(exported: Path, reference_dir: Path) -> N
 
 def test_trees_are_v3_and_selected_by_behavior(exported: Path, reference_dir: Path) -> None:
     trees = exported / "hunav_agent_manager/behavior_trees"
-    docs = {i: parse_bt((trees / f"LLMBT_{i}.xml").read_text(), f"LLMBT_{i}.xml") for i in (0, 1)}
-    assert all(d.format_version == 3 for d in docs.values())
-    assert docs[0].main_tree == "GiveWayTree" and docs[1].main_tree == "WalkTree"
+    docs = {i: parse_document((trees / f"LLMBT_{i}.xml").read_text(), f"LLMBT_{i}.xml") for i in (0, 1)}
+    assert all(problems == [] and d is not None and d.format_version == 3 for d, problems in docs.values())
+    assert docs[0][0].main_tree == "GiveWayTree" and docs[1][0].main_tree == "WalkTree"
     # human1 meets the robot at ee: its tree is wrapped in its timing (export.timing), its own tree inside intact
-    timing = docs[0].trees["GiveWayTree"].children[0]
-    assert (timing.tag, timing.attrs["name"]) == ("ReactiveFallback", "socnavgen_timing")
-    own = parse_bt(GIVE_WAY_TREE).trees["GiveWayTree"].children[0]
-    inner = next(e for e in timing.walk() if e.tag == "ForceSuccess").children[0]
-    assert skeleton_of(inner) == skeleton_of(own)
+    timing = docs[0][0].trees["GiveWayTree"].root
+    assert (timing.name, timing.label) == ("ReactiveFallback", "socnavgen_timing")
+    own = parse_document(GIVE_WAY_TREE)[0].trees["GiveWayTree"].root
+    inner = next(n for n in timing.walk() if n.name == "ForceSuccess").children[0]
+    assert skeleton(inner) == skeleton(own)
     assert (trees / "LLMBT_1.xml").read_text().strip() == REGULAR_TREE.strip()  # human2 has no meeting place
-    ours = parse_bt((trees / "BTRegularNav.xml").read_text())
-    ref = parse_bt((reference_dir / "data/socrates-hunav/behavior_trees/BTRegularNav.xml").read_text())
-
-    def skeleton(e):  # noqa: ANN001, ANN202
-        return (e.tag, tuple(sorted(k for k in e.attrs if k != "name")), tuple(skeleton(c) for c in e.children))
-    assert skeleton(ours.trees["RegularNavTree"]) == skeleton(ref.trees["RegularNavTree"])
+    ours, _ = parse_document((trees / "BTRegularNav.xml").read_text())
+    ref, problems = parse_document((reference_dir / "data/socrates-hunav/behavior_trees/BTRegularNav.xml").read_text())
+    assert ours is not None and ref is not None and problems == []
+    assert skeleton(ours.trees["RegularNavTree"].root) == skeleton(ref.trees["RegularNavTree"].root)
 
 
 def test_robot_poses_and_trajectory_match_wrapper_files(exported: Path, reference_dir: Path) -> None:

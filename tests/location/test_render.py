@@ -120,3 +120,24 @@ def test_written_scene_graph_png_matches_render() -> None:
     loc = load_location(EXAMPLES / "home")
     with Image.open(EXAMPLES / "home" / "scene_graph.png") as img:
         assert np.array_equal(np.asarray(img.convert("RGB")), np.asarray(render_location(loc)))
+
+
+def test_a_label_keeps_clear_of_the_scale_bar() -> None:
+    """A node in the lower-left corner (a building's door on the map's edge) is not hidden under the
+    scale bar: its label moves aside and a dot marks the node; without a scale bar it stays on the node."""
+    loc = load_location(EXAMPLES / "home")
+    x0, y0, x1, y1 = render_location_with_layout(loc)[1].crop
+    corner = SceneGraph(nodes=[Node(id="dr", type=loc.schema.node_types[0], pos=(x0 + 3, y1 - 3)),
+                               Node(id="up", type=loc.schema.node_types[0], pos=(x0 + 3, y0 + 3))])
+
+    def on_node(layout, node_id: str) -> bool:
+        box, (cx, cy) = layout.boxes[node_id], layout.at(corner.node(node_id).pos)
+        return abs((box[0] + box[2]) / 2 - cx) < 0.5 and abs((box[1] + box[3]) / 2 - cy) < 0.5
+
+    _, layout = render_with_layout(loc.map_gray, corner, loc.schema, metres_per_pixel=0.05)
+    assert layout.scale_bar is not None
+    assert not any(a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
+                   for a in layout.boxes.values() for b in [layout.scale_bar])
+    assert not on_node(layout, "dr") and on_node(layout, "up")
+    _, bare = render_with_layout(loc.map_gray, corner, loc.schema)  # no transform: no bar
+    assert bare.scale_bar is None and on_node(bare, "dr")

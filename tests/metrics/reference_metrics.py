@@ -1,7 +1,9 @@
 """The metrics as computed before they were vectorised per component (socnavgen 4425df4, sim/metrics.py and
 sim/contact.py, copied as they were): the straightforward formulas (np.linalg.norm of each difference, one
 social force call per direction, a per-pair loop for collision sides) the fast implementation is checked
-against, value for value. Nothing here is imported by the package."""
+against, value for value. One change since: contact is a gap of at most bodies.CONTACT_MARGIN for every count
+(collisions and the evaluator's collision sides), as sim/contact.py defines it. Nothing here is imported by the
+package."""
 
 from __future__ import annotations
 
@@ -10,12 +12,12 @@ from typing import Any
 
 import numpy as np
 
+from socnavgen.bodies import CONTACT_MARGIN
 from socnavgen.bodies import INTIMATE_SPACE as INTIMATE
 from socnavgen.bodies import PERSONAL_SPACE as PERSONAL
 from socnavgen.bodies import ROBOT_GOAL_TOLERANCE as EVALUATOR_GOAL_RADIUS
 from socnavgen.bodies import SOCIAL_SPACE as SOCIAL
 from socnavgen.sim.metrics import (
-    COLLISION_DISTANCE,
     EVALUATOR_METRICS,
     GROUP_CENTER_OFFSET,
     NAVIGATION_METRICS,
@@ -28,8 +30,6 @@ from socnavgen.sim.metrics import (
     sample_indices,
 )
 from socnavgen.sim.trace import OMEGA, VX, VY, YAW, Trace
-
-OVERLAP_TOLERANCE = 0.01
 
 
 # ---- sim/contact.py as it was ---------------------------------------------------------------------
@@ -51,7 +51,7 @@ def collision_steps(trace: Trace) -> int:
     if trace.steps == 0 or h == 0:
         return 0
     gaps = gaps_from(trace.robot[:, :2], trace.humans[:, :, :2], trace.robot_radius, trace.human_radii)
-    return int((gaps < -OVERLAP_TOLERANCE).any(axis=1).sum())
+    return int((gaps <= CONTACT_MARGIN).any(axis=1).sum())
 
 
 # ---- sim/metrics.py as it was ---------------------------------------------------------------------
@@ -130,7 +130,7 @@ def _collision_counts(pr: np.ndarray, yaw_r: np.ndarray, v_r: np.ndarray, pa: np
     in the robot frame (swapped arguments); smaller |alpha| -> robot hit person, larger -> person hit robot,
     equal with equal speeds -> both; speeds must differ otherwise. Counts (sample, agent) pairs."""
     robot_hits = person_hits = 0
-    for i, a in zip(*np.nonzero(gap < COLLISION_DISTANCE), strict=True):
+    for i, a in zip(*np.nonzero(gap <= CONTACT_MARGIN), strict=True):
         dx, dy = pr[i] - pa[i, a]
         alpha = math.atan2(-dx * math.sin(yaw_a[i, a]) + dy * math.cos(yaw_a[i, a]),
                            dx * math.cos(yaw_a[i, a]) + dy * math.sin(yaw_a[i, a]))

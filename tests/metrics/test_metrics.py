@@ -119,7 +119,7 @@ def test_group_intrusions_by_hand() -> None:
 
 
 def test_evaluator_collision_sides() -> None:
-    """Sample 0: robot (0,0) yaw 0 at 1 m/s, human (0.9, 0) yaw pi still: gap 0.9-0.9 = 0 < 0.02.
+    """Sample 0: robot (0,0) yaw 0 at 1 m/s, human (0.9, 0) yaw pi still: gap 0.9-0.9 = 0, in contact.
     alpha (robot seen from human) = 0, alpha2 = atan2(x'=0.9, y'=0) = pi/2 -> |alpha| < |alpha2|: robot on person.
     Sample 1: human beside the robot at (0, 0.9) yaw 0 moving 1 m/s, robot still: alpha = -pi/2,
     alpha2 = atan2(0, 0.9) = 0 -> person on robot. Sample 2: same as 1 but equal speeds -> neither."""
@@ -128,9 +128,21 @@ def test_evaluator_collision_sides() -> None:
     m = compute_metrics(make_trace([0, 1, 2], robot, humans, radii=[0.4]))
     assert m["robot_on_person_collision"] == 1
     assert m["person_on_robot_collision"] == 1
-    assert m["collisions"] == 0  # touching (gap 0) is not overlapping
+    assert m["collisions"] == 3 and not m["success"]  # touching (gap 0 <= 5 cm) is contact on every step
     m2 = compute_metrics(make_trace([0, 1, 2], robot, humans, radii=[0.45]))
     assert m2["collisions"] == 3 and m2["min_time_to_collision"] == 0.0
+
+
+@pytest.mark.parametrize(("gap", "contact"), [(0.03, True), (0.045, True), (0.06, False)])
+def test_one_contact_threshold_for_every_count(gap: float, contact: bool) -> None:
+    """A gap of 3 cm is contact for `collisions` AND for HuNavSim's collision sides (its own threshold is
+    2 cm: here both count the pairs sim/contact.py counts); 6 cm is contact for neither."""
+    robot = [[0, 0, 0, 1, 0, 0]] * 2
+    humans = [[[0.9 + gap, 0, math.pi, 0, 0, 0]]] * 2
+    m = compute_metrics(make_trace([0, 1], robot, humans, radii=[0.4]))
+    assert (m["collisions"] > 0) is contact
+    assert (m["robot_on_person_collision"] > 0) is contact
+    assert m["collisions"] == (2 if contact else 0) and m["robot_on_person_collision"] == (2 if contact else 0)
 
 
 def test_social_force_evaluator_variant() -> None:

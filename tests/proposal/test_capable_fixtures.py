@@ -52,10 +52,14 @@ def test_every_stage_is_valid(replayed, name):
 # Verdicts of the strict verifier on the merged simulator. Failing today: scene B's first tree does not stop
 # the worker (its --verify run fixes it in 2 rounds); in the first evacuation recording the robot detours
 # to the nurse station while the patient, whose tree follows only while the robot is in sight, walks her
-# own route and falls 20 m behind (the model's answer; its --verify run did not fix it). The second
-# evacuation recording (v2, with --verify) passes at its first answers. A strict xfail turns red the day
-# one passes.
-FAILS = {"hospital_evacuation", "hospital_evacuation_verify", "paper_scene_b"}
+# own route and falls 20 m behind (the model's answer; its --verify run did not fix it). Since contact is a
+# gap of 5 cm or less, meetings need an approach and reactions their cause (issue 25): scene A's worker waits
+# 2.1 m from the aisle-end node (never at it) and holds the robot up 10.5 s with less than 0.25 m of progress;
+# in scene B's --verify recording the worker still walks into the standing robot (gap 0.00 m); in the v2
+# evacuation the nurse is never in the robot's way, so she gives way to nothing. The two recorded loops have
+# no answer for these verdicts (replay_fixture says so). A strict xfail turns red the day one passes.
+FAILS = {"hospital_evacuation", "hospital_evacuation_verify", "paper_scene_b", "paper_scene_a",
+         "paper_scene_b_verify", "hospital_evacuation_v2_verify"}
 
 
 @pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.xfail(

@@ -11,6 +11,7 @@ import pytest
 from gen_helpers import STOP_TREE, paths_reply, scenario_reply, spec_for, tree_reply, write_script
 
 from socnavgen.bt.library import LIBRARY, REACTION_NODES, TRIGGER_NODES
+from socnavgen.bt.validate import validate_bt_text
 from socnavgen.location import load_location
 from socnavgen.proposal.facts import physical_facts_text
 from socnavgen.proposal.path_checks import check_paths
@@ -203,9 +204,17 @@ SAYS_SPEC = {"script": {"cues": [{"trigger": {"when": "blocked"}, "say": "EXCUSE
              "encounters": [{"id": "e1", "place": "BLIND CORNER", "humans": [
                  {"human": "human1", "trigger": "robot_says", "phrase": "EXCUSE ME", "reaction": "give_way"}]}],
              "criteria": [{"id": "c1", "kind": "meets", "human": "human1", "encounter": "e1"}]}
+WALK = ("<Sequence><SetBlackboard output_key='agentid' value='{id}'/><SetBlackboard output_key='timestep' "
+        "value='{dt}'/><SubTree ID='RegularNavTree' id='agentid' dt='timestep'/></Sequence>")
 GATED = ("<root main_tree_to_execute='M'><include path='BTRegularNav.xml'/><BehaviorTree ID='M'><Fallback>"
          "<Sequence><RobotSays agent_id='{id}' message='4'/><GiveWaytoRobot agent_id='{id}' time_step='{dt}'/>"
-         "</Sequence><SubTree ID='RegularNavTree' id='agentid' dt='timestep'/></Fallback></BehaviorTree></root>")
+         f"</Sequence>{WALK}</Fallback></BehaviorTree></root>")
+# the reaction inside a SubTree of the file: gated by the caller's Sequence
+CALLED = ("<root main_tree_to_execute='M'><include path='BTRegularNav.xml'/><BehaviorTree ID='M'><Fallback>"
+          "<Sequence><RobotSays agent_id='{id}' message='4'/><SetBlackboard output_key='me' value='{id}'/>"
+          "<SetBlackboard output_key='step' value='{dt}'/><SubTree ID='Yield' id='me' dt='step'/></Sequence>"
+          f"{WALK}</Fallback></BehaviorTree><BehaviorTree ID='Yield'><GiveWaytoRobot agent_id='{{id}}' "
+          "time_step='{dt}'/></BehaviorTree></root>")
 
 
 @pytest.mark.parametrize("tree, expected", [
@@ -215,11 +224,22 @@ GATED = ("<root main_tree_to_execute='M'><include path='BTRegularNav.xml'/><Beha
                    "<Inverter><RobotSays agent_id='{id}' message='4'/></Inverter>"), "is not gated by"),
     (GATED.replace("GiveWaytoRobot", "LookAtRobot").replace(" time_step='{dt}'", ""), "has no GiveWaytoRobot"),
     # the negated condition in an earlier Fallback branch gates the later branch
-    ("<root main_tree_to_execute='M'><BehaviorTree ID='M'><Fallback><Sequence><Inverter>"
-     "<RobotSays agent_id='{id}' message='4'/></Inverter><SubTree ID='RegularNavTree' id='a' dt='b'/></Sequence>"
+    ("<root main_tree_to_execute='M'><include path='BTRegularNav.xml'/><BehaviorTree ID='M'><Fallback><Sequence>"
+     f"<Inverter><RobotSays agent_id='{{id}}' message='4'/></Inverter>{WALK}</Sequence>"
      "<GiveWaytoRobot agent_id='{id}' time_step='{dt}'/></Fallback></BehaviorTree></root>", None),
+    # reactive controls and the explicit form are read by their library semantics
+    (GATED.replace("<Sequence><RobotSays", "<ReactiveSequence><RobotSays").replace(
+        "time_step='{dt}'/></Sequence>", "time_step='{dt}'/></ReactiveSequence>"), None),
+    (GATED.replace("<RobotSays agent_id='{id}' message='4'/>", "<Condition ID='RobotSays' agent_id='{id}' message='4'/>"),
+     None),
+    (GATED.replace("message='4'", "message=' 4'"), None),  # the port's int, however it is written
+    (CALLED, None),
+    (CALLED.replace("<RobotSays agent_id='{id}' message='4'/>", ""), "never checks RobotSays"),
+    (GATED.replace("<Sequence><RobotSays", "<Fallback><RobotSays").replace(
+        "time_step='{dt}'/></Sequence>", "time_step='{dt}'/></Fallback>"), "is not gated by"),
 ])
 def test_trees_are_checked_against_their_encounter(tree, expected):
+    assert validate_bt_text(tree, "t.xml") == []  # needs are checked on trees bt check accepts
     mistakes = tree_need_mistakes(tree, "human1", ScenarioSpec.model_validate(SAYS_SPEC))
     if expected is None:
         assert mistakes == []

@@ -140,4 +140,4 @@ def test_no_key_in_any_form_reaches_the_terminal_or_the_run_folder(tmp_path, cli
     shown = result.out + result.err + "".join(p.read_text() for p in out.rglob("*") if p.is_file())
     for secret in ("sk-terminal-KEY-0123456789", "pw-Secret9", "AZ-777"):
         assert secret not in shown
-    assert json.loads((out / "manifest.json").read_text())["status"] == "failed"
+    assert not out.exists()  # no reply ever came: the run folder it created is gone (issue 30)

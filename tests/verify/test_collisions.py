@@ -1,5 +1,5 @@
-"""One definition of gap and collision (sim/contact.py): `simulate`'s summary, metrics.json and verify show
-the same numbers for the same run."""
+"""One definition of gap and contact (sim/contact.py): `simulate`'s summary, metrics.json (collisions, success,
+HuNavSim's collision sides) and verify show the same numbers for the same run."""
 
 from __future__ import annotations
 
@@ -11,10 +11,11 @@ import numpy as np
 import pytest
 
 from socnavgen.cli.common import console
-from socnavgen.cli.sim_cmd import _write_extras
+from socnavgen.cli.sim_cmd import _print_outputs
 from socnavgen.location import load_location
 from socnavgen.sim import contact
 from socnavgen.sim.metrics import compute_metrics
+from socnavgen.sim.outputs import write_outputs
 from socnavgen.verify import VerifySettings, verify_trace
 
 from .verify_builders import build_trace
@@ -37,10 +38,13 @@ def test_gap_and_collision_definition() -> None:
     assert summary.collision_steps == 3 and summary.collision_seconds == pytest.approx(1.5)
     assert summary.first_collision_time == pytest.approx(1.5) and summary.first_collision_human == "human1"
     assert summary.worst_overlap == pytest.approx(0.20) and summary.min_gap == pytest.approx(-0.20)
-    # touching within the 1 cm tolerance is not a collision; 2 cm of overlap is
-    assert contact.summarize(_pass_by(-0.005)).collision_steps == 0
-    assert contact.summarize(_pass_by(-0.02)).collision_steps == 3
-    assert contact.summarize(_pass_by(0.30)).describe() == "closest gap 0.30 m to human1 at t=1.5 s"
+    # contact is a gap of 5 cm or less: touching, nearly touching, overlapping; 6 cm is not
+    for gap, steps in ((-0.02, 3), (-0.005, 3), (0.0, 3), (0.03, 3), (0.06, 0)):
+        assert contact.summarize(_pass_by(gap)).collision_steps == steps, gap
+    assert contact.summarize(_pass_by(0.50)).describe() == "closest gap 0.50 m to human1 at t=1.5 s"
+    # time within someone's intimate space (gap < 0.45 m), said beside the closest gap
+    assert contact.summarize(_pass_by(0.30)).describe() == ("closest gap 0.30 m to human1 at t=1.5 s; 1.5 s within "
+                                                            "someone's intimate space (gap < 0.45 m)")
 
 
 def test_metrics_and_verify_agree_on_collisions(give_way_run: Path, tiny_location: Path) -> None:
@@ -50,11 +54,11 @@ def test_metrics_and_verify_agree_on_collisions(give_way_run: Path, tiny_locatio
     (finding,) = [f for f in report.findings if f.kind == "no_collision"]
     # the robot stood still and human1 walked into it: its tree is to fix (rule C3)
     assert not finding.passed and finding.required and (finding.blame, finding.blame_human) == ("behaviors", "human1")
-    steps = int(re.search(r"(\d+) steps with a collision", finding.evidence)[1])
+    steps = int(re.search(r"(\d+) steps in contact", finding.evidence)[1])
     assert metrics["collisions"] == steps == contact.summarize(trace).collision_steps == 5
     assert metrics["minimum_distance_to_people"] == 0.0  # the evaluator clamps the gap at 0 ...
     assert finding.distance == pytest.approx(-0.20)  # ... the verifier shows the overlap itself
-    assert finding.robustness == pytest.approx(-0.19)  # gap + 1 cm tolerance
+    assert finding.robustness == pytest.approx(-0.25)  # gap - the 5 cm contact margin
     warn = verify_trace(give_way_run, trace, settings=VerifySettings(collisions_fail=False))
     assert [f.name for f in warn.warnings] == [finding.name]
 
@@ -62,17 +66,17 @@ def test_metrics_and_verify_agree_on_collisions(give_way_run: Path, tiny_locatio
 def test_simulate_summary_prints_the_same_numbers(tmp_path: Path, tiny_location: Path) -> None:
     trace = _pass_by(-0.20, steps_still=4)
     with console.capture() as cap:
-        _write_extras(trace, load_location(tiny_location), tmp_path, gif=False)
+        _print_outputs(trace, write_outputs(trace, load_location(tiny_location), tmp_path))
     printed = cap.get()
     written = json.loads((tmp_path / "metrics.json").read_text())
     assert f"collisions = {written['collisions']}" in printed and written["collisions"] == 4
-    assert "closest gap -0.20 m to human1" in printed and "4 steps with a collision" in printed
+    assert "closest gap -0.20 m to human1" in printed and "4 steps in contact" in printed
 
 
 def test_a_clear_run_agrees_too(give_way_run: Path) -> None:
     trace = _pass_by(0.35)
     (finding,) = [f for f in verify_trace(give_way_run, trace).findings if f.kind == "no_collision"]
-    assert finding.passed and finding.robustness == pytest.approx(0.36)
+    assert finding.passed and finding.robustness == pytest.approx(0.30)
     assert "closest gap 0.35 m to human1" in finding.evidence
     assert compute_metrics(trace)["minimum_distance_to_people"] == pytest.approx(0.35)
     assert compute_metrics(trace)["collisions"] == 0

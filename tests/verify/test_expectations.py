@@ -65,11 +65,39 @@ def test_implied_criteria() -> None:
         criteria=[Criterion(id="c1", kind="keeps_away", human="human2", distance=1.0)])
     judged = with_implied(spec, VerifySettings())
     ids = [(c.id, src) for c, src in judged]
-    # human1 meets the robot at e1 (implied); human2 must keep away, so no implied meeting; no_collision implied;
-    # no_deadlock NOT implied because human2 is meant to block the robot
-    assert ids == [("c1", "spec"), ("meet_human1_e1", "implied"), ("no_collision", "implied")]
+    # human1 meets the robot at e1 (implied); human2 must keep away, so no implied meeting; the goal is always
+    # judged; no_collision implied; no_deadlock NOT implied because human2 is meant to block the robot
+    assert ids == [("c1", "spec"), ("meet_human1_e1", "implied"), ("goal", "implied"), ("no_collision", "implied")]
     rude = spec.model_copy(update={"script": spec.script.model_copy(update={"misbehave": True})})
-    assert [c.id for c, _ in with_implied(rude, VerifySettings())] == ["c1", "meet_human1_e1"]
+    assert [c.id for c, _ in with_implied(rude, VerifySettings())] == ["c1", "meet_human1_e1", "goal"]
+
+
+def test_every_run_is_judged_on_its_goal_and_contact() -> None:
+    """Whether or not the spec names them: a spec without encounters or criteria still has the robot reach its
+    goal, touch nobody and not deadlock."""
+    judged = with_implied(ScenarioSpec(), VerifySettings())
+    assert [(c.kind, src) for c, src in judged] == [("robot_reaches_goal", "implied"), ("no_collision", "implied"),
+                                                    ("no_deadlock", "implied")]
+    named = ScenarioSpec(criteria=[Criterion(id="c1", kind="robot_reaches_goal", distance=0.3)])
+    assert [c.id for c, _ in with_implied(named, VerifySettings())] == ["c1", "no_collision", "no_deadlock"]
+
+
+def test_each_encounter_of_a_human_is_its_own_meeting() -> None:
+    """A human in two encounters gets two meetings, the later one chained after the earlier (two encounters
+    never share one piece of evidence); a follower's encounter is shown by its following, not a meeting."""
+    from socnavgen.verify.criteria import compile_criterion
+
+    spec = ScenarioSpec(encounters=[
+        Encounter(id="e1", place="CORNER", node="b2", order=1, humans=[HumanPart(human="human1")]),
+        Encounter(id="e2", place="DOOR", node="d4", order=2, humans=[HumanPart(human="human1", reaction="stop")]),
+        Encounter(id="e3", place="DOOR", node="a1", humans=[HumanPart(human="human2", reaction="follow")])],
+        criteria=[Criterion(id="c1", kind="follows_robot", human="human2")])
+    judged = {c.id: c for c, _ in with_implied(spec, VerifySettings())}
+    assert {"meet_human1_e1", "meet_human1_e2"} <= set(judged) and not any("human2" in k for k in judged)
+    first = compile_criterion(judged["meet_human1_e1"], spec, VerifySettings(), 0.2)
+    second = compile_criterion(judged["meet_human1_e2"], spec, VerifySettings(), 0.2)
+    assert first.previous is None and second.previous.id == "e1"
+    assert "once ((dist_human1 > 2) and (once" in second.formula and "mid_human1_to_e1" in second.formula
 
 
 def test_implied_order_and_scripted_waits() -> None:

@@ -74,14 +74,65 @@ def test_shared_geometry_equals_the_formulas(steps: int, humans: int) -> None:
         assert math.isfinite(summary.min_gap)
 
 
+def progress_loop(xy: np.ndarray, waypoints: np.ndarray) -> np.ndarray:
+    """Route progress as first written: per step, the nearest point of each segment, the first nearest wins."""
+    out = []
+    for p in xy:
+        best, at, covered = np.inf, 0.0, 0.0
+        for a, b in zip(waypoints[:-1], waypoints[1:], strict=True):
+            d = b - a
+            u = min(1.0, max(0.0, float((p - a) @ d) / float(d @ d)))
+            off = float(np.sum((p - (a + u * d)) ** 2))
+            if off < best:
+                best, at = off, covered + u * float(np.sqrt(d @ d))
+            covered += float(np.sqrt(d @ d))
+        out.append(at)
+    return np.array(out)
+
+
+def no_progress_loop(progress: np.ndarray, step: float) -> np.ndarray:
+    """True on the steps without a new `step` metres of best progress since the last such step (the ratchet)."""
+    out, ref, best = [], progress[0], -np.inf
+    for value in progress:
+        best = max(best, value)
+        if best >= ref + step:
+            ref = best
+            out.append(False)
+        else:
+            out.append(True)
+    return np.array(out)
+
+
 def test_stalled_and_deadlock_signals_match_the_loop() -> None:
     trace = wandering(300, 3, seed=7)
     trace.robot[100:180, 3:5] = 0.0  # the robot stands still for 8 s
+    trace.robot_waypoints = [tuple(trace.robot[k, :2] + 0.3) for k in (0, 60, 150, 299)]  # roughly where it wanders
     s = Signals(trace)
     still = np.linalg.norm(trace.robot[:, 3:5], axis=1) < signals_module.STILL_SPEED
     assert np.array_equal(s.get("stalled"), runlength_loop(still, 0.1))
-    assert np.array_equal(s.get("deadlock"), runlength_loop(still & s.blocked(), 0.1))
+    progress = progress_loop(trace.robot[:, :2], np.asarray(trace.robot_waypoints))
+    assert np.allclose(s.route()[0], progress, rtol=0, atol=1e-12)
+    stuck = no_progress_loop(progress, signals_module.PROGRESS_STEP)
+    assert stuck.any() and not stuck.all()
+    assert np.array_equal(s.get("deadlock"), runlength_loop(stuck & s.blocked(), 0.1))
     assert s.get("stalled").max() == pytest.approx(8.0)
+
+
+def test_a_robot_jittering_in_place_is_deadlocked_and_one_driving_on_is_not() -> None:
+    """Back and forth 0.2 m, 0.4 m/s, behind a person standing in its way: never still, no progress."""
+    t = np.arange(200) * 0.1
+    x = 2.0 + 0.1 * np.sin(t * 2.0)
+    jitter = build_trace(t, np.stack([x, np.zeros_like(t)], 1), np.tile([[3.3, 0.0]], (200, 1))[:, None], dt=0.1,
+                         goal=(9.0, 0.0))
+    jitter.robot[:, 2] = np.where(np.cos(t * 2.0) >= 0, 0.0, np.pi)  # it turns as it reverses
+    jitter.robot_waypoints = [(0.0, 0.0), (9.0, 0.0)]
+    s = Signals(jitter, places={"goal": (9.0, 0.0)})
+    assert s.get("stalled").max() < 1.0  # never standing still long: the old definition saw no deadlock
+    assert s.get("deadlock").max() == pytest.approx(19.9, abs=0.15)  # no progress, held up all along
+    driving = build_trace(t, np.stack([0.4 * t, np.zeros_like(t)], 1), np.tile([[9.5, 3.0]], (200, 1))[:, None],
+                          dt=0.1, goal=(9.0, 0.0))
+    driving.robot_waypoints = [(0.0, 0.0), (9.0, 0.0)]
+    assert Signals(driving, places={"goal": (9.0, 0.0)}).get("deadlock").max() == 0.0
 
 
 def test_place_spread_and_moved_signals_equal_the_formulas() -> None:

@@ -3,6 +3,8 @@ known signals, syntax) and each criterion kind's formula is non-vacuous and has 
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -16,12 +18,14 @@ from socnavgen.verify.stl import MAX_FORMULA_CHARS, FormulaError, formula_proble
 from .verify_builders import build_trace
 
 
-def _approach(stop_at: float, human_x: float = 6.0) -> Signals:
+def _approach(stop_at: float, human_x: float = 6.0, human_from: float | None = None) -> Signals:
     """Robot drives +x at 1 m/s from x = 1 and stops at x = 1 + stop_at; human1 stands at x = human_x facing
-    -x. dt 0.5, 0..10 s, open 20 m room; place e1 at x = 5."""
+    -x (or walks there from x = human_from during the first 3 s). dt 0.5, 0..10 s, open 20 m room; place e1
+    at x = 5."""
     t = np.arange(21) * 0.5
     rx = np.minimum(t, stop_at) + 1.0
-    hx = np.full_like(t, human_x)
+    hx = np.full_like(t, human_x) if human_from is None else \
+        np.where(t < 3.0, human_from + (human_x - human_from) * t / 3.0, human_x)
     trace = build_trace(t, np.stack([rx, np.full_like(t, 10.0)], 1), np.stack([hx, np.full_like(t, 10.0)], 1)[:, None],
                         goal=(15.0, 10.0))
     trace.humans[:, 0, 2] = np.pi  # facing the robot
@@ -79,9 +83,13 @@ def _criterion(s: Signals, **kw) -> float:  # noqa: ANN003
 def test_criteria_are_not_vacuous() -> None:
     far = _approach(stop_at=1.0)  # the robot stops 4 m from the standing human: it never comes near
     near = _approach(stop_at=4.0)  # the robot stops 1.0 m from the human
-    # the human stands still all along: 'stops while the robot is near' needs the robot to come near
+    # 'stops while the robot is near' needs the robot to come near (the cause), then the human still: walking
+    # then stopping, or waiting still as the robot comes; never a robot that starts near a still human
     assert _criterion(far, kind="stops_near_robot", human="human1") < 0
     assert _criterion(near, kind="stops_near_robot", human="human1") > 0
+    walked = _approach(stop_at=4.0, human_from=8.0)  # walks 8 -> 6 while the robot comes, then stands
+    assert _criterion(walked, kind="stops_near_robot", human="human1") > 0
+    assert _criterion(_approach(stop_at=0.0, human_x=2.2), kind="stops_near_robot", human="human1") < 0
     # 'gives way' needs the robot to come within the distance at all
     assert _criterion(far, kind="gives_way", human="human1") < 0
     # 'hidden until' needs them to come close (never seen, never met is no blind-corner encounter)
@@ -91,8 +99,10 @@ def test_criteria_are_not_vacuous() -> None:
     assert _criterion(away, kind="keeps_away", human="human1", distance=1.5) < 0
     assert _criterion(far, kind="keeps_away", human="human1", distance=1.5) > 0
     # meets: near the encounter place e1 (x = 5) and within 2 m
-    assert _criterion(near, kind="meets", human="human1", encounter="e1") > 0
+    assert _criterion(walked, kind="meets", human="human1", encounter="e1") > 0
     assert _criterion(far, kind="meets", human="human1", encounter="e1") < 0
+    # ... after an approach: the same two standing 1.9 m apart from the start never met
+    assert _criterion(_approach(stop_at=0.0, human_x=2.9), kind="meets", human="human1") < 0
 
 
 def test_gives_way_robustness_follows_the_human() -> None:
@@ -104,3 +114,93 @@ def test_gives_way_robustness_follows_the_human() -> None:
     stepping.trace.humans[8:, 0, 1] = 11.5  # steps 1.5 m aside at t = 4 s
     stepping._cache.clear()
     assert _criterion(stepping, kind="gives_way", human="human1", seconds=2) > 0
+
+
+def _long_trace(steps: int = 2400) -> Signals:
+    t = np.arange(steps) * 0.05
+    trace = build_trace(t, np.stack([0.01 * t, np.zeros_like(t)], 1),
+                        np.stack([6.0 - 0.04 * t, 0.5 * np.sin(t)], 1)[:, None], dt=0.05)
+    return Signals(trace, world=empty_room())
+
+
+def test_huge_bounds_cost_what_the_trace_costs() -> None:
+    """Bounds are clipped to the trace: eventually[0:100000000] tried to allocate 14.9 GiB, [0:10000000] ran 255 s
+    at 3.3 GB (issue 30); now both are the unbounded operator, in the memory of a few series."""
+    import tracemalloc
+
+    s = _long_trace()
+    tracemalloc.start()
+    try:
+        for bound in ("100000000", "10000000"):
+            assert monitor(f"eventually[0:{bound}] (dist_human1 < 2)", s).series.tolist() == \
+                monitor("eventually (dist_human1 < 2)", s).series.tolist()
+        assert monitor("always[50000000:90000000] (dist_human1 < 2)", s).series.tolist() == [np.inf] * 2400
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 16e6, peak
+
+
+def test_a_long_bounded_until_is_exact_and_linear() -> None:
+    """until[0:60] on a 2400-step trace (rtamt: cubic in the bound, over a minute): the same values as the
+    definition, max over d in [a, b] of min(right[i+d], min(left[i..i+d-1])), computed here by brute force."""
+    s = _long_trace()
+    left, right = s.get("dist_human1") - 1.0, s.get("speed_human1") - 0.3
+    for lo, hi in ((0, 60), (2, 7.5)):
+        got = monitor(f"(dist_human1 > 1) until[{lo:g}:{hi:g}] (speed_human1 > 0.3)", s).series
+        a, b = int(round(lo / 0.05)), int(round(hi / 0.05))
+        want = np.full(2400, -np.inf)
+        for i in range(0, 2400, 37):
+            best = -np.inf
+            for d in range(a, b + 1):
+                if i + d >= 2400:
+                    break
+                best = max(best, min(right[i + d], left[i:i + d].min(initial=np.inf)))
+            want[i] = best
+        assert np.array_equal(got[::37], want[::37])
+
+
+def test_stage_one_refuses_what_cannot_be_monitored() -> None:
+    """formula_problems (stage 1's spec check calls it): intervals no episode can hold or
+    the simulator's step cannot sample, reversed intervals, arithmetic that fails; a fine formula passes."""
+    huge = formula_problems("eventually[0:10000000] (dist_human1 < 2)", ["human1"], [])
+    assert len(huge) == 1 and "longer than any episode" in huge[0]
+    assert "multiple of the simulation step" in formula_problems("eventually[0:0.03] (dist_human1 < 2)",
+                                                                 ["human1"], [])[0]
+    assert "a <= b" in formula_problems("eventually[1:0.5] (dist_human1 < 2)", ["human1"], [])[0]
+    assert formula_problems("(dist_human1 > 1) until[0:60] (speed_human1 > 0.3)", ["human1"], []) == []
+    assert formula_problems("eventually[0:0.5] (dist_human1 < 2)", ["human1"], []) == []
+
+
+def test_the_stage_one_spec_check_refuses_an_unbounded_formula() -> None:
+    """Issue 30: stage 1 accepted eventually[0:10000000]; its spec check asks formula_problems, which refuses it."""
+    from socnavgen.location import load_location
+    from socnavgen.proposal.spec_checks import spec_mistakes
+
+    location = load_location(Path(__file__).resolve().parents[2] / "examples" / "locations" / "warehouse")
+    corner = next(n.id for n in location.scene_graph.nodes if n.type == "BLIND CORNER")
+    spec = ScenarioSpec(encounters=[Encounter(id="e1", place="BLIND CORNER", node=corner, humans=[
+        HumanPart(human="human1", reaction="stop")])], criteria=[
+        Criterion(id="c1", kind="meets", human="human1", encounter="e1"),
+        Criterion(id="c2", kind="stl", formula="eventually[0:100000000] (dist_human1 < 2)")])
+    mistakes = spec_mistakes(spec, ["human1"], list(location.schema.node_types), location=location)
+    assert [m for m in mistakes if "criterion c2" in m and "longer than any episode" in m], mistakes
+    fine = spec.model_copy(update={"criteria": [spec.criteria[0], Criterion(
+        id="c2", kind="stl", formula="eventually[0:30] (dist_human1 < 2)")]})
+    assert not [m for m in spec_mistakes(fine, ["human1"], list(location.schema.node_types), location=location)
+                if "criterion c2" in m]
+
+
+def test_a_formula_too_large_for_its_trace_is_refused() -> None:
+    from socnavgen.verify import stl
+
+    s = _long_trace()
+    big = " and ".join(["(dist_human1 < 2)"] * 40)
+    assert monitor(big, s).robustness is not None
+    old = stl.MAX_STL_CELLS
+    try:
+        stl.MAX_STL_CELLS = 100_000
+        with pytest.raises(FormulaError, match="too many to monitor"):
+            monitor(big, s)
+    finally:
+        stl.MAX_STL_CELLS = old

@@ -46,6 +46,12 @@ OTHERS = [
     "always (eventually[0:0.5] ((dist_a <= 2) until (mid_a <= 1)))",
     "eventually[0:100] (dist_a <= 0)",  # a bound past any trace here: all padding
     "always[0:1] (once (react_a >= 0.5))",
+    # bounded until / since (rtamt's are cubic in the bound; ours linear), inside the trace and past its ends
+    "(dist_a <= 2) until[0:0.5] (mid_a <= 1)", "(dist_a <= 2) until[0.1:0.3] (mid_a <= 1)",
+    "(dist_a <= 2) until[0.2:0.2] (mid_a <= 1)", "(dist_a <= 2) until[0.5:1] (mid_a <= 1)",
+    "(dist_a <= 2) since[0:0.4] (mid_a <= 1)", "(dist_a <= 2) since[0.15:0.35] (mid_a <= 1)",
+    "(dist_a <= 2) since[0.5:1] (mid_a <= 1)", "eventually[0.3:100] (dist_a < 1)", "once[0.2:50] (dist_a > 1)",
+    "sqrt(abs(dist_a)) + exp(mid_a / 10) - pow(dist_a, 2) <= 3", "dist_a / (mid_a + 10) >= 0.1",
 ]
 
 
@@ -127,22 +133,29 @@ def test_a_one_sample_trace_is_monitored() -> None:
     assert got.tolist() == [0.5]
 
 
-def test_what_numpy_does_not_cover_falls_back_to_rtamt() -> None:
-    from socnavgen.verify.stl import monitor
+def test_arithmetic_that_can_fail_is_rtamts() -> None:
+    """Division, sqrt, exp and pow are computed sample by sample with Python's operators, as rtamt does: the
+    same values, and the same errors (a division by zero is a formula error, not inf)."""
+    from socnavgen.verify.stl import FormulaError, monitor
 
-    formula = "(dist_a / mid_a) <= 1"  # division: Python raises on zero, numpy would not
     data = {"dist_a": np.array([1.0, 2.0, 3.0]), "mid_a": np.array([2.0, 2.0, 2.0])}
-    with pytest.raises(stl_numpy.NotSupported):
-        numpy_series(formula, data)
-    verdict = monitor(formula, TraceSignals(data))
-    assert verdict.series.tolist() == rtamt_series(formula, data).tolist() == [0.5, 0.0, -0.5]
+    for formula in ("(dist_a / mid_a) <= 1", "sqrt(dist_a) + exp(mid_a) - pow(dist_a, 2) <= 3"):
+        assert numpy_series(formula, data).tolist() == rtamt_series(formula, data).tolist()
+    assert monitor("(dist_a / mid_a) <= 1", TraceSignals(data)).series.tolist() == [0.5, 0.0, -0.5]
+    with pytest.raises(FormulaError, match="divided by zero"):
+        monitor("(dist_a / (mid_a - 2)) <= 1", TraceSignals(data))
 
 
-def test_infinite_differences_fall_back_instead_of_guessing() -> None:
-    """inf - inf is NaN, and rtamt's min / max of NaN depend on argument order: not reproduced."""
+def test_infinite_differences_are_refused_instead_of_guessed() -> None:
+    """inf - inf is NaN, and rtamt's min / max of NaN depend on argument order: not reproduced, refused."""
+    from socnavgen.verify.stl import FormulaError, monitor
+
     data = {"dist_a": np.array([np.inf, 1.0]), "mid_a": np.array([np.inf, 0.0])}
     with pytest.raises(stl_numpy.NotSupported):
         numpy_series("(dist_a - mid_a) >= 0", data)
+    with pytest.raises(FormulaError, match="undefined on this trace"):
+        monitor("((eventually[0.1:0.1] dist_a) - (eventually[0.1:0.1] mid_a)) >= 0",
+                TraceSignals({"dist_a": np.array([1.0, 2.0]), "mid_a": np.array([0.0, 1.0])}))
 
 
 def test_a_reversed_interval_is_a_formula_error_not_a_crash() -> None:

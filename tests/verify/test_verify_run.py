@@ -152,9 +152,9 @@ def test_spec_decides_and_the_cli_shows_robustness_and_blame(give_way_run: Path)
     crit = next(f for f in report["findings"] if f["criterion"] == "c1")
     assert crit["passed"] and crit["robustness"] == pytest.approx(0.5)
     assert "EXCUSE ME" in crit["formula"] or "excuse_me" in crit["formula"]
-    # implied by the encounter: the meeting at b2, no collision, no deadlock
+    # implied by the encounter: the meeting at b2; by every run: the goal, no contact, no deadlock
     assert {f["criterion"] for f in report["findings"] if f["source"] == "implied"} == \
-        {"meet_human1_e1", "no_collision", "no_deadlock"}
+        {"meet_human1_e1", "goal", "no_collision", "no_deadlock"}
     save_trace(give_way_run, say_excuse_me=False)
     bad = runner.invoke(cli_app(), ["verify", str(give_way_run), "--no-simulate", "--json"])
     assert bad.exit_code == 1

@@ -32,7 +32,9 @@ GIVE_WAY_XML = """<root main_tree_to_execute="GiveWayTree">
       <Sequence>
         <Inverter><IsRobotNearby agent_id="{id}" distance="1.0"/></Inverter>
         <MakeGesture agent_id="{id}" message="0"/>
-        <SubTree ID="RegularNavTree" id="{id}" dt="{dt}"/>
+        <SetBlackboard output_key="agentid" value="{id}"/>
+        <SetBlackboard output_key="timestep" value="{dt}"/>
+        <SubTree ID="RegularNavTree" id="agentid" dt="timestep"/>
       </Sequence>
     </Fallback>
   </BehaviorTree>
@@ -41,7 +43,13 @@ GIVE_WAY_XML = """<root main_tree_to_execute="GiveWayTree">
 
 REGULAR_XML = """<root main_tree_to_execute="Walk">
   <include path="BTRegularNav.xml"/>
-  <BehaviorTree ID="Walk"><SubTree ID="RegularNavTree" id="{id}" dt="{dt}"/></BehaviorTree>
+  <BehaviorTree ID="Walk">
+    <Sequence>
+      <SetBlackboard output_key="agentid" value="{id}"/>
+      <SetBlackboard output_key="timestep" value="{dt}"/>
+      <SubTree ID="RegularNavTree" id="agentid" dt="timestep"/>
+    </Sequence>
+  </BehaviorTree>
 </root>
 """
 

@@ -143,3 +143,45 @@ def test_map_yaml_is_what_map_server_reads(tmp_path: Path) -> None:
         assert set(np.unique(np.asarray(img))) <= {0, 205, 254}
     with Image.open(tmp_path / "loc" / "overhead.png") as pic:
         assert pic.size == result.size and pic.mode == "RGB"
+
+
+def test_a_shelf_on_legs_is_walked_round_even_on_a_laser_height_map(tmp_path: Path) -> None:
+    """A 4 x 1.2 m shelf whose top stands 0.75-1.5 m up on four legs, in the middle of the room: a map cut
+    at 0.5 m shows its legs only, but people do not walk under it, so no node stands and no edge runs
+    under its top (the scene graph comes from a person's slab)."""
+    from socnavgen.location import load_location
+
+    legs = "".join(static_model(f"leg{i}", f"{x} {y} 0.375 0 0 0", "<box><size>0.05 0.05 0.75</size></box>")
+                   for i, (x, y) in enumerate([(-1.95, -0.55), (-1.95, 0.55), (1.95, -0.55), (1.95, 0.55)]))
+    body = ROOM + legs + static_model("shelf", "0 0 1.125 0 0 0", "<box><size>4 1.2 0.75</size></box>")
+    out = tmp_path / "loc"
+    import_world(world_file(tmp_path / "src", body), out, [],
+                 WorldImportOptions(slice=SliceOptions(resolution=0.05, head=0.5)))
+    loc = load_location(out)
+    under = loc.transform.world_to_pixel(0.0, 0.0)
+    assert not loc.occupancy.is_blocked(*under)  # the laser map is free under the shelf
+    t = loc.transform
+    inside = [n.id for n in loc.scene_graph.nodes if abs(t.pixel_to_world(*n.pos)[0]) < 1.95
+              and abs(t.pixel_to_world(*n.pos)[1]) < 0.55]
+    assert inside == [], "a node stands under the shelf"
+    for e in loc.scene_graph.links:
+        a, b = (np.array(t.pixel_to_world(*loc.scene_graph.node(i).pos)) for i in (e.source, e.target))
+        points = [a + (b - a) * k for k in np.linspace(0, 1, 200)]
+        assert not any(abs(p[0]) < 1.95 and abs(p[1]) < 0.55 for p in points), f"edge {e.source}-{e.target}"
+    assert loc.scene_graph.nodes
+
+
+def test_rows_standing_in_open_ground_are_walked_round(tmp_path: Path) -> None:
+    """Four 10 m rows of shelving 3 m apart with no walls round them: the map keeps 1.5 m of ground past
+    the outermost rows (a building's outline would keep 0.3 m), so the three lanes between them join
+    round the rows' ends and every lane is in the one graph (with 0.3 m each lane was cut off)."""
+    from socnavgen.location import load_location
+
+    rows = "".join(static_model(f"row{i}", f"5 {i * 3.5} 1 0 0 0", "<box><size>10 0.5 2</size></box>")
+                   for i in range(4))
+    result = import_world(world_file(tmp_path / "src", rows), tmp_path / "loc", [], WorldImportOptions())
+    loc = load_location(tmp_path / "loc")
+    assert result.origin[0] <= -1.5 + 1e-9  # the open-ground margin
+    ys = [loc.transform.pixel_to_world(*n.pos)[1] for n in loc.scene_graph.nodes]
+    for lane in range(3):  # between rows lane and lane + 1: y from 3.5 lane + 0.25 to 3.5 (lane + 1) - 0.25
+        assert any(3.5 * lane + 0.25 < y < 3.5 * (lane + 1) - 0.25 for y in ys), f"lane {lane} has no node"

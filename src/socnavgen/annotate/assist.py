@@ -10,7 +10,7 @@ import yaml
 
 from socnavgen.annotate.store import AnnotationStore, SaveRejected, _backup
 from socnavgen.location.location import LOCATION_FILE, load_location
-from socnavgen.location.models import LocationConfig
+from socnavgen.location.models import LocationConfig, is_placeholder_description
 from socnavgen.location.render import EDGE_COLOURS, NODE_COLOURS, UNKNOWN_TYPE_COLOUR
 from socnavgen.safeio import atomic_write_text, load_yaml_file
 
@@ -65,6 +65,9 @@ def save_description(store: AnnotationStore, text: str) -> dict[str, Any]:
     text = text.strip()
     if not text or len(text) > MAX_DESCRIPTION_CHARS or any(ord(c) < 32 and c not in "\n\t" for c in text):
         raise SaveRejected([f"the description must be 1-{MAX_DESCRIPTION_CHARS} printable characters"])
+    if is_placeholder_description(text):
+        raise SaveRejected(["the description still holds the placeholder sentence: replace it with what the place "
+                            "is, who moves around in it and what each node and edge type means"])
     path = store.root / LOCATION_FILE
     data = load_yaml_file(path)
     data["description"] = text

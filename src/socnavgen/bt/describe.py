@@ -8,12 +8,14 @@ from socnavgen.bt.library import (
     LIBRARY,
     LIBRARY_TREE_XML,
     LIBRARY_TREES,
+    ROOT_KEYS,
     NodeSpec,
     Port,
     PortType,
     Target,
     prompt_nodes,
 )
+from socnavgen.bt.model import ROOT_MEANING
 
 _KIND_TITLES = (("condition", "Conditions (return SUCCESS or FAILURE, never move the human)"),
                 ("action", "Actions (do something this tick, return SUCCESS)"),
@@ -23,10 +25,10 @@ _KIND_TITLES = (("condition", "Conditions (return SUCCESS or FAILURE, never move
 
 def example_value(port: Port) -> str:
     """A value that is valid for the port, shown in the prompt's examples (and used by the grammar tests)."""
-    if port.name == "agent_id":
-        return "{id}"
-    if port.name in ("time_step", "ts"):
-        return "{dt}"
+    if port.reads_root is not None:
+        return "{" + port.reads_root + "}"
+    if port.example is not None:
+        return port.example
     if port.allowed:
         return str(next((k for k in port.allowed if k != 0), 0))
     if port.default is not None:
@@ -36,9 +38,9 @@ def example_value(port: Port) -> str:
 
 def node_example(spec: NodeSpec) -> str:
     """The node as XML with single-quoted attributes (the reply puts XML inside a JSON string)."""
-    attrs = "".join(f" {p.name}='{example_value(p)}'" for p in spec.ports if p.name != "name")
+    attrs = "".join(f" {p.name}='{example_value(p)}'" for p in spec.ports)
     if spec.kind in ("control", "decorator"):
-        return f"<{spec.name} name='...'> child{'ren' if spec.kind == 'control' else ''} </{spec.name}>"
+        return f"<{spec.name} name='...'{attrs}> child{'ren' if spec.kind == 'control' else ''} </{spec.name}>"
     return f"<{spec.name}{attrs}/>"
 
 
@@ -67,7 +69,7 @@ def gesture_tables(target: Target = "socrates") -> list[tuple[list[str], dict[in
 
 def library_text(target: Target = "socrates") -> str:
     """The node-library section of the stage-3 prompt."""
-    nodes = [n for n in prompt_nodes() if target in n.targets and n.name not in ("SetBlackboard", "SubTree")]
+    nodes = [n for n in prompt_nodes() if target in n.targets]  # built-ins: the tutorial and regular_nav_text
     lines = ["NODE LIBRARY. Use only these nodes, with exactly these ports (the optional `name` attribute "
              "is free text allowed on every node). Write every attribute in single quotes.", ""]
     for kind, title in _KIND_TITLES:
@@ -77,8 +79,7 @@ def library_text(target: Target = "socrates") -> str:
         lines.append(f"{title}:")
         for spec in group:
             lines.append(f"- {spec.name}: {spec.description}")
-            ports = [p for p in spec.ports if p.name != "name"]
-            for port in ports:
+            for port in spec.ports:
                 lines.append(f"    port {_port_text(port)}")
             lines.append(f"    example: {node_example(spec)}")
         lines.append("")
@@ -87,9 +88,16 @@ def library_text(target: Target = "socrates") -> str:
         lines.append(f"Gesture codes for {', '.join(users)}: {codes}.")
     words = ", ".join(f"{word} = {dist:g} m" for dist, word in DISTANCE_WORDS.items())
     lines.append(f"Distances: {words}.")
-    lines.append("Blackboard: {id} is the human's own id (int), {dt} the simulation step (double); "
-                 "agent_id is always {id} and time_step always {dt}.")
+    lines.append(f"Blackboard: {blackboard_text()}")
     return "\n".join(lines) + "\n"
+
+
+def blackboard_text() -> str:
+    """The root blackboard entries and the ports that must read them, from the table."""
+    entries = ", ".join(f"{{{key}}} is {ROOT_MEANING[key]} ({type_})" for key, type_ in ROOT_KEYS.items())
+    readers = {p.name: p.reads_root for n in LIBRARY.values() for p in n.ports if p.reads_root is not None}
+    always = ", ".join(f"{name} is always {{{key}}}" for name, key in readers.items())
+    return f"{entries}; {always}."
 
 
 def capabilities_text(target: Target = "socrates") -> str:

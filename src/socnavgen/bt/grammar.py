@@ -11,7 +11,15 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
-from socnavgen.bt.library import LIBRARY_TREES, NodeSpec, Port, PortType, Target, prompt_nodes
+from socnavgen.bt.library import (
+    LIBRARY_TREES,
+    REGULAR_NAV_CALL,
+    NodeSpec,
+    Port,
+    PortType,
+    Target,
+    prompt_nodes,
+)
 
 DEFAULT_TREE_ID = "HumanBehavior"
 DEFAULT_MAX_DEPTH = 5
@@ -35,28 +43,27 @@ def _alt(options: Iterable[str]) -> str:
 
 def _port_value(port: Port, target_ids: list[int] | None) -> str:
     """The GBNF expression for one port value (without quotes)."""
-    if port.name == "agent_id":
-        return _lit("{id}")
-    if port.name == "time_step":
-        return _lit("{dt}")
-    if port.name == "ts":
-        return f"({_lit('{dt}')} | num)"
+    if port.reads_root is not None:
+        return _lit("{" + port.reads_root + "}")
     if port.allowed:
         return "(" + _alt(_lit(str(code)) for code in port.allowed) + ")"
-    if port.name == "target_id" and target_ids is not None:
+    if port.other_human and target_ids is not None:
         return "(" + _alt(_lit(str(i)) for i in target_ids) + ")"
-    return {PortType.INT: "int", PortType.DOUBLE: "num", PortType.BOOL: "bool", PortType.STRING: "text"}[port.type]
+    typed = {PortType.INT: "int", PortType.DOUBLE: "num", PortType.BOOL: "bool", PortType.STRING: "text"}[port.type]
+    return f"({_lit(port.example)} | {typed})" if port.example is not None else typed
+
+
+def _ports_rule(spec: NodeSpec, target_ids: list[int] | None) -> str:
+    """The node's ports as attributes: required ones always, optional ones maybe."""
+    parts = []
+    for port in spec.ports:
+        attr = f"{_lit(f' {port.name}=' + chr(39))} {_port_value(port, target_ids)} {_lit(chr(39))}"
+        parts.append(attr if port.required else f"({attr})?")
+    return " ".join(parts)
 
 
 def _leaf_rule(spec: NodeSpec, target_ids: list[int] | None) -> str:
-    parts = [_lit(f"<{spec.name}"), "nm"]
-    for port in spec.ports:
-        if port.name == "name":
-            continue
-        attr = f"{_lit(f' {port.name}=' + chr(39))} {_port_value(port, target_ids)} {_lit(chr(39))}"
-        parts.append(attr if port.required else f"({attr})?")
-    parts.append(_lit("/>"))
-    return " ".join(parts)
+    return " ".join(filter(None, [_lit(f"<{spec.name}"), "nm", _ports_rule(spec, target_ids), _lit("/>")]))
 
 
 def _rule_name(name: str) -> str:
@@ -79,7 +86,7 @@ def bt_reply_grammar(human_ids: Iterable[int] | None = None, *, agent_id: int | 
         target_ids = sorted({int(i) for i in human_ids} - ({agent_id} if agent_id is not None else set()))
     nodes = [n for n in prompt_nodes() if target in n.targets]
     leaves = [n for n in nodes if n.kind in ("action", "condition")
-              and not (target_ids == [] and any(p.name == "target_id" for p in n.ports))]
+              and not (target_ids == [] and any(p.other_human for p in n.ports))]
     composites = [n for n in nodes if n.kind in ("control", "decorator")]
 
     rules: dict[str, str] = {}
@@ -98,15 +105,10 @@ def bt_reply_grammar(human_ids: Iterable[int] | None = None, *, agent_id: int | 
     for spec in leaves:
         rules[f"leaf-{_rule_name(spec.name)}"] = _leaf_rule(spec, target_ids)
 
-    include_file, include_tree = next(iter(LIBRARY_TREES.items()))
+    include_file = next(iter(LIBRARY_TREES))
     rules["inc"] = _lit(f"<include path='{include_file}'/>")
-    rules["regnav"] = " s ".join([
-        _lit("<Sequence") + " nm " + _lit(">"),
-        _lit("<SetBlackboard output_key='agentid' value='{id}'/>"),
-        _lit("<SetBlackboard output_key='timestep' value='{dt}'/>"),
-        _lit(f"<SubTree ID='{include_tree}' id='agentid' dt='timestep'/>"),
-        _lit("</Sequence>"),
-    ])
+    walk = [line.replace('"', "'") for line in REGULAR_NAV_CALL]
+    rules["regnav"] = " s ".join([_lit("<Sequence") + " nm " + _lit(">"), *map(_lit, walk), _lit("</Sequence>")])
     for family, extra in (("p", []), ("r", ["regnav"])):
         for depth in range(1, max_depth + 1):
             options = ["leaf", *extra]
@@ -119,7 +121,8 @@ def bt_reply_grammar(human_ids: Iterable[int] | None = None, *, agent_id: int | 
                     child = f"node-{family}{depth + 1}"
                     children = (f"s {child} (s {child}){{0,{limit - 1}}}" if spec.kind == "control"
                                 else f"s {child}")
-                    rules[rule] = f'{_lit("<" + spec.name)} nm ">" {children} s {_lit("</" + spec.name + ">")}'
+                    head = " ".join(filter(None, [_lit("<" + spec.name), "nm", _ports_rule(spec, target_ids)]))
+                    rules[rule] = f'{head} ">" {children} s {_lit("</" + spec.name + ">")}'
                     options.append(rule)
             rules[f"node-{family}{depth}"] = _alt(options)
         rules[f"tree-{family}"] = (f"{_lit(f'<BehaviorTree ID={chr(39)}{tree_id}{chr(39)}>')} s node-{family}1 s "

@@ -93,8 +93,6 @@ HUNAV2_REGISTERED: dict[str, RegisteredNode] = {n.id: n for n in [
     RegisteredNode(id="TimeDelay", kind="Decorator", ports=_rp("delay:double=1.0")),
 ]}
 
-# v4 built-ins the translation uses beyond the node library's own controls (export.hunav2's goal prelude).
-HUNAV2_EXTRA_BUILTINS = ("RunOnce",)
 HUNAV2_FIRST_AGENT_ID = 1  # HuNavSim 1.x and 2.x number agents from 1 (the SocRATES fork from 0)
 
 
@@ -104,8 +102,8 @@ class Hunav2Translation(BaseModel):
     `template` is one v4 element (or a composition) with `{port}` placeholders filled from the node's
     own ports (`{{id}}` writes a literal `{id}`); `by_value` picks another template for particular
     literal values of a port. `refusal` (no template) says why 2.x cannot express the node.
-    Control nodes are not listed: Sequence/Fallback become ReactiveSequence/ReactiveFallback (see
-    export.hunav2), the other built-ins keep their names."""
+    Control nodes and built-ins are not listed: each library row's `hunav2` names what it becomes
+    (Sequence/Fallback their reactive forms, the others keep their names)."""
 
     template: str | None = None
     by_value: dict[str, dict[str, str]] = Field(default_factory=dict)
@@ -161,9 +159,10 @@ HUNAV2: dict[str, Hunav2Translation] = {
         reason="SaySomething publishes the gesture's word; gesture 0 (stop gesturing) says nothing and, "
                "like MakeGesture, succeeds without moving"),
     "LookAtRobot": Hunav2Translation(
-        template='<SurprisedNav agent_id="{agent_id}" time_step="{{dt}}" beh_duration="0.0" only_once="false"/>',
+        template='<SurprisedNav agent_id="{agent_id}" beh_duration="0.0" only_once="false"/>',
         reason="SurprisedNav is 2.x's one-step turn toward the robot that finishes in the tick, as ours "
                "does; 2.x's LookAtRobot stays RUNNING until aligned, which would stop re-checking the gate"),
+    # (SurprisedNav declares time_step but never reads it: left out, LookAtRobot has no {dt} to pass)
     "FollowRobot": Hunav2Translation(
         template='<CuriousNav agent_id="{agent_id}" time_step="{time_step}" beh_duration="0.0" '
                  'only_once="false" agent_vel="0.8" stop_distance="1.5"/>',

@@ -15,7 +15,6 @@ from typing import Literal, get_args
 from pydantic import BaseModel, Field
 
 from socnavgen.bt.hunav2_facts import HUNAV2 as HUNAV2
-from socnavgen.bt.hunav2_facts import HUNAV2_EXTRA_BUILTINS
 from socnavgen.bt.hunav2_facts import HUNAV2_FIRST_AGENT_ID as HUNAV2_FIRST_AGENT_ID
 from socnavgen.bt.hunav2_facts import HUNAV2_REGISTERED as HUNAV2_REGISTERED
 from socnavgen.bt.hunav2_facts import Hunav2Translation as Hunav2Translation
@@ -42,6 +41,9 @@ class Port(BaseModel):
     # or through SubTree remaps and SetBlackboard copies; a literal or any other entry is refused.
     reads_root: Literal["id", "dt"] | None = None
     other_human: bool = False  # holds another human's id (checked against the scenario's humans)
+    # A value the prompt shows and the grammar offers besides the type's literals (TimeExpiredCondition's
+    # ts: {dt}); ports with `reads_root` always show {id} / {dt}.
+    example: str | None = None
     # Bounds of a number literal; doubles are distances, durations and speeds: never negative.
     minimum: float | None = None
     maximum: float | None = None
@@ -86,6 +88,10 @@ class NodeSpec(BaseModel):
     moves: bool = False  # an action that commands the body (a tick's action is the last that moved)
     gate: bool = False  # a condition whose SUCCESS lets an interaction run (verifier expectations)
     interaction: bool = False  # an action that is an interaction with the robot or another human
+    # the scenario spec's vocabulary (run/spec.py): triggers a condition detects, reactions an action
+    # realizes; stage 1 offers, stage 3 requires and the verifier reads them (TRIGGER_NODES, REACTION_NODES)
+    detects: tuple[str, ...] = ()
+    realizes: tuple[str, ...] = ()
 
     def port(self, name: str) -> Port | None:
         return next((p for p in self.ports if p.name == name), None)
@@ -123,6 +129,7 @@ def _builtin(name: str, kind: NodeKind, description: str, *, in_prompt: bool = F
 NODES: list[NodeSpec] = [
     # ---- conditions -------------------------------------------------------------------------
     NodeSpec(name="IsRobotVisible", kind="condition", ports=[_AGENT, _dist("metres")], gate=True,
+             detects=("robot_visible", "robot_near"),
              description="SUCCESS when the robot is within `distance` metres and in line of sight of the human "
                          "(not hidden behind a wall).",
              capability="Check whether the robot is visible to the human (within a distance, not behind a wall)",
@@ -130,10 +137,12 @@ NODES: list[NodeSpec] = [
              sim_note="The fork has no line-of-sight test and a field of view over 180 deg; we test line of "
                       "sight on the occupancy map, as the prompt says."),
     NodeSpec(name="IsRobotNearby", kind="condition", ports=[_AGENT, _dist("metres")], gate=True,
+             detects=("robot_near",),
              description="SUCCESS when the robot is within `distance` metres of the human, walls or not.",
              capability="Check whether the robot is near the human",
              targets={"socrates", "hunav2"}, hunav2="IsRobotClose"),
     NodeSpec(name="IsRobotBlocking", kind="condition", ports=[_AGENT, _dist("metres")], gate=True,
+             detects=("robot_blocking",),
              description="SUCCESS when the robot is within `distance` metres, in line of sight, and in front of "
                          "the human (within about 30 degrees of its heading), i.e. in its way.",
              capability="Check whether the robot is blocking the human's path",
@@ -147,21 +156,24 @@ NODES: list[NodeSpec] = [
              ports=[Port(name="seconds", type=PortType.DOUBLE, description="duration in seconds", required=False,
                          default="1.0"),
                     Port(name="ts", type=PortType.DOUBLE, description="time added per tick; write {dt}",
-                         required=False, default="0.01"),
+                         required=False, default="0.01", example="{dt}"),
                     Port(name="only_once", type=PortType.BOOL, required=False, default="false",
                          description="true: stays SUCCESS once expired; false: the timer restarts")],
              description="Counts the time it is ticked; FAILURE until `seconds` have accumulated, then SUCCESS "
                          "(with only_once=false the count restarts after each SUCCESS). Wrap it in an Inverter "
                          "to do something only for the first `seconds`.",
              capability="Do something only for a limited time, or only after some time has passed",
+             detects=("time",),
              targets={"socrates", "hunav1"}, hunav1="TimeExpiredCondition"),
     NodeSpec(name="RobotSays", kind="condition", gate=True,
+             detects=("robot_says",),
              ports=[_AGENT, Port(name="message", type=PortType.INT, description="gesture code",
                                  allowed=ROBOT_GESTURES)],
              description="SUCCESS while the robot is making the gesture `message`.",
              capability="React to what the robot says: WAIT, PROCEED, ACKNOWLEDGED, EXCUSE ME, FOLLOW ME",
              targets={"socrates"}),
     NodeSpec(name="HumanSays", kind="condition", gate=True,
+             detects=("human_says",),
              ports=[_AGENT, Port(name="target_id", type=PortType.INT, description="id of the other human (0-based)",
                                  other_human=True),
                     Port(name="message", type=PortType.INT, description="gesture code", allowed=HUMAN_GESTURES)],
@@ -169,6 +181,7 @@ NODES: list[NodeSpec] = [
              capability="React to a gesture of another human",
              targets={"socrates"}),
     NodeSpec(name="RobotMoved", kind="condition", ports=[_AGENT], gate=True,
+             detects=("robot_moving",),
              description="SUCCESS while the robot is moving (speed above 0.1 m/s).",
              capability="Check whether the robot is currently moving",
              targets={"socrates"},
@@ -179,6 +192,7 @@ NODES: list[NodeSpec] = [
              description="Move on to the next goal of the human's goal list (the last goal is kept).",
              capability=None, targets={"socrates", "hunav2", "hunav1"}, hunav2="UpdateGoal", hunav1="UpdateGoal"),
     NodeSpec(name="RegularNav", kind="action", ports=[_AGENT, _STEP], moves=True,
+             realizes=("walk_past", "join"),
              description="One step of normal social-force walking toward the current goal; the robot is "
                          "treated as an ordinary obstacle.",
              capability="Walk normally to its goal, treating the robot as an ordinary obstacle",
@@ -186,6 +200,7 @@ NODES: list[NodeSpec] = [
              sim_note="The fork leaves the robot out of the social force of LLM-tree agents; we include it, "
                       "as the prompt says."),
     NodeSpec(name="MakeGesture", kind="action", interaction=True,
+             realizes=("stop", "say", "wait_then_go"),
              ports=[_AGENT, Port(name="message", type=PortType.INT, description="gesture code",
                                  allowed=HUMAN_GESTURES)],
              description="The human makes the gesture `message` and keeps making it until another MakeGesture "
@@ -193,10 +208,12 @@ NODES: list[NodeSpec] = [
              capability="Say WAIT, PROCEED or EXCUSE ME to the robot",
              targets={"socrates"}, hunav2="SaySomething"),
     NodeSpec(name="LookAtRobot", kind="action", ports=[_AGENT], moves=True, interaction=True,
+             realizes=("stop", "look", "wait_then_go"),
              description="The human stops and turns to face the robot.",
              capability="Stop and look at the robot",
              targets={"socrates", "hunav2"}, hunav2="LookAtRobot", hunav1="SurprisedNav"),
     NodeSpec(name="FollowRobot", kind="action", ports=[_AGENT, _STEP], moves=True, interaction=True,
+             realizes=("follow",),
              description="One step following the robot; the human stops 1.5 m behind it and faces it. A follower "
                          "standing in the robot's way (ahead of it on its path) first steps aside and lets it pass.",
              capability="Follow the robot",
@@ -204,6 +221,7 @@ NODES: list[NodeSpec] = [
              sim_note="HuNavSim's follower walks up to the robot even from in front of it and stands 1.5 m ahead "
                       "of it, blocking it for good; ours steps aside first (GiveWaytoRobot's side step)."),
     NodeSpec(name="FollowHuman", kind="action", moves=True, interaction=True,
+             realizes=("follow_human", "join"),
              ports=[_AGENT, Port(name="target_id", type=PortType.INT, description="id of the human to follow",
                                  other_human=True),
                     _STEP],
@@ -211,11 +229,13 @@ NODES: list[NodeSpec] = [
              capability="Follow another human",
              targets={"socrates", "hunav2"}, hunav2="FollowAgent"),
     NodeSpec(name="RunAwayFromRobot", kind="action", ports=[_AGENT, _STEP], moves=True, interaction=True,
+             realizes=("avoid",),
              description="One step of scared walking: slow (0.6 m/s) and strongly pushed away from the robot "
                          "while still heading for the goal.",
              capability="Be scared of the robot and avoid it",
              targets={"socrates", "hunav1"}, hunav1="ScaredNav"),
     NodeSpec(name="GiveWaytoRobot", kind="action", ports=[_AGENT, _STEP], moves=True, interaction=True,
+             realizes=("give_way",),
              description="One step of giving way: the human steps to the side of the robot's path, waits there "
                          "while the robot passes, then resumes toward its goal.",
              capability="Give way to the robot (step aside, let it pass)",
@@ -223,6 +243,7 @@ NODES: list[NodeSpec] = [
              sim_note="The fork computes the side step and then discards it (a plain walking step); we "
                       "really step aside, as the prompt says."),
     NodeSpec(name="BlockRobot", kind="action", ports=[_AGENT, _STEP], moves=True, interaction=True,
+             realizes=("block",),
              description="One step moving quickly to a point 1.5 m in front of the robot, facing it when close, "
                          "to block its way.",
              capability="Move in front of the robot and block it",
@@ -262,6 +283,7 @@ NODES: list[NodeSpec] = [
 # Conditions whose SUCCESS, once reached, stays: "once the robot said FOLLOW ME, keep following".
 NODES.append(
     NodeSpec(name="RobotSaid", kind="condition",
+             detects=("robot_says",),
              ports=[_AGENT, Port(name="message", type=PortType.INT, description="gesture code",
                                  allowed=ROBOT_GESTURES)],
              description="SUCCESS once the robot has made the gesture `message` at any time so far (and from "
@@ -353,11 +375,16 @@ _PORT_TYPES = {"int": PortType.INT, "double": PortType.DOUBLE, "bool": PortType.
 _ROOT_PORTS: dict[str, Literal["id", "dt"]] = {"agent_id": "id", "time_step": "dt"}
 
 
-def _native_spec(node: RegisteredNode) -> NodeSpec:
-    """A 2.x node as a library row; its navigation steps (the nodes with a time_step) move the person."""
+def registered_spec(node: RegisteredNode) -> NodeSpec:
+    """A node HuNavSim 2.x registers, as a library row: its declared input ports (one the 2.x code reads
+    without a default is required: the tick throws without it); navigation steps (the nodes with a
+    time_step) move the person."""
     ports = [Port(name=p.name, type=_PORT_TYPES[p.type], description=f"HuNavSim 2.x port ({p.type})",
                   required=p.read and p.default is None, default=p.default, reads_root=_ROOT_PORTS.get(p.name))
              for p in node.ports if p.direction == "input"]
+    if node.kind == "Decorator":
+        return NodeSpec(name=node.id, kind="decorator", ports=ports, min_children=1, max_children=1,
+                        description=f"HuNavSim 2.x decorator {node.id}", targets={"hunav2"}, in_prompt=False)
     return NodeSpec(name=node.id, kind="action" if node.kind == "Action" else "condition", ports=ports,
                     moves=any(p.name == "time_step" for p in ports),
                     description=f"HuNavSim 2.x {node.kind.lower()} {node.id} (only in hunav2 exports; "
@@ -365,16 +392,13 @@ def _native_spec(node: RegisteredNode) -> NodeSpec:
                     targets={"hunav2"}, hunav2=node.id, in_prompt=False)
 
 
-NATIVE_HUNAV2 = [_native_spec(HUNAV2_REGISTERED[n]) for n in HUNAV2_SIMULATED] + [
+NATIVE_HUNAV2 = [registered_spec(HUNAV2_REGISTERED[n]) for n in HUNAV2_SIMULATED] + [
     NodeSpec(name="AlwaysSuccess", kind="action", description="BT.CPP 4 built-in: SUCCESS, does nothing",
              targets={"hunav2"}, hunav2="AlwaysSuccess", in_prompt=False)]
 NODES.extend(NATIVE_HUNAV2)
 LIBRARY.update({n.name: n for n in NATIVE_HUNAV2})
 
 
-# BT.CPP 4 built-ins a HuNavSim 2.x file may hold (HuNavSim registers only its leaves).
-HUNAV2_BUILTINS = tuple(n.name for n in NODES if n.kind not in ("action", "condition")) + HUNAV2_EXTRA_BUILTINS \
-    + ("AlwaysSuccess",)
 
 
 def _apply_hunav2_support() -> None:
@@ -414,34 +438,22 @@ def hunav2_text(name: str) -> str:
 
 # ==== BEGIN encounter needs ==================================================================
 # What a tree must contain for each part of an encounter of the scenario spec (run/spec.py): the
-# conditions that DETECT a human's trigger, and the actions that REALIZE its reaction. Stage 3 checks
-# every tree against this table, prompts quote it, stage 1 refuses parts a target cannot run.
+# conditions that DETECT a human's trigger, and the actions that REALIZE its reaction (the rows'
+# `detects` / `realizes`, in library order). Stage 3 checks every tree against them, prompts quote
+# them, stage 1 refuses parts a target cannot run. `always` needs no condition.
 # `PART_PORTS` says which port of the node must carry which value of the spec part:
 #   robot_phrase -> the robot's gesture code of `phrase`; human_phrase -> the human gesture code of
 #   `phrase` (or of `says` for the reaction say); other -> the agent id of `other`.
-TRIGGER_NODES: dict[str, tuple[str, ...]] = {
-    "always": (),
-    "robot_visible": ("IsRobotVisible",),
-    "robot_near": ("IsRobotNearby", "IsRobotVisible"),
-    "robot_blocking": ("IsRobotBlocking",),
-    "robot_says": ("RobotSays", "RobotSaid"),
-    "robot_moving": ("RobotMoved",),
-    "human_says": ("HumanSays",),
-    "time": ("TimeExpiredCondition",),
-}
-REACTION_NODES: dict[str, tuple[str, ...]] = {
-    "walk_past": ("RegularNav",),
-    "stop": ("LookAtRobot", "MakeGesture"),
-    "look": ("LookAtRobot",),
-    "give_way": ("GiveWaytoRobot",),
-    "follow": ("FollowRobot",),
-    "block": ("BlockRobot",),
-    "avoid": ("RunAwayFromRobot",),
-    "say": ("MakeGesture",),
-    "follow_human": ("FollowHuman",),
-    "wait_then_go": ("LookAtRobot", "MakeGesture"),
-    "join": ("FollowHuman", "RegularNav"),
-}
+def _encounter_table(field: Literal["detects", "realizes"]) -> dict[str, tuple[str, ...]]:
+    table: dict[str, tuple[str, ...]] = {}
+    for spec in NODES:
+        for key in getattr(spec, field):
+            table[key] = (*table.get(key, ()), spec.name)
+    return table
+
+
+TRIGGER_NODES: dict[str, tuple[str, ...]] = {"always": (), **_encounter_table("detects")}
+REACTION_NODES: dict[str, tuple[str, ...]] = _encounter_table("realizes")
 PART_PORTS: dict[tuple[str, str], dict[str, str]] = {
     ("trigger", "robot_says"): {"message": "robot_phrase"},
     ("trigger", "human_says"): {"message": "human_phrase", "target_id": "other"},
@@ -452,10 +464,10 @@ PART_PORTS: dict[tuple[str, str], dict[str, str]] = {
 
 def nodes_for_trigger(trigger: str, target: Target = "socrates") -> list[str]:
     """Library nodes (of `target`) that detect a spec trigger; [] for `always` or when none runs there."""
-    return [n for n in TRIGGER_NODES.get(trigger, ()) if n in LIBRARY and target in LIBRARY[n].targets]
+    return [n.name for n in NODES if trigger in n.detects and target in n.targets]
 
 
 def nodes_for_reaction(reaction: str, target: Target = "socrates") -> list[str]:
     """Library nodes (of `target`) that realize a spec reaction."""
-    return [n for n in REACTION_NODES.get(reaction, ()) if n in LIBRARY and target in LIBRARY[n].targets]
+    return [n.name for n in NODES if reaction in n.realizes and target in n.targets]
 # ==== END encounter needs ======================================================================

@@ -28,7 +28,7 @@ from socnavgen.bt.model import (
     range_problem,
     suggest,
 )
-from socnavgen.bt.tree import MAX_XML_BYTES, BTElement, parse_bt
+from socnavgen.bt.tree import MAX_XML_BYTES, BTElement, read_xml
 from socnavgen.errors import SocnavgenError
 
 ROOT_CHILDREN = ("BehaviorTree", "include", "TreeNodesModel")
@@ -83,7 +83,7 @@ class _Parser:
             line = text.count("\n", 0, exc.start) + 1
             return self.add(f"XML does not parse: invalid character (lone surrogate) at offset {exc.start}", line)
         try:
-            root = parse_bt(text, self.source).root
+            root = read_xml(text, self.source)
         except SocnavgenError as exc:
             return self.add(exc.message, exc.line)
         return self.document(root)
@@ -114,7 +114,7 @@ class _Parser:
                      elements[tree_id].line)
         trees = {tree_id: self.tree(tree_id, elem, included | elements.keys()) for tree_id, elem in elements.items()}
         main = root.attrs.get("main_tree_to_execute")
-        if main is None and len(trees) == 1 and self.version == 4:
+        if main is None and len(trees) == 1 and not includes:  # BT.CPP 3.8 and 4: the only tree it knows
             main = next(iter(trees))
         if not trees:
             self.add("no <BehaviorTree ID='...'> in the file", root.line)
@@ -206,7 +206,7 @@ class _Parser:
             return Node(name, "unknown", {}, children, elem.line, self.source, label, attrs)
         self.arity(spec, len(children), elem.line)
         if spec.kind == "subtree":
-            call = self.call(attrs, elem.line)
+            call = self.call(dict(attrs), elem.line)
             return Node(name, spec.kind, {}, children, elem.line, self.source, label, attrs, call)
         ports = self.ports(spec, attrs, elem.line)
         return Node(name, spec.kind, ports, children, elem.line, self.source, label, attrs)

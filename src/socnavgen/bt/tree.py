@@ -1,4 +1,7 @@
-"""Behavior-tree XML as plain data, parsed defensively (defusedxml: no DTD, no entities, limits)."""
+"""Behavior-tree XML as plain elements, read defensively (defusedxml: no DTD, no entities, limits): the XML
+layer under bt.parse (the one parser of the tree language) and what exporters write v4 files from.
+`BTDocument` / `parse_bt` remain only for the simulator's own lowering until it reads bt.expand's typed
+tree; nothing else may use them."""
 
 from __future__ import annotations
 
@@ -67,8 +70,9 @@ class _LineTreeBuilder(ET.TreeBuilder):
         return super().end(tag)
 
 
-def parse_bt(text: str, source: str = "<string>") -> BTDocument:
-    """Parse BT.CPP v3/v4 XML. Raises ValidationFailed (with source and line) on anything hostile or malformed."""
+def read_xml(text: str, source: str = "<string>", tag: str | None = "root") -> BTElement:
+    """The XML's top element (which must be <`tag`> unless `tag` is None). Raises ValidationFailed (with
+    source and line) on anything hostile or malformed."""
     if len(text.encode("utf-8", errors="ignore")) > MAX_XML_BYTES:
         raise ValidationFailed(f"XML is larger than {MAX_XML_BYTES} bytes", file=source)
     builder = _LineTreeBuilder()
@@ -91,8 +95,14 @@ def parse_bt(text: str, source: str = "<string>") -> BTDocument:
                          line=builder.lines.get(id(e)))
 
     root = convert(top)
-    if root.tag != "root":
-        raise ValidationFailed(f"the top element is <{root.tag}>, expected <root>", file=source, line=root.line)
+    if tag is not None and root.tag != tag:
+        raise ValidationFailed(f"the top element is <{root.tag}>, expected <{tag}>", file=source, line=root.line)
+    return root
+
+
+def parse_bt(text: str, source: str = "<string>") -> BTDocument:
+    """The simulator's view of a tree file (see the module docstring)."""
+    root = read_xml(text, source)
     trees = {c.attrs.get("ID", ""): c for c in root.children if c.tag == "BehaviorTree"}
     includes = [c.attrs.get("path", "") for c in root.children if c.tag == "include"]
     fmt = 4 if root.attrs.get("BTCPP_format") == "4" else 3

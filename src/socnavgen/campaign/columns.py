@@ -17,6 +17,7 @@ IDENTITY = [
     ("policy", pa.string()),
     ("robot", pa.string()),
     ("seed", pa.int64()),
+    ("inputs", pa.string()),  # digest of what decided the episode (campaign/fingerprint.py): resume needs it equal
 ]
 OUTCOME = [
     ("status", pa.string()),  # ok | failed

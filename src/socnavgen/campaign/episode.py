@@ -2,7 +2,9 @@
 
 Runs inside a worker (a local process, a Ray worker, or the calling process). Each worker keeps every
 location and world it loaded (WORKER_CACHE), so an episode costs the simulation, not the map loading.
-A policy that raises, returns garbage or runs past the wall-clock limit fails its episode only."""
+A policy that raises, returns garbage, calls sys.exit or runs past the wall-clock limit fails its episode only;
+the limit covers everything the episode does (loading, simulation, metrics, verification). A worker that dies
+(os._exit, the OOM killer) or never comes back is the executor's to handle (executors.py)."""
 
 from __future__ import annotations
 
@@ -23,8 +25,9 @@ from socnavgen.text import count
 VERDICT_FIELDS = {"name", "kind", "passed", "required", "human", "criterion", "robustness", "blame", "blame_human"}
 
 
-class EpisodeTimeout(Exception):
-    """The episode ran past its wall-clock limit."""
+class EpisodeTimeout(BaseException):
+    """The episode ran past its wall-clock limit. A BaseException, like KeyboardInterrupt, so that a policy
+    retrying inside `except Exception` does not swallow it."""
 
 
 @dataclass(frozen=True)
@@ -43,6 +46,7 @@ class Episode:
     policy: str  # the policy's name in the campaign
     robot: str  # its plugin spec
     seed: int
+    inputs: str | None = None  # digest of what decides it (fingerprint.py), stored in its row
 
     @property
     def key(self) -> str:
@@ -89,7 +93,11 @@ WORKER_CACHE = WorkerCache()
 
 class _Deadline:
     """Raise EpisodeTimeout after `seconds` of wall time: by SIGALRM when we are the main thread (catches a
-    policy stuck inside one act() call), and at every progress callback otherwise."""
+    policy stuck inside one act() call), and at every progress callback otherwise. The alarm repeats every
+    REFIRE seconds until the episode is left, so a policy that swallows the first one meets the next; one that
+    swallows every BaseException is stopped with its worker process (executors.py)."""
+
+    REFIRE = 0.2
 
     def __init__(self, seconds: float) -> None:
         self.seconds = seconds
@@ -99,7 +107,7 @@ class _Deadline:
     def __enter__(self) -> _Deadline:
         if threading.current_thread() is threading.main_thread() and hasattr(signal, "setitimer"):
             self._previous = signal.signal(signal.SIGALRM, self._fire)
-            signal.setitimer(signal.ITIMER_REAL, self.seconds)
+            signal.setitimer(signal.ITIMER_REAL, self.seconds, self.REFIRE)
             self._armed = True
         return self
 
@@ -119,7 +127,7 @@ class _Deadline:
 def _identity(ep: Episode) -> dict[str, Any]:
     s = ep.scenario
     return {"episode": ep.key, "scenario": s.id, "location": s.location, "card": s.card, "source": s.source,
-            "humans": s.humans, "policy": ep.policy, "robot": ep.robot, "seed": ep.seed}
+            "humans": s.humans, "policy": ep.policy, "robot": ep.robot, "seed": ep.seed, "inputs": ep.inputs}
 
 
 def _finite(value: Any) -> Any:
@@ -150,19 +158,28 @@ def simulate_episode(ep: Episode, settings: EpisodeSettings, cache: WorkerCache 
 
 def run_episode(ep: Episode, settings: EpisodeSettings, cache: WorkerCache | None = None) -> dict[str, Any]:
     """The episode's row: identity, outcome, every chosen metric, the verifier's verdicts."""
-    from socnavgen.sim.metrics import compute_metrics, navigation_metrics
-
     cache = cache or WORKER_CACHE
     row = _identity(ep)
-    _warm_up_compiled()
+    warm_up_compiled()
     start = time.perf_counter()
     try:
         with _Deadline(settings.wall_timeout) as deadline:
-            trace, location, world = simulate_episode(ep, settings, cache, deadline)
+            measured = _measure(ep, settings, cache, deadline)
     except EpisodeTimeout as exc:
-        return _failed(row, f"timeout: {exc}", start)
-    except Exception as exc:  # noqa: BLE001 - a policy's crash fails its episode, not the campaign
-        return _failed(row, f"crash: {type(exc).__name__}: {exc} ({_where(exc)})", start)
+        return failed_row(ep, f"timeout: {exc}", time.perf_counter() - start)
+    except (Exception, SystemExit) as exc:  # noqa: BLE001 - a policy's crash (even sys.exit) fails its episode
+        return failed_row(ep, f"crash: {type(exc).__name__}: {exc} ({_where(exc)})", time.perf_counter() - start)
+    row.update(measured, wall_seconds=time.perf_counter() - start)
+    return row
+
+
+def _measure(ep: Episode, settings: EpisodeSettings, cache: WorkerCache, deadline: _Deadline) -> dict[str, Any]:
+    """Simulate, measure and verify one episode: the row's outcome, metrics and verdicts (all of it under the
+    episode's deadline; nothing of it is kept when the episode fails)."""
+    from socnavgen.sim.metrics import compute_metrics, navigation_metrics
+
+    row: dict[str, Any] = {}
+    trace, location, world = simulate_episode(ep, settings, cache, deadline)
     metrics = compute_metrics(trace, location)
     metrics.update(navigation_metrics(trace, world))
     chosen = settings.metrics or tuple(metrics)
@@ -178,11 +195,10 @@ def run_episode(ep: Episode, settings: EpisodeSettings, cache: WorkerCache | Non
         row["verify_failed"] = "; ".join(f.name for f in report.failures)
         row["verdicts"] = json.dumps([f.model_dump(mode="json", include=VERDICT_FIELDS) for f in report.findings])
     row["failure_reason"] = None if row["success"] else _why_not(metrics, trace)
-    row["wall_seconds"] = time.perf_counter() - start
     return row
 
 
-def _warm_up_compiled() -> None:
+def warm_up_compiled() -> None:
     """The compiled simulator ready in this worker before its first episode's clock starts (numba compiles it
     on a new machine: ~40 s that are no episode's fault)."""
     from socnavgen.sim import kernels
@@ -210,10 +226,11 @@ def _where(exc: BaseException) -> str:
     return f"{Path(last.filename).name}:{last.lineno}"
 
 
-def _failed(row: dict[str, Any], reason: str, start: float) -> dict[str, Any]:
-    row.update(status="failed", failure_reason=reason[:500], end_reason="error", success=False,
-               wall_seconds=time.perf_counter() - start)
-    return row
+def failed_row(ep: Episode, reason: str, wall_seconds: float | None = None) -> dict[str, Any]:
+    """The row of a failed episode (it crashed, timed out, or its worker died or was stopped): identity and
+    why; no metric."""
+    return {**_identity(ep), "status": "failed", "failure_reason": reason[:500], "end_reason": "error",
+            "success": False, "wall_seconds": wall_seconds}
 
 
 def run_batch(episodes: list[Episode], settings: EpisodeSettings) -> list[dict[str, Any]]:

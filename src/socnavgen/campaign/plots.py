@@ -31,8 +31,9 @@ def metric_bars(agg: Aggregates) -> bytes:
     for ax, metric in zip(axes.ravel(), metrics, strict=False):
         est = [agg.per_policy[p][metric] for p in agg.policies]
         means = np.array([e.mean for e in est])
-        low = np.nan_to_num(means - np.array([e.low for e in est]))
-        high = np.nan_to_num(np.array([e.high for e in est]) - means)
+        # a percentile CI need not contain the mean: bars never get a negative error length
+        low = np.clip(np.nan_to_num(means - np.array([e.low for e in est])), 0.0, None)
+        high = np.clip(np.nan_to_num(np.array([e.high for e in est]) - means), 0.0, None)
         ax.bar(range(len(est)), np.nan_to_num(means), yerr=[low, high], color=colors, capsize=4)
         ax.set_xticks(range(len(est)), agg.policies, rotation=30, ha="right", fontsize=8)
         ax.set_title(metric, fontsize=9)

@@ -86,14 +86,49 @@ def _sections(agg: Aggregates) -> list[tuple[str, list[str], list[list[str]]]]:
 
 CSS = ("body{font-family:sans-serif;max-width:1200px;margin:1em auto}table{border-collapse:collapse;font-size:12px;"
        "margin-bottom:1.5em}td,th{border:1px solid #ccc;padding:2px 6px;text-align:left}img{max-width:100%}"
-       ".gifs img{width:32%;margin:2px}")
+       ".gifs img{width:32%;margin:2px}.note{background:#fff3cd;padding:6px}")
 
 
-def write_report(out: Path | str, *, gifs: int = 3, resamples: int = 2000, baseline: str | None = None) -> list[Path]:
+def campaign_table(out: Path) -> tuple[Any, list[str]]:
+    """(the episode table, notes for the reader): episodes.parquet of a finished campaign; for one that was
+    stopped, the rows of its current episodes found in parts/, with a note saying it is unfinished."""
+    from socnavgen.campaign.fingerprint import read_inputs
+    from socnavgen.campaign.runner import CAMPAIGN_FILE, SCENARIOS_FILE
+    from socnavgen.campaign.store import TABLE
+
+    plan = None
+    inputs = read_inputs(out)
+    try:
+        campaign = json.loads((out / CAMPAIGN_FILE).read_text())
+        scenarios = [s["id"] for s in json.loads((out / SCENARIOS_FILE).read_text())["scenarios"]]
+        if inputs is not None:
+            plan = inputs.plan(scenarios, [p["name"] for p in campaign["policies"]], campaign["seeds"])
+    except (OSError, ValueError, KeyError, TypeError):
+        pass  # a folder from an older socnavgen: report what is there
+    finished = (out / TABLE).is_file()
+    table, notes = read_episodes(out, plan)  # the plan chooses rows only when they come from the parts
+    if table.num_rows == 0:
+        from socnavgen.errors import InputFileError
+
+        raise InputFileError("no episode of this campaign has a row yet", file=out,
+                             hint="run (or finish) it with `socnavgen campaign run FILE -o OUT`")
+    if not finished:
+        total = f" of {len(plan)}" if plan is not None else ""
+        notes.insert(0, f"unfinished campaign: {table.num_rows}{total} episodes have a row (it was stopped before "
+                        "the end); run the same `socnavgen campaign run` command again to finish it")
+    return table, notes
+
+
+def write_report(out: Path | str, *, gifs: int = 3, resamples: int = 2000, baseline: str | None = None,
+                 notes: list[str] | None = None) -> list[Path]:
+    """Write the report; `notes` (if given) receives what the reader must know (an unfinished campaign,
+    unreadable files), which the page and the summary also show at the top."""
     from socnavgen.campaign.plots import metric_bars, success_heatmap
 
     out = Path(out)
-    table = read_episodes(out)
+    table, found = campaign_table(out)
+    if notes is not None:
+        notes.extend(found)
     agg = aggregate(table, resamples=resamples, baseline=baseline)
     sections = _sections(agg)
     rendered = render_gifs(out, agg.worst[:gifs]) if gifs else {}
@@ -101,6 +136,7 @@ def write_report(out: Path | str, *, gifs: int = 3, resamples: int = 2000, basel
             f"{len(agg.scenarios)} scenarios)"
     parts = [f"<!doctype html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>"
              f"<style>{CSS}</style></head><body><h1>{html.escape(title)}</h1>"]
+    parts += [f"<p class='note'><b>Note:</b> {html.escape(n)}</p>" for n in found]
     for k, (heading, header, rows) in enumerate(sections):
         parts.append(f"<h2>{html.escape(heading)}</h2>{_table(header, rows)}")
         if k == 0:
@@ -113,7 +149,7 @@ def write_report(out: Path | str, *, gifs: int = 3, resamples: int = 2000, basel
     parts.append("</body></html>")
     report = out / REPORT_DIR
     atomic_write_text(report / "index.html", "\n".join(parts))
-    md = [f"# {title}", ""]
+    md = [f"# {title}", "", *(f"> **Note:** {n}\n" for n in found)]
     for heading, header, rows in sections:
         md += [f"## {heading}", "", _md_table(header, rows), ""]
     if rendered:

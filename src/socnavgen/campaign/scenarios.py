@@ -61,6 +61,7 @@ def build_suite(spec: CampaignSpec, out: Path) -> Suite:
     scenarios: list[Scenario] = []
     skipped: list[str] = []
     used: set[str] = set()
+    named: dict[str, Path] = {}  # location name -> its folder (cards are stored and named by location name)
     for source in spec.scenarios:
         if isinstance(source, RunsSource):
             scenarios += [_from_run(spec.resolve(r), "runs", used) for r in source.runs]
@@ -77,6 +78,11 @@ def build_suite(spec: CampaignSpec, out: Path) -> Suite:
             for loc_path in source.locations:
                 loc_dir = spec.resolve(loc_path)
                 location = load_location(loc_dir)
+                first = named.setdefault(location.name, loc_dir.resolve())
+                if first != loc_dir.resolve():
+                    raise InputFileError(f"two locations are both named {location.name!r} ({first} and {loc_dir}): "
+                                         "their scenarios would be mixed up",
+                                         file=loc_dir / "location.yaml", hint="give one of them another `name:`")
                 for name in names:
                     run_dir = out / "scenarios" / location.name / name
                     if not (run_dir / "paths.json").is_file():

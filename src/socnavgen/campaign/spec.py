@@ -3,16 +3,30 @@ and which metrics. Validated with one clear error naming the line of the offendi
 
 from __future__ import annotations
 
+import types
+import typing
 from pathlib import Path
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
 
 import yaml
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Discriminator,
+    Field,
+    Tag,
+    ValidationError,
+    field_validator,
+    model_validator,
+)
 
 from socnavgen.errors import InputFileError
-from socnavgen.safeio import read_text_limited
+from socnavgen.limits import MAX_SIM_STEPS
+from socnavgen.safeio import parse_yaml_text, read_text_limited
+from socnavgen.text import did_you_mean
 
 MAX_SEEDS = 100_000
+MAX_SEED = 2**63 - 1  # the table's seed column is a 64-bit integer
 
 
 class RunsSource(BaseModel):
@@ -47,11 +61,31 @@ class CardsSource(BaseModel):
         known = card_names()
         unknown = [c for c in value if c not in known]
         if unknown:
-            raise ValueError(f"unknown card(s) {', '.join(unknown)}; known: {', '.join(known)}")
+            guesses = [f"{c}: {did_you_mean(c, known, cutoff=0.5) or 'no card is close'}" for c in unknown]
+            raise ValueError(f"unknown card(s) {', '.join(unknown)} ({'; '.join(guesses)}); "
+                             "`socnavgen cards list` shows every card")
         return value
 
 
-ScenarioSource = RunsSource | FolderSource | CardsSource
+SOURCE_KINDS = {"runs": "RunsSource", "folder": "FolderSource", "cards": "CardsSource"}
+
+
+def _source_kind(value: Any) -> str | None:
+    """Which kind of scenario entry this is, by the key it has (so a typo in its other keys is reported
+    against that kind, not against whichever kind pydantic tried last)."""
+    if isinstance(value, BaseModel):
+        return type(value).__name__
+    if isinstance(value, dict):
+        return next((kind for key, kind in SOURCE_KINDS.items() if key in value), None)
+    return None
+
+
+ScenarioSource = Annotated[
+    Annotated[RunsSource, Tag("RunsSource")] | Annotated[FolderSource, Tag("FolderSource")]
+    | Annotated[CardsSource, Tag("CardsSource")],
+    Discriminator(_source_kind, custom_error_type="scenario_kind",
+                  custom_error_message="a scenario entry needs one of cards: (with locations:), runs: or folder:"),
+]
 
 
 class PolicySpec(BaseModel):
@@ -69,6 +103,15 @@ class SimulationSettings(BaseModel):
     throttle: bool = True
     wall_timeout: float = Field(30.0, gt=0.0, le=3600.0,
                                 description="wall-clock seconds an episode may take before it counts as failed")
+
+    @model_validator(mode="after")
+    def _step_cap(self) -> SimulationSettings:
+        """The same cap on steps as `socnavgen simulate` (dt 0.0001 x 3600 s would be 36 million steps)."""
+        steps = self.timeout / self.dt
+        if steps > MAX_SIM_STEPS:
+            raise ValueError(f"timeout {self.timeout:g} s at dt {self.dt:g} s is {steps:,.0f} steps an episode, more "
+                             f"than the {MAX_SIM_STEPS:,} allowed; raise dt or lower timeout")
+        return self
 
 
 class CampaignSpec(BaseModel):
@@ -112,6 +155,11 @@ class CampaignSpec(BaseModel):
     @field_validator("seeds")
     @classmethod
     def _unique_seeds(cls, value: list[int]) -> list[int]:
+        if not 1 <= len(value) <= MAX_SEEDS:
+            raise ValueError(f"give between 1 and {MAX_SEEDS} seeds (a number such as `seeds: 10`, or a list)")
+        bad = [k for k in value if not 0 <= k <= MAX_SEED]
+        if bad:
+            raise ValueError(f"seed {bad[0]} is out of range: a seed is a whole number from 0 to 2**63 - 1")
         if len(set(value)) != len(value):
             raise ValueError("seeds must be unique")
         return value
@@ -139,46 +187,36 @@ def _short_name(robot: str) -> str:
 
 
 def _line_of(node: yaml.Node | None, loc: tuple[Any, ...]) -> int | None:
-    """The 1-based line of the YAML node at pydantic's error location (deepest node found)."""
+    """The 1-based line of pydantic's error location in the YAML: of the deepest key found (not of its value:
+    a block list starts on the line after its key), or of the list item."""
     line = node.start_mark.line + 1 if node is not None else None
     for key in loc:
+        mark = None
         if isinstance(node, yaml.MappingNode):
-            nxt = next((v for k, v in node.value if getattr(k, "value", None) == key), None)
+            pair = next(((k, v) for k, v in node.value if getattr(k, "value", None) == key), None)
+            if pair is not None:
+                mark, node = pair[0].start_mark, pair[1]
         elif isinstance(node, yaml.SequenceNode) and isinstance(key, int) and key < len(node.value):
-            nxt = node.value[key]
-        else:
-            nxt = None
-        if nxt is None:
-            continue  # union branch names etc. are not YAML keys: stay on the deepest real node
-        node = nxt
-        line = node.start_mark.line + 1
+            node = node.value[key]
+            mark = node.start_mark
+        if mark is not None:  # union branch names etc. are not YAML keys: stay on the deepest real node
+            line = mark.line + 1
     return line
 
 
 def parse_campaign(text: str, file: Path | str = "<campaign>", base_dir: Path | None = None) -> CampaignSpec:
+    data = parse_yaml_text(text, file)
     try:
-        data = yaml.safe_load(text)
         root = yaml.compose(text, Loader=yaml.SafeLoader)
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        raise InputFileError(f"malformed YAML: {getattr(exc, 'problem', None) or exc}", file=file,
-                             line=mark.line + 1 if mark else None, hint="fix the YAML syntax at that line") from exc
+    except RecursionError as exc:
+        raise InputFileError("refused: YAML nested too deeply", file=file) from exc
     if not isinstance(data, dict):
         raise InputFileError("a campaign file is a YAML mapping with scenarios:, policies:, seeds:", file=file,
                              line=1, hint="see docs/campaign.md for an example")
     try:
         spec = CampaignSpec.model_validate(data)
     except ValidationError as exc:
-        errors = exc.errors()
-        best = min(errors, key=lambda e: len([k for k in e["loc"] if not isinstance(k, str) or
-                                              k not in ("RunsSource", "FolderSource", "CardsSource")]))
-        if any(k in ("RunsSource", "FolderSource", "CardsSource") for k in best["loc"]):
-            best = _scenario_error(errors)
-        loc = tuple(k for k in best["loc"] if k not in ("RunsSource", "FolderSource", "CardsSource"))
-        where = ".".join(str(k) for k in loc) or "(top level)"
-        raise InputFileError(f"{where}: {best['msg']}", file=file, line=_line_of(root, loc),
-                             hint="a campaign needs scenarios: (runs:, folder: or cards: + locations:), "
-                                  "policies: and seeds:; see docs/campaign.md") from exc
+        raise _campaign_error(exc.errors(), file, root) from exc
     spec.base_dir = Path(base_dir) if base_dir is not None else Path(".")
     for policy in spec.policies:  # `file.py:Class` is relative to the campaign file, like every other path
         module, _, cls = policy.robot.rpartition(":")
@@ -187,13 +225,55 @@ def parse_campaign(text: str, file: Path | str = "<campaign>", base_dir: Path | 
     return spec
 
 
-def _scenario_error(errors: list[dict]) -> dict:
-    """For a scenario entry matching no source kind, the error of the kind it most resembles (by its keys)."""
-    for kind in ("CardsSource", "FolderSource", "RunsSource"):
-        mine = [e for e in errors if kind in e["loc"]]
-        if mine and not any(e["type"] == "extra_forbidden" for e in mine):
-            return mine[0]
-    return next(e for e in errors if e["type"] == "extra_forbidden")
+GENERAL_HINT = ("a campaign needs scenarios: (cards: + locations:, runs: or folder:), policies: and seeds:; "
+                "`socnavgen campaign example` prints a commented one")
+
+
+def _campaign_error(errors: list[Any], file: Path | str, root: yaml.Node | None) -> InputFileError:
+    """One message for pydantic's errors: an unknown key first (a typo, with the key it resembles), else the
+    first error; named by its dotted place and the line of that place in the YAML."""
+    extra = [e for e in errors if e["type"] == "extra_forbidden"]
+    best = extra[0] if extra else errors[0]
+    loc = tuple(k for k in best["loc"] if k not in SOURCE_KINDS.values())
+    where = ".".join(str(k) for k in loc) or "(top level)"
+    line = _line_of(root, loc)
+    if best["type"] == "extra_forbidden":
+        model = _model_at(best["loc"][:-1])
+        known = list(model.model_fields) if model else []
+        known = [k for k in known if k != "base_dir"]
+        hint = did_you_mean(str(loc[-1]), known) or (f"the keys here are {', '.join(known)}" if known else None)
+        return InputFileError(f"{where}: unknown key {str(loc[-1])!r}", file=file, line=line,
+                              hint=hint or GENERAL_HINT)
+    if best["type"] == "scenario_kind" and isinstance(best.get("input"), dict) and best["input"]:
+        key = str(next(iter(best["input"])))  # an entry of no known kind: most likely a typo of its kind's key
+        return InputFileError(f"{where}: unknown key {key!r}", file=file, line=_line_of(root, (*loc, key)),
+                              hint=did_you_mean(key, SOURCE_KINDS) or best["msg"])
+    message = best["msg"].removeprefix("Value error, ")
+    return InputFileError(f"{where}: {message}", file=file, line=line, hint=GENERAL_HINT)
+
+
+def _model_at(loc: tuple[Any, ...]) -> type[BaseModel] | None:
+    """The pydantic model that validates the mapping at `loc` (to list the keys it takes)."""
+    model: type[BaseModel] | None = CampaignSpec
+    kinds = {"RunsSource": RunsSource, "FolderSource": FolderSource, "CardsSource": CardsSource}
+    for key in loc:
+        if key in kinds:
+            model = kinds[key]
+        elif isinstance(key, str) and model is not None:
+            field = model.model_fields.get(key)
+            model = _first_model(field.annotation) if field else None
+    return model
+
+
+def _first_model(annotation: Any) -> type[BaseModel] | None:
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return annotation
+    if isinstance(annotation, types.UnionType) or typing.get_origin(annotation) is not None:
+        for arg in typing.get_args(annotation):
+            found = _first_model(arg)
+            if found is not None:
+                return found
+    return None
 
 
 def load_campaign(path: Path | str) -> CampaignSpec:

@@ -32,8 +32,8 @@ def bootstrap_mean(values: np.ndarray, resamples: int = 2000, seed: int = 0, lev
     n = len(x)
     if n == 0:
         return Estimate(float("nan"), float("nan"), float("nan"), 0)
-    if n == 1 or np.all(x == x[0]):
-        return Estimate(float(x[0]) if n == 1 else float(x.mean()), float(x.min()), float(x.max()), n)
+    if np.all(x == x[0]):  # one value (a deterministic policy): exactly it, not a mean off by 1e-16
+        return Estimate(float(x[0]), float(x[0]), float(x[0]), n)
     rng = np.random.default_rng(seed)
     means = np.empty(resamples)
     chunk = max(1, 2_000_000 // n)  # bound memory: resamples x n indices at most ~2M at a time

@@ -5,7 +5,6 @@ the run's request.json, as plain dicts."""
 
 from __future__ import annotations
 
-import difflib
 from functools import cache
 from importlib import resources
 from pathlib import Path
@@ -16,6 +15,7 @@ from pydantic import ValidationError
 from socnavgen.cards.models import Card
 from socnavgen.errors import InputFileError, ValidationFailed
 from socnavgen.run import RunFolder
+from socnavgen.text import did_you_mean
 
 CARDS_FILE = "cards.yaml"
 
@@ -45,8 +45,7 @@ def get_card(name: str) -> Card:
     for card in all_cards():
         if card.name == key:
             return card
-    close = difflib.get_close_matches(key, card_names(), n=3, cutoff=0.5)
-    hint = f"did you mean {', '.join(close)}?" if close else "socnavgen cards list shows every card"
+    hint = did_you_mean(key, card_names(), n=3, cutoff=0.5) or "socnavgen cards list shows every card"
     raise ValidationFailed(f"no scenario card named {name!r}", hint=hint)
 
 

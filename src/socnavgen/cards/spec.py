@@ -105,7 +105,7 @@ def card_spec(placement: Placement, plan: PathPlan, location: Location) -> Scena
                               text=f"the robot reaches its goal {plan.robot[-1]}"))
     if plan.humans:
         criteria.append(Criterion(id=f"c{len(criteria) + 1}", kind="no_collision",
-                                  text="the robot never overlaps a person"))
+                                  text="the robot never touches a person"))
         criteria.append(Criterion(id=f"c{len(criteria) + 1}", kind="no_deadlock", seconds=10.0,
                                   text="the robot never stands 10 s behind someone in its way"))
     cues = [c for c in (_cue(rule, node_encounter) for rule in card.robot_gestures) if c is not None]

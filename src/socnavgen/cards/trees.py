@@ -8,14 +8,12 @@ from xml.sax.saxutils import quoteattr
 
 import yaml
 
+from socnavgen.bt.expand import load_instance
 from socnavgen.bt.library import LIBRARY, regular_nav_sequence
 from socnavgen.bt.validate import format_problems, validate_bt_text
 from socnavgen.errors import ValidationFailed
 
 REGULAR = "REGULAR"
-OWN_PORTS = {"agent_id": "{id}", "time_step": "{dt}"}
-CONTROLS = ("Sequence", "Fallback", "ReactiveSequence", "ReactiveFallback", "Inverter", "ForceSuccess",
-            "ForceFailure")
 
 
 @cache
@@ -24,17 +22,13 @@ def templates() -> dict[str, object]:
     return dict(yaml.safe_load(text)["templates"])
 
 
+@cache
 def sight_distance(template: str) -> float:
     """The farthest a template's conditions look for the robot (m): a person placed closer than this to
     the robot's start reacts at t = 0, before any encounter can be paced."""
-    def walk(node: object) -> float:
-        if isinstance(node, list):
-            return max((walk(n) for n in node), default=0.0)
-        if isinstance(node, dict):
-            found = [float(v) for k, v in node.items() if k == "distance" and isinstance(v, int | float)]
-            return max([*found, *(walk(v) for v in node.values())], default=0.0)
-        return 0.0
-    return walk(templates().get(template))
+    instance = load_instance(render_template(template, "CardTree"), f"template {template}")
+    return max((float(d) for n in instance.root.walk()
+                if n.kind == "condition" and isinstance(d := n.value("distance"), float)), default=0.0)
 
 
 def _regular(pad: str) -> str:
@@ -45,7 +39,7 @@ def _leaf(name: str, ports: dict, pad: str) -> str:
     spec = LIBRARY.get(name)
     if spec is None or spec.kind not in ("action", "condition"):
         raise ValidationFailed(f"card template uses {name!r}, which is not a leaf of the node library")
-    attrs = {p.name: OWN_PORTS[p.name] for p in spec.ports if p.name in OWN_PORTS}
+    attrs = {p.name: "{" + p.reads_root + "}" for p in spec.ports if p.reads_root is not None}
     attrs.update({k: str(v) for k, v in ports.items()})
     text = "".join(f" {k}={quoteattr(v)}" for k, v in attrs.items())
     return f"{pad}<{name}{text}/>\n"
@@ -60,7 +54,7 @@ def _node(node: object, level: int) -> str:
     if not isinstance(node, dict) or len(node) != 1:
         raise ValidationFailed(f"card template node must be a name or a one-key mapping, got {node!r}")
     (name, body), = node.items()
-    if name in CONTROLS:
+    if name in LIBRARY and LIBRARY[name].kind in ("control", "decorator"):
         children = "".join(_node(c, level + 1) for c in (body or []))
         return f"{pad}<{name}>\n{children}{pad}</{name}>\n"
     return _leaf(name, body or {}, pad)

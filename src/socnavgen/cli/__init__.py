@@ -8,12 +8,20 @@ from __future__ import annotations
 import importlib
 from collections.abc import Callable
 from functools import cache
+from typing import Any
 
 import click
 import typer
 from typer.core import TyperGroup
 
 from socnavgen import __version__
+
+
+def typer_app(**kwargs: Any) -> typer.Typer:
+    """Every Typer app of the command line: click's plain help (whole option names, wrapped between words, no
+    `<bool>` after a flag, no box that truncates at 80 columns), no shell-completion options in every command's
+    help, no pretty tracebacks (cli.guard turns errors into one message)."""
+    return typer.Typer(rich_markup_mode=None, add_completion=False, pretty_exceptions_enable=False, **kwargs)
 
 
 def _group(module: str, extra: tuple[str, str] | None = None) -> Callable[[], click.Command]:
@@ -32,7 +40,7 @@ def _single(module: str, register: str, name: str) -> Callable[[], click.Command
     """Loader of one command that `module.register(app)` adds to an app."""
 
     def load() -> click.Command:
-        holder = typer.Typer()
+        holder = typer_app()
         getattr(importlib.import_module(f"socnavgen.cli.{module}"), register)(holder)
         group = typer.main.get_command(holder)
         command = group.commands[name] if isinstance(group, click.Group) else group
@@ -88,19 +96,26 @@ def _load(name: str) -> click.Command:
     return COMMANDS[name][0]()
 
 
-app = typer.Typer(
+app = typer_app(
     name="socnavgen",
     cls=LazyGroup,
     help="Generate social navigation scenarios (paths + behavior trees) for HuNavSim from text and a map.\n\n"
          "Typical flow: location check -> generate -> export -> simulate -> verify; campaign to test robots.",
     no_args_is_help=True,
-    pretty_exceptions_enable=False,
-    add_completion=False,
 )
 
 
+def _print_version(value: bool) -> None:
+    if value:
+        print(f"socnavgen {__version__}")
+        raise typer.Exit()
+
+
 @app.callback()
-def _root() -> None:
+def _root(
+    version: bool = typer.Option(False, "--version", is_eager=True, callback=_print_version,
+                                 help="Print the version and exit."),
+) -> None:
     """(Keeps `socnavgen` a group of commands.)"""
 
 

@@ -53,7 +53,7 @@ def bag_out_dir(run: Path, bag: Path) -> Path:
     return run / BAGS_DIR / name[:80]
 
 
-def verify_bag(run: Path, bag: Path, *, location: Path | None, settings: dict, options: Any,
+def verify_bag(run: Path, bag: Path, *, location: Path | None, settings: Any, options: Any,
                as_json: bool) -> bool:
     """Judge a recorded run: the bag as a Trace, the run's criteria and the metrics, written to RUN/bags/NAME/."""
     from socnavgen.bag import bag_to_trace
@@ -61,7 +61,6 @@ def verify_bag(run: Path, bag: Path, *, location: Path | None, settings: dict, o
     from socnavgen.safeio import atomic_write_text
     from socnavgen.sim.outputs import write_outputs
     from socnavgen.verify import verify_trace
-    from socnavgen.verify.models import VerifySettings
     from socnavgen.verify.report import print_report
 
     loaded = load_run(run)
@@ -69,9 +68,7 @@ def verify_bag(run: Path, bag: Path, *, location: Path | None, settings: dict, o
         raise SocnavgenError("no paths.json in this run", file=run, hint="verify needs a generated run")
     loc = loaded.location(location)
     converted = bag_to_trace(bag, loaded.paths(), loc, options)
-    fields = VerifySettings.model_fields
-    report = verify_trace(loaded, converted.trace, location=loc,
-                          settings=VerifySettings(**{k: v for k, v in settings.items() if k in fields and v is not None}))
+    report = verify_trace(loaded, converted.trace, location=loc, settings=settings)  # a VerifySettings
     report = report.model_copy(update={"run": f"{run} (recorded: {bag})"})
     out = bag_out_dir(run, bag)
     converted.trace.save(out / "trace.npz")

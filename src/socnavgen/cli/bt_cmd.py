@@ -10,10 +10,11 @@ from rich.table import Table
 
 from socnavgen.bt.library import NODES, NodeSpec, hunav2_text
 from socnavgen.bt.validate import TARGETS, validate_bt_file
+from socnavgen.cli import typer_app
 from socnavgen.cli.common import console
 from socnavgen.errors import InputFileError
 
-app = typer.Typer(help="Behavior-tree tools: validate hand-written trees, show the node library.",
+app = typer_app(help="Behavior-tree tools: validate hand-written trees, show the node library.",
                   no_args_is_help=True)
 
 TargetOption = Annotated[str, typer.Option(
@@ -114,13 +115,33 @@ def library(
     if markdown:
         print(library_markdown(), end="")
         return
+    nodes = [spec for spec in NODES if target is None or target in spec.targets]
+    if console.width < WIDE:  # six columns in 80 would break words ("conditio n"): one paragraph per node
+        _library_list(nodes)
+        return
     table = Table(title="behavior-tree node library", show_lines=False)
     table.add_column("node", no_wrap=True)  # names stay whole (copy-paste); the rest folds
     for column in ("kind", "ports", "meaning", "targets", "HuNavSim 2.x"):
         table.add_column(column, overflow="fold")
-    for spec in NODES:
-        if target is not None and target not in spec.targets:
-            continue
+    for spec in nodes:
         table.add_row(spec.name, spec.kind, _ports_text(spec), spec.description, _targets_text(spec),
                       hunav2_text(spec.name))
     console.print(table)
+
+
+WIDE = 140  # columns below which the library is a list
+
+
+def _library_list(nodes: list) -> None:
+    """The library for narrow terminals and pipes: each node a paragraph, wrapped between words."""
+    import textwrap
+
+    width = max(40, console.width)
+    console.print("behavior-tree node library", style="bold", highlight=False)
+    for spec in nodes:
+        console.print(f"\n[bold]{spec.name}[/] ({spec.kind})", highlight=False)
+        for label, text in (("ports", _ports_text(spec) or "-"), ("", spec.description),
+                            ("targets", _targets_text(spec)), ("HuNavSim 2.x", hunav2_text(spec.name))):
+            console.print(textwrap.fill(f"{label}: {text}" if label else text, width=width, initial_indent="  ",
+                                        subsequent_indent="  ", break_long_words=False, break_on_hyphens=False),
+                          markup=False, highlight=False)

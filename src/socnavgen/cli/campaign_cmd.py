@@ -6,21 +6,34 @@ from pathlib import Path
 
 import typer
 
-app = typer.Typer(no_args_is_help=True, help="Run robot policies over scenario suites x seeds; report with CIs.")
+from socnavgen.cli import typer_app
 
-EXAMPLE = """name: smoke
+app = typer_app(no_args_is_help=True, help="Run robot policies over scenario suites x seeds; report with CIs.")
+
+EXAMPLE = """# A campaign: robot policies x scenarios x seeds. Run it as it is:
+#   socnavgen campaign run suite.yaml -o campaigns/suite
+# Paths are relative to this file (or absolute).
+name: smoke
 scenarios:
-  - cards: all                      # or a list: [blind-corner, crowd-navigation]
-    locations: [examples/locations/warehouse, examples/locations/hospital]
-  - runs: [runs/blind_corner]       # run folders (paths relative to this file)
-  - folder: runs/                   # every run folder inside
+  - cards: [blind-corner, frontal-approach]   # or `cards: all`; cards that do not fit a location are skipped
+    locations: [{warehouse}]
+  # - runs: [runs/blind_corner]     # run folders written by `socnavgen generate` / `cards generate`
+  # - folder: runs/                 # every run folder inside a folder
 policies:
-  - waypoints                       # built-in name, or
-  - {name: mine, robot: my_robot.py:MyPolicy}   # module:Class / file.py:Class
-seeds: 10                           # 0..9, or a list [1, 5, 7]
-simulation: {dt: 0.05, timeout: 60, throttle: true, wall_timeout: 30}
-metrics: [success, collisions, path_efficiency]  # optional: default every metric
+  - scripted                        # built-in robots: scripted, waypoints, sfm, straight
+  - waypoints
+  # - {{name: mine, robot: my_robot.py:MyPolicy}}   # your own: file.py:Class or package.module:Class
+seeds: 3                            # 0..2, or a list [1, 5, 7]
+simulation: {{dt: 0.05, timeout: 60, throttle: true, wall_timeout: 30}}
+# metrics: [success, collisions, path_efficiency]   # default: every metric (`socnavgen campaign metrics`)
 """
+
+
+def example_text() -> str:
+    """The example campaign, naming the bundled warehouse where it is (so it runs from any folder)."""
+    bundled = Path(__file__).resolve().parents[3] / "examples" / "locations" / "warehouse"
+    return EXAMPLE.format(warehouse=bundled if (bundled / "location.yaml").is_file() else
+                          "examples/locations/warehouse")
 
 
 @app.command("run")
@@ -39,6 +52,7 @@ def run(
 
     Example: socnavgen campaign run suite.yaml -o campaigns/suite --executor ray
     """
+    from rich.markup import escape
     from rich.progress import (
         BarColumn,
         MofNCompleteColumn,
@@ -51,6 +65,7 @@ def run(
     from socnavgen.campaign.runner import run_campaign
     from socnavgen.campaign.spec import load_campaign
     from socnavgen.cli.common import console, err_console
+    from socnavgen.text import count
 
     spec = load_campaign(file)
     from socnavgen.sim import compiled
@@ -72,6 +87,10 @@ def run(
                               progress=progress)
     for note in result.suite.skipped:
         console.print(f"  [yellow]skipped[/] {note}", highlight=False)
+    for problem in result.problems:
+        err_console.print(f"[yellow]warning:[/] {escape(problem)}", highlight=False)
+    for why, n in result.rerun.items():
+        console.print(f"  [yellow]run again[/]: {count(n, 'episode')} ({escape(why)})", highlight=False)
     console.print(f"[bold]{result.total}[/] episodes ({result.skipped_done} already done, {result.ran} run, "
                   f"{result.failed} failed) -> {result.out / 'episodes.parquet'}", highlight=False)
     console.print(f"  next: socnavgen campaign report {result.out}", highlight=False)
@@ -91,10 +110,19 @@ def report(
 
     Example: socnavgen campaign report campaigns/suite --gifs 5
     """
-    from socnavgen.campaign.report import write_report
-    from socnavgen.cli.common import console
+    from rich.markup import escape
 
-    paths = write_report(out, gifs=gifs, resamples=boot, baseline=baseline)
+    from socnavgen.campaign.report import write_report
+    from socnavgen.cli.common import console, err_console
+
+    if not out.is_dir():
+        from socnavgen.errors import InputFileError
+
+        raise InputFileError("no such campaign folder", file=out, hint="give the -o folder of `socnavgen campaign run`")
+    notes: list[str] = []
+    paths = write_report(out, gifs=gifs, resamples=boot, baseline=baseline, notes=notes)
+    for note in notes:
+        err_console.print(f"[yellow]warning:[/] {escape(note)}", highlight=False)
     for path in paths:
         console.print(f"  -> {path}", highlight=False)
 
@@ -113,5 +141,8 @@ def metrics() -> None:
 
 @app.command("example")
 def example() -> None:
-    """Print an example campaign file."""
-    print(EXAMPLE, end="")
+    """Print an example campaign file that runs as it is.
+
+    Example: socnavgen campaign example > suite.yaml && socnavgen campaign run suite.yaml -o campaigns/suite
+    """
+    print(example_text(), end="")

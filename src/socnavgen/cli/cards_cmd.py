@@ -10,11 +10,12 @@ from rich.table import Table
 
 from socnavgen.cards.generate import fit_all, write_card_run
 from socnavgen.cards.library import all_cards, get_card
+from socnavgen.cli import typer_app
 from socnavgen.cli.common import console, progress
 from socnavgen.errors import ValidationFailed
 from socnavgen.location import load_location
 
-app = typer.Typer(help="The 25 canonical scenario cards of Francis et al.", no_args_is_help=True)
+app = typer_app(help="The 25 canonical scenario cards of Francis et al.", no_args_is_help=True)
 
 
 @app.command("list")

@@ -227,6 +227,7 @@ def register(app: typer.Typer) -> None:
 
           socnavgen generate --from runs/blind_corner --redo paths --llm local --out runs/blind_corner_v2
         """
+        from socnavgen.errors import LLMError
         from socnavgen.llm import make_llm
         from socnavgen.proposal import generate
         from socnavgen.proposal.pipeline import copy_run
@@ -259,13 +260,38 @@ def register(app: typer.Typer) -> None:
             if out is not None and Path(out).resolve() != Path(from_run).resolve():
                 copy_run(from_run, out)
             request = _request(location, context, task, rough, card, llm, from_run, **settings)
+        created = not folder.root.exists()
         folder.root.mkdir(parents=True, exist_ok=True)
-        with progress() as bar:
-            result = generate(request, model, target, redo=set(redo or []) or None,
-                              review=console_review if review else None, progress=LiveProgress(bar), verify=verify)
+        try:
+            with progress() as bar:
+                result = generate(request, model, target, redo=set(redo or []) or None,
+                                  review=console_review if review else None, progress=LiveProgress(bar),
+                                  verify=verify)
+        except LLMError:
+            _forget_if_empty(folder, created)
+            raise
         _summary(result, folder)
         _export_check(folder, request.target)
         if verify and result.verify is not None and not result.verify.passed:
             err_console.print("[red]the verifier still finds problems[/] (manifest status: failed); see "
                               "sim/verify.json")
             raise typer.Exit(1)
+
+
+def _forget_if_empty(folder: RunFolder, created: bool) -> None:
+    """A run folder this command created, for a model that never answered (server unreachable, key refused):
+    no reply came, so the folder (request, manifest, transcript of the failed exchange) goes. A folder with any
+    reply is kept: its manifest says why the stage failed."""
+    import shutil
+
+    from socnavgen.llm.transcript import read_transcript
+
+    if not created:
+        return
+    try:
+        answered = any(entry.get("raw") is not None for entry in read_transcript(folder.transcript_path)) \
+            if folder.transcript_path.is_file() else False
+    except Exception:  # noqa: BLE001 - an unreadable transcript: keep the folder, say nothing more
+        return
+    if not answered:
+        shutil.rmtree(folder.root, ignore_errors=True)

@@ -8,12 +8,14 @@ from pathlib import Path
 import typer
 from rich.table import Table
 
+from socnavgen.bodies import PERSON_HEIGHT
+from socnavgen.cli import typer_app
 from socnavgen.cli.common import console, finite_between
 from socnavgen.errors import InputFileError
 from socnavgen.location.check import check_location
 from socnavgen.location.location import SCENE_GRAPH_IMAGE, load_location
 
-app = typer.Typer(help="location commands", no_args_is_help=True)
+app = typer_app(help="location commands", no_args_is_help=True)
 
 
 @app.command("check")
@@ -32,8 +34,10 @@ def check(
     Example: socnavgen location check examples/locations/warehouse
     """
     if not folder.is_dir():  # a user error (exit 2), not a finding of the check (exit 1)
-        raise InputFileError("no such location folder", file=folder,
-                             hint="give the folder that holds location.yaml, the map and scene_graph.json")
+        from socnavgen.location.location import nearby_locations
+
+        raise InputFileError("no such location folder", file=folder, hint=nearby_locations(folder) or
+                             "give the folder that holds location.yaml, the map and scene_graph.json")
     report = check_location(folder)
     if as_json:
         print(json.dumps({"location": str(folder), "ok": report.ok, "nodes": report.nodes, "edges": report.edges,
@@ -80,6 +84,7 @@ def show(
     from socnavgen.location.render import write_location_png
 
     location = load_location(folder)
+    location.transform  # noqa: B018 - a broken transform (NaN, infinite resolution) is one message, not a picture
     out = output or folder / SCENE_GRAPH_IMAGE
     write_location_png(location, out)
     console.print(f"wrote {out}", highlight=False, soft_wrap=True)
@@ -129,9 +134,10 @@ def from_world(
                                      help="Metres per map cell."),
     ankle: float = typer.Option(0.1, "--ankle", callback=finite_between(0.0, 10.0),
                                 help="Bottom of the slab (m above the floor): lower things are walked over."),
-    head: float = typer.Option(1.8, "--head", callback=finite_between(0.01, 20.0),
+    head: float = typer.Option(PERSON_HEIGHT, "--head", callback=finite_between(0.01, 20.0),
                                help="Top of the slab (m above the floor): higher things are walked under. "
-                                    "0.5 gives what a robot's laser sees (shelves on legs become their legs)."),
+                                    "0.5 gives what a robot's laser sees (shelves on legs become their legs); "
+                                    "the scene graph still keeps people out from under the shelves."),
     floor_z: float = typer.Option(0.0, "--floor-z", callback=finite_between(-1e4, 1e4),
                                   help="Height of the floor in the world (m)."),
     bounds: tuple[float, float, float, float] | None = typer.Option(

@@ -6,9 +6,10 @@ from pathlib import Path
 
 import typer
 
+from socnavgen.cli import typer_app
 from socnavgen.cli.common import console
 
-app = typer.Typer(help="run folder commands", no_args_is_help=True)
+app = typer_app(help="run folder commands", no_args_is_help=True)
 
 
 @app.callback()

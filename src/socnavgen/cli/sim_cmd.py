@@ -24,7 +24,8 @@ def simulate(
     dt: float = typer.Option(0.05, "--dt", callback=finite_between(0.001, 0.5), help="Fixed time step in seconds."),
     timeout: float = typer.Option(120.0, "--timeout", callback=finite_between(0.1, MAX_SIM_SECONDS),
                                   help=f"Stop after this many simulated seconds (at most {MAX_SIM_SECONDS:g})."),
-    seed: int = typer.Option(0, "--seed", help="Seed of the only randomness (spawn offsets): same seed, same run."),
+    seed: int = typer.Option(0, "--seed", min=0, max=2**63 - 1,
+                             help="Seed of the only randomness (spawn offsets): same seed, same run."),
     gif: bool = typer.Option(False, "--gif", help="Also write RUN/sim/animation.gif."),
     no_throttle: bool = typer.Option(False, "--no-throttle", help="Do not hold humans back at the node before their "
                                      "interaction point (SocRATES does, so that the encounter happens there)."),
@@ -48,6 +49,7 @@ def simulate(
     from socnavgen.run import RunFolder
     from socnavgen.sim.engine import SimConfig
     from socnavgen.sim.interaction import ThrottleConfig
+    from socnavgen.sim.outputs import MadeFrom, folder_identity, save_run_outputs
     from socnavgen.sim.robot import load_policy
     from socnavgen.sim.scenario import load_simulation
 
@@ -58,9 +60,13 @@ def simulate(
         raise SocnavgenError(f"--bag-msgs {bag_msgs!r}", hint="socrates (the fork's hunav_msgs, with gestures) or hunav")
     if bag is not None and (bag.exists() or bag.is_symlink()):  # refused before minutes of simulation
         raise SocnavgenError("the bag folder already exists", file=bag, hint="remove it or choose another --bag name")
+    folder = RunFolder(run)
+    folder.require()
+    folder.hold_lock()  # one writer of RUN/sim at a time (two simulations would mix their outputs)
+    identity = folder_identity(run)
     policy = load_policy(robot)
     config = SimConfig(dt=dt, timeout=timeout, seed=seed)
-    loaded = RunFolder(run).location(location)
+    loaded = folder.location(location)
     sim = load_simulation(run, policy, config, ThrottleConfig(enabled=not no_throttle), loaded)
     sim.meta["robot_plugin"] = robot
     total = int(round(timeout / dt))
@@ -73,8 +79,9 @@ def simulate(
         task = bar.add_task(f"simulating {run.name}", total=total)
         trace = sim.run(progress=lambda k, n: bar.update(task, completed=k))
     wall = time.perf_counter() - start
-    out = RunFolder(run).sim_dir
-    trace.save(out / "trace.npz")
+    out = folder.sim_dir
+    written = save_run_outputs(trace, loaded, run, MadeFrom(robot, dt, timeout, seed, not no_throttle),
+                               identity=identity, gif=gif)
     sim_seconds = float(trace.t[-1]) if trace.steps else 0.0
     console.print(f"[bold]{trace.end_reason}[/] after {sim_seconds:.1f} s simulated ({trace.steps} steps) in "
                   f"{wall:.2f} s wall, {sim_seconds / max(wall, 1e-9):.0f}x real time -> {out / 'trace.npz'}",
@@ -84,7 +91,7 @@ def simulate(
         console.print(f"  {name} held {seconds:.1f} s at the node before its interaction point", highlight=False)
     for note in trace.meta.get("throttle_skipped") or []:
         console.print(f"  [yellow]not throttled[/]: {note}", highlight=False)
-    _write_extras(trace, loaded, out, gif)
+    _print_outputs(trace, written)
     if bag is not None:
         from socnavgen.cli.bag_cmd import write_episode_bag
 
@@ -92,11 +99,8 @@ def simulate(
         console.print(f"  bag -> {bag} (open {mcap} in Foxglove; `ros2 bag play {bag}` for RViz)", highlight=False)
 
 
-def _write_extras(trace, location, out: Path, gif: bool) -> None:  # noqa: ANN001 - Trace, Location
-    """metrics.json, trajectories.png and (with --gif) animation.gif, through the sim's public writer."""
-    from socnavgen.sim.outputs import write_outputs
-
-    written = write_outputs(trace, location, out, gif=gif)
+def _print_outputs(trace, written) -> None:  # noqa: ANN001 - Trace, SimOutputs
+    """The key metrics, the contacts and every file written (metrics.json, trajectories.png, the GIF)."""
     metrics = written.metrics
     keys = ("success", "time_to_reach_goal", "minimum_distance_to_people", "collisions")
     console.print("  " + ", ".join(f"{k} = {_short(metrics[k])}" for k in keys if k in metrics), highlight=False)
@@ -104,6 +108,8 @@ def _write_extras(trace, location, out: Path, gif: bool) -> None:  # noqa: ANN00
 
     console.print(f"  contacts: {summarize(trace).describe()}", highlight=False)  # same numbers as verify
     for label, path in written.files.items():
+        if label == "trace":
+            continue
         console.print(f"  {label} -> {path}", highlight=False)
 
 

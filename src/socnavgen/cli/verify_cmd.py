@@ -7,6 +7,21 @@ from pathlib import Path
 import typer
 
 from socnavgen.cli.common import console, finite_between
+from socnavgen.verify.models import VerifySettings
+
+_FIELDS = VerifySettings.model_fields  # the one source of the thresholds' defaults, ranges and meanings
+
+
+def _option(name: str) -> object:
+    """A typer option for the VerifySettings field `name`: its default, its range (NaN, infinity and values
+    outside it refused with one message) and its description as help."""
+    info = _FIELDS[name]
+    low = next((float(getattr(m, "gt", getattr(m, "ge", 0.0))) for m in info.metadata
+                if hasattr(m, "gt") or hasattr(m, "ge")), 0.0)
+    high = next((float(getattr(m, "le", getattr(m, "lt", 0.0))) for m in info.metadata
+                 if hasattr(m, "le") or hasattr(m, "lt")), 1e9)
+    text = info.description or ""
+    return typer.Option(info.default, callback=finite_between(low, high), help=text[:1].upper() + text[1:] + ".")
 
 
 def register_verify(app: typer.Typer) -> None:
@@ -16,22 +31,21 @@ def register_verify(app: typer.Typer) -> None:
     def verify(
         run: Path = typer.Argument(..., help="Run folder written by `socnavgen generate` (paths.json, behaviors/).",
                                    exists=True, file_okay=False),
-        distance: float = typer.Option(2.0, help="Robot-human centre distance (m) that counts as meeting, unless "
-                                                 "a criterion gives its own."),
-        near: float = typer.Option(1.0, help="How close (m) to its encounter node a meeting must happen, for runs "
-                                             "without spec.json (an encounter's `within` otherwise)."),
-        passing: float = typer.Option(2.5, help="Robot distance (m) within which a tree's GiveWaytoRobot counts as "
-                                                "giving way while the robot passes."),
-        group_spread: float = typer.Option(2.5, help="Largest distance (m) between group members, the whole run."),
-        deadlock_seconds: float = typer.Option(10.0, help="Longest (s) the robot may stand still with someone in its "
-                                                          "way."),
+        distance: float = _option("distance"),
+        near: float = _option("near"),
+        passing: float = _option("passing"),
+        group_spread: float = _option("group_spread"),
+        deadlock_seconds: float = _option("deadlock_seconds"),
+        reaction_seconds: float = _option("reaction_seconds"),
+        goal_radius: float | None = _option("goal_radius"),
         location: Path | None = typer.Option(None, help="Location folder, if request.json's path does not "
                                                         "resolve from here."),
-        simulate: bool = typer.Option(True, help="Run the simulator first when RUN/sim/trace.npz is missing."),
+        simulate: bool = typer.Option(True, help="Run the simulator first when RUN/sim/trace.npz is missing or stale (made from files that changed since)."),
         robot: str | None = typer.Option(None, help="Robot plugin for that simulation (default: the simulator's; "
                                                     "see `socnavgen simulate --help`)."),
-        collisions_fail: bool = typer.Option(True, "--collisions-fail/--collisions-warn", help=(
-            "A robot-human overlap fails verification (default), or is only a warning.")),
+        collisions_fail: bool = typer.Option(_FIELDS["collisions_fail"].default, "--collisions-fail/--collisions-warn",
+                                             help="A robot-human contact (gap <= 0.05 m) fails verification "
+                                                  "(default), or is only a warning."),
         as_json: bool = typer.Option(False, "--json", help="Print the report as JSON instead of a table."),
         bag: Path | None = typer.Option(None, "--bag", exists=True, help=(
             "Judge a ROS 2 bag of the run recorded in HuNavSim (rosbag2 folder, .mcap or .db3) instead of the "
@@ -58,9 +72,9 @@ def register_verify(app: typer.Typer) -> None:
         each reported with its robustness (how far from passing, in metres or seconds), its evidence (time,
         distance) and, when it fails, what can fix it: robot_script, paths, behaviors (which human) or spec.
         Runs without spec.json are judged on criteria derived from paths.json and the card with the same
-        strict thresholds (meet within 2 m, within 1 m of the interaction point; no collision; no deadlock;
-        goal reached), plus every interaction node of each tree really running after its cause. The report
-        is written to RUN/sim/verify.json. Exit code 1 when a criterion fails.
+        strict thresholds (meet within 2 m after an approach, within 1 m of the interaction point; no contact;
+        no deadlock; goal reached), plus every interaction node of each tree really running after its cause.
+        The report is written to RUN/sim/verify.json. Exit code 1 when a criterion fails.
 
         With --bag, a recording of the run in HuNavSim (Gazebo) is judged instead, by the same criteria and
         metrics: docs/verify.md says which topics it reads and how agents are matched to the run's humans.
@@ -69,26 +83,52 @@ def register_verify(app: typer.Typer) -> None:
 
         Example: socnavgen verify runs/blind_corner --bag recordings/blind_corner_0
         """
+        from socnavgen.errors import SocnavgenError
+        from socnavgen.run import RunFolder
+
+        try:
+            settings = VerifySettings.with_overrides(
+                distance=distance, near=near, passing=passing, group_spread=group_spread,
+                deadlock_seconds=deadlock_seconds, reaction_seconds=reaction_seconds, goal_radius=goal_radius,
+                collisions_fail=collisions_fail)
+        except ValueError as exc:
+            raise SocnavgenError(str(exc), hint="see `socnavgen verify --help` for each option's range") from None
+        folder = RunFolder(run)
+        folder.hold_lock()  # verify writes RUN/sim (and may simulate): one writer at a time
         if bag is not None:
             from socnavgen.cli.bag_cmd import read_options, verify_bag
 
             options = read_options(humans_topic=humans_topic, robot_topic=robot_topic, goal_topic=goal_topic,
                                    gesture_topic=robot_gesture_topic, agent_ids=agent_ids, agent_map=agent_map,
                                    hunav_msgs=hunav_msgs, dt=dt, max_gap=max_gap, start_tolerance=start_tolerance)
-            settings = dict(distance=distance, near=near, passing=passing, group_spread=group_spread,
-                            deadlock_seconds=deadlock_seconds, collisions_fail=collisions_fail)
             if not verify_bag(run, bag, location=location, settings=settings, options=options, as_json=as_json):
                 raise typer.Exit(1)
             return
         from socnavgen.verify import verify_run
         from socnavgen.verify.report import print_report
 
-        report = verify_run(run, simulate_if_missing=simulate, location=location, distance=distance, near=near,
-                            passing=passing, group_spread=group_spread, deadlock_seconds=deadlock_seconds,
-                            collisions_fail=collisions_fail, simulate_options={"robot": robot} if robot else None)
+        _say_if_stale(folder, location, simulate)
+        report = verify_run(run, simulate_if_missing=simulate, location=location, settings=settings,
+                            simulate_options={"robot": robot} if robot else None)
         if as_json:
             print(report.model_dump_json(indent=2))
         else:
             print_report(report, console)
         if not report.passed:
             raise typer.Exit(1)
+
+
+def _say_if_stale(folder, location: Path | None, simulate: bool) -> None:  # noqa: ANN001 - RunFolder
+    """A note when RUN/sim/trace.npz is not the run's current simulation (verify simulates it again)."""
+    from rich.markup import escape
+
+    from socnavgen.cli.common import err_console
+    from socnavgen.sim.outputs import stale_reason, unrecorded
+
+    if unrecorded(folder.root):
+        err_console.print(f"[yellow]note:[/] {escape(str(folder.sim_dir))} has no outputs.json (a trace made by hand "
+                          "or by an older socnavgen): judged as it is", highlight=False)
+    elif simulate and (folder.sim_dir / "trace.npz").is_file() and folder.paths_path.is_file():
+        reason = stale_reason(folder.root, folder.location(location))
+        if reason:
+            err_console.print(f"[yellow]note:[/] {escape(reason)}: simulating again", highlight=False)

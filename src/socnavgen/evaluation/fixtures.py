@@ -9,7 +9,7 @@ from pathlib import Path
 
 from pydantic import BaseModel
 
-from socnavgen.errors import SocnavgenError, StageFailed
+from socnavgen.errors import LLMError, SocnavgenError, StageFailed
 from socnavgen.run import RunFolder, ScenarioRequest
 from socnavgen.safeio import load_yaml_file
 
@@ -51,18 +51,25 @@ def replay_fixture(path: Path, out: Path, root: Path | None = None, verify: bool
     request = fixture_request(path, root)
     loop = bool(load_yaml_file(path).get("verify_loop"))
     llm = make_llm(request.llm, transcript=out / "transcript.jsonl", use_cache=False)
-    failed, report = False, None
+    failed, report, ended = False, None, None
     try:
         report = generate(request, llm, out, verify=verify and loop).verify
     except StageFailed:
         failed = True
+    except LLMError as exc:  # a recorded --verify loop asked for a stage it did not ask for when recorded (the
+        if not (loop and "no reply left" in exc.message):  # verifier's verdicts changed): the recording ends here
+            raise
+        ended = f"the recorded --verify loop has no answer for this verdict ({exc.message.split(',')[0]})"
     manifest = RunFolder(out).read_manifest()
+
+    checks = [e for e in read_transcript(RunFolder(out).transcript_path) if e.get("kind") == "check"]
 
     def ok(stage: str) -> bool:
         record = manifest.stages.get(stage)
+        if ended and record is not None:  # re-asked when the recording ended: its earlier answer was valid
+            return any(e.get("stage") == stage and e.get("valid") for e in checks)
         return record is not None and record.status == "done"
 
-    checks = [e for e in read_transcript(RunFolder(out).transcript_path) if e.get("kind") == "check"]
     row = FixtureRow(fixture=path.stem, location=Path(request.location).name,
                      humans=len(RunFolder(out).read_scenario().human_behaviors) if ok("scenario") else 0,
                      scenario_valid=ok("scenario"), paths_valid=ok("paths"), trees_valid=ok("behaviors"),
@@ -73,8 +80,8 @@ def replay_fixture(path: Path, out: Path, root: Path | None = None, verify: bool
 
         report = report or verify_run(out)
         robustness = [f.robustness for f in report.findings if f.robustness is not None]
-        row.verified = report.passed
-        row.failing = [f.name for f in report.failures]
+        row.verified = report.passed and ended is None
+        row.failing = [f.name for f in report.failures] + ([ended] if ended else [])
         row.min_robustness = round(min(robustness), 2) if robustness else None
     return row
 

@@ -20,8 +20,9 @@ import shutil
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from socnavgen.bodies import CONTACT_MARGIN
+from socnavgen.bt.expand import load_instance
 from socnavgen.bt.library import HUNAV2, LIBRARY
-from socnavgen.bt.tree import parse_bt
 from socnavgen.errors import SocnavgenError
 from socnavgen.export.hunav2 import translate_person
 from socnavgen.export.models import ExportScene
@@ -40,6 +41,7 @@ from socnavgen.sim.trace import Trace
 from socnavgen.verify.runner import verify_trace
 
 SPEEDS = (0.5, 1.0, 1.5)  # robot speed / the script's cruise speed
+KEEP_GAP = CONTACT_MARGIN + 0.03  # m: the careful robot's own moves never bring it this close to a person
 TIMED_TARGETS = ("socrates", "hunav2")  # the targets that run our trees (hunav1 runs built-ins only)
 WAIT_NODE_TYPE = "WAITING SPOT"
 
@@ -58,11 +60,12 @@ class DelayedWaypoints(WaypointsPolicy):
 
 
 class CarefulWaypoints(DelayedWaypoints):
-    """The waypoints robot that never moves into a person (keep_clear, as the scripted robot)."""
+    """The waypoints robot that never moves into a person (keep_clear, as the scripted robot), nor closer than
+    the verifier's contact margin (a gap of 5 cm or less is contact)."""
 
     def act(self, obs):  # noqa: ANN001, ANN201 - sim.robot.Observation -> RobotAction
         action = super().act(obs)
-        v = keep_clear(obs, complex(action.vx, action.vy))
+        v = keep_clear(obs, complex(action.vx, action.vy), margin=KEEP_GAP)
         return RobotAction(v.real, v.imag, action.gesture)
 
 
@@ -86,14 +89,14 @@ class Twin:
 def stands_for(tree_xml: str) -> dict[str, str]:
     """2.x node -> the library node of this tree it translates (the 2.x node recording that action)."""
     out: dict[str, str] = {}
-    for elem in parse_bt(tree_xml, "t").root.walk():
-        tr = HUNAV2.get(elem.tag)
-        if tr is None or tr.template is None or elem.tag not in LIBRARY:
+    for node in load_instance(tree_xml, "t").root.walk():
+        tr = HUNAV2.get(node.name)
+        if tr is None or tr.template is None or node.name not in LIBRARY:
             continue
         templates = [tr.template] + [t for c in tr.by_value.values() for t in c.values()]
         for template in templates:
             names = re.findall(r"<(\w+)", template)
-            out.setdefault(names[-1] if names[0] == "Sequence" else names[0], elem.tag)
+            out.setdefault(names[-1] if names[0] == "Sequence" else names[0], node.name)
     return out
 
 

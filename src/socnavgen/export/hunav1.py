@@ -7,9 +7,11 @@ subtree, nested Sequences). Anything else is refused, naming the human and the n
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cache
 
-from socnavgen.bt.library import HUNAV2_FIRST_AGENT_ID, LIBRARY, LIBRARY_TREE_XML, LIBRARY_TREES
-from socnavgen.bt.tree import BTElement, parse_bt
+from socnavgen.bt.expand import ROOT_DT, ROOT_ID, load_instance
+from socnavgen.bt.library import HUNAV2_FIRST_AGENT_ID, LIBRARY, regular_nav_sequence, regular_walker_xml
+from socnavgen.bt.model import Entry, Node, Value
 from socnavgen.errors import ValidationFailed
 from socnavgen.export.models import ExportedFile, ExportScene, HumanExport
 from socnavgen.export.readme import hunav1_readme
@@ -18,33 +20,25 @@ from socnavgen.export.socrates import check_trees, fork_agents_yaml
 from socnavgen.export.targets import ExportTarget, register
 from socnavgen.export.writer import robot_poses_yaml
 
-EXPLICIT = {"Action", "Condition", "Control", "Decorator"}
-SUBTREE_COPIES = {("agentid", "{id}"), ("timestep", "{dt}")}
-OWN_PORTS = {("agent_id", "{id}"), ("time_step", "{dt}")}  # always the same; not part of a pattern
 
-# The built-in 1.x behaviors (reference §2.8, §3.7) written with OUR node names: Regular is the
-# goal-walking loop; the others react to a visible robot for a limited time, else walk regularly.
-REGULAR = ("Fallback", (), (("Sequence", (), (("Inverter", (), (("IsGoalReached", (), ()),)),
-                                              ("RegularNav", (), ()))),
-                            ("UpdateGoal", (), ())))
-
-
-def _reactive(distance: float, seconds: float, only_once: bool, action: str) -> tuple:
-    return ("Fallback", (), (
-        ("Sequence", (), (
-            ("IsRobotVisible", (("distance", distance),), ()),
-            ("Inverter", (), (("TimeExpiredCondition", (("only_once", only_once), ("seconds", seconds),
-                                                        ("ts", "{dt}")), ()),)),
-            (action, (), ()))),
-        REGULAR[2][0], REGULAR[2][1]))
+def _reacting(distance: float, seconds: float, only_once: bool, action: str) -> str:
+    """A 1.x reactive behavior written as a tree of our library: while the robot is visible and for the
+    first `seconds`, `action`; else walk regularly."""
+    own = "".join(f' {p.name}="{{{p.reads_root}}}"' for p in LIBRARY[action].ports if p.reads_root)
+    return ('<root main_tree_to_execute="B"><include path="BTRegularNav.xml"/><BehaviorTree ID="B"><Fallback>'
+            f'<Sequence><IsRobotVisible agent_id="{{id}}" distance="{distance}"/><Inverter><TimeExpiredCondition '
+            f'seconds="{seconds}" ts="{{dt}}" only_once="{str(only_once).lower()}"/></Inverter><{action}{own}/>'
+            f'</Sequence>{regular_nav_sequence()}</Fallback></BehaviorTree></root>')
 
 
-BUILTIN: dict[int, tuple[str, tuple]] = {
-    1: ("REGULAR", REGULAR),
-    3: ("SURPRISED", _reactive(4.0, 30.0, True, "LookAtRobot")),
-    4: ("SCARED", _reactive(3.0, 40.0, False, "RunAwayFromRobot")),
-    5: ("CURIOUS", _reactive(10.0, 30.0, True, "FollowRobot")),
-    6: ("THREATENING", _reactive(4.0, 40.0, True, "BlockRobot")),
+# The built-in 1.x behaviors (reference §2.8, §3.7) written with OUR nodes: Regular is the goal-walking
+# loop; the others react to a visible robot for a limited time, else walk regularly.
+BUILTIN: dict[int, tuple[str, str]] = {
+    1: ("REGULAR", regular_walker_xml("B")),
+    3: ("SURPRISED", _reacting(4.0, 30.0, True, "LookAtRobot")),
+    4: ("SCARED", _reacting(3.0, 40.0, False, "RunAwayFromRobot")),
+    5: ("CURIOUS", _reacting(10.0, 30.0, True, "FollowRobot")),
+    6: ("THREATENING", _reacting(4.0, 40.0, True, "BlockRobot")),
 }
 
 
@@ -60,63 +54,55 @@ class Refusal:
         return f"{self.human} ({where}): {self.why}"
 
 
-def _literal(value: str) -> object:
-    text = value.strip()
-    if text in ("true", "True", "TRUE"):
-        return True
-    if text in ("false", "False", "FALSE"):
-        return False
-    try:
-        return float(text)
-    except ValueError:
-        return text
+def _value(value: Value) -> object:
+    if isinstance(value, Entry):
+        return {ROOT_ID: "{id}", ROOT_DT: "{dt}"}.get(value, ("entry", value.scope, value.key))
+    return value
 
 
-def _canonical(elem: BTElement, trees: dict[str, BTElement]) -> tuple | None:
-    """(name, ports, children) with meaning-free details removed; None for nodes that vanish."""
-    name = elem.attrs.get("ID", elem.tag) if elem.tag in EXPLICIT else elem.tag
-    if name == "SetBlackboard" and (elem.attrs.get("output_key"), elem.attrs.get("value")) in SUBTREE_COPIES:
+def shape(node: Node) -> tuple | None:
+    """(name, ports, children) of a tree as it runs, with meaning-free details removed: labels, the
+    copies of {id} / {dt} that feed SubTree calls, the ports that always read {id} / {dt}, controls
+    nested in the same control or holding one child; ports left out count as their defaults. None for
+    nodes that vanish."""
+    spec = node.spec
+    assert spec is not None
+    if node.name == "SetBlackboard" and node.ports.get("value") in (ROOT_ID, ROOT_DT):
         return None
-    if name == "SubTree":
-        target = trees.get(elem.attrs.get("ID", ""))
-        return _canonical(target.children[0], trees) if target is not None and target.children else ("SubTree", (), ())
-    ports = tuple(sorted((k, _literal(v)) for k, v in elem.attrs.items()
-                         if k not in ("name", "ID") and (k, v) not in OWN_PORTS))
+    ports = tuple(sorted((p.name, _value(v)) for p in spec.ports
+                         if p.reads_root is None and (v := node.value(p.name)) is not None))
     children: list[tuple] = []
-    for child in elem.children:
-        c = _canonical(child, trees)
+    for child in node.children:
+        c = shape(child)
         if c is None:
             continue
-        if c[0] == name and name in ("Sequence", "Fallback"):  # nested same control = one level
+        if c[0] == node.name and spec.kind == "control":  # nested same control = one level
             children.extend(c[2])
         else:
             children.append(c)
-    if name in ("Sequence", "Fallback") and len(children) == 1:
+    if spec.kind == "control" and len(children) == 1:
         return children[0]
-    return (name, ports, tuple(children))
+    return (node.name, ports, tuple(children))
+
+
+@cache
+def builtin_shapes() -> dict[tuple | None, int]:
+    return {shape(load_instance(xml, f"hunav1 {label}").root): code for code, (label, xml) in BUILTIN.items()}
 
 
 def builtin_behavior(human: HumanExport) -> tuple[int | None, list[Refusal]]:
-    """The 1.x behavior code this human's tree is, or the reasons it is none."""
-    doc = parse_bt(human.tree_xml, human.tree_file)
-    refusals = []
-    for elem in doc.root.walk():
-        name = elem.attrs.get("ID", elem.tag) if elem.tag in EXPLICIT else elem.tag
-        spec = LIBRARY.get(name)
-        if spec is not None and spec.kind in ("action", "condition") and spec.hunav1 is None:
-            refusals.append(Refusal(human.name, human.tree_file, elem.line,
-                                    f"node {name} does not exist in HuNavSim 1.x"))
+    """The 1.x behavior code this human's tree (one bt check accepts) is, or the reasons it is none."""
+    instance = load_instance(human.tree_xml, human.tree_file)
+    refusals = [Refusal(human.name, node.source, node.line, f"node {node.name} does not exist in HuNavSim 1.x")
+                for node in instance.root.walk()
+                if node.kind in ("action", "condition") and node.spec is not None and node.spec.hunav1 is None]
     if refusals:
         return None, refusals
-    trees = dict(doc.trees)
-    for fname, tid in LIBRARY_TREES.items():
-        trees.setdefault(tid, parse_bt(LIBRARY_TREE_XML[fname], fname).trees[tid])
-    main = trees.get(doc.main_tree or "")
-    shape = _canonical(main.children[0], trees) if main is not None and main.children else None
-    for code, (_, pattern) in BUILTIN.items():
-        if shape == pattern:
-            return code, []
+    code = builtin_shapes().get(shape(instance.root))
+    if code is not None:
+        return code, []
     names = ", ".join(f"{code} {label}" for code, (label, _) in BUILTIN.items())
+    main = instance.document.main
     return None, [Refusal(human.name, human.tree_file, main.line if main is not None else None,
                           f"the tree is not one of the built-in 1.x behaviors ({names}); "
                           "HuNavSim 1.x cannot load custom trees")]

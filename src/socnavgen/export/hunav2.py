@@ -2,28 +2,25 @@
 
 Each human gets a self-contained `<base>__agent_<id>_bt.xml` (ids from 1, as HuNavSim numbers agents):
 the tree translated node by node through `bt.library.HUNAV2` (each leaf becomes the 2.x composition
-the table gives, with the reason it behaves the same), Sequence/Fallback made reactive so that gates
-are re-checked every tick while a stateful 2.x node is RUNNING, the RegularNavTree it uses inlined, goals
+the table gives, with the reason it behaves the same), controls and built-ins under their row's `hunav2`
+name (Sequence/Fallback become reactive so that gates are re-checked every tick while a stateful 2.x node
+is RUNNING), SubTree remapping in v4 syntax, the RegularNavTree it uses inlined, goals
 queued by `SetGoal` inside `RunOnce` as upstream's own scenario trees do, and a TreeNodesModel for
-Groot2. A node without a 2.x counterpart stops the export with every such node listed."""
+Groot2. With the run's scene, phrase conditions become the robot script's conditions (export.speech) and a
+person who meets the robot waits for it (export.timing); the export's own latches keep their memory. A node
+without a 2.x counterpart stops the export with every such node listed."""
 
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass, replace
-
-from defusedxml.ElementTree import fromstring
+from dataclasses import dataclass
+from xml.sax.saxutils import escape
 
 from socnavgen.bodies import PERSON_GOAL_RADIUS, PERSON_MAX_SPEED, PERSON_RADIUS
-from socnavgen.bt.library import (
-    HUMAN_GESTURES,
-    HUNAV2,
-    HUNAV2_FIRST_AGENT_ID,
-    LIBRARY,
-)
-from socnavgen.bt.model import BLACKBOARD_REF, Node, Ref, Value, literal_text
-from socnavgen.bt.parse import parse_document
-from socnavgen.bt.write import document_xml, node
+from socnavgen.bt.expand import check_text
+from socnavgen.bt.library import HUMAN_GESTURES, HUNAV2, HUNAV2_FIRST_AGENT_ID, NodeSpec
+from socnavgen.bt.model import Node, SubTreeCall, literal_text
+from socnavgen.bt.tree import BTElement, read_xml
 from socnavgen.errors import ValidationFailed
 from socnavgen.export.groot import model_block, tree_nodes_model_xml
 from socnavgen.export.models import (
@@ -38,13 +35,19 @@ from socnavgen.export.socrates import check_trees
 from socnavgen.export.speech import Spoken, rewrite_phrases
 from socnavgen.export.targets import ExportTarget, register
 from socnavgen.export.timing import Hold, hold_root, with_waiting_goals
-from socnavgen.export.writer import dump_yaml, metres, robot_poses_yaml
+from socnavgen.export.writer import dump_yaml, element_xml, metres, robot_poses_yaml
 
 WRAPPER = "hunav_gazebo_wrapper"
 SIMULATORS = ("Gazebo Classic", "Gazebo Fortress", "Isaac Sim", "Webots")
 # behavior block of a 2.x agent: configuration 0 = the default factors below (reference §5)
 BEHAVIOR_DEFAULTS = {"type": "Regular", "configuration": 0, "goal_force_factor": 2.0,
                      "obstacle_force_factor": 10.0, "social_force_factor": 5.0, "other_force_factor": 20.0}
+# Queue the agent's goals once, as upstream's scenario trees do: RunOnce(SetGoal) per goal, the last one
+# inverted so the Sequence fails the first tick and the Fallback moves on to the tree (its last child);
+# afterwards every RunOnce is skipped.
+GOAL_QUEUE = ('<Fallback name="QueueGoalsThenBehave"><Sequence name="SetGoals">{first}<Inverter>{last}</Inverter>'
+              '</Sequence></Fallback>')
+GOAL_SET = '<RunOnce><SetGoal agent_id="{{id}}" goal_id="{goal}"/></RunOnce>'
 
 
 @dataclass(frozen=True)
@@ -70,85 +73,76 @@ def base_name(text: str) -> str:
     return stem or "socnavgen"
 
 
-CONTROL_V4 = {"Sequence": "ReactiveSequence", "Fallback": "ReactiveFallback"}
-
-
-def _from_template(el, line: int | None) -> Node:  # noqa: ANN001 - ElementTree element
-    """A filled-in template element as a typed node (2.x names; port texts kept as written)."""
-    spec = LIBRARY.get(el.tag)
-    ports: dict[str, Value] = {k: Ref(v[1:-1]) if BLACKBOARD_REF.match(v) else v for k, v in el.attrib.items()}
-    return Node(el.tag, spec.kind if spec is not None else "action", ports,
-                tuple(_from_template(c, line) for c in el), line)
+def _element(xml: str, line: int | None = None) -> BTElement:
+    """A v4 element written as text (a translation template, the goal queue), with `line` on every node."""
+    def relined(elem: BTElement) -> BTElement:
+        return BTElement(elem.tag, elem.attrs, [relined(c) for c in elem.children], line)
+    return relined(read_xml(xml, "bt.library.HUNAV2", tag=None))
 
 
 class _Translator:
-    """A typed v3 tree of our library -> the 2.x compositions of `bt.library.HUNAV2`; collects every refusal.
-    Sequence/Fallback become reactive, except the controls in `keep` (the export's own latches, which must
-    remember their RUNNING child)."""
+    """Our typed tree (v3 or v4) -> v4 with HuNavSim 2.x's nodes (the compositions of `bt.library.HUNAV2`);
+    controls and built-ins take their `hunav2` name from the library row, except the controls in `keep` (the
+    export's latches, which must remember their RUNNING child); 2.x nodes already in the tree (the export's
+    own conditions) stay as they are; collects every refusal."""
 
-    def __init__(self, source: str, keep: set[Node]) -> None:
-        self.source, self.keep = source, keep
+    def __init__(self, source: str, keep: set[Node] | None = None) -> None:
+        self.source = source
+        self.keep = keep or set()
         self.problems: list[Untranslatable] = []
         self.used_leaves: set[str] = set()
-        self.subtrees: set[str] = set()
+        self.called: list[str] = []
 
-    def node(self, n: Node) -> Node:
-        spec = n.spec
-        if spec is None or n.kind == "unknown":
-            self.problems.append(Untranslatable(self.source, n.line, n.name, "is not a library node"))
-            return n
-        if n.call is not None:
-            self.subtrees.add(n.call.tree)
-            return n
+    def node(self, node: Node) -> BTElement:
+        spec = node.spec
+        assert spec is not None  # a Document without problems, or a node the export built from the table
         if spec.kind in ("action", "condition"):
-            if spec.targets == {"hunav2"}:  # already a 2.x node (the export's own conditions)
-                self.used_leaves.add(n.name)
-                return n
-            return self.leaf(n)
-        name = n.name if n in self.keep else CONTROL_V4.get(n.name, n.name)
-        return replace(n, name=name, children=tuple(self.node(c) for c in n.children))
+            return self.leaf(node, spec)
+        attrs = {"name": node.label} if node.label is not None else {}
+        if node.call is not None:
+            attrs = {"ID": node.call.tree, **attrs, **self.remapping(node.call)}
+            self.called.append(node.call.tree)
+        else:
+            attrs.update({k: literal_text(v) for k, v in node.ports.items()})
+        name = node.name if node in self.keep else spec.hunav2 or spec.name
+        return BTElement(name, attrs, [self.node(c) for c in node.children], node.line)
 
-    def leaf(self, n: Node) -> Node:
-        tr = HUNAV2.get(n.name)
+    def leaf(self, node: Node, spec: NodeSpec) -> BTElement:
+        label = {"name": node.label} if node.label is not None else {}
+        if spec.targets == {"hunav2"}:  # already a 2.x node
+            self.used_leaves.add(node.name)
+            return BTElement(node.name, {**label, **{k: literal_text(v) for k, v in node.ports.items()}}, [],
+                             node.line)
+        tr = HUNAV2.get(node.name)
         if tr is None or tr.template is None:
             why = "has no HuNavSim 2.x translation" if tr is None else tr.refusal or (
                 "becomes the robot script's condition, which needs the run (export the run, not the tree alone)")
-            self.problems.append(Untranslatable(self.source, n.line, n.name, f"cannot be exported: {why}"))
-            return n
-        values = {p.name: p.default for p in LIBRARY[n.name].ports if p.default is not None}
-        values.update({k: literal_text(v).strip() for k, v in n.ports.items()})
+            self.problems.append(Untranslatable(self.source, node.line, node.name, f"cannot be exported: {why}"))
+            return BTElement(node.name, {}, [], node.line)
+        typed = {p.name: value for p in spec.ports if (value := node.value(p.name)) is not None}
         for port in tr.target_ports:  # literal agent ids: ours from 0, HuNavSim's from 1
-            if port in values and values[port].lstrip("-").isdigit():
-                values[port] = str(int(values[port]) + HUNAV2_FIRST_AGENT_ID)
+            if isinstance(typed.get(port), int):
+                typed[port] = typed[port] + HUNAV2_FIRST_AGENT_ID
+        values = {k: literal_text(v) for k, v in typed.items()}
+        if isinstance(typed.get("message"), int):
+            values["message_word"] = HUMAN_GESTURES.get(typed["message"], values["message"])
         template = tr.template
         for port, choices in tr.by_value.items():
-            if values.get(port) in choices:
-                template = choices[values[port]]
-        if "message" in values and values["message"].isdigit():
-            values["message_word"] = HUMAN_GESTURES.get(int(values["message"]), values["message"])
-        try:
-            out = _from_template(fromstring(template.format(**{k: _attr_text(v) for k, v in values.items()})),
-                                 n.line)
-        except KeyError as missing:
-            self.problems.append(Untranslatable(self.source, n.line, n.name, f"lacks port {missing}"))
-            return n
-        self.used_leaves.update(x.name for x in out.walk())
-        return replace(out, label=n.label)
+            template = choices.get(values.get(port, ""), template)
+        out = _element(template.format(**{k: escape(v, {'"': "&quot;"}) for k, v in values.items()}), node.line)
+        self.used_leaves.update(e.tag for e in out.walk())
+        if label:  # the node's name, on the element that stands for it
+            out.attrs = {**label, **out.attrs}
+        return out
 
-
-def _attr_text(value: str) -> str:
-    """A value placed inside a template's double-quoted attribute."""
-    return value.replace("&", "&amp;").replace('"', "&quot;").replace("<", "&lt;")
-
-
-def _goal_prelude(goal_ids: list[int]) -> Node:
-    """Queue the agent's goals once, as upstream's scenario trees do: RunOnce(SetGoal) per goal, the
-    last one inverted so the Sequence fails the first tick and the Fallback moves on to walking;
-    afterwards every RunOnce is skipped. (SetGoal and RunOnce are 2.x / BT.CPP 4 nodes our library lacks.)"""
-    children = [Node("RunOnce", "decorator", {}, (Node("SetGoal", "action", {"agent_id": Ref("id"), "goal_id": g}),))
-                for g in goal_ids]
-    children[-1] = node("Inverter", children[-1])
-    return Node("Sequence", "control", {}, tuple(children), label="SetGoals")
+    @staticmethod
+    def remapping(call: SubTreeCall) -> dict[str, str]:
+        """v4 remapping: `{key}` names the caller's entry, a plain value is a constant; a v3 shared
+        blackboard becomes v4's _autoremap (every key is the caller's of the same name)."""
+        out = {k: literal_text(v) for k, v in call.remap.items()}
+        if call.shared or call.autoremap:
+            out["_autoremap"] = "true"
+        return out
 
 
 @dataclass
@@ -162,44 +156,51 @@ class Translated:
 
 def translate_person(human: HumanExport, goal_ids: list[int] | None, scene: ExportScene | None = None,
                      hold: Hold | None = None) -> Translated:
-    """The person's tree as one self-contained v4 file. With `scene`: phrase conditions made geometric
-    (export.speech); with `hold`: the person timed (export.timing); without, the tree alone (as written)."""
-    doc, parse_problems = parse_document(human.tree_xml, human.tree_file)
-    if doc is None or parse_problems or doc.main is None or doc.main.root is None:
-        why = "; ".join(p.message for p in parse_problems) or f"main tree {doc and doc.main_tree!r} not found"
-        return Translated("", [Untranslatable(human.tree_file, doc.line if doc else None, "root", why)], [])
+    """The person's tree (one bt check accepts) as one self-contained v4 file. With `scene`: phrase conditions
+    made the robot script's (export.speech); with `hold`: the person timed (export.timing); without, the tree
+    alone. `goal_ids` None: no goal queue (our simulator reads goals from paths.json)."""
+    doc, instance, problems = check_text(human.tree_xml, human.tree_file)
+    if doc is None or instance is None or doc.main_tree is None:
+        return Translated("", [Untranslatable(human.tree_file, p.line, "tree", p.message) for p in problems], [])
     keep: set[Node] = set()
     roots = {tid: t.root for tid, t in doc.trees.items() if t.root is not None}
     spoken: list[Spoken] = []
-    problems: list[Untranslatable] = []
+    refused: list[Untranslatable] = []
     if scene is not None:
         roots, spoken = rewrite_phrases(doc, human, scene, keep)
-        problems += [Untranslatable(human.tree_file, s.line, s.node, f"cannot be exported: {s.text}")
-                     for s in spoken if s.refused]
+        refused = [Untranslatable(human.tree_file, s.line, s.node, f"cannot be exported: {s.text}")
+                   for s in spoken if s.refused]
+    main = doc.main_tree
     if hold is not None:
-        roots[doc.main_tree] = hold_root(roots[doc.main_tree], hold, keep)
+        roots[main] = hold_root(roots[main], hold, keep)
     tr = _Translator(human.tree_file, keep)
     trees = {tid: tr.node(root) for tid, root in roots.items()}
-    for tid in sorted(tr.subtrees - set(trees)):
-        tree = doc.included.get(tid)
-        if tree is not None and tree.root is not None:
+    while missing := [tid for tid in tr.called if tid not in trees]:  # library trees, inlined
+        for tid in missing:
+            tree = doc.tree(tid)
+            assert tree is not None and tree.root is not None
             trees[tid] = tr.node(tree.root)
-        else:
-            problems.append(Untranslatable(human.tree_file, None, f"SubTree {tid!r}", "names no known tree"))
-    problems += tr.problems
-    if problems:
-        return Translated("", problems, spoken)
-    main = doc.main_tree
-    if goal_ids:  # None: goals come from elsewhere (our simulator reads them from paths.json)
-        trees[main] = Node("Fallback", "control", {}, (_goal_prelude(goal_ids), trees[main]),
-                           label="QueueGoalsThenBehave")
-    text = document_xml(doc, version=4, roots=trees, includes=(),
-                        head=model_block("hunav2", tr.used_leaves | {"SetGoal"}))
-    return Translated('<?xml version="1.0" encoding="UTF-8"?>\n' + text, [], spoken)
+    said = {(r.node, r.line) for r in refused}  # a refused phrase node stays in the tree: named once
+    problems_out = refused + [p for p in tr.problems if (p.node, p.line) not in said]
+    if problems_out:
+        return Translated("", problems_out, spoken)
+    if goal_ids:
+        sets = [GOAL_SET.format(goal=g) for g in goal_ids]
+        top = _element(GOAL_QUEUE.format(first="".join(sets[:-1]), last=sets[-1]))
+        top.children.append(trees[main])
+        trees[main] = top
+    ordered = [main, *(tid for tid in trees if tid != main)]
+    text = ('<?xml version="1.0" encoding="UTF-8"?>\n'
+            f'<root BTCPP_format="4" main_tree_to_execute="{main}">\n'
+            + model_block("hunav2", tr.used_leaves | {"SetGoal"})
+            + "".join(element_xml(BTElement("BehaviorTree", {"ID": tid}, [trees[tid]])) for tid in ordered)
+            + "</root>\n")
+    return Translated(text, [], spoken)
 
 
 def translate_tree(human: HumanExport, goal_ids: list[int] | None) -> tuple[str, list[Untranslatable]]:
-    """The person's tree alone, translated (no timing, no phrase conditions): (text, what could not be)."""
+    """The human's tree alone (no timing, no phrase conditions: those need the run) as one self-contained v4
+    file (text), plus what could not be translated."""
     out = translate_person(human, goal_ids)
     return out.text, out.problems
 

@@ -9,9 +9,8 @@ from __future__ import annotations
 import json
 
 from socnavgen.bodies import PERSON_GOAL_RADIUS, PERSON_MAX_SPEED, PERSON_RADIUS
+from socnavgen.bt.expand import load_instance
 from socnavgen.bt.library import LIBRARY_TREE_XML
-from socnavgen.bt.parse import parse_document
-from socnavgen.bt.tree import parse_bt
 from socnavgen.bt.validate import format_problems, validate_bt_text
 from socnavgen.bt.write import document_xml
 from socnavgen.errors import ValidationFailed
@@ -101,8 +100,8 @@ def timed_tree(human: HumanExport, hold: Hold | None) -> str:
     """The person's v3 tree, with its timing (export.timing) around it when it is timed."""
     if hold is None:
         return human.tree_xml.rstrip() + "\n"
-    doc, _ = parse_document(human.tree_xml, human.tree_file)  # valid: check_trees ran first
-    assert doc is not None and doc.main is not None and doc.main.root is not None
+    doc = load_instance(human.tree_xml, human.tree_file).document  # valid: check_trees ran first
+    assert doc.main is not None and doc.main.root is not None
     root = hold_root(doc.main.root, hold, set())
     return document_xml(doc, roots={doc.main.id: root})
 
@@ -122,10 +121,10 @@ def build_socrates(scene: ExportScene) -> list[ExportedFile]:
     files: list[ExportedFile] = []
     behaviors: dict[str, int] = {}
     for human in scene.humans:
-        doc = parse_bt(human.tree_xml, human.tree_file)
+        doc = load_instance(human.tree_xml, human.tree_file).document  # checked above
         if doc.format_version != 3:
             raise ValidationFailed("the SocRATES fork runs BT.CPP v3 trees; this one says BTCPP_format=\"4\"",
-                                   file=human.tree_file, line=doc.root.line)
+                                   file=human.tree_file, line=doc.line)
         behaviors[human.name] = FIRST_LLM_BEHAVIOR + human.agent_id
         files.append(ExportedFile(path=f"{TREES_DIR}/LLMBT_{human.agent_id}.xml", text=timed_tree(human, holds.get(human.name))))
     for name, xml in LIBRARY_TREE_XML.items():

@@ -96,3 +96,59 @@ def split_at(graph: nx.MultiGraph, data: dict, cuts: list[int]) -> list[int]:
     for i in sorted(set(cuts)):
         added.append(path[i])
     return added
+
+
+def add_exits(graph: nx.MultiGraph, coords: np.ndarray, walk: np.ndarray, blocked: np.ndarray,
+              clearance: np.ndarray, mpp: float, min_width_m: float = 0.6) -> tuple[np.ndarray, set[int]]:
+    """Doorways out of the mapped building: where the walkable floor opens, at least `min_width_m` wide,
+    onto free ground nobody can walk (the strip of ground left around a building reaching the map's edge:
+    outside, where the map ends). Each gets a node in the opening, joined to the nearest node a person
+    walks to from it, or the nearest node already there becomes it. Returns the coordinates
+    (new nodes appended) and the exit nodes."""
+    from socnavgen.location.traverse import edge_verdict, segment_walkable
+
+    labels, count = ndimage.label(~blocked & ~walk, structure=np.ones((3, 3)))
+    if not len(graph):
+        return coords, set()
+    edge = np.unique(np.concatenate([labels[0], labels[-1], labels[:, 0], labels[:, -1]]))
+    frame = np.zeros_like(walk)
+    frame[[0, -1], :] = frame[:, [0, -1]] = True
+    outside = np.isin(labels, edge[edge > 0]) | (walk & frame)  # where the map ends, or ground nobody walks to it
+    # the walkable floor within 0.3 m of the outside, through open ground only (never through a wall)
+    zone = walk & ndimage.binary_dilation(outside, iterations=int(0.3 / mpp) + 1, mask=~blocked)
+    runs, count = ndimage.label(zone, structure=np.ones((3, 3)))
+    points = [tuple(int(v) for v in p) for p in coords]
+    nodes = sorted(graph.nodes)
+    exits: set[int] = set()
+    for label, box in enumerate(ndimage.find_objects(runs), start=1):
+        if box is None:
+            continue
+        grown = tuple(slice(max(0, b.start - 1), b.stop + 1) for b in box)
+        # the walkable floor touching the outside: across the opening, as wide as it (a gap nobody fits in
+        # is not entered by the walkable floor, which only touches its inner end)
+        touch = (runs[grown] == label) & ndimage.binary_dilation(outside[grown], structure=np.ones((3, 3)))
+        rows, cols = np.nonzero(touch)
+        if not len(rows) or math.hypot(np.ptp(rows) + 1, np.ptp(cols) + 1) * mpp < min_width_m:
+            continue
+        centre = np.array([(box[0].start + box[0].stop) / 2, (box[1].start + box[1].stop) / 2])
+        reach = int(0.6 / mpp) + 1  # the node stands in the opening or just inside it
+        r0, c0 = max(0, int(centre[0]) - reach), max(0, int(centre[1]) - reach)
+        rows, cols = np.nonzero(walk[r0:int(centre[0]) + reach + 1, c0:int(centre[1]) + reach + 1])
+        rows, cols = rows + r0, cols + c0
+        near = np.hypot(rows - centre[0], cols - centre[1]) <= reach
+        if not near.any():
+            continue
+        k = int(np.argmax(np.where(near, clearance[rows, cols], -1.0)))
+        spot = (int(rows[k]), int(cols[k]))
+        closest = min(nodes, key=lambda n: math.dist(points[n], spot))
+        if math.dist(points[closest], spot) * mpp <= 1.0:
+            exits.add(closest)
+            continue
+        by_distance = sorted(nodes, key=lambda n: math.dist(points[n], spot))
+        # the nearest node a person walks to from it (straight, or past a chair: THE traversability rule)
+        target = next((n for n in by_distance[:8] if segment_walkable(clearance, spot[::-1], points[n][::-1], mpp)
+                       or edge_verdict(clearance, spot[::-1], points[n][::-1], mpp).level == "ok"), by_distance[0])
+        points.append(spot)
+        graph.add_edge(len(points) - 1, target, path=[len(points) - 1, target], start=len(points) - 1)
+        exits.add(len(points) - 1)
+    return np.array(points, dtype=coords.dtype).reshape(-1, 2), exits

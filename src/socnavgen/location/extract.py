@@ -24,7 +24,7 @@ from skimage.draw import polygon as draw_polygon
 from skimage.morphology import skeletonize
 
 from socnavgen.errors import InputFileError, ValidationFailed
-from socnavgen.location.doorways import insert_doorways, split_at
+from socnavgen.location.doorways import add_exits, insert_doorways, split_at
 from socnavgen.location.extract_repair import connect_parts, reroute_blocked
 from socnavgen.location.extract_types import (  # noqa: F401  (the vocabulary is re-exported from here)
     BLIND_CORNER,
@@ -52,9 +52,9 @@ from socnavgen.location.location import (
     load_location,
     read_nav2_yaml,
 )
-from socnavgen.location.models import Edge, Node, SceneGraph, Schema
-from socnavgen.location.occupancy import OccupancyGrid
-from socnavgen.location.rooms import furniture_mask, replace_rooms
+from socnavgen.location.models import DESCRIBE_ME, Edge, Node, SceneGraph, Schema
+from socnavgen.location.occupancy import OccupancyGrid, clearance_from
+from socnavgen.location.rooms import big_blocks, furniture_mask, replace_rooms
 from socnavgen.location.scene_graph import ID_ALPHABET, write_scene_graph
 from socnavgen.location.traverse import edge_verdict, required_clearance_px
 from socnavgen.safeio import (
@@ -337,10 +337,11 @@ def extract_scene_graph(occ: OccupancyGrid, meters_per_pixel: float,
     furniture = furniture_mask(occ.blocked, meters_per_pixel) if opts.rooms else np.zeros_like(occ.blocked)
     structure = OccupancyGrid(occupied=occ.occupied & ~furniture, unknown=occ.unknown & ~furniture)
     walls = without_specks(structure.blocked, max(2, int((0.25 / meters_per_pixel) ** 2)))
-    wall_clearance = ndimage.distance_transform_edt(~walls)  # what a person perceives: width, doors
+    wall_clearance = clearance_from(walls)  # what a person perceives: width, doors
     geo.wall_clearance = wall_clearance
     free = walkable_space(structure, geo.gap_r, opts.keep_all_components)  # rooms are cut from this
-    skel = skeletonize(walkable_space(occ, geo.gap_r, opts.keep_all_components))  # edges must stay walkable
+    walk = walkable_space(occ, geo.gap_r, opts.keep_all_components)
+    skel = skeletonize(walk)  # edges must stay walkable
     coords, adjacency = skeleton_adjacency(skel)
     stats = ExtractStats(skeleton_pixels=len(coords))
     graph = trace_branches(coords, adjacency)
@@ -359,18 +360,21 @@ def extract_scene_graph(occ: OccupancyGrid, meters_per_pixel: float,
     extra_nodes: set[int] = set()
     if opts.rooms:
         rooms = replace_rooms(graph, coords, doors | mouths, free, walls, wall_clearance, clearance, meters_per_pixel,
-                              geo.room_cover_m)
+                              geo.room_cover_m, big_blocks(furniture, meters_per_pixel))
         coords, room_nodes, extra_nodes = rooms.coords, rooms.room_nodes, rooms.extra_nodes
         doors -= rooms.false_doors
         mouths -= rooms.false_doors
         dissolve_chains(graph, keep=set(graph.nodes) - rooms.false_doors)
         stats.rooms = len(room_nodes)
         _drop_orphans(graph, keep=room_nodes | extra_nodes)
+    coords, exits = add_exits(graph, coords, walk, occ.blocked, clearance, geo.mpp)
     coords = connect_parts(graph, coords, clearance, geo.mpp)
     straighten(graph, coords, clearance, geo)
     coords = reroute_blocked(graph, coords, clearance, geo.mpp)
 
     def node_type(n: int) -> str:
+        if n in exits:
+            return DOORWAY
         if n in room_nodes:
             return ROOM
         if n in extra_nodes:
@@ -411,7 +415,7 @@ def describe(stats: ExtractStats, width_m: float, height_m: float, free_m2: floa
     counts = ", ".join(f"{k} {t.lower()}{'s' if k != 1 else ''}" for t, k in sorted(stats.types.items()))
     return (f"An indoor area of about {width_m:.0f} m x {height_m:.0f} m with {free_m2:.0f} m2 of walkable "
             f"floor. Its scene graph (extracted automatically from the occupancy map) has {counts}. "
-            "Replace this text with what the place is and who moves around in it.")
+            + DESCRIBE_ME)
 
 
 # ---------------------------------------------------------------- location folders
@@ -439,8 +443,7 @@ def start_location_folder(map_yaml: Path, out_dir: Path, *, name: str | None = N
     if map_yaml.resolve() != (out_dir / yaml_name).resolve():
         atomic_write_text(out_dir / yaml_name, yaml.safe_dump(data, sort_keys=False))
     schema = schema or EXTRACT_SCHEMA
-    config = {"name": name or out_dir.resolve().name, "description": description or
-              "Describe the place here: what it is, its areas, and who moves around in it.",
+    config = {"name": name or out_dir.resolve().name, "description": description or DESCRIBE_ME,
               "map": image_name, "nav2_map": yaml_name,
               "schema": {"node_types": list(schema.node_types), "edge_types": list(schema.edge_types)}}
     atomic_write_text(out_dir / LOCATION_FILE, yaml.safe_dump(config, sort_keys=False, allow_unicode=True, width=100))

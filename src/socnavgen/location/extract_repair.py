@@ -12,7 +12,7 @@ import math
 import networkx as nx
 import numpy as np
 
-from socnavgen.location.rooms import add_chain, pulled_path
+from socnavgen.location.room_nodes import add_chain, pulled_path
 from socnavgen.location.traverse import edge_verdict
 
 

@@ -20,7 +20,7 @@ from socnavgen.location.location import (
     load_location,
     read_nav2_yaml,
 )
-from socnavgen.location.models import LocationConfig, SceneGraph, Schema
+from socnavgen.location.models import DESCRIBE_ME, LocationConfig, SceneGraph, Schema
 from socnavgen.location.occupancy import load_image_gray
 from socnavgen.location.render import write_location_png
 from socnavgen.location.scene_graph import read_scene_graph, write_scene_graph
@@ -74,7 +74,7 @@ def schema_for(graph: SceneGraph, config: Path | None, notes: list[str]) -> Sche
 def default_description(name: str, schema: Schema) -> str:
     return (f"The {name.replace('_', ' ')} location, imported from a SocRATES annotator folder. Node types: "
             f"{', '.join(schema.node_types)}. Edge types: {', '.join(schema.edge_types)}. "
-            "Edit this text to say what the place is, who walks there and what each type means.")
+            + DESCRIBE_ME)
 
 
 def import_socrates(source: Path | str, output: Path | str, *, config: Path | None = None, name: str | None = None,

@@ -141,8 +141,9 @@ def load_location(root: Path | str) -> Location:
     root = Path(root)
     cfg_path = root / LOCATION_FILE
     if not cfg_path.is_file():
-        raise InputFileError(f"no {LOCATION_FILE} in {root}", file=root,
-                             hint="a location folder holds location.yaml, the map image and scene_graph.json")
+        what = f"no {LOCATION_FILE} in {root}" if root.is_dir() else "no such location folder"
+        raise InputFileError(what, file=root, hint=nearby_locations(root) or
+                             "a location folder holds location.yaml, the map image and scene_graph.json")
     data = load_yaml_file(cfg_path)
     try:
         config = LocationConfig.model_validate(data)
@@ -153,3 +154,17 @@ def load_location(root: Path | str) -> Location:
     if (config.nav2_map is None) == (config.pixel_to_world is None):
         raise InputFileError("give exactly one of `nav2_map` and `pixel_to_world`", file=cfg_path)
     return Location(root=root, config=config)
+
+
+def nearby_locations(root: Path) -> str | None:
+    """`did you mean examples/locations/warehouse?` for a typo of a location folder beside it."""
+    from socnavgen.text import did_you_mean
+
+    parent = root.parent
+    try:
+        names = [p.name for p in parent.iterdir() if (p / LOCATION_FILE).is_file()] if parent.is_dir() else []
+    except OSError:
+        return None
+    guess = did_you_mean(root.name, sorted(names)[:1000])
+    return guess.replace("did you mean ", f"did you mean {parent}/" if str(parent) != "." else "did you mean ") \
+        if guess else None

@@ -11,6 +11,13 @@ from socnavgen.limits import MAX_COORDINATE
 
 NODE_ID_PATTERN = re.compile(r"^[a-z0-9]{2}$")  # use .fullmatch: Python's `$` also matches before a final \n
 _CONTROL = re.compile(r"[\x00-\x1f\x7f]")
+# ends every description socnavgen writes for a new location: the user's text replaces it (the annotator refuses
+# to save a description that still holds it: the prompts would tell the model nothing about the place)
+DESCRIBE_ME = "Replace this text with what the place is, who moves around in it and what each node and edge type means."
+
+
+def is_placeholder_description(text: str) -> bool:
+    return DESCRIBE_ME in " ".join(text.split())
 
 
 def _finite(values: list[float] | tuple[float, ...], what: str) -> None:

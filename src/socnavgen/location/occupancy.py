@@ -43,10 +43,8 @@ class OccupancyGrid:
 
     @cached_property
     def clearance_px(self) -> np.ndarray:
-        """Distance in pixels from each pixel to the nearest blocked pixel (0 on obstacles)."""
-        from scipy import ndimage  # imported here: it costs ~0.3 s of start-up for every CLI command
-
-        return ndimage.distance_transform_edt(~self.blocked)
+        """Distance in pixels from each pixel to the nearest blocked pixel or the map's edge (0 on obstacles)."""
+        return clearance_from(self.blocked)
 
     def inside(self, px: float, py: float) -> bool:
         return 0 <= px < self.width and 0 <= py < self.height
@@ -66,6 +64,15 @@ class OccupancyGrid:
 
     def segment_clear(self, a: tuple[float, float], b: tuple[float, float]) -> bool:
         return not self.segment_blocked_pixels(a, b)
+
+
+def clearance_from(blocked: np.ndarray) -> np.ndarray:
+    """Distance in pixels from each pixel to the nearest blocked one, the space beyond the image counting
+    as blocked: a map ends where nothing is known, so nobody walks past its edge (a strip of free ground
+    left around a building is no walkway)."""
+    from scipy import ndimage  # imported here: it costs ~0.3 s of start-up for every CLI command
+
+    return ndimage.distance_transform_edt(np.pad(~blocked, 1))[1:-1, 1:-1]
 
 
 def load_image_gray(path: Path) -> np.ndarray:

@@ -72,12 +72,14 @@ def _text_colour(hex_colour: str) -> str:
 @dataclass
 class Layout:
     """Where things went in the picture: the crop of the map (image pixels), the scale, each node's
-    label box (picture pixels, x0, y0, x1, y1) and the nodes whose label had no free place (thinned)."""
+    label box (picture pixels, x0, y0, x1, y1), the nodes whose label had no free place (thinned) and the
+    scale bar's box (no label covers it)."""
 
     crop: tuple[int, int, int, int]
     scale: float
     boxes: dict[str, tuple[float, float, float, float]]
     thinned: list[str]
+    scale_bar: tuple[float, float, float, float] | None = None
 
     def at(self, pos: tuple[float, float]) -> tuple[float, float]:
         """Picture pixel of the centre of map pixel `pos`."""
@@ -117,9 +119,11 @@ def _overlaps(a: tuple[float, float, float, float], b: tuple[float, float, float
 
 
 def place_labels(centres: dict[str, tuple[float, float]], sizes: dict[str, tuple[float, float]],
-                 bounds: tuple[float, float]) -> tuple[dict[str, tuple[float, float, float, float]], list[str]]:
-    """A box per label, none overlapping another: on its node when there is room, else the nearest
-    free place around it (a leader line is drawn); a label with no free place nearby is thinned."""
+                 bounds: tuple[float, float], reserved: tuple[tuple[float, float, float, float], ...] = (),
+                 ) -> tuple[dict[str, tuple[float, float, float, float]], list[str]]:
+    """A box per label, none overlapping another or a `reserved` box (the scale bar): on its node when
+    there is room, else the nearest free place around it (a leader line is drawn); a label with no free
+    place nearby is thinned."""
     boxes: dict[str, tuple[float, float, float, float]] = {}
     thinned: list[str] = []
     directions = [(0, -1), (1, 0), (0, 1), (-1, 0), (1, -1), (1, 1), (-1, 1), (-1, -1)]
@@ -130,7 +134,7 @@ def place_labels(centres: dict[str, tuple[float, float]], sizes: dict[str, tuple
         for ox, oy in offsets:
             box = (cx + ox - hw, cy + oy - hh, cx + ox + hw, cy + oy + hh)
             inside = box[0] >= 0 and box[1] >= 0 and box[2] <= bounds[0] and box[3] <= bounds[1]
-            if inside and not any(_overlaps(box, other) for other in boxes.values()):
+            if inside and not any(_overlaps(box, other) for other in (*boxes.values(), *reserved)):
                 boxes[node_id] = box
                 break
         else:
@@ -180,7 +184,11 @@ def render_with_layout(gray: np.ndarray, graph: SceneGraph, schema: Schema, *, t
     for n in graph.nodes:
         left, top, right, bottom = draw.textbbox((0, 0), n.id, font=label_font)
         sizes[n.id] = ((right - left) / 2 + 5, (bottom - top) / 2 + 4)
-    layout.boxes, layout.thinned = place_labels(positions, sizes, (size[0], size[1]))
+    bar = _scale_bar(size, scale, metres_per_pixel) if metres_per_pixel else None
+    if bar:  # under the nodes: a node there keeps its dot, its label moves aside
+        _draw_scale_bar(draw, size, *bar)
+        layout.scale_bar = bar[2]
+    layout.boxes, layout.thinned = place_labels(positions, sizes, (size[0], size[1]), (bar[2],) if bar else ())
     dot = max(4, line_width + 1)
     for n in graph.nodes:  # nodes whose label moved or was thinned keep a dot at their true place
         cx, cy = positions[n.id]
@@ -200,8 +208,6 @@ def render_with_layout(gray: np.ndarray, graph: SceneGraph, schema: Schema, *, t
                   anchor="mm")
 
     _draw_legend(draw, size[0], node_colour, edge_colour, title, line_width)
-    if metres_per_pixel:
-        _draw_scale_bar(draw, size, scale, metres_per_pixel)
     return canvas, layout
 
 
@@ -227,13 +233,21 @@ def _draw_legend(draw: ImageDraw.ImageDraw, x0: int, node_colour: dict[str, str]
         y += 32
 
 
-def _draw_scale_bar(draw: ImageDraw.ImageDraw, size: tuple[int, int], scale: float, metres_per_pixel: float) -> None:
-    """A 1/2/5/10 m bar in the lower-left corner so distances can be read off the picture."""
+def _scale_bar(size: tuple[int, int], scale: float, metres_per_pixel: float,
+               ) -> tuple[int, float, tuple[float, float, float, float]]:
+    """(metres, length in picture pixels, box) of a 1/2/5/10 m bar in the lower-left corner."""
     image_px_per_metre = scale / metres_per_pixel
     metres = next((m for m in (1, 2, 5, 10, 20, 50, 100) if m * image_px_per_metre >= size[0] / 10), 100)
     length = metres * image_px_per_metre
     x, y = 12, size[1] - 18
-    draw.rectangle([x - 6, y - 26, x + length + 6, y + 10], fill="#FFFFFF")
+    return metres, length, (x - 6, y - 26, x + length + 6, y + 10)
+
+
+def _draw_scale_bar(draw: ImageDraw.ImageDraw, size: tuple[int, int], metres: int, length: float,
+                    box: tuple[float, float, float, float]) -> None:
+    """The scale bar, so distances can be read off the picture (labels keep clear of its box)."""
+    x, y = 12, size[1] - 18
+    draw.rectangle(list(box), fill="#FFFFFF")
     draw.line([(x, y), (x + length, y)], fill="#000000", width=4)
     draw.text((x + length / 2, y - 4), f"{metres} m", fill="#000000", font=_font(16), anchor="mb")
 

@@ -14,12 +14,13 @@ import re
 import time
 from collections import Counter
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
 import yaml
 
+from socnavgen.bodies import PERSON_HEIGHT
 from socnavgen.errors import InputFileError, ValidationFailed
 from socnavgen.limits import MAX_IMAGE_PIXELS
 from socnavgen.location.extract import (
@@ -37,8 +38,11 @@ from socnavgen.location.world_mesh import MeshLibrary
 from socnavgen.location.world_raster import (
     FREE,
     OCCUPIED,
+    OPEN_MARGIN,
     UNKNOWN,
+    Raster,
     SliceOptions,
+    enclosed,
     rasterize,
     slice_shapes,
     trinary,
@@ -147,6 +151,16 @@ def _pgm(array: np.ndarray) -> bytes:
     return f"P5\n# socnavgen location from-world\n{w} {h}\n255\n".encode() + array.astype(np.uint8).tobytes()
 
 
+def person_slab(world: World, options: SliceOptions, library: MeshLibrary, raster: Raster) -> np.ndarray:
+    """The map image of the same cells sliced up to a person's height: a map cut lower (a laser's, with
+    --head 0.5) shows a rack as its legs, but people do not walk under its shelves, so the scene graph
+    (where people walk) comes from this one. Its obstacles include the lower slab's, so every edge
+    drawn on it is walkable on the map too."""
+    person = replace(options, head=PERSON_HEIGHT, bounds=None)
+    placed, _, _ = slice_shapes(world.shapes, person, library)
+    return trinary(rasterize(placed, person, MAX_IMAGE_PIXELS, grid=(raster.origin, raster.occupied.shape)))
+
+
 def import_world(world_file: Path | str, out: Path | str, model_dirs: list[Path] | None = None,
                  options: WorldImportOptions | None = None, *,
                  progress: Callable[[str, int, int], None] | None = None) -> WorldImport:
@@ -177,13 +191,15 @@ def import_world(world_file: Path | str, out: Path | str, model_dirs: list[Path]
                                file=world_file, hint="add their folders with --models, fix them, or drop --strict")
     t = time.perf_counter()
     raster = rasterize(placed, opts.slice, MAX_IMAGE_PIXELS)
+    if opts.slice.bounds is None and not enclosed(raster, opts.slice):  # open ground: walked round its edges
+        raster = rasterize(placed, replace(opts.slice, margin=max(opts.slice.margin, OPEN_MARGIN)), MAX_IMAGE_PIXELS)
     image = trinary(raster)
+    walked = image if opts.slice.head >= PERSON_HEIGHT else person_slab(world, opts.slice, library, raster)
     seconds["raster"] = time.perf_counter() - t
     t = time.perf_counter()
     if progress:
         progress("extracting the scene graph", 0, 1)
-    occupancy = occupancy_from_image(image)
-    graph, stats = extract_scene_graph(occupancy, opts.slice.resolution, opts.extract)
+    graph, stats = extract_scene_graph(occupancy_from_image(walked), opts.slice.resolution, opts.extract)
     seconds["extract"] = time.perf_counter() - t
     h, w = image.shape
     res = opts.slice.resolution

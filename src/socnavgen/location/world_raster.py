@@ -18,9 +18,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from socnavgen.bodies import PERSON_HEIGHT
 from socnavgen.location.sdf import Shape
 from socnavgen.location.world_mesh import MeshError, MeshLibrary, Triangles, extent
 
+OPEN_MARGIN = 1.5  # m of ground kept round a world standing in open ground: people walk round its outer things
+ENCLOSED = 0.7  # ... unless its outermost obstacles line this much of its outline (a building: walls, a door)
 HEIGHT_CLASSES = (("low", 1.0), ("waist to head", 2.0), ("tall", math.inf))  # top of an obstacle, metres
 MAX_OBJECT_M = 5_000.0  # one collision shape wider than 5 km is an absurd scale, not a building
 
@@ -29,10 +32,10 @@ MAX_OBJECT_M = 5_000.0  # one collision shape wider than 5 km is an absurd scale
 class SliceOptions:
     resolution: float = 0.05  # metres per cell (nav2's usual)
     ankle: float = 0.1  # the slab starts here above the floor: a carpet, a door sill, a floor tile are not obstacles
-    head: float = 1.8  # and ends here: a door lintel, a ceiling lamp or a roof are not obstacles
+    head: float = PERSON_HEIGHT  # and ends here: a door lintel, a ceiling lamp or a roof are not obstacles
     floor_z: float = 0.0
     margin: float = 0.3  # floor kept around the outermost obstacle: narrower than a person, so the ground
-    # around a building never joins its walkable floor
+    # around a building never joins its walkable floor (OPEN_MARGIN round a world with no outer walls)
     bounds: tuple[float, float, float, float] | None = None  # (xmin, ymin, xmax, ymax) in metres, or automatic
 
 
@@ -290,12 +293,17 @@ def slice_shapes(shapes: list[Shape], options: SliceOptions, library: MeshLibrar
     return placed, problems, len(cache)
 
 
-def rasterize(placed: list[Placed], options: SliceOptions, max_cells: int) -> Raster:
-    """The grid: origin on a multiple of the resolution, covering the obstacles plus the margin."""
+def rasterize(placed: list[Placed], options: SliceOptions, max_cells: int,
+              grid: tuple[tuple[float, float], tuple[int, int]] | None = None) -> Raster:
+    """The grid: origin on a multiple of the resolution, covering the obstacles plus the margin (or the
+    `grid` given: origin and (height, width) of another raster, so two slabs share their cells)."""
     from socnavgen.errors import ValidationFailed
 
     res = options.resolution
-    if options.bounds is not None:
+    if grid is not None:
+        (ox, oy), (h, w) = grid
+        xmin, ymin, xmax, ymax = ox, oy, ox + w * res, oy + h * res
+    elif options.bounds is not None:
         xmin, ymin, xmax, ymax = options.bounds
     else:
         boxes = [b for b in (p.bounds() for p in placed) if b is not None]
@@ -306,8 +314,9 @@ def rasterize(placed: list[Placed], options: SliceOptions, max_cells: int) -> Ra
         ymin = min(b[1] for b in boxes) - options.margin
         xmax = max(b[2] for b in boxes) + options.margin
         ymax = max(b[3] for b in boxes) + options.margin
-    ox, oy = round(math.floor(xmin / res) * res, 9), round(math.floor(ymin / res) * res, 9)
-    w, h = math.ceil((xmax - ox) / res), math.ceil((ymax - oy) / res)
+    if grid is None:
+        ox, oy = round(math.floor(xmin / res) * res, 9), round(math.floor(ymin / res) * res, 9)
+        w, h = math.ceil((xmax - ox) / res), math.ceil((ymax - oy) / res)
     if w <= 0 or h <= 0:
         raise ValidationFailed("the map bounds are empty", hint="give --bounds xmin ymin xmax ymax with xmin < xmax")
     if w * h > max_cells:
@@ -333,6 +342,18 @@ def rasterize(placed: list[Placed], options: SliceOptions, max_cells: int) -> Ra
         height_class[surf | solid] = cls  # classes go from low to tall: the tallest wins
     return Raster(origin=(ox, oy), resolution=res, occupied=occupied, interior=interior & ~occupied,
                   height_class=height_class)
+
+
+def enclosed(raster: Raster, options: SliceOptions) -> bool:
+    """Whether the world's outermost obstacles line most of the map's outline (a building's walls, broken
+    by a door or two) rather than stand in open ground (rows of shelves, pillars): then the narrow
+    margin keeps the ground outside from joining its floor; else people walk round the outer things."""
+    band = max(1, round((options.margin + 0.3) / options.resolution))
+    blocked = raster.occupied | raster.interior
+    h, w = blocked.shape
+    lined = sum(int(side.sum()) for side in (blocked[:band].any(axis=0), blocked[-band:].any(axis=0),
+                                              blocked[:, :band].any(axis=1), blocked[:, -band:].any(axis=1)))
+    return lined >= ENCLOSED * 2 * (h + w)
 
 
 OCCUPIED, UNKNOWN, FREE = 0, 205, 254  # map_saver's trinary grey levels

@@ -23,12 +23,10 @@ def _node(name: str) -> list[Symbol] | None:
     spec = LIBRARY[name]
     out: list[Symbol] = [Lit(f"<{name}")]
     for port in spec.ports:
-        if port.name == "name" or not port.required and port.name != "distance":
+        if not port.required:
             continue
-        if port.name == "agent_id":
-            out.append(Lit(" agent_id='{id}'"))
-        elif port.name in ("time_step", "ts"):
-            out.append(Lit(f" {port.name}='{{dt}}'"))
+        if port.reads_root is not None:
+            out.append(Lit(f" {port.name}='{{{port.reads_root}}}'"))
         elif port.type == "double":
             out += [Lit(f" {port.name}='"), Ref("number"), Lit("'")]
         else:

@@ -6,10 +6,9 @@ branch of a Fallback)."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
-from defusedxml import ElementTree
-
+from socnavgen.bt.expand import load_instance
 from socnavgen.bt.library import (
     HUMAN_GESTURES,
     PART_PORTS,
@@ -18,20 +17,9 @@ from socnavgen.bt.library import (
     nodes_for_reaction,
     nodes_for_trigger,
 )
+from socnavgen.bt.model import Node, literal_text
+from socnavgen.errors import ValidationFailed
 from socnavgen.run.spec import Encounter, HumanPart, ScenarioSpec
-
-_SEQUENCES = {"Sequence", "ReactiveSequence"}
-_FALLBACKS = {"Fallback", "ReactiveFallback"}
-_REGULAR_NAV_TREE = "RegularNavTree"
-MAX_EXPANSION = 6  # SubTree nesting followed when looking for nodes
-
-
-@dataclass
-class TreeNode:
-    tag: str
-    attrs: dict[str, str]
-    children: list[TreeNode] = field(default_factory=list)
-    parent: TreeNode | None = None
 
 
 def _code(table: dict[int, str], phrase: str | None) -> str | None:
@@ -140,94 +128,62 @@ def _part_words(part: HumanPart) -> str:
 
 
 # ---- reading a tree ---------------------------------------------------------------------------------
-def parse_tree(xml: str) -> TreeNode | None:
-    """The main tree with SubTree calls to trees of the same document expanded; None if unreadable."""
-    try:
-        root = ElementTree.fromstring(xml.strip())
-    except Exception:  # noqa: BLE001 - the validator reports the XML error; here it is just "no tree"
-        return None
-    trees = {bt.get("ID", ""): bt for bt in root.iter("BehaviorTree")}
-    main = trees.get(root.get("main_tree_to_execute", "")) or next(iter(trees.values()), None)
-    if main is None:
-        return None
-
-    def build(element, parent: TreeNode | None, depth: int) -> TreeNode:  # noqa: ANN001 - an XML element
-        node = TreeNode(element.tag, dict(element.attrib), parent=parent)
-        if element.tag == "SubTree":
-            ident = element.get("ID", "")
-            if ident == _REGULAR_NAV_TREE:
-                node.children.append(TreeNode("RegularNav", {}, parent=node))
-            elif ident in trees and depth < MAX_EXPANSION:
-                node.children += [build(c, node, depth + 1) for c in trees[ident]]
-            return node
-        node.children = [build(c, node, depth) for c in element]
-        return node
-
-    top = TreeNode("BehaviorTree", {})
-    top.children = [build(c, top, 0) for c in main]
-    return top
+def _matches(node: Node, need: Need) -> bool:
+    return node.name in need.nodes and all((value := node.value(k)) is not None and literal_text(value) == v
+                                           for k, v in need.ports)
 
 
-def _walk(node: TreeNode):  # noqa: ANN202 - a generator of TreeNode
-    yield node
-    for child in node.children:
-        yield from _walk(child)
-
-
-def _matches(node: TreeNode, need: Need) -> bool:
-    return node.tag in need.nodes and all(node.attrs.get(k, "").strip() == v for k, v in need.ports)
-
-
-def _contains(node: TreeNode, need: Need, *, inverted: bool) -> bool:
+def _contains(node: Node, need: Need, *, inverted: bool) -> bool:
     """`node`'s subtree holds the condition, negated an odd number of times when `inverted`."""
-    def visit(n: TreeNode, flips: int) -> bool:
+    def visit(n: Node, flips: int) -> bool:
         if _matches(n, need):
             return (flips % 2 == 1) == inverted
-        step = 1 if n.tag == "Inverter" else 0
+        step = 1 if n.spec is not None and n.spec.rule == "invert" else 0
         return any(visit(c, flips + step) for c in n.children)
     return visit(node, 0)
 
 
-def _gated(action: TreeNode, need: Need) -> bool:
-    child = action
-    while child.parent is not None:
-        parent = child.parent
-        earlier = parent.children[:parent.children.index(child)]
-        if parent.tag in _SEQUENCES and any(_contains(c, need, inverted=False) for c in earlier):
+def _gated(action: Node, path: tuple[Node, ...], need: Need) -> bool:
+    """An earlier sibling of the action (or of an ancestor) lets it run only when the condition holds: the
+    condition in a sequence-like control, or the negated condition in a fallback-like one."""
+    for parent, child in zip(reversed(path), (action, *reversed(path[1:])), strict=True):
+        flow = parent.spec.flow if parent.spec is not None else None
+        earlier = parent.children[:next(k for k, c in enumerate(parent.children) if c is child)]
+        if flow is not None and any(_contains(c, need, inverted=flow == "fallback") for c in earlier):
             return True
-        if parent.tag in _FALLBACKS and any(_contains(c, need, inverted=True) for c in earlier):
-            return True
-        child = parent
     return False
 
 
 def tree_need_mistakes(xml: str, name: str, spec: ScenarioSpec | None, target: Target = "socrates") -> list[str]:
-    """What the tree of `name` lacks for its encounter parts, each mistake naming the nodes to add."""
+    """What the tree of `name` (one `bt check` accepts) lacks for its encounter parts, each mistake naming
+    the nodes to add. The tree is read as it runs: SubTree calls expanded, ports typed, controls and
+    decorators by their library semantics (flow, rule)."""
     if spec is None:
         return []
-    tree = parse_tree(xml)
-    if tree is None:
+    try:
+        nodes = list(load_instance(xml, f"behaviors/{name}.xml").root.walk_with_path())
+    except ValidationFailed:  # bt check names the tree's problems; its needs are checked once it has none
         return []
-    nodes = list(_walk(tree))
     mistakes: list[str] = []
     for enc, part in spec.parts_of(name):
         mistakes += _part_mistakes(nodes, enc, part, target)
     return mistakes
 
 
-def _part_mistakes(nodes: list[TreeNode], enc: Encounter, part: HumanPart, target: Target) -> list[str]:
+def _part_mistakes(nodes: list[tuple[Node, tuple[Node, ...]]], enc: Encounter, part: HumanPart,
+                   target: Target) -> list[str]:
     trigger, reaction = trigger_need(part, target), reaction_need(part, target)
     what = f"encounter {enc.id} ({_part_words(part)})"
     if reaction is None:
         return []
-    actions = [n for n in nodes if _matches(n, reaction)]
+    actions = [(n, path) for n, path in nodes if _matches(n, reaction)]
     if not actions:
         return [f"{what}: the tree has no {reaction.describe()} to realize the reaction {part.reaction}"]
     if trigger is None:
         return []
-    if not any(_matches(n, trigger) for n in nodes):
+    if not any(_matches(n, trigger) for n, _ in nodes):
         return [f"{what}: the tree never checks {trigger.describe()}, so the trigger {part.trigger} cannot fire"]
-    if not any(_gated(a, trigger) for a in actions):
+    if not any(_gated(a, path, trigger) for a, path in actions):
         return [f"{what}: {reaction.describe()} is not gated by {trigger.describe()}; put the condition before "
                 f"the action in a Sequence (or inverted in an earlier branch of a Fallback)"]
     return []

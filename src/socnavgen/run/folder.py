@@ -9,7 +9,6 @@ writer of a run folder at a time (the lock file sits beside the folder: RUN/../.
 from __future__ import annotations
 
 import contextlib
-import fcntl
 import os
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -18,7 +17,7 @@ from typing import TYPE_CHECKING, TypeVar
 
 from pydantic import BaseModel
 
-from socnavgen.errors import InputFileError, SocnavgenError
+from socnavgen.errors import InputFileError
 from socnavgen.run.models import Manifest, PathPlan, ScenarioProposal, ScenarioRequest, check_human_name
 from socnavgen.run.spec import ScenarioSpec
 from socnavgen.safeio import atomic_write_text, contained_path, load_model_file, read_text_limited
@@ -76,6 +75,13 @@ class RunFolder:
     def sim_dir(self) -> Path:
         return self.root / "sim"
 
+    def require(self) -> None:
+        """One clear error when the run folder does not exist (before any file of it is looked for)."""
+        if not self.root.is_dir():
+            what = "not a folder" if self.root.exists() else "no such run folder"
+            raise InputFileError(what, file=self.root,
+                                 hint="give a folder written by `socnavgen generate` or `socnavgen cards generate`")
+
     def behavior_path(self, human: str) -> Path:
         try:
             check_human_name(human)
@@ -110,18 +116,10 @@ class RunFolder:
             _HELD[key] = self._acquire()
 
     def _acquire(self) -> int:
+        from socnavgen.locks import acquire
+
         self.root.parent.resolve().mkdir(parents=True, exist_ok=True)
-        fd = os.open(self.lock_path, os.O_RDWR | os.O_CREAT, 0o644)
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            holder = os.pread(fd, 32, 0).decode(errors="replace").strip() or "?"
-            os.close(fd)
-            raise SocnavgenError(f"run folder {self.root} is in use by another socnavgen process (pid {holder})",
-                                 hint="wait for it to finish, or write to another --out") from None
-        os.ftruncate(fd, 0)
-        os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
-        return fd
+        return acquire(self.lock_path, f"run folder {self.root}", "wait for it to finish, or write to another --out")
 
     # -- typed access ------------------------------------------------------------------------
     def _read(self, path: Path, model: type[M]) -> M:

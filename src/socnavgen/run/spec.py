@@ -206,6 +206,20 @@ class ScenarioSpec(BaseModel):
     encounters: list[Encounter] = Field(default_factory=list, max_length=16)
     criteria: list[Criterion] = Field(default_factory=list, max_length=64)
 
+    @model_validator(mode="after")
+    def _cues_name_what_exists(self) -> ScenarioSpec:
+        """A cue waiting for an encounter or a human the spec does not have would never fire: refused."""
+        ids, humans = [e.id for e in self.encounters], self.humans()
+        for k, cue in enumerate(self.script.cues):
+            when = f"script.cues.{k} ({cue.trigger.when})"
+            if cue.trigger.encounter and cue.trigger.encounter not in ids:
+                raise ValueError(f"{when} names encounter {cue.trigger.encounter}, which is not in encounters "
+                                 f"({', '.join(ids) or 'none'}): it would never fire")
+            if cue.trigger.human and cue.trigger.human not in humans:
+                raise ValueError(f"{when} names {cue.trigger.human}, who takes part in no encounter "
+                                 f"({', '.join(humans) or 'none'}): it would never fire")
+        return self
+
     def encounter(self, encounter_id: str) -> Encounter | None:
         return next((e for e in self.encounters if e.id == encounter_id), None)
 

@@ -1,12 +1,17 @@
-"""THE definition of robot-human distance, gap and collision, used by the `simulate` summary,
-metrics.json (`collisions`, `minimum_distance_to_people`) and the verifier, so that one run shows one
-number everywhere.
+"""THE definition of robot-human distance, gap and contact, used by the `simulate` summary, metrics.json
+(`collisions`, `success`, HuNavSim's `robot_on_person_collision` / `person_on_robot_collision`,
+`minimum_distance_to_people`) and the verifier (`no_collision`), so that one run shows one number everywhere.
 
 - centre distance: Euclidean distance between the robot's and a human's centres (m);
 - gap: centre distance minus both radii (surface to surface; negative when the discs overlap);
-- collision: a step on which the robot's disc overlaps some human's disc by more than
-  OVERLAP_TOLERANCE (1 cm, so a robot that stops exactly touching a person is not a collision);
-  counted in steps (every step of the trace, never a sampled subset).
+- contact: a (step, human) pair whose gap is at most bodies.CONTACT_MARGIN (5 cm): the bodies touch or
+  nearly touch. A step with a contact counts as a collision step, on every step of the trace (never a
+  sampled subset). A robot that stops 2 cm from a person has touched them; one that keeps 6 cm has not.
+- intimate space: how long the closest gap was under bodies.INTIMATE_SPACE (Hall's intimate zone, the
+  evaluator's `intimate_space_intrusions` threshold), reported beside the contacts.
+
+`overlapping` is the physics' question (do two discs interpenetrate by more than 1 cm?), asked by the
+simulator's own tests; it is not contact and no report counts it.
 """
 
 from __future__ import annotations
@@ -15,10 +20,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from socnavgen.bodies import CONTACT_MARGIN, INTIMATE_SPACE
 from socnavgen.sim.trace import Trace
 from socnavgen.text import count
 
-OVERLAP_TOLERANCE = 0.01  # m: discs overlapping by more than this are a collision
+OVERLAP_TOLERANCE = 0.01  # m: discs overlapping by more than this interpenetrate (physics tests only)
 
 
 def lengths(v: np.ndarray) -> np.ndarray:
@@ -56,8 +62,14 @@ def trace_gaps(trace: Trace) -> np.ndarray:
     return gaps_from(trace.robot[:, :2], trace.humans[:, :, :2], trace.robot_radius, trace.human_radii)
 
 
+def in_contact(gaps: np.ndarray) -> np.ndarray:
+    """Boolean mask, same shape as `gaps`: which (step, human) pairs are in contact (gap <= CONTACT_MARGIN)."""
+    return np.asarray(gaps) <= CONTACT_MARGIN
+
+
 def overlapping(gaps: np.ndarray) -> np.ndarray:
-    """Boolean mask, same shape as `gaps`: which (step, human) pairs collide."""
+    """Boolean mask: which (step, human) discs interpenetrate by more than OVERLAP_TOLERANCE (physics, not
+    contact: see the module docstring)."""
     return np.asarray(gaps) < -OVERLAP_TOLERANCE
 
 
@@ -65,35 +77,40 @@ def overlapping(gaps: np.ndarray) -> np.ndarray:
 class ContactSummary:
     """Everything a report says about contacts between the robot and people, computed once."""
 
-    collision_steps: int  # steps on which the robot overlaps at least one human
+    collision_steps: int  # steps on which the robot is in contact with at least one human
     collision_seconds: float
     first_collision_time: float | None
     first_collision_human: str | None
-    worst_overlap: float  # m, >= 0 (0 when nobody overlapped)
+    worst_overlap: float  # m, >= 0 (0 when no discs overlapped)
     min_gap: float | None  # m, closest surface gap over the run (None without humans)
     min_gap_time: float | None
     min_gap_human: str | None
-    steps_per_human: dict[str, int]
+    steps_per_human: dict[str, int]  # contact steps per human
+    intimate_seconds: float = 0.0  # s with the closest gap under INTIMATE_SPACE
 
     @property
     def collided(self) -> bool:
         return self.collision_steps > 0
 
     def describe(self) -> str:
-        """One line for summaries: the closest gap and, if any, the collisions."""
+        """One line for summaries: the closest gap, the time in intimate space and, if any, the contacts."""
         if self.min_gap is None:
             return "no humans"
         text = f"closest gap {self.min_gap:.2f} m to {self.min_gap_human} at t={self.min_gap_time:.1f} s"
+        if self.intimate_seconds > 0:
+            text += f"; {self.intimate_seconds:.1f} s within someone's intimate space (gap < {INTIMATE_SPACE:g} m)"
         if self.collided:
-            text += (f"; {count(self.collision_steps, 'step')} with a collision ({self.collision_seconds:.1f} s), first with "
-                     f"{self.first_collision_human} at t={self.first_collision_time:.1f} s, worst overlap "
-                     f"{self.worst_overlap:.2f} m")
+            text += (f"; {count(self.collision_steps, 'step')} in contact (gap <= {CONTACT_MARGIN:g} m, "
+                     f"{self.collision_seconds:.1f} s), first with {self.first_collision_human} at "
+                     f"t={self.first_collision_time:.1f} s")
+            if self.worst_overlap > 0:
+                text += f", worst overlap {self.worst_overlap:.2f} m"
         return text
 
 
 def collision_steps(gaps: np.ndarray) -> int:
-    """How many steps of (T, H) `gaps` have a collision."""
-    return int(np.count_nonzero(overlapping(gaps).any(axis=1)))
+    """How many steps of (T, H) `gaps` have a contact."""
+    return int(np.count_nonzero(in_contact(gaps).any(axis=1)))
 
 
 def summarize(trace: Trace, gaps: np.ndarray | None = None) -> ContactSummary:
@@ -102,17 +119,20 @@ def summarize(trace: Trace, gaps: np.ndarray | None = None) -> ContactSummary:
     if trace.steps == 0 or h == 0:
         return ContactSummary(0, 0.0, None, None, 0.0, None, None, None, {})
     gaps = trace_gaps(trace) if gaps is None else gaps
-    hits = overlapping(gaps)
+    hits = in_contact(gaps)
     per_step = hits.any(axis=1)
     steps = int(per_step.sum())
+    closest = gaps.min(axis=1)
     k, j = np.unravel_index(int(np.argmin(gaps)), gaps.shape)
     first_t = first_h = None
     if steps:
         f = int(np.argmax(per_step))
         first_t = float(trace.t[f])
         first_h = trace.human_names[int(np.argmin(gaps[f]))]
+    dt = float(trace.dt)
     return ContactSummary(
-        collision_steps=steps, collision_seconds=round(steps * float(trace.dt), 6), first_collision_time=first_t,
+        collision_steps=steps, collision_seconds=round(steps * dt, 6), first_collision_time=first_t,
         first_collision_human=first_h, worst_overlap=float(max(0.0, -gaps.min())),
         min_gap=float(gaps[k, j]), min_gap_time=float(trace.t[k]), min_gap_human=trace.human_names[j],
-        steps_per_human={n: int(hits[:, i].sum()) for i, n in enumerate(trace.human_names)})
+        steps_per_human=dict(zip(trace.human_names, np.count_nonzero(hits, axis=0).tolist(), strict=True)),
+        intimate_seconds=round(int(np.count_nonzero(closest < INTIMATE_SPACE)) * dt, 6))

@@ -9,8 +9,9 @@ from typing import Any
 
 # (unit, meaning, better): better = "higher" | "lower" | None (no preferred direction)
 _EVALUATOR: dict[str, tuple[str, str, str | None]] = {
-    "success": ("bool", "robot reached its goal (within the goal radius) with no person collision", "higher"),
-    "collisions": ("steps", "steps with the robot's disc overlapping a person's", "lower"),
+    "success": ("bool", "robot reached its goal (within the goal radius) without touching anyone (no contact)",
+                "higher"),
+    "collisions": ("steps", "steps with the robot in contact with a person (gap <= 0.05 m, sim/contact.py)", "lower"),
     "min_time_to_collision": ("s", "smallest constant-velocity time to robot-person contact", "higher"),
     "time_to_reach_goal": ("s", "duration of the recording (HuNavSim's definition)", "lower"),
     "path_length": ("m", "distance driven by the robot", None),
@@ -27,8 +28,10 @@ _EVALUATOR: dict[str, tuple[str, str, str | None]] = {
     "completed": ("bool", "final robot position within 0.2 m of a goal (HuNavSim)", "higher"),
     "minimum_distance_to_target": ("m", "closest the robot came to its goal", "lower"),
     "final_distance_to_target": ("m", "robot-goal distance at the end", "lower"),
-    "robot_on_person_collision": ("count", "collisions the robot drove into (HuNavSim bearing test)", "lower"),
-    "person_on_robot_collision": ("count", "collisions a person walked into (HuNavSim bearing test)", "lower"),
+    "robot_on_person_collision": ("count", "(sample, person) contacts the robot drove into (HuNavSim bearing "
+                                  "test on the pairs sim/contact.py counts)", "lower"),
+    "person_on_robot_collision": ("count", "(sample, person) contacts a person walked into (HuNavSim bearing "
+                                  "test on the pairs sim/contact.py counts)", "lower"),
     "time_not_moving": ("s", "time with speed < 0.01 m/s and angular speed < 0.02 rad/s", "lower"),
     "avg_robot_linear_speed": ("m/s", "mean robot speed", None),
     "avg_robot_angular_speed": ("rad/s", "mean |angular speed|", "lower"),

@@ -12,6 +12,11 @@ force model). Quirks reproduced on purpose (each also listed in docs/verify.md):
 * avg_acceleration / avg_overacceleration sum N-1 differences but divide by N.
 * group intrusions use a point 1.5 m in front of each member, no agent radius and no clamp.
 * collisions: (robot|person)_on_(person|robot) use the evaluator's bearing test with swapped atan2 arguments.
+
+One deliberate change (one definition of contact for every report): the evaluator attributes (sample, person)
+pairs whose gap is under 0.02 m; here the pairs are those in contact by sim/contact.py (gap <= 0.05 m), the
+same pairs `collisions`, `success` and the verifier count. So `robot_on_person_collision` or
+`person_on_robot_collision` above 0 implies `collisions` above 0, and `collisions` 0 implies both are 0.
 * the social-force metrics use the evaluator's SFM (k_soc = 2.1, theta with swapped atan2 arguments and a
   single +-2 pi correction), not lightsfm.
 
@@ -40,7 +45,6 @@ from socnavgen.safeio import atomic_write_text
 from socnavgen.sim import contact
 from socnavgen.sim.trace import OMEGA, VX, VY, YAW, Trace, X, Y
 
-COLLISION_DISTANCE = 0.02  # m, evaluator collision threshold (its README says 0.01; the code uses 0.02)
 NO_AGENT_DISTANCE = 10000.0  # the evaluator's "infinity"
 GROUP_CENTER_OFFSET = 1.5  # m in front of each group member
 OBSTACLE_RANGE = 10.0  # m, the wrapper sends the nearest obstacle point within this range
@@ -211,10 +215,12 @@ def _collision_counts(pr: np.ndarray, yaw_r: np.ndarray, v_r: np.ndarray, pa: np
                       v_a: np.ndarray, gap: np.ndarray) -> tuple[int, int]:
     """Evaluator rule: alpha = bearing of the robot seen from the agent, alpha2 = atan2(x', y') of the agent
     in the robot frame (swapped arguments); smaller |alpha| -> robot hit person, larger -> person hit robot,
-    equal with equal speeds -> both; speeds must differ otherwise. Counts (sample, agent) pairs. Scalar math
-    on the few pairs in contact (Python floats are the same IEEE doubles as numpy's, without its per-scalar cost)."""
+    equal with equal speeds -> both; speeds must differ otherwise. Counts (sample, agent) pairs in contact
+    (contact.in_contact: the evaluator's own threshold is a gap under 0.02 m; see the module docstring). Scalar
+    math on the few pairs in contact (Python floats are the same IEEE doubles as numpy's, without its
+    per-scalar cost)."""
     robot_hits = person_hits = 0
-    steps, agents = np.nonzero(gap < COLLISION_DISTANCE)
+    steps, agents = np.nonzero(contact.in_contact(gap))
     if not len(steps):
         return 0, 0
     columns = (pr[steps, 0], pr[steps, 1], pa[steps, agents, 0], pa[steps, agents, 1], yaw_r[steps],

@@ -482,7 +482,13 @@ def load_policy(spec: str) -> RobotPolicy:
     except Exception as exc:  # noqa: BLE001 - anything user code raises on import
         raise InputFileError(f"cannot load robot policy {spec!r}: {type(exc).__name__}: {exc}",
                              hint="the class must be importable and take no constructor arguments") from exc
-    policy = cls()
+    if not isinstance(cls, type):
+        raise InputFileError(f"{spec} is not a robot policy class", hint="see RobotPolicy in docs/simulator.md")
+    try:
+        policy = cls()
+    except Exception as exc:  # noqa: BLE001 - a user constructor's failure is the user's to fix
+        raise InputFileError(f"robot policy {spec} could not be created: {type(exc).__name__}: {exc}",
+                             hint="its constructor must run without arguments") from exc
     if not callable(getattr(policy, "act", None)):
         raise InputFileError(f"{spec} has no act(observation) method", hint="see RobotPolicy in docs/simulator.md")
     return policy

@@ -145,18 +145,19 @@ def simulate_run(run_dir: Path | str | LoadedRun, robot: str | RobotPolicy = DEF
     writes: RUN/sim/trace.npz, metrics.json and (with `plot`) trajectories.png, (with `gif`) animation.gif.
     `robot` is a plugin spec (see robot.load_policy) or a policy object; `location` a folder or a Location
     (a loaded Location is used as is: load it once when simulating many times)."""
-    from socnavgen.sim.outputs import write_outputs
+    from socnavgen.sim.outputs import MadeFrom, folder_identity, save_run_outputs
     from socnavgen.sim.robot import load_policy
 
     policy = load_policy(robot) if isinstance(robot, str) else robot
     if isinstance(throttle, bool):
         throttle = ThrottleConfig(enabled=throttle)
     run = load_run(run_dir)
+    identity = folder_identity(run.root) if save else None
     loaded = run.location(location)
     sim = load_simulation(run, policy, SimConfig(dt=dt, timeout=timeout, seed=seed), throttle, loaded)
     sim.meta["robot_plugin"] = robot if isinstance(robot, str) else type(robot).__name__
     trace = sim.run(progress=progress)
-    if save:
-        trace.save(run.folder.sim_dir / "trace.npz")
-        write_outputs(trace, loaded, run.folder.sim_dir, plot=plot, gif=gif)
+    if save:  # the outputs carry what they were made from (sim/outputs.py)
+        made = MadeFrom(sim.meta["robot_plugin"], dt, timeout, seed, throttle.enabled)
+        save_run_outputs(trace, loaded, run.root, made, identity=identity, plot=plot, gif=gif)
     return trace

@@ -3,20 +3,28 @@
 The rule table (first matching rule wins; docs/verify.md shows the same):
 
   S1  the criterion contradicts its own spec (unknown encounter or human, a meeting closer than the two
-      radii, a phrase other than the one its encounter waits for, a stop asked of a walk_past,
-      keeps_away farther than a meeting it also asks for, a formula that cannot be monitored) -> spec
+      radii, a phrase other than the one its encounter waits for, a stop asked of a walk_past, a
+      reaction its encounter does not give the human (follows_robot / blocks_robot / gives_way /
+      keeps_away), keeps_away farther than a meeting it also asks for, a placeholder for its text, a
+      formula that cannot be monitored)                                                       -> spec
+  S2  the criterion's place cannot work on this map (location/inventory.py: no node of that type, every one
+      unreachable or a dead end too tight to pass a person), or it asks for a hidden approach where no
+      node of that type is a blind turn                                                       -> spec
   C1  collision, with a robot that is not meant to misbehave                                   -> robot_script
   C2  collision demanded away by a spec whose robot misbehaves on purpose                      -> spec
   C3  (checked before C1) a human walked into the robot while it stood still                  -> behaviors(h)
   D1  deadlock / goal not reached behind a human whose reaction waits for a robot phrase the
       robot never said                                                                        -> robot_script
+  D3  (checked before D1) deadlock behind a human standing at its own goal off the robot's route
+      (the robot could pass: the paths put that goal beside the route)                         -> paths
   D2  deadlock / goal not reached behind a human (the human's tree keeps it in the way)        -> behaviors(h)
   P1  the criterion (or, for meets / stops / gives_way / says / blocks, its encounter) waits for
       a robot phrase the robot never said                                                       -> robot_script
   P2  the reaction happened before its cause (the tree is not gated on the phrase)             -> behaviors(h)
   N1  the robot, or the human, never came within `within` of the encounter node                -> paths
   N2  both reached the node but never within the distance at the same time (timing, place)    -> paths
-  N3  the robot never came near the human (a reaction's trigger never held)                     -> paths
+  N3  the robot never came near the human, or the human was never in its way (a reaction's cause
+      never held), or a meeting had no approach / shares the earlier encounter's meeting         -> paths
   V1  hidden_until failed: the two saw each other early (the place is not blind)               -> paths
   G1  a group apart whose members walk different paths                                          -> paths
   G2  a group apart on one path                                                                -> behaviors(farthest)
@@ -34,24 +42,36 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
 from __future__ import annotations
 
 import re
+from typing import Any
 
 import numpy as np
 
-from socnavgen.bodies import PERSON_RADIUS, ROBOT_RADIUS, TOUCH_DISTANCE
+from socnavgen.bodies import (
+    PERSON_GOAL_RADIUS,
+    PERSON_GOAL_SLACK,
+    PERSON_RADIUS,
+    ROBOT_RADIUS,
+    TOUCH_DISTANCE,
+)
 from socnavgen.run.models import PathPlan
 from socnavgen.run.spec import Blame, Criterion, ScenarioSpec
-from socnavgen.verify.criteria import Compiled, deadlock_culprit
-from socnavgen.verify.signals import ROBOT_PHRASES, STILL_SPEED, Signals, phrase_id
+from socnavgen.verify.criteria import Compiled
+from socnavgen.verify.evidence import deadlock_culprit, met_mask
+from socnavgen.verify.signals import ROBOT_PHRASES, Signals, phrase_id
 from socnavgen.verify.stl import formula_signals
+from socnavgen.verify.thresholds import APPROACH, KIND_DISTANCE, MEET_DISTANCE, STILL_SPEED
 
 Verdict = tuple[Blame, str | None, str]  # blame, human (for behaviors), reason
 
 
-def spec_problem(c: Criterion, spec: ScenarioSpec) -> str | None:
-    """Rule S1: why a criterion contradicts its own spec, or None."""
+def spec_problem(c: Criterion, spec: ScenarioSpec, roster: set[str] | None = None) -> str | None:
+    """Rule S1: why a criterion contradicts its own spec, or None. `roster`: the run's humans (default: those
+    of the spec's encounters)."""
+    if c.text and _PLACEHOLDER_TEXT.fullmatch(c.text):
+        return f"criterion {c.id} says only {c.text.strip()!r}: write what it checks, consistent with the scenario"
     if c.encounter and spec.encounter(c.encounter) is None:
         return f"criterion {c.id} names encounter {c.encounter!r}, which the spec does not have"
-    humans = set(spec.humans())
+    humans = set(spec.humans()) if roster is None else roster
     for name in [c.human, *c.humans]:
         if name and humans and name not in humans:
             return f"criterion {c.id} is about {name}, who takes part in no encounter"
@@ -68,12 +88,45 @@ def spec_problem(c: Criterion, spec: ScenarioSpec) -> str | None:
                     f"{', '.join(sorted(waits))}")
     if c.kind in ("stops_near_robot", "blocks_robot") and parts and all(p.reaction == "walk_past" for _, p in parts):
         return f"criterion {c.id} asks {c.human} to stop, but its encounter has it walk past"
+    reactions = {p.reaction for _, p in parts}
+    allowed = REACTIONS_OF.get(c.kind)
+    if allowed is not None and parts and not reactions & allowed:
+        return (f"criterion {c.id} ({c.kind}) asks {c.human} for what its encounter does not have it do (its "
+                f"reaction: {', '.join(sorted(reactions))}; {c.kind} needs {' or '.join(sorted(allowed))})")
+    if c.kind == "says" and c.phrase and parts:
+        said = {p.says for _, p in parts if p.reaction == "say" and p.says}
+        if said and c.phrase not in said:
+            return f"criterion {c.id} asks {c.human} to say {c.phrase}, but its encounter has it say {', '.join(sorted(said))}"
     if c.kind == "keeps_away" and c.human:
         meet = next((m for m in spec.criteria if m.kind == "meets" and m.human == c.human), None)
-        if meet is not None and (meet.distance or 2.0) < (c.distance or 1.5):
-            return (f"criterion {c.id} keeps {c.human} {c.distance or 1.5:g} m away, but criterion {meet.id} asks "
-                    f"them to meet within {meet.distance or 2.0:g} m")
+        if meet is not None and (meet.distance or MEET_DISTANCE) < (c.distance or KIND_DISTANCE["keeps_away"]):
+            return (f"criterion {c.id} keeps {c.human} {c.distance or KIND_DISTANCE['keeps_away']:g} m away, but "
+                    f"criterion {meet.id} asks them to meet within {meet.distance or MEET_DISTANCE:g} m")
     return None
+
+
+# the encounter reactions (run.spec.Reaction) a criterion kind can be about: any other contradicts the spec (S1)
+REACTIONS_OF = {"follows_robot": {"follow", "follow_human", "join"}, "blocks_robot": {"block"},
+                "gives_way": {"give_way", "avoid"}, "keeps_away": {"avoid", "walk_past", "give_way", "stop", "look",
+                                                                   "wait_then_go", "say"}}
+_PLACEHOLDER_TEXT = re.compile(r"\s*(placeholder|todo|tbd|xxx|\.\.\.|<[^<>]*>|criterion|text)\s*[.!]?\s*", re.I)
+
+
+def place_problem(cc: Compiled, location: Any) -> str | None:
+    """Rule S2: why the criterion's place cannot work on this map (location/inventory.py, the measure stage 1's
+    checks use too), or None."""
+    enc = cc.encounter
+    inventory = getattr(location, "inventory", None) if enc is not None else None
+    if inventory is None:
+        return None
+    reason = inventory.unworkable_reason(enc.place)
+    if reason:
+        return f"encounter {enc.id} happens at a {enc.place}, but {reason}: choose a place of this map that can work"
+    if cc.criterion.kind == "hidden_until" and not inventory.blind_nodes(enc.place):
+        return (f"no {enc.place} node of this map hides one way from the other: nothing can stay hidden there; "
+                "choose a blind turn of the map or drop the criterion")
+    return None
+
 
 
 def _walked_into_robot(s: Signals) -> str | None:
@@ -99,14 +152,37 @@ def _waited_phrase(spec: ScenarioSpec, human: str | None) -> str | None:
     return None
 
 
-def _stuck(cc: Compiled, s: Signals, spec: ScenarioSpec, settings_deadlock: float) -> Verdict | None:
-    """Rules D1, D2."""
+def _off_route_at_goal(s: Signals, plan: PathPlan | None, who: str, k: int) -> str | None:
+    """Rule D3: `who` stands at its own last node at step k, and off the robot's route (the robot's body could
+    pass beside it): the node it waits at, else None."""
+    goal_node = next((h.path[-1] for h in (plan.humans if plan is not None else []) if h.name == who and h.path), None)
+    goal = s.places.get(f"node_{goal_node}") if goal_node else None
+    waypoints = np.asarray(s.trace.robot_waypoints, dtype=float).reshape(-1, 2)
+    if goal is None or len(waypoints) < 2:
+        return None
+    p = s.pos(who)[k]
+    if float(np.hypot(*(p - np.asarray(goal)))) > PERSON_GOAL_RADIUS + PERSON_GOAL_SLACK:
+        return None
+    a, d = waypoints[:-1], np.diff(waypoints, axis=0)
+    u = np.clip(((p - a) * d).sum(axis=1) / np.maximum((d * d).sum(axis=1), 1e-12), 0.0, 1.0)
+    off = float(np.min(np.hypot(*(a + u[:, None] * d - p).T)))
+    radius = float(np.asarray(s.trace.human_radii)[s.human(who)])
+    return goal_node if off >= float(s.trace.robot_radius) + radius else None
+
+
+def _stuck(cc: Compiled, s: Signals, spec: ScenarioSpec, settings_deadlock: float,
+           plan: PathPlan | None = None) -> Verdict | None:
+    """Rules D3, D1, D2."""
     dead = s.get("deadlock")
     if dead.max() < settings_deadlock:
         return None
-    _, who = deadlock_culprit(s)
+    k, who = deadlock_culprit(s)
     if who is None:
         return None
+    at_goal = _off_route_at_goal(s, plan, who, k)
+    if at_goal:
+        return ("paths", None, f"{who} stood at its own goal ({at_goal}) beside the robot's route and the robot would "
+                               "not pass: put that goal off the robot's way, or route the robot elsewhere")
     phrase = _waited_phrase(spec, who)
     if _never_said(s, phrase):
         return ("robot_script", None, f"{who} waits for the robot to say {phrase.replace('_', ' ').upper()}, "
@@ -127,10 +203,12 @@ def _scripted_wait(s: Signals, spec: ScenarioSpec, settings_deadlock: float) -> 
 
 
 def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan | None,
-                    settings_deadlock: float) -> Verdict:
-    """Apply the rule table to one failing, monitored criterion."""
-    c, h, kind = cc.criterion, cc.human, cc.criterion.kind
-    problem = spec_problem(c, spec)
+                    settings_deadlock: float, location: Any = None, authored: bool = True) -> Verdict:
+    """Apply the rule table to one failing, monitored criterion that does not contradict its spec (rule S1 is
+    the judge's: such a criterion fails without a robustness). `authored`: the spec is spec.json, not one
+    derived from the paths, so rule S2 applies."""
+    h, kind = cc.human, cc.criterion.kind
+    problem = place_problem(cc, location) if authored else None
     if problem:
         return "spec", None, problem
     if kind == "no_collision":
@@ -141,7 +219,7 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
             return "behaviors", walker, f"{walker} walked into the standing robot: its tree must stop or go around"
         return "robot_script", None, "the robot ran into a person: its script must stop or wait (wait_until_clear)"
     if kind in ("no_deadlock", "robot_reaches_goal"):
-        stuck = _stuck(cc, s, spec, settings_deadlock)
+        stuck = _stuck(cc, s, spec, settings_deadlock, plan)
         if stuck:
             return stuck
         if kind == "no_deadlock":
@@ -165,19 +243,59 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
         return "paths", None, "robot and human see each other before they meet: choose a blind place"
     if kind == "group_together":
         return _blame_group(cc, s, plan)
-    if cc.encounter is not None and h and kind == "meets":
-        e, within = cc.encounter.id, cc.encounter.within
-        if s.get(f"robot_to_{e}").min() > within:
-            return "paths", None, f"the robot never came within {within:g} m of {cc.encounter.node or e}"
-        if s.get(f"{h}_to_{e}").min() > within:
-            return "paths", None, f"{h} never came within {within:g} m of {cc.encounter.node or e}"
-        return "paths", None, f"the robot and {h} were not at {cc.encounter.node or e} at the same time"
+    if h and kind == "meets":
+        return _blame_meeting(cc, s, h)
     if h:
-        reach = max(cc.distance or 2.0, 2.0)
+        reach = max(cc.distance or MEET_DISTANCE, MEET_DISTANCE)
         if s.get(f"dist_{h}").min() > reach:
             return "paths", None, f"the robot never came within {reach:g} m of {h}"
+        cause = _missing_cause(cc, s, h)
+        if cause:
+            return cause
         return "behaviors", h, f"the robot came near {h} but {h} did not react as asked ({kind})"
     return "paths", None, "the scenario did not unfold as asked"
+
+
+def _blame_meeting(cc: Compiled, s: Signals, h: str) -> Verdict:
+    """Rules N1, N2 and N3 for a meeting."""
+    d = cc.distance or MEET_DISTANCE
+    if cc.encounter is None:
+        if (s.get(f"dist_{h}") <= d).any():
+            return "paths", None, f"the robot and {h} start within {d:g} m: start them apart so that they approach"
+        return "paths", None, f"the robot never came within {d:g} m of {h}"
+    e, within, node = cc.encounter.id, cc.encounter.within, cc.encounter.node or cc.encounter.id
+    near = (s.get(f"dist_{h}") <= d) & (s.get(f"mid_{h}_to_{e}") <= within)
+    if near.any() and not met_mask(s, h, cc.encounter, d).any():
+        return "paths", None, (f"the robot and {h} were together at {node} only without approaching each other (from "
+                               "where they started): start them farther apart, or from other nodes")
+    if s.get(f"robot_to_{e}").min() > within:
+        return "paths", None, f"the robot never came within {within:g} m of {node}"
+    if s.get(f"{h}_to_{e}").min() > within:
+        return "paths", None, f"{h} never came within {within:g} m of {node}"
+    if near.any() and cc.previous is not None:
+        return "paths", None, (f"{h} meets the robot only once, at {cc.previous.node or cc.previous.id}: this "
+                               f"encounter needs its own meeting at {node}")
+    return "paths", None, f"the robot and {h} were not at {node} at the same time"
+
+
+def _missing_cause(cc: Compiled, s: Signals, h: str) -> Verdict | None:
+    """Rule N3 for reactions: the cause never held (h never in the robot's way, never walking near it)."""
+    kind, d = cc.criterion.kind, cc.distance or KIND_DISTANCE.get(cc.criterion.kind, MEET_DISTANCE)
+    if kind == "gives_way" and not ((s.get(f"inway_{h}") > 0.5) & (s.get(f"dist_{h}") <= d)).any():
+        return "paths", None, (f"{h} was never in the robot's way within {d:g} m: nothing to give way to; make "
+                               "their paths meet head-on")
+    if kind == "follows_robot" and cc.encounter is not None:
+        there = s.get(f"{h}_to_{cc.encounter.id}") <= cc.encounter.within + (cc.distance or 0.0)
+        if cc.phrase:
+            there &= s.get(f"robot_says_{cc.phrase}") > 0.5
+        if not there.any():
+            node = cc.encounter.node or cc.encounter.id
+            return "paths", None, (f"{h} was never near {node}"
+                                   + (f" while the robot said {cc.phrase.replace('_', ' ').upper()}" if cc.phrase
+                                      else "") + ": the following must start there")
+    if kind == "stops_near_robot" and not (s.get(f"closer_{h}") >= APPROACH).any():
+        return "paths", None, f"the robot never came closer to {h} than where they started"
+    return None
 
 
 def _blame_group(cc: Compiled, s: Signals, plan: PathPlan | None) -> Verdict:

@@ -1,8 +1,9 @@
 """Which criteria a run is judged on, and where its encounters are.
 
 - With spec.json: its criteria, plus the ones its encounters imply (every encounter's human meets the
-  robot at the encounter's node; no collision unless the robot misbehaves on purpose; no deadlock
-  unless someone is meant to block the robot).
+  robot at the encounter's node, unless another criterion already shows that encounter: a meeting, keeping
+  away, following); and what every run is judged on: the robot reaches its goal; no contact unless the robot
+  misbehaves on purpose; no deadlock unless it misbehaves or someone is meant to block it.
 - Without (older runs): a spec derived from paths.json (an encounter at each human's interaction
   point, groups, the robot's goal) and the scenario card's criteria, with the SAME strict thresholds
   (a card's looser meeting distance is capped at the strict one).
@@ -15,18 +16,21 @@ from typing import Any
 from socnavgen.run.models import PathPlan
 from socnavgen.run.spec import Criterion, Encounter, HumanPart, ScenarioSpec
 from socnavgen.verify.models import Source, VerifySettings
+from socnavgen.verify.thresholds import WAIT_MARGIN
 
 Judged = list[tuple[Criterion, Source]]
-WAIT_MARGIN = 5.0  # s a scripted wait may overrun before it counts as a deadlock
+SHOWS_ENCOUNTER = {"meets", "keeps_away", "follows_robot"}  # criterion kinds that already show a human's encounter
 
 
-def _met(human: str, enc: Encounter, distance: float) -> str:
+def _together_at(human: str, enc: Encounter, distance: float) -> str:
+    """Robot and human within `distance` of each other at the encounter's place (approach or not: ordering
+    encounters needs only when each happens; whether it is a real meeting the meets criteria judge)."""
     return f"((dist_{human} <= {distance:g}) and (mid_{human}_to_{enc.id} <= {enc.within:g}))"
 
 
 def _order_criteria(spec: ScenarioSpec, settings: VerifySettings) -> Judged:
     """Encounters with a smaller `order` happen first: for each pair of consecutive orders, the later
-    encounter's meeting does not happen before the earlier one's (an stl criterion, blamed on paths)."""
+    encounter does not happen before the earlier one (an stl criterion, blamed on paths)."""
     ordered = sorted((e for e in spec.encounters if e.humans), key=lambda e: e.order)
     out: Judged = []
     for first, then in zip(ordered, ordered[1:], strict=False):
@@ -34,7 +38,8 @@ def _order_criteria(spec: ScenarioSpec, settings: VerifySettings) -> Judged:
             continue
         a, b = first.humans[0].human, then.humans[0].human
         out.append((Criterion(id=f"order_{first.id}_{then.id}", kind="stl",
-                              formula=f"(not {_met(b, then, settings.distance)}) until {_met(a, first, settings.distance)}",
+                              formula=f"(not {_together_at(b, then, settings.distance)}) until "
+                                      f"{_together_at(a, first, settings.distance)}",
                               text=f"{first.id} ({a}) happens before {then.id} ({b})"), "implied"))
     return out
 
@@ -87,7 +92,7 @@ def derive_spec(plan: PathPlan, location: Any, card_criteria: list[dict] | None,
         judged.append((Criterion(id="goal", kind="robot_reaches_goal", text=f"robot reaches its goal {plan.robot[-1]}"),
                        "card" if from_card else "paths"))
     if plan.humans:
-        judged.append((Criterion(id="no_collision", kind="no_collision", text="robot never collides with a human"),
+        judged.append((Criterion(id="no_collision", kind="no_collision", text="robot never touches a person"),
                        "paths"))
         judged.append((Criterion(id="no_deadlock", kind="no_deadlock",
                                  text="robot never stuck behind a person"), "paths"))
@@ -96,7 +101,7 @@ def derive_spec(plan: PathPlan, location: Any, card_criteria: list[dict] | None,
 
 
 def with_implied(spec: ScenarioSpec, settings: VerifySettings) -> Judged:
-    """The spec's criteria and those its encounters imply (source `implied`)."""
+    """The spec's criteria and those its encounters imply, and those every run is judged on (source `implied`)."""
     judged: Judged = [(c, "spec") for c in spec.criteria]
     kinds_of: dict[str | None, set[str]] = {}
     for c in spec.criteria:
@@ -108,26 +113,27 @@ def with_implied(spec: ScenarioSpec, settings: VerifySettings) -> Judged:
             members = [p.human for p in enc.humans if p.human in group]  # reaction); group_together keeps
             if len(members) < 2:  # every member near the others
                 continue
-            if not any("meets" in kinds_of.get(h, set()) for h in members):
+            if not any(SHOWS_ENCOUNTER & kinds_of.get(h, set()) for h in members):
                 judged.append((Criterion(id=f"meet_group_{enc.id}", kind="meets", humans=members, encounter=enc.id,
                                          text=f"robot meets the group ({', '.join(members)}) at "
                                               f"{enc.node or enc.place} ({enc.id})"), "implied"))
             for h in members:
                 kinds_of.setdefault(h, set()).add("meets")
         for part in enc.humans:
-            if {"meets", "keeps_away"} & kinds_of.get(part.human, set()) or part.reaction in ("avoid",):
+            if SHOWS_ENCOUNTER & kinds_of.get(part.human, set()) or part.reaction in ("avoid",):
                 continue
             judged.append((Criterion(id=f"meet_{part.human}_{enc.id}", kind="meets", human=part.human,
                                      encounter=enc.id, text=f"robot meets {part.human} at {enc.node or enc.place} "
                                                             f"({enc.id})"), "implied"))
-            kinds_of.setdefault(part.human, set()).add("meets")
     judged.extend(_order_criteria(spec, settings))
     present = {c.kind for c in spec.criteria}
     blocking = any(p.reaction == "block" for e in spec.encounters for p in e.humans)
-    if "no_collision" not in present and not spec.script.misbehave and spec.encounters:
-        judged.append((Criterion(id="no_collision", kind="no_collision", text="robot never collides with a human"),
+    if "robot_reaches_goal" not in present:  # always judged, whether or not the spec names it
+        judged.append((Criterion(id="goal", kind="robot_reaches_goal", text="robot reaches its goal"), "implied"))
+    if "no_collision" not in present and not spec.script.misbehave:
+        judged.append((Criterion(id="no_collision", kind="no_collision", text="robot never touches a person"),
                        "implied"))
-    if "no_deadlock" not in present and not spec.script.misbehave and not blocking and spec.encounters:
+    if "no_deadlock" not in present and not spec.script.misbehave and not blocking:
         longest_wait = max((cue.wait for cue in spec.script.cues), default=0.0)
         seconds = max(settings.deadlock_seconds, longest_wait + WAIT_MARGIN)  # a scripted wait is no deadlock
         judged.append((Criterion(id="no_deadlock", kind="no_deadlock", seconds=seconds,

@@ -3,93 +3,86 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterable
-
+from socnavgen.bt.expand import load_instance
 from socnavgen.bt.library import ROBOT_GESTURES
-from socnavgen.bt.tree import BTElement, parse_bt
+from socnavgen.bt.model import Entry, Node, literal_text
 from socnavgen.errors import ValidationFailed
 from socnavgen.run.models import PathPlan
 from socnavgen.verify.models import Expectation
 
-# Actions that make a human interact with the robot (or another human): the tree's reason to exist.
-INTERACTION_ACTIONS = ("GiveWaytoRobot", "BlockRobot", "FollowRobot", "LookAtRobot", "RunAwayFromRobot",
-                       "FollowHuman", "MakeGesture")
-# Conditions whose SUCCESS lets such an action run when they precede it in a Sequence.
-GATING_CONDITIONS = ("RobotSays", "HumanSays", "IsRobotBlocking", "IsRobotVisible", "IsRobotNearby", "RobotMoved")
-MESSAGE_GATES = ("RobotSays", "HumanSays")  # conditions whose `message` names the gesture they wait for
-SEQUENCES = ("Sequence", "ReactiveSequence", "SequenceWithMemory", "SequenceStar")
+# What makes a node key is in the library table: `interaction` actions are the tree's reason to exist,
+# `gate` conditions let them run when they precede them in a sequence-like control; a `message` port
+# names the gesture (MakeGesture's 0, "stop gesturing", is no interaction).
 
 
-def _gesture(elem: BTElement) -> int | None:
-    try:
-        return int(float(elem.attrs.get("message", "0")))
-    except ValueError:
-        return None  # a blackboard reference such as {msg}: cannot be checked statically
+def _gesture(node: Node) -> int | None:
+    message = node.value("message")
+    return message if isinstance(message, int) and not isinstance(message, bool) else None  # {key}: unknown
 
 
-def _ports(elem: BTElement) -> str:
-    shown = {k: v for k, v in elem.attrs.items() if k not in ("agent_id", "time_step", "name", "ts")}
-    return ", ".join(f"{k}={v}" for k, v in shown.items())
+def _ports(node: Node) -> str:
+    spec = node.spec
+    shown = {k: v for k, v in node.ports.items()
+             if not isinstance(v, Entry) and (p := spec.port(k) if spec else None) is not None and p.reads_root is None}
+    return ", ".join(f"{k}={literal_text(v)}" for k, v in shown.items())
 
 
-def _is_key_action(elem: BTElement) -> bool:
-    if elem.tag not in INTERACTION_ACTIONS:
+def _is_key_action(node: Node) -> bool:
+    spec = node.spec
+    if spec is None or not spec.interaction:
         return False
-    return elem.tag != "MakeGesture" or _gesture(elem) not in (0, None)
+    return spec.port("message") is None or _gesture(node) not in (0, None)
 
 
-def _gates(path: list[BTElement], target: BTElement) -> list[BTElement]:
-    """Conditions that must SUCCEED for `target` to run: direct condition children of a Sequence ancestor
+def _gates(path: tuple[Node, ...], target: Node) -> list[Node]:
+    """Conditions that must SUCCEED for `target` to run: direct gate children of a sequence-like ancestor
     placed before the branch holding the target (an Inverter in between means 'must fail': not counted)."""
-    gates: list[BTElement] = []
-    chain = [*path, target]
+    gates: list[Node] = []
+    chain = (*path, target)
     for depth, ancestor in enumerate(path):
-        if ancestor.tag not in SEQUENCES:
+        if ancestor.spec is None or ancestor.spec.flow != "sequence":
             continue
         branch = chain[depth + 1]
         for child in ancestor.children:
             if child is branch:
                 break
-            if child.tag in GATING_CONDITIONS:
+            if child.spec is not None and child.spec.gate:
                 gates.append(child)
     return gates
 
 
-def _walk_with_path(elem: BTElement, path: list[BTElement]) -> Iterable[tuple[BTElement, list[BTElement]]]:
-    yield elem, path
-    for child in elem.children:
-        yield from _walk_with_path(child, [*path, elem])
+def _message_of(gate: Node) -> int | None:
+    return _gesture(gate) if gate.spec is not None and gate.spec.port("message") is not None else None
 
 
 def tree_expectations(human: str, xml: str) -> list[Expectation]:
-    """Key nodes of one human's tree: every interaction action, and the conditions gating them."""
-    doc = parse_bt(xml, f"behaviors/{human}.xml")
+    """Key nodes of one human's tree as it runs (SubTrees expanded): every interaction action, and the
+    conditions gating them. Raises ValidationFailed (every problem named) for a tree bt check refuses."""
+    instance = load_instance(xml, f"behaviors/{human}.xml")
     actions: dict[str, Expectation] = {}
     conditions: dict[str, Expectation] = {}
-    for tree in doc.trees.values():
-        for elem, path in _walk_with_path(tree, []):
-            if not _is_key_action(elem):
-                continue
-            key = f"{elem.tag}({_ports(elem)})" if elem.tag == "MakeGesture" else elem.tag
-            if key not in actions:
-                kind = "gives_way_while_passing" if elem.tag == "GiveWaytoRobot" else "executes"
-                name = (f"{human} gives way while the robot passes" if kind == "gives_way_while_passing"
-                        else f"{human} executes {key}")
-                actions[key] = Expectation(
-                    kind=kind, name=name, source="tree", human=human, node=elem.tag,
-                    message=_gesture(elem) if elem.tag == "MakeGesture" else None,
-                    detail=f"{elem.tag} at line {elem.line} of {human}'s tree",
-                    caused_by=[(g.tag, _gesture(g) if g.tag in MESSAGE_GATES else None)
-                               for g in _gates(path, elem)])
-            for gate in _gates(path, elem):
-                label = f"{gate.tag}({_ports(gate)})"
-                message = _gesture(gate) if gate.tag in MESSAGE_GATES else None
-                key = gate.tag if message is None else f"{gate.tag}({message})"
-                if key not in conditions:
-                    shown = gate.tag if gate.tag != "RobotSays" else f"RobotSays({ROBOT_GESTURES.get(message, message)})"
-                    conditions[key] = Expectation(
-                        kind="executes", name=f"{human}: {shown} succeeds", source="tree", human=human,
-                        node=gate.tag, message=message, detail=f"{label} at line {gate.line} gates {elem.tag}")
+    for node, path in instance.root.walk_with_path():
+        if not _is_key_action(node):
+            continue
+        gesture = _gesture(node) if node.spec is not None and node.spec.port("message") is not None else None
+        key = f"{node.name}({_ports(node)})" if gesture is not None else node.name
+        if key not in actions:
+            kind = "gives_way_while_passing" if node.name == "GiveWaytoRobot" else "executes"
+            name = (f"{human} gives way while the robot passes" if kind == "gives_way_while_passing"
+                    else f"{human} executes {key}")
+            actions[key] = Expectation(
+                kind=kind, name=name, source="tree", human=human, node=node.name, message=gesture,
+                detail=f"{node.name} at line {node.line} of {human}'s tree",
+                caused_by=[(g.name, _message_of(g)) for g in _gates(path, node)])
+        for gate in _gates(path, node):
+            label = f"{gate.name}({_ports(gate)})"
+            message = _message_of(gate)
+            key = gate.name if message is None else f"{gate.name}({message})"
+            if key not in conditions:
+                shown = gate.name if gate.name != "RobotSays" else f"RobotSays({ROBOT_GESTURES.get(message, message)})"
+                conditions[key] = Expectation(
+                    kind="executes", name=f"{human}: {shown} succeeds", source="tree", human=human,
+                    node=gate.name, message=message, detail=f"{label} at line {gate.line} gates {node.name}")
     return [*actions.values(), *conditions.values()]
 
 

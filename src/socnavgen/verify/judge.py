@@ -10,15 +10,15 @@ from socnavgen.run.models import PathPlan
 from socnavgen.run.spec import Criterion, ScenarioSpec
 from socnavgen.sim.trace import Trace
 from socnavgen.verify.blame import blame_criterion, blame_tree_check, spec_problem
-from socnavgen.verify.criteria import Compiled, compile_criterion, evidence
+from socnavgen.verify.criteria import Compiled, compile_criterion
 from socnavgen.verify.derive import derive_spec, encounter_places, with_implied
 from socnavgen.verify.evaluate import evaluate, node_steps
+from socnavgen.verify.evidence import evidence
 from socnavgen.verify.expectations import tree_checks
 from socnavgen.verify.models import Expectation, Finding, Source, VerifyReport, VerifySettings
 from socnavgen.verify.signals import Signals
 from socnavgen.verify.stl import FormulaError, monitor
-
-DEFAULT_GOAL_RADIUS = 0.5  # m, when neither the settings nor the trace give one
+from socnavgen.verify.thresholds import DEFAULT_GOAL_RADIUS, MIN_RUN_SECONDS
 
 
 def _title(c: Criterion) -> str:
@@ -45,6 +45,7 @@ class Prepared:
     expectations: list[Expectation]
     plan: PathPlan
     location: Any
+    derived: bool = False  # no spec.json: criteria derived from the paths and the card
     _compiled: dict[tuple[int, float], Compiled | FormulaError] = field(default_factory=dict)
     _problems: dict[int, str | None] = field(default_factory=dict)
     _goal: tuple[float, float] | None = None
@@ -63,9 +64,10 @@ class Prepared:
         return found
 
     def problem(self, k: int) -> str | None:
-        """spec_problem of the k-th judged criterion."""
+        """spec_problem of the k-th judged criterion (for a spec derived from the paths, about the paths' humans)."""
         if k not in self._problems:
-            self._problems[k] = spec_problem(self.judged[k][0], self.used)
+            roster = {h.name for h in self.plan.humans} if self.derived else None
+            self._problems[k] = spec_problem(self.judged[k][0], self.used, roster)
         return self._problems[k]
 
     def plan_goal(self) -> tuple[float, float]:
@@ -87,7 +89,8 @@ def prepare(plan: PathPlan, location: Any, spec: ScenarioSpec | None, trees: dic
     if location is not None:
         node_points = {n: tuple(location.node_world(n)) for n in location.scene_graph.node_ids()}
     return Prepared(used=used, judged=judged, places=encounter_places(used, plan, location), node_points=node_points,
-                    expectations=tree_checks(plan, trees, card_criteria), plan=plan, location=location)
+                    expectations=tree_checks(plan, trees, card_criteria), plan=plan, location=location,
+                    derived=spec is None)
 
 
 def judge_criterion(c: Criterion, source: Source, spec: ScenarioSpec, plan: PathPlan | None, signals: Signals,
@@ -119,7 +122,25 @@ def judge_criterion(c: Criterion, source: Source, spec: ScenarioSpec, plan: Path
         "distance": None if distance is None else round(float(distance), 2)})
     if passed:
         return finding
-    return _with_blame(finding, *blame_criterion(cc, signals, spec, plan, settings.deadlock_seconds))
+    if problem:
+        return _with_blame(finding, "spec", None, problem)
+    location, authored = (prepared.location, not prepared.derived) if prepared is not None else (None, True)
+    return _with_blame(finding, *blame_criterion(cc, signals, spec, plan, settings.deadlock_seconds, location,
+                                                 authored))
+
+
+def ended_early(trace: Trace, goal: tuple[float, float] | None, goal_radius: float) -> str | None:
+    """Why the run ended before anything could happen (shorter than MIN_RUN_SECONDS, e.g. a robot whose goal is
+    its start), or None."""
+    seconds = float(trace.t[-1] - trace.t[0])
+    if seconds >= MIN_RUN_SECONDS:
+        return None
+    why = f"the run ended after {seconds:.2f} s ({trace.end_reason or 'no reason given'})"
+    if goal is not None:
+        off = float(((trace.robot[0, 0] - goal[0]) ** 2 + (trace.robot[0, 1] - goal[1]) ** 2) ** 0.5)
+        if off <= goal_radius:
+            return f"{why}: the robot's goal is where it starts ({off:.2f} m away), so nothing could happen"
+    return f"{why}, before anything could happen"
 
 
 def judge(trace: Trace, *, plan: PathPlan, location: Any, spec: ScenarioSpec | None, trees: dict[str, str],
@@ -145,13 +166,20 @@ def judge(trace: Trace, *, plan: PathPlan, location: Any, spec: ScenarioSpec | N
     signals = Signals(trace, world_factory=world_factory, places=places, node_points=prepared.node_points,
                       goal_radius=goal_radius)
     findings: list[Finding] = []
-    if trace.steps == 0:
-        findings = [Finding(name=_title(c), kind=c.kind, passed=False, evidence="the trace is empty", source=src,
-                            criterion=c.id, blame="paths", stage="paths") for c, src in judged]
+    early = "the trace is empty" if trace.steps == 0 else ended_early(trace, signals.places.get("goal"), goal_radius)
+    expectations = prepared.expectations
+    if early:  # no verdict about a run in which nothing could happen, only that
+        fix = ("give the robot a path whose goal is not its start" if "goal is where it starts" in early
+               else "simulate long enough for the scenario to happen")
+        findings = [Finding(name=_title(c), kind=c.kind, passed=False, evidence=early, source=src, criterion=c.id,
+                            human=c.human, blame="paths", blame_reason=fix, stage="paths") for c, src in judged]
+        findings += [Finding(name=e.name, kind=e.kind, passed=False, evidence=early, source=e.source, human=e.human,
+                             node=e.node, blame="paths", blame_reason=fix, stage="paths", required=spec is None)
+                     for e in expectations]
+        expectations = []
     else:
         findings = [judge_criterion(c, src, used, plan, signals, settings, goal_radius, prepared=prepared, index=k)
                     for k, (c, src) in enumerate(judged)]
-    expectations = prepared.expectations
     for exp, (finding, before_cause) in zip(expectations, evaluate(expectations, trace, settings), strict=True):
         finding.required = spec is None
         if not finding.passed:

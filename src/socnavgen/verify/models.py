@@ -4,9 +4,10 @@ from __future__ import annotations
 
 from typing import Literal
 
-from pydantic import BaseModel, Field
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from socnavgen.run.spec import Blame
+from socnavgen.verify import thresholds as T
 
 ExpectationKind = Literal["executes", "gives_way_while_passing"]
 Source = Literal["spec", "implied", "paths", "tree", "card"]
@@ -15,20 +16,48 @@ Stage = Literal["paths", "behaviors"]
 
 class VerifySettings(BaseModel):
     """Thresholds of the checks (metres, seconds). The same strict values hold with or without spec.json;
-    a criterion's own `distance` / `seconds` and an encounter's `within` override them."""
+    a criterion's own `distance` / `seconds` and an encounter's `within` override them. The defaults live in
+    verify/thresholds.py; the `verify` command reads its options' defaults and help from these fields."""
 
-    distance: float = Field(default=2.0, description="robot-human centre distance that counts as meeting")
-    near: float = Field(default=1.0, description="how close to its encounter node a meeting must happen")
-    passing: float = Field(default=2.5, description="robot-human centre distance at which a tree's "
-                                                    "GiveWaytoRobot counts as 'while the robot passes'")
-    group_spread: float = Field(default=2.5, description="largest distance between group members, the whole run")
-    goal_radius: float | None = Field(default=None, description="robot goal radius (default: the trace's, "
-                                                                "else 0.5 m)")
-    deadlock_seconds: float = Field(default=10.0, description="longest the robot may stand still with someone "
-                                                              "in its way")
-    reaction_seconds: float = Field(default=5.0, description="default time a reaction has after its cause")
+    model_config = ConfigDict(extra="forbid")
+    distance: float = Field(default=T.MEET_DISTANCE, gt=0, le=50,
+                            description="robot-human centre distance (m) that counts as meeting, unless a criterion "
+                                        "gives its own")
+    near: float = Field(default=T.NEAR_NODE, gt=0, le=50,
+                        description="how close (m) to its encounter node a meeting must happen, for runs without "
+                                    "spec.json (an encounter's `within` otherwise)")
+    passing: float = Field(default=T.PASSING_DISTANCE, gt=0, le=50,
+                           description="robot-human centre distance (m) within which a tree's GiveWaytoRobot counts "
+                                       "as giving way while the robot passes")
+    group_spread: float = Field(default=T.GROUP_SPREAD, gt=0, le=50,
+                                description="largest distance (m) between group members, the whole run")
+    goal_radius: float | None = Field(default=None, gt=0, le=50,
+                                      description="robot goal radius (m) (default: the trace's, else "
+                                                  f"{T.DEFAULT_GOAL_RADIUS:g} m)")
+    deadlock_seconds: float = Field(default=T.DEADLOCK_SECONDS, gt=0, le=3600,
+                                    description="longest (s) the robot may make no progress along its route with "
+                                                "someone in its way")
+    reaction_seconds: float = Field(default=T.REACTION_SECONDS, gt=0, le=3600,
+                                    description="default time (s) a reaction has after its cause")
     collisions_fail: bool = Field(default=True, description=(
-        "a robot-human overlap (sim/contact.py) fails verification; False reports it as a warning"))
+        "a robot-human contact (gap <= 0.05 m, sim/contact.py) fails verification; False reports it as a warning"))
+
+    @classmethod
+    def with_overrides(cls, base: VerifySettings | None = None, **overrides: float | bool | None) -> VerifySettings:
+        """`base` (default settings when None) with some fields changed, validated. An unknown name is a
+        TypeError (a misspelled threshold must not be silently ignored); a value out of range a ValueError
+        naming the field; None leaves a field as it is."""
+        unknown = sorted(set(overrides) - set(cls.model_fields))
+        if unknown:
+            raise TypeError(f"unknown verify threshold(s) {', '.join(map(repr, unknown))}; thresholds are "
+                            f"{', '.join(cls.model_fields)}")
+        data = (base or cls()).model_dump()
+        data.update({k: v for k, v in overrides.items() if v is not None})
+        try:
+            return cls.model_validate(data)
+        except ValidationError as exc:
+            problems = "; ".join(f"{'.'.join(map(str, e['loc']))}: {e['msg']}" for e in exc.errors())
+            raise ValueError(f"invalid verify threshold: {problems}") from None
 
 
 class Expectation(BaseModel):

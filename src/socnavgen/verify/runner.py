@@ -43,17 +43,30 @@ def simulate_missing(run_dir: Path | str | LoadedRun, **options: Any) -> Trace:
 
 def load_trace(run: RunFolder | LoadedRun, *, simulate_if_missing: bool,
                simulate_options: dict | None = None) -> Trace:
+    """RUN/sim/trace.npz when it is the run's current simulation (or has no record at all: a trace made by
+    hand is judged as it is); otherwise (missing, half-written, or made from files that changed since:
+    sim/outputs.stale_reason) simulated again with the robot and settings it was made with (`simulate_options`
+    override them), or refused without `simulate_if_missing`."""
+    from socnavgen.sim.outputs import recorded_options, stale_reason
+
     folder = run.folder if isinstance(run, LoadedRun) else run
     path = folder.sim_dir / TRACE_FILE
+    options = dict(simulate_options or {})
+    stale = None
     if path.is_file():
-        try:
-            return Trace.load(path)
-        except (OSError, ValueError, KeyError) as exc:
-            raise InputFileError(f"cannot read the trace: {exc}", file=path,
-                                 hint="re-run `socnavgen simulate RUN`") from exc
+        stale = stale_reason(folder.root, options.get("location") or run.location())
+        if stale is None:
+            try:
+                return Trace.load(path)
+            except (OSError, ValueError, KeyError) as exc:
+                raise InputFileError(f"cannot read the trace: {exc}", file=path,
+                                     hint="re-run `socnavgen simulate RUN`") from exc
+        options = {**recorded_options(folder.root), **options}
     if not simulate_if_missing:
-        raise InputFileError("no simulation trace", file=path, hint="run `socnavgen simulate RUN` first")
-    return simulate_missing(run if isinstance(run, LoadedRun) else run.root, **(simulate_options or {}))
+        raise InputFileError(f"stale simulation: {stale}" if stale else "no simulation trace", file=path,
+                             hint="run `socnavgen simulate RUN` again first" if stale else
+                             "run `socnavgen simulate RUN` first")
+    return simulate_missing(run if isinstance(run, LoadedRun) else run.root, **options)
 
 
 def verify_trace(run_dir: Path | str | LoadedRun, trace: Trace, *, location: Any = None,
@@ -74,18 +87,16 @@ def verify_trace(run_dir: Path | str | LoadedRun, trace: Trace, *, location: Any
 
 def verify_run(run_dir: Path | str, *, simulate_if_missing: bool = True, location: Any = None,
                settings: VerifySettings | None = None, write: bool = True,
-               simulate_options: dict | None = None, **thresholds: float | bool) -> VerifyReport:
+               simulate_options: dict | None = None, **thresholds: float | bool | None) -> VerifyReport:
     """Verify a run folder: simulate if RUN/sim/trace.npz is missing (`simulate_options`: robot, dt, timeout,
     seed), judge every criterion, write RUN/sim/verify.json. `thresholds` override VerifySettings fields
-    (distance=2.0, near=1.0, passing=2.5, group_spread=2.5, deadlock_seconds=10, reaction_seconds=5,
-    collisions_fail=True); unknown names are ignored."""
+    (distance, near, passing, group_spread, goal_radius, deadlock_seconds, reaction_seconds, collisions_fail;
+    defaults in verify/thresholds.py): an unknown name is a TypeError, a value out of range a ValueError."""
+    settings = VerifySettings.with_overrides(settings, **thresholds)
     run = load_run(run_dir)
     if not run.folder.paths_path.is_file():
         raise InputFileError("no paths.json in this run", file=run.root,
                              hint="verify needs a generated run (socnavgen generate ... --out RUN)")
-    fields = VerifySettings.model_fields
-    settings = (settings or VerifySettings()).model_copy(update={k: v for k, v in thresholds.items()
-                                                                 if v is not None and k in fields})
     loaded = run.location(location)  # once: the simulation and the checks share the object
     options = dict(simulate_options or {})
     options.setdefault("location", loaded)

@@ -22,12 +22,16 @@ from socnavgen import proxemics
 from socnavgen.bt.library import HUMAN_GESTURES, LIBRARY, REACTION_NODES, ROBOT_GESTURES
 from socnavgen.sim import contact
 from socnavgen.sim.trace import VX, VY, YAW, Trace
-
-STILL_SPEED = 0.05  # m/s: the robot stands still below this
-STOP_SPEED = 0.1  # m/s: a human has stopped below this
-MOVED_DISTANCE = 0.5  # m: a human "has walked" once this far from where it started
-AHEAD_HALF_ANGLE = 45.0  # degrees: the robot is "ahead of" a human inside this cone around the human's heading
-FAR = 1.0e3  # value of a distance that does not exist (no humans)
+from socnavgen.verify.route import progress_events, route_progress
+from socnavgen.verify.thresholds import (
+    AHEAD_HALF_ANGLE,
+    ASIDE_DISTANCE,
+    FAR,
+    MOVED_DISTANCE,
+    PROGRESS_STEP,
+    STILL_SPEED,
+    STOP_SPEED,
+)
 
 # Reactions judged by what the human physically does rather than by the nodes that implement them
 # (bt.library.REACTION_NODES is the one home of those): stopping is standing still after having walked,
@@ -146,8 +150,9 @@ class Signals:
         return self._keep("distances", lambda: contact.trace_distances(self.trace))
 
     def gaps(self) -> np.ndarray:
-        """(T, H) robot-human surface gaps (contact.trace_gaps), computed once."""
-        return self._keep("gaps", lambda: contact.trace_gaps(self.trace))
+        """(T, H) robot-human surface gaps (contact.trace_gaps: the centre distances minus both radii)."""
+        radii = float(self.trace.robot_radius) + np.asarray(self.trace.human_radii, dtype=float).reshape(1, -1)
+        return self._keep("gaps", lambda: self.distances() - radii)
 
     def contacts(self) -> contact.ContactSummary:
         """contact.summarize of the trace, computed once."""
@@ -157,37 +162,97 @@ class Signals:
     def line_of_sight(self) -> np.ndarray:
         """(T, H) 1 where the robot and each human see each other (walls of the occupancy map)."""
         if self._los is None:
-            if self.world is None and self._world_factory is not None:
-                self.world = self._world_factory()
-            if self.world is None:
-                raise UnknownSignal("line of sight needs the run's location (map)")
+            self._need_world("line of sight")
             robot = self.trace.robot[:, 0] + 1j * self.trace.robot[:, 1]
             humans = self.trace.humans[:, :, 0] + 1j * self.trace.humans[:, :, 1]
             self._los = self.world.segments_clear(robot[:, None], humans) \
                 if humans.shape[1] else np.zeros((self.trace.steps, 0), dtype=bool)
         return self._los
 
+    def _ways(self, along: str) -> np.ndarray:
+        """(T, H) 1 where each human is in the robot's way (proxemics.in_way, WAY_MARGIN_VERIFY) along its heading
+        (`along` = "heading") or along its route's direction ("route"; 0 where the robot has no route)."""
+        def build() -> np.ndarray:
+            robot, humans = self.trace.robot, self.trace.humans
+            if along == "heading":
+                hx, hy = np.cos(robot[:, YAW]), np.sin(robot[:, YAW])
+            else:
+                hx, hy = self.route()[1].T
+            way = proxemics.in_way(robot[:, 0:1], robot[:, 1:2], hx[:, None], hy[:, None], humans[:, :, 0],
+                                   humans[:, :, 1], float(self.trace.robot_radius),
+                                   np.asarray(self.trace.human_radii, dtype=float).reshape(1, -1),
+                                   proxemics.WAY_MARGIN_VERIFY)
+            return way if along == "heading" else way & ((hx != 0) | (hy != 0))[:, None]
+
+        return self._keep(("ways", along), build)
+
     def in_way(self, i: int) -> np.ndarray:
         """1 where human i is ahead of the robot (along its heading) inside its swept corridor."""
-        def build() -> np.ndarray:
-            robot, human = self.trace.robot, self.trace.humans[:, i]
-            cos, sin = self._keep("heading", lambda: (np.cos(robot[:, YAW]), np.sin(robot[:, YAW])))
-            return proxemics.in_way(robot[:, 0], robot[:, 1], cos, sin, human[:, 0], human[:, 1],
-                                    float(self.trace.robot_radius), float(np.asarray(self.trace.human_radii)[i]),
-                                    proxemics.WAY_MARGIN_VERIFY)
+        return self._ways("heading")[:, i]
 
-        return self._keep(("in_way", i), build)
+    def route(self) -> tuple[np.ndarray, np.ndarray]:
+        """(progress (T,) m, tangent (T, 2)) of the robot along its waypoints (verify/route.py), computed once."""
+        def build() -> tuple[np.ndarray, np.ndarray]:
+            points = list(self.trace.robot_waypoints) or (
+                [tuple(self.trace.robot[0, :2]), tuple(self.places["goal"])] if "goal" in self.places and
+                self.trace.steps else [])
+            return route_progress(self.trace.robot[:, :2], points)
+
+        return self._keep("route", build)
+
+    def in_route_way(self, i: int) -> np.ndarray:
+        """1 where human i is in the robot's way along its heading OR along its route's direction (a robot
+        turning or jittering in place does not stop being held up by the person ahead on its route)."""
+        return self._ways("heading")[:, i] | self._ways("route")[:, i]
+
+    def holding_up(self) -> np.ndarray:
+        """(T, H) 1 where a human stands in the robot's way (heading or route) within proxemics.BLOCK_GAP_VERIFY.
+        The way is only worked out for the (step, human) pairs that close (usually few)."""
+        def build() -> np.ndarray:
+            close = self.gaps() <= proxemics.BLOCK_GAP_VERIFY
+            out = np.zeros(close.shape, dtype=bool)
+            if not close.any():
+                return out
+            k, i = np.nonzero(close)
+            rx, ry, yaw = self.trace.robot[k, 0], self.trace.robot[k, 1], self.trace.robot[k, YAW]
+            px, py = self.trace.humans[k, i, 0], self.trace.humans[k, i, 1]
+            radius = np.asarray(self.trace.human_radii, dtype=float)[i]
+            tangent = self.route()[1][k]
+
+            def way(hx: np.ndarray, hy: np.ndarray) -> np.ndarray:
+                return proxemics.in_way(rx, ry, hx, hy, px, py, float(self.trace.robot_radius), radius,
+                                        proxemics.WAY_MARGIN_VERIFY)
+
+            tx, ty = tangent[:, 0], tangent[:, 1]
+            out[k, i] = way(np.cos(yaw), np.sin(yaw)) | (way(tx, ty) & ((tx != 0) | (ty != 0)))
+            return out
+
+        return self._keep("holding_up", build)
 
     def blocked(self) -> np.ndarray:
-        """1 where some human stands in the robot's way within proxemics.BLOCK_GAP_VERIFY."""
-        def build() -> np.ndarray:
-            h = len(self.trace.human_names)
-            if not h:
-                return np.zeros(self.trace.steps, dtype=bool)
-            gaps = self.gaps()
-            return np.stack([self.in_way(i) & (gaps[:, i] <= proxemics.BLOCK_GAP_VERIFY) for i in range(h)], axis=1).any(axis=1)
+        """1 where some human holds the robot up (holding_up)."""
+        return self._keep("blocked", lambda: self.holding_up().any(axis=1))
 
-        return self._keep("blocked", build)
+    def walkable(self) -> np.ndarray:
+        """(T, H) walkable distances robot-human along the map's free space (verify/walkable.py)."""
+        def build() -> np.ndarray:
+            from socnavgen.verify.walkable import WalkableDistance
+
+            world = self._need_world("walkable distance")
+            robot = self.trace.robot[:, 0] + 1j * self.trace.robot[:, 1]
+            humans = self.trace.humans[:, :, 0] + 1j * self.trace.humans[:, :, 1]
+            ways = WalkableDistance.of(world)
+            cols = [ways.between(robot, humans[:, i]) for i in range(humans.shape[1])]
+            return np.stack(cols, axis=1) if cols else np.zeros((self.trace.steps, 0))
+
+        return self._keep("walkable", build)
+
+    def _need_world(self, what: str) -> object:
+        if self.world is None and self._world_factory is not None:
+            self.world = self._world_factory()
+        if self.world is None:
+            raise UnknownSignal(f"{what} needs the run's location (map)")
+        return self.world
 
 
 # ---- builders ------------------------------------------------------------------------------------
@@ -221,10 +286,18 @@ def _stalled(s: Signals, m: re.Match) -> np.ndarray:
 
 
 def _deadlock(s: Signals, m: re.Match) -> np.ndarray:
+    blocked = s.blocked()
+    if not blocked.any():  # nobody ever holds the robot up: no need to follow its route
+        return np.zeros(s.trace.steps)
     at_goal = np.zeros(s.trace.steps, dtype=bool)
     if "goal" in s.places:
         at_goal = contact.lengths(s.pos("robot") - s.place("goal")) <= s.goal_radius
-    return _runlength((s.speed("robot") < STILL_SPEED) & s.blocked() & ~at_goal, s.trace.dt)
+    stuck = ~progress_events(s.route()[0], PROGRESS_STEP)
+    return _runlength(stuck & blocked & ~at_goal, s.trace.dt)
+
+
+def _progress(s: Signals, m: re.Match) -> np.ndarray:
+    return np.maximum.accumulate(s.route()[0]) if s.trace.steps else np.zeros(0)
 
 
 def _phrase(table: dict[str, int], word: str, who: str) -> int:
@@ -287,6 +360,32 @@ def _spread(s: Signals, m: re.Match) -> np.ndarray:
     return np.max(np.stack(pairs, axis=1), axis=1)
 
 
+def _closer(s: Signals, m: re.Match) -> np.ndarray:
+    """How much closer than at the start: robot-human distance, or the robot's / a human's distance to a place."""
+    values = s.get(f"dist_{m[1]}" if m[1] else f"{m[2]}_to_{m[3]}")
+    return values[:1] - values if len(values) else values
+
+
+def aside(s: Signals, human: str) -> np.ndarray:
+    """1 where the human is out of the robot's way having moved ASIDE_DISTANCE from where it last stood in it
+    (0 before it was ever in the way): evidence that the person made way, not that the robot went around."""
+    i = s.human(human)
+    way = s.in_way(i)
+    steps = np.arange(s.trace.steps)
+    last = np.maximum.accumulate(np.where(way, steps, -1)) if len(steps) else steps
+    p = s.pos(human)
+    moved_off = contact.lengths(p - p[np.maximum(last, 0)]) >= ASIDE_DISTANCE
+    return ~way & (last >= 0) & moved_off
+
+
+def _aside(s: Signals, m: re.Match) -> np.ndarray:
+    return aside(s, m[1])
+
+
+def _way(s: Signals, m: re.Match) -> np.ndarray:
+    return s.walkable()[:, s.human(m[1])]
+
+
 def moved(s: Signals, human: str) -> np.ndarray:
     """1 from the first step the human is MOVED_DISTANCE from where it started."""
     p = s.pos(human)
@@ -327,8 +426,10 @@ SIGNAL_KINDS: tuple[SignalKind, ...] = (
     SignalKind(rf"speed_(robot|{_H[1:-1]})", "speed_robot, speed_<human>", "m/s", "speed", _speed),
     SignalKind(r"robot_still", "robot_still", "0/1", f"robot speed below {STILL_SPEED} m/s", _robot_still),
     SignalKind(r"stalled", "stalled", "s", "how long the robot has been standing still, continuously", _stalled),
-    SignalKind(r"deadlock", "deadlock", "s", f"how long the robot has stood still with someone in its way within "
-               f"{proxemics.BLOCK_GAP_VERIFY} m gap (not at its goal), continuously", _deadlock),
+    SignalKind(r"progress", "progress", "m", "how far along its route the robot has come (best so far)", _progress),
+    SignalKind(r"deadlock", "deadlock", "s", f"how long the robot has made no progress along its route (less than "
+               f"{PROGRESS_STEP:g} m) with someone in its way within {proxemics.BLOCK_GAP_VERIFY} m gap (not at its "
+               f"goal), continuously: standing still or jittering in place", _deadlock),
     SignalKind(r"robot_(says|said)_([a-z_]+)", "robot_says_<phrase>, robot_said_<phrase>", "0/1",
                "the robot makes the phrase now / has made it at some time so far (excuse_me, follow_me, wait, "
                "proceed, acknowledged)", _robot_says),
@@ -351,6 +452,13 @@ SIGNAL_KINDS: tuple[SignalKind, ...] = (
                "largest distance between any two of these humans (group spread)", _spread),
     SignalKind(rf"moved_{_H}", "moved_<human>", "0/1", f"the human has walked {MOVED_DISTANCE} m from its start",
                _moved),
+    SignalKind(rf"closer_(?:{_H}|(robot|{_H[1:-1]})_to_([a-z][a-z0-9_]*))",
+               "closer_<human>, closer_robot_to_<place>, closer_<human>_to_<place>", "m",
+               "how much closer than at the start: robot and human, or the robot / the human and a place", _closer),
+    SignalKind(rf"aside_{_H}", "aside_<human>", "0/1", f"the human is out of the robot's way, having moved "
+               f"{ASIDE_DISTANCE:g} m from where it last stood in it", _aside),
+    SignalKind(rf"way_{_H}", "way_<human>", "m", "walkable robot-human distance along the map's free space, never "
+               "through a wall (straight where they see each other)", _way),
     SignalKind(rf"react_{_H}_([a-z_]+)", "react_<human>_<reaction>", "0/1",
                "evidence of a spec reaction: its library actions executing (bt.library.REACTION_NODES); stop, "
                "wait_then_go: slower than 0.1 m/s after having walked; say: showing a gesture", _react),

@@ -1,11 +1,13 @@
-"""Signal temporal logic on a trace, monitored offline with rtamt (discrete time, seconds as the time
-unit), giving the robustness of a formula: how far from passing, in the unit of the signals that
-decide it (> 0 passes, < 0 fails).
+"""Signal temporal logic on a trace with rtamt's discrete-time semantics (seconds as the time unit), giving
+the robustness of a formula: how far from passing, in the unit of the signals that decide it (> 0 passes,
+< 0 fails). rtamt parses and defines the semantics; verify/stl_numpy.py evaluates every operator over the
+whole trace in linear time and memory, whatever the formula's bounds.
 
 A formula names signals of verify/signals.py and uses rtamt's operators (always, eventually,
 historically, once, until, since, implies, and, or, not; bounds in seconds: eventually[0:5]).
 Formulas from spec.json are untrusted: length-limited, one expression only (no declarations or
-assignments), and every identifier must be a known signal of the run.
+assignments), every identifier a known signal of the run, and at most MAX_STL_CELLS of work; stage 1
+refuses intervals no episode can hold (formula_problems).
 """
 
 from __future__ import annotations
@@ -22,11 +24,13 @@ from typing import Any
 import numpy as np
 
 from socnavgen.bodies import PERSON_RADIUS, ROBOT_RADIUS
+from socnavgen.limits import MAX_SIM_SECONDS
 from socnavgen.verify import stl_numpy
 from socnavgen.verify.signals import Signals, UnknownSignal
 
 MAX_FORMULA_CHARS = 1000
 MAX_NESTING = 24  # parentheses or temporal operators: rtamt's parser recurses on each level
+MAX_STL_CELLS = 40_000_000  # operators x trace steps: one float series per operator (at most ~320 MB)
 _TEMPORAL = re.compile(r"\b(?:always|eventually|historically|once|until|since|unless|next|prev|not)\b")
 OPERATORS = frozenset({
     "not", "or", "and", "iff", "implies", "xor", "rise", "fall", "always", "eventually", "until", "unless",
@@ -129,30 +133,67 @@ def _quiet_root_logger() -> Iterator[None]:
 
 
 def monitor(formula: str, signals: Signals) -> Verdict:
-    """Robustness of `formula` over the whole trace (FormulaError for bad formulas)."""
+    """Robustness of `formula` over the whole trace (FormulaError for bad formulas). Work and memory are linear
+    in the trace whatever the formula's bounds (verify/stl_numpy.py); a formula too large for the trace is
+    refused before any work (MAX_STL_CELLS)."""
     rtamt = _rtamt()
     names = check_formula(formula, signals)
     t = signals.t
     if len(t) == 0:
         raise FormulaError("the trace is empty")
-    dt = float(signals.trace.dt) if signals.trace.dt > 0 else float(np.median(np.diff(t))) if len(t) > 1 else 1.0
+    dt = _period(signals)
     try:
         spec = _parsed(formula, tuple(names), dt)
-        try:  # rtamt's semantics with numpy, whole trace at once; rtamt itself for what it does not cover
-            series = stl_numpy.evaluate(spec, {name: signals.get(name) for name in names})
-        except stl_numpy.NotSupported:
-            data = {"time": [float(x) for x in t]}
-            data.update({name: [float(v) for v in signals.get(name)] for name in names})
-            with _quiet_root_logger():
-                series = np.array([float(v) for _, v in spec.evaluate(data)], dtype=float)
+        nodes = stl_numpy.count_nodes(spec)
+        if nodes * len(t) > MAX_STL_CELLS:
+            raise FormulaError(f"the formula has {nodes} operators and signals: too many to monitor on a trace of "
+                               f"{len(t)} steps (at most {MAX_STL_CELLS // len(t)}); split it into several criteria")
+        series = stl_numpy.evaluate(spec, {name: signals.get(name) for name in names})
+    except stl_numpy.NotSupported as exc:
+        raise FormulaError(_not_supported(str(exc))) from None
     except rtamt.RTAMTException as exc:
         raise FormulaError(_readable(str(exc))) from None
-    except (ValueError, ArithmeticError) as exc:  # rtamt on e.g. eventually[2:1] (an empty window), x / 0
-        raise FormulaError(f"the formula cannot be evaluated on this trace ({exc}); check that every "
-                           "interval [a:b] has a <= b and that nothing is divided by zero") from None
+    except (ValueError, ArithmeticError) as exc:  # x / 0, sqrt(-1), exp(1000) in the formula's arithmetic
+        raise FormulaError(f"the formula cannot be evaluated on this trace ({exc}); check that nothing is divided "
+                           "by zero and that sqrt / exp / pow get values they accept") from None
     except RecursionError:  # pragma: no cover - MAX_NESTING keeps formulas far from this
         raise FormulaError(f"the formula is too deeply nested (at most {MAX_NESTING} levels)") from None
     return Verdict(robustness=float(series[0]) if len(series) else float("-inf"), series=series)
+
+
+def _period(signals: Signals) -> float:
+    t = signals.t
+    return float(signals.trace.dt) if signals.trace.dt > 0 else float(np.median(np.diff(t))) if len(t) > 1 else 1.0
+
+
+def _not_supported(what: str) -> str:
+    if what.startswith("bounds"):
+        return f"an interval {what[7:]} (in samples) ends before it begins; write every interval [a:b] with a <= b"
+    if "NaN" in what:
+        return ("the formula is undefined on this trace: it subtracts or compares infinities (e.g. arithmetic on "
+                "a bounded operator near the end of the trace); compare each part with a number instead")
+    return f"the formula uses {what}, which the verifier cannot monitor"
+
+
+def formula_bounds(formula: str, dt: float) -> list[float]:
+    """The end of every interval of the formula's timed operators, in seconds (after rtamt's conversion at
+    period `dt`). FormulaError when the formula does not parse or a bound is not a multiple of `dt`."""
+    rtamt = _rtamt()
+    try:
+        spec = _parsed(formula, tuple(formula_signals(formula)), dt)
+        if not spec.set_ast_flag:
+            spec.offline_interpreter.set_ast(spec.ast)
+            spec.set_ast_flag = True
+        convert = spec.offline_interpreter.time_unit_transformer
+        stack, out = [spec.ast.specs[-1]], []
+        while stack:
+            node = stack.pop()
+            if hasattr(node, "begin") and hasattr(node, "end"):
+                out.append(convert(node)[1] * dt)
+            stack.extend(getattr(node, "children", []) or [])
+    except rtamt.RTAMTException as exc:
+        raise FormulaError(_readable(str(exc))) from None
+    return out
 
 
 @lru_cache(maxsize=256)
@@ -175,6 +216,8 @@ def _parsed(formula: str, names: tuple[str, ...], dt: float) -> Any:
 def _readable(message: str) -> str:
     """rtamt's error, with the column counted in the user's formula (we prefix `rob = `)."""
     message = message.replace("RTAMT Exception: ", "").strip()
+    if "multiple of the sampling period" in message:
+        return "every interval bound must be a multiple of the simulation step (e.g. [0:0.5] at 0.05 s steps)"
 
     def shift(m: re.Match) -> str:
         return f"column {max(1, int(m[2]) - len(_PREFIX) + 1)}"
@@ -182,14 +225,21 @@ def _readable(message: str) -> str:
     return "STL syntax: " + re.sub(r"(\d+):(\d+):", lambda m: shift(m) + ":", message, count=1)
 
 
-def formula_problems(formula: str, humans: list[str], places: list[str]) -> list[str]:
-    """Problems of a formula before any simulation (for stage-1 checks of spec.json): syntax, length, and
-    signal names against the run's humans and places (encounter ids, goal, node_<id>). [] when fine."""
+def formula_problems(formula: str, humans: list[str], places: list[str], *, dt: float | None = None,
+                     horizon: float = MAX_SIM_SECONDS) -> list[str]:
+    """Problems of a formula before any simulation (for stage-1 checks of spec.json): syntax, length, signal
+    names against the run's humans and places (encounter ids, goal, node_<id>), and intervals that no episode
+    can hold (longer than `horizon` seconds) or that the simulator's step `dt` (its default when None) cannot
+    sample. [] when fine."""
     from socnavgen.sim.trace import Trace
     from socnavgen.sim.world import empty_room
 
+    if dt is None:
+        from socnavgen.sim.engine import SimConfig
+
+        dt = SimConfig().dt
     n = len(humans)
-    trace = Trace(dt=1.0, t=np.array([0.0, 1.0]), robot=np.zeros((2, 6)), humans=np.ones((2, n, 6)),
+    trace = Trace(dt=dt, t=np.array([0.0, dt]), robot=np.zeros((2, 6)), humans=np.ones((2, n, 6)),
                   human_names=list(humans), group_ids=[-1] * n, human_radii=np.full(n, PERSON_RADIUS), robot_radius=ROBOT_RADIUS,
                   node_names=[], action=np.full((2, n), -1, np.int16), succeeded=np.zeros((2, n), np.int64),
                   human_gesture=np.zeros((2, n), np.int8), robot_gesture=np.zeros(2, np.int8),
@@ -197,6 +247,10 @@ def formula_problems(formula: str, humans: list[str], places: list[str]) -> list
     signals = Signals(trace, world=empty_room(4.0, 4.0, 0.1), places=dict.fromkeys(places, (0.0, 0.0)))
     try:
         monitor(formula, signals)
+        longest = max(formula_bounds(formula, dt), default=0.0)
     except FormulaError as exc:
         return [str(exc)]
+    if longest > horizon:
+        return [f"the formula waits up to {longest:g} s, longer than any episode can last (at most {horizon:g} s); "
+                f"bound its intervals by the scenario's length"]
     return []

@@ -1,30 +1,43 @@
 """rtamt's discrete-time offline STL semantics, evaluated with numpy over the whole trace at once.
 
 rtamt parses the formula (its AST is walked here) and stays the reference: its interpreter runs
-per-sample Python loops, ~8 ms per formula on a 1,000-step trace, a third of a campaign episode.
-Each supported node gives the same robustness series as rtamt's visitor of that node (cross-checked
-in tests/verify/test_stl_numpy.py); anything else raises NotSupported and the caller falls back to
-rtamt, so no formula loses support. Bounds of timed operators are converted to samples by rtamt's
-own interpreter (same rounding, same error for a bound that is not a multiple of the period).
+per-sample Python loops (~8 ms per formula on a 1,000-step trace, and a bounded `until` is cubic in its
+bound), so every node is evaluated here instead, giving the same robustness series as rtamt's visitor
+of that node (cross-checked sample for sample in tests/verify/test_stl_numpy.py). Work and memory are
+linear in the trace, whatever the bounds:
+
+- bounds of timed operators are converted to samples by rtamt's own interpreter (same rounding, same
+  error for a bound that is not a multiple of the period), then clipped to the trace's length: past its
+  last sample everything is padding, so a longer window changes nothing;
+- sliding minima / maxima use the van Herk / Gil-Werman blocks (two cumulative passes, O(n) for any
+  window);
+- a bounded until / since is the unbounded one cut by a window: (a U[a,b] b)(i) =
+  min(always[0,a-1] a, (a U b) and eventually[0,b-a] b, both from i + a), exact for min / max semantics;
+- arithmetic that can fail (division, sqrt, exp, pow) is computed per sample with Python's own operators
+  and math functions, as rtamt does, so the same inputs raise the same errors.
+
+What has no exact numpy equivalent raises NotSupported (a NaN from inf - inf, whose min / max in rtamt
+depend on argument order; bounds with begin > end): the caller reports the formula as not monitorable.
 """
 
 from __future__ import annotations
 
+import math
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
-from numpy.lib.stride_tricks import sliding_window_view
 
 INF = float("inf")
 
 
 class NotSupported(Exception):
-    """A node (or input) this evaluator does not reproduce exactly: use rtamt."""
+    """A node (or input) this evaluator does not reproduce exactly."""
 
 
 def evaluate(spec: Any, data: dict[str, np.ndarray]) -> np.ndarray:
     """Robustness series of a parsed rtamt specification over `data` (signal name -> float array, all of
-    one length). Raises NotSupported where rtamt must be used instead."""
+    one length). Raises NotSupported where the semantics cannot be reproduced exactly."""
     arrays = {name: np.asarray(values, dtype=float) for name, values in data.items()}
     lengths = {len(a) for a in arrays.values()}
     if len(lengths) != 1 or any(np.isnan(a).any() for a in arrays.values()):
@@ -34,21 +47,98 @@ def evaluate(spec: Any, data: dict[str, np.ndarray]) -> np.ndarray:
         spec.offline_interpreter.set_ast(spec.ast)
         spec.set_ast_flag = True
     walker = _Walker(arrays, n, spec.offline_interpreter.time_unit_transformer)
-    return walker.visit(spec.ast.specs[-1])
+    with np.errstate(invalid="ignore", over="ignore"):  # inf - inf: every node's result is checked for NaN
+        return walker.visit(spec.ast.specs[-1])
+
+
+def count_nodes(spec: Any) -> int:
+    """How many nodes the parsed formula has (each holds one series while it is evaluated); kept on the spec."""
+    found = getattr(spec, "_socnavgen_nodes", None)
+    if found is None:
+        stack, found = [spec.ast.specs[-1]], 0
+        while stack:
+            node = stack.pop()
+            found += 1
+            stack.extend(getattr(node, "children", []) or [])
+        spec._socnavgen_nodes = found
+    return found
+
+
+def sliding(x: np.ndarray, width: int, reduce: Any) -> np.ndarray:
+    """out[k] = reduce(x[k : k + width]) for k = 0 .. len(x) - width, with `reduce` np.maximum or np.minimum:
+    van Herk / Gil-Werman, O(len(x)) for any width (exact: only min / max are taken)."""
+    n = len(x)
+    if width <= 1:
+        return x.copy()
+    fill = -INF if reduce is np.maximum else INF  # neutral: padding never wins
+    blocks = -(-n // width)
+    padded = np.full(blocks * width, fill)
+    padded[:n] = x
+    rows = padded.reshape(blocks, width)
+    prefix = reduce.accumulate(rows, axis=1).ravel()
+    suffix = reduce.accumulate(rows[:, ::-1], axis=1)[:, ::-1].ravel()
+    return reduce(suffix[: n - width + 1], prefix[width - 1: n])
 
 
 def _future_window(x: np.ndarray, begin: int, end: int, fill: float, reduce: Any) -> np.ndarray:
     """out[i] = reduce(x[i+begin .. i+end]), samples past the end counting as `fill` (rtamt's padding)."""
     n = len(x)
     padded = np.concatenate([x, np.full(end + 1, fill)])
-    return reduce(sliding_window_view(padded, end - begin + 1)[begin:begin + n], axis=1)
+    return sliding(padded, end - begin + 1, reduce)[begin:begin + n]
 
 
 def _past_window(x: np.ndarray, begin: int, end: int, fill: float, reduce: Any) -> np.ndarray:
     """out[i] = reduce(x[i-end .. i-begin]), samples before the start counting as `fill`."""
     n = len(x)
     padded = np.concatenate([np.full(end, fill), x])
-    return reduce(sliding_window_view(padded, end - begin + 1)[:n], axis=1)
+    return sliding(padded, end - begin + 1, reduce)[:n]
+
+
+def _until(left: np.ndarray, right: np.ndarray) -> np.ndarray:
+    """out[i] = max(right[i], min(left[i], out[i+1])), out[n] = -inf: one pass from the end."""
+    out, carried = [0.0] * len(left), -INF
+    lt, rt = left.tolist(), right.tolist()
+    for i in range(len(lt) - 1, -1, -1):
+        carried = max(min(lt[i], carried), rt[i])
+        out[i] = carried
+    return np.array(out, dtype=float)
+
+
+def _timed_until(left: np.ndarray, right: np.ndarray, begin: int, end: int) -> np.ndarray:
+    """rtamt's out[i] = max over d in [begin, end] of min(right[i+d], min(left[i .. i+d-1])), right padded
+    with -inf and left with +inf past the end, as min(always[0:begin-1] left, (left until right) from
+    i + begin, eventually[0:end-begin] right from i + begin)."""
+    n = len(left)
+    shifted_until = np.concatenate([_until(left, right), np.full(begin, -INF)])[begin:begin + n]
+    window = _future_window(right, begin, end, -INF, np.maximum)
+    out = np.minimum(shifted_until, window)
+    if begin > 0:
+        out = np.minimum(out, _future_window(left, 0, begin - 1, INF, np.minimum))
+    return out
+
+
+def _per_sample(fn: Any, *columns: np.ndarray) -> np.ndarray:
+    """fn applied sample by sample on Python floats (rtamt's arithmetic: same results, same errors)."""
+    return np.array([fn(*values) for values in zip(*(c.tolist() for c in columns), strict=True)], dtype=float)
+
+
+def _no_nan(x: np.ndarray) -> np.ndarray:
+    if np.isnan(x).any():
+        raise NotSupported("NaN")
+    return x
+
+
+@lru_cache(maxsize=1)
+def _comparisons() -> dict[Any, Any]:
+    """rtamt's comparison operators -> their robustness (left, right): the same expressions as its visitor."""
+    from rtamt.semantics.enumerations.comp_oper import StlComparisonOperator as Op
+
+    return {Op.EQ.value: lambda a, b: -np.abs(a - b), Op.NEQ.value: lambda a, b: np.abs(a - b),
+            Op.LEQ.value: lambda a, b: b - a, Op.LESS.value: lambda a, b: b - a,
+            Op.GEQ.value: lambda a, b: a - b, Op.GREATER.value: lambda a, b: a - b}
+
+
+_DISPATCH: dict[type, Any] = {}  # rtamt node class -> the _Walker method evaluating it
 
 
 class _Walker:
@@ -56,20 +146,21 @@ class _Walker:
         self.data, self.n, self.bounds = data, n, bounds
 
     def window(self, node: Any) -> tuple[int, int]:
-        """The bounds in samples, as rtamt converts them; anything but 0 <= begin <= end is left to rtamt."""
+        """The bounds in samples, as rtamt converts them, clipped to the trace's length (past the last sample
+        there is only padding, so nothing changes); begin > end is refused."""
         begin, end = self.bounds(node)
         if not 0 <= begin <= end:
             raise NotSupported(f"bounds [{begin}:{end}]")
-        return begin, end
+        return min(begin, self.n), min(end, self.n)
 
     def visit(self, node: Any) -> np.ndarray:
-        method = getattr(self, "_" + type(node).__name__, None)
+        kind = type(node)
+        method = _DISPATCH.get(kind)
         if method is None:
-            raise NotSupported(type(node).__name__)
-        out = method(node)
-        if np.isnan(out).any():  # inf - inf: rtamt's min / max then depend on argument order
-            raise NotSupported("NaN")
-        return out
+            method = _DISPATCH[kind] = getattr(_Walker, "_" + kind.__name__, None)
+            if method is None:
+                raise NotSupported(kind.__name__)
+        return method(self, node)
 
     def _children(self, node: Any) -> list[np.ndarray]:
         """The operands as rtamt reads them: its first two children (its parser may repeat some)."""
@@ -86,33 +177,38 @@ class _Walker:
 
     def _Predicate(self, node: Any) -> np.ndarray:
         left, right = self._children(node)
-        op = node.operator.value
-        from rtamt.semantics.enumerations.comp_oper import StlComparisonOperator as Op
-
-        if op == Op.EQ.value:
-            return -np.abs(left - right)
-        if op == Op.NEQ.value:
-            return np.abs(left - right)
-        if op in (Op.LEQ.value, Op.LESS.value):
-            return right - left
-        if op in (Op.GEQ.value, Op.GREATER.value):
-            return left - right
-        raise NotSupported(f"comparison {op}")
+        rule = _comparisons().get(node.operator.value)
+        if rule is None:
+            raise NotSupported(f"comparison {node.operator.value}")
+        return _no_nan(rule(left, right))
 
     def _Abs(self, node: Any) -> np.ndarray:
         return np.abs(self._children(node)[0])
 
+    # inf - inf, 0 * inf: NaN, whose min / max in rtamt depend on argument order (checked where it can arise)
     def _Addition(self, node: Any) -> np.ndarray:
         left, right = self._children(node)
-        return left + right
+        return _no_nan(left + right)
 
     def _Subtraction(self, node: Any) -> np.ndarray:
         left, right = self._children(node)
-        return left - right
+        return _no_nan(left - right)
 
     def _Multiplication(self, node: Any) -> np.ndarray:
         left, right = self._children(node)
-        return left * right
+        return _no_nan(left * right)
+
+    def _Division(self, node: Any) -> np.ndarray:  # Python's / raises on zero, as in rtamt
+        return _no_nan(_per_sample(lambda a, b: a / b, *self._children(node)))
+
+    def _Sqrt(self, node: Any) -> np.ndarray:
+        return _no_nan(_per_sample(math.sqrt, self._children(node)[0]))
+
+    def _Exp(self, node: Any) -> np.ndarray:
+        return _no_nan(_per_sample(math.exp, self._children(node)[0]))
+
+    def _Pow(self, node: Any) -> np.ndarray:
+        return _no_nan(_per_sample(math.pow, *self._children(node)))
 
     # -- Boolean connectives
     def _Neg(self, node: Any) -> np.ndarray:
@@ -151,23 +247,16 @@ class _Walker:
 
     def _Until(self, node: Any) -> np.ndarray:
         """out[i] = max(right[i], min(left[i], out[i+1])), out[n] = -inf: one pass from the end."""
-        return self._chain(node, range(self.n - 1, -1, -1))
+        return _until(*self._children(node))
 
     def _Since(self, node: Any) -> np.ndarray:
         """The same recurrence from the start: out[i] = max(right[i], min(left[i], out[i-1]))."""
-        return self._chain(node, range(self.n))
-
-    def _chain(self, node: Any, order: range) -> np.ndarray:
-        left, right = (a.tolist() for a in self._children(node))
-        out, carried = [0.0] * self.n, -INF
-        for i in order:
-            carried = max(min(left[i], carried), right[i])
-            out[i] = carried
-        return np.array(out)
+        left, right = self._children(node)
+        return _until(left[::-1], right[::-1])[::-1]
 
     # -- timed operators (bounds in samples from rtamt's interpreter): window side, padding, reduction
-    TIMED = {"TimedEventually": (True, -INF, np.max), "TimedAlways": (True, INF, np.min),
-             "TimedOnce": (False, -INF, np.max), "TimedHistorically": (False, INF, np.min)}
+    TIMED = {"TimedEventually": (True, -INF, np.maximum), "TimedAlways": (True, INF, np.minimum),
+             "TimedOnce": (False, -INF, np.maximum), "TimedHistorically": (False, INF, np.minimum)}
 
     def _timed(self, node: Any) -> np.ndarray:
         future, fill, reduce = self.TIMED[type(node).__name__]
@@ -175,6 +264,16 @@ class _Walker:
         return (_future_window if future else _past_window)(self._children(node)[0], begin, end, fill, reduce)
 
     _TimedEventually = _TimedAlways = _TimedOnce = _TimedHistorically = _timed
+
+    def _TimedUntil(self, node: Any) -> np.ndarray:
+        begin, end = self.window(node)
+        return _timed_until(*self._children(node), begin, end)
+
+    def _TimedSince(self, node: Any) -> np.ndarray:
+        """The past mirror of until: the same computation on the reversed series."""
+        begin, end = self.window(node)
+        left, right = self._children(node)
+        return _timed_until(left[::-1], right[::-1], begin, end)[::-1]
 
     # -- one-step operators
     def _Previous(self, node: Any) -> np.ndarray:

@@ -175,6 +175,9 @@ class OpenAIBackend(Backend):
                 raise TransientError(f"the server sent a malformed response ({exc})") from None
             except ReplyTooLarge:
                 raise too_large(self.describe(), self.max_reply_bytes) from None
+            except RecursionError:  # the HTTP body itself nested absurdly deep (the client's json.loads gave up)
+                raise self._fatal("the server's reply is JSON nested too deeply to be an OpenAI-compatible answer",
+                                  "check BASE_URL and the server") from None
             except (json.JSONDecodeError, UnicodeDecodeError):  # HTTP 200 from a proxy or captive portal
                 raise self._fatal("the server answered with a body that is not JSON (a proxy, captive portal "
                                   "or a URL that is not an OpenAI-compatible API?)",

@@ -1,0 +1,276 @@
+"""The evidence shown beside each verdict: what happened, when, how far (text, time, distance), one function
+per criterion kind of verify/criteria.py's registry (kinds without their own use the per-human one)."""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Callable
+
+import numpy as np
+
+from socnavgen.sim import contact
+from socnavgen.verify.criteria import Compiled
+from socnavgen.verify.signals import Signals
+from socnavgen.verify.thresholds import APPROACH, PROGRESS_STEP, WALK_SPEED
+
+Evidence = tuple[str, float | None, float | None]  # text, time, distance
+
+
+def _closest(s: Signals, h: str) -> tuple[int, float]:
+    dist = s.get(f"dist_{h}")
+    k = int(np.argmin(dist))
+    return k, float(dist[k])
+
+
+def _first(mask: np.ndarray) -> int | None:
+    idx = np.flatnonzero(mask)
+    return int(idx[0]) if len(idx) else None
+
+
+def words(phrase: str | None) -> str:
+    """'excuse_me' -> 'EXCUSE ME' (as the spec and the node library write phrases)."""
+    return (phrase or "").replace("_", " ").upper()
+
+
+def met_mask(s: Signals, h: str, enc, distance: float) -> np.ndarray:  # noqa: ANN001 - Encounter | None
+    """(T,) bool: the steps on which met(h, e) holds (criteria.met_expression, evaluated with numpy)."""
+    ok = (s.get(f"dist_{h}") <= distance) & (s.get(f"closer_{h}") >= APPROACH)
+    if enc is None:
+        return ok
+    e, w = enc.id, enc.within
+    return ok & (s.get(f"mid_{h}_to_{e}") <= w) & came_to(s, "robot", e, w) & came_to(s, h, e, w)
+
+
+def came_to(s: Signals, who: str, place: str, within: float) -> np.ndarray:
+    """criteria.came_to with numpy: came APPROACH closer to the place, or started within `within` of it."""
+    to = s.get(f"{who}_to_{place}")
+    return (s.get(f"closer_{who}_to_{place}") >= APPROACH) | (to[:1] <= within)
+
+
+def _meets_evidence(cc: Compiled, s: Signals) -> Evidence:
+    members = [cc.human] if cc.human else list(cc.criterion.humans)
+    if len(members) > 1:  # a group: the evidence of the member met first, else of the closest one
+        each = [(_meets_evidence_of(cc, s, h), h) for h in members]
+        met = [(ev, h) for ev, h in each if f"{h} met at " in ev[0]]
+        if met:
+            return min(met, key=lambda eh: eh[0][1] or 0.0)[0]
+        return min(each, key=lambda eh: eh[0][2] if eh[0][2] is not None else float("inf"))[0]
+    return _meets_evidence_of(cc, s, members[0] if members else "")
+
+
+def _meets_evidence_of(cc: Compiled, s: Signals, h: str) -> Evidence:
+    t, d = s.t, cc.distance or 0.0
+    dist = s.get(f"dist_{h}")
+    k, closest = _closest(s, h)
+    text = f"closest {closest:.2f} m at t={t[k]:.1f} s" + (" (the start)" if k == 0 else "")
+    met = met_mask(s, h, cc.encounter, d)
+    if cc.previous is not None:  # its own meeting: after the earlier encounter's one, apart in between
+        before = met_mask(s, h, cc.previous, d)
+        apart_after = np.maximum.accumulate((dist > d) & (np.cumsum(before) > 0))
+        met = met & (np.concatenate([[False], apart_after[:-1]]) if len(met) else met)
+    j = _first(met)
+    if j is not None:
+        where = "" if cc.encounter is None else \
+            f", {s.get(f'mid_{h}_to_{cc.encounter.id}')[j]:.2f} m from {cc.encounter.node or cc.encounter.id}"
+        return f"{h} met at t={t[j]:.1f} s, {dist[j]:.2f} m apart{where}; " + text, float(t[j]), float(dist[j])
+    near = dist <= d
+    if cc.encounter is not None:
+        near &= s.get(f"mid_{h}_to_{cc.encounter.id}") <= cc.encounter.within
+    if near.any() and not met.any():
+        j = int(np.flatnonzero(near)[0])
+        why = _no_approach(cc, s, h, j)
+        if why:
+            return f"within {d:g} m at the place only without an approach ({why}); " + text, float(t[j]), float(dist[j])
+    if cc.previous is not None and near.any():
+        return (f"{h} was met only once, at {cc.previous.node or cc.previous.id} ({cc.previous.id}): this encounter "
+                f"needs its own meeting; " + text), float(t[k]), closest
+    if cc.encounter is None:
+        return text, float(t[k]), closest
+    e = cc.encounter.id
+    robot_to, human_to = s.get(f"robot_to_{e}"), s.get(f"{h}_to_{e}")
+    kr, kh = int(np.argmin(robot_to)), int(np.argmin(human_to))
+    text += (f", {s.get(f'mid_{h}_to_{e}')[k]:.2f} m from {cc.encounter.node or e}; the robot was nearest the node "
+             f"at t={t[kr]:.1f} s ({robot_to[kr]:.2f} m), {h} at t={t[kh]:.1f} s ({human_to[kh]:.2f} m)")
+    return text, float(t[k]), closest
+
+
+def _no_approach(cc: Compiled, s: Signals, h: str, j: int) -> str:
+    """Why the first step within the distance at the place is no meeting ('' when it is one)."""
+    if s.get(f"closer_{h}")[j] < APPROACH:
+        start = float(s.get(f"dist_{h}")[0])
+        return (f"at t={s.t[j]:.1f} s they were no closer than at the start ({start:.2f} m apart)" if j == 0 else
+                f"at t={s.t[j]:.1f} s they were less than {APPROACH:g} m closer than at the start ({start:.2f} m)")
+    if cc.encounter is None:
+        return ""
+    e, w = cc.encounter.id, cc.encounter.within
+    if not came_to(s, "robot", e, w)[j]:
+        return "the robot had not come toward the place"
+    if not came_to(s, h, e, w)[j]:
+        return f"{h} had not come toward the place, nor waited at it"
+    return ""
+
+
+def _phrase_evidence(cc: Compiled, s: Signals) -> Evidence:
+    h, t = cc.human or "", s.t
+    says = s.get(f"robot_says_{cc.phrase}") > 0.5
+    first_say = _first(says)
+    react = s.get(f"react_{h}_{cc.reaction}") if cc.reaction else np.zeros(len(t))
+    first_react = _first(react > 0.5)
+    parts = [f"the robot said {words(cc.phrase)} first at t={t[first_say]:.1f} s" if first_say is not None
+             else f"the robot never said {words(cc.phrase)}"]
+    if cc.reaction:
+        if first_react is None:
+            parts.append(f"{h} never showed {cc.reaction}")
+        else:
+            when = "BEFORE the phrase" if first_say is None or first_react < first_say else "after it"
+            parts.append(f"{h} first showed {cc.reaction} at t={t[first_react]:.1f} s ({when})")
+    k = first_react if first_react is not None else first_say
+    d = float(s.get(f"dist_{h}")[k]) if k is not None and h else None
+    return "; ".join(parts), (float(t[k]) if k is not None else None), d
+
+
+def _human_evidence(cc: Compiled, s: Signals) -> Evidence:
+    h, t = cc.human or "", s.t
+    k, closest = _closest(s, h)
+    text = f"closest {closest:.2f} m at t={t[k]:.1f} s"
+    kind = cc.criterion.kind
+    if kind in ("stops_near_robot", "blocks_robot"):
+        speed = s.get(f"speed_{h}")
+        near = s.get(f"dist_{h}") <= (cc.distance or 0)
+        text += f"; slowest while within {cc.distance:g} m: {speed[near].min():.2f} m/s" if near.any() else \
+            f"; never within {cc.distance:g} m"
+        if kind == "stops_near_robot" and not (s.get(f"closer_{h}") >= APPROACH).any():
+            text += "; the robot never came any closer than at the start"
+    elif kind == "hidden_until":
+        seen = _first(s.get(f"los_{h}") > 0.5)
+        if seen is not None:
+            text += f"; first in sight at t={t[seen]:.1f} s, {s.get(f'dist_{h}')[seen]:.2f} m apart"
+            return text, float(t[seen]), float(s.get(f"dist_{h}")[seen])
+        text += "; never in sight"
+    elif kind == "gives_way":
+        way = (s.get(f"inway_{h}") > 0.5) & (s.get(f"dist_{h}") <= (cc.distance or 0))
+        text += f"; in the robot's way within {cc.distance:g} m for {way.sum() * s.trace.dt:.1f} s"
+        first = _first(way)
+        if first is not None:
+            aside = _first((s.get(f"aside_{h}") > 0.5) & (np.arange(len(t)) >= first))
+            text += (f", first at t={t[first]:.1f} s; " + (f"stepped aside at t={t[aside]:.1f} s" if aside is not None
+                                                          else f"{h} never stepped out of it itself"))
+    elif kind == "says" and cc.phrase:
+        first = _first(s.get(f"{h}_says_{cc.phrase}") > 0.5)
+        text += f"; {h} said {words(cc.phrase)} first at t={t[first]:.1f} s" if first is not None else \
+            f"; {h} never said {words(cc.phrase)}"
+    elif kind == "follows_robot":
+        text += _follow_text(cc, s, h)
+    return text, float(t[k]), closest
+
+
+def _follow_text(cc: Compiled, s: Signals, h: str) -> str:
+    way, t = s.get(f"way_{h}"), s.t
+    first = 0
+    if cc.phrase:
+        said = _first(s.get(f"robot_says_{cc.phrase}") > 0.5)
+        if said is None:
+            return f"; the robot never said {words(cc.phrase)}"
+        first = said
+    k = first + int(np.argmax(way[first:]))
+    straight = float(s.get(f"dist_{h}")[k])
+    text = (f"; the robot said {words(cc.phrase)} at t={t[first]:.1f} s" if cc.phrase else "") + \
+        f"; farthest {'after it ' if cc.phrase else ''}{way[k]:.2f} m along the walkable way at t={t[k]:.1f} s"
+    if way[k] > straight + 0.5:
+        text += f" ({straight:.2f} m straight, through a wall)"
+    if not (s.get(f"speed_{h}")[first:] > WALK_SPEED).any():
+        text += f"; {h} never walked after it"
+    return text
+
+
+def _group_evidence(cc: Compiled, s: Signals) -> Evidence:
+    name = cc.formula.split("(")[1].split()[0]
+    spread = s.get(name)
+    k = int(np.argmax(spread))
+    return f"widest {spread[k]:.2f} m at t={s.t[k]:.1f} s (needs <= {cc.distance:g} m)", float(s.t[k]), float(spread[k])
+
+
+def _goal_evidence(cc: Compiled, s: Signals) -> Evidence:
+    to_goal = s.get("robot_to_goal")
+    reached = _first(to_goal <= (cc.distance or 0))
+    if reached is not None:
+        return f"reached at t={s.t[reached]:.1f} s", float(s.t[reached]), float(to_goal[reached])
+    text = f"ended {to_goal[-1]:.2f} m from the goal (closest {to_goal.min():.2f} m, radius {cc.distance:g} m)"
+    if s.trace.end_reason:
+        text += f"; simulation ended by {s.trace.end_reason}"
+    stalled = s.get("stalled")
+    if stalled[-1] > 0:
+        text += f"; the robot stood still for the last {stalled[-1]:.1f} s"
+    return text, float(s.t[-1]), float(to_goal[-1])
+
+
+def _collision_evidence(cc: Compiled, s: Signals) -> Evidence:
+    summary = s.contacts()
+    return summary.describe(), summary.min_gap_time, summary.min_gap
+
+
+def deadlock_culprit(s: Signals) -> tuple[int, str | None]:
+    """Step of the longest deadlock and the human holding the robot up then (the one with the smallest gap)."""
+    dead = s.get("deadlock")
+    k = int(np.argmax(dead))
+    best, who = np.inf, None
+    holding = s.holding_up()
+    for i, name in enumerate(s.trace.human_names):
+        if holding[k, i]:
+            gap = float(s.gaps()[k, i])
+            if gap < best:
+                best, who = gap, name
+    return k, who
+
+
+def _deadlock_evidence(cc: Compiled, s: Signals) -> Evidence:
+    dead = s.get("deadlock")
+    k, who = deadlock_culprit(s)
+    if dead[k] <= 0:
+        return "the robot was never stuck behind someone", None, None
+    start = s.t[k] - dead[k] + s.trace.dt
+    gap = float(s.gaps()[k, s.human(who)]) if who else None
+    first = max(0, k - int(round(dead[k] / s.trace.dt)) + 1)
+    driven = float(contact.lengths(np.diff(s.pos("robot")[first:k + 1], axis=0)).sum())
+    how = "stood still" if driven < 2 * PROGRESS_STEP else \
+        f"moved {driven:.1f} m without progress along its route (back and forth in place)"
+    text = f"the robot {how} {dead[k]:.1f} s from t={start:.1f} s with {who or 'someone'} in its way"
+    if gap is not None:
+        text += f" ({gap:.2f} m gap)"
+    return text, float(start), gap
+
+
+def _stl_evidence(cc: Compiled, s: Signals) -> Evidence:
+    """What the formula's signals did: each distance's minimum and when, each 0/1 signal's first true step."""
+    from socnavgen.verify.signals import SIGNAL_KINDS
+    from socnavgen.verify.stl import formula_signals
+
+    units = {}
+    for name in formula_signals(cc.formula):
+        kind = next((k for k in SIGNAL_KINDS if re.fullmatch(k.pattern, name)), None)
+        units[name] = kind.unit if kind else ""
+    parts = []
+    for name, unit in list(units.items())[:4]:
+        values = s.get(name)
+        if unit == "0/1":
+            first = _first(values > 0.5)
+            parts.append(f"{name} first at t={s.t[first]:.1f} s" if first is not None else f"{name} never")
+        else:
+            k = int(np.argmin(values))
+            parts.append(f"{name} min {values[k]:.2f} {unit} at t={s.t[k]:.1f} s")
+    return "; ".join(parts) or "formula", None, None
+
+
+EVIDENCE: dict[str, Callable[[Compiled, Signals], Evidence]] = {
+    "meets": _meets_evidence, "reacts_after_phrase": _phrase_evidence, "group_together": _group_evidence,
+    "robot_reaches_goal": _goal_evidence, "no_collision": _collision_evidence, "no_deadlock": _deadlock_evidence,
+    "stl": _stl_evidence,
+}  # every other kind of criteria.CRITERION_KINDS: _human_evidence
+
+
+def evidence(cc: Compiled, s: Signals) -> Evidence:
+    fn = EVIDENCE.get(cc.criterion.kind, _human_evidence)
+    text, time, dist = fn(cc, s)
+    if cc.notes:
+        text += " (" + "; ".join(cc.notes) + ")"
+    return text, time, dist

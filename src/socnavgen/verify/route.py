@@ -1,0 +1,51 @@
+"""Where the robot is along its route: progress (metres of the route covered) and the route's direction, per
+step, from the trace's waypoints. A robot that jitters in place, backs up or turns on the spot makes no
+progress; the deadlock signal counts time without progress, not time standing still."""
+
+from __future__ import annotations
+
+import bisect
+
+import numpy as np
+
+from socnavgen.sim import contact
+
+
+def route_progress(robot_xy: np.ndarray, waypoints: list[tuple[float, float]]) -> tuple[np.ndarray, np.ndarray]:
+    """(progress (T,), tangent (T, 2)): the arc length along the waypoint polyline of the point nearest each
+    robot position (the first segment among equally near ones), and that segment's unit direction. Without a
+    polyline (fewer than two distinct waypoints) progress is the distance driven and the tangent zero."""
+    pts = np.asarray(waypoints, dtype=float).reshape(-1, 2)
+    seg = np.diff(pts, axis=0)
+    lens = contact.lengths(seg)
+    keep = lens > 1e-9
+    robot_xy = np.asarray(robot_xy, dtype=float)
+    t = len(robot_xy)
+    if not keep.any():
+        driven = np.concatenate([[0.0], np.cumsum(contact.lengths(np.diff(robot_xy, axis=0)))]) if t else np.zeros(0)
+        return driven, np.zeros((t, 2))
+    start, seg, lens = pts[:-1][keep], seg[keep], lens[keep]
+    before = np.concatenate([[0.0], np.cumsum(lens)[:-1]])
+    unit = seg / lens[:, None]
+    rel_x = robot_xy[:, 0:1] - start[:, 0]  # (T, S): the robot from each segment's start
+    rel_y = robot_xy[:, 1:2] - start[:, 1]
+    along = np.clip(rel_x * unit[:, 0] + rel_y * unit[:, 1], 0.0, lens)  # metres along each segment
+    off_x, off_y = rel_x - along * unit[:, 0], rel_y - along * unit[:, 1]
+    nearest = np.argmin(off_x * off_x + off_y * off_y, axis=1)
+    progress = before[nearest] + along[np.arange(t), nearest]
+    return progress, unit[nearest]
+
+
+def progress_events(progress: np.ndarray, step: float) -> np.ndarray:
+    """(T,) bool: the steps on which the robot's best progress so far first exceeds the previous event's by
+    `step` metres (a ratchet: going back and forth never makes new progress)."""
+    best = np.maximum.accumulate(progress) if len(progress) else progress
+    events = np.zeros(len(best), dtype=bool)
+    if not len(best):
+        return events
+    values = best.tolist()  # monotone: each next event is one bisection away (a route of L m has L / step events)
+    k = bisect.bisect_left(values, values[0] + step)
+    while k < len(values):
+        events[k] = True
+        k = bisect.bisect_left(values, values[k] + step, k)
+    return events
