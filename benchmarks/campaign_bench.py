@@ -55,8 +55,8 @@ def campaign_rate(seeds: int, executor: str, workers: int | None, root: Path, ta
 
 def simulate_loop(runs: list[Path], count: int) -> float:
     """Episodes/s of the old way in one process: simulate_run (loads the location each time) + metrics."""
+    from socnavgen.sim import simulate_run
     from socnavgen.sim.metrics import compute_metrics
-    from socnavgen.sim.scenario import simulate_run
 
     start = time.perf_counter()
     for k in range(count):

@@ -20,8 +20,8 @@ import numpy as np
 
 from socnavgen.cards.generate import fit_all, write_card_run
 from socnavgen.location import load_location
+from socnavgen.sim import simulate_run
 from socnavgen.sim.contact import trace_distances, trace_gaps
-from socnavgen.sim.scenario import simulate_run
 from socnavgen.verify import verify_trace
 
 LOCATIONS = Path(__file__).resolve().parents[1] / "examples" / "locations"

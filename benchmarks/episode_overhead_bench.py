@@ -54,11 +54,8 @@ def measure(mode: str, repeats: int) -> dict:
 
 def _measure(scenario, mode: str, repeats: int) -> dict:  # noqa: ANN001 - a campaign Scenario
     from socnavgen.campaign.episode import Episode, EpisodeSettings, simulate_episode
-    from socnavgen.sim.engine import SimConfig
-    from socnavgen.sim.interaction import ThrottleConfig
+    from socnavgen.sim import SimConfig, ThrottleConfig, load_policy, load_simulation
     from socnavgen.sim.metrics import compute_metrics
-    from socnavgen.sim.robot import load_policy
-    from socnavgen.sim.scenario import load_simulation
     from socnavgen.verify.runner import verify_trace
 
     trace, location, world = simulate_episode(Episode(scenario, "waypoints", "waypoints", 0), EpisodeSettings())

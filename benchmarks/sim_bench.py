@@ -22,12 +22,9 @@ import warnings
 
 import numpy as np
 
-from socnavgen.sim import kernels
-from socnavgen.sim.agents import HumanSpec
-from socnavgen.sim.engine import SimConfig, Simulation
-from socnavgen.sim.robot import WaypointsPolicy
-from socnavgen.sim.scenario import DEFAULT_TREE
-from socnavgen.sim.world import empty_room
+from socnavgen.bt.library import regular_walker_xml
+from socnavgen.sim import HumanSpec, RobotAction, SimConfig, Simulation, empty_room, load_policy
+from socnavgen.sim.jit import AVAILABLE
 
 DT = 0.05
 DENSITY = 0.1
@@ -46,12 +43,23 @@ def scene(n: int, seed: int = 0) -> tuple[float, list[HumanSpec]]:
     return side, humans
 
 
-def run_ours(n: int, steps: int, use_kernels: bool) -> float:
-    """Seconds per step of the full simulation loop (trees, physics, robot, trace)."""
+class Toward:
+    """A trivial robot policy of the user's: straight at its goal at 0.6 m/s."""
+
+    def act(self, obs):  # noqa: ANN001, ANN201
+        to = obs.waypoints_c[-1] - obs.position_c
+        v = 0.6 * to / max(abs(to), 1e-9)
+        return RobotAction(v.real, v.imag)
+
+
+def run_ours(n: int, steps: int, python_policy: bool) -> float:
+    """Seconds per step of the full simulation loop (trees, physics, robot, trace): the built-in waypoints
+    robot inside the compiled step, or a Python policy called between two steps."""
     side, humans = scene(n)
     world = empty_room(side, side, resolution=0.1)
-    sim = Simulation(world, humans, [DEFAULT_TREE] * n, [(0.8, side / 2), (side - 0.8, side / 2)],
-                     WaypointsPolicy(), SimConfig(dt=DT, timeout=steps * DT, idle_end=1e9), use_kernels=use_kernels)
+    policy = Toward() if python_policy else load_policy("waypoints")
+    sim = Simulation(world, humans, [regular_walker_xml()] * n, [(0.8, side / 2), (side - 0.8, side / 2)],
+                     policy, SimConfig(dt=DT, timeout=steps * DT, idle_end=1e9))
     start = time.thread_time()
     trace = sim.run()
     elapsed = time.thread_time() - start
@@ -104,6 +112,7 @@ def run_pysocialforce(n: int, steps: int) -> float | str:
 
 def warm_up() -> None:
     run_ours(3, 5, True)
+    run_ours(3, 5, False)
 
 
 def main() -> None:
@@ -115,8 +124,8 @@ def main() -> None:
     rows = []
     for n in args.counts:
         steps = (400 if n <= 20 else 200) // (4 if args.quick else 1)
-        fast = run_ours(n, steps, True) if kernels.AVAILABLE else None
-        slow = run_ours(n, max(steps // 2, 20), False)
+        fast = run_ours(n, steps, False)
+        slow = run_ours(n, steps, True)
         other = run_pysocialforce(n, steps)
         rows.append((n, fast, slow, other))
 
@@ -126,9 +135,9 @@ def main() -> None:
         return f"{1 / sec:,.0f}", f"{DT / sec:,.0f}x", f"{sec * 1e6:,.0f}"
 
     print(f"dt = {DT} s, open walled square at {DENSITY} pedestrians/m^2, RegularNav trees, waypoints robot; "
-          f"numba {'on' if kernels.AVAILABLE else 'NOT installed'}")
-    print("| pedestrians | socnavgen steps/s | real-time factor | us/step | numpy-only steps/s | numpy-only RTF "
-          "| pysocialforce steps/s | pysocialforce RTF |")
+          f"numba {'on' if AVAILABLE else 'OFF (plain Python)'}")
+    print("| pedestrians | socnavgen steps/s | real-time factor | us/step | with a Python policy steps/s | "
+          "Python policy RTF | pysocialforce steps/s | pysocialforce RTF |")
     print("|---:|---:|---:|---:|---:|---:|---:|---:|")
     for n, fast, slow, other in rows:
         f_steps, f_rtf, f_us = fmt(fast)

@@ -20,7 +20,7 @@ from socnavgen.cards.generate import fit_all, write_card_run
 from socnavgen.location import load_location
 from socnavgen.run import RunFolder
 from socnavgen.run.spec import Criterion, Encounter, HumanPart, ScenarioSpec
-from socnavgen.sim.scenario import simulate_run
+from socnavgen.sim import simulate_run
 from socnavgen.sim.trace import Trace
 from socnavgen.verify import verify_trace
 

@@ -4,7 +4,7 @@ a deliberately bad robot that drives its waypoints at full speed and ignores peo
 
 from __future__ import annotations
 
-from socnavgen.sim.robot import RobotAction
+from socnavgen.sim import RobotAction
 
 SPEED = 0.6  # m/s, the cruise speed of the other robots: the only difference is that it ignores people
 REACHED = 0.3  # m

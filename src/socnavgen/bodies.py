@@ -18,9 +18,11 @@ GROUP_SPAWN_RADIUS = 0.6  # m: the members of a group start evenly on a circle t
 
 # -- motion ---------------------------------------------------------------------------------------
 PERSON_MAX_SPEED = 1.5  # m/s: HuNavSim's max_vel default
+PERSON_TOP_SPEED = 1.8  # m/s: the most a scenario may give a person (HuNavSim 2.x clamps an agent's vel to it)
 PERSON_GOAL_RADIUS = 0.5  # m: a person's goal is reached within this (HuNavSim goal_radius)
 PERSON_GOAL_SLACK = 0.1  # m: IsGoalReached accepts goal_radius + this
 ROBOT_GOAL_TOLERANCE = 0.2  # m: hunav_evaluator's "completed"
+ROBOT_MAX_SPEED = 2.0  # m/s: the simulated robot never moves faster, whatever its policy asks
 
 # -- contact and proxemics (gaps are surface to surface: centre distance minus both radii) ---------
 CONTACT_MARGIN = 0.05  # m: a robot-person gap at or under this is contact (bodies touching)

@@ -25,7 +25,7 @@ from typing import Any
 
 # -- margins of the corridor, metres beyond the two radii, one per use ----------------------------------
 WAY_MARGIN_DRIVE = 0.05  # the robot's own driving (waypoints, scripted, sfm): slows and stops for such a person
-WAY_MARGIN_SCRIPT = 0.1  # script cues and gesture rules `blocked`, `wait_until_clear` (sim.gestures)
+WAY_MARGIN_SCRIPT = 0.1  # script cues and gesture rules `blocked`, `wait_until_clear` (sim.robot.script)
 WAY_MARGIN_VERIFY = 0.1  # the verifier's inway_<human>: gives_way, blocks_robot, deadlock
 WAY_MARGIN_FOLLOW = 0.2  # a FollowRobot follower this close to the robot's remaining path steps aside first
 FRONT_CONE_SCRIPT = 0.6  # rad: "in front of the robot" for the script's `blocked` (noticing people coming)

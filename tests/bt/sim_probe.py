@@ -12,19 +12,11 @@ from socnavgen.errors import SocnavgenError
 DT = 0.25  # s: the steps of a probe are few, and 3 * DT is exact in binary
 ME_AT, OTHER_AT, ROBOT_AT = (2.0, 5.0), (2.0, 8.0), (3.0, 5.0)  # the robot stands 1 m from the probed human
 NEAR, FAR = 5.0, 0.5  # IsRobotNearby distances that succeed / fail
-# Where today's simulator keeps what socnavgen.sim will export once its rewrite lands (then unused).
-_TODAY = {"Simulation": "socnavgen.sim.engine", "SimConfig": "socnavgen.sim.engine",
-          "HumanSpec": "socnavgen.sim.agents", "empty_room": "socnavgen.sim.world",
-          "RobotAction": "socnavgen.sim.robot"}
 
 
 def public(name: str) -> Any:
     """`socnavgen.sim.<name>` (the simulator's public face)."""
-    sim = import_module("socnavgen.sim")
-    try:
-        return getattr(sim, name)
-    except AttributeError:
-        return getattr(import_module(_TODAY[name]), name)
+    return getattr(import_module("socnavgen.sim"), name)
 
 
 class Stay:

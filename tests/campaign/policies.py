@@ -5,7 +5,7 @@ from __future__ import annotations
 import contextlib
 import time
 
-from socnavgen.sim.robot import RobotAction
+from socnavgen.sim import RobotAction
 
 
 class StraightThrough:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from gymnasium.utils.env_checker import check_env
 
 from socnavgen.campaign.gym_env import SocNavEnv
@@ -32,3 +33,16 @@ def test_env_checker_and_an_episode(small_spec, tmp_path) -> None:  # noqa: ANN0
     assert steps <= 30.0 / 0.05 + 1
     assert float(np.hypot(*obs["goal"])) < start  # the action moved the robot toward its goal
     assert info["scenario"].endswith(("blind-corner", "parallel-traffic"))
+
+    # actions outside the action space are refused with what is wrong, and leave the simulation as it was
+    env.reset(seed=1)
+    t = env.sim.t
+    bad = [{"velocity": np.zeros(3, np.float32), "gesture": 0}, {"velocity": [[0.1, 0.2]], "gesture": 0},
+           {"velocity": [np.nan, 0.0], "gesture": 0}, {"velocity": "fast", "gesture": 0}, {"velocity": [0.1, 0.2]},
+           *({"velocity": np.zeros(2, np.float32), "gesture": g} for g in (99, -3, 10**40, 2.5, True))]
+    for action in bad:
+        with pytest.raises(ValueError, match="action"):
+            env.step(action)
+    assert env.sim.t == t
+    obs, *_ = env.step({"velocity": np.zeros(2, np.float32), "gesture": np.int64(4)})
+    assert env.sim.robot.gesture == 4 and env.sim.t > t

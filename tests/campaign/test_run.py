@@ -111,13 +111,10 @@ def test_compiling_the_simulator_does_not_count_against_an_episode(small_spec, t
     (it did on a fresh clone: Ray's first episode per worker failed its 20 s limit)."""
     import time
 
-    from socnavgen.sim import kernels
-    from socnavgen.sim.compiled import episode as compiled_episode
+    import socnavgen.sim
 
-    if not kernels.AVAILABLE:
-        pytest.skip("numba not installed: nothing is compiled")
     calls = []
-    real = compiled_episode.warm_up
+    real = socnavgen.sim.warm_up
 
     def slow_compile() -> None:
         if not calls:  # the first call compiles, as on a new machine: longer than the episodes' limit below
@@ -125,7 +122,7 @@ def test_compiling_the_simulator_does_not_count_against_an_episode(small_spec, t
         calls.append(1)
         real()
 
-    monkeypatch.setattr(compiled_episode, "warm_up", slow_compile)
+    monkeypatch.setattr(socnavgen.sim, "warm_up", slow_compile)
     spec = small_spec.model_copy(update={"seeds": [0], "simulation": small_spec.simulation.model_copy(
         update={"wall_timeout": 1.0})})
     result = run_campaign(spec, tmp_path / "o", executor="inline")

@@ -72,7 +72,7 @@ def test_policy_files_are_relative_to_the_campaign_file_and_checked_first(tmp_pa
     from socnavgen.campaign.spec import load_campaign
 
     (tmp_path / "robots").mkdir()
-    (tmp_path / "robots" / "mine.py").write_text("from socnavgen.sim.robot import RobotAction\n\nclass Still:\n"
+    (tmp_path / "robots" / "mine.py").write_text("from socnavgen.sim import RobotAction\n\nclass Still:\n"
                                                   "    def act(self, obs):\n        return RobotAction(0.0, 0.0)\n")
     file = tmp_path / "c.yaml"
     file.write_text(GOOD.replace("my_policy.py:Mine", "robots/mine.py:Still"))

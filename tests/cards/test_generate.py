@@ -14,6 +14,7 @@ from socnavgen.cards.library import get_card
 from socnavgen.errors import SocnavgenError
 from socnavgen.export import export_run
 from socnavgen.location import load_location
+from socnavgen.proposal.tree_needs import tree_need_mistakes
 from socnavgen.run import RunFolder
 
 MUST_FIT = {
@@ -66,6 +67,8 @@ def test_every_fitting_card_generates_exports_and_writes_its_spec(bundled_locati
             assert enc.node in path and enc.node in plan.robot, (fit.card.name, enc.node)
             if fit.card.place == "doorway":
                 assert enc.node == fit.placement.place.node
+        for name, xml in run.behaviors().items():  # each tree does what the card's spec says of its human
+            assert tree_need_mistakes(xml, name, spec) == [], (fit.card.name, name)
         for h in plan.humans:  # nobody starts on the robot's goal (it would drive into them)
             assert h.path[0] != plan.robot[-1] or fit.card.route in ("into", "out_of"), (fit.card.name, h.name)
         result = export_run(run.root, "socrates", tmp_path / "out" / fit.card.name)

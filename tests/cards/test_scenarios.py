@@ -12,8 +12,8 @@ import pytest
 
 from socnavgen.cards.generate import fit_all, write_card_run
 from socnavgen.location import load_location
+from socnavgen.sim import simulate_run
 from socnavgen.sim.contact import overlapping, trace_distances, trace_gaps
-from socnavgen.sim.scenario import simulate_run
 from socnavgen.verify import verify_trace
 
 MEET = 2.0  # m: centre distance that counts as meeting (the verifier's default)

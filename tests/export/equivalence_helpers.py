@@ -10,7 +10,7 @@ from socnavgen.export.as_target import relabel, stands_for
 from socnavgen.export.hunav2 import translate_person
 from socnavgen.export.models import ExportScene
 from socnavgen.run import RunFolder
-from socnavgen.sim.scenario import simulate_run
+from socnavgen.sim import simulate_run
 from socnavgen.verify.runner import verify_trace
 
 

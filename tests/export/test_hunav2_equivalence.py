@@ -1,5 +1,5 @@
 """A run simulated from its socrates trees and from their hunav2 translation (2.x nodes simulated by
-sim.nodes_hunav2) gets the same verification outcome, finding by finding, on every card of every
+sim.people.leaves_hunav2) gets the same verification outcome, finding by finding, on every card of every
 bundled location whose trees translate."""
 
 from __future__ import annotations
@@ -52,7 +52,7 @@ def test_socrates_and_hunav2_runs_verify_the_same(tmp_path_factory) -> None:  # 
 def test_relabel_moves_actions_and_successes_to_the_library_node() -> None:
     import numpy as np
 
-    from socnavgen.sim.engine import NODE_NAMES
+    from socnavgen.sim.engine.simulation import NODE_NAMES
     from socnavgen.sim.trace import Trace
 
     tree = ("<root main_tree_to_execute='T'><BehaviorTree ID='T'><Sequence><IsRobotNearby agent_id='{id}' "

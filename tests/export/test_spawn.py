@@ -14,7 +14,7 @@ import yaml
 from socnavgen.cards.generate import write_card_run
 from socnavgen.export import export_run
 from socnavgen.export.scene import build_scene
-from socnavgen.sim.scenario import simulate_run
+from socnavgen.sim import simulate_run
 
 WAREHOUSE = Path(__file__).resolve().parents[2] / "examples" / "locations" / "warehouse"
 

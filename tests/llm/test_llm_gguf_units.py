@@ -50,3 +50,22 @@ def test_a_file_that_is_not_gguf_fails_to_load_clearly(tmp_path):
     llm = make_llm(f"gguf:{fake}")
     with pytest.raises(LLMError, match="cannot load the model"):
         llm._load()
+
+
+def test_the_local_model_knows_its_context_and_counts_prompts_as_llama_cpp_builds_them(monkeypatch):
+    """No weights loaded: the tokenizer alone (a vocabulary-only load) counts, and the GGUF metadata says
+    the context the model was trained for, which caps SOCNAVGEN_GGUF_N_CTX."""
+    from socnavgen.llm import ChatMessage
+    from socnavgen.llm.budget import estimate_tokens
+
+    monkeypatch.setenv("SOCNAVGEN_GGUF_N_CTX", "4096")
+    llm = make_llm("local", use_cache=False)
+    assert llm.context_tokens == 4096
+    monkeypatch.setenv("SOCNAVGEN_GGUF_N_CTX", "100000")
+    assert make_llm("local", use_cache=False).context_tokens == 8192  # SmolLM2-135M was trained for 8192
+    messages = [ChatMessage(role="system", content="You plan paths."),
+                ChatMessage(role="user", content="Plan a path from up to f7 through co and 54. " * 20)]
+    counted = llm.count_tokens(messages)
+    one = llm.count_tokens(messages[:1])
+    assert 0 < one < counted and abs(counted - estimate_tokens(messages)) < counted / 2  # the estimate is close
+    assert llm._llm is None  # counting never loaded the weights

@@ -3,6 +3,7 @@ three bundled locations and on SocRATES's own maps: dead ends, doorway widths, b
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -51,7 +52,7 @@ def test_a_dead_end_too_tight_to_pass_a_person_cannot_hold_an_encounter(tmp_path
     assert location.inventory.unworkable_reason("CORRIDOR") is None  # mm has three ways
     assert location.inventory.unworkable_reason("KITCHEN") == "this map has no KITCHEN node"
     text = inventory_text(location)
-    assert "DINING AREA: rr (dead end from mm" in text and "NOTE: no DINING AREA node can hold an encounter" in text
+    assert re.search(r"DINING AREA: rr \(at [-0-9.]+,[-0-9.]+; dead end from mm", text) and "NOTE: no DINING AREA node can hold an encounter" in text
     assert "Too narrow for a person" in text and "mm-rr 0.4 m" in text
 
 
@@ -83,7 +84,7 @@ def test_home_inventory_names_the_dead_end_dining_area_and_the_doors() -> None:
         assert 0.8 <= doors[door].width_m <= 1.0, doors[door]
     assert set(doors["2n"].sides) == {"i6", "1f"}
     text = inventory_text(home)
-    assert "- DINING AREA: a7 (dead end from 41" in text
+    assert "- DINING AREA: a7 (at 4.7,0.5; dead end from 41" in text  # with its position (x east, y north)
     assert "2n (DOORWAY): 0.9 m wide, between 1f (BEDROOM) and i6 (HALLWAY)" in text
     assert "i6" in text.split("Where a standing group")[1]
 

@@ -42,7 +42,7 @@ def _stage1_prompt(location, **changes) -> tuple[str, str]:  # noqa: ANN001
 def test_stage1_sees_the_place_inventory_of_the_map(home):
     _, user = _stage1_prompt(home)
     assert "PLACE INVENTORY" in user
-    assert "- DINING AREA: a7 (dead end from 41" in user  # the dead-end dining node of the issue
+    assert "- DINING AREA: a7 (at 4.7,0.5; dead end from 41" in user  # the dead-end dining node of the issue
     assert "NOTE: no DINING AREA node can hold an encounter on this map: a7 is a dead end reached only from 41" in user
     assert "2n (DOORWAY): 0.9 m wide, between 1f (BEDROOM) and i6 (HALLWAY)" in user
     assert "Blind turns (" in user and "Where a standing group of three fits" in user
@@ -58,7 +58,7 @@ def test_how_the_spec_plays_out_comes_from_its_sources(home):
     from socnavgen.bodies import GROUP_SPAWN_RADIUS
     from socnavgen.proposal.facts import STL_EXAMPLE
     from socnavgen.run.spec import Encounter, RobotCue
-    from socnavgen.sim.interaction import ThrottleConfig
+    from socnavgen.sim import ThrottleConfig
     from socnavgen.verify.signals import SIGNAL_KINDS
     from socnavgen.verify.stl import formula_problems
 
@@ -69,7 +69,8 @@ def test_how_the_spec_plays_out_comes_from_its_sources(home):
     assert f"\"within\" ({within.default:g} m unless set, at most 5 m)" in system
     assert RobotCue.model_fields["once"].default is True and "fires once" in system and "\"once\": false" in system
     assert f"circle of {GROUP_SPAWN_RADIUS:g} m" in system
-    assert "robot_says (RobotSaid)" in system and "say FOLLOW ME" in system  # how to latch something else
+    assert "\"latch\": true keeps a reaction going for good" in system  # any trigger latches (KeepRunning)
+    assert "robot_far holds exactly when robot_near does not" in system and "\"lasts\" (s)" in system
     assert "human_farther (" in system  # the guide's cue for a follower who fell behind
     assert STL_EXAMPLE in system and all(k.shown in system for k in SIGNAL_KINDS)
     assert formula_problems(STL_EXAMPLE, ["human1"], ["e1"]) == []  # the example itself can be monitored
@@ -144,7 +145,7 @@ def test_a_says_criterion_for_someone_who_never_speaks_is_refused(home):
     mistakes = check(_reply("LIVING ROOM", criteria=[
         {"id": "c1", "kind": "meets", "human": "human1", "encounter": "e1"},
         {"id": "c2", "kind": "says", "human": "human1", "phrase": "WAIT", "text": "placeholder"}]))
-    assert any("criterion c2 (says) asks something of human1 that its encounter never has it do" in m
+    assert any("criterion c2 asks human1 to say WAIT, but the behavior of human1 never mentions it" in m
                for m in mistakes), mistakes
     assert any("criterion c2: text contains the placeholder 'placeholder'" in m for m in mistakes)
     speaks = _reply("LIVING ROOM", part={"reaction": "say", "says": "WAIT"},
@@ -158,10 +159,10 @@ def test_a_says_criterion_for_someone_who_never_speaks_is_refused(home):
     assert any("never mentions it" in m for m in check(silent_prose))
 
 
-@pytest.mark.parametrize("kind, reaction, expected", [
-    ("follows_robot", "walk_past", "its encounter never has it do"),
-    ("blocks_robot", "give_way", "its encounter never has it do"),
-    ("keeps_away", "follow", "contradicts human1's reaction follow"),
+@pytest.mark.parametrize("kind, reaction, expected", [  # the verifier's rule S1 (verify/blame.py contradictions)
+    ("follows_robot", "walk_past", "asks human1 for what its encounter does not have it do (its reaction: walk_past"),
+    ("blocks_robot", "give_way", "asks human1 for what its encounter does not have it do (its reaction: give_way"),
+    ("keeps_away", "follow", "asks human1 for what its encounter does not have it do (its reaction: follow"),
 ])
 def test_criteria_that_contradict_the_persons_reaction_are_refused(home, kind, reaction, expected):
     check = scenario_checker(home)
@@ -172,9 +173,11 @@ def test_criteria_that_contradict_the_persons_reaction_are_refused(home, kind, r
 
 
 def test_a_latch_needs_a_trigger_a_tree_can_remember(home):
+    latched = _reply("LIVING ROOM", part={"reaction": "follow", "latch": True})
+    assert scenario_checker(home)(latched) == []  # KeepRunningUntilFailure holds any reaction once triggered
+    refused = scenario_checker(home, target="hunav2")(latched)  # 2.x re-checks every condition each tick
+    assert any("latch is true, but a hunav2 tree cannot remember the trigger robot_near" in m for m in refused), refused
     check = scenario_checker(home)
-    refused = check(_reply("LIVING ROOM", part={"reaction": "follow", "latch": True}))
-    assert any("latch is true, but a tree cannot remember the trigger robot_near" in m for m in refused), refused
     phrase = _reply("LIVING ROOM", part={"trigger": "robot_says", "phrase": "FOLLOW ME", "reaction": "follow",
                                          "latch": True},
                     cues=[{"trigger": {"when": "human_within", "human": "human1", "distance": 2.0},
@@ -209,7 +212,7 @@ def test_stage2_grounds_a_hidden_until_encounter_only_where_it_is_blind_enough(w
     from socnavgen.proposal.replies import PathsReply
     from socnavgen.proposal.scenario import to_spec
 
-    reply = _reply("BLIND CORNER", criteria=[
+    reply = _reply("BLIND CORNER", part={"reaction": "stop"}, criteria=[
         {"id": "c1", "kind": "meets", "human": "human1", "encounter": "e1"},
         {"id": "c2", "kind": "hidden_until", "human": "human1", "encounter": "e1", "distance": 2.8}])
     assert scenario_checker(warehouse)(reply) == []  # 54 is blind until 2.5 m: the place can work

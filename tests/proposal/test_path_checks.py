@@ -42,7 +42,7 @@ MISTAKES = {
     "no robot": ({"trajectories": {"human1": ["07", "11", "ch"], "human2": ["f7", "07", "11"]}},
                  "the robot has no path"),
     # where everybody starts (location/placement.py)
-    "goal is start": ({"trajectories": {"robot": ["32", "ch", "32"], "human1": ["11", "ch"],
+    "goal is start": ({"trajectories": {"robot": ["32", "32"], "human1": ["11", "ch"],
                                         "human2": ["07", "11", "ch"]},
                        "interaction_points": {"human1": "ch", "human2": "ch"}},
                       "the robot's goal is its start (32)"),
@@ -51,7 +51,7 @@ MISTAKES = {
                      "human1 starts at 32, where the robot starts"),
     "on each other": ({"trajectories": {"robot": ["32", "ch", "11", "07"], "human1": ["f7", "07", "11"],
                                         "human2": ["f7", "07", "11"]}},
-                      "human1 and human2 start 0.0 m apart (f7, f7)"),
+                      "human1 and human2 start 0.00 m apart (f7, f7)"),
     "on the goal": ({"trajectories": {"robot": ["32", "ch", "11", "07"], "human1": ["07", "11", "ch"],
                                       "human2": ["07"]},
                      "interaction_points": {"human1": "11", "human2": "07"}},

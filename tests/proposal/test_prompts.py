@@ -105,7 +105,7 @@ def test_behavior_prompt_holds_library_tutorial_examples_and_context():
 
 
 def test_every_tree_shown_to_the_model_is_valid():
-    trees = re.findall(r"^<root .*</root>$", render("bt_tutorial.md"), flags=re.M)
+    trees = re.findall(r"^<root .*</root>$", render("bt_tutorial_qa.md"), flags=re.M)
     trees += [json.loads(block)["tree"] for block in re.findall(r"^\{.*\}$", examples_text(), flags=re.M)]
     assert len(trees) >= 5
     for tree in trees:

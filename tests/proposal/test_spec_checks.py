@@ -265,8 +265,8 @@ def test_stage_three_requeries_a_tree_that_lacks_its_trigger(tmp_path, mini_loca
 def test_prompts_carry_the_simulators_numbers(mini_location):
     from socnavgen.bodies import PERSON_MAX_SPEED as HUMAN_MAX_VEL
     from socnavgen.bodies import PERSON_RADIUS as HUMAN_RADIUS
+    from socnavgen.bodies import ROBOT_RADIUS
     from socnavgen.proposal.paths import scene_graph_text
-    from socnavgen.sim.robot import ROBOT_RADIUS
 
     facts = physical_facts_text()
     assert f"{HUMAN_MAX_VEL:g} m/s" in facts and f"radius {HUMAN_RADIUS:g} m" in facts

@@ -15,9 +15,7 @@ from socnavgen.errors import SocnavgenError
 from socnavgen.location import load_location
 from socnavgen.run import folder as folder_module
 from socnavgen.run.loaded import LoadedRun, load_run
-from socnavgen.sim.engine import SimConfig
-from socnavgen.sim.robot import load_policy
-from socnavgen.sim.scenario import load_simulation
+from socnavgen.sim import SimConfig, load_policy, load_simulation
 from socnavgen.verify.runner import verify_trace
 from tests.verify.verify_builders import make_give_way_run, make_location
 

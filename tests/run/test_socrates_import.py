@@ -16,7 +16,7 @@ from socnavgen.export import export_run
 from socnavgen.location import load_location
 from socnavgen.run import RunFolder
 from socnavgen.run.socrates_import import import_socrates_run, read_socrates
-from socnavgen.sim.scenario import simulate_run
+from socnavgen.sim import simulate_run
 from socnavgen.verify import verify_trace
 
 WAREHOUSE = Path(__file__).resolve().parents[2] / "examples" / "locations" / "warehouse"

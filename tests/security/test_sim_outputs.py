@@ -53,7 +53,7 @@ def test_verify_never_judges_a_trace_of_files_that_changed(cli, card_run) -> Non
 
 
 def test_a_kill_between_two_writes_leaves_no_set_that_looks_complete(cli, card_run, monkeypatch) -> None:  # noqa: ANN001
-    from socnavgen.sim import outputs
+    from socnavgen.sim.outputs import files as outputs
 
     assert cli("simulate", card_run, "--timeout", "30").code == 0
 
@@ -87,7 +87,7 @@ def test_two_simulations_of_one_run_folder_are_refused(cli, card_run) -> None:  
 
 def test_a_run_folder_moved_during_the_simulation_is_not_recreated(cli, card_run, monkeypatch) -> None:  # noqa: ANN001
     """A run folder renamed during `simulate` got its outputs written to a recreated old path."""
-    from socnavgen.sim.engine import Simulation
+    from socnavgen.sim import Simulation
 
     real = Simulation.run
 

@@ -2,10 +2,9 @@
 
 from __future__ import annotations
 
-from socnavgen.sim.agents import HumanSpec
-from socnavgen.sim.engine import SimConfig, Simulation
-from socnavgen.sim.robot import RobotAction
-from socnavgen.sim.world import World, empty_room
+import numpy as np
+
+from socnavgen.sim import HumanSpec, RobotAction, RobotSpeech, SimConfig, Simulation, World, empty_room
 
 REGULAR = ('<Sequence><SetBlackboard output_key="agentid" value="{id}"/>'
            '<SetBlackboard output_key="timestep" value="{dt}"/>'
@@ -41,6 +40,16 @@ def human(name: str = "human1", start=(2.0, 5.0), goals=((18.0, 5.0),), **kw) ->
 
 
 def make_sim(humans: list[HumanSpec], trees: list[str], robot_path, policy=None, world: World | None = None,  # noqa: ANN001
-             gestures=None, throttle=None, script=None, **config) -> Simulation:  # noqa: ANN001
+             rules=None, script=None, pacing=None, encounters=None, **config) -> Simulation:  # noqa: ANN001
+    speech = RobotSpeech(script=script, rules=list(rules or []), encounter_points=dict(encounters or {}))
     return Simulation(world or empty_room(20.0, 10.0), humans, trees, list(robot_path), policy or Stay(),
-                      SimConfig(**config), gestures=gestures, throttle=throttle, script=script)
+                      SimConfig(**config), speech=speech, pacing=pacing)
+
+
+def xy(trace, step: int, agent: int = 0) -> complex:  # noqa: ANN001
+    return complex(trace.humans[step, agent, 0], trace.humans[step, agent, 1])
+
+
+def positions(sim: Simulation) -> np.ndarray:
+    """Every person's position now (a copy)."""
+    return np.array(sim.people.pos)

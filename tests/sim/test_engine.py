@@ -9,11 +9,8 @@ import pytest
 from typer.testing import CliRunner
 
 from socnavgen.run import HumanPlan, PathPlan, RobotGestureRule, RunFolder, ScenarioRequest
-from socnavgen.sim.engine import SimConfig
-from socnavgen.sim.interaction import ThrottleConfig
-from socnavgen.sim.robot import WaypointsPolicy, load_policy
-from socnavgen.sim.scenario import load_simulation
-from socnavgen.sim.trace import Trace
+from socnavgen.sim import SimConfig, ThrottleConfig, Trace, load_policy, load_simulation
+from socnavgen.sim.robot.api import WaypointsPolicy
 from tests.synthetic import walled_room, write_location
 
 from .simhelpers import REGULAR, tree_xml
@@ -100,12 +97,12 @@ def test_simulate_reports_a_broken_tree_with_its_line(tmp_path):
     run = make_run(tmp_path, tree=tree_xml('<Sequence>\n<Dance agent_id="{id}"/>\n</Sequence>'))
     result = CliRunner().invoke(app, ["simulate", str(run)])
     assert result.exit_code != 0
-    assert "unknown node <Dance>" in str(result.exception)
+    assert "behaviors/human1.xml:5: unknown node 'Dance'" in str(result.exception)
 
 
 def test_custom_policy_from_a_file(tmp_path):
     policy_file = tmp_path / "mypolicy.py"
-    policy_file.write_text("from socnavgen.sim.robot import RobotAction\n"
+    policy_file.write_text("from socnavgen.sim import RobotAction\n"
                            "class Straight:\n"
                            "    def act(self, obs):\n"
                            "        d = obs.waypoints[-1] - obs.position\n"
@@ -181,7 +178,7 @@ def test_broken_paths_are_all_reported(tmp_path):
 
 
 def test_simulate_run_saves_and_returns_the_trace(tmp_path):
-    from socnavgen.sim.scenario import simulate_run
+    from socnavgen.sim import simulate_run
 
     run = make_run(tmp_path)
     trace = simulate_run(run, robot="sfm", timeout=60, seed=2)

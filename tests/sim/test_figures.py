@@ -12,10 +12,10 @@ import pytest
 from PIL import Image
 
 from socnavgen.cards.generate import write_card_run
-from socnavgen.sim.animate import HEADER_PX, scale_length, write_gif
-from socnavgen.sim.labels import LabelPlacer, overlaps
-from socnavgen.sim.plot import plt, trajectory_figure
-from socnavgen.sim.scenario import simulate_run
+from socnavgen.sim import simulate_run
+from socnavgen.sim.outputs.animate import HEADER_PX, scale_length, write_gif
+from socnavgen.sim.outputs.labels import LabelPlacer, overlaps
+from socnavgen.sim.outputs.plot import plt, trajectory_figure
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -70,7 +70,7 @@ def test_trajectory_figure_labels_never_overlap_and_legend_is_outside(crowd_run:
 
 
 def test_someone_standing_still_gets_one_time_label() -> None:
-    from socnavgen.sim.plot import _ticks, axes_placer
+    from socnavgen.sim.outputs.plot import _ticks, axes_placer
 
     fig, ax = plt.subplots()
     try:

@@ -8,16 +8,9 @@ import numpy as np
 import pytest
 
 from socnavgen.run.models import RobotGestureRule
-from socnavgen.sim.agents import GoalQueue
-from socnavgen.sim.gestures import ScriptedGestures
-from socnavgen.sim.robot import WaypointsPolicy
-from socnavgen.sim.world import empty_room
+from socnavgen.sim import empty_room, load_policy
 
-from .simhelpers import REGULAR, Drive, Stay, human, make_sim, tree_xml
-
-
-def xy(trace, step, agent=0):  # noqa: ANN001, ANN201
-    return complex(trace.humans[step, agent, 0], trace.humans[step, agent, 1])
+from .simhelpers import REGULAR, Drive, Stay, human, make_sim, tree_xml, xy
 
 
 def robot_xy(trace, step):  # noqa: ANN001, ANN201
@@ -45,7 +38,7 @@ def test_human_gives_way_on_excuse_me_steps_aside_then_resumes_to_its_goal():
                     f'<GiveWaytoRobot agent_id="{{id}}" time_step="{{dt}}"/></Sequence>{REGULAR}</Fallback>')
     rules = [RobotGestureRule(gesture=4, when="blocked", distance=2.0, duration=3.0)]
     sim = make_sim([human(start=(16.0, 5.0), goals=[(3.0, 5.0)])], [tree], [(2.0, 5.0), (18.0, 5.0)],
-                   WaypointsPolicy(), gestures=ScriptedGestures(rules, {}), timeout=60)
+                   load_policy("waypoints"), rules=rules, timeout=60)
     trace = sim.run()
     gave_way = trace.executed(0, "GiveWaytoRobot")
     assert gave_way.any() and (trace.robot_gesture == 4).any()
@@ -58,7 +51,7 @@ def test_human_gives_way_on_excuse_me_steps_aside_then_resumes_to_its_goal():
     # after the robot passed, the human resumes: keep simulating the humans until they arrive
     for _ in range(int(20 / sim.dt)):
         sim.step()
-    assert abs(sim.crowd.pos[0] - (3.0 + 5.0j)) < 0.7
+    assert abs(sim.people[0].pos - (3.0 + 5.0j)) < 0.7
 
 
 def test_is_robot_visible_needs_line_of_sight_and_distance():
@@ -72,7 +65,7 @@ def test_is_robot_visible_needs_line_of_sight_and_distance():
     def gesture(world, distance):  # noqa: ANN001, ANN202
         sim = make_sim([human(start=(8.0, 5.0))], [tree.replace("{d}", str(distance))], robot, Stay(), world=world)
         sim.step()
-        return sim.crowd.gesture[0]
+        return sim.people[0].gesture
 
     assert gesture(walled, 10) == 2  # 4 m away but behind the wall
     assert gesture(open_room, 10) == 1
@@ -81,7 +74,7 @@ def test_is_robot_visible_needs_line_of_sight_and_distance():
     nearby = tree.replace("IsRobotVisible", "IsRobotNearby").replace("{d}", "10")
     sim = make_sim([human(start=(8.0, 5.0))], [nearby], robot, Stay(), world=walled)
     sim.step()
-    assert sim.crowd.gesture[0] == 1
+    assert sim.people[0].gesture == 1
 
 
 def test_time_expired_once_and_periodic():
@@ -141,8 +134,8 @@ def test_look_at_robot_turns_without_moving():
     sim = make_sim([human(start=(2.0, 5.0), yaw=0.0)], [tree], [(2.0, 8.0), (3.0, 8.0)])
     sim.step()
     sim.step()
-    assert sim.crowd.yaw[0] == pytest.approx(math.pi / 2)
-    assert sim.crowd.pos[0] == 2.0 + 5.0j and sim.crowd.vel[0] == 0
+    assert sim.people[0].yaw == pytest.approx(math.pi / 2)
+    assert sim.people[0].pos == 2.0 + 5.0j and sim.people[0].vel == 0
 
 
 def test_gestures_both_ways():
@@ -156,9 +149,9 @@ def test_gestures_both_ways():
     people = [human(), human("human2", start=(3.0, 3.0)), human("human3", start=(3.0, 7.0))]
     sim = make_sim(people, trees, [(10.0, 5.0), (11.0, 5.0)], Drive(0.0, 0.0, gesture=4))
     sim.step()
-    assert sim.crowd.gesture[:2] == [3, 1]  # human2 saw human1's gesture
+    assert list(sim.people.gesture[:2]) == [3, 1]  # human2 saw human1's gesture
     sim.step()
-    assert sim.crowd.gesture[2] == 2  # the robot's EXCUSE ME reached human3
+    assert sim.people[2].gesture == 2  # the robot's EXCUSE ME reached human3
 
 
 @pytest.mark.parametrize(("policy", "expected"), [(Drive(-0.8, 0.0), 2), (Stay(), 0), (Drive(0.05, 0.05), 0)])
@@ -168,28 +161,45 @@ def test_robot_moved_uses_speed(policy, expected):
     sim = make_sim([human()], [tree], [(10.0, 5.0), (11.0, 5.0)], policy)
     sim.step()
     sim.step()
-    assert sim.crowd.gesture[0] == expected
+    assert sim.people[0].gesture == expected
 
 
 def test_goal_queue_rules():
+    """UpdateGoal pops the front but keeps the last goal (fork rule); the walking step consumes a goal reached
+    inside its radius, the last one too; a cyclic queue re-appends what it pops; IsGoalReached is radius +
+    0.1 m."""
+    from socnavgen.sim.people.state import goal_reached, new_people, pop_goal
+
+    def queue(goals, cyclic=False):  # noqa: ANN001, ANN202
+        people, rings, _ = new_people([human(goals=[(g.real, g.imag) for g in goals], cyclic=cyclic)])
+        return people, rings
+
+    def front_to_back(people, rings):  # noqa: ANN001, ANN202
+        p = people[0]
+        return [complex(rings[0, (p.queue_start + j) % rings.shape[1]]) for j in range(p.queue_count)]
+
     g = [1 + 0j, 2 + 0j, 3 + 0j]
-    q = GoalQueue(g, 0.5, cyclic=False)
-    q.update_goal()
-    assert q.goals == g[1:]
-    q.update_goal()
-    q.update_goal()
-    assert q.goals == [3 + 0j]  # the last goal is kept (fork rule)
-    q.consume()
-    assert q.goals == []  # the SFM step may still consume it
-    q = GoalQueue([g[0]], 0.5, cyclic=True)
-    q.update_goal()
-    assert q.goals == [g[0], g[0]]
-    q = GoalQueue(g, 0.5, cyclic=True)
-    q.update_goal()
-    assert q.goals == [g[1], g[2], g[0]]
-    q.consume()
-    assert q.goals == [g[2], g[0], g[1]]
-    assert q.reached(3.55 + 0j) and not q.reached(3.65 + 0j)  # radius + 0.1
+    people, rings = queue(g)
+    pop_goal(people, rings, 0, True)
+    assert front_to_back(people, rings) == g[1:] and people[0].goal == g[1]
+    pop_goal(people, rings, 0, True)
+    pop_goal(people, rings, 0, True)
+    assert front_to_back(people, rings) == [3 + 0j]  # the last goal is kept (fork rule)
+    pop_goal(people, rings, 0, False)
+    assert front_to_back(people, rings) == [] and not people[0].has_goal  # the walking step may consume it
+    people, rings = queue([g[0]], cyclic=True)
+    pop_goal(people, rings, 0, True)
+    assert front_to_back(people, rings) == [g[0], g[0]]
+    people, rings = queue(g, cyclic=True)
+    pop_goal(people, rings, 0, True)
+    assert front_to_back(people, rings) == [g[1], g[2], g[0]]
+    pop_goal(people, rings, 0, False)
+    assert front_to_back(people, rings) == [g[2], g[0], g[1]]
+    people, rings = queue([3 + 0j])
+    people[0].pos = 3.55 + 0j
+    assert goal_reached(people, rings, 0)
+    people[0].pos = 3.65 + 0j
+    assert not goal_reached(people, rings, 0)
 
 
 def test_walker_visits_its_goals_in_order_and_freezes_at_the_last():
@@ -214,9 +224,9 @@ def test_give_way_steps_to_the_free_side_when_a_wall_is_on_its_side():
                    world=world)
     for _ in range(60):
         sim.step()
-    y = sim.crowd.pos[0].imag
+    y = sim.people[0].pos.imag
     assert y < 5.0 - 0.5  # went to the right-hand side, where there is room
-    assert sim.world.clearance_at(np.array([sim.crowd.pos[0]]))[0] >= 0.4 - 1e-6
+    assert sim.world.clearance_at(sim.people[0].pos)[0] >= 0.4 - 1e-6
 
 
 @pytest.mark.parametrize(("robot_at", "walls", "expected"), [
@@ -232,4 +242,4 @@ def test_is_robot_blocking_cone_distance_and_sight(robot_at, walls, expected):
     sim = make_sim([human(start=(8.0, 5.0), yaw=0.0)], [tree], [robot_at, (robot_at[0] + 1, robot_at[1])],
                    world=world)
     sim.step()
-    assert sim.crowd.gesture[0] == expected
+    assert sim.people[0].gesture == expected

@@ -6,8 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from socnavgen.sim.robot import ROBOT_RADIUS, Observation, WaypointsPolicy, slide_along_walls
-from socnavgen.sim.world import empty_room
+from socnavgen.bodies import ROBOT_RADIUS
+from socnavgen.sim import empty_room, load_policy
 from tests.sim.simhelpers import Stay, human, make_sim, tree_xml
 
 STAND = tree_xml('<LookAtRobot agent_id="{id}"/>')  # a person who never moves, only faces the robot
@@ -26,7 +26,7 @@ def _gaps(trace) -> np.ndarray:  # noqa: ANN001
 def test_robot_slides_along_a_wall_corner_on_its_line():
     # a wall block whose top corner is 0.1 m below the robot's straight line (y = 5): the disc (0.35 m) hits it
     world = empty_room(14.0, 10.0, walls=[(6.0, 0.0, 7.0, 4.9)])
-    sim = make_sim([], [], [(1.0, 5.0), (12.0, 5.0)], WaypointsPolicy(), world=world, timeout=60)
+    sim = make_sim([], [], [(1.0, 5.0), (12.0, 5.0)], load_policy("waypoints"), world=world, timeout=60)
     trace = sim.run()
     assert trace.end_reason == "robot_goal"
     xy = trace.robot[:, 0] + 1j * trace.robot[:, 1]
@@ -37,17 +37,21 @@ def test_robot_slides_along_a_wall_corner_on_its_line():
 
 
 def test_slide_removes_only_the_part_of_the_velocity_into_the_wall():
+    from socnavgen.sim.robot.policies import slide_along_walls
+
     world = empty_room(10.0, 10.0, walls=[(0.0, 0.0, 10.0, 4.0)])  # wall surface at y = 4
     sim = make_sim([], [], [(5.0, 4.3), (9.0, 4.3)], Stay(), world=world)
-    obs = Observation(sim)
-    v = slide_along_walls(obs, 0.4 - 0.3j)  # forward and down into the wall
+    v = slide_along_walls(sim.state, 0.4 - 0.3j)  # forward and down into the wall
     assert v.real > 0.3 and v.imag >= 0.0  # the forward part is kept (the wall normal is per map cell), none goes in
-    away = slide_along_walls(obs, 0.4 + 0.2j)  # moving away from the wall: kept (plus a push out of it)
+    away = slide_along_walls(sim.state, 0.4 + 0.2j)  # moving away from the wall: kept (plus a push out of it)
     assert abs(away.real - 0.4) < 0.05 and away.imag >= 0.2
+    free = slide_along_walls(sim.state, 0.4 + 0.0j)  # along the wall, clear of it: unchanged
+    sim.robot.pos = 5.0 + 6.0j
+    assert slide_along_walls(sim.state, 0.4 - 0.3j) == 0.4 - 0.3j and abs(free.real - 0.4) < 0.05
 
 
 def _standing_run(tree: str, start=(10.0, 5.1), path=((2.0, 5.0), (18.0, 5.0)), world=None):  # noqa: ANN001, ANN202
-    sim = make_sim([human(start=start, goals=[start])], [tree], list(path), WaypointsPolicy(), world=world,
+    sim = make_sim([human(start=start, goals=[start])], [tree], list(path), load_policy("waypoints"), world=world,
                    timeout=90)
     return sim.run()
 
@@ -82,7 +86,7 @@ def test_robot_waits_then_drives_around_when_it_cannot_edge_aside():
 
 def test_robot_skips_a_waypoint_someone_stands_on():
     trace_path = [(2.0, 5.0), (10.0, 5.0), (18.0, 5.0)]
-    sim = make_sim([human(start=(10.0, 5.0), goals=[(10.0, 5.0)])], [STAND], trace_path, WaypointsPolicy(),
+    sim = make_sim([human(start=(10.0, 5.0), goals=[(10.0, 5.0)])], [STAND], trace_path, load_policy("waypoints"),
                    timeout=90)
     trace = sim.run()
     assert trace.end_reason == "robot_goal"
@@ -101,7 +105,7 @@ def test_give_way_steps_away_from_the_robots_next_segment_and_waits_until_it_pas
                     '<SetBlackboard output_key="timestep" value="{dt}"/>'
                     '<SubTree ID="RegularNavTree" id="agentid" dt="timestep"/></Sequence></Fallback>')
     world = empty_room(20.0, 12.0)
-    sim = make_sim([human(start=(10.3, 5.4), goals=[(10.3, 5.4)])], [tree], path, WaypointsPolicy(), world=world,
+    sim = make_sim([human(start=(10.3, 5.4), goals=[(10.3, 5.4)])], [tree], path, load_policy("waypoints"), world=world,
                    timeout=60)
     trace = sim.run()
     assert trace.end_reason == "robot_goal"

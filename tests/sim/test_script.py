@@ -8,10 +8,9 @@ import pytest
 
 from socnavgen.bt.library import LIBRARY, ROBOT_GESTURES
 from socnavgen.run.spec import CueTrigger, RobotCue, RobotScript
+from socnavgen.sim import BUILTIN, DEFAULT_ROBOT, PacingPlan, ThrottleConfig, load_policy
 from socnavgen.sim.contact import overlapping
-from socnavgen.sim.gestures import RobotScriptRunner
-from socnavgen.sim.interaction import InteractionThrottle, ThrottleConfig
-from socnavgen.sim.robot import BUILTIN, DEFAULT_ROBOT, ScriptedPolicy, StraightPolicy, load_policy
+from socnavgen.sim.robot.api import ScriptedPolicy, StraightPolicy
 from tests.sim.simhelpers import REGULAR, Drive, Stay, human, make_sim, tree_xml
 
 EXCUSE_ME = next(k for k, v in ROBOT_GESTURES.items() if v == "EXCUSE ME")
@@ -29,7 +28,7 @@ def _run(sim, steps: int) -> list[tuple[float, int, complex]]:  # noqa: ANN001
     out = []
     for _ in range(steps):
         sim.step()
-        out.append((sim.t, sim.robot_gesture, sim.robot_pos))
+        out.append((sim.t, int(sim.robot.gesture), complex(sim.robot.pos)))
     return out
 
 
@@ -43,7 +42,7 @@ def test_cue_says_phrase_when_a_human_comes_within_distance_and_holds_it():
     script = RobotScript(cues=[RobotCue(trigger=CueTrigger(when="human_within", distance=3.0), say="EXCUSE ME",
                                         hold=2.0)])
     sim = make_sim([human(start=(10.0, 5.0), goals=[(10.0, 5.0)])], [STANDING], [(2.0, 5.0), (18.0, 5.0)],
-                   policy=ScriptedPolicy(), script=RobotScriptRunner(script, {}))
+                   policy=ScriptedPolicy(), script=script)
     rows = _run(sim, 400)
     said = [(t, abs(p - complex(10.0, 5.0))) for t, g, p in rows if g == EXCUSE_ME]
     assert said, "the robot never said EXCUSE ME"
@@ -56,7 +55,7 @@ def test_cue_says_phrase_when_a_human_comes_within_distance_and_holds_it():
 
 def test_wait_cue_stands_still_for_its_seconds_then_drives_on():
     script = RobotScript(cues=[RobotCue(trigger=CueTrigger(when="after", seconds=1.0), wait=2.0)])
-    sim = make_sim([], [], [(2.0, 5.0), (18.0, 5.0)], policy=ScriptedPolicy(), script=RobotScriptRunner(script, {}))
+    sim = make_sim([], [], [(2.0, 5.0), (18.0, 5.0)], policy=ScriptedPolicy(), script=script)
     rows = _run(sim, 120)
     x = {round(t, 2): p.real for t, _, p in rows}
     assert x[1.5] == pytest.approx(x[2.9], abs=1e-6)  # standing between 1 s and 3 s
@@ -65,11 +64,11 @@ def test_wait_cue_stands_still_for_its_seconds_then_drives_on():
 
 def test_speed_cue_sets_the_cruise_speed():
     script = RobotScript(speed=0.3, cues=[RobotCue(trigger=CueTrigger(when="after", seconds=6.0), speed=0.8)])
-    sim = make_sim([], [], [(1.0, 5.0), (19.0, 5.0)], policy=ScriptedPolicy(), script=RobotScriptRunner(script, {}))
+    sim = make_sim([], [], [(1.0, 5.0), (19.0, 5.0)], policy=ScriptedPolicy(), script=script)
     _run(sim, 100)
-    assert abs(sim.robot_vel) == pytest.approx(0.3, abs=0.02)
+    assert abs(sim.robot.vel) == pytest.approx(0.3, abs=0.02)
     _run(sim, 40)
-    assert abs(sim.robot_vel) == pytest.approx(0.8, abs=0.02)
+    assert abs(sim.robot.vel) == pytest.approx(0.8, abs=0.02)
 
 
 def test_scripted_robot_never_moves_into_a_person_walking_at_it():
@@ -127,12 +126,12 @@ def test_robot_said_latches_while_robot_says_does_not():
     people = [human("human1", start=(5.0, 5.0), goals=[(5.0, 5.0)]), human("human2", start=(5.0, 8.0), goals=[(5.0, 8.0)])]
     sim = make_sim(people, [follow, now_only], [(2.0, 2.0)], policy=SayOnce())
     _run(sim, 5)
-    assert sim.crowd.gesture[0] == 0 and sim.crowd.gesture[1] == 0  # not said yet
+    assert list(sim.people.gesture) == [0, 0]  # not said yet
     _run(sim, 10)
-    assert list(sim.crowd.gesture) == [1, 1]  # both react while it is said
+    assert list(sim.people.gesture) == [1, 1]  # both react while it is said
     _run(sim, 40)
-    assert sim.crowd.gesture[0] == 1  # latched
-    assert sim.crowd.gesture[1] == 0  # RobotSays lets go
+    assert sim.people[0].gesture == 1  # latched
+    assert sim.people[1].gesture == 0  # RobotSays lets go
 
 
 def test_paced_human_meets_the_robot_at_the_node():
@@ -140,10 +139,9 @@ def test_paced_human_meets_the_robot_at_the_node():
     walker = human(start=(16.0, 5.4), goals=[(13.0, 5.4), (10.0, 5.4), (2.0, 5.4)])
     robot_nodes = ["r0", "r1", "n", "r3"]
     robot_points = [complex(1.0, 4.6), complex(5.0, 4.6), complex(10.0, 4.6), complex(18.0, 4.6)]
-    throttle = InteractionThrottle(ThrottleConfig(), robot_nodes, robot_points,
-                                   [(0, ["h0", "h1", "n", "h3"], "n", -1)])
+    pacing = PacingPlan(ThrottleConfig(), robot_nodes, [(0, ["h0", "h1", "n", "h3"], "n", -1)])
     sim = make_sim([walker], [tree_xml(REGULAR)], [(p.real, p.imag) for p in robot_points], policy=ScriptedPolicy(),
-                   throttle=throttle, timeout=60)
+                   pacing=pacing, timeout=60)
     trace = sim.run()
     robot = trace.robot[:, 0] + 1j * trace.robot[:, 1]
     person = trace.humans[:, 0, 0] + 1j * trace.humans[:, 0, 1]
@@ -174,7 +172,7 @@ def test_human_says_cue_and_wait_until_clear():
                                         say="ACKNOWLEDGED", hold=1.0, wait_until_clear=True)])
     person = human(start=(4.5, 5.0), goals=[(4.5, 9.0)])
     sim = make_sim([person], [says_wait], [(2.0, 5.0), (12.0, 5.0)], policy=ScriptedPolicy(),
-                   script=RobotScriptRunner(script, {}))
+                   script=script)
     rows = _run(sim, 200)
     acknowledged = [t for t, g, _ in rows if g == 3]
     assert acknowledged and acknowledged[0] < 0.2  # answered at once
@@ -182,3 +180,53 @@ def test_human_says_cue_and_wait_until_clear():
     assert x[2.5] == pytest.approx(2.0, abs=0.05)  # stood while human1 was in its way
     assert x[10.0] > 4.0  # went on once the way was clear
     assert sim.cues.fired and sim.cues.fired[0][1].startswith("human_says")
+
+
+def test_at_encounter_and_blocked_cues_fire_where_they_say():
+    """`at_encounter`: when the robot comes within `distance` of the encounter's point; `blocked`: when a person
+    stands ahead of the robot within `distance`, in its way (someone beside its path does not count)."""
+    script = RobotScript(cues=[
+        RobotCue(trigger=CueTrigger(when="at_encounter", encounter="e1", distance=2.0), say="PROCEED", hold=0.5),
+        RobotCue(trigger=CueTrigger(when="blocked", distance=2.0), say="EXCUSE ME", hold=0.5)])
+    beside = human("human1", start=(6.0, 7.0), goals=[(6.0, 7.0)])
+    ahead = human("human2", start=(14.0, 5.0), goals=[(14.0, 5.0)])
+    sim = make_sim([beside, ahead], [STANDING] * 2, [(2.0, 5.0), (18.0, 5.0)], policy=ScriptedPolicy(),
+                   script=script, encounters={"e1": 9.0 + 5.0j}, timeout=30)
+    rows = _run(sim, 500)
+    fired = {text.split(":")[0]: t for t, text in sim.cues.fired}
+    x_at = {round(t, 2): p.real for t, _, p in rows}
+    assert abs(x_at[round(fired["at_encounter"], 2)] - 7.0) < 0.1  # 2 m before the point at x = 9
+    assert 14.0 - 0.75 - 2.0 - 0.1 < x_at[round(fired["blocked"], 2)] < 14.0 - 0.75  # person 2 m ahead at most
+    assert [g for _, g, p in rows if 5.0 < p.real < 7.0] == [0] * len([1 for _, _, p in rows if 5.0 < p.real < 7.0])
+
+
+def test_waiting_until_clear_asks_again_then_gives_up():
+    """Someone who never moves out of the way: the robot waits, says its phrase again twice (every 8 s), then
+    stops waiting and goes around - the script never becomes a deadlock."""
+    script = RobotScript(cues=[RobotCue(trigger=CueTrigger(when="blocked", distance=2.5), say="EXCUSE ME", hold=1.0,
+                                        wait_until_clear=True)])
+    sim = make_sim([human(start=(8.0, 5.0), goals=[(8.0, 5.0)])], [STANDING], [(2.0, 5.0), (14.0, 5.0)],
+                   policy=ScriptedPolicy(), script=script, timeout=60, idle_end=60)  # no early end while it waits
+    trace = sim.run()
+    events = [text for _, text in sim.cues.fired]
+    assert events[0].startswith("blocked") and events[1:3] == ["still blocked: say EXCUSE ME again"] * 2
+    assert events[3] == "still blocked: stop waiting, go around"
+    times = [t for t, _ in sim.cues.fired]
+    assert times[1] - times[0] == pytest.approx(8.0, abs=0.06) and times[3] - times[2] == pytest.approx(8.0, abs=0.06)
+    assert trace.end_reason == "robot_goal"  # it went around
+    said = trace.robot_gesture == EXCUSE_ME
+    assert 2.9 <= said.sum() * trace.dt <= 3.2  # the phrase three times, 1 s each
+
+
+def test_gesture_rules_hold_their_gesture_for_their_duration():
+    from socnavgen.run.models import RobotGestureRule
+
+    rules = [RobotGestureRule(gesture=2, when="near_human", distance=3.0, duration=1.0)]
+    walker = human(start=(14.0, 5.0), goals=[(14.0, 9.5)])  # crosses near the robot's path, then away
+    sim = make_sim([walker], [tree_xml(REGULAR)], [(11.5, 5.0), (19.0, 5.0)], policy=Stay(), rules=rules, timeout=8)
+    trace = sim.run()
+    near = np.hypot(*(trace.humans[:, 0, :2] - trace.robot[:, :2]).T) <= 3.0
+    shown = trace.robot_gesture == 2
+    last_near = np.flatnonzero(near)[-1]
+    assert shown[near][1:].all()  # while someone is near
+    assert shown[last_near + 1:last_near + 20].all() and not shown[last_near + 22:].any()  # then 1 s more

@@ -13,9 +13,8 @@ import pytest
 from socnavgen.cli.common import console
 from socnavgen.cli.sim_cmd import _print_outputs
 from socnavgen.location import load_location
-from socnavgen.sim import contact
+from socnavgen.sim import contact, write_outputs
 from socnavgen.sim.metrics import compute_metrics
-from socnavgen.sim.outputs import write_outputs
 from socnavgen.verify import VerifySettings, verify_trace
 
 from .verify_builders import build_trace

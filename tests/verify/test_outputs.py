@@ -11,8 +11,8 @@ from PIL import Image
 from socnavgen.bt.library import HUMAN_GESTURES, ROBOT_GESTURES
 from socnavgen.location import load_location
 from socnavgen.run.folder import RunFolder
-from socnavgen.sim.animate import _gesture_word, frame_indices, write_gif
-from socnavgen.sim.plot import HUMAN_COLORS, INTERACTION_COLOR, ROBOT_COLOR, plot_trajectories
+from socnavgen.sim.outputs.animate import _gesture_word, frame_indices, write_gif
+from socnavgen.sim.outputs.plot import HUMAN_COLORS, INTERACTION_COLOR, ROBOT_COLOR, plot_trajectories
 
 from .verify_builders import crossing_trace
 

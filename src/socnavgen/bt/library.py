@@ -269,8 +269,11 @@ NODES: list[NodeSpec] = [
              rule="retry", count_port="num_attempts",
              ports=[Port(name="num_attempts", type=PortType.INT, description="how many attempts", minimum=1,
                          maximum=MAX_REPEAT)]),
-    _builtin("KeepRunningUntilFailure", "decorator", "RUNNING while its child succeeds; FAILURE when it fails",
-             rule="keep_running"),
+    _builtin("KeepRunningUntilFailure", "decorator",
+             "ticks its child, RUNNING while it succeeds (FAILURE when it fails). Right after a condition in a "
+             "Sequence it latches: the Sequence resumes at it on later ticks without checking the condition "
+             "again, so the action goes on for good once the condition held", rule="keep_running",
+             in_prompt=True),
     _builtin("SetBlackboard", "builtin", "writes `value` into the blackboard entry `output_key`", in_prompt=True,
              ports=[Port(name="output_key", type=PortType.STRING, description="blackboard key to write"),
                     Port(name="value", type=PortType.STRING, description="value or {key} to copy")]),
@@ -365,7 +368,7 @@ def hunav2_refusal(name: str) -> str | None:
     return tr.refusal if tr is not None else None
 
 
-# 2.x nodes our translations emit, simulated by socnavgen.sim.nodes_hunav2 (so a hunav2 export can be
+# 2.x nodes our translations emit, simulated by socnavgen.sim.people.leaves_hunav2 (so a hunav2 export can be
 # simulated and verified like its socrates original). Their ports come from HUNAV2_REGISTERED.
 HUNAV2_SIMULATED = ("IsRobotClose", "SaySomething", "SurprisedNav", "CuriousNav", "FollowAgent", "AvoidRobot",
                     "ThreateningNav")
@@ -388,7 +391,7 @@ def registered_spec(node: RegisteredNode) -> NodeSpec:
     return NodeSpec(name=node.id, kind="action" if node.kind == "Action" else "condition", ports=ports,
                     moves=any(p.name == "time_step" for p in ports),
                     description=f"HuNavSim 2.x {node.kind.lower()} {node.id} (only in hunav2 exports; "
-                                "semantics in socnavgen.sim.nodes_hunav2)",
+                                "semantics in socnavgen.sim.people.leaves_hunav2)",
                     targets={"hunav2"}, hunav2=node.id, in_prompt=False)
 
 

@@ -79,7 +79,7 @@ class WorkerCache:
     def location(self, location_dir: str) -> tuple[Any, Any]:
         if location_dir not in self.locations:
             from socnavgen.location import load_location
-            from socnavgen.sim.world import World
+            from socnavgen.sim import World
 
             location = load_location(Path(location_dir))
             self.locations[location_dir] = location
@@ -141,10 +141,7 @@ def _finite(value: Any) -> Any:
 def simulate_episode(ep: Episode, settings: EpisodeSettings, cache: WorkerCache | None = None,
                      deadline: _Deadline | None = None) -> tuple[Any, Any, Any]:
     """(trace, location, world) of one episode, using the worker's cached location and world."""
-    from socnavgen.sim.engine import SimConfig
-    from socnavgen.sim.interaction import ThrottleConfig
-    from socnavgen.sim.robot import load_policy
-    from socnavgen.sim.scenario import load_simulation
+    from socnavgen.sim import SimConfig, ThrottleConfig, load_policy, load_simulation
 
     cache = cache or WORKER_CACHE
     location, world = cache.location(ep.scenario.location_dir)
@@ -201,12 +198,9 @@ def _measure(ep: Episode, settings: EpisodeSettings, cache: WorkerCache, deadlin
 def warm_up_compiled() -> None:
     """The compiled simulator ready in this worker before its first episode's clock starts (numba compiles it
     on a new machine: ~40 s that are no episode's fault)."""
-    from socnavgen.sim import kernels
+    from socnavgen.sim import warm_up
 
-    if kernels.AVAILABLE:
-        from socnavgen.sim.compiled.episode import warm_up
-
-        warm_up()
+    warm_up()
 
 
 def _why_not(metrics: dict[str, Any], trace: Any) -> str:

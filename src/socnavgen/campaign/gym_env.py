@@ -25,7 +25,7 @@ from gymnasium import spaces
 
 from socnavgen.bt.library import ROBOT_GESTURES
 from socnavgen.campaign.episode import WorkerCache
-from socnavgen.sim.robot import Observation, RobotAction
+from socnavgen.sim import Observation, RobotAction
 
 BOUND = 1e4
 GOAL_REWARD, CONTACT_PENALTY, STEP_PENALTY = 10.0, 1.0, 0.01
@@ -81,9 +81,7 @@ class SocNavEnv(gym.Env):
         self.scenario_index = 0
 
     def reset(self, *, seed: int | None = None, options: dict | None = None) -> tuple[dict, dict]:
-        from socnavgen.sim.engine import SimConfig
-        from socnavgen.sim.interaction import ThrottleConfig
-        from socnavgen.sim.scenario import load_simulation
+        from socnavgen.sim import SimConfig, ThrottleConfig, load_simulation
 
         super().reset(seed=seed)
         options = options or {}
@@ -99,41 +97,61 @@ class SocNavEnv(gym.Env):
         return self._observation(), {"scenario": run_dir, "sim_seed": sim_seed}
 
     def _goal_distance(self) -> float:
-        return abs(self.sim._robot_goal - self.sim.robot_pos)
+        obs = self.sim.obs
+        return abs(obs.waypoints_c[-1] - obs.position_c)
 
     def _observation(self) -> dict:
-        sim = self.sim
-        r = sim.robot_pos
+        obs = self.sim.obs
+        r, v = obs.position_c, obs.velocity_c
         people = np.zeros((self.max_people, 5), dtype=np.float32)
         mask = np.zeros(self.max_people, dtype=np.int8)
-        if sim.crowd.n:
-            rel = sim.crowd.pos - r
+        if obs.human_count:
+            rel = obs.human_positions_c - r
             order = np.argsort(np.abs(rel))[: self.max_people]
             k = len(order)
             people[:k, 0], people[:k, 1] = rel[order].real, rel[order].imag
-            people[:k, 2], people[:k, 3] = sim.crowd.vel[order].real, sim.crowd.vel[order].imag
-            people[:k, 4] = np.asarray(sim.crowd.gesture)[order]
+            people[:k, 2:4] = obs.human_velocities[order]
+            people[:k, 4] = obs.human_gestures[order]
             mask[:k] = 1
-        goal = sim._robot_goal - r
-        cue = sim.gestures.gesture(sim) if sim.gestures is not None else 0
-        return {"robot": np.array([r.real, r.imag, sim.robot_yaw, sim.robot_vel.real, sim.robot_vel.imag],
-                                  dtype=np.float32).clip(-BOUND, BOUND),
+        goal = obs.waypoints_c[-1] - r
+        return {"robot": np.array([r.real, r.imag, obs.yaw, v.real, v.imag], dtype=np.float32).clip(-BOUND, BOUND),
                 "goal": np.array([goal.real, goal.imag], dtype=np.float32).clip(-BOUND, BOUND),
-                "people": people.clip(-BOUND, BOUND), "people_mask": mask, "cue": int(cue)}
+                "people": people.clip(-BOUND, BOUND), "people_mask": mask, "cue": obs.scripted_gesture}
+
+    def _checked(self, action: Any) -> RobotAction:
+        """The env's action as a RobotAction; ValueError naming what is wrong when it is not in the action
+        space (a velocity of another shape, a gesture outside the Discrete space, ...)."""
+        if not isinstance(action, dict) or set(action) != {"velocity", "gesture"}:
+            raise ValueError(f"an action is a dict with keys 'velocity' and 'gesture', got {str(action)[:80]}")
+        try:
+            v = np.asarray(action["velocity"], dtype=float)
+        except (TypeError, ValueError):
+            raise ValueError(f"action['velocity'] must be 2 numbers, got {str(action['velocity'])[:80]}") from None
+        if v.shape != (2,) or not np.isfinite(v).all():
+            raise ValueError(f"action['velocity'] must be 2 finite numbers (vx, vy), got shape {v.shape}: "
+                             f"{str(action['velocity'])[:80]}")
+        gesture = action["gesture"]
+        if isinstance(gesture, np.ndarray) and gesture.shape == ():
+            gesture = gesture.item()
+        codes = self.action_space["gesture"].n
+        if isinstance(gesture, bool) or not isinstance(gesture, int | np.integer) or not 0 <= int(gesture) < codes:
+            raise ValueError(f"action['gesture'] must be a code 0..{codes - 1} (ROBOT_GESTURES), got {str(gesture)[:40]}")
+        v = np.clip(v, -self.max_speed, self.max_speed)
+        return RobotAction(float(v[0]), float(v[1]), gesture=int(gesture))
 
     def step(self, action: dict) -> tuple[dict, float, bool, bool, dict]:
         if self.sim is None:
             raise RuntimeError("call reset() first")
-        v = np.clip(np.asarray(action["velocity"], dtype=float), -self.max_speed, self.max_speed)
-        self.policy.action = RobotAction(float(v[0]), float(v[1]), gesture=int(action["gesture"]))
+        self.policy.action = self._checked(action)
         self.sim.step()
         sim = self.sim
         dist = self._goal_distance()
-        contact = bool(sim.crowd.n and (np.abs(sim.crowd.pos - sim.robot_pos) < sim.crowd.radius
-                                        + sim.robot_radius).any())
+        obs = sim.obs
+        contact = bool(obs.human_count and (np.abs(obs.human_positions_c - obs.position_c) < obs.human_radii
+                                            + obs.radius).any())
         reward = (self._dist - dist) - STEP_PENALTY - (CONTACT_PENALTY if contact else 0.0)
         self._dist = dist
-        terminated = sim.robot_at_goal()
+        terminated = dist <= sim.config.goal_tolerance
         if terminated:
             reward += GOAL_REWARD
         truncated = not terminated and sim.t >= self.timeout - 1e-9

@@ -23,7 +23,7 @@ def render_gifs(out: Path, rows: list[dict[str, Any]]) -> dict[str, Path]:
     from socnavgen.campaign.runner import CAMPAIGN_FILE, SCENARIOS_FILE, settings_of
     from socnavgen.campaign.scenarios import Scenario
     from socnavgen.campaign.spec import CampaignSpec
-    from socnavgen.sim.animate import write_gif
+    from socnavgen.sim.outputs.animate import write_gif
 
     spec = CampaignSpec.model_validate_json((out / CAMPAIGN_FILE).read_text())
     scenarios = {s["id"]: Scenario(**s) for s in json.loads((out / SCENARIOS_FILE).read_text())["scenarios"]}

@@ -46,7 +46,7 @@ def plan_episodes(spec: CampaignSpec, suite: Suite) -> list[Episode]:
 def check_policies(spec: CampaignSpec) -> None:
     """Load every policy once before any episode: a typo in the campaign file is one clear error, not a
     table full of failed episodes (a policy that crashes *during* an episode fails only that episode)."""
-    from socnavgen.sim.robot import load_policy
+    from socnavgen.sim import load_policy
 
     for policy in spec.policies:
         try:

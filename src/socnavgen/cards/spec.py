@@ -33,10 +33,12 @@ TEMPLATE_PARTS: dict[str, tuple[str, str, str | None, float | None]] = {
     "stop_and_say_proceed": ("robot_near", "say", "PROCEED", 2.0),
     "wait_while_robot_near": ("robot_near", "look", None, 2.5),
     "wait_aside_while_robot_near": ("robot_near", "give_way", None, 2.0),
-    "wait_for_follower": ("robot_near", "wait_then_go", None, 4.0),
+    "wait_for_follower": ("robot_far", "stop", None, 4.0),
     "follow_robot": ("robot_visible", "follow", None, 6.0),
     "crowd_robot": ("robot_visible", "follow", None, 5.0),
 }
+# Templates whose reaction ends after this many seconds (an inverted TimeExpiredCondition): the part's `lasts`.
+TEMPLATE_LASTS: dict[str, float] = {"crowd_robot": 15.0}
 ROBOT_CRUISE = 0.6  # m/s
 HUMAN_WALK = 1.2  # m/s: a person's effective walking speed (max 1.5 m/s, slowed by turns and others)
 HIDDEN_UNTIL = BLIND_SIGHT_M  # m: at a blind corner robot and human see each other only once this close (centres)
@@ -63,7 +65,7 @@ def _part(name: str, template: str) -> HumanPart:
     trigger, reaction, phrase, distance = TEMPLATE_PARTS.get(template, ("always", "walk_past", None, None))
     return HumanPart(human=name, trigger=trigger, reaction=reaction, distance=distance,
                      phrase=phrase if trigger == "robot_says" else None,
-                     says=phrase if reaction == "say" else None, latch=reaction == "follow")
+                     says=phrase if reaction == "say" else None, lasts=TEMPLATE_LASTS.get(template))
 
 
 def card_spec(placement: Placement, plan: PathPlan, location: Location) -> ScenarioSpec:

@@ -59,7 +59,7 @@ def verify_bag(run: Path, bag: Path, *, location: Path | None, settings: Any, op
     from socnavgen.bag import bag_to_trace
     from socnavgen.run import load_run
     from socnavgen.safeio import atomic_write_text
-    from socnavgen.sim.outputs import write_outputs
+    from socnavgen.sim import write_outputs
     from socnavgen.verify import verify_trace
     from socnavgen.verify.report import print_report
 

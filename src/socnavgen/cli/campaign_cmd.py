@@ -68,10 +68,10 @@ def run(
     from socnavgen.text import count
 
     spec = load_campaign(file)
-    from socnavgen.sim import compiled
+    from socnavgen.sim import COMPILING_NOTE, cache_ready
 
-    if not compiled.cache_ready():
-        err_console.print(f"[dim]{compiled.COMPILING_NOTE}[/]", highlight=False)
+    if not cache_ready():
+        err_console.print(f"[dim]{COMPILING_NOTE}[/]", highlight=False)
     columns = (TextColumn("[progress.description]{task.description}"), BarColumn(), MofNCompleteColumn(),
                TimeElapsedColumn(), TextColumn("ETA"), TimeRemainingColumn())
     with Progress(*columns, console=err_console) as bar:

@@ -47,11 +47,17 @@ def simulate(
     Example: socnavgen simulate runs/blind_corner --bag runs/blind_corner/sim/episode_bag
     """
     from socnavgen.run import RunFolder
-    from socnavgen.sim.engine import SimConfig
-    from socnavgen.sim.interaction import ThrottleConfig
-    from socnavgen.sim.outputs import MadeFrom, folder_identity, save_run_outputs
-    from socnavgen.sim.robot import load_policy
-    from socnavgen.sim.scenario import load_simulation
+    from socnavgen.sim import (
+        COMPILING_NOTE,
+        MadeFrom,
+        SimConfig,
+        ThrottleConfig,
+        cache_ready,
+        folder_identity,
+        load_policy,
+        load_simulation,
+        save_run_outputs,
+    )
 
     if timeout / dt > MAX_SIM_STEPS:
         raise SocnavgenError(f"--timeout {timeout:g} at --dt {dt:g} is {timeout / dt:.0f} steps, more than the "
@@ -67,13 +73,11 @@ def simulate(
     policy = load_policy(robot)
     config = SimConfig(dt=dt, timeout=timeout, seed=seed)
     loaded = folder.location(location)
+    if not cache_ready():
+        console.print(f"[dim]{COMPILING_NOTE}[/]", highlight=False)
     sim = load_simulation(run, policy, config, ThrottleConfig(enabled=not no_throttle), loaded)
     sim.meta["robot_plugin"] = robot
     total = int(round(timeout / dt))
-    from socnavgen.sim import compiled
-
-    if sim.compiled and not compiled.cache_ready():
-        console.print(f"[dim]{compiled.COMPILING_NOTE}[/]", highlight=False)
     start = time.perf_counter()
     with progress() as bar:
         task = bar.add_task(f"simulating {run.name}", total=total)

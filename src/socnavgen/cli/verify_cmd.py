@@ -123,7 +123,7 @@ def _say_if_stale(folder, location: Path | None, simulate: bool) -> None:  # noq
     from rich.markup import escape
 
     from socnavgen.cli.common import err_console
-    from socnavgen.sim.outputs import stale_reason, unrecorded
+    from socnavgen.sim import stale_reason, unrecorded
 
     if unrecorded(folder.root):
         err_console.print(f"[yellow]note:[/] {escape(str(folder.sim_dir))} has no outputs.json (a trace made by hand "

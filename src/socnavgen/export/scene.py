@@ -54,12 +54,11 @@ def _check_nodes(plan: PathPlan, location: Location, run: RunFolder) -> None:
 
 def spawn_starts(location: Location, plan: PathPlan, seed: int) -> dict[str, tuple[float, float, float]]:
     """Where each human starts (x, y, yaw): exactly where `simulate --seed SEED` spawns it, by the simulator's
-    own function (sim.scenario.spawn_points, with the same random generator and arguments), so that people
+    own function (sim.spawn_points, with the same random generator and arguments), so that people
     sharing a first node stand apart in Gazebo as in our simulation; yaw toward the first goal, as simulated."""
     import numpy as np
 
-    from socnavgen.sim.scenario import spawn_points
-    from socnavgen.sim.world import World
+    from socnavgen.sim import World, spawn_points
 
     humans = sorted(plan.humans, key=lambda h: h.agent_id)
     nodes = [complex(*location.node_world(h.path[0])) for h in humans]

@@ -126,6 +126,15 @@ class PlaceInventory:
         listed = "; ".join(f"{n} is {reason}" for n, reason in list(why.items())[:MAX_LISTED])
         return f"no {place} node can hold an encounter on this map: {listed}"
 
+    def no_room_to_step_aside(self, place: str) -> str | None:
+        """Why nobody can give way (step aside and let the robot pass) at any node of this type (None: at
+        some node one can): stepping aside needs the room the robot and a person need to pass each other."""
+        nodes = self.of_type(place)
+        if not nodes or any(n.turnable for n in nodes):
+            return None
+        widths = ", ".join(f"{n.id} {n.free_width_m:.1f} m" for n in nodes[:MAX_LISTED])
+        return f"no {place} node has room to step aside ({PASS_WIDTH:g} m free; {widths})"
+
     def _unusable(self, node: NodeFacts) -> str | None:
         if not node.neighbours:
             return "connected to nothing"
@@ -164,12 +173,18 @@ def place_inventory(location: Location) -> PlaceInventory:
 
 
 # ---- text for the prompts ------------------------------------------------------------------------
+def _position(location: Location, node: str) -> tuple[float, float]:
+    from socnavgen.location.placement import shown_position
+
+    return shown_position(location, node)
+
+
 def _listing(items: list[str]) -> str:
     shown = ", ".join(items[:MAX_LISTED])
     return shown + (f" and {len(items) - MAX_LISTED} more" if len(items) > MAX_LISTED else "")
 
 
-def _node_words(n: NodeFacts, blind: dict[str, float]) -> str:
+def _node_words(n: NodeFacts, blind: dict[str, float], at: tuple[float, float] | None) -> str:
     if n.dead_end and n.neighbours:
         ways = f"dead end from {n.neighbours[0]}"
     else:
@@ -177,31 +192,46 @@ def _node_words(n: NodeFacts, blind: dict[str, float]) -> str:
     words = [ways, f"{n.free_width_m:.1f} m free"]
     if n.id in blind:
         words.append(f"blind turn: seen only within {blind[n.id]:.1f} m")
-    return f"{n.id} ({', '.join(words)})"
+    where = f"at {at[0]:g},{at[1]:g}; " if at is not None else ""
+    return f"{n.id} ({where}{', '.join(words)})"
 
 
-def inventory_text(location: Location) -> str:
-    """The inventory in words, for stage 1's prompt."""
+def inventory_text(location: Location, *, positions: bool = True, detail: bool = True) -> str:
+    """The inventory in words, for the prompts. `positions`: each node's position (stage 1 names places by
+    where they are: "the north elevator"; stage 2 has them in its scene graph). `detail` False leaves out
+    the lists a small model needs least (narrow passages, each blind turn's two ways, group places): the
+    kinds of place with their nodes, the places that cannot work, the doorways and where nobody can step
+    aside stay."""
     inv = location.inventory
     blind: dict[str, float] = {}
     for turn in inv.blind_turns:
         blind[turn.node] = min(turn.sight_m, blind.get(turn.node, turn.sight_m))
+    where = ("at = position x,y in metres (x east, y north); " if positions else "")
     lines = ["PLACE INVENTORY of this map (measured on its scene graph and map; plan the scenario with it):",
-             f"Kinds of place, each node type with its nodes (ways = edges leaving the node; a dead end has one, "
-             f"so a route can only start, end or turn around there; free = width of free floor at the node; the "
-             f"robot and a person pass each other only where at least {PASS_WIDTH:g} m is free):"]
+             f"Kinds of place, each node type with its nodes ({where}ways = edges leaving the node; a dead end has "
+             f"one, so a route can only start, end or turn around there; free = width of free floor at the node). "
+             f"The robot and a person pass each other only where at least {PASS_WIDTH:g} m is free, whether both "
+             f"move or one of them stands (a robot that waits leaves no room in a narrower place; a person who "
+             f"gives way steps aside only where there is room):"]
     types = list(location.schema.node_types) or sorted({n.type for n in inv.nodes.values()})
     for kind in types:
         members = inv.of_type(kind)
         if members:
-            lines.append(f"- {kind}: " + _listing([_node_words(n, blind) for n in members]))
+            lines.append(f"- {kind}: " + _listing([_node_words(n, blind, _position(location, n.id) if positions
+                                                               else None) for n in members]))
     unworkable = [reason for kind in types if inv.of_type(kind) and (reason := inv.unworkable_reason(kind))]
     lines += [f"NOTE: {reason}. A route may still start or end there." for reason in unworkable]
+    cramped = [n.id for n in inv.nodes.values() if n.neighbours and not n.turnable]
+    if cramped:
+        lines.append(f"No room to step aside (give_way) at: {_listing(cramped)} (under {PASS_WIDTH:g} m free): there "
+                     f"a person lets the robot by only by walking out ahead of it or waiting before the narrow part.")
     if inv.doorways:
         lines.append("Doorways and other pinch points (a person standing in one closes it to the robot; narrower "
                      f"than {PASS_WIDTH:g} m: one body at a time):")
         lines += [f"- {d.node} ({inv.nodes[d.node].type}): {d.width_m:.1f} m wide, between "
                   + " and ".join(f"{s} ({inv.nodes[s].type})" for s in d.sides) for d in inv.doorways[:MAX_LISTED]]
+    if not detail:
+        return "\n".join(lines)
     doors = {d.node for d in inv.doorways}
     narrow = sorted((p for p in inv.passages.values() if p.narrow and not {p.a, p.b} & doors),
                     key=lambda p: (p.width_m, p.a, p.b))

@@ -5,7 +5,13 @@ around it), the robot at the first node of its route. Nobody starts on or agains
 gap (surface to surface) between two starting bodies is at least START_GAP, so nobody is inside
 another's intimate space at t = 0. Nobody starts on the robot's goal unless they walk away from it
 (someone leaving the room the robot is about to enter): a person standing on the goal, or walking to
-it, keeps the robot from ever arriving. And a robot whose goal is its start has nowhere to go."""
+it, keeps the robot from ever arriving. A robot route that ends where it starts goes somewhere only
+when it passes another node on the way (a round trip, "to X and back").
+
+Distances are measured between node positions as the prompts show them (`shown_position`: metres,
+rounded to 0.1 m), and compared exactly as the rule says ("at least 1.2 m": 1.2 m passes), so the
+rule a model reads and the check it meets are the same comparison. The rounding moves a body by at
+most 0.05 m per axis: the gap stays well clear of contact (bodies.CONTACT_MARGIN)."""
 
 from __future__ import annotations
 
@@ -16,6 +22,8 @@ from socnavgen.bodies import GROUP_SPAWN_RADIUS, INTIMATE_SPACE, PERSON_RADIUS, 
 from socnavgen.location.location import Location
 
 START_GAP = INTIMATE_SPACE  # m: smallest gap between two bodies where they start
+POSITION_DECIMALS = 1  # node positions in metres are shown (and measured) to 0.1 m
+_EPS = 1e-9  # float noise of a subtraction: 8.0 - 6.8 is 1.2 here
 
 
 @dataclass(frozen=True)
@@ -29,25 +37,45 @@ class Walker:
 
 def _centre_distance_needed(a_ring: float, b_ring: float, a_radius: float, b_radius: float) -> float:
     """Node-to-node distance that keeps START_GAP between two bodies, each anywhere on its ring."""
-    return a_ring + b_ring + a_radius + b_radius + START_GAP
+    return round(a_ring + b_ring + a_radius + b_radius + START_GAP, 2)
+
+
+def shown_position(location: Location, node: str) -> tuple[float, float]:
+    """A node's position in metres (x east, y north) as every prompt shows it."""
+    x, y = location.node_world(node)
+    return round(x, POSITION_DECIMALS), round(y, POSITION_DECIMALS)
+
+
+def node_distance(location: Location, a: str, b: str) -> float:
+    """Distance between two nodes' shown positions: what a model computes from the prompt."""
+    (ax, ay), (bx, by) = shown_position(location, a), shown_position(location, b)
+    return math.hypot(bx - ax, by - ay)
+
+
+def too_close(distance: float, need: float) -> bool:
+    """The start rule's one comparison: closer than `need` ("at least need" passes at need)."""
+    return distance < need - _EPS
 
 
 def start_rule_text() -> str:
     """The rule in words, for the prompts (numbers from the bodies)."""
     alone = _centre_distance_needed(0.0, 0.0, PERSON_RADIUS, ROBOT_RADIUS)
     people = _centre_distance_needed(0.0, 0.0, PERSON_RADIUS, PERSON_RADIUS)
-    return (f"Where everybody starts: the robot's goal is not its start; a person starts at least {alone:.1f} m "
+    return (f"Where everybody starts: the robot's route ends at another node than its start, or comes back to its "
+            f"start only after passing other nodes (a round trip: [A, B, C, B, A]); a person starts at least {alone:.1f} m "
             f"from the robot's start ({alone + GROUP_SPAWN_RADIUS:.1f} m for a group, whose members stand on a "
             f"{GROUP_SPAWN_RADIUS:g} m circle around their shared first node) and at least {people:.2f} m from "
-            f"any other person who is not in their group (use xy_m to measure); nobody starts on the robot's "
-            f"goal unless their path walks away from it.")
+            f"any other person who is not in their group (measured between the xy_m of the two start nodes, as "
+            f"shown; exactly {alone:.1f} m is allowed); nobody starts on the robot's goal unless their path walks "
+            f"away from it.")
 
 
 def route_problems(robot: list[str]) -> list[str]:
-    """A robot route that goes nowhere."""
-    if len(robot) >= 2 and robot[0] == robot[-1]:
-        return [f"the robot's goal is its start ({robot[0]}): end the robot's path at another node, or it arrives "
-                f"before anything happens"]
+    """A robot route that goes nowhere: its goal is its start and it passes no other node on the way (a
+    round trip that passes other nodes is a route)."""
+    if len(robot) >= 2 and robot[0] == robot[-1] and set(robot) == {robot[0]}:
+        return [f"the robot's goal is its start ({robot[0]}) and it goes nowhere in between: end the robot's path "
+                f"at another node, or come back only after passing other nodes (a round trip)"]
     return []
 
 
@@ -66,8 +94,7 @@ def start_problems(location: Location, robot: list[str], walkers: list[Walker]) 
         return GROUP_SPAWN_RADIUS if w.group >= 0 and members[w.group] > 1 else 0.0
 
     def dist(a: str, b: str) -> float:
-        (ax, ay), (bx, by) = location.node_world(a), location.node_world(b)
-        return math.hypot(bx - ax, by - ay)
+        return node_distance(location, a, b)
 
     starts = [w for w in walkers if w.path and set(w.path) <= known]  # unknown nodes are reported elsewhere
     goal = robot[-1]
@@ -75,12 +102,13 @@ def start_problems(location: Location, robot: list[str], walkers: list[Walker]) 
         start = w.path[0]
         need = _centre_distance_needed(ring(w), 0.0, PERSON_RADIUS, ROBOT_RADIUS)
         d = dist(start, robot[0])
-        if d < need:
-            where = "where the robot starts" if start == robot[0] else f"{d:.1f} m from where the robot starts ({robot[0]})"
+        if too_close(d, need):
+            where = "where the robot starts" if start == robot[0] else f"{d:.2f} m from where the robot starts ({robot[0]})"
             problems.append(f"{w.name} starts at {start}, {where}: they would start touching or too close; start "
-                            f"{w.name} at a node at least {need:.1f} m from {robot[0]}")
-        if len(robot) >= 2 and goal != robot[0] and dist(start, goal) < need and _stays(w.path, goal, dist, need):
-            where = "on the robot's goal" if start == goal else f"{dist(start, goal):.1f} m from the robot's goal"
+                            f"{w.name} at a node at least {need:g} m from {robot[0]}")
+        if len(robot) >= 2 and goal != robot[0] and too_close(dist(start, goal), need) \
+                and _stays(w.path, goal, dist, need):
+            where = "on the robot's goal" if start == goal else f"{dist(start, goal):.2f} m from the robot's goal"
             problems.append(f"{w.name} starts at {start}, {where} {goal}, and does not walk away from it: the robot "
                             f"could never arrive; start {w.name} elsewhere or let them walk away")
     for i, a in enumerate(starts):
@@ -89,9 +117,9 @@ def start_problems(location: Location, robot: list[str], walkers: list[Walker]) 
                 continue  # a group shares its node: its members stand on their circle
             need = _centre_distance_needed(ring(a), ring(b), PERSON_RADIUS, PERSON_RADIUS)
             d = dist(a.path[0], b.path[0])
-            if d < need:
-                problems.append(f"{a.name} and {b.name} start {d:.1f} m apart ({a.path[0]}, {b.path[0]}): they would "
-                                f"start on each other; start them at nodes at least {need:.1f} m apart, or make them "
+            if too_close(d, need):
+                problems.append(f"{a.name} and {b.name} start {d:.2f} m apart ({a.path[0]}, {b.path[0]}): they would "
+                                f"start on each other; start them at nodes at least {need:g} m apart, or make them "
                                 f"one group (same group id)")
     return problems
 
@@ -99,4 +127,4 @@ def start_problems(location: Location, robot: list[str], walkers: list[Walker]) 
 def _stays(path: list[str], goal: str, dist, need: float) -> bool:  # noqa: ANN001 - the distance function above
     """Whether a person who starts at the goal stays there: their path never leaves the goal's
     neighbourhood, or comes back to end on it."""
-    return all(dist(n, goal) < need for n in path) or dist(path[-1], goal) < need
+    return all(too_close(dist(n, goal), need) for n in path) or too_close(dist(path[-1], goal), need)

@@ -9,6 +9,7 @@ the same validator as `socnavgen bt check`.
 from __future__ import annotations
 
 import json
+import re
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 
@@ -21,7 +22,8 @@ from socnavgen.bt.validate import validate_bt_text
 from socnavgen.errors import StageFailed
 from socnavgen.llm.base import LLM, ChatMessage
 from socnavgen.proposal.conversation import Outcome, Policy, Recorder, converse
-from socnavgen.proposal.facts import physical_facts_text
+from socnavgen.proposal.facts import export_text, physical_facts_text
+from socnavgen.proposal.fit import NOTHING, Cut, Note, examples_kept, fit_prompt
 from socnavgen.proposal.replies import BehaviorReply
 from socnavgen.proposal.templates import render, template_data
 from socnavgen.proposal.tree_grammar import spec_tree_grammar
@@ -36,10 +38,10 @@ MAX_TOKENS = 1536
 GRAMMAR_DEPTH = 3
 
 
-def examples_text() -> str:
+def examples_text(left_out: Cut = NOTHING) -> str:
     return "\n\n".join(render("bt_example.md", behavior=ex["behavior"].strip(),
                               answer=json.dumps({"reasoning": ex["reasoning"].strip(), "tree": ex["tree"].strip()}))
-                       for ex in template_data("bt_examples.yaml"))
+                       for ex in examples_kept(left_out, template_data("bt_examples.yaml")))
 
 
 def human_context(name: str, scenario: ScenarioProposal, paths: PathPlan | None) -> str:
@@ -63,15 +65,30 @@ def agent_id(name: str) -> int:
 
 
 def behavior_messages(name: str, scenario: ScenarioProposal, paths: PathPlan | None,
-                      spec: ScenarioSpec | None = None, target: Target | None = None) -> list[ChatMessage]:
+                      spec: ScenarioSpec | None = None, target: Target | None = None,
+                      left_out: Cut = NOTHING) -> list[ChatMessage]:
+    """The stage-3 prompt of one human; `left_out`: parts fit.py leaves out for a small context (the example
+    trees, the tutorial's questions and answers)."""
     context = human_context(name, scenario, paths)
     needs = needs_text(name, spec, target or "socrates")
     if needs:
         context += "\n" + needs
-    user = render("bt_user.md", tutorial=render("bt_tutorial.md"), library=library_text(target or "socrates"),
-                  regular_nav=regular_nav_text(), examples=examples_text(), human=name, agent_id=agent_id(name),
-                  behavior=scenario.human_behaviors[name], context=context, facts=physical_facts_text())
-    return [ChatMessage(role="system", content=render("bt_system.md")), ChatMessage(role="user", content=user)]
+    tutorial = render("bt_tutorial.md") + ("" if "tutorials" in left_out else "\n\n" + render("bt_tutorial_qa.md"))
+    examples = "EXAMPLES\n" + examples_text(left_out) if "examples" not in left_out else ""
+    user = render("bt_user.md", tutorial=tutorial, library=library_text(target or "socrates"),
+                  export=export_text(target), regular_nav=regular_nav_text(), examples=examples, human=name,
+                  agent_id=agent_id(name), behavior=scenario.human_behaviors[name], context=context,
+                  facts=physical_facts_text())
+    return [ChatMessage(role="system", content=render("bt_system.md")),
+            ChatMessage(role="user", content=re.sub(r"\n{3,}", "\n\n", user))]
+
+
+def fitted_behavior_messages(name: str, scenario: ScenarioProposal, paths: PathPlan | None, llm: LLM,
+                             spec: ScenarioSpec | None = None, target: Target | None = None,
+                             tail: list[ChatMessage] | None = None, note: Note | None = None) -> list[ChatMessage]:
+    """The stage-3 prompt of one human (then `tail`) shortened to fit the model's context (fit.py)."""
+    return fit_prompt(llm, lambda cut: [*behavior_messages(name, scenario, paths, spec, target, cut), *(tail or [])],
+                      reply_tokens=MAX_TOKENS, stage=f"{STAGE} ({name})", note=note)
 
 
 def tree_checker(name: str, humans: list[str], spec: ScenarioSpec | None = None,
@@ -128,8 +145,8 @@ def design_behaviors(names: list[str], scenario: ScenarioProposal, paths: PathPl
     failures: list[StageFailed] = []
 
     def one(name: str) -> None:
-        outcome = ask_behavior(behavior_messages(name, scenario, paths, spec, target), name, humans, llm, recorder,
-                               policy, spec, target)
+        messages = fitted_behavior_messages(name, scenario, paths, llm, spec, target, note=recorder.note)
+        outcome = ask_behavior(messages, name, humans, llm, recorder, policy, spec, target)
         on_done(name, outcome)
         results[name] = outcome
 

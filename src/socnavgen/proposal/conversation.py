@@ -19,6 +19,7 @@ from pydantic import BaseModel
 from socnavgen.errors import StageFailed
 from socnavgen.llm.base import LLM, ChatMessage, Usage
 from socnavgen.llm.transcript import Transcript, read_transcript, utc_now
+from socnavgen.proposal.fit import fit_history
 from socnavgen.proposal.templates import render
 from socnavgen.run import Manifest, RunFolder, StageRecord
 
@@ -63,6 +64,10 @@ class Recorder:
         self.progress = progress
         self._lock = threading.Lock()
         self.transcript = Transcript(run.transcript_path)
+
+    def note(self, entry: dict) -> None:
+        """A pipeline note in transcript.jsonl (e.g. a prompt shortened to fit the model's context)."""
+        self.transcript.append({"time": utc_now(), **entry})
 
     def checked(self, stage: str, key: str | None, attempt: int, mistakes: list[str]) -> None:
         """The pipeline's verdict on a reply, beside the LLM layer's exchange in transcript.jsonl."""
@@ -157,6 +162,7 @@ def converse(llm: LLM, messages: list[ChatMessage], schema: type[T], check: Call
         for _ in range(policy.max_requeries + 1):
             attempts += 1
             recorder.progress(ProgressEvent(stage, key, "attempt", attempts, restart))
+            history = fit_history(llm, history, len(messages), max_tokens or 0)
             reply = llm.chat(history, schema, stage=stage, key=key, grammar=grammar,
                              temperature=policy.temperature_for(restart), max_tokens=max_tokens)
             recorder.attempt(stage, key, reply.usage)

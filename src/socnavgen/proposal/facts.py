@@ -15,16 +15,29 @@ from socnavgen.bt.library import (
     HUMAN_GESTURES,
     LIBRARY,
     ROBOT_GESTURES,
+    TARGETS,
     Target,
+    nodes_for_reaction,
     nodes_for_trigger,
     prompt_nodes,
 )
 from socnavgen.location.inventory import BLOCKING_WIDTH
-from socnavgen.run.spec import CueTrigger, Encounter, HumanTrigger, Reaction, RobotCue, RobotScript
+from socnavgen.run.spec import (
+    NEGATED_TRIGGERS,
+    WAIT_THEN_GO_SECONDS,
+    CueTrigger,
+    Encounter,
+    HumanTrigger,
+    Person,
+    Reaction,
+    RobotCue,
+    RobotScript,
+)
 
 # Conditions of the library whose SUCCESS stays once reached (bt/library.py's "latching conditions"), by the
-# trigger they latch. A spec part with latch: true needs one of them.
+# trigger they latch; any other trigger latches with LATCH_NODE (where the target keeps a RUNNING child).
 LATCHING_CONDITIONS: dict[str, str] = {"robot_says": "RobotSaid"}
+LATCH_NODE = "KeepRunningUntilFailure"
 STL_EXAMPLE = "eventually[0:60] (robot_says_excuse_me > 0.5 and dist_human1 <= 2.0)"
 
 
@@ -48,7 +61,9 @@ def body() -> Body:
     return Body(PERSON_RADIUS, PERSON_MAX_SPEED, ROBOT_RADIUS, RobotScript().speed)
 
 
-def physical_facts_text() -> str:
+def physical_facts_text(scene_graph: bool = False) -> str:
+    """The bodies, speeds and distances every stage plans with; `scene_graph`: how to read node positions
+    (stage 2, whose prompt has the scene graph's `pos` and `xy_m`)."""
     from socnavgen.verify.models import VerifySettings  # the verifier's own thresholds
 
     b, meet = body(), VerifySettings()
@@ -68,14 +83,15 @@ def physical_facts_text() -> str:
         f"the encounter's `within` ({meet.near:g} m by default) of the encounter's node. A group (humans listed "
         f"together in a group_together criterion) is met where the robot meets any member: members stepping "
         f"aside is their reaction; a `meets` criterion may name the group's `humans`.",
-        "- Positions: `pos` is the pixel position of a node in the map image; `xy_m` is the same point in "
-        "metres in the world frame (x east, y north), so distances between nodes can be computed from it.",
+        *(["- Positions: `pos` is the pixel position of a node in the map image; `xy_m` is the same point in "
+           "metres in the world frame (x east, y north), so distances between nodes can be computed from it."]
+          if scene_graph else []),
     ])
 
 
 def pacing_text() -> str:
     """How the simulator holds a person back so that the encounter happens at its node (sim/interaction.py)."""
-    from socnavgen.sim.interaction import ThrottleConfig
+    from socnavgen.sim import ThrottleConfig
 
     pace = ThrottleConfig()
     return (f"- Pacing: a person who is alone (group id -1) and has an interaction point on the robot's path "
@@ -115,27 +131,102 @@ def cue_once_text() -> str:
             f"true, e.g. wait every time the follower falls behind).")
 
 
-def latch_text() -> str:
-    latching = ", ".join(f"{trigger} ({node})" for trigger, node in LATCHING_CONDITIONS.items())
-    return (f"- \"latch\": true keeps a reaction going once its trigger fired. A tree can latch only these triggers: "
-            f"{latching}. To latch a reaction on anything else (the robot came near, a person fell behind), give "
-            f"the robot a cue that SAYS a phrase on that event (e.g. trigger human_within human1 2 m, say FOLLOW "
-            f"ME) and make the person's trigger robot_says that phrase, with latch: true. Without a latch a "
-            f"reaction lasts only while its trigger holds.")
+def latches_by_running(target: Target) -> bool:
+    """Whether `target` keeps a Sequence at its RUNNING child (BT.CPP's Sequence; a reactive one re-checks the
+    conditions before it every tick), so that LATCH_NODE after a condition keeps the reaction for good."""
+    keep, sequence = LIBRARY.get(LATCH_NODE), LIBRARY["Sequence"]
+    name = sequence.name if target == "socrates" else getattr(sequence, target, None)
+    row = LIBRARY.get(name or "")
+    return keep is not None and target in keep.targets and row is not None and not row.reactive
 
 
-def stl_text() -> str:
+def can_latch(trigger: str, target: Target = "socrates") -> bool:
+    return latching_node(trigger, target) is not None or latches_by_running(target)
+
+
+def latch_text(target: Target = "socrates") -> str:
+    if not any(can_latch(t, target) for t in get_args(HumanTrigger)):
+        return (f"- \"latch\" cannot be used: {target} re-checks every condition at each tick, so a reaction lasts "
+                f"while its trigger holds, or `lasts` seconds.")
+    return ("- \"latch\": true keeps a reaction going for good once its trigger fired (seen the robot once, it "
+            "said FOLLOW ME once): the trigger is not checked again. Without a latch a reaction lasts while its "
+            "trigger holds, or `lasts` seconds if set.")
+
+
+def people_text() -> str:
+    """Per-person facts of the spec (run/spec.py Person) and how one person's several parts combine."""
+    from socnavgen.bodies import PERSON_MAX_SPEED
+
+    most = next((m.le for m in Person.model_fields["speed"].metadata if getattr(m, "le", None) is not None), None)
+    return (f"- \"people\": per human, \"speed\" (m/s, at most {most:g}; default up to {PERSON_MAX_SPEED:g}; 0.5-0.8 "
+            f"for someone slow, with a cane) and \"otherwise\": \"walk\" (default: walk their path while no trigger "
+            f"holds) or \"stand\" (stand at their start until a trigger sets them going).\n"
+            f"- One person in several encounters switches reactions (e1 block the robot, e2 give way once it says "
+            f"EXCUSE ME): the later encounter's part (higher order) takes over when its trigger holds; two steps at "
+            f"one place are two encounters there. Pacing brings them to their FIRST encounter's node.\n"
+            f"- \"lasts\" (s) ends a reaction (then they walk on), e.g. say WAIT for at most 5 s; wait_then_go "
+            f"stands {WAIT_THEN_GO_SECONDS:g} s unless set. \"seconds\" is only the time trigger's. {_negations()}")
+
+
+def _negations() -> str:
+    return " ".join(f"{neg} holds exactly when {base} does not (a guide waits while the robot is farther than "
+                    f"`distance`)." for neg, base in NEGATED_TRIGGERS.items())
+
+
+def robot_limits_text() -> str:
+    """What the robot's script cannot do, so that the model plans around it."""
+    return ("- The robot only drives its route (planned later, node to node) at its speed, stands still (wait, "
+            "wait_until_clear) and speaks. It cannot back off, reverse, pull over or step aside, and cannot follow "
+            "a person: plan around it (it waits before a narrow place; a leader walks ahead along the robot's "
+            "route; people step aside where there is room). A route may come back to its start after passing "
+            "other nodes (\"to X and back\").")
+
+
+def export_text(target: Target | None = None, spec_words: bool = False) -> str:
+    """Which nodes each export target lacks (bt.library), or with `spec_words` which triggers and reactions
+    cannot run there, so that a model knows what will not export (with a `target` the prompts offer only
+    what it runs and say so themselves: nothing to add)."""
+    if target is not None:
+        return ""
+    lines = []
+    for t in TARGETS:
+        if spec_words:
+            lacks = [w for w in get_args(HumanTrigger) if w != "always" and not _detected(w, t)] + \
+                [r for r in get_args(Reaction) if not nodes_for_reaction(r, t)]
+        else:
+            lacks = missing_nodes(t)
+        if t != "socrates" and lacks:
+            lines.append(f"{t} lacks {', '.join(lacks)}")
+    if not lines:
+        return ""
+    return ("- Export: everything runs in the simulator and the SocRATES fork (--format socrates); "
+            + "; ".join(lines) + " (a scenario using them cannot be exported there).")
+
+
+def detecting_nodes(trigger: str, target: Target = "socrates") -> tuple[list[str], bool]:
+    """The library nodes that detect a spec trigger on `target`, and whether a tree inverts them (a negated
+    trigger of run/spec.py: robot_far is robot_near's condition inverted)."""
+    base = NEGATED_TRIGGERS.get(trigger)
+    return nodes_for_trigger(base or trigger, target), base is not None
+
+
+def _detected(trigger: str, target: Target) -> bool:
+    return bool(detecting_nodes(trigger, target)[0])
+
+
+def stl_text(signals: bool = True) -> str:
     """How to write a `stl` criterion: the syntax and the signals (verify/stl.py, verify/signals.py)."""
     from socnavgen.verify.signals import SIGNAL_KINDS
     from socnavgen.verify.stl import MAX_FORMULA_CHARS, MAX_NESTING
 
-    signals = "; ".join(f"{k.shown} ({k.unit}): {k.meaning}" for k in SIGNAL_KINDS)
+    listed = "; ".join(f"{k.shown} ({k.unit}): {k.meaning}" for k in SIGNAL_KINDS) if signals else \
+        ", ".join(k.shown for k in SIGNAL_KINDS)
     return (f"- A criterion of kind stl holds a signal temporal logic \"formula\": one expression of at most "
             f"{MAX_FORMULA_CHARS} characters and {MAX_NESTING} nested levels, with the operators always, "
             f"eventually, historically, once, until, since (bounds in seconds, e.g. eventually[0:5]), and, or, "
             f"not, implies, and comparisons (<, <=, >, >=); 0/1 signals are compared with 0.5. Example: "
             f"\"{STL_EXAMPLE}\" (within the first 60 s the robot says EXCUSE ME while human1 is within 2 m). "
-            f"Signals: {signals}. Use the other kinds when one fits: they are checked with care for cause and "
+            f"Signals: {listed}. Use the other kinds when one fits: they are checked with care for cause and "
             f"effect.")
 
 
@@ -147,22 +238,20 @@ def cue_triggers_text() -> str:
 
 
 def robot_vocabulary_text() -> str:
-    """The robot's script vocabulary, from the spec models (the words the validator accepts)."""
+    """The phrases of the robot and of the humans (the words the spec's validator accepts; the triggers and
+    reactions are listed with their meanings by scenario_spec.md, tested to name every one of run/spec.py)."""
     robot_words = ", ".join(v for k, v in ROBOT_GESTURES.items() if k)
     human_words = ", ".join(v for k, v in HUMAN_GESTURES.items() if k)
-    triggers = ", ".join(get_args(CueTrigger.model_fields["when"].annotation))
-    return "\n".join([
-        f"The robot can say: {robot_words}. A human can say: {human_words}.",
-        f"A robot cue fires on: {triggers}.",
-        f"A human's trigger is one of: {', '.join(get_args(HumanTrigger))}.",
-        f"A human's reaction is one of: {', '.join(get_args(Reaction))}.",
-    ])
+    return f"The robot can say: {robot_words}. A human can say: {human_words}."
 
 
-def scenario_rules_text() -> str:
-    """What stage 1 must know about how its spec plays out (pacing, within, cues, groups, latch, stl)."""
-    return "\n".join(["HOW THE SPEC PLAYS OUT:", pacing_text(), encounter_within_text(), cue_once_text(),
-                      groups_text(), latch_text(), stl_text()])
+def scenario_rules_text(target: Target | None = None, signals: bool = True) -> str:
+    """What stage 1 must know about how its spec plays out (pacing, within, cues, groups, people, latch, what
+    the robot cannot do, export, stl); `signals` False names the STL signals without their meanings."""
+    lines = ["HOW THE SPEC PLAYS OUT:", pacing_text(), encounter_within_text(), cue_once_text(), groups_text(),
+             people_text(), latch_text(target or "socrates"), robot_limits_text(), export_text(target, spec_words=True),
+             stl_text(signals)]
+    return "\n".join(line for line in lines if line)
 
 
 def target_nodes(target: Target) -> list[str]:

@@ -8,6 +8,7 @@ from collections import defaultdict
 import networkx as nx
 
 from socnavgen.location import Location
+from socnavgen.location.inventory import PASS_WIDTH
 from socnavgen.location.placement import Walker, route_problems, start_problems
 from socnavgen.location.scene_graph import path_mistakes
 from socnavgen.proposal.replies import PathsReply, human_name
@@ -84,6 +85,7 @@ def check_paths(reply: PathsReply, graph: nx.Graph, humans: list[str], spec: Sce
         mistakes += _encounter_mistakes(reply, graph, spec, robot, paths, points)  # type: ignore[arg-type]
         if location is not None:
             mistakes += _blind_mistakes(reply, spec, location, robot, paths)  # type: ignore[arg-type]
+            mistakes += _room_mistakes(reply, spec, location)
     return mistakes
 
 
@@ -115,6 +117,26 @@ def _blind_mistakes(reply: PathsReply, spec: ScenarioSpec, location: Location, r
     return mistakes
 
 
+def _room_mistakes(reply: PathsReply, spec: ScenarioSpec, location: Location) -> list[str]:
+    """Giving way is stepping aside: the encounter's node needs the room the robot and a person need to pass
+    each other (location/inventory.py: PASS_WIDTH)."""
+    inventory = location.inventory
+    mistakes = []
+    for enc in spec.encounters:
+        facts = inventory.nodes.get(reply.encounter_nodes.get(enc.id) or "")
+        if facts is None or facts.turnable:
+            continue
+        roomy = [n.id for n in inventory.of_type(enc.place) if n.turnable]
+        for part in enc.humans:
+            if part.reaction == "give_way":
+                hint = f" ({enc.place} nodes with room: {', '.join(roomy)})" if roomy else ""
+                mistakes.append(f"{part.human} gives way in encounter {enc.id} at node {facts.id}, which has only "
+                                f"{facts.free_width_m:.1f} m free: nobody can step aside there (the robot passes a "
+                                f"person only where {PASS_WIDTH:g} m is free); ground {enc.id} at a node with room"
+                                f"{hint}")
+    return mistakes
+
+
 def _before(path: list[str], node: str) -> str | None:
     """The node a path comes from into `node` (None: it starts there or never gets there)."""
     i = path.index(node) if node in path else 0
@@ -129,7 +151,7 @@ def _encounter_mistakes(reply: PathsReply, graph: nx.Graph, spec: ScenarioSpec, 
     for key in reply.encounter_nodes:
         if key not in ids:
             mistakes.append(f"encounter_nodes: '{key}' is not an encounter of the scenario ({', '.join(ids)})")
-    single = {h: [e for e in spec.encounters if any(p.human == h for p in e.humans)] for h in paths}
+    first = {h: parts[0][0].id for h in paths if (parts := spec.parts_of(h))}  # where pacing brings them
     for enc in spec.encounters:
         node = reply.encounter_nodes.get(enc.id)
         if node is None:
@@ -155,9 +177,10 @@ def _encounter_mistakes(reply: PathsReply, graph: nx.Graph, spec: ScenarioSpec, 
             if node not in path:
                 mistakes.append(f"the node {node} of encounter {enc.id} is not on {part.human}'s path")
             point = points.get(part.human)
-            if point is not None and point != node and len(single.get(part.human, [])) == 1:
+            if point is not None and point != node and first.get(part.human) == enc.id:
                 mistakes.append(f"the interaction point {point} of {part.human} differs from the node {node} of its "
-                                f"encounter {enc.id}; use {node}")
+                                f"{'first ' if len(spec.parts_of(part.human)) > 1 else ''}encounter {enc.id}; use "
+                                f"{node}")
     return mistakes
 
 

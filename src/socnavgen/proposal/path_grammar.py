@@ -27,22 +27,26 @@ def _q(node: str) -> Lit:
     return Lit(json.dumps(node))
 
 
-def _meeting_candidates(graph: nx.Graph, spec: ScenarioSpec | None) -> set[str] | None:
-    """With a spec, the meeting point is also every encounter's node: it must be of each encounter's place."""
+def _meeting_candidates(graph: nx.Graph, spec: ScenarioSpec | None, cramped: set[str]) -> set[str] | None:
+    """With a spec, the meeting point is also every encounter's node: it must be of each encounter's place,
+    and where someone gives way, not `cramped` (no room to step aside)."""
     if spec is None or not spec.encounters:
         return None
     places = {e.place.strip().upper() for e in spec.encounters}
     fitting = {n for n, data in graph.nodes(data=True) if str(data.get("type", "")).upper() in places}
+    if any(p.reaction == "give_way" for e in spec.encounters for p in e.humans) and fitting - cramped:
+        fitting -= cramped
     return fitting if len(places) == 1 and fitting else None
 
 
-def build_paths_grammar(graph: nx.Graph, humans: list[str], spec: ScenarioSpec | None = None) -> Grammar:
+def build_paths_grammar(graph: nx.Graph, humans: list[str], spec: ScenarioSpec | None = None,
+                        cramped: set[str] | None = None) -> Grammar:
     g = Grammar()
     nodes = sorted(graph.nodes)
     index = {n: i for i, n in enumerate(nodes)}
     text_rules(g, "reasoning", REASONING_CHARS, non_empty=False)
     meets: list[list[Symbol]] = []
-    candidates = _meeting_candidates(graph, spec)
+    candidates = _meeting_candidates(graph, spec, cramped or set())
     encounter_ids = [e.id for e in spec.encounters] if spec is not None else []
     for x in nodes:
         if graph.degree(x) == 0 or (candidates is not None and x not in candidates):
@@ -133,9 +137,10 @@ def _moves(c1: int, c2: int) -> list[tuple[int, tuple[int, int]]]:
     return moves
 
 
-def paths_grammar(graph: nx.Graph, humans: list[str], spec: ScenarioSpec | None = None) -> str:
+def paths_grammar(graph: nx.Graph, humans: list[str], spec: ScenarioSpec | None = None,
+                  cramped: set[str] | None = None) -> str:
     """The GBNF text passed as `grammar=` to `llm.chat` for stage 2."""
-    return build_paths_grammar(graph, humans, spec).to_gbnf()
+    return build_paths_grammar(graph, humans, spec, cramped).to_gbnf()
 
 
 __all__ = ["build_paths_grammar", "paths_grammar"]

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import random
+import re
 from pathlib import Path
 
 import networkx as nx
@@ -18,22 +19,28 @@ from socnavgen.llm.base import LLM, ChatMessage
 from socnavgen.location import Location
 from socnavgen.location.inventory import inventory_text
 from socnavgen.location.location import SCENE_GRAPH_IMAGE
-from socnavgen.location.placement import Walker, start_problems, start_rule_text
+from socnavgen.location.placement import Walker, shown_position, start_problems, start_rule_text
 from socnavgen.proposal.conversation import Outcome, Policy, Recorder, converse
 from socnavgen.proposal.facts import groups_text, pacing_text, physical_facts_text
+from socnavgen.proposal.fit import NOTHING, Cut, Note, examples_kept, fit_prompt
 from socnavgen.proposal.path_checks import check_paths
 from socnavgen.proposal.path_grammar import paths_grammar
 from socnavgen.proposal.replies import PathsReply
 from socnavgen.proposal.templates import render
 from socnavgen.proposal.tutorial import generate_tutorial, tutorial_text
-from socnavgen.run import PathPlan, ScenarioProposal
+from socnavgen.run import PathPlan, ScenarioProposal, ScenarioRequest
 from socnavgen.run.spec import ScenarioSpec
 
 STAGE = "paths"
 MAX_TOKENS = 1536
 ENCOUNTER_RULE = ("8. encounter_nodes: for each encounter of the scenario, the node where it happens. It must be of the "
                   "encounter's kind of place (node type), on the robot's path and on the path of every human of "
-                  "that encounter; a human's interaction point is the node of its encounter.")
+                  "that encounter; a human's interaction point is the node of its FIRST encounter (lowest order). "
+                  "Where someone gives way, the node needs room to step aside (the inventory lists where there is "
+                  "none).")
+POINT_RULE = ("6. The interaction point of a human is the node where it meets the robot first (pacing brings it there "
+              "with the robot): it must be on that human's path AND on the robot's path. A human in several "
+              "encounters meets the robot again wherever their paths cross later.")
 
 
 def scene_graph_text(location: Location) -> str:
@@ -43,9 +50,8 @@ def scene_graph_text(location: Location) -> str:
     sg = location.scene_graph
 
     def node(n) -> str:  # noqa: ANN001 - a scene-graph node
-        x, y = location.node_world(n.id)
         return json.dumps({"id": n.id, "type": n.type, "pos": [round(n.pos[0]), round(n.pos[1])],
-                           "xy_m": [round(x, 1), round(y, 1)]})
+                           "xy_m": list(shown_position(location, n.id))})
 
     def link(e) -> str:  # noqa: ANN001 - a scene-graph edge
         passage = location.inventory.passage(e.source, e.target)
@@ -154,31 +160,49 @@ def scenario_text(scenario: ScenarioProposal) -> str:
 
 
 def paths_messages(location: Location, scenario: ScenarioProposal, *, seed: int = 0,
-                   images: bool = True, spec: ScenarioSpec | None = None) -> list[ChatMessage]:
+                   images: bool = True, spec: ScenarioSpec | None = None, left_out: Cut = NOTHING) -> list[ChatMessage]:
+    """The stage-2 prompt; `left_out`: parts fit.py leaves out for a small context (examples, inventory
+    detail, the tutorial)."""
     graph = location.graph
     humans = list(scenario.human_behaviors)
-    examples = "\n\n".join(render("paths_example.md", scenario=text, humans=", ".join(names), answer=reply_json(ans))
-                           for text, names, ans in map_examples(graph, seed, location))
+    shown = examples_kept(left_out, map_examples(graph, seed, location))
+    examples = "EXAMPLES (scenarios on this map, with correct answers):\n" + "\n\n".join(
+        render("paths_example.md", scenario=text, humans=", ".join(names), answer=reply_json(ans))
+        for text, names, ans in shown) if shown else ""
+    tutorial = "" if "tutorials" in left_out else "SCENE GRAPH TUTORIAL (questions about this map, with their " \
+        "correct answers):\n" + tutorial_text(generate_tutorial(graph, seed))
     user = render("paths_user.md", scene_graph=scene_graph_text(location),
                   node_types=", ".join(location.schema.node_types), edge_types=", ".join(location.schema.edge_types),
-                  tutorial=tutorial_text(generate_tutorial(graph, seed)), examples=examples,
+                  tutorial=tutorial, examples=examples,
                   scenario=scenario_text(scenario), humans=", ".join(humans), format=format_line(humans, spec),
-                  facts="\n".join([physical_facts_text(), pacing_text(), groups_text()]),
-                  encounters=encounters_text(spec), inventory=inventory_text(location),
-                  start_rule=start_rule_text(),
+                  facts="\n".join([physical_facts_text(scene_graph=True), pacing_text(), groups_text()]),
+                  encounters=encounters_text(spec),
+                  inventory=inventory_text(location, positions=False, detail="inventory" not in left_out),
+                  start_rule=start_rule_text(), point_rule=POINT_RULE,
                   encounter_rule=ENCOUNTER_RULE if spec is not None and spec.encounters else "")
     picture: list[Path] = []
     image = location.root / SCENE_GRAPH_IMAGE
     if images and image.is_file():
         picture.append(image)
     return [ChatMessage(role="system", content=render("paths_system.md")),
-            ChatMessage(role="user", content=user, images=picture)]
+            ChatMessage(role="user", content=re.sub(r"\n{3,}", "\n\n", user), images=picture)]
+
+
+def fitted_paths_messages(location: Location, scenario: ScenarioProposal, llm: LLM, request: ScenarioRequest,
+                          spec: ScenarioSpec | None = None, tail: list[ChatMessage] | None = None,
+                          note: Note | None = None) -> list[ChatMessage]:
+    """The stage-2 prompt (then `tail`) shortened to fit the model's context (fit.py)."""
+    images = request.use_image and bool(getattr(llm, "supports_images", False))
+    return fit_prompt(llm, lambda cut: [*paths_messages(location, scenario, seed=request.seed, images=images, spec=spec,
+                                                        left_out=cut), *(tail or [])],
+                      reply_tokens=MAX_TOKENS, stage=STAGE, note=note)
 
 
 def plan_paths(messages: list[ChatMessage], location: Location, scenario: ScenarioProposal, llm: LLM,
                recorder: Recorder, policy: Policy, spec: ScenarioSpec | None = None) -> Outcome[PathsReply]:
     humans = list(scenario.human_behaviors)
     graph = location.graph
-    grammar = paths_grammar(graph, humans, spec) if getattr(llm, "supports_grammar", False) else None
+    cramped = {n for n, facts in location.inventory.nodes.items() if not facts.turnable}
+    grammar = paths_grammar(graph, humans, spec, cramped) if getattr(llm, "supports_grammar", False) else None
     return converse(llm, messages, PathsReply, lambda reply: check_paths(reply, graph, humans, spec, location),
                     stage=STAGE, key=None, recorder=recorder, policy=policy, grammar=grammar, max_tokens=MAX_TOKENS)

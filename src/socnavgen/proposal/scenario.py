@@ -13,18 +13,21 @@ from collections.abc import Callable
 from typing import get_args
 
 from socnavgen.bt.describe import capabilities_text
-from socnavgen.bt.library import Target, nodes_for_reaction, nodes_for_trigger
+from socnavgen.bt.library import Target, nodes_for_reaction
 from socnavgen.llm.base import LLM, ChatMessage
 from socnavgen.location import Location
 from socnavgen.location.inventory import inventory_text
+from socnavgen.location.location import SCENE_GRAPH_IMAGE
 from socnavgen.proposal.conversation import Outcome, Policy, Recorder, converse
 from socnavgen.proposal.facts import (
     cue_triggers_text,
+    detecting_nodes,
     missing_nodes,
     physical_facts_text,
     robot_vocabulary_text,
     scenario_rules_text,
 )
+from socnavgen.proposal.fit import NOTHING, Cut, Note, examples_kept, fit_prompt
 from socnavgen.proposal.gbnf import Grammar, Lit, Ref, Symbol, text_rules
 from socnavgen.proposal.replies import ScenarioReply, human_name
 from socnavgen.proposal.spec_checks import (
@@ -46,27 +49,28 @@ _PLAIN_TRIGGERS = ("always", "robot_visible", "robot_near", "robot_blocking", "r
 _PLAIN_REACTIONS = ("walk_past", "stop", "look", "give_way", "follow", "block", "avoid", "wait_then_go")
 
 
-def location_text(location: Location, inventory: bool = True) -> str:
+def location_text(location: Location, inventory: bool = True, *, detail: bool = True) -> str:
     """The user's description of the location, its schema, and (unless `inventory` is False: the naive
-    baseline) the place inventory measured on its map."""
+    baseline) the place inventory measured on its map, with node positions (`detail` False: without the
+    inventory's detail lists, fit.py)."""
     schema = location.schema
     return render("scenario_location.md", description=location.config.description.strip(),
                   node_types=", ".join(schema.node_types), edge_types=", ".join(schema.edge_types),
-                  inventory=inventory_text(location) if inventory else "")
+                  inventory=inventory_text(location, detail=detail) if inventory else "")
 
 
-def spec_help_text(target: Target | None = None) -> str:
+def spec_help_text(target: Target | None = None, *, signals: bool = True) -> str:
     """How to write the spec: its vocabulary (from run/spec.py and the library), how it plays out in the
-    simulator, and the physical facts."""
+    simulator, and the physical facts (`signals` False: the STL signals by name only, fit.py)."""
     return render("scenario_spec.md", vocabulary=robot_vocabulary_text(), facts=physical_facts_text(),
-                  kinds=", ".join(get_args(CriterionKind)), target=target_text(target), rules=scenario_rules_text(),
-                  cue_triggers=cue_triggers_text())
+                  kinds=", ".join(get_args(CriterionKind)), target=target_text(target),
+                  rules=scenario_rules_text(target, signals), cue_triggers=cue_triggers_text())
 
 
 def target_text(target: Target | None) -> str:
     if target is None:
         return ""
-    triggers = [t for t in get_args(HumanTrigger) if t == "always" or nodes_for_trigger(t, target)]
+    triggers = [t for t in get_args(HumanTrigger) if t == "always" or detecting_nodes(t, target)[0]]
     reactions = [r for r in get_args(Reaction) if nodes_for_reaction(r, target)]
     lacks = missing_nodes(target)
     lacking = f" {target} lacks the nodes {', '.join(lacks)}." if lacks else ""
@@ -75,13 +79,16 @@ def target_text(target: Target | None) -> str:
 
 
 def scenario_messages(request: ScenarioRequest, location: Location,
-                      previous: list[ScenarioProposal] | None = None) -> list[ChatMessage]:
-    """System (definition, capabilities, rules), the hand-written examples as earlier turns, the request."""
+                      previous: list[ScenarioProposal] | None = None, *, left_out: Cut = NOTHING,
+                      images: bool = False) -> list[ChatMessage]:
+    """System (definition, capabilities, rules), the hand-written examples as earlier turns, the request
+    (with the annotated map image when `images`). `left_out`: parts fit.py leaves out for a small context."""
     target = request.target
     messages = [ChatMessage(role="system", content=render(
         "scenario_system.md", capabilities=capabilities_text(target or "socrates"),
-        spec_help=spec_help_text(target)))]
-    for example in template_data("scenario_examples.json"):
+        spec_help=spec_help_text(target, signals="signals" not in left_out)))]
+    examples = examples_kept(left_out, template_data("scenario_examples.json"))
+    for example in examples:
         messages.append(ChatMessage(role="user", content=render(
             "scenario_user.md", context=example["context"], task=example["task"], location=example["location"],
             rough=example["rough"], differ="")))
@@ -90,10 +97,26 @@ def scenario_messages(request: ScenarioRequest, location: Location,
     if previous:
         listing = "\n".join(f"{i}. {p.scenario_description}" for i, p in enumerate(previous, 1))
         differ = render("scenario_differ.md", previous=listing) + "\n"
+    image = location.root / SCENE_GRAPH_IMAGE
+    picture = [image] if images and image.is_file() else []
+    place = location_text(location, detail="inventory" not in left_out)
+    if picture:
+        place += ("\nThe attached image is the map with the scene graph drawn on it (nodes labelled with their ids): "
+                  "use it to tell which place the request means (north is up).")
     messages.append(ChatMessage(role="user", content=render(
-        "scenario_user.md", context=request.context, task=request.task, location=location_text(location),
-        rough=request.rough or "None", differ=differ)))
+        "scenario_user.md", context=request.context, task=request.task, location=place,
+        rough=request.rough or "None", differ=differ), images=picture))
     return messages
+
+
+def fitted_scenario_messages(request: ScenarioRequest, location: Location, llm: LLM,
+                             previous: list[ScenarioProposal] | None = None, tail: list[ChatMessage] | None = None,
+                             note: Note | None = None) -> list[ChatMessage]:
+    """The stage-1 prompt (then `tail`, e.g. the earlier answer and a re-ask), shortened to fit the model's
+    context (fit.py); the map image goes to models that take images unless the request says --no-image."""
+    images = request.use_image and bool(getattr(llm, "supports_images", False))
+    return fit_prompt(llm, lambda cut: [*scenario_messages(request, location, previous, left_out=cut, images=images),
+                                        *(tail or [])], reply_tokens=MAX_TOKENS, stage=STAGE, note=note)
 
 
 def scenario_checker(location: Location | None, target: Target | None = None,
@@ -153,19 +176,22 @@ def to_proposal(reply: ScenarioReply) -> ScenarioProposal:
                             expected_robot_behavior=reply.expected_robot_behavior.strip())
 
 
-def scenario_grammar(node_types: list[str] | None = None, target: Target | None = None) -> str:
+def scenario_grammar(node_types: list[str] | None = None, target: Target | None = None,
+                     tight: set[str] | None = None) -> str:
     """The GBNF text passed as `grammar=` for stage 1."""
-    return build_scenario_grammar(node_types=node_types, target=target).to_gbnf()
+    return build_scenario_grammar(node_types=node_types, target=target, tight=tight).to_gbnf()
 
 
 def build_scenario_grammar(max_humans: int = MAX_HUMANS, description_chars: int = 400,
                            behavior_chars: int = 240, node_types: list[str] | None = None,
-                           target: Target | None = None) -> Grammar:
+                           target: Target | None = None, tight: set[str] | None = None) -> Grammar:
     """Replies of 1..max_humans humans whose count, names and behaviors agree, all texts non-empty and
     bounded (a small model otherwise rambles until the token limit cuts the JSON), with a small spec:
     one encounter at a node type of the location, each human with a trigger and a reaction that need no
-    further field (and that `target` can run), and a `meets` criterion per human."""
+    further field (and that `target` can run; no give_way at the `tight` places, where nobody can step
+    aside), and a `meets` criterion per human."""
     g = Grammar()
+    places = node_types or ["PLACE"]
     per_human: list[list[Symbol]] = []
     for n in range(1, max_humans + 1):
         body: list[Symbol] = [Lit(f'{n}, "human_behaviors": {{')]
@@ -173,26 +199,29 @@ def build_scenario_grammar(max_humans: int = MAX_HUMANS, description_chars: int 
             body += [Lit(("" if i == 1 else ", ") + f'"human{i}": "'), Ref("short"), Lit('"')]
         body += [Lit('}, "expected_robot_behavior": "'), Ref("short"),
                  Lit('", "spec": {"script": {"route": "'), Ref("route"),
-                 Lit('", "cues": []}, "encounters": [{"id": "e1", "place": "'), Ref("place"), Lit('", "humans": [')]
-        for i in range(1, n + 1):
-            body += [Lit(("" if i == 1 else ", ") + f'{{"human": "human{i}", "trigger": "'), Ref("trigger"),
-                     Lit('", "reaction": "'), Ref("reaction"), Lit('"}')]
-        body.append(Lit(']}], "criteria": ['))
-        for i in range(1, n + 1):
-            body.append(Lit(("" if i == 1 else ", ") +
-                            f'{{"id": "c{i}", "kind": "meets", "human": "human{i}", "encounter": "e1"}}'))
-        per_human.append([*body, Lit("]}}")])
+                 Lit('", "cues": []}, "encounters": [{"id": "e1", "place": "'), Ref(f"encounter{n}")]
+        per_human.append(body)
+        criteria = ", ".join(f'{{"id": "c{i}", "kind": "meets", "human": "human{i}", "encounter": "e1"}}'
+                             for i in range(1, n + 1))
+        alternatives = []
+        for place in places:
+            reaction = "reaction-tight" if place in (tight or set()) else "reaction"
+            alt: list[Symbol] = [Lit(place), Lit('", "humans": [')]
+            for i in range(1, n + 1):
+                alt += [Lit(("" if i == 1 else ", ") + f'{{"human": "human{i}", "trigger": "'), Ref("trigger"),
+                        Lit('", "reaction": "'), Ref(reaction), Lit('"}')]
+            alternatives.append([*alt, Lit(f']}}], "criteria": [{criteria}]}}}}')])
+        g.add(f"encounter{n}", *alternatives)
     g.add("root", [Lit('{"scenario_description": "'), Ref("long"), Lit('", "number_of_humans": '), Ref("humans")])
     g.add("humans", *per_human)
     text_rules(g, "long", description_chars, non_empty=True, prose=True)
     text_rules(g, "short", behavior_chars, non_empty=True, prose=True)
     text_rules(g, "route", 120, non_empty=True, prose=True)
-    places = node_types or ["PLACE"]
-    g.add("place", *[[Lit(p)] for p in places])
-    triggers = [t for t in _PLAIN_TRIGGERS if t == "always" or nodes_for_trigger(t, target or "socrates")]
+    triggers = [t for t in _PLAIN_TRIGGERS if t == "always" or detecting_nodes(t, target or "socrates")[0]]
     reactions = [r for r in _PLAIN_REACTIONS if nodes_for_reaction(r, target or "socrates")]
     g.add("trigger", *[[Lit(t)] for t in triggers])
     g.add("reaction", *[[Lit(r)] for r in reactions])
+    g.add("reaction-tight", *[[Lit(r)] for r in reactions if r != "give_way"])
     return g
 
 
@@ -206,7 +235,8 @@ def propose_scenarios(request: ScenarioRequest, location: Location, llm: LLM, re
     for k in range(count):
         previous = [to_proposal(o.value) for o in outcomes]
         key = None if count == 1 else f"proposal{k + 1}"
-        outcomes.append(converse(llm, scenario_messages(request, location, previous), ScenarioReply, check,
+        messages = fitted_scenario_messages(request, location, llm, previous, note=recorder.note)
+        outcomes.append(converse(llm, messages, ScenarioReply, check,
                                  stage=STAGE, key=key, recorder=recorder, policy=policy, grammar=grammar,
                                  max_tokens=MAX_TOKENS))
     return outcomes
@@ -215,7 +245,9 @@ def propose_scenarios(request: ScenarioRequest, location: Location, llm: LLM, re
 def stage_grammar(llm: LLM, location: Location, target: Target | None) -> str | None:
     if not getattr(llm, "supports_grammar", False):
         return None
-    return scenario_grammar(workable_places(location), target)
+    places = workable_places(location)
+    tight = {p for p in places if location.inventory.no_room_to_step_aside(p)}
+    return scenario_grammar(places, target, tight)
 
 
 def workable_places(location: Location) -> list[str]:

@@ -13,11 +13,12 @@ import re
 
 from pydantic import ValidationError
 
-from socnavgen.bt.library import Target, nodes_for_reaction, nodes_for_trigger
+from socnavgen.bt.library import Target, nodes_for_reaction
 from socnavgen.location import Location
-from socnavgen.proposal.facts import latching_node
+from socnavgen.proposal.facts import can_latch, detecting_nodes
 from socnavgen.proposal.replies import human_name
 from socnavgen.run.spec import Criterion, Encounter, ScenarioSpec
+from socnavgen.verify.blame import contradictions, spec_problem
 from socnavgen.verify.stl import formula_problems
 from socnavgen.verify.thresholds import KIND_DISTANCE as CRITERION_DEFAULTS
 
@@ -59,9 +60,20 @@ def _words(text: str) -> list[str]:
 
 
 def prose_spec_mistakes(behaviors: dict[str, str], spec: ScenarioSpec) -> list[str]:
-    """Where the spec has a person do what their own behavior text never says: a phrase they say."""
+    """Where the spec has a person do what their own behavior text never says: a phrase they say (in a part,
+    or asked by a `says` criterion). What the spec contradicts in itself is the verifier's rule S1
+    (verify/blame.py contradictions), which spec_mistakes applies."""
     texts = {human_name(k) or k: _words(str(v)) for k, v in behaviors.items()}
     mistakes = []
+    for c in spec.criteria:
+        words = texts.get(c.human or "")
+        if c.kind != "says" or not c.phrase or words is None:
+            continue
+        phrase = _words(c.phrase)
+        if not any(words[i:i + len(phrase)] == phrase for i in range(len(words))):
+            mistakes.append(f"criterion {c.id} asks {c.human} to say {c.phrase}, but the behavior of {c.human} never "
+                            f"mentions it; say in human_behaviors when and why {c.human} says {c.phrase} (and give "
+                            f"them the reaction say), or drop the criterion")
     for enc in spec.encounters:
         for part in enc.humans:
             words = texts.get(part.human)
@@ -158,12 +170,12 @@ def spec_mistakes(spec: ScenarioSpec, humans: list[str], node_types: list[str] |
                 mistakes.append(f"{who}: reaction follow_human names the human to follow in `other`")
             if part.other == part.human:
                 mistakes.append(f"{who}: `other` is {part.human} itself; name another human")
-            if part.latch and part.trigger != "always" and latching_node(part.trigger, target or "socrates") is None:
-                mistakes.append(f"{who}: latch is true, but a tree cannot remember the trigger {part.trigger}; "
-                                f"give the robot a cue that says a phrase when it happens and trigger on robot_says "
-                                f"that phrase (or set latch false)")
+            if part.latch and part.trigger != "always" and not can_latch(part.trigger, target or "socrates"):
+                mistakes.append(f"{who}: latch is true, but a {target} tree cannot remember the trigger "
+                                f"{part.trigger} (it re-checks every condition at each tick); set latch false "
+                                f"(the reaction then lasts while its trigger holds, or `lasts` seconds)")
             if target is not None:
-                if part.trigger != "always" and not nodes_for_trigger(part.trigger, target):
+                if part.trigger != "always" and not detecting_nodes(part.trigger, target)[0]:
                     mistakes.append(f"{who}: trigger {part.trigger} cannot be detected by any node {target} runs; "
                                     f"choose another trigger")
                 if not nodes_for_reaction(part.reaction, target):
@@ -176,13 +188,11 @@ def spec_mistakes(spec: ScenarioSpec, humans: list[str], node_types: list[str] |
         if cue.trigger.human and cue.trigger.human not in humans:
             mistakes.append(f"spec.script.cues: the cue names {cue.trigger.human}, who is not a human of the scenario")
     mistakes += _criteria_mistakes(spec, humans, ids, robot_phrases)
-    mistakes += [m for c in spec.criteria if (m := _contradiction(c, spec))]
+    mistakes += [m for c in spec.criteria for m in contradictions(c, spec)]  # the verifier's rule S1
     if location is not None:
         mistakes += place_mistakes(spec, location)
         mistakes += _formula_mistakes(spec, humans, location)
-    if not mistakes:  # the verifier's own rule for a criterion that contradicts its spec (blame: spec)
-        from socnavgen.verify.blame import spec_problem
-
+    if not mistakes:  # the rest of the verifier's rule S1 (a criterion that says only "placeholder", ...)
         mistakes += [problem for c in spec.criteria if (problem := spec_problem(c, spec))]
     return mistakes
 
@@ -216,37 +226,6 @@ def _criteria_mistakes(spec: ScenarioSpec, humans: list[str], ids: list[str], ro
     return mistakes
 
 
-# Criterion kinds that only a person with one of these reactions can satisfy.
-_NEEDS_REACTION = {"says": ("say",), "follows_robot": ("follow",), "blocks_robot": ("block",)}
-_DEFIES = {"keeps_away": ("follow", "block")}  # reactions that make a criterion impossible
-
-
-def _contradiction(c: Criterion, spec: ScenarioSpec) -> str | None:
-    """A criterion that says what the person's own encounter parts say they never do."""
-    if not c.human:
-        return None
-    parts = [p for e, p in spec.parts_of(c.human) if not c.encounter or e.id == c.encounter]
-    if not parts:
-        return None
-    reactions = {p.reaction for p in parts}
-    said = {p.says for p in parts if p.reaction == "say" and p.says}
-    needed = _NEEDS_REACTION.get(c.kind)
-    if needed and not reactions & set(needed):
-        return (f"criterion {c.id} ({c.kind}) asks something of {c.human} that its encounter never has it do (its "
-                f"reaction is {', '.join(sorted(reactions))}); give {c.human} the reaction {' or '.join(needed)} "
-                f"or drop the criterion")
-    if c.kind == "says" and c.phrase and said and c.phrase not in said:
-        return (f"criterion {c.id} asks {c.human} to say {c.phrase}, but its encounter has it say "
-                f"{', '.join(sorted(said))}")
-    if c.kind == "reacts_after_phrase" and c.reaction and c.reaction not in reactions:
-        return (f"criterion {c.id} expects the reaction {c.reaction} of {c.human}, but its encounter has "
-                f"{', '.join(sorted(reactions))}")
-    if c.kind in _DEFIES and reactions & set(_DEFIES[c.kind]):
-        return (f"criterion {c.id} ({c.kind}) contradicts {c.human}'s reaction "
-                f"{', '.join(sorted(reactions & set(_DEFIES[c.kind])))}")
-    return None
-
-
 def place_mistakes(spec: ScenarioSpec, location: Location) -> list[str]:
     """Encounters at places that cannot work on THIS map (location/inventory.py measures it)."""
     inventory = location.inventory
@@ -256,6 +235,13 @@ def place_mistakes(spec: ScenarioSpec, location: Location) -> list[str]:
         if reason:
             mistakes.append(f"encounter {enc.id} happens at a {enc.place}, but {reason}; choose a place where the "
                             f"robot can meet and pass a person (see the PLACE INVENTORY)")
+            continue
+        cramped = inventory.no_room_to_step_aside(enc.place)
+        for part in enc.humans if cramped else []:
+            if part.reaction == "give_way":
+                mistakes.append(f"encounter {enc.id}: {part.human} gives way at a {enc.place}, but {cramped}; let "
+                                f"them give way at a place with room before it, or walk out ahead of the robot "
+                                f"(walk_past), or wait (stop) before the narrow part")
     for c in spec.criteria:
         if c.kind != "hidden_until" or not c.human:
             continue

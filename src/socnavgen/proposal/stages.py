@@ -105,12 +105,14 @@ class Stages:
                             max_tokens=scenario_stage.MAX_TOKENS)
 
         def first(policy: Policy) -> Outcome:
-            return again(scenario_stage.scenario_messages(self.request, self.location), policy)
+            return again(scenario_stage.fitted_scenario_messages(self.request, self.location, self.llm,
+                                                                 note=self.recorder.note), policy)
 
         if correction is not None:
-            chosen = again([*scenario_stage.scenario_messages(self.request, self.location),
-                            ChatMessage(role="assistant", content=self.previous_scenario()),
-                            ChatMessage(role="user", content=correction)])
+            chosen = again(scenario_stage.fitted_scenario_messages(
+                self.request, self.location, self.llm, note=self.recorder.note,
+                tail=[ChatMessage(role="assistant", content=self.previous_scenario()),
+                      ChatMessage(role="user", content=correction)]))
         else:
             outcomes = scenario_stage.propose_scenarios(self.request, self.location, self.llm, self.recorder,
                                                         self.policy)
@@ -151,14 +153,15 @@ class Stages:
             return plan, grounded
         self.recorder.set_status("paths", None, "running")
         self.emit("paths", None, "start")
-        images = self.request.use_image and getattr(self.llm, "supports_images", False)
-        base = path_stage.paths_messages(self.location, scenario, seed=self.request.seed, images=images, spec=spec)
+        base = path_stage.fitted_paths_messages(self.location, scenario, self.llm, self.request, spec,
+                                                note=self.recorder.note)
         messages = list(base)
         if correction is not None:  # the verifier's findings, after the answer that produced them
             previous = accepted_reply(self.run, "paths", None) or json.dumps(
                 path_stage.plan_to_answer(self.run.read_paths(), self.run.read_spec()))
-            messages += [ChatMessage(role="assistant", content=previous),
-                         ChatMessage(role="user", content=correction)]
+            messages = path_stage.fitted_paths_messages(
+                self.location, scenario, self.llm, self.request, spec, note=self.recorder.note,
+                tail=[ChatMessage(role="assistant", content=previous), ChatMessage(role="user", content=correction)])
 
         def first(policy: Policy) -> Outcome:
             return path_stage.plan_paths(base, self.location, scenario, self.llm, self.recorder, policy, spec)
@@ -211,9 +214,10 @@ class Stages:
             for name in [h for h in todo if h in corrections]:
                 previous = accepted_reply(self.run, "behaviors", name) or json.dumps(
                     {"reasoning": "", "tree": existing.get(name, "")})
-                messages = [*bt_stage.behavior_messages(name, scenario, paths, spec, target),
-                            ChatMessage(role="assistant", content=previous),
-                            ChatMessage(role="user", content=corrections[name])]
+                messages = bt_stage.fitted_behavior_messages(
+                    name, scenario, paths, self.llm, spec, target, note=self.recorder.note,
+                    tail=[ChatMessage(role="assistant", content=previous),
+                          ChatMessage(role="user", content=corrections[name])])
                 save(name, ask(messages, name))
             todo = [h for h in todo if h not in corrections]
         if todo:
@@ -221,7 +225,8 @@ class Stages:
         if self.review is not None:
             for name in sorted(accepted, key=humans.index):
                 def first(policy: Policy, name: str = name) -> Outcome:
-                    return ask(bt_stage.behavior_messages(name, scenario, paths, spec, target), name, policy)
+                    return ask(bt_stage.fitted_behavior_messages(name, scenario, paths, self.llm, spec, target,
+                                                                 note=self.recorder.note), name, policy)
 
                 def again(history: list[ChatMessage], name: str = name) -> Outcome:
                     return ask(history, name)

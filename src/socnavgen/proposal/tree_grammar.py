@@ -1,7 +1,9 @@
 """Stage 3's grammar for in-process models when the human has encounter parts in the spec: the tree
-can only be "react (the trigger's condition gating the reaction's action), otherwise walk", with
-nodes taken from bt.library's encounter-needs table, so a small model's tree passes the validator
-AND the spec check by construction (the generic library grammar admits trees the spec check refuses).
+can only be "react (the trigger's condition, inverted for a negated trigger, gating the reaction's action,
+with the timer of a reaction that `lasts` and the latch of a latched one), otherwise walk (or stand, for a
+person whose `otherwise` is stand)", with nodes taken from bt.library's encounter-needs table, so a small
+model's tree passes the validator AND the spec check by construction (the generic library grammar admits
+trees the spec check refuses).
 
 Only the parts a grammar-bound stage 1 can produce are covered (one part per human, triggers and
 reactions whose nodes need no phrase or other human); for anything else `spec_tree_grammar` returns
@@ -9,8 +11,10 @@ None and the generic grammar is used."""
 
 from __future__ import annotations
 
-from socnavgen.bt.library import LIBRARY, REGULAR_NAV_CALL, Target, nodes_for_reaction, nodes_for_trigger
+from socnavgen.bt.library import LIBRARY, REGULAR_NAV_CALL, Target, nodes_for_reaction
+from socnavgen.proposal.facts import LATCH_NODE, detecting_nodes
 from socnavgen.proposal.gbnf import Chars, Grammar, Lit, Ref, Symbol, text_rules
+from socnavgen.proposal.tree_needs import TIMER
 from socnavgen.run.spec import ScenarioSpec
 
 REASONING_CHARS = 200
@@ -47,27 +51,36 @@ def build_spec_tree_grammar(name: str, spec: ScenarioSpec | None, target: Target
         return None
     _, part = parts[0]
     reactions = [r for r in nodes_for_reaction(part.reaction, target) if r != "RegularNav"]
-    walk_only = part.reaction == "walk_past"
-    triggers = nodes_for_trigger(part.trigger, target)
-    if not walk_only and not reactions or part.trigger != "always" and not triggers:
+    walk_past = part.reaction == "walk_past"
+    triggers, negated = detecting_nodes(part.trigger, target)
+    if not walk_past and not reactions or part.trigger != "always" and not triggers:
         return None
     g = Grammar()
     text_rules(g, "reasoning", REASONING_CHARS, non_empty=True)
     g.add("number", [Chars("0-9", 1, 1), Lit("."), Chars("0-9", 1, 1)])
     walk = [Lit("<Sequence name='Walk'>" + _WALK + "</Sequence>")]
+    stand = spec is not None and spec.person(name).otherwise == "stand"
+    otherwise = [Lit("<MakeGesture agent_id='{id}' message='0'/>")] if stand else walk
     head = [Lit('{"reasoning": "'), Ref("reasoning"),
             Lit("\", \"tree\": \"<root main_tree_to_execute='MainTree'><include path='BTRegularNav.xml'/>"
                 "<BehaviorTree ID='MainTree'>")]
     tail = [Lit('</BehaviorTree></root>"}')]
-    if walk_only:
+    if walk_past and part.trigger == "always" and not stand:
         g.add("root", [*head, *walk, *tail])
         return g
     gates = [n for t in triggers if (n := _node(t))] if part.trigger != "always" else [[]]
-    acts = [n for r in reactions if (n := _node(r))]
+    if negated:
+        gates = [[Lit("<Inverter>"), *gate, Lit("</Inverter>")] for gate in gates]
+    acts = [walk] if walk_past else [n for r in reactions if (n := _node(r))]
     if not gates or not acts:
         return None
+    lasting = part.lasting()
+    timer = [Lit(f"<Inverter><{TIMER} seconds='{lasting:g}' ts='{{dt}}' only_once='true'/></Inverter>")] \
+        if lasting is not None else []
+    if part.latch and part.trigger != "always":
+        acts = [[Lit(f"<{LATCH_NODE}>"), *act, Lit(f"</{LATCH_NODE}>")] for act in acts]
     g.add("gate", *gates)
     g.add("act", *acts)
-    g.add("root", [*head, Lit("<Fallback name='ReactOrWalk'><Sequence name='React'>"), Ref("gate"), Ref("act"),
-                   Lit("</Sequence>"), *walk, Lit("</Fallback>"), *tail])
+    g.add("root", [*head, Lit("<Fallback name='ReactOrOtherwise'><Sequence name='React'>"), Ref("gate"), *timer,
+                   Ref("act"), Lit("</Sequence>"), *otherwise, Lit("</Fallback>"), *tail])
     return g

@@ -2,10 +2,25 @@
 conditions that DETECT the trigger gating the actions that REALIZE the reaction (bt.library's
 TRIGGER_NODES / REACTION_NODES / PART_PORTS say which). E.g. trigger robot_says EXCUSE ME with reaction
 give_way needs RobotSays(message=4) before GiveWaytoRobot in a Sequence (or, inverted, in an earlier
-branch of a Fallback)."""
+branch of a Fallback).
+
+The rest of a part is checked the same way, each as a gate of the action:
+- a negated trigger (run/spec.py NEGATED_TRIGGERS: robot_far) is its base trigger's condition inverted;
+- the trigger time carries its `seconds` on TimeExpiredCondition;
+- a reaction that `lasts` (wait_then_go too) is gated by an inverted TimeExpiredCondition of that many
+  seconds (the action runs for the first `lasts` seconds);
+- a latched part keeps its action for good: the action inside KeepRunningUntilFailure after its
+  condition (facts.LATCH_NODE). A robot phrase may also be latched by RobotSaid or by the tree's own
+  memory (recorded trees hold "heard FOLLOW ME, or already left the room"): not checked;
+- a person whose `otherwise` is stand has a stop action that no trigger gates (what they do meanwhile);
+- of two parts of one person, the later encounter's takes over: its branch comes first in the Fallback
+  that chooses between them.
+The prompt (`needs_text`) says the same in words.
+"""
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 from socnavgen.bt.expand import load_instance
@@ -19,7 +34,11 @@ from socnavgen.bt.library import (
 )
 from socnavgen.bt.model import Node, literal_text
 from socnavgen.errors import ValidationFailed
-from socnavgen.run.spec import Encounter, HumanPart, ScenarioSpec
+from socnavgen.proposal.facts import LATCH_NODE, detecting_nodes, latches_by_running, latching_node
+from socnavgen.run.spec import NEGATED_TRIGGERS, Encounter, HumanPart, ScenarioSpec
+
+TIMER = "TimeExpiredCondition"
+Placed = tuple[Node, tuple[Node, ...]]  # a node and its ancestors from the top
 
 
 def _code(table: dict[int, str], phrase: str | None) -> str | None:
@@ -32,15 +51,18 @@ def _agent_id(name: str | None) -> str | None:
 
 @dataclass(frozen=True)
 class Need:
-    """Nodes (any of) and the port values they must carry."""
+    """Nodes (any of), the port values they must carry (`numbers`: numeric ports), and whether the tree
+    must check the condition inverted (`negated`: the reaction runs while it FAILS)."""
 
     nodes: tuple[str, ...]
     ports: tuple[tuple[str, str], ...]
+    negated: bool = False
+    numbers: tuple[tuple[str, float], ...] = ()
 
     def describe(self) -> str:
-        ports = ", ".join(f"{k}='{v}'" for k, v in self.ports)
+        ports = ", ".join([f"{k}='{v}'" for k, v in self.ports] + [f"{k}='{v:g}'" for k, v in self.numbers])
         names = " or ".join(f"{n}({ports})" if ports else n for n in self.nodes)
-        return names
+        return f"an inverted {names}" if self.negated else names
 
 
 def _ports(role: str, value: str, part: HumanPart) -> tuple[tuple[str, str], ...]:
@@ -59,8 +81,11 @@ def _ports(role: str, value: str, part: HumanPart) -> tuple[tuple[str, str], ...
 
 
 def trigger_need(part: HumanPart, target: Target = "socrates") -> Need | None:
-    nodes = nodes_for_trigger(part.trigger, target)
-    return Need(tuple(nodes), _ports("trigger", part.trigger, part)) if nodes else None
+    nodes, negated = detecting_nodes(part.trigger, target)
+    if not nodes:
+        return None
+    numbers = (("seconds", part.seconds),) if part.trigger == "time" and part.seconds is not None else ()
+    return Need(tuple(nodes), _ports("trigger", part.trigger, part), negated, numbers)
 
 
 def reaction_need(part: HumanPart, target: Target = "socrates") -> Need | None:
@@ -68,25 +93,66 @@ def reaction_need(part: HumanPart, target: Target = "socrates") -> Need | None:
     return Need(tuple(nodes), _ports("reaction", part.reaction, part)) if nodes else None
 
 
+def lasting_need(part: HumanPart, target: Target = "socrates") -> Need | None:
+    """The timer that ends a reaction after `lasts` seconds (None when it lasts while its trigger holds)."""
+    seconds = part.lasting()
+    if seconds is None or TIMER not in nodes_for_trigger("time", target):
+        return None
+    return Need((TIMER,), (), negated=True, numbers=(("seconds", seconds),))
+
+
+# ---- the prompt ------------------------------------------------------------------------------------
 def needs_text(name: str, spec: ScenarioSpec | None, target: Target = "socrates") -> str:
     """What the prompt tells the model this human's tree must contain."""
     if spec is None:
         return ""
+    parts = spec.parts_of(name)
     lines = []
-    for enc, part in spec.parts_of(name):
+    for enc, part in parts:
         where = f"node {enc.node} ({enc.place})" if enc.node else f"a {enc.place}"
         trigger, reaction = trigger_need(part, target), reaction_need(part, target)
-        what = _part_words(part)
         if trigger is None:
             need = f"use {reaction.describe()}" if reaction else "walk normally"
         else:
             need = (f"detect it with {trigger.describe()} and, gated by that condition, "
                     f"{'use ' + reaction.describe() if reaction else 'react'}")
-        latch = " Once triggered the reaction lasts (latch)." if part.latch else ""
-        lines.append(f"- Encounter {enc.id} at {where}: {what}. Your tree must {need}.{latch}")
+        timer = lasting_need(part, target)
+        if timer is not None:
+            need += (f"; it lasts {part.lasting():g} s: put <Inverter><{TIMER} seconds='{part.lasting():g}' "
+                     f"ts='{{dt}}' only_once='true'/></Inverter> before the action in its Sequence")
+        if part.latch:
+            need += "; once triggered it lasts for good (latch): " + _latch_words(part, target)
+        lines.append(f"- Encounter {enc.id} (order {enc.order}) at {where}: {_part_words(part)}. Your tree must "
+                     f"{need}.")
     if not lines:
         return ""
+    if len(parts) > 1:
+        lines.append(f"- {name} switches reactions: a later encounter's part takes over from an earlier one when its "
+                     f"trigger holds, so check the later encounters' conditions first (their branches come first "
+                     f"in the Fallback).")
+    lines += person_lines(name, spec)
     return "\n".join(["What the scenario's spec requires of this human's tree:", *lines, script_text(spec)])
+
+
+def _latch_words(part: HumanPart, target: Target) -> str:
+    said = latching_node(part.trigger, target)
+    keep = f"put the action inside <{LATCH_NODE}> right after the condition in the Sequence"
+    if said and latches_by_running(target):
+        return f"gate it with {said} (SUCCESS for good once said), or {keep}"
+    return f"gate it with {said}" if said else keep
+
+
+def person_lines(name: str, spec: ScenarioSpec) -> list[str]:
+    person = spec.person(name)
+    lines = []
+    if person.otherwise == "stand":
+        lines.append(f"- While none of its triggers holds, {name} stands still (\"otherwise\": \"stand\"): the last "
+                     f"branch of the tree is <MakeGesture agent_id='{{id}}' message='0'/> (or LookAtRobot), not "
+                     f"walking.")
+    if person.speed is not None:
+        lines.append(f"- {name} walks at up to {person.speed:g} m/s (the simulator sets it; nothing to do in the "
+                     f"tree).")
+    return lines
 
 
 def script_text(spec: ScenarioSpec) -> str:
@@ -103,13 +169,16 @@ def script_text(spec: ScenarioSpec) -> str:
         acts = []
         if cue.say:
             acts.append(f"says {cue.say} (held {cue.hold:g} s)")
-        if cue.wait_until_clear:
-            acts.append("waits until its way is clear")
+        if cue.wait and cue.wait_until_clear:
+            acts.append(f"stands still {cue.wait:g} s and then until its way is clear")
+        elif cue.wait_until_clear:
+            acts.append("stands still until its way is clear")
         elif cue.wait:
-            acts.append(f"waits {cue.wait:g} s")
+            acts.append(f"stands still {cue.wait:g} s")
         if cue.speed is not None:
             acts.append(f"goes on at {cue.speed:g} m/s")
-        cues.append(f"{when} it {' and '.join(acts) or 'does nothing special'}")
+        again = "" if cue.once else " (each time)"
+        cues.append(f"{when}{again} it {' and '.join(acts) or 'does nothing special'}")
     script = "; ".join(cues) if cues else "it says nothing and does not stop on purpose"
     return f"The robot drives at {spec.script.speed:g} m/s; {script}."
 
@@ -121,36 +190,66 @@ def _part_words(part: HumanPart) -> str:
     if part.other and part.trigger == "human_says":
         trig = f"{part.other} says {part.phrase}"
     if part.distance:
-        trig += f" (within {part.distance:g} m)"
+        trig += f" ({'farther than' if part.trigger in NEGATED_TRIGGERS else 'within'} {part.distance:g} m)"
+    if part.trigger == "time" and part.seconds is not None:
+        trig = f"{part.seconds:g} s after the start"
     reaction = part.reaction.replace("_", " ") + (f" {part.says}" if part.says else "") + \
         (f" {part.other}" if part.reaction == "follow_human" and part.other else "")
+    if part.lasting() is not None:
+        reaction += f" for {part.lasting():g} s, then walk on"
     return f"when {trig} -> {reaction}" if part.trigger != "always" else reaction
 
 
 # ---- reading a tree ---------------------------------------------------------------------------------
 def _matches(node: Node, need: Need) -> bool:
-    return node.name in need.nodes and all((value := node.value(k)) is not None and literal_text(value) == v
-                                           for k, v in need.ports)
+    if node.name not in need.nodes:
+        return False
+    if not all((value := node.value(k)) is not None and literal_text(value) == v for k, v in need.ports):
+        return False
+    return all(isinstance(value := node.value(k), int | float) and abs(float(value) - v) < 1e-6
+               for k, v in need.numbers)
 
 
 def _contains(node: Node, need: Need, *, inverted: bool) -> bool:
-    """`node`'s subtree holds the condition, negated an odd number of times when `inverted`."""
+    """`node`'s subtree holds the condition, negated an odd number of times when `inverted` (for a negated
+    need: an even number)."""
     def visit(n: Node, flips: int) -> bool:
         if _matches(n, need):
-            return (flips % 2 == 1) == inverted
+            return (flips % 2 == 1) == (inverted != need.negated)
         step = 1 if n.spec is not None and n.spec.rule == "invert" else 0
         return any(visit(c, flips + step) for c in n.children)
     return visit(node, 0)
 
 
+def _steps(action: Node, path: tuple[Node, ...]) -> Iterator[tuple[Node, Node]]:
+    """(parent, the child on the way down to `action`), from the action up to the top."""
+    return zip(reversed(path), (action, *reversed(path[1:])), strict=True)
+
+
+def _index(parent: Node, child: Node) -> int:
+    return next(k for k, c in enumerate(parent.children) if c is child)
+
+
 def _gated(action: Node, path: tuple[Node, ...], need: Need) -> bool:
     """An earlier sibling of the action (or of an ancestor) lets it run only when the condition holds: the
     condition in a sequence-like control, or the negated condition in a fallback-like one."""
-    for parent, child in zip(reversed(path), (action, *reversed(path[1:])), strict=True):
+    for parent, child in _steps(action, path):
         flow = parent.spec.flow if parent.spec is not None else None
-        earlier = parent.children[:next(k for k, c in enumerate(parent.children) if c is child)]
+        earlier = parent.children[:_index(parent, child)]
         if flow is not None and any(_contains(c, need, inverted=flow == "fallback") for c in earlier):
             return True
+    return False
+
+
+def _latched(action: Node, path: tuple[Node, ...], trigger: Need) -> bool:
+    """The action sits inside LATCH_NODE, below the Sequence step that checks the trigger."""
+    for parent, child in _steps(action, path):
+        if parent.name == LATCH_NODE:
+            return True
+        flow = parent.spec.flow if parent.spec is not None else None
+        if flow is not None and any(_contains(c, trigger, inverted=flow == "fallback")
+                                    for c in parent.children[:_index(parent, child)]):
+            return False  # reached the gate without passing the latch
     return False
 
 
@@ -164,14 +263,16 @@ def tree_need_mistakes(xml: str, name: str, spec: ScenarioSpec | None, target: T
         nodes = list(load_instance(xml, f"behaviors/{name}.xml").root.walk_with_path())
     except ValidationFailed:  # bt check names the tree's problems; its needs are checked once it has none
         return []
+    parts = spec.parts_of(name)
     mistakes: list[str] = []
-    for enc, part in spec.parts_of(name):
+    for enc, part in parts:
         mistakes += _part_mistakes(nodes, enc, part, target)
+    if not mistakes:
+        mistakes += _order_mistakes(nodes, parts, target) + _stand_mistakes(nodes, name, spec, target)
     return mistakes
 
 
-def _part_mistakes(nodes: list[tuple[Node, tuple[Node, ...]]], enc: Encounter, part: HumanPart,
-                   target: Target) -> list[str]:
+def _part_mistakes(nodes: list[Placed], enc: Encounter, part: HumanPart, target: Target) -> list[str]:
     trigger, reaction = trigger_need(part, target), reaction_need(part, target)
     what = f"encounter {enc.id} ({_part_words(part)})"
     if reaction is None:
@@ -179,11 +280,74 @@ def _part_mistakes(nodes: list[tuple[Node, tuple[Node, ...]]], enc: Encounter, p
     actions = [(n, path) for n, path in nodes if _matches(n, reaction)]
     if not actions:
         return [f"{what}: the tree has no {reaction.describe()} to realize the reaction {part.reaction}"]
-    if trigger is None:
-        return []
-    if not any(_matches(n, trigger) for n, _ in nodes):
-        return [f"{what}: the tree never checks {trigger.describe()}, so the trigger {part.trigger} cannot fire"]
-    if not any(_gated(a, path, trigger) for a, path in actions):
-        return [f"{what}: {reaction.describe()} is not gated by {trigger.describe()}; put the condition before "
-                f"the action in a Sequence (or inverted in an earlier branch of a Fallback)"]
+    if trigger is not None:
+        if not any(_matches(n, trigger) for n, _ in nodes):
+            return [f"{what}: the tree never checks {trigger.describe()}, so the trigger {part.trigger} cannot fire"]
+        actions = [(a, path) for a, path in actions if _gated(a, path, trigger)]
+        if not actions:
+            return [f"{what}: {reaction.describe()} is not gated by {trigger.describe()}; put the condition before "
+                    f"the action in a Sequence (or inverted in an earlier branch of a Fallback)"]
+    timer = lasting_need(part, target)
+    if timer is not None and not any(_gated(a, path, timer) for a, path in actions):
+        return [f"{what}: the reaction lasts {part.lasting():g} s; put <Inverter><{TIMER} seconds='{part.lasting():g}' "
+                f"ts='{{dt}}' only_once='true'/></Inverter> before {reaction.describe()} in its Sequence"]
+    if part.latch and trigger is not None and latching_node(part.trigger, target) is None \
+            and not any(_latched(a, path, trigger) for a, path in actions):
+        return [f"{what}: the reaction is latched (it lasts for good once triggered); {_latch_words(part, target)}"]
     return []
+
+
+def _gated_actions(nodes: list[Placed], part: HumanPart, target: Target) -> list[Placed]:
+    trigger, reaction = trigger_need(part, target), reaction_need(part, target)
+    if trigger is None or reaction is None:
+        return []
+    return [(n, path) for n, path in nodes if _matches(n, reaction) and _gated(n, path, trigger)]
+
+
+def _order_mistakes(nodes: list[Placed], parts: list[tuple[Encounter, HumanPart]], target: Target) -> list[str]:
+    """Of two parts of one person, the later encounter's must take over when its trigger holds: where one
+    Fallback chooses between their branches, the later one's comes first."""
+    mistakes = []
+    for (early_enc, early), (late_enc, late) in zip(parts, parts[1:], strict=False):
+        if late_enc.order <= early_enc.order or set(nodes_for_reaction(early.reaction, target)) == \
+                set(nodes_for_reaction(late.reaction, target)):
+            continue
+        firsts, seconds = _gated_actions(nodes, late, target), _gated_actions(nodes, early, target)
+        late_trigger = trigger_need(late, target)
+        if not firsts or not seconds or late_trigger is None:
+            continue
+        unless_late = Need(late_trigger.nodes, late_trigger.ports, not late_trigger.negated, late_trigger.numbers)
+        if any(_gated(b, path, unless_late) for b, path in seconds):
+            continue  # the earlier reaction runs only while the later trigger does not hold
+        if not any(_comes_first(a, b) for a in firsts for b in seconds):
+            mistakes.append(f"encounter {late_enc.id} comes after {early_enc.id}, so its reaction ({late.reaction}) "
+                            f"must take over when its trigger holds: put its branch before the branch of "
+                            f"{early_enc.id} ({early.reaction}) in the Fallback")
+    return mistakes
+
+
+def _comes_first(a: Placed, b: Placed) -> bool:
+    """`a` is chosen before `b`: in the control node where their ways part, a's branch is earlier (or they
+    part in a sequence, which does not choose between them)."""
+    way_a, way_b = (*a[1], a[0]), (*b[1], b[0])
+    k = 0
+    while k < min(len(way_a), len(way_b)) and way_a[k] is way_b[k]:
+        k += 1
+    if k == 0 or k >= min(len(way_a), len(way_b)):
+        return True
+    parent = way_a[k - 1]
+    if parent.spec is None or parent.spec.flow != "fallback":
+        return True
+    return _index(parent, way_a[k]) < _index(parent, way_b[k])
+
+
+def _stand_mistakes(nodes: list[Placed], name: str, spec: ScenarioSpec, target: Target) -> list[str]:
+    """A person who stands while no trigger holds has a stop action that no trigger of theirs gates."""
+    if spec.person(name).otherwise != "stand":
+        return []
+    triggers = [need for _, part in spec.parts_of(name) if (need := trigger_need(part, target)) is not None]
+    stops = set(nodes_for_reaction("stop", target))
+    if any(n.name in stops and not any(_gated(n, path, t) for t in triggers) for n, path in nodes):
+        return []
+    return [f"{name} stands while none of its triggers holds (\"otherwise\": \"stand\"): end the tree's Fallback with "
+            f"a branch that stands, <MakeGesture agent_id='{{id}}' message='0'/> (or LookAtRobot), not walking"]

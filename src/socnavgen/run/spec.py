@@ -17,6 +17,8 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
+from socnavgen.bodies import PERSON_TOP_SPEED
+
 RobotPhrase = Literal["WAIT", "PROCEED", "ACKNOWLEDGED", "EXCUSE ME", "FOLLOW ME"]
 HumanPhrase = Literal["WAIT", "PROCEED", "EXCUSE ME"]
 
@@ -91,20 +93,27 @@ class RobotScript(BaseModel):
 
 
 # ---- encounters --------------------------------------------------------------------------------
-HumanTrigger = Literal["always", "robot_visible", "robot_near", "robot_blocking", "robot_says", "robot_moving",
-                       "human_says", "time"]
+HumanTrigger = Literal["always", "robot_visible", "robot_near", "robot_far", "robot_blocking", "robot_says",
+                       "robot_moving", "human_says", "time"]
 Reaction = Literal["walk_past", "stop", "look", "give_way", "follow", "block", "avoid", "say", "follow_human",
                    "wait_then_go", "join"]
+# A trigger that holds exactly when another does not: a tree detects it with that trigger's condition inverted.
+NEGATED_TRIGGERS: dict[str, str] = {"robot_far": "robot_near"}
+WAIT_THEN_GO_SECONDS = 3.0  # s a wait_then_go stands when its part does not say `lasts`
 
 
 class HumanPart(BaseModel):
     """What one human does in an encounter: `reaction` on `trigger`.
 
     trigger: always | robot_visible (in line of sight within `distance`) | robot_near (within `distance`,
-    walls or not) | robot_blocking (in its way within `distance`) | robot_says `phrase` | robot_moving |
-    human_says (`other` says `phrase`) | time (after `seconds`).
+    walls or not) | robot_far (farther than `distance`: not robot_near) | robot_blocking (in its way within
+    `distance`) | robot_says `phrase` | robot_moving | human_says (`other` says `phrase`) | time (after
+    `seconds`).
     reaction: walk_past | stop | look | give_way | follow (the robot) | block | avoid | say `says` |
-    follow_human (`other`) | wait_then_go | join (a group). `latch`: keep reacting once triggered."""
+    follow_human (`other`) | wait_then_go (stands `lasts` s, WAIT_THEN_GO_SECONDS unless set, then walks
+    on) | join (a group).
+    `lasts`: the reaction stops after this many seconds (then the person walks on); unset, it lasts while
+    the trigger holds. `latch`: once triggered, keep reacting for good (the trigger is not checked again)."""
 
     model_config = ConfigDict(extra="forbid")
     human: str
@@ -114,7 +123,8 @@ class HumanPart(BaseModel):
     says: HumanPhrase | None = None  # for reaction say
     other: str | None = None  # for human_says / follow_human
     distance: float | None = Field(default=None, gt=0, le=50)
-    seconds: float | None = Field(default=None, ge=0, le=3600)
+    seconds: float | None = Field(default=None, ge=0, le=3600)  # of the trigger time
+    lasts: float | None = Field(default=None, gt=0, le=600)
     latch: bool = False
 
     @field_validator("human", "other")
@@ -130,12 +140,28 @@ class HumanPart(BaseModel):
             raise ValueError(f"{self.human}: reaction say names the phrase in `says`")
         if self.trigger == "human_says" and not (self.other and self.phrase):
             raise ValueError(f"{self.human}: trigger human_says names the `other` human and the `phrase`")
+        if self.seconds is not None and self.trigger != "time":
+            raise ValueError(f"{self.human}: `seconds` belongs to the trigger time (after how many seconds); how "
+                             f"long a reaction lasts is `lasts`")
+        if self.lasts is not None and self.latch:
+            raise ValueError(f"{self.human}: a latched reaction lasts for good; drop `lasts` or `latch`")
         return self
+
+    def lasting(self) -> float | None:
+        """Seconds the reaction lasts once triggered (None: while the trigger holds, or for good if latched)."""
+        return self.lasts if self.lasts is not None else WAIT_THEN_GO_SECONDS if self.reaction == "wait_then_go" \
+            else None
 
 
 class Encounter(BaseModel):
     """Who meets the robot, where (a place of the location; `node` once stage 2 grounds it), in what
-    order, and what each side does."""
+    order, and what each side does.
+
+    `order`: the encounters happen in this order (1 first). A person in several encounters switches
+    reactions: the part of a later encounter takes over from an earlier one as soon as its trigger holds
+    (its tree checks the later trigger first), e.g. e1 block the robot, e2 give way once it says EXCUSE ME.
+    The person's interaction point (where pacing brings them to meet the robot) is the node of their first
+    encounter."""
 
     model_config = ConfigDict(extra="forbid")
     id: str
@@ -152,6 +178,16 @@ class Encounter(BaseModel):
         if not _ID.match(v):
             raise ValueError(f"encounter id {v!r}: use e1, e2, ...")
         return v
+
+
+class Person(BaseModel):
+    """What a person is like, whatever the encounter: how fast they walk (HuNavSim's max_vel; the default is
+    bodies.PERSON_MAX_SPEED) and what they do while none of their triggers holds: walk their path, or stand
+    at their start (then their triggers set them going)."""
+
+    model_config = ConfigDict(extra="forbid")
+    speed: float | None = Field(default=None, gt=0, le=PERSON_TOP_SPEED)
+    otherwise: Literal["walk", "stand"] = "walk"
 
 
 # ---- acceptance criteria -----------------------------------------------------------------------
@@ -205,6 +241,7 @@ class ScenarioSpec(BaseModel):
     script: RobotScript = Field(default_factory=RobotScript)
     encounters: list[Encounter] = Field(default_factory=list, max_length=16)
     criteria: list[Criterion] = Field(default_factory=list, max_length=64)
+    people: dict[str, Person] = Field(default_factory=dict, max_length=16)  # per human; unlisted: the defaults
 
     @model_validator(mode="after")
     def _cues_name_what_exists(self) -> ScenarioSpec:
@@ -218,14 +255,23 @@ class ScenarioSpec(BaseModel):
             if cue.trigger.human and cue.trigger.human not in humans:
                 raise ValueError(f"{when} names {cue.trigger.human}, who takes part in no encounter "
                                  f"({', '.join(humans) or 'none'}): it would never fire")
+        for name in self.people:
+            _check_human(name)
+            if name not in humans:
+                raise ValueError(f"people names {name}, who takes part in no encounter ({', '.join(humans) or 'none'})")
         return self
+
+    def person(self, human: str) -> Person:
+        return self.people.get(human) or Person()
 
     def encounter(self, encounter_id: str) -> Encounter | None:
         return next((e for e in self.encounters if e.id == encounter_id), None)
 
     def parts_of(self, human: str) -> list[tuple[Encounter, HumanPart]]:
-        """Every (encounter, part) that involves `human`."""
-        return [(e, p) for e in self.encounters for p in e.humans if p.human == human]
+        """Every (encounter, part) that involves `human`, in the encounters' order (the first is where they
+        meet the robot first; a later part takes over from an earlier one when its trigger holds)."""
+        parts = [(e, p) for e in self.encounters for p in e.humans if p.human == human]
+        return sorted(parts, key=lambda ep: ep[0].order)
 
     def humans(self) -> list[str]:
         names = {p.human for e in self.encounters for p in e.humans}

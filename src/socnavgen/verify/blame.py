@@ -5,8 +5,9 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
   S1  the criterion contradicts its own spec (unknown encounter or human, a meeting closer than the two
       radii, a phrase other than the one its encounter waits for, a stop asked of a walk_past, a
       reaction its encounter does not give the human (follows_robot / blocks_robot / gives_way /
-      keeps_away), keeps_away farther than a meeting it also asks for, a placeholder for its text, a
-      formula that cannot be monitored)                                                       -> spec
+      keeps_away / reacts_after_phrase), keeps_away farther than a meeting it also asks for, a
+      placeholder for its text, a formula that cannot be monitored; stage 1 applies the same
+      `contradictions`)                                                                         -> spec
   S2  the criterion's place cannot work on this map (location/inventory.py: no node of that type, every one
       unreachable or a dead end too tight to pass a person), or it asks for a hidden approach where no
       node of that type is a blind turn                                                       -> spec
@@ -75,34 +76,46 @@ def spec_problem(c: Criterion, spec: ScenarioSpec, roster: set[str] | None = Non
     for name in [c.human, *c.humans]:
         if name and humans and name not in humans:
             return f"criterion {c.id} is about {name}, who takes part in no encounter"
+    found = contradictions(c, spec)
+    return found[0] if found else None
+
+
+def contradictions(c: Criterion, spec: ScenarioSpec) -> list[str]:
+    """Every way a criterion asks what its own spec says does not happen (the heart of rule S1; stage 1 refuses
+    the same before anything is simulated: proposal/spec_checks.py)."""
+    out = []
     if c.kind == "meets" and c.distance is not None and c.distance < TOUCH_DISTANCE:
-        return (f"criterion {c.id} asks for a meeting closer than {TOUCH_DISTANCE:g} m centre to centre: "
-                f"that is a collision ({ROBOT_RADIUS:g} m robot + {PERSON_RADIUS:g} m human radius)")
+        out.append(f"criterion {c.id} asks for a meeting closer than {TOUCH_DISTANCE:g} m centre to centre: "
+                   f"that is a collision ({ROBOT_RADIUS:g} m robot + {PERSON_RADIUS:g} m human radius)")
     parts = spec.parts_of(c.human) if c.human else []
     if c.encounter:
         parts = [(e, p) for e, p in parts if e.id == c.encounter]
     if c.kind in ("reacts_after_phrase", "follows_robot") and c.phrase:
         waits = {p.phrase for _, p in parts if p.trigger == "robot_says" and p.phrase}
         if waits and c.phrase not in waits:
-            return (f"criterion {c.id} waits for the robot saying {c.phrase}, but its encounter reacts to "
-                    f"{', '.join(sorted(waits))}")
+            out.append(f"criterion {c.id} waits for the robot saying {c.phrase}, but its encounter reacts to "
+                       f"{', '.join(sorted(waits))}")
     if c.kind in ("stops_near_robot", "blocks_robot") and parts and all(p.reaction == "walk_past" for _, p in parts):
-        return f"criterion {c.id} asks {c.human} to stop, but its encounter has it walk past"
+        out.append(f"criterion {c.id} asks {c.human} to stop, but its encounter has it walk past")
     reactions = {p.reaction for _, p in parts}
     allowed = REACTIONS_OF.get(c.kind)
     if allowed is not None and parts and not reactions & allowed:
-        return (f"criterion {c.id} ({c.kind}) asks {c.human} for what its encounter does not have it do (its "
-                f"reaction: {', '.join(sorted(reactions))}; {c.kind} needs {' or '.join(sorted(allowed))})")
+        out.append(f"criterion {c.id} ({c.kind}) asks {c.human} for what its encounter does not have it do (its "
+                   f"reaction: {', '.join(sorted(reactions))}; {c.kind} needs {' or '.join(sorted(allowed))})")
+    if c.kind == "reacts_after_phrase" and c.reaction and parts and c.reaction not in reactions:
+        out.append(f"criterion {c.id} expects the reaction {c.reaction} of {c.human}, but its encounter has "
+                   f"{', '.join(sorted(reactions))}")
     if c.kind == "says" and c.phrase and parts:
         said = {p.says for _, p in parts if p.reaction == "say" and p.says}
         if said and c.phrase not in said:
-            return f"criterion {c.id} asks {c.human} to say {c.phrase}, but its encounter has it say {', '.join(sorted(said))}"
+            out.append(f"criterion {c.id} asks {c.human} to say {c.phrase}, but its encounter has it say "
+                       f"{', '.join(sorted(said))}")
     if c.kind == "keeps_away" and c.human:
         meet = next((m for m in spec.criteria if m.kind == "meets" and m.human == c.human), None)
         if meet is not None and (meet.distance or MEET_DISTANCE) < (c.distance or KIND_DISTANCE["keeps_away"]):
-            return (f"criterion {c.id} keeps {c.human} {c.distance or KIND_DISTANCE['keeps_away']:g} m away, but "
-                    f"criterion {meet.id} asks them to meet within {meet.distance or MEET_DISTANCE:g} m")
-    return None
+            out.append(f"criterion {c.id} keeps {c.human} {c.distance or KIND_DISTANCE['keeps_away']:g} m away, "
+                       f"but criterion {meet.id} asks them to meet within {meet.distance or MEET_DISTANCE:g} m")
+    return out
 
 
 # the encounter reactions (run.spec.Reaction) a criterion kind can be about: any other contradicts the spec (S1)

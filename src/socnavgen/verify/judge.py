@@ -155,7 +155,7 @@ def judge(trace: Trace, *, plan: PathPlan, location: Any, spec: ScenarioSpec | N
     goal_radius = settings.goal_radius or float((trace.meta or {}).get("robot_goal_radius", DEFAULT_GOAL_RADIUS))
     world_factory = None
     if location is not None:
-        from socnavgen.sim.world import World
+        from socnavgen.sim import World
 
         def world_factory() -> World:
             return World.from_location(location)

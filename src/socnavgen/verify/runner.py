@@ -36,7 +36,7 @@ def card_criteria_for(run: RunFolder | LoadedRun) -> list[dict] | None:
 def simulate_missing(run_dir: Path | str | LoadedRun, **options: Any) -> Trace:
     """Run the headless simulator on the run (saving RUN/sim/trace.npz) and return the trace. `options`:
     robot (the simulator's default policy when absent), location, dt, timeout, seed."""
-    from socnavgen.sim.scenario import simulate_run
+    from socnavgen.sim import simulate_run
 
     return simulate_run(run_dir if isinstance(run_dir, LoadedRun) else Path(run_dir), **options)
 
@@ -47,7 +47,7 @@ def load_trace(run: RunFolder | LoadedRun, *, simulate_if_missing: bool,
     hand is judged as it is); otherwise (missing, half-written, or made from files that changed since:
     sim/outputs.stale_reason) simulated again with the robot and settings it was made with (`simulate_options`
     override them), or refused without `simulate_if_missing`."""
-    from socnavgen.sim.outputs import recorded_options, stale_reason
+    from socnavgen.sim import recorded_options, stale_reason
 
     folder = run.folder if isinstance(run, LoadedRun) else run
     path = folder.sim_dir / TRACE_FILE

@@ -231,11 +231,11 @@ def formula_problems(formula: str, humans: list[str], places: list[str], *, dt: 
     names against the run's humans and places (encounter ids, goal, node_<id>), and intervals that no episode
     can hold (longer than `horizon` seconds) or that the simulator's step `dt` (its default when None) cannot
     sample. [] when fine."""
+    from socnavgen.sim import empty_room
     from socnavgen.sim.trace import Trace
-    from socnavgen.sim.world import empty_room
 
     if dt is None:
-        from socnavgen.sim.engine import SimConfig
+        from socnavgen.sim import SimConfig
 
         dt = SimConfig().dt
     n = len(humans)

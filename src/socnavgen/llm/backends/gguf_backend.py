@@ -15,16 +15,19 @@ import json
 import logging
 import os
 import threading
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 from socnavgen.errors import LLMError
+from socnavgen.llm.base import ChatMessage
 from socnavgen.llm.engine import Backend, Completion, LLMOptions, Request
 from socnavgen.llm.structured import json_schema
 
 log = logging.getLogger("socnavgen.llm")
 
 DEFAULT_N_CTX = 8192
+TRAINED_CONTEXT_KEY = "{arch}.context_length"  # GGUF metadata: the context the model was trained for
 DEFAULT_MAX_TOKENS = 1024
 DEFAULT_MAX_STRING = 4000  # characters per JSON string in schema-derived grammars (0 = unbounded)
 # The 135M smoke-test model loops inside strings ("1. 2. 3. ..."): tighter bounds and a mild repeat penalty.
@@ -33,6 +36,7 @@ LOCAL_SAMPLING = {"repeat_penalty": 1.1}
 INSTALL_HINT = "install the optional extra: pip install 'socnavgen[local]' (compiles llama.cpp, ~5 min)"
 _LOAD_LOCK = threading.Lock()  # model loading patches llama_cpp's defaults briefly (see _load)
 _MODELS: dict[tuple[str, int], tuple[Any, threading.Lock]] = {}  # (file, n_ctx) -> (model, its run lock)
+_VOCABS: dict[str, Any] = {}  # file -> its tokenizer (a vocabulary-only load: no weights, a fraction of a second)
 
 
 def smollm2_path() -> Path:
@@ -77,6 +81,18 @@ class GGUFBackend(Backend):
         self.sampling: dict[str, float] = dict(sampling or {})  # extra llama.cpp sampling arguments
         self.n_ctx = int(os.environ.get("SOCNAVGEN_GGUF_N_CTX", DEFAULT_N_CTX))
         self.max_string = int(os.environ.get("SOCNAVGEN_GGUF_MAX_STRING", max_string))
+
+    @property
+    def context_tokens(self) -> int:
+        """The context the model is loaded with (SOCNAVGEN_GGUF_N_CTX, default 8192), at most the context
+        the model was trained for (its GGUF metadata): what a prompt and its reply must fit in."""
+        metadata = _vocab(self._llama_cpp, self.path).metadata
+        trained = metadata.get(TRAINED_CONTEXT_KEY.format(arch=metadata.get("general.architecture", "llama")))
+        return min(self.n_ctx, int(trained)) if trained and str(trained).isdigit() else self.n_ctx
+
+    def count_tokens(self, messages: list[ChatMessage]) -> int:
+        """The prompt's tokens exactly as llama.cpp builds them: the model's chat template, its tokenizer."""
+        return len(vocab_tokenizer(self.path)(messages, self._llama_cpp))
 
     def cache_identity(self) -> dict[str, Any]:
         stat = self.path.stat()
@@ -165,6 +181,38 @@ def _close_models() -> None:
             finally:
                 lock.release()
     _MODELS.clear()
+
+
+def _vocab(llama_cpp: Any, path: Path) -> Any:
+    key = str(path.resolve())
+    with _LOAD_LOCK:
+        if key not in _VOCABS:
+            try:
+                _VOCABS[key] = llama_cpp.Llama(model_path=str(path), vocab_only=True, verbose=False)
+            except Exception as exc:  # llama.cpp reports load failures as ValueError/RuntimeError
+                raise LLMError(f"cannot read the tokenizer of the model ({exc})", file=path,
+                               hint="is it a GGUF file this llama-cpp-python version supports?") from exc
+        return _VOCABS[key]
+
+
+def vocab_tokenizer(path: Path) -> Callable[..., list[int]]:
+    """messages -> the prompt's token ids, as create_chat_completion builds them (chat template of the
+    model's metadata, or llama.cpp's fallback format, then its tokenizer)."""
+    def tokens(messages: list[ChatMessage], llama_cpp: Any = None) -> list[int]:
+        llama_cpp = llama_cpp or require_llama_cpp()
+        vocab = _vocab(llama_cpp, path)
+        template = vocab.metadata.get("tokenizer.chat_template")
+        plain = [{"role": m.role, "content": m.content} for m in messages]
+        if template:
+            eos, bos = vocab.token_eos(), vocab.token_bos()
+            formatter = llama_cpp.llama_chat_format.Jinja2ChatFormatter(
+                template=template, eos_token=vocab._model.token_get_text(eos) if eos != -1 else "",
+                bos_token=vocab._model.token_get_text(bos) if bos != -1 else "")
+            result = formatter(messages=plain)
+            return vocab.tokenize(result.prompt.encode("utf-8"), add_bos=not result.added_special, special=True)
+        text = "".join(f"<{m['role']}>\n{m['content']}\n" for m in plain)  # no template: a close estimate
+        return vocab.tokenize(text.encode("utf-8"), add_bos=True, special=True)
+    return tokens
 
 
 def cap_string_lengths(schema: Any, limit: int) -> Any:

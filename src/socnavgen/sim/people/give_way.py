@@ -1,0 +1,222 @@
+"""Getting out of the robot's way: where the robot is along its path, whether a person stands on the path
+ahead of it, where to stand aside, and the leaves built on that (GiveWaytoRobot, FollowRobot).
+
+The robot's upcoming path is its position followed by its waypoints after the segment it is on
+(`path_point`): a turn of the robot is taken into account, not only its current heading."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from socnavgen import proxemics
+from socnavgen.sim.jit import jit
+from socnavgen.sim.people.leaves import follow, leaf
+from socnavgen.sim.people.state import turn, walk_to, walk_to_goal
+from socnavgen.sim.people.trees import SUCCESS
+from socnavgen.sim.world.queries import free_along
+
+FOLLOW_WAY_AHEAD = 2.0  # m: a follower this close ahead of the robot, on its path, steps aside first
+FOLLOW_WAY_MARGIN = proxemics.WAY_MARGIN_FOLLOW  # m beside the robot's path that still counts as in its way
+GIVE_WAY_MARGIN = proxemics.GIVE_WAY_CLEARANCE  # m of free space between the person and the robot when aside
+GIVE_WAY_ARRIVED = 0.15  # m
+SIDE_STEP_DIRECTIONS = 16  # directions tried for the side step
+SIDE_STEP_MAX = 3.0  # m: the farthest a person walks to get out of the robot's way
+SIDE_STEP_SPACING = 0.1  # m: candidate spots every 0.1 m along each direction, from 0.1 m on
+SIDE_STEP_TURN_COST = 0.3  # m of walk a radian away from straight sideways is worth
+SIDE_STEP_FAR_COST = 0.05  # per m of walk, against clearance, when no spot is far enough
+TIE = 1e-9  # m: segments, spots and directions this close count as equally good; the first is taken
+ASIDE_RADIUS = 0.05  # m: the side-step target is reached within this
+PASSED_MARGIN = 0.3  # m beyond both radii: the robot has passed the person's spot on its path
+ASIDE, WAIT, RESUME = 0, 1, 2  # give-way phases
+SIDE_UNITS = np.array([complex(math.cos(2 * math.pi * j / SIDE_STEP_DIRECTIONS),
+                               math.sin(2 * math.pi * j / SIDE_STEP_DIRECTIONS)) for j in range(SIDE_STEP_DIRECTIONS)])
+SIDE_TURNS = np.array([abs(math.remainder(2 * math.pi * j / SIDE_STEP_DIRECTIONS, 2 * math.pi))
+                       for j in range(SIDE_STEP_DIRECTIONS)])
+
+
+@jit
+def project(p, a, b):  # noqa: ANN001, ANN201
+    """(distance along the segment a->b of p's closest point, distance from p to it)."""
+    ab = b - a
+    length = abs(ab)
+    unit = ab / length if length > 1e-9 else 0j
+    along = min(max(((p - a) * unit.conjugate()).real, 0.0), length)
+    return along, abs(p - (a + unit * along))
+
+
+@jit
+def robot_progress(s):  # noqa: ANN001, ANN201
+    """(arc length, segment) of the robot's projection on its waypoint path, searched from the segment found
+    last (a path may come back past the same place); computed once per step."""
+    robot, wps = s.robot[0], s.waypoints
+    if robot.progress_step == s.clock[0].step:
+        return robot.progress, robot.progress_segment
+    value, seg = 0.0, 0
+    if wps.shape[0] >= 2:
+        nearest = np.inf
+        for j in range(robot.search_from, wps.shape[0] - 1):
+            nearest = min(nearest, project(robot.pos, wps[j], wps[j + 1])[1])
+        for j in range(robot.search_from, wps.shape[0] - 1):  # the first segment as near as the nearest
+            along, dist = project(robot.pos, wps[j], wps[j + 1])
+            if dist <= nearest + TIE:
+                seg, value = j, s.offsets[j] + along
+                break
+        robot.search_from = seg
+    robot.progress_step, robot.progress, robot.progress_segment = s.clock[0].step, value, seg
+    return value, seg
+
+
+@jit
+def path_size(s, seg, fallback):  # noqa: ANN001, ANN201
+    """Points of the upcoming path (`fallback`: the robot and a point 1 cm ahead, when it has no path)."""
+    return 2 if fallback else max(s.waypoints.shape[0] - seg, 1)
+
+
+@jit
+def path_point(s, seg, j, fallback):  # noqa: ANN001, ANN201
+    if j == 0:
+        return s.robot[0].pos
+    return s.robot[0].pos + s.robot[0].heading * 0.01 if fallback else s.waypoints[seg + j]
+
+
+@jit
+def nearest_segment(s, p, seg, fallback):  # noqa: ANN001, ANN201
+    """(index, along, distance) of the upcoming path's segment nearest to p: the first within TIE of the
+    nearest (at a corner both segments are as near)."""
+    nearest = np.inf
+    for j in range(path_size(s, seg, fallback) - 1):
+        nearest = min(nearest, project(p, path_point(s, seg, j, fallback), path_point(s, seg, j + 1, fallback))[1])
+    for j in range(path_size(s, seg, fallback) - 1):
+        along, dist = project(p, path_point(s, seg, j, fallback), path_point(s, seg, j + 1, fallback))
+        if dist <= nearest + TIE:
+            return j, along, dist
+    return 0, 0.0, np.inf
+
+
+@jit
+def arc_before(s, seg, k, fallback):  # noqa: ANN001, ANN201
+    """Length of the upcoming path's first k segments."""
+    total = 0.0
+    for j in range(k):
+        total += abs(path_point(s, seg, j + 1, fallback) - path_point(s, seg, j, fallback))
+    return total
+
+
+@jit
+def in_robot_way(s, i):  # noqa: ANN001, ANN201
+    """Person i stands on the robot's remaining path, ahead of it within FOLLOW_WAY_AHEAD metres."""
+    p, robot = s.people[i], s.robot[0]
+    if abs(p.pos - robot.pos) > FOLLOW_WAY_AHEAD or abs(robot.pos - robot.goal) <= robot.goal_tolerance:
+        return False
+    _, seg = robot_progress(s)
+    if path_size(s, seg, False) < 2:
+        return False
+    k, along, dist = nearest_segment(s, p.pos, seg, False)
+    return dist < p.radius + robot.radius + FOLLOW_WAY_MARGIN and arc_before(s, seg, k, False) + along > 0.0
+
+
+@jit
+def plan_side_step(s, i):  # noqa: ANN001, ANN201
+    """Where to stand: the nearest reachable spot (walls respected) that leaves GIVE_WAY_MARGIN between the
+    person and the robot all along the robot's upcoming path, preferring straight sideways on the side the
+    person is on; when no spot is that far, the one farthest from the path (shorter walks preferred)."""
+    p, robot = s.people[i], s.robot[0]
+    want = p.radius + robot.radius + GIVE_WAY_MARGIN
+    progress, seg = robot_progress(s)
+    fallback = path_size(s, seg, False) < 2
+    k, along, dist = nearest_segment(s, p.pos, seg, fallback)
+    p.aside_at = progress + arc_before(s, seg, k, fallback) + along
+    p.give_way_phase = ASIDE
+    p.aside = p.pos
+    if dist >= want:
+        return
+    a, b = path_point(s, seg, k, fallback), path_point(s, seg, k + 1, fallback)
+    along_path = (b - a) / abs(b - a) if abs(b - a) > 1e-9 else robot.heading
+    side = 1.0 if ((p.pos - a) * along_path.conjugate()).imag >= 0 else -1.0
+    prefer = along_path * 1j * side  # away from the path on the person's side
+    segments = path_size(s, seg, fallback) - 1
+    distances = s.work[0]
+    found, best_rank, best_cost, best = False, 0, 0.0, p.pos
+    for j in range(SIDE_STEP_DIRECTIONS):
+        u = prefer * SIDE_UNITS[j]
+        room = free_along(s.world, p.pos, u, SIDE_STEP_MAX, p.radius)
+        count = int(math.ceil((room + 1e-9 - SIDE_STEP_SPACING) / SIDE_STEP_SPACING)) if room > 0 else 0
+        if count <= 0:
+            continue
+        first_ok, farthest = -1, -np.inf
+        for m in range(count):  # spots every SIDE_STEP_SPACING along u, from SIDE_STEP_SPACING on
+            spot = p.pos + u * (SIDE_STEP_SPACING * (m + 1))
+            d = np.inf
+            for q in range(segments):
+                d = min(d, project(spot, path_point(s, seg, q, fallback), path_point(s, seg, q + 1, fallback))[1])
+            if d >= want:
+                first_ok = m
+                break
+            distances[m] = d
+            farthest = max(farthest, d)
+        if first_ok >= 0:
+            walk = SIDE_STEP_SPACING * (first_ok + 1)
+            rank, cost = 0, walk + SIDE_STEP_TURN_COST * SIDE_TURNS[j]
+        else:
+            m = 0
+            while distances[m] < farthest - TIE:  # the first of the farthest spots
+                m += 1
+            walk = SIDE_STEP_SPACING * (m + 1)
+            rank, cost = 1, -distances[m] + SIDE_STEP_FAR_COST * walk
+        if not found or rank < best_rank or (rank == best_rank and cost < best_cost - TIE):
+            found, best_rank, best_cost, best = True, rank, cost, p.pos + u * walk
+    p.aside = best
+
+
+@jit
+def robot_has_passed(s, i):  # noqa: ANN001, ANN201
+    """The robot is beyond the point of its path person i stepped away from (or at its goal)."""
+    robot, p = s.robot[0], s.people[i]
+    if abs(robot.pos - robot.goal) <= robot.goal_tolerance:
+        return True
+    progress, _ = robot_progress(s)
+    clear = p.radius + robot.radius + PASSED_MARGIN
+    return progress > p.aside_at + clear and abs(robot.pos - p.pos) > clear
+
+
+@jit
+def give_way(s, i):  # noqa: ANN001, ANN201
+    """Step off the robot's upcoming path, wait there facing the robot until it has passed, then walk on to
+    the goal. A new side step is planned whenever the previous action was something else."""
+    p = s.people[i]
+    if p.behavior != 2 or not p.gives_way:
+        p.behavior = 2
+        p.gives_way = True
+        plan_side_step(s, i)
+    if p.give_way_phase != RESUME and robot_has_passed(s, i):
+        p.give_way_phase = RESUME
+    if p.give_way_phase == ASIDE and abs(p.aside - p.pos) <= GIVE_WAY_ARRIVED:
+        p.give_way_phase = WAIT
+    if p.give_way_phase == ASIDE:
+        walk_to(s.people, i, p.aside, ASIDE_RADIUS, p.max_speed)
+    elif p.give_way_phase == WAIT:
+        d = s.robot[0].pos - p.pos
+        turn(s.people, i, math.atan2(d.imag, d.real))
+    else:
+        walk_to_goal(s.people, i, p.max_speed, 0j)
+
+
+@leaf("GiveWaytoRobot")
+def give_way_to_robot(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
+    give_way(s, i)
+    return SUCCESS
+
+
+@leaf("FollowRobot")
+def follow_robot(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
+    """Follow the robot; a follower standing in the robot's way (ahead of it, on its remaining path) first
+    steps aside and lets it pass, as a person told FOLLOW ME by a robot coming up behind does."""
+    p = s.people[i]
+    if (p.gives_way and p.behavior == 2 and p.give_way_phase != RESUME) or in_robot_way(s, i):
+        give_way(s, i)
+        if p.give_way_phase != RESUME:
+            return SUCCESS
+    follow(s, i, s.robot[0].pos, s.robot[0].radius)
+    return SUCCESS

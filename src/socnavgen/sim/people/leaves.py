@@ -1,0 +1,235 @@
+"""The library's leaves, one function each (semantics: reference §3 plus each NodeSpec.sim_note).
+
+Adding a leaf is one row in the node library (bt/library.py) and one function here, decorated with
+`@leaf("Name")`: the interpreter dispatches to it by the row's position. A leaf gets the simulation state
+`s`, its node's record (`node.memory` is its own number to keep), the person `i` it acts for (its agent_id
+port) and its ports by name, `a[Port.distance]`; it returns SUCCESS, FAILURE or RUNNING, or
+`bad_port(Port.x)` when a port's value cannot be used (the run then stops with the tree's file and line).
+
+Conditions read the step's snapshot; actions do not move anyone themselves: they set the person's motion
+command for this step (people.state: walk_to_goal, walk_to, turn, stand), and the walking step moves
+everyone at once afterwards, so every tree sees the same snapshot.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+
+from socnavgen.sim.jit import jit
+from socnavgen.sim.people.state import goal_reached, pop_goal, stand, turn, walk_to, walk_to_goal
+from socnavgen.sim.people.trees import FAILURE, SUCCESS, Port
+from socnavgen.sim.world.queries import line_of_sight
+
+LEAVES: dict[str, Callable] = {}
+BAD_PORT = -10  # a leaf's status BAD_PORT - column: the port in that column holds an unusable value
+
+# Constants of the SocRATES fork (reference §1.3, §3)
+BLOCKING_CONE = 0.5  # rad
+ROBOT_MOVED_SPEED = 0.1  # m/s
+FOLLOW_STOP = 1.5  # m
+FOLLOW_GAIN = 1.8 / 10.0  # follow speed = 1.8 * r / max_dist_view(10)
+RUN_AWAY_SPEED = 0.6  # m/s
+RUN_AWAY_GAIN = 20 * 0.2  # 20 * sigma_obs
+RUN_AWAY_MIN_GAP = 0.05  # m: the run-away push is computed as if no closer than this to the robot
+BLOCK_AHEAD, BLOCK_RADIUS, BLOCK_SPEED, BLOCK_FACE = 1.5, 0.05, 0.5, 0.6
+# LookAtRobot turns 0.01*pi per manager call; Gazebo calls it every 1 ms. We keep that rate per second of
+# simulated time (10*pi rad/s, i.e. practically at once) instead of per tick, so dt does not change it.
+LOOK_TURN_RATE = 0.01 * math.pi / 0.001
+
+
+def leaf(name: str) -> Callable[[Callable], Callable]:
+    """Register the function of library leaf `name`."""
+    def register(fn: Callable) -> Callable:
+        LEAVES[name] = compiled = jit(fn)
+        return compiled
+    return register
+
+
+@jit
+def bad_port(column):  # noqa: ANN001, ANN201
+    return BAD_PORT - column
+
+
+@jit
+def wrap(a):  # noqa: ANN001, ANN201
+    return (a + math.pi) % (2 * math.pi) - math.pi
+
+
+@jit
+def robot_bearing(s, i):  # noqa: ANN001, ANN201
+    """Bearing of the robot seen from person i (reference §0), in (-pi, pi]."""
+    d = s.robot[0].pos - s.people[i].pos
+    return wrap(math.atan2(d.imag, d.real) - s.people[i].yaw)
+
+
+@jit
+def sees_robot(s, i):  # noqa: ANN001, ANN201
+    """Line of sight from person i to the robot, computed at most once per step."""
+    p = s.people[i]
+    if p.sees_robot < 0:
+        p.sees_robot = 1 if line_of_sight(s.world, s.robot[0].pos, p.pos) else 0
+    return p.sees_robot == 1
+
+
+@jit
+def human(s, a, column, offset):  # noqa: ANN001, ANN201
+    """The person a port names (`offset` 1 for HuNavSim 2.x's 1-based ids); -1 when it names nobody."""
+    h = a[column] - offset
+    return int(h) if h == math.floor(h) and 0 <= h < s.people.shape[0] else -1
+
+
+# ---- conditions -------------------------------------------------------------------------------------
+@leaf("IsRobotVisible")
+def is_robot_visible(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
+    return SUCCESS if s.people[i].robot_distance <= a[Port.distance] and sees_robot(s, i) else FAILURE
+
+
+@leaf("IsRobotNearby")
+def is_robot_nearby(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
+    return SUCCESS if s.people[i].robot_distance <= a[Port.distance] else FAILURE
+
+
+@leaf("IsRobotBlocking")
+def is_robot_blocking(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
+    if s.people[i].robot_distance > a[Port.distance] or abs(robot_bearing(s, i)) > BLOCKING_CONE:
+        return FAILURE
+    return SUCCESS if sees_robot(s, i) else FAILURE
+
+
+@leaf("IsGoalReached")
+def is_goal_reached(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
+    return SUCCESS if goal_reached(s.people, s.goals, i) else FAILURE
+
+
+@leaf("TimeExpiredCondition")
+def time_expired(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
+    """Accumulates `ts` per tick of this node; SUCCESS once `seconds` are reached (§3.2)."""
+    elapsed = node.memory + a[Port.ts]
+    if elapsed < a[Port.seconds]:
+        node.memory = elapsed
+        return FAILURE
+    node.memory = elapsed if a[Port.only_once] != 0 else 0.0
+    return SUCCESS
+
+
+@leaf("RobotSays")
+def robot_says(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
+    return SUCCESS if s.robot[0].gesture == a[Port.message] else FAILURE
+
+
+@leaf("RobotSaid")
+def robot_said(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
+    """Latching RobotSays: the robot showed the gesture at some step so far."""
+    m = a[Port.message]
+    return SUCCESS if 0 <= m < 63 and m == math.floor(m) and (s.robot[0].said >> int(m)) & 1 == 1 else FAILURE
+
+
+@leaf("HumanSays")
+def human_says(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
+    h = human(s, a, Port.target_id, 0)
+    if h < 0:
+        return bad_port(Port.target_id)
+    return SUCCESS if s.people[h].gesture == a[Port.message] else FAILURE
+
+
+@leaf("RobotMoved")
+def robot_moved(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
+    return SUCCESS if abs(s.robot[0].vel) > ROBOT_MOVED_SPEED else FAILURE
+
+
+# ---- actions ------------------------------------------------------------------------------------------
+@leaf("UpdateGoal")
+def update_goal(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
+    pop_goal(s.people, s.goals, i, True)
+    return SUCCESS
+
+
+@leaf("MakeGesture")
+def make_gesture(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
+    s.people[i].gesture = int(a[Port.message])
+    return SUCCESS
+
+
+@leaf("RegularNav")
+def regular_nav(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
+    """Social-force walking toward the goal; a person held at its interaction point stands (pacing)."""
+    p = s.people[i]
+    p.behavior = 0
+    if p.held:
+        stand(s.people, i)
+    else:
+        walk_to_goal(s.people, i, p.pace, 0j)
+    return SUCCESS
+
+
+@jit
+def look_at_robot_step(s, i):  # noqa: ANN001, ANN201
+    """Stand and turn toward the robot at LOOK_TURN_RATE."""
+    s.people[i].behavior = 1
+    beta = robot_bearing(s, i)
+    limit = LOOK_TURN_RATE * s.clock[0].dt
+    step = min(beta, limit) if beta > 0 else (max(beta, -limit) if beta < 0 else 0.0)
+    turn(s.people, i, s.people[i].yaw + step)
+
+
+@leaf("LookAtRobot")
+def look_at_robot(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
+    look_at_robot_step(s, i)
+    return SUCCESS
+
+
+@jit
+def follow(s, i, target, target_radius):  # noqa: ANN001, ANN201
+    """Within FOLLOW_STOP face the target without moving; else walk toward it at FOLLOW_GAIN * distance."""
+    s.people[i].behavior = 1
+    d = target - s.people[i].pos
+    r = abs(d)
+    if r <= FOLLOW_STOP:
+        turn(s.people, i, math.atan2(d.imag, d.real))
+    else:
+        walk_to(s.people, i, target, target_radius, FOLLOW_GAIN * r)
+
+
+@leaf("FollowHuman")
+def follow_human(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
+    h = human(s, a, Port.target_id, 0)
+    if h < 0:
+        return bad_port(Port.target_id)
+    if h != i:
+        follow(s, i, s.people[h].pos, s.people[h].radius)
+    return SUCCESS
+
+
+@jit
+def push_away(s, i, within):  # noqa: ANN001, ANN201
+    """The scared walker's extra force away from the robot (the fork's 20 sigma / (r - R), kept repulsive
+    inside R where the fork flips sign); none from `within` metres on."""
+    away = s.people[i].pos - s.robot[0].pos
+    r = abs(away)
+    if 1e-9 < r < within:
+        return RUN_AWAY_GAIN / max(r - s.people[i].radius, RUN_AWAY_MIN_GAP) * away / r
+    return 0j
+
+
+@leaf("RunAwayFromRobot")
+def run_away_from_robot(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
+    s.people[i].behavior = 1
+    walk_to_goal(s.people, i, RUN_AWAY_SPEED, push_away(s, i, math.inf))
+    return SUCCESS
+
+
+@jit
+def block(s, i, ahead):  # noqa: ANN001, ANN201
+    """Walk to the point `ahead` metres in front of the robot; face it once within BLOCK_FACE."""
+    p = s.people[i]
+    p.behavior = 1
+    walk_to(s.people, i, s.robot[0].pos + ahead * complex(math.cos(s.robot[0].yaw), math.sin(s.robot[0].yaw)),
+            BLOCK_RADIUS, BLOCK_SPEED)
+    p.face_robot_within = BLOCK_FACE
+
+
+@leaf("BlockRobot")
+def block_robot(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
+    block(s, i, BLOCK_AHEAD)
+    return SUCCESS

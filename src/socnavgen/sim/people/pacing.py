@@ -1,0 +1,140 @@
+"""Pacing people to meet the robot at their interaction point, after SocRATES's scenario manager
+(reference §11), both ways.
+
+A person without a group whose path has an interaction node that is also on the robot's path is paced by
+the robot's ETA at that node (its remaining path at the script's cruise speed). Only RegularNav honours it,
+as `pause_nav` in the fork. Two rules:
+* `eta` (default): all the way to the node, walk at the speed that arrives together with the robot (slow
+  down), stand while that speed would be a crawl (hold, or start later), wait at the node if still early;
+  full speed once the robot is close to the node. So both arrive together and meet AT the node.
+* `socrates`: the fork's rule - hold on the leg before the node until the robot's current waypoint is the
+  node (the robot counts a waypoint as passed within 1.5 m).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+
+from socnavgen.sim.jit import jit
+from socnavgen.sim.records import layout, table
+
+ETA, SOCRATES = 0, 1
+RULES = {"eta": ETA, "socrates": SOCRATES}
+
+
+@dataclass
+class ThrottleConfig:
+    enabled: bool = True
+    waypoint_radius: float = 1.5  # m: the robot counts a waypoint as passed within this distance
+    release_distance: float = 2.0  # m: never hold a person this close to the robot (it would stand in its way)
+    rule: str = "eta"  # "eta" or "socrates"
+    robot_speed: float = 0.6  # m/s: nominal robot speed for the eta rule (the script's cruise speed)
+    min_pace: float = 0.3  # m/s: a person who would walk slower than this stands instead (holds)
+    robot_near: float = 0.5  # m: once the robot is this close to the node (along its path), full speed
+
+
+@dataclass
+class PacingPlan:
+    """Who is paced: (agent id, path node ids, interaction node or None, group id) per person, and the
+    robot's path as node ids (its waypoints, first one included)."""
+
+    config: ThrottleConfig
+    robot_nodes: list[str]
+    humans: list[tuple[int, list[str], str | None, int]]
+
+
+SETTINGS = layout([("enabled", "?"), ("rule", "i8"), ("next_waypoint", "i8"), ("waypoint_radius", "f8"),
+                   ("release_distance", "f8"), ("robot_speed", "f8"), ("min_pace", "f8"), ("robot_near", "f8")])
+HELD = layout([("agent", "i8"), ("goals", "i8"), ("node_at", "i8"), ("spawn_is_node", "?"), ("robot_index", "i8")])
+
+
+class Pacing(NamedTuple):
+    settings: np.recarray  # SETTINGS (one row); next_waypoint indexes the robot's waypoints after its start
+    held: np.recarray  # HELD per paced person
+    points: np.ndarray  # (held, goals) complex: each paced person's goals
+    goal_is_node: np.ndarray  # (held, goals) bool: which of its goals is its interaction node
+    robot_goal_is_node: np.ndarray  # (held, robot goals) bool: which robot goal is its interaction node
+
+
+def lower_pacing(plan: PacingPlan | None, goals: list[list[complex]]) -> tuple[Pacing, list[str]]:
+    """(Pacing, notes on people who cannot be paced) for a plan (None: nobody is paced)."""
+    config = plan.config if plan is not None else ThrottleConfig(enabled=False)
+    if config.rule not in RULES:
+        raise ValueError(f"unknown pacing rule {config.rule!r} (use {', '.join(RULES)})")
+    robot_goals = plan.robot_nodes[1:] if plan is not None else []
+    held, skipped = [], []
+    for agent, path, node, group in plan.humans if plan is not None else []:
+        if node is None or group != -1 or not path:
+            continue
+        if node not in robot_goals:
+            skipped.append(f"agent {agent}: interaction node {node} is not on the robot's path after its start")
+            continue
+        held.append((agent, path[1:] if len(path) > 1 else [path[0]], path[0], node))
+    width = max([len(h[1]) for h in held] + [1])
+    rows = table(HELD, max(len(held), 1))
+    points = np.zeros((max(len(held), 1), width), dtype=complex)
+    goal_is_node = np.zeros((max(len(held), 1), width), dtype=bool)
+    robot_goal_is_node = np.zeros((max(len(held), 1), max(len(robot_goals), 1)), dtype=bool)
+    for j, (agent, path_goals, spawn, node) in enumerate(held):
+        row = rows[j]
+        row.agent, row.goals, row.spawn_is_node = agent, len(path_goals), spawn == node
+        row.node_at = path_goals.index(node) if node in path_goals else -1
+        row.robot_index = robot_goals.index(node)
+        points[j, :len(goals[agent])] = goals[agent]
+        goal_is_node[j, :len(path_goals)] = [g == node for g in path_goals]
+        robot_goal_is_node[j, :len(robot_goals)] = [g == node for g in robot_goals]
+    settings = table(SETTINGS, 1, enabled=config.enabled and bool(held), rule=RULES[config.rule],
+                      waypoint_radius=config.waypoint_radius, release_distance=config.release_distance,
+                      robot_speed=config.robot_speed, min_pace=config.min_pace, robot_near=config.robot_near)
+    return Pacing(settings, rows[:len(held)], points, goal_is_node, robot_goal_is_node), skipped
+
+
+@jit
+def pace(s, pacing):  # noqa: ANN001, ANN201, C901
+    """Advance the robot's waypoint index; set `held` (and `pace`, the speed RegularNav walks at) of every
+    paced person for this step."""
+    settings = pacing.settings[0]
+    if not settings.enabled:
+        return
+    wps, rp = s.waypoints, s.robot[0].pos
+    k = settings.next_waypoint  # index among the robot's goals (its waypoints after the first)
+    while k < wps.shape[0] - 2 and abs(wps[k + 1] - rp) <= settings.waypoint_radius:
+        k += 1
+    settings.next_waypoint = k
+    for h in range(pacing.held.shape[0]):
+        paced = pacing.held[h]
+        i = paced.agent
+        p = s.people[i]
+        at = paced.goals - p.queue_count  # index among its goals of the goal it walks to now
+        node = paced.robot_index
+        if settings.rule == SOCRATES:
+            if p.queue_count == 0 or (p.queue_count == 1 and abs(p.goal - p.pos) <= p.goal_radius):
+                continue  # SocRATES sends no entry: the previous value stays
+            next_is_node = pacing.goal_is_node[h, at] if 0 <= at < paced.goals else False
+            hold = (p.behavior == 0 and p.robot_distance > settings.release_distance
+                    and (next_is_node or paced.spawn_is_node) and k < node and not pacing.robot_goal_is_node[h, k])
+        else:
+            hold, speed = False, p.max_speed
+            robot_left = 0.0 if k > node else abs(wps[k + 1] - rp) + s.offsets[node + 1] - s.offsets[k + 1]
+            if (p.behavior == 0 and p.queue_count > 0 and at >= 0 and (at <= paced.node_at or paced.spawn_is_node)
+                    and robot_left > settings.robot_near and p.robot_distance > settings.release_distance):
+                if paced.spawn_is_node or at > paced.node_at:
+                    human_left = abs(wps[node + 1] - p.pos)
+                else:
+                    human_left = abs(pacing.points[h, at] - p.pos)
+                    for j in range(at, paced.node_at):
+                        human_left += abs(pacing.points[h, j + 1] - pacing.points[h, j])
+                want = human_left / max(robot_left / max(settings.robot_speed, 1e-3), 1e-3)
+                if want < settings.min_pace:
+                    hold = True
+                else:
+                    speed = min(speed, want)
+            p.pace = speed
+        p.held = hold
+        if hold:
+            if p.held_steps == 0:
+                p.first_held = s.clock[0].step
+            p.held_steps += 1

@@ -1,0 +1,295 @@
+"""Walking: HuNavSim's social force model as it configures lightsfm (reference §6), and bodies kept apart.
+
+Per step, everyone whose tree made them walk takes one force step at once (a Jacobi update: all see the
+same snapshot): desired force toward their command's target, the environment force of the current
+positions (social, the robot included, plus the nearest wall point), the group forces; speed capped at the
+command's speed. Then the environment force of the new positions. Forces are per unit mass; 2D vectors
+are complex numbers. The contact step afterwards separates bodies that overlap.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from socnavgen.sim.jit import jit
+from socnavgen.sim.world.queries import clearance_at, nearest_obstacle
+
+GRID_MIN = 64  # above this many people, neighbours come from a grid of cut-off sized cells (linear cost)
+
+
+class SFMParams(NamedTuple):
+    """lightsfm factors with HuNavSim's override k_soc = 5.0 (library default 2.1)."""
+
+    k_des: float = 2.0
+    k_obs: float = 10.0
+    sigma_obs: float = 0.2
+    k_soc: float = 5.0
+    k_gaze: float = 3.0
+    k_coh: float = 2.0
+    k_rep: float = 1.0
+    lam: float = 2.0
+    gamma: float = 0.35
+    n: float = 2.0
+    n_prime: float = 3.0
+    tau: float = 0.5
+    # Neighbour cut-off of the social force (m; inf = every pair, as lightsfm). At 8 m even a head-on
+    # walker at 1.5 m/s pushes less than 4 % of the desired force.
+    cutoff: float = 8.0
+
+
+class Scratch(NamedTuple):
+    """Work arrays of one simulation (the step allocates nothing for a small crowd)."""
+
+    direction: np.ndarray  # (n,) complex: desired direction
+    force: np.ndarray  # (n,) complex
+    social: np.ndarray  # (n,) complex: people-people social force
+    centres: np.ndarray  # (groups,) complex: sums of members' positions
+    pairs: np.ndarray  # (n, n) complex: each pair's social force (small crowds), else (0, 0)
+    before: np.ndarray  # (n,) complex: positions before the step (contacts)
+    snap: np.ndarray  # (n,) complex: positions before the contact corrections
+
+
+def new_scratch(n: int, groups: int) -> Scratch:
+    small = n <= GRID_MIN
+    return Scratch(np.zeros(n, complex), np.zeros(n, complex), np.zeros(n, complex), np.zeros(max(groups, 1), complex),
+                   np.zeros((n, n) if small else (0, 0), complex), np.zeros(n, complex), np.zeros(n, complex))
+
+
+@jit(inline=True)
+def pair_force(d, dv, prm):  # noqa: ANN001, ANN201
+    """Social force on i from j (reference §6.4) for d = p_j - p_i, dv = v_i - v_j; 0 beyond the cut-off
+    and between coincident bodies."""
+    d2 = d.real * d.real + d.imag * d.imag
+    if d2 == 0.0 or d2 > prm.cutoff * prm.cutoff:
+        return 0j
+    dist = math.sqrt(d2)
+    dhat = d / dist
+    t = prm.lam * dv + dhat
+    ell = abs(t)
+    that = t / max(ell, 1e-12)
+    b = prm.gamma * ell
+    prod = dhat * that.conjugate()
+    theta = math.atan2(prod.imag, prod.real)
+    if abs(theta) < 1e-9:  # f_theta jumps at 0 (sign): round-off must not pick a side
+        theta = 0.0
+    base = -dist / max(b, 1e-12)
+    bt = b * theta
+    f_v = math.exp(base - (prm.n_prime * bt) ** 2)
+    sign = 1.0 if theta > 0 else (-1.0 if theta < 0 else 0.0)
+    f_theta = sign * math.exp(base - (prm.n * bt) ** 2)
+    return -prm.k_soc * that * (f_v + 1j * f_theta)
+
+
+@jit(inline=True)
+def wall_force(p, radius, world, prm):  # noqa: ANN001, ANN201
+    """Repulsion of the nearest wall point (reference §6.3 with one point, as the Gazebo wrapper sends)."""
+    point, valid = nearest_obstacle(world, p)
+    d = p - point
+    dist = abs(d)
+    if not valid or dist <= 1e-9:
+        return 0j
+    return prm.k_obs * math.exp(-(dist - radius) / prm.sigma_obs) * d / dist
+
+
+@jit
+def social_dense(people, prm, pairs, out):  # noqa: ANN001, ANN201
+    """People-people social forces over every pair, each pair computed once (the force is antisymmetric)."""
+    n = people.shape[0]
+    for i in range(n):
+        for j in range(i + 1, n):
+            f = pair_force(people[j].pos - people[i].pos, people[i].vel - people[j].vel, prm)
+            pairs[i, j] = f
+            pairs[j, i] = -f
+    for i in range(n):
+        f = 0j
+        for j in range(n):
+            if j != i:
+                f += pairs[i, j]
+        out[i] = f
+
+
+@jit(alloc=True)
+def social_grid(people, prm, out):  # noqa: ANN001, ANN201
+    """People-people social forces with a grid of cut-off sized cells: each person looks at the 3 x 3 cells
+    around it, so the cost grows linearly with the crowd at a given density."""
+    n = people.shape[0]
+    xs = np.empty(n)
+    ys = np.empty(n)
+    for i in range(n):
+        xs[i], ys[i] = people[i].pos.real, people[i].pos.imag
+    cut = prm.cutoff
+    x0, y0 = xs.min(), ys.min()
+    nx, ny = int((xs.max() - x0) / cut) + 1, int((ys.max() - y0) / cut) + 1
+    if nx * ny > 4_000_000:  # absurdly sparse crowd: one cell
+        nx, ny = 1, 1
+        cx, cy = np.zeros(n, np.int64), np.zeros(n, np.int64)
+    else:
+        cx, cy = ((xs - x0) / cut).astype(np.int64), ((ys - y0) / cut).astype(np.int64)
+    cell = cx + nx * cy
+    order = np.argsort(cell, kind="mergesort")
+    start = np.zeros(nx * ny + 1, np.int64)
+    for k in range(n):
+        start[cell[k] + 1] += 1
+    for c in range(nx * ny):
+        start[c + 1] += start[c]
+    for i in range(n):
+        f = 0j
+        for gy in range(max(cy[i] - 1, 0), min(cy[i] + 2, ny)):
+            for gx in range(max(cx[i] - 1, 0), min(cx[i] + 2, nx)):
+                c = gx + nx * gy
+                for k in range(start[c], start[c + 1]):
+                    j = order[k]
+                    if j != i:
+                        f += pair_force(people[j].pos - people[i].pos, people[i].vel - people[j].vel, prm)
+        out[i] = f
+
+
+@jit
+def environment(people, prm, world, robot_pos, robot_vel, social):  # noqa: ANN001, ANN201
+    """Each person's environment force (social incl. the robot, nearest wall) and distance to the robot."""
+    for i in range(people.shape[0]):
+        p = people[i]
+        p.env_force = social[i] + pair_force(robot_pos - p.pos, p.vel - robot_vel, prm) + \
+            wall_force(p.pos, p.radius, world, prm)
+        p.robot_distance = abs(robot_pos - p.pos)
+
+
+@jit
+def group_forces(people, group_sizes, prm, direction, force, centres):  # noqa: ANN001, ANN201
+    """Gaze, coherence and repulsion among members of a group (reference §6.5), added to `force`."""
+    n = people.shape[0]
+    for g in range(group_sizes.shape[0]):
+        centres[g] = 0j
+    for i in range(n):
+        if people[i].group >= 0:
+            centres[people[i].group] += people[i].pos
+    for i in range(n):
+        p = people[i]
+        if p.group < 0:
+            continue
+        size = group_sizes[p.group]
+        centre = centres[p.group] / size
+        others = (size * centre - p.pos) / (size - 1) - p.pos
+        e = direction[i]
+        along = (e * others.conjugate()).real
+        e2 = abs(e) ** 2
+        if along < 0 and e2 > 0:  # the others are behind: slow down
+            force[i] += prm.k_gaze * along / e2 * e
+        w = centre - p.pos
+        force[i] += prm.k_coh * (math.tanh(abs(w) - (size - 1) / 2) + 1) / 2 * w
+        rep = 0j
+        for j in range(n):
+            if j != i and people[j].group == p.group:
+                d = p.pos - people[j].pos
+                if abs(d) < p.radius + people[j].radius:
+                    rep += d
+        force[i] += prm.k_rep * rep
+
+
+@jit
+def move(people, group_sizes, prm, dt, scratch):  # noqa: ANN001, ANN201
+    """One force step for the walkers (using the environment force of the previous call); the others stand
+    (zero velocity) or turn. Flags people that reached their real goal; returns how many."""
+    n = people.shape[0]
+    direction, force = scratch.direction, scratch.force
+    for i in range(n):
+        p = people[i]
+        direction[i] = 0j
+        if p.to_goal:
+            target, radius, has = p.goal, p.goal_radius, p.has_goal
+        else:
+            target, radius, has = p.target, p.target_radius, True
+        to = target - p.pos
+        dist = abs(to)
+        if has and dist > radius:
+            direction[i] = to / dist
+            force[i] = prm.k_des * (p.desired_speed * direction[i] - p.vel) / prm.tau
+        else:
+            force[i] = -p.vel / prm.tau  # within the target's radius: brake
+        force[i] += p.env_force + p.push
+    if group_sizes.shape[0] > 0:
+        group_forces(people, group_sizes, prm, direction, force, scratch.centres)
+    reached = 0
+    for i in range(n):
+        p = people[i]
+        old = p.yaw
+        p.reached = False
+        if p.walks:
+            v = p.vel + force[i] * dt
+            speed = abs(v)
+            if speed > p.desired_speed:
+                v = v * (p.desired_speed / speed)
+                speed = p.desired_speed
+            if speed > 1e-9:
+                p.yaw = math.atan2(v.imag, v.real)
+            p.pos = p.pos + v * dt
+            p.vel = v
+            if p.to_goal and p.has_goal and abs(p.goal - p.pos) <= p.goal_radius:
+                p.reached = True
+                reached += 1
+        else:
+            p.vel = 0j  # as in Gazebo, someone whose tree did not make it walk reports zero velocity
+            if p.turns:
+                p.yaw = (p.turn_to + math.pi) % (2 * math.pi) - math.pi
+        p.omega = ((p.yaw - old + math.pi) % (2 * math.pi) - math.pi) / dt
+    return reached
+
+
+@jit
+def advance(people, group_sizes, prm, world, robot_pos, robot_vel, dt, scratch, step):  # noqa: ANN001, ANN201
+    """(step) move the walkers; then the environment forces of the (new) positions. Returns how many people
+    reached their real goal."""
+    reached = move(people, group_sizes, prm, dt, scratch) if step else 0
+    if scratch.pairs.shape[0] >= people.shape[0]:
+        social_dense(people, prm, scratch.pairs, scratch.social)
+    else:
+        social_grid(people, prm, scratch.social)
+    environment(people, prm, world, robot_pos, robot_vel, scratch.social)
+    return reached
+
+
+@jit
+def resolve_contacts(people, robot, world, slack, before, snap):  # noqa: ANN001, ANN201
+    """Bodies do not interpenetrate (HuNavSim's agents are solid in Gazebo). Two people who overlap are
+    pushed apart along the line of their centres to just past touching, the walkers taking the whole
+    correction from someone standing; then a person whose own step took them into the robot is put back on
+    the robot's surface (never closer than the robot's own move left them: an overlap the ROBOT causes
+    stays, and counts as a collision). Corrections that would end inside a wall are dropped (between
+    people) or the person's step is not taken (into the robot). Returns whether anyone was moved."""
+    n = people.shape[0]
+    moved = False
+    for i in range(n):
+        snap[i] = people[i].pos
+    for i in range(n):
+        for j in range(i + 1, n):
+            a, b = people[i], people[j]
+            if not a.radius + b.radius - abs(snap[i] - snap[j]) > 1e-6:
+                continue
+            d = a.pos - b.pos
+            dist = abs(d)
+            unit = d / dist if dist > 1e-9 else complex(math.cos(0.7 * (i + 1)), math.sin(0.7 * (j + 1)))
+            depth = a.radius + b.radius - dist + 1e-4  # just apart: no state exactly on the boundary
+            share_a = 0.5 if a.walks == b.walks else (1.0 if a.walks else 0.0)
+            if share_a > 0 and clearance_at(world, a.pos + unit * depth * share_a) >= 0.5 * a.radius:
+                a.pos = a.pos + unit * depth * share_a
+                moved = True
+            if share_a < 1 and clearance_at(world, b.pos - unit * depth * (1 - share_a)) >= 0.5 * b.radius:
+                b.pos = b.pos - unit * depth * (1 - share_a)
+                moved = True
+    for i in range(n):
+        p = people[i]
+        reach = p.radius + robot.radius
+        gap = abs(p.pos - robot.pos) - reach
+        if gap >= slack:
+            continue
+        allowed = min(abs(before[i] - robot.pos) - reach, slack)
+        if gap < allowed - 1e-9:
+            away = p.pos - robot.pos
+            unit = away / abs(away) if abs(away) > 1e-9 else -robot.heading
+            spot = robot.pos + unit * (reach + allowed)
+            p.pos = spot if clearance_at(world, spot) >= 0.5 * p.radius else before[i]
+            moved = True
+    return moved

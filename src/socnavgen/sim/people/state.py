@@ -1,0 +1,159 @@
+"""The simulated people: one record each (body, motion, goal queue, this step's motion command, behaviour,
+pacing, giving way), what a leaf may ask of a person's motion (walk, turn, stand), and the goal queue with
+HuNavSim's semantics (reference §7) as a ring per person in `goals`."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from socnavgen.bodies import PERSON_GOAL_RADIUS, PERSON_GOAL_SLACK, PERSON_MAX_SPEED, PERSON_RADIUS
+from socnavgen.sim.jit import jit
+from socnavgen.sim.records import layout, table
+
+DONE_SPEED = 0.05  # m/s: a person slower than this at its last goal has finished its walk
+
+
+@dataclass
+class HumanSpec:
+    """Everything needed to create one simulated person (world coordinates)."""
+
+    name: str
+    start: tuple[float, float]
+    goals: list[tuple[float, float]]
+    yaw: float = 0.0
+    group_id: int = -1
+    radius: float = PERSON_RADIUS
+    max_vel: float = PERSON_MAX_SPEED
+    goal_radius: float = PERSON_GOAL_RADIUS
+    cyclic: bool = False
+    interaction_point: tuple[float, float] | None = None
+    path_nodes: list[str] = field(default_factory=list)
+
+
+PERSON = layout([
+    # body and motion
+    ("pos", "c16"), ("vel", "c16"), ("yaw", "f8"), ("omega", "f8"), ("radius", "f8"), ("max_speed", "f8"),
+    ("group", "i8"),  # label of its group (0..G-1, groups of two or more), -1 alone
+    # goal queue: the front goal, and the ring goals[i, start:start + count] (wrapping)
+    ("goal", "c16"), ("goal_radius", "f8"), ("has_goal", "?"), ("queue_start", "i8"), ("queue_count", "i8"),
+    ("cyclic", "?"),
+    # this step's motion command, set by the tree's actions: walk (to the goal or to `target`) or turn
+    ("walks", "?"), ("to_goal", "?"), ("target", "c16"), ("target_radius", "f8"), ("desired_speed", "f8"),
+    ("push", "c16"), ("turns", "?"), ("turn_to", "f8"), ("face_robot_within", "f8"),
+    # forces of the current positions (social incl. the robot, nearest wall), distance to the robot
+    ("env_force", "c16"), ("robot_distance", "f8"), ("reached", "?"),
+    # behaviour: gesture shown, behavior_state code (0 regular, 1 robot-related, 2 giving way), sight of
+    # the robot this step (-1 not asked yet), the trace's action and succeeded-leaves mask of this step
+    ("gesture", "i8"), ("behavior", "i8"), ("sees_robot", "i8"), ("action", "i8"), ("action_moves", "?"),
+    ("succeeded", "i8"), ("tree", "i8"), ("dt_slot", "i8"),
+    # pacing at the interaction point (people.pacing)
+    ("held", "?"), ("pace", "f8"), ("held_steps", "i8"), ("first_held", "i8"),
+    # giving way (people.give_way): where it stands aside and from which arc position of the robot's path
+    ("gives_way", "?"), ("give_way_phase", "i8"), ("aside", "c16"), ("aside_at", "f8"),
+])
+
+
+def group_labels(group_ids: list[int]) -> tuple[np.ndarray, np.ndarray]:
+    """(label per person, size per label): groups of two or more get labels 0..G-1, everyone else -1."""
+    ids = np.asarray(group_ids, dtype=np.int64)
+    kept = sorted({int(g) for g in ids if g != -1 and int((ids == g).sum()) >= 2})
+    index = {g: k for k, g in enumerate(kept)}
+    labels = np.array([index.get(int(g), -1) for g in ids], dtype=np.int64)
+    sizes = np.array([(labels == k).sum() for k in range(len(kept))], dtype=float)
+    return labels, sizes
+
+
+def new_people(specs: list[HumanSpec]) -> tuple[np.recarray, np.ndarray, np.ndarray]:
+    """(people, goal rings, group sizes) for these specs, each facing its `yaw`, its first goal in front."""
+    n = len(specs)
+    labels, sizes = group_labels([s.group_id for s in specs])
+    people = table(PERSON, n, pos=[complex(*s.start) for s in specs], yaw=[s.yaw for s in specs],
+                   radius=[s.radius for s in specs], max_speed=[s.max_vel for s in specs], group=labels,
+                   goal_radius=[s.goal_radius for s in specs], cyclic=[s.cyclic for s in specs],
+                   pace=[s.max_vel for s in specs], sees_robot=-1, action=-1)
+    capacity = max([len(s.goals) for s in specs] + [0]) + 2  # a cyclic queue re-appends before it pops
+    goals = np.zeros((n, capacity), dtype=complex)
+    for i, s in enumerate(specs):
+        goals[i, :len(s.goals)] = [complex(*g) for g in s.goals]
+        people[i].queue_count = len(s.goals)
+        refresh_goal(people, goals, i)
+    return people, goals, sizes
+
+
+# ---- goal queue ---------------------------------------------------------------------------------------
+@jit
+def refresh_goal(people, goals, i):  # noqa: ANN001, ANN201
+    """Mirror the front of person i's queue into its `goal` after the queue changed."""
+    p = people[i]
+    p.has_goal = p.queue_count > 0
+    p.goal = goals[i, p.queue_start] if p.has_goal else p.pos
+
+
+@jit
+def pop_goal(people, goals, i, keep_last):  # noqa: ANN001, ANN201
+    """UpdateGoal (keep_last: the last goal stays, fork rule) or the walking step's consumption of a goal
+    reached: drop the front; a cyclic queue appends it again."""
+    p = people[i]
+    count = p.queue_count
+    if count == 0:
+        return
+    capacity = goals.shape[1]
+    start = p.queue_start
+    front = goals[i, start]
+    if not keep_last or count != 1:
+        start = (start + 1) % capacity
+        count -= 1
+    if p.cyclic:
+        goals[i, (start + count) % capacity] = front
+        count += 1
+    p.queue_start = start
+    p.queue_count = count
+    refresh_goal(people, goals, i)
+
+
+@jit
+def goal_reached(people, goals, i):  # noqa: ANN001, ANN201
+    """IsGoalReached: a goal is left and the person is within its goal radius (+ slack) of the front one."""
+    p = people[i]
+    return p.queue_count > 0 and abs(goals[i, p.queue_start] - p.pos) <= p.goal_radius + PERSON_GOAL_SLACK
+
+
+@jit
+def done(people, goals, i):  # noqa: ANN001, ANN201
+    """Finished its walk: no goal left, or only its last goal, standing within reach of it."""
+    p = people[i]
+    if (p.cyclic and p.queue_count > 0) or p.queue_count > 1:
+        return False
+    return (p.queue_count == 0 or goal_reached(people, goals, i)) and abs(p.vel) < DONE_SPEED
+
+
+# ---- motion commands (a leaf says what the person does this step; physics moves everyone at once) ----
+@jit
+def walk_to_goal(people, i, speed, push):  # noqa: ANN001, ANN201
+    """Social-force walking toward the front goal at `speed`, with an extra force `push`."""
+    p = people[i]
+    p.walks, p.to_goal, p.turns = True, True, False
+    p.desired_speed, p.push = speed, push
+
+
+@jit
+def walk_to(people, i, target, radius, speed):  # noqa: ANN001, ANN201
+    """Social-force walking toward `target` (arrived within `radius`) at `speed`."""
+    p = people[i]
+    p.walks, p.to_goal, p.turns = True, False, False
+    p.target, p.target_radius, p.desired_speed, p.push = target, radius, speed, 0j
+
+
+@jit
+def turn(people, i, yaw):  # noqa: ANN001, ANN201
+    """Stand and face `yaw`."""
+    p = people[i]
+    p.walks, p.turns, p.turn_to = False, True, yaw
+
+
+@jit
+def stand(people, i):  # noqa: ANN001, ANN201
+    p = people[i]
+    p.walks, p.turns = False, False

@@ -1,0 +1,299 @@
+"""The built-in robots, compiled into the step (`--robot scripted|waypoints|sfm|straight`; the classes of
+robot.api carry their parameters). Their parameters and state are one POLICY record.
+
+* waypoints: the paper's teleoperated robot - heads for its current waypoint in a straight line, slows down
+  for people in its swept path and stops short of them, edges sideways past someone close beside it,
+  slides along walls it grazes, and after waiting `patience` s behind someone who does not make way drives
+  around them slowly where there is room (a social-force walker), skipping a waypoint someone stands on.
+* scripted (default): plays the script (obs.cues: speed, waits, misbehave) and drives like waypoints, never
+  moving into a person (keep_clear) and never backing away from its waypoint.
+* sfm: one more social-force walker heading for its waypoints, with the same keep_clear safety layer.
+* straight: deliberately rude, straight at each waypoint through people (slides along walls only).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from socnavgen import proxemics
+from socnavgen.bodies import ROBOT_GOAL_TOLERANCE
+from socnavgen.sim.jit import jit
+from socnavgen.sim.people.physics import pair_force, wall_force
+from socnavgen.sim.records import layout
+from socnavgen.sim.world.queries import clearance_at, nearest_obstacle, path_clear
+
+PYTHON, SCRIPTED, WAYPOINTS, SFM, STRAIGHT = range(5)  # PYTHON: a policy object of the user's, called per step
+SWEPT_MARGIN = proxemics.WAY_MARGIN_DRIVE  # m beyond the two radii: a person this close to its path blocks it
+NUDGE_BAND = 0.35  # m beyond the radii: the robot edges sideways away from a person this close to its path
+NUDGE_SPEED = 0.25  # m/s
+NUDGE_ROOM = 0.3  # m: edging sideways only where this much room is left beside the robot (not into a jamb)
+CLOSE_REACH = 0.15  # m: a waypoint this close is reached whatever the walls
+WALL_MARGIN = 0.05  # m: closer than radius + this to a wall, the robot slides along it instead of into it
+LOOK_WALL = 0.3  # s of motion looked ahead for walls
+WALL_PUSH = 0.15  # m/s at most, back out of a wall the robot grazes
+AROUND_LOOK = 1.0  # m: room looked for on either side before going around someone
+AROUND_BIAS = 0.1  # m/s sideways while going around (a person dead ahead pushes straight back otherwise)
+GOAL_DECEL = 0.8  # m/s2: the social-force and the straight robots slow down for their goal at this rate
+OCCUPIED_REACH = 2.0  # m: an intermediate waypoint someone stands on is skipped once the robot is this close
+KEEP_CLEAR = 0.03  # m: the scripted and sfm robots never move closer than this gap to anyone
+CROWD_LOOK = 32  # with more people than this, only those within reach are looked at
+ARRIVED = ROBOT_GOAL_TOLERANCE * 0.5  # m: the built-in robots stop this close to their goal
+
+POLICY = layout([
+    ("kind", "i8"), ("max_speed", "f8"), ("accel", "f8"), ("brake", "f8"), ("slow_gap", "f8"), ("stop_gap", "f8"),
+    ("patience", "f8"), ("detour_speed", "f8"), ("waypoint_tolerance", "f8"),
+    ("line_clearance", "f8"),  # NaN: a waypoint counts as reached within the tolerance whatever the walls
+    ("rude_max_speed", "f8"), ("rude_tolerance", "f8"),  # the scripted robot's straight robot
+    ("speed", "f8"), ("waited", "f8"), ("around_side", "f8"), ("has_heading", "?"), ("heading", "c16"),
+    ("waypoint", "i8"), ("rude_waypoint", "i8")])
+
+
+# ---- shared pieces ----------------------------------------------------------------------------------------
+@jit
+def track(s, rude):  # noqa: ANN001, ANN201
+    """(current waypoint, is it the last), advancing past waypoints reached. A waypoint counts as reached
+    within the tolerance, and with a line clearance only when the straight line on to the next one keeps that
+    clearance from walls (else within CLOSE_REACH): cutting a doorway's corner would hit the jamb."""
+    policy, wps, p = s.policy[0], s.waypoints, s.robot[0].pos
+    last = wps.shape[0] - 1
+    index = min(policy.rude_waypoint if rude else policy.waypoint, last)
+    tolerance = policy.rude_tolerance if rude else policy.waypoint_tolerance
+    line = math.nan if rude else policy.line_clearance
+    while index < last:
+        d = abs(wps[index] - p)
+        if d > tolerance or not (math.isnan(line) or d <= CLOSE_REACH or path_clear(s.world, p, wps[index + 1], line)):
+            break
+        index += 1
+    if rude:
+        policy.rude_waypoint = index
+    else:
+        policy.waypoint = index
+    return wps[index], index == last
+
+
+@jit
+def slide_along_walls(s, v):  # noqa: ANN001, ANN201
+    """`v` without its into-the-wall part when the robot is within WALL_MARGIN of touching a wall, plus a
+    gentle push back out: a robot pressed against a corner slides along it instead of stopping for good."""
+    p, r = s.robot[0].pos, s.robot[0].radius
+    if clearance_at(s.world, p + v * LOOK_WALL) >= r + WALL_MARGIN:
+        return v
+    point, valid = nearest_obstacle(s.world, p)
+    away = p - point
+    if not valid or abs(away) < 1e-9:
+        return v
+    n = away / abs(away)
+    into = (v * n.conjugate()).real
+    if into < 0:
+        v -= into * n
+    clearance = clearance_at(s.world, p)
+    if clearance < r:
+        v += n * min(WALL_PUSH, (r - clearance) * 2.0)
+    return v
+
+
+@jit
+def keep_clear(s, v):  # noqa: ANN001, ANN201
+    """`v` without the part that would take the robot closer than KEEP_CLEAR (surface gap) to a person: it
+    may slide past or back off, never push into someone."""
+    people, robot = s.people, s.robot[0]
+    n = people.shape[0]
+    if v == 0 or n == 0:
+        return v
+    p, dt = robot.pos, s.clock[0].dt
+    for _ in range(3):  # a second person may be met after sliding along the first
+        ahead = p + v * dt
+        close = False
+        for k in range(n):
+            if abs(people[k].pos - ahead) < people[k].radius + robot.radius + KEEP_CLEAR:
+                close = True
+                d = people[k].pos - p
+                if abs(d) >= 1e-9:
+                    u = d / abs(d)
+                    toward = (v * u.conjugate()).real
+                    if toward > 0:
+                        v -= toward * u
+        if not close:
+            return v
+    ahead = p + v * dt
+    for k in range(n):
+        if not abs(people[k].pos - ahead) >= min(people[k].radius + robot.radius + KEEP_CLEAR, abs(people[k].pos - p)):
+            return 0j
+    return v
+
+
+@jit
+def sfm_toward(s, target, max_speed, last):  # noqa: ANN001, ANN201
+    """One social-force step of the robot toward `target` (slowing down for it when it is the last)."""
+    robot, prm = s.robot[0], s.forces
+    to = target - robot.pos
+    dist = abs(to)
+    if last and dist <= ARRIVED:
+        return 0j
+    v0 = min(max_speed, math.sqrt(2 * GOAL_DECEL * dist)) if last else max_speed
+    force = prm.k_des * (v0 * to / max(dist, 1e-9) - robot.vel) / prm.tau
+    for i in range(s.people.shape[0]):
+        force += pair_force(s.people[i].pos - robot.pos, robot.vel - s.people[i].vel, prm)
+    force += wall_force(robot.pos, robot.radius, s.world, prm)
+    v = robot.vel + force * s.clock[0].dt
+    if abs(v) > v0:
+        v = v * (v0 / abs(v))
+    return v
+
+
+# ---- the waypoints robot ----------------------------------------------------------------------------------
+@jit
+def look_ahead(s, direction, reach):  # noqa: ANN001, ANN201
+    """(free distance to the nearest person in the swept path ahead, sideways nudge -1/0/+1 away from the
+    nearest person standing close beside it). `reach`: where the robot will stop (its goal); someone beyond
+    it is in the way only if they stand too close to that point."""
+    policy, robot, people = s.policy[0], s.robot[0], s.people
+    p, rr, back = robot.pos, robot.radius, direction.conjugate()
+    n = people.shape[0]
+    gap, nudge_at, nudge = np.inf, np.inf, 0.0
+    for i in range(n):
+        q, r = people[i].pos, people[i].radius
+        if n > CROWD_LOOK and not abs(q - p) < policy.slow_gap + 2.0:
+            continue
+        rel = (q - p) * back
+        if rel.real <= 0:
+            continue
+        ahead = rel.real - r - rr
+        margin = SWEPT_MARGIN if ahead > 0 else 0.0  # someone already beside it blocks only if bodies touch
+        across = abs(rel.imag) if rel.real <= reach else abs(rel - reach)
+        if across < r + rr + margin and ahead < gap:
+            gap = ahead
+        if r + rr + margin <= abs(rel.imag) < r + rr + NUDGE_BAND and ahead < policy.slow_gap and ahead < nudge_at:
+            nudge_at, nudge = ahead, (-1.0 if rel.imag > 0 else 1.0)
+    return gap, nudge
+
+
+@jit
+def reachable_goal(s, goal):  # noqa: ANN001, ANN201
+    """(where to stop, how close): someone standing right next to the goal leaves the far edge of the goal's
+    circle, which still counts as arrived."""
+    people = s.people
+    if people.shape[0] == 0:
+        return goal, ARRIVED
+    k, best = 0, np.inf
+    for i in range(people.shape[0]):
+        if abs(people[i].pos - goal) - people[i].radius < best:
+            k, best = i, abs(people[i].pos - goal) - people[i].radius
+    d = abs(people[k].pos - goal)
+    if d >= people[k].radius + s.robot[0].radius + SWEPT_MARGIN + 0.1 or d < 1e-6:
+        return goal, ARRIVED
+    return goal + (goal - people[k].pos) / d * ROBOT_GOAL_TOLERANCE * 0.75, ROBOT_GOAL_TOLERANCE * 0.15
+
+
+@jit
+def skip_occupied_waypoint(s):  # noqa: ANN001, ANN201
+    """Someone standing on an intermediate waypoint: head for the next one if it is in a clear line."""
+    policy, robot, wps = s.policy[0], s.robot[0], s.waypoints
+    k = policy.waypoint
+    if k >= wps.shape[0] - 1 or abs(wps[k] - robot.pos) > OCCUPIED_REACH:
+        return False
+    for i in range(s.people.shape[0]):
+        if abs(s.people[i].pos - wps[k]) < s.people[i].radius + robot.radius + SWEPT_MARGIN:
+            if path_clear(s.world, robot.pos, wps[k + 1], 0.5 * robot.radius + 0.05):
+                policy.waypoint = k + 1
+                return True
+            return False
+    return False
+
+
+@jit
+def waypoints_act(s):  # noqa: ANN001, ANN201
+    policy, robot = s.policy[0], s.robot[0]
+    target, last = track(s, False)
+    p, dt = robot.pos, s.clock[0].dt
+    arrive = ARRIVED
+    if last and abs(target - p) < policy.slow_gap + 1.0:
+        target, arrive = reachable_goal(s, target)
+    to = target - p
+    dist = abs(to)
+    if last and dist <= arrive:
+        policy.speed = 0.0
+        return 0j
+    direction = to / dist if dist > 1e-9 else complex(math.cos(robot.yaw), math.sin(robot.yaw))
+    policy.has_heading, policy.heading = True, direction
+    gap, nudge = look_ahead(s, direction, dist if last else np.inf)
+    want = policy.max_speed * min(1.0, max(0.0, (gap - policy.stop_gap) / (policy.slow_gap - policy.stop_gap)))
+    if last:
+        want = min(want, math.sqrt(2 * policy.accel * dist))
+    blocked = gap - policy.stop_gap < 0.1 and (not last or dist > gap + 0.5)
+    policy.waited = policy.waited + dt if blocked else 0.0
+    if not blocked:
+        policy.around_side = 0.0
+    if blocked and policy.waited >= policy.patience:
+        if skip_occupied_waypoint(s):
+            policy.waited = 0.0  # next step heads for the following waypoint
+        else:
+            if policy.around_side == 0.0:  # the side with more room (right on a tie): breaks the symmetry
+                left = clearance_at(s.world, p + direction * 1j * AROUND_LOOK)
+                right = clearance_at(s.world, p - direction * 1j * AROUND_LOOK)
+                policy.around_side = 1.0 if left > right + 0.05 else -1.0
+            v = sfm_toward(s, target, policy.detour_speed, False)
+            if abs(v) < AROUND_BIAS:  # pushed straight back by someone dead ahead: sidestep
+                v += direction * 1j * policy.around_side * AROUND_BIAS
+            v = slide_along_walls(s, v)
+            policy.speed = abs(v)
+            if policy.speed > 0.05:
+                policy.heading = v / policy.speed
+            return v
+    speed = policy.speed
+    policy.speed = min(want, speed + policy.accel * dt) if want >= speed else max(want, speed - policy.brake * dt)
+    v = direction * policy.speed
+    if nudge != 0.0 and clearance_at(s.world, p + direction * 1j * nudge * NUDGE_ROOM) >= robot.radius + 0.1:
+        v += direction * 1j * nudge * NUDGE_SPEED
+    return slide_along_walls(s, v)
+
+
+@jit
+def straight_act(s, max_speed, rude):  # noqa: ANN001, ANN201
+    target, last = track(s, rude)
+    to = target - s.robot[0].pos
+    dist = abs(to)
+    if last and dist <= ARRIVED:
+        return 0j
+    speed = min(max_speed, math.sqrt(2 * GOAL_DECEL * dist)) if last else max_speed
+    return slide_along_walls(s, to / max(dist, 1e-9) * speed)
+
+
+@jit
+def scripted_act(s, now):  # noqa: ANN001, ANN201
+    policy = s.policy[0]
+    if now.misbehave:
+        return straight_act(s, policy.rude_max_speed, True)
+    policy.max_speed = now.speed
+    if now.wait:
+        policy.speed = 0.0
+        return 0j
+    first = waypoints_act(s)
+    v = first
+    target, _ = track(s, False)
+    ahead = target - s.robot[0].pos
+    if abs(ahead) > 1e-9:
+        u = ahead / abs(ahead)
+        back = (v * u.conjugate()).real
+        if back < 0:  # never retreat: a crowd pushing it back would drive it the wrong way for good
+            v -= back * u
+    v = keep_clear(s, v)
+    if abs(v) < abs(first) - 1e-9:
+        policy.speed = min(policy.speed, abs(v))
+    return v
+
+
+@jit
+def act(s, now):  # noqa: ANN001, ANN201
+    """The built-in policy's velocity for this step (`now`: what the script asks, script.now[0])."""
+    kind = s.policy[0].kind
+    if kind == STRAIGHT:
+        return straight_act(s, s.policy[0].max_speed, False)
+    if kind == SFM:
+        target, last = track(s, False)
+        return keep_clear(s, sfm_toward(s, target, s.policy[0].max_speed, last))
+    if kind == WAYPOINTS:
+        return waypoints_act(s)
+    return scripted_act(s, now)

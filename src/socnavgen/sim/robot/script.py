@@ -1,0 +1,222 @@
+"""The robot's script: the cues of spec.json (say, wait, wait until clear, change speed) and the older
+gesture rules of paths.json (say EXCUSE ME while someone blocks the way...), played every step before the
+robot's policy acts. What they ask now is `Cues` (obs.cues): every policy sees it.
+
+A cue fires on the step its trigger becomes true (`once`: only the first time). Firing: `say` shows the
+phrase for `hold` s, `wait` stands still for `wait` s, `wait_until_clear` then stands until nobody is inside
+the corridor the robot's body sweeps ahead (people who stepped aside do not hold it); still blocked after
+CLEAR_PATIENCE s it says the cue's phrase again, CLEAR_REPEATS times, then stops waiting (the robot then
+goes around where there is room: a scripted wait never becomes a deadlock); `speed` sets the cruise speed.
+A gesture rule holds its gesture while its condition held within its last `duration` seconds; the first
+rule that holds wins.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from socnavgen import proxemics
+from socnavgen.bt.library import HUMAN_GESTURES, ROBOT_GESTURES
+from socnavgen.run.models import RobotGestureRule
+from socnavgen.run.spec import RobotCue, RobotScript
+from socnavgen.sim.jit import jit
+from socnavgen.sim.records import layout, table
+
+ROBOT_PHRASE_CODE = {name: code for code, name in ROBOT_GESTURES.items() if code}
+HUMAN_PHRASE_CODE = {name: code for code, name in HUMAN_GESTURES.items() if code}
+CLEAR_DISTANCE = 3.0  # m: `wait_until_clear` waits until nobody is in the robot's way this close
+CLEAR_PATIENCE = 8.0  # s: still blocked after this long, the robot asks again (its cue's phrase) ...
+CLEAR_REPEATS = 2  # ... this many times, then stops waiting and drives around like an operator would
+AT_NODE = 1.0  # m: a gesture rule `at_node` holds within this distance of its node
+
+START, AFTER, AT_ENCOUNTER, BLOCKED, HUMAN_WITHIN, HUMAN_SAYS = range(6)
+TRIGGERS = {"start": START, "after": AFTER, "at_encounter": AT_ENCOUNTER, "blocked": BLOCKED,
+            "human_within": HUMAN_WITHIN, "human_says": HUMAN_SAYS}
+ALWAYS, NEAR_HUMAN = 6, 7  # gesture rules' own conditions (`blocked` and `at_node` are shared)
+RULE_WHEN = {"always": ALWAYS, "at_node": AT_ENCOUNTER, "near_human": NEAR_HUMAN, "blocked": BLOCKED}
+FIRED, ASKED_AGAIN, GAVE_UP = 0, 1, 2  # events of the cue log
+
+NOW = layout([("say", "i8"), ("wait", "?"), ("speed", "f8"), ("misbehave", "?"), ("logged", "i8")])
+CUE = layout([("when", "i8"), ("who", "i8"), ("phrase", "i8"), ("say", "i8"), ("once", "?"), ("until_clear", "?"),
+              ("has_point", "?"), ("point", "c16"), ("seconds", "f8"), ("distance", "f8"), ("hold", "f8"),
+              ("pause", "f8"), ("speed", "f8"),  # speed NaN: no change
+              ("fired", "i8"), ("was_true", "?"), ("waiting_until_clear", "?"), ("repeats", "i8"),
+              ("say_until", "f8"), ("wait_until", "f8"), ("clear_since", "f8")])
+RULE = layout([("when", "i8"), ("gesture", "i8"), ("has_point", "?"), ("point", "c16"), ("distance", "f8"),
+               ("duration", "f8"), ("last_true", "f8")])
+
+
+class Script(NamedTuple):
+    now: np.recarray  # NOW (one row): what the script asks this step
+    cues: np.recarray  # CUE per cue of spec.json's script
+    rules: np.recarray  # RULE per gesture rule of paths.json
+    log_t: np.ndarray  # (E,) time of each logged event
+    log_cue: np.ndarray  # (E,) cue of each logged event
+    log_event: np.ndarray  # (E,) FIRED, ASKED_AGAIN or GAVE_UP
+
+
+def human_index(name: str | None, n: int) -> int:
+    """humanK -> agent id K-1 (-1: any person, or a name beyond the crowd)."""
+    if not name:
+        return -1
+    k = int(name[5:]) - 1
+    return k if 0 <= k < n else -1
+
+
+def lower_script(script: RobotScript | None, encounter_points: dict[str, complex], rules: list[RobotGestureRule],
+                 node_points: dict[str, complex], people: int, steps: int) -> Script:
+    """The script's cues and the gesture rules as tables; room in the log for `steps` steps."""
+    cues = list(script.cues) if script is not None else []
+    table_ = table(CUE, len(cues))
+    for k, cue in enumerate(cues):
+        trig, row = cue.trigger, table_[k]
+        point = encounter_points.get(trig.encounter or "")
+        row.when, row.who = TRIGGERS[trig.when], human_index(trig.human, people)
+        row.phrase = HUMAN_PHRASE_CODE.get(trig.phrase or "", -1)
+        row.say = ROBOT_PHRASE_CODE[cue.say] if cue.say else 0
+        row.once, row.until_clear, row.has_point = cue.once, cue.wait_until_clear, point is not None
+        row.point = point if point is not None else 0j
+        row.seconds, row.distance, row.hold, row.pause = trig.seconds, trig.distance, cue.hold, cue.wait
+        row.speed = math.nan if cue.speed is None else cue.speed
+        row.say_until = row.wait_until = -math.inf
+        row.clear_since = math.inf
+    rows = table(RULE, len(rules), last_true=-math.inf)
+    for k, rule in enumerate(rules):
+        point = node_points.get(rule.node or "")
+        rows[k].when, rows[k].gesture = RULE_WHEN[rule.when], rule.gesture
+        rows[k].has_point, rows[k].point = point is not None, point if point is not None else 0j
+        rows[k].distance, rows[k].duration = rule.distance, rule.duration
+    size = max(len(cues), 1) * 2 * (steps + 2)
+    now = table(NOW, 1, speed=script.speed if script is not None else 0.6,
+                 misbehave=script.misbehave if script is not None else False)
+    return Script(now, table_, rows, np.zeros(size), np.zeros(size, dtype=np.int64), np.zeros(size, dtype=np.int64))
+
+
+def describe(cue: RobotCue) -> str:
+    trig = cue.trigger
+    what = [f"say {cue.say}" if cue.say else "", f"wait {cue.wait:g} s" if cue.wait else "",
+            "wait until clear" if cue.wait_until_clear else "", f"speed {cue.speed:g}" if cue.speed is not None else ""]
+    return f"{trig.when}: " + ", ".join(w for w in what if w)
+
+
+def fired(script: Script, cues: list[RobotCue]) -> list[tuple[float, str]]:
+    """(t, what) of every logged cue event, as the trace's meta lists them."""
+    out = []
+    for m in range(min(int(script.now[0].logged), script.log_t.shape[0])):
+        cue, event = cues[int(script.log_cue[m])], int(script.log_event[m])
+        text = (describe(cue) if event == FIRED else f"still blocked: say {cue.say} again" if event == ASKED_AGAIN
+                else "still blocked: stop waiting, go around")
+        out.append((round(float(script.log_t[m]), 3), text))
+    return out
+
+
+blocking = jit(proxemics.blocking)  # the one "in the robot's way" (socnavgen.proxemics), compiled
+
+
+@jit
+def person_in_way(s, distance, swept_only):  # noqa: ANN001, ANN201
+    """Someone within `distance` (centres) ahead of the robot's direction of travel, in its way: in a cone
+    ahead (to notice people coming), or (`swept_only`) only inside the corridor its body sweeps, so that
+    people who stepped aside do not keep a robot waiting "until clear"."""
+    robot = s.robot[0]
+    r, h = robot.pos, robot.heading
+    cone = -1.0 if swept_only else proxemics.FRONT_CONE_SCRIPT
+    for i in range(s.people.shape[0]):
+        p = s.people[i]
+        if blocking(r.real, r.imag, h.real, h.imag, p.pos.real, p.pos.imag, robot.radius, p.radius, distance,
+                    proxemics.WAY_MARGIN_SCRIPT, cone):
+            return True
+    return False
+
+
+@jit
+def holds(s, when, who, phrase, point, has_point, seconds, distance):  # noqa: ANN001, ANN201
+    """Whether a trigger (or a gesture rule's condition) holds now."""
+    if when in (START, ALWAYS):
+        return True
+    if when == AFTER:
+        return s.clock[0].t >= seconds
+    if when == AT_ENCOUNTER:
+        return has_point and abs(point - s.robot[0].pos) <= distance
+    if when == BLOCKED:
+        return person_in_way(s, distance, False)
+    for i in range(s.people.shape[0]):
+        if who >= 0 and i != who:
+            continue
+        if when == HUMAN_SAYS:
+            if s.people[i].gesture == phrase:
+                return True
+        elif abs(s.people[i].pos - s.robot[0].pos) <= distance:  # HUMAN_WITHIN, NEAR_HUMAN
+            return True
+    return False
+
+
+@jit
+def log(script, t, c, event):  # noqa: ANN001, ANN201
+    m = script.now[0].logged
+    if m < script.log_t.shape[0]:
+        script.log_t[m], script.log_cue[m], script.log_event[m] = t, c, event
+    script.now[0].logged = m + 1
+
+
+@jit
+def play(s, script):  # noqa: ANN001, ANN201
+    """Fire the cues whose trigger became true; then what the robot says now, whether it waits, its cruise
+    speed."""
+    t = s.clock[0].t
+    now = script.now[0]
+    for c in range(script.cues.shape[0]):
+        cue = script.cues[c]
+        true = holds(s, cue.when, cue.who, cue.phrase, cue.point, cue.has_point, cue.seconds, cue.distance)
+        rising = true and not cue.was_true
+        cue.was_true = true
+        if not rising or (cue.once and cue.fired > 0):
+            continue
+        cue.fired += 1
+        if cue.say != 0:
+            cue.say_until = t + cue.hold
+        if cue.pause != 0:
+            cue.wait_until = t + cue.pause
+        cue.waiting_until_clear = cue.until_clear
+        cue.clear_since, cue.repeats = t, 0
+        if not math.isnan(cue.speed):
+            now.speed = cue.speed
+        log(script, t, c, FIRED)
+    say, wait = 0, False
+    for c in range(script.cues.shape[0]):
+        cue = script.cues[c]
+        if cue.say != 0 and t < cue.say_until:
+            say = cue.say  # the latest cue in script order wins
+        if t < cue.wait_until:
+            wait = True
+        elif cue.waiting_until_clear:
+            blocked = person_in_way(s, max(cue.distance, CLEAR_DISTANCE), True)
+            cue.waiting_until_clear = blocked
+            if blocked and t - cue.clear_since >= CLEAR_PATIENCE:
+                if cue.say != 0 and cue.repeats < CLEAR_REPEATS:  # ask again: a person who reacts only
+                    cue.repeats += 1  # while the robot speaks gets another chance
+                    cue.clear_since = t
+                    cue.say_until = t + cue.hold
+                    log(script, t, c, ASKED_AGAIN)
+                else:
+                    cue.waiting_until_clear = False
+                    log(script, t, c, GAVE_UP)
+            wait = wait or cue.waiting_until_clear
+    now.say, now.wait = say, wait
+
+
+@jit
+def rules_gesture(s, rules):  # noqa: ANN001, ANN201
+    """The gesture of the first rule whose condition held within its last `duration` seconds (0: none)."""
+    t = s.clock[0].t
+    for r in range(rules.shape[0]):
+        rule = rules[r]
+        if holds(s, rule.when, -1, -1, rule.point, rule.has_point, 0.0, AT_NODE if rule.when == AT_ENCOUNTER
+                 else rule.distance):
+            rule.last_true = t
+        if t - rule.last_true <= rule.duration:
+            return rule.gesture
+    return 0

@@ -1,0 +1,245 @@
+"""The spec language the model players missed, each as one field or trigger: validated, taught in the
+prompts, checked in the trees (tree_needs), and for in-process models built by the tree grammar:
+robot_far (a leader waits for a robot that falls behind), `lasts` (a reaction that ends), a latch on any
+trigger (KeepRunningUntilFailure), a person's `speed` and `otherwise: stand`, and the later of a person's
+encounters taking over. Trees that must fail are tested as much as trees that must pass."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from pydantic import ValidationError
+from test_spec_checks import _sample
+
+from socnavgen.bt.validate import validate_bt_text
+from socnavgen.location import load_location
+from socnavgen.proposal.behaviors import behavior_messages
+from socnavgen.proposal.replies import ScenarioReply
+from socnavgen.proposal.scenario import scenario_checker, scenario_messages
+from socnavgen.proposal.tree_grammar import build_spec_tree_grammar
+from socnavgen.proposal.tree_needs import needs_text, tree_need_mistakes
+from socnavgen.run import HumanPlan, PathPlan, ScenarioProposal, ScenarioRequest
+from socnavgen.run.spec import WAIT_THEN_GO_SECONDS, ScenarioSpec
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "locations"
+WALK = ("<Sequence><SetBlackboard output_key='agentid' value='{id}'/><SetBlackboard output_key='timestep' "
+        "value='{dt}'/><SubTree ID='RegularNavTree' id='agentid' dt='timestep'/></Sequence>")
+LOOK = "<LookAtRobot agent_id='{id}'/>"
+NEAR = "<IsRobotNearby agent_id='{id}' distance='4.0'/>"
+VISIBLE = "<IsRobotVisible agent_id='{id}' distance='3.0'/>"
+
+
+def tree(body: str) -> str:
+    return (f"<root main_tree_to_execute='M'><include path='BTRegularNav.xml'/><BehaviorTree ID='M'>{body}"
+            f"</BehaviorTree></root>")
+
+
+def spec(*parts: dict, people: dict | None = None, orders: tuple[int, ...] = ()) -> ScenarioSpec:
+    encounters = [{"id": f"e{k + 1}", "place": "X", "order": orders[k] if orders else k + 1, "humans": [p]}
+                  for k, p in enumerate(parts)]
+    return ScenarioSpec.model_validate({"encounters": encounters, "people": people or {}})
+
+
+def needs(xml: str, the_spec: ScenarioSpec) -> list[str]:
+    assert validate_bt_text(xml, "t.xml", human_ids={0}, agent_id=0) == [], xml  # needs only of valid trees
+    return tree_need_mistakes(xml, "human1", the_spec)
+
+
+# ---- robot_far ------------------------------------------------------------------------------------
+FAR = spec({"human": "human1", "trigger": "robot_far", "reaction": "stop", "distance": 4.0})
+
+
+def test_robot_far_is_the_robot_near_condition_inverted():
+    waits = tree(f"<Fallback><Sequence><Inverter>{NEAR}</Inverter>{LOOK}</Sequence>{WALK}</Fallback>")
+    assert needs(waits, FAR) == []
+    also = tree(f"<Fallback><Sequence>{NEAR}{WALK}</Sequence>{LOOK}</Fallback>")  # near: walk, else wait
+    assert needs(also, FAR) == []
+    wrong = tree(f"<Fallback><Sequence>{NEAR}{LOOK}</Sequence>{WALK}</Fallback>")  # waits while NEAR
+    assert any("is not gated by an inverted " in m and "IsRobotNearby" in m for m in needs(wrong, FAR)), needs(wrong, FAR)
+    text = needs_text("human1", FAR)
+    assert "robot far (farther than 4 m) -> stop" in text and "detect it with an inverted IsRobot" in text
+
+
+# ---- lasts, wait_then_go and the time trigger ------------------------------------------------------
+def timer(seconds: str, inverted: bool = True) -> str:
+    node = f"<TimeExpiredCondition seconds='{seconds}' ts='{{dt}}' only_once='true'/>"
+    return f"<Inverter>{node}</Inverter>" if inverted else node
+
+
+def test_a_reaction_that_lasts_has_its_timer():
+    says = spec({"human": "human1", "trigger": "robot_blocking", "reaction": "say", "says": "WAIT", "lasts": 5})
+    gesture = "<MakeGesture agent_id='{id}' message='1'/>"
+    blocking = "<IsRobotBlocking agent_id='{id}' distance='2.0'/>"
+    ok = tree(f"<Fallback><Sequence>{blocking}{timer('5')}{gesture}</Sequence>{WALK}</Fallback>")
+    assert needs(ok, says) == []
+    for bad in (tree(f"<Fallback><Sequence>{blocking}{gesture}</Sequence>{WALK}</Fallback>"),
+                tree(f"<Fallback><Sequence>{blocking}{timer('9')}{gesture}</Sequence>{WALK}</Fallback>"),
+                tree(f"<Fallback><Sequence>{blocking}{timer('5', False)}{gesture}</Sequence>{WALK}</Fallback>")):
+        assert any("the reaction lasts 5 s" in m for m in needs(bad, says)), bad
+    waits = spec({"human": "human1", "trigger": "robot_near", "reaction": "wait_then_go", "distance": 4.0})
+    three = f"{WAIT_THEN_GO_SECONDS:g}"
+    assert needs(tree(f"<Fallback><Sequence>{NEAR}{timer(three)}{LOOK}</Sequence>{WALK}</Fallback>"), waits) == []
+    assert needs(tree(f"<Fallback><Sequence>{NEAR}{LOOK}</Sequence>{WALK}</Fallback>"), waits)
+    assert f"wait then go for {three} s, then walk on" in needs_text("human1", waits)
+
+
+def test_seconds_belong_to_the_time_trigger_and_the_tree_carries_them():
+    with pytest.raises(ValidationError, match="belongs to the trigger time"):
+        spec({"human": "human1", "trigger": "robot_near", "reaction": "wait_then_go", "seconds": 4})
+    later = spec({"human": "human1", "trigger": "time", "seconds": 20, "reaction": "walk_past"},
+                 people={"human1": {"otherwise": "stand"}})
+    stand = "<MakeGesture agent_id='{id}' message='0'/>"
+    assert needs(tree(f"<Fallback><Sequence>{timer('20', False)}{WALK}</Sequence>{stand}</Fallback>"), later) == []
+    wrong = tree(f"<Fallback><Sequence>{timer('2', False)}{WALK}</Sequence>{stand}</Fallback>")
+    assert any("never checks TimeExpiredCondition(seconds='20')" in m for m in needs(wrong, later))
+    assert "20 s after the start -> walk past" in needs_text("human1", later)
+
+
+# ---- latch ----------------------------------------------------------------------------------------
+SEEN = spec({"human": "human1", "trigger": "robot_visible", "reaction": "look", "distance": 3.0, "latch": True})
+
+
+def test_a_latch_on_any_trigger_keeps_the_action_running():
+    kept = tree(f"<Fallback><Sequence>{VISIBLE}<KeepRunningUntilFailure>{LOOK}</KeepRunningUntilFailure>"
+                f"</Sequence>{WALK}</Fallback>")
+    assert needs(kept, SEEN) == []
+    plain = tree(f"<Fallback><Sequence>{VISIBLE}{LOOK}</Sequence>{WALK}</Fallback>")
+    assert any("latched" in m and "KeepRunningUntilFailure" in m for m in needs(plain, SEEN))
+    outside = tree(f"<Fallback><KeepRunningUntilFailure><Sequence>{VISIBLE}{LOOK}</Sequence>"
+                   f"</KeepRunningUntilFailure>{WALK}</Fallback>")  # re-checks the condition: no latch
+    assert any("latched" in m for m in needs(outside, SEEN))
+    assert "<KeepRunningUntilFailure> right after the condition" in needs_text("human1", SEEN)
+
+
+def test_the_latch_holds_in_the_simulator():
+    """Seen once within 2 m, the person keeps the gesture after the robot drove away; without the latch not."""
+    from tests.sim.simhelpers import Drive, human, make_sim, tree_xml
+
+    near = '<IsRobotNearby agent_id="{id}" distance="2.0"/>'
+    say, other = '<MakeGesture agent_id="{id}" message="1"/>', '<MakeGesture agent_id="{id}" message="2"/>'
+    latched = f"<Fallback><Sequence>{near}<KeepRunningUntilFailure>{say}</KeepRunningUntilFailure></Sequence>" \
+              f"{other}</Fallback>"
+    plain = f"<Fallback><Sequence>{near}{say}</Sequence>{other}</Fallback>"
+    for body, last in ((latched, 1), (plain, 2)):
+        sim = make_sim([human(start=(2.0, 5.0))], [tree_xml(body)], [(3.0, 5.0), (19.0, 5.0)], Drive(1.0))
+        sim.step()
+        assert sim.people.gesture[0] == 1
+        for _ in range(60):  # 6 s at 1 m/s: the robot is far away
+            sim.step()
+        assert abs(sim.robot.pos - complex(2.0, 5.0)) > 4.0 and sim.people.gesture[0] == last
+
+
+def test_a_target_that_rechecks_every_condition_cannot_latch():
+    reply = {"scenario_description": "The robot crosses a hall and a visitor who saw it keeps looking at it.",
+             "number_of_humans": 1, "human_behaviors": {"human1": "A visitor who sees the robot and keeps looking."},
+             "expected_robot_behavior": "Pass the visitor politely at a distance.",
+             "spec": {"encounters": [{"id": "e1", "place": "INTERSECTION", "humans": [
+                 {"human": "human1", "trigger": "robot_visible", "reaction": "look", "distance": 3.0, "latch": True}]}],
+                 "criteria": [{"id": "c1", "kind": "meets", "human": "human1", "encounter": "e1"}]}}
+    warehouse = load_location(EXAMPLES / "warehouse")
+    assert scenario_checker(warehouse)(ScenarioReply.model_validate(reply)) == []
+    refused = scenario_checker(warehouse, target="hunav2")(ScenarioReply.model_validate(reply))
+    assert any("latch is true, but a hunav2 tree cannot remember" in m for m in refused), refused
+
+
+# ---- people: speed and otherwise stand -------------------------------------------------------------
+def test_people_name_humans_of_the_spec_and_bound_their_speed():
+    part = {"human": "human1", "trigger": "robot_says", "phrase": "PROCEED", "reaction": "walk_past"}
+    assert spec(part, people={"human1": {"speed": 0.5}}).person("human1").speed == 0.5
+    assert spec(part).person("human1").otherwise == "walk"
+    with pytest.raises(ValidationError, match="people names human2, who takes part in no encounter"):
+        spec(part, people={"human2": {"speed": 0.5}})
+    with pytest.raises(ValidationError):
+        spec(part, people={"human1": {"speed": 4.0}})
+
+
+def test_a_person_who_stands_otherwise_has_a_standing_branch():
+    waits = spec({"human": "human1", "trigger": "robot_says", "phrase": "PROCEED", "reaction": "walk_past"},
+                 people={"human1": {"otherwise": "stand", "speed": 0.6}})
+    said = "<RobotSays agent_id='{id}' message='2'/>"
+    stands = tree(f"<Fallback><Sequence>{said}{WALK}</Sequence><MakeGesture agent_id='{{id}}' message='0'/></Fallback>")
+    assert needs(stands, waits) == []
+    walks = tree(f"<Fallback><Sequence>{said}{WALK}</Sequence>{WALK}</Fallback>")
+    assert any("stands while none of its triggers holds" in m for m in needs(walks, waits))
+    text = needs_text("human1", waits)
+    assert "stands still (\"otherwise\": \"stand\")" in text and "walks at up to 0.6 m/s" in text
+
+
+# ---- one person, two encounters: the later takes over ---------------------------------------------
+BLOCK_THEN_YIELD = spec({"human": "human1", "trigger": "robot_visible", "reaction": "block", "distance": 3.0},
+                        {"human": "human1", "trigger": "robot_says", "phrase": "EXCUSE ME", "reaction": "give_way",
+                         "latch": True})
+
+
+def test_the_later_encounter_takes_over():
+    said = "<RobotSaid agent_id='{id}' message='4'/>"
+    block = f"<Sequence>{VISIBLE}<BlockRobot agent_id='{{id}}' time_step='{{dt}}'/></Sequence>"
+    give = f"<Sequence>{said}<GiveWaytoRobot agent_id='{{id}}' time_step='{{dt}}'/></Sequence>"
+    assert needs(tree(f"<Fallback>{give}{block}{WALK}</Fallback>"), BLOCK_THEN_YIELD) == []
+    late = needs(tree(f"<Fallback>{block}{give}{WALK}</Fallback>"), BLOCK_THEN_YIELD)
+    assert any("encounter e2 comes after e1" in m and "put its branch before" in m for m in late), late
+    unless = (f"<Sequence><Inverter>{said}</Inverter>{VISIBLE}<BlockRobot agent_id='{{id}}' time_step='{{dt}}'/>"
+              f"</Sequence>")  # blocks only until EXCUSE ME: the order of the branches does not matter
+    assert needs(tree(f"<Fallback>{unless}{give}{WALK}</Fallback>"), BLOCK_THEN_YIELD) == []
+    assert "switches reactions" in needs_text("human1", BLOCK_THEN_YIELD)
+
+
+def test_a_persons_encounters_come_in_their_order():
+    swapped = spec({"human": "human1", "trigger": "robot_visible", "reaction": "look", "distance": 3.0},
+                   {"human": "human1", "trigger": "robot_near", "reaction": "give_way", "distance": 2.0}, orders=(2, 1))
+    assert [e.id for e, _ in swapped.parts_of("human1")] == ["e2", "e1"]
+
+
+# ---- the grammar of in-process models builds all of it ----------------------------------------------
+@pytest.mark.parametrize("part, people", [
+    ({"human": "human1", "trigger": "robot_far", "reaction": "stop", "distance": 4.0}, None),
+    ({"human": "human1", "trigger": "robot_near", "reaction": "wait_then_go"}, None),
+    ({"human": "human1", "trigger": "robot_visible", "reaction": "look", "latch": True}, None),
+    ({"human": "human1", "trigger": "robot_blocking", "reaction": "walk_past"}, {"human1": {"otherwise": "stand"}}),
+    ({"human": "human1", "trigger": "robot_near", "reaction": "give_way", "lasts": 6}, None),
+])
+def test_the_tree_grammar_builds_trees_that_meet_the_new_fields(part, people):
+    the_spec = spec(part, people=people)
+    grammar = build_spec_tree_grammar("human1", the_spec)
+    assert grammar is not None
+    for text in _sample(grammar, 8):
+        assert grammar.matches(text)
+        assert needs(json.loads(text)["tree"], the_spec) == []
+
+
+# ---- the prompts carry every field -----------------------------------------------------------------
+def test_the_tree_prompt_says_every_field_of_the_spec():
+    the_spec = ScenarioSpec.model_validate({
+        "script": {"cues": [{"trigger": {"when": "blocked", "distance": 2.0}, "say": "ACKNOWLEDGED", "wait": 4.0,
+                             "wait_until_clear": True},
+                            {"trigger": {"when": "human_farther", "human": "human1", "distance": 3.0}, "wait": 2.0,
+                             "once": False}]},
+        "encounters": [{"id": "e1", "place": "X", "humans": [
+            {"human": "human1", "trigger": "time", "seconds": 23, "reaction": "wait_then_go", "lasts": 4}]}]})
+    text = needs_text("human1", the_spec)
+    assert "23 s after the start -> wait then go for 4 s, then walk on" in text
+    assert "seconds='4'" in text and "seconds='23'" in text
+    assert "stands still 4 s and then until its way is clear" in text  # the cue's wait is not dropped
+    assert "farther than 3 m (each time) it stands still 2 s" in text
+    proposal = ScenarioProposal(scenario_description="d", number_of_humans=1, human_behaviors={"human1": "b"},
+                                expected_robot_behavior="e")
+    plan = PathPlan(robot=["a", "b"], humans=[HumanPlan(name="human1", path=["b"])])
+    user = behavior_messages("human1", proposal, plan, the_spec)[-1].content
+    assert text in user and "hunav2 lacks" in user and "KeepRunningUntilFailure" in user  # export targets, latch
+
+
+def test_stage1_teaches_the_new_fields_and_what_the_robot_cannot_do():
+    home = load_location(EXAMPLES / "home")
+    request = ScenarioRequest(location=str(home.root), context="c", task="t", llm="replay")
+    system = scenario_messages(request, home)[0].content
+    from typing import get_args
+
+    from socnavgen.run.spec import HumanTrigger, Reaction
+    assert all(f"{t} (" in system or f"{t}," in system for t in get_args(HumanTrigger)), "a trigger is not taught"
+    assert all(r in system for r in get_args(Reaction))
+    assert "\"people\"" in system and "\"otherwise\"" in system and "\"lasts\"" in system
+    assert "cannot back off, reverse, pull over or step aside, and cannot follow a person" in system
+    assert "A route may come back to its start after passing other nodes" in system
+    assert "hunav2 lacks" in system and "robot_blocking" in system.split("hunav2 lacks")[1][:200]

@@ -1,0 +1,144 @@
+"""Stage rules the model players met, each stated the way it is checked: where giving way is possible,
+which node is a person's interaction point when they have several encounters, round trips, and what
+stage 1 is shown to name places ("the north elevator"): node positions and the annotated map."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from socnavgen.location import load_location
+from socnavgen.proposal.path_checks import check_paths, to_path_plan
+from socnavgen.proposal.replies import PathsReply, ScenarioReply
+from socnavgen.proposal.scenario import fitted_scenario_messages, scenario_checker, to_spec
+from socnavgen.run import ScenarioRequest
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "locations"
+
+
+@pytest.fixture(scope="module")
+def warehouse():
+    return load_location(EXAMPLES / "warehouse")
+
+
+def _reply(*encounters: dict) -> ScenarioReply:
+    humans = sorted({p["human"] for e in encounters for p in e["humans"]})
+    return ScenarioReply.model_validate({
+        "scenario_description": "The robot carries a box past workers in the warehouse aisles and corners.",
+        "number_of_humans": len(humans),
+        "human_behaviors": {h: "A worker walks to the racks and lets the robot pass." for h in humans},
+        "expected_robot_behavior": "Slow down near the workers and pass at a polite distance.",
+        "spec": {"script": {"route": "from the entrance to the racks"}, "encounters": list(encounters),
+                 "criteria": [{"id": f"c{k + 1}", "kind": "meets", "human": e["humans"][0]["human"],
+                               "encounter": e["id"]} for k, e in enumerate(encounters)]}})
+
+
+def _encounter(eid: str, place: str, reaction: str = "give_way", order: int = 1, human: str = "human1") -> dict:
+    return {"id": eid, "place": place, "order": order,
+            "humans": [{"human": human, "trigger": "robot_near", "reaction": reaction, "distance": 2.0}]}
+
+
+def _answer(robot: list[str], human: list[str], point: str, nodes: dict[str, str]) -> PathsReply:
+    return PathsReply.model_validate({"trajectories": {"robot": robot, "human1": human}, "group_ids": {"human1": -1},
+                                      "interaction_points": {"human1": point}, "encounter_nodes": nodes})
+
+
+# ---- giving way needs room -------------------------------------------------------------------------
+def test_giving_way_where_nobody_can_step_aside_is_refused(warehouse):
+    check = scenario_checker(warehouse)
+    aisle = check(_reply(_encounter("e1", "AISLE END")))  # every aisle end is 1.0 m wide
+    assert any("human1 gives way at a AISLE END, but no AISLE END node has room to step aside (1.6 m free" in m
+               for m in aisle), aisle
+    assert check(_reply(_encounter("e1", "AISLE END", reaction="walk_past"))) == []  # walking out ahead works
+    corner = _reply(_encounter("e1", "BLIND CORNER"))
+    assert check(corner) == []  # f7 and 6r have room
+    spec = to_spec(corner)
+    robot, human = ["up", "co", "54", "f7", "6r"], ["6r", "f7", "54"]
+    at_54 = check_paths(_answer(robot, human, "54", {"e1": "54"}), warehouse.graph, ["human1"], spec, warehouse)
+    assert any("human1 gives way in encounter e1 at node 54, which has only 1.4 m free" in m and "6r, f7" in m
+               for m in at_54), at_54
+    assert check_paths(_answer(robot, human, "f7", {"e1": "f7"}), warehouse.graph, ["human1"], spec, warehouse) == []
+
+
+def test_the_inventory_says_where_nobody_can_step_aside(warehouse):
+    from socnavgen.location.inventory import inventory_text
+
+    text = inventory_text(warehouse)
+    assert "whether both move or one of them stands" in text  # a waiting robot leaves no more room
+    line = next(t for t in text.splitlines() if t.startswith("No room to step aside (give_way) at:"))
+    assert "12" in line and "54" in line and "f7" not in line
+
+
+# ---- a person in several encounters ------------------------------------------------------------------
+def test_the_interaction_point_of_a_person_in_several_encounters_is_their_first_encounters_node(warehouse):
+    spec = to_spec(_reply(_encounter("e2", "INTERSECTION", reaction="look", order=2),
+                          _encounter("e1", "BLIND CORNER", reaction="stop", order=1)))
+    robot, human = ["up", "co", "54", "f7", "6r", "hd"], ["hd", "6r", "f7"]
+    nodes = {"e1": "f7", "e2": "hd"}
+    assert check_paths(_answer(robot, human, "f7", nodes), warehouse.graph, ["human1"], spec, warehouse) == []
+    wrong = check_paths(_answer(robot, human, "hd", nodes), warehouse.graph, ["human1"], spec, warehouse)
+    assert any("the interaction point hd of human1 differs from the node f7 of its first encounter e1" in m
+               for m in wrong), wrong
+    missing = PathsReply.model_validate({"trajectories": {"robot": robot, "human1": human},
+                                         "group_ids": {"human1": -1}, "encounter_nodes": nodes})
+    assert to_path_plan(missing, ["human1"], spec).humans[0].interaction_point == "f7"
+
+
+# ---- round trips --------------------------------------------------------------------------------------
+def test_a_round_trip_is_a_route(warehouse):
+    spec = to_spec(_reply(_encounter("e1", "INTERSECTION", reaction="look")))
+    there_and_back = _answer(["up", "ki", "sh", "ki", "up"], ["sw", "sh"], "sh", {"e1": "sh"})
+    assert check_paths(there_and_back, warehouse.graph, ["human1"], spec, warehouse) == []
+    nowhere = _answer(["up", "up"], ["sw", "sh"], "sh", {"e1": "sh"})
+    assert any("goes nowhere in between" in m for m in
+               check_paths(nowhere, warehouse.graph, ["human1"], spec, warehouse))
+
+
+# ---- what stage 1 sees to name places -----------------------------------------------------------------
+def test_stage1_shows_positions_and_to_vision_models_the_annotated_map(warehouse):
+    class Vision:
+        supports_images = True
+
+    class Text:
+        supports_images = False
+
+    request = ScenarioRequest(location=str(warehouse.root), context="c", task="the north aisle", llm="replay")
+    seen = fitted_scenario_messages(request, warehouse, Vision())[-1]
+    assert [p.name for p in seen.images] == ["scene_graph.png"] and "north is up" in seen.content
+    assert "at = position x,y in metres (x east, y north)" in seen.content and "- ENTRANCE: sk (at " in seen.content
+    assert fitted_scenario_messages(request, warehouse, Text())[-1].images == []
+    no_image = request.model_copy(update={"use_image": False})
+    assert fitted_scenario_messages(no_image, warehouse, Vision())[-1].images == []
+
+
+# ---- in-process models: the grammars keep give_way where there is room ------------------------------
+def test_the_grammars_of_small_models_offer_give_way_only_where_there_is_room(warehouse):
+    import json
+
+    from socnavgen.proposal.path_grammar import build_paths_grammar
+    from socnavgen.proposal.scenario import build_scenario_grammar, stage_grammar
+
+    class Small:
+        supports_grammar = True
+
+    assert "reaction-tight" in stage_grammar(Small(), warehouse, None)  # AISLE END is tight on this map
+    grammar = build_scenario_grammar(node_types=["AISLE END", "BLIND CORNER"], tight={"AISLE END"})
+    reply = _reply(_encounter("e1", "AISLE END")).model_dump(exclude={"spec"})
+    spec = {"script": {"route": "from the entrance to the racks", "cues": []},
+            "encounters": [{"id": "e1", "place": "AISLE END", "humans": [
+                {"human": "human1", "trigger": "robot_near", "reaction": "give_way"}]}],
+            "criteria": [{"id": "c1", "kind": "meets", "human": "human1", "encounter": "e1"}]}
+    assert not grammar.matches(json.dumps({**reply, "spec": spec}))
+    spec["encounters"][0]["humans"][0]["reaction"] = "walk_past"
+    assert grammar.matches(json.dumps({**reply, "spec": spec}))
+    spec["encounters"][0].update(place="BLIND CORNER", humans=[{"human": "human1", "trigger": "robot_near",
+                                                                 "reaction": "give_way"}])
+    assert grammar.matches(json.dumps({**reply, "spec": spec}))
+
+    corner = to_spec(_reply(_encounter("e1", "BLIND CORNER")))
+    cramped = {n for n, facts in warehouse.inventory.nodes.items() if not facts.turnable}
+    paths = build_paths_grammar(warehouse.graph, ["human1"], corner, cramped)
+    meeting = {r for r in paths.rules if r.startswith("robot")}
+    index = {n: i for i, n in enumerate(sorted(warehouse.graph.nodes))}
+    assert f"robot{index['f7']}" in meeting and f"robot{index['54']}" not in meeting  # 54: 1.4 m free
