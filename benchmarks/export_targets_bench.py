@@ -21,11 +21,18 @@ from pathlib import Path
 
 from socnavgen.cards.generate import fit_all, write_card_run
 from socnavgen.evaluation.fixtures import fixture_paths, replay_fixture
-from socnavgen.export.as_target import ROBOTS, SPEEDS, TIMED_TARGETS, run_as_target, target_twin
+from socnavgen.export.as_target import (
+    ROBOTS,
+    SPEEDS,
+    TIMED_TARGETS,
+    run_as_target,
+    target_twin,
+    waypoint_robot,
+)
 from socnavgen.export.scene import build_scene
 from socnavgen.export.timing import start_wait
 from socnavgen.location import load_location
-from socnavgen.sim.scenario import simulate_run
+from socnavgen.sim import simulate_run
 from socnavgen.verify import verify_trace
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -71,7 +78,7 @@ def main() -> None:
                 continue
             scene, _ = build_scene(run)
             for speed in SPEEDS:  # the robot itself: our pacing, the run's own trees
-                robot = ROBOTS[args.robot](max_speed=scene.robot_speed * speed, delay=start_wait(scene))
+                robot = waypoint_robot(args.robot, scene.robot_speed * speed, start_wait(scene))
                 ok = verify_trace(run, simulate_run(run, robot=robot, save=False)).passed
                 count = tally[(kind, OWN, speed)]
                 count[0], count[2] = count[0] + ok, count[2] + 1

@@ -15,10 +15,10 @@ from pathlib import Path
 
 import pytest
 
-from socnavgen.export.as_target import ROBOTS, SPEEDS, TIMED_TARGETS, run_as_target, target_twin
+from socnavgen.export.as_target import SPEEDS, TIMED_TARGETS, run_as_target, target_twin, waypoint_robot
 from socnavgen.export.scene import build_scene
 from socnavgen.export.timing import start_wait
-from socnavgen.sim.scenario import simulate_run
+from socnavgen.sim import simulate_run
 from socnavgen.verify.runner import verify_trace
 
 # (target, card, speed) -> why it misses as the target runs it although our pacing makes it with the same robot
@@ -47,7 +47,7 @@ def outcomes(bundled_runs, tmp_path_factory) -> list[tuple]:  # noqa: ANN001
         speeds = SPEEDS if kind == "fixtures" else (SPEEDS[k % len(SPEEDS)],)
         reference = {}
         for speed in speeds:
-            robot = ROBOTS["careful"](max_speed=scene.robot_speed * speed, delay=start_wait(scene))
+            robot = waypoint_robot("careful", scene.robot_speed * speed, start_wait(scene))
             reference[speed] = verify_trace(run, simulate_run(run, robot=robot, save=False)).passed
         for target in TIMED_TARGETS:
             twin = target_twin(run, target, work / target / label.replace("/", "__"))

@@ -18,7 +18,7 @@ from socnavgen.export.scene import build_scene
 from socnavgen.run import HumanPlan, PathPlan, RunFolder
 from socnavgen.run.models import RobotGestureRule
 from socnavgen.run.spec import CueTrigger, Encounter, HumanPart, RobotCue, RobotScript, ScenarioSpec
-from socnavgen.sim.scenario import simulate_run
+from socnavgen.sim import simulate_run
 from tests.synthetic import walled_room, write_location
 
 from .export_helpers import REGULAR_TREE, build_run

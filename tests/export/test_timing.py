@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from socnavgen.export.as_target import CarefulWaypoints, run_as_target, target_twin
+from socnavgen.export.as_target import run_as_target, target_twin, waypoint_robot
 from socnavgen.export.scene import build_scene
 from socnavgen.export.timing import (
     GOAL_REACHED,
@@ -23,7 +23,7 @@ from socnavgen.export.timing import (
     with_waiting_goals,
 )
 from socnavgen.run import HumanPlan, PathPlan
-from socnavgen.sim.scenario import simulate_run
+from socnavgen.sim import simulate_run
 from socnavgen.verify.runner import verify_trace
 from tests.synthetic import walled_room, write_location
 
@@ -92,7 +92,7 @@ def test_the_encounter_happens_at_its_place_at_any_robot_speed_and_not_without_t
         assert report.passed or (speed == 1.5 and [f.kind for f in report.failures] == ["no_collision"]), \
             (target, speed, [f.name for f in report.failures])
     # the run's own tree without our pacing: the person crosses x 15 s before the robot gets there
-    untimed = simulate_run(run, robot=CarefulWaypoints(max_speed=0.6 * speed), throttle=False, save=False)
+    untimed = simulate_run(run, robot=waypoint_robot("careful", 0.6 * speed), throttle=False, save=False)
     report = verify_trace(run, untimed)
     assert not report.passed and any("meets human1" in f.name for f in report.failures)
 
@@ -103,7 +103,7 @@ def test_the_release_is_latched_and_happens_at_the_release_distance(tmp_path: Pa
     scene, _ = build_scene(run)
     hold = hold_for(scene.humans[0], scene)
     assert hold is not None
-    trace = simulate_run(twin.run, robot=CarefulWaypoints(max_speed=0.3), location=twin.location, throttle=False,
+    trace = simulate_run(twin.run, robot=waypoint_robot("careful", 0.3), location=twin.location, throttle=False,
                          save=False)
     person, robot = trace.humans[:, 0, :2], trace.robot[:, :2]
     gap = np.hypot(*(person - robot).T)

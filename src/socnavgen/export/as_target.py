@@ -8,17 +8,20 @@ in-memory copy of the location); `run_as_target(twin, speed)` simulates it with 
 the fork's wrapper's own pause rule on, for the people it still pauses), a waypoint robot at `speed` times the
 script's cruise speed, the robot's script speaking (the fork's people hear it through the gesture topic;
 2.x trees have no phrase condition left to hear it with), and judges the trace against the ORIGINAL run.
-The robot is the waypoints robot that also never drives into a person (`CarefulWaypoints`: what nav2's costmap
-or a teleoperator does; the plain waypoints robot pushes into people after its patience runs out, with our
-own pacing and trees too), or the plain one (`robot="waypoints"`)."""
+The robot is the simulator's built-in waypoints robot, started when the script's start wait is over, at the
+speed asked, and (`robot="careful"`) never moving closer than KEEP_GAP to a person (its keep_gap: what nav2's
+costmap or a teleoperator does; the plain waypoints robot, `robot="waypoints"`, pushes into people after its
+patience runs out, with our own pacing and trees too)."""
 
 from __future__ import annotations
 
 import json
+import math
 import re
 import shutil
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 from socnavgen.bodies import CONTACT_MARGIN
 from socnavgen.bt.expand import load_instance
@@ -34,10 +37,7 @@ from socnavgen.location.models import Edge
 from socnavgen.location.models import Node as GraphNode
 from socnavgen.location.scene_graph import to_networkx
 from socnavgen.run import LoadedRun, load_run
-from socnavgen.sim.interaction import ThrottleConfig
-from socnavgen.sim.robot import RobotAction, WaypointsPolicy, keep_clear
-from socnavgen.sim.scenario import simulate_run
-from socnavgen.sim.trace import Trace
+from socnavgen.sim import BUILTIN, ThrottleConfig, Trace, simulate_run
 from socnavgen.verify.runner import verify_trace
 
 SPEEDS = (0.5, 1.0, 1.5)  # robot speed / the script's cruise speed
@@ -46,30 +46,13 @@ TIMED_TARGETS = ("socrates", "hunav2")  # the targets that run our trees (hunav1
 WAIT_NODE_TYPE = "WAITING SPOT"
 
 
-class DelayedWaypoints(WaypointsPolicy):
-    """The waypoints robot, started `delay` seconds late (its script's start wait: when its operator starts it)."""
-
-    def __init__(self, delay: float = 0.0, **kwargs: float) -> None:
-        super().__init__(**kwargs)
-        self.delay = delay
-
-    def act(self, obs):  # noqa: ANN001, ANN201 - sim.robot.Observation -> RobotAction
-        if obs.t < self.delay:
-            return RobotAction(0.0, 0.0)
-        return super().act(obs)
+ROBOTS = {"careful": KEEP_GAP, "waypoints": math.nan}  # the proof's robots: the gap each keeps from people
 
 
-class CarefulWaypoints(DelayedWaypoints):
-    """The waypoints robot that never moves into a person (keep_clear, as the scripted robot), nor closer than
-    the verifier's contact margin (a gap of 5 cm or less is contact)."""
-
-    def act(self, obs):  # noqa: ANN001, ANN201 - sim.robot.Observation -> RobotAction
-        action = super().act(obs)
-        v = keep_clear(obs, complex(action.vx, action.vy), margin=KEEP_GAP)
-        return RobotAction(v.real, v.imag, action.gesture)
-
-
-ROBOTS = {"careful": CarefulWaypoints, "waypoints": DelayedWaypoints}
+def waypoint_robot(robot: str, max_speed: float, delay: float = 0.0) -> Any:
+    """The built-in waypoints robot of the proof: `robot` one of ROBOTS, at `max_speed` m/s, started `delay` s late
+    (its script's start wait: when its operator starts it)."""
+    return BUILTIN["waypoints"](max_speed=max_speed, start_delay=delay, keep_gap=ROBOTS[robot])
 
 
 @dataclass
@@ -193,7 +176,7 @@ def run_as_target(twin: Twin, speed: float, robot: str = "careful", seed: int = 
         throttle = ThrottleConfig()
     else:
         throttle = ThrottleConfig(rule="socrates") if twin.target == "socrates" else ThrottleConfig(enabled=False)
-    policy = ROBOTS[robot](max_speed=twin.robot_speed * speed, delay=twin.start_wait)
+    policy = waypoint_robot(robot, twin.robot_speed * speed, twin.start_wait)
     trace = simulate_run(twin.run, robot=policy, location=twin.location,
                          seed=seed, throttle=throttle, save=False)
     if twin.stands_for:
@@ -201,5 +184,5 @@ def run_as_target(twin: Twin, speed: float, robot: str = "careful", seed: int = 
     return verify_trace(twin.original, trace)
 
 
-__all__ = ["ROBOTS", "SPEEDS", "TIMED_TARGETS", "CarefulWaypoints", "Twin", "relabel", "run_as_target",
+__all__ = ["ROBOTS", "SPEEDS", "TIMED_TARGETS", "Twin", "waypoint_robot", "relabel", "run_as_target",
            "stands_for", "target_twin"]

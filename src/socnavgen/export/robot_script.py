@@ -2,9 +2,9 @@
 world coordinates) in every export, and `ScriptPlayer`, which plays it from poses - the gesture the robot
 makes now, from the robot's pose, the people's positions (and gestures) and the time.
 
-The player runs the simulator's own script code (sim.gestures: RobotScriptRunner for spec.json's cues,
-ScriptedGestures for paths.json's gesture rules), in the engine's order (a cue's phrase, else the first gesture
-rule that holds, else none), on a view of the poses shaped like the simulation it reads. So the fork's ROS node
+The player runs the simulator's own script code (sim.robot.script: the script lowered as a simulation lowers
+it, and play_gesture - its cues, then a cue's phrase, else the first gesture rule that holds - on the part of
+the state the script reads, filled from the poses). So the fork's ROS node
 (ros/socnavgen_robot_gestures.py) publishes on /robot_gesture exactly what `socnavgen simulate` shows, and a
 test replays a simulated trace through it."""
 
@@ -12,8 +12,8 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import Any
 
-import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from socnavgen.bodies import PERSON_RADIUS, ROBOT_RADIUS
@@ -21,6 +21,7 @@ from socnavgen.bt.library import ROBOT_GESTURES
 from socnavgen.errors import InputFileError
 from socnavgen.export.models import ExportScene
 from socnavgen.export.writer import dump_yaml, metres
+from socnavgen.limits import MAX_SIM_PEOPLE
 from socnavgen.run.models import RobotGestureRule
 from socnavgen.run.spec import RobotCue, RobotScript
 from socnavgen.safeio import load_yaml_file
@@ -47,6 +48,7 @@ class ScriptFile(BaseModel):
     scenario: str = ""
     speed: float = Field(default=0.6, gt=0, le=2.0)
     misbehave: bool = False
+    people: int = Field(default=0, ge=0, le=MAX_SIM_PEOPLE)  # the scenario's crowd (cues name person K of it)
     route: list[Place] = Field(default_factory=list, max_length=256)
     encounters: dict[str, Place] = Field(default_factory=dict)  # encounter id -> where (at_encounter cues)
     cues: list[RobotCue] = Field(default_factory=list, max_length=32)
@@ -71,7 +73,7 @@ def script_file(scene: ExportScene) -> ScriptFile:
     rules = list(scene.plan.robot_gestures)
     nodes = {r.node: place(r.node) for r in rules if r.node in scene.nodes}
     route = [scene.robot.start, *scene.robot.waypoints]
-    return ScriptFile(scenario=scene.run_name, speed=script.speed, misbehave=script.misbehave,
+    return ScriptFile(scenario=scene.run_name, speed=script.speed, misbehave=script.misbehave, people=len(scene.humans),
                       route=[Place(node=p.node, x=metres(p.x), y=metres(p.y)) for p in route],
                       encounters=encounters, cues=list(script.cues), rules=rules, nodes=nodes)
 
@@ -109,58 +111,41 @@ def load_script(path: Path | str) -> ScriptFile:
                              hint="write it with socnavgen export") from exc
 
 
-class _Crowd:
-    """The people as the script code reads them (sim.agents' crowd: n, pos, radius, gesture)."""
-
-    def __init__(self) -> None:
-        self.n = 0
-        self.pos = np.zeros(0, dtype=complex)
-        self.radius = np.zeros(0)
-        self.gesture: list[int] = []
-
-
-class _View:
-    """What sim.gestures reads of a simulation, filled from poses."""
-
-    def __init__(self) -> None:
-        self.t = 0.0
-        self.robot_pos = 0j
-        self.robot_radius = ROBOT_RADIUS
-        self.crowd = _Crowd()
-        self._dir = 1 + 0j
-
-    def robot_direction(self) -> complex:
-        return self._dir
-
-
 class ScriptPlayer:
     """Plays a robot script from poses, step by step (keep one per run: the cues remember what fired)."""
 
     def __init__(self, script: ScriptFile) -> None:
-        from socnavgen.sim.gestures import RobotScriptRunner, ScriptedGestures
+        self.file = script
+        self.state: Any = None  # the script lowered once the crowd's size is known (cues may name a person)
+        self.poses: Any = None
 
-        encounters = {e: complex(p.x, p.y) for e, p in script.encounters.items()}
-        self.runner = RobotScriptRunner(script.script(), encounters)
-        self.rules = ScriptedGestures(script.rules, {n: complex(p.x, p.y) for n, p in script.nodes.items()})
-        self.view = _View()
+    def _lowered(self, people: int) -> None:
+        from socnavgen.sim.robot.script import lower_script, poses
+
+        if self.state is None:
+            script = self.file
+            encounters = {e: complex(p.x, p.y) for e, p in script.encounters.items()}
+            nodes = {n: complex(p.x, p.y) for n, p in script.nodes.items()}
+            self.state = lower_script(script.script(), encounters, script.rules, nodes, script.people or people, 0)
+        if self.poses is None or self.poses.people.shape[0] != people:
+            self.poses = poses(people)
+            self.poses.robot.radius = ROBOT_RADIUS
 
     def gesture(self, t: float, robot: tuple[float, float, float], people: list[tuple[float, float]],
                 people_gestures: list[int] | None = None) -> int:
         """The robot's gesture at time `t` (seconds since the scenario started) with the robot at (x, y, yaw)
         - its direction of travel is its heading - and the people at `people` showing `people_gestures`."""
-        v = self.view
-        v.t = float(t)
-        v.robot_pos = complex(robot[0], robot[1])
-        v._dir = complex(math.cos(robot[2]), math.sin(robot[2]))
-        crowd = v.crowd
-        crowd.n = len(people)
-        crowd.pos = np.array([complex(x, y) for x, y in people], dtype=complex)
-        crowd.radius = np.full(crowd.n, PERSON_RADIUS)
-        crowd.gesture = list(people_gestures) if people_gestures is not None else [0] * crowd.n
-        cues = self.runner.update(v)
-        if cues.say:
-            return int(cues.say)
-        return int(self.rules.gesture(v))
+        from socnavgen.sim.robot.script import play_gesture
+
+        self._lowered(len(people))
+        s = self.poses
+        s.clock.t = float(t)
+        s.robot.pos = complex(robot[0], robot[1])
+        s.robot.heading = complex(math.cos(robot[2]), math.sin(robot[2]))
+        s.people.pos = [complex(x, y) for x, y in people]
+        s.people.radius = PERSON_RADIUS
+        s.people.gesture = list(people_gestures) if people_gestures is not None else 0
+        return int(play_gesture(s, self.state))
 
 
 __all__ = ["SCRIPT_FILE", "ScriptFile", "ScriptPlayer", "load_script", "script_file", "script_yaml"]
