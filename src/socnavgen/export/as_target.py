@@ -4,7 +4,8 @@ and phrase conditions (export.speech) make the scenario happen without anything 
 `target_twin(run, target, work)` writes a copy of the run whose behaviors are the target's exported trees
 (socrates: LLMBT_<i>.xml as exported; hunav2: the 2.x translation, its goal prelude left out because the
 simulator takes goals from paths.json) and whose paths carry the waiting goals the export adds (as nodes of an
-in-memory copy of the location); `run_as_target(twin, speed)` simulates it with our pacing off (socrates:
+in-memory copy of the location; hunav1, which loads only its built-in behaviors, runs a tree the export accepts
+as it is, without timing, and refuses the rest); `run_as_target(twin, speed)` simulates it with our pacing off (socrates:
 the fork's wrapper's own pause rule on, for the people it still pauses), a waypoint robot at `speed` times the
 script's cruise speed, the robot's script speaking (the fork's people hear it through the gesture topic;
 2.x trees have no phrase condition left to hear it with), and judges the trace against the ORIGINAL run.
@@ -27,6 +28,7 @@ from socnavgen.bodies import CONTACT_MARGIN
 from socnavgen.bt.expand import load_instance
 from socnavgen.bt.library import HUNAV2, LIBRARY
 from socnavgen.errors import SocnavgenError
+from socnavgen.export.hunav1 import builtin_behavior
 from socnavgen.export.hunav2 import translate_person
 from socnavgen.export.models import ExportScene
 from socnavgen.export.scene import build_scene
@@ -42,7 +44,8 @@ from socnavgen.verify.runner import verify_trace
 
 SPEEDS = (0.5, 1.0, 1.5)  # robot speed / the script's cruise speed
 KEEP_GAP = CONTACT_MARGIN + 0.03  # m: the careful robot's own moves never bring it this close to a person
-TIMED_TARGETS = ("socrates", "hunav2")  # the targets that run our trees (hunav1 runs built-ins only)
+TIMED_TARGETS = ("socrates", "hunav2")  # the targets that run our trees, with the export's timing
+AS_TARGETS = ("socrates", "hunav1", "hunav2")  # hunav1 runs its built-in behaviors only: no timing, no script
 WAIT_NODE_TYPE = "WAITING SPOT"
 
 
@@ -101,6 +104,11 @@ def relabel(trace: Trace, per_human: list[dict[str, str]]) -> Trace:
 def _trees(scene: ExportScene, holds: dict[str, Hold], target: str) -> dict[str, str]:
     """Each person's tree as the target gets it (raises SocnavgenError when the target refuses it)."""
     check_trees(scene)
+    if target == "hunav1":  # a tree the export accepts IS a built-in behavior: it runs as it is, untimed
+        refusals = [str(r) for h in scene.humans for r in builtin_behavior(h)[1]]
+        if refusals:
+            raise SocnavgenError("HuNavSim 1.x runs only its built-in behaviors; refused: " + "; ".join(refusals))
+        return {h.name: h.tree_xml for h in scene.humans}
     if target == "socrates":
         return {h.name: timed_tree(h, holds.get(h.name)) for h in scene.humans}
     out, problems = {}, []
@@ -141,7 +149,7 @@ def target_twin(run_dir: Path | str, target: str, work: Path | str, *, timing: b
     original = load_run(run_dir)
     scene, _ = build_scene(original.root)
     twin = Twin(original=original, target=target, robot_speed=scene.robot_speed, start_wait=start_wait(scene))
-    timed_scene, holds = with_waiting_goals(scene) if timing else (scene, {})
+    timed_scene, holds = with_waiting_goals(scene) if timing and target in TIMED_TARGETS else (scene, {})
     try:
         trees = _trees(timed_scene, holds, target)
     except SocnavgenError as exc:
@@ -184,5 +192,5 @@ def run_as_target(twin: Twin, speed: float, robot: str = "careful", seed: int = 
     return verify_trace(twin.original, trace)
 
 
-__all__ = ["ROBOTS", "SPEEDS", "TIMED_TARGETS", "Twin", "waypoint_robot", "relabel", "run_as_target",
+__all__ = ["AS_TARGETS", "ROBOTS", "SPEEDS", "TIMED_TARGETS", "Twin", "waypoint_robot", "relabel", "run_as_target",
            "stands_for", "target_twin"]
