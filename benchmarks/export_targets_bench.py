@@ -29,6 +29,7 @@ from socnavgen.export.as_target import (
     TIMED_TARGETS,
     run_as_target,
     target_twin,
+    timeout_for,
     waypoint_robot,
 )
 from socnavgen.export.scene import build_scene
@@ -94,7 +95,8 @@ def main() -> None:
             scene, _ = build_scene(run)
             for speed in SPEEDS:  # the robot itself: our pacing, the run's own trees
                 robot = waypoint_robot(args.robot, scene.robot_speed * speed, start_wait(scene))
-                ok = passed[(label, OWN, speed)] = verify_trace(run, simulate_run(run, robot=robot, save=False)).passed
+                trace = simulate_run(run, robot=robot, timeout=timeout_for(speed), save=False)
+                ok = passed[(label, OWN, speed)] = verify_trace(run, trace).passed
                 count = tally[(kind, OWN, speed)]
                 count[0], count[2] = count[0] + ok, count[2] + 1
             for target in TIMED_TARGETS:

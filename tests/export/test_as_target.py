@@ -15,7 +15,14 @@ from pathlib import Path
 
 import pytest
 
-from socnavgen.export.as_target import SPEEDS, TIMED_TARGETS, run_as_target, target_twin, waypoint_robot
+from socnavgen.export.as_target import (
+    SPEEDS,
+    TIMED_TARGETS,
+    run_as_target,
+    target_twin,
+    timeout_for,
+    waypoint_robot,
+)
 from socnavgen.export.scene import build_scene
 from socnavgen.export.timing import start_wait
 from socnavgen.sim import simulate_run
@@ -48,7 +55,8 @@ def outcomes(bundled_runs, tmp_path_factory) -> list[tuple]:  # noqa: ANN001
         reference = {}
         for speed in speeds:
             robot = waypoint_robot("careful", scene.robot_speed * speed, start_wait(scene))
-            reference[speed] = verify_trace(run, simulate_run(run, robot=robot, save=False)).passed
+            trace = simulate_run(run, robot=robot, timeout=timeout_for(speed), save=False)
+            reference[speed] = verify_trace(run, trace).passed
         for target in TIMED_TARGETS:
             twin = target_twin(run, target, work / target / label.replace("/", "__"))
             for speed in speeds:

@@ -39,7 +39,7 @@ from socnavgen.location.models import Edge
 from socnavgen.location.models import Node as GraphNode
 from socnavgen.location.scene_graph import to_networkx
 from socnavgen.run import LoadedRun, load_run
-from socnavgen.sim import BUILTIN, ThrottleConfig, Trace, simulate_run
+from socnavgen.sim import BUILTIN, SimConfig, ThrottleConfig, Trace, simulate_run
 from socnavgen.verify.runner import verify_trace
 
 SPEEDS = (0.5, 1.0, 1.5)  # robot speed / the script's cruise speed
@@ -50,6 +50,13 @@ WAIT_NODE_TYPE = "WAITING SPOT"
 
 
 ROBOTS = {"careful": KEEP_GAP, "waypoints": math.nan}  # the proof's robots: the gap each keeps from people
+TIMEOUT = SimConfig().timeout  # s: a run at the nominal speed or faster ends after this long
+
+
+def timeout_for(speed: float) -> float:
+    """How long a run with the robot at `speed` x its cruise speed lasts: a slower robot gets the time it needs
+    to drive the same path (the simulator's 120 s, divided by the speed below 1x)."""
+    return TIMEOUT / min(speed, 1.0)
 
 
 def waypoint_robot(robot: str, max_speed: float, delay: float = 0.0) -> Any:
@@ -185,7 +192,7 @@ def run_as_target(twin: Twin, speed: float, robot: str = "careful", seed: int = 
     else:
         throttle = ThrottleConfig(rule="socrates") if twin.target == "socrates" else ThrottleConfig(enabled=False)
     policy = waypoint_robot(robot, twin.robot_speed * speed, twin.start_wait)
-    trace = simulate_run(twin.run, robot=policy, location=twin.location,
+    trace = simulate_run(twin.run, robot=policy, location=twin.location, timeout=timeout_for(speed),
                          seed=seed, throttle=throttle, save=False)
     if twin.stands_for:
         trace = relabel(trace, twin.stands_for)
@@ -193,4 +200,4 @@ def run_as_target(twin: Twin, speed: float, robot: str = "careful", seed: int = 
 
 
 __all__ = ["AS_TARGETS", "ROBOTS", "SPEEDS", "TIMED_TARGETS", "Twin", "waypoint_robot", "relabel", "run_as_target",
-           "stands_for", "target_twin"]
+           "stands_for", "target_twin", "timeout_for"]
