@@ -36,8 +36,6 @@ KNOWN_LOST = {
     ("hunav2", "hospital/intersection-no-gesture", 1.5): _CROSSING,
     ("socrates", "hospital/narrow-hallway", 0.5): "the person giving way in the 1.2 m hallway brushes the robot "
                                                   "creeping past at 0.3 m/s (gap <= 5 cm)",
-    ("hunav2", "home/accompanying-peer", 1.5): "the 2.x companion (CuriousNav, 0.8 m/s) stays beside the robot at "
-                                               "0.9 m/s and keeps it from its goal",
 }
 
 

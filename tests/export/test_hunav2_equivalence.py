@@ -24,9 +24,7 @@ KNOWN_DIVERGENT = {
     "home/robot-overtaking": _SIDE_STEP,
     "hospital/robot-overtaking": _SIDE_STEP,
     "warehouse/robot-overtaking": _SIDE_STEP,
-    "home/accompanying-peer": _BRUSH + "a few cm (the hunav2 twin touches)",
     "hospital/robot-crowding": _BRUSH + "a few cm (the hunav2 twin touches)",
-    "warehouse/robot-crowding": _BRUSH + "a few cm (the socrates twin touches)",
 }
 
 
@@ -58,7 +56,8 @@ def test_relabel_moves_actions_and_successes_to_the_library_node() -> None:
     tree = ("<root main_tree_to_execute='T'><BehaviorTree ID='T'><Sequence><IsRobotNearby agent_id='{id}' "
             "distance='2'/><FollowRobot agent_id='{id}' time_step='{dt}'/></Sequence></BehaviorTree></root>")
     mapping = stands_for(tree)
-    assert mapping == {"IsRobotClose": "IsRobotNearby", "CuriousNav": "FollowRobot"}
+    # FollowRobot is a composition: both of its 2.x actions stand for it (its IsRobotClose gate does not)
+    assert mapping == {"IsRobotClose": "IsRobotNearby", "CuriousNav": "FollowRobot", "AvoidRobot": "FollowRobot"}
     curious, follow = NODE_NAMES.index("CuriousNav"), NODE_NAMES.index("FollowRobot")
     close, nearby = NODE_NAMES.index("IsRobotClose"), NODE_NAMES.index("IsRobotNearby")
     trace = Trace.__new__(Trace)

@@ -164,11 +164,15 @@ HUNAV2: dict[str, Hunav2Translation] = {
                "does; 2.x's LookAtRobot stays RUNNING until aligned, which would stop re-checking the gate"),
     # (SurprisedNav declares time_step but never reads it: left out, LookAtRobot has no {dt} to pass)
     "FollowRobot": Hunav2Translation(
-        template='<CuriousNav agent_id="{agent_id}" time_step="{time_step}" beh_duration="0.0" '
-                 'only_once="false" agent_vel="0.8" stop_distance="1.5"/>',
-        reason="CuriousNav is one synchronous follow step that stops 1.5 m from the robot and faces it; "
-               "ApproachRobot calls the same function but is stateful (RUNNING forever with duration 0, "
-               "throws without max_vel)"),
+        template='<ReactiveFallback><ReactiveSequence><IsRobotClose agent_id="{agent_id}" threshold="2.0"/>'
+                 '<AvoidRobot agent_id="{agent_id}" time_step="{time_step}" safe_distance="2.0" runaway_vel="0.6" '
+                 'duration="0.0"/></ReactiveSequence><CuriousNav agent_id="{agent_id}" time_step="{time_step}" '
+                 'beh_duration="0.0" only_once="false" agent_vel="0.8" stop_distance="1.5"/></ReactiveFallback>',
+        reason="approximated: CuriousNav is one synchronous follow step that stops 1.5 m from the robot and faces "
+               "it (ApproachRobot calls the same function but is stateful, RUNNING forever with duration 0, throws "
+               "without max_vel); 2.x has no follow-behind, so a follower the robot comes within 2 m of (one "
+               "ahead of it, in its way) walks on along its own goals pushed out of the robot's way (AvoidRobot), "
+               "as ours steps aside and lets it pass, instead of standing in front of it"),
     "FollowHuman": Hunav2Translation(
         template='<FollowAgent agent_id="{agent_id}" target_agent_id="{target_id}" time_step="{time_step}" '
                  'closest_dist="1.5" max_vel="1.5" duration="0.0"/>',

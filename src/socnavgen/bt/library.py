@@ -218,8 +218,10 @@ NODES: list[NodeSpec] = [
                          "standing in the robot's way (ahead of it on its path) first steps aside and lets it pass.",
              capability="Follow the robot",
              targets={"socrates", "hunav2"}, hunav2="ApproachRobot", hunav1="CuriousNav",
-             sim_note="HuNavSim's follower walks up to the robot even from in front of it and stands 1.5 m ahead "
-                      "of it, blocking it for good; ours steps aside first (GiveWaytoRobot's side step)."),
+             sim_note="HuNavSim's follower (CuriousNav) walks up to the robot even from in front of it and stands "
+                      "1.5 m ahead of it, blocking it for good; ours steps aside first (GiveWaytoRobot's side step), "
+                      "and the hunav2 export walks a follower the robot comes within 2 m of on along its goals "
+                      "(AvoidRobot)."),
     NodeSpec(name="FollowHuman", kind="action", moves=True, interaction=True,
              realizes=("follow_human", "join"),
              ports=[_AGENT, Port(name="target_id", type=PortType.INT, description="id of the human to follow",

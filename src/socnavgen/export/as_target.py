@@ -26,6 +26,7 @@ from typing import Any
 
 from socnavgen.bodies import CONTACT_MARGIN
 from socnavgen.bt.expand import load_instance
+from socnavgen.bt.hunav2_facts import HUNAV2_REGISTERED
 from socnavgen.bt.library import HUNAV2, LIBRARY
 from socnavgen.errors import SocnavgenError
 from socnavgen.export.hunav1 import builtin_behavior
@@ -87,9 +88,11 @@ def stands_for(tree_xml: str) -> dict[str, str]:
         if tr is None or tr.template is None or node.name not in LIBRARY:
             continue
         templates = [tr.template] + [t for c in tr.by_value.values() for t in c.values()]
-        for template in templates:
+        for template in templates:  # a composition stands for the node with each of its actions
             names = re.findall(r"<(\w+)", template)
-            out.setdefault(names[-1] if names[0] == "Sequence" else names[0], node.name)
+            actions = [n for n in names if n in HUNAV2_REGISTERED and HUNAV2_REGISTERED[n].kind == "Action"]
+            for name in actions or [names[-1] if names[0] == "Sequence" else names[0]]:
+                out.setdefault(name, node.name)
     return out
 
 
