@@ -25,6 +25,7 @@ from socnavgen.export.as_target import (
 )
 from socnavgen.export.scene import build_scene
 from socnavgen.export.timing import start_wait
+from socnavgen.run import load_run
 from socnavgen.sim import simulate_run
 from socnavgen.verify.runner import verify_trace
 
@@ -93,3 +94,21 @@ def test_the_check_can_fail(bundled_runs, tmp_path: Path) -> None:
         twin = target_twin(run, "socrates", tmp_path / label.replace("/", "__"), timing=False)
         lost += not run_as_target(twin, 1.0).passed
     assert lost > 0.05 * len(cards), (lost, len(cards))
+
+
+def test_hunav1_runs_its_built_in_trees_untimed_and_refuses_the_rest(make_run, tmp_path: Path) -> None:  # noqa: ANN001
+    """1.x loads only its built-in behaviors: a custom tree is refused (naming the human), a built-in one runs as
+    it is - the run's own tree, without the timing (human1 meets the robot at its interaction node, so the
+    socrates twin does time it)."""
+    from .export_helpers import REGULAR_TREE
+
+    refused = target_twin(make_run(), "hunav1", tmp_path / "custom")
+    assert refused.run is None and "human1" in refused.refused and "built-in" in refused.refused
+    run = make_run({"human1": REGULAR_TREE, "human2": REGULAR_TREE}, name="regular")
+    twin = target_twin(run, "hunav1", tmp_path / "hunav1")
+    assert not twin.refused and twin.run is not None
+    for name in ("human1", "human2"):
+        assert (twin.run.root / "behaviors" / f"{name}.xml").read_text() == (run / "behaviors" / f"{name}.xml").read_text()
+    assert [h.path for h in twin.run.paths().humans] == [h.path for h in load_run(run).paths().humans]
+    timed = target_twin(run, "socrates", tmp_path / "socrates")
+    assert "socnavgen_robot_close" in (timed.run.root / "behaviors" / "human1.xml").read_text()
