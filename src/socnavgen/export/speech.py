@@ -10,6 +10,8 @@ phrase, as seen from the person - an approximation, listed per node in the expor
                         human_within (this person, anyone, or the person's group) / rule near_human
                                                    the robot within the distance (IsRobotNearby); said to
                                                    another person: not heard
+                        human_farther (the same people)   the robot farther than the distance
+                                                   (Inverter(IsRobotNearby)); said to another: not heard
                         rule at_node               the robot within 1 m, in view, for a person passing the node
                         start / after / always     the same time window (TimeExpiredCondition)
                       (each distance condition counts only once it has held HEARD_AFTER s: see there)
@@ -80,6 +82,10 @@ def _near(distance: float) -> Node:
     return _heard(node("IsRobotNearby", agent_id="{id}", distance=distance))
 
 
+def _far(distance: float) -> Node:
+    return _heard(node("Inverter", node("IsRobotNearby", agent_id="{id}", distance=distance)))
+
+
 def _window(start: float, hold: float, latched: bool) -> Node:
     """True from `start` s for `hold` s (latched: from `start` on) - time the node is ticked."""
     begun = node("TimeExpiredCondition", seconds=start, ts="{dt}", only_once=True) if start > 0 else None
@@ -116,6 +122,12 @@ class _Speech:
             if trig.human in (None, self.human.name) or trig.human in self.group:
                 who = "anyone" if trig.human is None else trig.human
                 return _near(trig.distance), f"{who} within {trig.distance:g} m: the robot within {trig.distance:g} m"
+            return None, f"not heard when said to {trig.human} (not {self.human.name} or its group)"
+        if trig.when == "human_farther":
+            if trig.human in (None, self.human.name) or trig.human in self.group:
+                who = "anyone" if trig.human is None else trig.human
+                return _far(trig.distance), (f"{who} farther than {trig.distance:g} m: the robot farther than "
+                                             f"{trig.distance:g} m from {self.human.name}")
             return None, f"not heard when said to {trig.human} (not {self.human.name} or its group)"
         return None, f"{REFUSED}it is said when {trig.human or 'someone'} says {trig.phrase}: HuNavSim 2.x cannot " \
                      "tell which phrase a person says"
