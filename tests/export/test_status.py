@@ -58,10 +58,15 @@ def test_export_says_it_in_its_result_its_readme_and_on_the_terminal(make_run, t
     assert export_run(run, "socrates", tmp_path / "c").verification == "passed"
 
 
+MOVED_TREE = GIVE_WAY_TREE.replace('<RobotSays agent_id="{id}" message="4"/>', '<RobotMoved agent_id="{id}"/>')
+
+
 def test_the_targets_that_would_refuse_a_run(make_run) -> None:  # noqa: ANN001
+    moved = make_run(trees={"human1": MOVED_TREE, "human2": REGULAR_TREE}, name="moved")
+    refused = target_refusals(moved)
+    assert set(refused) == {"hunav2", "hunav1"} and "RobotMoved" in refused["hunav2"]
     phrase = make_run(trees={"human1": GIVE_WAY_TREE, "human2": REGULAR_TREE}, name="phrase")
-    refused = target_refusals(phrase)
-    assert set(refused) == {"hunav2", "hunav1"} and "RobotSays" in refused["hunav2"]
+    assert set(target_refusals(phrase)) == {"hunav1"}  # RobotSays becomes the script's condition for 2.x
     plain = make_run(trees={"human1": TRANSLATABLE_TREE, "human2": REGULAR_TREE}, name="plain")
     assert "hunav2" not in target_refusals(plain)
 
@@ -70,12 +75,25 @@ def test_the_targets_that_would_refuse_a_run(make_run) -> None:  # noqa: ANN001
 def test_generate_warns_about_its_own_target(make_run, capsys, target, loud) -> None:  # noqa: ANN001
     from socnavgen.cli.generate_cmd import _export_check
 
-    run = make_run(trees={"human1": GIVE_WAY_TREE, "human2": REGULAR_TREE})
+    run = make_run(trees={"human1": MOVED_TREE, "human2": REGULAR_TREE})
     _export_check(RunFolder(run), target)
     out, err = capsys.readouterr()
     text = " ".join((out + err).split())
-    assert "`export --format hunav2`" in text and "RobotSays" in text
+    assert "`export --format hunav2`" in text and "RobotMoved" in text
     assert ("warning" in err) is loud and "hunav1" not in text
+
+
+def test_generate_says_what_hunav2_approximates(make_run, capsys) -> None:  # noqa: ANN001
+    from socnavgen.cli.generate_cmd import _export_check
+
+    run = make_run(trees={"human1": GIVE_WAY_TREE, "human2": REGULAR_TREE})
+    _export_check(RunFolder(run), "hunav2")
+    out, err = capsys.readouterr()
+    text = " ".join((out + err).split())
+    assert "warning" not in err and "approximates what the robot says" in text
+    assert "human1.xml:6: RobotSays becomes:" in text and "never" in text  # no script says EXCUSE ME here
+    _export_check(RunFolder(run), None)  # the note is for runs made for 2.x
+    assert "approximates" not in " ".join(capsys.readouterr())
 
 
 def test_a_recorded_simulation_is_judged_by_its_digests_not_file_times(tmp_path: Path) -> None:

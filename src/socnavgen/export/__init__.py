@@ -59,4 +59,20 @@ def target_refusals(run_dir: Path | str, *, location_dir: Path | str | None = No
     return refused
 
 
-__all__ = ["FORMATS", "ExportResult", "build_files", "build_scene", "export_run", "target_refusals"]
+def hunav2_approximations(run_dir: Path | str, *, location_dir: Path | str | None = None) -> list[str]:
+    """What a hunav2 export approximates (each phrase condition that becomes the robot script's geometric
+    condition), one line per node: what `generate --target hunav2` says beside any refusal."""
+    from socnavgen.export.hunav2 import translate_person
+    from socnavgen.export.timing import with_waiting_goals
+
+    scene, holds = with_waiting_goals(build_scene(run_dir, location_dir)[0])
+    lines = []
+    for human in scene.humans:
+        for s in translate_person(human, None, scene, holds.get(human.name)).spoken:
+            if not s.refused:
+                lines.append(f"{human.tree_file}:{s.line}: {s.node} becomes: {s.text}")
+    return lines
+
+
+__all__ = ["FORMATS", "ExportResult", "build_files", "build_scene", "export_run", "hunav2_approximations",
+           "target_refusals"]

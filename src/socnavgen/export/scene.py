@@ -103,5 +103,6 @@ def build_scene(run_dir: Path | str, location_dir: Path | str | None = None, *,
     robot_points = world_path(location, plan.robot)
     robot = RobotExport(start=robot_points[0], waypoints=robot_points[1:], path=list(plan.robot))
     scene = ExportScene(run_name=run.root.resolve().name, location_name=location.name, humans=humans,
-                        robot=robot, plan=plan)
+                        robot=robot, plan=plan, spec=run.read_spec(),
+                        nodes={n: location.node_world(n) for n in location.scene_graph.node_ids()})
     return scene, location

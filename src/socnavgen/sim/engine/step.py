@@ -33,7 +33,7 @@ from socnavgen.sim.people.routing import plan
 from socnavgen.sim.people.state import done, pop_goal
 from socnavgen.sim.people.vm import ERROR, tick
 from socnavgen.sim.robot.policies import act
-from socnavgen.sim.robot.script import play, rules_gesture
+from socnavgen.sim.robot.script import play, scripted_gesture
 from socnavgen.sim.world.queries import swept_clear
 
 STEPPED, ACT, PROGRESS, ENDED, FAILED, ROUTES = 0, 1, 2, 3, 4, 5
@@ -103,8 +103,7 @@ def settle(s, script, scratch, reached, gesture):  # noqa: ANN001, ANN201
                 p.yaw = math.atan2(d.imag, d.real)
     clock.t += clock.dt
     clock.step += 1
-    say = script.now[0].say
-    robot.scripted = say if say != 0 else rules_gesture(s, script.rules)
+    robot.scripted = scripted_gesture(s, script)
     robot.gesture = gesture if gesture >= 0 else robot.scripted
     if robot.gesture != 0:
         robot.said |= 1 << robot.gesture

@@ -145,6 +145,8 @@ class BuiltinPolicy:
 
     kind: ClassVar[int] = policies.PYTHON
     max_speed: float = 0.6
+    start_delay: float = 0.0  # s standing still at the start (when its operator starts it)
+    keep_gap: float = math.nan  # m its own moves never close between it and a person (NaN: no such limit)
 
     def parameters(self) -> np.recarray:
         """Its parameters and a fresh state as the compiled step reads them (a one-row table)."""
@@ -175,6 +177,7 @@ class ScriptedPolicy(WaypointsPolicy):
     """The default robot: plays the scenario's script, drives like `waypoints`, never moves into a person."""
 
     kind: ClassVar[int] = policies.SCRIPTED
+    keep_gap: float = policies.KEEP_CLEAR
 
 
 @dataclass
@@ -183,6 +186,7 @@ class SFMPolicy(BuiltinPolicy):
 
     kind: ClassVar[int] = policies.SFM
     waypoint_tolerance: float = 0.5
+    keep_gap: float = policies.KEEP_CLEAR
 
 
 @dataclass

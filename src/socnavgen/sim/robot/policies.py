@@ -9,6 +9,10 @@ robot.api carry their parameters). Their parameters and state are one POLICY rec
   moving into a person (keep_clear) and never backing away from its waypoint.
 * sfm: one more social-force walker heading for its waypoints, with the same keep_clear safety layer.
 * straight: deliberately rude, straight at each waypoint through people (slides along walls only).
+
+Every built-in robot stands still for its first `start_delay` s (when its operator starts it); `keep_gap`
+(m, NaN: none) is the surface gap its own moves never close to a person (keep_clear): the scripted and sfm
+robots keep KEEP_CLEAR by default, the waypoints robot keeps none unless given one.
 """
 
 from __future__ import annotations
@@ -37,13 +41,14 @@ AROUND_LOOK = 1.0  # m: room looked for on either side before going around someo
 AROUND_BIAS = 0.1  # m/s sideways while going around (a person dead ahead pushes straight back otherwise)
 GOAL_DECEL = 0.8  # m/s2: the social-force and the straight robots slow down for their goal at this rate
 OCCUPIED_REACH = 2.0  # m: an intermediate waypoint someone stands on is skipped once the robot is this close
-KEEP_CLEAR = 0.03  # m: the scripted and sfm robots never move closer than this gap to anyone
+KEEP_CLEAR = 0.03  # m: the scripted and sfm robots never move closer than this gap to anyone (keep_gap)
 CROWD_LOOK = 32  # with more people than this, only those within reach are looked at
 ARRIVED = ROBOT_GOAL_TOLERANCE * 0.5  # m: the built-in robots stop this close to their goal
 
 POLICY = layout([
     ("kind", "i8"), ("max_speed", "f8"), ("accel", "f8"), ("brake", "f8"), ("slow_gap", "f8"), ("stop_gap", "f8"),
     ("patience", "f8"), ("detour_speed", "f8"), ("waypoint_tolerance", "f8"),
+    ("start_delay", "f8"), ("keep_gap", "f8"),  # s standing at the start; m kept from people (NaN: none)
     ("line_clearance", "f8"),  # NaN: a waypoint counts as reached within the tolerance whatever the walls
     ("rude_max_speed", "f8"), ("rude_tolerance", "f8"),  # the scripted robot's straight robot
     ("speed", "f8"), ("waited", "f8"), ("around_side", "f8"), ("has_heading", "?"), ("heading", "c16"),
@@ -95,19 +100,19 @@ def slide_along_walls(s, v):  # noqa: ANN001, ANN201
 
 
 @jit
-def keep_clear(s, v):  # noqa: ANN001, ANN201
-    """`v` without the part that would take the robot closer than KEEP_CLEAR (surface gap) to a person: it
-    may slide past or back off, never push into someone."""
+def keep_clear(s, v, gap):  # noqa: ANN001, ANN201
+    """`v` without the part that would take the robot closer than `gap` (surface gap; NaN: no limit) to a
+    person: it may slide past or back off, never push into someone."""
     people, robot = s.people, s.robot[0]
     n = people.shape[0]
-    if v == 0 or n == 0:
+    if v == 0 or n == 0 or math.isnan(gap):
         return v
     p, dt = robot.pos, s.clock[0].dt
     for _ in range(3):  # a second person may be met after sliding along the first
         ahead = p + v * dt
         close = False
         for k in range(n):
-            if abs(people[k].pos - ahead) < people[k].radius + robot.radius + KEEP_CLEAR:
+            if abs(people[k].pos - ahead) < people[k].radius + robot.radius + gap:
                 close = True
                 d = people[k].pos - p
                 if abs(d) >= 1e-9:
@@ -119,7 +124,7 @@ def keep_clear(s, v):  # noqa: ANN001, ANN201
             return v
     ahead = p + v * dt
     for k in range(n):
-        if not abs(people[k].pos - ahead) >= min(people[k].radius + robot.radius + KEEP_CLEAR, abs(people[k].pos - p)):
+        if not abs(people[k].pos - ahead) >= min(people[k].radius + robot.radius + gap, abs(people[k].pos - p)):
             return 0j
     return v
 
@@ -279,21 +284,34 @@ def scripted_act(s, now):  # noqa: ANN001, ANN201
         back = (v * u.conjugate()).real
         if back < 0:  # never retreat: a crowd pushing it back would drive it the wrong way for good
             v -= back * u
-    v = keep_clear(s, v)
-    if abs(v) < abs(first) - 1e-9:
-        policy.speed = min(policy.speed, abs(v))
-    return v
+    return kept_clear(s, first, v)
+
+
+@jit
+def kept_clear(s, first, v):  # noqa: ANN001, ANN201
+    """`v` (the policy's wish was `first`) kept clear of people by the policy's keep_gap; the speed it keeps
+    accelerating from follows when that slows it down."""
+    policy = s.policy[0]
+    out = keep_clear(s, v, policy.keep_gap)
+    if abs(out) < abs(first) - 1e-9:
+        policy.speed = min(policy.speed, abs(out))
+    return out
 
 
 @jit
 def act(s, now):  # noqa: ANN001, ANN201
     """The built-in policy's velocity for this step (`now`: what the script asks, script.now[0])."""
-    kind = s.policy[0].kind
+    policy = s.policy[0]
+    kind = policy.kind
+    if s.clock[0].t < policy.start_delay:
+        policy.speed = 0.0
+        return 0j
     if kind == STRAIGHT:
-        return straight_act(s, s.policy[0].max_speed, False)
+        return straight_act(s, policy.max_speed, False)
     if kind == SFM:
         target, last = track(s, False)
-        return keep_clear(s, sfm_toward(s, target, s.policy[0].max_speed, last))
+        return keep_clear(s, sfm_toward(s, target, policy.max_speed, last), policy.keep_gap)
     if kind == WAYPOINTS:
-        return waypoints_act(s)
+        v = waypoints_act(s)
+        return kept_clear(s, v, v)
     return scripted_act(s, now)

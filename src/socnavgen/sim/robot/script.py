@@ -8,7 +8,10 @@ the corridor the robot's body sweeps ahead (people who stepped aside do not hold
 CLEAR_PATIENCE s it says the cue's phrase again, CLEAR_REPEATS times, then stops waiting (the robot then
 goes around where there is room: a scripted wait never becomes a deadlock); `speed` sets the cruise speed.
 A gesture rule holds its gesture while its condition held within its last `duration` seconds; the first
-rule that holds wins.
+rule that holds wins. The robot shows a cue's phrase, else the first rule's gesture (scripted_gesture).
+
+Outside a simulation (the export's ROS node, which hears poses on topics), `poses(n)` is the part of the
+state the script reads and `play_gesture` plays one step of it: the same code, on those poses.
 """
 
 from __future__ import annotations
@@ -47,6 +50,23 @@ CUE = layout([("when", "i8"), ("who", "i8"), ("phrase", "i8"), ("say", "i8"), ("
               ("say_until", "f8"), ("wait_until", "f8"), ("clear_since", "f8")])
 RULE = layout([("when", "i8"), ("gesture", "i8"), ("has_point", "?"), ("point", "c16"), ("distance", "f8"),
                ("duration", "f8"), ("last_true", "f8")])
+
+
+POSE = layout([("t", "f8"), ("pos", "c16"), ("heading", "c16"), ("radius", "f8"), ("gesture", "i8")])
+
+
+class Poses(NamedTuple):
+    """What the script reads of the state (s.clock[0].t, s.robot[0].pos/heading/radius,
+    s.people[i].pos/radius/gesture), as one-row tables and a table per person: fill it and play_gesture."""
+
+    clock: np.recarray
+    robot: np.recarray
+    people: np.recarray
+
+
+def poses(people: int) -> Poses:
+    """Empty poses of the robot and `people` people."""
+    return Poses(table(POSE, 1), table(POSE, 1, heading=1 + 0j), table(POSE, people))
 
 
 class Script(NamedTuple):
@@ -223,3 +243,17 @@ def rules_gesture(s, rules):  # noqa: ANN001, ANN201
         if t - rule.last_true <= rule.duration:
             return rule.gesture
     return 0
+
+
+@jit(inline=True)
+def scripted_gesture(s, script):  # noqa: ANN001, ANN201
+    """What the script shows now: the phrase of a cue (script.now, set by play), else the first gesture rule's."""
+    say = script.now[0].say
+    return say if say != 0 else rules_gesture(s, script.rules)
+
+
+@jit
+def play_gesture(s, script):  # noqa: ANN001, ANN201
+    """One step of the script on a snapshot (a State, or Poses): the cues fire, and the gesture it shows."""
+    play(s, script)
+    return scripted_gesture(s, script)
