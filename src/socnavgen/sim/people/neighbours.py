@@ -30,13 +30,17 @@ class Grid(NamedTuple):
     start: np.ndarray  # (cells + 1,) int64: cell c holds order[start[c]:start[c + 1]]
     dims: np.ndarray  # (4,) int64: NX, NY, and how many cells around a person the social force and the contacts reach
     found: np.ndarray  # (n,) int64: the contact step's list of one person's overlaps
+    pos: np.ndarray  # (n,) complex: the positions in `order` (contiguous: the pair loops read them in a row)
+    vel: np.ndarray  # (n,) complex: the velocities in `order`
+    acc: np.ndarray  # (n,) complex: a sum per person in `order` (the social force's)
 
 
 def new_grid(n: int, cells: bool | None = None) -> Grid:
     """The arrays of n people's cell list; `cells`: whether they use one (default: above GRID_MIN people)."""
     m = n if (n > GRID_MIN if cells is None else cells) else 0
     return Grid(np.zeros(m, np.int64), np.zeros(m, np.int64), np.zeros(CELLS_PER_PERSON * m + 1 if m else 0, np.int64),
-                np.zeros(4, np.int64), np.zeros(n, np.int64))
+                np.zeros(4, np.int64), np.zeros(n, np.int64), np.zeros(m, complex), np.zeros(m, complex),
+                np.zeros(m, complex))
 
 
 @jit(inline=True)
@@ -99,6 +103,8 @@ def build(grid, people, social_reach):  # noqa: ANN001, ANN201
     for c in range(nx * ny, 0, -1):  # ... and is moved back to its beginning
         start[c] = start[c - 1]
     start[0] = 0
+    for k in range(n):
+        grid.pos[k], grid.vel[k] = people[order[k]].pos, people[order[k]].vel
 
 
 @jit(inline=True)
@@ -113,8 +119,12 @@ def span(grid, gy, lo, hi):  # noqa: ANN001, ANN201
 
 @jit(inline=True)
 def overlaps(people, snap, i, j):  # noqa: ANN001, ANN201
-    """Whether i and j overlapped (by more than a micrometre) where the walking step left them."""
-    return people[i].radius + people[j].radius - abs(snap[i] - snap[j]) > 1e-6
+    """Whether i and j overlapped (by more than a micrometre) where the walking step left them (the squared
+    distance first: most pairs are far apart, and then the exact test could not hold either)."""
+    d, reach = snap[i] - snap[j], people[i].radius + people[j].radius
+    if d.real * d.real + d.imag * d.imag > reach * reach:
+        return False
+    return reach - abs(d) > 1e-6
 
 
 @jit

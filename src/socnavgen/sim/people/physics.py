@@ -65,10 +65,11 @@ def pair_force(d, dv, prm):  # noqa: ANN001, ANN201
     if d2 == 0.0 or d2 > prm.cutoff * prm.cutoff:
         return 0j
     dist = math.sqrt(d2)
-    dhat = d / dist
+    dhat = complex(d.real / dist, d.imag / dist)  # componentwise: the same value as d / dist, no complex division
     t = prm.lam * dv + dhat
-    ell = abs(t)
-    that = t / max(ell, 1e-12)
+    ell = math.sqrt(t.real * t.real + t.imag * t.imag)
+    scale = max(ell, 1e-12)
+    that = complex(t.real / scale, t.imag / scale)
     b = prm.gamma * ell
     prod = dhat * that.conjugate()
     theta = math.atan2(prod.imag, prod.real)
@@ -112,28 +113,29 @@ def social_dense(people, prm, out):  # noqa: ANN001, ANN201
 def social_grid(people, prm, grid, out):  # noqa: ANN001, ANN201
     """People-people social forces from the cell list (people.neighbours), each pair computed once: a person
     meets the later members of their cell and the people of the cells ahead of theirs (the rest of their row,
-    the rows above) within the cut-off's reach, so the cost grows linearly with the crowd at a given density."""
-    n = people.shape[0]
-    for i in range(n):
-        out[i] = 0j
+    the rows above) within the cut-off's reach, so the cost grows linearly with the crowd at a given density.
+    The loops run over the cell list's sorted copies of positions and velocities (contiguous reads)."""
     nx, reach, order, start = grid.dims[neighbours.NX], grid.dims[neighbours.REACH_SOCIAL], grid.order, grid.start
+    pos, vel, acc = grid.pos, grid.vel, grid.acc
+    for a in range(people.shape[0]):
+        acc[a] = 0j
     for c in range(nx * grid.dims[neighbours.NY]):
         cx, cy = c % nx, c // nx
         for a in range(start[c], start[c + 1]):
-            i = order[a]
-            pi, vi = people[i].pos, people[i].vel
+            pi, vi = pos[a], vel[a]
             fi = 0j
             for gy in range(cy, cy + reach + 1):
-                if gy == cy:  # the later members of i's cell, then the next cells of its row: one slice
+                if gy == cy:  # the later members of a's cell, then the next cells of its row: one slice
                     lo, hi = a + 1, start[min(cx + reach, nx - 1) + nx * cy + 1]
                 else:
                     lo, hi = span(grid, gy, cx - reach, cx + reach)
                 for k in range(lo, hi):
-                    j = order[k]
-                    f = pair_force(people[j].pos - pi, vi - people[j].vel, prm)
+                    f = pair_force(pos[k] - pi, vi - vel[k], prm)
                     fi += f
-                    out[j] -= f
-            out[i] += fi
+                    acc[k] -= f
+            acc[a] += fi
+    for a in range(people.shape[0]):
+        out[order[a]] = acc[a]
 
 
 @jit
