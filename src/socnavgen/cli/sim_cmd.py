@@ -27,6 +27,8 @@ def simulate(
     seed: int = typer.Option(0, "--seed", min=0, max=2**63 - 1,
                              help="Seed of the only randomness (spawn offsets): same seed, same run."),
     gif: bool = typer.Option(False, "--gif", help="Also write RUN/sim/animation.gif."),
+    plot: bool = typer.Option(True, "--plot/--no-plot", help="Write RUN/sim/trajectories.png (matplotlib: about "
+                              "half a second of the command's time)."),
     no_throttle: bool = typer.Option(False, "--no-throttle", help="Do not hold humans back at the node before their "
                                      "interaction point (SocRATES does, so that the encounter happens there)."),
     location: Path | None = typer.Option(None, "--location", help="Location folder, if request.json's path does "
@@ -85,7 +87,7 @@ def simulate(
     wall = time.perf_counter() - start
     out = folder.sim_dir
     written = save_run_outputs(trace, loaded, run, MadeFrom(robot, dt, timeout, seed, not no_throttle),
-                               identity=identity, gif=gif)
+                               identity=identity, plot=plot, gif=gif)
     sim_seconds = float(trace.t[-1]) if trace.steps else 0.0
     console.print(f"[bold]{trace.end_reason}[/] after {sim_seconds:.1f} s simulated ({trace.steps} steps) in "
                   f"{wall:.2f} s wall, {sim_seconds / max(wall, 1e-9):.0f}x real time -> {out / 'trace.npz'}",
