@@ -67,7 +67,7 @@ def pair_force(d, dv, prm):  # noqa: ANN001, ANN201
     dist = math.sqrt(d2)
     dhat = complex(d.real / dist, d.imag / dist)  # componentwise: the same value as d / dist, no complex division
     t = prm.lam * dv + dhat
-    ell = math.sqrt(t.real * t.real + t.imag * t.imag)
+    ell = abs(t)
     scale = max(ell, 1e-12)
     that = complex(t.real / scale, t.imag / scale)
     b = prm.gamma * ell
