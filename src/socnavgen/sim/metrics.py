@@ -363,7 +363,7 @@ def compute_metrics(trace: Trace, location: Any = None, *, sample_hz: float | No
     m["time_to_reach_goal"] = duration
     m["path_length"] = float(hypot2(np.diff(rx), np.diff(ry)).sum())
     m["cumulative_heading_changes"] = float(np.abs(wrap(rob[:-1, YAW] - rob[1:, YAW])).sum())
-    closest = np.maximum(0.0, gap.min(axis=1)) if h else np.full(n, NO_AGENT_DISTANCE)
+    closest = np.maximum(0.0, contact.row_min(gap)) if h else np.full(n, NO_AGENT_DISTANCE)
     m["avg_distance_to_closest_person"] = float(closest.sum()) / n if h else 0.0
     m["minimum_distance_to_people"] = float(np.maximum(0.0, gap).min()) if h else None
     m["maximum_distance_to_people"] = float((centre - r_r).max()) if h else None
