@@ -76,3 +76,22 @@ def test_generate_warns_about_its_own_target(make_run, capsys, target, loud) -> 
     text = " ".join((out + err).split())
     assert "`export --format hunav2`" in text and "RobotSays" in text
     assert ("warning" in err) is loud and "hunav1" not in text
+
+
+def test_a_recorded_simulation_is_judged_by_its_digests_not_file_times(tmp_path: Path) -> None:
+    """The simulator records what a trace was made from; export's verdict goes stale when a judged file's
+    content changes, even when its modification time is put back (a copy, a checkout, a clock)."""
+    from socnavgen.cards.generate import write_card_run
+    from socnavgen.verify import verify_run
+
+    warehouse = Path(__file__).resolve().parents[2] / "examples" / "locations" / "warehouse"
+    run = tmp_path / "run"
+    write_card_run("narrow-doorway", warehouse, run)
+    verify_run(run)  # simulates (writing sim/outputs.json) and writes sim/verify.json
+    assert export_run(run, "socrates", tmp_path / "a").verification in ("passed", "failed")
+    paths = run / "paths.json"
+    before = paths.stat()
+    paths.write_text(paths.read_text().replace("\n", " \n"))  # same plan, other bytes
+    os.utime(paths, ns=(before.st_atime_ns, before.st_mtime_ns))
+    result = export_run(run, "socrates", tmp_path / "b")
+    assert result.verification == "stale" and "paths.json changed" in result.verification_message

@@ -24,8 +24,10 @@ def export_run(run_dir: Path | str, fmt: ExportFormat, out_dir: Path | str, *, l
     """Read the run, build every file of `fmt`, then write them atomically under out_dir (replacing only what an
     earlier export wrote there). `seed`: where people start around their first node, as `simulate --seed`
     spawns them. The result says whether the run passed verification (its README says it too)."""
-    scene, _ = build_scene(run_dir, location_dir, seed=seed)
-    status = verification_status(RunFolder(Path(run_dir)))
+    from socnavgen.sim.outputs.files import stale_reason
+
+    scene, location = build_scene(run_dir, location_dir, seed=seed)
+    status = verification_status(RunFolder(Path(run_dir)), stale_reason(run_dir, location))
     files = [f if f.path != "README.md" else f.model_copy(update={"text": f.text + _verification_section(status)})
              for f in build_files(scene, fmt, base=base, simulator=simulator)]
     result = write_export(out_dir, files, force=force)

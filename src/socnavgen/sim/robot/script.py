@@ -32,10 +32,10 @@ CLEAR_PATIENCE = 8.0  # s: still blocked after this long, the robot asks again (
 CLEAR_REPEATS = 2  # ... this many times, then stops waiting and drives around like an operator would
 AT_NODE = 1.0  # m: a gesture rule `at_node` holds within this distance of its node
 
-START, AFTER, AT_ENCOUNTER, BLOCKED, HUMAN_WITHIN, HUMAN_SAYS = range(6)
+START, AFTER, AT_ENCOUNTER, BLOCKED, HUMAN_WITHIN, HUMAN_SAYS, HUMAN_FARTHER = range(7)
 TRIGGERS = {"start": START, "after": AFTER, "at_encounter": AT_ENCOUNTER, "blocked": BLOCKED,
-            "human_within": HUMAN_WITHIN, "human_says": HUMAN_SAYS}
-ALWAYS, NEAR_HUMAN = 6, 7  # gesture rules' own conditions (`blocked` and `at_node` are shared)
+            "human_within": HUMAN_WITHIN, "human_farther": HUMAN_FARTHER, "human_says": HUMAN_SAYS}
+ALWAYS, NEAR_HUMAN = 7, 8  # gesture rules' own conditions (`blocked` and `at_node` are shared)
 RULE_WHEN = {"always": ALWAYS, "at_node": AT_ENCOUNTER, "near_human": NEAR_HUMAN, "blocked": BLOCKED}
 FIRED, ASKED_AGAIN, GAVE_UP = 0, 1, 2  # events of the cue log
 
@@ -148,6 +148,9 @@ def holds(s, when, who, phrase, point, has_point, seconds, distance):  # noqa: A
             continue
         if when == HUMAN_SAYS:
             if s.people[i].gesture == phrase:
+                return True
+        elif when == HUMAN_FARTHER:
+            if abs(s.people[i].pos - s.robot[0].pos) > distance:
                 return True
         elif abs(s.people[i].pos - s.robot[0].pos) <= distance:  # HUMAN_WITHIN, NEAR_HUMAN
             return True
