@@ -1,46 +1,39 @@
-"""Simulator speed: steps per second and real-time factor for 1..300 pedestrians, beside pysocialforce.
+"""Simulator speed: steps per second for 1..1000 pedestrians, beside the pedestrian simulators of the `bench`
+extra (JuPedSim, ORCA via pyrvo, navground, pysocialforce) on the same crowd.
 
-Scene: an open walled square sized for a constant density (0.1 pedestrians per m^2, at least 20 m x 20 m),
-every pedestrian walking a cyclic two-goal route with the RegularNav tree exactly as the generator writes it
-(SetBlackboard x2 + SubTree RegularNavTree), and the robot crossing with the `waypoints` plugin. The same
-crowd (positions, goals, walls) runs in pysocialforce with its default forces and step width set to our dt.
-Times are CPU seconds of the simulating thread (time.thread_time): one core, unaffected by other load
-and by numpy's idle BLAS threads (which spin for a while after the large matrix product that builds a map).
+The crowd (benchmarks/_peers.py): n people in an open walled square at 0.1 pedestrians/m^2, each walking a
+cyclic route start -> goal -> start, radius 0.4 m, desired speed 1.5 m/s, dt 0.05 s, the same number of steps
+in every simulator, the fastest of 3 runs of each (--repeats). Ours runs every person's RegularNav tree
+exactly as the generator writes it and a robot crossing with the `waypoints` plugin (the peers have no robot); "Python policy" calls a trivial user policy
+between two compiled steps. Times are CPU seconds of the simulating thread (time.thread_time): one core,
+unaffected by other load. Each simulator's mean speed at the end is printed, so a crowd that stands shows.
 
-    python benchmarks/sim_bench.py              # the table (about a minute)
-    python benchmarks/sim_bench.py --quick      # fewer steps
+    python benchmarks/sim_bench.py                      # the table (~10 minutes: navground, pysocialforce)
+    python benchmarks/sim_bench.py --quick              # fewer steps
+    python benchmarks/sim_bench.py --counts 300 1000 --peers "JuPedSim SFM"
 """
 
 from __future__ import annotations
 
 import argparse
 import math
-import os
-import tempfile
+import sys
 import time
-import warnings
+from collections.abc import Callable
+from functools import partial
+from pathlib import Path
 
 import numpy as np
 
-from socnavgen.bt.library import regular_walker_xml
-from socnavgen.sim import HumanSpec, RobotAction, SimConfig, Simulation, empty_room, load_policy
-from socnavgen.sim.jit import AVAILABLE
+sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-DT = 0.05
-DENSITY = 0.1
-COUNTS = (1, 5, 20, 100, 300)
+from _peers import DT, GOAL_RADIUS, PEERS, RADIUS, SPEED, Crowd, Timing, crowd, measure  # noqa: E402
 
+from socnavgen.bt.library import regular_walker_xml  # noqa: E402
+from socnavgen.sim import HumanSpec, RobotAction, SimConfig, Simulation, empty_room, load_policy  # noqa: E402
+from socnavgen.sim.jit import AVAILABLE  # noqa: E402
 
-def scene(n: int, seed: int = 0) -> tuple[float, list[HumanSpec]]:
-    side = max(20.0, math.sqrt(n / DENSITY))
-    rng = np.random.default_rng(seed)
-    lo, hi = 1.0, side - 1.0
-    humans = []
-    for i in range(n):
-        start, goal = rng.uniform(lo, hi, 2), rng.uniform(lo, hi, 2)
-        humans.append(HumanSpec(name=f"human{i + 1}", start=tuple(start), goals=[tuple(goal), tuple(start)],
-                                cyclic=True))
-    return side, humans
+COUNTS = (1, 5, 20, 100, 300, 1000)
 
 
 class Toward:
@@ -52,105 +45,71 @@ class Toward:
         return RobotAction(v.real, v.imag)
 
 
-def run_ours(n: int, steps: int, python_policy: bool) -> float:
-    """Seconds per step of the full simulation loop (trees, physics, robot, trace): the built-in waypoints
-    robot inside the compiled step, or a Python policy called between two steps."""
-    side, humans = scene(n)
-    world = empty_room(side, side, resolution=0.1)
+def ours(c: Crowd, steps: int, python_policy: bool) -> Timing:
+    """CPU seconds per step of the full simulation loop (trees, physics, robot, trace)."""
+    n = len(c.starts)
+    humans = [HumanSpec(name=f"human{i + 1}", start=tuple(s), goals=[tuple(g), tuple(s)], cyclic=True,
+                        radius=RADIUS, max_vel=SPEED, goal_radius=GOAL_RADIUS)
+              for i, (s, g) in enumerate(zip(c.starts, c.goals, strict=True))]
+    world = empty_room(c.side, c.side, resolution=0.1)
     policy = Toward() if python_policy else load_policy("waypoints")
-    sim = Simulation(world, humans, [regular_walker_xml()] * n, [(0.8, side / 2), (side - 0.8, side / 2)],
+    sim = Simulation(world, humans, [regular_walker_xml()] * n, [(0.8, c.side / 2), (c.side - 0.8, c.side / 2)],
                      policy, SimConfig(dt=DT, timeout=steps * DT, idle_end=1e9))
     start = time.thread_time()
     trace = sim.run()
     elapsed = time.thread_time() - start
-    return elapsed / max(trace.steps - 1, 1)
+    speed = float(np.mean(np.abs(sim.people.vel))) if n else 0.0
+    return Timing(elapsed / max(trace.steps - 1, 1), speed)
 
 
-def _import_pysocialforce():  # noqa: ANN202
-    """pysocialforce sets a logger named "root" to DEBUG and opens ./file.log on import: import it from a
-    temporary folder and quieten the loggers."""
-    import logging
-
-    here = os.getcwd()
-    logging.disable(logging.INFO)
-    with tempfile.TemporaryDirectory() as tmp:
-        os.chdir(tmp)
-        try:
-            import pysocialforce as psf
-        finally:
-            os.chdir(here)
-            root = logging.getLogger()
-            for handler in list(root.handlers):
-                root.removeHandler(handler)
-                handler.close()
-            root.setLevel(logging.WARNING)
-            logging.disable(logging.NOTSET)
-    return psf
+def best(run: Callable[[], Timing | str], repeats: int) -> Timing | str:
+    """The fastest of `repeats` runs (other jobs on the machine only ever slow a run down)."""
+    results = [run() for _ in range(max(repeats, 1))]
+    timings = [r for r in results if isinstance(r, Timing)]
+    return min(timings, key=lambda t: t.per_step) if timings else results[0]
 
 
-def run_pysocialforce(n: int, steps: int) -> float | str:
-    try:
-        psf = _import_pysocialforce()
-    except ImportError:
-        return "not installed (pip install pysocialforce)"
-    side, humans = scene(n)
-    state = np.array([[*h.start, 0.0, 0.0, *h.goals[0]] for h in humans], dtype=float)
-    walls = [(0.0, side, 0.0, 0.0), (0.0, side, side, side), (0.0, 0.0, 0.0, side), (side, side, 0.0, side)]
-    with tempfile.NamedTemporaryFile("w", suffix=".toml", delete=False) as cfg:
-        cfg.write(f"[scene]\nenable_group = false\nstep_width = {DT}\n")
-    try:
-        with warnings.catch_warnings():  # it divides by a zero desired speed once a walker has arrived
-            warnings.simplefilter("ignore", RuntimeWarning)
-            sim = psf.Simulator(state, groups=None, obstacles=walls, config_file=cfg.name)
-            sim.step(2)  # numba compilation happens here, not in the timing
-            start = time.thread_time()
-            sim.step(steps)
-            return (time.thread_time() - start) / steps
-    finally:
-        os.unlink(cfg.name)
-
-
-def warm_up() -> None:
-    run_ours(3, 5, True)
-    run_ours(3, 5, False)
+def steps_for(n: int, quick: bool) -> int:
+    return (400 if n <= 20 else 200 if n <= 300 else 100) // (4 if quick else 1)
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--quick", action="store_true", help="fewer steps per row")
     parser.add_argument("--counts", type=int, nargs="*", default=list(COUNTS))
+    parser.add_argument("--peers", nargs="*", default=list(PEERS), help=f"of: {', '.join(PEERS)}")
+    parser.add_argument("--repeats", type=int, default=3, help="runs of each cell; the fastest counts")
     args = parser.parse_args()
-    warm_up()
-    rows = []
+    ours(crowd(3), 5, True)  # compile / load the cache outside the timing
+    ours(crowd(3), 5, False)
+    names = ["socnavgen", "socnavgen, Python policy", *args.peers]
+    table: dict[int, dict[str, Timing | str]] = {}
     for n in args.counts:
-        steps = (400 if n <= 20 else 200) // (4 if args.quick else 1)
-        fast = run_ours(n, steps, False)
-        slow = run_ours(n, steps, True)
-        other = run_pysocialforce(n, steps)
-        rows.append((n, fast, slow, other))
+        c, steps = crowd(n), steps_for(n, args.quick)
+        row: dict[str, Timing | str] = {
+            "socnavgen": best(partial(ours, c, steps, False), args.repeats),
+            "socnavgen, Python policy": best(partial(ours, c, steps, True), args.repeats)}
+        for name in args.peers:
+            row[name] = best(partial(measure, name, c, steps), args.repeats)
+        table[n] = row
+        print(f"{n} people done", file=sys.stderr)
 
-    def fmt(sec: float | None) -> tuple[str, str, str]:
-        if sec is None:
-            return "-", "-", "-"
-        return f"{1 / sec:,.0f}", f"{DT / sec:,.0f}x", f"{sec * 1e6:,.0f}"
-
-    print(f"dt = {DT} s, open walled square at {DENSITY} pedestrians/m^2, RegularNav trees, waypoints robot; "
-          f"numba {'on' if AVAILABLE else 'OFF (plain Python)'}")
-    print("| pedestrians | socnavgen steps/s | real-time factor | us/step | with a Python policy steps/s | "
-          "Python policy RTF | pysocialforce steps/s | pysocialforce RTF |")
-    print("|---:|---:|---:|---:|---:|---:|---:|---:|")
-    for n, fast, slow, other in rows:
-        f_steps, f_rtf, f_us = fmt(fast)
-        s_steps, s_rtf, _ = fmt(slow)
-        if isinstance(other, str):
-            o_steps, o_rtf = other, "-"
-        else:
-            o_steps, o_rtf, _ = fmt(other)
-        print(f"| {n} | {f_steps} | {f_rtf} | {f_us} | {s_steps} | {s_rtf} | {o_steps} | {o_rtf} |")
-    times = [(n, fast) for n, fast, _, _ in rows if fast]
+    print(f"dt = {DT} s, walled square at 0.1 pedestrians/m^2, cyclic routes, numba "
+          f"{'on' if AVAILABLE else 'OFF (plain Python)'}; cells: steps/s (us/step) [mean speed m/s at the end]")
+    print("| pedestrians | " + " | ".join(names) + " |")
+    print("|---:|" + "---:|" * len(names))
+    for n, row in table.items():
+        cells = [t if isinstance(t, str) else f"{1 / t.per_step:,.0f} ({t.per_step * 1e6:,.0f}) [{t.mean_speed:.2f}]"
+                 for t in (row[k] for k in names)]
+        print(f"| {n} | " + " | ".join(cells) + " |")
+    ratios = [(n, row["socnavgen"].per_step / row["JuPedSim SFM"].per_step) for n, row in table.items()
+              if isinstance(row.get("JuPedSim SFM"), Timing)]
+    if ratios:
+        print("\nsocnavgen / JuPedSim SFM time per step: " + ", ".join(f"{n}: {r:.2f}x" for n, r in ratios))
+    times = [(n, row["socnavgen"].per_step) for n, row in table.items()]
     if len(times) >= 2:
         (n0, t0), (n1, t1) = times[-2], times[-1]
-        print(f"\ncost growth {n0}->{n1} pedestrians: x{t1 / t0:.1f} for x{n1 / n0:.1f} pedestrians "
+        print(f"cost growth {n0}->{n1} pedestrians: x{t1 / t0:.1f} for x{n1 / n0:.1f} pedestrians "
               f"(exponent {math.log(t1 / t0) / math.log(n1 / n0):.2f}; 1 = linear, 2 = quadratic)")
 
 

@@ -91,6 +91,19 @@ def test_simulate_command_writes_the_trace(tmp_path):
     assert "robot_goal" in result.output
 
 
+def test_simulate_plots_unless_told_not_to(tmp_path):
+    from socnavgen.cli import app
+
+    run = make_run(tmp_path)
+    result = CliRunner().invoke(app, ["simulate", str(run), "--timeout", "5", "--no-plot"])
+    assert result.exit_code == 0, result.output
+    written = {p.name for p in (run / "sim").iterdir()}
+    assert {"trace.npz", "metrics.json"} <= written and "trajectories.png" not in written
+    result = CliRunner().invoke(app, ["simulate", str(run), "--timeout", "5"])
+    assert result.exit_code == 0, result.output
+    assert (run / "sim" / "trajectories.png").stat().st_size > 0
+
+
 def test_simulate_reports_a_broken_tree_with_its_line(tmp_path):
     from socnavgen.cli import app
 

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from socnavgen.sim import HumanSpec, empty_room
+from socnavgen.sim.people.neighbours import build, new_grid
 from socnavgen.sim.people.physics import (
     SFMParams,
     group_forces,
@@ -78,8 +79,10 @@ def test_grid_neighbours_give_the_sum_over_every_pair(n):
     people, _, _ = crowd(pos, vel)
     prm = SFMParams()
     dense, grid = np.zeros(n, complex), np.zeros(n, complex)
-    social_dense(people, prm, np.zeros((n, n), complex), dense)
-    social_grid(people, prm, grid)
+    social_dense(people, prm, dense)
+    cells = new_grid(n, cells=True)
+    build(cells, people, prm.cutoff)
+    social_grid(people, prm, cells, grid)
     hand = np.array([sum(complex(*hand_social((pos[i].real, pos[i].imag), (vel[i].real, vel[i].imag),
                                               (pos[j].real, pos[j].imag), (vel[j].real, vel[j].imag)))
                          for j in range(n) if j != i and abs(pos[j] - pos[i]) <= 8.0) for i in range(n)])

@@ -27,6 +27,8 @@ def simulate(
     seed: int = typer.Option(0, "--seed", min=0, max=2**63 - 1,
                              help="Seed of the only randomness (spawn offsets): same seed, same run."),
     gif: bool = typer.Option(False, "--gif", help="Also write RUN/sim/animation.gif."),
+    plot: bool = typer.Option(True, "--plot/--no-plot", help="Write the trajectory figure(s) (matplotlib: about "
+                              "half a second of the command's time)."),
     mp4: bool = typer.Option(False, "--mp4", help="Also write RUN/sim/animation.mp4 (H.264, full colour; with the "
                              "ffmpeg the imageio-ffmpeg package ships)."),
     figures: str = typer.Option("png", "--figures", help="Formats of the trajectory figure, comma-separated: png, "
@@ -99,7 +101,7 @@ def simulate(
         trace = sim.run(progress=lambda k, n: bar.update(task, completed=k))
     wall = time.perf_counter() - start
     written = save_run_outputs(trace, loaded, run, MadeFrom(robot, dt, timeout, seed, not no_throttle),
-                               identity=identity, gif=gif, out_dir=out, formats=formats, mp4=mp4)
+                               identity=identity, plot=plot, gif=gif, out_dir=out, formats=formats, mp4=mp4)
     out = out if out is not None else folder.sim_dir
     sim_seconds = float(trace.t[-1]) if trace.steps else 0.0
     console.print(f"[bold]{trace.end_reason}[/] after {sim_seconds:.1f} s simulated ({trace.steps} steps) in "

@@ -87,26 +87,45 @@ def hypot2(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     return np.sqrt(x * x + y * y)
 
 
-def _social_force_xy(dx: np.ndarray, dy: np.ndarray, dvx: np.ndarray, dvy: np.ndarray, dist: np.ndarray,
-                     sfm: EvaluatorSFM) -> tuple[np.ndarray, np.ndarray]:
-    """social_force per component: (dx, dy) = p_src - p_dst, dist = its length, (dvx, dvy) = v_dst - v_src.
-    The same operations in the same order as on (..., 2) arrays, hence the same values."""
+def _directions(dx: np.ndarray, dy: np.ndarray, dvx: np.ndarray, dvy: np.ndarray, dist: np.ndarray,
+                sfm: EvaluatorSFM) -> tuple[np.ndarray, ...]:
+    """The parts of social_force that only change sign when source and target swap: (hx, hy) the unit vector
+    from target to source, (tx, ty) the interaction direction, ok (a force exists), b (its range). Negating
+    dx, dy, dvx and dvy negates hx, hy, tx and ty exactly (IEEE arithmetic is symmetric in sign)."""
     safe = np.where(dist > 0, dist, 1.0)
     hx, hy = dx / safe, dy / safe
     ix, iy = sfm.lambda_ * dvx + hx, sfm.lambda_ * dvy + hy
     length = hypot2(ix, iy)
     ok = (dist > 0) & (length > 0)
     length_safe = np.where(length > 0, length, 1.0)
-    tx, ty = ix / length_safe, iy / length_safe
+    return hx, hy, ix / length_safe, iy / length_safe, ok, sfm.gamma * length_safe
+
+
+def _force_xy(hx: np.ndarray, hy: np.ndarray, tx: np.ndarray, ty: np.ndarray, ok: np.ndarray, b: np.ndarray,
+              dist: np.ndarray, sfm: EvaluatorSFM) -> tuple[np.ndarray, np.ndarray]:
     # Evaluator quirk: the second atan2 takes (x, y), then one +-2pi correction.
     theta = np.arctan2(hy, hx) - np.arctan2(tx, ty)
     theta = np.where(theta > math.pi, theta - 2 * math.pi, np.where(theta < -math.pi, theta + 2 * math.pi, theta))
-    b = sfm.gamma * length_safe
     f_vel = -np.exp(-dist / b - (sfm.n_prime * b * theta) ** 2)
     f_ang = -np.sign(theta) * np.exp(-dist / b - (sfm.n * b * theta) ** 2)
     fx = sfm.k_social * (f_vel * tx + f_ang * -ty)  # normal = (-t_y, t_x)
     fy = sfm.k_social * (f_vel * ty + f_ang * tx)
     return np.where(ok, fx, 0.0), np.where(ok, fy, 0.0)
+
+
+def _social_force_xy(dx: np.ndarray, dy: np.ndarray, dvx: np.ndarray, dvy: np.ndarray, dist: np.ndarray,
+                     sfm: EvaluatorSFM) -> tuple[np.ndarray, np.ndarray]:
+    """social_force per component: (dx, dy) = p_src - p_dst, dist = its length, (dvx, dvy) = v_dst - v_src.
+    The same operations in the same order as on (..., 2) arrays, hence the same values."""
+    return _force_xy(*_directions(dx, dy, dvx, dvy, dist, sfm), dist, sfm)
+
+
+def _social_forces_both_ways(dx: np.ndarray, dy: np.ndarray, dvx: np.ndarray, dvy: np.ndarray, dist: np.ndarray,
+                             sfm: EvaluatorSFM) -> tuple[tuple[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]:
+    """(_social_force_xy of (dx, dy, dvx, dvy), of the swapped pair (-dx, -dy, -dvx, -dvy)): the same values,
+    the sign-symmetric parts computed once."""
+    hx, hy, tx, ty, ok, b = _directions(dx, dy, dvx, dvy, dist, sfm)
+    return _force_xy(hx, hy, tx, ty, ok, b, dist, sfm), _force_xy(-hx, -hy, -tx, -ty, ok, b, dist, sfm)
 
 
 def social_force(p_src: np.ndarray, v_src: np.ndarray, p_dst: np.ndarray, v_dst: np.ndarray,
@@ -344,7 +363,7 @@ def compute_metrics(trace: Trace, location: Any = None, *, sample_hz: float | No
     m["time_to_reach_goal"] = duration
     m["path_length"] = float(hypot2(np.diff(rx), np.diff(ry)).sum())
     m["cumulative_heading_changes"] = float(np.abs(wrap(rob[:-1, YAW] - rob[1:, YAW])).sum())
-    closest = np.maximum(0.0, gap.min(axis=1)) if h else np.full(n, NO_AGENT_DISTANCE)
+    closest = np.maximum(0.0, contact.row_min(gap)) if h else np.full(n, NO_AGENT_DISTANCE)
     m["avg_distance_to_closest_person"] = float(closest.sum()) / n if h else 0.0
     m["minimum_distance_to_people"] = float(np.maximum(0.0, gap).min()) if h else None
     m["maximum_distance_to_people"] = float((centre - r_r).max()) if h else None
@@ -399,8 +418,8 @@ def compute_metrics(trace: Trace, location: Any = None, *, sample_hz: float | No
     # Social-force metrics (evaluator SFM): by the robot on each agent, by each agent on the robot.
     hx, hy, hvx, hvy = hum[:, :, X], hum[:, :, Y], hum[:, :, VX], hum[:, :, VY]
     rx_, ry_, rvx, rvy = rx[:, None], ry[:, None], rob[:, None, VX], rob[:, None, VY]
-    agents_x, agents_y = _social_force_xy(rx_ - hx, ry_ - hy, hvx - rvx, hvy - rvy, centre, sfm)
-    robot_x, robot_y = _social_force_xy(hx - rx_, hy - ry_, rvx - hvx, rvy - hvy, centre, sfm)
+    (agents_x, agents_y), (robot_x, robot_y) = _social_forces_both_ways(rx_ - hx, ry_ - hy, hvx - rvx, hvy - rvy,
+                                                                        centre, sfm)
     on_agents = hypot2(agents_x, agents_y)  # (n, h)
     m["social_force_on_agents"] = float(on_agents.sum())
     m["social_force_on_robot"] = float(hypot2(robot_x, robot_y).sum())

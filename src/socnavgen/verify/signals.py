@@ -231,7 +231,7 @@ class Signals:
 
     def blocked(self) -> np.ndarray:
         """1 where some human holds the robot up (holding_up)."""
-        return self._keep("blocked", lambda: self.holding_up().any(axis=1))
+        return self._keep("blocked", lambda: contact.row_any(self.holding_up()))
 
     def walkable(self) -> np.ndarray:
         """(T, H) walkable distances robot-human along the map's free space (sim/world/walkable.py)."""
@@ -267,7 +267,7 @@ def _gap(s: Signals, m: re.Match) -> np.ndarray:
 def _gap_min(s: Signals, m: re.Match) -> np.ndarray:
     if not s.trace.human_names:
         return np.full(s.trace.steps, FAR)
-    return s.gaps().min(axis=1)
+    return contact.row_min(s.gaps())
 
 
 def _speed(s: Signals, m: re.Match) -> np.ndarray:

@@ -204,7 +204,8 @@ class Simulation:
         """Resume the episode until the event `until` (STEPPED or ENDED), answering ACT with the policy."""
         if self._generator is None:
             self._generator = stepper.episode(self.episode)
-        policy, obs, action, clock = self.policy, self.obs, self._action, self._clock
+        policy, action, clock = self.policy, self._action, self._clock
+        obs = self.obs if clock.python_policy.item(0) else None  # only a Python policy is asked (ACT)
         for event in self._generator:
             if event == stepper.ACT:
                 v, gesture = checked_action(policy.act(obs), policy)

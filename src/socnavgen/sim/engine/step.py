@@ -90,7 +90,7 @@ def drive(s, v, heading, has_heading):  # noqa: ANN001, ANN201
 def settle(s, script, scratch, reached, gesture):  # noqa: ANN001, ANN201
     """After the walking step: contacts, goals consumed, faces turned, the clock, the robot's gesture."""
     people, robot, clock = s.people, s.robot[0], s.clock[0]
-    if resolve_contacts(people, robot, s.world, clock.contact_slack, scratch.before, scratch.snap):
+    if resolve_contacts(people, robot, s.world, clock.contact_slack, scratch.before, scratch.snap, scratch.grid):
         for i in range(people.shape[0]):
             people[i].robot_distance = abs(robot.pos - people[i].pos)
     for i in range(people.shape[0]):

@@ -15,10 +15,10 @@ from typing import NamedTuple
 import numpy as np
 
 from socnavgen.sim.jit import jit
+from socnavgen.sim.people import neighbours
 from socnavgen.sim.people.avoid import keep_off
+from socnavgen.sim.people.neighbours import Grid, new_grid, span
 from socnavgen.sim.world.queries import clearance_at, nearest_obstacle
-
-GRID_MIN = 64  # above this many people, neighbours come from a grid of cut-off sized cells (linear cost)
 
 
 class SFMParams(NamedTuple):
@@ -42,23 +42,21 @@ class SFMParams(NamedTuple):
 
 
 class Scratch(NamedTuple):
-    """Work arrays of one simulation (the step allocates nothing for a small crowd)."""
+    """Work arrays of one simulation (the step allocates nothing)."""
 
     direction: np.ndarray  # (n,) complex: desired direction
     force: np.ndarray  # (n,) complex
     social: np.ndarray  # (n,) complex: people-people social force
     centres: np.ndarray  # (groups,) complex: sums of members' positions
     counts: np.ndarray  # (groups,) float: members walking together
-    pairs: np.ndarray  # (n, n) complex: each pair's social force (small crowds), else (0, 0)
     before: np.ndarray  # (n,) complex: positions before the step (contacts)
     snap: np.ndarray  # (n,) complex: positions before the contact corrections
+    grid: Grid  # the cell list of a large crowd (people.neighbours)
 
 
 def new_scratch(n: int, groups: int) -> Scratch:
-    small = n <= GRID_MIN
     return Scratch(np.zeros(n, complex), np.zeros(n, complex), np.zeros(n, complex), np.zeros(max(groups, 1), complex),
-                   np.zeros(max(groups, 1)), np.zeros((n, n) if small else (0, 0), complex), np.zeros(n, complex),
-                   np.zeros(n, complex))
+                   np.zeros(max(groups, 1)), np.zeros(n, complex), np.zeros(n, complex), new_grid(n))
 
 
 @jit(inline=True)
@@ -69,10 +67,11 @@ def pair_force(d, dv, prm):  # noqa: ANN001, ANN201
     if d2 == 0.0 or d2 > prm.cutoff * prm.cutoff:
         return 0j
     dist = math.sqrt(d2)
-    dhat = d / dist
+    dhat = complex(d.real / dist, d.imag / dist)  # componentwise: the same value as d / dist, no complex division
     t = prm.lam * dv + dhat
     ell = abs(t)
-    that = t / max(ell, 1e-12)
+    scale = max(ell, 1e-12)
+    that = complex(t.real / scale, t.imag / scale)
     b = prm.gamma * ell
     prod = dhat * that.conjugate()
     theta = math.atan2(prod.imag, prod.real)
@@ -98,56 +97,47 @@ def wall_force(p, radius, world, prm):  # noqa: ANN001, ANN201
 
 
 @jit
-def social_dense(people, prm, pairs, out):  # noqa: ANN001, ANN201
-    """People-people social forces over every pair, each pair computed once (the force is antisymmetric)."""
+def social_dense(people, prm, out):  # noqa: ANN001, ANN201
+    """People-people social forces over every pair, each pair computed once (the force is antisymmetric);
+    each person's sum runs over the others in index order."""
     n = people.shape[0]
     for i in range(n):
+        out[i] = 0j
+    for i in range(n):
+        pi, vi = people[i].pos, people[i].vel
         for j in range(i + 1, n):
-            f = pair_force(people[j].pos - people[i].pos, people[i].vel - people[j].vel, prm)
-            pairs[i, j] = f
-            pairs[j, i] = -f
-    for i in range(n):
-        f = 0j
-        for j in range(n):
-            if j != i:
-                f += pairs[i, j]
-        out[i] = f
+            f = pair_force(people[j].pos - pi, vi - people[j].vel, prm)
+            out[i] += f
+            out[j] -= f
 
 
-@jit(alloc=True)
-def social_grid(people, prm, out):  # noqa: ANN001, ANN201
-    """People-people social forces with a grid of cut-off sized cells: each person looks at the 3 x 3 cells
-    around it, so the cost grows linearly with the crowd at a given density."""
-    n = people.shape[0]
-    xs = np.empty(n)
-    ys = np.empty(n)
-    for i in range(n):
-        xs[i], ys[i] = people[i].pos.real, people[i].pos.imag
-    cut = prm.cutoff
-    x0, y0 = xs.min(), ys.min()
-    nx, ny = int((xs.max() - x0) / cut) + 1, int((ys.max() - y0) / cut) + 1
-    if nx * ny > 4_000_000:  # absurdly sparse crowd: one cell
-        nx, ny = 1, 1
-        cx, cy = np.zeros(n, np.int64), np.zeros(n, np.int64)
-    else:
-        cx, cy = ((xs - x0) / cut).astype(np.int64), ((ys - y0) / cut).astype(np.int64)
-    cell = cx + nx * cy
-    order = np.argsort(cell, kind="mergesort")
-    start = np.zeros(nx * ny + 1, np.int64)
-    for k in range(n):
-        start[cell[k] + 1] += 1
-    for c in range(nx * ny):
-        start[c + 1] += start[c]
-    for i in range(n):
-        f = 0j
-        for gy in range(max(cy[i] - 1, 0), min(cy[i] + 2, ny)):
-            for gx in range(max(cx[i] - 1, 0), min(cx[i] + 2, nx)):
-                c = gx + nx * gy
-                for k in range(start[c], start[c + 1]):
-                    j = order[k]
-                    if j != i:
-                        f += pair_force(people[j].pos - people[i].pos, people[i].vel - people[j].vel, prm)
-        out[i] = f
+@jit
+def social_grid(people, prm, grid, out):  # noqa: ANN001, ANN201
+    """People-people social forces from the cell list (people.neighbours), each pair computed once: a person
+    meets the later members of their cell and the people of the cells ahead of theirs (the rest of their row,
+    the rows above) within the cut-off's reach, so the cost grows linearly with the crowd at a given density.
+    The loops run over the cell list's sorted copies of positions and velocities (contiguous reads)."""
+    nx, reach, order, start = grid.dims[neighbours.NX], grid.dims[neighbours.REACH_SOCIAL], grid.order, grid.start
+    pos, vel, acc = grid.pos, grid.vel, grid.acc
+    for a in range(people.shape[0]):
+        acc[a] = 0j
+    for c in range(nx * grid.dims[neighbours.NY]):
+        cx, cy = c % nx, c // nx
+        for a in range(start[c], start[c + 1]):
+            pi, vi = pos[a], vel[a]
+            fi = 0j
+            for gy in range(cy, cy + reach + 1):
+                if gy == cy:  # the later members of a's cell, then the next cells of its row: one slice
+                    lo, hi = a + 1, start[min(cx + reach, nx - 1) + nx * cy + 1]
+                else:
+                    lo, hi = span(grid, gy, cx - reach, cx + reach)
+                for k in range(lo, hi):
+                    f = pair_force(pos[k] - pi, vi - vel[k], prm)
+                    fi += f
+                    acc[k] -= f
+            acc[a] += fi
+    for a in range(people.shape[0]):
+        out[order[a]] = acc[a]
 
 
 @jit
@@ -258,42 +248,52 @@ def advance(people, group_sizes, prm, world, robot_pos, robot_vel, robot_radius,
     """(step) move the walkers; then the environment forces of the (new) positions. Returns how many people
     reached their real goal."""
     reached = move(people, group_sizes, prm, dt, scratch, robot_pos, robot_radius) if step else 0
-    if scratch.pairs.shape[0] >= people.shape[0]:
-        social_dense(people, prm, scratch.pairs, scratch.social)
+    if neighbours.active(scratch.grid, people.shape[0]):
+        neighbours.build(scratch.grid, people, prm.cutoff)  # the contact step uses it too
+        social_grid(people, prm, scratch.grid, scratch.social)
     else:
-        social_grid(people, prm, scratch.social)
+        social_dense(people, prm, scratch.social)
     environment(people, prm, world, robot_pos, robot_vel, scratch.social)
     return reached
 
 
+@jit(inline=True)
+def separate(people, world, i, j):  # noqa: ANN001, ANN201
+    """Push i and j apart along the line of their centres to just past touching (both people overlap);
+    returns whether anyone moved."""
+    a, b = people[i], people[j]
+    d = a.pos - b.pos
+    dist = abs(d)
+    unit = d / dist if dist > 1e-9 else complex(math.cos(0.7 * (i + 1)), math.sin(0.7 * (j + 1)))
+    depth = a.radius + b.radius - dist + 1e-4  # just apart: no state exactly on the boundary
+    share_a = 0.5 if a.walks == b.walks else (1.0 if a.walks else 0.0)
+    moved = False
+    if share_a > 0 and clearance_at(world, a.pos + unit * depth * share_a) >= 0.5 * a.radius:
+        a.pos = a.pos + unit * depth * share_a
+        moved = True
+    if share_a < 1 and clearance_at(world, b.pos - unit * depth * (1 - share_a)) >= 0.5 * b.radius:
+        b.pos = b.pos - unit * depth * (1 - share_a)
+        moved = True
+    return moved
+
+
 @jit
-def resolve_contacts(people, robot, world, slack, before, snap):  # noqa: ANN001, ANN201
+def resolve_contacts(people, robot, world, slack, before, snap, grid):  # noqa: ANN001, ANN201
     """Bodies do not interpenetrate (HuNavSim's agents are solid in Gazebo). Two people who overlap are
     pushed apart along the line of their centres to just past touching, the walkers taking the whole
-    correction from someone standing; then a person whose own step took them into the robot is put back on
-    the robot's surface (never closer than the robot's own move left them: an overlap the ROBOT causes
-    stays, and counts as a collision). Corrections that would end inside a wall are dropped (between
-    people) or the person's step is not taken (into the robot). Returns whether anyone was moved."""
+    correction from someone standing, pair after pair in index order (a large crowd finds its overlapping
+    pairs with the cell list of this step's positions, people.neighbours); then a person whose own step took
+    them into the robot is put back on the robot's surface (never closer than the robot's own move left them:
+    an overlap the ROBOT causes stays, and counts as a collision). Corrections that would end inside a wall
+    are dropped (between people) or the person's step is not taken (into the robot). Returns whether anyone
+    was moved."""
     n = people.shape[0]
     moved = False
     for i in range(n):
         snap[i] = people[i].pos
     for i in range(n):
-        for j in range(i + 1, n):
-            a, b = people[i], people[j]
-            if not a.radius + b.radius - abs(snap[i] - snap[j]) > 1e-6:
-                continue
-            d = a.pos - b.pos
-            dist = abs(d)
-            unit = d / dist if dist > 1e-9 else complex(math.cos(0.7 * (i + 1)), math.sin(0.7 * (j + 1)))
-            depth = a.radius + b.radius - dist + 1e-4  # just apart: no state exactly on the boundary
-            share_a = 0.5 if a.walks == b.walks else (1.0 if a.walks else 0.0)
-            if share_a > 0 and clearance_at(world, a.pos + unit * depth * share_a) >= 0.5 * a.radius:
-                a.pos = a.pos + unit * depth * share_a
-                moved = True
-            if share_a < 1 and clearance_at(world, b.pos - unit * depth * (1 - share_a)) >= 0.5 * b.radius:
-                b.pos = b.pos - unit * depth * (1 - share_a)
-                moved = True
+        for k in range(neighbours.later_overlaps(grid, people, snap, i)):
+            moved = separate(people, world, i, grid.found[k]) or moved
     for i in range(n):
         p = people[i]
         reach = p.radius + robot.radius
