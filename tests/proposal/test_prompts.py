@@ -278,3 +278,25 @@ def test_tiny_grammar_matcher():
     g.add("rest", [], [Lit("b"), Ref("rest")])
     assert g.matches("abbb") and g.matches("a") and not g.matches("ab c")
     assert STOP_TREE  # keep the import meaningful for readers: trees come from gen_helpers
+
+
+def test_the_paths_grammar_admits_only_starts_the_start_rule_accepts(mini_location):
+    """With where people may start per robot start (the start rule), no sampled reply starts a person on or
+    against the robot: what the local model samples passes stage 2's start check too."""
+    from socnavgen.location.placement import clear_starts
+
+    location = _location(mini_location)
+    humans = ["human1", "human2"]
+    grammar = build_paths_grammar(location.graph, humans, clear_starts=clear_starts(location))
+    robot_on_human = _answer(interaction_points={"human1": "ch", "human2": "ch"},
+                             trajectories={"robot": ["0e", "32", "ch"], "human1": ["0e", "32", "ch"],
+                                           "human2": ["d9", "ch"]})
+    assert build_paths_grammar(location.graph, humans).matches(robot_on_human)  # without the rule: admitted
+    assert not grammar.matches(robot_on_human)
+    count = 0
+    for text in _sentences(grammar, limit=300):
+        reply = PathsReply.model_validate(json.loads(text))
+        problems = check_paths(reply, location.graph, humans, None, location)
+        assert not [p for p in problems if "where the robot starts" in p or "from where the robot starts" in p], text
+        count += 1
+    assert count == 300

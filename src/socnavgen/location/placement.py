@@ -79,6 +79,15 @@ def route_problems(robot: list[str]) -> list[str]:
     return []
 
 
+def clear_starts(location: Location) -> dict[str, frozenset[str]]:
+    """For each node the robot may start at, the nodes a person (or a group member, on its ring) may start at
+    under the start rule: what stage 2's grammar admits, so that an in-process model cannot sample a start the
+    check refuses."""
+    need = _centre_distance_needed(GROUP_SPAWN_RADIUS, 0.0, PERSON_RADIUS, ROBOT_RADIUS)
+    nodes = list(location.graph.nodes)
+    return {s: frozenset(u for u in nodes if not too_close(node_distance(location, u, s), need)) for s in nodes}
+
+
 def start_problems(location: Location, robot: list[str], walkers: list[Walker]) -> list[str]:
     """Every way these starts break the rule (route_problems included), in words that say what to change."""
     problems = route_problems(robot)

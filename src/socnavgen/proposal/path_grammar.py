@@ -6,7 +6,9 @@ paths through X: every path walks TOWARD X (each step one hop closer) and then A
 step one hop farther). This covers every shortest route through the meeting point, makes every step
 an edge of the graph, rules out back-and-forth (A B A) and guarantees the path ends. The humans'
 names are exactly stage 1's, their interaction point is X (on their path and the robot's), and group
-ids come from {-1, 1, 2} with every used group of at least two members. Size: about 2·V² small rules.
+ids come from {-1, 1, 2} with every used group of at least two members. Given where people may start for
+each robot start (`clear_starts`, the start rule), the grammar also chooses the robot's start S inside X's
+branch and admits only human walks starting clear of S. Size: about 3·V² small rules.
 """
 
 from __future__ import annotations
@@ -40,7 +42,8 @@ def _meeting_candidates(graph: nx.Graph, spec: ScenarioSpec | None, cramped: set
 
 
 def build_paths_grammar(graph: nx.Graph, humans: list[str], spec: ScenarioSpec | None = None,
-                        cramped: set[str] | None = None) -> Grammar:
+                        cramped: set[str] | None = None,
+                        clear_starts: dict[str, frozenset[str]] | None = None) -> Grammar:
     g = Grammar()
     nodes = sorted(graph.nodes)
     index = {n: i for i, n in enumerate(nodes)}
@@ -54,20 +57,28 @@ def build_paths_grammar(graph: nx.Graph, humans: list[str], spec: ScenarioSpec |
         xi = index[x]
         dist = nx.single_source_shortest_path_length(graph, x)
         _add_walks(g, graph, x, xi, dist, index)
-        robot_starts = [[Ref(f"to{xi}-{index[u]}")] for u in sorted(dist, key=index.get) if u != x]
-        robot_starts += [[_q(x), Lit(", "), _q(w), Ref(f"away{xi}-{index[w]}")]
-                         for w in sorted(graph.neighbors(x), key=index.get)]
-        g.add(f"robot{xi}", *robot_starts)
-        g.add(f"walk{xi}", *[[Ref(f"to{xi}-{index[u]}")] for u in sorted(dist, key=index.get)])
+        reachable = sorted(dist, key=index.get)
+        starts_at: dict[str, list[list[Symbol]]] = {u: [[Ref(f"to{xi}-{index[u]}")]] for u in reachable if u != x}
+        starts_at[x] = [[_q(x), Lit(", "), _q(w), Ref(f"away{xi}-{index[w]}")]
+                        for w in sorted(graph.neighbors(x), key=index.get)]
         points = ", ".join(f'"{h}": {json.dumps(x)}' for h in humans)
-        body: list[Symbol] = [Lit("{" + points + '}, "trajectories": {"robot": ['), Ref(f"robot{xi}"), Lit("]")]
-        for h in humans:
-            body += [Lit(f', "{h}": ['), Ref(f"walk{xi}"), Lit("]")]
-        body += [Lit('}, "group_ids": '), Ref("groups")]
-        if encounter_ids:
-            grounded = ", ".join(f'"{e}": {json.dumps(x)}' for e in encounter_ids)
-            body.append(Lit(', "encounter_nodes": {' + grounded + "}"))
-        meets.append([*body, Lit("}")])
+        # one alternative per robot start S (clear_starts) or one for any start (humans may start anywhere)
+        by_start = [(s, [u for u in reachable if u in clear_starts.get(s, ())]) for s in reachable] \
+            if clear_starts is not None else [(None, reachable)]
+        for s, walkable in by_start:
+            if not walkable or (s is not None and not starts_at[s]):
+                continue
+            key = f"{xi}" if s is None else f"{xi}-{index[s]}"
+            g.add(f"robot{key}", *(starts_at[s] if s is not None else [a for u in reachable for a in starts_at[u]]))
+            g.add(f"walk{key}", *[[Ref(f"to{xi}-{index[u]}")] for u in walkable])
+            body: list[Symbol] = [Lit("{" + points + '}, "trajectories": {"robot": ['), Ref(f"robot{key}"), Lit("]")]
+            for h in humans:
+                body += [Lit(f', "{h}": ['), Ref(f"walk{key}"), Lit("]")]
+            body += [Lit('}, "group_ids": '), Ref("groups")]
+            if encounter_ids:
+                grounded = ", ".join(f'"{e}": {json.dumps(x)}' for e in encounter_ids)
+                body.append(Lit(', "encounter_nodes": {' + grounded + "}"))
+            meets.append([*body, Lit("}")])
     if not meets:
         raise ValueError("the scene graph has no edge: no path can be planned")
     g.add("meet", *meets)
@@ -138,9 +149,9 @@ def _moves(c1: int, c2: int) -> list[tuple[int, tuple[int, int]]]:
 
 
 def paths_grammar(graph: nx.Graph, humans: list[str], spec: ScenarioSpec | None = None,
-                  cramped: set[str] | None = None) -> str:
+                  cramped: set[str] | None = None, clear_starts: dict[str, frozenset[str]] | None = None) -> str:
     """The GBNF text passed as `grammar=` to `llm.chat` for stage 2."""
-    return build_paths_grammar(graph, humans, spec, cramped).to_gbnf()
+    return build_paths_grammar(graph, humans, spec, cramped, clear_starts).to_gbnf()
 
 
 __all__ = ["build_paths_grammar", "paths_grammar"]

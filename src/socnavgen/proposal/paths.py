@@ -19,7 +19,7 @@ from socnavgen.llm.base import LLM, ChatMessage
 from socnavgen.location import Location
 from socnavgen.location.inventory import inventory_text
 from socnavgen.location.location import SCENE_GRAPH_IMAGE
-from socnavgen.location.placement import Walker, shown_position, start_problems, start_rule_text
+from socnavgen.location.placement import Walker, clear_starts, shown_position, start_problems, start_rule_text
 from socnavgen.proposal.conversation import Outcome, Policy, Recorder, converse
 from socnavgen.proposal.facts import groups_text, pacing_text, physical_facts_text
 from socnavgen.proposal.fit import NOTHING, Cut, Note, examples_kept, fit_prompt
@@ -203,6 +203,7 @@ def plan_paths(messages: list[ChatMessage], location: Location, scenario: Scenar
     humans = list(scenario.human_behaviors)
     graph = location.graph
     cramped = {n for n, facts in location.inventory.nodes.items() if not facts.turnable}
-    grammar = paths_grammar(graph, humans, spec, cramped) if getattr(llm, "supports_grammar", False) else None
+    grammar = paths_grammar(graph, humans, spec, cramped, clear_starts(location)) \
+        if getattr(llm, "supports_grammar", False) else None
     return converse(llm, messages, PathsReply, lambda reply: check_paths(reply, graph, humans, spec, location),
                     stage=STAGE, key=None, recorder=recorder, policy=policy, grammar=grammar, max_tokens=MAX_TOKENS)
