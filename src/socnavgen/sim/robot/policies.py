@@ -22,6 +22,15 @@ from socnavgen.bodies import ROBOT_GOAL_TOLERANCE
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.physics import pair_force, wall_force
 from socnavgen.sim.records import layout
+from socnavgen.sim.robot.polite import (
+    CLOSE_SPEED,
+    PASS_GAP,
+    POLITE_GAP,
+    keep_clear,
+    nearest_gap,
+    pass_aside,
+    yield_to,
+)
 from socnavgen.sim.world.queries import clearance_at, nearest_obstacle, path_clear
 
 PYTHON, SCRIPTED, WAYPOINTS, SFM, STRAIGHT = range(5)  # PYTHON: a policy object of the user's, called per step
@@ -37,7 +46,7 @@ AROUND_LOOK = 1.0  # m: room looked for on either side before going around someo
 AROUND_BIAS = 0.1  # m/s sideways while going around (a person dead ahead pushes straight back otherwise)
 GOAL_DECEL = 0.8  # m/s2: the social-force and the straight robots slow down for their goal at this rate
 OCCUPIED_REACH = 2.0  # m: an intermediate waypoint someone stands on is skipped once the robot is this close
-KEEP_CLEAR = 0.03  # m: the scripted and sfm robots never move closer than this gap to anyone
+KEEP_CLEAR = 0.03  # m: the sfm robot never moves closer than this gap to anyone (the scripted: POLITE_GAP)
 CROWD_LOOK = 32  # with more people than this, only those within reach are looked at
 ARRIVED = ROBOT_GOAL_TOLERANCE * 0.5  # m: the built-in robots stop this close to their goal
 
@@ -46,7 +55,7 @@ POLICY = layout([
     ("patience", "f8"), ("detour_speed", "f8"), ("waypoint_tolerance", "f8"),
     ("line_clearance", "f8"),  # NaN: a waypoint counts as reached within the tolerance whatever the walls
     ("rude_max_speed", "f8"), ("rude_tolerance", "f8"),  # the scripted robot's straight robot
-    ("speed", "f8"), ("waited", "f8"), ("around_side", "f8"), ("has_heading", "?"), ("heading", "c16"),
+    ("speed", "f8"), ("waited", "f8"), ("around_side", "f8"), ("pass_side", "f8"), ("has_heading", "?"), ("heading", "c16"),
     ("waypoint", "i8"), ("rude_waypoint", "i8")])
 
 
@@ -91,36 +100,6 @@ def slide_along_walls(s, v):  # noqa: ANN001, ANN201
     clearance = clearance_at(s.world, p)
     if clearance < r:
         v += n * min(WALL_PUSH, (r - clearance) * 2.0)
-    return v
-
-
-@jit
-def keep_clear(s, v):  # noqa: ANN001, ANN201
-    """`v` without the part that would take the robot closer than KEEP_CLEAR (surface gap) to a person: it
-    may slide past or back off, never push into someone."""
-    people, robot = s.people, s.robot[0]
-    n = people.shape[0]
-    if v == 0 or n == 0:
-        return v
-    p, dt = robot.pos, s.clock[0].dt
-    for _ in range(3):  # a second person may be met after sliding along the first
-        ahead = p + v * dt
-        close = False
-        for k in range(n):
-            if abs(people[k].pos - ahead) < people[k].radius + robot.radius + KEEP_CLEAR:
-                close = True
-                d = people[k].pos - p
-                if abs(d) >= 1e-9:
-                    u = d / abs(d)
-                    toward = (v * u.conjugate()).real
-                    if toward > 0:
-                        v -= toward * u
-        if not close:
-            return v
-    ahead = p + v * dt
-    for k in range(n):
-        if not abs(people[k].pos - ahead) >= min(people[k].radius + robot.radius + KEEP_CLEAR, abs(people[k].pos - p)):
-            return 0j
     return v
 
 
@@ -263,25 +242,32 @@ def straight_act(s, max_speed, rude):  # noqa: ANN001, ANN201
 
 @jit
 def scripted_act(s, now):  # noqa: ANN001, ANN201
+    """Drives like waypoints with the manners of robot.polite: moves aside to pass people with room, slows
+    down near them, backs away from someone walking into it, never comes within POLITE_GAP of anyone."""
     policy = s.policy[0]
     if now.misbehave:
         return straight_act(s, policy.rude_max_speed, True)
     policy.max_speed = now.speed
     if now.wait:
         policy.speed = 0.0
-        return 0j
-    first = waypoints_act(s)
-    v = first
+        return keep_clear(s, slide_along_walls(s, yield_to(s)), POLITE_GAP)
+    v = waypoints_act(s)
+    direction = policy.heading if abs(policy.heading) > 0 else complex(math.cos(s.robot[0].yaw),
+                                                                       math.sin(s.robot[0].yaw))
     target, _ = track(s, False)
     ahead = target - s.robot[0].pos
     if abs(ahead) > 1e-9:
         u = ahead / abs(ahead)
         back = (v * u.conjugate()).real
-        if back < 0:  # never retreat: a crowd pushing it back would drive it the wrong way for good
+        if back < 0:  # never retreat on its own: a crowd pushing it back would drive it the wrong way for good
             v -= back * u
-    v = keep_clear(s, v)
-    if abs(v) < abs(first) - 1e-9:
-        policy.speed = min(policy.speed, abs(v))
+    v += pass_aside(s, direction)
+    if nearest_gap(s) < PASS_GAP and abs(v) > CLOSE_SPEED:
+        v = v * (CLOSE_SPEED / abs(v))
+    v = keep_clear(s, slide_along_walls(s, v + yield_to(s)), POLITE_GAP)
+    forward = (v * direction.conjugate()).real
+    if forward < policy.speed:
+        policy.speed = max(0.0, forward)
     return v
 
 
@@ -293,7 +279,7 @@ def act(s, now):  # noqa: ANN001, ANN201
         return straight_act(s, s.policy[0].max_speed, False)
     if kind == SFM:
         target, last = track(s, False)
-        return keep_clear(s, sfm_toward(s, target, s.policy[0].max_speed, last))
+        return keep_clear(s, sfm_toward(s, target, s.policy[0].max_speed, last), KEEP_CLEAR)
     if kind == WAYPOINTS:
         return waypoints_act(s)
     return scripted_act(s, now)
