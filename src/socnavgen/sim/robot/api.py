@@ -23,14 +23,24 @@ from socnavgen.bt.library import ROBOT_GESTURES
 from socnavgen.errors import InputFileError
 from socnavgen.sim.records import Columns, table
 from socnavgen.sim.robot import policies
+from socnavgen.sim.robot.polite import POLITE_GAP
 from socnavgen.sim.robot.script import Script, fired
 
 
 @dataclass
 class RobotAction:
+    """A world-frame velocity (vx, vy) the robot's body tracks (a differential-drive body turns toward it),
+    or with `turn` set a unicycle command: forward speed `vx` (m/s, negative: backwards) and turn rate
+    `turn` (rad/s, counter-clockwise); build it with RobotAction.unicycle(forward, turn)."""
+
     vx: float
     vy: float
     gesture: int | None = None  # a code of bt.library.ROBOT_GESTURES; None: the scenario's scripted gestures
+    turn: float | None = None  # rad/s: a unicycle command (vx is then the forward speed, vy is ignored)
+
+    @classmethod
+    def unicycle(cls, forward: float, turn: float, gesture: int | None = None) -> RobotAction:
+        return cls(forward, 0.0, gesture, turn)
 
 
 @runtime_checkable
@@ -144,13 +154,15 @@ class BuiltinPolicy:
     """A robot that runs inside the compiled step (robot.policies); the fields are its parameters."""
 
     kind: ClassVar[int] = policies.PYTHON
+    plans: ClassVar[bool] = False  # follows the global planner (robot.fields, robot.planner) around obstacles
+    guard: ClassVar[float] = math.nan  # m: its body's protective field (robot.body; NaN: none)
     max_speed: float = 0.6
 
     def parameters(self) -> np.recarray:
         """Its parameters and a fresh state as the compiled step reads them (a one-row table)."""
         p = {"accel": 0.8, "brake": 3.0, "slow_gap": 2.0, "stop_gap": 0.5, "patience": 2.0, "detour_speed": 0.3,
              "waypoint_tolerance": 0.4, "line_clearance": math.nan, **vars(self)}
-        return table(policies.POLICY, 1, kind=self.kind, rude_max_speed=StraightPolicy.max_speed,
+        return table(policies.POLICY, 1, kind=self.kind, plans=self.plans, guard=self.guard, rude_max_speed=StraightPolicy.max_speed,
                       rude_tolerance=StraightPolicy.waypoint_tolerance, waypoint=1, rude_waypoint=1,
                       **{k: v for k, v in p.items() if k in policies.POLICY.names})
 
@@ -160,6 +172,7 @@ class WaypointsPolicy(BuiltinPolicy):
     """The paper's teleoperated robot (docs/simulator.md, "The waypoints robot")."""
 
     kind: ClassVar[int] = policies.WAYPOINTS
+    guard: ClassVar[float] = 0.0  # never drives into a body
     accel: float = 0.8  # m/s2 speeding up
     brake: float = 3.0  # m/s2 braking
     waypoint_tolerance: float = 0.4  # m
@@ -175,6 +188,8 @@ class ScriptedPolicy(WaypointsPolicy):
     """The default robot: plays the scenario's script, drives like `waypoints`, never moves into a person."""
 
     kind: ClassVar[int] = policies.SCRIPTED
+    plans: ClassVar[bool] = True
+    guard: ClassVar[float] = POLITE_GAP
 
 
 @dataclass
@@ -182,6 +197,8 @@ class SFMPolicy(BuiltinPolicy):
     """One more social-force walker heading for its waypoints (with keep_clear)."""
 
     kind: ClassVar[int] = policies.SFM
+    plans: ClassVar[bool] = True
+    guard: ClassVar[float] = policies.KEEP_CLEAR
     waypoint_tolerance: float = 0.5
 
 
@@ -199,8 +216,9 @@ DEFAULT_ROBOT = "scripted"
 GESTURE_CODES = ", ".join(f"{code} {word}" for code, word in ROBOT_GESTURES.items())
 
 
-def checked_action(action: Any, policy: Any) -> tuple[complex, int]:
-    """(velocity, gesture code or -1 for none) of a policy's answer; one message when it is not usable."""
+def checked_action(action: Any, policy: Any) -> tuple[complex, int, float | None]:
+    """(velocity, gesture code or -1 for none, turn rate of a unicycle command or None) of a policy's answer;
+    one message when it is not usable."""
     name = type(policy).__name__
     if not isinstance(action, RobotAction):
         raise InputFileError(f"the robot policy {name} returned {type(action).__name__}, not a RobotAction",
@@ -210,13 +228,20 @@ def checked_action(action: Any, policy: Any) -> tuple[complex, int]:
     except (TypeError, ValueError, OverflowError):
         raise InputFileError(f"the robot policy {name} returned a velocity that is not two numbers: "
                              f"({action.vx!r}, {action.vy!r})", hint="vx and vy are floats in m/s") from None
+    turn = action.turn
+    if turn is not None:
+        try:
+            turn = float(turn)
+        except (TypeError, ValueError, OverflowError):
+            raise InputFileError(f"the robot policy {name} returned a turn rate that is not a number: {turn!r}",
+                                 hint="turn is a float in rad/s (RobotAction.unicycle(forward, turn))") from None
     gesture = action.gesture
     if gesture is None:
-        return v, -1
+        return v, -1, turn
     if isinstance(gesture, bool) or not isinstance(gesture, int | np.integer) or int(gesture) not in ROBOT_GESTURES:
         raise InputFileError(f"the robot policy {name} returned gesture {str(gesture)[:40]}, not a robot gesture code",
                              hint=f"use None or one of {GESTURE_CODES}")
-    return v, int(gesture)
+    return v, int(gesture), turn
 
 
 def load_policy(spec: str) -> Any:

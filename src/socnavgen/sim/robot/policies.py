@@ -22,6 +22,7 @@ from socnavgen.bodies import ROBOT_GOAL_TOLERANCE
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.physics import pair_force, wall_force
 from socnavgen.sim.records import layout
+from socnavgen.sim.robot.planner import steer
 from socnavgen.sim.robot.polite import (
     CLOSE_SPEED,
     PASS_GAP,
@@ -56,6 +57,9 @@ POLICY = layout([
     ("line_clearance", "f8"),  # NaN: a waypoint counts as reached within the tolerance whatever the walls
     ("rude_max_speed", "f8"), ("rude_tolerance", "f8"),  # the scripted robot's straight robot
     ("speed", "f8"), ("waited", "f8"), ("around_side", "f8"), ("pass_side", "f8"), ("has_heading", "?"), ("heading", "c16"),
+    ("unicycle", "?"), ("forward", "f8"), ("turn", "f8"),  # a unicycle command (DWA) instead of a velocity
+    ("guard", "f8"),  # m: the body's protective field (robot.body.drive; NaN: none)
+    ("plans", "?"), ("field_scale", "i8"),  # it follows the planner's way (robot.planner) where the line to its waypoint is blocked
     ("waypoint", "i8"), ("rude_waypoint", "i8")])
 
 
@@ -69,7 +73,7 @@ def track(s, rude):  # noqa: ANN001, ANN201
     last = wps.shape[0] - 1
     index = min(policy.rude_waypoint if rude else policy.waypoint, last)
     tolerance = policy.rude_tolerance if rude else policy.waypoint_tolerance
-    line = math.nan if rude else policy.line_clearance
+    line = math.nan if rude or policy.plans else policy.line_clearance
     while index < last:
         d = abs(wps[index] - p)
         if d > tolerance or not (math.isnan(line) or d <= CLOSE_REACH or path_clear(s.world, p, wps[index + 1], line)):
@@ -195,7 +199,10 @@ def waypoints_act(s):  # noqa: ANN001, ANN201
     if last and dist <= arrive:
         policy.speed = 0.0
         return 0j
-    direction = to / dist if dist > 1e-9 else complex(math.cos(robot.yaw), math.sin(robot.yaw))
+    if policy.plans:  # around what stands between it and its waypoint
+        target = steer(s, s.fields, policy.waypoint, target)
+        to = target - p
+    direction = to / abs(to) if abs(to) > 1e-9 else complex(math.cos(robot.yaw), math.sin(robot.yaw))
     policy.has_heading, policy.heading = True, direction
     gap, nudge = look_ahead(s, direction, dist if last else np.inf)
     want = policy.max_speed * min(1.0, max(0.0, (gap - policy.stop_gap) / (policy.slow_gap - policy.stop_gap)))
@@ -279,6 +286,8 @@ def act(s, now):  # noqa: ANN001, ANN201
         return straight_act(s, s.policy[0].max_speed, False)
     if kind == SFM:
         target, last = track(s, False)
+        if s.policy[0].plans:
+            target = steer(s, s.fields, s.policy[0].waypoint, target)
         return keep_clear(s, sfm_toward(s, target, s.policy[0].max_speed, last), KEEP_CLEAR)
     if kind == WAYPOINTS:
         return waypoints_act(s)
