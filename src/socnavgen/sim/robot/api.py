@@ -163,7 +163,7 @@ class BuiltinPolicy:
         p = {"accel": 0.8, "brake": 3.0, "slow_gap": 2.0, "stop_gap": 0.5, "patience": 2.0, "detour_speed": 0.3,
              "waypoint_tolerance": 0.4, "line_clearance": math.nan, **vars(self)}
         return table(policies.POLICY, 1, kind=self.kind, plans=self.plans, guard=self.guard, rude_max_speed=StraightPolicy.max_speed,
-                      rude_tolerance=StraightPolicy.waypoint_tolerance, waypoint=1, rude_waypoint=1,
+                      rude_tolerance=StraightPolicy.waypoint_tolerance, waypoint=1, rude_waypoint=1, retreat_to=-1,
                       **{k: v for k, v in p.items() if k in policies.POLICY.names})
 
 

@@ -28,6 +28,7 @@ from socnavgen.sim.robot.polite import (
     PASS_GAP,
     POLITE_GAP,
     keep_clear,
+    make_way,
     nearest_gap,
     pass_aside,
     yield_to,
@@ -58,7 +59,7 @@ POLICY = layout([
     ("rude_max_speed", "f8"), ("rude_tolerance", "f8"),  # the scripted robot's straight robot
     ("speed", "f8"), ("waited", "f8"), ("around_side", "f8"), ("pass_side", "f8"), ("has_heading", "?"), ("heading", "c16"),
     ("unicycle", "?"), ("forward", "f8"), ("turn", "f8"),  # a unicycle command (DWA) instead of a velocity
-    ("guard", "f8"),  # m: the body's protective field (robot.body.drive; NaN: none)
+    ("guard", "f8"), ("retreat_to", "i8"),  # retreat_to: the waypoint it backs toward making way (-1: none)  # m: the body's protective field (robot.body.drive; NaN: none)
     ("plans", "?"), ("field_scale", "i8"),  # it follows the planner's way (robot.planner) where the line to its waypoint is blocked
     ("waypoint", "i8"), ("rude_waypoint", "i8")])
 
@@ -258,6 +259,14 @@ def scripted_act(s, now):  # noqa: ANN001, ANN201
     if now.wait:
         policy.speed = 0.0
         return keep_clear(s, slide_along_walls(s, yield_to(s)), POLITE_GAP)
+    target, _ = track(s, False)
+    forward = target - s.robot[0].pos
+    if abs(forward) > 1e-9:
+        backing, v = make_way(s, forward / abs(forward))
+        if backing:
+            policy.speed = 0.0
+            policy.has_heading, policy.heading = True, forward / abs(forward)
+            return keep_clear(s, slide_along_walls(s, v), POLITE_GAP)
     v = waypoints_act(s)
     direction = policy.heading if abs(policy.heading) > 0 else complex(math.cos(s.robot[0].yaw),
                                                                        math.sin(s.robot[0].yaw))

@@ -8,6 +8,8 @@ them, steps back from someone walking into it, and never moves closer than a mar
   exactly in line (lightsfm's angular term vanishes at theta = 0), so without this the two meet nose to nose.
 * close_speed: at most CLOSE_SPEED while anyone is within PASS_GAP (intimate space, Hall's 0.45 m).
 * yield_to: a person closing in within YIELD_GAP: the robot backs away from them (the robot gives way).
+* make_way: someone walking toward it in a passage too narrow for both, after it waited `patience` s: it
+  steps aside where there is room, else backs away along the way it came until they can pass.
 * keep_clear: the part of a move that would bring the robot closer than `gap` (surface to surface) to a
   person is dropped: it slides past or stops, and never pushes into anyone.
 """
@@ -33,6 +35,9 @@ YIELD_GAP = 0.3  # m: someone closing in this close makes the robot back away
 YIELD_SPEED = 0.35  # m/s at most, backing away
 CLOSING = 0.1  # m/s: a person this fast toward the robot is closing in
 POLITE_GAP = 3 * CONTACT_MARGIN  # m: the default robot never moves closer than this to anyone (0.15)
+MAKE_WAY_GAP = 0.8  # m: someone walking toward the robot this close, face to face, may make it give way
+MAKE_WAY_SPEED = 0.3  # m/s backing off (a differential drive reverses at up to robot.body.REVERSE_SPEED)
+MAKE_WAY_REACH = 0.3  # m: a previous waypoint this close is passed on the way back
 
 
 @jit
@@ -149,3 +154,94 @@ def keep_clear(s, v, gap):  # noqa: ANN001, ANN201
         if not abs(people[k].pos - ahead) >= min(people[k].radius + robot.radius + gap, abs(people[k].pos - p)):
             return 0j
     return v
+
+
+@jit
+def coming_through(s, forward):  # noqa: ANN001, ANN201
+    """The person within MAKE_WAY_GAP ahead of the robot (along the unit `forward`, its way on) who walks
+    toward it (their goal lies beyond the robot), nearest first; -1 when nobody is."""
+    robot, people = s.robot[0], s.people
+    p, back = robot.pos, forward.conjugate()
+    who, best = -1, math.inf
+    for i in range(people.shape[0]):
+        q = people[i]
+        rel = (q.pos - p) * back
+        gap = abs(rel) - q.radius - robot.radius
+        if rel.real <= 0 or gap > MAKE_WAY_GAP or abs(rel.imag) > q.radius + robot.radius + PASS_GAP:
+            continue
+        toward = p - q.pos
+        wants = q.goal - q.pos if q.has_goal else q.vel
+        if (wants * toward.conjugate()).real <= 0:
+            continue
+        if gap < best:
+            who, best = i, gap
+    return who
+
+
+@jit
+def room_beside(s, forward, need, who):  # noqa: ANN001, ANN201
+    """The side (+1 left, -1 right, 0 none) away from person `who` where the robot can step `need` metres
+    aside, off their way (right when they are in line)."""
+    robot = s.robot[0]
+    across = ((s.people[who].pos - robot.pos) * forward.conjugate()).imag
+    side = -1.0 if across > -0.2 else 1.0
+    if free_along(s.world, robot.pos, side * 1j * forward, need, robot.radius + WALL_ROOM) >= need:
+        return side
+    return 0.0
+
+
+@jit
+def behind(s):  # noqa: ANN001, ANN201
+    """The waypoint behind the robot on its route: the start of the passed segment it is nearest to (one
+    earlier when it stands on it)."""
+    robot, wps = s.robot[0], s.waypoints
+    p, last = robot.pos, min(s.policy[0].waypoint, wps.shape[0] - 1)
+    j, best = 0, math.inf
+    for k in range(last):
+        a, b = wps[k], wps[k + 1]
+        ab = b - a
+        t = 0.0 if abs(ab) < 1e-9 else min(1.0, max(0.0, ((p - a) * ab.conjugate()).real / abs(ab) ** 2))
+        d = abs(a + t * ab - p)
+        if d < best:
+            j, best = k, d
+    while j > 0 and abs(wps[j] - p) < MAKE_WAY_REACH:
+        j -= 1
+    return j
+
+
+@jit
+def make_way(s, forward):  # noqa: ANN001, ANN201
+    """(backing off?, velocity): someone walks toward the robot along a passage too narrow for both (or the
+    robot has waited `patience` s face to face with them): it backs away along the way it came (toward its
+    previous waypoints) at MAKE_WAY_SPEED, and steps aside, off their way, where the passage has room. A
+    person and a robot that both wait for the other are a deadlock; the robot is the one that gives way."""
+    policy, robot, wps = s.policy[0], s.robot[0], s.waypoints
+    who = coming_through(s, forward)
+    if who < 0:
+        policy.retreat_to = -1
+        return False, 0j
+    p = robot.pos
+    need = 2 * s.people[who].radius + PASS_GAP
+    if policy.retreat_to < 0:
+        j = behind(s)
+        back = wps[j] - p
+        if abs(back) < MAKE_WAY_REACH:
+            return False, 0j  # at its start: nowhere to back off to
+        side = room_beside(s, back / abs(back), need, who)
+        q = s.people[who]
+        u = (p - q.pos) / max(abs(p - q.pos), 1e-9)
+        closing = ((q.vel - robot.vel) * u.conjugate()).real > CLOSING
+        if policy.waited < policy.patience and not (closing and side == 0.0):  # a narrow passage: at once
+            return False, 0j
+        policy.retreat_to = j
+    target = wps[policy.retreat_to]
+    while abs(target - p) < MAKE_WAY_REACH and policy.retreat_to > 0:
+        policy.retreat_to -= 1
+        target = wps[policy.retreat_to]
+    if abs(target - p) < MAKE_WAY_REACH:  # back at its start: nowhere further to go
+        return True, 0j
+    back = (target - p) / abs(target - p)
+    side = room_beside(s, back, need, who)
+    if side != 0.0:
+        return True, side * 1j * back * LATERAL_SPEED
+    return True, back * MAKE_WAY_SPEED
