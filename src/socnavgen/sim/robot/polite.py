@@ -35,8 +35,8 @@ YIELD_GAP = 0.3  # m: someone closing in this close makes the robot back away
 YIELD_SPEED = 0.35  # m/s at most, backing away
 CLOSING = 0.1  # m/s: a person this fast toward the robot is closing in
 POLITE_GAP = 3 * CONTACT_MARGIN  # m: the default robot never moves closer than this to anyone (0.15)
-MAKE_WAY_GAP = 0.8  # m: someone walking toward the robot this close, face to face, may make it give way
-MAKE_WAY_SPEED = 0.3  # m/s backing off (a differential drive reverses at up to robot.body.REVERSE_SPEED)
+MAKE_WAY_GAP = 1.5  # m: someone walking toward the robot this close, face to face, may make it give way
+MAKE_WAY_SPEED = 0.5  # m/s making way (faster than robot.body.REVERSE_SPEED: a differential drive turns round)
 MAKE_WAY_REACH = 0.3  # m: a previous waypoint this close is passed on the way back
 
 
