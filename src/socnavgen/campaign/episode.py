@@ -47,6 +47,7 @@ class Episode:
     robot: str  # its plugin spec
     seed: int
     inputs: str | None = None  # digest of what decides it (fingerprint.py), stored in its row
+    params: tuple[tuple[str, Any], ...] = ()  # the policy's params, sorted (sim.robot.api.robot_from)
 
     @property
     def key(self) -> str:
@@ -127,7 +128,21 @@ class _Deadline:
 def _identity(ep: Episode) -> dict[str, Any]:
     s = ep.scenario
     return {"episode": ep.key, "scenario": s.id, "location": s.location, "card": s.card, "source": s.source,
-            "humans": s.humans, "policy": ep.policy, "robot": ep.robot, "seed": ep.seed, "inputs": ep.inputs}
+            "humans": s.humans, "policy": ep.policy, "robot": ep.robot, "seed": ep.seed, "inputs": ep.inputs,
+            "params": json.dumps(dict(ep.params), sort_keys=True), "robot_body": _body_of(ep)}
+
+
+def _body_of(ep: Episode) -> str | None:
+    """The robot's kinematics and limits as JSON (None when the params do not make a robot)."""
+    from socnavgen.errors import SocnavgenError
+    from socnavgen.sim.robot.api import BODY_PARAMS
+    from socnavgen.sim.robot.body import RobotBody
+
+    try:
+        body = RobotBody(**{BODY_PARAMS[k]: v for k, v in ep.params if k in BODY_PARAMS})
+    except (SocnavgenError, ValueError, TypeError):
+        return None
+    return json.dumps(body.meta(), sort_keys=True)
 
 
 def _finite(value: Any) -> Any:
@@ -141,13 +156,13 @@ def _finite(value: Any) -> Any:
 def simulate_episode(ep: Episode, settings: EpisodeSettings, cache: WorkerCache | None = None,
                      deadline: _Deadline | None = None) -> tuple[Any, Any, Any]:
     """(trace, location, world) of one episode, using the worker's cached location and world."""
-    from socnavgen.sim import SimConfig, ThrottleConfig, load_policy, load_simulation
+    from socnavgen.sim import SimConfig, ThrottleConfig, load_simulation, robot_from
 
     cache = cache or WORKER_CACHE
     location, world = cache.location(ep.scenario.location_dir)
-    policy = load_policy(ep.robot)
+    policy, body = robot_from(ep.robot, dict(ep.params))
     sim = load_simulation(cache.run(ep.scenario.run_dir), policy,
-                          SimConfig(dt=settings.dt, timeout=settings.timeout, seed=ep.seed),
+                          SimConfig(dt=settings.dt, timeout=settings.timeout, seed=ep.seed, body=body),
                           ThrottleConfig(enabled=settings.throttle), location=location, world=world)
     sim.meta["robot_plugin"] = ep.robot
     return sim.run(progress=deadline.check if deadline else None), location, world

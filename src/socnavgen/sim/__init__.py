@@ -20,7 +20,7 @@ _EXPORTS = {
     "SimConfig": "socnavgen.sim.engine.simulation", "Simulation": "socnavgen.sim.engine.simulation",
     "RobotSpeech": "socnavgen.sim.engine.simulation", "Trace": "socnavgen.sim.trace",
     "RobotAction": "socnavgen.sim.robot.api", "RobotBody": "socnavgen.sim.robot.body", "Observation": "socnavgen.sim.robot.api",
-    "load_policy": "socnavgen.sim.robot.api", "BUILTIN": "socnavgen.sim.robot.api",
+    "load_policy": "socnavgen.sim.robot.api", "robot_from": "socnavgen.sim.robot.api", "BUILTIN": "socnavgen.sim.robot.api",
     "DEFAULT_ROBOT": "socnavgen.sim.robot.api", "ThrottleConfig": "socnavgen.sim.people.pacing",
     "PacingPlan": "socnavgen.sim.people.pacing", "HumanSpec": "socnavgen.sim.people.state",
     "World": "socnavgen.sim.world.grid", "empty_room": "socnavgen.sim.world.grid",

@@ -59,6 +59,7 @@ POLICY = layout([
     ("rude_max_speed", "f8"), ("rude_tolerance", "f8"),  # the scripted robot's straight robot
     ("speed", "f8"), ("waited", "f8"), ("around_side", "f8"), ("pass_side", "f8"), ("has_heading", "?"), ("heading", "c16"),
     ("unicycle", "?"), ("forward", "f8"), ("turn", "f8"),  # a unicycle command (DWA) instead of a velocity
+    ("speed_cap", "f8"),  # m/s: the scripted robot's cruise speed is the script's, at most this (inf: no cap)
     ("guard", "f8"), ("retreat_to", "i8"),  # retreat_to: the waypoint it backs toward making way (-1: none)  # m: the body's protective field (robot.body.drive; NaN: none)
     ("plans", "?"), ("field_scale", "i8"),  # it follows the planner's way (robot.planner) where the line to its waypoint is blocked
     ("waypoint", "i8"), ("rude_waypoint", "i8")])
@@ -255,7 +256,7 @@ def scripted_act(s, now):  # noqa: ANN001, ANN201
     policy = s.policy[0]
     if now.misbehave:
         return straight_act(s, policy.rude_max_speed, True)
-    policy.max_speed = now.speed
+    policy.max_speed = min(now.speed, policy.speed_cap)
     if now.wait:
         policy.speed = 0.0
         return keep_clear(s, slide_along_walls(s, yield_to(s)), POLITE_GAP)

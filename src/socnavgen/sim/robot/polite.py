@@ -36,6 +36,7 @@ YIELD_SPEED = 0.35  # m/s at most, backing away
 CLOSING = 0.1  # m/s: a person this fast toward the robot is closing in
 POLITE_GAP = 3 * CONTACT_MARGIN  # m: the default robot never moves closer than this to anyone (0.15)
 MAKE_WAY_GAP = 1.5  # m: someone walking toward the robot this close, face to face, may make it give way
+FACE_GAP = 0.8  # m: standing face to face this close for `patience` s also makes it give way
 MAKE_WAY_SPEED = 0.5  # m/s making way (faster than robot.body.REVERSE_SPEED: a differential drive turns round)
 MAKE_WAY_REACH = 0.3  # m: a previous waypoint this close is passed on the way back
 
@@ -158,24 +159,25 @@ def keep_clear(s, v, gap):  # noqa: ANN001, ANN201
 
 @jit
 def coming_through(s, forward):  # noqa: ANN001, ANN201
-    """The person within MAKE_WAY_GAP ahead of the robot (along the unit `forward`, its way on) who walks
-    toward it (their goal lies beyond the robot), nearest first; -1 when nobody is."""
+    """(who, walking): the nearest person within MAKE_WAY_GAP ahead of the robot (along the unit `forward`, its
+    way on), in line with it, whose goal lies beyond the robot (they need to get past it); -1 when nobody is.
+    `walking`: they walk toward the robot now (not standing, waiting)."""
     robot, people = s.robot[0], s.people
     p, back = robot.pos, forward.conjugate()
-    who, best = -1, math.inf
+    who, best, walking = -1, math.inf, False
     for i in range(people.shape[0]):
         q = people[i]
         rel = (q.pos - p) * back
         gap = abs(rel) - q.radius - robot.radius
-        if rel.real <= 0 or gap > MAKE_WAY_GAP or abs(rel.imag) > q.radius + robot.radius + PASS_GAP:
+        if rel.real <= 0 or gap > MAKE_WAY_GAP or abs(rel.imag) > q.radius + robot.radius + PASS_GAP or not q.has_goal:
             continue
         toward = p - q.pos
-        wants = q.goal - q.pos if q.has_goal else q.vel
-        if (wants * toward.conjugate()).real <= 0:
+        u = toward / max(abs(toward), 1e-9)
+        if ((q.goal - q.pos) * u.conjugate()).real <= abs(toward):  # their goal is short of the robot
             continue
         if gap < best:
-            who, best = i, gap
-    return who
+            who, best, walking = i, gap, (q.vel * u.conjugate()).real > CLOSING
+    return who, walking
 
 
 @jit
@@ -211,12 +213,12 @@ def behind(s):  # noqa: ANN001, ANN201
 
 @jit
 def make_way(s, forward):  # noqa: ANN001, ANN201
-    """(backing off?, velocity): someone walks toward the robot along a passage too narrow for both (or the
-    robot has waited `patience` s face to face with them): it backs away along the way it came (toward its
-    previous waypoints) at MAKE_WAY_SPEED, and steps aside, off their way, where the passage has room. A
-    person and a robot that both wait for the other are a deadlock; the robot is the one that gives way."""
+    """(backing off?, velocity): someone walks toward the robot along a passage too narrow for both (or has
+    stood face to face with it, within FACE_GAP, for `patience` s): it goes back the way it came (toward its
+    previous waypoints) at MAKE_WAY_SPEED while they keep coming, and steps aside, off their way, where the
+    passage has room. A person and a robot that both wait for the other are a deadlock; the robot gives way."""
     policy, robot, wps = s.policy[0], s.robot[0], s.waypoints
-    who = coming_through(s, forward)
+    who, walking = coming_through(s, forward)
     if who < 0:
         policy.retreat_to = -1
         return False, 0j
@@ -228,10 +230,8 @@ def make_way(s, forward):  # noqa: ANN001, ANN201
         if abs(back) < MAKE_WAY_REACH:
             return False, 0j  # at its start: nowhere to back off to
         side = room_beside(s, back / abs(back), need, who)
-        q = s.people[who]
-        u = (p - q.pos) / max(abs(p - q.pos), 1e-9)
-        closing = ((q.vel - robot.vel) * u.conjugate()).real > CLOSING
-        if policy.waited < policy.patience and not (closing and side == 0.0):  # a narrow passage: at once
+        gap = abs(s.people[who].pos - p) - s.people[who].radius - robot.radius
+        if not ((walking and side == 0.0) or (policy.waited >= policy.patience and gap <= FACE_GAP)):
             return False, 0j
         policy.retreat_to = j
     target = wps[policy.retreat_to]
@@ -239,7 +239,8 @@ def make_way(s, forward):  # noqa: ANN001, ANN201
         policy.retreat_to -= 1
         target = wps[policy.retreat_to]
     if abs(target - p) < MAKE_WAY_REACH:  # back at its start: nowhere further to go
-        return True, 0j
+        policy.retreat_to, policy.waited = -1, 0.0
+        return False, 0j
     back = (target - p) / abs(target - p)
     side = room_beside(s, back, need, who)
     if side != 0.0:
