@@ -43,3 +43,17 @@ def test_a_wrong_param_is_one_message(entry: str, words: str) -> None:
 def test_a_sweep_that_is_not_a_mapping_of_lists_is_refused() -> None:
     with pytest.raises(InputFileError, match="sweep"):
         parse_campaign(campaign_yaml(["parallel-traffic"], ["{name: a, robot: scripted, sweep: {max_speed: 0.3}}"], 1))
+
+
+def test_blame_falls_on_the_policy_when_the_scenario_verifies_with_the_default_robot(tmp_path) -> None:  # noqa: ANN001
+    from tests.campaign.conftest import POLICIES
+
+    spec = parse_campaign(campaign_yaml(["crowd-navigation"], ["scripted", f"{{name: rude, robot: '{POLICIES}:StraightThrough'}}"],
+                                        1, timeout=60.0))
+    out = tmp_path / "o"
+    run_campaign(spec, out, executor="inline")
+    rows = {r["policy"]: r for r in read_episodes(out)[0].to_pylist()}
+    assert rows["scripted"]["verified"]  # the scenario happens with the default robot
+    assert not rows["rude"]["verified"]
+    failed = [v for v in json.loads(rows["rude"]["verdicts"]) if v["required"] and not v["passed"]]
+    assert failed and all(v["blame"] == "policy" and v["blame_human"] is None for v in failed)

@@ -67,6 +67,7 @@ class WorkerCache:
     locations: dict[str, Any] = field(default_factory=dict)
     worlds: dict[str, Any] = field(default_factory=dict)
     runs: dict[str, Any] = field(default_factory=dict)
+    default_verified: dict[tuple[str, int], bool] = field(default_factory=dict)  # (scenario, seed) -> verified
     loads: int = 0  # how many locations this worker loaded (tests check it stays at one per location)
 
     def run(self, run_dir: str) -> Any:
@@ -203,11 +204,40 @@ def _measure(ep: Episode, settings: EpisodeSettings, cache: WorkerCache, deadlin
         from socnavgen.verify.runner import verify_trace
 
         report = verify_trace(cache.run(ep.scenario.run_dir), trace, location=location)
+        if not report.passed and not _is_default(ep) and _default_verifies(ep, settings, cache, deadline):
+            for f in report.failures:  # the scenario happens with the default robot: the policy is at fault
+                f.blame, f.blame_human, f.stage = "policy", None, None
+                f.blame_reason = (f"the scenario verified with the default robot ({_default_robot()}) on seed {ep.seed}: "
+                                  f"the policy under test ({ep.policy}) is what differs")
         row["verified"] = bool(report.passed)
         row["verify_failed"] = "; ".join(f.name for f in report.failures)
         row["verdicts"] = json.dumps([f.model_dump(mode="json", include=VERDICT_FIELDS) for f in report.findings])
     row["failure_reason"] = None if row["success"] else _why_not(metrics, trace)
     return row
+
+
+def _default_robot() -> str:
+    from socnavgen.sim import DEFAULT_ROBOT
+
+    return DEFAULT_ROBOT
+
+
+def _is_default(ep: Episode) -> bool:
+    return ep.robot == _default_robot() and not ep.params
+
+
+def _default_verifies(ep: Episode, settings: EpisodeSettings, cache: WorkerCache, deadline: _Deadline) -> bool:
+    """Whether the scenario verifies with the default robot on this seed (simulated and verified once per
+    worker, scenario and seed; blame in a campaign falls on the policy under test when it does)."""
+    key = (ep.scenario.id, ep.seed)
+    if key not in cache.default_verified:
+        from socnavgen.verify.runner import verify_trace
+
+        default = Episode(ep.scenario, _default_robot(), _default_robot(), ep.seed)
+        trace, location, _ = simulate_episode(default, settings, cache, deadline)
+        cache.default_verified[key] = bool(verify_trace(cache.run(ep.scenario.run_dir), trace,
+                                                        location=location).passed)
+    return cache.default_verified[key]
 
 
 def warm_up_compiled() -> None:
