@@ -29,8 +29,8 @@ from socnavgen.sim.robot.polite import (
     POLITE_GAP,
     keep_clear,
     make_way,
-    nearest_gap,
     pass_aside,
+    toward_near,
     yield_to,
 )
 from socnavgen.sim.world.queries import clearance_at, nearest_obstacle, path_clear
@@ -279,7 +279,7 @@ def scripted_act(s, now):  # noqa: ANN001, ANN201
         if back < 0:  # never retreat on its own: a crowd pushing it back would drive it the wrong way for good
             v -= back * u
     v += pass_aside(s, direction)
-    if nearest_gap(s) < PASS_GAP and abs(v) > CLOSE_SPEED:
+    if abs(v) > CLOSE_SPEED and toward_near(s, v, PASS_GAP):
         v = v * (CLOSE_SPEED / abs(v))
     v = keep_clear(s, slide_along_walls(s, v + yield_to(s)), POLITE_GAP)
     forward = (v * direction.conjugate()).real

@@ -6,7 +6,8 @@ them, steps back from someone walking into it, and never moves closer than a mar
   right has no room, until the lateral distance between the two centres leaves PASS_GAP between the bodies
   (or as far as the walls allow). A head-on walker's social force has no sideways part when the two are
   exactly in line (lightsfm's angular term vanishes at theta = 0), so without this the two meet nose to nose.
-* close_speed: at most CLOSE_SPEED while anyone is within PASS_GAP (intimate space, Hall's 0.45 m).
+* close_speed: at most CLOSE_SPEED toward anyone within PASS_GAP (intimate space, Hall's 0.45 m); moving
+  away from them is not slowed (someone walking into its back or side is left behind, not waited for).
 * yield_to: a person closing in within YIELD_GAP: the robot backs away from them (the robot gives way).
 * make_way: someone walking toward it in a passage too narrow for both, after it waited `patience` s: it
   steps aside where there is room, else backs away along the way it came until they can pass.
@@ -96,6 +97,17 @@ def nearest_gap(s):  # noqa: ANN001, ANN201
     for i in range(people.shape[0]):
         best = min(best, abs(people[i].pos - robot.pos) - people[i].radius - robot.radius)
     return best
+
+
+@jit
+def toward_near(s, v, gap):  # noqa: ANN001, ANN201
+    """Whether velocity v takes the robot toward someone within `gap` (driving away from them is not slowed)."""
+    robot, people = s.robot[0], s.people
+    for i in range(people.shape[0]):
+        d = people[i].pos - robot.pos
+        if abs(d) - people[i].radius - robot.radius < gap and (v * d.conjugate()).real > 0:
+            return True
+    return False
 
 
 @jit
