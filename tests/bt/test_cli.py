@@ -69,9 +69,12 @@ def test_check_findings_go_to_stdout(tmp_path: Path) -> None:
 
 def test_check_target_and_humans(tmp_path: Path) -> None:
     good = write(tmp_path, "good.xml", GOOD)
-    result = runner.invoke(app, ["bt", "check", "--target", "hunav2", str(good)])
+    assert runner.invoke(app, ["bt", "check", "--target", "hunav2", str(good)]).exit_code == 0  # the script's condition
+    moved = write(tmp_path, "moved.xml", GOOD.replace("<RobotSays agent_id='{id}' message='4'/>",
+                                                      "<RobotMoved agent_id='{id}'/>"))
+    result = runner.invoke(app, ["bt", "check", "--target", "hunav2", str(moved)])
     assert result.exit_code == 1
-    assert "node 'RobotSays' is not supported by target hunav2" in result.output
+    assert "node 'RobotMoved' is not supported by target hunav2" in result.output
     follow = write(tmp_path, "follow.xml", GOOD.replace("<RobotSays agent_id='{id}' message='4'/>",
                                                         "<FollowHuman agent_id='{id}' target_id='3' time_step='{dt}'/>"))
     assert runner.invoke(app, ["bt", "check", str(follow)]).exit_code == 0

@@ -214,7 +214,7 @@ def test_target_ids() -> None:
 
 @pytest.mark.parametrize(("target", "unsupported"), [
     ("socrates", []),
-    ("hunav2", ["RobotSays", "HumanSays"]),
+    ("hunav2", ["HumanSays"]),  # RobotSays becomes the robot script's condition (export.speech)
     ("hunav1", ["RobotSays", "HumanSays", "GiveWaytoRobot", "MakeGesture"]),
 ])
 def test_target_support(target: str, unsupported: list[str]) -> None:

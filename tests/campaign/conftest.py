@@ -23,6 +23,9 @@ def campaign_yaml(cards: list[str], policies: list[str], seeds: int, timeout: fl
 
 @pytest.fixture
 def small_spec() -> CampaignSpec:
-    """2 scenarios x 2 policies (the default scripted robot and the bad `straight` one) x 2 seeds."""
-    text = campaign_yaml(["blind-corner", "parallel-traffic"], ["scripted", "{name: bad, robot: straight}"], 2)
+    """2 scenarios x 2 policies (the default scripted robot and the bad `straight` one) x 2 seeds. Scenarios where
+    the rude robot meets people who cannot see it coming in time (a blind corner, an intersection between racks):
+    people step round a robot they see, so in parallel traffic (they overtake the slow robot and keep off it)
+    the straight robot touched nobody and its rudeness did not show."""
+    text = campaign_yaml(["blind-corner", "intersection-no-gesture"], ["scripted", "{name: bad, robot: straight}"], 2)
     return parse_campaign(text)

@@ -32,7 +32,7 @@ def test_env_checker_and_an_episode(small_spec, tmp_path) -> None:  # noqa: ANN0
         total, steps, done = total + reward, steps + 1, terminated or truncated
     assert steps <= 30.0 / 0.05 + 1
     assert float(np.hypot(*obs["goal"])) < start  # the action moved the robot toward its goal
-    assert info["scenario"].endswith(("blind-corner", "parallel-traffic"))
+    assert info["scenario"].endswith(("blind-corner", "intersection-no-gesture"))
 
     # actions outside the action space are refused with what is wrong, and leave the simulation as it was
     env.reset(seed=1)

@@ -5,6 +5,7 @@ as such, a failed start leaves nothing behind."""
 from __future__ import annotations
 
 import json
+import re
 import shutil
 
 import numpy as np
@@ -115,10 +116,11 @@ def test_report_survives_an_unreadable_table_and_says_so(tmp_path) -> None:  # n
     run_campaign(load_campaign(file), out, executor="inline")
     (out / "episodes.parquet").write_bytes(b"PAR1 garbage")
     notes: list[str] = []
-    html, md = write_report(out, gifs=0, resamples=200, notes=notes)
+    files = write_report(out, gifs=0, resamples=200, notes=notes)
+    md = files.summary
     assert any("episodes.parquet is unreadable" in n for n in notes)
     assert not any("unfinished" in n for n in notes)
-    assert "episodes.parquet is unreadable" in md.read_text() and "| mine |" in md.read_text()
+    assert "episodes.parquet is unreadable" in md.read_text() and re.search(r"^\| mine +\|", md.read_text(), re.M)
 
 
 def test_report_of_a_stopped_campaign_says_it_is_unfinished(tmp_path) -> None:  # noqa: ANN001
@@ -132,7 +134,7 @@ def test_report_of_a_stopped_campaign_says_it_is_unfinished(tmp_path) -> None:  
     with pytest.raises(KeyboardInterrupt):
         run_campaign(load_campaign(file), out, executor="inline", batch_size=1, progress=stop_after_first)
     notes: list[str] = []
-    _, md = write_report(out, gifs=0, resamples=200, notes=notes)
+    md = write_report(out, gifs=0, resamples=200, notes=notes).summary
     assert notes and notes[0].startswith("unfinished campaign: 1 of 4 episodes")
     assert "unfinished campaign" in md.read_text()
     finished = run_campaign(load_campaign(file), out, executor="inline")
@@ -162,7 +164,7 @@ def test_report_of_a_deterministic_policy(tmp_path) -> None:  # noqa: ANN001
     refused the negative error bar ('yerr' must not contain negative values)."""
     from socnavgen.campaign.aggregate import aggregate
     from socnavgen.campaign.columns import schema
-    from socnavgen.campaign.plots import metric_bars
+    from socnavgen.campaign.plots import metric_bars, save
     from socnavgen.campaign.stats import bootstrap_mean
 
     est = bootstrap_mean(np.full(3, 0.7))
@@ -170,7 +172,7 @@ def test_report_of_a_deterministic_policy(tmp_path) -> None:  # noqa: ANN001
     rows = [{"episode": f"s|p|{k}", "scenario": "s", "policy": "p", "seed": k, "status": "ok", "success": True,
              "path_efficiency": 0.7, "time_to_reach_goal": 5.6} for k in range(3)]
     table = pa.Table.from_pylist(rows, schema=schema(["path_efficiency", "time_to_reach_goal"]))
-    assert metric_bars(aggregate(table, resamples=200)).startswith(b"\x89PNG")
+    assert save(metric_bars(aggregate(table, resamples=200)), tmp_path, "bars").startswith(b"\x89PNG")
 
 
 def test_spec_refuses_what_would_fail_later(tmp_path) -> None:  # noqa: ANN001

@@ -24,15 +24,15 @@ def test_inline_and_local_processes_write_the_same_table(small_spec, tmp_path) -
     a = pq.read_table(tmp_path / "inline" / "episodes.parquet").drop(VOLATILE)
     b = pq.read_table(tmp_path / "local" / "episodes.parquet").drop(VOLATILE)
     assert a.equals(b)
-    rows = duckdb.sql(f"select scenario, policy, seed, status, success, collisions, verified, verdicts, "
-                      f"path_efficiency from '{tmp_path / 'inline' / 'episodes.parquet'}' "
+    rows = duckdb.sql(f"select scenario, policy, seed, status, success, minimum_distance_to_people, verified, "
+                      f"verdicts, path_efficiency from '{tmp_path / 'inline' / 'episodes.parquet'}' "
                       f"order by scenario, policy, seed").fetchall()
-    assert [(r[0], r[1], r[2]) for r in rows] == [(s, p, k) for s in ("warehouse/blind-corner", "warehouse/parallel-traffic")
+    assert [(r[0], r[1], r[2]) for r in rows] == [(s, p, k) for s in ("warehouse/blind-corner", "warehouse/intersection-no-gesture")
                                                   for p in ("bad", "scripted") for k in (0, 1)]
     assert all(r[3] == "ok" and r[6] is not None and r[7].startswith("[") for r in rows)
     bad = [r[5] for r in rows if r[1] == "bad"]
     good = [r[5] for r in rows if r[1] == "scripted"]
-    assert sum(bad) > sum(good)  # driving through people shows in the table
+    assert max(bad) == 0.0 < min(good)  # driving through people shows in the table: bodies overlap
 
 
 def test_crash_and_hang_fail_their_episode_only(tmp_path) -> None:  # noqa: ANN001
@@ -57,8 +57,8 @@ def test_a_worker_loads_each_location_once(small_spec, tmp_path, monkeypatch) ->
     run_campaign(small_spec, tmp_path / "o", executor="inline")
     assert cache.loads == 1 and len(cache.worlds) == 1
     # one LoadedRun per scenario, shared by its 4 episodes' simulations and verifications: paths.json read once
-    assert sorted(Path(r).name for r in cache.runs) == ["blind-corner", "parallel-traffic"]
-    assert sorted(read[-2:]) == ["blind-corner", "parallel-traffic"] and len(read) == 4  # 2 while building the suite
+    assert sorted(Path(r).name for r in cache.runs) == ["blind-corner", "intersection-no-gesture"]
+    assert sorted(read[-2:]) == ["blind-corner", "intersection-no-gesture"] and len(read) == 4  # 2 while building the suite
 
 
 def test_metric_selection_and_definitions(tmp_path) -> None:  # noqa: ANN001

@@ -23,31 +23,20 @@ MEET = 2.0  # m: centre distance that counts as meeting (the verifier's default)
 # 0.005 m) and the scripted robot's 3 cm keep-clear touch people: simulator and card placement work, not the
 # verifier's (do not loosen it to shrink this list).
 KNOWN_FAILING: dict[tuple[str, str], str] = {
-    ("warehouse", "frontal-approach"): "contact (closest gap 0.00 m)",
-    ("warehouse", "pedestrian-overtaking"): "contact (closest gap 0.00 m)",
-    ("warehouse", "intersection-no-gesture"): "contact (closest gap 0.00 m)",
-    ("warehouse", "intersection-wait"): "contact (closest gap 0.00 m)",
-    ("warehouse", "blind-corner"): "contact (closest gap 0.00 m); no progress 11.5 s behind human1 (jittering)",
+    ("warehouse", "robot-overtaking"): "contact (closest gap 0.00 m)",
     ("warehouse", "leave-group"): "contact (closest gap 0.00 m)",
-    ("warehouse", "parallel-traffic"): "contact (closest gap 0.00 m)",
-    ("warehouse", "perpendicular-traffic"): "contact (closest gap 0.00 m)",
+    ("warehouse", "crowd-navigation"): "contact (closest gap 0.03 m)",
     ("warehouse", "robot-crowding"): "contact (closest gap 0.00 m)",
-    ("hospital", "frontal-approach"): "contact (closest gap 0.00 m)",
-    ("hospital", "pedestrian-overtaking"): "contact (closest gap 0.00 m)",
+    ("warehouse", "perpendicular-traffic"): "contact (0.03 m): in the 1.9 m top aisle the person waits 0.5 m off "
+                                            "the oncoming robot (no room to pass) and the robot creeps on to its "
+                                            "3 cm keep-clear",
     ("hospital", "blind-corner"): "contact (closest gap 0.00 m); hidden_until: seen before they came within 5 m",
     ("hospital", "entering-room"): "contact (closest gap 0.00 m)",
-    ("hospital", "exiting-room"): "contact (closest gap 0.00 m)",
-    ("hospital", "entering-elevator"): "contact (closest gap 0.00 m)",
-    ("hospital", "parallel-traffic"): "contact (closest gap 0.00 m)",
+    ("hospital", "exiting-elevator"): "contact (closest gap 0.03 m)",
     ("hospital", "circular-crossing"): "contact (closest gap 0.00 m)",
-    ("home", "pedestrian-overtaking"): "contact (closest gap 0.00 m)",
-    ("home", "robot-overtaking"): "contact (closest gap 0.00 m)",
-    ("home", "intersection-no-gesture"): "contact (closest gap 0.00 m)",
-    ("home", "intersection-wait"): "contact (closest gap 0.00 m)",
+    ("home", "intersection-proceed"): "contact (closest gap 0.03 m)",
     ("home", "blind-corner"): "contact (closest gap 0.00 m)",
-    ("home", "entering-room"): "contact (closest gap 0.00 m)",
     ("home", "exiting-room"): "contact (closest gap 0.00 m)",
-    ("home", "parallel-traffic"): "contact (closest gap 0.00 m)",
     ("home", "perpendicular-traffic"): "contact (closest gap 0.00 m); meeting without an approach (starts 1.79 m apart at t=0)",
     ("home", "robot-crowding"): "contact (closest gap 0.03 m)",
 }

@@ -69,12 +69,12 @@ def human_for(xml: str, label: str) -> HumanExport:
 
 
 def without_leaf_ports(text: str) -> str:
-    """The same tree with the ports of 2.x leaves removed: behaviortreepy cannot declare ports, so BT.CPP
-    would reject every one; the ports themselves are checked by bt.loader_rules against the table."""
+    """The same tree with the ports of 2.x leaves removed (their `name` kept): behaviortreepy cannot declare
+    ports, so BT.CPP would reject every one; the ports themselves are checked by bt.loader_rules against the table."""
     root = read_xml(text, "tree")
 
     def strip(elem: BTElement) -> BTElement:
-        attrs = {} if elem.tag in HUNAV2_REGISTERED else dict(elem.attrs)
+        attrs = {k: v for k, v in elem.attrs.items() if k == "name" or elem.tag not in HUNAV2_REGISTERED}
         return BTElement(elem.tag, attrs, [strip(c) for c in elem.children])
 
     trees = "".join(element_xml(strip(t)) for t in root.children if t.tag == "BehaviorTree")

@@ -24,9 +24,10 @@ def test_export_command(make_run, tmp_path: Path) -> None:
 
 
 def test_export_error_exit_code(make_run, tmp_path: Path) -> None:
-    run = make_run(trees={"human1": GIVE_WAY_TREE, "human2": GIVE_WAY_TREE})
+    moved = GIVE_WAY_TREE.replace('<RobotSays agent_id="{id}" message="4"/>', '<RobotMoved agent_id="{id}"/>')
+    run = make_run(trees={"human1": moved, "human2": GIVE_WAY_TREE})
     done = run_cli("export", str(run), "--format", "hunav2", "-o", str(tmp_path / "o"))
-    assert done.returncode == 2
-    assert "RobotSays" in done.stderr and "Traceback" not in done.stderr
+    assert done.returncode == 2  # no 2.x condition reads the robot's velocity
+    assert "RobotMoved" in done.stderr and "Traceback" not in done.stderr
     done = run_cli("export", str(run), "--format", "gazebo", "-o", str(tmp_path / "o"))
     assert done.returncode == 2 and "unknown --format" in done.stderr

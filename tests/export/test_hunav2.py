@@ -85,7 +85,7 @@ def test_trees_are_v4_self_contained_and_use_2x_nodes(exported: Path) -> None:
     assert doc.includes == () and "RegularNavTree" in doc.trees  # inlined, not included
     known = registered_ports()
     builtins = {"ReactiveSequence", "ReactiveFallback", "Sequence", "Fallback", "Inverter", "RunOnce",
-                "SetBlackboard", "SubTree"}
+                "SetBlackboard", "SubTree", "KeepRunningUntilFailure", "ForceSuccess"}
     nodes = [n for t in doc.trees.values() if t.root is not None for n in t.root.walk()]
     for node in nodes:
         assert node.name in known or node.name in builtins, node.name
@@ -149,14 +149,14 @@ def test_embedded_and_standalone_models_match_reference_structure(exported: Path
 
 def test_every_untranslatable_node_is_listed_and_nothing_written(make_run, tmp_path: Path) -> None:
     out = tmp_path / "out"
-    run = make_run(trees={"human1": GIVE_WAY_TREE, "human2": GIVE_WAY_TREE})
+    moved = GIVE_WAY_TREE.replace('<RobotSays agent_id="{id}" message="4"/>', '<RobotMoved agent_id="{id}"/>')
+    run = make_run(trees={"human1": moved, "human2": moved})
     with pytest.raises(SocnavgenError) as err:
         export_run(run, "hunav2", out)
     message = str(err.value)
-    assert "2 node(s)" in message  # RobotSays is refused; GiveWaytoRobot translates (AvoidRobot)
+    assert "2 node(s)" in message  # RobotMoved is refused; GiveWaytoRobot translates (AvoidRobot)
     for human in ("human1", "human2"):
-        assert f"{human}.xml:6: RobotSays cannot be exported: HuNavSim 2.x has no input for what the robot says" \
-            in message
+        assert f"{human}.xml:6: RobotMoved cannot be exported: no 2.x condition reads the robot's velocity" in message
     assert "GiveWaytoRobot" not in message
     assert not out.exists()
 
@@ -209,3 +209,30 @@ def test_subtree_semantics_survive_the_translation(xml: str, call: dict[str, str
     assert doc is not None and doc.trees["M"].root is not None
     (subtree,) = [n for n in doc.trees["M"].root.walk() if n.name == "SubTree"]
     assert dict(subtree.attrs) == call
+
+
+@pytest.mark.parametrize(("who", "heard"), [("human1", True), (None, True), ("human2", False)])
+def test_a_phrase_said_when_someone_lags_behind_is_heard_farther_than_the_cue_distance(
+        make_run, who: str | None, heard: bool) -> None:  # noqa: ANN001
+    """human_farther (a guide calling a slow follower): the person hears it while the robot is farther than the
+    cue's distance from it (Inverter(IsRobotClose)), if it is said to this person or to anyone; said to another
+    person, never. Not refused."""
+    from socnavgen.bt.library import ROBOT_GESTURES
+    from socnavgen.export.hunav2 import translate_person
+    from socnavgen.export.scene import build_scene
+    from socnavgen.run import RunFolder
+    from socnavgen.run.spec import CueTrigger, Encounter, HumanPart, RobotCue, RobotScript, ScenarioSpec
+
+    run = make_run(trees={"human1": GIVE_WAY_TREE, "human2": REGULAR_TREE})  # human1: RobotSays message 4
+    cue = RobotCue(trigger=CueTrigger(when="human_farther", human=who, distance=3.5), say=ROBOT_GESTURES[4], hold=2.0)
+    meet = Encounter(id="e1", place="NODE", node="ee", humans=[HumanPart(human="human1"), HumanPart(human="human2")])
+    RunFolder(run).write_spec(ScenarioSpec(script=RobotScript(cues=[cue]), encounters=[meet]))
+    scene, _ = build_scene(run)
+    done = translate_person(next(h for h in scene.humans if h.name == "human1"), None, scene)
+    assert not done.problems
+    root = DET.fromstring(done.text)
+    far = [inv for inv in root.iter("Inverter") if any(c.tag == "IsRobotClose" and c.get("threshold") == "3.5"
+                                                        for c in inv)]
+    never = [inv for inv in root.iter("Inverter") if [c.tag for c in inv] == ["AlwaysSuccess"]]
+    assert bool(far) is heard and bool(never) is not heard
+    assert ("farther than 3.5 m" in done.spoken[0].text) is heard and not done.spoken[0].refused

@@ -6,20 +6,25 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from socnavgen.export.as_target import relabel, stands_for
+
 from .conformance_helpers import card_scenes
-from .equivalence_helpers import outcomes, relabel, stands_for
+from .equivalence_helpers import outcomes
 
 # Where 2.x lacks the behaviour, the outcome may differ; each case is named with why (docs/export.md). The
 # test fails if another card diverges or if this one stops diverging (then remove it here).
 # Since contact is a gap of 5 cm or less (issue 25), whether a person brushes the robot (the simulator puts people
 # who walk into it back on its surface, 5 mm away) depends on small differences between the twins' motion.
 _BRUSH = "only one twin touches the person (gap <= 5 cm); the other passes as close as "
+_SIDE_STEP = ("the socrates person side-steps (GiveWaytoRobot) right against the robot passing it (gap <= 5 cm: "
+              "contact); 2.x has no side step, its AvoidRobot keeps 2 m away and the hunav2 twin passes")
 KNOWN_DIVERGENT = {
     "hospital/narrow-doorway": "2.x has no side-step: GiveWaytoRobot becomes AvoidRobot, which keeps away; the "
                                "socrates person side-steps in the 1.2 m door against the robot (gap 0.00 m)",
-    "home/accompanying-peer": _BRUSH + "a few cm (the hunav2 twin touches)",
+    "home/robot-overtaking": _SIDE_STEP,
+    "hospital/robot-overtaking": _SIDE_STEP,
+    "warehouse/robot-overtaking": _SIDE_STEP,
     "hospital/robot-crowding": _BRUSH + "a few cm (the hunav2 twin touches)",
-    "warehouse/robot-crowding": _BRUSH + "a few cm (the socrates twin touches)",
 }
 
 
@@ -51,7 +56,8 @@ def test_relabel_moves_actions_and_successes_to_the_library_node() -> None:
     tree = ("<root main_tree_to_execute='T'><BehaviorTree ID='T'><Sequence><IsRobotNearby agent_id='{id}' "
             "distance='2'/><FollowRobot agent_id='{id}' time_step='{dt}'/></Sequence></BehaviorTree></root>")
     mapping = stands_for(tree)
-    assert mapping == {"IsRobotClose": "IsRobotNearby", "CuriousNav": "FollowRobot"}
+    # FollowRobot is a composition: both of its 2.x actions stand for it (its IsRobotClose gate does not)
+    assert mapping == {"IsRobotClose": "IsRobotNearby", "CuriousNav": "FollowRobot", "AvoidRobot": "FollowRobot"}
     curious, follow = NODE_NAMES.index("CuriousNav"), NODE_NAMES.index("FollowRobot")
     close, nearby = NODE_NAMES.index("IsRobotClose"), NODE_NAMES.index("IsRobotNearby")
     trace = Trace.__new__(Trace)

@@ -19,6 +19,10 @@ from socnavgen.export.writer import write_export
 from .export_helpers import GIVE_WAY_TREE, REGULAR_TREE, agent_shape, shape
 
 
+def skeleton(n):  # noqa: ANN001, ANN201 - bt.model.Node -> nested tuples (names and ports)
+    return (n.name, tuple(sorted(n.ports)), tuple(skeleton(c) for c in n.children))
+
+
 @pytest.fixture
 def exported(make_run, tmp_path: Path) -> Path:
     out = tmp_path / "out"
@@ -50,13 +54,16 @@ def test_trees_are_v3_and_selected_by_behavior(exported: Path, reference_dir: Pa
     docs = {i: parse_document((trees / f"LLMBT_{i}.xml").read_text(), f"LLMBT_{i}.xml") for i in (0, 1)}
     assert all(problems == [] and d is not None and d.format_version == 3 for d, problems in docs.values())
     assert docs[0][0].main_tree == "GiveWayTree" and docs[1][0].main_tree == "WalkTree"
-    assert (trees / "LLMBT_0.xml").read_text().strip() == GIVE_WAY_TREE.strip()
+    # human1 meets the robot at ee: its tree is wrapped in its timing (export.timing), its own tree inside intact
+    timing = docs[0][0].trees["GiveWayTree"].root
+    assert (timing.name, timing.label) == ("ReactiveFallback", "socnavgen_timing")
+    own = parse_document(GIVE_WAY_TREE)[0].trees["GiveWayTree"].root
+    inner = next(n for n in timing.walk() if n.name == "ForceSuccess").children[0]
+    assert skeleton(inner) == skeleton(own)
+    assert (trees / "LLMBT_1.xml").read_text().strip() == REGULAR_TREE.strip()  # human2 has no meeting place
     ours, _ = parse_document((trees / "BTRegularNav.xml").read_text())
     ref, problems = parse_document((reference_dir / "data/socrates-hunav/behavior_trees/BTRegularNav.xml").read_text())
     assert ours is not None and ref is not None and problems == []
-
-    def skeleton(n):  # noqa: ANN001, ANN202
-        return (n.name, tuple(sorted(n.ports)), tuple(skeleton(c) for c in n.children))
     assert skeleton(ours.trees["RegularNavTree"].root) == skeleton(ref.trees["RegularNavTree"].root)
 
 
@@ -72,8 +79,9 @@ def test_robot_poses_and_trajectory_match_wrapper_files(exported: Path, referenc
     ref = json.loads((ref_cfg / "trajectory.json").read_text())
     assert list(traj) == list(ref)
     assert traj["trajectories"]["robot"] == ["aa", "ee", "bb", "cc"]
-    # every human has an interaction point entry (the wrapper indexes it); "" = never paused
-    assert traj["interaction_points"] == {"human1": "ee", "human2": ""}
+    # every human has an interaction point entry (the wrapper indexes it); "" = never paused: human2 has none,
+    # human1's tree waits for the robot itself (the wrapper's pause would hold it a second time)
+    assert traj["interaction_points"] == {"human1": "", "human2": ""}
     launch = yaml.safe_load((cfg / "launch_params.yaml").read_text())
     assert set(launch) == set(yaml.safe_load((ref_cfg / "launch_params.yaml").read_text()))
 

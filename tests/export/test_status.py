@@ -58,10 +58,15 @@ def test_export_says_it_in_its_result_its_readme_and_on_the_terminal(make_run, t
     assert export_run(run, "socrates", tmp_path / "c").verification == "passed"
 
 
+MOVED_TREE = GIVE_WAY_TREE.replace('<RobotSays agent_id="{id}" message="4"/>', '<RobotMoved agent_id="{id}"/>')
+
+
 def test_the_targets_that_would_refuse_a_run(make_run) -> None:  # noqa: ANN001
+    moved = make_run(trees={"human1": MOVED_TREE, "human2": REGULAR_TREE}, name="moved")
+    refused = target_refusals(moved)
+    assert set(refused) == {"hunav2", "hunav1"} and "RobotMoved" in refused["hunav2"]
     phrase = make_run(trees={"human1": GIVE_WAY_TREE, "human2": REGULAR_TREE}, name="phrase")
-    refused = target_refusals(phrase)
-    assert set(refused) == {"hunav2", "hunav1"} and "RobotSays" in refused["hunav2"]
+    assert set(target_refusals(phrase)) == {"hunav1"}  # RobotSays becomes the script's condition for 2.x
     plain = make_run(trees={"human1": TRANSLATABLE_TREE, "human2": REGULAR_TREE}, name="plain")
     assert "hunav2" not in target_refusals(plain)
 
@@ -70,9 +75,41 @@ def test_the_targets_that_would_refuse_a_run(make_run) -> None:  # noqa: ANN001
 def test_generate_warns_about_its_own_target(make_run, capsys, target, loud) -> None:  # noqa: ANN001
     from socnavgen.cli.generate_cmd import _export_check
 
-    run = make_run(trees={"human1": GIVE_WAY_TREE, "human2": REGULAR_TREE})
+    run = make_run(trees={"human1": MOVED_TREE, "human2": REGULAR_TREE})
     _export_check(RunFolder(run), target)
     out, err = capsys.readouterr()
     text = " ".join((out + err).split())
-    assert "`export --format hunav2`" in text and "RobotSays" in text
+    assert "`export --format hunav2`" in text and "RobotMoved" in text
     assert ("warning" in err) is loud and "hunav1" not in text
+
+
+def test_generate_says_what_hunav2_approximates(make_run, capsys) -> None:  # noqa: ANN001
+    from socnavgen.cli.generate_cmd import _export_check
+
+    run = make_run(trees={"human1": GIVE_WAY_TREE, "human2": REGULAR_TREE})
+    _export_check(RunFolder(run), "hunav2")
+    out, err = capsys.readouterr()
+    text = " ".join((out + err).split())
+    assert "warning" not in err and "approximates what the robot says" in text
+    assert "human1.xml:6: RobotSays becomes:" in text and "never" in text  # no script says EXCUSE ME here
+    _export_check(RunFolder(run), None)  # the note is for runs made for 2.x
+    assert "approximates" not in " ".join(capsys.readouterr())
+
+
+def test_a_recorded_simulation_is_judged_by_its_digests_not_file_times(tmp_path: Path) -> None:
+    """The simulator records what a trace was made from; export's verdict goes stale when a judged file's
+    content changes, even when its modification time is put back (a copy, a checkout, a clock)."""
+    from socnavgen.cards.generate import write_card_run
+    from socnavgen.verify import verify_run
+
+    warehouse = Path(__file__).resolve().parents[2] / "examples" / "locations" / "warehouse"
+    run = tmp_path / "run"
+    write_card_run("narrow-doorway", warehouse, run)
+    verify_run(run)  # simulates (writing sim/outputs.json) and writes sim/verify.json
+    assert export_run(run, "socrates", tmp_path / "a").verification in ("passed", "failed")
+    paths = run / "paths.json"
+    before = paths.stat()
+    paths.write_text(paths.read_text().replace("\n", " \n"))  # same plan, other bytes
+    os.utime(paths, ns=(before.st_atime_ns, before.st_mtime_ns))
+    result = export_run(run, "socrates", tmp_path / "b")
+    assert result.verification == "stale" and "paths.json changed" in result.verification_message

@@ -107,3 +107,19 @@ def test_simulate_a_missing_folder(cli, tmp_path) -> None:  # noqa: ANN001
     result = cli("simulate", tmp_path / "nope")
     assert result.code == 2 and "no such run folder" in result.err and no_traceback(result.err)
     assert not (tmp_path / "nope").exists()
+
+
+def test_two_robots_on_one_run_keep_their_own_outputs(cli, card_run, tmp_path) -> None:  # noqa: ANN001
+    """`simulate --out DIR`: a second robot simulated on the same run no longer replaces the first one's set;
+    figures in vector formats and an MP4 on request; a wrong format is one message, exit 2."""
+    a, b = tmp_path / "scripted", tmp_path / "straight"
+    assert cli("simulate", card_run, "--timeout", "8", "--out", a, "--figures", "png,svg,pdf").code == 0
+    assert cli("simulate", card_run, "--timeout", "8", "--robot", "straight", "--out", b, "--mp4").code == 0
+    assert json.loads((a / "outputs.json").read_text())["made"]["robot"] == "scripted"
+    assert json.loads((b / "outputs.json").read_text())["made"]["robot"] == "straight"
+    assert (a / "trajectories.svg").read_text().lstrip().startswith("<?xml")
+    assert (a / "trajectories.pdf").read_bytes().startswith(b"%PDF")
+    assert (b / "animation.mp4").read_bytes()[4:8] == b"ftyp" and not (b / "trajectories.svg").exists()
+    assert not (card_run / "sim").exists()  # RUN/sim untouched
+    wrong = cli("simulate", card_run, "--out", a, "--figures", "png,tiff")
+    assert wrong.code == 2 and "tiff" in wrong.err and "Traceback" not in wrong.err

@@ -18,16 +18,20 @@ def robot_xy(trace, step):  # noqa: ANN001, ANN201
 
 
 def test_human_whose_tree_stops_when_the_robot_blocks_it_stops():
+    """In a corridor too narrow to pass (1.4 m), a robot standing in it blocks the way: the tree stops the
+    person in front of it. In an open room a walker steps around the same robot (people.avoid)."""
     stop_tree = tree_xml('<Fallback><Sequence><IsRobotBlocking agent_id="{id}" distance="2.0"/>'
                          f'<LookAtRobot agent_id="{{id}}"/></Sequence>{REGULAR}</Fallback>')
     robot = [(8.0, 5.0), (9.0, 5.0)]
-    trace = make_sim([human(start=(2.0, 5.0), goals=[(18.0, 5.0)])], [stop_tree], robot, Stay(), timeout=15).run()
+    corridor = empty_room(20.0, 10.0, walls=[(0.0, 0.0, 20.0, 4.3), (0.0, 5.7, 20.0, 10.0)])
+    trace = make_sim([human(start=(2.0, 5.0), goals=[(18.0, 5.0)])], [stop_tree], robot, Stay(), world=corridor,
+                     timeout=15).run()
     final = abs(xy(trace, -1) - 8.0 - 5.0j)
     assert 0.9 < final <= 2.05  # stopped in front of the robot, not on it
     assert abs(trace.humans[-1, 0, 3]) < 1e-9 and abs(trace.humans[-1, 0, 4]) < 1e-9
     assert trace.executed(0, "LookAtRobot")[-50:].all()
     assert trace.humans[:, 0, 0].max() < 8.0 - 0.75
-    # control: the plain walking tree goes past the same robot
+    # control: the plain walking tree goes round the same robot in an open room
     walker = make_sim([human(start=(2.0, 5.0), goals=[(18.0, 5.0)])], [tree_xml(REGULAR)], robot, Stay(),
                       timeout=15).run()
     assert walker.humans[-1, 0, 0] > 12.0

@@ -53,6 +53,20 @@ def test_cue_says_phrase_when_a_human_comes_within_distance_and_holds_it():
     assert held[-1] - held[0] == pytest.approx(2.0, abs=0.1)  # held 2 s, once
 
 
+def test_cue_fires_when_a_human_falls_farther_behind_than_its_distance():
+    """A guide's cue (human_farther): nothing while the person is close, the phrase once they are farther."""
+    script = RobotScript(cues=[RobotCue(trigger=CueTrigger(when="human_farther", human="human1", distance=4.0),
+                                        say="FOLLOW ME", hold=1.0)])
+    sim = make_sim([human(start=(2.0, 5.0), goals=[(2.0, 5.0)])], [STANDING], [(3.5, 5.0), (18.0, 5.0)],
+                   policy=ScriptedPolicy(), script=script)
+    rows = _run(sim, 300)
+    said = [(t, abs(p - complex(2.0, 5.0))) for t, g, p in rows if g == FOLLOW_ME]
+    assert said, "the robot never said FOLLOW ME"
+    first_t, first_d = said[0]
+    assert first_d > 4.0 and first_d < 4.0 + 0.1  # as soon as the person is farther than 4 m, not before
+    assert all(g != FOLLOW_ME for t, g, _ in rows if t < first_t)
+
+
 def test_wait_cue_stands_still_for_its_seconds_then_drives_on():
     script = RobotScript(cues=[RobotCue(trigger=CueTrigger(when="after", seconds=1.0), wait=2.0)])
     sim = make_sim([], [], [(2.0, 5.0), (18.0, 5.0)], policy=ScriptedPolicy(), script=script)

@@ -98,8 +98,10 @@ def test_wall_force_desired_force_and_integration_match_the_formulas():
     people, _, sizes = crowd([10 + 5j], [0.5 + 0j])
     p = people[0]
     p.walks, p.to_goal, p.target, p.target_radius, p.desired_speed = True, False, 10 + 9j, 0.5, 1.5
+    p.via = p.target  # where routing (people.routing) heads them: straight at it in the open
     scratch = new_scratch(1, 0)
-    move(people, sizes, prm, 0.1, scratch)
+    far = 100 + 100j  # the robot, out of the way
+    move(people, sizes, prm, 0.1, scratch, far, 0.35)
     assert scratch.force[0] == pytest.approx(2.0 * (1.5j - 0.5) / 0.5)  # toward the target at 1.5 m/s
     v = 0.5 + scratch.force[0] * 0.1
     v = v * min(1.0, 1.5 / abs(v))  # capped at the desired speed
@@ -107,17 +109,33 @@ def test_wall_force_desired_force_and_integration_match_the_formulas():
     assert p.yaw == pytest.approx(math.atan2(v.imag, v.real))
     q = people[0]
     q.vel, q.target = 0.5 + 0j, q.pos + 0.3  # inside the target's radius: brake -v/tau
-    move(people, sizes, prm, 0.1, scratch)
+    move(people, sizes, prm, 0.1, scratch, far, 0.35)
     assert scratch.force[0] == pytest.approx(-1.0)
 
 
 def test_group_forces_pull_members_together():
     people, _, sizes = crowd([0j, 4 + 0j, 2 + 2j], groups=[3, 3, -1])
+    people.walks[:], people.to_goal[:] = True, True  # all three walk their walk (RegularNav)
     direction = np.array([-1 + 0j, 1 + 0j, 0j])  # both members walking away from each other
     force = np.zeros(3, complex)
-    group_forces(people, sizes, SFMParams(), direction, force, np.zeros(1, complex))
+    group_forces(people, SFMParams(), direction, force, np.zeros(1, complex), np.zeros(1))
     assert force[2] == 0
     # coherence toward the centre (2, 0): k_coh * (tanh(2 - 0.5) + 1)/2 * 2; gaze brakes along e: 3 * (-4)/1 * e
     coh = 2.0 * (math.tanh(2 - 0.5) + 1) / 2 * 2
     assert force[0].real == pytest.approx(coh + 3.0 * 4.0)
     assert force[1].real == pytest.approx(-coh - 3.0 * 4.0)
+
+
+@pytest.mark.parametrize("other", ["robot-related", "stands"])
+def test_a_member_whose_tree_does_something_else_leaves_the_group_forces(other: str):
+    """A member whose tree makes them react to the robot (behavior 1: follow, run away...) or stand leaves
+    the group's forces; the others are no longer held back by them (a group of one feels none)."""
+    people, _, sizes = crowd([0j, 4 + 0j], groups=[3, 3])
+    people.walks[:], people.to_goal[:] = True, True
+    if other == "robot-related":
+        people.behavior[1] = 1
+    else:
+        people.walks[1] = False
+    force = np.zeros(2, complex)
+    group_forces(people, SFMParams(), np.array([-1 + 0j, 1 + 0j]), force, np.zeros(1, complex), np.zeros(1))
+    assert force[0] == 0 and force[1] == 0

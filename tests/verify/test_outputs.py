@@ -30,7 +30,7 @@ def test_trajectory_png(tmp_path: Path, give_way_run: Path, tiny_location: Path)
     plan = RunFolder(give_way_run).read_paths()
     out = plot_trajectories(crossing_trace(), loc, tmp_path / "sim" / "trajectories.png", plan=plan)
     img = np.asarray(Image.open(out).convert("RGB"))
-    assert img.shape[1] == 960  # 8 in at 120 dpi
+    assert img.shape[1] == 1050  # 7 in (a paper's full width) at 150 dpi
     robot = near_color(img, ROBOT_COLOR, 0)
     human = near_color(img, HUMAN_COLORS[0], 0)
     star = near_color(img, INTERACTION_COLOR, 0)

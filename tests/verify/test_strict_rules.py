@@ -12,8 +12,8 @@ import pytest
 from socnavgen.run.models import HumanPlan, PathPlan
 from socnavgen.run.spec import Criterion, Encounter, HumanPart, ScenarioSpec
 from socnavgen.sim.world import empty_room
+from socnavgen.sim.world.walkable import WalkableDistance
 from socnavgen.verify import verify_trace
-from socnavgen.verify.walkable import WalkableDistance
 from tests.synthetic import walled_room, write_location
 
 from .corpus import base_scene, base_spec, build, make_corner_location, write_case_run

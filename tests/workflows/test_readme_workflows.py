@@ -109,3 +109,33 @@ def test_help_teaches(args: list[str], teaches: str) -> None:
 def test_suite_yaml_is_plain_yaml() -> None:
     done = socnavgen("eval", "--show-suite")
     assert isinstance(yaml.safe_load(done.stdout), dict)
+
+
+def _five_minute_commands() -> list[list[str]]:
+    """The README's "Five minutes, offline" block, one command per line, comments dropped."""
+    import shlex
+
+    text = (REPO / "README.md").read_text()
+    section = text.split("## Five minutes, offline", 1)[1]
+    block = section.split("```bash", 1)[1].split("```", 1)[0]
+    commands = []
+    for line in block.strip().splitlines():
+        words = shlex.split(line, comments=True)
+        assert words[0] == "socnavgen", line
+        commands.append(words[1:])
+    return commands
+
+
+def test_the_five_minute_path_runs_as_typed(tmp_path: Path) -> None:
+    (tmp_path / "examples").symlink_to(REPO / "examples")  # the README's paths are relative to the repository
+    commands = _five_minute_commands()
+    assert [c[0] for c in commands] == ["cards", "cards", "simulate", "verify", "export"]
+    for words in commands:
+        done = socnavgen(*words, cwd=tmp_path)
+        assert done.returncode == 0, f"socnavgen {' '.join(words)}\n{done.stdout}\n{done.stderr}"
+    run = tmp_path / "runs" / "doorway"
+    for made in ("trace.npz", "metrics.json", "trajectories.png", "animation.gif", "verify.json"):
+        assert (run / "sim" / made).is_file(), made
+    assert json.loads((run / "sim" / "verify.json").read_text())["passed"] is True
+    exported = tmp_path / "exports" / "doorway"
+    assert (exported / "README.md").is_file() and list(exported.rglob("*.xml"))

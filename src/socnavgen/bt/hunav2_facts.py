@@ -109,6 +109,7 @@ class Hunav2Translation(BaseModel):
     by_value: dict[str, dict[str, str]] = Field(default_factory=dict)
     reason: str
     refusal: str | None = None
+    by_script: bool = False  # no template: the export writes the robot script's condition (export.speech)
     target_ports: tuple[str, ...] = ()  # ports holding an agent id (shifted to 2.x's 1-based ids)
 
 
@@ -120,22 +121,29 @@ HUNAV2: dict[str, Hunav2Translation] = {
         template='<IsRobotClose agent_id="{agent_id}" threshold="{distance}"/>',
         reason="IsRobotClose is the distance-only test (robot closer than `threshold`)"),
     "IsRobotBlocking": Hunav2Translation(
-        reason="", refusal="2.x has no condition on where the robot is relative to the human's heading "
-                           "(IsRobotVisible has a ~200 deg field of view, IsRobotFacingAgent tests the robot's "
-                           "heading, IsAgentVisible/IsLookingAtMe take agents only); the closest composition, "
-                           "IsRobotVisible + IsRobotFacingAgent, changed verification outcomes in our simulator "
-                           "(a stopped human facing a robot that drives around it walks on and is hit)"),
+        template='<IsRobotVisible agent_id="{agent_id}" distance="{distance}"/>',
+        reason="approximated: 2.x has no condition on where the robot is relative to the person's heading, so "
+               "the person reacts to the robot within `distance` in view (2.x IsRobotVisible: a ~200 deg field of "
+               "view, not the 30 deg cone); a person who stops for it keeps standing while the robot is that close "
+               "(IsRobotVisible + IsRobotFacingAgent, the closest composition, let a stopped person walk on into a "
+               "robot driving around it)"),
     "IsGoalReached": Hunav2Translation(template='<IsGoalReached agent_id="{agent_id}"/>',
                                        reason="same node and port in 2.x"),
     "TimeExpiredCondition": Hunav2Translation(
         template='<TimeExpiredCondition seconds="{seconds}" ts="{ts}" only_once="{only_once}"/>',
         reason="2.x registers TimeExpiredCondition with the same ports, defaults and accumulator"),
     "RobotSays": Hunav2Translation(
-        reason="", refusal="HuNavSim 2.x has no input for what the robot says: there is no robot gesture "
-                           "topic, and IsSpeaking/IsAnyoneSpeaking listen to agents only"),
+        by_script=True,
+        reason="approximated: HuNavSim 2.x has no input for what the robot says, so the export writes the condition "
+               "under which the robot's script says the phrase (blocked / at an encounter: the robot within the "
+               "cue's distance, in view, IsRobotVisible; near a person: IsRobotClose; start / after: the time "
+               "window, TimeExpiredCondition), without the seconds the phrase is held; a phrase said to another "
+               "person or at a place this person does not pass is not heard; refused when the script says it "
+               "when a person speaks (2.x cannot tell which phrase)"),
     "RobotSaid": Hunav2Translation(
-        reason="", refusal="HuNavSim 2.x has no input for what the robot says (see RobotSays), so it cannot "
-                           "remember it either"),
+        by_script=True,
+        reason="approximated as RobotSays (the script's condition), latched: once it held, the tree runs with "
+               "RobotSaid true for good"),
     "HumanSays": Hunav2Translation(
         reason="", refusal="2.x conditions tell whether another agent is speaking (IsSpeaking), not which "
                            "message it says; HumanSays tests the gesture code"),
@@ -156,11 +164,15 @@ HUNAV2: dict[str, Hunav2Translation] = {
                "does; 2.x's LookAtRobot stays RUNNING until aligned, which would stop re-checking the gate"),
     # (SurprisedNav declares time_step but never reads it: left out, LookAtRobot has no {dt} to pass)
     "FollowRobot": Hunav2Translation(
-        template='<CuriousNav agent_id="{agent_id}" time_step="{time_step}" beh_duration="0.0" '
-                 'only_once="false" agent_vel="0.8" stop_distance="1.5"/>',
-        reason="CuriousNav is one synchronous follow step that stops 1.5 m from the robot and faces it; "
-               "ApproachRobot calls the same function but is stateful (RUNNING forever with duration 0, "
-               "throws without max_vel)"),
+        template='<ReactiveFallback><ReactiveSequence><IsRobotClose agent_id="{agent_id}" threshold="2.0"/>'
+                 '<AvoidRobot agent_id="{agent_id}" time_step="{time_step}" safe_distance="2.0" runaway_vel="0.6" '
+                 'duration="0.0"/></ReactiveSequence><CuriousNav agent_id="{agent_id}" time_step="{time_step}" '
+                 'beh_duration="0.0" only_once="false" agent_vel="0.8" stop_distance="1.5"/></ReactiveFallback>',
+        reason="approximated: CuriousNav is one synchronous follow step that stops 1.5 m from the robot and faces "
+               "it (ApproachRobot calls the same function but is stateful, RUNNING forever with duration 0, throws "
+               "without max_vel); 2.x has no follow-behind, so a follower the robot comes within 2 m of (one "
+               "ahead of it, in its way) walks on along its own goals pushed out of the robot's way (AvoidRobot), "
+               "as ours steps aside and lets it pass, instead of standing in front of it"),
     "FollowHuman": Hunav2Translation(
         template='<FollowAgent agent_id="{agent_id}" target_agent_id="{target_id}" time_step="{time_step}" '
                  'closest_dist="1.5" max_vel="1.5" duration="0.0"/>',
@@ -173,10 +185,11 @@ HUNAV2: dict[str, Hunav2Translation] = {
         reason="AvoidRobot walks on at 0.6 m/s pushed away from the robot; 2.x's ScaredNav reads a port it "
                "does not declare (safe_distance) and throws. Stateful: reactive controls halt it"),
     "GiveWaytoRobot": Hunav2Translation(
-        template='<AvoidRobot agent_id="{agent_id}" time_step="{time_step}" safe_distance="1.5" '
-                 'runaway_vel="1.0" duration="0.0"/>',
-        reason="2.x has no side-step; AvoidRobot keeps the human heading for its goal while moving out of "
-               "the robot's way (1.5 m safe distance). Stateful: reactive controls halt it"),
+        template='<AvoidRobot agent_id="{agent_id}" time_step="{time_step}" safe_distance="2.0" '
+                 'runaway_vel="0.6" duration="0.0"/>',
+        reason="2.x has no side-step; AvoidRobot keeps the human heading for its goal, slowly (0.6 m/s), pushed "
+               "out of the robot's way from 2.0 m (the push outweighs the slow walk, so a person whose goal lies "
+               "beyond the robot backs off instead of pressing on). Stateful: reactive controls halt it"),
     "BlockRobot": Hunav2Translation(
         template='<ThreateningNav agent_id="{agent_id}" time_step="{time_step}" beh_duration="0.0" '
                  'only_once="false" goal_dist="1.5"/>',

@@ -218,8 +218,10 @@ NODES: list[NodeSpec] = [
                          "standing in the robot's way (ahead of it on its path) first steps aside and lets it pass.",
              capability="Follow the robot",
              targets={"socrates", "hunav2"}, hunav2="ApproachRobot", hunav1="CuriousNav",
-             sim_note="HuNavSim's follower walks up to the robot even from in front of it and stands 1.5 m ahead "
-                      "of it, blocking it for good; ours steps aside first (GiveWaytoRobot's side step)."),
+             sim_note="HuNavSim's follower (CuriousNav) walks up to the robot even from in front of it and stands "
+                      "1.5 m ahead of it, blocking it for good; ours steps aside first (GiveWaytoRobot's side step), "
+                      "and the hunav2 export walks a follower the robot comes within 2 m of on along its goals "
+                      "(AvoidRobot)."),
     NodeSpec(name="FollowHuman", kind="action", moves=True, interaction=True,
              realizes=("follow_human", "join"),
              ports=[_AGENT, Port(name="target_id", type=PortType.INT, description="id of the human to follow",
@@ -415,6 +417,9 @@ def _apply_hunav2_support() -> None:
             spec.targets.add("hunav2")
             names = re.findall(r"<(\w+)", tr.template)
             spec.hunav2 = names[0] if len(names) == 1 else "+".join(names[1:])
+        elif tr is not None and tr.by_script:
+            spec.targets.add("hunav2")
+            spec.hunav2 = "the script's condition"
         else:
             spec.targets.discard("hunav2")
             spec.hunav2 = None
@@ -429,6 +434,8 @@ def hunav2_text(name: str) -> str:
     tr = HUNAV2.get(name)
     if tr is None:
         return ""
+    if tr.by_script:
+        return f"the robot script's condition: {tr.reason}"
     if tr.template is None:
         return f"refused: {tr.refusal}"
     return f"{LIBRARY[name].hunav2 if name in LIBRARY else name}: {tr.reason}"

@@ -1,7 +1,6 @@
 """Behavior-tree XML as plain elements, read defensively (defusedxml: no DTD, no entities, limits): the XML
-layer under bt.parse (the one parser of the tree language) and what exporters write v4 files from.
-`BTDocument` / `parse_bt` remain only for the simulator's own lowering until it reads bt.expand's typed
-tree; nothing else may use them."""
+layer under bt.parse (the one parser of the tree language: check, simulator, exporters and verifier read its
+typed tree) and what exporters write v4 files from."""
 
 from __future__ import annotations
 
@@ -31,18 +30,6 @@ class BTElement:
         yield self
         for child in self.children:
             yield from child.walk()
-
-
-@dataclass
-class BTDocument:
-    """A `<root>` file: its main tree id, its BehaviorTree definitions, its includes."""
-
-    root: BTElement
-    main_tree: str | None
-    trees: dict[str, BTElement]  # BehaviorTree ID -> the BehaviorTree element
-    includes: list[str]
-    format_version: int  # 3 or 4 (BTCPP_format)
-    source: str = "<string>"
 
 
 class _LineTreeBuilder(ET.TreeBuilder):
@@ -98,15 +85,3 @@ def read_xml(text: str, source: str = "<string>", tag: str | None = "root") -> B
     if tag is not None and root.tag != tag:
         raise ValidationFailed(f"the top element is <{root.tag}>, expected <{tag}>", file=source, line=root.line)
     return root
-
-
-def parse_bt(text: str, source: str = "<string>") -> BTDocument:
-    """The simulator's view of a tree file (see the module docstring)."""
-    root = read_xml(text, source)
-    trees = {c.attrs.get("ID", ""): c for c in root.children if c.tag == "BehaviorTree"}
-    includes = [c.attrs.get("path", "") for c in root.children if c.tag == "include"]
-    fmt = 4 if root.attrs.get("BTCPP_format") == "4" else 3
-    main = root.attrs.get("main_tree_to_execute")
-    if main is None and len(trees) == 1 and fmt == 4:
-        main = next(iter(trees))
-    return BTDocument(root=root, main_tree=main, trees=trees, includes=includes, format_version=fmt, source=source)

@@ -31,17 +31,22 @@ OUTCOME = [
     ("verified", pa.bool_()),  # every required verifier finding passed (null: not verified / crashed)
     ("verify_failed", pa.string()),  # names of the failed findings, "; "-separated
     ("verdicts", pa.string()),  # JSON list of {name, kind, passed, required, human[, robustness, blame]}
+    ("expected_checks", pa.string()),  # JSON list of {check, value, passed} of the card's expected behaviour
+    ("people_traits", pa.string()),  # JSON {human: {speed, personal_space, start_delay}}: this seed's people
+    ("mean_person_speed", pa.float64()),  # m/s: their mean drawn walking speed
+    ("trajectory", pa.string()),  # the episode's trajectories file, relative to the campaign folder
 ]
-BOOL_METRICS = {"success", "completed"}
+BOOL_METRICS = {"success", "completed", "reached_goal"}
+LIST_METRICS = {"ttc_seconds"}  # seconds per time-to-collision bin (sim.social_metrics.TTC_EDGES)
 INT_METRICS = {"collisions", "robot_on_person_collision", "person_on_robot_collision", "samples",
                "static_obstacle_collisions"}
 
 
 @cache
 def known_metric_names() -> tuple[str, ...]:
-    from socnavgen.sim.metrics import EVALUATOR_METRICS, NAVIGATION_METRICS, OWN_METRICS
+    from socnavgen.sim.metric_definitions import all_metric_names
 
-    return (*OWN_METRICS, *NAVIGATION_METRICS, *EVALUATOR_METRICS)
+    return all_metric_names()
 
 
 def metric_type(name: str) -> pa.DataType:
@@ -49,6 +54,8 @@ def metric_type(name: str) -> pa.DataType:
         return pa.bool_()
     if name in INT_METRICS:
         return pa.int64()
+    if name in LIST_METRICS:
+        return pa.list_(pa.float64())
     return pa.float64()
 
 

@@ -23,6 +23,7 @@ from socnavgen.text import count
 
 # what each verifier finding keeps in the row (fields a verifier version lacks are simply left out)
 VERDICT_FIELDS = {"name", "kind", "passed", "required", "human", "criterion", "robustness", "blame", "blame_human"}
+TRAJECTORY_BYTES = "_trajectory"  # the row's trajectory file (bytes): the store writes it beside the table
 
 
 class EpisodeTimeout(BaseException):
@@ -38,6 +39,8 @@ class EpisodeSettings:
     wall_timeout: float = 30.0
     verify: bool = True
     metrics: tuple[str, ...] | None = None  # None = all
+    vary_people: bool = True  # draw each person's traits from the seed (campaign/variation.py)
+    trajectory_hz: float = 10.0  # keep the episode's trajectories at this rate (0: none); sim/outputs/trajectory.py
 
 
 @dataclass(frozen=True)
@@ -162,10 +165,16 @@ def simulate_episode(ep: Episode, settings: EpisodeSettings, cache: WorkerCache 
     cache = cache or WORKER_CACHE
     location, world = cache.location(ep.scenario.location_dir)
     policy, body = robot_from(ep.robot, dict(ep.params))
-    sim = load_simulation(cache.run(ep.scenario.run_dir), policy,
-                          SimConfig(dt=settings.dt, timeout=settings.timeout, seed=ep.seed, body=body),
+    run = cache.run(ep.scenario.run_dir)
+    sim = load_simulation(run, policy, SimConfig(dt=settings.dt, timeout=settings.timeout, seed=ep.seed, body=body),
                           ThrottleConfig(enabled=settings.throttle), location=location, world=world)
     sim.meta["robot_plugin"] = ep.robot
+    if settings.vary_people:
+        from socnavgen.campaign.variation import apply_traits, draw_people, people_of
+
+        traits = draw_people(ep.scenario.id, ep.seed, *people_of(run))
+        apply_traits(sim, traits)
+        sim.meta["people_traits"] = {n: t.model_dump() for n, t in traits.items()}
     return sim.run(progress=deadline.check if deadline else None), location, world
 
 
@@ -189,15 +198,25 @@ def run_episode(ep: Episode, settings: EpisodeSettings, cache: WorkerCache | Non
 def _measure(ep: Episode, settings: EpisodeSettings, cache: WorkerCache, deadline: _Deadline) -> dict[str, Any]:
     """Simulate, measure and verify one episode: the row's outcome, metrics and verdicts (all of it under the
     episode's deadline; nothing of it is kept when the episode fails)."""
+    from socnavgen.sim.metric_definitions import all_metric_names
     from socnavgen.sim.metrics import compute_metrics, navigation_metrics
+    from socnavgen.sim.social_metrics import social_metrics
 
     row: dict[str, Any] = {}
     trace, location, world = simulate_episode(ep, settings, cache, deadline)
     metrics = compute_metrics(trace, location)
     metrics.update(navigation_metrics(trace, world))
-    chosen = settings.metrics or tuple(metrics)
+    metrics.update(social_metrics(trace, world, success=bool(metrics["success"])))
+    metrics["expected_behaviour"], details = expected_behaviour(ep, trace, cache)
+    chosen = settings.metrics or all_metric_names()
     row.update({m: _finite(metrics.get(m)) for m in chosen})
     row["success"] = bool(metrics["success"])
+    row["expected_checks"] = json.dumps(details) if details else None
+    row.update(_people(trace))
+    if settings.trajectory_hz > 0:
+        from socnavgen.sim.outputs.trajectory import trajectory_bytes
+
+        row[TRAJECTORY_BYTES] = trajectory_bytes(trace, settings.trajectory_hz)
     row.update(status="ok", end_reason=trace.end_reason, steps=int(trace.steps),
                sim_seconds=float(trace.t[-1]) if trace.steps else 0.0)
     if settings.verify:
@@ -238,6 +257,33 @@ def _default_verifies(ep: Episode, settings: EpisodeSettings, cache: WorkerCache
         cache.default_verified[key] = bool(verify_trace(cache.run(ep.scenario.run_dir), trace,
                                                         location=location).passed)
     return cache.default_verified[key]
+
+
+def _people(trace: Any) -> dict[str, Any]:
+    """The row's record of this seed's people (campaign/variation.py), when they were drawn."""
+    from socnavgen.campaign.variation import Traits, summary
+
+    traits = trace.meta.get("people_traits") if isinstance(trace.meta, dict) else None
+    return summary({n: Traits(**t) for n, t in traits.items()}) if traits else {}
+
+
+def expected_behaviour(ep: Episode, trace: Any, cache: WorkerCache) -> tuple[float | None, list[dict[str, Any]]]:
+    """The card's expected-behaviour checks on this trace (sim/behaviour_checks.py), at the place of the
+    scenario's first encounter; (None, []) for a scenario that is no card or whose card states no check."""
+    from socnavgen.cards.library import card_names, get_card
+    from socnavgen.sim.behaviour_checks import check_behaviour
+
+    if not ep.scenario.card or ep.scenario.card not in card_names():
+        return None, []
+    checks = get_card(ep.scenario.card).expected_checks
+    if not checks:
+        return None, []
+    spec = cache.run(ep.scenario.run_dir).spec()
+    place = None
+    if spec is not None and spec.encounters and spec.encounters[0].node:
+        location, _ = cache.location(ep.scenario.location_dir)
+        place = complex(*location.node_world(spec.encounters[0].node))
+    return check_behaviour(trace, checks, place, None)
 
 
 def warm_up_compiled() -> None:

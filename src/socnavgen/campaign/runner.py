@@ -59,7 +59,8 @@ def check_policies(spec: CampaignSpec) -> None:
 def settings_of(spec: CampaignSpec) -> EpisodeSettings:
     sim = spec.simulation
     return EpisodeSettings(dt=sim.dt, timeout=sim.timeout, throttle=sim.throttle, wall_timeout=sim.wall_timeout,
-                           verify=spec.verify, metrics=tuple(spec.metrics) if spec.metrics else None)
+                           verify=spec.verify, metrics=tuple(spec.metrics) if spec.metrics else None,
+                           vary_people=sim.vary_people, trajectory_hz=spec.trajectories)
 
 
 def write_definitions(out: Path, metrics: list[str] | None) -> None:

@@ -146,6 +146,8 @@ class SimulationSettings(BaseModel):
     throttle: bool = True
     wall_timeout: float = Field(30.0, gt=0.0, le=3600.0,
                                 description="wall-clock seconds an episode may take before it counts as failed")
+    vary_people: bool = Field(True, description="draw each person's walking speed (and, once the simulator takes "
+                              "them, personal space and start delay) from the seed: campaign/variation.py")
 
     @model_validator(mode="after")
     def _step_cap(self) -> SimulationSettings:
@@ -166,6 +168,8 @@ class CampaignSpec(BaseModel):
     simulation: SimulationSettings = Field(default_factory=SimulationSettings)
     metrics: list[str] | None = Field(None, description="metric columns to keep (default: all)")
     verify: bool = True
+    trajectories: float = Field(10.0, ge=0.0, le=50.0, description="keep each episode's trajectories at this "
+                                "many samples per second in OUT/trajectories/ (0: none)")
     base_dir: Path = Field(default=Path("."), exclude=True)
 
     @field_validator("policies", mode="before")

@@ -26,6 +26,7 @@ from socnavgen.safeio import atomic_write_bytes
 
 PARTS = "parts"
 TABLE = "episodes.parquet"
+TRAJECTORIES = "trajectories"  # OUT/trajectories/<policy>/<scenario>/<seed>.npz (sim/outputs/trajectory.py)
 BROKEN = ".broken"
 SORT = [("scenario", "ascending"), ("policy", "ascending"), ("seed", "ascending")]
 
@@ -73,6 +74,13 @@ class EpisodeStore:
         return set(pairs), dict(pairs)
 
     def add(self, row: dict[str, Any]) -> None:
+        from socnavgen.campaign.episode import TRAJECTORY_BYTES
+
+        data = row.pop(TRAJECTORY_BYTES, None)
+        if data is not None:  # written here, by the one process that owns the folder, whatever the executor
+            relative = trajectory_path(row["scenario"], row["policy"], int(row["seed"]))
+            atomic_write_bytes(self.out / relative, data)
+            row["trajectory"] = relative
         self._pending.append(row)
         if len(self._pending) >= self.flush_rows or time.monotonic() - self._last_flush >= self.flush_seconds:
             self.flush()
@@ -101,6 +109,21 @@ class EpisodeStore:
         pq.write_table(table, buf)
         atomic_write_bytes(self.out / TABLE, buf.getvalue())
         return table
+
+
+def _slug(text: str) -> str:
+    """A file-name-safe form of a name (a short digest added when anything had to be replaced, so two names
+    never share a file)."""
+    import hashlib
+
+    safe = "".join(c if c.isalnum() or c in "._-" else "_" for c in text)[:80].strip(".") or "_"
+    return safe if safe == text else f"{safe}-{hashlib.sha256(text.encode()).hexdigest()[:8]}"
+
+
+def trajectory_path(scenario: str, policy: str, seed: int) -> str:
+    """Where an episode's trajectories go, relative to the campaign folder (POSIX separators)."""
+    parts = [_slug(p) for p in scenario.split("/")]
+    return "/".join([TRAJECTORIES, _slug(policy), *parts, f"{int(seed)}.npz"])
 
 
 def _conform(table: pa.Table, target: pa.Schema) -> pa.Table:

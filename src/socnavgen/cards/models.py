@@ -9,6 +9,7 @@ from typing import Literal
 from pydantic import BaseModel, ConfigDict, Field
 
 from socnavgen.run.models import RobotGestureRule
+from socnavgen.sim.behaviour_checks import ExpectedCheck
 
 # Places a card can need on the scene graph (found by type keywords and by geometry, see location/places.py).
 Feature = Literal["any", "corridor", "open_area", "intersection", "blind_corner", "narrow_passage", "doorway",
@@ -76,6 +77,7 @@ class Card(BaseModel):
     human_behavior: str
     rough: str = Field(description="rough scenario, usable as `generate --rough`")
     expected_robot_behavior: str
+    expected_checks: list[ExpectedCheck] = Field(default_factory=list, description="its checkable parts, measured")
     humans: list[HumanRole]
     robot_gestures: list[RobotGestureRule] = Field(default_factory=list)
     criteria: list[Criterion]

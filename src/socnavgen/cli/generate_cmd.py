@@ -129,14 +129,19 @@ def _summary(run, folder: RunFolder) -> None:  # noqa: ANN001 - a proposal.Run
 def _export_check(folder: RunFolder, target: str | None) -> None:
     """Say now which export targets will refuse the trees (an export weeks later should not be the first to
     tell): a warning for the run's own --target, a note for the others."""
-    from socnavgen.export import target_refusals
+    from socnavgen.export import hunav2_approximations, target_refusals
 
     if not folder.paths_path.is_file() or not folder.behaviors():
         return
     try:
         refused = target_refusals(folder.root)
+        approximated = hunav2_approximations(folder.root) if "hunav2" not in refused else []
     except SocnavgenError:
         return  # the run is incomplete or invalid: generate has already said why
+    if approximated and target == "hunav2":  # HuNavSim 2.x cannot hear the robot: say what its trees hear instead
+        console.print("note: `export --format hunav2` approximates what the robot says: "
+                      + "; ".join(approximated[:4]) + (f" (and {len(approximated) - 4} more)" if len(approximated) > 4
+                                                      else ""), highlight=False)
     for fmt, message in refused.items():
         if fmt == "hunav1" and target != "hunav1":
             continue  # 1.x runs only its built-in behaviors: refusing custom trees is its nature, not news

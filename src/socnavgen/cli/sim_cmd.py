@@ -27,6 +27,13 @@ def simulate(
     seed: int = typer.Option(0, "--seed", min=0, max=2**63 - 1,
                              help="Seed of the only randomness (spawn offsets): same seed, same run."),
     gif: bool = typer.Option(False, "--gif", help="Also write RUN/sim/animation.gif."),
+    mp4: bool = typer.Option(False, "--mp4", help="Also write RUN/sim/animation.mp4 (H.264, full colour; with the "
+                             "ffmpeg the imageio-ffmpeg package ships)."),
+    figures: str = typer.Option("png", "--figures", help="Formats of the trajectory figure, comma-separated: png, "
+                                "svg, pdf (vector formats for papers)."),
+    out: Path | None = typer.Option(None, "--out", help="Write the outputs (trace, metrics, figures) to this "
+                                    "folder instead of RUN/sim, e.g. one folder per robot: two simulations of one "
+                                    "run then never overwrite each other (`verify` still reads RUN/sim)."),
     no_throttle: bool = typer.Option(False, "--no-throttle", help="Do not hold humans back at the node before their "
                                      "interaction point (SocRATES does, so that the encounter happens there)."),
     location: Path | None = typer.Option(None, "--location", help="Location folder, if request.json's path does "
@@ -43,6 +50,8 @@ def simulate(
     --gif, animation.gif. Deterministic for a seed.
 
     Example: socnavgen simulate runs/blind_corner --robot waypoints --gif
+
+    Example: socnavgen simulate runs/blind_corner --robot sfm --out runs/blind_corner/sim_sfm --figures png,pdf
 
     Example: socnavgen simulate runs/blind_corner --bag runs/blind_corner/sim/episode_bag
     """
@@ -66,9 +75,15 @@ def simulate(
         raise SocnavgenError(f"--bag-msgs {bag_msgs!r}", hint="socrates (the fork's hunav_msgs, with gestures) or hunav")
     if bag is not None and (bag.exists() or bag.is_symlink()):  # refused before minutes of simulation
         raise SocnavgenError("the bag folder already exists", file=bag, hint="remove it or choose another --bag name")
+    formats = _figure_formats(figures)
+    if out is not None and out.exists() and not out.is_dir():
+        raise SocnavgenError("--out is a file, not a folder", file=out, hint="give a folder (it is created)")
     folder = RunFolder(run)
     folder.require()
-    folder.hold_lock()  # one writer of RUN/sim at a time (two simulations would mix their outputs)
+    if out is None:
+        folder.hold_lock()  # one writer of RUN/sim at a time (two simulations would mix their outputs)
+    else:
+        _hold_out_lock(out)
     identity = folder_identity(run)
     policy = load_policy(robot)
     config = SimConfig(dt=dt, timeout=timeout, seed=seed)
@@ -83,9 +98,9 @@ def simulate(
         task = bar.add_task(f"simulating {run.name}", total=total)
         trace = sim.run(progress=lambda k, n: bar.update(task, completed=k))
     wall = time.perf_counter() - start
-    out = folder.sim_dir
     written = save_run_outputs(trace, loaded, run, MadeFrom(robot, dt, timeout, seed, not no_throttle),
-                               identity=identity, gif=gif)
+                               identity=identity, gif=gif, out_dir=out, formats=formats, mp4=mp4)
+    out = out if out is not None else folder.sim_dir
     sim_seconds = float(trace.t[-1]) if trace.steps else 0.0
     console.print(f"[bold]{trace.end_reason}[/] after {sim_seconds:.1f} s simulated ({trace.steps} steps) in "
                   f"{wall:.2f} s wall, {sim_seconds / max(wall, 1e-9):.0f}x real time -> {out / 'trace.npz'}",
@@ -103,10 +118,36 @@ def simulate(
         console.print(f"  bag -> {bag} (open {mcap} in Foxglove; `ros2 bag play {bag}` for RViz)", highlight=False)
 
 
+def _figure_formats(text: str) -> tuple[str, ...]:
+    from socnavgen.sim.outputs.files import FIGURE_FORMATS
+
+    chosen = tuple(dict.fromkeys(f.strip().lower() for f in text.split(",") if f.strip()))
+    wrong = [f for f in chosen if f not in FIGURE_FORMATS]
+    if wrong or not chosen:
+        raise SocnavgenError(f"--figures {text!r}: unknown format {', '.join(wrong) or '(none given)'}",
+                             hint=f"give one or more of {', '.join(FIGURE_FORMATS)}, comma-separated")
+    return chosen
+
+
+_OUT_LOCKS: dict[str, int] = {}
+
+
+def _hold_out_lock(out: Path) -> None:
+    """One writer of an --out folder at a time, for the rest of the process (like the run folder's lock)."""
+    from socnavgen.locks import acquire
+
+    out.mkdir(parents=True, exist_ok=True)
+    key = str(out.resolve())
+    if key not in _OUT_LOCKS:
+        _OUT_LOCKS[key] = acquire(out / ".socnavgen-lock", f"output folder {out}",
+                                  "wait for the other simulation to finish, or choose another --out")
+
+
 def _print_outputs(trace, written) -> None:  # noqa: ANN001 - Trace, SimOutputs
     """The key metrics, the contacts and every file written (metrics.json, trajectories.png, the GIF)."""
     metrics = written.metrics
-    keys = ("success", "time_to_reach_goal", "minimum_distance_to_people", "collisions")
+    keys = ("success", "time_to_goal", "walkable_path_efficiency", "minimum_distance_to_people",
+            "intimate_space_seconds", "collisions")
     console.print("  " + ", ".join(f"{k} = {_short(metrics[k])}" for k in keys if k in metrics), highlight=False)
     from socnavgen.sim.contact import summarize
 

@@ -24,8 +24,10 @@ def export_run(run_dir: Path | str, fmt: ExportFormat, out_dir: Path | str, *, l
     """Read the run, build every file of `fmt`, then write them atomically under out_dir (replacing only what an
     earlier export wrote there). `seed`: where people start around their first node, as `simulate --seed`
     spawns them. The result says whether the run passed verification (its README says it too)."""
-    scene, _ = build_scene(run_dir, location_dir, seed=seed)
-    status = verification_status(RunFolder(Path(run_dir)))
+    from socnavgen.sim.outputs.files import stale_reason
+
+    scene, location = build_scene(run_dir, location_dir, seed=seed)
+    status = verification_status(RunFolder(Path(run_dir)), stale_reason(run_dir, location))
     files = [f if f.path != "README.md" else f.model_copy(update={"text": f.text + _verification_section(status)})
              for f in build_files(scene, fmt, base=base, simulator=simulator)]
     result = write_export(out_dir, files, force=force)
@@ -57,4 +59,20 @@ def target_refusals(run_dir: Path | str, *, location_dir: Path | str | None = No
     return refused
 
 
-__all__ = ["FORMATS", "ExportResult", "build_files", "build_scene", "export_run", "target_refusals"]
+def hunav2_approximations(run_dir: Path | str, *, location_dir: Path | str | None = None) -> list[str]:
+    """What a hunav2 export approximates (each phrase condition that becomes the robot script's geometric
+    condition), one line per node: what `generate --target hunav2` says beside any refusal."""
+    from socnavgen.export.hunav2 import translate_person
+    from socnavgen.export.timing import with_waiting_goals
+
+    scene, holds = with_waiting_goals(build_scene(run_dir, location_dir)[0])
+    lines = []
+    for human in scene.humans:
+        for s in translate_person(human, None, scene, holds.get(human.name)).spoken:
+            if not s.refused:
+                lines.append(f"{human.tree_file}:{s.line}: {s.node} becomes: {s.text}")
+    return lines
+
+
+__all__ = ["FORMATS", "ExportResult", "build_files", "build_scene", "export_run", "hunav2_approximations",
+           "target_refusals"]

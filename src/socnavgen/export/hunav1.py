@@ -15,6 +15,7 @@ from socnavgen.bt.model import Entry, Node, Value
 from socnavgen.errors import ValidationFailed
 from socnavgen.export.models import ExportedFile, ExportScene, HumanExport
 from socnavgen.export.readme import hunav1_readme
+from socnavgen.export.robot_script import script_yaml
 from socnavgen.export.socrates import check_trees, fork_agents_yaml
 from socnavgen.export.targets import ExportTarget, register
 from socnavgen.export.writer import robot_poses_yaml
@@ -124,6 +125,7 @@ def build_hunav1(scene: ExportScene) -> list[ExportedFile]:
         ExportedFile(path="hunav_agent_manager/config/agents.yaml",
                      text=fork_agents_yaml(scene, behaviors, "g", 0, first_id=HUNAV2_FIRST_AGENT_ID)),
         ExportedFile(path="robot/robot_poses.yaml", text=robot_poses_yaml(scene.robot)),
+        ExportedFile(path="robot/robot_script.yaml", text=script_yaml(scene)),
         ExportedFile(path="README.md", text=hunav1_readme(scene, behaviors)),
     ]
 

@@ -6,7 +6,9 @@ the table gives, with the reason it behaves the same), controls and built-ins un
 name (Sequence/Fallback become reactive so that gates are re-checked every tick while a stateful 2.x node
 is RUNNING), SubTree remapping in v4 syntax, the RegularNavTree it uses inlined, goals
 queued by `SetGoal` inside `RunOnce` as upstream's own scenario trees do, and a TreeNodesModel for
-Groot2. A node without a 2.x counterpart stops the export with every such node listed."""
+Groot2. With the run's scene, phrase conditions become the robot script's conditions (export.speech) and a
+person who meets the robot waits for it (export.timing); the export's own latches keep their memory. A node
+without a 2.x counterpart stops the export with every such node listed."""
 
 from __future__ import annotations
 
@@ -28,8 +30,11 @@ from socnavgen.export.models import (
     HumanExport,
 )
 from socnavgen.export.readme import hunav2_readme
+from socnavgen.export.robot_script import script_yaml
 from socnavgen.export.socrates import check_trees
+from socnavgen.export.speech import Spoken, rewrite_phrases
 from socnavgen.export.targets import ExportTarget, register
+from socnavgen.export.timing import Hold, hold_root, with_waiting_goals
 from socnavgen.export.writer import dump_yaml, element_xml, metres, robot_poses_yaml
 
 WRAPPER = "hunav_gazebo_wrapper"
@@ -77,17 +82,20 @@ def _element(xml: str, line: int | None = None) -> BTElement:
 
 class _Translator:
     """Our typed tree (v3 or v4) -> v4 with HuNavSim 2.x's nodes (the compositions of `bt.library.HUNAV2`);
-    controls and built-ins take their `hunav2` name from the library row; collects every refusal."""
+    controls and built-ins take their `hunav2` name from the library row, except the controls in `keep` (the
+    export's latches, which must remember their RUNNING child); 2.x nodes already in the tree (the export's
+    own conditions) stay as they are; collects every refusal."""
 
-    def __init__(self, source: str) -> None:
+    def __init__(self, source: str, keep: set[Node] | None = None) -> None:
         self.source = source
+        self.keep = keep or set()
         self.problems: list[Untranslatable] = []
         self.used_leaves: set[str] = set()
         self.called: list[str] = []
 
     def node(self, node: Node) -> BTElement:
         spec = node.spec
-        assert spec is not None  # a Document without problems
+        assert spec is not None  # a Document without problems, or a node the export built from the table
         if spec.kind in ("action", "condition"):
             return self.leaf(node, spec)
         attrs = {"name": node.label} if node.label is not None else {}
@@ -96,12 +104,19 @@ class _Translator:
             self.called.append(node.call.tree)
         else:
             attrs.update({k: literal_text(v) for k, v in node.ports.items()})
-        return BTElement(spec.hunav2 or spec.name, attrs, [self.node(c) for c in node.children], node.line)
+        name = node.name if node in self.keep else spec.hunav2 or spec.name
+        return BTElement(name, attrs, [self.node(c) for c in node.children], node.line)
 
     def leaf(self, node: Node, spec: NodeSpec) -> BTElement:
+        label = {"name": node.label} if node.label is not None else {}
+        if spec.targets == {"hunav2"}:  # already a 2.x node
+            self.used_leaves.add(node.name)
+            return BTElement(node.name, {**label, **{k: literal_text(v) for k, v in node.ports.items()}}, [],
+                             node.line)
         tr = HUNAV2.get(node.name)
         if tr is None or tr.template is None:
-            why = tr.refusal if tr is not None else "has no HuNavSim 2.x translation"
+            why = "has no HuNavSim 2.x translation" if tr is None else tr.refusal or (
+                "becomes the robot script's condition, which needs the run (export the run, not the tree alone)")
             self.problems.append(Untranslatable(self.source, node.line, node.name, f"cannot be exported: {why}"))
             return BTElement(node.name, {}, [], node.line)
         typed = {p.name: value for p in spec.ports if (value := node.value(p.name)) is not None}
@@ -116,6 +131,8 @@ class _Translator:
             template = choices.get(values.get(port, ""), template)
         out = _element(template.format(**{k: escape(v, {'"': "&quot;"}) for k, v in values.items()}), node.line)
         self.used_leaves.update(e.tag for e in out.walk())
+        if label:  # the node's name, on the element that stands for it
+            out.attrs = {**label, **out.attrs}
         return out
 
     @staticmethod
@@ -128,23 +145,46 @@ class _Translator:
         return out
 
 
-def translate_tree(human: HumanExport, goal_ids: list[int] | None) -> tuple[str, list[Untranslatable]]:
-    """The human's tree (one bt check accepts) as one self-contained v4 file (text), plus what could not be
-    translated."""
+@dataclass
+class Translated:
+    """One person's 2.x tree file, what could not be translated, and the phrase conditions it approximates."""
+
+    text: str
+    problems: list[Untranslatable]
+    spoken: list[Spoken]
+
+
+def translate_person(human: HumanExport, goal_ids: list[int] | None, scene: ExportScene | None = None,
+                     hold: Hold | None = None) -> Translated:
+    """The person's tree (one bt check accepts) as one self-contained v4 file. With `scene`: phrase conditions
+    made the robot script's (export.speech); with `hold`: the person timed (export.timing); without, the tree
+    alone. `goal_ids` None: no goal queue (our simulator reads goals from paths.json)."""
     doc, instance, problems = check_text(human.tree_xml, human.tree_file)
     if doc is None or instance is None or doc.main_tree is None:
-        return "", [Untranslatable(human.tree_file, p.line, "tree", p.message) for p in problems]
-    tr = _Translator(human.tree_file)
-    trees = {tid: tr.node(t.root) for tid, t in doc.trees.items() if t.root is not None}
+        return Translated("", [Untranslatable(human.tree_file, p.line, "tree", p.message) for p in problems], [])
+    keep: set[Node] = set()
+    roots = {tid: t.root for tid, t in doc.trees.items() if t.root is not None}
+    spoken: list[Spoken] = []
+    refused: list[Untranslatable] = []
+    if scene is not None:
+        roots, spoken = rewrite_phrases(doc, human, scene, keep)
+        refused = [Untranslatable(human.tree_file, s.line, s.node, f"cannot be exported: {s.text}")
+                   for s in spoken if s.refused]
+    main = doc.main_tree
+    if hold is not None:
+        roots[main] = hold_root(roots[main], hold, keep)
+    tr = _Translator(human.tree_file, keep)
+    trees = {tid: tr.node(root) for tid, root in roots.items()}
     while missing := [tid for tid in tr.called if tid not in trees]:  # library trees, inlined
         for tid in missing:
             tree = doc.tree(tid)
             assert tree is not None and tree.root is not None
             trees[tid] = tr.node(tree.root)
-    if tr.problems:
-        return "", tr.problems
-    main = doc.main_tree
-    if goal_ids:  # None: goals come from elsewhere (our simulator reads them from paths.json)
+    said = {(r.node, r.line) for r in refused}  # a refused phrase node stays in the tree: named once
+    problems_out = refused + [p for p in tr.problems if (p.node, p.line) not in said]
+    if problems_out:
+        return Translated("", problems_out, spoken)
+    if goal_ids:
         sets = [GOAL_SET.format(goal=g) for g in goal_ids]
         top = _element(GOAL_QUEUE.format(first="".join(sets[:-1]), last=sets[-1]))
         top.children.append(trees[main])
@@ -155,7 +195,14 @@ def translate_tree(human: HumanExport, goal_ids: list[int] | None) -> tuple[str,
             + model_block("hunav2", tr.used_leaves | {"SetGoal"})
             + "".join(element_xml(BTElement("BehaviorTree", {"ID": tid}, [trees[tid]])) for tid in ordered)
             + "</root>\n")
-    return text, []
+    return Translated(text, [], spoken)
+
+
+def translate_tree(human: HumanExport, goal_ids: list[int] | None) -> tuple[str, list[Untranslatable]]:
+    """The human's tree alone (no timing, no phrase conditions: those need the run) as one self-contained v4
+    file (text), plus what could not be translated."""
+    out = translate_person(human, goal_ids)
+    return out.text, out.problems
 
 
 def global_goals(scene: ExportScene) -> tuple[dict[int, dict[str, float]], dict[str, list[int]]]:
@@ -192,14 +239,17 @@ def build_hunav2(scene: ExportScene, base: str, simulator: str = "Gazebo Classic
     if simulator not in SIMULATORS:
         raise ValidationFailed(f"unknown simulator {simulator!r}", hint="one of: " + ", ".join(SIMULATORS))
     check_trees(scene)
+    scene, holds = with_waiting_goals(scene)
     table, goal_ids = global_goals(scene)
     files: list[ExportedFile] = []
     problems: list[Untranslatable] = []
+    spoken: dict[str, list[Spoken]] = {}
     for human in scene.humans:
-        text, bad = translate_tree(human, goal_ids[human.name])
-        problems += bad
+        out = translate_person(human, goal_ids[human.name], scene, holds.get(human.name))
+        problems += out.problems
+        spoken[human.name] = out.spoken
         files.append(ExportedFile(path=f"{WRAPPER}/behavior_trees/{base}__agent_{hunav_id(human)}_bt.xml",
-                                  text=text))
+                                  text=out.text))
     if problems:
         raise ValidationFailed(
             f"{len(problems)} node(s) have no HuNavSim 2.x equivalent:\n" + "\n".join(str(p) for p in problems),
@@ -208,7 +258,8 @@ def build_hunav2(scene: ExportScene, base: str, simulator: str = "Gazebo Classic
     files.append(ExportedFile(path=f"{WRAPPER}/scenarios/{base}.yaml",
                               text=agents_yaml(scene, base, simulator, goal_ids, table)))
     files.append(ExportedFile(path="robot/robot_poses.yaml", text=robot_poses_yaml(scene.robot)))
-    files.append(ExportedFile(path="README.md", text=hunav2_readme(scene, base, simulator)))
+    files.append(ExportedFile(path="robot/robot_script.yaml", text=script_yaml(scene)))
+    files.append(ExportedFile(path="README.md", text=hunav2_readme(scene, base, simulator, spoken, holds)))
     return files
 
 

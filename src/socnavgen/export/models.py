@@ -7,6 +7,7 @@ from pydantic import BaseModel, Field
 
 from socnavgen.bt.library import TARGETS, Target
 from socnavgen.run.models import PathPlan
+from socnavgen.run.spec import ScenarioSpec
 
 ExportFormat = Target  # the names of export.targets' registry (spelled once, in bt.library)
 FORMATS: tuple[ExportFormat, ...] = TARGETS
@@ -55,6 +56,15 @@ class ExportScene(BaseModel):
     humans: list[HumanExport]
     robot: RobotExport
     plan: PathPlan
+    spec: ScenarioSpec | None = None  # spec.json (the robot's script, the encounters), None for runs without one
+    nodes: dict[str, tuple[float, float]] = Field(default_factory=dict)  # scene-graph node -> world point
+
+    @property
+    def robot_speed(self) -> float:
+        """The robot's nominal cruise speed (m/s): its script's, else the script's default."""
+        from socnavgen.run.spec import RobotScript
+
+        return self.spec.script.speed if self.spec is not None else RobotScript().speed
 
 
 class ExportedFile(BaseModel):

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from socnavgen.bt.library import HUNAV2_FIRST_AGENT_ID
 from socnavgen.export.models import ExportScene
+from socnavgen.export.timing import Hold, describe
 
 
 def _summary(scene: ExportScene, first_id: int = 0) -> str:
@@ -20,7 +21,39 @@ def _summary(scene: ExportScene, first_id: int = 0) -> str:
             + "\n" + humans + "\n\nAll coordinates are metres in the map frame of the location's nav2 map.\n")
 
 
-def socrates_readme(scene: ExportScene) -> str:
+def timing_section(holds: dict[str, Hold] | None) -> str:
+    """How the timed people wait for the robot (their trees do it: export.timing)."""
+    if not holds:
+        return ""
+    lines = "\n".join(f"- {describe(h)}" for h in holds.values())
+    return ("\n## Timing\nThese people wait for the robot by themselves: their trees hold them at a spot before "
+            "the place they meet it and let them go once the robot is that close (a distance, not a time, so "
+            "the encounter happens there whatever the robot's speed). Start the robot within a few seconds of "
+            "the people.\n" + lines + "\n")
+
+
+def script_section(scene: ExportScene, where: str, how: str) -> str:
+    """The robot's part: robot_script.yaml and how the target plays it."""
+    spec = scene.spec
+    cues = len(spec.script.cues) if spec is not None else 0
+    rules = len(scene.plan.robot_gestures)
+    return (f"\n## The robot's part\n`{where}` holds the robot's script ({cues} cue(s), {rules} gesture rule(s); "
+            f"cruise speed {spec.script.speed if spec else 0.6:g} m/s): what the robot says and does, and when, "
+            f"in world coordinates. {how}\n")
+
+
+def spoken_section(spoken: dict | None) -> str:
+    """hunav2: what each phrase condition of the trees became (HuNavSim 2.x cannot hear the robot)."""
+    spoken = spoken or {}
+    lines = [f"- {name} line {s.line}: {s.node}: {s.text}" for name, notes in spoken.items() for s in notes]
+    if not lines:
+        return ""
+    return ("\n## What the robot says (approximated)\nHuNavSim 2.x has no input for the robot's speech, so each "
+            "phrase condition of a tree is the condition under which the robot's script says the phrase, as "
+            "the person sees it:\n" + "\n".join(lines) + "\n")
+
+
+def socrates_readme(scene: ExportScene, holds: dict[str, Hold] | None = None) -> str:
     return f"""# SocRATES / HuNavSim fork export
 
 {_summary(scene)}
@@ -45,11 +78,18 @@ ros2 launch hunav_gazebo_wrapper nav2_follow_waypoints.launch.py   # robot follo
 ```
 A teleop script can read `robot_poses.yaml` the same way: `initial_pose {{x, y, yaw}}` and
 `waypoints[].position {{x, y, yaw}}` (yaw toward the next waypoint).
-Humans without an interaction point have `""` in `trajectory.json`: the scenario manager never pauses them.
-"""
+Humans without an interaction point have `""` in `trajectory.json`: the scenario manager never pauses them;
+nor does it pause the people whose trees wait for the robot themselves (Timing below).
+{timing_section(holds)}{script_section(scene, "hunav_gazebo_wrapper/config/robot_script.yaml",
+    "The fork hears the robot on `/robot_gesture`: run `python3 hunav_gazebo_wrapper/scripts/"
+    "socnavgen_robot_gestures.py hunav_gazebo_wrapper/config/robot_script.yaml` beside the simulation "
+    "(ROS 2 with the fork's hunav_msgs, and `pip install socnavgen`); it plays the script from the robot's and "
+    "the people's states with socnavgen's own cue logic and publishes each gesture. Waits and speeds are for "
+    "the robot's operator or navigation.")}"""
 
 
-def hunav2_readme(scene: ExportScene, base: str, simulator: str) -> str:
+def hunav2_readme(scene: ExportScene, base: str, simulator: str, spoken: dict | None = None,
+                  holds: dict[str, Hold] | None = None) -> str:
     return f"""# HuNavSim 2.x export
 
 {_summary(scene, HUNAV2_FIRST_AGENT_ID)}
@@ -72,10 +112,13 @@ ros2 launch hunav_gazebo_wrapper simulation.launch.py configuration_file:={base}
     gzpose_Y:={scene.robot.start.yaw:.3f}
 ```
 The robot then drives the waypoints of `robot/robot_poses.yaml` (nav2 waypoint follower or teleop).
-"""
+{timing_section(holds)}{script_section(scene, "robot/robot_script.yaml",
+    "HuNavSim 2.x people cannot hear it; the robot still plays it (its operator, or your robot's speech).")}{spoken_section(spoken)}"""
 
 
 def hunav1_readme(scene: ExportScene, behaviors: dict[str, int]) -> str:
+    script = script_section(scene, "robot/robot_script.yaml", "HuNavSim 1.x people cannot hear it (built-in "
+                            "behaviors only); it tells the robot's operator what to do.")
     table = "\n".join(f"- {name}: behavior {code}" for name, code in behaviors.items())
     return f"""# HuNavSim 1.x export (built-in behaviors only)
 
@@ -93,4 +136,4 @@ def hunav1_readme(scene: ExportScene, behaviors: dict[str, int]) -> str:
 colcon build && source install/setup.bash
 ros2 launch hunav_gazebo_wrapper example_cafe.launch.py   # or your own world's launch file
 ```
-"""
+{script}"""

@@ -62,8 +62,9 @@ def spawn_starts(location: Location, plan: PathPlan, seed: int) -> dict[str, tup
 
     humans = sorted(plan.humans, key=lambda h: h.agent_id)
     nodes = [complex(*location.node_world(h.path[0])) for h in humans]
+    robot = complex(*location.node_world(plan.robot[0])) if plan.robot else None
     points = spawn_points(World.from_location(location), nodes, [h.group_id for h in humans], PERSON_RADIUS,
-                          np.random.default_rng(seed))
+                          np.random.default_rng(seed), robot)
     starts = {}
     for human, point in zip(humans, points, strict=True):
         goal = complex(*location.node_world(human.path[1] if len(human.path) > 1 else human.path[0])) - point
@@ -102,5 +103,6 @@ def build_scene(run_dir: Path | str, location_dir: Path | str | None = None, *,
     robot_points = world_path(location, plan.robot)
     robot = RobotExport(start=robot_points[0], waypoints=robot_points[1:], path=list(plan.robot))
     scene = ExportScene(run_name=run.root.resolve().name, location_name=location.name, humans=humans,
-                        robot=robot, plan=plan)
+                        robot=robot, plan=plan, spec=run.read_spec(),
+                        nodes={n: location.node_world(n) for n in location.scene_graph.node_ids()})
     return scene, location

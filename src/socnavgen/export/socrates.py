@@ -12,6 +12,7 @@ from socnavgen.bodies import PERSON_GOAL_RADIUS, PERSON_MAX_SPEED, PERSON_RADIUS
 from socnavgen.bt.expand import load_instance
 from socnavgen.bt.library import LIBRARY_TREE_XML
 from socnavgen.bt.validate import format_problems, validate_bt_text
+from socnavgen.bt.write import document_xml
 from socnavgen.errors import ValidationFailed
 from socnavgen.export.groot import tree_nodes_model_xml
 from socnavgen.export.models import (
@@ -21,13 +22,23 @@ from socnavgen.export.models import (
     HumanExport,
 )
 from socnavgen.export.readme import socrates_readme
+from socnavgen.export.robot_script import script_yaml
 from socnavgen.export.targets import ExportTarget, register
+from socnavgen.export.timing import Hold, hold_root, timed, with_waiting_goals
 from socnavgen.export.writer import dump_yaml, metres, robot_poses_yaml
 
 FIRST_LLM_BEHAVIOR = 7  # behavior 7+i -> LLMBT_<i>.xml in the fork
 TREES_DIR = "hunav_agent_manager/behavior_trees"
 AGENTS_FILE = "hunav_agent_manager/config/custom_agents.yaml"  # what the wrapper's launch file loads
 WRAPPER_CONFIG = "hunav_gazebo_wrapper/config"
+GESTURE_NODE = "hunav_gazebo_wrapper/scripts/socnavgen_robot_gestures.py"  # publishes the script's gestures
+
+
+def gesture_node_text() -> str:
+    """The fork's small ROS 2 node (export/ros/), written into every socrates export."""
+    from importlib.resources import files
+
+    return files("socnavgen.export.ros").joinpath("socnavgen_robot_gestures.py").read_text(encoding="utf-8")
 
 
 def fork_agent_entry(human: HumanExport, behavior: int, goal_prefix: str, first_goal: int, first_id: int = 0) -> dict:
@@ -76,11 +87,23 @@ def check_trees(scene: ExportScene, target: str = "socrates") -> None:
 def interaction_point_for_wrapper(scene: ExportScene, human: HumanExport) -> str:
     """The wrapper looks every human up in interaction_points and indexes the robot's goals with it
     (§11): a missing key or a node the robot never heads to crashes it. An empty string never
-    matches a node, so such a human is simply never paused."""
+    matches a node, so such a human is simply never paused - nor is a person whose own tree carries its
+    timing (export.timing): the wrapper's pause, on the whole leg before the node until the robot heads for
+    it, would hold that person a second time, far from where its tree waits."""
     ip = human.interaction_point
-    if ip and ip in scene.robot.path[1:]:
+    if ip and ip in scene.robot.path[1:] and not timed(human, scene):
         return ip
     return ""
+
+
+def timed_tree(human: HumanExport, hold: Hold | None) -> str:
+    """The person's v3 tree, with its timing (export.timing) around it when it is timed."""
+    if hold is None:
+        return human.tree_xml.rstrip() + "\n"
+    doc = load_instance(human.tree_xml, human.tree_file).document  # valid: check_trees ran first
+    assert doc.main is not None and doc.main.root is not None
+    root = hold_root(doc.main.root, hold, set())
+    return document_xml(doc, roots={doc.main.id: root})
 
 
 def trajectory_json(scene: ExportScene) -> str:
@@ -94,6 +117,7 @@ def trajectory_json(scene: ExportScene) -> str:
 
 def build_socrates(scene: ExportScene) -> list[ExportedFile]:
     check_trees(scene)
+    scene, holds = with_waiting_goals(scene)
     files: list[ExportedFile] = []
     behaviors: dict[str, int] = {}
     for human in scene.humans:
@@ -102,7 +126,7 @@ def build_socrates(scene: ExportScene) -> list[ExportedFile]:
             raise ValidationFailed("the SocRATES fork runs BT.CPP v3 trees; this one says BTCPP_format=\"4\"",
                                    file=human.tree_file, line=doc.line)
         behaviors[human.name] = FIRST_LLM_BEHAVIOR + human.agent_id
-        files.append(ExportedFile(path=f"{TREES_DIR}/LLMBT_{human.agent_id}.xml", text=human.tree_xml.rstrip() + "\n"))
+        files.append(ExportedFile(path=f"{TREES_DIR}/LLMBT_{human.agent_id}.xml", text=timed_tree(human, holds.get(human.name))))
     for name, xml in LIBRARY_TREE_XML.items():
         files.append(ExportedFile(path=f"{TREES_DIR}/{name}", text=xml))
     files.append(ExportedFile(path=f"{TREES_DIR}/TreeNodesModel.xml", text=tree_nodes_model_xml("socrates")))
@@ -112,7 +136,9 @@ def build_socrates(scene: ExportScene) -> list[ExportedFile]:
     files.append(ExportedFile(path=f"{WRAPPER_CONFIG}/launch_params.yaml", text=dump_yaml({
         "robot_poses": "config/robot_poses.yaml", "scenario": "config/trajectory.json",
         "world_name": scene.location_name})))
-    files.append(ExportedFile(path="README.md", text=socrates_readme(scene)))
+    files.append(ExportedFile(path=f"{WRAPPER_CONFIG}/robot_script.yaml", text=script_yaml(scene)))
+    files.append(ExportedFile(path=GESTURE_NODE, text=gesture_node_text()))
+    files.append(ExportedFile(path="README.md", text=socrates_readme(scene, holds)))
     return files
 
 

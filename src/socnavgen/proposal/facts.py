@@ -105,14 +105,16 @@ def pacing_text() -> str:
 
 
 def groups_text() -> str:
-    """How groups are simulated (sim/scenario.py spawns them, sim/sfm.py holds them together)."""
+    """How groups are simulated (sim.spawn_points spawns them, sim/people/physics.group_forces holds together the
+    members walking the group's walk; a member whose tree does something else leaves the group meanwhile)."""
     from socnavgen.bodies import GROUP_SPAWN_RADIUS
 
     return (f"- Groups: humans who share a group id (at least two) start evenly on a circle of "
             f"{GROUP_SPAWN_RADIUS:g} m around their first node and are pulled toward each other while they walk "
-            f"(group forces of the social force model): give every member the same path and the same reaction. "
-            f"People who must act differently (one gives way, another follows the robot) are better separate "
-            f"humans with group id -1, or the group force holds them back.")
+            f"their path (group forces of the social force model): give every member the same path. A member "
+            f"whose tree makes them do something else (give way, follow the robot, run away, stand) leaves the "
+            f"group's pull while doing it, so a group whose members react differently splits up and the others "
+            f"walk on; once that member walks their path again the pull holds them together again.")
 
 
 def encounter_within_text() -> str:

@@ -20,7 +20,6 @@ from socnavgen.run.models import PathPlan, ScenarioRequest
 from socnavgen.run.spec import ScenarioSpec
 
 if TYPE_CHECKING:
-    from socnavgen.bt.tree import BTDocument
     from socnavgen.location import Location
 
 T = TypeVar("T")
@@ -83,20 +82,6 @@ class LoadedRun:
     def behavior_path(self, human: str) -> Path:
         """behaviors/<human>.xml, resolved inside the run folder (RunFolder.behavior_path)."""
         return self.derived(("behavior_path", human), lambda: self.folder.behavior_path(human))
-
-    def behavior_tree(self, human: str) -> BTDocument | str:
-        """The human's tree parsed under the name the simulator gives it (its file's path), or its XML text
-        when it does not parse: the simulator then raises its own error, where and as it always did."""
-        def parse() -> BTDocument | str:
-            from socnavgen.bt.tree import parse_bt
-
-            xml = self.behaviors()[human]
-            try:
-                return parse_bt(xml, str(self.behavior_path(human)))
-            except Exception:  # noqa: BLE001 - the builder reports it (same message, same place)
-                return xml
-
-        return self.derived(("behavior_tree", human), parse)
 
     def location(self, override: Location | Path | str | None = None) -> Location:
         """RunFolder.location: `override` passed through (a Location) or loaded (a folder); without one the

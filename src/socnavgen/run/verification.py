@@ -1,7 +1,9 @@
 """Whether a run was verified, passed, failed, or was changed since: read from RUN/sim/verify.json (written by
 `socnavgen verify`) without the verifier itself, so that export and others can say it before they hand the
-scenario on. A report is stale when a file it judged (paths.json, spec.json, request.json, behaviors/*.xml,
-sim/trace.npz) is newer than it."""
+scenario on. A report is stale when the trace it judged is stale: the simulator's record of what the trace was
+made from (sim/outputs.json, digests of the run and location files, the robot, the version) no longer matches;
+the caller passes that reason (`trace_stale`, from socnavgen.sim.outputs.files.stale_reason). Only a trace made
+without a record (by hand, or by an old socnavgen) falls back to file times: a judged file newer than the report."""
 
 from __future__ import annotations
 
@@ -14,6 +16,7 @@ from socnavgen.safeio import load_json_file
 
 REPORT = "verify.json"
 TRACE = "trace.npz"
+RECORD = "outputs.json"  # the simulator's record of what the trace was made from (sim.outputs.files)
 State = Literal["passed", "failed", "never", "stale", "unreadable"]
 
 
@@ -34,12 +37,16 @@ def _inputs(folder: RunFolder) -> list:
     return [f for f in files if f.is_file()]
 
 
-def verification_status(folder: RunFolder) -> VerificationStatus:
+def verification_status(folder: RunFolder, trace_stale: str | None = None) -> VerificationStatus:
     report = folder.sim_dir / REPORT
     again = f"run `socnavgen verify {folder.root}`"
     if not report.is_file():
         return VerificationStatus("never", f"this run was never verified: nothing shows its scenario happens; {again}")
-    newer = [f for f in _inputs(folder) if f.stat().st_mtime > report.stat().st_mtime]
+    if trace_stale:
+        return VerificationStatus("stale", f"sim/verify.json judged a simulation that is out of date ({trace_stale}); "
+                                           f"{again}")
+    recorded = (folder.sim_dir / RECORD).is_file()
+    newer = [] if recorded else [f for f in _inputs(folder) if f.stat().st_mtime > report.stat().st_mtime]
     if newer:
         names = ", ".join(str(f.relative_to(folder.root)) for f in newer[:4])
         return VerificationStatus("stale", f"sim/verify.json is older than {names}: its verdict is about an earlier "

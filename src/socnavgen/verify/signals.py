@@ -234,15 +234,15 @@ class Signals:
         return self._keep("blocked", lambda: self.holding_up().any(axis=1))
 
     def walkable(self) -> np.ndarray:
-        """(T, H) walkable distances robot-human along the map's free space (verify/walkable.py)."""
+        """(T, H) walkable distances robot-human along the map's free space (sim/world/walkable.py)."""
         def build() -> np.ndarray:
-            from socnavgen.verify.walkable import WalkableDistance
+            from socnavgen.sim.world.walkable import WalkableDistance
 
             world = self._need_world("walkable distance")
             robot = self.trace.robot[:, 0] + 1j * self.trace.robot[:, 1]
             humans = self.trace.humans[:, :, 0] + 1j * self.trace.humans[:, :, 1]
             ways = WalkableDistance.of(world)
-            cols = [ways.between(robot, humans[:, i]) for i in range(humans.shape[1])]
+            cols = [ways.between(robot, humans[:, i], FAR) for i in range(humans.shape[1])]
             return np.stack(cols, axis=1) if cols else np.zeros((self.trace.steps, 0))
 
         return self._keep("walkable", build)

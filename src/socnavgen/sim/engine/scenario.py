@@ -10,7 +10,14 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from socnavgen.bodies import PERSON_RADIUS
+from socnavgen.bodies import (
+    CONTACT_MARGIN,
+    GROUP_SPAWN_RADIUS,
+    INTIMATE_SPACE,
+    PERSON_MAX_SPEED,
+    PERSON_RADIUS,
+    ROBOT_RADIUS,
+)
 from socnavgen.bt.library import regular_walker_xml
 from socnavgen.errors import ValidationFailed
 from socnavgen.run import LoadedRun, load_run
@@ -26,19 +33,30 @@ if TYPE_CHECKING:
     from socnavgen.location import Location
 
 SPAWN_SPREAD = 1.5  # m: SocRATES places each person uniformly within 1.5 m of its first node
-GROUP_SPAWN_RADIUS = 0.6  # m: members of a group start this far from their node (0.9-1.2 m apart)
 DEFAULT_TREE = regular_walker_xml()
 
 
 def spawn_points(world: World, first_nodes: list[complex], group_ids: list[int], radius: float,
-                 rng: np.random.Generator) -> list[complex]:
-    """SocRATES spawn: a random point within 1.5 m of the first node (groups spread evenly on a circle);
-    points inside walls are redrawn (closer each time), falling back to the node itself."""
+                 rng: np.random.Generator, robot_start: complex | None = None) -> list[complex]:
+    """SocRATES spawn: a random point within 1.5 m of the first node (groups spread evenly on a circle of
+    bodies.GROUP_SPAWN_RADIUS); a point inside a wall, or less than bodies.INTIMATE_SPACE from the robot at
+    `robot_start` or from a body placed before (a group's own members: not touching), is redrawn closer to
+    the node each time, falling back to the node itself (placement keeps nodes clear of each other)."""
     members: dict[int, list[int]] = {}
     for k, g in enumerate(group_ids):
         if g != -1:
             members.setdefault(g, []).append(k)
-    out = []
+    out: list[complex] = []
+
+    def clear(spot: complex, g: int) -> bool:
+        if robot_start is not None and abs(spot - robot_start) - radius - ROBOT_RADIUS < INTIMATE_SPACE:
+            return False
+        for j, other in enumerate(out):
+            same_group = g != -1 and group_ids[j] == g
+            if abs(spot - other) - 2 * radius < (CONTACT_MARGIN if same_group else INTIMATE_SPACE):
+                return False
+        return True
+
     for k, (node, g) in enumerate(zip(first_nodes, group_ids, strict=True)):
         if g != -1 and len(members[g]) > 1:  # a group stands together, evenly on a small circle
             angle = members[g].index(k) * 2 * math.pi / len(members[g])
@@ -49,7 +67,7 @@ def spawn_points(world: World, first_nodes: list[complex], group_ids: list[int],
         point = node
         for attempt in range(12):
             spot = node + rho * (0.7 ** attempt) * complex(math.cos(angle), math.sin(angle))
-            if world.is_free(spot, radius) and world.line_of_sight(node, spot)[0]:
+            if world.is_free(spot, radius) and world.line_of_sight(node, spot)[0] and clear(spot, g):
                 point = spot
                 break
         out.append(point)
@@ -80,14 +98,18 @@ def load_simulation(run_dir: Path | str | LoadedRun, policy: Any, config: SimCon
         raise ValidationFailed("cannot simulate this run:\n  " + "\n  ".join(problems), file=run.folder.paths_path)
     rng = np.random.default_rng(config.seed)
     starts = spawn_points(world, [complex(*at[h.path[0]]) for h in humans], [h.group_id for h in humans],
-                          PERSON_RADIUS, rng)
+                          PERSON_RADIUS, rng, complex(*at[plan.robot[0]]) if plan.robot else None)
+    spec = run.spec()
+    traits = spec.people if spec is not None else {}
     specs = []
     for h, start in zip(humans, starts, strict=True):
+        person = traits.get(h.name)
+        speed = person.speed if person is not None and person.speed is not None else PERSON_MAX_SPEED
         goals = [at[n] for n in (h.path[1:] if len(h.path) > 1 else h.path[:1])]
         first = complex(*goals[0]) - start
         specs.append(HumanSpec(name=h.name, start=(start.real, start.imag), goals=goals,
                                yaw=math.atan2(first.imag, first.real) if abs(first) > 1e-9 else 0.0,
-                               group_id=h.group_id, path_nodes=list(h.path),
+                               group_id=h.group_id, path_nodes=list(h.path), max_vel=speed,
                                interaction_point=at.get(h.interaction_point)))
     xmls = run.behaviors()
     trees: list[str] = []
@@ -101,7 +123,6 @@ def load_simulation(run_dir: Path | str | LoadedRun, policy: Any, config: SimCon
             names.append(f"<default RegularNav tree for {h.name}>")
             defaulted.append(h.name)
     node_points = {n: complex(*p) for n, p in at.items()}
-    spec = run.spec()
     throttle = throttle or ThrottleConfig()
     speech = RobotSpeech(rules=list(plan.robot_gestures), node_points=node_points)
     if spec is not None:

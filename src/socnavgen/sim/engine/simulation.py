@@ -44,6 +44,7 @@ from socnavgen.sim.robot.fields import NO_FIELDS, field_scale, route_fields
 from socnavgen.sim.robot.script import fired, lower_script
 from socnavgen.sim.trace import Trace
 from socnavgen.sim.world.grid import World
+from socnavgen.sim.world.routes import landmarks_of, load_wanted, route_map
 
 NODE_NAMES = [n.name for n in leaf_nodes()]
 CONTACT_SLACK = 0.005  # m: bodies are kept at least this far apart by the contact step
@@ -138,6 +139,7 @@ class Simulation:
         clock = singleton(CLOCK, dt=dt, max_steps=self.max_steps, idle_end=config.idle_end,
                           contact_slack=CONTACT_SLACK, python_policy=python_policy, error_node=-1)
         pacing_state, self.pacing_notes = lower_pacing(pacing, [[complex(*g) for g in h.goals] for h in humans])
+        landmarks, waypoint_marks = landmarks_of([[complex(*g) for g in h.goals] for h in humans], list(waypoints))
         rules = [r for r in speech.rules if r.gesture in ROBOT_GESTURES]
         if len(rules) != len(speech.rules):
             raise ValidationFailed("a robot gesture rule names a code that is not a robot gesture: "
@@ -152,7 +154,8 @@ class Simulation:
             people=people, goals=goals, group_sizes=sizes, waypoints=waypoints,
             offsets=np.concatenate([[0.0], np.cumsum(np.abs(np.diff(waypoints)))]), world=world.map,
             forces=config.sfm, work=np.zeros((2, max(len(waypoints), 64) + 8)),
-            fields=route_fields(world, waypoints, config.robot_radius) if plans else NO_FIELDS)
+            fields=route_fields(world, waypoints, config.robot_radius) if plans else NO_FIELDS,
+            routes=route_map(world, landmarks, waypoint_marks))
         self.episode = Episode(
             self.state, self.program.fresh(),
             lower_script(speech.script, speech.encounter_points, rules, speech.node_points, n, self.max_steps),
@@ -160,7 +163,8 @@ class Simulation:
         self._generator: Any = None
         self._clock, self._action = Columns(self.state.clock), Columns(self.state.action)  # fast from Python
         if n:
-            advance(people, sizes, config.sfm, world.map, waypoints[0], 0j, dt, self.episode.scratch, False)
+            advance(people, sizes, config.sfm, world.map, waypoints[0], 0j, config.robot_radius, dt,
+                    self.episode.scratch, False)
         stepper.record(self.state, self.episode.trace)
         if python_policy and hasattr(policy, "reset"):
             policy.reset(self.obs)
@@ -226,6 +230,8 @@ class Simulation:
                 action.has_heading[0] = turned
                 if turned:
                     action.heading[0] = heading
+            elif event == stepper.ROUTES:
+                load_wanted(self.state.routes, self.world)
             elif event == until:
                 return
             elif event == stepper.PROGRESS and progress is not None:

@@ -14,6 +14,7 @@ from socnavgen.sim.people.trees import Trees
 from socnavgen.sim.records import layout, table
 from socnavgen.sim.robot.script import Script
 from socnavgen.sim.world.queries import WorldMap
+from socnavgen.sim.world.routes import RouteMap
 
 # why a run ended (clock.end)
 RUNNING, TIMEOUT, ROBOT_GOAL, ALL_DONE = 0, 1, 2, 3
@@ -34,7 +35,7 @@ ROBOT = layout([
     ("max_alpha", "f8"), ("speed", "f8"),
     ("gesture", "i8"), ("said", "i8"),  # said: bit g set once it has shown gesture g (RobotSaid)
     ("scripted", "i8"),  # the gesture the script and the gesture rules make now
-    # its progress along its waypoints (people.give_way.robot_progress), computed once per step
+    # its progress along its waypoints (people.routing.robot_progress), computed once per step
     ("progress", "f8"), ("progress_segment", "i8"), ("progress_step", "i8"), ("search_from", "i8")])
 ACTION = layout([("vx", "f8"), ("vy", "f8"), ("gesture", "i8"), ("has_heading", "?"), ("heading", "c16"),
                  ("unicycle", "?"), ("forward", "f8"), ("turn", "f8")])  # unicycle: forward m/s, turn rad/s
@@ -78,6 +79,7 @@ class State(NamedTuple):
     forces: SFMParams
     work: np.ndarray  # (2, m) float scratch of the path geometry (people.give_way)
     fields: np.ndarray  # (W, rows, cols) float32: the planner's cost-to-go to each waypoint (robot.fields)
+    routes: RouteMap  # route fields of the goals and waypoints (world.routes, people.routing)
 
 
 class Episode(NamedTuple):

@@ -3,7 +3,7 @@
 Per step:
 1. pacing sets who is held at their interaction point; every tree is ticked once (person-id order) on the
    current snapshot (distances to the robot and environment forces were computed for it at the end of the
-   last step); actions only set motion commands;
+   last step); actions only set motion commands; each walker's way there (around walls and the robot);
 2. the robot's script plays; the robot's policy acts on the same snapshot - a built-in one right here, a
    Python one between two resumptions of the generator (it answers through `s.action[0]`); its velocity is
    capped at the robot's max speed and a move that would cross or end inside a wall is refused;
@@ -13,7 +13,8 @@ Per step:
 
 The generator yields an event whenever Python has something to do: ACT (a Python policy must answer),
 STEPPED (one step done, when asked for single steps), PROGRESS (every `progress_every` steps), ENDED (the
-run ended: clock.end says why) or FAILED (a tree could not go on: clock.error_* say where). All the state
+run ended: clock.end says why), FAILED (a tree could not go on: clock.error_* say where) or ROUTES (before a
+step: route fields the last step asked for, world.routes). All the state
 lives in `s`, so a new generator resumes where the last one stopped.
 
 The parts of a step are inlined into `steps` (a call that is not inlined passes every array of the state
@@ -28,13 +29,14 @@ from socnavgen.sim.engine.state import ALL_DONE, ROBOT_GOAL, RUNNING, TIMEOUT
 from socnavgen.sim.jit import generator, jit
 from socnavgen.sim.people.pacing import pace
 from socnavgen.sim.people.physics import advance, resolve_contacts
+from socnavgen.sim.people.routing import plan
 from socnavgen.sim.people.state import done, pop_goal
 from socnavgen.sim.people.vm import ERROR, tick
 from socnavgen.sim.robot.body import drive
 from socnavgen.sim.robot.policies import act
-from socnavgen.sim.robot.script import play, rules_gesture
+from socnavgen.sim.robot.script import play, scripted_gesture
 
-STEPPED, ACT, PROGRESS, ENDED, FAILED = 0, 1, 2, 3, 4
+STEPPED, ACT, PROGRESS, ENDED, FAILED, ROUTES = 0, 1, 2, 3, 4, 5
 IDLE_SPEED = 1e-3  # m/s: a robot slower than this is idle (the run ends once everything stopped)
 
 
@@ -53,8 +55,11 @@ def think(s, trees, pacing, script, scratch):  # noqa: ANN001, ANN201
     nodes, ports, slots, texts, kids, stack, args = trees
     dt = s.clock[0].dt
     for i in range(people.shape[0]):
+        if s.clock[0].t < people[i].start_delay:  # not started yet: stands at its spawn point
+            continue
         if tick(s, nodes, ports, slots, texts, kids, stack, args, dt, i) == ERROR:
             return ERROR
+    plan(s)
     play(s, script)
     return 0
 
@@ -76,8 +81,7 @@ def settle(s, script, scratch, reached, gesture):  # noqa: ANN001, ANN201
                 p.yaw = math.atan2(d.imag, d.real)
     clock.t += clock.dt
     clock.step += 1
-    say = script.now[0].say
-    robot.scripted = say if say != 0 else rules_gesture(s, script.rules)
+    robot.scripted = scripted_gesture(s, script)
     robot.gesture = gesture if gesture >= 0 else robot.scripted
     if robot.gesture != 0:
         robot.said |= 1 << robot.gesture
@@ -151,7 +155,8 @@ def walk(s, scratch):  # noqa: ANN001, ANN201
     if s.people.shape[0] == 0:
         return 0
     robot = s.robot[0]
-    return advance(s.people, s.group_sizes, s.forces, s.world, robot.pos, robot.vel, s.clock[0].dt, scratch, True)
+    return advance(s.people, s.group_sizes, s.forces, s.world, robot.pos, robot.vel, robot.radius, s.clock[0].dt,
+                   scratch, True)
 
 
 @jit(inline=True)
@@ -173,6 +178,8 @@ def steps(e, acted):  # noqa: ANN001, ANN201
         if not acted:
             if timed_out(s):
                 return ENDED
+            if s.routes.pending[0] > 0:  # route fields asked for last step: Python grows them first
+                return ROUTES
             if think(s, trees, pacing, script, scratch) == ERROR:
                 return FAILED
             if s.clock[0].python_policy:

@@ -1,6 +1,7 @@
-"""The files a simulation leaves in RUN/sim/ besides the trace: metrics.json, trajectories.png and (on
-request) animation.gif. One public function, so a simulation started from Python, from `verify` or from a
-campaign writes exactly what `socnavgen simulate` writes."""
+"""The files a simulation leaves in RUN/sim/ (or `simulate --out DIR`) besides the trace: metrics.json,
+trajectories.png (and on request .svg / .pdf) and, on request, animation.gif and animation.mp4. One public
+function, so a simulation started from Python, from `verify` or from a campaign writes exactly what
+`socnavgen simulate` writes."""
 
 from __future__ import annotations
 
@@ -11,6 +12,8 @@ from typing import Any
 METRICS_FILE = "metrics.json"
 PLOT_FILE = "trajectories.png"
 GIF_FILE = "animation.gif"
+MP4_FILE = "animation.mp4"
+FIGURE_FORMATS = ("png", "svg", "pdf")  # what the trajectory figure can be written as
 
 
 @dataclass
@@ -21,36 +24,49 @@ class SimOutputs:
     files: dict[str, Path] = field(default_factory=dict)
 
 
-def write_outputs(trace: Any, location: Any, out_dir: Path | str, *, plot: bool = True,
-                  gif: bool = False) -> SimOutputs:
-    """Write metrics.json (+ trajectories.png, + animation.gif) for `trace` into `out_dir`.
+def write_outputs(trace: Any, location: Any, out_dir: Path | str, *, plot: bool = True, gif: bool = False,
+                  formats: tuple[str, ...] = ("png",), mp4: bool = False) -> SimOutputs:
+    """Write metrics.json (+ the trajectory figure in each of `formats`, + animation.gif, + animation.mp4) for
+    `trace` into `out_dir`.
 
     `location` is the loaded Location the trace was simulated on (pass the object: it is not re-read)."""
     from socnavgen.sim.metrics import compute_metrics, navigation_metrics, write_metrics
+    from socnavgen.sim.social_metrics import social_metrics
     from socnavgen.sim.world import World
 
     out = Path(out_dir)
-    metrics = {**compute_metrics(trace, location), **navigation_metrics(trace, World.from_location(location))}
+    world = World.from_location(location)
+    metrics = {**compute_metrics(trace, location), **navigation_metrics(trace, world)}
+    metrics.update(social_metrics(trace, world, success=bool(metrics.get("success"))))
     files = {"metrics": out / METRICS_FILE}
     write_metrics(metrics, files["metrics"])
     if plot:
         from socnavgen.sim.outputs.plot import plot_trajectories
 
-        files["plot"] = out / PLOT_FILE
-        plot_trajectories(trace, location, files["plot"])
+        for fmt in formats:
+            key = "plot" if fmt == "png" else f"plot_{fmt}"
+            files[key] = plot_trajectories(trace, location, (out / PLOT_FILE).with_suffix(f".{fmt}"))
     if gif:
         from socnavgen.sim.outputs.animate import write_gif
 
         files["gif"] = out / GIF_FILE
         write_gif(trace, location, files["gif"])
+    if mp4:
+        from socnavgen.sim.outputs.animate import write_mp4
+
+        files["mp4"] = write_mp4(trace, location, out / MP4_FILE)
     return SimOutputs(metrics=metrics, files=files)
 
 
 # -- RUN/sim/ as one set: what the outputs were made from, so a stale or half-written set is never taken ----
-STAMP_FILE = "outputs.json"  # written last: without it (or with other digests) the outputs do not count
-TRACE_FILE = "trace.npz"
-VERIFY_FILE = "verify.json"  # written by `verify`; judged one trace, so it goes when the trace is replaced
-OURS = (STAMP_FILE, VERIFY_FILE, TRACE_FILE, METRICS_FILE, PLOT_FILE, GIF_FILE)
+# outputs.json is written last: without it (or with other digests) the outputs do not count; verify.json (written
+# by `verify`) judged one trace, so it goes when the trace is replaced. The names live with the run folder.
+from socnavgen.run.verification import RECORD as STAMP_FILE  # noqa: E402
+from socnavgen.run.verification import REPORT as VERIFY_FILE  # noqa: E402
+from socnavgen.run.verification import TRACE as TRACE_FILE  # noqa: E402
+
+OURS = (STAMP_FILE, VERIFY_FILE, TRACE_FILE, METRICS_FILE, PLOT_FILE, GIF_FILE, MP4_FILE, "trajectories.svg",
+        "trajectories.pdf")
 
 
 @dataclass(frozen=True)
@@ -80,8 +96,11 @@ def folder_identity(path: Path | str) -> tuple[int, int]:
 
 
 def save_run_outputs(trace: Any, location: Any, run_root: Path | str, made: MadeFrom, *,
-                     identity: tuple[int, int] | None = None, plot: bool = True, gif: bool = False) -> SimOutputs:
-    """Replace RUN/sim/ with the outputs of `trace`: outputs.json first says a set is being written, the earlier
+                     identity: tuple[int, int] | None = None, plot: bool = True, gif: bool = False,
+                     out_dir: Path | str | None = None, formats: tuple[str, ...] = ("png",),
+                     mp4: bool = False) -> SimOutputs:
+    """Replace RUN/sim/ (or `out_dir`: `simulate --out`, so that two robots on one run keep their own sets) with
+    the outputs of `trace`: outputs.json first says a set is being written, the earlier
     set (and the verify.json that judged it) is removed, the new files written, and outputs.json last records
     what this trace was made from. A kill in between leaves outputs.json saying the set is incomplete, which
     `stale_reason` reports and `verify` never takes for a finished set.
@@ -102,14 +121,14 @@ def save_run_outputs(trace: Any, location: Any, run_root: Path | str, made: Made
     if not same:
         raise SocnavgenError(f"the run folder {root} was moved, renamed or deleted during the simulation; "
                              "nothing was written", hint="simulate it again where it is now")
-    out = root / "sim"
-    out.mkdir(exist_ok=True)  # the run folder itself is never recreated
+    out = root / "sim" if out_dir is None else Path(out_dir)
+    out.mkdir(exist_ok=True, parents=out_dir is not None)  # the run folder itself is never recreated
     atomic_write_json(out / STAMP_FILE, {"complete": False})
     for name in OURS[1:]:
         (out / name).unlink(missing_ok=True)
     record: dict[str, Any] = {"complete": True, **_digests(root, location, made.robot)}
     trace.save(out / TRACE_FILE)
-    written = write_outputs(trace, location, out, plot=plot, gif=gif)
+    written = write_outputs(trace, location, out, plot=plot, gif=gif, formats=formats, mp4=mp4)
     files = {TRACE_FILE: out / TRACE_FILE, **{p.name: p for p in written.files.values()}}
     record.update(made=json.loads(json.dumps(made.__dict__)),
                   files={n: hashlib.sha256(p.read_bytes()).hexdigest() for n, p in files.items()})

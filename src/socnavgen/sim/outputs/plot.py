@@ -118,8 +118,11 @@ def interaction_points(location: Any, plan: Any = None, trace: Trace | None = No
 
 
 def view_limits(trace: Trace, location: Any, extra: Iterable[tuple[float, float]] = ()) -> tuple[float, ...]:
-    """Axis limits: the agents' trajectories plus a margin, clipped to the map."""
-    pts = [trace.robot[:, :2], trace.humans[:, :, :2].reshape(-1, 2)]
+    """Axis limits: the agents' trajectories, the robot's waypoints and goal (never cropped out, even when the
+    robot did not get there) plus a margin, clipped to the map."""
+    pts = [trace.robot[:, :2], trace.humans[:, :, :2].reshape(-1, 2),
+           np.asarray(list(trace.robot_waypoints) + ([trace.robot_goal] if trace.robot_goal is not None else []),
+                      dtype=float).reshape(-1, 2)]
     extra = list(extra)
     if extra:
         pts.append(np.asarray(extra, dtype=float))
@@ -160,7 +163,7 @@ def _ticks(ax: Any, placer: LabelPlacer, xy: np.ndarray, t: np.ndarray, color: s
         ax.plot(*xy[i], marker="|", ms=7, color=color, mew=1.5, zorder=5)
         if last is not None and np.hypot(*(xy[i] - last)) < STILL:
             continue
-        if place_text(ax, placer, (float(xy[i, 0]), float(xy[i, 1])), f"{mark:.0f}s", fontsize=6, color=color,
+        if place_text(ax, placer, (float(xy[i, 0]), float(xy[i, 1])), f"{mark:.0f}s", fontsize=7, color=color,
                       zorder=5):
             last = xy[i]
 
@@ -178,15 +181,17 @@ def legend_below(fig: Any, ax: Any, ncol: int = 4) -> float:
     return strip
 
 
-def plot_trajectories(trace: Trace, location: Any, out_png: Path | str, *, plan: Any = None,
-                      tick_every: float = 5.0, width_in: float = 8.0, dpi: int = 120) -> Path:
-    """Write a PNG of the run (see trajectory_figure). Returns the file path."""
+def plot_trajectories(trace: Trace, location: Any, out_file: Path | str, *, plan: Any = None,
+                      tick_every: float = 5.0, width_in: float = 7.0, dpi: int = 150) -> Path:
+    """Write the run's figure (see trajectory_figure) as PNG, SVG or PDF, by the file's suffix. At the default
+    7 in (a paper's full width) its smallest text is 7 pt. Returns the file path."""
     fig = trajectory_figure(trace, location, plan=plan, tick_every=tick_every, width_in=width_in, dpi=dpi)
     try:
-        out = Path(out_png)
+        out = Path(out_file)
+        fmt = out.suffix.lstrip(".").lower() or "png"
         out.parent.mkdir(parents=True, exist_ok=True)
         buf = io.BytesIO()
-        fig.savefig(buf, format="png")
+        fig.savefig(buf, format=fmt, metadata={"Date": None} if fmt in ("svg", "pdf") else None)
         atomic_write_bytes(out, buf.getvalue())
     finally:
         plt.close(fig)
@@ -233,12 +238,14 @@ def trajectory_figure(trace: Trace, location: Any, *, plan: Any = None, tick_eve
                 placer.reserve_point(*ax.transData.transform(end), radius=6)
         for x, y in points.values():
             placer.reserve_point(*ax.transData.transform((x, y)), radius=8)
+        if trace.robot_goal is not None:  # no label under the goal ring
+            placer.reserve_point(*ax.transData.transform(trace.robot_goal), radius=12)
         for name, (x, y) in points.items():
             place_text(ax, placer, (x, y), name, fontsize=7, clearance=9, zorder=6)
         for xy, color in paths:
             _ticks(ax, placer, xy, trace.t, color, tick_every)
         for node_id, (x, y) in graph_points(location).items():
-            place_text(ax, placer, (x, y), node_id, fontsize=6, color="#2b4570", alpha=0.75, zorder=2)
+            place_text(ax, placer, (x, y), node_id, fontsize=7, color="#2b4570", alpha=0.85, zorder=2)
     except BaseException:
         plt.close(fig)
         raise

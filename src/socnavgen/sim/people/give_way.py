@@ -13,7 +13,8 @@ import numpy as np
 from socnavgen import proxemics
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.leaves import follow, leaf
-from socnavgen.sim.people.state import turn, walk_to, walk_to_goal
+from socnavgen.sim.people.routing import project, robot_progress
+from socnavgen.sim.people.state import ROUTE_ROBOT, ROUTE_STRAIGHT, turn, walk_to, walk_to_goal
 from socnavgen.sim.people.trees import SUCCESS
 from socnavgen.sim.world.queries import free_along
 
@@ -26,7 +27,7 @@ SIDE_STEP_MAX = 3.0  # m: the farthest a person walks to get out of the robot's 
 SIDE_STEP_SPACING = 0.1  # m: candidate spots every 0.1 m along each direction, from 0.1 m on
 SIDE_STEP_TURN_COST = 0.3  # m of walk a radian away from straight sideways is worth
 SIDE_STEP_FAR_COST = 0.05  # per m of walk, against clearance, when no spot is far enough
-TIE = 1e-9  # m: segments, spots and directions this close count as equally good; the first is taken
+TIE = 1e-9  # m: spots and directions this close count as equally good; the first is taken
 ASIDE_RADIUS = 0.05  # m: the side-step target is reached within this
 PASSED_MARGIN = 0.3  # m beyond both radii: the robot has passed the person's spot on its path
 ASIDE, WAIT, RESUME = 0, 1, 2  # give-way phases
@@ -34,38 +35,6 @@ SIDE_UNITS = np.array([complex(math.cos(2 * math.pi * j / SIDE_STEP_DIRECTIONS),
                                math.sin(2 * math.pi * j / SIDE_STEP_DIRECTIONS)) for j in range(SIDE_STEP_DIRECTIONS)])
 SIDE_TURNS = np.array([abs(math.remainder(2 * math.pi * j / SIDE_STEP_DIRECTIONS, 2 * math.pi))
                        for j in range(SIDE_STEP_DIRECTIONS)])
-
-
-@jit
-def project(p, a, b):  # noqa: ANN001, ANN201
-    """(distance along the segment a->b of p's closest point, distance from p to it)."""
-    ab = b - a
-    length = abs(ab)
-    unit = ab / length if length > 1e-9 else 0j
-    along = min(max(((p - a) * unit.conjugate()).real, 0.0), length)
-    return along, abs(p - (a + unit * along))
-
-
-@jit
-def robot_progress(s):  # noqa: ANN001, ANN201
-    """(arc length, segment) of the robot's projection on its waypoint path, searched from the segment found
-    last (a path may come back past the same place); computed once per step."""
-    robot, wps = s.robot[0], s.waypoints
-    if robot.progress_step == s.clock[0].step:
-        return robot.progress, robot.progress_segment
-    value, seg = 0.0, 0
-    if wps.shape[0] >= 2:
-        nearest = np.inf
-        for j in range(robot.search_from, wps.shape[0] - 1):
-            nearest = min(nearest, project(robot.pos, wps[j], wps[j + 1])[1])
-        for j in range(robot.search_from, wps.shape[0] - 1):  # the first segment as near as the nearest
-            along, dist = project(robot.pos, wps[j], wps[j + 1])
-            if dist <= nearest + TIE:
-                seg, value = j, s.offsets[j] + along
-                break
-        robot.search_from = seg
-    robot.progress_step, robot.progress, robot.progress_segment = s.clock[0].step, value, seg
-    return value, seg
 
 
 @jit
@@ -195,7 +164,7 @@ def give_way(s, i):  # noqa: ANN001, ANN201
     if p.give_way_phase == ASIDE and abs(p.aside - p.pos) <= GIVE_WAY_ARRIVED:
         p.give_way_phase = WAIT
     if p.give_way_phase == ASIDE:
-        walk_to(s.people, i, p.aside, ASIDE_RADIUS, p.max_speed)
+        walk_to(s.people, i, p.aside, ASIDE_RADIUS, p.max_speed, ROUTE_STRAIGHT)
     elif p.give_way_phase == WAIT:
         d = s.robot[0].pos - p.pos
         turn(s.people, i, math.atan2(d.imag, d.real))
@@ -218,5 +187,5 @@ def follow_robot(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
         give_way(s, i)
         if p.give_way_phase != RESUME:
             return SUCCESS
-    follow(s, i, s.robot[0].pos, s.robot[0].radius)
+    follow(s, i, s.robot[0].pos, s.robot[0].radius, ROUTE_ROBOT)
     return SUCCESS

@@ -17,9 +17,10 @@ import math
 from collections.abc import Callable
 
 from socnavgen.sim.jit import jit
-from socnavgen.sim.people.state import goal_reached, pop_goal, stand, turn, walk_to, walk_to_goal
+from socnavgen.sim.people.avoid import sees
+from socnavgen.sim.people.routing import head
+from socnavgen.sim.people.state import ROUTE_ROBOT, goal_reached, pop_goal, stand, turn, walk_to, walk_to_goal
 from socnavgen.sim.people.trees import FAILURE, SUCCESS, Port
-from socnavgen.sim.world.queries import line_of_sight
 
 LEAVES: dict[str, Callable] = {}
 BAD_PORT = -10  # a leaf's status BAD_PORT - column: the port in that column holds an unusable value
@@ -66,10 +67,7 @@ def robot_bearing(s, i):  # noqa: ANN001, ANN201
 @jit
 def sees_robot(s, i):  # noqa: ANN001, ANN201
     """Line of sight from person i to the robot, computed at most once per step."""
-    p = s.people[i]
-    if p.sees_robot < 0:
-        p.sees_robot = 1 if line_of_sight(s.world, s.robot[0].pos, p.pos) else 0
-    return p.sees_robot == 1
+    return sees(s, i)
 
 
 @jit
@@ -180,15 +178,16 @@ def look_at_robot(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
 
 
 @jit
-def follow(s, i, target, target_radius):  # noqa: ANN001, ANN201
-    """Within FOLLOW_STOP face the target without moving; else walk toward it at FOLLOW_GAIN * distance."""
+def follow(s, i, target, target_radius, route):  # noqa: ANN001, ANN201
+    """Within FOLLOW_STOP (along the walkable way) face the target without moving; else walk toward it, around
+    walls (`route`: people.routing), at FOLLOW_GAIN * that distance."""
     s.people[i].behavior = 1
-    d = target - s.people[i].pos
-    r = abs(d)
+    _, r = head(s, i, target, route)
     if r <= FOLLOW_STOP:
+        d = target - s.people[i].pos
         turn(s.people, i, math.atan2(d.imag, d.real))
     else:
-        walk_to(s.people, i, target, target_radius, FOLLOW_GAIN * r)
+        walk_to(s.people, i, target, target_radius, FOLLOW_GAIN * r, route)
 
 
 @leaf("FollowHuman")
@@ -197,7 +196,7 @@ def follow_human(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     if h < 0:
         return bad_port(Port.target_id)
     if h != i:
-        follow(s, i, s.people[h].pos, s.people[h].radius)
+        follow(s, i, s.people[h].pos, s.people[h].radius, h)
     return SUCCESS
 
 
@@ -225,7 +224,7 @@ def block(s, i, ahead):  # noqa: ANN001, ANN201
     p = s.people[i]
     p.behavior = 1
     walk_to(s.people, i, s.robot[0].pos + ahead * complex(math.cos(s.robot[0].yaw), math.sin(s.robot[0].yaw)),
-            BLOCK_RADIUS, BLOCK_SPEED)
+            BLOCK_RADIUS, BLOCK_SPEED, ROUTE_ROBOT)
     p.face_robot_within = BLOCK_FACE
 
 

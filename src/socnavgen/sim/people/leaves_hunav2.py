@@ -22,7 +22,8 @@ import math
 from socnavgen.bt.library import HUNAV2_FIRST_AGENT_ID
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.leaves import bad_port, block, human, leaf, look_at_robot_step, push_away
-from socnavgen.sim.people.state import turn, walk_to, walk_to_goal
+from socnavgen.sim.people.routing import head
+from socnavgen.sim.people.state import ROUTE_ROBOT, turn, walk_to, walk_to_goal
 from socnavgen.sim.people.trees import FAILURE, RUNNING, SUCCESS, Port
 
 
@@ -49,14 +50,14 @@ def surprised_nav(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
 
 
 @jit
-def approach(s, i, target, radius, stop, max_speed):  # noqa: ANN001, ANN201
+def approach(s, i, target, radius, stop, max_speed, route):  # noqa: ANN001, ANN201
     s.people[i].behavior = 1
-    d = target - s.people[i].pos
-    r = abs(d)
+    _, r = head(s, i, target, route)
     if r <= stop:
+        d = target - s.people[i].pos
         turn(s.people, i, math.atan2(d.imag, d.real))
     else:
-        walk_to(s.people, i, target, radius, max_speed * r / (r + stop))
+        walk_to(s.people, i, target, radius, max_speed * r / (r + stop), route)
 
 
 @jit
@@ -72,7 +73,7 @@ def timed(s, node, duration):  # noqa: ANN001, ANN201
 
 @leaf("CuriousNav")
 def curious_nav(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
-    approach(s, i, s.robot[0].pos, s.robot[0].radius, a[Port.stop_distance], a[Port.agent_vel])
+    approach(s, i, s.robot[0].pos, s.robot[0].radius, a[Port.stop_distance], a[Port.agent_vel], ROUTE_ROBOT)
     return SUCCESS
 
 
@@ -88,7 +89,7 @@ def follow_agent(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     if h < 0:
         return bad_port(Port.target_agent_id)
     if h != i:
-        approach(s, i, s.people[h].pos, s.people[h].radius, a[Port.closest_dist], a[Port.max_vel])
+        approach(s, i, s.people[h].pos, s.people[h].radius, a[Port.closest_dist], a[Port.max_vel], h)
     return timed(s, node, a[Port.duration])
 
 

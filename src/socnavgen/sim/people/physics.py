@@ -15,6 +15,7 @@ from typing import NamedTuple
 import numpy as np
 
 from socnavgen.sim.jit import jit
+from socnavgen.sim.people.avoid import keep_off
 from socnavgen.sim.world.queries import clearance_at, nearest_obstacle
 
 GRID_MIN = 64  # above this many people, neighbours come from a grid of cut-off sized cells (linear cost)
@@ -47,6 +48,7 @@ class Scratch(NamedTuple):
     force: np.ndarray  # (n,) complex
     social: np.ndarray  # (n,) complex: people-people social force
     centres: np.ndarray  # (groups,) complex: sums of members' positions
+    counts: np.ndarray  # (groups,) float: members walking together
     pairs: np.ndarray  # (n, n) complex: each pair's social force (small crowds), else (0, 0)
     before: np.ndarray  # (n,) complex: positions before the step (contacts)
     snap: np.ndarray  # (n,) complex: positions before the contact corrections
@@ -55,7 +57,8 @@ class Scratch(NamedTuple):
 def new_scratch(n: int, groups: int) -> Scratch:
     small = n <= GRID_MIN
     return Scratch(np.zeros(n, complex), np.zeros(n, complex), np.zeros(n, complex), np.zeros(max(groups, 1), complex),
-                   np.zeros((n, n) if small else (0, 0), complex), np.zeros(n, complex), np.zeros(n, complex))
+                   np.zeros(max(groups, 1)), np.zeros((n, n) if small else (0, 0), complex), np.zeros(n, complex),
+                   np.zeros(n, complex))
 
 
 @jit(inline=True)
@@ -157,20 +160,30 @@ def environment(people, prm, world, robot_pos, robot_vel, social):  # noqa: ANN0
         p.robot_distance = abs(robot_pos - p.pos)
 
 
+@jit(inline=True)
+def in_group_walk(p):  # noqa: ANN001, ANN201
+    """A member takes part in its group's forces while it walks the group's walk (RegularNav to its goal); a
+    member its tree makes do something else (run away, follow, give way, stand) leaves the group meanwhile."""
+    return p.group >= 0 and p.walks and p.to_goal and p.behavior == 0
+
+
 @jit
-def group_forces(people, group_sizes, prm, direction, force, centres):  # noqa: ANN001, ANN201
-    """Gaze, coherence and repulsion among members of a group (reference §6.5), added to `force`."""
+def group_forces(people, prm, direction, force, centres, counts):  # noqa: ANN001, ANN201
+    """Gaze, coherence and repulsion among the members of a group walking together (reference §6.5), added to
+    `force`."""
     n = people.shape[0]
-    for g in range(group_sizes.shape[0]):
+    for g in range(centres.shape[0]):
         centres[g] = 0j
+        counts[g] = 0.0
     for i in range(n):
-        if people[i].group >= 0:
+        if in_group_walk(people[i]):
             centres[people[i].group] += people[i].pos
+            counts[people[i].group] += 1.0
     for i in range(n):
         p = people[i]
-        if p.group < 0:
+        if not in_group_walk(p) or counts[p.group] < 2:
             continue
-        size = group_sizes[p.group]
+        size = counts[p.group]
         centre = centres[p.group] / size
         others = (size * centre - p.pos) / (size - 1) - p.pos
         e = direction[i]
@@ -182,7 +195,7 @@ def group_forces(people, group_sizes, prm, direction, force, centres):  # noqa: 
         force[i] += prm.k_coh * (math.tanh(abs(w) - (size - 1) / 2) + 1) / 2 * w
         rep = 0j
         for j in range(n):
-            if j != i and people[j].group == p.group:
+            if j != i and people[j].group == p.group and in_group_walk(people[j]):
                 d = p.pos - people[j].pos
                 if abs(d) < p.radius + people[j].radius:
                     rep += d
@@ -190,9 +203,10 @@ def group_forces(people, group_sizes, prm, direction, force, centres):  # noqa: 
 
 
 @jit
-def move(people, group_sizes, prm, dt, scratch):  # noqa: ANN001, ANN201
-    """One force step for the walkers (using the environment force of the previous call); the others stand
-    (zero velocity) or turn. Flags people that reached their real goal; returns how many."""
+def move(people, group_sizes, prm, dt, scratch, robot_pos, robot_radius):  # noqa: ANN001, ANN201
+    """One force step for the walkers (using the environment force of the previous call), each heading for
+    its point of this step (`via`: people.routing) and never stepping into the robot (people.avoid); the
+    others stand (zero velocity) or turn. Flags people that reached their real goal; returns how many."""
     n = people.shape[0]
     direction, force = scratch.direction, scratch.force
     for i in range(n):
@@ -202,16 +216,16 @@ def move(people, group_sizes, prm, dt, scratch):  # noqa: ANN001, ANN201
             target, radius, has = p.goal, p.goal_radius, p.has_goal
         else:
             target, radius, has = p.target, p.target_radius, True
-        to = target - p.pos
-        dist = abs(to)
-        if has and dist > radius:
-            direction[i] = to / dist
+        dist = abs(target - p.pos)
+        ahead = p.via - p.pos if p.walks else target - p.pos
+        if has and dist > radius and abs(ahead) > 1e-12:
+            direction[i] = ahead / abs(ahead)
             force[i] = prm.k_des * (p.desired_speed * direction[i] - p.vel) / prm.tau
         else:
             force[i] = -p.vel / prm.tau  # within the target's radius: brake
         force[i] += p.env_force + p.push
     if group_sizes.shape[0] > 0:
-        group_forces(people, group_sizes, prm, direction, force, scratch.centres)
+        group_forces(people, prm, direction, force, scratch.centres, scratch.counts)
     reached = 0
     for i in range(n):
         p = people[i]
@@ -222,7 +236,8 @@ def move(people, group_sizes, prm, dt, scratch):  # noqa: ANN001, ANN201
             speed = abs(v)
             if speed > p.desired_speed:
                 v = v * (p.desired_speed / speed)
-                speed = p.desired_speed
+            v = keep_off(v, p.pos, robot_pos, p.radius + robot_radius, dt)
+            speed = abs(v)
             if speed > 1e-9:
                 p.yaw = math.atan2(v.imag, v.real)
             p.pos = p.pos + v * dt
@@ -239,10 +254,10 @@ def move(people, group_sizes, prm, dt, scratch):  # noqa: ANN001, ANN201
 
 
 @jit
-def advance(people, group_sizes, prm, world, robot_pos, robot_vel, dt, scratch, step):  # noqa: ANN001, ANN201
+def advance(people, group_sizes, prm, world, robot_pos, robot_vel, robot_radius, dt, scratch, step):  # noqa: ANN001, ANN201
     """(step) move the walkers; then the environment forces of the (new) positions. Returns how many people
     reached their real goal."""
-    reached = move(people, group_sizes, prm, dt, scratch) if step else 0
+    reached = move(people, group_sizes, prm, dt, scratch, robot_pos, robot_radius) if step else 0
     if scratch.pairs.shape[0] >= people.shape[0]:
         social_dense(people, prm, scratch.pairs, scratch.social)
     else:

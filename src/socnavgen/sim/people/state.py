@@ -13,6 +13,9 @@ from socnavgen.sim.jit import jit
 from socnavgen.sim.records import layout, table
 
 DONE_SPEED = 0.05  # m/s: a person slower than this at its last goal has finished its walk
+# how a walk finds its way (PERSON.route; people.routing): straight at the target, or around walls toward the
+# person's goal, the robot, or person j (route = j >= 0)
+ROUTE_STRAIGHT, ROUTE_GOAL, ROUTE_ROBOT = -1, -2, -3
 
 
 @dataclass
@@ -30,18 +33,25 @@ class HumanSpec:
     cyclic: bool = False
     interaction_point: tuple[float, float] | None = None
     path_nodes: list[str] = field(default_factory=list)
+    start_delay: float = 0.0  # s: stands at its spawn point, facing its first goal, until then (its tree waits)
 
 
 PERSON = layout([
     # body and motion
     ("pos", "c16"), ("vel", "c16"), ("yaw", "f8"), ("omega", "f8"), ("radius", "f8"), ("max_speed", "f8"),
     ("group", "i8"),  # label of its group (0..G-1, groups of two or more), -1 alone
+    ("start_delay", "f8"),  # s: its tree is not ticked (it stands) before then
     # goal queue: the front goal, and the ring goals[i, start:start + count] (wrapping)
     ("goal", "c16"), ("goal_radius", "f8"), ("has_goal", "?"), ("queue_start", "i8"), ("queue_count", "i8"),
     ("cyclic", "?"),
     # this step's motion command, set by the tree's actions: walk (to the goal or to `target`) or turn
     ("walks", "?"), ("to_goal", "?"), ("target", "c16"), ("target_radius", "f8"), ("desired_speed", "f8"),
     ("push", "c16"), ("turns", "?"), ("turn_to", "f8"), ("face_robot_within", "f8"),
+    # the way there (people.routing): how it is found, the point headed for this step (via_step), the decision
+    # kept until via_until for a target at via_for (via_mark: the landmark whose field leads, -1 straight), and
+    # the landmark of the current goal (goal_mark, for the goal goal_mark_of)
+    ("route", "i8"), ("via", "c16"), ("via_step", "i8"), ("via_until", "i8"), ("via_for", "c16"), ("via_mark", "i8"),
+    ("goal_mark", "i8"), ("goal_mark_of", "c16"),
     # forces of the current positions (social incl. the robot, nearest wall), distance to the robot
     ("env_force", "c16"), ("robot_distance", "f8"), ("reached", "?"),
     # behaviour: gesture shown, behavior_state code (0 regular, 1 robot-related, 2 giving way), sight of
@@ -72,7 +82,9 @@ def new_people(specs: list[HumanSpec]) -> tuple[np.recarray, np.ndarray, np.ndar
     people = table(PERSON, n, pos=[complex(*s.start) for s in specs], yaw=[s.yaw for s in specs],
                    radius=[s.radius for s in specs], max_speed=[s.max_vel for s in specs], group=labels,
                    goal_radius=[s.goal_radius for s in specs], cyclic=[s.cyclic for s in specs],
-                   pace=[s.max_vel for s in specs], sees_robot=-1, action=-1)
+                   pace=[s.max_vel for s in specs], start_delay=[s.start_delay for s in specs], sees_robot=-1,
+                   action=-1, via_step=-1, via_mark=-1,
+                   goal_mark=-1)
     capacity = max([len(s.goals) for s in specs] + [0]) + 2  # a cyclic queue re-appends before it pops
     goals = np.zeros((n, capacity), dtype=complex)
     for i, s in enumerate(specs):
@@ -134,15 +146,15 @@ def done(people, goals, i):  # noqa: ANN001, ANN201
 def walk_to_goal(people, i, speed, push):  # noqa: ANN001, ANN201
     """Social-force walking toward the front goal at `speed`, with an extra force `push`."""
     p = people[i]
-    p.walks, p.to_goal, p.turns = True, True, False
+    p.walks, p.to_goal, p.turns, p.route = True, True, False, ROUTE_GOAL
     p.desired_speed, p.push = speed, push
 
 
 @jit
-def walk_to(people, i, target, radius, speed):  # noqa: ANN001, ANN201
-    """Social-force walking toward `target` (arrived within `radius`) at `speed`."""
+def walk_to(people, i, target, radius, speed, route):  # noqa: ANN001, ANN201
+    """Social-force walking toward `target` (arrived within `radius`) at `speed`, finding the way by `route`."""
     p = people[i]
-    p.walks, p.to_goal, p.turns = True, False, False
+    p.walks, p.to_goal, p.turns, p.route = True, False, False, route
     p.target, p.target_radius, p.desired_speed, p.push = target, radius, speed, 0j
 
 

@@ -159,6 +159,8 @@ class BuiltinPolicy:
     plans: ClassVar[bool] = False  # follows the global planner (robot.fields, robot.planner) around obstacles
     guard: ClassVar[float] = math.nan  # m: its body's protective field (robot.body; NaN: none)
     max_speed: float = 0.6
+    start_delay: float = 0.0  # s standing still at the start (when its operator starts it)
+    keep_gap: float = math.nan  # m its own moves never close between it and a person (NaN: no such limit)
 
     def parameters(self) -> np.recarray:
         """Its parameters and a fresh state as the compiled step reads them (a one-row table)."""
@@ -195,6 +197,7 @@ class ScriptedPolicy(WaypointsPolicy):
     plans: ClassVar[bool] = True
     guard: ClassVar[float] = POLITE_GAP
     max_speed: float = math.inf
+    keep_gap: float = POLITE_GAP  # m kept from everyone (robot.polite; 3 x the contact margin)
 
 
 @dataclass
@@ -205,6 +208,7 @@ class SFMPolicy(BuiltinPolicy):
     plans: ClassVar[bool] = True
     guard: ClassVar[float] = policies.KEEP_CLEAR
     waypoint_tolerance: float = 0.5
+    keep_gap: float = policies.KEEP_CLEAR
 
 
 @dataclass

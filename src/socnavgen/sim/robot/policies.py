@@ -9,6 +9,10 @@ robot.api carry their parameters). Their parameters and state are one POLICY rec
   moving into a person (keep_clear) and never backing away from its waypoint.
 * sfm: one more social-force walker heading for its waypoints, with the same keep_clear safety layer.
 * straight: deliberately rude, straight at each waypoint through people (slides along walls only).
+
+Every built-in robot stands still for its first `start_delay` s (when its operator starts it); `keep_gap`
+(m, NaN: none) is the surface gap its own moves never close to a person (keep_clear): the scripted and sfm
+robots keep KEEP_CLEAR by default, the waypoints robot keeps none unless given one.
 """
 
 from __future__ import annotations
@@ -26,7 +30,6 @@ from socnavgen.sim.robot.planner import steer
 from socnavgen.sim.robot.polite import (
     CLOSE_SPEED,
     PASS_GAP,
-    POLITE_GAP,
     keep_clear,
     make_way,
     pass_aside,
@@ -48,13 +51,14 @@ AROUND_LOOK = 1.0  # m: room looked for on either side before going around someo
 AROUND_BIAS = 0.1  # m/s sideways while going around (a person dead ahead pushes straight back otherwise)
 GOAL_DECEL = 0.8  # m/s2: the social-force and the straight robots slow down for their goal at this rate
 OCCUPIED_REACH = 2.0  # m: an intermediate waypoint someone stands on is skipped once the robot is this close
-KEEP_CLEAR = 0.03  # m: the sfm robot never moves closer than this gap to anyone (the scripted: POLITE_GAP)
+KEEP_CLEAR = 0.03  # m: the scripted and sfm robots never move closer than this gap to anyone (keep_gap)
 CROWD_LOOK = 32  # with more people than this, only those within reach are looked at
 ARRIVED = ROBOT_GOAL_TOLERANCE * 0.5  # m: the built-in robots stop this close to their goal
 
 POLICY = layout([
     ("kind", "i8"), ("max_speed", "f8"), ("accel", "f8"), ("brake", "f8"), ("slow_gap", "f8"), ("stop_gap", "f8"),
     ("patience", "f8"), ("detour_speed", "f8"), ("waypoint_tolerance", "f8"),
+    ("start_delay", "f8"), ("keep_gap", "f8"),  # s standing at the start; m kept from people (NaN: none)
     ("line_clearance", "f8"),  # NaN: a waypoint counts as reached within the tolerance whatever the walls
     ("rude_max_speed", "f8"), ("rude_tolerance", "f8"),  # the scripted robot's straight robot
     ("speed", "f8"), ("waited", "f8"), ("around_side", "f8"), ("pass_side", "f8"), ("has_heading", "?"), ("heading", "c16"),
@@ -252,14 +256,14 @@ def straight_act(s, max_speed, rude):  # noqa: ANN001, ANN201
 @jit
 def scripted_act(s, now):  # noqa: ANN001, ANN201
     """Drives like waypoints with the manners of robot.polite: moves aside to pass people with room, slows
-    down near them, backs away from someone walking into it, never comes within POLITE_GAP of anyone."""
+    down near them, backs away from someone walking into it, never comes within keep_gap (POLITE_GAP) of anyone."""
     policy = s.policy[0]
     if now.misbehave:
         return straight_act(s, policy.rude_max_speed, True)
     policy.max_speed = min(now.speed, policy.speed_cap)
     if now.wait:
         policy.speed = 0.0
-        return keep_clear(s, slide_along_walls(s, yield_to(s)), POLITE_GAP)
+        return keep_clear(s, slide_along_walls(s, yield_to(s)), policy.keep_gap)
     target, _ = track(s, False)
     forward = target - s.robot[0].pos
     if abs(forward) > 1e-9:
@@ -267,7 +271,7 @@ def scripted_act(s, now):  # noqa: ANN001, ANN201
         if backing:
             policy.speed = 0.0
             policy.has_heading, policy.heading = True, forward / abs(forward)
-            return keep_clear(s, slide_along_walls(s, v), POLITE_GAP)
+            return keep_clear(s, slide_along_walls(s, v), policy.keep_gap)
     v = waypoints_act(s)
     direction = policy.heading if abs(policy.heading) > 0 else complex(math.cos(s.robot[0].yaw),
                                                                        math.sin(s.robot[0].yaw))
@@ -281,7 +285,7 @@ def scripted_act(s, now):  # noqa: ANN001, ANN201
     v += pass_aside(s, direction)
     if abs(v) > CLOSE_SPEED and toward_near(s, v, PASS_GAP):
         v = v * (CLOSE_SPEED / abs(v))
-    v = keep_clear(s, slide_along_walls(s, v + yield_to(s)), POLITE_GAP)
+    v = keep_clear(s, slide_along_walls(s, v + yield_to(s)), policy.keep_gap)
     forward = (v * direction.conjugate()).real
     if forward < policy.speed:
         policy.speed = max(0.0, forward)
@@ -289,16 +293,32 @@ def scripted_act(s, now):  # noqa: ANN001, ANN201
 
 
 @jit
+def kept_clear(s, first, v):  # noqa: ANN001, ANN201
+    """`v` (the policy's wish was `first`) kept clear of people by the policy's keep_gap; the speed it keeps
+    accelerating from follows when that slows it down."""
+    policy = s.policy[0]
+    out = keep_clear(s, v, policy.keep_gap)
+    if abs(out) < abs(first) - 1e-9:
+        policy.speed = min(policy.speed, abs(out))
+    return out
+
+
+@jit
 def act(s, now):  # noqa: ANN001, ANN201
     """The built-in policy's velocity for this step (`now`: what the script asks, script.now[0])."""
-    kind = s.policy[0].kind
+    policy = s.policy[0]
+    kind = policy.kind
+    if s.clock[0].t < policy.start_delay:
+        policy.speed = 0.0
+        return 0j
     if kind == STRAIGHT:
-        return straight_act(s, s.policy[0].max_speed, False)
+        return straight_act(s, policy.max_speed, False)
     if kind == SFM:
         target, last = track(s, False)
-        if s.policy[0].plans:
-            target = steer(s, s.fields, s.policy[0].waypoint, target)
-        return keep_clear(s, sfm_toward(s, target, s.policy[0].max_speed, last), KEEP_CLEAR)
+        if policy.plans:
+            target = steer(s, s.fields, policy.waypoint, target)
+        return keep_clear(s, sfm_toward(s, target, policy.max_speed, last), policy.keep_gap)
     if kind == WAYPOINTS:
-        return waypoints_act(s)
+        v = waypoints_act(s)
+        return kept_clear(s, v, v)
     return scripted_act(s, now)

@@ -145,7 +145,7 @@ def keep_clear(s, v, gap):  # noqa: ANN001, ANN201
     slide past or back off, never push into someone."""
     people, robot = s.people, s.robot[0]
     n = people.shape[0]
-    if v == 0 or n == 0:
+    if v == 0 or n == 0 or math.isnan(gap):  # NaN: no limit (a policy whose keep_gap is none)
         return v
     p, dt = robot.pos, s.clock[0].dt
     for _ in range(3):  # a second person may be met after sliding along the first

@@ -8,7 +8,10 @@ the corridor the robot's body sweeps ahead (people who stepped aside do not hold
 CLEAR_PATIENCE s it says the cue's phrase again, CLEAR_REPEATS times, then stops waiting (the robot then
 goes around where there is room: a scripted wait never becomes a deadlock); `speed` sets the cruise speed.
 A gesture rule holds its gesture while its condition held within its last `duration` seconds; the first
-rule that holds wins.
+rule that holds wins. The robot shows a cue's phrase, else the first rule's gesture (scripted_gesture).
+
+Outside a simulation (the export's ROS node, which hears poses on topics), `poses(n)` is the part of the
+state the script reads and `play_gesture` plays one step of it: the same code, on those poses.
 """
 
 from __future__ import annotations
@@ -32,10 +35,10 @@ CLEAR_PATIENCE = 8.0  # s: still blocked after this long, the robot asks again (
 CLEAR_REPEATS = 2  # ... this many times, then stops waiting and drives around like an operator would
 AT_NODE = 1.0  # m: a gesture rule `at_node` holds within this distance of its node
 
-START, AFTER, AT_ENCOUNTER, BLOCKED, HUMAN_WITHIN, HUMAN_SAYS = range(6)
+START, AFTER, AT_ENCOUNTER, BLOCKED, HUMAN_WITHIN, HUMAN_SAYS, HUMAN_FARTHER = range(7)
 TRIGGERS = {"start": START, "after": AFTER, "at_encounter": AT_ENCOUNTER, "blocked": BLOCKED,
-            "human_within": HUMAN_WITHIN, "human_says": HUMAN_SAYS}
-ALWAYS, NEAR_HUMAN = 6, 7  # gesture rules' own conditions (`blocked` and `at_node` are shared)
+            "human_within": HUMAN_WITHIN, "human_farther": HUMAN_FARTHER, "human_says": HUMAN_SAYS}
+ALWAYS, NEAR_HUMAN = 7, 8  # gesture rules' own conditions (`blocked` and `at_node` are shared)
 RULE_WHEN = {"always": ALWAYS, "at_node": AT_ENCOUNTER, "near_human": NEAR_HUMAN, "blocked": BLOCKED}
 FIRED, ASKED_AGAIN, GAVE_UP = 0, 1, 2  # events of the cue log
 
@@ -47,6 +50,23 @@ CUE = layout([("when", "i8"), ("who", "i8"), ("phrase", "i8"), ("say", "i8"), ("
               ("say_until", "f8"), ("wait_until", "f8"), ("clear_since", "f8")])
 RULE = layout([("when", "i8"), ("gesture", "i8"), ("has_point", "?"), ("point", "c16"), ("distance", "f8"),
                ("duration", "f8"), ("last_true", "f8")])
+
+
+POSE = layout([("t", "f8"), ("pos", "c16"), ("heading", "c16"), ("radius", "f8"), ("gesture", "i8")])
+
+
+class Poses(NamedTuple):
+    """What the script reads of the state (s.clock[0].t, s.robot[0].pos/heading/radius,
+    s.people[i].pos/radius/gesture), as one-row tables and a table per person: fill it and play_gesture."""
+
+    clock: np.recarray
+    robot: np.recarray
+    people: np.recarray
+
+
+def poses(people: int) -> Poses:
+    """Empty poses of the robot and `people` people."""
+    return Poses(table(POSE, 1), table(POSE, 1, heading=1 + 0j), table(POSE, people))
 
 
 class Script(NamedTuple):
@@ -152,6 +172,9 @@ def holds(s, when, who, phrase, point, has_point, seconds, distance):  # noqa: A
         if when == HUMAN_SAYS:
             if s.people[i].gesture == phrase:
                 return True
+        elif when == HUMAN_FARTHER:
+            if abs(s.people[i].pos - s.robot[0].pos) > distance:
+                return True
         elif abs(s.people[i].pos - s.robot[0].pos) <= distance:  # HUMAN_WITHIN, NEAR_HUMAN
             return True
     return False
@@ -223,3 +246,17 @@ def rules_gesture(s, rules):  # noqa: ANN001, ANN201
         if t - rule.last_true <= rule.duration:
             return rule.gesture
     return 0
+
+
+@jit(inline=True)
+def scripted_gesture(s, script):  # noqa: ANN001, ANN201
+    """What the script shows now: the phrase of a cue (script.now, set by play), else the first gesture rule's."""
+    say = script.now[0].say
+    return say if say != 0 else rules_gesture(s, script.rules)
+
+
+@jit
+def play_gesture(s, script):  # noqa: ANN001, ANN201
+    """One step of the script on a snapshot (a State, or Poses): the cues fire, and the gesture it shows."""
+    play(s, script)
+    return scripted_gesture(s, script)

@@ -1,0 +1,243 @@
+"""When each person of an exported scenario sets off: THE timing rule of every target that runs our trees
+(socrates, hunav2), so that the encounter happens at its place whatever robot drives and however fast.
+
+In our simulator a person is paced by the robot's ETA (sim.interaction). A target has no such pacing, so
+the export puts the timing into the person's own tree, as conditions the target evaluates itself:
+
+1. walk the path until the goal HOLD_BEFORE metres before the interaction node is reached (a goal of the
+   path there, or one the export adds to the person's goals), counting goals with IsGoalReached - so the
+   spot does not depend on how fast the target's people walk -, then stand there;
+2. set off - and from then on run the person's own tree - once the robot is within `release_distance`
+   (IsRobotNearby / HuNavSim 2.x IsRobotClose): the distance between the hold point and the point of the
+   robot's path that is as far (in time, at the robot's nominal speed) from the node as the person is
+   (HOLD_BEFORE at walking speed); never less than the simulator's own release distance, so a waiting
+   person never stands in the robot's way; or at the latest after `timeout` seconds (a robot that never
+   comes). The release is latched: the person never waits again.
+
+Because the release is a robot POSITION, not a time, a robot at half or 1.5 times the nominal speed still
+meets the person at the node: only the last HOLD_BEFORE metres are walked without the robot, and those
+take ~2 s. Who is timed is the simulator's rule: a person without a group whose interaction node is on
+the robot's path after its start. `holds()` computes the numbers, `hold_root()` builds the typed tree."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from socnavgen.bodies import PERSON_GOAL_RADIUS, PERSON_GOAL_SLACK, PERSON_MAX_SPEED
+from socnavgen.bt.model import Node
+from socnavgen.bt.write import node
+from socnavgen.export.models import ExportScene, HumanExport, WorldPoint
+
+HOLD_BEFORE = 2.0  # m along the person's path before the interaction node: where they wait for the robot
+WALK_SPEED = PERSON_MAX_SPEED  # m/s: a person's walking speed (HuNavSim's max_vel)
+START_LAG = 0.5  # s: a person setting off from rest walks this much later than at full speed (SFM's tau)
+GOAL_REACHED = PERSON_GOAL_RADIUS + PERSON_GOAL_SLACK  # m: IsGoalReached holds this close to a goal
+REUSE_GOAL = 0.3  # m: a goal of the path this close to where the waiting goal would go is used instead
+NEVER_HOLD_WITHIN = 2.0  # m: a person is never held with the robot this close (the simulator's release_distance)
+RELEASE_MARGIN = 0.1  # m: a person stops a few centimetres either side of its waiting spot
+TIMEOUT_FACTOR, TIMEOUT_SLACK = 3.0, 10.0  # released at the latest after 3x the nominal time + 10 s
+SAMPLE = 0.05  # m: the robot's path is sampled this finely to find where the release really happens
+WAIT_KEY = "socnavgen_wait"  # the blackboard entry the waiting step writes (standing still does nothing else)
+RELEASE_NODE, TIMEOUT_NODE, COUNT_NODE = "socnavgen_robot_close", "socnavgen_timeout", "socnavgen_goal_count"
+
+
+@dataclass(frozen=True)
+class Hold:
+    """How one person is timed (metres, seconds, map frame)."""
+
+    human: str
+    node: str  # the interaction node
+    goals_first: int  # walk until this many goals are reached (0: wait where the person starts)
+    wait_goal: WorldPoint | None  # the goal added to the person's goals to wait at (None: a goal of the path)
+    wait_index: int  # where wait_goal goes in the person's goal list
+    release_distance: float  # set off once the robot is this close (centre to centre)
+    timeout: float  # set off at the latest after this long
+    wait_at: tuple[float, float]  # where the person waits
+    robot_at: tuple[float, float]  # where the robot is when it comes within release_distance (nominal)
+    early_by: float  # m of its path by which the robot comes that close before the intended point (0: never)
+
+
+class _Line:
+    """A polyline with arc length."""
+
+    def __init__(self, points: list[complex]) -> None:
+        self.points = points
+        self.arc = np.concatenate([[0.0], np.cumsum([abs(b - a) for a, b in zip(points, points[1:], strict=False)])])
+
+    @property
+    def length(self) -> float:
+        return float(self.arc[-1])
+
+    def at(self, s: float) -> complex:
+        s = min(max(s, 0.0), self.length)
+        if len(self.points) == 1:
+            return self.points[0]
+        k = min(max(int(np.searchsorted(self.arc, s, side="right")) - 1, 0), len(self.points) - 2)
+        span = self.arc[k + 1] - self.arc[k]
+        return self.points[k] if span < 1e-12 else self.points[k] + (self.points[k + 1] - self.points[k]) * (s - self.arc[k]) / span
+
+    def gaps(self, p: complex, upto: float) -> tuple[np.ndarray, np.ndarray]:
+        """(arc positions, distances to p) sampled from the start to `upto`."""
+        s = np.arange(0.0, upto + SAMPLE, SAMPLE)
+        return s, np.array([abs(self.at(x) - p) for x in s])
+
+
+def _route(h: HumanExport, scene: ExportScene) -> tuple[_Line, float] | None:
+    """The person's route from where it starts through its goals, and how far along it the interaction node
+    is; None when the node is not on the route."""
+    ip = h.interaction_point
+    start = complex(h.start.x, h.start.y)
+    line = _Line([start] + [complex(g.x, g.y) for g in h.goals])
+    if ip == h.path[0]:
+        node = scene.nodes.get(ip)
+        return line, abs(complex(*node) - start) if node is not None else 0.0
+    for k, goal in enumerate(h.goals, start=1):
+        if goal.node == ip:
+            return line, float(line.arc[k])
+    return None
+
+
+def start_wait(scene: ExportScene) -> float:
+    """Seconds the robot's script waits at the start (0 without a script)."""
+    if scene.spec is None:
+        return 0.0
+    return sum(c.wait for c in scene.spec.script.cues if c.trigger.when == "start")
+
+
+def timed(h: HumanExport, scene: ExportScene) -> bool:
+    """The simulator's rule of whom to pace: no group, and an interaction node the robot heads to."""
+    return bool(h.interaction_point) and h.group_id == -1 and h.interaction_point in scene.robot.path[1:]
+
+
+def _waiting_goal(h: HumanExport, route: _Line, to_node: float) -> tuple[int, WorldPoint | None, int, float]:
+    """(goals to reach, the goal to add or None, where it goes in the goal list, how far along the route the
+    person then stands)."""
+    goal_s = to_node - HOLD_BEFORE + GOAL_REACHED  # reached GOAL_REACHED before it: waits HOLD_BEFORE before
+    if to_node - HOLD_BEFORE <= SAMPLE:
+        return 0, None, 0, 0.0
+    for k in range(1, len(route.points)):
+        if abs(route.arc[k] - goal_s) < REUSE_GOAL:
+            return k, None, 0, float(route.arc[k]) - GOAL_REACHED
+    j = max(int(np.searchsorted(route.arc, goal_s, side="left")) - 1, 0)  # goal_s lies on leg j -> j+1
+    point = route.at(goal_s)
+    goal = WorldPoint(node=f"{h.name}_wait", x=point.real, y=point.imag, yaw=h.goals[j].yaw)
+    return j + 1, goal, j, goal_s - GOAL_REACHED
+
+
+def hold_for(h: HumanExport, scene: ExportScene) -> Hold | None:
+    """The timing of one person, or None when the person is not timed.
+
+    The person waits HOLD_BEFORE before the node, at a goal: one of its path's when there is one there, else
+    one added to its goals (`wait_goal`); it walks until it has reached that goal, counted with IsGoalReached -
+    no clock, so the spot is the same whatever the simulator's walking speed."""
+    if not timed(h, scene):
+        return None
+    found = _route(h, scene)
+    if found is None:
+        return None
+    route, to_node = found
+    count, goal, index, wait_s = _waiting_goal(h, route, to_node)
+    wait_at = route.at(wait_s)
+    setting_off = (to_node - wait_s) / WALK_SPEED  # from the waiting spot to the node
+    robot = _Line([complex(scene.robot.start.x, scene.robot.start.y)] + [complex(w.x, w.y) for w in scene.robot.waypoints])
+    node_s = float(robot.arc[scene.robot.path.index(h.interaction_point, 1)])
+    release_s = max(0.0, node_s - scene.robot_speed * (setting_off + START_LAG))
+    robot_at = robot.at(release_s)
+    distance = max(abs(robot_at - wait_at) + RELEASE_MARGIN, NEVER_HOLD_WITHIN)
+    samples, gaps = robot.gaps(wait_at, release_s)
+    reach = gaps <= distance + 1e-9
+    first = float(samples[int(np.argmax(reach))]) if reach.any() else release_s
+    nominal = release_s / scene.robot_speed + start_wait(scene)
+    return Hold(human=h.name, node=h.interaction_point or "", goals_first=count, wait_goal=goal, wait_index=index,
+                release_distance=round(distance, 2), timeout=round(TIMEOUT_FACTOR * nominal + TIMEOUT_SLACK, 1),
+                wait_at=(round(wait_at.real, 3), round(wait_at.imag, 3)),
+                robot_at=(round(robot_at.real, 3), round(robot_at.imag, 3)), early_by=round(max(0.0, release_s - first), 2))
+
+
+def holds(scene: ExportScene) -> dict[str, Hold]:
+    """Every timed person of the scene -> its Hold."""
+    out = {}
+    for h in scene.humans:
+        hold = hold_for(h, scene)
+        if hold is not None:
+            out[h.name] = hold
+    return out
+
+
+def with_waiting_goals(scene: ExportScene) -> tuple[ExportScene, dict[str, Hold]]:
+    """The scene with every added waiting goal in its person's goals (what a target that runs the timing
+    exports), and the holds."""
+    found = holds(scene)
+    humans = []
+    for h in scene.humans:
+        hold = found.get(h.name)
+        if hold is not None and hold.wait_goal is not None:
+            goals = [*h.goals[:hold.wait_index], hold.wait_goal, *h.goals[hold.wait_index:]]
+            h = h.model_copy(update={"goals": goals})
+        humans.append(h)
+    return scene.model_copy(update={"humans": humans}), found
+
+
+# ---- the tree ------------------------------------------------------------------------------------------
+def walk_node() -> Node:
+    """One step of regular walking along the goal list (the RegularNavTree, written out)."""
+    return node("Fallback",
+                node("Sequence", node("Inverter", node("IsGoalReached", agent_id="{id}")),
+                     node("RegularNav", agent_id="{id}", time_step="{dt}")),
+                node("UpdateGoal", agent_id="{id}"))
+
+
+def stand_node() -> Node:
+    """A step in which the person does nothing: it stands (HuNavSim moves a person only in its actions)."""
+    return node("SetBlackboard", output_key=WAIT_KEY, value="{id}")
+
+
+def latch(condition: Node, after: Node, before: Node, keep: set[Node], label: str) -> Node:
+    """`before` until `condition` first holds, `after` from then on, for good.
+
+    ReactiveFallback[Sequence[condition, KeepRunningUntilFailure[ForceSuccess[after]]], before]: every tick
+    the Sequence is ticked first; while the condition fails, `before` runs (it may be RUNNING: the reactive
+    Fallback still starts again from the Sequence next tick); once the condition held, the Sequence is RUNNING
+    in its second child for good (ForceSuccess under KeepRunningUntilFailure never finishes) and, being a
+    Sequence with memory, never ticks the condition again; `before` is halted. That Sequence must keep its
+    memory: it goes into `keep` (a translation must not make it reactive)."""
+    seq = node("Sequence", condition, node("KeepRunningUntilFailure", node("ForceSuccess", after)),
+               label=f"{label}_then")
+    keep.add(seq)
+    return node("ReactiveFallback", seq, before, label=label)
+
+
+def hold_root(root: Node, hold: Hold, keep: set[Node]) -> Node:
+    """`root` (the person's tree) run only once the hold of `hold` is over; until then walk, then wait.
+
+    The goals are counted with a TimeExpiredCondition ticked only when IsGoalReached succeeds, with ts=1: it
+    adds one per goal reached (the tick before UpdateGoal moves on) and latches at `goals_first`. The nodes
+    the export adds are named socnavgen_* (Groot2 shows the names)."""
+    release = node("Fallback",
+                   node("IsRobotNearby", agent_id="{id}", distance=hold.release_distance, label=RELEASE_NODE),
+                   node("TimeExpiredCondition", seconds=hold.timeout, ts="{dt}", only_once=True, label=TIMEOUT_NODE),
+                   label="socnavgen_release")
+    wait = stand_node()
+    if hold.goals_first:
+        counted = node("Sequence", node("IsGoalReached", agent_id="{id}", label="socnavgen_goal_reached"),
+                       node("TimeExpiredCondition", seconds=float(hold.goals_first), ts=1.0, only_once=True,
+                            label=COUNT_NODE),
+                       label="socnavgen_at_waiting_goal")
+        wait = latch(counted, wait, walk_node(), keep, "socnavgen_approach")
+    return latch(release, root, wait, keep, "socnavgen_timing")
+
+
+def describe(hold: Hold) -> str:
+    """One line for an export's README."""
+    added = " (added to its goals)" if hold.wait_goal is not None else ""
+    approach = f"walks to its goal {hold.goals_first}{added}" if hold.goals_first else ""
+    early = (f" (the robot's path passes that close {hold.early_by:g} m earlier: it may set off early)"
+             if hold.early_by > 0.5 else "")
+    return (f"{hold.human}: {approach + ', ' if approach else ''}waits at ({hold.wait_at[0]:.2f}, "
+            f"{hold.wait_at[1]:.2f}) until the robot is within {hold.release_distance:g} m (at the latest "
+            f"{hold.timeout:g} s), then meets it at {hold.node}{early}")
+
+
+__all__ = ["HOLD_BEFORE", "Hold", "hold_for", "hold_root", "holds", "latch"]

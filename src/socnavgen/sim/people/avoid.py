@@ -1,0 +1,161 @@
+"""People and the robot's body: a walking person steers around the robot as people step around someone
+standing or walking in their way, and never walks into it.
+
+`steer_around_robot` (after the trees, on the step's snapshot): when the robot is in the way of the person's
+walk - their velocity relative to the robot's would bring them within the passing gap of its body within
+HORIZON s - they head along the tangent of the robot's body widened by that gap: on the side they are
+already on, or on the other when that side leaves them no room (walls). The gap is PASS_GAP where there is
+room, down to MIN_PASS_GAP past a standing robot in a tight spot (MOVING_PASS_GAP past a moving one); with
+room on neither side they slow down to stand WAIT_GAP from the robot until it moves, or walk WAIT_GAP behind
+it when it goes their way. A way round that would take them backwards (a robot crossing in front, moving
+away along their side) is not taken: they stop and let it go by. A person whose target is at the robot (following it) does not steer around it.
+
+`keep_off` (the walking step, once the robot has moved): the part of a person's velocity that would bring
+them closer than KEEP_GAP to the robot's body is dropped, so they slide along it or stop. The contact step
+(physics.resolve_contacts) stays the last resort, for people other people push.
+
+HuNavSim's people only meet the robot through its social force (REGULAR agents; the SocRATES fork leaves even
+that out for its trees), which does not keep them off it: the prompt tells the model that RegularNav treats
+the robot as an obstacle, and people do walk around one.
+"""
+
+from __future__ import annotations
+
+import cmath
+import math
+
+from socnavgen.sim.jit import jit
+from socnavgen.sim.world.queries import clearance_at, line_of_sight
+
+PASS_GAP = 0.5  # m: the gap a person leaves passing the robot where there is room (beyond intimate space)
+MIN_PASS_GAP = 0.1  # m: the least gap a person squeezes past a standing robot with
+MOVING_PASS_GAP = 0.3  # m: the least gap a person overtakes or meets a moving robot with
+BACK_ANGLE = 1.8  # rad: a way round the robot this far off the walking direction goes back the way they came
+YIELD_ANGLE = 1.1  # rad: a way round a robot crossing (not oncoming) this far off means walking along with it
+MOVING = 0.1  # m/s: a robot faster than this is moving
+ROOM_STEP = 0.05  # m: passing gaps tried from PASS_GAP down
+FIT_CLEARANCE = 0.35  # m: the passing spot must keep a person's body (0.4 m, 5 cm slack) off the walls
+WAIT_GAP = 0.5  # m: with no room to pass, a person stands (or walks behind it) this far from the robot
+WAIT_TIME = 1.0  # s: ... slowing down to get there in about this time
+KEEP_GAP = 0.1  # m: a person's own step never brings them closer than this to the robot's body
+HORIZON = 3.0  # s: a robot the person would come that close to within this time is in their way
+STEER_RANGE = 4.0  # m between centres: farther robots are not steered around
+FIELD_OF_VIEW = 1.75  # rad either side of the walking direction (a person's visual field spans about 200 deg)
+
+
+@jit
+def room_beside(s, normal, reach, least):  # noqa: ANN001, ANN201
+    """The largest passing gap (PASS_GAP down to `least`) beside the robot on the side `normal` (unit)
+    where a person's body fits off the walls; -1 when none does."""
+    robot = s.robot[0]
+    gap = PASS_GAP
+    while gap >= least - 1e-9:
+        if clearance_at(s.world, robot.pos + normal * (reach + gap)) >= FIT_CLEARANCE:
+            return gap
+        gap -= ROOM_STEP
+    return -1.0
+
+
+@jit
+def sees(s, i):  # noqa: ANN001, ANN201
+    """Line of sight from person i to the robot (computed at most once per step: p.sees_robot)."""
+    p = s.people[i]
+    if p.sees_robot < 0:
+        p.sees_robot = 1 if line_of_sight(s.world, s.robot[0].pos, p.pos) else 0
+    return p.sees_robot == 1
+
+
+@jit
+def steer_around_robot(s, i):  # noqa: ANN001, ANN201
+    """Turn walker i's heading (p.via, p.desired_speed) around the robot when the robot is in their way."""
+    p, robot = s.people[i], s.robot[0]
+    rel = robot.pos - p.pos
+    dist = abs(rel)
+    reach = p.radius + robot.radius
+    target = p.goal if p.to_goal else p.target
+    if dist > STEER_RANGE or dist < 1e-9 or abs(target - robot.pos) < reach + PASS_GAP:
+        return
+    if abs(target - p.pos) < dist - reach:  # arrives before reaching the robot
+        return
+    ahead = p.via - p.pos
+    if abs(ahead) < 1e-9:
+        return
+    e = ahead / abs(ahead)
+    if (rel * e.conjugate()).real < dist * math.cos(FIELD_OF_VIEW) or not sees(s, i):
+        return
+    w = p.desired_speed * e - robot.vel  # the walk relative to the robot
+    speed_rel = abs(w)
+    if speed_rel < 1e-6:
+        return
+    frame = rel * (w / speed_rel).conjugate()  # the robot in the frame of the relative walk
+    along, across = frame.real, frame.imag
+    if along <= 0 or along > HORIZON * speed_rel:
+        return
+    if abs(across) >= reach + PASS_GAP:  # it passes the robot with room to spare
+        return
+    unit = rel / dist
+    u = w / speed_rel  # room on a side: the person fits beside the robot as they see it, or abeam on their walk
+    right, left = unit * -1j, unit * 1j
+    # a moving robot is passed with more room, unless the person is already alongside it (they carry on past)
+    alongside = (rel * e.conjugate()).real < reach
+    least = MOVING_PASS_GAP if abs(robot.vel) > MOVING and not alongside else MIN_PASS_GAP
+    room_right = max(room_beside(s, right, reach, least), room_beside(s, u * -1j, reach, least))
+    room_left = max(room_beside(s, left, reach, least), room_beside(s, u * 1j, reach, least))
+    # pass on the side the walk already leans to (the robot on the left: pass it on its right), else the roomier
+    clockwise = across > 0 or (across == 0 and room_right >= room_left)
+    room = room_right if clockwise else room_left
+    if room < 0:
+        clockwise, room = not clockwise, room_left if clockwise else room_right
+    if room < 0:  # no room on either side: stand (or walk behind it) WAIT_GAP from it
+        if abs(across) < reach + least:
+            gap = dist - reach
+            following = max(0.0, (robot.vel * e.conjugate()).real)
+            p.desired_speed = min(p.desired_speed, max(0.0, gap - WAIT_GAP) / WAIT_TIME + following)
+        return
+    if abs(across) >= reach + room:
+        return
+    v = passing(robot.vel, unit, dist, reach + room, speed_rel, clockwise)
+    # round a standing or oncoming robot any way but back; one crossing or going their way is let go by rather
+    # than walked along with
+    crossing = abs(robot.vel) > MOVING and (robot.vel * e.conjugate()).real >= 0.0  # not coming at them
+    limit = YIELD_ANGLE if crossing else BACK_ANGLE
+    if off_way(v, e, limit):  # pass on the other side, or stop and let it go by
+        other = room_left if clockwise else room_right
+        v = passing(robot.vel, unit, dist, reach + other, speed_rel, not clockwise) if other >= 0 else 0j
+        if off_way(v, e, limit) or abs(v) < 1e-9:
+            p.desired_speed = 0.0
+            return
+    speed = abs(v)
+    p.desired_speed = min(p.desired_speed, speed)
+    p.via = p.pos + v / speed * max(abs(ahead), 1.0)
+
+
+@jit(inline=True)
+def off_way(v, e, limit):  # noqa: ANN001, ANN201
+    """Velocity v is more than `limit` radians off a person's walking direction e (unit)."""
+    return (v * e.conjugate()).real < abs(v) * math.cos(limit)
+
+
+@jit(inline=True)
+def passing(robot_vel, unit, dist, clear, speed_rel, clockwise):  # noqa: ANN001, ANN201
+    """The velocity that passes the robot (at `unit` * dist from the person, moving at robot_vel) at centre
+    distance `clear`, on the given side, at relative speed speed_rel."""
+    alpha = math.asin(min(1.0, clear / dist))
+    return robot_vel + speed_rel * unit * cmath.exp(-1j * alpha if clockwise else 1j * alpha)
+
+
+@jit(inline=True)
+def keep_off(v, pos, robot_pos, reach, dt):  # noqa: ANN001, ANN201
+    """Velocity v of a person at `pos` without the part that would take them closer than KEEP_GAP to the
+    robot's body (never closer than they are, when the robot came closer itself)."""
+    away = pos - robot_pos
+    dist = abs(away)
+    if dist < 1e-9:
+        return v
+    gap = dist - reach
+    if gap > KEEP_GAP + 2.0 * abs(v) * dt:
+        return v
+    unit = away / dist
+    radial = (v * unit.conjugate()).real
+    lowest = (min(KEEP_GAP, gap) - gap) / dt
+    return v + (lowest - radial) * unit if radial < lowest else v

@@ -1,0 +1,147 @@
+"""Metrics a social-navigation paper reports and HuNavSim's evaluator does not: honest path efficiency (against
+the shortest WALKABLE path, not the straight line through walls), time to goal counted only where the robot
+succeeded, comfort (jerk), the time-to-collision distribution, and the seconds spent in people's intimate and
+personal space. Every one on every step of the trace (no sampling). Units, formulas and readable names:
+sim/metric_definitions.py (the one table); the formulas are the code below.
+
+The shortest walkable path is the robot's route (its start, then each waypoint in order, an intermediate one
+passed within 0.4 m) the shortest way a disc of the robot's radius fits through (sim/world/walkable.py: geodesic
+fields, pulled taut); computed once per route and World, so a campaign pays for it once per scenario and worker.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from socnavgen.bodies import INTIMATE_SPACE, PERSONAL_SPACE
+from socnavgen.sim.trace import VX, VY, Trace, X, Y
+
+# Time-to-collision bins (s): the time the robot spends with its smallest TTC in [edge_k, edge_k+1); the last
+# bin also holds the steps where nobody is on a collision course (TTC infinite).
+TTC_EDGES = (0.0, 0.5, 1.0, 2.0, 3.0, 5.0, math.inf)
+WAYPOINT_SLACK = 0.4  # m: an intermediate waypoint counts as passed this close (the waypoints robot's tolerance)
+TTC_CRITICAL = 1.0  # s: `ttc_under_1s` counts the time with a contact less than this far ahead
+SOCIAL_METRICS = ("reached_goal", "time_to_goal", "walkable_path_efficiency", "route_length_walkable",
+                  "mean_jerk", "intimate_space_seconds", "personal_space_seconds", "ttc_under_1s", "ttc_seconds")
+
+
+def step_durations(t: np.ndarray) -> np.ndarray:
+    """Seconds each step stands for: t[k+1] - t[k] (the last step, the end state, counts 0)."""
+    t = np.asarray(t, dtype=float)
+    return np.append(np.diff(t), 0.0) if len(t) else t
+
+
+def goal_radius(trace: Trace) -> float:
+    from socnavgen.sim.metrics import SUCCESS_GOAL_RADIUS
+
+    return float(trace.meta.get("robot_goal_radius", SUCCESS_GOAL_RADIUS)) if isinstance(trace.meta, dict) \
+        else SUCCESS_GOAL_RADIUS
+
+
+def arrival_step(trace: Trace) -> int | None:
+    """The first step the robot is within the goal radius of its goal (None: never)."""
+    from socnavgen.sim.metrics import robot_goals
+
+    goals = robot_goals(trace)
+    if not goals or trace.steps == 0:
+        return None
+    gx, gy = goals[-1]
+    near = np.hypot(trace.robot[:, X] - gx, trace.robot[:, Y] - gy) <= goal_radius(trace)
+    return int(np.argmax(near)) if near.any() else None
+
+
+def closest_gaps(trace: Trace) -> np.ndarray:
+    """(T,) smallest robot-person surface gap per step (inf without people)."""
+    h = trace.humans.shape[1]
+    if not h:
+        return np.full(trace.steps, math.inf)
+    dx = trace.humans[:, :, X] - trace.robot[:, None, X]
+    dy = trace.humans[:, :, Y] - trace.robot[:, None, Y]
+    radii = float(trace.robot_radius) + np.asarray(trace.human_radii, dtype=float).reshape(1, -1)
+    return (np.hypot(dx, dy) - radii).min(axis=1)
+
+
+def smallest_ttc(trace: Trace) -> np.ndarray:
+    """(T,) smallest constant-velocity time to robot-person contact per step (0 in contact, inf: nobody on a
+    collision course)."""
+    from socnavgen.sim.metrics import time_to_collision
+
+    if not trace.humans.shape[1]:
+        return np.full(trace.steps, math.inf)
+    rel_pos = trace.humans[:, :, [X, Y]] - trace.robot[:, None, [X, Y]]
+    rel_vel = trace.humans[:, :, [VX, VY]] - trace.robot[:, None, [VX, VY]]
+    radii = float(trace.robot_radius) + np.asarray(trace.human_radii, dtype=float)
+    return time_to_collision(rel_pos, rel_vel, radii[None, :]).min(axis=1)
+
+
+def ttc_histogram(ttc: np.ndarray, durations: np.ndarray) -> list[float]:
+    """Seconds spent in each TTC_EDGES bin (the last bin holds the infinite ones)."""
+    edges = np.array(TTC_EDGES[:-1])
+    bins = np.clip(np.searchsorted(edges, ttc, side="right") - 1, 0, len(edges) - 1)
+    return [float(v) for v in np.bincount(bins, weights=durations, minlength=len(edges))]
+
+
+def mean_jerk(trace: Trace) -> float | None:
+    """Mean magnitude of the robot's jerk (m/s^3): the velocity vector differentiated twice per step."""
+    if trace.steps < 3:
+        return None
+    t = np.asarray(trace.t, dtype=float)
+    v = trace.robot[:, VX] + 1j * trace.robot[:, VY]
+    dt = np.diff(t)
+    ok = dt > 0
+    acc = np.diff(v)[ok] / dt[ok]
+    mid = (t[1:][ok] + t[:-1][ok]) / 2
+    dt2 = np.diff(mid)
+    if not len(dt2) or not (dt2 > 0).all():
+        return None
+    return float(np.abs(np.diff(acc) / dt2).mean())
+
+
+def route_reference(trace: Trace, world: Any) -> float | None:
+    """Metres of the shortest walkable path along the robot's route (its start, then each waypoint in order,
+    an intermediate one passed within WAYPOINT_SLACK), for a body of the robot's radius; a route no such body
+    can walk is measured for a point instead (a squeeze the map still allows); None when no way joins two
+    waypoints at all."""
+    from socnavgen.sim.world.walkable import WalkableDistance
+
+    if world is None or trace.steps == 0:
+        return None
+    route = [complex(trace.robot[0, X], trace.robot[0, Y]), *(complex(*w) for w in trace.robot_waypoints[1:])]
+    if len(route) < 2:
+        return None
+    length = WalkableDistance.of(world, float(trace.robot_radius)).route_length(route, WAYPOINT_SLACK)
+    if not math.isfinite(length):
+        length = WalkableDistance.of(world).route_length(route, WAYPOINT_SLACK)
+    return length if math.isfinite(length) else None
+
+
+def social_metrics(trace: Trace, world: Any = None, *, success: bool | None = None) -> dict[str, Any]:
+    """The metrics of SOCIAL_METRICS for one trace. `world` (a sim World) is needed for the walkable path
+    efficiency (None without it); `success` (the row's success: goal reached without contact) decides whether
+    `time_to_goal` counts: it is None for every episode that is not a success."""
+    out: dict[str, Any] = dict.fromkeys(SOCIAL_METRICS)
+    if trace.steps == 0:
+        return out
+    durations = step_durations(trace.t)
+    arrived = arrival_step(trace)
+    out["reached_goal"] = arrived is not None
+    if arrived is not None and success is not False:
+        out["time_to_goal"] = float(trace.t[arrived] - trace.t[0])
+    xy = trace.robot[:, X] + 1j * trace.robot[:, Y]
+    end = (arrived + 1) if arrived is not None else trace.steps
+    length = float(np.abs(np.diff(xy[:end])).sum())
+    reference = route_reference(trace, world)
+    out["route_length_walkable"] = reference
+    if arrived is not None and reference is not None and length > 1e-9:
+        out["walkable_path_efficiency"] = min(1.0, reference / length)
+    out["mean_jerk"] = mean_jerk(trace)
+    gaps = closest_gaps(trace)
+    out["intimate_space_seconds"] = float(durations[gaps < INTIMATE_SPACE].sum())
+    out["personal_space_seconds"] = float(durations[(gaps >= INTIMATE_SPACE) & (gaps < PERSONAL_SPACE)].sum())
+    ttc = smallest_ttc(trace)
+    out["ttc_under_1s"] = float(durations[ttc < TTC_CRITICAL].sum())
+    out["ttc_seconds"] = ttc_histogram(ttc, durations)
+    return out

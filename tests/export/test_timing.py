@@ -1,0 +1,118 @@
+"""The timing inside exported trees (export.timing): where a person waits, when it is released, and that the
+encounter then happens at its place whatever the robot's speed - and does not without it."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from socnavgen.export.as_target import run_as_target, target_twin, waypoint_robot
+from socnavgen.export.scene import build_scene
+from socnavgen.export.timing import (
+    GOAL_REACHED,
+    HOLD_BEFORE,
+    NEVER_HOLD_WITHIN,
+    RELEASE_MARGIN,
+    START_LAG,
+    WALK_SPEED,
+    hold_for,
+    holds,
+    with_waiting_goals,
+)
+from socnavgen.run import HumanPlan, PathPlan
+from socnavgen.sim import simulate_run
+from socnavgen.verify.runner import verify_trace
+from tests.synthetic import walled_room, write_location
+
+from .export_helpers import REGULAR_TREE, build_run
+
+# A 30 x 20 m hall (0.1 m/px): the robot drives west -> east through X, the person walks south -> north
+# through X, 10 m each side; a second crossing C on the robot's path far east.
+NODES = {"w": (30, 100), "x": (150, 100), "e": (270, 100), "s": (150, 190), "n": (150, 10), "c": (220, 100)}
+EDGES = [("w", "x"), ("x", "c"), ("c", "e"), ("s", "x"), ("x", "n")]
+
+
+@pytest.fixture(scope="module")
+def hall(tmp_path_factory) -> Path:  # noqa: ANN001
+    return write_location(tmp_path_factory.mktemp("hall"), walled_room(200, 300, wall=2), NODES, EDGES,
+                          resolution=0.1, origin=(0.0, 0.0), name="hall")
+
+
+def crossing(root: Path, hall: Path, **human: object) -> Path:
+    plan = PathPlan(robot=["w", "x", "c", "e"], humans=[
+        HumanPlan(**{"name": "human1", "path": ["s", "x", "n"], "interaction_point": "x", **human})])
+    return build_run(root, hall, plan, {"human1": REGULAR_TREE})
+
+
+def test_the_person_waits_before_the_node_and_is_released_by_the_robots_distance(tmp_path: Path, hall: Path) -> None:
+    scene, location = build_scene(crossing(tmp_path / "run", hall))
+    hold = hold_for(scene.humans[0], scene)
+    assert hold is not None and hold.node == "x"
+    start, node = complex(scene.humans[0].start.x, scene.humans[0].start.y), complex(*location.node_world("x"))
+    # no path node 2 m before x: a goal is added there (reached GOAL_REACHED early), the first on the person's way
+    assert hold.goals_first == 1 and hold.wait_index == 0 and hold.wait_goal is not None
+    goal = complex(hold.wait_goal.x, hold.wait_goal.y)
+    assert abs(abs(node - goal) - (HOLD_BEFORE - GOAL_REACHED)) < 1e-6
+    assert abs((goal - start) / abs(goal - start) - (node - start) / abs(node - start)) < 1e-6  # on the leg
+    spot = complex(*hold.wait_at)
+    assert abs(abs(node - spot) - HOLD_BEFORE) < 1e-3
+    # released when the robot is as far before x (at its cruise speed) as the person's last 2 m take
+    behind = scene.robot_speed * (HOLD_BEFORE / WALK_SPEED + START_LAG)
+    robot_at = node - behind  # the robot comes from the west along y = const
+    assert abs(complex(*hold.robot_at) - robot_at) < 1e-3
+    assert hold.release_distance == pytest.approx(abs(robot_at - spot) + RELEASE_MARGIN, abs=0.01)
+    assert hold.early_by < 0.3 and hold.timeout > 20  # the margin lets it go a few centimetres early
+    timed, found = with_waiting_goals(scene)
+    assert [g.node for g in timed.humans[0].goals] == ["human1_wait", "x", "n"] and found == holds(scene)
+
+
+def test_who_is_not_timed(tmp_path: Path, hall: Path) -> None:
+    for k, human in enumerate([{"interaction_point": None}, {"group_id": 1}, {"path": ["s", "x"], "interaction_point": "s"}]):
+        scene, _ = build_scene(crossing(tmp_path / f"r{k}", hall, **human))
+        assert hold_for(scene.humans[0], scene) is None, human  # no meeting place; a group; a node the robot skips
+    scene, _ = build_scene(crossing(tmp_path / "near", hall, path=["x", "n"]))  # starts at its meeting place
+    hold = hold_for(scene.humans[0], scene)
+    assert hold is not None and hold.goals_first == 0 and hold.wait_goal is None  # waits where it stands
+    assert hold.wait_at == pytest.approx((scene.humans[0].start.x, scene.humans[0].start.y), abs=1e-3)
+    assert hold.release_distance >= NEVER_HOLD_WITHIN
+
+
+@pytest.mark.parametrize("speed", [0.5, 1.0, 1.5])
+def test_the_encounter_happens_at_its_place_at_any_robot_speed_and_not_without_the_timing(
+        tmp_path: Path, hall: Path, speed: float) -> None:
+    run = crossing(tmp_path / "run", hall)
+    for target in ("socrates", "hunav2"):
+        report = run_as_target(target_twin(run, target, tmp_path / target), speed)
+        meet = next(f for f in report.findings if "meets human1" in f.name)
+        assert meet.passed, (target, speed, meet.evidence)
+        # at 1.5x the robot crosses x just ahead of the person, who walks into its side: contact (gap <= 5 cm)
+        assert report.passed or (speed == 1.5 and [f.kind for f in report.failures] == ["no_collision"]), \
+            (target, speed, [f.name for f in report.failures])
+    # the run's own tree without our pacing: the person crosses x 15 s before the robot gets there
+    untimed = simulate_run(run, robot=waypoint_robot("careful", 0.6 * speed), throttle=False, save=False)
+    report = verify_trace(run, untimed)
+    assert not report.passed and any("meets human1" in f.name for f in report.failures)
+
+
+def test_the_release_is_latched_and_happens_at_the_release_distance(tmp_path: Path, hall: Path) -> None:
+    run = crossing(tmp_path / "run", hall)
+    twin = target_twin(run, "socrates", tmp_path / "twin")
+    scene, _ = build_scene(run)
+    hold = hold_for(scene.humans[0], scene)
+    assert hold is not None
+    trace = simulate_run(twin.run, robot=waypoint_robot("careful", 0.3), location=twin.location, throttle=False,
+                         save=False)
+    person, robot = trace.humans[:, 0, :2], trace.robot[:, :2]
+    gap = np.hypot(*(person - robot).T)
+    idle = trace.action[:, 0] == -1  # the waiting step does nothing but write the blackboard
+    waited = np.flatnonzero(idle[1:])  # (row 0 is the start)
+    assert len(waited) > 100  # it stood (at 0.3 m/s the robot comes ~40 s late)
+    released = waited[-1] + 2
+    assert gap[released - 1] < hold.release_distance <= gap[released - 2] + 0.05
+    assert not idle[released:].any()  # never held again, though the robot drives away from it
+    spot = person[waited[len(waited) // 2] + 1]
+    assert math.dist(spot, hold.wait_at) < 0.3  # it stood at its waiting spot
+    assert np.hypot(*trace.humans[waited[5] + 1:released - 1, 0, 3:5].T).max() < 0.05  # standing still

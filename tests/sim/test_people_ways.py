@@ -1,0 +1,100 @@
+"""People find their way: around a robot that stands in it (people.avoid), through a 0.9 m door and around
+walls toward their goal or the robot they follow (people.routing, world.routes)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from socnavgen.bodies import CONTACT_MARGIN, PERSON_RADIUS, ROBOT_RADIUS
+from socnavgen.sim import RobotBody, empty_room, load_policy
+
+from .simhelpers import REGULAR, Drive, Stay, human, make_sim, tree_xml
+
+REACH = PERSON_RADIUS + ROBOT_RADIUS
+INSTANT = RobotBody(kinematics="holonomic", max_speed=2.0, max_accel=100.0, max_decel=100.0)  # a command, at once
+
+
+def gaps(trace, agent: int = 0) -> np.ndarray:  # noqa: ANN001
+    """Surface gap between the person and the robot at every step."""
+    d = np.hypot(trace.humans[:, agent, 0] - trace.robot[:, 0], trace.humans[:, agent, 1] - trace.robot[:, 1])
+    return d - REACH
+
+
+def final(trace, agent: int = 0) -> complex:  # noqa: ANN001
+    return complex(trace.humans[-1, agent, 0], trace.humans[-1, agent, 1])
+
+
+@pytest.mark.parametrize("offset", [0.0, 0.2, -0.4])
+def test_a_walker_steps_around_a_standing_robot_with_a_margin(offset: float):
+    """Walking at a robot that stands on (or near) their line, a person goes round it leaving more than
+    intimate-space slack (0.3 m), and arrives; before, they walked into it and stood on its surface."""
+    trace = make_sim([human(start=(2.0, 5.0 + offset), goals=[(18.0, 5.0 + offset)])], [tree_xml(REGULAR)],
+                     [(10.0, 5.0), (10.5, 5.0)], Stay(), timeout=25).run()
+    assert gaps(trace).min() >= 0.3
+    assert abs(final(trace) - complex(18.0, 5.0 + offset)) <= 0.6
+
+
+def test_with_no_room_to_pass_a_walker_stops_short_of_the_robot():
+    """In a corridor too narrow to pass, the person slows down and stands a little off the robot (never
+    touching it: the contact step is not how they stop)."""
+    corridor = empty_room(20.0, 10.0, walls=[(0.0, 0.0, 20.0, 4.3), (0.0, 5.7, 20.0, 10.0)])
+    trace = make_sim([human(start=(2.0, 5.0), goals=[(18.0, 5.0)])], [tree_xml(REGULAR)],
+                     [(10.0, 5.0), (10.5, 5.0)], Stay(), world=corridor, timeout=20).run()
+    assert gaps(trace).min() > CONTACT_MARGIN + 0.1
+    assert 0.1 < gaps(trace)[-1] < 1.0
+    assert np.hypot(trace.humans[-1, 0, 3], trace.humans[-1, 0, 4]) < 0.05
+
+
+def test_a_robot_closing_in_from_behind_is_not_steered_around():
+    """A person does not see a robot behind them: a fast robot driving into their back touches them (the
+    robot's fault, counted against it), they do not dodge it."""
+    trace = make_sim([human(start=(6.0, 5.0), goals=[(18.0, 5.0)], max_vel=0.6)], [tree_xml(REGULAR)],
+                     [(2.0, 5.0), (19.0, 5.0)], Drive(1.5), timeout=6, body=INSTANT).run()
+    assert gaps(trace).min() <= CONTACT_MARGIN
+    assert np.abs(trace.humans[:, 0, 1] - 5.0).max() < 0.2  # kept to their line
+
+
+@pytest.mark.parametrize("door", [0.9, 1.0])
+def test_a_walker_passes_a_narrow_door_whose_goal_is_not_in_line(door: float):
+    """A wall across the room with one door 0.9 m wide (a bedroom door of the bundled home): a person whose
+    goal is off the door's line walks through it (the desired force straight at the goal pressed them against
+    the jamb for the whole run)."""
+    y0 = 2.0
+    walls = [(9.8, 0.0, 10.2, y0), (9.8, y0 + door, 10.2, 10.0)]
+    trace = make_sim([human(start=(4.0, 7.5), goals=[(16.0, 8.0)])], [tree_xml(REGULAR)],
+                     [(1.0, 1.0), (1.5, 1.0)], Stay(), world=empty_room(20.0, 10.0, walls=walls), timeout=40).run()
+    assert abs(final(trace) - (16.0 + 8.0j)) <= 0.6
+
+
+def test_a_follower_follows_the_robot_around_a_wall():
+    """The robot drives through a door into the next room; its follower goes through the door after it
+    (a straight line at the robot ran into the wall), keeping up at HuNavSim's follow speed (1.8 d / 10)."""
+    walls = [(9.8, 0.0, 10.2, 6.0), (9.8, 7.2, 10.2, 10.0)]  # the door at y 6.0 - 7.2
+    path = [(6.0, 3.0), (9.0, 6.6), (11.0, 6.6), (14.0, 3.0)]
+
+    trace = make_sim([human(start=(3.0, 3.0))], [tree_xml('<FollowRobot agent_id="{id}" time_step="{dt}"/>')],
+                     path, load_policy("waypoints"), world=empty_room(20.0, 10.0, walls=walls), timeout=60).run()
+    assert trace.humans[-1, 0, 0] > 10.5  # through the door
+    assert abs(final(trace) - complex(trace.robot[-1, 0], trace.robot[-1, 1])) < 4.0
+
+
+def test_a_group_whose_members_react_differently_splits_instead_of_freezing():
+    """Two members of one group: one follows the robot driving off one way, the other walks its path the other
+    way. Each goes their own way at a walking pace (the group force held both in a knot at 0.1-0.2 m/s)."""
+    trees = [tree_xml(REGULAR), tree_xml('<FollowRobot agent_id="{id}" time_step="{dt}"/>')]
+    people = [human("human1", start=(10.0, 5.3), goals=[(18.0, 5.0)], group_id=0),
+              human("human2", start=(10.0, 4.7), goals=[(18.0, 5.0)], group_id=0)]
+    trace = make_sim(people, trees, [(8.0, 5.0), (1.0, 5.0)], Drive(-0.8), timeout=8).run()
+    assert trace.humans[-1, 0, 0] > 15.0  # the walker is well on its way east
+    assert trace.humans[-1, 1, 0] < 7.0  # the follower went west after the robot
+
+
+def test_a_person_with_a_start_delay_stands_until_then_and_walks_after():
+    """HumanSpec.start_delay (campaigns draw it per seed): the person stands at its spawn point, facing its
+    first goal, until the delay is over; then its tree runs as usual."""
+    trace = make_sim([human(start=(2.0, 5.0), goals=[(18.0, 5.0)], start_delay=2.0)], [tree_xml(REGULAR)],
+                     [(10.0, 8.5), (10.5, 8.5)], Stay(), timeout=5).run()
+    before = trace.t < 2.0 - 1e-9
+    assert np.allclose(trace.humans[before, 0, 0], 2.0) and np.allclose(trace.humans[before, 0, 1], 5.0)
+    assert trace.humans[-1, 0, 0] > 4.0
