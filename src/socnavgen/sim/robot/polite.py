@@ -9,8 +9,8 @@ them, steps back from someone walking into it, and never moves closer than a mar
 * close_speed: at most CLOSE_SPEED toward anyone within PASS_GAP (intimate space, Hall's 0.45 m); moving
   away from them is not slowed (someone walking into its back or side is left behind, not waited for).
 * yield_to: a person closing in within YIELD_GAP: the robot backs away from them (the robot gives way).
-* make_way: someone walking toward it in a passage too narrow for both, after it waited `patience` s: it
-  steps aside where there is room, else backs away along the way it came until they can pass.
+* make_way: someone who needs to get past it, face to face within FACE_GAP for `patience` s (both waiting):
+  it backs away along the way it came while they are near, and steps aside where there is room.
 * keep_clear: the part of a move that would bring the robot closer than `gap` (surface to surface) to a
   person is dropped: it slides past or stops, and never pushes into anyone.
 """
@@ -37,6 +37,7 @@ YIELD_SPEED = 0.35  # m/s at most, backing away
 CLOSING = 0.1  # m/s: a person this fast toward the robot is closing in
 POLITE_GAP = 3 * CONTACT_MARGIN  # m: the default robot never moves closer than this to anyone (0.15)
 MAKE_WAY_GAP = 1.5  # m: someone walking toward the robot this close, face to face, may make it give way
+MAKE_WAY_KEEP = 1.0  # m beyond MAKE_WAY_GAP: making way goes on while they are this near, wherever they are
 FACE_GAP = 0.8  # m: standing face to face this close for `patience` s also makes it give way
 MAKE_WAY_SPEED = 0.5  # m/s making way (faster than robot.body.REVERSE_SPEED: a differential drive turns round)
 MAKE_WAY_REACH = 0.3  # m: a previous waypoint this close is passed on the way back
@@ -170,9 +171,9 @@ def keep_clear(s, v, gap):  # noqa: ANN001, ANN201
 
 
 @jit
-def coming_through(s, forward):  # noqa: ANN001, ANN201
-    """(who, walking): the nearest person within MAKE_WAY_GAP ahead of the robot (along the unit `forward`, its
-    way on), in line with it, whose goal lies beyond the robot (they need to get past it); -1 when nobody is.
+def coming_through(s, forward, reach, in_line):  # noqa: ANN001, ANN201
+    """(who, walking): the nearest person within `reach` (gap) of the robot (`in_line`: ahead along the unit
+    `forward`, its way on, in line with it) whose goal lies beyond the robot (they need to get past it); -1 when nobody is.
     `walking`: they walk toward the robot now (not standing, waiting)."""
     robot, people = s.robot[0], s.people
     p, back = robot.pos, forward.conjugate()
@@ -181,7 +182,8 @@ def coming_through(s, forward):  # noqa: ANN001, ANN201
         q = people[i]
         rel = (q.pos - p) * back
         gap = abs(rel) - q.radius - robot.radius
-        if rel.real <= 0 or gap > MAKE_WAY_GAP or abs(rel.imag) > q.radius + robot.radius + PASS_GAP or not q.has_goal:
+        if gap > reach or not q.has_goal or (in_line and (rel.real <= 0 or abs(rel.imag) > q.radius + robot.radius
+                                                          + PASS_GAP)):
             continue
         toward = p - q.pos
         u = toward / max(abs(toward), 1e-9)
@@ -225,12 +227,15 @@ def behind(s):  # noqa: ANN001, ANN201
 
 @jit
 def make_way(s, forward):  # noqa: ANN001, ANN201
-    """(backing off?, velocity): someone walks toward the robot along a passage too narrow for both (or has
-    stood face to face with it, within FACE_GAP, for `patience` s): it goes back the way it came (toward its
-    previous waypoints) at MAKE_WAY_SPEED while they keep coming, and steps aside, off their way, where the
-    passage has room. A person and a robot that both wait for the other are a deadlock; the robot gives way."""
+    """(backing off?, velocity): someone who needs to get past the robot has stood face to face with it, within
+    FACE_GAP, for `patience` s: it goes back the way it came (toward its previous waypoints) at MAKE_WAY_SPEED
+    while they are within MAKE_WAY_GAP + MAKE_WAY_KEEP, and steps aside, off their way, where the passage has
+    room. A person and a robot that both wait for the other are a deadlock; the robot gives way."""
     policy, robot, wps = s.policy[0], s.robot[0], s.waypoints
-    who, walking = coming_through(s, forward)
+    if policy.retreat_to < 0:  # someone ahead, in line; once making way: them, wherever, until they are through
+        who, walking = coming_through(s, forward, MAKE_WAY_GAP, True)
+    else:
+        who, walking = coming_through(s, forward, MAKE_WAY_GAP + MAKE_WAY_KEEP, False)
     if who < 0:
         policy.retreat_to = -1
         return False, 0j
@@ -243,7 +248,7 @@ def make_way(s, forward):  # noqa: ANN001, ANN201
             return False, 0j  # at its start: nowhere to back off to
         side = room_beside(s, back / abs(back), need, who)
         gap = abs(s.people[who].pos - p) - s.people[who].radius - robot.radius
-        if not ((walking and side == 0.0) or (policy.waited >= policy.patience and gap <= FACE_GAP)):
+        if not (policy.waited >= policy.patience and gap <= FACE_GAP):  # face to face, both waiting
             return False, 0j
         policy.retreat_to = j
     target = wps[policy.retreat_to]
