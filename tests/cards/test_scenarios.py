@@ -23,20 +23,11 @@ MEET = 2.0  # m: centre distance that counts as meeting (the verifier's default)
 # 0.005 m) and the scripted robot's 3 cm keep-clear touch people: simulator and card placement work, not the
 # verifier's (do not loosen it to shrink this list).
 KNOWN_FAILING: dict[tuple[str, str], str] = {
-    ("warehouse", "robot-overtaking"): "contact (closest gap 0.00 m)",
+    ("warehouse", "blind-corner"): "no_deadlock: in the 1.2 m corridor the robot backs 5.5 m down it to let the "
+                                   "person through (make_way), 13.5 s without route progress with them in its way; it "
+                                   "then reaches its goal, nobody touched",
     ("warehouse", "leave-group"): "contact (closest gap 0.00 m)",
-    ("warehouse", "crowd-navigation"): "contact (closest gap 0.03 m)",
-    ("warehouse", "robot-crowding"): "contact (closest gap 0.00 m)",
-    ("warehouse", "perpendicular-traffic"): "contact (0.03 m): in the 1.9 m top aisle the person waits 0.5 m off "
-                                            "the oncoming robot (no room to pass) and the robot creeps on to its "
-                                            "3 cm keep-clear",
     ("hospital", "blind-corner"): "contact (closest gap 0.00 m); hidden_until: seen before they came within 5 m",
-    ("hospital", "narrow-doorway"): "contact (closest gap 0.00 m)",
-    ("hospital", "entering-room"): "contact (closest gap 0.00 m)",
-    ("hospital", "exiting-elevator"): "contact (closest gap 0.03 m)",
-    ("hospital", "circular-crossing"): "contact (closest gap 0.00 m)",
-    ("home", "intersection-proceed"): "contact (closest gap 0.03 m)",
-    ("home", "blind-corner"): "contact (closest gap 0.00 m)",
     ("home", "exiting-room"): "contact (closest gap 0.00 m)",
     ("home", "perpendicular-traffic"): "contact (closest gap 0.00 m); meeting without an approach (starts 1.79 m apart at t=0)",
     ("home", "robot-crowding"): "contact (closest gap 0.03 m)",

@@ -12,7 +12,7 @@ import pytest
 from socnavgen.bodies import ROBOT_MAX_SPEED
 from socnavgen.errors import InputFileError, ValidationFailed
 from socnavgen.limits import MAX_SIM_PEOPLE
-from socnavgen.sim import RobotAction, SimConfig, empty_room
+from socnavgen.sim import RobotAction, RobotBody, SimConfig, empty_room
 from tests.sim.simhelpers import REGULAR, Drive, human, make_sim, tree_xml
 
 
@@ -86,8 +86,16 @@ def test_a_robot_asked_to_jump_to_its_goal_moves_at_its_max_speed_and_never_thro
         assert speed.max() <= ROBOT_MAX_SPEED + 1e-9
         assert trace.robot[:, 0].max() < 9.8  # it stopped at the wall, on its side
         assert trace.end_reason != "robot_goal"
-    free = make_sim([], [], [(4.0, 5.0), (16.0, 5.0)], Teleport(), timeout=20).run()
+    fast = RobotBody(kinematics="holonomic", max_speed=ROBOT_MAX_SPEED, max_accel=100.0, max_decel=100.0)
+    free = make_sim([], [], [(4.0, 5.0), (16.0, 5.0)], Teleport(), timeout=20, body=fast).run()
     assert free.end_reason == "robot_goal" and 5.9 <= free.t[-1] <= 6.1  # 12 m at 2 m/s in an empty room
+    body = RobotBody()  # the default differential drive: its own limits, speeding up at max_accel
+    default = make_sim([], [], [(4.0, 5.0), (16.0, 5.0)], Teleport(), timeout=20).run()
+    speed = np.hypot(default.robot[:, 3], default.robot[:, 4])
+    assert speed.max() <= body.max_speed + 1e-9 and np.diff(speed).max() <= body.max_accel * default.dt + 1e-9
+    ideal = 12.0 / body.max_speed + body.max_speed / (2 * body.max_accel)
+    assert default.end_reason == "robot_goal" and ideal - 0.5 <= default.t[-1] <= ideal + 0.1
+    assert default.meta["robot_body"] == body.meta()
 
 
 def test_non_finite_velocities_stand_still():

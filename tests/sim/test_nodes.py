@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from socnavgen.run.models import RobotGestureRule
-from socnavgen.sim import empty_room, load_policy
+from socnavgen.sim import RobotBody, empty_room, load_policy
 
 from .simhelpers import REGULAR, Drive, Stay, human, make_sim, tree_xml, xy
 
@@ -162,7 +162,8 @@ def test_gestures_both_ways():
 def test_robot_moved_uses_speed(policy, expected):
     tree = tree_xml('<Fallback><Sequence><RobotMoved agent_id="{id}"/><MakeGesture agent_id="{id}" message="2"/>'
                     '</Sequence><MakeGesture agent_id="{id}" message="0"/></Fallback>')
-    sim = make_sim([human()], [tree], [(10.0, 5.0), (11.0, 5.0)], policy)
+    instant = RobotBody(kinematics="holonomic", max_accel=100.0, max_decel=100.0)  # the node, not the body, on test
+    sim = make_sim([human()], [tree], [(10.0, 5.0), (11.0, 5.0)], policy, body=instant)
     sim.step()
     sim.step()
     assert sim.people[0].gesture == expected

@@ -7,11 +7,12 @@ import numpy as np
 import pytest
 
 from socnavgen.bodies import CONTACT_MARGIN, PERSON_RADIUS, ROBOT_RADIUS
-from socnavgen.sim import empty_room, load_policy
+from socnavgen.sim import RobotBody, empty_room, load_policy
 
 from .simhelpers import REGULAR, Drive, Stay, human, make_sim, tree_xml
 
 REACH = PERSON_RADIUS + ROBOT_RADIUS
+INSTANT = RobotBody(kinematics="holonomic", max_speed=2.0, max_accel=100.0, max_decel=100.0)  # a command, at once
 
 
 def gaps(trace, agent: int = 0) -> np.ndarray:  # noqa: ANN001
@@ -49,7 +50,7 @@ def test_a_robot_closing_in_from_behind_is_not_steered_around():
     """A person does not see a robot behind them: a fast robot driving into their back touches them (the
     robot's fault, counted against it), they do not dodge it."""
     trace = make_sim([human(start=(6.0, 5.0), goals=[(18.0, 5.0)], max_vel=0.6)], [tree_xml(REGULAR)],
-                     [(2.0, 5.0), (19.0, 5.0)], Drive(1.5), timeout=6).run()
+                     [(2.0, 5.0), (19.0, 5.0)], Drive(1.5), timeout=6, body=INSTANT).run()
     assert gaps(trace).min() <= CONTACT_MARGIN
     assert np.abs(trace.humans[:, 0, 1] - 5.0).max() < 0.2  # kept to their line
 

@@ -127,3 +127,21 @@ def test_give_way_steps_away_from_the_robots_next_segment_and_waits_until_it_pas
     first_aside = int(np.argmax(trace.executed(0, "GiveWaytoRobot")))
     final = person[int(np.argmax(judged)) + int(2.0 / trace.dt)]
     assert final[0] > 10.3 or final[1] < 5.0, (person[first_aside], final)
+
+
+def test_scripted_robot_makes_way_in_a_corridor_too_narrow_for_both():
+    """A person walks toward the robot down a 1.2 m corridor (a robot and a person need 1.5 m side by side):
+    the default robot backs out of the corridor the way it came, steps aside in the open room, lets the
+    person through, then reaches its goal (neither waits for the other for ever)."""
+    world = empty_room(20.0, 10.0, walls=[(3.0, 0.0, 20.0, 4.4), (3.0, 5.6, 20.0, 10.0)])
+    walker = tree_xml('<Sequence><SetBlackboard output_key="agentid" value="{id}"/>'
+                      '<SetBlackboard output_key="timestep" value="{dt}"/>'
+                      '<SubTree ID="RegularNavTree" id="agentid" dt="timestep"/></Sequence>')
+    person = human(start=(15.0, 5.0), goals=[(1.0, 8.0)])
+    trace = make_sim([person], [walker], [(1.5, 5.0), (18.0, 5.0)], load_policy("scripted"), world=world,
+                     timeout=120).run()
+    x, through = trace.robot[:, 0], trace.humans[:, 0, 0] < 3.0
+    assert through.any()  # the person came through the corridor
+    out = int(np.argmax(through))
+    assert x[:out].max() > 4.0 and x[out] < 3.0  # the robot was in the corridor and out of it when they came out
+    assert trace.end_reason == "robot_goal"

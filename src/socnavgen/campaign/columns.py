@@ -18,6 +18,8 @@ IDENTITY = [
     ("robot", pa.string()),
     ("seed", pa.int64()),
     ("inputs", pa.string()),  # digest of what decided the episode (campaign/fingerprint.py): resume needs it equal
+    ("params", pa.string()),  # JSON of the policy's params (campaign file `params:` / `sweep:`)
+    ("robot_body", pa.string()),  # JSON of the robot's kinematics and limits (sim.robot.body.RobotBody)
 ]
 OUTCOME = [
     ("status", pa.string()),  # ok | failed

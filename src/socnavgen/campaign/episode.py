@@ -50,6 +50,7 @@ class Episode:
     robot: str  # its plugin spec
     seed: int
     inputs: str | None = None  # digest of what decides it (fingerprint.py), stored in its row
+    params: tuple[tuple[str, Any], ...] = ()  # the policy's params, sorted (sim.robot.api.robot_from)
 
     @property
     def key(self) -> str:
@@ -69,6 +70,7 @@ class WorkerCache:
     locations: dict[str, Any] = field(default_factory=dict)
     worlds: dict[str, Any] = field(default_factory=dict)
     runs: dict[str, Any] = field(default_factory=dict)
+    default_verified: dict[tuple[str, int], bool] = field(default_factory=dict)  # (scenario, seed) -> verified
     loads: int = 0  # how many locations this worker loaded (tests check it stays at one per location)
 
     def run(self, run_dir: str) -> Any:
@@ -130,7 +132,21 @@ class _Deadline:
 def _identity(ep: Episode) -> dict[str, Any]:
     s = ep.scenario
     return {"episode": ep.key, "scenario": s.id, "location": s.location, "card": s.card, "source": s.source,
-            "humans": s.humans, "policy": ep.policy, "robot": ep.robot, "seed": ep.seed, "inputs": ep.inputs}
+            "humans": s.humans, "policy": ep.policy, "robot": ep.robot, "seed": ep.seed, "inputs": ep.inputs,
+            "params": json.dumps(dict(ep.params), sort_keys=True), "robot_body": _body_of(ep)}
+
+
+def _body_of(ep: Episode) -> str | None:
+    """The robot's kinematics and limits as JSON (None when the params do not make a robot)."""
+    from socnavgen.errors import SocnavgenError
+    from socnavgen.sim.robot.api import BODY_PARAMS
+    from socnavgen.sim.robot.body import RobotBody
+
+    try:
+        body = RobotBody(**{BODY_PARAMS[k]: v for k, v in ep.params if k in BODY_PARAMS})
+    except (SocnavgenError, ValueError, TypeError):
+        return None
+    return json.dumps(body.meta(), sort_keys=True)
 
 
 def _finite(value: Any) -> Any:
@@ -144,13 +160,13 @@ def _finite(value: Any) -> Any:
 def simulate_episode(ep: Episode, settings: EpisodeSettings, cache: WorkerCache | None = None,
                      deadline: _Deadline | None = None) -> tuple[Any, Any, Any]:
     """(trace, location, world) of one episode, using the worker's cached location and world."""
-    from socnavgen.sim import SimConfig, ThrottleConfig, load_policy, load_simulation
+    from socnavgen.sim import SimConfig, ThrottleConfig, load_simulation, robot_from
 
     cache = cache or WORKER_CACHE
     location, world = cache.location(ep.scenario.location_dir)
-    policy = load_policy(ep.robot)
+    policy, body = robot_from(ep.robot, dict(ep.params))
     run = cache.run(ep.scenario.run_dir)
-    sim = load_simulation(run, policy, SimConfig(dt=settings.dt, timeout=settings.timeout, seed=ep.seed),
+    sim = load_simulation(run, policy, SimConfig(dt=settings.dt, timeout=settings.timeout, seed=ep.seed, body=body),
                           ThrottleConfig(enabled=settings.throttle), location=location, world=world)
     sim.meta["robot_plugin"] = ep.robot
     if settings.vary_people:
@@ -207,11 +223,40 @@ def _measure(ep: Episode, settings: EpisodeSettings, cache: WorkerCache, deadlin
         from socnavgen.verify.runner import verify_trace
 
         report = verify_trace(cache.run(ep.scenario.run_dir), trace, location=location)
+        if not report.passed and not _is_default(ep) and _default_verifies(ep, settings, cache, deadline):
+            for f in report.failures:  # the scenario happens with the default robot: the policy is at fault
+                f.blame, f.blame_human, f.stage = "policy", None, None
+                f.blame_reason = (f"the scenario verified with the default robot ({_default_robot()}) on seed {ep.seed}: "
+                                  f"the policy under test ({ep.policy}) is what differs")
         row["verified"] = bool(report.passed)
         row["verify_failed"] = "; ".join(f.name for f in report.failures)
         row["verdicts"] = json.dumps([f.model_dump(mode="json", include=VERDICT_FIELDS) for f in report.findings])
     row["failure_reason"] = None if row["success"] else _why_not(metrics, trace)
     return row
+
+
+def _default_robot() -> str:
+    from socnavgen.sim import DEFAULT_ROBOT
+
+    return DEFAULT_ROBOT
+
+
+def _is_default(ep: Episode) -> bool:
+    return ep.robot == _default_robot() and not ep.params
+
+
+def _default_verifies(ep: Episode, settings: EpisodeSettings, cache: WorkerCache, deadline: _Deadline) -> bool:
+    """Whether the scenario verifies with the default robot on this seed (simulated and verified once per
+    worker, scenario and seed; blame in a campaign falls on the policy under test when it does)."""
+    key = (ep.scenario.id, ep.seed)
+    if key not in cache.default_verified:
+        from socnavgen.verify.runner import verify_trace
+
+        default = Episode(ep.scenario, _default_robot(), _default_robot(), ep.seed)
+        trace, location, _ = simulate_episode(default, settings, cache, deadline)
+        cache.default_verified[key] = bool(verify_trace(cache.run(ep.scenario.run_dir), trace,
+                                                        location=location).passed)
+    return cache.default_verified[key]
 
 
 def _people(trace: Any) -> dict[str, Any]:

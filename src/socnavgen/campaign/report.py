@@ -36,11 +36,13 @@ def render_gifs(out: Path, rows: list[dict[str, Any]]) -> dict[str, Path]:
     spec = CampaignSpec.model_validate_json((out / CAMPAIGN_FILE).read_text())
     scenarios = {s["id"]: Scenario(**s) for s in json.loads((out / SCENARIOS_FILE).read_text())["scenarios"]}
     robots = {p.name: p.robot for p in spec.policies}
+    params = {p.name: tuple(sorted(p.params.items())) for p in spec.policies}
     settings, cache, done = settings_of(spec), WorkerCache(), {}
     for row in rows:
         if row["scenario"] not in scenarios or row["policy"] not in robots:
             continue
-        ep = Episode(scenarios[row["scenario"]], row["policy"], robots[row["policy"]], int(row["seed"]))
+        ep = Episode(scenarios[row["scenario"]], row["policy"], robots[row["policy"]], int(row["seed"]),
+                     params=params[row["policy"]])
         try:
             trace, location, _ = simulate_episode(ep, settings, cache)
         except Exception:  # noqa: BLE001, S112 - the crash is already the episode's recorded failure

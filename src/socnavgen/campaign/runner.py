@@ -40,17 +40,18 @@ class CampaignResult:
 def plan_episodes(spec: CampaignSpec, suite: Suite) -> list[Episode]:
     """Every scenario x policy x seed, ordered by location then scenario (workers keep their map)."""
     ordered = sorted(suite.scenarios, key=lambda s: (s.location_dir, s.id))
-    return [Episode(s, p.name, p.robot, seed) for s in ordered for p in spec.policies for seed in spec.seeds]
+    return [Episode(s, p.name, p.robot, seed, params=tuple(sorted(p.params.items())))
+            for s in ordered for p in spec.policies for seed in spec.seeds]
 
 
 def check_policies(spec: CampaignSpec) -> None:
     """Load every policy once before any episode: a typo in the campaign file is one clear error, not a
     table full of failed episodes (a policy that crashes *during* an episode fails only that episode)."""
-    from socnavgen.sim import load_policy
+    from socnavgen.sim import robot_from
 
     for policy in spec.policies:
         try:
-            load_policy(policy.robot)
+            robot_from(policy.robot, policy.params)
         except InputFileError as exc:
             raise InputFileError(f"policy {policy.name}: {exc.message}", hint=exc.hint) from exc
 

@@ -3,6 +3,8 @@ and which metrics. Validated with one clear error naming the line of the offendi
 
 from __future__ import annotations
 
+import itertools
+import re
 import types
 import typing
 from pathlib import Path
@@ -88,12 +90,53 @@ ScenarioSource = Annotated[
 ]
 
 
+ParamValue = float | int | bool | str
+MAX_PARAMS = 32  # keys of one policy's params
+MAX_SWEEP = 64  # policies one sweep expands into
+
+
 class PolicySpec(BaseModel):
-    """A robot policy: a built-in name (waypoints, sfm, ...), `module:Class` or `file.py:Class`."""
+    """A robot policy: a built-in name (waypoints, sfm, ...), `module:Class` or `file.py:Class`, with its
+    parameters (`params: {max_speed: 0.4, kinematics: holonomic}`: sim.robot.api.robot_from). A `sweep:
+    {max_speed: [0.4, 0.6]}` entry expands into one policy per combination, named `NAME-KEY-VALUE...`."""
 
     model_config = ConfigDict(extra="forbid")
     name: str = Field(pattern=r"^[A-Za-z0-9_.+-]{1,64}$")
     robot: str = Field(min_length=1, max_length=500)
+    params: dict[str, ParamValue] = Field(default_factory=dict)
+
+    @field_validator("params")
+    @classmethod
+    def _few_params(cls, value: dict[str, ParamValue]) -> dict[str, ParamValue]:
+        if len(value) > MAX_PARAMS:
+            raise ValueError(f"at most {MAX_PARAMS} params")
+        bad = [k for k in value if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]{0,63}", k)]
+        if bad:
+            raise ValueError(f"param name {bad[0][:64]!r}: letters, digits and _ only")
+        long = [k for k, v in value.items() if isinstance(v, str) and len(v) > 200]
+        if long:
+            raise ValueError(f"param {long[0]}: a text of at most 200 characters")
+        return value
+
+
+def _expand_sweep(entry: dict[str, Any]) -> list[dict[str, Any]]:
+    """A policy entry with `sweep:` -> one entry per combination of the swept values (params win over none)."""
+    sweep = entry.get("sweep")
+    if sweep is None:
+        return [entry]
+    if not isinstance(sweep, dict) or not sweep or not all(isinstance(v, list) and v for v in sweep.values()):
+        raise ValueError("sweep: a mapping of parameter name to a non-empty list of values")
+    combos = list(itertools.product(*sweep.values()))
+    if len(combos) > MAX_SWEEP:
+        raise ValueError(f"a sweep of {len(combos)} combinations; at most {MAX_SWEEP}")
+    base = {k: v for k, v in entry.items() if k != "sweep"}
+    name = str(base.get("name") or _short_name(str(base.get("robot", ""))))
+    out = []
+    for combo in combos:
+        params = {**(base.get("params") or {}), **dict(zip(sweep, combo, strict=True))}
+        tag = "-".join(f"{k}-{v}" for k, v in zip(sweep, combo, strict=True))
+        out.append({**base, "name": re.sub(r"[^A-Za-z0-9_.+-]", "_", f"{name}-{tag}")[:64], "params": params})
+    return out
 
 
 class SimulationSettings(BaseModel):
@@ -132,9 +175,10 @@ class CampaignSpec(BaseModel):
     @field_validator("policies", mode="before")
     @classmethod
     def _policy_shorthand(cls, value: Any) -> Any:
-        """`- sfm` is short for `- {name: sfm, robot: sfm}`."""
+        """`- sfm` is short for `- {name: sfm, robot: sfm}`; an entry with `sweep:` is several policies."""
         if isinstance(value, list):
-            return [{"name": _short_name(p), "robot": p} if isinstance(p, str) else p for p in value]
+            entries = [{"name": _short_name(p), "robot": p} if isinstance(p, str) else p for p in value]
+            return [e for entry in entries for e in (_expand_sweep(entry) if isinstance(entry, dict) else [entry])]
         return value
 
     @field_validator("seeds", mode="before")

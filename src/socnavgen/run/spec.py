@@ -208,7 +208,7 @@ CriterionKind = Literal[
     "stl",  # `formula`: a raw STL formula over the named signals (docs/verify.md lists them)
 ]
 
-Blame = Literal["robot_script", "paths", "behaviors", "spec", "scenario"]
+Blame = Literal["robot_script", "paths", "behaviors", "spec", "scenario", "policy"]  # policy: a campaign's robot
 
 
 class Criterion(BaseModel):

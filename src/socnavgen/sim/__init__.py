@@ -5,7 +5,7 @@ The public face (import these from `socnavgen.sim`; the sub-packages world, peop
 outputs are its parts):
 
     load_simulation(run, policy, config) -> Simulation     simulate_run(run, robot=...) -> Trace
-    SimConfig, Simulation, Trace, RobotAction, Observation, load_policy, warm_up, World, empty_room, HumanSpec
+    SimConfig, Simulation, Trace, RobotAction, RobotBody, Observation, load_policy, warm_up, World, empty_room, HumanSpec
 
 Attributes load on first use, so `import socnavgen.sim.trace` (the verifier's) does not compile anything.
 """
@@ -19,8 +19,8 @@ _EXPORTS = {
     "load_simulation": "socnavgen.sim.engine.scenario", "simulate_run": "socnavgen.sim.engine.scenario",
     "SimConfig": "socnavgen.sim.engine.simulation", "Simulation": "socnavgen.sim.engine.simulation",
     "RobotSpeech": "socnavgen.sim.engine.simulation", "Trace": "socnavgen.sim.trace",
-    "RobotAction": "socnavgen.sim.robot.api", "Observation": "socnavgen.sim.robot.api",
-    "load_policy": "socnavgen.sim.robot.api", "BUILTIN": "socnavgen.sim.robot.api",
+    "RobotAction": "socnavgen.sim.robot.api", "RobotBody": "socnavgen.sim.robot.body", "Observation": "socnavgen.sim.robot.api",
+    "load_policy": "socnavgen.sim.robot.api", "robot_from": "socnavgen.sim.robot.api", "BUILTIN": "socnavgen.sim.robot.api",
     "DEFAULT_ROBOT": "socnavgen.sim.robot.api", "ThrottleConfig": "socnavgen.sim.people.pacing",
     "PacingPlan": "socnavgen.sim.people.pacing", "HumanSpec": "socnavgen.sim.people.state",
     "World": "socnavgen.sim.world.grid", "empty_room": "socnavgen.sim.world.grid",

@@ -49,3 +49,17 @@ def progress_events(progress: np.ndarray, step: float) -> np.ndarray:
         events[k] = True
         k = bisect.bisect_left(values, values[k] + step, k)
     return events
+
+
+def route_offset(xy: np.ndarray, waypoints: list[tuple[float, float]]) -> np.ndarray:
+    """(T,) distance from each point to the waypoint polyline (how far off the route it is)."""
+    pts = np.asarray(waypoints, dtype=float).reshape(-1, 2)
+    xy = np.asarray(xy, dtype=float).reshape(-1, 2)
+    if len(pts) < 2 or not len(xy):
+        return np.full(len(xy), np.inf)
+    a, seg = pts[:-1], np.diff(pts, axis=0)
+    lens2 = np.maximum((seg * seg).sum(axis=1), 1e-18)
+    rel_x, rel_y = xy[:, 0:1] - a[:, 0], xy[:, 1:2] - a[:, 1]  # (T, S)
+    t = np.clip((rel_x * seg[:, 0] + rel_y * seg[:, 1]) / lens2, 0.0, 1.0)
+    dx, dy = rel_x - t * seg[:, 0], rel_y - t * seg[:, 1]
+    return np.sqrt(dx * dx + dy * dy).min(axis=1)

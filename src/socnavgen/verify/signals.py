@@ -22,7 +22,7 @@ from socnavgen import proxemics
 from socnavgen.bt.library import HUMAN_GESTURES, LIBRARY, REACTION_NODES, ROBOT_GESTURES
 from socnavgen.sim import contact
 from socnavgen.sim.trace import VX, VY, YAW, Trace
-from socnavgen.verify.route import progress_events, route_progress
+from socnavgen.verify.route import progress_events, route_offset, route_progress
 from socnavgen.verify.thresholds import (
     AHEAD_HALF_ANGLE,
     ASIDE_DISTANCE,
@@ -375,6 +375,10 @@ def aside(s: Signals, human: str) -> np.ndarray:
     last = np.maximum.accumulate(np.where(way, steps, -1)) if len(steps) else steps
     p = s.pos(human)
     moved_off = contact.lengths(p - p[np.maximum(last, 0)]) >= ASIDE_DISTANCE
+    points = list(s.trace.robot_waypoints)
+    if len(points) >= 2:  # aside means off the robot's route, not past the robot along it (a robot that
+        off = route_offset(p, points)  # stepped aside itself lets the person walk by)
+        moved_off &= off - off[np.maximum(last, 0)] >= ASIDE_DISTANCE
     return ~way & (last >= 0) & moved_off
 
 

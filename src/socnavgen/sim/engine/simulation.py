@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-from socnavgen.bodies import ROBOT_GOAL_TOLERANCE, ROBOT_MAX_SPEED, ROBOT_RADIUS
+from socnavgen.bodies import ROBOT_GOAL_TOLERANCE, ROBOT_RADIUS
 from socnavgen.bt.library import ROBOT_GESTURES, leaf_nodes
 from socnavgen.errors import ValidationFailed
 from socnavgen.limits import MAX_COORDINATE, MAX_SIM_PEOPLE, MAX_SIM_STEPS
@@ -39,6 +39,8 @@ from socnavgen.sim.people.trees import Program, lower_trees
 from socnavgen.sim.records import Columns
 from socnavgen.sim.robot import policies
 from socnavgen.sim.robot.api import BuiltinPolicy, Observation, checked_action
+from socnavgen.sim.robot.body import KINEMATICS, RobotBody
+from socnavgen.sim.robot.fields import NO_FIELDS, field_scale, route_fields
 from socnavgen.sim.robot.script import fired, lower_script
 from socnavgen.sim.trace import Trace
 from socnavgen.sim.world.grid import World
@@ -58,6 +60,7 @@ class SimConfig:
     robot_radius: float = ROBOT_RADIUS
     goal_tolerance: float = ROBOT_GOAL_TOLERANCE
     idle_end: float = 10.0  # end when every person is done and the robot has not moved for this long
+    body: RobotBody = field(default_factory=RobotBody)  # kinematics and limits (robot.body)
 
     def __post_init__(self) -> None:
         def bad(name: str, value: object, want: str) -> None:
@@ -71,6 +74,8 @@ class SimConfig:
             bad("timeout", self.timeout, f"positive and at most {MAX_SIM_STEPS} steps of dt")
         if not (isinstance(self.idle_end, int | float) and self.idle_end >= 0) or math.isnan(self.idle_end):
             bad("idle_end", self.idle_end, "zero or more seconds")
+        if not isinstance(self.body, RobotBody):
+            bad("body", self.body, "a RobotBody")
         if not isinstance(self.seed, int | np.integer):
             bad("seed", self.seed, "an integer")
         prm = SFMParams(*self.sfm)
@@ -125,8 +130,11 @@ class Simulation:
         first_leg = waypoints[1] - waypoints[0] if len(waypoints) > 1 else 1 + 0j
         yaw = math.atan2(first_leg.imag, first_leg.real) if abs(first_leg) > 0 else 0.0
         self.robot_table = singleton(ROBOT, pos=waypoints[0], heading=complex(math.cos(yaw), math.sin(yaw)), yaw=yaw,
-                                     radius=config.robot_radius, max_speed=ROBOT_MAX_SPEED, goal=waypoints[-1],
-                                     goal_tolerance=config.goal_tolerance, progress_step=-1)
+                                     radius=config.robot_radius, goal=waypoints[-1],
+                                     goal_tolerance=config.goal_tolerance, progress_step=-1,
+                                     kinematics=KINEMATICS[config.body.kinematics], max_speed=config.body.max_speed,
+                                     max_accel=config.body.max_accel, max_decel=config.body.max_decel,
+                                     max_omega=config.body.max_omega, max_alpha=config.body.max_alpha)
         python_policy = not isinstance(policy, BuiltinPolicy)
         clock = singleton(CLOCK, dt=dt, max_steps=self.max_steps, idle_end=config.idle_end,
                           contact_slack=CONTACT_SLACK, python_policy=python_policy, error_node=-1)
@@ -136,12 +144,17 @@ class Simulation:
         if len(rules) != len(speech.rules):
             raise ValidationFailed("a robot gesture rule names a code that is not a robot gesture: "
                                    f"{sorted({r.gesture for r in speech.rules} - set(ROBOT_GESTURES))}")
+        parameters = policy.parameters() if not python_policy else singleton(policies.POLICY, kind=policies.PYTHON)
+        plans = bool(parameters[0].plans) and len(waypoints) > 1
+        parameters[0].field_scale = field_scale(world)
+        parameters[0].accel = min(parameters[0].accel, config.body.max_accel)  # it plans within what its body can
+        parameters[0].brake = min(parameters[0].brake, config.body.max_decel)
         self.state = State(
-            clock=clock, robot=self.robot_table, action=singleton(ACTION, gesture=-1),
-            policy=policy.parameters() if not python_policy else singleton(policies.POLICY, kind=policies.PYTHON),
+            clock=clock, robot=self.robot_table, action=singleton(ACTION, gesture=-1), policy=parameters,
             people=people, goals=goals, group_sizes=sizes, waypoints=waypoints,
             offsets=np.concatenate([[0.0], np.cumsum(np.abs(np.diff(waypoints)))]), world=world.map,
             forces=config.sfm, work=np.zeros((2, max(len(waypoints), 64) + 8)),
+            fields=route_fields(world, waypoints, config.robot_radius) if plans else NO_FIELDS,
             routes=route_map(world, landmarks, waypoint_marks))
         self.episode = Episode(
             self.state, self.program.fresh(),
@@ -208,8 +221,11 @@ class Simulation:
         obs = self.obs if clock.python_policy.item(0) else None  # only a Python policy is asked (ACT)
         for event in self._generator:
             if event == stepper.ACT:
-                v, gesture = checked_action(policy.act(obs), policy)
+                v, gesture, turn = checked_action(policy.act(obs), policy)
                 action.vx[0], action.vy[0], action.gesture[0] = v.real, v.imag, gesture
+                action.unicycle[0] = turn is not None
+                if turn is not None:
+                    action.forward[0], action.turn[0] = v.real, turn
                 heading = getattr(policy, "heading", None)
                 turned = isinstance(heading, complex | float | int) and heading != 0
                 action.has_heading[0] = turned
@@ -257,7 +273,7 @@ class Simulation:
         humans = np.stack([pos.real, pos.imag, cols.yaw[:steps], vel.real, vel.imag, cols.omega[:steps]], axis=-1)
         meta = dict(self.meta)
         meta.update(seed=config.seed, timeout=config.timeout, robot_goal_radius=config.goal_tolerance,
-                    kernels="numba" if AVAILABLE else "python",
+                    kernels="numba" if AVAILABLE else "python", robot_body=config.body.meta(),
                     human_goals={h.name: [list(g) for g in h.goals] for h in self.humans})
         if self.cue_list:
             meta["script_cues_fired"] = [list(f) for f in fired(self.episode.script, self.cue_list)]

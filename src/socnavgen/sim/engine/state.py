@@ -29,12 +29,16 @@ CLOCK = layout([
     ("error_node", "i8"), ("error_kind", "i8"), ("error_port", "i8"), ("error_value", "f8")])
 ROBOT = layout([
     ("pos", "c16"), ("vel", "c16"), ("heading", "c16"),  # heading: unit direction it last moved (or faces)
-    ("yaw", "f8"), ("omega", "f8"), ("radius", "f8"), ("max_speed", "f8"), ("goal", "c16"), ("goal_tolerance", "f8"),
+    ("yaw", "f8"), ("omega", "f8"), ("radius", "f8"), ("goal", "c16"), ("goal_tolerance", "f8"),
+    # its body (robot.body): kinematics, limits, and its signed forward speed now
+    ("kinematics", "i8"), ("max_speed", "f8"), ("max_accel", "f8"), ("max_decel", "f8"), ("max_omega", "f8"),
+    ("max_alpha", "f8"), ("speed", "f8"),
     ("gesture", "i8"), ("said", "i8"),  # said: bit g set once it has shown gesture g (RobotSaid)
     ("scripted", "i8"),  # the gesture the script and the gesture rules make now
     # its progress along its waypoints (people.routing.robot_progress), computed once per step
     ("progress", "f8"), ("progress_segment", "i8"), ("progress_step", "i8"), ("search_from", "i8")])
-ACTION = layout([("vx", "f8"), ("vy", "f8"), ("gesture", "i8"), ("has_heading", "?"), ("heading", "c16")])
+ACTION = layout([("vx", "f8"), ("vy", "f8"), ("gesture", "i8"), ("has_heading", "?"), ("heading", "c16"),
+                 ("unicycle", "?"), ("forward", "f8"), ("turn", "f8")])  # unicycle: forward m/s, turn rad/s
 
 
 class TraceColumns(NamedTuple):
@@ -74,6 +78,7 @@ class State(NamedTuple):
     world: WorldMap
     forces: SFMParams
     work: np.ndarray  # (2, m) float scratch of the path geometry (people.give_way)
+    fields: np.ndarray  # (W, rows, cols) float32: the planner's cost-to-go to each waypoint (robot.fields)
     routes: RouteMap  # route fields of the goals and waypoints (world.routes, people.routing)
 
 

@@ -32,12 +32,11 @@ from socnavgen.sim.people.physics import advance, resolve_contacts
 from socnavgen.sim.people.routing import plan
 from socnavgen.sim.people.state import done, pop_goal
 from socnavgen.sim.people.vm import ERROR, tick
+from socnavgen.sim.robot.body import drive
 from socnavgen.sim.robot.policies import act
 from socnavgen.sim.robot.script import play, scripted_gesture
-from socnavgen.sim.world.queries import swept_clear
 
 STEPPED, ACT, PROGRESS, ENDED, FAILED, ROUTES = 0, 1, 2, 3, 4, 5
-TURNING_SPEED = 0.05  # m/s: a robot slower than this keeps its yaw
 IDLE_SPEED = 1e-3  # m/s: a robot slower than this is idle (the run ends once everything stopped)
 
 
@@ -63,27 +62,6 @@ def think(s, trees, pacing, script, scratch):  # noqa: ANN001, ANN201
     plan(s)
     play(s, script)
     return 0
-
-
-@jit(inline=True)
-def drive(s, v, heading, has_heading):  # noqa: ANN001, ANN201
-    """Move the robot at velocity v, within its limits: at most its max speed, and never across or into a
-    wall (such a move is refused). It faces `heading` when given, else where it moves."""
-    robot, dt = s.robot[0], s.clock[0].dt
-    if not (math.isfinite(v.real) and math.isfinite(v.imag)):
-        v = 0j
-    if abs(v) > robot.max_speed:
-        v = v * (robot.max_speed / abs(v))
-    new = robot.pos + v * dt
-    if v != 0 and not swept_clear(s.world, robot.pos, new, 0.5 * robot.radius):
-        v, new = 0j, robot.pos
-    old = robot.yaw
-    if abs(v) > TURNING_SPEED:
-        facing = heading if has_heading and abs(heading) > 0 else v
-        robot.yaw = math.atan2(facing.imag, facing.real)
-        robot.heading = facing / abs(facing)
-    robot.omega = ((robot.yaw - old + math.pi) % (2 * math.pi) - math.pi) / dt
-    robot.pos, robot.vel = new, v
 
 
 @jit(inline=True)
@@ -161,10 +139,13 @@ def move_robot(s, script):  # noqa: ANN001, ANN201
     gesture the policy makes (-1: none, the script's)."""
     if s.clock[0].python_policy:
         action = s.action[0]
-        drive(s, complex(action.vx, action.vy), action.heading, action.has_heading)
+        drive(s, complex(action.vx, action.vy), action.heading, action.has_heading, action.unicycle, action.forward,
+              action.turn, math.nan)
         return action.gesture
     policy = s.policy[0]
-    drive(s, act(s, script.now[0]), policy.heading, policy.has_heading)
+    v = act(s, script.now[0])
+    guard = math.nan if script.now[0].misbehave else policy.guard  # a scripted misbehaving robot is rude on purpose
+    drive(s, v, policy.heading, policy.has_heading, policy.unicycle, policy.forward, policy.turn, guard)
     return -1
 
 

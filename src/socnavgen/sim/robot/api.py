@@ -12,7 +12,8 @@ from __future__ import annotations
 import importlib
 import importlib.util
 import math
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any, ClassVar, Protocol, runtime_checkable
 
@@ -20,17 +21,28 @@ import numpy as np
 
 from socnavgen.bodies import ROBOT_RADIUS
 from socnavgen.bt.library import ROBOT_GESTURES
-from socnavgen.errors import InputFileError
+from socnavgen.errors import InputFileError, ValidationFailed
 from socnavgen.sim.records import Columns, table
 from socnavgen.sim.robot import policies
+from socnavgen.sim.robot.body import RobotBody
+from socnavgen.sim.robot.polite import POLITE_GAP
 from socnavgen.sim.robot.script import Script, fired
 
 
 @dataclass
 class RobotAction:
+    """A world-frame velocity (vx, vy) the robot's body tracks (a differential-drive body turns toward it),
+    or with `turn` set a unicycle command: forward speed `vx` (m/s, negative: backwards) and turn rate
+    `turn` (rad/s, counter-clockwise); build it with RobotAction.unicycle(forward, turn)."""
+
     vx: float
     vy: float
     gesture: int | None = None  # a code of bt.library.ROBOT_GESTURES; None: the scenario's scripted gestures
+    turn: float | None = None  # rad/s: a unicycle command (vx is then the forward speed, vy is ignored)
+
+    @classmethod
+    def unicycle(cls, forward: float, turn: float, gesture: int | None = None) -> RobotAction:
+        return cls(forward, 0.0, gesture, turn)
 
 
 @runtime_checkable
@@ -144,6 +156,8 @@ class BuiltinPolicy:
     """A robot that runs inside the compiled step (robot.policies); the fields are its parameters."""
 
     kind: ClassVar[int] = policies.PYTHON
+    plans: ClassVar[bool] = False  # follows the global planner (robot.fields, robot.planner) around obstacles
+    guard: ClassVar[float] = math.nan  # m: its body's protective field (robot.body; NaN: none)
     max_speed: float = 0.6
     start_delay: float = 0.0  # s standing still at the start (when its operator starts it)
     keep_gap: float = math.nan  # m its own moves never close between it and a person (NaN: no such limit)
@@ -152,8 +166,9 @@ class BuiltinPolicy:
         """Its parameters and a fresh state as the compiled step reads them (a one-row table)."""
         p = {"accel": 0.8, "brake": 3.0, "slow_gap": 2.0, "stop_gap": 0.5, "patience": 2.0, "detour_speed": 0.3,
              "waypoint_tolerance": 0.4, "line_clearance": math.nan, **vars(self)}
-        return table(policies.POLICY, 1, kind=self.kind, rude_max_speed=StraightPolicy.max_speed,
-                      rude_tolerance=StraightPolicy.waypoint_tolerance, waypoint=1, rude_waypoint=1,
+        return table(policies.POLICY, 1, kind=self.kind, plans=self.plans, guard=self.guard,
+                     speed_cap=self.max_speed, rude_max_speed=StraightPolicy.max_speed,
+                      rude_tolerance=StraightPolicy.waypoint_tolerance, waypoint=1, rude_waypoint=1, retreat_to=-1,
                       **{k: v for k, v in p.items() if k in policies.POLICY.names})
 
 
@@ -162,6 +177,7 @@ class WaypointsPolicy(BuiltinPolicy):
     """The paper's teleoperated robot (docs/simulator.md, "The waypoints robot")."""
 
     kind: ClassVar[int] = policies.WAYPOINTS
+    guard: ClassVar[float] = 0.0  # never drives into a body
     accel: float = 0.8  # m/s2 speeding up
     brake: float = 3.0  # m/s2 braking
     waypoint_tolerance: float = 0.4  # m
@@ -174,10 +190,14 @@ class WaypointsPolicy(BuiltinPolicy):
 
 @dataclass
 class ScriptedPolicy(WaypointsPolicy):
-    """The default robot: plays the scenario's script, drives like `waypoints`, never moves into a person."""
+    """The default robot: plays the scenario's script, drives like `waypoints`, never moves into a person.
+    Its cruise speed is the script's; `max_speed` caps it (default: no cap)."""
 
     kind: ClassVar[int] = policies.SCRIPTED
-    keep_gap: float = policies.KEEP_CLEAR
+    plans: ClassVar[bool] = True
+    guard: ClassVar[float] = POLITE_GAP
+    max_speed: float = math.inf
+    keep_gap: float = POLITE_GAP  # m kept from everyone (robot.polite; 3 x the contact margin)
 
 
 @dataclass
@@ -185,6 +205,8 @@ class SFMPolicy(BuiltinPolicy):
     """One more social-force walker heading for its waypoints (with keep_clear)."""
 
     kind: ClassVar[int] = policies.SFM
+    plans: ClassVar[bool] = True
+    guard: ClassVar[float] = policies.KEEP_CLEAR
     waypoint_tolerance: float = 0.5
     keep_gap: float = policies.KEEP_CLEAR
 
@@ -203,8 +225,9 @@ DEFAULT_ROBOT = "scripted"
 GESTURE_CODES = ", ".join(f"{code} {word}" for code, word in ROBOT_GESTURES.items())
 
 
-def checked_action(action: Any, policy: Any) -> tuple[complex, int]:
-    """(velocity, gesture code or -1 for none) of a policy's answer; one message when it is not usable."""
+def checked_action(action: Any, policy: Any) -> tuple[complex, int, float | None]:
+    """(velocity, gesture code or -1 for none, turn rate of a unicycle command or None) of a policy's answer;
+    one message when it is not usable."""
     name = type(policy).__name__
     if not isinstance(action, RobotAction):
         raise InputFileError(f"the robot policy {name} returned {type(action).__name__}, not a RobotAction",
@@ -214,20 +237,57 @@ def checked_action(action: Any, policy: Any) -> tuple[complex, int]:
     except (TypeError, ValueError, OverflowError):
         raise InputFileError(f"the robot policy {name} returned a velocity that is not two numbers: "
                              f"({action.vx!r}, {action.vy!r})", hint="vx and vy are floats in m/s") from None
+    turn = action.turn
+    if turn is not None:
+        try:
+            turn = float(turn)
+        except (TypeError, ValueError, OverflowError):
+            raise InputFileError(f"the robot policy {name} returned a turn rate that is not a number: {turn!r}",
+                                 hint="turn is a float in rad/s (RobotAction.unicycle(forward, turn))") from None
     gesture = action.gesture
     if gesture is None:
-        return v, -1
+        return v, -1, turn
     if isinstance(gesture, bool) or not isinstance(gesture, int | np.integer) or int(gesture) not in ROBOT_GESTURES:
         raise InputFileError(f"the robot policy {name} returned gesture {str(gesture)[:40]}, not a robot gesture code",
                              hint=f"use None or one of {GESTURE_CODES}")
-    return v, int(gesture)
+    return v, int(gesture), turn
 
 
-def load_policy(spec: str) -> Any:
-    """`scripted`, `waypoints`, `sfm`, `straight`, `package.module:Class` or `path/to/file.py:Class` -> a
-    policy instance."""
+BODY_PARAMS = {"kinematics": "kinematics", "body_max_speed": "max_speed", "max_accel": "max_accel",
+               "max_decel": "max_decel", "max_omega": "max_omega", "max_alpha": "max_alpha"}  # param -> RobotBody field
+
+
+def robot_from(spec: str, params: Mapping[str, Any] | None = None) -> tuple[Any, RobotBody]:
+    """(policy, body) of a robot with parameters (a campaign's `params:`): the keys of BODY_PARAMS set the body
+    (kinematics and limits), the others the policy (a built-in's fields, e.g. max_speed, slow_gap; a class of
+    the user's gets them as constructor keyword arguments). One message naming the bad key otherwise."""
+    params = dict(params or {})
+    body_args = {BODY_PARAMS[k]: params.pop(k) for k in list(params) if k in BODY_PARAMS}
+    try:
+        body = RobotBody(**body_args)
+    except ValidationFailed as exc:
+        raise InputFileError(f"robot {spec}: {exc}", hint="see the robot body in docs/simulator.md") from None
     if spec in BUILTIN:
-        return BUILTIN[spec]()
+        cls = BUILTIN[spec]
+        known = {f.name: f.type for f in fields(cls)}
+        for key, value in params.items():
+            if key not in known:
+                raise InputFileError(f"robot {spec} has no parameter {key!r}",
+                                     hint="use one of " + ", ".join(sorted([*known, *BODY_PARAMS])))
+            if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value) or value < 0:
+                raise InputFileError(f"robot {spec} parameter {key} = {str(value)[:40]}: a number of 0 or more")
+        if "max_speed" in params and params["max_speed"] > body.max_speed:
+            raise InputFileError(f"robot {spec}: max_speed {params['max_speed']:g} m/s is above its body's "
+                                 f"{body.max_speed:g} m/s", hint="raise body_max_speed too")
+        return cls(**{k: float(v) for k, v in params.items()}), body
+    return load_policy(spec, params), body
+
+
+def load_policy(spec: str, params: Mapping[str, Any] | None = None) -> Any:
+    """`scripted`, `waypoints`, `sfm`, `straight`, `package.module:Class` or `path/to/file.py:Class` -> a
+    policy instance (`params`: its constructor's keyword arguments; robot_from checks a built-in's)."""
+    if spec in BUILTIN:
+        return BUILTIN[spec](**dict(params or {}))
     if ":" not in spec:
         raise InputFileError(f"unknown robot {spec!r}", hint="use " + ", ".join(BUILTIN) + ", module:Class or file.py:Class")
     module_name, _, class_name = spec.rpartition(":")
@@ -250,10 +310,10 @@ def load_policy(spec: str) -> Any:
     if not isinstance(cls, type):
         raise InputFileError(f"{spec} is not a robot policy class", hint="see RobotPolicy in docs/simulator.md")
     try:
-        policy = cls()
+        policy = cls(**dict(params or {}))
     except Exception as exc:  # noqa: BLE001 - a user constructor's failure is the user's to fix
         raise InputFileError(f"robot policy {spec} could not be created: {type(exc).__name__}: {exc}",
-                             hint="its constructor must run without arguments") from exc
+                             hint="its constructor must run with the params given (none: no arguments)") from exc
     if not callable(getattr(policy, "act", None)):
         raise InputFileError(f"{spec} has no act(observation) method", hint="see RobotPolicy in docs/simulator.md")
     return policy

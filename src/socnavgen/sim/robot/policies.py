@@ -26,6 +26,16 @@ from socnavgen.bodies import ROBOT_GOAL_TOLERANCE
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.physics import pair_force, wall_force
 from socnavgen.sim.records import layout
+from socnavgen.sim.robot.planner import steer
+from socnavgen.sim.robot.polite import (
+    CLOSE_SPEED,
+    PASS_GAP,
+    keep_clear,
+    make_way,
+    pass_aside,
+    toward_near,
+    yield_to,
+)
 from socnavgen.sim.world.queries import clearance_at, nearest_obstacle, path_clear
 
 PYTHON, SCRIPTED, WAYPOINTS, SFM, STRAIGHT = range(5)  # PYTHON: a policy object of the user's, called per step
@@ -51,7 +61,11 @@ POLICY = layout([
     ("start_delay", "f8"), ("keep_gap", "f8"),  # s standing at the start; m kept from people (NaN: none)
     ("line_clearance", "f8"),  # NaN: a waypoint counts as reached within the tolerance whatever the walls
     ("rude_max_speed", "f8"), ("rude_tolerance", "f8"),  # the scripted robot's straight robot
-    ("speed", "f8"), ("waited", "f8"), ("around_side", "f8"), ("has_heading", "?"), ("heading", "c16"),
+    ("speed", "f8"), ("waited", "f8"), ("around_side", "f8"), ("pass_side", "f8"), ("has_heading", "?"), ("heading", "c16"),
+    ("unicycle", "?"), ("forward", "f8"), ("turn", "f8"),  # a unicycle command (DWA) instead of a velocity
+    ("speed_cap", "f8"),  # m/s: the scripted robot's cruise speed is the script's, at most this (inf: no cap)
+    ("guard", "f8"), ("retreat_to", "i8"),  # retreat_to: the waypoint it backs toward making way (-1: none)  # m: the body's protective field (robot.body.drive; NaN: none)
+    ("plans", "?"), ("field_scale", "i8"),  # it follows the planner's way (robot.planner) where the line to its waypoint is blocked
     ("waypoint", "i8"), ("rude_waypoint", "i8")])
 
 
@@ -65,7 +79,7 @@ def track(s, rude):  # noqa: ANN001, ANN201
     last = wps.shape[0] - 1
     index = min(policy.rude_waypoint if rude else policy.waypoint, last)
     tolerance = policy.rude_tolerance if rude else policy.waypoint_tolerance
-    line = math.nan if rude else policy.line_clearance
+    line = math.nan if rude or policy.plans else policy.line_clearance
     while index < last:
         d = abs(wps[index] - p)
         if d > tolerance or not (math.isnan(line) or d <= CLOSE_REACH or path_clear(s.world, p, wps[index + 1], line)):
@@ -96,36 +110,6 @@ def slide_along_walls(s, v):  # noqa: ANN001, ANN201
     clearance = clearance_at(s.world, p)
     if clearance < r:
         v += n * min(WALL_PUSH, (r - clearance) * 2.0)
-    return v
-
-
-@jit
-def keep_clear(s, v, gap):  # noqa: ANN001, ANN201
-    """`v` without the part that would take the robot closer than `gap` (surface gap; NaN: no limit) to a
-    person: it may slide past or back off, never push into someone."""
-    people, robot = s.people, s.robot[0]
-    n = people.shape[0]
-    if v == 0 or n == 0 or math.isnan(gap):
-        return v
-    p, dt = robot.pos, s.clock[0].dt
-    for _ in range(3):  # a second person may be met after sliding along the first
-        ahead = p + v * dt
-        close = False
-        for k in range(n):
-            if abs(people[k].pos - ahead) < people[k].radius + robot.radius + gap:
-                close = True
-                d = people[k].pos - p
-                if abs(d) >= 1e-9:
-                    u = d / abs(d)
-                    toward = (v * u.conjugate()).real
-                    if toward > 0:
-                        v -= toward * u
-        if not close:
-            return v
-    ahead = p + v * dt
-    for k in range(n):
-        if not abs(people[k].pos - ahead) >= min(people[k].radius + robot.radius + gap, abs(people[k].pos - p)):
-            return 0j
     return v
 
 
@@ -221,7 +205,10 @@ def waypoints_act(s):  # noqa: ANN001, ANN201
     if last and dist <= arrive:
         policy.speed = 0.0
         return 0j
-    direction = to / dist if dist > 1e-9 else complex(math.cos(robot.yaw), math.sin(robot.yaw))
+    if policy.plans:  # around what stands between it and its waypoint
+        target = steer(s, s.fields, policy.waypoint, target)
+        to = target - p
+    direction = to / abs(to) if abs(to) > 1e-9 else complex(math.cos(robot.yaw), math.sin(robot.yaw))
     policy.has_heading, policy.heading = True, direction
     gap, nudge = look_ahead(s, direction, dist if last else np.inf)
     want = policy.max_speed * min(1.0, max(0.0, (gap - policy.stop_gap) / (policy.slow_gap - policy.stop_gap)))
@@ -268,23 +255,41 @@ def straight_act(s, max_speed, rude):  # noqa: ANN001, ANN201
 
 @jit
 def scripted_act(s, now):  # noqa: ANN001, ANN201
+    """Drives like waypoints with the manners of robot.polite: moves aside to pass people with room, slows
+    down near them, backs away from someone walking into it, never comes within keep_gap (POLITE_GAP) of anyone."""
     policy = s.policy[0]
     if now.misbehave:
         return straight_act(s, policy.rude_max_speed, True)
-    policy.max_speed = now.speed
+    policy.max_speed = min(now.speed, policy.speed_cap)
     if now.wait:
         policy.speed = 0.0
-        return 0j
-    first = waypoints_act(s)
-    v = first
+        return keep_clear(s, slide_along_walls(s, yield_to(s)), policy.keep_gap)
+    target, _ = track(s, False)
+    forward = target - s.robot[0].pos
+    if abs(forward) > 1e-9:
+        backing, v = make_way(s, forward / abs(forward))
+        if backing:
+            policy.speed = 0.0
+            policy.has_heading, policy.heading = True, forward / abs(forward)
+            return keep_clear(s, slide_along_walls(s, v), policy.keep_gap)
+    v = waypoints_act(s)
+    direction = policy.heading if abs(policy.heading) > 0 else complex(math.cos(s.robot[0].yaw),
+                                                                       math.sin(s.robot[0].yaw))
     target, _ = track(s, False)
     ahead = target - s.robot[0].pos
     if abs(ahead) > 1e-9:
         u = ahead / abs(ahead)
         back = (v * u.conjugate()).real
-        if back < 0:  # never retreat: a crowd pushing it back would drive it the wrong way for good
+        if back < 0:  # never retreat on its own: a crowd pushing it back would drive it the wrong way for good
             v -= back * u
-    return kept_clear(s, first, v)
+    v += pass_aside(s, direction)
+    if abs(v) > CLOSE_SPEED and toward_near(s, v, PASS_GAP):
+        v = v * (CLOSE_SPEED / abs(v))
+    v = keep_clear(s, slide_along_walls(s, v + yield_to(s)), policy.keep_gap)
+    forward = (v * direction.conjugate()).real
+    if forward < policy.speed:
+        policy.speed = max(0.0, forward)
+    return v
 
 
 @jit
@@ -310,6 +315,8 @@ def act(s, now):  # noqa: ANN001, ANN201
         return straight_act(s, policy.max_speed, False)
     if kind == SFM:
         target, last = track(s, False)
+        if policy.plans:
+            target = steer(s, s.fields, policy.waypoint, target)
         return keep_clear(s, sfm_toward(s, target, policy.max_speed, last), policy.keep_gap)
     if kind == WAYPOINTS:
         v = waypoints_act(s)

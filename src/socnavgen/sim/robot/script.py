@@ -141,8 +141,11 @@ def person_in_way(s, distance, swept_only):  # noqa: ANN001, ANN201
     """Someone within `distance` (centres) ahead of the robot's direction of travel, in its way: in a cone
     ahead (to notice people coming), or (`swept_only`) only inside the corridor its body sweeps, so that
     people who stepped aside do not keep a robot waiting "until clear"."""
-    robot = s.robot[0]
-    r, h = robot.pos, robot.heading
+    robot, policy = s.robot[0], s.policy[0]
+    r = robot.pos
+    # the way it is going: a built-in robot's direction of travel (a differential drive may face elsewhere
+    # while it turns or edges aside), else where it last moved
+    h = policy.heading if policy.has_heading and abs(policy.heading) > 0 else robot.heading
     cone = -1.0 if swept_only else proxemics.FRONT_CONE_SCRIPT
     for i in range(s.people.shape[0]):
         p = s.people[i]

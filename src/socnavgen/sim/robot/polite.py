@@ -1,0 +1,265 @@
+"""Manners of the default robot (compiled): it keeps to one side to pass people with room, slows down near
+them, steps back from someone walking into it, and never moves closer than a margin to anyone.
+
+* pass_aside: someone ahead in (or near) its lane - coming, standing or slower - or someone faster catching
+  up from behind: the robot moves sideways, to its right unless the person is clearly on its right or the
+  right has no room, until the lateral distance between the two centres leaves PASS_GAP between the bodies
+  (or as far as the walls allow). A head-on walker's social force has no sideways part when the two are
+  exactly in line (lightsfm's angular term vanishes at theta = 0), so without this the two meet nose to nose.
+* close_speed: at most CLOSE_SPEED toward anyone within PASS_GAP (intimate space, Hall's 0.45 m); moving
+  away from them is not slowed (someone walking into its back or side is left behind, not waited for).
+* yield_to: a person closing in within YIELD_GAP: the robot backs away from them (the robot gives way).
+* make_way: someone who needs to get past it, face to face within FACE_GAP for `patience` s (both waiting):
+  it backs away along the way it came while they are near, and steps aside where there is room.
+* keep_clear: the part of a move that would bring the robot closer than `gap` (surface to surface) to a
+  person is dropped: it slides past or stops, and never pushes into anyone.
+"""
+
+from __future__ import annotations
+
+import math
+
+from socnavgen.bodies import CONTACT_MARGIN, INTIMATE_SPACE
+from socnavgen.sim.jit import jit
+from socnavgen.sim.world.queries import free_along
+
+PASS_GAP = INTIMATE_SPACE  # m: the gap the robot tries to leave beside a person it passes
+PASS_LOOK = 3.5  # m (gap) ahead: people this close ahead make the robot move aside
+BEHIND_LOOK = 1.5  # m (gap) behind: someone this close and faster makes the robot move aside
+PASS_CROSS = 1.5  # m (gap): the robot crosses to a person's side only while they are this far ahead
+CATCHING_UP = 0.3  # m/s faster than the robot along its way: a person behind is overtaking
+LATERAL_SPEED = 0.3  # m/s at most sideways
+LATERAL_GAIN = 1.5  # 1/s: sideways speed per metre still to go
+WALL_ROOM = 0.08  # m beyond its radius: the robot moves aside only where this much room from walls is left
+CLOSE_SPEED = 0.3  # m/s at most while someone is within PASS_GAP
+YIELD_GAP = 0.3  # m: someone closing in this close makes the robot back away
+YIELD_SPEED = 0.35  # m/s at most, backing away
+CLOSING = 0.1  # m/s: a person this fast toward the robot is closing in
+POLITE_GAP = 3 * CONTACT_MARGIN  # m: the default robot never moves closer than this to anyone (0.15)
+MAKE_WAY_GAP = 1.5  # m: someone walking toward the robot this close, face to face, may make it give way
+MAKE_WAY_KEEP = 1.0  # m beyond MAKE_WAY_GAP: making way goes on while they are this near, wherever they are
+FACE_GAP = 0.8  # m: standing face to face this close for `patience` s also makes it give way
+MAKE_WAY_SPEED = 0.5  # m/s making way (faster than robot.body.REVERSE_SPEED: a differential drive turns round)
+MAKE_WAY_REACH = 0.3  # m: a previous waypoint this close is passed on the way back
+
+
+@jit
+def pass_aside(s, direction):  # noqa: ANN001, ANN201
+    """Sideways velocity (complex, perpendicular to the unit `direction` of travel) that makes room to pass
+    the nearest person ahead in the robot's lane, or one catching up from behind; 0 when nobody is."""
+    robot, people = s.robot[0], s.people
+    p, rr = robot.pos, robot.radius
+    back = direction.conjugate()
+    vr = (robot.vel * back).real
+    best, across, need = math.inf, 0.0, 0.0
+    for i in range(people.shape[0]):
+        q = people[i]
+        rel = (q.pos - p) * back  # real: ahead, imag: to the left
+        want = rr + q.radius + PASS_GAP
+        if abs(rel.imag) >= want:
+            continue
+        gap = abs(rel) - rr - q.radius
+        if rel.real > 0:
+            if gap > PASS_LOOK:
+                continue
+        elif gap > BEHIND_LOOK or (q.vel * back).real - vr < CATCHING_UP:
+            continue
+        if gap < best:
+            best, across, need = gap, rel.imag, want
+    if best == math.inf:
+        s.policy[0].pass_side = 0.0
+        return 0j
+    # the side away from the person (keep right when they are ahead in line); the side taken for this pass
+    # is kept while it has room (no flip-flopping); crossing to the person's side only when they are far
+    # ahead and the near side has no room
+    policy = s.policy[0]
+    away = -1.0 if across > -0.2 else 1.0
+    first = policy.pass_side if policy.pass_side != 0.0 else away
+    shift = need + first * across  # sideways distance that leaves `need` between the centres, across
+    room = free_along(s.world, p, first * 1j * direction, shift, rr + WALL_ROOM)
+    side = first
+    if room < min(shift, 0.1) and best > PASS_CROSS:
+        other = need - first * across
+        other_room = free_along(s.world, p, -first * 1j * direction, other, rr + WALL_ROOM)
+        if other_room > room:
+            side, shift, room = -first, other, other_room
+    policy.pass_side = side
+    go = min(shift, room)
+    if go <= 0.02:
+        return 0j
+    return side * 1j * direction * min(LATERAL_SPEED, LATERAL_GAIN * go)
+
+
+@jit
+def nearest_gap(s):  # noqa: ANN001, ANN201
+    """The smallest robot-person gap now (inf with nobody)."""
+    robot, people = s.robot[0], s.people
+    best = math.inf
+    for i in range(people.shape[0]):
+        best = min(best, abs(people[i].pos - robot.pos) - people[i].radius - robot.radius)
+    return best
+
+
+@jit
+def toward_near(s, v, gap):  # noqa: ANN001, ANN201
+    """Whether velocity v takes the robot toward someone within `gap` (driving away from them is not slowed)."""
+    robot, people = s.robot[0], s.people
+    for i in range(people.shape[0]):
+        d = people[i].pos - robot.pos
+        if abs(d) - people[i].radius - robot.radius < gap and (v * d.conjugate()).real > 0:
+            return True
+    return False
+
+
+@jit
+def yield_to(s):  # noqa: ANN001, ANN201
+    """Velocity out of the way of the people closing in within YIELD_GAP (0 when nobody is): sideways off the
+    line they walk along, to the side the robot already is on (the other when that side has no room), and a
+    little away from them."""
+    robot, people = s.robot[0], s.people
+    v = 0j
+    for i in range(people.shape[0]):
+        q = people[i]
+        d = robot.pos - q.pos
+        dist = abs(d)
+        if dist < 1e-9 or dist - q.radius - robot.radius > YIELD_GAP:
+            continue
+        u = d / dist
+        closing = ((q.vel - robot.vel) * u.conjugate()).real
+        if closing <= CLOSING:
+            continue
+        w = q.vel / abs(q.vel) if abs(q.vel) > CLOSING else u
+        lateral = (d * w.conjugate()).imag
+        side = 1.0 if lateral >= 0 else -1.0
+        if free_along(s.world, robot.pos, side * 1j * w, 0.3, robot.radius + WALL_ROOM) < 0.1:
+            side = -side
+        out = side * 1j * w + 0.5 * u
+        v += out / abs(out) * YIELD_SPEED
+    if abs(v) > YIELD_SPEED:
+        v = v * (YIELD_SPEED / abs(v))
+    return v
+
+
+@jit
+def keep_clear(s, v, gap):  # noqa: ANN001, ANN201
+    """`v` without the part that would take the robot closer than `gap` (surface gap) to a person: it may
+    slide past or back off, never push into someone."""
+    people, robot = s.people, s.robot[0]
+    n = people.shape[0]
+    if v == 0 or n == 0 or math.isnan(gap):  # NaN: no limit (a policy whose keep_gap is none)
+        return v
+    p, dt = robot.pos, s.clock[0].dt
+    for _ in range(3):  # a second person may be met after sliding along the first
+        ahead = p + v * dt
+        close = False
+        for k in range(n):
+            if abs(people[k].pos - ahead) < people[k].radius + robot.radius + gap:
+                close = True
+                d = people[k].pos - p
+                if abs(d) >= 1e-9:
+                    u = d / abs(d)
+                    toward = (v * u.conjugate()).real
+                    if toward > 0:
+                        v -= toward * u
+        if not close:
+            return v
+    ahead = p + v * dt
+    for k in range(n):
+        if not abs(people[k].pos - ahead) >= min(people[k].radius + robot.radius + gap, abs(people[k].pos - p)):
+            return 0j
+    return v
+
+
+@jit
+def coming_through(s, forward, reach, in_line):  # noqa: ANN001, ANN201
+    """(who, walking): the nearest person within `reach` (gap) of the robot (`in_line`: ahead along the unit
+    `forward`, its way on, in line with it) whose goal lies beyond the robot (they need to get past it); -1 when nobody is.
+    `walking`: they walk toward the robot now (not standing, waiting)."""
+    robot, people = s.robot[0], s.people
+    p, back = robot.pos, forward.conjugate()
+    who, best, walking = -1, math.inf, False
+    for i in range(people.shape[0]):
+        q = people[i]
+        rel = (q.pos - p) * back
+        gap = abs(rel) - q.radius - robot.radius
+        if gap > reach or not q.has_goal or (in_line and (rel.real <= 0 or abs(rel.imag) > q.radius + robot.radius
+                                                          + PASS_GAP)):
+            continue
+        toward = p - q.pos
+        u = toward / max(abs(toward), 1e-9)
+        if ((q.goal - q.pos) * u.conjugate()).real <= abs(toward):  # their goal is short of the robot
+            continue
+        if gap < best:
+            who, best, walking = i, gap, (q.vel * u.conjugate()).real > CLOSING
+    return who, walking
+
+
+@jit
+def room_beside(s, forward, need, who):  # noqa: ANN001, ANN201
+    """The side (+1 left, -1 right, 0 none) away from person `who` where the robot can step `need` metres
+    aside, off their way (right when they are in line)."""
+    robot = s.robot[0]
+    across = ((s.people[who].pos - robot.pos) * forward.conjugate()).imag
+    side = -1.0 if across > -0.2 else 1.0
+    if free_along(s.world, robot.pos, side * 1j * forward, need, robot.radius + WALL_ROOM) >= need:
+        return side
+    return 0.0
+
+
+@jit
+def behind(s):  # noqa: ANN001, ANN201
+    """The waypoint behind the robot on its route: the start of the passed segment it is nearest to (one
+    earlier when it stands on it)."""
+    robot, wps = s.robot[0], s.waypoints
+    p, last = robot.pos, min(s.policy[0].waypoint, wps.shape[0] - 1)
+    j, best = 0, math.inf
+    for k in range(last):
+        a, b = wps[k], wps[k + 1]
+        ab = b - a
+        t = 0.0 if abs(ab) < 1e-9 else min(1.0, max(0.0, ((p - a) * ab.conjugate()).real / abs(ab) ** 2))
+        d = abs(a + t * ab - p)
+        if d < best:
+            j, best = k, d
+    while j > 0 and abs(wps[j] - p) < MAKE_WAY_REACH:
+        j -= 1
+    return j
+
+
+@jit
+def make_way(s, forward):  # noqa: ANN001, ANN201
+    """(backing off?, velocity): someone who needs to get past the robot has stood face to face with it, within
+    FACE_GAP, for `patience` s: it goes back the way it came (toward its previous waypoints) at MAKE_WAY_SPEED
+    while they are within MAKE_WAY_GAP + MAKE_WAY_KEEP, and steps aside, off their way, where the passage has
+    room. A person and a robot that both wait for the other are a deadlock; the robot gives way."""
+    policy, robot, wps = s.policy[0], s.robot[0], s.waypoints
+    if policy.retreat_to < 0:  # someone ahead, in line; once making way: them, wherever, until they are through
+        who, walking = coming_through(s, forward, MAKE_WAY_GAP, True)
+    else:
+        who, walking = coming_through(s, forward, MAKE_WAY_GAP + MAKE_WAY_KEEP, False)
+    if who < 0:
+        policy.retreat_to = -1
+        return False, 0j
+    p = robot.pos
+    need = 2 * s.people[who].radius + PASS_GAP
+    if policy.retreat_to < 0:
+        j = behind(s)
+        back = wps[j] - p
+        if abs(back) < MAKE_WAY_REACH:
+            return False, 0j  # at its start: nowhere to back off to
+        side = room_beside(s, back / abs(back), need, who)
+        gap = abs(s.people[who].pos - p) - s.people[who].radius - robot.radius
+        if not (policy.waited >= policy.patience and gap <= FACE_GAP):  # face to face, both waiting
+            return False, 0j
+        policy.retreat_to = j
+    target = wps[policy.retreat_to]
+    while abs(target - p) < MAKE_WAY_REACH and policy.retreat_to > 0:
+        policy.retreat_to -= 1
+        target = wps[policy.retreat_to]
+    if abs(target - p) < MAKE_WAY_REACH:  # back at its start: nowhere further to go
+        policy.retreat_to, policy.waited = -1, 0.0
+        return False, 0j
+    back = (target - p) / abs(target - p)
+    side = room_beside(s, back, need, who)
+    if side != 0.0:
+        return True, side * 1j * back * LATERAL_SPEED
+    return True, back * MAKE_WAY_SPEED
