@@ -2,9 +2,9 @@
 
 People walk straight at their target when their body fits along the straight line (as HuNavSim's social
 force model does). When it does not (a door jamb, a rack, a room's wall between a follower and the robot),
-they follow a route field: the walking effort from every cell of a coarse grid (ROUTE_CELL) to a fixed point,
-grown over the floor where a person's centre fits (clearance at least SQUEEZE) with a cost that rises near
-walls (people keep to the middle of a door or corridor). Going downhill on it leads through doorways and
+they follow a route field (world.costfield): the walking effort from every cell of a coarse grid (ROUTE_CELL) to a
+fixed point, grown over the floor where a person's centre fits (clearance at least SQUEEZE) with a cost that
+rises near walls (people keep to the middle of a door or corridor; the PEOPLE cell-cost rule). Going downhill on it leads through doorways and
 around corners; a person heads for the farthest point down the field they can walk to in a straight line.
 
 The points with a field are the simulation's landmarks: every person's goals and the robot's waypoints (a
@@ -18,12 +18,12 @@ from __future__ import annotations
 
 import contextlib
 import math
-from collections import OrderedDict
 from typing import NamedTuple
 
 import numpy as np
 
 from socnavgen.sim.jit import jit
+from socnavgen.sim.world.costfield import CellCost, CostField, cells_per_side
 from socnavgen.sim.world.queries import clearance_at
 
 ROUTE_CELL = 0.1  # m: side of the coarse cells of a route field
@@ -35,23 +35,17 @@ MAX_FIELDS = 512  # fields kept per World across simulations (a campaign's worke
 LOOKAHEAD = 40  # cells followed downhill when looking for the farthest point walkable straight (4 m)
 
 
+PEOPLE = CellCost(passable=SQUEEZE, full=SQUEEZE, comfort=COMFORT, extra=NEAR_WALL_COST)  # a person's floor
+
+
 class RouteGrid:
-    """The coarse grid of one World and its route fields (Python side), built once per World."""
+    """The coarse grid of one World and its route fields (Python side, world.costfield under the PEOPLE rule),
+    built once per World."""
 
     def __init__(self, world) -> None:  # noqa: ANN001
         self.world = world
-        k = max(1, int(round(ROUTE_CELL / world.mpp)))
-        clearance = np.asarray(world.clearance, dtype=float)
-        h, w = clearance.shape
-        padded = np.zeros((-(-h // k) * k, -(-w // k) * k))
-        padded[:h, :w] = np.where(np.isfinite(clearance), clearance, 1e9)
-        coarse = padded.reshape(padded.shape[0] // k, k, padded.shape[1] // k, k).min(axis=(1, 3))
-        self.k = k
-        self.shape = coarse.shape
-        extra = NEAR_WALL_COST * np.clip((COMFORT - coarse) / (COMFORT - SQUEEZE), 0.0, 1.0)
-        self.cost = np.where(coarse >= SQUEEZE, 1.0 + extra, np.inf)
-        self.size = k * float(world.mpp)  # metres per coarse cell
-        self._fields: OrderedDict[tuple[int, int], np.ndarray] = OrderedDict()
+        self.grid = CostField.of(world, PEOPLE, cells_per_side(world, ROUTE_CELL), MAX_FIELDS)
+        self.k, self.shape, self.cost, self.size = self.grid.k, self.grid.shape, self.grid.cost, self.grid.size
 
     @classmethod
     def of(cls, world) -> RouteGrid:  # noqa: ANN001
@@ -65,37 +59,13 @@ class RouteGrid:
     def cell(self, point: complex) -> tuple[int, int]:
         """The coarse cell of a world point where a person fits: its own, else the nearest passable one
         within 1 m (a goal drawn against a wall), else its own (its field is then unreachable)."""
-        rows, cols, _ = self.world.to_cells(np.array([point]))
-        r, c = int(rows[0]) // self.k, int(cols[0]) // self.k
-        if np.isfinite(self.cost[r, c]):
-            return r, c
-        reach = int(math.ceil(1.0 / self.size))
-        r0, c0 = max(0, r - reach), max(0, c - reach)
-        window = self.cost[r0:r + reach + 1, c0:c + reach + 1]
-        rr, cc = np.nonzero(np.isfinite(window))
-        if not len(rr):
-            return r, c
-        best = int(np.argmin((rr + r0 - r) ** 2 + (cc + c0 - c) ** 2))
-        return int(rr[best] + r0), int(cc[best] + c0)
+        rows, cols = self.grid.snap(*self.grid.cells(np.array([point])), within=1.0)
+        return int(rows[0]), int(cols[0])
 
     def field(self, point: complex) -> np.ndarray:
         """Walking effort (metres on open floor, more near walls) from every coarse cell to `point` (inf where
         a person cannot get there)."""
-        key = self.cell(point)
-        found = self._fields.get(key)
-        if found is None:
-            found = np.full(self.shape, np.inf, dtype=np.float32)
-            if np.isfinite(self.cost[key]):
-                from skimage.graph import MCP_Geometric
-
-                costs, _ = MCP_Geometric(self.cost, fully_connected=True).find_costs([key])
-                found = (costs * self.size).astype(np.float32)
-            self._fields[key] = found
-            if len(self._fields) > MAX_FIELDS:
-                self._fields.popitem(last=False)
-        else:
-            self._fields.move_to_end(key)
-        return found
+        return self.grid.field(*self.cell(point))
 
 
 class RouteMap(NamedTuple):

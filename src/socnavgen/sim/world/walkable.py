@@ -2,9 +2,9 @@
 geodesic distance: the verifier's "within d m along the walkable way" and the metrics' shortest walkable path
 (path efficiency) both read it.
 
-Geodesic fields are scikit-image's minimum cost path over the free cells (8-connected, on a grid coarsened to
-about CELL metres), grown from one point and kept per World (and per clearance). A cell is free when no wall
-is in it (`clearance` 0: where a person's centre may be, the verifier's rule) or when every map cell in it is
+Geodesic fields are world.costfield's (scikit-image's minimum cost path over the free cells, 8-connected, on a
+grid coarsened to about CELL metres, every free cell costing 1), grown from one point and kept per World (and
+per clearance). A cell is free when no wall is in it (`clearance` 0: where a person's centre may be, the verifier's rule) or when every map cell in it is
 at least `clearance` metres from the nearest wall (a body of that radius fits: the robot's reference path).
 
 - `between(a, b)`: the distance between two moving points. Where the straight segment between them is free
@@ -22,11 +22,11 @@ from __future__ import annotations
 
 import contextlib
 import math
-from collections import OrderedDict
 from typing import Any
 
 import numpy as np
-from scipy import ndimage
+
+from socnavgen.sim.world.costfield import CellCost, CostField, cells_per_side
 
 CELL = 0.1  # m: side of the coarse cells the fields are grown on
 MAX_FIELDS = 256  # fields kept per World and clearance (about 42k cells x 4 bytes each on the bundled hospital)
@@ -40,20 +40,10 @@ class WalkableDistance:
     def __init__(self, world: Any, cell: float = CELL, clearance: float = 0.0) -> None:
         self.world = world
         self.clearance = float(clearance)
-        k = max(1, int(round(cell / float(world.mpp))))
-        blocked = np.asarray(world.blocked, dtype=bool)
-        if self.clearance > 0:  # a cell where a body of this radius does not fit counts as blocked
-            blocked = blocked | (np.asarray(world.clearance, dtype=float) < self.clearance)
-        h, w = blocked.shape
-        padded = np.ones((-(-h // k) * k, -(-w // k) * k), dtype=bool)
-        padded[:h, :w] = blocked
-        self.k = k
-        self.size = k * float(world.mpp)  # metres per coarse cell
-        self.free = ~padded.reshape(padded.shape[0] // k, k, padded.shape[1] // k, k).any(axis=(1, 3))
-        self._cost = np.where(self.free, 1.0, np.inf)
-        if self.free.any():  # every coarse cell -> the nearest free one (a body pressed against a wall)
-            _, (self._snap_r, self._snap_c) = ndimage.distance_transform_edt(~self.free, return_indices=True)
-        self._fields: OrderedDict[tuple[int, int], np.ndarray] = OrderedDict()
+        self.grid = CostField.of(world, CellCost(passable=self.clearance), cells_per_side(world, cell), MAX_FIELDS)
+        self.k = self.grid.k
+        self.size = self.grid.size  # metres per coarse cell
+        self.free = self.grid.passable
         self.routes: dict[tuple, float | None] = {}  # lengths of whole routes its users worked out, kept
 
     @classmethod
@@ -71,26 +61,12 @@ class WalkableDistance:
         return found[key]
 
     def cells(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Free coarse cells (rows, cols) of complex world points."""
-        rows, cols, _ = self.world.to_cells(np.asarray(points, dtype=complex))
-        rows, cols = rows // self.k, cols // self.k
-        return self._snap_r[rows, cols], self._snap_c[rows, cols]
+        """Free coarse cells (rows, cols) of complex world points (the nearest free one to a point in a wall)."""
+        return self.grid.snap(*self.grid.cells(points))
 
     def field(self, row: int, col: int) -> np.ndarray:
         """Metres along the free space from the coarse cell (row, col) to every coarse cell (inf: unreachable)."""
-        key = (int(row), int(col))
-        found = self._fields.get(key)
-        if found is None:
-            from skimage.graph import MCP_Geometric
-
-            costs, _ = MCP_Geometric(self._cost, fully_connected=True).find_costs([key])
-            found = (costs * self.size).astype(np.float32)
-            self._fields[key] = found
-            if len(self._fields) > MAX_FIELDS:
-                self._fields.popitem(last=False)
-        else:
-            self._fields.move_to_end(key)
-        return found
+        return self.grid.field(row, col)
 
     def between(self, a: np.ndarray, b: np.ndarray, unreachable: float = math.inf) -> np.ndarray:
         """(T,) walkable distances between complex points a[k] and b[k] (`unreachable` where no way joins
