@@ -50,7 +50,11 @@ def row(name: str, tmp: Path) -> str:
     waypoints = [complex(*at[n]) for n in run.paths().robot]
     build = best(lambda: fresh(location))
     planner = best(lambda: route_fields(fresh(location), np.array(waypoints), 0.3)) - build
-    routes = best(lambda: [RouteGrid.of(fresh(location)).field(p) for p in waypoints]) - build
+    def people() -> None:
+        grid = RouteGrid.of(fresh(location))
+        for p in waypoints:
+            grid.field(p)
+    routes = best(people) - build
     def walk() -> None:
         ways = WalkableDistance.of(fresh(location))
         for p in waypoints:
