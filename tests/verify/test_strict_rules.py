@@ -31,7 +31,7 @@ def test_walkable_distance_goes_through_the_door() -> None:
     assert got[1] == pytest.approx(abs(b[1] - a[1]))  # in sight: straight
     assert got[2] == pytest.approx(8.0)  # straight through the open door
     assert 8.2 <= got[0] <= 8.2 * 1.09  # around the wall: 8-connected, at most ~8 % long
-    assert len(ways._fields) == 1  # one field for the one hidden pair
+    assert len(ways.grid._fields) == 1  # one field for the one hidden pair
     assert WalkableDistance.of(world) is WalkableDistance.of(world)
 
 
