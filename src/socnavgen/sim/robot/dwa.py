@@ -1,0 +1,149 @@
+"""DWA, the Dynamic Window Approach (Fox, Burgard, Thrun, "The dynamic window approach to collision
+avoidance", IEEE Robotics & Automation Magazine 4(1), 1997): `--robot dwa`.
+
+Our own implementation of the paper's section 3, written for this simulator. The robot answers a unicycle
+command (v, omega) (RobotAction.unicycle), searched over
+
+    V_r = V_s  intersect  V_a  intersect  V_d                                              (paper, sec. 3.1)
+
+* V_s, the possible velocities: |v| <= max speed, |omega| <= max turn rate (the body's limits, obs.limits);
+* V_d, the dynamic window (eq. 3): v in [v_a - vdot_b h, v_a + vdot_a h], omega in [omega_a - omegadot h,
+  omega_a + omegadot h], the velocities reachable within the window `h` (s) from the current ones (v_a,
+  omega_a: obs.speed, obs.omega) under the body's accelerations; sampled on a grid of `v_samples` x
+  `w_samples`, with v >= 0 (the paper's robot drives forward);
+* V_a, the admissible velocities (eq. 2): v <= sqrt(2 dist(v, omega) vdot_b) and |omega| <= sqrt(2
+  dist(v, omega) omegadot_b), dist being the distance travelled along the circular arc of (v, omega) before
+  the robot's disc would touch an obstacle (the paper's obstacles are static; here the people move on at their
+  current velocity, a usual extension, and walls come from the occupancy map); standing still is always
+  admissible.
+
+Among V_r it maximises the objective (eq. 4)
+
+    G(v, omega) = sigma(alpha heading(v, omega) + beta dist(v, omega) + gamma velocity(v, omega))
+
+with heading = 1 - |theta| / pi, theta the angle between the robot's heading at the end of the predicted
+arc and the direction to the route's target (robot.route: the waypoint, or the global planner's carrot where
+the line to it is blocked), dist the free distance capped at `dist_cap` and divided by it, velocity v / max
+speed, and sigma the smoothing of the paper taken as each term's normalisation to [0, 1] over the window (the
+paper's weights: alpha 2, beta 0.2, gamma 0.2 are for unnormalised terms; ours are `alpha`, `beta`, `gamma`).
+The robot slows down for its goal (v <= sqrt(2 vdot_b d_goal)) and turns on the spot toward its target when
+it faces more than `turn_in_place` rad away from it (the paper's robot starts pointing along its way).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from socnavgen.sim.robot.api import RobotAction
+from socnavgen.sim.robot.route import Route, arrive_speed
+
+HARD = 0.06  # m: an arc coming closer than this to a person is not admissible (contact is 0.05 m)
+CELL_SLACK = 0.01  # m: a wall closer than the margin counts as hit where the arc comes this much closer still
+
+
+class DWAPolicy:
+    """`--robot dwa` (see the module's docstring). Parameters (a campaign's `params:`): max_speed (m/s),
+    window (s: h), horizon (s of predicted motion), step (s between predicted points), v_samples, w_samples,
+    alpha, beta, gamma (weights of heading, clearance and speed), dist_cap (m), safety (m added to the
+    radii), turn_in_place (rad)."""
+
+    def __init__(self, max_speed: float = 0.6, window: float = 0.25, horizon: float = 3.0, step: float = 0.1,
+                 v_samples: int = 9, w_samples: int = 21, alpha: float = 0.8, beta: float = 1.0,
+                 gamma: float = 0.3, dist_cap: float = 1.5, safety: float = 0.1, turn_in_place: float = 1.2,
+                 goal_decel: float = 0.8) -> None:
+        self.max_speed, self.window, self.horizon, self.step = float(max_speed), float(window), float(horizon), float(step)
+        self.v_samples, self.w_samples = max(2, int(v_samples)), max(3, int(w_samples))
+        self.alpha, self.beta, self.gamma = float(alpha), float(beta), float(gamma)
+        self.dist_cap, self.safety, self.turn_in_place = float(dist_cap), float(safety), float(turn_in_place)
+        self.goal_decel = float(goal_decel)
+        self.route: Route | None = None
+        self._times = np.arange(1, int(round(self.horizon / self.step)) + 1) * self.step
+
+    def reset(self, obs) -> None:  # noqa: ANN001 - an Observation
+        self.route = Route(obs)
+
+    def act(self, obs) -> RobotAction:  # noqa: ANN001 - an Observation
+        if self.route is None:
+            self.reset(obs)
+        route, p, yaw = self.route, obs.position_c, obs.yaw
+        target, last = route.target(p)
+        to = target - p
+        if last and abs(route.goal - p) <= 0.05:
+            return RobotAction.unicycle(0.0, 0.0)
+        lim = obs.limits
+        top = min(self.max_speed, lim["max_speed"])
+        if last:
+            top = arrive_speed(top, self.goal_decel, abs(to))
+        error = _wrap(math.atan2(to.imag, to.real) - yaw)
+        v_now, w_now = max(obs.speed, 0.0), obs.omega
+        if abs(error) > self.turn_in_place:  # facing away from its way: turn on the spot first
+            return RobotAction.unicycle(0.0, math.copysign(min(lim["max_omega"], 2.0 * abs(error)), error))
+        vs = np.linspace(max(0.0, v_now - lim["max_decel"] * self.window),
+                         min(top, v_now + lim["max_accel"] * self.window), self.v_samples)
+        ws = np.linspace(max(-lim["max_omega"], w_now - lim["max_alpha"] * self.window),
+                         min(lim["max_omega"], w_now + lim["max_alpha"] * self.window), self.w_samples)
+        v, w = (a.ravel() for a in np.meshgrid(vs, ws))
+        arcs = _arcs(p, yaw, v, w, self._times)  # (candidates, T) predicted positions
+        free, stop = self._free_distance(obs, route, arcs, v)
+        admissible = (v <= np.sqrt(2.0 * stop * lim["max_decel"]) + 1e-9) & \
+                     (np.abs(w) <= np.sqrt(2.0 * stop * lim["max_alpha"]) + 1e-9) | (v == 0.0)
+        end_yaw = yaw + w * self._times[-1]
+        goal_heading = math.atan2(to.imag, to.real)
+        heading = 1.0 - np.abs(_wrap(goal_heading - end_yaw)) / math.pi
+        score = self.alpha * _norm(heading) + self.beta * _norm(np.minimum(free, self.dist_cap) / self.dist_cap) \
+            + self.gamma * _norm(v / max(top, 1e-9))
+        score = np.where(admissible, score, -np.inf)
+        best = int(np.argmax(score))
+        if not np.isfinite(score[best]):
+            return RobotAction.unicycle(0.0, 0.0)
+        return RobotAction.unicycle(float(v[best]), float(w[best]))
+
+    def _free_distance(self, obs, route: Route, arcs: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:  # noqa: ANN001
+        """(dist(v, omega) of the objective, the distance of the admissibility test): metres along each arc
+        before the robot's disc comes within `safety` of a person (people moving on at their velocity) or
+        safety / 2 of a wall, and before it comes within HARD of a person or touches a wall; the whole arc's
+        length when nothing is hit. Already closer than a margin, only closing in further counts."""
+        radius, p = obs.radius, obs.position_c
+        clear_now = route.world.clearance_at_point(p)
+        clear = route.clearance(arcs) - radius
+        soft = clear < min(0.5 * self.safety, clear_now - radius - CELL_SLACK)
+        hard = clear < min(0.0, clear_now - radius - CELL_SLACK)
+        people = obs.human_positions_c
+        if len(people):
+            near = np.abs(people - p) < self.horizon * (self.max_speed + 2.0) + 1.0
+            if near.any():
+                radii = radius + obs.human_radii[near]
+                gap_now = np.abs(people[near] - p) - radii
+                q = people[near][:, None] + obs.human_velocities_c[near][:, None] * self._times[None, :]  # (n, T)
+                gap = np.abs(arcs[:, None, :] - q[None]) - radii[None, :, None]
+                soft |= (gap < np.minimum(self.safety, gap_now - 1e-6)[None, :, None]).any(axis=1)
+                hard |= (gap < np.minimum(HARD, gap_now - 1e-6)[None, :, None]).any(axis=1)
+        travelled = np.concatenate([[0.0], self._times])
+        free = [v * travelled[np.where(hit.any(axis=1), hit.argmax(axis=1), len(self._times))] for hit in (soft, hard)]
+        return free[0], free[1]
+
+
+def _wrap(angle):  # noqa: ANN001, ANN202 - a float or an array
+    return (angle + np.pi) % (2 * np.pi) - np.pi
+
+
+def _norm(values: np.ndarray) -> np.ndarray:
+    """values scaled to [0, 1] over the admissible window (all equal: zeros)."""
+    finite = values[np.isfinite(values)]
+    if finite.size == 0:
+        return np.zeros_like(values)
+    low, high = finite.min(), finite.max()
+    return (values - low) / (high - low) if high - low > 1e-12 else np.zeros_like(values)
+
+
+def _arcs(p: complex, yaw: float, v: np.ndarray, w: np.ndarray, times: np.ndarray) -> np.ndarray:
+    """(candidates, T) positions along the circular arcs of constant (v, omega) from p facing yaw."""
+    t = times[None, :]
+    vv, ww = v[:, None], w[:, None]
+    straight = np.abs(ww) < 1e-6
+    safe_w = np.where(straight, 1.0, ww)
+    turned = p + vv / safe_w * (np.exp(1j * (yaw + safe_w * t)) - np.exp(1j * yaw)) / 1j
+    line = p + vv * t * np.exp(1j * yaw)
+    return np.where(straight, line, turned)

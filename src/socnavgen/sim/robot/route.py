@@ -1,0 +1,68 @@
+"""The scenario's route for a robot policy written in Python (the ORCA and DWA baselines, a user's policy):
+its current waypoint, the point to head for (the global planner's carrot where the straight line is blocked:
+robot.fields, robot.planner.carrot_at, the same plan the built-in robots follow), and the walls near it.
+
+    route = Route(obs)              # in reset(obs)
+    target, last = route.target(obs.position_c)
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from socnavgen.sim.robot.fields import field_scale, route_fields
+from socnavgen.sim.robot.planner import carrot_at
+
+TOLERANCE = 0.4  # m: an intermediate waypoint this close counts as passed (the waypoints robot's)
+RING = (0.0, 0.4, 0.8, 1.2)  # m: rings of points around the robot whose nearest wall points are gathered
+RAYS = 16  # points per ring
+
+
+class Route:
+    """Following the robot's waypoints (read once from `obs`) with the planner's fields."""
+
+    def __init__(self, obs, tolerance: float = TOLERANCE) -> None:  # noqa: ANN001 - an Observation
+        self.world, self.radius, self.tolerance = obs.world, obs.radius, tolerance
+        self.waypoints = np.array(obs.waypoints_c, dtype=complex)
+        self.index = min(1, len(self.waypoints) - 1)
+        self.scale = field_scale(self.world)
+        self.fields = route_fields(self.world, self.waypoints, self.radius) if len(self.waypoints) > 1 else None
+        angles = np.exp(2j * np.pi * np.arange(RAYS) / RAYS)
+        self._ring = np.concatenate([[0j], *[r * angles for r in RING if r > 0]])
+
+    @property
+    def goal(self) -> complex:
+        return complex(self.waypoints[-1])
+
+    def target(self, p: complex) -> tuple[complex, bool]:
+        """(the point to head for now, whether the current waypoint is the last), passing waypoints reached."""
+        last = len(self.waypoints) - 1
+        while self.index < last and abs(self.waypoints[self.index] - p) <= self.tolerance:
+            self.index += 1
+        waypoint = complex(self.waypoints[self.index])
+        if self.fields is None:
+            return waypoint, True
+        point = carrot_at(self.world.map, self.fields, self.index, waypoint, complex(p), self.radius, self.scale)
+        return complex(point), self.index == last
+
+    def walls_near(self, p: complex, reach: float) -> np.ndarray:
+        """Wall surface points within `reach` of p (complex, deduplicated to the map's cells): the nearest wall
+        point of p and of RAYS points on each of the RING circles around it."""
+        points, valid = self.world.nearest_obstacles(p + self._ring)
+        points = points[valid & (np.abs(points - p) <= reach)]
+        if points.size == 0:
+            return points
+        cells = np.round(points / self.world.map.mpp)
+        _, keep = np.unique(np.stack([cells.real, cells.imag], axis=1), axis=0, return_index=True)
+        return points[np.sort(keep)]
+
+    def clearance(self, points: np.ndarray) -> np.ndarray:
+        """Metres from each point to the nearest wall (0 off the map)."""
+        return self.world.clearance_at(points)
+
+
+def arrive_speed(max_speed: float, decel: float, dist: float) -> float:
+    """The speed from which braking at `decel` stops within `dist`, at most max_speed."""
+    return min(max_speed, math.sqrt(2.0 * decel * max(dist, 0.0)))
