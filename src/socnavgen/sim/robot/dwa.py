@@ -27,7 +27,10 @@ the line to it is blocked), dist the free distance capped at `dist_cap` and divi
 speed, and sigma the smoothing of the paper taken as each term's normalisation to [0, 1] over the window (the
 paper's weights: alpha 2, beta 0.2, gamma 0.2 are for unnormalised terms; ours are `alpha`, `beta`, `gamma`).
 The robot slows down for its goal (v <= sqrt(2 vdot_b d_goal)) and turns on the spot toward its target when
-it faces more than `turn_in_place` rad away from it (the paper's robot starts pointing along its way).
+it faces more than `turn_in_place` rad away from it, until it faces within TURNED (the paper's robot starts
+pointing along its way). Not in the paper (a recovery behaviour, as navigation stacks add one): after choosing
+to stand for `patience` s away from its goal (someone stands against it), it backs away for ESCAPE s at up to
+REVERSE_SPEED along the arc that frees the most room, then searches again.
 """
 
 from __future__ import annotations
@@ -40,25 +43,31 @@ from socnavgen.sim.robot.api import RobotAction
 from socnavgen.sim.robot.route import Route, arrive_speed
 
 HARD = 0.06  # m: an arc coming closer than this to a person is not admissible (contact is 0.05 m)
-CELL_SLACK = 0.01  # m: a wall closer than the margin counts as hit where the arc comes this much closer still
+CELL_SLACK = 0.01
+TURNED = 0.4  # rad: turning on the spot ends facing this close to the way
+TURN_GAIN = 2.0  # 1/s: turn rate on the spot per radian still to turn
+STUCK_SPEED = 0.02  # m/s: choosing slower than this counts as standing (stuck)
+REVERSE_SPEED = 0.15  # m/s: backing away when stuck
+ESCAPE = 1.5  # s backing away  # m: a wall closer than the margin counts as hit where the arc comes this much closer still
 
 
 class DWAPolicy:
     """`--robot dwa` (see the module's docstring). Parameters (a campaign's `params:`): max_speed (m/s),
     window (s: h), horizon (s of predicted motion), step (s between predicted points), v_samples, w_samples,
     alpha, beta, gamma (weights of heading, clearance and speed), dist_cap (m), safety (m added to the
-    radii), turn_in_place (rad)."""
+    radii), turn_in_place (rad), patience (s standing before it backs away)."""
 
     def __init__(self, max_speed: float = 0.6, window: float = 0.25, horizon: float = 3.0, step: float = 0.1,
                  v_samples: int = 9, w_samples: int = 21, alpha: float = 0.8, beta: float = 1.0,
                  gamma: float = 0.3, dist_cap: float = 1.5, safety: float = 0.1, turn_in_place: float = 1.2,
-                 goal_decel: float = 0.8) -> None:
+                 goal_decel: float = 0.8, patience: float = 3.0) -> None:
         self.max_speed, self.window, self.horizon, self.step = float(max_speed), float(window), float(horizon), float(step)
         self.v_samples, self.w_samples = max(2, int(v_samples)), max(3, int(w_samples))
         self.alpha, self.beta, self.gamma = float(alpha), float(beta), float(gamma)
         self.dist_cap, self.safety, self.turn_in_place = float(dist_cap), float(safety), float(turn_in_place)
-        self.goal_decel = float(goal_decel)
+        self.goal_decel, self.patience = float(goal_decel), float(patience)
         self.route: Route | None = None
+        self._turning, self._stuck = False, 0.0  # turning on the spot; s it has chosen to stand
         self._times = np.arange(1, int(round(self.horizon / self.step)) + 1) * self.step
 
     def reset(self, obs) -> None:  # noqa: ANN001 - an Observation
@@ -78,27 +87,38 @@ class DWAPolicy:
             top = arrive_speed(top, self.goal_decel, abs(to))
         error = _wrap(math.atan2(to.imag, to.real) - yaw)
         v_now, w_now = max(obs.speed, 0.0), obs.omega
-        if abs(error) > self.turn_in_place:  # facing away from its way: turn on the spot first
-            return RobotAction.unicycle(0.0, math.copysign(min(lim["max_omega"], 2.0 * abs(error)), error))
-        vs = np.linspace(max(0.0, v_now - lim["max_decel"] * self.window),
-                         min(top, v_now + lim["max_accel"] * self.window), self.v_samples)
+        if abs(error) > (TURNED if self._turning else self.turn_in_place):  # facing away: turn on the spot first
+            self._turning = True  # until it faces within TURNED of its way, at a turn rate it can stop from
+            rate = min(lim["max_omega"], math.sqrt(2.0 * lim["max_alpha"] * abs(error)), TURN_GAIN * abs(error))
+            return RobotAction.unicycle(0.0, math.copysign(rate, error))
+        self._turning = False
+        escaping = self._stuck >= self.patience
+        if escaping:  # stuck: back away slowly along the arc that frees the most room, for ESCAPE s
+            vs = np.linspace(-REVERSE_SPEED, 0.0, 4)
+        else:
+            vs = np.linspace(max(0.0, v_now - lim["max_decel"] * self.window),
+                             min(top, v_now + lim["max_accel"] * self.window), self.v_samples)
         ws = np.linspace(max(-lim["max_omega"], w_now - lim["max_alpha"] * self.window),
                          min(lim["max_omega"], w_now + lim["max_alpha"] * self.window), self.w_samples)
         v, w = (a.ravel() for a in np.meshgrid(vs, ws))
         arcs = _arcs(p, yaw, v, w, self._times)  # (candidates, T) predicted positions
-        free, stop = self._free_distance(obs, route, arcs, v)
-        admissible = (v <= np.sqrt(2.0 * stop * lim["max_decel"]) + 1e-9) & \
+        free, stop = self._free_distance(obs, route, arcs, np.abs(v))
+        admissible = (np.abs(v) <= np.sqrt(2.0 * stop * lim["max_decel"]) + 1e-9) & \
                      (np.abs(w) <= np.sqrt(2.0 * stop * lim["max_alpha"]) + 1e-9) | (v == 0.0)
         end_yaw = yaw + w * self._times[-1]
         goal_heading = math.atan2(to.imag, to.real)
         heading = 1.0 - np.abs(_wrap(goal_heading - end_yaw)) / math.pi
-        score = self.alpha * _norm(heading) + self.beta * _norm(np.minimum(free, self.dist_cap) / self.dist_cap) \
-            + self.gamma * _norm(v / max(top, 1e-9))
+        room = _norm(np.minimum(free, self.dist_cap) / self.dist_cap)
+        score = room + _norm(-v) if escaping else \
+            self.alpha * _norm(heading) + self.beta * room + self.gamma * _norm(v / max(top, 1e-9))
         score = np.where(admissible, score, -np.inf)
         best = int(np.argmax(score))
-        if not np.isfinite(score[best]):
-            return RobotAction.unicycle(0.0, 0.0)
-        return RobotAction.unicycle(float(v[best]), float(w[best]))
+        chosen = (float(v[best]), float(w[best])) if np.isfinite(score[best]) else (0.0, 0.0)
+        if escaping:
+            self._stuck = self._stuck + obs.dt if self._stuck < self.patience + ESCAPE else 0.0
+        else:
+            self._stuck = self._stuck + obs.dt if abs(chosen[0]) < STUCK_SPEED and abs(route.goal - p) > 0.3 else 0.0
+        return RobotAction.unicycle(*chosen)
 
     def _free_distance(self, obs, route: Route, arcs: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:  # noqa: ANN001
         """(dist(v, omega) of the objective, the distance of the admissibility test): metres along each arc

@@ -1,0 +1,94 @@
+"""The ORCA and DWA robots (sim/robot/orca.py, dwa.py) on the classic cases in the simulator - head-on in a
+corridor, crossing, overtaking a slow walker, a doorway off the straight line, a person standing on the route -
+each reaching its goal without contact; the same scenes with the people-ignoring `straight` robot touch
+someone (the scenes do test avoidance); and ORCA's geometry and linear program on cases worked by hand."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from socnavgen.errors import InputFileError
+from socnavgen.sim import empty_room, load_policy, robot_from
+from socnavgen.sim.contact import trace_gaps
+from socnavgen.sim.robot.dwa import DWAPolicy, _arcs
+from socnavgen.sim.robot.orca import ORCAPolicy, half_plane, solve
+from tests.sim.simhelpers import REGULAR, human, make_sim, tree_xml
+
+WALK, STAND = tree_xml(REGULAR), tree_xml('<LookAtRobot agent_id="{id}"/>')
+CORRIDOR = [(3.0, 0.0, 17.0, 3.8), (3.0, 6.2, 17.0, 10.0)]  # 2.4 m wide: room for a robot and a person side by side
+SCENES = {
+    "head_on": (CORRIDOR, human(start=(16.0, 5.0), goals=[(2.0, 5.0)]), WALK, [(2.0, 5.0), (18.0, 5.0)]),
+    "crossing": ([], human(start=(10.0, 1.5), goals=[(10.0, 11.0)], start_delay=7.0), WALK, [(3.0, 5.0), (17.0, 5.0)]),
+    "overtaking": (CORRIDOR, human(start=(5.0, 5.0), goals=[(19.0, 5.0)], max_vel=0.25), WALK, [(2.0, 5.0), (18.0, 5.0)]),
+    # a wall across the room with a 1 m door off the straight line; someone comes through it the other way
+    "doorway": ([(9.8, 0.0, 10.2, 6.0), (9.8, 7.0, 10.2, 10.0)], human(start=(16.0, 6.5), goals=[(4.0, 6.5)],
+                                                                      start_delay=6.0), WALK, [(3.0, 3.0), (17.0, 3.0)]),
+    "standing": ([], human(start=(10.0, 5.0), goals=[(10.0, 5.0)]), STAND, [(2.0, 5.0), (18.0, 5.0)]),
+}
+
+
+def _run(scene: str, robot: str):  # noqa: ANN202
+    walls, person, tree, route = SCENES[scene]
+    return make_sim([person], [tree], route, load_policy(robot), world=empty_room(20.0, 10.0, walls=walls),
+                    timeout=60).run()
+
+
+@pytest.mark.parametrize("robot", ["orca", "dwa"])
+@pytest.mark.parametrize("scene", list(SCENES))
+def test_baseline_reaches_its_goal_without_contact(scene: str, robot: str) -> None:
+    trace = _run(scene, robot)
+    gaps = trace_gaps(trace)
+    assert trace.end_reason == "robot_goal", (scene, robot, trace.robot[-1, :2])
+    assert gaps.min() > 0.05, (scene, robot, gaps.min())
+    assert gaps.min() < 1.0  # they did meet: the scene tests avoidance
+
+
+@pytest.mark.parametrize("scene", ["head_on", "overtaking", "standing"])
+def test_a_robot_ignoring_people_touches_someone_in_the_same_scenes(scene: str) -> None:
+    assert trace_gaps(_run(scene, "straight")).min() < 0.05
+
+
+def test_velocity_obstacle_half_plane_excludes_the_way_into_a_neighbour_and_permits_the_way_out() -> None:
+    """A neighbour 2 m ahead, we at 1 m/s toward it (tau 2 s: we would touch within the horizon)."""
+    u, direction = half_plane(2 + 0j, 1 + 0j, 0.6, 2.0, 0.05)
+    point = 1 + 0.5 * u  # reciprocal: half of u
+    inside = lambda v: direction.real * (v - point).imag - direction.imag * (v - point).real >= 0  # noqa: E731
+    assert abs(u) > 0 and not inside(1 + 0j) and inside(-1 + 0j)
+    # a neighbour far behind and moving away puts no constraint on moving forward
+    u_far, d_far = half_plane(-10 + 0j, 0.5 + 0j, 0.6, 2.0, 0.05)
+    assert d_far.real * ((1 + 0j) - (0.5 + u_far)).imag - d_far.imag * ((1 + 0j) - (0.5 + u_far)).real >= 0
+
+
+def test_linear_program_keeps_every_half_plane_and_the_speed_limit() -> None:
+    """v_y <= 0.2 (line through 0.2i running toward -x: permitted to its left, i.e. below) and v_x <= 0.5."""
+    lines = [(0.2j, -1 + 0j), (0.5 + 0j, 0 + 1j)]
+    kept, v = solve(lines, 1.0, 1 + 1j)
+    assert kept == 2 and v.imag <= 0.2 + 1e-9 and v.real <= 0.5 + 1e-9 and abs(v) <= 1.0 + 1e-9
+    assert v == pytest.approx(0.5 + 0.2j)  # the corner nearest the preferred velocity
+    kept, v = solve([(-0.5j, -1 + 0j), (0.5j, 1 + 0j)], 1.0, 0j)  # v_y <= -0.5 and v_y >= 0.5: nothing
+    assert kept < 2
+
+
+def test_dwa_arcs_follow_the_unicycle() -> None:
+    """The closed-form arc equals small steps of x' = v cos(yaw), y' = v sin(yaw), yaw' = omega."""
+    times = np.array([1.0, 2.0])
+    arcs = _arcs(1 + 1j, 0.3, np.array([0.5, 0.5]), np.array([0.8, 0.0]), times)
+    p, yaw, h = 1 + 1j, 0.3, 1e-4
+    for _ in range(int(2.0 / h)):
+        p += 0.5 * h * complex(math.cos(yaw + 0.4 * h), math.sin(yaw + 0.4 * h))
+        yaw += 0.8 * h
+    assert abs(arcs[0, 1] - p) < 1e-6
+    assert abs(arcs[1, 1] - (1 + 1j + 1.0 * complex(math.cos(0.3), math.sin(0.3)))) < 1e-9
+
+
+def test_baselines_take_parameters_and_refuse_unknown_ones() -> None:
+    policy, body = robot_from("orca", {"tau": 2.0, "max_speed": 0.4, "kinematics": "holonomic"})
+    assert isinstance(policy, ORCAPolicy) and policy.tau == 2.0 and body.kinematics == "holonomic"
+    assert isinstance(robot_from("dwa", {"alpha": 1.5})[0], DWAPolicy)
+    with pytest.raises(InputFileError, match="no parameter 'speed'"):
+        robot_from("dwa", {"speed": 1.0})
+    with pytest.raises(InputFileError, match="a number of 0 or more"):
+        robot_from("orca", {"tau": -1.0})
