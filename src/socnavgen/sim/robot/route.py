@@ -14,10 +14,13 @@ import numpy as np
 
 from socnavgen.sim.robot.fields import field_scale, route_fields
 from socnavgen.sim.robot.planner import carrot_at
+from socnavgen.sim.robot.policies import OCCUPIED_REACH, SWEPT_MARGIN
+from socnavgen.sim.world.queries import path_clear
 
 TOLERANCE = 0.4  # m: an intermediate waypoint this close counts as passed (the waypoints robot's)
 RING = (0.0, 0.4, 0.8, 1.2)  # m: rings of points around the robot whose nearest wall points are gathered
 RAYS = 16  # points per ring
+NOBODY = np.zeros(0, complex)
 
 
 class Route:
@@ -36,16 +39,28 @@ class Route:
     def goal(self) -> complex:
         return complex(self.waypoints[-1])
 
-    def target(self, p: complex) -> tuple[complex, bool]:
-        """(the point to head for now, whether the current waypoint is the last), passing waypoints reached."""
+    def target(self, p: complex, people: np.ndarray = NOBODY, radii: np.ndarray = NOBODY) -> tuple[complex, bool]:
+        """(the point to head for now, whether the current waypoint is the last), passing waypoints reached,
+        and an intermediate waypoint someone stands on (`people`: complex positions, `radii`) once within
+        OCCUPIED_REACH of it when the next one is in a clear line (as the built-in robots do)."""
         last = len(self.waypoints) - 1
-        while self.index < last and abs(self.waypoints[self.index] - p) <= self.tolerance:
+        while self.index < last and (abs(self.waypoints[self.index] - p) <= self.tolerance
+                                     or self._occupied(p, people, radii)):
             self.index += 1
         waypoint = complex(self.waypoints[self.index])
         if self.fields is None:
             return waypoint, True
         point = carrot_at(self.world.map, self.fields, self.index, waypoint, complex(p), self.radius, self.scale)
         return complex(point), self.index == last
+
+    def _occupied(self, p: complex, people: np.ndarray, radii: np.ndarray) -> bool:
+        waypoint = self.waypoints[self.index]
+        if len(people) == 0 or abs(waypoint - p) > OCCUPIED_REACH:
+            return False
+        if not (np.abs(people - waypoint) < radii + self.radius + SWEPT_MARGIN).any():
+            return False
+        return bool(path_clear(self.world.map, complex(p), complex(self.waypoints[self.index + 1]),
+                               0.5 * self.radius + 0.05))
 
     def walls_near(self, p: complex, reach: float) -> np.ndarray:
         """Wall surface points within `reach` of p (complex, deduplicated to the map's cells): the nearest wall
