@@ -92,3 +92,17 @@ def test_baselines_take_parameters_and_refuse_unknown_ones() -> None:
         robot_from("dwa", {"speed": 1.0})
     with pytest.raises(InputFileError, match="a number of 0 or more"):
         robot_from("orca", {"tau": -1.0})
+
+
+def test_route_passes_a_waypoint_someone_stands_on_only_when_near_it() -> None:
+    """The Python baselines' route (robot.route) skips an intermediate waypoint a person stands on once within
+    2 m of it, as the built-in robots do; nobody on it, or far from it, it keeps the waypoint."""
+    from socnavgen.sim.robot.route import Route
+
+    sim = make_sim([human(start=(10.0, 5.0), goals=[(10.0, 5.0)])], [STAND], [(2.0, 5.0), (10.0, 5.0), (18.0, 5.0)],
+                   load_policy("orca"), world=empty_room(20.0, 10.0))
+    route = Route(sim.obs)
+    here, people, radii = 9.0 + 5.0j, np.array([10.0 + 5.0j]), np.array([0.25])
+    assert route.target(5.0 + 5.0j, people, radii) == (10.0 + 5.0j, False)  # 5 m away: still its waypoint
+    assert route.target(here, np.zeros(0, complex), np.zeros(0)) == (10.0 + 5.0j, False)  # nobody on it
+    assert route.target(here, people, radii) == (18.0 + 5.0j, True)
