@@ -106,3 +106,20 @@ def test_route_passes_a_waypoint_someone_stands_on_only_when_near_it() -> None:
     assert route.target(5.0 + 5.0j, people, radii) == (10.0 + 5.0j, False)  # 5 m away: still its waypoint
     assert route.target(here, np.zeros(0, complex), np.zeros(0)) == (10.0 + 5.0j, False)  # nobody on it
     assert route.target(here, people, radii) == (18.0 + 5.0j, True)
+
+
+def test_a_campaign_keys_the_baselines_by_their_source(monkeypatch) -> None:  # noqa: ANN001
+    """Editing orca.py or dwa.py re-runs their episodes: the resume key digests their module, not "builtin"."""
+    from socnavgen.campaign import fingerprint
+    from socnavgen.campaign.episode import EpisodeSettings
+    from socnavgen.campaign.scenarios import Suite
+    from socnavgen.campaign.spec import parse_campaign
+
+    spec = parse_campaign("name: t\nscenarios: [{runs: [r]}]\npolicies: [orca, dwa, sfm]\nseeds: 1\n")
+    suite = Suite(scenarios=[], skipped=[])
+    before = fingerprint.inputs_of(spec, suite, EpisodeSettings()).policies
+    seen = []
+    monkeypatch.setattr(fingerprint, "policy_digest", lambda robot: seen.append(robot) or f"edited {robot}")
+    after = fingerprint.inputs_of(spec, suite, EpisodeSettings()).policies
+    assert seen == ["socnavgen.sim.robot.orca:ORCAPolicy", "socnavgen.sim.robot.dwa:DWAPolicy", "sfm"]
+    assert before["orca"] != after["orca"] and before["dwa"] != after["dwa"]
