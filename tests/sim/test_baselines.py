@@ -123,3 +123,28 @@ def test_a_campaign_keys_the_baselines_by_their_source(monkeypatch) -> None:  # 
     after = fingerprint.inputs_of(spec, suite, EpisodeSettings()).policies
     assert seen == ["socnavgen.sim.robot.orca:ORCAPolicy", "socnavgen.sim.robot.dwa:DWAPolicy", "sfm"]
     assert before["orca"] != after["orca"] and before["dwa"] != after["dwa"]
+
+
+def test_route_makes_way_after_standing_face_to_face_and_not_otherwise() -> None:
+    """Held for `patience` s by someone within 0.8 m (each waiting for the other in a doorway), the route
+    leads back 2 m along the robot's own trail for a while; alone, or moving on, it never does."""
+    from socnavgen.sim.robot.route import BACK_OFF, MAKE_WAY, PATIENCE, Route
+
+    sim = make_sim([], [], [(2.0, 5.0), (18.0, 5.0)], load_policy("orca"), world=empty_room(20.0, 10.0))
+    person, radii = np.array([9.5 + 5.0j]), np.array([0.25])
+    for nearby in (False, True):
+        route, t = Route(sim.obs), 0.0
+        for x in np.arange(2.0, 8.8, 0.1):  # drives up to 8.8
+            t += 0.1 / 0.6
+            assert route.target(complex(x, 5.0), person, radii, t)[0].real > x
+        here, first, target = 8.8 + 5.0j, t, 18.0 + 5.0j
+        while t < first + PATIENCE + 1.0 and target.real > here.real:
+            t += 0.05
+            target, last = route.target(here, person if nearby else np.zeros(0, complex), radii, t)
+        if nearby:
+            assert t >= first + PATIENCE - 0.5  # it waited
+            assert not last and abs(target - here) >= BACK_OFF - 0.3 and target.real < here.real
+            assert route.target(here, person, radii, t + MAKE_WAY - 0.1)[0] == target
+            assert route.target(here, np.zeros(0, complex), radii, t + MAKE_WAY + 0.1)[0].real > here.real
+        else:
+            assert target.real > here.real

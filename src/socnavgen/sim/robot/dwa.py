@@ -77,7 +77,7 @@ class DWAPolicy:
         if self.route is None:
             self.reset(obs)
         route, p, yaw = self.route, obs.position_c, obs.yaw
-        target, last = route.target(p, obs.human_positions_c, obs.human_radii)
+        target, last = route.target(p, obs.human_positions_c, obs.human_radii, obs.t)
         to = target - p
         if last and abs(route.goal - p) <= 0.05:
             return RobotAction.unicycle(0.0, 0.0)

@@ -171,7 +171,7 @@ class ORCAPolicy:
         if self.route is None:
             self.reset(obs)
         route, p, v = self.route, obs.position_c, obs.velocity_c
-        target, last = route.target(p, obs.human_positions_c, obs.human_radii)
+        target, last = route.target(p, obs.human_positions_c, obs.human_radii, obs.t)
         to = target - p
         goal_dist = abs(route.goal - p)
         if last and goal_dist <= 0.05:
