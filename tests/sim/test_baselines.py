@@ -14,7 +14,7 @@ from socnavgen.errors import InputFileError
 from socnavgen.sim import empty_room, load_policy, robot_from
 from socnavgen.sim.contact import trace_gaps
 from socnavgen.sim.robot.dwa import DWAPolicy, _arcs
-from socnavgen.sim.robot.orca import ORCAPolicy, half_plane, solve
+from socnavgen.sim.robot.orca import ORCAPolicy, half_plane, least_violation, solve
 from tests.sim.simhelpers import REGULAR, human, make_sim, tree_xml
 
 WALK, STAND = tree_xml(REGULAR), tree_xml('<LookAtRobot agent_id="{id}"/>')
@@ -148,3 +148,36 @@ def test_route_makes_way_after_standing_face_to_face_and_not_otherwise() -> None
             assert route.target(here, np.zeros(0, complex), radii, t + MAKE_WAY + 0.1)[0].real > here.real
         else:
             assert target.real > here.real
+
+
+def test_orca_matches_rvo2_on_random_crowds() -> None:
+    """Our ORCA's half-planes and linear programs give the velocity RVO2 (the authors' C++ library, through
+    the `pyrvo` bindings of the bench extra) gives, within its float32 precision, on random crowds of 1-5
+    neighbours - those where the half-planes leave nothing (the 3-D program) included."""
+    pyrvo = pytest.importorskip("pyrvo")
+    rng = np.random.default_rng(1)
+    dt, tau, vmax, radius = 0.05, 2.0, 1.0, 0.3
+    infeasible = 0
+    for _ in range(150):
+        n = int(rng.integers(1, 6))
+        pos = [complex(*rng.uniform(-3, 3, 2)) for _ in range(n + 1)]
+        vel = [complex(*rng.uniform(-0.7, 0.7, 2)) for _ in range(n + 1)]
+        pref = complex(*rng.uniform(-1, 1, 2))
+        sim = pyrvo.RVOSimulator(dt, 10.0, 10, tau, tau, radius, vmax)
+        for k in range(n + 1):
+            sim.add_agent((pos[k].real, pos[k].imag))
+            sim.set_agent_velocity(k, (vel[k].real, vel[k].imag))
+            wish = pref if k == 0 else vel[k]
+            sim.set_agent_pref_velocity(k, (wish.real, wish.imag))
+        sim.do_step()
+        theirs = complex(*sim.get_agent_velocity(0).to_tuple())
+        lines = []
+        for k in sorted(range(1, n + 1), key=lambda k: abs(pos[k] - pos[0])):
+            u, d = half_plane(pos[k] - pos[0], vel[0] - vel[k], 2 * radius, tau, dt)
+            lines.append((vel[0] + 0.5 * u, d))
+        kept, ours = solve(lines, vmax, pref)
+        if kept < len(lines):
+            infeasible += 1
+            ours = least_violation(lines, 0, kept, vmax, ours)
+        assert abs(ours - theirs) < 1e-3, (pos, vel, pref, ours, theirs)
+    assert infeasible > 0  # the crowded case was exercised

@@ -1,7 +1,8 @@
 """ORCA, Optimal Reciprocal Collision Avoidance (van den Berg, Guy, Lin, Manocha, "Reciprocal n-body
 collision avoidance", Robotics Research, ISRR 2009 / STAR 70, Springer 2011): `--robot orca`.
 
-Our own implementation of the paper's sections 4-5, written for this simulator (no RVO2 code): every step,
+Our own implementation of the paper's sections 4-5, written for this simulator (no RVO2 code; tested against
+RVO2 through the `pyrvo` bindings: the same velocity within float32 precision on random crowds): every step,
 each neighbour B (a person, or a wall point within reach) gives a half-plane of permitted velocities
 
     ORCA_{A|B}^tau = { v | (v - (v_A^opt + c u)) . n >= 0 }                                  (paper, eq. 5)
