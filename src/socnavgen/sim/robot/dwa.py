@@ -13,7 +13,7 @@ command (v, omega) (RobotAction.unicycle), searched over
   `w_samples`, with v >= 0 (the paper's robot drives forward);
 * V_a, the admissible velocities (eq. 2): v <= sqrt(2 dist(v, omega) vdot_b) and |omega| <= sqrt(2
   dist(v, omega) omegadot_b), dist being the distance travelled along the circular arc of (v, omega) before
-  the robot's disc would touch an obstacle (the paper's obstacles are static; here the people move on at their
+  the robot's disc would touch a wall or come within HARD of a person (the paper's obstacles are static; here the people move on at their
   current velocity, a usual extension, and walls come from the occupancy map); standing still is always
   admissible.
 
@@ -25,7 +25,7 @@ with heading = 1 - |theta| / pi, theta the angle between the robot's heading at 
 arc and the direction to the route's target (robot.route: the waypoint, or the global planner's carrot where
 the line to it is blocked), dist the free distance capped at `dist_cap` and divided by it, velocity v / max
 speed, and sigma the smoothing of the paper taken as each term's normalisation to [0, 1] over the window (the
-paper's weights: alpha 2, beta 0.2, gamma 0.2 are for unnormalised terms; ours are `alpha`, `beta`, `gamma`).
+weights `alpha`, `beta`, `gamma` are ours, tuned on the classic cases of tests/sim/test_baselines.py).
 The robot slows down for its goal (v <= sqrt(2 vdot_b d_goal)) and turns on the spot toward its target when
 it faces more than `turn_in_place` rad away from it, until it faces within TURNED (the paper's robot starts
 pointing along its way). Not in the paper (a recovery behaviour, as navigation stacks add one): after choosing
@@ -43,12 +43,12 @@ from socnavgen.sim.robot.api import RobotAction
 from socnavgen.sim.robot.route import Route, arrive_speed
 
 HARD = 0.06  # m: an arc coming closer than this to a person is not admissible (contact is 0.05 m)
-CELL_SLACK = 0.01
+CELL_SLACK = 0.01  # m: already closer to a wall than the margin, an arc counts as hitting it only this much closer
 TURNED = 0.4  # rad: turning on the spot ends facing this close to the way
 TURN_GAIN = 2.0  # 1/s: turn rate on the spot per radian still to turn
 STUCK_SPEED = 0.02  # m/s: choosing slower than this counts as standing (stuck)
 REVERSE_SPEED = 0.15  # m/s: backing away when stuck
-ESCAPE = 1.5  # s backing away  # m: a wall closer than the margin counts as hit where the arc comes this much closer still
+ESCAPE = 1.5  # s backing away
 
 
 class DWAPolicy:
