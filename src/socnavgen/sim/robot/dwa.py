@@ -4,20 +4,20 @@ avoidance", IEEE Robotics & Automation Magazine 4(1), 1997): `--robot dwa`.
 Our own implementation of the paper's section 3, written for this simulator. The robot answers a unicycle
 command (v, omega) (RobotAction.unicycle), searched over
 
-    V_r = V_s  intersect  V_a  intersect  V_d                                              (paper, sec. 3.1)
+    V_r = V_s  intersect  V_a  intersect  V_d                                              (paper, section 3)
 
 * V_s, the possible velocities: |v| <= max speed, |omega| <= max turn rate (the body's limits, obs.limits);
-* V_d, the dynamic window (eq. 3): v in [v_a - vdot_b h, v_a + vdot_a h], omega in [omega_a - omegadot h,
+* V_d, the dynamic window: v in [v_a - vdot_b h, v_a + vdot_a h], omega in [omega_a - omegadot h,
   omega_a + omegadot h], the velocities reachable within the window `h` (s) from the current ones (v_a,
   omega_a: obs.speed, obs.omega) under the body's accelerations; sampled on a grid of `v_samples` x
   `w_samples`, with v >= 0 (the paper's robot drives forward);
-* V_a, the admissible velocities (eq. 2): v <= sqrt(2 dist(v, omega) vdot_b) and |omega| <= sqrt(2
+* V_a, the admissible velocities: v <= sqrt(2 dist(v, omega) vdot_b) and |omega| <= sqrt(2
   dist(v, omega) omegadot_b), dist being the distance travelled along the circular arc of (v, omega) before
   the robot's disc would touch a wall or come within HARD of a person (the paper's obstacles are static; here the people move on at their
   current velocity, a usual extension, and walls come from the occupancy map); standing still is always
   admissible.
 
-Among V_r it maximises the objective (eq. 4)
+Among V_r it maximises the objective (section 3)
 
     G(v, omega) = sigma(alpha heading(v, omega) + beta dist(v, omega) + gamma velocity(v, omega))
 

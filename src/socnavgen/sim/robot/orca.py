@@ -1,27 +1,29 @@
 """ORCA, Optimal Reciprocal Collision Avoidance (van den Berg, Guy, Lin, Manocha, "Reciprocal n-body
 collision avoidance", Robotics Research, ISRR 2009 / STAR 70, Springer 2011): `--robot orca`.
 
-Our own implementation of the paper's sections 4-5, written for this simulator (no RVO2 code; tested against
-RVO2 through the `pyrvo` bindings: the same velocity within float32 precision on random crowds): every step,
-each neighbour B (a person, or a wall point within reach) gives a half-plane of permitted velocities
+Our own implementation of the paper's sections 4 (ORCA for two agents) and 5 (n agents, static obstacles,
+linear programming), written for this simulator (no RVO2 code; tested against RVO2 through the `pyrvo`
+bindings: the same velocity within float32 precision on random crowds). Every step each neighbour B (a
+person, or a wall point within reach) gives a half-plane of permitted velocities
 
-    ORCA_{A|B}^tau = { v | (v - (v_A^opt + c u)) . n >= 0 }                                  (paper, eq. 5)
+    ORCA_{A|B}^tau = { v | (v - (v_A^opt + c u)) . n >= 0 }                                  (paper, section 4)
 
 where u is the vector from the relative velocity v_A^opt - v_B^opt to the closest point on the boundary of
 the truncated velocity obstacle VO_{A|B}^tau (a cone cut off by the disc of radius (r_A + r_B) / tau around
-(p_B - p_A) / tau, eq. 2), n its outward normal, and c the share of the avoidance A takes on: 1/2 toward
-another agent (reciprocity, section 5.1); 1 toward a wall point, which never moves (section 5.2, with
-`tau_obst`). Bodies already overlapping use the velocity obstacle of one time step (v_opt = the current
-velocity). The new velocity is the one closest to the preferred velocity inside every half-plane and the
-disc of max speed (eq. 6), found with the randomised incremental 2-D linear program of the paper's section
-5.3 (Seidel / de Berg et al.); when the half-planes leave nothing, the velocity that violates them least
-(the paper's 3-D program of section 5.3, "densely packed conditions").
+(p_B - p_A) / tau), n its outward normal, and c the share of the avoidance A takes on: 1/2 toward another
+agent (reciprocity); 1 toward a wall point, which never moves (static obstacles, section 5, with `tau_obst`).
+Bodies already overlapping use the velocity obstacle of one time step (v_opt = the current velocity). The new
+velocity is the one closest to the preferred velocity inside every half-plane and the disc of max speed,
+found with the paper's randomised incremental 2-D linear program (section 5, after Seidel and de Berg et
+al.); when the half-planes leave nothing, the velocity that violates them least (the paper's 3-D program for
+densely packed conditions).
 
-The preferred velocity points (turned BIAS to the right, to break symmetric deadlocks) at the route's current target (robot.route: the waypoint, or the global
-planner's carrot where the line to it is blocked) at the robot's max speed, slowing down for the goal. People
-are not ORCA agents here: they are treated as reciprocating (c = 1/2, as the paper's experiments and the
-usual ORCA baselines do; `responsibility` sets it). On a differential-drive body the velocity is tracked by
-the body (robot.body: it turns toward it), as ORCA's holonomic velocity usually is on a wheeled robot.
+The preferred velocity points (turned BIAS to the right, to break symmetric deadlocks) at the route's current
+target (robot.route: the waypoint, or the global planner's carrot where the line to it is blocked) at the
+robot's max speed, slowing down for the goal. People are not ORCA agents here: they are treated as
+reciprocating (c = 1/2, as the paper's experiments and the usual ORCA baselines do; `responsibility` sets
+it). On a differential-drive body the velocity is tracked by the body (robot.body: it turns toward it), as
+ORCA's holonomic velocity usually is on a wheeled robot.
 """
 
 from __future__ import annotations
@@ -46,7 +48,7 @@ def _dot(a: complex, b: complex) -> float:
 
 def half_plane(rel_pos: complex, rel_vel: complex, radius: float, tau: float, dt: float) -> tuple[complex, complex]:
     """(u, direction) of the velocity obstacle of a neighbour at `rel_pos` moving at minus `rel_vel` relative to
-    us, combined `radius`: u the smallest change of the relative velocity out of VO^tau (eq. 2-4), the
+    us, combined `radius`: u the smallest change of the relative velocity out of VO^tau (section 4), the
     half-plane's boundary line running along `direction` (permitted: to its left)."""
     dist_sq = abs(rel_pos) ** 2
     r_sq = radius * radius
