@@ -109,7 +109,7 @@ def _lp1(lines: list[tuple[complex, complex]], k: int, radius: float, opt: compl
 def solve(lines: list[tuple[complex, complex]], radius: float, opt: complex, direction_opt: bool = False,
           ) -> tuple[int, complex]:
     """(number of lines kept, velocity): the velocity nearest `opt` keeping every half-plane (left of each
-    (point, direction) line) and |v| <= radius (the 2-D program of section 5.3). Fewer lines kept than given:
+    (point, direction) line) and |v| <= radius (the paper's 2-D program, section 5). Fewer lines kept than given:
     the first one it failed on."""
     if direction_opt:
         result = opt * radius
@@ -129,7 +129,7 @@ def solve(lines: list[tuple[complex, complex]], radius: float, opt: complex, dir
 def least_violation(lines: list[tuple[complex, complex]], walls: int, start: int, radius: float,
                     result: complex) -> complex:
     """No velocity keeps every half-plane: the one that moves least into the people's half-planes, keeping
-    the first `walls` (the walls', which never give way) - section 5.3's 3-D program, projected to 2-D."""
+    the first `walls` (the walls', which never give way) - the paper's 3-D program (section 5), projected to 2-D."""
     distance = 0.0
     for i in range(start, len(lines)):
         point, d = lines[i]
