@@ -1,5 +1,6 @@
 """A robot policy of your own, called between two steps: steps per second with 1, 5 and 20 people, beside
-the built-in robot compiled into the step and the Gymnasium env (a 5-person card), and - with `--before SRC`
+the built-in robot compiled into the step, the ORCA and DWA baselines (Python policies: `--robot orca|dwa`)
+and the Gymnasium env (a 5-person card), and - with `--before SRC`
 - the same scenes on another version of socnavgen (e.g. a checkout of the commit before the simulator
 became one implementation, whose Python step loop ran every user policy), in one table.
 
@@ -27,6 +28,7 @@ import numpy as np
 
 REPO = Path(__file__).resolve().parents[1]
 DT, DENSITY, STEPS = 0.05, 0.1, 2000
+KINDS = ("builtin", "python", "orca", "dwa")
 
 
 def scene(n: int) -> tuple[float, list[tuple[tuple[float, float], list[tuple[float, float]]]]]:
@@ -40,8 +42,8 @@ def scene(n: int) -> tuple[float, list[tuple[tuple[float, float], list[tuple[flo
 
 
 def measure(n: int, kind: str) -> float:
-    """Seconds per step of this process's socnavgen: a Python policy ('python') or the built-in waypoints
-    robot ('builtin'); works with the facade (socnavgen.sim) and with the modules of older versions."""
+    """Seconds per step of this process's socnavgen: a trivial Python policy ('python'), the built-in waypoints
+    robot ('builtin') or a named robot ('orca', 'dwa'); works with the facade (socnavgen.sim) and with the modules of older versions."""
     try:
         from socnavgen.sim import HumanSpec, RobotAction, SimConfig, Simulation, empty_room, load_policy
     except ImportError:  # before the facade
@@ -64,7 +66,8 @@ def measure(n: int, kind: str) -> float:
     for _ in range(3):
         sim = Simulation(empty_room(side, side, resolution=0.1), humans, [regular_walker_xml()] * n,
                          [(0.8, side / 2), (side - 0.8, side / 2)], Toward() if kind == "python" else
-                         load_policy("waypoints"), SimConfig(dt=DT, timeout=STEPS * DT, idle_end=1e9))
+                         load_policy("waypoints" if kind == "builtin" else kind),
+                         SimConfig(dt=DT, timeout=STEPS * DT, idle_end=1e9))
         start = time.thread_time()
         trace = sim.run()
         best = min(best, (time.thread_time() - start) / max(trace.steps - 1, 1))
@@ -90,7 +93,15 @@ def measure_gym(run_dir: str) -> float:
 
 
 def child(counts: list[int], run_dir: str) -> dict:
-    rows = {f"{kind} {n}": measure(n, kind) for n in counts for kind in ("builtin", "python")}
+    rows = {}
+    for n in counts:
+        for kind in KINDS:
+            try:
+                rows[f"{kind} {n}"] = measure(n, kind)
+            except Exception as exc:  # noqa: BLE001 - a version without this robot (--before)
+                if kind in ("builtin", "python"):
+                    raise
+                print(f"{kind}: {exc}", file=sys.stderr)
     rows["gym 5"] = measure_gym(run_dir)
     return rows
 
@@ -125,12 +136,13 @@ def main() -> None:
     print(head)
     print("|---|---:|---:|---:|---:|" + ("---:|---:|" if before else ""))
     names = {"builtin": "built-in waypoints (compiled in the step)", "python": "a Python policy",
+             "orca": "orca (Python: ORCA's linear program)", "dwa": "dwa (Python: numpy over the window)",
              "gym": "the Gymnasium env, a constant action"}
     for key, sec in now.items():
         kind, n = key.split()
         row = f"| {names[kind]} | {n} | {1 / sec:,.0f} | {DT / sec:,.0f}x | {sec * 1e6:.1f} |"
         if before:
-            row += f" {1 / before[key]:,.0f} | x{before[key] / sec:.1f} |"
+            row += f" {1 / before[key]:,.0f} | x{before[key] / sec:.1f} |" if key in before else " - | - |"
         print(row)
 
 

@@ -61,7 +61,9 @@ def inputs_of(spec: CampaignSpec, suite: Suite, settings: EpisodeSettings) -> In
         if s.location_dir not in locations:
             locations[s.location_dir] = location_digest(load_location(Path(s.location_dir)))
         scenarios[s.id] = combine(run_files_digest(s.run_dir), locations[s.location_dir])
-    policies = {p.name: combine(_robot_name(p.robot), policy_digest(p.robot),
+    from socnavgen.sim.robot.api import BASELINES
+
+    policies = {p.name: combine(_robot_name(p.robot), policy_digest(BASELINES.get(p.robot, p.robot)),
                                 p.model_dump(mode="json", exclude={"name", "robot"}))
                 for p in spec.policies}
     return Inputs(version=version(), settings=combine(asdict(settings)), scenarios=scenarios, policies=policies)

@@ -19,7 +19,7 @@ def simulate(
                               "robot script - speech, waits, speed - and never pushes into people), `waypoints` "
                               "(follows its path, slows and stops for people in front, like the paper's "
                               "teleoperated robot), `sfm` (a social-force robot), `straight` (a deliberately rude "
-                              "robot that drives through people), or your own policy as `package.module:Class` or "
+                              "robot that drives through people), `orca` and `dwa` (the ORCA and Dynamic Window baselines), or your own policy as `package.module:Class` or "
                               "`path/to/file.py:Class` (the RobotPolicy protocol is described in docs/simulator.md)."),
     dt: float = typer.Option(0.05, "--dt", callback=finite_between(0.001, 0.5), help="Fixed time step in seconds."),
     timeout: float = typer.Option(120.0, "--timeout", callback=finite_between(0.1, MAX_SIM_SECONDS),

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import importlib
 import importlib.util
+import inspect
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, fields
@@ -24,7 +25,7 @@ from socnavgen.bt.library import ROBOT_GESTURES
 from socnavgen.errors import InputFileError, ValidationFailed
 from socnavgen.sim.records import Columns, table
 from socnavgen.sim.robot import policies
-from socnavgen.sim.robot.body import RobotBody
+from socnavgen.sim.robot.body import HOLONOMIC, RobotBody
 from socnavgen.sim.robot.polite import POLITE_GAP
 from socnavgen.sim.robot.script import Script, fired
 
@@ -138,6 +139,25 @@ class Observation:
         return self._robot.vel.item(0)
 
     @property
+    def speed(self) -> float:
+        """Signed forward speed (m/s) of its body now (a differential-drive body's; negative: backwards)."""
+        return self._robot.speed.item(0)
+
+    @property
+    def omega(self) -> float:
+        """Turn rate (rad/s, counter-clockwise) of its body now."""
+        return self._robot.omega.item(0)
+
+    @property
+    def limits(self) -> dict[str, float]:
+        """Its body's limits (robot.body.RobotBody): max_speed, max_accel, max_decel (m/s, m/s2), max_omega,
+        max_alpha (rad/s, rad/s2), and `holonomic` (1.0 when it moves in any direction, else 0.0)."""
+        r = self._robot
+        return {"max_speed": r.max_speed.item(0), "max_accel": r.max_accel.item(0),
+                "max_decel": r.max_decel.item(0), "max_omega": r.max_omega.item(0),
+                "max_alpha": r.max_alpha.item(0), "holonomic": float(r.kinematics.item(0) == HOLONOMIC)}
+
+    @property
     def scripted_gesture(self) -> int:
         """The gesture the scenario's script and gesture rules make now (what the robot shows unless its
         policy answers with its own)."""
@@ -221,6 +241,8 @@ class StraightPolicy(BuiltinPolicy):
 
 BUILTIN: dict[str, type[BuiltinPolicy]] = {"scripted": ScriptedPolicy, "waypoints": WaypointsPolicy,
                                            "sfm": SFMPolicy, "straight": StraightPolicy}
+BASELINES: dict[str, str] = {"orca": "socnavgen.sim.robot.orca:ORCAPolicy",  # Python policies, called per step
+                             "dwa": "socnavgen.sim.robot.dwa:DWAPolicy"}
 DEFAULT_ROBOT = "scripted"
 GESTURE_CODES = ", ".join(f"{code} {word}" for code, word in ROBOT_GESTURES.items())
 
@@ -280,16 +302,31 @@ def robot_from(spec: str, params: Mapping[str, Any] | None = None) -> tuple[Any,
             raise InputFileError(f"robot {spec}: max_speed {params['max_speed']:g} m/s is above its body's "
                                  f"{body.max_speed:g} m/s", hint="raise body_max_speed too")
         return cls(**{k: float(v) for k, v in params.items()}), body
+    if spec in BASELINES:
+        known = inspect.signature(_import_class(BASELINES[spec])).parameters
+        for key, value in params.items():
+            if key not in known:
+                raise InputFileError(f"robot {spec} has no parameter {key!r}",
+                                     hint="use one of " + ", ".join(sorted([*known, *BODY_PARAMS])))
+            if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value) or value < 0:
+                raise InputFileError(f"robot {spec} parameter {key} = {str(value)[:40]}: a number of 0 or more")
     return load_policy(spec, params), body
 
 
+def _import_class(spec: str) -> Any:
+    module_name, _, class_name = spec.rpartition(":")
+    return getattr(importlib.import_module(module_name), class_name)
+
+
 def load_policy(spec: str, params: Mapping[str, Any] | None = None) -> Any:
-    """`scripted`, `waypoints`, `sfm`, `straight`, `package.module:Class` or `path/to/file.py:Class` -> a
+    """`scripted`, `waypoints`, `sfm`, `straight`, `orca`, `dwa` (BASELINES), `package.module:Class` or `path/to/file.py:Class` -> a
     policy instance (`params`: its constructor's keyword arguments; robot_from checks a built-in's)."""
     if spec in BUILTIN:
         return BUILTIN[spec](**dict(params or {}))
+    spec = BASELINES.get(spec, spec)
     if ":" not in spec:
-        raise InputFileError(f"unknown robot {spec!r}", hint="use " + ", ".join(BUILTIN) + ", module:Class or file.py:Class")
+        raise InputFileError(f"unknown robot {spec!r}",
+                             hint="use " + ", ".join([*BUILTIN, *BASELINES]) + ", module:Class or file.py:Class")
     module_name, _, class_name = spec.rpartition(":")
     try:
         if module_name.endswith(".py"):

@@ -40,12 +40,17 @@ def field_value(fields, k, scale, world, p):  # noqa: ANN001, ANN201
 @jit
 def steer(s, fields, k, target):  # noqa: ANN001, ANN201
     """The point to head for to reach waypoint k at `target` (see the module's docstring)."""
-    robot, world = s.robot[0], s.world
-    p = robot.pos
-    clear = min(LINE_CLEAR * robot.radius, clearance_at(world, p))  # never more than where it stands
+    robot = s.robot[0]
+    return carrot_at(s.world, fields, k, target, robot.pos, robot.radius, s.policy[0].field_scale)
+
+
+@jit
+def carrot_at(world, fields, k, target, p, radius, scale):  # noqa: ANN001, ANN201
+    """steer for a robot of `radius` at `p` on `world` (a WorldMap), planner cells of `scale` map cells: what
+    a policy of the user's calls (robot.route.Route) with the fields of robot.fields.route_fields."""
+    clear = min(LINE_CLEAR * radius, clearance_at(world, p))  # never more than where it stands
     if fields.shape[1] == 1 or path_clear(world, p, target, clear):
         return target
-    scale = s.policy[0].field_scale
     row, col = cell_of(world, p)
     fr, fc = row // scale, col // scale
     rows, cols = fields.shape[1], fields.shape[2]
