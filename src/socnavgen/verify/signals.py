@@ -35,8 +35,10 @@ from socnavgen.verify.thresholds import (
 
 # Reactions judged by what the human physically does rather than by the nodes that implement them
 # (bt.library.REACTION_NODES is the one home of those): stopping is standing still after having walked,
-# saying is showing a gesture. Every other reaction counts on the steps one of its nodes executes.
-PHYSICAL_REACTIONS = ("stop", "wait_then_go", "say")
+# saying is showing a gesture, giving way is being out of the robot's way having moved off its route (`aside`: a
+# GiveWaytoRobot node that ran while the body stayed in the way is no giving way). Every other reaction counts
+# on the steps one of its nodes executes.
+PHYSICAL_REACTIONS = ("stop", "wait_then_go", "say", "give_way")
 
 
 def phrase_id(phrase: str) -> str:
@@ -206,10 +208,11 @@ class Signals:
         return self._ways("heading")[:, i] | self._ways("route")[:, i]
 
     def holding_up(self) -> np.ndarray:
-        """(T, H) 1 where a human stands in the robot's way (heading or route) within proxemics.BLOCK_GAP_VERIFY.
-        The way is only worked out for the (step, human) pairs that close (usually few)."""
+        """(T, H) 1 where a human stands in the robot's way (heading or route) within proxemics.HELD_UP_DISTANCE
+        (centres; the distance the script's wait_until_clear waits for). The way is only worked out for the
+        (step, human) pairs that close."""
         def build() -> np.ndarray:
-            close = self.gaps() <= proxemics.BLOCK_GAP_VERIFY
+            close = self.distances() <= proxemics.HELD_UP_DISTANCE
             out = np.zeros(close.shape, dtype=bool)
             if not close.any():
                 return out
@@ -406,6 +409,8 @@ def reaction_evidence(s: Signals, human: str, reaction: str, says: str | None = 
     i = s.human(human)
     if reaction in ("stop", "wait_then_go"):
         return (s.speed(human) < STOP_SPEED) & (moved(s, human) > 0.5)
+    if reaction == "give_way":
+        return aside(s, human)
     if reaction == "say":
         gest = np.asarray(s.trace.human_gesture[:, i])
         return gest == HUMAN_PHRASES[phrase_id(says)] if says else gest != 0
@@ -432,7 +437,7 @@ SIGNAL_KINDS: tuple[SignalKind, ...] = (
     SignalKind(r"stalled", "stalled", "s", "how long the robot has been standing still, continuously", _stalled),
     SignalKind(r"progress", "progress", "m", "how far along its route the robot has come (best so far)", _progress),
     SignalKind(r"deadlock", "deadlock", "s", f"how long the robot has made no progress along its route (less than "
-               f"{PROGRESS_STEP:g} m) with someone in its way within {proxemics.BLOCK_GAP_VERIFY} m gap (not at its "
+               f"{PROGRESS_STEP:g} m) with someone in its way within {proxemics.HELD_UP_DISTANCE:g} m (not at its "
                f"goal), continuously: standing still or jittering in place", _deadlock),
     SignalKind(r"robot_(says|said)_([a-z_]+)", "robot_says_<phrase>, robot_said_<phrase>", "0/1",
                "the robot makes the phrase now / has made it at some time so far (excuse_me, follow_me, wait, "
@@ -465,7 +470,8 @@ SIGNAL_KINDS: tuple[SignalKind, ...] = (
                "through a wall (straight where they see each other)", _way),
     SignalKind(rf"react_{_H}_([a-z_]+)", "react_<human>_<reaction>", "0/1",
                "evidence of a spec reaction: its library actions executing (bt.library.REACTION_NODES); stop, "
-               "wait_then_go: slower than 0.1 m/s after having walked; say: showing a gesture", _react),
+               "wait_then_go: slower than 0.1 m/s after having walked; say: showing a gesture; give_way: aside_<human>",
+               _react),
 )
 
 

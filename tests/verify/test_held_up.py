@@ -1,0 +1,88 @@
+"""Leniencies found by eye on scenarios nobody here wrote (issue 25, eval-074), each as a trace the old verifier
+passed and that must FAIL:
+
+- a robot standing 24 s in front of a person who never steps aside, 2 m away (the script's `wait_until_clear`
+  waits for exactly such a person) is deadlocked: "held up" is one notion, proxemics.HELD_UP_DISTANCE, not a
+  1 m gap for the verifier and 3 m for the script;
+- a person whose GiveWaytoRobot node ran after EXCUSE ME but whose body stayed in the robot's way did not give
+  way (reacts_after_phrase with reaction give_way is judged by `aside`, what the body did).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from socnavgen import proxemics
+from socnavgen.run.spec import Criterion, ScenarioSpec
+from socnavgen.sim.robot import script
+from socnavgen.verify.criteria import compile_criterion
+from socnavgen.verify.models import VerifySettings
+from socnavgen.verify.signals import Signals
+from socnavgen.verify.stl import monitor
+
+from .verify_builders import build_trace
+
+T = np.arange(0, 30.0 + 1e-9, 0.5)
+
+
+def _judge(kind: str, trace, **fields) -> bool:  # noqa: ANN001
+    c = Criterion(id="c", kind=kind, text="t", **fields)
+    cc = compile_criterion(c, ScenarioSpec(), VerifySettings(), 0.5)
+    return monitor(cc.formula, Signals(trace, goal_radius=0.5)).passed
+
+
+def _standoff(person_x: float) -> object:
+    """The robot drives +x from x = 1 for 2 s, then stands at x = 3 for 28 s; human1 stands at (person_x, 3)
+    the whole run, straight ahead on the robot's route to (11, 3)."""
+    rx = np.interp(T, [0, 2, 30], [1.0, 3.0, 3.0])
+    robot = np.stack([rx, np.full_like(T, 3.0)], 1)
+    human = np.tile([[person_x, 3.0]], (len(T), 1))[:, None]
+    trace = build_trace(T, robot, human, goal=(11.0, 3.0))
+    trace.robot[:, 2] = 0.0  # facing +x, also while standing
+    trace.humans[:, :, 2] = np.pi  # facing the robot
+    trace.robot_waypoints = [(1.0, 3.0), (11.0, 3.0)]
+    return trace
+
+
+def test_script_and_verifier_share_one_held_up_distance() -> None:
+    assert not hasattr(script, "CLEAR_DISTANCE") and not hasattr(proxemics, "BLOCK_GAP_VERIFY")
+    assert "proxemics.HELD_UP_DISTANCE" in open(script.__file__, encoding="utf-8").read()
+
+
+def test_standing_28_s_two_metres_short_of_someone_in_the_way_is_a_deadlock() -> None:
+    """Centres 2 m apart (gap 1.25 m: the old verifier's 1 m gap saw nobody holding the robot up)."""
+    trace = _standoff(5.0)
+    dead = Signals(trace, goal_radius=0.5).get("deadlock")
+    assert dead.max() >= 27.5
+    assert not _judge("no_deadlock", trace, seconds=20.0)
+
+
+def test_someone_beyond_the_held_up_distance_holds_nobody_up() -> None:
+    trace = _standoff(3.0 + proxemics.HELD_UP_DISTANCE + 0.5)
+    assert Signals(trace, goal_radius=0.5).get("deadlock").max() == 0.0
+    assert _judge("no_deadlock", trace, seconds=20.0)
+
+
+def _phrase_trace(steps_aside: bool) -> object:
+    """The robot stands at x = 3 facing +x, says EXCUSE ME (code 4) from t = 2 to 5 s; human1 stands in its way at
+    (4.5, 3) and its GiveWaytoRobot node runs from t = 2.5 to 3.5 s. `steps_aside`: it then walks 1 m off the
+    route (y 3 -> 4) between t = 3 and 5 s; else its body stays where it was."""
+    robot = np.stack([np.full_like(T, 3.0), np.full_like(T, 3.0)], 1)
+    hy = np.interp(T, [0, 3, 5, 30], [3.0, 3.0, 4.0, 4.0]) if steps_aside else np.full_like(T, 3.0)
+    human = np.stack([np.full_like(T, 4.5), hy], 1)[:, None]
+    gesture = np.where((T >= 2.0) & (T <= 5.0), 4, 0)
+    actions = {(k, 0): "GiveWaytoRobot" if 2.5 <= T[k] <= 3.5 else "RegularNav" for k in range(len(T))}
+    trace = build_trace(T, robot, human, actions=actions, robot_gesture=gesture, goal=(11.0, 3.0))
+    trace.robot[:, 2] = 0.0
+    trace.robot_waypoints = [(3.0, 3.0), (11.0, 3.0)]
+    return trace
+
+
+def test_a_give_way_node_without_the_body_moving_is_no_reaction() -> None:
+    assert not _judge("reacts_after_phrase", _phrase_trace(False), human="human1", phrase="EXCUSE ME",
+                      reaction="give_way")
+
+
+def test_stepping_off_the_route_after_the_phrase_is_the_reaction() -> None:
+    assert _judge("reacts_after_phrase", _phrase_trace(True), human="human1", phrase="EXCUSE ME",
+                  reaction="give_way")
