@@ -10,6 +10,8 @@ passed and that must FAIL:
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 
 from socnavgen import proxemics
@@ -46,7 +48,7 @@ def _standoff(person_x: float) -> object:
 
 def test_script_and_verifier_share_one_held_up_distance() -> None:
     assert not hasattr(script, "CLEAR_DISTANCE") and not hasattr(proxemics, "BLOCK_GAP_VERIFY")
-    assert "proxemics.HELD_UP_DISTANCE" in open(script.__file__, encoding="utf-8").read()
+    assert "proxemics.HELD_UP_DISTANCE" in Path(script.__file__).read_text(encoding="utf-8")
 
 
 def test_standing_28_s_two_metres_short_of_someone_in_the_way_is_a_deadlock() -> None:
