@@ -88,3 +88,23 @@ def test_a_give_way_node_without_the_body_moving_is_no_reaction() -> None:
 def test_stepping_off_the_route_after_the_phrase_is_the_reaction() -> None:
     assert _judge("reacts_after_phrase", _phrase_trace(True), human="human1", phrase="EXCUSE ME",
                   reaction="give_way")
+
+
+def _walker(stop: tuple[float, float]) -> object:
+    """The robot stands at (3, 3) and says EXCUSE ME (code 4) from t = 2 to 5 s; human1 walks north at 0.5 m/s
+    along x = 6 from (6, -2), and stands still (velocity zero, position held) from stop[0] to stop[1] s."""
+    robot = np.tile([[3.0, 3.0]], (len(T), 1))
+    walked = 0.5 * (T - np.clip(T - stop[0], 0.0, stop[1] - stop[0]))  # metres walked by each time
+    human = np.stack([np.full_like(T, 6.0), -2.0 + walked], 1)[:, None]
+    gesture = np.where((T >= 2.0) & (T <= 5.0), 4, 0)
+    trace = build_trace(T, robot, human, robot_gesture=gesture, goal=(11.0, 3.0))
+    still = np.abs(T - 0.5 * (stop[0] + stop[1])) <= 0.5 * (stop[1] - stop[0]) + 1e-9
+    trace.humans[still, 0, 3:5] = 0.0
+    return trace
+
+
+def test_a_one_step_dip_in_speed_is_no_stop() -> None:
+    """A stop must last STOP_HOLD (1 s): zero speed on one 0.5 s step after EXCUSE ME is no reaction."""
+    assert not _judge("reacts_after_phrase", _walker((4.0, 4.0)), human="human1", phrase="EXCUSE ME",
+                      reaction="stop")
+    assert _judge("reacts_after_phrase", _walker((4.0, 6.0)), human="human1", phrase="EXCUSE ME", reaction="stop")

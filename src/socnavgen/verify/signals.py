@@ -30,11 +30,13 @@ from socnavgen.verify.thresholds import (
     MOVED_DISTANCE,
     PROGRESS_STEP,
     STILL_SPEED,
+    STOP_HOLD,
     STOP_SPEED,
 )
 
 # Reactions judged by what the human physically does rather than by the nodes that implement them
-# (bt.library.REACTION_NODES is the one home of those): stopping is standing still after having walked,
+# (bt.library.REACTION_NODES is the one home of those): stopping is standing still STOP_HOLD s after having walked
+# (a one-step dip in speed while turning is no stop),
 # saying is showing a gesture, giving way is being out of the robot's way having moved off its route (`aside`: a
 # GiveWaytoRobot node that ran while the body stayed in the way is no giving way). Every other reaction counts
 # on the steps one of its nodes executes.
@@ -74,6 +76,12 @@ def _runlength(flags: np.ndarray, dt: float) -> np.ndarray:
     steps = np.arange(n)
     run_start = np.maximum.accumulate(np.where(flags, -1, steps))  # last False at or before each step
     return np.where(flags, sums[np.maximum(steps - run_start - 1, 0)], 0.0)
+
+
+def lasting(flags: np.ndarray, seconds: float, dt: float) -> np.ndarray:
+    """(T,) bool: the steps from which `flags` stays true for at least `seconds` (this step included, dt each)."""
+    flags = np.asarray(flags, dtype=bool)
+    return _runlength(flags[::-1], dt)[::-1] >= seconds - 1e-9
 
 
 def _latched(flags: np.ndarray) -> np.ndarray:
@@ -408,7 +416,7 @@ def reaction_evidence(s: Signals, human: str, reaction: str, says: str | None = 
     else executing one of its bt.library.REACTION_NODES actions."""
     i = s.human(human)
     if reaction in ("stop", "wait_then_go"):
-        return (s.speed(human) < STOP_SPEED) & (moved(s, human) > 0.5)
+        return lasting((s.speed(human) < STOP_SPEED) & (moved(s, human) > 0.5), STOP_HOLD, s.trace.dt)
     if reaction == "give_way":
         return aside(s, human)
     if reaction == "say":
@@ -470,7 +478,7 @@ SIGNAL_KINDS: tuple[SignalKind, ...] = (
                "through a wall (straight where they see each other)", _way),
     SignalKind(rf"react_{_H}_([a-z_]+)", "react_<human>_<reaction>", "0/1",
                "evidence of a spec reaction: its library actions executing (bt.library.REACTION_NODES); stop, "
-               "wait_then_go: slower than 0.1 m/s after having walked; say: showing a gesture; give_way: aside_<human>",
+               f"wait_then_go: slower than 0.1 m/s for {STOP_HOLD:g} s after having walked; say: showing a gesture; give_way: aside_<human>",
                _react),
 )
 
