@@ -5,7 +5,9 @@ passed and that must FAIL:
   waits for exactly such a person) is deadlocked: "held up" is one notion, proxemics.HELD_UP_DISTANCE, not a
   1 m gap for the verifier and 3 m for the script;
 - a person whose GiveWaytoRobot node ran after EXCUSE ME but whose body stayed in the robot's way did not give
-  way (reacts_after_phrase with reaction give_way is judged by `aside`, what the body did).
+  way (reacts_after_phrase with reaction give_way, and the tree check without spec.json, are judged by `aside`,
+  what the body did); a stop lasts 1 s; a robot turning toward someone already off its route does not undo their
+  step aside.
 """
 
 from __future__ import annotations
@@ -18,8 +20,9 @@ from socnavgen import proxemics
 from socnavgen.run.spec import Criterion, ScenarioSpec
 from socnavgen.sim.robot import script
 from socnavgen.verify.criteria import compile_criterion
-from socnavgen.verify.models import VerifySettings
-from socnavgen.verify.signals import Signals
+from socnavgen.verify.evaluate import evaluate
+from socnavgen.verify.models import Expectation, VerifySettings
+from socnavgen.verify.signals import Signals, aside
 from socnavgen.verify.stl import monitor
 
 from .verify_builders import build_trace
@@ -108,3 +111,31 @@ def test_a_one_step_dip_in_speed_is_no_stop() -> None:
     assert not _judge("reacts_after_phrase", _walker((4.0, 4.0)), human="human1", phrase="EXCUSE ME",
                       reaction="stop")
     assert _judge("reacts_after_phrase", _walker((4.0, 6.0)), human="human1", phrase="EXCUSE ME", reaction="stop")
+
+
+def test_the_tree_check_gives_way_needs_the_body_out_of_the_way() -> None:
+    """Without spec.json the tree check 'gives way while the robot passes' is required: a GiveWaytoRobot node
+    that ran while the body stayed in the robot's way is no giving way (the old check counted the node)."""
+    exp = Expectation(kind="gives_way_while_passing", name="gw", source="tree", human="human1", node="GiveWaytoRobot")
+    ((stayed, _),) = evaluate([exp], _phrase_trace(False))
+    assert not stayed.passed and "never got out of the robot's way" in stayed.evidence
+    ((stepped, _),) = evaluate([exp], _phrase_trace(True))
+    assert stepped.passed
+
+
+def _route_trace(human_xy: np.ndarray, robot_x: np.ndarray, yaw: np.ndarray) -> object:
+    robot = np.stack([robot_x, np.full_like(T, 3.0)], 1)
+    trace = build_trace(T, robot, human_xy[:, None], goal=(11.0, 3.0))
+    trace.robot[:, 2] = yaw
+    trace.robot_waypoints = [(1.0, 3.0), (11.0, 3.0)]
+    return trace
+
+
+def test_a_robot_turning_toward_someone_who_stepped_off_its_route_does_not_undo_the_step() -> None:
+    """human1 stands on the route at (6, 3), steps 1.2 m off it (y 4.2) at t 3-4 s; the robot, stopped at x = 3.5,
+    turns toward them (yaw 25 degrees) from t = 6 to 8 s, then back along its route: while it faces them they are
+    ahead of it, once it faces its route again they are aside again (the old signal lost them for good)."""
+    human = np.stack([np.full_like(T, 6.0), np.interp(T, [0, 3, 4, 30], [3.0, 3.0, 4.2, 4.2])], 1)
+    yaw = np.where((T >= 6.0) & (T < 8.0), np.radians(25.0), 0.0)
+    out = aside(Signals(_route_trace(human, np.interp(T, [0, 3, 30], [1.0, 3.5, 3.5]), yaw)), "human1")
+    assert out[(T >= 4.0) & (T < 6.0)].all() and out[T >= 8.0].all() and not out[T < 3.0].any()

@@ -379,17 +379,38 @@ def _closer(s: Signals, m: re.Match) -> np.ndarray:
 
 def aside(s: Signals, human: str) -> np.ndarray:
     """1 where the human is out of the robot's way having moved ASIDE_DISTANCE from where it last stood in it
-    (0 before it was ever in the way): evidence that the person made way, not that the robot went around."""
+    (0 before it was ever in the way): evidence that the person made way, not that the robot went around.
+
+    With a route (two or more waypoints), "in the way" is ahead along the robot's heading, or on the route (within
+    the corridor its body sweeps: robot + person radius + WAY_MARGIN_VERIFY) and at most HELD_UP_DISTANCE ahead of
+    the robot along it, round bends too; where it stood is where it last stood so ON the route (a robot turning
+    toward someone who already stepped off does not undo the step). Stepping aside means gaining ASIDE_DISTANCE of
+    distance from the route since that stand began, and more sideways than along the route since leaving its
+    corridor: someone walking on past the robot, swerving round it, gave no way."""
     i = s.human(human)
     way = s.in_way(i)
-    steps = np.arange(s.trace.steps)
-    last = np.maximum.accumulate(np.where(way, steps, -1)) if len(steps) else steps
     p = s.pos(human)
-    moved_off = contact.lengths(p - p[np.maximum(last, 0)]) >= ASIDE_DISTANCE
     points = list(s.trace.robot_waypoints)
-    if len(points) >= 2:  # aside means off the robot's route, not past the robot along it (a robot that
-        off = route_offset(p, points)  # stepped aside itself lets the person walk by)
-        moved_off &= off - off[np.maximum(last, 0)] >= ASIDE_DISTANCE
+    steps = np.arange(s.trace.steps)
+    if len(points) < 2:
+        last = np.maximum.accumulate(np.where(way, steps, -1)) if len(steps) else steps
+        moved_off = contact.lengths(p - p[np.maximum(last, 0)]) >= ASIDE_DISTANCE
+        return ~way & (last >= 0) & moved_off
+    half = float(s.trace.robot_radius) + float(np.asarray(s.trace.human_radii, dtype=float)[i]) \
+        + proxemics.WAY_MARGIN_VERIFY
+    off = route_offset(p, points)
+    along = route_progress(p, points)[0]
+    ahead = along - route_progress(s.pos("robot"), points)[0]
+    corridor = off < half
+    way = way | (corridor & (ahead > 0.0) & (ahead <= proxemics.HELD_UP_DISTANCE))
+    stood = way & corridor
+    last = np.maximum.accumulate(np.where(stood, steps, -1))
+    ref = np.maximum(last, 0)
+    began = np.minimum(np.maximum.accumulate(np.where(stood, -1, steps))[ref] + 1, ref)  # that stand's first step
+    left = np.maximum(np.maximum.accumulate(np.where(corridor, steps, -1)), 0)  # last step inside the corridor
+    gained = off - off[began]
+    moved_off = (contact.lengths(p - p[ref]) >= ASIDE_DISTANCE) & (gained >= ASIDE_DISTANCE) \
+        & (gained >= np.abs(along - along[left]))
     return ~way & (last >= 0) & moved_off
 
 
