@@ -382,11 +382,10 @@ def aside(s: Signals, human: str) -> np.ndarray:
     (0 before it was ever in the way): evidence that the person made way, not that the robot went around.
 
     With a route (two or more waypoints), "in the way" is ahead along the robot's heading, or on the route (within
-    the corridor its body sweeps: robot + person radius + WAY_MARGIN_VERIFY) and at most HELD_UP_DISTANCE ahead of
-    the robot along it, round bends too; where it stood is where it last stood so ON the route (a robot turning
+    the corridor its body sweeps: robot + person radius + WAY_MARGIN_VERIFY) ahead of the robot along it, round
+    bends too; where it stood is where it last stood so ON the route (a robot turning
     toward someone who already stepped off does not undo the step). Stepping aside means gaining ASIDE_DISTANCE of
-    distance from the route since that stand began, and more sideways than along the route since leaving its
-    corridor: someone walking on past the robot, swerving round it, gave no way."""
+    distance from the route since that stand began (moving on along the route does not count)."""
     i = s.human(human)
     way = s.in_way(i)
     p = s.pos(human)
@@ -399,18 +398,18 @@ def aside(s: Signals, human: str) -> np.ndarray:
     half = float(s.trace.robot_radius) + float(np.asarray(s.trace.human_radii, dtype=float)[i]) \
         + proxemics.WAY_MARGIN_VERIFY
     off = route_offset(p, points)
-    along = route_progress(p, points)[0]
-    ahead = along - route_progress(s.pos("robot"), points)[0]
+    ahead = route_progress(p, points)[0] - route_progress(s.pos("robot"), points)[0]
     corridor = off < half
-    way = way | (corridor & (ahead > 0.0) & (ahead <= proxemics.HELD_UP_DISTANCE))
+    way = way | (corridor & (ahead > 0.0))
     stood = way & corridor
     last = np.maximum.accumulate(np.where(stood, steps, -1))
     ref = np.maximum(last, 0)
-    began = np.minimum(np.maximum.accumulate(np.where(stood, -1, steps))[ref] + 1, ref)  # that stand's first step
-    left = np.maximum(np.maximum.accumulate(np.where(corridor, steps, -1)), 0)  # last step inside the corridor
-    gained = off - off[began]
-    moved_off = (contact.lengths(p - p[ref]) >= ASIDE_DISTANCE) & (gained >= ASIDE_DISTANCE) \
-        & (gained >= np.abs(along - along[left]))
+    closest = off.copy()  # per step of a stand: the nearest to the route it came during that stand
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], stood.astype(np.int8), [0]])))
+    for a, b in zip(edges[::2], edges[1::2], strict=True):
+        closest[a:b] = off[a:b].min()
+    gained = off - closest[ref]
+    moved_off = gained >= ASIDE_DISTANCE  # the route stays put: only the person's own steps change `off`
     return ~way & (last >= 0) & moved_off
 
 
