@@ -139,3 +139,22 @@ def test_a_robot_turning_toward_someone_who_stepped_off_its_route_does_not_undo_
     yaw = np.where((T >= 6.0) & (T < 8.0), np.radians(25.0), 0.0)
     out = aside(Signals(_route_trace(human, np.interp(T, [0, 3, 30], [1.0, 3.5, 3.5]), yaw)), "human1")
     assert out[(T >= 4.0) & (T < 6.0)].all() and out[T >= 8.0].all() and not out[T < 3.0].any()
+
+
+def _walk_trace(walks: bool) -> object:
+    """The robot stands at (3, 3) and says EXCUSE ME from t = 2 to 5 s; human1 at (4.5, 3) runs RegularNav from
+    t = 2.5 s (LookAtRobot before); `walks`: it walks off north at 0.5 m/s from 2.5 s, else it stays put."""
+    robot = np.tile([[3.0, 3.0]], (len(T), 1))
+    hy = 3.0 + (0.5 * np.clip(T - 2.5, 0.0, None) if walks else 0.0 * T)
+    human = np.stack([np.full_like(T, 4.5), hy], 1)[:, None]
+    actions = {(k, 0): "RegularNav" if T[k] >= 2.5 else "IsRobotVisible" for k in range(len(T))}
+    return build_trace(T, robot, human, actions=actions, robot_gesture=np.where((T >= 2.0) & (T <= 5.0), 4, 0),
+                       goal=(11.0, 3.0))
+
+
+def test_a_walking_reaction_needs_the_body_to_walk() -> None:
+    """walk_past (and follow, join, avoid) count their node only while the body walks (> 0.3 m/s): a RegularNav
+    that stands still after EXCUSE ME is no walking on (the old verifier counted the node)."""
+    assert not _judge("reacts_after_phrase", _walk_trace(False), human="human1", phrase="EXCUSE ME",
+                      reaction="walk_past")
+    assert _judge("reacts_after_phrase", _walk_trace(True), human="human1", phrase="EXCUSE ME", reaction="walk_past")

@@ -32,6 +32,7 @@ from socnavgen.verify.thresholds import (
     STILL_SPEED,
     STOP_HOLD,
     STOP_SPEED,
+    WALK_SPEED,
 )
 
 # Reactions judged by what the human physically does rather than by the nodes that implement them
@@ -41,6 +42,7 @@ from socnavgen.verify.thresholds import (
 # GiveWaytoRobot node that ran while the body stayed in the way is no giving way). Every other reaction counts
 # on the steps one of its nodes executes.
 PHYSICAL_REACTIONS = ("stop", "wait_then_go", "say", "give_way")
+WALKING_REACTIONS = ("walk_past", "follow", "follow_human", "join", "avoid")  # their node counts while the body walks
 
 
 def phrase_id(phrase: str) -> str:
@@ -448,6 +450,8 @@ def reaction_evidence(s: Signals, human: str, reaction: str, says: str | None = 
     out = np.zeros(s.trace.steps, dtype=bool)
     for node in nodes:
         out |= s.trace.executed(i, node)
+    if reaction in WALKING_REACTIONS:  # the node runs and the body walks (a RegularNav that stands is no walking)
+        out &= s.speed(human) > WALK_SPEED
     return out
 
 
@@ -498,7 +502,8 @@ SIGNAL_KINDS: tuple[SignalKind, ...] = (
                "through a wall (straight where they see each other)", _way),
     SignalKind(rf"react_{_H}_([a-z_]+)", "react_<human>_<reaction>", "0/1",
                "evidence of a spec reaction: its library actions executing (bt.library.REACTION_NODES); stop, "
-               f"wait_then_go: slower than 0.1 m/s for {STOP_HOLD:g} s after having walked; say: showing a gesture; give_way: aside_<human>",
+               f"wait_then_go: slower than 0.1 m/s for {STOP_HOLD:g} s after having walked; say: showing a gesture; give_way: aside_<human>; "
+               f"walk_past, follow, follow_human, join, avoid: their nodes while faster than {WALK_SPEED:g} m/s",
                _react),
 )
 
