@@ -29,7 +29,10 @@ WAY_MARGIN_SCRIPT = 0.1  # script cues and gesture rules `blocked`, `wait_until_
 WAY_MARGIN_VERIFY = 0.1  # the verifier's inway_<human>: gives_way, blocks_robot, deadlock
 WAY_MARGIN_FOLLOW = 0.2  # a FollowRobot follower this close to the robot's remaining path steps aside first
 FRONT_CONE_SCRIPT = 0.6  # rad: "in front of the robot" for the script's `blocked` (noticing people coming)
-BLOCK_GAP_VERIFY = 1.0  # m surface gap: someone in the robot's way this close holds it up (verifier: deadlock)
+HELD_UP_DISTANCE = 3.0  # m centre to centre: someone in the robot's way this close holds it up, the ONE notion of
+#   "stuck in front of someone": the script's `wait_until_clear` waits for such a person, and the verifier's
+#   deadlock counts the time the robot makes no progress while one is there (a robot waiting 2 m short of a
+#   person who never steps aside is held up by that person, although they are not touching)
 GIVE_WAY_CLEARANCE = 0.5  # m: a person who gave way leaves this much free space beside the robot's body
 
 Num = Any  # a float, or a numpy array of floats (elementwise)

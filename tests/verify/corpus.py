@@ -310,11 +310,18 @@ CASES: list[Case] = [
          scene=lambda s: _h1(_robot(s, STUCK_ROBOT, says=[(0.2, 2.0, 5)]), STAYS,
                              [(5.5, 20.0, "LookAtRobot")])),
     Case("reaction_before_phrase", passes=False, failing="c4", blame="behaviors", blame_human="human1",
-         scene=lambda s: _h1(s, actions=[(5.0, 8.2, "GiveWaytoRobot")])),
+         scene=lambda s: _h1(s, [(0.0, 6.3, 5.2), (4.4, 6.3, 1.9), (5.4, 6.3, 1.9), (5.9, 6.3, 3.0), (10.0, 6.3, 3.0),
+                                 (14.2, 6.3, 5.5), (20.0, 6.3, 5.5)],  # the body steps aside before EXCUSE ME (6 s)
+                             actions=[(5.0, 8.2, "GiveWaytoRobot")])),
+    Case("give_way_node_body_stays", passes=False, failing="c4", blame="behaviors", blame_human="human1",
+         scene=lambda s: _h1(s, [(0.0, 6.3, 5.2), (5.5, 6.3, 1.9), (14.0, 6.3, 1.9), (15.0, 6.3, 3.0),
+                                 (20.0, 6.3, 3.0)])),  # GiveWaytoRobot runs 6.8-8.2 s while the body stays in the way
+    #                                                    until 14 s, 6 s after EXCUSE ME ended (8 s): no giving way
     Case("reaction_never_fires", passes=False, failing="c4", blame="behaviors", blame_human="human1",
          scene=lambda s: _h1(_robot(s, STUCK_ROBOT), STAYS, [(5.5, 20.0, "LookAtRobot")])),
     Case("reaction_too_late", passes=False, failing="c4", blame="behaviors", blame_human="human1",
-         scene=lambda s: _h1(s, actions=[(5.5, 13.0, "LookAtRobot"), (13.0, 14.0, "GiveWaytoRobot")])),
+         scene=lambda s: _h1(s, [(0.0, 6.3, 5.2), (5.5, 6.3, 1.9), (13.0, 6.3, 1.9), (14.0, 6.3, 3.0), (20.0, 6.3, 3.0)],
+                             actions=[(5.5, 13.0, "LookAtRobot"), (13.0, 14.0, "GiveWaytoRobot")])),
     Case("deadlock", passes=False, failing="c10", blame="behaviors", blame_human="human1",
          scene=lambda s: _h1(_robot(s, STUCK_ROBOT), STAYS, [(5.5, 20.0, "LookAtRobot")])),
     Case("collision", passes=False, failing="no_collision", blame="robot_script",

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
 from typer.testing import CliRunner
 
 from socnavgen.run.folder import RunFolder
@@ -69,15 +70,27 @@ def test_spec_criteria_on_the_real_simulator(give_way_run: Path) -> None:
     run.write_spec(spec.model_copy(update={"script": RobotScript()}))  # a robot that never speaks
     silent = verify_run(give_way_run, simulate_options=FAST)
     assert not silent.passed and silent.spec
-    # they met at b2 (the simulator paces the encounter), but the reaction and the giving way never came:
-    # both because the robot never said EXCUSE ME
-    assert {"c1", "c2"} <= {f.criterion for f in silent.failures}
+    # they met at b2 (the simulator paces the encounter), but the reaction to EXCUSE ME never came because the
+    # robot never said it (c2, giving way without a phrase, is judged by the body alone: walking round the robot
+    # that pulled over, 1.2 m off its route, she does leave its way herself)
+    assert "c1" in {f.criterion for f in silent.failures}
     assert {f.blame for f in silent.failures} == {"robot_script"} and list(silent.blamed()) == ["robot_script"]
     run.write_spec(spec)  # the script says EXCUSE ME when human1 is within 3.5 m
     (give_way_run / "sim" / "trace.npz").unlink()
     report = verify_run(give_way_run, simulate_options=FAST)
     c1 = next(f for f in report.findings if f.criterion == "c1")
-    assert c1.passed and c1.robustness > 0 and "after it" in c1.evidence
+    # the reaction is judged by the body (issue 25): it passes exactly when, within 2 s of the phrase, she got
+    # clear of the corridor the robot's body sweeps along its route (checked here from the trace alone)
+    from socnavgen.proxemics import WAY_MARGIN_VERIFY
+    from socnavgen.verify.route import route_offset
+
+    said = Trace.load(give_way_run / "sim" / "trace.npz")
+    spoke = np.flatnonzero(np.asarray(said.robot_gesture) == 4)
+    window = slice(int(spoke[0]), int(spoke[-1] + round(2.0 / said.dt)) + 1)
+    clear = said.robot_radius + said.human_radii[0] + WAY_MARGIN_VERIFY
+    got_clear = bool((route_offset(said.humans[window, 0, :2], list(said.robot_waypoints)) >= clear).any())
+    assert c1.passed == got_clear, c1.evidence
+    assert not c1.passed or (c1.robustness > 0 and "after it" in c1.evidence)
     assert not report.blamed_on("robot_script") or all(f.kind == "no_collision" for f in report.blamed_on("robot_script"))
     from socnavgen.sim.metrics import compute_metrics
 

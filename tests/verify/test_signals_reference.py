@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from socnavgen.proxemics import BLOCK_GAP_VERIFY, WAY_MARGIN_VERIFY
+from socnavgen.proxemics import HELD_UP_DISTANCE, WAY_MARGIN_VERIFY
 from socnavgen.sim import contact
 from socnavgen.verify import signals as signals_module
 from socnavgen.verify.signals import Signals
@@ -65,7 +65,7 @@ def test_shared_geometry_equals_the_formulas(steps: int, humans: int) -> None:
         lateral = np.abs(-rel[:, 0] * np.sin(yaw) + rel[:, 1] * np.cos(yaw))
         in_way = (along > 0) & (lateral < trace.robot_radius + float(trace.human_radii[i]) + WAY_MARGIN_VERIFY)
         assert np.array_equal(s.in_way(i), in_way)
-        blocked |= in_way & (distances[:, i] - trace.robot_radius - trace.human_radii[i] <= BLOCK_GAP_VERIFY)
+        blocked |= in_way & (distances[:, i] <= HELD_UP_DISTANCE)
     assert np.array_equal(s.blocked(), blocked)
     summary = s.contacts()
     assert summary == contact.summarize(trace)

@@ -118,7 +118,9 @@ def build_trace(t, robot_xy, humans_xy, *, dt=0.5, node_names=NODE_NAMES, action
 
 
 def crossing_trace(*, robot_stops_at: float | None = None, say_excuse_me: bool = True) -> Trace:
-    """Robot drives +x from a1 at 1 m/s, human1 walks -x from c3 at 1 m/s, 1 m to the side (y + 1).
+    """Robot drives +x from a1 at 1 m/s, human1 walks -x from c3 at 1 m/s. With EXCUSE ME it comes head-on along
+    the robot's line and, while the robot says it (t 3.5..5), steps 1 m aside (y + 1 by t = 4.5: out of the robot's
+    way, what the verifier calls giving way); without it, it walks 1 m to the side (y + 1) the whole way.
     dt 0.5, 21 steps (0..10 s). They pass at t = 5 s at x = 6.025 (node b2), 1.0 m apart.
     The human's tree: IsRobotVisible(4) fires while within 4 m, RobotSays(4) while the robot says 4 (t 3.5..5),
     GiveWaytoRobot executes on those steps, RegularNav otherwise."""
@@ -127,9 +129,10 @@ def crossing_trace(*, robot_stops_at: float | None = None, say_excuse_me: bool =
     if robot_stops_at is not None:
         rx = np.minimum(rx, robot_stops_at)
     hx = 11.025 - t
+    hy = 2.975 + np.clip(t - 3.5, 0.0, 1.0) if say_excuse_me else np.full_like(t, 3.975)
     robot = np.stack([rx, np.full_like(t, 2.975)], axis=1)
-    human = np.stack([hx, np.full_like(t, 3.975)], axis=1)[:, None, :]
-    dist = np.hypot(rx - hx, 1.0)
+    human = np.stack([hx, hy], axis=1)[:, None, :]
+    dist = np.hypot(rx - hx, 2.975 - hy)
     says = (t >= 3.5) & (t <= 5.0) & say_excuse_me
     actions, fired = {}, {}
     for k in range(21):

@@ -1,6 +1,7 @@
 """Tree-level checks: each key node of a human's tree (an interaction action, the conditions gating it)
 must really run in the trace, AFTER the conditions that gate it first held, and a MakeGesture counts
-only on the steps its own gesture is shown. With spec.json they are diagnostics behind the criteria;
+only on the steps its own gesture is shown, and GiveWaytoRobot only where the body then gives way (out of the
+robot's way within the reaction time: signals.aside). With spec.json they are diagnostics behind the criteria;
 without it they are required."""
 
 from __future__ import annotations
@@ -12,6 +13,7 @@ from socnavgen.sim import contact
 from socnavgen.sim.trace import Trace
 from socnavgen.text import count
 from socnavgen.verify.models import Expectation, Finding, VerifySettings
+from socnavgen.verify.signals import Signals, aside
 
 
 def _finding(exp: Expectation, passed: bool, evidence: str, *, time: float | None = None,
@@ -76,6 +78,17 @@ def _one(exp: Expectation, trace: Trace, i: int, settings: VerifySettings) -> tu
         passing = exp.within if exp.within is not None else settings.passing
         steps = steps & (dist <= passing)
         label += f" with the robot within {passing:g} m"
+        if steps.any():  # the node ran: the body must be out of the robot's way within the reaction time after
+            out = aside(Signals(trace), name)
+            soon = max(1, int(round(settings.reaction_seconds / trace.dt)))
+            later = np.convolve(out[::-1].astype(float), np.ones(soon + 1), "full")[:len(out)][::-1] > 0
+            if not (steps & later).any():
+                k = int(np.argmax(steps))
+                return _finding(exp, False, f"{name}: {label} from t={trace.t[k]:.2f} s, but its body never got "
+                                            f"out of the robot's way within {settings.reaction_seconds:g} s after it "
+                                            "(a node that ran is no giving way)", time=trace.t[k], distance=dist[k],
+                                human=name), False
+            steps = steps & later
     if not steps.any():
         return _finding(exp, False, _never(trace, i, node, label), human=name), False
     k = int(np.argmax(steps))

@@ -30,13 +30,19 @@ from socnavgen.verify.thresholds import (
     MOVED_DISTANCE,
     PROGRESS_STEP,
     STILL_SPEED,
+    STOP_HOLD,
     STOP_SPEED,
+    WALK_SPEED,
 )
 
 # Reactions judged by what the human physically does rather than by the nodes that implement them
-# (bt.library.REACTION_NODES is the one home of those): stopping is standing still after having walked,
-# saying is showing a gesture. Every other reaction counts on the steps one of its nodes executes.
-PHYSICAL_REACTIONS = ("stop", "wait_then_go", "say")
+# (bt.library.REACTION_NODES is the one home of those): stopping is standing still STOP_HOLD s after having walked
+# (a one-step dip in speed while turning is no stop),
+# saying is showing a gesture, giving way is being out of the robot's way having moved off its route (`aside`: a
+# GiveWaytoRobot node that ran while the body stayed in the way is no giving way). Every other reaction counts
+# on the steps one of its nodes executes.
+PHYSICAL_REACTIONS = ("stop", "wait_then_go", "say", "give_way")
+WALKING_REACTIONS = ("walk_past", "follow", "follow_human", "join", "avoid")  # their node counts while the body walks
 
 
 def phrase_id(phrase: str) -> str:
@@ -72,6 +78,12 @@ def _runlength(flags: np.ndarray, dt: float) -> np.ndarray:
     steps = np.arange(n)
     run_start = np.maximum.accumulate(np.where(flags, -1, steps))  # last False at or before each step
     return np.where(flags, sums[np.maximum(steps - run_start - 1, 0)], 0.0)
+
+
+def lasting(flags: np.ndarray, seconds: float, dt: float) -> np.ndarray:
+    """(T,) bool: the steps from which `flags` stays true for at least `seconds` (this step included, dt each)."""
+    flags = np.asarray(flags, dtype=bool)
+    return _runlength(flags[::-1], dt)[::-1] >= seconds - 1e-9
 
 
 def _latched(flags: np.ndarray) -> np.ndarray:
@@ -206,10 +218,11 @@ class Signals:
         return self._ways("heading")[:, i] | self._ways("route")[:, i]
 
     def holding_up(self) -> np.ndarray:
-        """(T, H) 1 where a human stands in the robot's way (heading or route) within proxemics.BLOCK_GAP_VERIFY.
-        The way is only worked out for the (step, human) pairs that close (usually few)."""
+        """(T, H) 1 where a human stands in the robot's way (heading or route) within proxemics.HELD_UP_DISTANCE
+        (centres; the distance the script's wait_until_clear waits for). The way is only worked out for the
+        (step, human) pairs that close."""
         def build() -> np.ndarray:
-            close = self.gaps() <= proxemics.BLOCK_GAP_VERIFY
+            close = self.distances() <= proxemics.HELD_UP_DISTANCE
             out = np.zeros(close.shape, dtype=bool)
             if not close.any():
                 return out
@@ -368,17 +381,37 @@ def _closer(s: Signals, m: re.Match) -> np.ndarray:
 
 def aside(s: Signals, human: str) -> np.ndarray:
     """1 where the human is out of the robot's way having moved ASIDE_DISTANCE from where it last stood in it
-    (0 before it was ever in the way): evidence that the person made way, not that the robot went around."""
+    (0 before it was ever in the way): evidence that the person made way, not that the robot went around.
+
+    With a route (two or more waypoints), "in the way" is ahead along the robot's heading, or on the route (within
+    the corridor its body sweeps: robot + person radius + WAY_MARGIN_VERIFY) ahead of the robot along it, round
+    bends too; where it stood is where it last stood so ON the route (a robot turning
+    toward someone who already stepped off does not undo the step). Stepping aside means gaining ASIDE_DISTANCE of
+    distance from the route since that stand began (moving on along the route does not count)."""
     i = s.human(human)
     way = s.in_way(i)
-    steps = np.arange(s.trace.steps)
-    last = np.maximum.accumulate(np.where(way, steps, -1)) if len(steps) else steps
     p = s.pos(human)
-    moved_off = contact.lengths(p - p[np.maximum(last, 0)]) >= ASIDE_DISTANCE
     points = list(s.trace.robot_waypoints)
-    if len(points) >= 2:  # aside means off the robot's route, not past the robot along it (a robot that
-        off = route_offset(p, points)  # stepped aside itself lets the person walk by)
-        moved_off &= off - off[np.maximum(last, 0)] >= ASIDE_DISTANCE
+    steps = np.arange(s.trace.steps)
+    if len(points) < 2:
+        last = np.maximum.accumulate(np.where(way, steps, -1)) if len(steps) else steps
+        moved_off = contact.lengths(p - p[np.maximum(last, 0)]) >= ASIDE_DISTANCE
+        return ~way & (last >= 0) & moved_off
+    half = float(s.trace.robot_radius) + float(np.asarray(s.trace.human_radii, dtype=float)[i]) \
+        + proxemics.WAY_MARGIN_VERIFY
+    off = route_offset(p, points)
+    ahead = route_progress(p, points)[0] - route_progress(s.pos("robot"), points)[0]
+    corridor = off < half
+    way = way | (corridor & (ahead > 0.0))
+    stood = way & corridor
+    last = np.maximum.accumulate(np.where(stood, steps, -1))
+    ref = np.maximum(last, 0)
+    closest = off.copy()  # per step of a stand: the nearest to the route it came during that stand
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], stood.astype(np.int8), [0]])))
+    for a, b in zip(edges[::2], edges[1::2], strict=True):
+        closest[a:b] = off[a:b].min()
+    gained = off - closest[ref]
+    moved_off = gained >= ASIDE_DISTANCE  # the route stays put: only the person's own steps change `off`
     return ~way & (last >= 0) & moved_off
 
 
@@ -405,7 +438,9 @@ def reaction_evidence(s: Signals, human: str, reaction: str, says: str | None = 
     else executing one of its bt.library.REACTION_NODES actions."""
     i = s.human(human)
     if reaction in ("stop", "wait_then_go"):
-        return (s.speed(human) < STOP_SPEED) & (moved(s, human) > 0.5)
+        return lasting((s.speed(human) < STOP_SPEED) & (moved(s, human) > 0.5), STOP_HOLD, s.trace.dt)
+    if reaction == "give_way":
+        return aside(s, human)
     if reaction == "say":
         gest = np.asarray(s.trace.human_gesture[:, i])
         return gest == HUMAN_PHRASES[phrase_id(says)] if says else gest != 0
@@ -415,6 +450,8 @@ def reaction_evidence(s: Signals, human: str, reaction: str, says: str | None = 
     out = np.zeros(s.trace.steps, dtype=bool)
     for node in nodes:
         out |= s.trace.executed(i, node)
+    if reaction in WALKING_REACTIONS:  # the node runs and the body walks (a RegularNav that stands is no walking)
+        out &= s.speed(human) > WALK_SPEED
     return out
 
 
@@ -432,7 +469,7 @@ SIGNAL_KINDS: tuple[SignalKind, ...] = (
     SignalKind(r"stalled", "stalled", "s", "how long the robot has been standing still, continuously", _stalled),
     SignalKind(r"progress", "progress", "m", "how far along its route the robot has come (best so far)", _progress),
     SignalKind(r"deadlock", "deadlock", "s", f"how long the robot has made no progress along its route (less than "
-               f"{PROGRESS_STEP:g} m) with someone in its way within {proxemics.BLOCK_GAP_VERIFY} m gap (not at its "
+               f"{PROGRESS_STEP:g} m) with someone in its way within {proxemics.HELD_UP_DISTANCE:g} m (not at its "
                f"goal), continuously: standing still or jittering in place", _deadlock),
     SignalKind(r"robot_(says|said)_([a-z_]+)", "robot_says_<phrase>, robot_said_<phrase>", "0/1",
                "the robot makes the phrase now / has made it at some time so far (excuse_me, follow_me, wait, "
@@ -465,7 +502,9 @@ SIGNAL_KINDS: tuple[SignalKind, ...] = (
                "through a wall (straight where they see each other)", _way),
     SignalKind(rf"react_{_H}_([a-z_]+)", "react_<human>_<reaction>", "0/1",
                "evidence of a spec reaction: its library actions executing (bt.library.REACTION_NODES); stop, "
-               "wait_then_go: slower than 0.1 m/s after having walked; say: showing a gesture", _react),
+               f"wait_then_go: slower than 0.1 m/s for {STOP_HOLD:g} s after having walked; say: showing a gesture; give_way: aside_<human>; "
+               f"walk_past, follow, follow_human, join, avoid: their nodes while faster than {WALK_SPEED:g} m/s",
+               _react),
 )
 
 

@@ -30,7 +30,6 @@ from socnavgen.sim.records import layout, table
 
 ROBOT_PHRASE_CODE = {name: code for code, name in ROBOT_GESTURES.items() if code}
 HUMAN_PHRASE_CODE = {name: code for code, name in HUMAN_GESTURES.items() if code}
-CLEAR_DISTANCE = 3.0  # m: `wait_until_clear` waits until nobody is in the robot's way this close
 CLEAR_PATIENCE = 8.0  # s: still blocked after this long, the robot asks again (its cue's phrase) ...
 CLEAR_REPEATS = 2  # ... this many times, then stops waiting and drives around like an operator would
 AT_NODE = 1.0  # m: a gesture rule `at_node` holds within this distance of its node
@@ -219,7 +218,7 @@ def play(s, script):  # noqa: ANN001, ANN201
         if t < cue.wait_until:
             wait = True
         elif cue.waiting_until_clear:
-            blocked = person_in_way(s, max(cue.distance, CLEAR_DISTANCE), True)
+            blocked = person_in_way(s, max(cue.distance, proxemics.HELD_UP_DISTANCE), True)
             cue.waiting_until_clear = blocked
             if blocked and t - cue.clear_since >= CLEAR_PATIENCE:
                 if cue.say != 0 and cue.repeats < CLEAR_REPEATS:  # ask again: a person who reacts only
