@@ -115,7 +115,7 @@ def test_a_latch_on_any_trigger_keeps_the_action_running():
 
 def test_the_latch_holds_in_the_simulator():
     """Seen once within 2 m, the person keeps the gesture after the robot drove away; without the latch not."""
-    from tests.sim.simhelpers import Drive, human, make_sim, tree_xml
+    from tests.sim.simhelpers import INSTANT, Drive, human, make_sim, tree_xml
 
     near = '<IsRobotNearby agent_id="{id}" distance="2.0"/>'
     say, other = '<MakeGesture agent_id="{id}" message="1"/>', '<MakeGesture agent_id="{id}" message="2"/>'
@@ -123,7 +123,7 @@ def test_the_latch_holds_in_the_simulator():
               f"{other}</Fallback>"
     plain = f"<Fallback><Sequence>{near}{say}</Sequence>{other}</Fallback>"
     for body, last in ((latched, 1), (plain, 2)):
-        sim = make_sim([human(start=(2.0, 5.0))], [tree_xml(body)], [(3.0, 5.0), (19.0, 5.0)], Drive(1.0))
+        sim = make_sim([human(start=(2.0, 5.0))], [tree_xml(body)], [(3.0, 5.0), (19.0, 5.0)], Drive(1.0), body=INSTANT)
         sim.step()
         assert sim.people.gesture[0] == 1
         for _ in range(60):  # 6 s at 1 m/s: the robot is far away

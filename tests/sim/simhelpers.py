@@ -4,11 +4,23 @@ from __future__ import annotations
 
 import numpy as np
 
-from socnavgen.sim import HumanSpec, RobotAction, RobotSpeech, SimConfig, Simulation, World, empty_room
+from socnavgen.sim import (
+    HumanSpec,
+    RobotAction,
+    RobotBody,
+    RobotSpeech,
+    SimConfig,
+    Simulation,
+    World,
+    empty_room,
+)
 
 REGULAR = ('<Sequence><SetBlackboard output_key="agentid" value="{id}"/>'
            '<SetBlackboard output_key="timestep" value="{dt}"/>'
            '<SubTree ID="RegularNavTree" id="agentid" dt="timestep"/></Sequence>')
+
+# a holonomic body that does what it is told at once: for tests about people or trees, not the robot's body
+INSTANT = RobotBody(kinematics="holonomic", max_speed=2.0, max_accel=100.0, max_decel=100.0)
 
 
 def tree_xml(body: str, fmt: int = 3) -> str:

@@ -7,12 +7,11 @@ import numpy as np
 import pytest
 
 from socnavgen.bodies import CONTACT_MARGIN, PERSON_RADIUS, ROBOT_RADIUS
-from socnavgen.sim import RobotBody, empty_room, load_policy
+from socnavgen.sim import empty_room, load_policy
 
-from .simhelpers import REGULAR, Drive, Stay, human, make_sim, tree_xml
+from .simhelpers import INSTANT, REGULAR, Drive, Stay, human, make_sim, tree_xml
 
 REACH = PERSON_RADIUS + ROBOT_RADIUS
-INSTANT = RobotBody(kinematics="holonomic", max_speed=2.0, max_accel=100.0, max_decel=100.0)  # a command, at once
 
 
 def gaps(trace, agent: int = 0) -> np.ndarray:  # noqa: ANN001

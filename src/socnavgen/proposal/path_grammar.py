@@ -62,23 +62,30 @@ def build_paths_grammar(graph: nx.Graph, humans: list[str], spec: ScenarioSpec |
         starts_at[x] = [[_q(x), Lit(", "), _q(w), Ref(f"away{xi}-{index[w]}")]
                         for w in sorted(graph.neighbors(x), key=index.get)]
         points = ", ".join(f'"{h}": {json.dumps(x)}' for h in humans)
-        # one alternative per robot start S (clear_starts) or one for any start (humans may start anywhere)
+        # after X's shared prefix, one alternative per robot start S (clear_starts), or one for any start: the
+        # choice of S is made where the robot's path begins, so the sampler never tracks more than ~V branches
         by_start = [(s, [u for u in reachable if u in clear_starts.get(s, ())]) for s in reachable] \
             if clear_starts is not None else [(None, reachable)]
+        tails: list[list[Symbol]] = []
         for s, walkable in by_start:
             if not walkable or (s is not None and not starts_at[s]):
                 continue
             key = f"{xi}" if s is None else f"{xi}-{index[s]}"
             g.add(f"robot{key}", *(starts_at[s] if s is not None else [a for u in reachable for a in starts_at[u]]))
             g.add(f"walk{key}", *[[Ref(f"to{xi}-{index[u]}")] for u in walkable])
-            body: list[Symbol] = [Lit("{" + points + '}, "trajectories": {"robot": ['), Ref(f"robot{key}"), Lit("]")]
+            tail: list[Symbol] = [Ref(f"robot{key}"), Lit("]")]
             for h in humans:
-                body += [Lit(f', "{h}": ['), Ref(f"walk{key}"), Lit("]")]
-            body += [Lit('}, "group_ids": '), Ref("groups")]
-            if encounter_ids:
-                grounded = ", ".join(f'"{e}": {json.dumps(x)}' for e in encounter_ids)
-                body.append(Lit(', "encounter_nodes": {' + grounded + "}"))
-            meets.append([*body, Lit("}")])
+                tail += [Lit(f', "{h}": ['), Ref(f"walk{key}"), Lit("]")]
+            tails.append(tail)
+        if not tails:
+            continue
+        g.add(f"paths{xi}", *tails)
+        body: list[Symbol] = [Lit("{" + points + '}, "trajectories": {"robot": ['), Ref(f"paths{xi}"),
+                              Lit('}, "group_ids": '), Ref("groups")]
+        if encounter_ids:
+            grounded = ", ".join(f'"{e}": {json.dumps(x)}' for e in encounter_ids)
+            body.append(Lit(', "encounter_nodes": {' + grounded + "}"))
+        meets.append([*body, Lit("}")])
     if not meets:
         raise ValueError("the scene graph has no edge: no path can be planned")
     g.add("meet", *meets)
