@@ -52,20 +52,23 @@ RULE = layout([("when", "i8"), ("gesture", "i8"), ("has_point", "?"), ("point", 
 
 
 POSE = layout([("t", "f8"), ("pos", "c16"), ("heading", "c16"), ("radius", "f8"), ("gesture", "i8")])
+STEERING = layout([("heading", "c16"), ("has_heading", "?")])  # where a policy drives (none: the robot's heading)
 
 
 class Poses(NamedTuple):
-    """What the script reads of the state (s.clock[0].t, s.robot[0].pos/heading/radius,
-    s.people[i].pos/radius/gesture), as one-row tables and a table per person: fill it and play_gesture."""
+    """What the script reads of the state (s.clock[0].t, s.robot[0].pos/heading/radius, s.policy[0].heading,
+    s.people[i].pos/radius/gesture), as one-row tables and a table per person: fill it and play_gesture. A replayed
+    robot has no policy steering: its way is its heading."""
 
     clock: np.recarray
     robot: np.recarray
     people: np.recarray
+    policy: np.recarray
 
 
 def poses(people: int) -> Poses:
     """Empty poses of the robot and `people` people."""
-    return Poses(table(POSE, 1), table(POSE, 1, heading=1 + 0j), table(POSE, people))
+    return Poses(table(POSE, 1), table(POSE, 1, heading=1 + 0j), table(POSE, people), table(STEERING, 1))
 
 
 class Script(NamedTuple):
