@@ -15,16 +15,13 @@ from .equivalence_helpers import outcomes
 # test fails if another card diverges or if this one stops diverging (then remove it here).
 # Since contact is a gap of 5 cm or less (issue 25), whether a person brushes the robot (the simulator puts people
 # who walk into it back on its surface, 5 mm away) depends on small differences between the twins' motion.
-_BRUSH = "only one twin touches the person (gap <= 5 cm); the other passes as close as "
-_SIDE_STEP = ("the socrates person side-steps (GiveWaytoRobot) right against the robot passing it (gap <= 5 cm: "
-              "contact); 2.x has no side step, its AvoidRobot keeps 2 m away and the hunav2 twin passes")
+# Since people step around the robot and it makes way (issue 25), the twins touch nobody; what is left is the
+# home hallway (1.2 m, a dead end at 3y), where AvoidRobot keeps 2 m and the robot has no room to pass.
+_HALLWAY = ("2.x has no side step: the hunav2 person (AvoidRobot) retreats along the 1.2 m home hallway ahead of the "
+            "robot, which never reaches its goal 3y; the socrates person steps aside (GiveWaytoRobot)")
 KNOWN_DIVERGENT = {
-    "hospital/narrow-doorway": "2.x has no side-step: GiveWaytoRobot becomes AvoidRobot, which keeps away; the "
-                               "socrates person side-steps in the 1.2 m door against the robot (gap 0.00 m)",
-    "home/robot-overtaking": _SIDE_STEP,
-    "hospital/robot-overtaking": _SIDE_STEP,
-    "warehouse/robot-overtaking": _SIDE_STEP,
-    "hospital/robot-crowding": _BRUSH + "a few cm (the hunav2 twin touches)",
+    "home/robot-overtaking": _HALLWAY,
+    "home/accompanying-peer": _HALLWAY,
 }
 
 

@@ -59,7 +59,8 @@ def test_every_stage_is_valid(replayed, name):
 # evacuation the nurse is never in the robot's way, so she gives way to nothing. The two recorded loops have
 # no answer for these verdicts (replay_fixture says so). A strict xfail turns red the day one passes.
 FAILS = {"hospital_evacuation", "hospital_evacuation_verify", "paper_scene_b", "paper_scene_a",
-         "paper_scene_b_verify", "hospital_evacuation_v2_verify"}
+         "paper_scene_b_verify", "hospital_evacuation_v2_verify",
+         "paper_scene_c"}  # the group steps aside for 1 s after EXCUSE ME, then stands 26 s in the robot's way (seen)
 
 
 @pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.xfail(
