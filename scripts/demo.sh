@@ -31,11 +31,11 @@ step "5. Verify that the intended interaction happens"
 $SNG verify "$OUT/run" || echo "(the 135M smoke-test model proves the plumbing, not scenario quality: see the findings above)"
 
 step "6. A scenario card, instantiated deterministically (no LLM), simulated and verified"
-rm -rf "$OUT/card_blind_corner"
-$SNG cards generate blind-corner --location "$LOC" -o "$OUT/card_blind_corner"
-$SNG export "$OUT/card_blind_corner" --format socrates -o "$OUT/card_blind_corner/export_socrates"
-$SNG simulate "$OUT/card_blind_corner" --gif
-$SNG verify "$OUT/card_blind_corner"
+rm -rf "$OUT/card_intersection_wait"
+$SNG cards generate intersection-wait --location "$LOC" -o "$OUT/card_intersection_wait"
+$SNG export "$OUT/card_intersection_wait" --format socrates -o "$OUT/card_intersection_wait/export_socrates"
+$SNG simulate "$OUT/card_intersection_wait" --gif
+$SNG verify "$OUT/card_intersection_wait"
 
 step "7. Another card exported for upstream HuNavSim 2.x (BT.CPP v4, nodes translated)"
 rm -rf "$OUT/card_frontal_approach"
