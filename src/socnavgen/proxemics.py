@@ -33,6 +33,8 @@ HELD_UP_DISTANCE = 3.0  # m centre to centre: someone in the robot's way this cl
 #   "stuck in front of someone": the script's `wait_until_clear` waits for such a person, and the verifier's
 #   deadlock counts the time the robot makes no progress while one is there (a robot waiting 2 m short of a
 #   person who never steps aside is held up by that person, although they are not touching)
+OCCUPIED_REACH = 2.0  # m: an intermediate waypoint someone stands on is skipped by the robots this close, so the
+# verifier counts a waypoint as passed this close too (a round trip's goal counts only after its other waypoints)
 GIVE_WAY_CLEARANCE = 0.5  # m: a person who gave way leaves this much free space beside the robot's body
 
 Num = Any  # a float, or a numpy array of floats (elementwise)

@@ -309,6 +309,23 @@ def _deadlock(s: Signals, m: re.Match) -> np.ndarray:
     return _runlength(stuck & blocked & ~at_goal, s.trace.dt)
 
 
+def _route_done(s: Signals, m: re.Match) -> np.ndarray:
+    """1 from the step the robot has come within proxemics.OCCUPIED_REACH of each intermediate waypoint in turn
+    (the robots skip an occupied one that close); routes without one: always 1. Sequential, so a round trip
+    [A, B, A] is done only on the way back, whatever the route's legs overlap."""
+    points = np.asarray(list(s.trace.robot_waypoints), dtype=float).reshape(-1, 2)
+    done = np.zeros(s.trace.steps)
+    at = 0
+    robot = s.pos("robot")
+    for point in points[1:-1]:
+        near = np.flatnonzero(contact.lengths(robot[at:] - point) <= proxemics.OCCUPIED_REACH)
+        if not len(near):
+            return done
+        at += int(near[0])
+    done[at:] = 1.0
+    return done
+
+
 def _progress(s: Signals, m: re.Match) -> np.ndarray:
     return np.maximum.accumulate(s.route()[0]) if s.trace.steps else np.zeros(0)
 
@@ -468,6 +485,8 @@ SIGNAL_KINDS: tuple[SignalKind, ...] = (
     SignalKind(r"robot_still", "robot_still", "0/1", f"robot speed below {STILL_SPEED} m/s", _robot_still),
     SignalKind(r"stalled", "stalled", "s", "how long the robot has been standing still, continuously", _stalled),
     SignalKind(r"progress", "progress", "m", "how far along its route the robot has come (best so far)", _progress),
+    SignalKind(r"route_done", "route_done", "0/1", "the robot has come near every waypoint of its route but the last, "
+               "in turn: a round trip's goal counts only on the way back", _route_done),
     SignalKind(r"deadlock", "deadlock", "s", f"how long the robot has made no progress along its route (less than "
                f"{PROGRESS_STEP:g} m) with someone in its way within {proxemics.HELD_UP_DISTANCE:g} m (not at its "
                f"goal), continuously: standing still or jittering in place", _deadlock),

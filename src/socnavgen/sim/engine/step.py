@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import math
 
+from socnavgen import proxemics
 from socnavgen.sim.engine.state import ALL_DONE, ROBOT_GOAL, RUNNING, TIMEOUT
 from socnavgen.sim.jit import generator, jit
 from socnavgen.sim.people.pacing import pace
@@ -107,7 +108,12 @@ def record(s, trace):  # noqa: ANN001, ANN201
 def ending(s):  # noqa: ANN001, ANN201
     """Why the run ends after this step (RUNNING: it goes on)."""
     robot, clock = s.robot[0], s.clock[0]
-    if abs(robot.goal - robot.pos) <= robot.goal_tolerance:
+    # at its goal after coming near each other waypoint in turn (as close as the robots skip an occupied one):
+    # a round trip [A, B, A] starts on its goal and must not end at t = 0
+    wps = s.waypoints
+    while robot.passed < wps.shape[0] - 2 and abs(wps[1 + robot.passed] - robot.pos) <= proxemics.OCCUPIED_REACH:
+        robot.passed += 1
+    if abs(robot.goal - robot.pos) <= robot.goal_tolerance and robot.passed >= wps.shape[0] - 2:
         return ROBOT_GOAL
     clock.idle = clock.idle + clock.dt if abs(robot.vel) < IDLE_SPEED else 0.0
     if clock.idle >= clock.idle_end:
