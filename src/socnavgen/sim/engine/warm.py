@@ -14,11 +14,14 @@ def warm_up() -> None:
     from socnavgen.bt.library import regular_walker_xml
     from socnavgen.sim.engine.simulation import SimConfig, Simulation
     from socnavgen.sim.people.state import HumanSpec
-    from socnavgen.sim.robot.api import WaypointsPolicy
+    from socnavgen.sim.robot.api import BUILTIN
     from socnavgen.sim.world.grid import empty_room
 
-    sim = Simulation(empty_room(4.0, 4.0, resolution=0.1), [HumanSpec(name="human1", start=(1.0, 1.0),
-                                                                       goals=[(3.0, 3.0)])],
-                     [regular_walker_xml()], [(1.0, 3.0), (3.0, 1.0)], WaypointsPolicy(), SimConfig(timeout=0.1))
-    sim.run()
+    # every built-in robot once (their options and fields are other types to compile), two people on a route
+    # with a turn, so that a campaign's first episode compiles nothing more
+    for policy in BUILTIN.values():
+        humans = [HumanSpec(name=f"human{i}", start=(1.0 + i, 1.0), goals=[(3.0, 3.0)]) for i in (1, 2)]
+        sim = Simulation(empty_room(5.0, 5.0, resolution=0.1), humans, [regular_walker_xml()] * 2,
+                         [(1.0, 3.0), (2.5, 4.0), (4.0, 1.0)], policy(), SimConfig(timeout=0.2))
+        sim.run()
     _WARM = True
