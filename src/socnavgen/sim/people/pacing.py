@@ -5,8 +5,9 @@ A person without a group whose path has an interaction node that is also on the 
 the robot's ETA at that node (its remaining path at the script's cruise speed). Only RegularNav honours it,
 as `pause_nav` in the fork. Two rules:
 * `eta` (default): all the way to the node, walk at the speed that arrives together with the robot (slow
-  down), stand while that speed would be a crawl (hold, or start later), wait at the node if still early;
-  full speed once the robot is close to the node. So both arrive together and meet AT the node.
+  down), stand while that speed would be a crawl (hold, or start later), wait at the node if still early,
+  but never stand with the robot within `release_distance` (walk on at `min_pace`); full speed once the robot
+  is close to the node. So both arrive together and meet AT the node.
 * `socrates`: the fork's rule - hold on the leg before the node until the robot's current waypoint is the
   node (the robot counts a waypoint as passed within 1.5 m).
 """
@@ -18,6 +19,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from socnavgen import proxemics
 from socnavgen.sim.jit import jit
 from socnavgen.sim.records import layout, table
 
@@ -29,7 +31,9 @@ RULES = {"eta": ETA, "socrates": SOCRATES}
 class ThrottleConfig:
     enabled: bool = True
     waypoint_radius: float = 1.5  # m: the robot counts a waypoint as passed within this distance
-    release_distance: float = 2.0  # m: never hold a person this close to the robot (it would stand in its way)
+    # m: never hold a person this close to the robot: the robot waits for someone in its way this close
+    # (proxemics.HELD_UP_DISTANCE), so holding them there too would leave both waiting for each other
+    release_distance: float = proxemics.HELD_UP_DISTANCE
     rule: str = "eta"  # "eta" or "socrates"
     robot_speed: float = 0.6  # m/s: nominal robot speed for the eta rule (the script's cruise speed)
     min_pace: float = 0.3  # m/s: a person who would walk slower than this stands instead (holds)
@@ -120,7 +124,7 @@ def pace(s, pacing):  # noqa: ANN001, ANN201, C901
             hold, speed = False, p.max_speed
             robot_left = 0.0 if k > node else abs(wps[k + 1] - rp) + s.offsets[node + 1] - s.offsets[k + 1]
             if (p.behavior == 0 and p.queue_count > 0 and at >= 0 and (at <= paced.node_at or paced.spawn_is_node)
-                    and robot_left > settings.robot_near and p.robot_distance > settings.release_distance):
+                    and robot_left > settings.robot_near):
                 if paced.spawn_is_node or at > paced.node_at:
                     human_left = abs(wps[node + 1] - p.pos)
                 else:
@@ -128,8 +132,10 @@ def pace(s, pacing):  # noqa: ANN001, ANN201, C901
                     for j in range(at, paced.node_at):
                         human_left += abs(pacing.points[h, j + 1] - pacing.points[h, j])
                 want = human_left / max(robot_left / max(settings.robot_speed, 1e-3), 1e-3)
-                if want < settings.min_pace:
-                    hold = True
+                if want < settings.min_pace:  # too early: stand; with the robot near, never (it would wait for
+                    hold = p.robot_distance > settings.release_distance  # them): walk on to the node slowly, and
+                    if not paced.spawn_is_node:  # someone who waited at the node sets off at their own speed
+                        speed = min(speed, settings.min_pace)
                 else:
                     speed = min(speed, want)
             p.pace = speed
