@@ -250,7 +250,7 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
                 f"the robot never said {robot_phrase.replace('_', ' ').upper()}: add a cue that says it")
     if kind == "reacts_after_phrase" and h and cc.reaction:
         says, react = s.get(f"robot_says_{cc.phrase}") > 0.5, s.get(f"react_{h}_{cc.reaction}") > 0.5
-        if react.any() and int(np.argmax(react)) < int(np.argmax(says)):
+        if react.any() and says.any() and react[int(np.argmax(says))]:  # already reacting when it first spoke
             return "behaviors", h, f"{h} reacted before the robot spoke: gate the reaction on RobotSays"
     if kind == "hidden_until":
         return "paths", None, "robot and human see each other before they meet: choose a blind place"
