@@ -152,7 +152,9 @@ def latch_text(target: Target = "socrates") -> str:
                 f"while its trigger holds, or `lasts` seconds.")
     return ("- \"latch\": true keeps a reaction going for good once its trigger fired (seen the robot once, it "
             "said FOLLOW ME once): the trigger is not checked again. Without a latch a reaction lasts while its "
-            "trigger holds, or `lasts` seconds if set.")
+            "trigger holds, or `lasts` seconds if set. Both latch and lasts: once triggered the reaction runs its "
+            "`lasts` seconds whatever the trigger does meanwhile, then the person walks on for good (a latched "
+            "wait_then_go stands `lasts` s once, then walks on and never waits again).")
 
 
 def people_text() -> str:
@@ -167,7 +169,7 @@ def people_text() -> str:
             f"EXCUSE ME): the later encounter's part (higher order) takes over when its trigger holds; two steps at "
             f"one place are two encounters there. Pacing brings them to their FIRST encounter's node.\n"
             f"- \"lasts\" (s) ends a reaction (then they walk on), e.g. say WAIT for at most 5 s; wait_then_go "
-            f"stands {WAIT_THEN_GO_SECONDS:g} s unless set. \"seconds\" is only the time trigger's. {_negations()}")
+            f"stands {WAIT_THEN_GO_SECONDS:g} s unless set; lasts and latch combine (below). \"seconds\" is only the time trigger's. {_negations()}")
 
 
 def _negations() -> str:
@@ -176,12 +178,22 @@ def _negations() -> str:
 
 
 def robot_limits_text() -> str:
-    """What the robot's script cannot do, so that the model plans around it."""
-    return ("- The robot only drives its route (planned later, node to node) at its speed, stands still (wait, "
-            "wait_until_clear) and speaks. It cannot back off, reverse, pull over or step aside, and cannot follow "
-            "a person: plan around it (it waits before a narrow place; a leader walks ahead along the robot's "
-            "route; people step aside where there is room). A route may come back to its start after passing "
-            "other nodes (\"to X and back\").")
+    """What the robot's script can and cannot do, and what the default robot does by itself (sim/robot/polite.py,
+    its make_way after `patience` s face to face), so that the model plans around it."""
+    from socnavgen.sim.robot.api import ScriptedPolicy
+    from socnavgen.sim.robot.polite import FACE_GAP
+
+    return ("- The robot's script only drives its route (planned later, node to node) at its speed, stands still "
+            "(wait, wait_until_clear) and speaks; no cue makes it back off, reverse, pull over or follow a person. "
+            "By itself the default robot is polite: it keeps to one side to pass people where there is room, slows "
+            "down near them, backs away from someone walking into it, and makes way for someone who needs to get "
+            f"past it: once the two stood face to face (a gap of {FACE_GAP:g} m or less) for "
+            f"{ScriptedPolicy.patience:g} s, it backs off along the way it came and steps aside where there is "
+            "room, until they are through. So for \"the robot backs off / pulls over\" let the person come face to "
+            "face with it in a passage (it makes way), or give it a cue that waits (wait_until_clear) at a wider "
+            "node before the narrow place; for \"the robot follows a person\" let that person walk ahead along "
+            "the robot's route (a leader, with robot_far to wait for it). A route may come back to its start after "
+            "passing other nodes (\"to X and back\").")
 
 
 def export_text(target: Target | None = None, spec_words: bool = False) -> str:
