@@ -64,7 +64,9 @@ def body() -> Body:
 def physical_facts_text(scene_graph: bool = False) -> str:
     """The bodies, speeds and distances every stage plans with; `scene_graph`: how to read node positions
     (stage 2, whose prompt has the scene graph's `pos` and `xy_m`)."""
+    from socnavgen.proposal.path_checks import approach_room  # the one check of it (stage 2)
     from socnavgen.verify.models import VerifySettings  # the verifier's own thresholds
+    from socnavgen.verify.thresholds import APPROACH
 
     b, meet = body(), VerifySettings()
     touch = b.human_radius + b.robot_radius
@@ -80,7 +82,10 @@ def physical_facts_text(scene_graph: bool = False) -> str:
         f"there must step aside (give_way), or wait before the passage.",
         f"- How an encounter is checked: the robot and the human 'meet' when their centres are within "
         f"{meet.distance:g} m (or the criterion's `distance`) while the point halfway between them is within "
-        f"the encounter's `within` ({meet.near:g} m by default) of the encounter's node. A group (humans listed "
+        f"the encounter's `within` ({meet.near:g} m by default) of the encounter's node, and only after an "
+        f"approach: both came {APPROACH:g} m closer to each other than at the start (so a person waiting at the "
+        f"encounter's node is met only if it is at least {approach_room():g} m from the robot's start). "
+        f"A group (humans listed "
         f"together in a group_together criterion) is met where the robot meets any member: members stepping "
         f"aside is their reaction; a `meets` criterion may name the group's `humans`.",
         *(["- Positions: `pos` is the pixel position of a node in the map image; `xy_m` is the same point in "

@@ -119,7 +119,7 @@ def contradictions(c: Criterion, spec: ScenarioSpec) -> list[str]:
 
 
 # the encounter reactions (run.spec.Reaction) a criterion kind can be about: any other contradicts the spec (S1)
-REACTIONS_OF = {"follows_robot": {"follow", "follow_human", "join"}, "blocks_robot": {"block"}, "says": {"say"},
+REACTIONS_OF = {"follows_robot": {"follow", "follow_human", "join"}, "blocks_robot": {"block"},
                 "gives_way": {"give_way", "avoid"}, "keeps_away": {"avoid", "walk_past", "give_way", "stop", "look",
                                                                    "wait_then_go", "say"}}
 _PLACEHOLDER_TEXT = re.compile(r"\s*(placeholder|todo|tbd|xxx|\.\.\.|<[^<>]*>|criterion|text)\s*[.!]?\s*", re.I)
