@@ -99,7 +99,7 @@ def test_a_round_trip_is_a_route(warehouse):
 def test_an_encounter_where_a_person_waits_too_near_the_robots_start_is_refused(warehouse):
     """A person waiting at an encounter's node 1.9 m from the robot's start is met before anyone moved (the
     verifier's meets needs the two to come APPROACH closer): refused with the minimum, which the prompt states."""
-    from socnavgen.proposal.path_checks import approach_room
+    from socnavgen.proposal.facts import approach_room
     from socnavgen.proposal.paths import encounter_rule
     from socnavgen.verify.thresholds import APPROACH, MEET_DISTANCE
 

@@ -32,6 +32,7 @@ from socnavgen.run.spec import (
     Reaction,
     RobotCue,
     RobotScript,
+    ScenarioSpec,
 )
 
 # Conditions of the library whose SUCCESS stays once reached (bt/library.py's "latching conditions"), by the
@@ -64,7 +65,6 @@ def body() -> Body:
 def physical_facts_text(scene_graph: bool = False) -> str:
     """The bodies, speeds and distances every stage plans with; `scene_graph`: how to read node positions
     (stage 2, whose prompt has the scene graph's `pos` and `xy_m`)."""
-    from socnavgen.proposal.path_checks import approach_room  # the one check of it (stage 2)
     from socnavgen.verify.models import VerifySettings  # the verifier's own thresholds
     from socnavgen.verify.thresholds import APPROACH
 
@@ -92,6 +92,19 @@ def physical_facts_text(scene_graph: bool = False) -> str:
            "metres in the world frame (x east, y north), so distances between nodes can be computed from it."]
           if scene_graph else []),
     ])
+
+
+def approach_room(spec: ScenarioSpec | None = None, enc: Encounter | None = None, human: str | None = None) -> float:
+    """How far (m, straight) an encounter's node must be from the robot's start for a person waiting there to be
+    met after an approach: the meeting distance (its `meets` criterion's, else the verifier's default) plus the
+    verifier's APPROACH (a meeting counts only once the two came that much closer: verify/criteria.py; proposal/path_checks checks it in stage 2)."""
+    from socnavgen.verify.derive import meeting_distance
+    from socnavgen.verify.models import VerifySettings
+    from socnavgen.verify.thresholds import APPROACH
+
+    settings = VerifySettings()
+    distance = meeting_distance(spec, enc, human, settings) if spec and enc and human else settings.distance
+    return distance + APPROACH
 
 
 def pacing_text() -> str:

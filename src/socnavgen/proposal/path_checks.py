@@ -11,12 +11,12 @@ from socnavgen.location import Location
 from socnavgen.location.inventory import PASS_WIDTH
 from socnavgen.location.placement import Walker, node_distance, route_problems, start_problems
 from socnavgen.location.scene_graph import path_mistakes
+from socnavgen.proposal.facts import approach_room
 from socnavgen.proposal.replies import PathsReply, human_name
 from socnavgen.proposal.spec_checks import HIDDEN_UNTIL_DEFAULT
 from socnavgen.run import HumanPlan, PathPlan
 from socnavgen.run.spec import Encounter, ScenarioSpec
-from socnavgen.verify.derive import SHOWS_ENCOUNTER, meeting_distance
-from socnavgen.verify.models import VerifySettings
+from socnavgen.verify.derive import SHOWS_ENCOUNTER
 from socnavgen.verify.thresholds import APPROACH
 
 
@@ -91,15 +91,6 @@ def check_paths(reply: PathsReply, graph: nx.Graph, humans: list[str], spec: Sce
             mistakes += _room_mistakes(reply, spec, location)
             mistakes += _approach_mistakes(reply, spec, location, robot, paths)  # type: ignore[arg-type]
     return mistakes
-
-
-def approach_room(spec: ScenarioSpec | None = None, enc: Encounter | None = None, human: str | None = None) -> float:
-    """How far (m, straight) an encounter's node must be from the robot's start for a person waiting there to be
-    met after an approach: the meeting distance (its `meets` criterion's, else the verifier's default) plus the
-    verifier's APPROACH (a meeting counts only once the two came that much closer: verify/criteria.py)."""
-    settings = VerifySettings()
-    distance = meeting_distance(spec, enc, human, settings) if spec and enc and human else settings.distance
-    return distance + APPROACH
 
 
 def _met(spec: ScenarioSpec, enc: Encounter, human: str) -> bool:

@@ -21,9 +21,9 @@ from socnavgen.location.inventory import inventory_text
 from socnavgen.location.location import SCENE_GRAPH_IMAGE
 from socnavgen.location.placement import Walker, clear_starts, shown_position, start_problems, start_rule_text
 from socnavgen.proposal.conversation import Outcome, Policy, Recorder, converse
-from socnavgen.proposal.facts import groups_text, pacing_text, physical_facts_text
+from socnavgen.proposal.facts import approach_room, groups_text, pacing_text, physical_facts_text
 from socnavgen.proposal.fit import NOTHING, Cut, Note, examples_kept, fit_prompt
-from socnavgen.proposal.path_checks import approach_room, check_paths
+from socnavgen.proposal.path_checks import check_paths
 from socnavgen.proposal.path_grammar import paths_grammar
 from socnavgen.proposal.replies import PathsReply
 from socnavgen.proposal.templates import render

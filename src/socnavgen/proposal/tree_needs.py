@@ -141,8 +141,8 @@ def needs_text(name: str, spec: ScenarioSpec | None, target: Target = "socrates"
     if len(parts) > 1:
         lines.append(f"- {name} switches reactions: a later encounter's part takes over from an earlier one when its "
                      f"trigger holds, so check the later encounters' conditions first (their branches come first "
-                     f"in the Fallback). A latched part (<{LATCH_NODE}>) is never left: the Sequence and the Fallback "
-                     f"above it resume at the RUNNING child without checking the branches before it again. So when "
+                     f"in the Fallback). A latched part (<{LATCH_NODE}>) is not left while it runs: the Sequence and the "
+                     f"Fallback above it resume at the RUNNING child without checking the branches before it again. So when "
                      f"an earlier encounter's part is latched, put the later encounter's branch INSIDE the latch: "
                      f"<{LATCH_NODE}><Fallback><Sequence>(later trigger)(later action)</Sequence>(earlier action)"
                      f"</Fallback></{LATCH_NODE}>.")
