@@ -318,6 +318,9 @@ def test_stage1_teaches_the_new_fields_and_what_the_robot_cannot_do():
            "less) for 2 s, it backs off along the way it came" in system
     assert "let that person walk ahead along the robot's route" in system
     assert "nobody stands between two nodes" in system  # positions are nodes
+    assert "a place that is an edge, such as an aisle between two nodes, is met at one of its end nodes" in system
+    assert "latch the later part to end the earlier one for good" in system  # the earlier part comes back
+    assert "the two pass each other only if the person keeps to one side" in system  # 1.6 m vs 2.3 m
     assert "only for a human whose encounter has the reaction block" in system  # blocks_robot needs block
     assert "A route may come back to its start after passing other nodes" in system
     assert "hunav2 lacks" in system and "robot_blocking" in system.split("hunav2 lacks")[1][:200]

@@ -21,7 +21,7 @@ from socnavgen.bt.library import (
     nodes_for_trigger,
     prompt_nodes,
 )
-from socnavgen.location.inventory import BLOCKING_WIDTH
+from socnavgen.location.inventory import BLOCKING_WIDTH, PASS_WIDTH
 from socnavgen.run.spec import (
     NEGATED_TRIGGERS,
     WAIT_THEN_GO_SECONDS,
@@ -79,7 +79,8 @@ def physical_facts_text(scene_graph: bool = False) -> str:
         f"{touch:g} m a person and the robot touch, so 'very close' is about 1.0 m and 'close' about 1.5-2 m.",
         f"- A passage narrower than {b.blocking_width:g} m is blocked for the robot by one person standing in "
         f"its middle (the scene graph marks such edges \"narrow\": true); a person who waits for the robot "
-        f"there must step aside (give_way), or wait before the passage.",
+        f"there must step aside (give_way), or wait before the passage. Where at least {PASS_WIDTH:g} m is free "
+        f"(but less than {b.blocking_width:g} m) the two pass each other only if the person keeps to one side.",
         f"- How an encounter is checked: the robot and the human 'meet' when their centres are within "
         f"{meet.distance:g} m (or the criterion's `distance`) while the point halfway between them is within "
         f"the encounter's `within` ({meet.near:g} m by default) of the encounter's node, and only after an "
@@ -184,7 +185,9 @@ def people_text() -> str:
             f"for someone slow, with a cane) and \"otherwise\": \"walk\" (default: walk their path while no trigger "
             f"holds) or \"stand\" (stand at their start until a trigger sets them going).\n"
             f"- One person in several encounters switches reactions (e1 block the robot, e2 give way once it says "
-            f"EXCUSE ME): the later encounter's part (higher order) takes over when its trigger holds; two steps at "
+            f"EXCUSE ME): the later encounter's part (higher order) takes over while its trigger holds, and the "
+            f"earlier part comes back when it stops holding (the phrase is over) if its own trigger still holds: "
+            f"latch the later part to end the earlier one for good; two steps at "
             f"one place are two encounters there. Pacing brings them to their FIRST encounter's node.\n"
             f"- \"lasts\" (s) ends a reaction (then they walk on), e.g. say WAIT for at most 5 s; wait_then_go "
             f"stands {WAIT_THEN_GO_SECONDS:g} s unless set; lasts and latch combine (below). \"seconds\" is only the time trigger's. {_negations()}")
