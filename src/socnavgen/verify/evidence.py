@@ -9,7 +9,7 @@ from collections.abc import Callable
 import numpy as np
 
 from socnavgen.sim import contact
-from socnavgen.verify.criteria import Compiled
+from socnavgen.verify.criteria import ORDINARY_REACTIONS, Compiled
 from socnavgen.verify.signals import Signals
 from socnavgen.verify.thresholds import APPROACH, PROGRESS_STEP, WALK_SPEED
 
@@ -118,12 +118,17 @@ def _phrase_evidence(cc: Compiled, s: Signals) -> Evidence:
     first_react = _first(react > 0.5)
     parts = [f"the robot said {words(cc.phrase)} first at t={t[first_say]:.1f} s" if first_say is not None
              else f"the robot never said {words(cc.phrase)}"]
+    if cc.reaction in ORDINARY_REACTIONS and first_say is not None and first_react is not None:
+        after = _first(react[first_say:] > 0.5)  # judged at the phrase (criteria.py): its walking on is after it
+        first_react = first_say + after if after is not None else first_react
     if cc.reaction:
         if first_react is None:
             parts.append(f"{h} never showed {cc.reaction}")
         else:
             when = "BEFORE the phrase" if first_say is None or first_react < first_say else "after it"
             parts.append(f"{h} first showed {cc.reaction} at t={t[first_react]:.1f} s ({when})")
+            if cc.reaction in ORDINARY_REACTIONS and first_say is not None:
+                parts.append(f"{'walking' if react[first_say] > 0.5 else 'not walking'} when it was first said")
     k = first_react if first_react is not None else first_say
     d = float(s.get(f"dist_{h}")[k]) if k is not None and h else None
     return "; ".join(parts), (float(t[k]) if k is not None else None), d
