@@ -200,7 +200,10 @@ def _stuck(cc: Compiled, s: Signals, spec: ScenarioSpec, settings_deadlock: floa
     if _never_said(s, phrase):
         return ("robot_script", None, f"{who} waits for the robot to say {phrase.replace('_', ' ').upper()}, "
                                       "which the script never says: add a cue (e.g. when blocked)")
-    return ("behaviors", who, f"{who} stood in the robot's way {dead.max():.0f} s: its tree must give way")
+    return ("behaviors", who, f"{who} stood in the robot's way {dead.max():.0f} s: its tree must let the robot "
+                              "through, by giving way where there is room to step aside, or by walking on toward "
+                              "its goal past the robot (the robot makes way for someone who needs to get past it), "
+                              "not by standing in front of it")
 
 
 def _scripted_wait(s: Signals, spec: ScenarioSpec, settings_deadlock: float) -> Verdict | None:
