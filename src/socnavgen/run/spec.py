@@ -38,7 +38,7 @@ class CueTrigger(BaseModel):
 
     start         at t = 0
     at_encounter  the robot is within `distance` of the node of encounter `encounter`
-    blocked       a person stands within `distance` ahead of the robot, in its way
+    blocked       a person, standing or walking, is within `distance` ahead of the robot, in its way
     human_within  `human` (any human when not given) is within `distance` of the robot
     human_farther `human` (any human when not given) is farther than `distance` from the robot (a guide waits for a slow follower)
     human_says    `human` (any when not given) makes the phrase `phrase`
