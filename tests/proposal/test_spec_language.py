@@ -317,6 +317,8 @@ def test_stage1_teaches_the_new_fields_and_what_the_robot_cannot_do():
     assert "makes way for someone who needs to get past it: once the two stood face to face (a gap of 0.8 m or " \
            "less) for 2 s, it backs off along the way it came" in system
     assert "let that person walk ahead along the robot's route" in system
+    assert "by itself about 1.25 m from them (centres); a cue with wait_until_clear stops it where the cue fires " \
+           "and keeps it still while anyone is in its way within 3 m" in system  # a closer cue never fires then
     assert "nobody stands between two nodes" in system  # positions are nodes
     assert "a place that is an edge, such as an aisle between two nodes, is met at one of its end nodes" in system
     assert "latch the later part to end the earlier one for good" in system  # the earlier part comes back

@@ -201,6 +201,8 @@ def _negations() -> str:
 def robot_limits_text() -> str:
     """What the robot's script can and cannot do, and what the default robot does by itself (sim/robot/polite.py,
     its make_way after `patience` s face to face), so that the model plans around it."""
+    from socnavgen import proxemics
+    from socnavgen.bodies import TOUCH_DISTANCE
     from socnavgen.sim.robot.api import ScriptedPolicy
     from socnavgen.sim.robot.polite import FACE_GAP
 
@@ -214,7 +216,12 @@ def robot_limits_text() -> str:
             "face with it in a passage (it makes way), or give it a cue that waits (wait_until_clear) at a wider "
             "node before the narrow place; for \"the robot follows a person\" let that person walk ahead along "
             "the robot's route (a leader, with robot_far to wait for it). A route may come back to its start after "
-            "passing other nodes (\"to X and back\").")
+            "passing other nodes (\"to X and back\").\n"
+            f"- Where the robot stops for a person standing in its way: by itself about "
+            f"{round(ScriptedPolicy.stop_gap + TOUCH_DISTANCE, 2):g} m from them (centres); a cue with "
+            f"wait_until_clear stops it where the cue fires and keeps it still while anyone is in its way within "
+            f"{proxemics.HELD_UP_DISTANCE:g} m (or the cue's distance, if larger): it comes no closer meanwhile, so "
+            "a cue that needs it closer to that person (human_within 2 m) never fires while it waits.")
 
 
 def export_text(target: Target | None = None, spec_words: bool = False) -> str:
