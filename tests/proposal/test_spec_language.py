@@ -312,17 +312,17 @@ def test_stage1_teaches_the_new_fields_and_what_the_robot_cannot_do():
     assert all(f"{t} (" in system or f"{t}," in system for t in get_args(HumanTrigger)), "a trigger is not taught"
     assert all(r in system for r in get_args(Reaction))
     assert "\"people\"" in system and "\"otherwise\"" in system and "\"lasts\"" in system
-    assert "no cue makes it back off, reverse, pull over or follow a person" in system
+    assert "no cue makes it back off, pull over or follow someone" in system
     # what the default robot does by itself (sim/robot/polite.py make_way), with its numbers, and what to plan
-    assert "makes way for someone who needs to get past it: once the two stood face to face (a gap of 0.8 m or " \
-           "less) for 2 s, it backs off along the way it came" in system
-    assert "let that person walk ahead along the robot's route" in system
-    assert "by itself about 1.25 m from them (centres); a cue with wait_until_clear stops it where the cue fires " \
-           "and keeps it still while anyone is in its way within 3 m" in system  # a closer cue never fires then
+    assert "makes way for someone who must get past it (after 2 s face to face, a gap of 0.8 m or less, it backs " \
+           "off the way it came" in system
+    assert "\"it follows someone\": they lead along its route" in system
+    assert "It stops about 1.25 m (centres) from a person in its way; a wait_until_clear cue holds it where the cue " \
+           "fired while anyone is in its way within 3 m" in system  # a closer cue never fires then
     assert "nobody stands between two nodes" in system  # positions are nodes
     assert "a place that is an edge, such as an aisle between two nodes, is met at one of its end nodes" in system
     assert "latch the later part to end the earlier one for good" in system  # the earlier part comes back
-    assert "the two pass each other only if the person keeps to one side" in system  # 1.6 m vs 2.3 m
+    assert "where 1.6-2.3 m is free they pass only if the person keeps to one side" in system
     assert "only for a human whose encounter has the reaction block" in system  # blocks_robot needs block
     assert "A route may come back to its start after passing other nodes" in system
     assert "hunav2 lacks" in system and "robot_blocking" in system.split("hunav2 lacks")[1][:200]

@@ -79,16 +79,17 @@ def physical_facts_text(scene_graph: bool = False) -> str:
         f"{touch:g} m a person and the robot touch, so 'very close' is about 1.0 m and 'close' about 1.5-2 m.",
         f"- A passage narrower than {b.blocking_width:g} m is blocked for the robot by one person standing in "
         f"its middle (the scene graph marks such edges \"narrow\": true); a person who waits for the robot "
-        f"there must step aside (give_way), or wait before the passage. Where at least {PASS_WIDTH:g} m is free "
-        f"(but less than {b.blocking_width:g} m) the two pass each other only if the person keeps to one side.",
+        f"there must step aside (give_way), or wait before the passage; where {PASS_WIDTH:g}-{b.blocking_width:g} m "
+        f"is free they pass only if the person keeps to one side.",
         f"- How an encounter is checked: the robot and the human 'meet' when their centres are within "
         f"{meet.distance:g} m (or the criterion's `distance`) while the point halfway between them is within "
         f"the encounter's `within` ({meet.near:g} m by default) of the encounter's node, and only after an "
-        f"approach: both came {APPROACH:g} m closer to each other than at the start (so a person waiting at the "
-        f"encounter's node is met only if it is at least {approach_room():g} m from the robot's start). "
-        f"A group (humans listed "
-        f"together in a group_together criterion) is met where the robot meets any member: members stepping "
-        f"aside is their reaction; a `meets` criterion may name the group's `humans`.",
+        f"approach: both came {APPROACH:g} m closer to each other than at the start"
+        + (f" (a person waiting at the node: at least {approach_room():g} m from the robot's start)" if scene_graph
+           else "") + ". "
+        "A group (humans listed "
+        "together in a group_together criterion) is met where the robot meets any member: members stepping "
+        "aside is their reaction; a `meets` criterion may name the group's `humans`.",
         *(["- Positions: `pos` is the pixel position of a node in the map image; `xy_m` is the same point in "
            "metres in the world frame (x east, y north), so distances between nodes can be computed from it."]
           if scene_graph else []),
@@ -171,9 +172,8 @@ def latch_text(target: Target = "socrates") -> str:
                 f"while its trigger holds, or `lasts` seconds.")
     return ("- \"latch\": true keeps a reaction going for good once its trigger fired (seen the robot once, it "
             "said FOLLOW ME once): the trigger is not checked again. Without a latch a reaction lasts while its "
-            "trigger holds, or `lasts` seconds if set. Both latch and lasts: once triggered the reaction runs its "
-            "`lasts` seconds whatever the trigger does meanwhile, then the person walks on for good (a latched "
-            "wait_then_go stands `lasts` s once, then walks on and never waits again).")
+            "trigger holds, or `lasts` seconds if set. With both, the reaction runs its `lasts` s once triggered, "
+            "whatever the trigger does, then they walk on for good (a latched wait_then_go waits once).")
 
 
 def people_text() -> str:
@@ -190,7 +190,7 @@ def people_text() -> str:
             f"latch the later part to end the earlier one for good; two steps at "
             f"one place are two encounters there. Pacing brings them to their FIRST encounter's node.\n"
             f"- \"lasts\" (s) ends a reaction (then they walk on), e.g. say WAIT for at most 5 s; wait_then_go "
-            f"stands {WAIT_THEN_GO_SECONDS:g} s unless set; lasts and latch combine (below). \"seconds\" is only the time trigger's. {_negations()}")
+            f"stands {WAIT_THEN_GO_SECONDS:g} s unless set. \"seconds\" is only the time trigger's. {_negations()}")
 
 
 def _negations() -> str:
@@ -198,30 +198,30 @@ def _negations() -> str:
                     f"`distance`)." for neg, base in NEGATED_TRIGGERS.items())
 
 
-def robot_limits_text() -> str:
-    """What the robot's script can and cannot do, and what the default robot does by itself (sim/robot/polite.py,
-    its make_way after `patience` s face to face), so that the model plans around it."""
+def robot_limits_text(detail: bool = True) -> str:
+    """What the robot's script can and cannot do, and (`detail`) what the default robot does by itself
+    (sim/robot/polite.py, its make_way after `patience` s face to face) and where it stops, so that the model
+    plans around it (fit.py leaves the detail out for a small context: the "robot" cut)."""
     from socnavgen import proxemics
     from socnavgen.bodies import TOUCH_DISTANCE
     from socnavgen.sim.robot.api import ScriptedPolicy
     from socnavgen.sim.robot.polite import FACE_GAP
 
-    return ("- The robot's script only drives its route (planned later, node to node) at its speed, stands still "
-            "(wait, wait_until_clear) and speaks; no cue makes it back off, reverse, pull over or follow a person. "
-            "By itself the default robot is polite: it keeps to one side to pass people where there is room, slows "
-            "down near them, backs away from someone walking into it, and makes way for someone who needs to get "
-            f"past it: once the two stood face to face (a gap of {FACE_GAP:g} m or less) for "
-            f"{ScriptedPolicy.patience:g} s, it backs off along the way it came and steps aside where there is "
-            "room, until they are through. So for \"the robot backs off / pulls over\" let the person come face to "
-            "face with it in a passage (it makes way), or give it a cue that waits (wait_until_clear) at a wider "
-            "node before the narrow place; for \"the robot follows a person\" let that person walk ahead along "
-            "the robot's route (a leader, with robot_far to wait for it). A route may come back to its start after "
-            "passing other nodes (\"to X and back\").\n"
-            f"- Where the robot stops for a person standing in its way: by itself about "
-            f"{round(ScriptedPolicy.stop_gap + TOUCH_DISTANCE, 2):g} m from them (centres); a cue with "
-            f"wait_until_clear stops it where the cue fires and keeps it still while anyone is in its way within "
-            f"{proxemics.HELD_UP_DISTANCE:g} m (or the cue's distance, if larger): it comes no closer meanwhile, so "
-            "a cue that needs it closer to that person (human_within 2 m) never fires while it waits.")
+    limits = ("- The script drives the robot's route (node to node), stands it still (wait, wait_until_clear) and "
+              "speaks; no cue makes it back off, pull over or follow someone. A route may come back to its start "
+              "after passing other nodes.")
+    if not detail:
+        return limits
+    return (limits + " By itself the robot passes people on one "
+            "side where there is room, slows near them, and makes way for someone who must get past it (after "
+            f"{ScriptedPolicy.patience:g} s face to face, a gap of {FACE_GAP:g} m or less, it backs off the way it "
+            "came and steps aside where there is room). So \"it pulls over\": a person meets it face to face in a "
+            "passage, or a wait_until_clear cue at a wider node; \"it follows someone\": they lead along its route "
+            "(robot_far to wait).\n"
+            f"- It stops about {round(ScriptedPolicy.stop_gap + TOUCH_DISTANCE, 2):g} m (centres) from a person in "
+            f"its way; a wait_until_clear cue holds it where the cue fired while anyone is in its way within "
+            f"{proxemics.HELD_UP_DISTANCE:g} m (or the cue's distance), so a cue needing it closer to them never "
+            "fires meanwhile.")
 
 
 def export_text(target: Target | None = None, spec_words: bool = False) -> str:
@@ -287,11 +287,11 @@ def robot_vocabulary_text() -> str:
     return f"The robot can say: {robot_words}. A human can say: {human_words}."
 
 
-def scenario_rules_text(target: Target | None = None, signals: bool = True) -> str:
+def scenario_rules_text(target: Target | None = None, signals: bool = True, robot: bool = True) -> str:
     """What stage 1 must know about how its spec plays out (pacing, within, cues, groups, people, latch, what
     the robot cannot do, export, stl); `signals` False names the STL signals without their meanings."""
     lines = ["HOW THE SPEC PLAYS OUT:", pacing_text(), encounter_within_text(), cue_once_text(), groups_text(),
-             people_text(), latch_text(target or "socrates"), robot_limits_text(), export_text(target, spec_words=True),
+             people_text(), latch_text(target or "socrates"), robot_limits_text(robot), export_text(target, spec_words=True),
              stl_text(signals)]
     return "\n".join(line for line in lines if line)
 
