@@ -186,3 +186,28 @@ def test_a_reaction_to_a_phrase_is_judged_at_the_phrase_not_from_the_start() -> 
     through = build_trace(T, robot, human, actions={(k, 0): "RegularNav" for k in range(len(T))},
                           robot_gesture=np.where((T >= 4.0) & (T <= 6.0), 4, 0), goal=(11.0, 3.0))
     assert not _judge("reacts_after_phrase", through, human="human1", phrase="EXCUSE ME", reaction="walk_past")
+
+
+def _child_trace(stands_at: float | None) -> object:
+    """The robot stands at (3, 3) and says EXCUSE ME from t = 4 to 7 s; human1 walks (RegularNav, 0.5 m/s) from
+    (7, 3) toward it until t = 2.5 s (to 5.75, 3); `stands_at`: it stands there until this time,
+    (standing: MakeGesture) then walks off north; None: it never stops (walks north from t = 2.5 s, through the phrase)."""
+    stop = 2.5 if stands_at is None else stands_at
+    hx = np.interp(T, [0.0, 2.5], [7.0, 5.75])
+    hy = 3.0 + 0.5 * np.clip(T - stop, 0.0, None) * (T >= 2.5)
+    human = np.stack([hx, hy], 1)[:, None]
+    standing = stands_at is not None
+    actions = {(k, 0): "MakeGesture" if standing and 2.5 <= T[k] < stop else "RegularNav" for k in range(len(T))}
+    return build_trace(T, np.tile([[3.0, 3.0]], (len(T), 1)), human, actions=actions,
+                       robot_gesture=np.where((T >= 4.0) & (T <= 7.0), 4, 0), goal=(11.0, 3.0))
+
+
+def test_walking_on_after_the_phrase_is_judged_at_the_phrase() -> None:
+    """walk_past after EXCUSE ME "and not before": a child who walked to its place, stood in the robot's way and
+    walked off after the phrase reacted after it (the old formula counted its walk to the place at t = 0 as
+    walking on before the phrase); one who was walking when the robot spoke, or left before it, did not."""
+    judge = {"human": "human1", "phrase": "EXCUSE ME", "reaction": "walk_past"}
+    assert _judge("reacts_after_phrase", _child_trace(5.0), **judge)
+    assert not _judge("reacts_after_phrase", _child_trace(None), **judge)  # walking through the phrase
+    assert not _judge("reacts_after_phrase", _child_trace(3.5), **judge)  # left before the robot spoke
+    assert not _judge("reacts_after_phrase", _child_trace(12.0), **judge)  # stood until 8 s after it: too late

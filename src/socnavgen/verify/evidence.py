@@ -123,8 +123,8 @@ def _phrase_evidence(cc: Compiled, s: Signals) -> Evidence:
         hold = int(round(STOP_HOLD / max(s.trace.dt, 1e-9)))
         window = int(round((cc.seconds or 0.0) / max(s.trace.dt, 1e-9)))
         n = len(t)
-        calm = np.array([says[k:k + hold + 1].any() and not reacting[k:k + hold + 1].any() for k in range(n)],
-                        dtype=bool)  # a quiet moment of STOP_HOLD s in which the phrase is said
+        calm = np.array([not says[k] and says[k:k + hold + 1].any() and not reacting[k:k + hold + 1].any()
+                         for k in range(n)], dtype=bool)  # a quiet STOP_HOLD s in which the phrase starts
         after = None
         for k0 in np.flatnonzero(calm):
             hit = _first(reacting[k0:k0 + hold + window + 1])
@@ -136,7 +136,7 @@ def _phrase_evidence(cc: Compiled, s: Signals) -> Evidence:
         elif after is not None:
             parts.append(f"{h} showed {cc.reaction} at t={t[after]:.1f} s, after the phrase")
         elif first_say is not None and not calm.any():
-            parts.append(f"{h} was showing {cc.reaction} within {STOP_HOLD:g} s of every moment the phrase was said "
+            parts.append(f"{h} was showing {cc.reaction} within {STOP_HOLD:g} s of every moment the phrase started "
                          f"(first at t={t[first_react]:.1f} s, BEFORE it): no reaction to it")
         else:
             parts.append(f"{h} first showed {cc.reaction} at t={t[first_react]:.1f} s, not within "
