@@ -11,9 +11,9 @@ the export puts the timing into the person's own tree, as conditions the target 
    (IsRobotNearby / HuNavSim 2.x IsRobotClose): the distance between the hold point and the point of the
    robot's path that is as far (in time, at the robot's nominal speed) from the node as the person is
    (HOLD_BEFORE at walking speed); and where the waiting spot is in the robot's way (ahead of it, inside the
-   corridor its body sweeps) no closer than proxemics.HELD_UP_DISTANCE - the distance at which someone in its
-   way holds the robot up, the simulator's own release distance -, so robot and person never wait for each
-   other; or at the latest after `timeout` seconds (a robot that never comes). The release is latched: the
+   corridor its body sweeps) at least the distance at which the robot first has them there within
+   proxemics.HELD_UP_DISTANCE (where someone in its way holds the robot up; the simulator's pacing never holds
+   a person that close either), so robot and person never wait for each other; or at the latest after `timeout` seconds (a robot that never comes). The release is latched: the
    person never waits again.
 
 Because the release is a robot POSITION, not a time, a robot at half or 1.5 times the nominal speed still
