@@ -244,3 +244,21 @@ def test_gesture_rules_hold_their_gesture_for_their_duration():
     last_near = np.flatnonzero(near)[-1]
     assert shown[near][1:].all()  # while someone is near
     assert shown[last_near + 1:last_near + 20].all() and not shown[last_near + 22:].any()  # then 1 s more
+
+
+def test_waiting_until_clear_looks_along_the_route_round_its_corner():
+    """`wait_until_clear` waits for people on the robot's route ahead (round its turn), not for someone standing
+    straight ahead past the corner, beside the route (the elevator-door case: a visitor who stepped aside beyond
+    the lobby node held the robot in the door for 24 s)."""
+    script = RobotScript(cues=[RobotCue(trigger=CueTrigger(when="start"), say="EXCUSE ME", hold=1.0,
+                                        wait_until_clear=True)])
+    route = [(6.0, 5.0), (8.0, 5.0), (8.0, 1.5)]
+    past_corner = human(start=(9.3, 5.0), goals=[(9.3, 5.0)])  # 1.3 m off the route's second leg, in line ahead
+    sim = make_sim([past_corner], [STANDING], route, policy=ScriptedPolicy(), script=script, timeout=20)
+    trace = sim.run()
+    assert trace.end_reason == "robot_goal" and trace.t[-1] < 12.0  # never held up (giving up takes 16 s)
+    assert [text for _, text in sim.cues.fired] == ["start: say EXCUSE ME, wait until clear"]
+    on_route = human(start=(8.0, 3.2), goals=[(8.0, 3.2)])  # round the corner, on the second leg
+    sim = make_sim([on_route], [STANDING], route, policy=ScriptedPolicy(), script=script, timeout=20)
+    rows = _run(sim, 100)
+    assert abs(rows[-1][2] - (6.0 + 5.0j)) < 0.05  # still waiting at 5 s: that person is in its way

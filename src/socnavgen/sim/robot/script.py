@@ -52,23 +52,26 @@ RULE = layout([("when", "i8"), ("gesture", "i8"), ("has_point", "?"), ("point", 
 
 
 POSE = layout([("t", "f8"), ("pos", "c16"), ("heading", "c16"), ("radius", "f8"), ("gesture", "i8")])
-STEERING = layout([("heading", "c16"), ("has_heading", "?")])  # where a policy drives (none: the robot's heading)
+# where a policy drives (none: the robot's heading) and the waypoint it heads for (its route: Poses.waypoints)
+STEERING = layout([("heading", "c16"), ("has_heading", "?"), ("waypoint", "i8")])
 
 
 class Poses(NamedTuple):
-    """What the script reads of the state (s.clock[0].t, s.robot[0].pos/heading/radius, s.policy[0].heading,
-    s.people[i].pos/radius/gesture), as one-row tables and a table per person: fill it and play_gesture. A replayed
-    robot has no policy steering: its way is its heading."""
+    """What the script reads of the state (s.clock[0].t, s.robot[0].pos/heading/radius, s.policy[0].heading/waypoint,
+    s.people[i].pos/radius/gesture, s.waypoints), as one-row tables and a table per person: fill it and
+    play_gesture. A replayed robot has no policy steering and (without waypoints) no route: its way is its heading."""
 
     clock: np.recarray
     robot: np.recarray
     people: np.recarray
     policy: np.recarray
+    waypoints: np.ndarray  # (W,) complex: the robot's route (empty: unknown, its way is straight ahead)
 
 
 def poses(people: int) -> Poses:
     """Empty poses of the robot and `people` people."""
-    return Poses(table(POSE, 1), table(POSE, 1, heading=1 + 0j), table(POSE, people), table(STEERING, 1))
+    return Poses(table(POSE, 1), table(POSE, 1, heading=1 + 0j), table(POSE, people), table(STEERING, 1),
+                 np.zeros(0, complex))
 
 
 class Script(NamedTuple):
@@ -139,20 +142,74 @@ blocking = jit(proxemics.blocking)  # the one "in the robot's way" (socnavgen.pr
 
 
 @jit
+def route_segment(s):  # noqa: ANN001, ANN201
+    """The segment of the robot's route it is on: the nearest to it from the one before the waypoint it heads
+    for (the first as near as the nearest); -1 without a route."""
+    wps, r = s.waypoints, s.robot[0].pos
+    first = max(s.policy[0].waypoint - 1, 0)
+    if wps.shape[0] - first < 2:
+        return -1
+    best, seg = math.inf, first
+    for j in range(first, wps.shape[0] - 1):
+        d = segment_distance(r, wps[j], wps[j + 1])[1]
+        if d < best - 1e-9:
+            best, seg = d, j
+    return seg
+
+
+@jit(inline=True)
+def segment_distance(p, a, b):  # noqa: ANN001, ANN201
+    """(distance along a->b of p's nearest point, distance from p to it)."""
+    ab = b - a
+    length = abs(ab)
+    u = ab / length if length > 1e-9 else 0j
+    along = min(max(((p - a) * u.conjugate()).real, 0.0), length)
+    return along, abs(p - (a + u * along))
+
+
+@jit
+def on_route_ahead(s, seg, q, reach, distance):  # noqa: ANN001, ANN201
+    """Point q lies within `reach` of the robot's route ahead of it (from the robot along the remaining
+    waypoints of segment `seg` on, the first `distance` metres of it), and ahead of the robot."""
+    wps, a = s.waypoints, s.robot[0].pos
+    left = distance
+    for j in range(seg + 1, wps.shape[0]):
+        b = wps[j]
+        length = abs(b - a)
+        if length > 1e-9:
+            end = a + (b - a) * min(1.0, left / length)
+            along, d = segment_distance(q, a, end)
+            if d < reach and (along > 0.0 or j > seg + 1):
+                return True
+            left -= length
+            if left <= 0.0:
+                return False
+        a = b
+    return False
+
+
+@jit
 def person_in_way(s, distance, swept_only):  # noqa: ANN001, ANN201
     """Someone within `distance` (centres) ahead of the robot's direction of travel, in its way: in a cone
-    ahead (to notice people coming), or (`swept_only`) only inside the corridor its body sweeps, so that
-    people who stepped aside do not keep a robot waiting "until clear"."""
+    ahead (to notice people coming), or (`swept_only`) only inside the corridor its body sweeps along its
+    route's next `distance` metres (round its turns: someone beside the route past a corner is not in its way;
+    straight ahead without a route), so that people who stepped aside do not keep a robot waiting "until
+    clear"."""
     robot, policy = s.robot[0], s.policy[0]
     r = robot.pos
     # the way it is going: a built-in robot's direction of travel (a differential drive may face elsewhere
     # while it turns or edges aside), else where it last moved
     h = policy.heading if policy.has_heading and abs(policy.heading) > 0 else robot.heading
     cone = -1.0 if swept_only else proxemics.FRONT_CONE_SCRIPT
+    seg = route_segment(s) if swept_only else -1
     for i in range(s.people.shape[0]):
         p = s.people[i]
-        if blocking(r.real, r.imag, h.real, h.imag, p.pos.real, p.pos.imag, robot.radius, p.radius, distance,
-                    proxemics.WAY_MARGIN_SCRIPT, cone):
+        if seg >= 0:
+            if abs(p.pos - r) <= distance and on_route_ahead(s, seg, p.pos, robot.radius + p.radius +
+                                                             proxemics.WAY_MARGIN_SCRIPT, distance):
+                return True
+        elif blocking(r.real, r.imag, h.real, h.imag, p.pos.real, p.pos.imag, robot.radius, p.radius, distance,
+                      proxemics.WAY_MARGIN_SCRIPT, cone):
             return True
     return False
 
