@@ -27,12 +27,17 @@ from socnavgen.run.models import RobotGestureRule
 from socnavgen.run.spec import RobotCue, RobotScript
 from socnavgen.sim.jit import jit
 from socnavgen.sim.records import layout, table
+from socnavgen.sim.robot.polite import POLITE_GAP, WALL_ROOM
+from socnavgen.sim.world.grid import empty_room
+from socnavgen.sim.world.queries import clearance_at
 
 ROBOT_PHRASE_CODE = {name: code for code, name in ROBOT_GESTURES.items() if code}
 HUMAN_PHRASE_CODE = {name: code for code, name in HUMAN_GESTURES.items() if code}
 CLEAR_PATIENCE = 8.0  # s: still blocked after this long, the robot asks again (its cue's phrase) ...
 CLEAR_REPEATS = 2  # ... this many times, then stops waiting and drives around like an operator would
 AT_NODE = 1.0  # m: a gesture rule `at_node` holds within this distance of its node
+SQUEEZE = 0.3  # m: someone beside the route whom the robot passes by edging at most this far aside (keeping
+# POLITE_GAP, where walls and other people leave it room) does not hold it "until clear"
 
 START, AFTER, AT_ENCOUNTER, BLOCKED, HUMAN_WITHIN, HUMAN_SAYS, HUMAN_FARTHER = range(7)
 TRIGGERS = {"start": START, "after": AFTER, "at_encounter": AT_ENCOUNTER, "blocked": BLOCKED,
@@ -66,12 +71,13 @@ class Poses(NamedTuple):
     people: np.recarray
     policy: np.recarray
     waypoints: np.ndarray  # (W,) complex: the robot's route (empty: unknown, its way is straight ahead)
+    world: object  # the map's walls (World.map; a replay without a route never looks at it)
 
 
 def poses(people: int) -> Poses:
     """Empty poses of the robot and `people` people."""
     return Poses(table(POSE, 1), table(POSE, 1, heading=1 + 0j), table(POSE, people), table(STEERING, 1),
-                 np.zeros(0, complex))
+                 np.zeros(0, complex), empty_room(1.0, 1.0).map)
 
 
 class Script(NamedTuple):
@@ -168,19 +174,38 @@ def segment_distance(p, a, b):  # noqa: ANN001, ANN201
 
 
 @jit
-def on_route_ahead(s, seg, q, reach, distance):  # noqa: ANN001, ANN201
-    """Point q lies within `reach` of the robot's route ahead of it (from the robot along the remaining
-    waypoints of segment `seg` on, the first `distance` metres of it), and ahead of the robot."""
-    wps, a = s.waypoints, s.robot[0].pos
+def squeezes_past(s, i, foot, d):  # noqa: ANN001, ANN201
+    """The robot passes person i (d from its route, `foot` the nearest route point) on the far side keeping
+    POLITE_GAP, by edging at most SQUEEZE aside, with room from walls and everyone else there."""
+    robot, q = s.robot[0], s.people[i]
+    clear = robot.radius + q.radius + POLITE_GAP
+    if d < 1e-6 or clear - d > SQUEEZE:
+        return False
+    at = q.pos - (q.pos - foot) / d * clear  # the robot's centre passing them
+    if clearance_at(s.world, at) < robot.radius + WALL_ROOM:
+        return False
+    for k in range(s.people.shape[0]):
+        if k != i and abs(s.people[k].pos - at) < robot.radius + s.people[k].radius + POLITE_GAP:
+            return False
+    return True
+
+
+@jit
+def on_route_ahead(s, seg, i, reach, distance):  # noqa: ANN001, ANN201
+    """Person i stands within `reach` of the robot's route ahead of it (from the robot along the remaining
+    waypoints of segment `seg` on, the first `distance` metres of it), ahead of the robot, and the robot
+    cannot squeeze past them (squeezes_past)."""
+    wps, a, q = s.waypoints, s.robot[0].pos, s.people[i].pos
     left = distance
     for j in range(seg + 1, wps.shape[0]):
         b = wps[j]
         length = abs(b - a)
         if length > 1e-9:
-            end = a + (b - a) * min(1.0, left / length)
-            along, d = segment_distance(q, a, end)
-            if d < reach and (along > 0.0 or j > seg + 1):
-                return True
+            along, d = segment_distance(q, a, b)
+            if along <= left and d < reach and (along > 0.0 or j > seg + 1):
+                beside = 1e-6 < along < length - 1e-6  # not off either end of the leg (ahead, round a corner)
+                if not (beside and squeezes_past(s, i, a + (b - a) / length * along, d)):
+                    return True
             left -= length
             if left <= 0.0:
                 return False
@@ -193,8 +218,8 @@ def person_in_way(s, distance, swept_only):  # noqa: ANN001, ANN201
     """Someone within `distance` (centres) ahead of the robot's direction of travel, in its way: in a cone
     ahead (to notice people coming), or (`swept_only`) only inside the corridor its body sweeps along its
     route's next `distance` metres (round its turns: someone beside the route past a corner is not in its way;
-    straight ahead without a route), so that people who stepped aside do not keep a robot waiting "until
-    clear"."""
+    nor is someone it passes by edging a little aside; straight ahead without a route), so that people who
+    stepped aside do not keep a robot waiting "until clear"."""
     robot, policy = s.robot[0], s.policy[0]
     r = robot.pos
     # the way it is going: a built-in robot's direction of travel (a differential drive may face elsewhere
@@ -205,7 +230,7 @@ def person_in_way(s, distance, swept_only):  # noqa: ANN001, ANN201
     for i in range(s.people.shape[0]):
         p = s.people[i]
         if seg >= 0:
-            if abs(p.pos - r) <= distance and on_route_ahead(s, seg, p.pos, robot.radius + p.radius +
+            if abs(p.pos - r) <= distance and on_route_ahead(s, seg, i, robot.radius + p.radius +
                                                              proxemics.WAY_MARGIN_SCRIPT, distance):
                 return True
         elif blocking(r.real, r.imag, h.real, h.imag, p.pos.real, p.pos.imag, robot.radius, p.radius, distance,
