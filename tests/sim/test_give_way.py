@@ -119,3 +119,20 @@ def test_a_group_giving_way_in_a_corridor_each_finds_a_spot_and_the_robot_passes
     from socnavgen.sim.contact import trace_gaps
 
     assert trace_gaps(trace).min() > 0.05  # nobody touched
+
+
+def test_a_follower_on_the_last_leg_of_a_round_trip_follows_at_once():
+    """FOLLOW ME at the start of a round trip whose last leg leads back past the follower (into their room):
+    they are not in the robot's way now, so they follow it out instead of standing aside until it comes back
+    (the rehab patient stayed 12 m behind for the whole walk)."""
+    follows = tree_xml('<FollowRobot agent_id="{id}" time_step="{dt}"/>')
+    route = [(4.0, 4.0), (12.0, 4.0), (4.0, 4.0), (4.0, 8.0)]
+    sim = make_sim([human(start=(4.0, 5.4), goals=[(4.0, 5.4)])], [follows], route, policy=load_policy("scripted"),
+                   world=empty_room(16.0, 10.0), timeout=60)
+    trace = sim.run()
+    at = {round(float(t), 2): k for k, t in enumerate(trace.t)}
+    k = at[12.0]  # the robot is near the far end
+    robot, person = trace.robot[k, :2], trace.humans[k, 0, :2]
+    assert robot[0] > 9.0
+    assert np.hypot(*(robot - person)) < 4.0  # following, not waiting at the start
+    assert not trace.executed(0, "GiveWaytoRobot").any() or person[0] > 6.0

@@ -76,15 +76,24 @@ def arc_before(s, seg, k, fallback):  # noqa: ANN001, ANN201
 
 @jit
 def in_robot_way(s, i):  # noqa: ANN001, ANN201
-    """Person i stands on the robot's remaining path, ahead of it within FOLLOW_WAY_AHEAD metres."""
+    """Person i stands on the robot's remaining path within its next FOLLOW_WAY_AHEAD metres (a follower the
+    robot will pass only on its way back, at the end of a round trip, is not in its way now)."""
     p, robot = s.people[i], s.robot[0]
     if abs(p.pos - robot.pos) > FOLLOW_WAY_AHEAD or abs(robot.pos - robot.goal) <= robot.goal_tolerance:
         return False
     _, seg = robot_progress(s)
     if path_size(s, seg, False) < 2:
         return False
-    k, along, dist = nearest_segment(s, p.pos, seg, False)
-    return dist < p.radius + robot.radius + FOLLOW_WAY_MARGIN and arc_before(s, seg, k, False) + along > 0.0
+    reach, arc = p.radius + robot.radius + FOLLOW_WAY_MARGIN, 0.0
+    for j in range(path_size(s, seg, False) - 1):
+        a, b = path_point(s, seg, j, False), path_point(s, seg, j + 1, False)
+        along, dist = project(p.pos, a, b)
+        if dist < reach and 0.0 < arc + along <= FOLLOW_WAY_AHEAD:
+            return True
+        arc += abs(b - a)
+        if arc > FOLLOW_WAY_AHEAD:
+            break
+    return False
 
 
 @jit
