@@ -75,7 +75,7 @@ def _marker(store: Typestore, stamp_ns: int, ns: str, ident: int, kind: int, *, 
 
 def scene_graph_markers(store: Typestore, location: Location, stamp_ns: int) -> Any:
     """Nodes as small spheres labelled `id TYPE`, edges as one line list."""
-    cls = store.types[MARKER]
+    cls: Any = store.types[MARKER]  # a generated message class: its constants are not typed
     graph = location.scene_graph
     markers = []
     where = {n: location.node_world(n) for n in graph.node_ids()}
@@ -95,7 +95,7 @@ def path_markers(store: Typestore, location: Location | None, plan: PathPlan | N
                  stamp_ns: int) -> Any:
     """The robot's waypoints (red) and each human's planned path (its colour) as line strips; interaction
     points as stars' stand-ins (larger spheres)."""
-    cls = store.types[MARKER]
+    cls: Any = store.types[MARKER]  # a generated message class: its constants are not typed
     markers = [_marker(store, stamp_ns, "robot_path", 0, cls.LINE_STRIP, scale=(0.08, 0.0, 0.0), rgb=ROBOT_COLOUR,
                        points=[point(store, x, y, 0.02) for x, y in trace.robot_waypoints])]
     if location is not None and plan is not None:
@@ -116,7 +116,7 @@ def path_markers(store: Typestore, location: Location | None, plan: PathPlan | N
 def agent_markers(store: Typestore, trace: Trace, k: int, stamp_ns: int) -> Any:
     """Step k: the robot and every human as a disc of its radius, each labelled with its name, the phrase
     it shows and (humans) the action its tree runs."""
-    cls = store.types[MARKER]
+    cls: Any = store.types[MARKER]  # a generated message class: its constants are not typed
     markers = []
     rx, ry, ryaw = (float(v) for v in trace.robot[k, :3])
     markers.append(_marker(store, stamp_ns, "robot", 0, cls.CYLINDER, x=rx, y=ry, yaw=ryaw, z=0.25,

@@ -71,7 +71,7 @@ class NodeSpec(BaseModel):
     ports: list[Port] = Field(default_factory=list)
     description: str  # what the model is told (prompt) and what the simulator implements
     capability: str | None = None  # one line for the stage-1 "what humans can do" list
-    targets: set[Target] = Field(default_factory=lambda: {"socrates"})
+    targets: set[Target] = Field(default_factory=lambda: {cast(Target, "socrates")})
     hunav2: str | None = None  # name of the 2.x equivalent node (None = no equivalent)
     hunav1: str | None = None  # name in upstream 1.x (None = not available)
     sim_note: str | None = None  # where our simulator differs from Gazebo/HuNavSim, and why
@@ -117,7 +117,7 @@ def _dist(meaning: str) -> Port:
 
 
 def _builtin(name: str, kind: NodeKind, description: str, *, in_prompt: bool = False, hunav2: str | None = None,
-             ports: list[Port] | None = None, **fields: object) -> NodeSpec:
+             ports: list[Port] | None = None, **fields: Any) -> NodeSpec:
     """A node BT.CPP itself registers: every target runs it under its own name (hunav2: `hunav2` when the
     translation changes it). Controls take one or more children, decorators exactly one, the rest none."""
     children = {"control": (1, None), "decorator": (1, 1)}.get(kind, (0, 0))

@@ -71,21 +71,26 @@ class _Parser:
 
     def run(self, text: object) -> Document | None:
         if not isinstance(text, str):
-            return self.add(f"expected XML text, got {type(text).__name__}", None)
+            self.add(f"expected XML text, got {type(text).__name__}", None)
+            return None
         if len(text) > MAX_XML_BYTES:  # cheap pre-check: characters <= bytes
-            return self.add(f"XML is larger than {MAX_XML_BYTES} bytes; a behavior tree is a few kilobytes", None)
+            self.add(f"XML is larger than {MAX_XML_BYTES} bytes; a behavior tree is a few kilobytes", None)
+            return None
         if not text.strip():
-            return self.add("the tree is empty; expected <root main_tree_to_execute='...'> with a <BehaviorTree>",
-                            None)
+            self.add("the tree is empty; expected <root main_tree_to_execute='...'> with a <BehaviorTree>",
+                     None)
+            return None
         try:
             text.encode("utf-8")
         except UnicodeEncodeError as exc:
             line = text.count("\n", 0, exc.start) + 1
-            return self.add(f"XML does not parse: invalid character (lone surrogate) at offset {exc.start}", line)
+            self.add(f"XML does not parse: invalid character (lone surrogate) at offset {exc.start}", line)
+            return None
         try:
             root = read_xml(text, self.source)
         except SocnavgenError as exc:
-            return self.add(exc.message, exc.line)
+            self.add(exc.message, exc.line)
+            return None
         return self.document(root)
 
     # -- the file ------------------------------------------------------------------------------------
@@ -132,12 +137,14 @@ class _Parser:
     def collect(self, elem: BTElement, elements: dict[str, BTElement]) -> None:
         tree_id = elem.attrs.get("ID")
         if not tree_id:
-            return self.add("<BehaviorTree> without an ID attribute", elem.line)
+            self.add("<BehaviorTree> without an ID attribute", elem.line)
+            return None
         for key in elem.attrs:
             if key not in ("ID", "name"):
                 self.add(f"unknown attribute '{key}' on <BehaviorTree ID='{tree_id}'>", elem.line)
         if tree_id in elements:
-            return self.add(f"BehaviorTree ID '{tree_id}' is defined twice", elem.line)
+            self.add(f"BehaviorTree ID '{tree_id}' is defined twice", elem.line)
+            return None
         elements[tree_id] = elem
 
     def include(self, elem: BTElement) -> list[str]:
@@ -253,19 +260,23 @@ class _Parser:
         if spec.name == "SetBlackboard" and port.name == "output_key":
             if KEY_NAME.match(text):
                 return text
-            return self.add(f"{where}: output_key is a blackboard key name without braces, e.g. "
-                            f"output_key='agentid'", line)
+            self.add(f"{where}: output_key is a blackboard key name without braces, e.g. "
+                     f"output_key='agentid'", line)
+            return None
         if ref:
             return Ref(ref.group(1))
         if "{" in text or "}" in text:
-            return self.add(f"{where}: malformed blackboard reference; write {{key}} (e.g. {{id}}, {{dt}})", line)
+            self.add(f"{where}: malformed blackboard reference; write {{key}} (e.g. {{id}}, {{dt}})", line)
+            return None
         if port.reads_root is not None:
-            return self.add(f"{where}: {port.name} must be {{{port.reads_root}}} "
-                            f"({ROOT_MEANING[port.reads_root]} from the blackboard)", line)
+            self.add(f"{where}: {port.name} must be {{{port.reads_root}}} "
+                     f"({ROOT_MEANING[port.reads_root]} from the blackboard)", line)
+            return None
         try:
             value = parse_literal(text, port.type)
         except LiteralError as exc:
-            return self.add(f"{where}: {port.name} {exc}", line)
+            self.add(f"{where}: {port.name} {exc}", line)
+            return None
         return value if self.in_range(where, port, value, line) else None
 
     def in_range(self, where: str, port: Port, value: object, line: int | None) -> bool:
@@ -277,7 +288,8 @@ class _Parser:
     def call(self, attrs: dict[str, str], line: int | None) -> SubTreeCall | None:
         tree_id = attrs.pop("ID", None)
         if not tree_id:
-            return self.add("SubTree is missing required port 'ID' (the BehaviorTree to run)", line)
+            self.add("SubTree is missing required port 'ID' (the BehaviorTree to run)", line)
+            return None
         if tree_id not in self.known_trees:
             for file_name, library_id in LIBRARY_TREES.items():
                 if library_id == tree_id:

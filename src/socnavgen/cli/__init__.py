@@ -16,6 +16,10 @@ from typer.core import TyperGroup
 
 from socnavgen import __version__
 
+# A command object: click's Command, or with typer>=0.29 the Command of the copy of click it vendors
+# (typer._click, a private module whose classes are not click's); both have what this module uses.
+Command = Any
+
 
 def typer_app(**kwargs: Any) -> typer.Typer:
     """Every Typer app of the command line: click's plain help (whole option names, wrapped between words, no
@@ -24,10 +28,10 @@ def typer_app(**kwargs: Any) -> typer.Typer:
     return typer.Typer(rich_markup_mode=None, add_completion=False, pretty_exceptions_enable=False, **kwargs)
 
 
-def _group(module: str, extra: tuple[str, str] | None = None) -> Callable[[], click.Command]:
+def _group(module: str, extra: tuple[str, str] | None = None) -> Callable[[], Command]:
     """Loader of a command group: `module.app` (+ `extra` = (module, register function) adding to it)."""
 
-    def load() -> click.Command:
+    def load() -> Command:
         app = importlib.import_module(f"socnavgen.cli.{module}").app
         if extra is not None:
             getattr(importlib.import_module(f"socnavgen.cli.{extra[0]}"), extra[1])(app)
@@ -36,10 +40,10 @@ def _group(module: str, extra: tuple[str, str] | None = None) -> Callable[[], cl
     return load
 
 
-def _single(module: str, register: str, name: str) -> Callable[[], click.Command]:
+def _single(module: str, register: str, name: str) -> Callable[[], Command]:
     """Loader of one command that `module.register(app)` adds to an app."""
 
-    def load() -> click.Command:
+    def load() -> Command:
         holder = typer_app()
         getattr(importlib.import_module(f"socnavgen.cli.{module}"), register)(holder)
         group = typer.main.get_command(holder)
@@ -51,7 +55,7 @@ def _single(module: str, register: str, name: str) -> Callable[[], click.Command
 
 
 # name -> (loader, one-line help shown by `socnavgen --help`), in the order of the typical flow
-COMMANDS: dict[str, tuple[Callable[[], click.Command], str]] = {
+COMMANDS: dict[str, tuple[Callable[[], Command], str]] = {
     "location": (_group("location_cmd", ("extract_cmd", "register_extract")),
                  "Check, render, import and extract locations (map + scene graph)."),
     "annotate": (_single("annotate_cmd", "register", "annotate"), "Draw or fix a scene graph in the browser."),
@@ -73,17 +77,17 @@ class LazyGroup(TyperGroup):
 
     _listing = False
 
-    def list_commands(self, ctx: click.Context) -> list[str]:
+    def list_commands(self, ctx: Any) -> list[str]:
         return [*COMMANDS, *(n for n in super().list_commands(ctx) if n not in COMMANDS)]
 
-    def get_command(self, ctx: click.Context, cmd_name: str) -> click.Command | None:
+    def get_command(self, ctx: Any, cmd_name: str) -> Command | None:
         if cmd_name not in COMMANDS:
             return super().get_command(ctx, cmd_name)
         if self._listing:  # help listing: name and short help only
             return click.Command(cmd_name, help=COMMANDS[cmd_name][1])
         return _load(cmd_name)
 
-    def format_help(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
+    def format_help(self, ctx: Any, formatter: Any) -> None:
         self._listing = True
         try:
             super().format_help(ctx, formatter)
@@ -92,7 +96,7 @@ class LazyGroup(TyperGroup):
 
 
 @cache
-def _load(name: str) -> click.Command:
+def _load(name: str) -> Command:
     return COMMANDS[name][0]()
 
 

@@ -6,6 +6,7 @@ run would be, then simulated and verified. The table says, per fixture, whether 
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 from pydantic import BaseModel
 
@@ -59,7 +60,9 @@ def _first_answers_verified(request: ScenarioRequest, out: Path) -> bool | None:
 
 
 def _eyes(data: dict) -> tuple[str, bool | None]:
-    eyes = data.get("eyes") if isinstance(data.get("eyes"), dict) else {}
+    eyes = data.get("eyes")
+    if not isinstance(eyes, dict):
+        eyes = {}
     matches = eyes.get("matches")
     return str(eyes.get("seen") or ""), matches if isinstance(matches, bool) else None
 
@@ -171,7 +174,7 @@ def record_fixture(run_dir: Path, out: Path, note: str = "") -> Path:
 
     run = RunFolder(run_dir)
     request = run.read_request()
-    stages: dict[str, object] = {}
+    stages: dict[str, Any] = {}  # stage -> [raw] or {key: [raw]}
     model = None
     for entry in read_transcript(run.transcript_path):
         raw, stage = entry.get("raw"), entry.get("stage")
@@ -180,9 +183,9 @@ def record_fixture(run_dir: Path, out: Path, note: str = "") -> Path:
         model = model or entry.get("model")
         key = entry.get("key")
         if key is None:
-            stages.setdefault(stage, []).append(raw)  # type: ignore[union-attr]
+            stages.setdefault(stage, []).append(raw)
         else:
-            stages.setdefault(stage, {}).setdefault(key, []).append(raw)  # type: ignore[union-attr]
+            stages.setdefault(stage, {}).setdefault(key, []).append(raw)
     fields = {k: v for k, v in request.model_dump(include={"location", "context", "task", "rough", "target"}).items()
               if v is not None}
     loop = "verify" in run.read_manifest().stages

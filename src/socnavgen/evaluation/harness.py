@@ -10,6 +10,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from datetime import UTC, datetime
 from pathlib import Path
+from typing import Any
 
 from pydantic import BaseModel, Field
 
@@ -54,7 +55,7 @@ def _slug(text: str) -> str:
 
 def plan_jobs(suite: EvalSuite, settings: EvalSettings, location: str) -> list[Job]:
     """Every run the evaluation needs, in a stable order (so resuming finds the same folders)."""
-    common = dict(location=location, llm=settings.llm, temperature=settings.temperature,
+    common: dict[str, Any] = dict(location=location, llm=settings.llm, temperature=settings.temperature,
                   max_requeries=settings.max_requeries, max_restarts=settings.max_restarts)
     jobs: list[Job] = []
     runs = settings.out / "runs"
@@ -67,13 +68,13 @@ def plan_jobs(suite: EvalSuite, settings: EvalSettings, location: str) -> list[J
                                               rough=scene.rough if with_rough else None, seed=i, **common)
                     jobs.append(Job("I", scene.name, "proposal", with_rough, i, folder, request))
     if "III" in settings.tables:
-        for scene in suite.path_scenes:
+        for path_scene in suite.path_scenes:
             for method in settings.methods:
                 for i in range(settings.runs):
-                    folder = runs / "table3" / _slug(scene.name) / method / f"{i:02d}"
-                    request = ScenarioRequest(context=suite.path_context, task=suite.path_task, rough=scene.rough,
-                                              naive=method == "naive", seed=i, **common)
-                    jobs.append(Job("III", scene.name, method, True, i, folder, request))
+                    folder = runs / "table3" / _slug(path_scene.name) / method / f"{i:02d}"
+                    request = ScenarioRequest(context=suite.path_context, task=suite.path_task,
+                                              rough=path_scene.rough, naive=method == "naive", seed=i, **common)
+                    jobs.append(Job("III", path_scene.name, method, True, i, folder, request))
     return jobs
 
 

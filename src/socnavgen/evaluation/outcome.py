@@ -4,7 +4,7 @@ so an interrupted evaluation resumes from the folders already written."""
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Literal
+from typing import Any, Literal
 
 from pydantic import BaseModel
 
@@ -84,7 +84,7 @@ def _naive_parts_ever_valid(folder: Path) -> tuple[bool, bool, bool, bool]:
 def read_outcome(folder: Path, *, table: Literal["I", "III"], scene: str, method: str, rough: bool,
                  index: int) -> RunOutcome:
     run = RunFolder(folder)
-    base = dict(table=table, scene=scene, method=method, rough=rough, index=index, folder=str(folder))
+    base: dict[str, Any] = dict(table=table, scene=scene, method=method, rough=rough, index=index, folder=str(folder))
     if not run.manifest_path.is_file():
         return RunOutcome(**base, finished=False)
     manifest = run.read_manifest()

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import re
 import sys
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from functools import cache
 
@@ -41,7 +42,7 @@ class Grammar:
     rules: dict[str, list[list[Symbol]]] = field(default_factory=dict)
     root: str = "root"
 
-    def add(self, name: str, *alternatives: list[Symbol]) -> str:
+    def add(self, name: str, *alternatives: Sequence[Symbol]) -> str:
         if name in self.rules:
             raise ValueError(f"rule {name} defined twice")
         self.rules[name] = [list(a) for a in alternatives]

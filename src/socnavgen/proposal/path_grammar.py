@@ -57,10 +57,10 @@ def build_paths_grammar(graph: nx.Graph, humans: list[str], spec: ScenarioSpec |
         xi = index[x]
         dist = nx.single_source_shortest_path_length(graph, x)
         _add_walks(g, graph, x, xi, dist, index)
-        reachable = sorted(dist, key=index.get)
+        reachable = sorted(dist, key=index.__getitem__)
         starts_at: dict[str, list[list[Symbol]]] = {u: [[Ref(f"to{xi}-{index[u]}")]] for u in reachable if u != x}
         starts_at[x] = [[_q(x), Lit(", "), _q(w), Ref(f"away{xi}-{index[w]}")]
-                        for w in sorted(graph.neighbors(x), key=index.get)]
+                        for w in sorted(graph.neighbors(x), key=index.__getitem__)]
         points = ", ".join(f'"{h}": {json.dumps(x)}' for h in humans)
         # after X's shared prefix, one alternative per robot start S (clear_starts), or one for any start: the
         # choice of S is made where the robot's path begins, so the sampler never tracks more than ~V branches
@@ -99,23 +99,23 @@ def build_paths_grammar(graph: nx.Graph, humans: list[str], spec: ScenarioSpec |
 def _add_walks(g: Grammar, graph: nx.Graph, x: str, xi: int, dist: dict[str, int], index: dict[str, int]) -> None:
     """to{X}-{u}: a walk from u to X (each step one hop closer) continuing away from X;
     away{X}-{u}: the rest of a walk leaving X (each step one hop farther), possibly empty."""
-    for u in sorted(dist, key=index.get):
+    for u in sorted(dist, key=index.__getitem__):
         ui = index[u]
         if u == x:
             g.add(f"to{xi}-{ui}", [_q(x), Ref(f"away{xi}-{ui}")])
         else:
             alts: list[list[Symbol]] = []
-            for w in sorted(graph.neighbors(u), key=index.get):
+            for w in sorted(graph.neighbors(u), key=index.__getitem__):
                 if dist.get(w) == dist[u] - 1:
                     if w == x:  # arriving at X from u: do not leave X back to u
                         alts.append([Lit(", "), _q(x), Ref(f"leave{xi}-{ui}")])
                     else:
                         alts.append([Lit(", "), Ref(f"to{xi}-{index[w]}")])
             g.add(f"to{xi}-{ui}", *[[_q(u), *alt] for alt in alts])
-        farther = [w for w in sorted(graph.neighbors(u), key=index.get) if dist.get(w) == dist[u] + 1]
+        farther = [w for w in sorted(graph.neighbors(u), key=index.__getitem__) if dist.get(w) == dist[u] + 1]
         g.add(f"away{xi}-{ui}", [], *[[Lit(", "), _q(w), Ref(f"away{xi}-{index[w]}")] for w in farther])
         if dist[u] == 1:
-            others = [w for w in sorted(graph.neighbors(x), key=index.get) if w != u]
+            others = [w for w in sorted(graph.neighbors(x), key=index.__getitem__) if w != u]
             g.add(f"leave{xi}-{ui}", [], *[[Lit(", "), _q(w), Ref(f"away{xi}-{index[w]}")] for w in others])
 
 

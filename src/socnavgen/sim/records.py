@@ -7,7 +7,7 @@ reads and writes their fields by name too."""
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -41,5 +41,8 @@ class Columns:
 
     def __init__(self, rows: np.ndarray) -> None:
         base = rows.view(np.ndarray)
-        for name in base.dtype.names:
+        for name in base.dtype.names or ():
             setattr(self, name, base[name])
+
+    if TYPE_CHECKING:  # the fields are set per table; each is an array
+        def __getattr__(self, name: str) -> np.ndarray: ...

@@ -15,6 +15,7 @@ import re
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
+from typing import TypeVar
 
 import numpy as np
 
@@ -56,6 +57,8 @@ HUMAN_PHRASES = {phrase_id(w): code for code, w in HUMAN_GESTURES.items() if cod
 
 class UnknownSignal(ValueError):
     """A formula names a signal that does not exist for this run."""
+
+_T = TypeVar("_T")
 
 
 @dataclass(frozen=True)
@@ -109,7 +112,7 @@ class Signals:
         self._los: np.ndarray | None = None
         self._kept: dict[object, object] = {}  # geometry several signals, evidence and blame share
 
-    def _keep(self, key: object, build: Callable[[], object]) -> object:
+    def _keep(self, key: object, build: Callable[[], _T]) -> _T:
         if key not in self._kept:
             self._kept[key] = build()
         return self._kept[key]

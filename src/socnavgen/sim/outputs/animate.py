@@ -33,7 +33,7 @@ from socnavgen.sim.outputs.plot import (
     plt,
     view_limits,
 )
-from socnavgen.sim.trace import YAW, Trace
+from socnavgen.sim.trace import YAW, Trace, X, Y
 
 FONT_PX = 11  # caption / bubble font size in pixels
 HEADER_PX = 26  # white strip above the map for the clock (never clipped, never over the data)
@@ -183,10 +183,11 @@ def _render_frames(trace: Trace, location: Any, idx: np.ndarray, plan: Any, widt
         draw = ImageDraw.Draw(img)
         placer = LabelPlacer(bounds=(0, HEADER_PX, img.width, img.height))
         speech: list[tuple[float, float, float, str, bool]] = []
-        agents = [(name, *(float(v) for v in trace.humans[k, i, :YAW + 1]), float(trace.human_radii[i]),
-                   human_color(i)) for i, name in enumerate(trace.human_names)]
-        agents.append(("robot", *(float(v) for v in trace.robot[k, :YAW + 1]), float(trace.robot_radius),
-                       ROBOT_COLOR))
+        agents: list[tuple[str, float, float, float, float, str]] = [
+            (name, float(trace.humans[k, i, X]), float(trace.humans[k, i, Y]), float(trace.humans[k, i, YAW]),
+             float(trace.human_radii[i]), human_color(i)) for i, name in enumerate(trace.human_names)]
+        agents.append(("robot", float(trace.robot[k, X]), float(trace.robot[k, Y]), float(trace.robot[k, YAW]),
+                       float(trace.robot_radius), ROBOT_COLOR))
         for _name, x, y, yaw, radius, color in agents:  # discs first: captions keep off every agent
             canvas.agent(draw, x, y, yaw, radius, color)
             placer.reserve_point(*canvas.pixel(x, y), radius * canvas.px_per_m)

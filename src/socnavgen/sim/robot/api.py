@@ -303,7 +303,7 @@ def robot_from(spec: str, params: Mapping[str, Any] | None = None) -> tuple[Any,
                                  f"{body.max_speed:g} m/s", hint="raise body_max_speed too")
         return cls(**{k: float(v) for k, v in params.items()}), body
     if spec in BASELINES:
-        known = inspect.signature(_import_class(BASELINES[spec])).parameters
+        known = dict(inspect.signature(_import_class(BASELINES[spec])).parameters)
         for key, value in params.items():
             if key not in known:
                 raise InputFileError(f"robot {spec} has no parameter {key!r}",
@@ -334,6 +334,8 @@ def load_policy(spec: str, params: Mapping[str, Any] | None = None) -> Any:
             if not path.is_file():
                 raise InputFileError("robot policy file not found", file=path)
             mod_spec = importlib.util.spec_from_file_location(f"socnavgen_user_policy_{path.stem}", path)
+            if mod_spec is None or mod_spec.loader is None:
+                raise InputFileError("robot policy file cannot be loaded as a Python module", file=path)
             module = importlib.util.module_from_spec(mod_spec)
             mod_spec.loader.exec_module(module)
         else:
