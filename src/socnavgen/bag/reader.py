@@ -223,7 +223,7 @@ def _read(reader: Reader, path: Path, topics: ReadTopics, forced: str) -> Record
         if count > 2 * MAX_STATE_MESSAGES:
             raise BagError(f"the bag holds more than {2 * MAX_STATE_MESSAGES} state messages", file=path,
                            hint="cut one episode out of it (ros2 bag convert / mcap filter) and pass that")
-        msg = store.deserialize_cdr(raw, conn.msgtype)
+        msg: Any = store.deserialize_cdr(raw, conn.msgtype)  # a generated message class of conn.msgtype
         if conn is humans:
             if len(msg.agents) > MAX_AGENTS:
                 raise BagError(f"a message on {conn.topic} lists {len(msg.agents)} agents", file=path,

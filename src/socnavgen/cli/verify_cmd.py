@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import typer
 
@@ -12,7 +13,7 @@ from socnavgen.verify.models import VerifySettings
 _FIELDS = VerifySettings.model_fields  # the one source of the thresholds' defaults, ranges and meanings
 
 
-def _option(name: str) -> object:
+def _option(name: str) -> Any:
     """A typer option for the VerifySettings field `name`: its default, its range (NaN, infinity and values
     outside it refused with one message) and its description as help."""
     info = _FIELDS[name]

@@ -43,7 +43,7 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
 from __future__ import annotations
 
 import re
-from typing import Any
+from typing import Any, TypeGuard
 
 import numpy as np
 
@@ -130,7 +130,7 @@ def place_problem(cc: Compiled, location: Any) -> str | None:
     checks use too), or None."""
     enc = cc.encounter
     inventory = getattr(location, "inventory", None) if enc is not None else None
-    if inventory is None:
+    if enc is None or inventory is None:
         return None
     reason = inventory.unworkable_reason(enc.place)
     if reason:
@@ -154,7 +154,7 @@ def _walked_into_robot(s: Signals) -> str | None:
     return None
 
 
-def _never_said(s: Signals, phrase: str | None) -> bool:
+def _never_said(s: Signals, phrase: str | None) -> TypeGuard[str]:
     return bool(phrase) and not (s.get(f"robot_says_{phrase}") > 0.5).any()
 
 

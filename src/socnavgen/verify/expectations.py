@@ -8,7 +8,7 @@ from socnavgen.bt.library import ROBOT_GESTURES
 from socnavgen.bt.model import Entry, Node, literal_text
 from socnavgen.errors import ValidationFailed
 from socnavgen.run.models import PathPlan
-from socnavgen.verify.models import Expectation
+from socnavgen.verify.models import Expectation, ExpectationKind
 
 # What makes a node key is in the library table: `interaction` actions are the tree's reason to exist,
 # `gate` conditions let them run when they precede them in a sequence-like control; a `message` port
@@ -67,7 +67,7 @@ def tree_expectations(human: str, xml: str) -> list[Expectation]:
         gesture = _gesture(node) if node.spec is not None and node.spec.port("message") is not None else None
         key = f"{node.name}({_ports(node)})" if gesture is not None else node.name
         if key not in actions:
-            kind = "gives_way_while_passing" if node.name == "GiveWaytoRobot" else "executes"
+            kind: ExpectationKind = "gives_way_while_passing" if node.name == "GiveWaytoRobot" else "executes"
             name = (f"{human} gives way while the robot passes" if kind == "gives_way_while_passing"
                     else f"{human} executes {key}")
             actions[key] = Expectation(
@@ -79,7 +79,7 @@ def tree_expectations(human: str, xml: str) -> list[Expectation]:
             message = _message_of(gate)
             key = gate.name if message is None else f"{gate.name}({message})"
             if key not in conditions:
-                shown = gate.name if gate.name != "RobotSays" else f"RobotSays({ROBOT_GESTURES.get(message, message)})"
+                shown = gate.name if gate.name != "RobotSays" else f"RobotSays({ROBOT_GESTURES.get(message, message) if message is not None else None})"
                 conditions[key] = Expectation(
                     kind="executes", name=f"{human}: {shown} succeeds", source="tree", human=human,
                     node=gate.name, message=message, detail=f"{label} at line {gate.line} gates {node.name}")
@@ -97,7 +97,7 @@ def card_tree_expectations(criteria: list[dict]) -> list[Expectation]:
         label = ", ".join(f"{k}={v}" for k, v in crit.items() if k != "kind")
         node = str(crit.get("node") or "")
         within = crit.get("within")
-        kind = "gives_way_while_passing" if node == "GiveWaytoRobot" else "executes"
+        kind: ExpectationKind = "gives_way_while_passing" if node == "GiveWaytoRobot" else "executes"
         out.append(Expectation(kind=kind, name=f"card: {human or 'a human'} executes {node or '?'}", source="card",
                                human=human, node=node or None, detail=label,
                                within=float(within) if isinstance(within, int | float) else None))

@@ -15,7 +15,7 @@ import re
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import TypeVar
+from typing import Any, TypeVar
 
 import numpy as np
 
@@ -110,7 +110,7 @@ class Signals:
         self.goal_radius = goal_radius
         self._cache: dict[str, np.ndarray] = {}
         self._los: np.ndarray | None = None
-        self._kept: dict[object, object] = {}  # geometry several signals, evidence and blame share
+        self._kept: dict[object, Any] = {}  # geometry several signals, evidence and blame share
 
     def _keep(self, key: object, build: Callable[[], _T]) -> _T:
         if key not in self._kept:
