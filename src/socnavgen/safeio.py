@@ -8,13 +8,16 @@ import os
 import re
 import tempfile
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import yaml
 
 from socnavgen.errors import InputFileError
 
-M = TypeVar("M")
+if TYPE_CHECKING:
+    from pydantic import BaseModel
+
+M = TypeVar("M", bound="BaseModel")
 
 MAX_TEXT_BYTES = 8 * 1024 * 1024  # JSON / YAML / XML a user or a model can hand us
 MAX_IMAGE_BYTES = 64 * 1024 * 1024

@@ -174,8 +174,8 @@ class _Expander:
                 ports[name] = value
         if node.name == "SetBlackboard" and "output_key" in node.ports:
             out = ports["output_key"] = self.resolve(scope, str(node.ports["output_key"]))[0]
-            value = node.ports.get("value")
-            held = copied if isinstance(value, Ref) else _Held("text", value) if isinstance(value, str) else None
+            given = node.ports.get("value")
+            held = copied if isinstance(given, Ref) else _Held("text", given) if isinstance(given, str) else None
             if held is not None:
                 self.held[out] = held
         kids = [self.node(child, scope, depth) for child in node.children]
@@ -265,9 +265,9 @@ class _Expander:
             self.add(f"SubTree '{call.call.tree}' {key}='{text}': blackboard key '{entry.key}' is not set before "
                      f"this SubTree; add <SetBlackboard output_key='{entry.key}' value='{{{key}}}'/> before it",
                      call)
-        elif entry.scope != 0 and self.scopes[entry.scope].call is not None:
-            call = self.scopes[entry.scope].call
-            assert call is not None and call.call is not None
+        elif entry.scope != 0 and (outer := self.scopes[entry.scope].call) is not None:
+            call = outer
+            assert call.call is not None
             self.add(f"SubTree '{call.call.tree}' does not pass blackboard key '{entry.key}'; copy it first with "
                      f"<SetBlackboard output_key='...' value='{{{entry.key}}}'/> and remap it, e.g. "
                      f"<SubTree ID='RegularNavTree' id='agentid' dt='timestep'/>", call)

@@ -163,6 +163,14 @@ class _Speech:
         return _any([c for c, _ in heard]), f"{phrase} ({message}) is heard on {what}"
 
 
+def _message(n: Node) -> int:
+    """The literal gesture code of a RobotSays/RobotSaid node (a checked tree holds a number there)."""
+    value = n.ports.get("message", 0)
+    if not isinstance(value, int | float | str):
+        raise TypeError(f"{n.name} at line {n.line}: message is not a literal")
+    return int(value)
+
+
 def rebuild(root: Node, swap: Callable[[Node], Node | None], keep: set[Node]) -> Node:
     """`root` with every node `swap` replaces (it returns None to keep one), rebuilt bottom-up; a rebuilt
     control that was in `keep` stays in it."""
@@ -188,7 +196,7 @@ def rewrite_phrases(doc: Document, human: HumanExport, scene: ExportScene,
     def says(n: Node) -> Node | None:
         if n.name != "RobotSays":
             return None
-        cond, why = speech.condition(int(n.ports.get("message", 0)), latched=False)
+        cond, why = speech.condition(_message(n), latched=False)
         notes.append(Spoken(n.line, n.name, why, refused=cond is None))
         return cond
 
@@ -198,8 +206,9 @@ def rewrite_phrases(doc: Document, human: HumanExport, scene: ExportScene,
             if n.name == "RobotSaid" and tid != doc.main_tree:
                 notes.append(Spoken(n.line, n.name, "RobotSaid inside a SubTree cannot be latched", refused=True))
     main = roots.get(doc.main_tree or "")
-    said = sorted({int(n.ports.get("message", 0)) for n in main.walk() if n.name == "RobotSaid"}) if main else []
+    said = sorted({_message(n) for n in main.walk() if n.name == "RobotSaid"}) if main else []
     for message in said:
+        assert main is not None  # said is empty without a main tree
         cond, why = speech.condition(message, latched=True)
         lines = [n.line for n in main.walk() if n.name == "RobotSaid" and n.ports.get("message") == message]
         notes.append(Spoken(lines[0], "RobotSaid", why + " (latched)", refused=cond is None))
@@ -212,7 +221,10 @@ def rewrite_phrases(doc: Document, human: HumanExport, scene: ExportScene,
             return None
 
         after = rebuild(main, heard, keep)
-        before = rebuild(main, lambda n, m=message: heard(n, m, False), keep)
+        def unheard(n: Node, m: int = message) -> Node | None:
+            return heard(n, m, False)
+
+        before = rebuild(main, unheard, keep)
         main = latch(cond, after, before, keep, f"socnavgen_said_{message}")
     if main is not None:
         roots[doc.main_tree or ""] = main

@@ -14,8 +14,10 @@ from __future__ import annotations
 import math
 import os
 import xml.etree.ElementTree as ET
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -106,7 +108,7 @@ class _Builder:
     def __init__(self, file: Path) -> None:
         self._tb = ET.TreeBuilder()
         self.lines: dict[int, int] = {}
-        self.parser = None
+        self.parser: Any = None  # the expat parser, for line numbers
         self.depth = 0
         self.count = 0
         self.file = file
@@ -241,7 +243,7 @@ class Frames:
 class ModelPaths:
     """Folders holding Gazebo models (NAME/model.config, NAME/model.sdf); files may not leave them."""
 
-    def __init__(self, folders: list[Path], world_dir: Path, env: dict[str, str] | None = None) -> None:
+    def __init__(self, folders: list[Path], world_dir: Path, env: Mapping[str, str] | None = None) -> None:
         env = os.environ if env is None else env
         found = [Path(f) for f in folders]
         for var in ENV_MODEL_PATHS:

@@ -140,7 +140,7 @@ def _read_checked(path: Path) -> tuple[dict[str, np.ndarray], dict]:
 def _checked_meta(meta: object) -> dict:
     if not isinstance(meta, dict):
         raise TraceError("its metadata is not a JSON object")
-    kinds = {"dt": (int, float), "human_names": list, "group_ids": list, "robot_radius": (int, float),
+    kinds: dict[str, type | tuple[type, ...]] = {"dt": (int, float), "human_names": list, "group_ids": list, "robot_radius": (int, float),
              "node_names": list, "robot_waypoints": list, "end_reason": str, "meta": dict}
     for key, kind in kinds.items():
         if not isinstance(meta.get(key), kind) or isinstance(meta.get(key), bool):

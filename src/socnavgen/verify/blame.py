@@ -43,7 +43,7 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
 from __future__ import annotations
 
 import re
-from typing import Any, TypeGuard
+from typing import Any
 
 import numpy as np
 
@@ -154,7 +154,7 @@ def _walked_into_robot(s: Signals) -> str | None:
     return None
 
 
-def _never_said(s: Signals, phrase: str | None) -> TypeGuard[str]:
+def _never_said(s: Signals, phrase: str | None) -> bool:
     return bool(phrase) and not (s.get(f"robot_says_{phrase}") > 0.5).any()
 
 
@@ -197,7 +197,7 @@ def _stuck(cc: Compiled, s: Signals, spec: ScenarioSpec, settings_deadlock: floa
         return ("paths", None, f"{who} stood at its own goal ({at_goal}) beside the robot's route and the robot would "
                                "not pass: put that goal off the robot's way, or route the robot elsewhere")
     phrase = _waited_phrase(spec, who)
-    if _never_said(s, phrase):
+    if phrase and _never_said(s, phrase):
         return ("robot_script", None, f"{who} waits for the robot to say {phrase.replace('_', ' ').upper()}, "
                                       "which the script never says: add a cue (e.g. when blocked)")
     return ("behaviors", who, f"{who} stood in the robot's way {dead.max():.0f} s: its tree must let the robot "
@@ -248,7 +248,7 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
         return _blame_formula(cc, s)
     robot_phrase = cc.phrase if kind in ("reacts_after_phrase", "follows_robot") else \
         _waited_phrase(spec, h) if kind in ("meets", "says", "stops_near_robot", "gives_way", "blocks_robot") else None
-    if _never_said(s, robot_phrase):
+    if robot_phrase and _never_said(s, robot_phrase):
         return ("robot_script", None,
                 f"the robot never said {robot_phrase.replace('_', ' ').upper()}: add a cue that says it")
     if kind == "reacts_after_phrase" and h and cc.reaction:
