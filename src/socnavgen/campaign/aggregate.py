@@ -89,10 +89,10 @@ def aggregate(table: pa.Table, *, resamples: int = 2000, baseline: str | None = 
     ranking = [m for m in RANKING if m in data]
     per_location = {(loc, p): {m: est((location_col == loc) & (policy_col == p), m) for m in ranking}
                     for loc in locations for p in policies}
-    per_scenario = {(s, p): {m: est((scenario_col == s) & (policy_col == p), m)
+    per_scenario: dict[tuple[str, str], dict[str, Estimate]] = {(s, p): {m: est((scenario_col == s) & (policy_col == p), m)
                              for m in ("success", "reached_goal") if m in data}
                     for s in scenarios for p in policies}
-    baseline = baseline if baseline in policies else str(policy_col[0])  # default: the campaign's first policy
+    baseline = baseline if baseline is not None and baseline in policies else str(policy_col[0])  # default: the campaign's first policy
     return Aggregates(
         policies=policies, scenarios=scenarios, locations=locations, metrics=metrics, per_policy=per_policy,
         per_location=per_location, per_scenario=per_scenario,

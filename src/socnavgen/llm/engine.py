@@ -182,7 +182,8 @@ class Backend:
                      served_by=completion.model or self.model, **completion.extra)
         self.transcript.append(entry)
         self._account(stage, usage)
-        return Reply[schema](raw=completion.text, value=value, error=error, usage=usage,
+        # pydantic specialises Reply for this schema at run time; mypy cannot subscript a class by a variable
+        return Reply[schema](raw=completion.text, value=value, error=error, usage=usage,  # type: ignore[valid-type]
                              model=completion.model or self.model)
 
     def _attempt(self, request: Request, timeout: float) -> Completion:

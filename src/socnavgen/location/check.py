@@ -240,7 +240,8 @@ def _array_element_lines(text: str, key: str) -> list[int]:
     match = re.search(rf'"{key}"\s*:\s*\[', text)
     if not match:
         return []
-    decoder, i, lines = json.JSONDecoder(), match.end(), []
+    decoder, i = json.JSONDecoder(), match.end()
+    lines: list[int] = []
     try:
         while True:
             while text[i] in " \t\r\n,":

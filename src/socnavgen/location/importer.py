@@ -49,7 +49,8 @@ def _ordered_unique(values: list[str]) -> list[str]:
 def schema_for(graph: SceneGraph, config: Path | None, notes: list[str]) -> Schema:
     node_used = _ordered_unique([n.type for n in graph.nodes])
     edge_used = _ordered_unique([e.type for e in graph.links])
-    node_types, edge_types = [], []
+    node_types: list[str] = []
+    edge_types: list[str] = []
     if config is not None:
         data = load_yaml_file(config)
         if not isinstance(data, dict):

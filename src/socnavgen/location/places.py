@@ -182,7 +182,8 @@ class PlaceFinder:
 
     def _entry(self, family: str) -> list[Candidate]:
         """(P, T): T typed `family`, P a neighbour of T from which the route can continue outward."""
-        doors, others = [], []
+        doors: list[Candidate] = []
+        others: list[Candidate] = []
         for target in self.typed(family):
             for p in sorted(self.graph.neighbors(target)):
                 if type_matches(self.type_of(p), family) or self.graph.degree[p] < 2:

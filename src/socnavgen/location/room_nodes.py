@@ -316,7 +316,8 @@ def pulled_path(a: tuple[int, int], b: tuple[int, int], clearance: np.ndarray, m
             return segment_walkable(clearance, p[::-1], q[::-1], mpp)
         return first_tight_pixel(clearance, p[::-1], q[::-1], threshold) is None
 
-    vias, i = [], 0
+    vias: list[tuple[int, int]] = []
+    i = 0
     while True:
         j = len(path) - 1
         while j > i + 1 and not straight_ok(path[i], path[j]):

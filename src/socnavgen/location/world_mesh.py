@@ -14,6 +14,7 @@ import math
 import struct
 from dataclasses import dataclass
 from pathlib import Path
+from typing import cast
 
 import numpy as np
 
@@ -88,7 +89,8 @@ def load_mesh_file(path: Path, submesh: str | None = None) -> Triangles:
     if claimed > MAX_MESH_TRIANGLES:
         raise MeshError(f"claims {claimed} triangles, more than the {MAX_MESH_TRIANGLES} allowed in one mesh")
     try:
-        loaded = trimesh.load(io.BytesIO(data), file_type=suffix[1:], force="scene", process=False)
+        loaded = cast(trimesh.Scene, trimesh.load(io.BytesIO(data), file_type=suffix[1:], force="scene",
+                                                  process=False))
         if suffix == ".dae" and loaded.units not in (None, "meters", "meter", "m"):
             loaded = loaded.convert_units("meters", guess=False)
         if submesh:
@@ -175,10 +177,11 @@ class MeshLibrary:
     def get(self, geom: Geometry) -> Triangles:
         if geom.kind != "mesh":
             return primitive(geom)
+        assert geom.mesh is not None, "a mesh geometry names its file"
         key = (geom.mesh, geom.submesh)
         if key not in self.files:
             try:
-                tris = load_mesh_file(geom.mesh, geom.submesh)  # type: ignore[arg-type]
+                tris = load_mesh_file(geom.mesh, geom.submesh)
                 if self.triangles + len(tris) > MAX_TOTAL_TRIANGLES:
                     raise MeshError(f"the world's meshes hold more than {MAX_TOTAL_TRIANGLES} triangles")
                 self.triangles += len(tris)

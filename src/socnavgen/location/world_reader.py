@@ -187,7 +187,7 @@ class WorldReader:
             return Geometry("ellipsoid", tuple(_floats(_text(el.find("radii"), "1 1 1"), 3, "ellipsoid radii", where)))
         if el.tag == "plane":
             normal = _floats(_text(el.find("normal"), "0 0 1"), 3, "plane normal", where)
-            size = _floats(_text(el.find("size"), "1 1"), 2, "plane size", where)
+            size = tuple(_floats(_text(el.find("size"), "1 1"), 2, "plane size", where))
             return Geometry("plane", (*normal, *size))
         if el.tag == "polyline":
             pts = tuple(tuple(_floats(p.text, 2, "polyline point", doc.where(p))) for p in el.findall("point"))

@@ -104,7 +104,7 @@ def _approach_mistakes(reply: PathsReply, spec: ScenarioSpec, location: Location
                        paths: dict[str, list[str]]) -> list[str]:
     """A person waiting at an encounter's node (their path starts there) is met only after an approach: the
     node must be approach_room() from the robot's start, or they meet before anyone moved."""
-    mistakes = []
+    mistakes: list[str] = []
     if not robot or robot[0] not in location.inventory.nodes:
         return mistakes
     for enc in spec.encounters:

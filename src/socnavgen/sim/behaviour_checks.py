@@ -173,7 +173,7 @@ def _order_at_place(s: Situation, c: ExpectedCheck) -> float | None:
     t = np.asarray(s.trace.t, dtype=float)
     radius = c.within or 1.0
     robot = _first_time(np.abs(s.robot - s.place) <= radius, t)
-    people = (np.abs(s.people() - s.place) <= radius).any(axis=1)
+    people = np.asarray((np.abs(s.people() - s.place) <= radius).any(axis=1))
     person = _first_time(people, t)
     return None if robot is None or person is None else robot - person
 
@@ -227,7 +227,7 @@ def check_behaviour(trace: Trace, checks: list[ExpectedCheck], place: complex | 
     """(score, details): the share of the checks that applied and passed (None when none applied), and per
     check {check, value, passed} (passed None: did not apply)."""
     situation = Situation(trace, place, human)
-    details = []
+    details: list[dict[str, Any]] = []
     for c in checks:
         outcome = CHECKS[c.check][0](situation, c)
         value = None if outcome.value is None or not math.isfinite(outcome.value) else round(outcome.value, 4)

@@ -48,7 +48,7 @@ def row_min(a: np.ndarray) -> np.ndarray:
 def row_any(a: np.ndarray) -> np.ndarray:
     """a.any(axis=1) of a (T, H) bool array, column after column (see row_min)."""
     if a.ndim != 2 or not 0 < a.shape[1] <= 32 or a.dtype != bool:
-        return a.any(axis=1)
+        return np.asarray(a.any(axis=1))
     out = a[:, 0].copy()
     for k in range(1, a.shape[1]):
         out |= a[:, k]

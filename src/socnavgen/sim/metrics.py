@@ -222,8 +222,8 @@ def wrap(angle: np.ndarray) -> np.ndarray:
 def robot_goals(trace: Trace) -> list[tuple[float, float]]:
     """The goal the evaluator would attach to robot samples: the final goal (else the last waypoint)."""
     if trace.robot_goal is not None:
-        return [tuple(trace.robot_goal)]
-    return [tuple(trace.robot_waypoints[-1])] if trace.robot_waypoints else []
+        return [(trace.robot_goal[0], trace.robot_goal[1])]
+    return [(trace.robot_waypoints[-1][0], trace.robot_waypoints[-1][1])] if trace.robot_waypoints else []
 
 
 def _zone_share(values: np.ndarray, low: float, high: float, n: int) -> float:
@@ -326,7 +326,7 @@ def _own_metrics(trace: Trace, pairs: _Pairs | None = None, to_goal: np.ndarray 
     if goals and trace.steps > 0 and to_goal is None:
         pr = trace.robot[:, :2] - np.asarray(goals[-1])
         to_goal = hypot2(pr[:, 0], pr[:, 1])
-    reached = bool(goals) and trace.steps > 0 and float(to_goal.min()) <= radius
+    reached = bool(goals) and trace.steps > 0 and to_goal is not None and float(to_goal.min()) <= radius
     return {"success": bool(reached and collisions == 0), "collisions": collisions, "min_time_to_collision": min_ttc}
 
 

@@ -22,6 +22,8 @@ OBSTACLE_RANGE = 10.0  # m: the Gazebo wrapper sends each human the nearest obst
 class World:
     """Occupancy in metres: nearest wall point, clearance, line of sight. Never modified once built."""
 
+    _planner_fields: dict[tuple, np.ndarray]  # set by sim.robot.fields: its memo of arrays derived from the map
+
     def __init__(self, occupancy: OccupancyGrid, transform: Transform, obstacle_range: float = OBSTACLE_RANGE):
         self.occupancy = occupancy
         self.transform = transform

@@ -44,7 +44,7 @@ class WalkableDistance:
         self.k = self.grid.k
         self.size = self.grid.size  # metres per coarse cell
         self.free = self.grid.passable
-        self.routes: dict[tuple, float | None] = {}  # lengths of whole routes its users worked out, kept
+        self.routes: dict[tuple, float] = {}  # lengths of whole routes its users worked out, kept
 
     @classmethod
     def of(cls, world: Any, clearance: float = 0.0) -> WalkableDistance:
