@@ -34,7 +34,7 @@ def validate_bt_text(text: str, source: str = "<reply>", *, target: str = "socra
     if target not in TARGETS:
         problems.append(BTProblem(f"unknown target '{target}'; targets: {', '.join(TARGETS)}", None, source))
     try:
-        doc, _, found = check_text(text, source, known_nodes(target if target in TARGETS else None))  # type: ignore[arg-type]
+        doc, _, found = check_text(text, source, known_nodes(target if target in TARGETS else None))
         problems += found
         if doc is not None:
             problems += _context_problems(doc, target, human_ids, agent_id)

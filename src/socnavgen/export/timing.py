@@ -159,7 +159,7 @@ def hold_for(h: HumanExport, scene: ExportScene) -> Hold | None:
     The person waits HOLD_BEFORE before the node, at a goal: one of its path's when there is one there, else
     one added to its goals (`wait_goal`); it walks until it has reached that goal, counted with IsGoalReached -
     no clock, so the spot is the same whatever the simulator's walking speed."""
-    if not timed(h, scene):
+    if not timed(h, scene) or h.interaction_point is None:  # timed: it has one
         return None
     found = _route(h, scene)
     if found is None:

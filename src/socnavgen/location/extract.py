@@ -316,9 +316,9 @@ def _cuts(pts: np.ndarray, clearance: np.ndarray, geo: Geometry, i: int, j: int)
         if parts <= 1:
             return []
         marks = sorted({i + int(np.searchsorted(arc, arc[-1] * k / parts)) for k in range(1, parts)} - {i, j})
-        bounds, out = [i, *marks, j], []
-        for a, b in zip(bounds, bounds[1:], strict=False):  # a piece of a curved branch has its own chord
-            out += _cuts(pts, clearance, geo, a, b) + ([b] if b != j else [])
+        bounds, out = [i, *marks, j], list[int]()
+        for lo, hi in zip(bounds, bounds[1:], strict=False):  # a piece of a curved branch has its own chord
+            out += _cuts(pts, clearance, geo, lo, hi) + ([hi] if hi != j else [])
         return out
     d = pts[j] - pts[i]
     rel = seg - pts[i]

@@ -69,7 +69,8 @@ def dispatcher(name: str, functions: Sequence[Callable], arity: int) -> Callable
     env: dict[str, Any] = {f"f{k}": f for k, f in enumerate(functions)}
     exec("\n".join(lines), env)  # noqa: S102 - our own generated source, no user input
     if AVAILABLE:
-        overload(env[name], jit_options={"_nrt": False}, inline="always")(env["implement"])
+        # _nrt (no reference-counted runtime) is numba's own option, missing from its _JITOptions TypedDict
+        overload(env[name], jit_options={"_nrt": False}, inline="always")(env["implement"])  # type: ignore[typeddict-unknown-key]
     return env[name]
 
 

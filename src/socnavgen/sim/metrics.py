@@ -88,7 +88,7 @@ def hypot2(x: np.ndarray, y: np.ndarray) -> np.ndarray:
 
 
 def _directions(dx: np.ndarray, dy: np.ndarray, dvx: np.ndarray, dvy: np.ndarray, dist: np.ndarray,
-                sfm: EvaluatorSFM) -> tuple[np.ndarray, ...]:
+                sfm: EvaluatorSFM) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The parts of social_force that only change sign when source and target swap: (hx, hy) the unit vector
     from target to source, (tx, ty) the interaction direction, ok (a force exists), b (its range). Negating
     dx, dy, dvx and dvy negates hx, hy, tx and ty exactly (IEEE arithmetic is symmetric in sign)."""

@@ -104,7 +104,7 @@ class Signals:
         self._world_factory = world_factory  # builds the World only if a formula needs line of sight
         self.places = dict(places or {})
         if trace.robot_goal is not None and "goal" not in self.places:
-            self.places["goal"] = tuple(trace.robot_goal)
+            self.places["goal"] = (trace.robot_goal[0], trace.robot_goal[1])
         for node, point in (node_points or {}).items():
             self.places.setdefault(f"node_{node}", point)
         self.goal_radius = goal_radius
@@ -209,7 +209,7 @@ class Signals:
         """(progress (T,) m, tangent (T, 2)) of the robot along its waypoints (verify/route.py), computed once."""
         def build() -> tuple[np.ndarray, np.ndarray]:
             points = list(self.trace.robot_waypoints) or (
-                [tuple(self.trace.robot[0, :2]), tuple(self.places["goal"])] if "goal" in self.places and
+                [tuple(self.trace.robot[0, :2]), self.places["goal"]] if "goal" in self.places and
                 self.trace.steps else [])
             return route_progress(self.trace.robot[:, :2], points)
 

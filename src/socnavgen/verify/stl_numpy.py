@@ -267,7 +267,8 @@ class _Walker:
 
     def _TimedUntil(self, node: Any) -> np.ndarray:
         begin, end = self.window(node)
-        return _timed_until(*self._children(node), begin, end)
+        left, right = self._children(node)
+        return _timed_until(left, right, begin, end)
 
     def _TimedSince(self, node: Any) -> np.ndarray:
         """The past mirror of until: the same computation on the reversed series."""

@@ -233,13 +233,18 @@ def trajectory_figure(trace: Trace, location: Any, *, plan: Any = None, tick_eve
         fig.tight_layout(rect=(0, legend_below(fig, ax), 1, 1))
         # labels last, with the layout final: markers first, then names, time labels, node ids
         placer = axes_placer(ax)
+
+        def reserve(point: Any, radius: float) -> None:  # a world point's marker, in pixels
+            px, py = ax.transData.transform(point)
+            placer.reserve_point(px, py, radius=radius)
+
         for xy, _ in paths:
             for end in (xy[0], xy[-1]):
-                placer.reserve_point(*ax.transData.transform(end), radius=6)
+                reserve(end, 6)
         for x, y in points.values():
-            placer.reserve_point(*ax.transData.transform((x, y)), radius=8)
+            reserve((x, y), 8)
         if trace.robot_goal is not None:  # no label under the goal ring
-            placer.reserve_point(*ax.transData.transform(trace.robot_goal), radius=12)
+            reserve(trace.robot_goal, 12)
         for name, (x, y) in points.items():
             place_text(ax, placer, (x, y), name, fontsize=7, clearance=9, zorder=6)
         for xy, color in paths:
