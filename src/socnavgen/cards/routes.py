@@ -79,11 +79,11 @@ class RouteBuilder:
         if card.route in ("into", "out_of"):
             if other is None:
                 raise DoesNotFit(f"{p} has nothing behind it to enter")
-            a = min((n for n in self.g.neighbors(p) if n != other),
-                    key=lambda n: (self.f.turn_deg(n, p, other), n), default=None)
-            if a is None:
+            way_in = min((n for n in self.g.neighbors(p) if n != other),
+                         key=lambda n: (self.f.turn_deg(n, p, other), n), default=None)
+            if way_in is None:
                 raise DoesNotFit(f"{p} has no way in besides {other}")
-            route = self.extend(a, p, {p, other})[::-1] + [p, other]
+            route = self.extend(way_in, p, {p, other})[::-1] + [p, other]
             return route if card.route == "into" else route[::-1]
         # ends_at / starts_at: come from (go to) the neighbour with the longest way out
         sides = [self.extend(n, p, {p}) for n in sorted(self.g.neighbors(p))]

@@ -23,7 +23,7 @@ def connect_parts(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndarra
     parts = sorted(nx.connected_components(graph), key=len, reverse=True)
     if len(parts) < 2:
         return coords
-    points = [tuple(int(v) for v in p) for p in coords]
+    points = [(int(p[0]), int(p[1])) for p in coords]  # (row, col) pixels
     main = list(parts[0])
     for part in parts[1:]:
         a, b = min(((x, y) for x in part for y in main), key=lambda pair: math.dist(points[pair[0]], points[pair[1]]))
@@ -42,7 +42,7 @@ def reroute_blocked(graph: nx.MultiGraph, coords: np.ndarray, clearance: np.ndar
     """The last guarantee that the draft passes `location check`: an edge the traversability rule calls
     an error (a room's edge drawn through furniture that walls it off) is replaced by the shortest
     walkable way round, or dropped when the graph stays connected without it."""
-    points = [tuple(int(v) for v in p) for p in coords]
+    points = [(int(p[0]), int(p[1])) for p in coords]  # (row, col) pixels
     for u, v in sorted({(min(a, b), max(a, b)) for a, b in graph.edges() if a != b}):
         ends = ((points[u][1], points[u][0]), (points[v][1], points[v][0]))
         if edge_verdict(clearance, *ends, mpp).level != "error":

@@ -243,7 +243,7 @@ def replace_rooms(graph, coords: np.ndarray, doors: set[int], free: np.ndarray, 
         if n not in door_points and labels[r, c] in rooms:
             graph.remove_node(n)
     result = RoomGraph(coords=coords, regions=regions, false_doors={d for d in doors if d in graph} - set(door_points))
-    points_all = [tuple(int(v) for v in p) for p in coords]
+    points_all = [(int(p[0]), int(p[1])) for p in coords]  # (row, col) pixels
     for label in sorted(rooms):
         region = regions[label]
         mask = labels == label

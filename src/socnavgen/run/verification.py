@@ -59,7 +59,7 @@ def verification_status(folder: RunFolder, trace_stale: str | None = None) -> Ve
         return VerificationStatus("unreadable", f"sim/verify.json is not a verification report; {again}")
     if data["passed"]:
         return VerificationStatus("passed", "verified: every criterion held in the headless simulation")
-    findings = data.get("findings") if isinstance(data.get("findings"), list) else []
+    findings = got if isinstance(got := data.get("findings"), list) else []
     failing = [str(f.get("name", "?"))[:120] for f in findings
                if isinstance(f, dict) and f.get("passed") is False and f.get("required", True) is not False]
     listed = "; ".join(failing[:3]) + (f"; and {len(failing) - 3} more" if len(failing) > 3 else "")

@@ -174,13 +174,13 @@ def stale_reason(run_root: Path | str, location: Any) -> str | None:
         return None
     if stamp.get("complete") is not True:
         return f"the simulation that wrote {root / 'sim'} was interrupted before its outputs were complete"
-    files = stamp.get("files") if isinstance(stamp.get("files"), dict) else {}
+    files = got if isinstance(got := stamp.get("files"), dict) else {}
     trace = root / "sim" / TRACE_FILE
     if not trace.is_file() or files.get(TRACE_FILE) != hashlib.sha256(trace.read_bytes()).hexdigest():
         return f"{trace} is not the trace {STAMP_FILE} records (replaced or half-written)"
-    made = stamp.get("made") if isinstance(stamp.get("made"), dict) else {}
+    made = got if isinstance(got := stamp.get("made"), dict) else {}
     now = _digests(root, location, str(made.get("robot", "")))
-    then_run = stamp.get("run") if isinstance(stamp.get("run"), dict) else {}
+    then_run = got if isinstance(got := stamp.get("run"), dict) else {}
     changed = sorted(n for n in set(now["run"]) | set(then_run) if now["run"].get(n) != then_run.get(n))
     if changed:
         return f"{', '.join(changed)} changed since {trace} was simulated"

@@ -76,6 +76,7 @@ class DWAPolicy:
     def act(self, obs) -> RobotAction:  # noqa: ANN001 - an Observation
         if self.route is None:
             self.reset(obs)
+        assert self.route is not None  # reset made it
         route, p, yaw = self.route, obs.position_c, obs.yaw
         target, last = route.target(p, obs.human_positions_c, obs.human_radii, obs.t)
         to = target - p

@@ -173,6 +173,7 @@ class ORCAPolicy:
     def act(self, obs) -> RobotAction:  # noqa: ANN001 - an Observation
         if self.route is None:
             self.reset(obs)
+        assert self.route is not None  # reset made it
         route, p, v = self.route, obs.position_c, obs.velocity_c
         target, last = route.target(p, obs.human_positions_c, obs.human_radii, obs.t)
         to = target - p
