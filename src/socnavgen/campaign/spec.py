@@ -303,7 +303,7 @@ def _campaign_error(errors: list[Any], file: Path | str, root: yaml.Node | None)
 def _model_at(loc: tuple[Any, ...]) -> type[BaseModel] | None:
     """The pydantic model that validates the mapping at `loc` (to list the keys it takes)."""
     model: type[BaseModel] | None = CampaignSpec
-    kinds = {"RunsSource": RunsSource, "FolderSource": FolderSource, "CardsSource": CardsSource}
+    kinds: dict[str, type[BaseModel]] = {"RunsSource": RunsSource, "FolderSource": FolderSource, "CardsSource": CardsSource}
     for key in loc:
         if key in kinds:
             model = kinds[key]

@@ -56,16 +56,19 @@ def _cue(rule: RobotGestureRule, node_encounter: dict[str, str]) -> RobotCue | N
             return None
         trigger = CueTrigger(when="at_encounter", encounter=enc, distance=1.0)
     else:
-        trigger = CueTrigger(when=_WHEN[rule.when], distance=rule.distance)
+        trigger = CueTrigger.model_validate({"when": _WHEN[rule.when], "distance": rule.distance})
     hold = 3600.0 if rule.when == "always" else rule.duration
-    return RobotCue(trigger=trigger, say=phrase, hold=min(hold, 600.0), once=rule.when == "always")
+    # the tables hold names as plain strings: the models check them against their literals
+    return RobotCue.model_validate({"trigger": trigger, "say": phrase, "hold": min(hold, 600.0),
+                                    "once": rule.when == "always"})
 
 
 def _part(name: str, template: str) -> HumanPart:
     trigger, reaction, phrase, distance = TEMPLATE_PARTS.get(template, ("always", "walk_past", None, None))
-    return HumanPart(human=name, trigger=trigger, reaction=reaction, distance=distance,
-                     phrase=phrase if trigger == "robot_says" else None,
-                     says=phrase if reaction == "say" else None, lasts=TEMPLATE_LASTS.get(template))
+    return HumanPart.model_validate({"human": name, "trigger": trigger, "reaction": reaction, "distance": distance,
+                                     "phrase": phrase if trigger == "robot_says" else None,
+                                     "says": phrase if reaction == "say" else None,
+                                     "lasts": TEMPLATE_LASTS.get(template)})
 
 
 def card_spec(placement: Placement, plan: PathPlan, location: Location) -> ScenarioSpec:

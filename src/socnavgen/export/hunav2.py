@@ -121,11 +121,11 @@ class _Translator:
             return BTElement(node.name, {}, [], node.line)
         typed = {p.name: value for p in spec.ports if (value := node.value(p.name)) is not None}
         for port in tr.target_ports:  # literal agent ids: ours from 0, HuNavSim's from 1
-            if isinstance(typed.get(port), int):
-                typed[port] = typed[port] + HUNAV2_FIRST_AGENT_ID
+            if isinstance(agent := typed.get(port), int):
+                typed[port] = agent + HUNAV2_FIRST_AGENT_ID
         values = {k: literal_text(v) for k, v in typed.items()}
-        if isinstance(typed.get("message"), int):
-            values["message_word"] = HUMAN_GESTURES.get(typed["message"], values["message"])
+        if isinstance(message := typed.get("message"), int):
+            values["message_word"] = HUMAN_GESTURES.get(message, values["message"])
         template = tr.template
         for port, choices in tr.by_value.items():
             template = choices.get(values.get(port, ""), template)

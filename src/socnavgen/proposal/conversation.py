@@ -172,7 +172,7 @@ def converse(llm: LLM, messages: list[ChatMessage], schema: type[T], check: Call
                 mistakes = check(reply.value)
             answer = ChatMessage(role="assistant", content=reply.raw[:MAX_ECHO_CHARS])
             recorder.checked(stage, key, attempts, mistakes)
-            if not mistakes:
+            if not mistakes and reply.value is not None:  # a None value always has a mistake
                 recorder.mistakes(stage, key, [])
                 return Outcome(reply.value, [*history, answer])
             last = mistakes

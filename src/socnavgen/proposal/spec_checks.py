@@ -249,9 +249,10 @@ def place_mistakes(spec: ScenarioSpec, location: Location) -> list[str]:
     for c in spec.criteria:
         if c.kind != "hidden_until" or not c.human:
             continue
-        enc = spec.encounter(c.encounter) if c.encounter else next((e for e, _ in spec.parts_of(c.human)), None)
-        if enc is None:
+        found = spec.encounter(c.encounter) if c.encounter else next((e for e, _ in spec.parts_of(c.human)), None)
+        if found is None:
             continue
+        enc = found
         turns = inventory.blind_nodes(enc.place)
         if not turns:
             blind = sorted({f"{inventory.nodes[t.node].type} {t.node}" for t in inventory.blind_turns})

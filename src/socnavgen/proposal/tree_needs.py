@@ -347,7 +347,8 @@ def _part_mistakes(nodes: list[Placed], enc: Encounter, part: HumanPart, target:
             and not any(_timed_inside_latch(a, path, timer) for a, path in actions):
         return [f"{what}: the reaction is latched and lasts {part.lasting():g} s; a timer outside the latch is never "
                 f"checked again once the latch runs: {_timed_latch_words(part)}"]
-    if _gesture_ends(part, target) and not any(n.name == GESTURE and literal_text(n.value("message")) == "0"
+    if _gesture_ends(part, target) and not any(n.name == GESTURE and (v := n.value("message")) is not None
+                                               and literal_text(v) == "0"
                                                for n, _ in nodes):
         return [f"{what}: MakeGesture keeps showing {part.says} until another MakeGesture, and this reaction ends; "
                 f"clear the phrase when it does: begin the branch that walks on with {CLEAR_GESTURE}"]

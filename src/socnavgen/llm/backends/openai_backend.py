@@ -130,8 +130,11 @@ class OpenAIBackend(Backend):
         self.local_server = host in LOCAL_HOSTS if host else False
         self.max_reply_bytes = MAX_REPLY_BYTES
         self._transport = BoundedTransport()
+        # openai 3.x annotates http_client as its httpx2.Client; an httpx.Client works the same at run time
+        # (a request through this bounded transport was checked against a local server)
         self._client = openai.OpenAI(api_key=key, base_url=base_url, max_retries=0, timeout=options.timeout,
-                                     http_client=httpx.Client(transport=self._transport, follow_redirects=True))
+                                     http_client=httpx.Client(transport=self._transport,  # type: ignore[arg-type]
+                                                              follow_redirects=True))
         self._mode_index = 0
         self._mode_lock = threading.Lock()
 

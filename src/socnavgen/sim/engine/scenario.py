@@ -110,7 +110,7 @@ def load_simulation(run_dir: Path | str | LoadedRun, policy: Any, config: SimCon
         specs.append(HumanSpec(name=h.name, start=(start.real, start.imag), goals=goals,
                                yaw=math.atan2(first.imag, first.real) if abs(first) > 1e-9 else 0.0,
                                group_id=h.group_id, path_nodes=list(h.path), max_vel=speed,
-                               interaction_point=at.get(h.interaction_point)))
+                               interaction_point=at.get(h.interaction_point) if h.interaction_point is not None else None))
     xmls = run.behaviors()
     trees: list[str] = []
     names, defaulted = [], []

@@ -11,6 +11,7 @@ the place of an error at run time.
 from __future__ import annotations
 
 import contextlib
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from enum import IntEnum
 from typing import Any, NamedTuple
@@ -212,7 +213,7 @@ def lower_instance(lowering: _Lowering, source: str | Instance, owner: int, name
     return lowering.person(instance, owner)
 
 
-def lower_trees(sources: list[str | Instance], names: list[str] | None = None) -> Program:
+def lower_trees(sources: Sequence[str | Instance], names: list[str] | None = None) -> Program:
     """The program of every person's tree (person i's is sources[i]); a tree with problems raises
     bt.expand.TreeProblems (a ValidationFailed naming its file and every problem with its line)."""
     lowering = _Lowering()
