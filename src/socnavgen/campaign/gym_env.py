@@ -78,9 +78,9 @@ class SocNavEnv(gym.Env):
         for name, value in (("scan_beams", scan_beams), ("route_points", route_points)):
             if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= 4096:
                 raise ValueError(f"{name} = {value!r}: a whole number from 0 to 4096")
-        for name, value in (("scan_range", scan_range), ("route_spacing", route_spacing)):
-            if not (isinstance(value, int | float) and 0 < value < BOUND):
-                raise ValueError(f"{name} = {value!r}: a positive number of metres")
+        for name, metres in (("scan_range", scan_range), ("route_spacing", route_spacing)):
+            if not (isinstance(metres, int | float) and 0 < metres < BOUND):
+                raise ValueError(f"{name} = {metres!r}: a positive number of metres")
         if isinstance(scenarios, str | Path) and (Path(scenarios) / "scenarios.json").is_file():
             listed = json.loads((Path(scenarios) / "scenarios.json").read_text())["scenarios"]
             self.scenarios = [(s["run_dir"], s["location_dir"]) for s in listed]
@@ -112,7 +112,8 @@ class SocNavEnv(gym.Env):
         else:
             omega = self.body.max_omega
             motion = spaces.Box(np.array([-max_speed, -omega], np.float32), np.array([max_speed, omega], np.float32))
-        self.action_space = spaces.Dict({action: motion, "gesture": spaces.Discrete(g)})
+        self._motion_box, self._gestures = motion, spaces.Discrete(g)  # the action space's parts, typed
+        self.action_space = spaces.Dict({action: motion, "gesture": self._gestures})
         self.sim: Any = None
         self.route: Route | None = None
         self.scenario_index = 0
@@ -192,10 +193,10 @@ class SocNavEnv(gym.Env):
         gesture = action["gesture"]
         if isinstance(gesture, np.ndarray) and gesture.shape == ():
             gesture = gesture.item()
-        codes = self.action_space["gesture"].n
+        codes = int(self._gestures.n)
         if isinstance(gesture, bool) or not isinstance(gesture, int | np.integer) or not 0 <= int(gesture) < codes:
             raise ValueError(f"action['gesture'] must be a code 0..{codes - 1} (ROBOT_GESTURES), got {str(gesture)[:40]}")
-        box = self.action_space[key]
+        box = self._motion_box
         v = np.clip(v, box.low, box.high)
         if key == "unicycle":
             return RobotAction.unicycle(float(v[0]), float(v[1]), gesture=int(gesture))

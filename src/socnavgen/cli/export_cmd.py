@@ -41,7 +41,7 @@ def register(app: typer.Typer) -> None:
         """
         if fmt not in FORMATS:
             raise ValidationFailed(f"unknown --format {fmt!r}", hint="one of: " + ", ".join(FORMATS))
-        result = export_run(run, fmt, out, location_dir=location, base=name, simulator=simulator,  # type: ignore[arg-type]
+        result = export_run(run, fmt, out, location_dir=location, base=name, simulator=simulator,
                             force=force, seed=seed)
         console.print(f"[green]exported[/] {run} as [bold]{fmt}[/] to {out}:")
         for f in result.files:

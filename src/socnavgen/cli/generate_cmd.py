@@ -5,7 +5,7 @@ from __future__ import annotations
 import sys
 import threading
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 from rich.panel import Panel
@@ -77,7 +77,7 @@ def card_defaults(name: str) -> object:
 
 
 def _request(location: Path | None, context: str | None, task: str | None, rough: str | None, card: str | None,
-             llm: str, from_run: Path | None, **settings: object) -> ScenarioRequest:
+             llm: str, from_run: Path | None, **settings: Any) -> ScenarioRequest:
     if from_run is not None:
         base = RunFolder(from_run).read_request()
         return base.model_copy(update={"llm": llm, **{k: v for k, v in settings.items() if k != "naive"}})
@@ -92,6 +92,7 @@ def _request(location: Path | None, context: str | None, task: str | None, rough
         raise SocnavgenError(f"missing {', '.join(missing)}",
                              hint="give the location folder, the social context and the robot task "
                                   "(or --from RUN to continue a run)")
+    assert context is not None and task is not None  # not missing
     return ScenarioRequest(location=str(location), context=context, task=task, rough=rough, card=card, llm=llm,
                            **settings)
 

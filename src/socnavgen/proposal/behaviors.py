@@ -109,8 +109,10 @@ def tree_checker(name: str, humans: list[str], spec: ScenarioSpec | None = None,
 def pretty_xml(text: str) -> str:
     """Indented XML with double-quoted attributes, as HuNavSim users read it (the reply used single quotes)."""
     dom = minidom.parseString(text.strip())
-    _strip_blank_text(dom.documentElement)
-    body = dom.documentElement.toprettyxml(indent="    ")
+    root = dom.documentElement
+    assert root is not None  # parseString refuses a document without a root element
+    _strip_blank_text(root)
+    body = root.toprettyxml(indent="    ")
     return "\n".join(line for line in body.splitlines() if line.strip()) + "\n"
 
 

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 from collections import defaultdict
+from typing import TypeVar
 
 import networkx as nx
 
@@ -19,6 +20,8 @@ from socnavgen.run.spec import Encounter, ScenarioSpec
 from socnavgen.verify.derive import SHOWS_ENCOUNTER
 from socnavgen.verify.thresholds import APPROACH
 
+_V = TypeVar("_V")
+
 
 def _names(humans: list[str]) -> str:
     return f"the scenario has {len(humans)} human(s): {', '.join(humans)}"
@@ -29,9 +32,9 @@ def check_path(graph: nx.Graph, who: str, path: list[str]) -> list[str]:
     return path_mistakes(graph, who, path)
 
 
-def _by_human(mapping: dict, what: str, humans: list[str], mistakes: list[str]) -> dict[str, object]:
+def _by_human(mapping: dict[str, _V], what: str, humans: list[str], mistakes: list[str]) -> dict[str, _V]:
     """Normalise 'Human 1' style keys; report keys that are not humans of the scenario."""
-    out: dict[str, object] = {}
+    out: dict[str, _V] = {}
     for key, value in mapping.items():
         name = human_name(key)
         if name is None or name not in humans:
@@ -67,7 +70,7 @@ def check_paths(reply: PathsReply, graph: nx.Graph, humans: list[str], spec: Sce
             continue
         if not path:
             mistakes.append(f"{name}'s path is empty; give at least one node (where {name} starts)")
-        mistakes += check_path(graph, f"{name}'s path", path)  # type: ignore[arg-type]
+        mistakes += check_path(graph, f"{name}'s path", path)
         if name not in groups:
             mistakes.append(f"group_ids: {name} has no group id (use -1 for a human who is not in a group)")
         point = points.get(name)
@@ -75,21 +78,21 @@ def check_paths(reply: PathsReply, graph: nx.Graph, humans: list[str], spec: Sce
             if point not in graph:
                 mistakes.append(f"interaction point of {name}: node '{point}' is not in the scene graph")
             else:
-                if point not in path:  # type: ignore[operator]
+                if point not in path:
                     mistakes.append(f"the interaction point {point} of {name} is not on {name}'s path")
                 if point not in robot:
                     mistakes.append(f"the interaction point {point} of {name} is not on the robot's path")
-    mistakes += _group_mistakes(groups)  # type: ignore[arg-type]
+    mistakes += _group_mistakes(groups)
     if location is not None and robot:  # where everybody starts
-        walkers = [Walker(name, list(paths[name]), int(groups.get(name, -1)))  # type: ignore[arg-type, call-overload]
+        walkers = [Walker(name, list(paths[name]), int(groups.get(name, -1)))
                    for name in humans if paths.get(name)]
         mistakes += [p for p in start_problems(location, robot, walkers) if p not in route_problems(robot)]
     if spec is not None:
-        mistakes += _encounter_mistakes(reply, graph, spec, robot, paths, points)  # type: ignore[arg-type]
+        mistakes += _encounter_mistakes(reply, graph, spec, robot, paths, points)
         if location is not None:
-            mistakes += _blind_mistakes(reply, spec, location, robot, paths)  # type: ignore[arg-type]
+            mistakes += _blind_mistakes(reply, spec, location, robot, paths)
             mistakes += _room_mistakes(reply, spec, location)
-            mistakes += _approach_mistakes(reply, spec, location, robot, paths)  # type: ignore[arg-type]
+            mistakes += _approach_mistakes(reply, spec, location, robot, paths)
     return mistakes
 
 

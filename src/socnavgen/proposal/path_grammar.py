@@ -113,10 +113,12 @@ def _add_walks(g: Grammar, graph: nx.Graph, x: str, xi: int, dist: dict[str, int
                         alts.append([Lit(", "), Ref(f"to{xi}-{index[w]}")])
             g.add(f"to{xi}-{ui}", *[[_q(u), *alt] for alt in alts])
         farther = [w for w in sorted(graph.neighbors(u), key=index.__getitem__) if dist.get(w) == dist[u] + 1]
-        g.add(f"away{xi}-{ui}", [], *[[Lit(", "), _q(w), Ref(f"away{xi}-{index[w]}")] for w in farther])
+        away: list[list[Symbol]] = [[Lit(", "), _q(w), Ref(f"away{xi}-{index[w]}")] for w in farther]
+        g.add(f"away{xi}-{ui}", [], *away)
         if dist[u] == 1:
             others = [w for w in sorted(graph.neighbors(x), key=index.__getitem__) if w != u]
-            g.add(f"leave{xi}-{ui}", [], *[[Lit(", "), _q(w), Ref(f"away{xi}-{index[w]}")] for w in others])
+            leave: list[list[Symbol]] = [[Lit(", "), _q(w), Ref(f"away{xi}-{index[w]}")] for w in others]
+            g.add(f"leave{xi}-{ui}", [], *leave)
 
 
 def _add_groups(g: Grammar, humans: list[str]) -> None:

@@ -61,7 +61,7 @@ def build_spec_tree_grammar(name: str, spec: ScenarioSpec | None, target: Target
     walk = [Lit("<Sequence name='Walk'>" + _WALK + "</Sequence>")]
     stand = spec is not None and spec.person(name).otherwise == "stand"
     otherwise = [Lit("<MakeGesture agent_id='{id}' message='0'/>")] if stand else walk
-    head = [Lit('{"reasoning": "'), Ref("reasoning"),
+    head: list[Symbol] = [Lit('{"reasoning": "'), Ref("reasoning"),
             Lit("\", \"tree\": \"<root main_tree_to_execute='MainTree'><include path='BTRegularNav.xml'/>"
                 "<BehaviorTree ID='MainTree'>")]
     tail = [Lit('</BehaviorTree></root>"}')]

@@ -129,7 +129,7 @@ def _phrase_evidence(cc: Compiled, s: Signals) -> Evidence:
         for k0 in np.flatnonzero(calm):
             hit = _first(reacting[k0:k0 + hold + window + 1])
             if hit is not None:
-                after = k0 + hit
+                after = int(k0) + hit
                 break
         if first_react is None:
             parts.append(f"{h} never showed {cc.reaction}")
