@@ -8,7 +8,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -187,6 +187,16 @@ def _resample(r: np.ndarray, dt: float) -> tuple[np.ndarray, np.ndarray, np.ndar
     return grid, i, j, w
 
 
+def _point(value: Any, what: str, path: Path) -> tuple[float, float]:
+    """(x, y) of a point in the run's metadata the bag carries; one message when it is not two numbers."""
+    try:
+        x, y = (float(v) for v in value)
+    except (TypeError, ValueError):
+        raise BagError(f"the bag's run metadata gives the {what} as {str(value)[:40]}, not two numbers (x, y)",
+                       file=path, hint="record the run again with the exported metadata topic intact") from None
+    return x, y
+
+
 def _interp(a: np.ndarray, i: np.ndarray, j: np.ndarray, w: np.ndarray) -> np.ndarray:
     """Columns x, y, yaw, vx, vy, omega of (N, ..., 6) states at the grid: linear, yaw along the short way;
     a grid time on a sample gives that sample exactly."""
@@ -231,9 +241,10 @@ def recording_to_trace(rec: Recording, plan: PathPlan, location: Location,
         for row in range(1, n):
             gap = np.isnan(states[row, :, 0])
             states[row, gap] = states[row - 1, gap]
+    group_ids = [int(g) if g is not None else -1 for g in groups]  # all set: everybody is in the first state
     robots: list[AgentState] = [rec.robots[int(p)] for p in paired]
     robot = np.asarray([r.state for r in robots], dtype=float)
-    _check_against_run(states, robot, [int(g) for g in groups], plan, location, names, options, rec.path)
+    _check_against_run(states, robot, group_ids, plan, location, names, options, rec.path)
     meta_in = rec.meta if isinstance(rec.meta, dict) and rec.meta.get("human_names") == names else {}
     dt = options.dt or (float(meta_in["dt"]) if isinstance(meta_in.get("dt"), (int, float)) else DEFAULT_DT)
     if not (math.isfinite(dt) and 0.001 <= dt <= 1.0):
@@ -256,10 +267,10 @@ def recording_to_trace(rec: Recording, plan: PathPlan, location: Location,
         notes.append("no behavior-tree activity in the recording: tree checks cannot see which node ran")
     else:
         action, succeeded = activity
-    waypoints = [tuple(map(float, p)) for p in meta_in.get("robot_waypoints", [])] if meta_in else \
+    waypoints = [_point(p, "robot waypoint", rec.path) for p in meta_in.get("robot_waypoints", [])] if meta_in else \
         [location.node_world(node) for node in plan.robot]
-    goal = meta_in.get("robot_goal") if meta_in else None
-    goal = tuple(map(float, goal)) if goal else (rec.goal or (waypoints[-1] if waypoints else None))
+    goal_in = meta_in.get("robot_goal") if meta_in else None
+    goal = _point(goal_in, "robot goal", rec.path) if goal_in else (rec.goal or (waypoints[-1] if waypoints else None))
     robot_radius = robots[0].radius if robots[0].radius > 0 else ROBOT_RADIUS  # the wrapper's, when it says 0
     meta = dict(meta_in.get("meta") or {}) if isinstance(meta_in.get("meta"), dict) else {}
     agent_ids = {name: ident for ident, name in mapping.items()}
@@ -267,10 +278,10 @@ def recording_to_trace(rec: Recording, plan: PathPlan, location: Location,
                    "states": int(n), "recorded_seconds": float(r[-1]), "dt": dt}
     trace = Trace(
         dt=dt, t=grid, robot=_interp(robot, i, j, w), humans=_interp(states, i, j, w), human_names=names,
-        group_ids=[int(g) for g in groups], human_radii=np.where(radii > 0, radii, PERSON_RADIUS),
+        group_ids=group_ids, human_radii=np.where(radii > 0, radii, PERSON_RADIUS),
         robot_radius=float(robot_radius), node_names=node_names, action=action, succeeded=succeeded,
         human_gesture=gesture[i], robot_gesture=np.clip(robot_gesture, -128, 127).astype(np.int8),
-        behavior_state=bstate[i], robot_goal=goal, robot_waypoints=[tuple(p) for p in waypoints],
+        behavior_state=bstate[i], robot_goal=goal, robot_waypoints=waypoints,
         end_reason=str(meta_in.get("end_reason", "end of recording")) if meta_in else "end of recording", meta=meta)
     notes.append(f"resampled to {len(grid)} steps of {dt:g} s ({r[-1]:.1f} s recorded)")
     return BagTrace(trace=trace, notes=notes, agent_ids=agent_ids)
