@@ -26,7 +26,8 @@ from socnavgen.sim.records import layout, table
 LEAF_NAMES = [n.name for n in leaf_nodes()]  # a leaf's code = its row in the library (the trace's node_names)
 PORT_NAMES = sorted({p.name for n in leaf_nodes() for p in n.ports if p.name != "name"})
 # a leaf reads its ports by name from its arguments: args[Port.distance] (columns of every leaf's ports)
-Port = IntEnum("Port", {name: k for k, name in enumerate(PORT_NAMES)})
+# (members made from the library at import: mypy cannot list them)
+Port = IntEnum("Port", {name: k for k, name in enumerate(PORT_NAMES)})  # type: ignore[misc]
 GESTURE_OF_WORD = {word: code for code, word in HUMAN_GESTURES.items()}  # SaySomething's message
 
 # node kinds
@@ -143,19 +144,23 @@ class _Lowering:
         self.nodes.append(row)
         self.info.append(info)
         if spec.kind == "control":
+            assert spec.flow is not None  # every control has one (bt.library)
             row["kind"] = CONTROLS[(spec.flow, spec.reactive)]
         elif spec.kind == "decorator":
+            assert spec.rule is not None  # every decorator has one (bt.library)
             row["kind"] = DECORATORS[spec.rule]
             if spec.rule in ("repeat", "retry"):
+                assert spec.count_port is not None  # repeat and retry name their count port
                 row["until"] = SUCCESS if spec.rule == "repeat" else FAILURE
                 count = node.value(spec.count_port)
                 if isinstance(count, Entry):
                     row["cycles_slot"] = self.slot(owner, count)
                 else:
-                    row["cycles"] = int(count) if count is not None else 1
+                    row["cycles"] = int(count) if isinstance(count, int | float | str) else 1
         elif node.name == "SetBlackboard":
-            value = node.ports["value"]
-            row["kind"], row["out_slot"] = SET_BLACKBOARD, self.slot(owner, node.ports["output_key"])
+            value, out = node.ports["value"], node.ports["output_key"]
+            assert isinstance(out, Entry)  # an Instance's keys are resolved entries
+            row["kind"], row["out_slot"] = SET_BLACKBOARD, self.slot(owner, out)
             if isinstance(value, Entry):
                 row["source_slot"], info.keys[-1] = self.slot(owner, value), value.key
             else:  # a literal is a text, as BT.CPP keeps it; the port reading it converts it
@@ -183,6 +188,7 @@ class _Lowering:
             elif isinstance(value, str):  # the one text port a leaf reads: SaySomething's gesture word
                 self.ports.append((column, LITERAL, float(GESTURE_OF_WORD.get(value.strip(), 0)), kind))
             else:
+                assert isinstance(value, int | float)  # an Instance holds entries, not references
                 self.ports.append((column, LITERAL, float(value), kind))
         row.update(kind=CONDITION if spec.kind == "condition" else ACTION, leaf=LEAF_NAMES.index(spec.name),
                    moves=spec.moves, first_port=first, port_count=len(self.ports) - first)
