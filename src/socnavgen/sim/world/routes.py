@@ -16,12 +16,12 @@ campaign grows each field once per process) into a slot of the pool.
 
 from __future__ import annotations
 
-import contextlib
 import math
 from typing import NamedTuple
 
 import numpy as np
 
+from socnavgen.memo import kept
 from socnavgen.sim.jit import jit
 from socnavgen.sim.world.costfield import CellCost, CostField, cells_per_side
 from socnavgen.sim.world.queries import clearance_at
@@ -49,12 +49,7 @@ class RouteGrid:
 
     @classmethod
     def of(cls, world) -> RouteGrid:  # noqa: ANN001
-        found = getattr(world, "_socnavgen_routes", None)
-        if found is None:
-            found = cls(world)
-            with contextlib.suppress(AttributeError):
-                world._socnavgen_routes = found
-        return found
+        return kept(world, "routes", lambda: cls(world))
 
     def cell(self, point: complex) -> tuple[int, int]:
         """The coarse cell of a world point where a person fits: its own, else the nearest passable one
