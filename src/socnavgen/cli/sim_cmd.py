@@ -4,6 +4,7 @@ headless 2D simulator and check it."""
 from __future__ import annotations
 
 import time
+from contextlib import nullcontext
 from pathlib import Path
 
 import typer
@@ -92,8 +93,9 @@ def simulate(
         policy = load_policy(robot)
         config = SimConfig(dt=dt, timeout=timeout, seed=seed)
         loaded = folder.location(location)
-        if not cache_ready():
-            console.print(f"[dim]{COMPILING_NOTE}[/]", highlight=False)
+    if not cache_ready():
+        console.print(f"[dim]{COMPILING_NOTE}[/]", highlight=False)
+    with starting() if cache_ready() else nullcontext():  # numba's compiling makes garbage: collected
         sim = load_simulation(run, policy, config, ThrottleConfig(enabled=not no_throttle), loaded)
     sim.meta["robot_plugin"] = robot
     total = int(round(timeout / dt))
