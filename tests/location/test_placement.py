@@ -58,7 +58,9 @@ def test_nobody_stands_on_the_robots_goal_but_someone_may_leave_it(warehouse) ->
     stays = start_problems(warehouse, robot, [Walker("human1", ["hd"])])
     assert len(stays) == 1 and "on the robot's goal hd, and does not walk away" in stays[0]
     comes_back = start_problems(warehouse, robot, [Walker("human1", ["hd", "zg", "hd"])])
-    assert len(comes_back) == 1
+    assert len(comes_back) == 1 and "(their path stays near it or ends there)" in comes_back[0]
+    from socnavgen.location.placement import start_rule_text
+    assert "unless their path walks away from it and ends elsewhere" in start_rule_text()  # what is checked
     assert start_problems(warehouse, robot, [Walker("human1", ["hd", "zg", "p0"])]) == []  # walks away from it
 
 

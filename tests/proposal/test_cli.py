@@ -171,3 +171,21 @@ def test_unknown_target_is_one_clear_message(tmp_path, warehouse):
                                       "--target", "gazebo"])
     assert "unknown --target 'gazebo'" in str(result.exception)
     assert not (tmp_path / "r" / "request.json").exists()
+
+
+def test_verify_that_gives_up_prints_the_failing_findings(tmp_path, warehouse, monkeypatch):
+    """A user who ran `generate --verify` sees why it failed, not only "see sim/verify.json" (a round-4 player)."""
+    from socnavgen.proposal import pipeline
+    from socnavgen.verify.models import Finding, VerifyReport
+
+    failing = Finding(name="c1 meets", kind="meets", passed=False, human="human1", blame=None,
+                      evidence="human1 never came within 2 m of the robot (closest 6.37 m)")
+    monkeypatch.setattr(pipeline, "default_verifier", lambda: lambda run_dir, location=None: VerifyReport(
+        run=str(run_dir), passed=False, findings=[failing]))
+    out = tmp_path / "run"
+    result = CliRunner().invoke(app, ["generate", "--location", str(warehouse), *ARGS, "--llm",
+                                      f"replay:{FIXTURES / 'warehouse_blind_corner.yaml'}", "--out", str(out),
+                                      "--verify", "--max-restarts", "0"])
+    assert result.exit_code == 1, result.output
+    assert "the verifier still finds problems" in result.output and "1 failing" in result.output
+    assert "FAIL c1 meets (human1): human1 never came within 2 m of the robot (closest 6.37 m)" in result.output

@@ -77,18 +77,22 @@ def test_a_model_without_a_known_context_gets_the_whole_prompt(warehouse):
 
 def test_stage1_leaves_out_what_a_small_model_needs_least_in_the_documented_order(warehouse):
     """Each context one token too small for the prompt at the previous level gets the next level: more
-    examples, then the signal meanings, then the inventory detail, then the last example."""
+    examples, then the signal meanings, then the inventory detail, then what the robot does by itself, then the
+    last example."""
     def size(k: int) -> int:
         return estimate_tokens(scenario.scenario_messages(REQUEST, warehouse, left_out=frozenset(CUTS[:k])))
 
     whole = _stage1(warehouse, size(0) + scenario.MAX_TOKENS + SAFETY_TOKENS)
     assert EXAMPLE_CONTEXT in whole and SECOND_EXAMPLE in whole
     assert SIGNAL_KINDS[0].meaning in whole and "Narrow passages" in whole
-    levels = [_stage1(warehouse, size(k) + scenario.MAX_TOKENS + SAFETY_TOKENS - 1) for k in range(4)]
+    levels = [_stage1(warehouse, size(k) + scenario.MAX_TOKENS + SAFETY_TOKENS - 1) for k in range(5)]
     for text in levels:
         _kept(text)
         assert SECOND_EXAMPLE not in text
-    one_example, no_signals, no_detail, no_example = levels
+        assert "no cue makes it back off, pull over or follow someone" in text  # what the script cannot do stays
+    one_example, no_signals, no_detail, no_robot, no_example = levels
+    robot_detail = "makes way for someone who must get past it"
+    assert robot_detail in no_detail and EXAMPLE_CONTEXT in no_robot and robot_detail not in no_robot
     assert EXAMPLE_CONTEXT in one_example and SIGNAL_KINDS[0].meaning in one_example  # the first example stays
     assert SIGNAL_KINDS[0].meaning not in no_signals and all(k.shown in no_signals for k in SIGNAL_KINDS)
     assert "Narrow passages" in no_signals and EXAMPLE_CONTEXT in no_signals
@@ -102,7 +106,7 @@ def test_a_prompt_that_cannot_fit_is_one_clear_error(warehouse):
         scenario.fitted_scenario_messages(REQUEST, warehouse, SmallModel(scenario.MAX_TOKENS + 500))
     message = caught.value.render()
     assert "stage scenario: the prompt takes" in message and "even without more_examples, signals, inventory, " \
-        "examples, tutorials" in message
+        "robot, examples, tutorials" in message
     assert "SOCNAVGEN_GGUF_N_CTX" in message
 
 

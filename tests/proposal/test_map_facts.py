@@ -157,6 +157,13 @@ def test_a_says_criterion_for_someone_who_never_speaks_is_refused(home):
     silent_prose = copy.deepcopy(speaks)
     silent_prose.human_behaviors["human1"] = "A resident walks across the room without a word."
     assert any("never mentions it" in m for m in check(silent_prose))
+    mute = _reply("LIVING ROOM", part={"reaction": "stop"},  # her text says WAIT; her encounter never has her speak
+                  behavior="A resident sees the robot coming and says WAIT so that it lets her pass first.",
+                  criteria=[{"id": "c1", "kind": "meets", "human": "human1", "encounter": "e1"},
+                            {"id": "c2", "kind": "says", "human": "human1", "phrase": "WAIT",
+                             "text": "the resident says WAIT"}])
+    assert any("criterion c2 asks human1 to say WAIT, but no encounter has human1 speak" in m
+               for m in check(mute)), check(mute)
 
 
 @pytest.mark.parametrize("kind, reaction, expected", [  # the verifier's rule S1 (verify/blame.py contradictions)

@@ -29,6 +29,7 @@ WALK = ("<Sequence><SetBlackboard output_key='agentid' value='{id}'/><SetBlackbo
 LOOK = "<LookAtRobot agent_id='{id}'/>"
 NEAR = "<IsRobotNearby agent_id='{id}' distance='4.0'/>"
 VISIBLE = "<IsRobotVisible agent_id='{id}' distance='3.0'/>"
+CLEAR = "<MakeGesture agent_id='{id}' message='0'/>"
 
 
 def tree(body: str) -> str:
@@ -72,8 +73,13 @@ def test_a_reaction_that_lasts_has_its_timer():
     says = spec({"human": "human1", "trigger": "robot_blocking", "reaction": "say", "says": "WAIT", "lasts": 5})
     gesture = "<MakeGesture agent_id='{id}' message='1'/>"
     blocking = "<IsRobotBlocking agent_id='{id}' distance='2.0'/>"
-    ok = tree(f"<Fallback><Sequence>{blocking}{timer('5')}{gesture}</Sequence>{WALK}</Fallback>")
+    ok = tree(f"<Fallback><Sequence>{blocking}{timer('5')}{gesture}</Sequence><Sequence>{CLEAR}{WALK}</Sequence>"
+              f"</Fallback>")
     assert needs(ok, says) == []
+    kept_saying = tree(f"<Fallback><Sequence>{blocking}{timer('5')}{gesture}</Sequence>{WALK}</Fallback>")
+    assert any("MakeGesture keeps showing WAIT" in m and "message='0'" in m for m in needs(kept_saying, says))
+    assert "clear it: begin the branch that walks on with <MakeGesture agent_id='{id}' message='0'/>" in \
+        needs_text("human1", says)
     for bad in (tree(f"<Fallback><Sequence>{blocking}{gesture}</Sequence>{WALK}</Fallback>"),
                 tree(f"<Fallback><Sequence>{blocking}{timer('9')}{gesture}</Sequence>{WALK}</Fallback>"),
                 tree(f"<Fallback><Sequence>{blocking}{timer('5', False)}{gesture}</Sequence>{WALK}</Fallback>")):
@@ -129,6 +135,72 @@ def test_the_latch_holds_in_the_simulator():
         for _ in range(60):  # 6 s at 1 m/s: the robot is far away
             sim.step()
         assert abs(sim.robot.pos - complex(2.0, 5.0)) > 4.0 and sim.people.gesture[0] == last
+
+
+SEEN_A_WHILE = spec({"human": "human1", "trigger": "robot_visible", "reaction": "look", "distance": 3.0,
+                     "latch": True, "lasts": 4})
+
+
+def test_a_latch_with_lasts_runs_its_seconds_then_walks_on_for_good():
+    """latch + lasts: once triggered the reaction runs `lasts` s whatever the trigger does, then never again: the
+    timer inside the latch (a timer before it is never ticked again once the latch runs)."""
+    waits = spec({"human": "human1", "trigger": "robot_near", "reaction": "wait_then_go", "distance": 4.0,
+                  "latch": True, "lasts": 5})
+    assert waits.encounters[0].humans[0].lasting() == 5
+    inside = tree(f"<Fallback><Sequence>{VISIBLE}<KeepRunningUntilFailure><Sequence>{timer('4')}{LOOK}</Sequence>"
+                  f"</KeepRunningUntilFailure></Sequence>{WALK}</Fallback>")
+    assert needs(inside, SEEN_A_WHILE) == []
+    before = tree(f"<Fallback><Sequence>{VISIBLE}{timer('4')}<KeepRunningUntilFailure>{LOOK}"
+                  f"</KeepRunningUntilFailure></Sequence>{WALK}</Fallback>")
+    assert any("a timer outside the latch is never checked again" in m for m in needs(before, SEEN_A_WHILE))
+    no_timer = tree(f"<Fallback><Sequence>{VISIBLE}<KeepRunningUntilFailure>{LOOK}</KeepRunningUntilFailure>"
+                    f"</Sequence>{WALK}</Fallback>")
+    assert any("the reaction lasts 4 s" in m for m in needs(no_timer, SEEN_A_WHILE))
+    text = needs_text("human1", SEEN_A_WHILE)
+    assert "once triggered it lasts 4 s whatever the trigger does (latch with lasts)" in text
+    assert "<KeepRunningUntilFailure><Sequence><Inverter><TimeExpiredCondition seconds='4'" in text
+    grammar = build_spec_tree_grammar("human1", SEEN_A_WHILE)
+    assert grammar is not None
+    acts = ["".join(getattr(sym, "text", "") for sym in alt) for alt in grammar.rules["act"]]
+    assert acts and all(a.startswith("<KeepRunningUntilFailure><Sequence name='Timed'><Inverter><TimeExpiredCondition "
+                                      "seconds='4'") for a in acts), acts
+
+
+def test_a_latch_with_lasts_holds_in_the_simulator():
+    """Seen once within 2 m, the person keeps the gesture after the robot left for the 3 s it lasts, then the
+    other one for good."""
+    from tests.sim.simhelpers import INSTANT, Drive, human, make_sim, tree_xml
+
+    near = '<IsRobotNearby agent_id="{id}" distance="2.0"/>'
+    say, other = '<MakeGesture agent_id="{id}" message="1"/>', '<MakeGesture agent_id="{id}" message="2"/>'
+    clock = '<Inverter><TimeExpiredCondition seconds="3" ts="{dt}" only_once="true"/></Inverter>'
+    body = (f"<Fallback><Sequence>{near}<KeepRunningUntilFailure><Sequence>{clock}{say}</Sequence>"
+            f"</KeepRunningUntilFailure></Sequence>{other}</Fallback>")
+    sim = make_sim([human(start=(2.0, 5.0))], [tree_xml(body)], [(3.0, 5.0), (19.0, 5.0)], Drive(1.0), body=INSTANT)
+    seen = []
+    for _ in range(60):  # 6 s at 1 m/s
+        sim.step()
+        seen.append((round(sim.t, 2), abs(sim.robot.pos - complex(2.0, 5.0)), int(sim.people.gesture[0])))
+    assert seen[0][2] == 1
+    assert all(g == 1 for t, _, g in seen if t <= 2.8)  # latched: after the robot left 2 m (about t = 1 s)
+    assert any(d > 2.0 for t, d, _ in seen if t <= 2.8)
+    assert all(g == 2 for t, _, g in seen if t >= 3.3)  # its 3 s over: the other branch for good
+
+
+def test_a_later_encounter_nests_inside_an_earlier_latched_part():
+    """A latched part is never left (the Fallback resumes at its RUNNING child), so the prompt says to put the
+    later encounter's branch inside the latch, and the tree check accepts that."""
+    two = spec({"human": "human1", "trigger": "robot_visible", "reaction": "look", "distance": 3.0, "latch": True},
+               {"human": "human1", "trigger": "robot_near", "reaction": "give_way", "distance": 4.0})
+    text = needs_text("human1", two)
+    assert "put the later encounter's branch INSIDE the latch" in text and "resume at the RUNNING child" in text
+    give = "<GiveWaytoRobot agent_id='{id}' time_step='{dt}'/>"
+    nested = tree(f"<Fallback><Sequence>{VISIBLE}<KeepRunningUntilFailure><Fallback><Sequence>{NEAR}{give}</Sequence>"
+                  f"{LOOK}</Fallback></KeepRunningUntilFailure></Sequence>{WALK}</Fallback>")
+    assert needs(nested, two) == []
+    late_last = tree(f"<Fallback><Sequence>{VISIBLE}<KeepRunningUntilFailure><Fallback>{LOOK}<Sequence>{NEAR}{give}"
+                     f"</Sequence></Fallback></KeepRunningUntilFailure></Sequence>{WALK}</Fallback>")
+    assert any("must take over" in m for m in needs(late_last, two)), needs(late_last, two)
 
 
 def test_a_target_that_rechecks_every_condition_cannot_latch():
@@ -240,6 +312,17 @@ def test_stage1_teaches_the_new_fields_and_what_the_robot_cannot_do():
     assert all(f"{t} (" in system or f"{t}," in system for t in get_args(HumanTrigger)), "a trigger is not taught"
     assert all(r in system for r in get_args(Reaction))
     assert "\"people\"" in system and "\"otherwise\"" in system and "\"lasts\"" in system
-    assert "cannot back off, reverse, pull over or step aside, and cannot follow a person" in system
+    assert "no cue makes it back off, pull over or follow someone" in system
+    # what the default robot does by itself (sim/robot/polite.py make_way), with its numbers, and what to plan
+    assert "makes way for someone who must get past it (after 2 s face to face, a gap of 0.8 m or less, it backs " \
+           "off the way it came" in system
+    assert "\"it follows someone\": they lead along its route" in system
+    assert "It stops about 1.25 m (centres) from a person in its way; a wait_until_clear cue holds it where the cue " \
+           "fired while anyone is in its way within 3 m" in system  # a closer cue never fires then
+    assert "nobody stands between two nodes" in system  # positions are nodes
+    assert "a place that is an edge, such as an aisle between two nodes, is met at one of its end nodes" in system
+    assert "latch the later part to end the earlier one for good" in system  # the earlier part comes back
+    assert "where 1.6-2.3 m is free they pass only if the person keeps to one side" in system
+    assert "only for a human whose encounter has the reaction block" in system  # blocks_robot needs block
     assert "A route may come back to its start after passing other nodes" in system
     assert "hunav2 lacks" in system and "robot_blocking" in system.split("hunav2 lacks")[1][:200]

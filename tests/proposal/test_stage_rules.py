@@ -95,6 +95,49 @@ def test_a_round_trip_is_a_route(warehouse):
                check_paths(nowhere, warehouse.graph, ["human1"], spec, warehouse))
 
 
+# ---- a meeting needs an approach -----------------------------------------------------------------------
+def test_an_encounter_where_a_person_waits_too_near_the_robots_start_is_refused(warehouse):
+    """A person waiting at an encounter's node 1.9 m from the robot's start is met before anyone moved (the
+    verifier's meets needs the two to come APPROACH closer): refused with the minimum, which the prompt states."""
+    from socnavgen.proposal.facts import approach_room
+    from socnavgen.proposal.paths import encounter_rule
+    from socnavgen.verify.thresholds import APPROACH, MEET_DISTANCE
+
+    assert approach_room() == MEET_DISTANCE + APPROACH
+    assert f"at least {MEET_DISTANCE + APPROACH:g} m (between xy_m) from the robot's start" in encounter_rule()
+    from socnavgen.proposal.facts import physical_facts_text
+    assert f"both came {APPROACH:g} m closer to each other than at the start (a person waiting at the node: at " \
+           f"least {MEET_DISTANCE + APPROACH:g} m from the robot's start)" in physical_facts_text(scene_graph=True)
+    spec = to_spec(_reply(_encounter("e1", "INTERSECTION", reaction="look")))
+    waits_near = _answer(["qs", "sh", "ki", "up"], ["sh"], "sh", {"e1": "sh"})  # qs-sh: 1.9 m
+    refused = check_paths(waits_near, warehouse.graph, ["human1"], spec, warehouse)
+    assert any("encounter e1: human1 waits at node sh, only 1.90 m from the robot's start qs" in m and
+               f"at least {MEET_DISTANCE + APPROACH:g} m" in m for m in refused), refused
+    waits_far = _answer(["up", "ki", "sh", "qs"], ["sh"], "sh", {"e1": "sh"})
+    assert check_paths(waits_far, warehouse.graph, ["human1"], spec, warehouse) == []
+    walks_in = _answer(["qs", "sh", "ki", "up"], ["sw", "sh"], "sh", {"e1": "sh"})  # the person approaches
+    assert not any("waits at node" in m for m in check_paths(walks_in, warehouse.graph, ["human1"], spec, warehouse))
+    wider = to_spec(_reply(_encounter("e1", "INTERSECTION", reaction="look")))
+    wider.criteria[0].distance = 3.0  # its own meets distance: that + APPROACH
+    assert approach_room(wider, wider.encounters[0], "human1") == 3.0 + APPROACH
+
+
+def test_the_paths_prompt_defines_the_interaction_point_once(warehouse):
+    from socnavgen.proposal.paths import encounter_rule, paths_messages
+    from socnavgen.run import ScenarioProposal
+
+    spec = to_spec(_reply(_encounter("e1", "INTERSECTION", reaction="look")))
+    proposal = ScenarioProposal(scenario_description="A worker waits at an intersection.", number_of_humans=1,
+                                human_behaviors={"human1": "A worker waits and looks at the robot."},
+                                expected_robot_behavior="Pass politely.")
+    user = paths_messages(warehouse, proposal, spec=spec, images=False)[-1].content
+    assert "6. The interaction point of a human is the node of that human's FIRST encounter" in user
+    assert "meets it first" not in user and "where it meets the robot first" not in user
+    assert "interaction point is the node of its FIRST encounter" not in encounter_rule()  # rule 8 refers to 6
+    plain = paths_messages(warehouse, proposal, images=False)[-1].content
+    assert "6. The interaction point of a human is the node where pacing brings" in plain and "8. " not in plain
+
+
 # ---- what stage 1 sees to name places -----------------------------------------------------------------
 def test_stage1_shows_positions_and_to_vision_models_the_annotated_map(warehouse):
     class Vision:

@@ -17,9 +17,11 @@ from socnavgen.cli.common import console, err_console, progress
 from socnavgen.errors import SocnavgenError
 from socnavgen.proposal.conversation import ProgressEvent
 from socnavgen.proposal.review import ReviewDecision
+from socnavgen.proposal.verify_loop import describe
 from socnavgen.run import RunFolder, ScenarioRequest
 
 TARGETS = ("socrates", "hunav2", "hunav1")
+MAX_SHOWN_FAILURES = 10  # failing findings printed when --verify gives up (all are in sim/verify.json)
 STAGE_TITLES = {"scenario": "stage 1 scenario", "paths": "stage 2 paths", "behaviors": "stage 3 trees",
                 "naive": "naive (all at once)", "verify": "verify"}
 
@@ -273,8 +275,12 @@ def register(app: typer.Typer) -> None:
         _summary(result, folder)
         _export_check(folder, request.target)
         if verify and result.verify is not None and not result.verify.passed:
-            err_console.print("[red]the verifier still finds problems[/] (manifest status: failed); see "
-                              "sim/verify.json")
+            failing = result.verify.failures
+            err_console.print(f"[red]the verifier still finds problems[/] (manifest status: failed): {len(failing)} "
+                              f"failing, in sim/verify.json (`socnavgen verify {folder.root}` shows all):",
+                              highlight=False)
+            for finding in failing[:MAX_SHOWN_FAILURES]:
+                err_console.print(f"  FAIL {describe(finding)}", markup=False, highlight=False)
             raise typer.Exit(1)
 
 

@@ -67,7 +67,7 @@ def start_rule_text() -> str:
             f"{GROUP_SPAWN_RADIUS:g} m circle around their shared first node) and at least {people:.2f} m from "
             f"any other person who is not in their group (measured between the xy_m of the two start nodes, as "
             f"shown; exactly {alone:.1f} m is allowed); nobody starts on the robot's goal unless their path walks "
-            f"away from it.")
+            f"away from it and ends elsewhere.")
 
 
 def route_problems(robot: list[str]) -> list[str]:
@@ -118,8 +118,9 @@ def start_problems(location: Location, robot: list[str], walkers: list[Walker]) 
         if len(robot) >= 2 and goal != robot[0] and too_close(dist(start, goal), need) \
                 and _stays(w.path, goal, dist, need):
             where = "on the robot's goal" if start == goal else f"{dist(start, goal):.2f} m from the robot's goal"
-            problems.append(f"{w.name} starts at {start}, {where} {goal}, and does not walk away from it: the robot "
-                            f"could never arrive; start {w.name} elsewhere or let them walk away")
+            problems.append(f"{w.name} starts at {start}, {where} {goal}, and does not walk away from it for good (their "
+                            f"path stays near it or ends there): the robot could never arrive; start {w.name} "
+                            f"elsewhere, or let them walk away and end elsewhere")
     for i, a in enumerate(starts):
         for b in starts[i + 1:]:
             if a.group >= 0 and a.group == b.group:

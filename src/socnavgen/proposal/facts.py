@@ -21,7 +21,7 @@ from socnavgen.bt.library import (
     nodes_for_trigger,
     prompt_nodes,
 )
-from socnavgen.location.inventory import BLOCKING_WIDTH
+from socnavgen.location.inventory import BLOCKING_WIDTH, PASS_WIDTH
 from socnavgen.run.spec import (
     NEGATED_TRIGGERS,
     WAIT_THEN_GO_SECONDS,
@@ -32,6 +32,7 @@ from socnavgen.run.spec import (
     Reaction,
     RobotCue,
     RobotScript,
+    ScenarioSpec,
 )
 
 # Conditions of the library whose SUCCESS stays once reached (bt/library.py's "latching conditions"), by the
@@ -65,6 +66,7 @@ def physical_facts_text(scene_graph: bool = False) -> str:
     """The bodies, speeds and distances every stage plans with; `scene_graph`: how to read node positions
     (stage 2, whose prompt has the scene graph's `pos` and `xy_m`)."""
     from socnavgen.verify.models import VerifySettings  # the verifier's own thresholds
+    from socnavgen.verify.thresholds import APPROACH
 
     b, meet = body(), VerifySettings()
     touch = b.human_radius + b.robot_radius
@@ -77,16 +79,34 @@ def physical_facts_text(scene_graph: bool = False) -> str:
         f"{touch:g} m a person and the robot touch, so 'very close' is about 1.0 m and 'close' about 1.5-2 m.",
         f"- A passage narrower than {b.blocking_width:g} m is blocked for the robot by one person standing in "
         f"its middle (the scene graph marks such edges \"narrow\": true); a person who waits for the robot "
-        f"there must step aside (give_way), or wait before the passage.",
+        f"there must step aside (give_way), or wait before the passage; where {PASS_WIDTH:g}-{b.blocking_width:g} m "
+        f"is free they pass only if the person keeps to one side.",
         f"- How an encounter is checked: the robot and the human 'meet' when their centres are within "
         f"{meet.distance:g} m (or the criterion's `distance`) while the point halfway between them is within "
-        f"the encounter's `within` ({meet.near:g} m by default) of the encounter's node. A group (humans listed "
-        f"together in a group_together criterion) is met where the robot meets any member: members stepping "
-        f"aside is their reaction; a `meets` criterion may name the group's `humans`.",
+        f"the encounter's `within` ({meet.near:g} m by default) of the encounter's node, and only after an "
+        f"approach: both came {APPROACH:g} m closer to each other than at the start"
+        + (f" (a person waiting at the node: at least {approach_room():g} m from the robot's start)" if scene_graph
+           else "") + ". "
+        "A group (humans listed "
+        "together in a group_together criterion) is met where the robot meets any member: members stepping "
+        "aside is their reaction; a `meets` criterion may name the group's `humans`.",
         *(["- Positions: `pos` is the pixel position of a node in the map image; `xy_m` is the same point in "
            "metres in the world frame (x east, y north), so distances between nodes can be computed from it."]
           if scene_graph else []),
     ])
+
+
+def approach_room(spec: ScenarioSpec | None = None, enc: Encounter | None = None, human: str | None = None) -> float:
+    """How far (m, straight) an encounter's node must be from the robot's start for a person waiting there to be
+    met after an approach: the meeting distance (its `meets` criterion's, else the verifier's default) plus the
+    verifier's APPROACH (a meeting counts only once the two came that much closer: verify/criteria.py; proposal/path_checks checks it in stage 2)."""
+    from socnavgen.verify.derive import meeting_distance
+    from socnavgen.verify.models import VerifySettings
+    from socnavgen.verify.thresholds import APPROACH
+
+    settings = VerifySettings()
+    distance = meeting_distance(spec, enc, human, settings) if spec and enc and human else settings.distance
+    return distance + APPROACH
 
 
 def pacing_text() -> str:
@@ -152,7 +172,8 @@ def latch_text(target: Target = "socrates") -> str:
                 f"while its trigger holds, or `lasts` seconds.")
     return ("- \"latch\": true keeps a reaction going for good once its trigger fired (seen the robot once, it "
             "said FOLLOW ME once): the trigger is not checked again. Without a latch a reaction lasts while its "
-            "trigger holds, or `lasts` seconds if set.")
+            "trigger holds, or `lasts` seconds if set. With both, the reaction runs its `lasts` s once triggered, "
+            "whatever the trigger does, then they walk on for good (a latched wait_then_go waits once).")
 
 
 def people_text() -> str:
@@ -164,7 +185,9 @@ def people_text() -> str:
             f"for someone slow, with a cane) and \"otherwise\": \"walk\" (default: walk their path while no trigger "
             f"holds) or \"stand\" (stand at their start until a trigger sets them going).\n"
             f"- One person in several encounters switches reactions (e1 block the robot, e2 give way once it says "
-            f"EXCUSE ME): the later encounter's part (higher order) takes over when its trigger holds; two steps at "
+            f"EXCUSE ME): the later encounter's part (higher order) takes over while its trigger holds, and the "
+            f"earlier part comes back when it stops holding (the phrase is over) if its own trigger still holds: "
+            f"latch the later part to end the earlier one for good; two steps at "
             f"one place are two encounters there. Pacing brings them to their FIRST encounter's node.\n"
             f"- \"lasts\" (s) ends a reaction (then they walk on), e.g. say WAIT for at most 5 s; wait_then_go "
             f"stands {WAIT_THEN_GO_SECONDS:g} s unless set. \"seconds\" is only the time trigger's. {_negations()}")
@@ -175,13 +198,30 @@ def _negations() -> str:
                     f"`distance`)." for neg, base in NEGATED_TRIGGERS.items())
 
 
-def robot_limits_text() -> str:
-    """What the robot's script cannot do, so that the model plans around it."""
-    return ("- The robot only drives its route (planned later, node to node) at its speed, stands still (wait, "
-            "wait_until_clear) and speaks. It cannot back off, reverse, pull over or step aside, and cannot follow "
-            "a person: plan around it (it waits before a narrow place; a leader walks ahead along the robot's "
-            "route; people step aside where there is room). A route may come back to its start after passing "
-            "other nodes (\"to X and back\").")
+def robot_limits_text(detail: bool = True) -> str:
+    """What the robot's script can and cannot do, and (`detail`) what the default robot does by itself
+    (sim/robot/polite.py, its make_way after `patience` s face to face) and where it stops, so that the model
+    plans around it (fit.py leaves the detail out for a small context: the "robot" cut)."""
+    from socnavgen import proxemics
+    from socnavgen.bodies import TOUCH_DISTANCE
+    from socnavgen.sim.robot.api import ScriptedPolicy
+    from socnavgen.sim.robot.polite import FACE_GAP
+
+    limits = ("- The script drives the robot's route (node to node), stands it still (wait, wait_until_clear) and "
+              "speaks; no cue makes it back off, pull over or follow someone. A route may come back to its start "
+              "after passing other nodes.")
+    if not detail:
+        return limits
+    return (limits + " By itself the robot passes people on one "
+            "side where there is room, slows near them, and makes way for someone who must get past it (after "
+            f"{ScriptedPolicy.patience:g} s face to face, a gap of {FACE_GAP:g} m or less, it backs off the way it "
+            "came and steps aside where there is room). So \"it pulls over\": a person meets it face to face in a "
+            "passage, or a wait_until_clear cue at a wider node; \"it follows someone\": they lead along its route "
+            "(robot_far to wait).\n"
+            f"- It stops about {round(ScriptedPolicy.stop_gap + TOUCH_DISTANCE, 2):g} m (centres) from a person in "
+            f"its way; a wait_until_clear cue holds it where the cue fired while anyone is in its way within "
+            f"{proxemics.HELD_UP_DISTANCE:g} m (or the cue's distance), so a cue needing it closer to them never "
+            "fires meanwhile.")
 
 
 def export_text(target: Target | None = None, spec_words: bool = False) -> str:
@@ -247,11 +287,11 @@ def robot_vocabulary_text() -> str:
     return f"The robot can say: {robot_words}. A human can say: {human_words}."
 
 
-def scenario_rules_text(target: Target | None = None, signals: bool = True) -> str:
+def scenario_rules_text(target: Target | None = None, signals: bool = True, robot: bool = True) -> str:
     """What stage 1 must know about how its spec plays out (pacing, within, cues, groups, people, latch, what
     the robot cannot do, export, stl); `signals` False names the STL signals without their meanings."""
     lines = ["HOW THE SPEC PLAYS OUT:", pacing_text(), encounter_within_text(), cue_once_text(), groups_text(),
-             people_text(), latch_text(target or "socrates"), robot_limits_text(), export_text(target, spec_words=True),
+             people_text(), latch_text(target or "socrates"), robot_limits_text(robot), export_text(target, spec_words=True),
              stl_text(signals)]
     return "\n".join(line for line in lines if line)
 

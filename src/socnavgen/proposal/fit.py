@@ -10,13 +10,15 @@ leaving out, one after the other in this order (CUTS), what a small model needs 
 3. `inventory`     - the place inventory's detail lists (narrow passages, each blind turn's two ways,
                      where groups fit); the kinds of place with their nodes, what cannot work, the
                      doorways and where nobody can step aside stay;
-4. `examples`      - the last worked example (a small model copies the answer's shape from it: without
+4. `robot`         - what the robot does by itself (passing, making way) and where it stops (stage 1; what
+                     its script can and cannot do stays);
+5. `examples`      - the last worked example (a small model copies the answer's shape from it: without
                      any, SmolLM2-135M wrote "Human 1" as a person's behavior);
-5. `tutorials`     - the question-and-answer tutorials (stage 2's scene-graph tutorial, stage 3's tree
+6. `tutorials`     - the question-and-answer tutorials (stage 2's scene-graph tutorial, stage 3's tree
                      Q&A; the syntax rules stay).
 
 The request (context, task, location, rough scenario, the scenario and its spec), the rules, the facts
-and the answer format are never left out. A prompt that does not fit even then is an error naming its
+(but for the detail of cut 4) and the answer format are never left out. A prompt that does not fit even then is an error naming its
 size, the context and what to change. A conversation that grows by corrections is trimmed to its first
 prompt and the latest correction (`fit_history`). Backends without a known context (a server) get every
 prompt whole.
@@ -33,13 +35,13 @@ from socnavgen.llm.budget import context_tokens, count_tokens, prompt_room
 
 log = logging.getLogger("socnavgen.proposal")
 
-CUTS: tuple[str, ...] = ("more_examples", "signals", "inventory", "examples", "tutorials")
+CUTS: tuple[str, ...] = ("more_examples", "signals", "inventory", "robot", "examples", "tutorials")
 Cut = frozenset[str]
 NOTHING: Cut = frozenset()
 
 
 def examples_kept(left_out: Cut, examples: list) -> list:  # noqa: ANN001 - any list of examples
-    """The worked examples a prompt keeps: all, the first, or none (CUTS 1 and 4)."""
+    """The worked examples a prompt keeps: all, the first, or none (CUTS 1 and 5)."""
     if "examples" in left_out:
         return []
     return examples[:1] if "more_examples" in left_out else list(examples)

@@ -9,12 +9,15 @@ import networkx as nx
 
 from socnavgen.location import Location
 from socnavgen.location.inventory import PASS_WIDTH
-from socnavgen.location.placement import Walker, route_problems, start_problems
+from socnavgen.location.placement import Walker, node_distance, route_problems, start_problems
 from socnavgen.location.scene_graph import path_mistakes
+from socnavgen.proposal.facts import approach_room
 from socnavgen.proposal.replies import PathsReply, human_name
 from socnavgen.proposal.spec_checks import HIDDEN_UNTIL_DEFAULT
 from socnavgen.run import HumanPlan, PathPlan
-from socnavgen.run.spec import ScenarioSpec
+from socnavgen.run.spec import Encounter, ScenarioSpec
+from socnavgen.verify.derive import SHOWS_ENCOUNTER
+from socnavgen.verify.thresholds import APPROACH
 
 
 def _names(humans: list[str]) -> str:
@@ -86,6 +89,39 @@ def check_paths(reply: PathsReply, graph: nx.Graph, humans: list[str], spec: Sce
         if location is not None:
             mistakes += _blind_mistakes(reply, spec, location, robot, paths)  # type: ignore[arg-type]
             mistakes += _room_mistakes(reply, spec, location)
+            mistakes += _approach_mistakes(reply, spec, location, robot, paths)  # type: ignore[arg-type]
+    return mistakes
+
+
+def _met(spec: ScenarioSpec, enc: Encounter, human: str) -> bool:
+    """Whether the verifier judges `human` at `enc` by a meeting (a meets criterion, or the one every encounter
+    implies unless a keeps_away / follows_robot criterion shows it: verify/derive.py)."""
+    mine = [c for c in spec.criteria if human in [c.human, *c.humans] and c.encounter in (None, enc.id)]
+    return any(c.kind == "meets" for c in mine) or not any(c.kind in SHOWS_ENCOUNTER for c in mine)
+
+
+def _approach_mistakes(reply: PathsReply, spec: ScenarioSpec, location: Location, robot: list[str],
+                       paths: dict[str, list[str]]) -> list[str]:
+    """A person waiting at an encounter's node (their path starts there) is met only after an approach: the
+    node must be approach_room() from the robot's start, or they meet before anyone moved."""
+    mistakes = []
+    if not robot or robot[0] not in location.inventory.nodes:
+        return mistakes
+    for enc in spec.encounters:
+        node = reply.encounter_nodes.get(enc.id)
+        if node is None or node not in location.inventory.nodes:
+            continue
+        gap = node_distance(location, robot[0], node)
+        for part in enc.humans:
+            path = paths.get(part.human) or []
+            if not path or path[0] not in location.inventory.nodes or not _met(spec, enc, part.human):
+                continue
+            need = approach_room(spec, enc, part.human)
+            if node_distance(location, path[0], node) <= enc.within and gap < need:
+                mistakes.append(f"encounter {enc.id}: {part.human} waits at node {node}, only {gap:.2f} m from the "
+                                f"robot's start {robot[0]}, so they are together before anyone moved; a meeting "
+                                f"needs the two to come {APPROACH:g} m closer, so put {enc.id} at least {need:g} m "
+                                f"from the robot's start (or start the robot farther away)")
     return mistakes
 
 

@@ -21,7 +21,7 @@ from socnavgen.location.inventory import inventory_text
 from socnavgen.location.location import SCENE_GRAPH_IMAGE
 from socnavgen.location.placement import Walker, clear_starts, shown_position, start_problems, start_rule_text
 from socnavgen.proposal.conversation import Outcome, Policy, Recorder, converse
-from socnavgen.proposal.facts import groups_text, pacing_text, physical_facts_text
+from socnavgen.proposal.facts import approach_room, groups_text, pacing_text, physical_facts_text
 from socnavgen.proposal.fit import NOTHING, Cut, Note, examples_kept, fit_prompt
 from socnavgen.proposal.path_checks import check_paths
 from socnavgen.proposal.path_grammar import paths_grammar
@@ -30,17 +30,28 @@ from socnavgen.proposal.templates import render
 from socnavgen.proposal.tutorial import generate_tutorial, tutorial_text
 from socnavgen.run import PathPlan, ScenarioProposal, ScenarioRequest
 from socnavgen.run.spec import ScenarioSpec
+from socnavgen.verify.thresholds import APPROACH
 
 STAGE = "paths"
 MAX_TOKENS = 1536
-ENCOUNTER_RULE = ("8. encounter_nodes: for each encounter of the scenario, the node where it happens. It must be of the "
-                  "encounter's kind of place (node type), on the robot's path and on the path of every human of "
-                  "that encounter; a human's interaction point is the node of its FIRST encounter (lowest order). "
-                  "Where someone gives way, the node needs room to step aside (the inventory lists where there is "
-                  "none).")
-POINT_RULE = ("6. The interaction point of a human is the node where it meets the robot first (pacing brings it there "
-              "with the robot): it must be on that human's path AND on the robot's path. A human in several "
-              "encounters meets the robot again wherever their paths cross later.")
+POINT_RULE = ("6. The interaction point of a human is the node where pacing brings that human together with the "
+              "robot: it must be on that human's path AND on the robot's path.")
+POINT_RULE_ENCOUNTERS = ("6. The interaction point of a human is the node of that human's FIRST encounter (lowest "
+                         "order; its node in encounter_nodes): pacing brings the human there together with the robot. "
+                         "It must be on that human's path AND on the robot's path. A human in later encounters meets "
+                         "the robot again at those encounters' nodes.")
+
+
+def encounter_rule() -> str:
+    """Rule 8 of a scenario with encounters (the approach distance from path_checks, the one check of it)."""
+    return ("8. encounter_nodes: for each encounter of the scenario, the node where it happens. It must be of the "
+            "encounter's kind of place (node type), on the robot's path and on the path of every human of that "
+            "encounter (rule 6 says which one is a human's interaction point). Where someone gives way, the node "
+            "needs room to step aside (the inventory lists where there is none). A person waiting at an encounter's "
+            f"node must be at least {approach_room():g} m (between xy_m) from the robot's start: a meeting counts "
+            f"only after the robot and the person came {APPROACH:g} m closer to each other (more when a meets "
+            "criterion's distance is larger: that distance + "
+            f"{APPROACH:g} m).")
 
 
 def scene_graph_text(location: Location) -> str:
@@ -178,8 +189,9 @@ def paths_messages(location: Location, scenario: ScenarioProposal, *, seed: int 
                   facts="\n".join([physical_facts_text(scene_graph=True), pacing_text(), groups_text()]),
                   encounters=encounters_text(spec),
                   inventory=inventory_text(location, positions=False, detail="inventory" not in left_out),
-                  start_rule=start_rule_text(), point_rule=POINT_RULE,
-                  encounter_rule=ENCOUNTER_RULE if spec is not None and spec.encounters else "")
+                  start_rule=start_rule_text(),
+                  point_rule=POINT_RULE_ENCOUNTERS if spec is not None and spec.encounters else POINT_RULE,
+                  encounter_rule=encounter_rule() if spec is not None and spec.encounters else "")
     picture: list[Path] = []
     image = location.root / SCENE_GRAPH_IMAGE
     if images and image.is_file():

@@ -59,12 +59,13 @@ def location_text(location: Location, inventory: bool = True, *, detail: bool = 
                   inventory=inventory_text(location, detail=detail) if inventory else "")
 
 
-def spec_help_text(target: Target | None = None, *, signals: bool = True) -> str:
+def spec_help_text(target: Target | None = None, *, signals: bool = True, robot: bool = True) -> str:
     """How to write the spec: its vocabulary (from run/spec.py and the library), how it plays out in the
-    simulator, and the physical facts (`signals` False: the STL signals by name only, fit.py)."""
+    simulator, and the physical facts (`signals` False: the STL signals by name only; `robot` False: not what
+    the robot does by itself; fit.py)."""
     return render("scenario_spec.md", vocabulary=robot_vocabulary_text(), facts=physical_facts_text(),
                   kinds=", ".join(get_args(CriterionKind)), target=target_text(target),
-                  rules=scenario_rules_text(target, signals), cue_triggers=cue_triggers_text())
+                  rules=scenario_rules_text(target, signals, robot), cue_triggers=cue_triggers_text())
 
 
 def target_text(target: Target | None) -> str:
@@ -86,7 +87,7 @@ def scenario_messages(request: ScenarioRequest, location: Location,
     target = request.target
     messages = [ChatMessage(role="system", content=render(
         "scenario_system.md", capabilities=capabilities_text(target or "socrates"),
-        spec_help=spec_help_text(target, signals="signals" not in left_out)))]
+        spec_help=spec_help_text(target, signals="signals" not in left_out, robot="robot" not in left_out)))]
     examples = examples_kept(left_out, template_data("scenario_examples.json"))
     for example in examples:
         messages.append(ChatMessage(role="user", content=render(

@@ -212,6 +212,10 @@ def _criteria_mistakes(spec: ScenarioSpec, humans: list[str], ids: list[str], ro
             elif c.phrase not in robot_phrases:
                 mistakes.append(f"criterion {c.id}: waits for the robot to say {c.phrase}, but no cue of "
                                 f"spec.script.cues says it")
+        if c.kind == "says" and c.human in humans and not any(p.reaction == "say" for _, p in spec.parts_of(c.human)):
+            mistakes.append(f"criterion {c.id} asks {c.human} to say {c.phrase or 'something'}, but no encounter has "
+                            f"{c.human} speak (a `says` criterion needs a part of {c.human} with the reaction say); "
+                            f"give {c.human} that part, or drop the criterion")
         if c.kind == "stl" and not (c.formula or "").strip():
             mistakes.append(f"criterion {c.id}: kind stl needs its `formula`")
         if c.text.strip():

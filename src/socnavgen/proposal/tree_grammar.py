@@ -77,8 +77,10 @@ def build_spec_tree_grammar(name: str, spec: ScenarioSpec | None, target: Target
     lasting = part.lasting()
     timer = [Lit(f"<Inverter><{TIMER} seconds='{lasting:g}' ts='{{dt}}' only_once='true'/></Inverter>")] \
         if lasting is not None else []
-    if part.latch and part.trigger != "always":
-        acts = [[Lit(f"<{LATCH_NODE}>"), *act, Lit(f"</{LATCH_NODE}>")] for act in acts]
+    if part.latch and part.trigger != "always":  # latched with `lasts`: the timer inside the latch (tree_needs)
+        acts = [[Lit(f"<{LATCH_NODE}>"), *([Lit("<Sequence name='Timed'>"), *timer] if timer else []), *act,
+                 *([Lit("</Sequence>")] if timer else []), Lit(f"</{LATCH_NODE}>")] for act in acts]
+        timer = []
     g.add("gate", *gates)
     g.add("act", *acts)
     g.add("root", [*head, Lit("<Fallback name='ReactOrOtherwise'><Sequence name='React'>"), Ref("gate"), *timer,

@@ -10,8 +10,11 @@ The rest of a part is checked the same way, each as a gate of the action:
 - a reaction that `lasts` (wait_then_go too) is gated by an inverted TimeExpiredCondition of that many
   seconds (the action runs for the first `lasts` seconds);
 - a latched part keeps its action for good: the action inside KeepRunningUntilFailure after its
-  condition (facts.LATCH_NODE). A robot phrase may also be latched by RobotSaid or by the tree's own
+  condition (facts.LATCH_NODE); latched with `lasts`, the timer gates the action INSIDE the latch (a timer
+  before it is never ticked again once the latch runs). A robot phrase may also be latched by RobotSaid or by the tree's own
   memory (recorded trees hold "heard FOLLOW ME, or already left the room"): not checked;
+- a `say` part that ends (it lasts, or holds while its trigger does) clears its phrase: the tree has a
+  MakeGesture of message 0 (a gesture stays shown until another MakeGesture replaces it);
 - a person whose `otherwise` is stand has a stop action that no trigger gates (what they do meanwhile);
 - of two parts of one person, the later encounter's takes over: its branch comes first in the Fallback
   that chooses between them.
@@ -38,6 +41,8 @@ from socnavgen.proposal.facts import LATCH_NODE, detecting_nodes, latches_by_run
 from socnavgen.run.spec import NEGATED_TRIGGERS, Encounter, HumanPart, ScenarioSpec
 
 TIMER = "TimeExpiredCondition"
+GESTURE = "MakeGesture"
+CLEAR_GESTURE = f"<{GESTURE} agent_id='{{id}}' message='0'/>"
 Placed = tuple[Node, tuple[Node, ...]]  # a node and its ancestors from the top
 
 
@@ -117,11 +122,18 @@ def needs_text(name: str, spec: ScenarioSpec | None, target: Target = "socrates"
             need = (f"detect it with {trigger.describe()} and, gated by that condition, "
                     f"{'use ' + reaction.describe() if reaction else 'react'}")
         timer = lasting_need(part, target)
-        if timer is not None:
-            need += (f"; it lasts {part.lasting():g} s: put <Inverter><{TIMER} seconds='{part.lasting():g}' "
-                     f"ts='{{dt}}' only_once='true'/></Inverter> before the action in its Sequence")
-        if part.latch:
-            need += "; once triggered it lasts for good (latch): " + _latch_words(part, target)
+        if timer is not None and part.latch and _latch_by_node(part, target):
+            need += (f"; once triggered it lasts {part.lasting():g} s whatever the trigger does (latch with lasts), "
+                     f"then they walk on for good: {_timed_latch_words(part)}")
+        else:
+            if timer is not None:
+                need += (f"; it lasts {part.lasting():g} s: {_timer_xml(part)} before the action in its Sequence")
+            if part.latch:
+                need += "; once triggered it lasts for good (latch): " + _latch_words(part, target)
+        if _gesture_ends(part, target):
+            need += (f"; MakeGesture keeps showing {part.says} until another MakeGesture, so when the reaction ends "
+                     f"({'its ' + format(part.lasting(), 'g') + ' s are over' if part.lasting() else 'its trigger no longer holds'}) "
+                     f"clear it: begin the branch that walks on with {CLEAR_GESTURE}")
         lines.append(f"- Encounter {enc.id} (order {enc.order}) at {where}: {_part_words(part)}. Your tree must "
                      f"{need}.")
     if not lines:
@@ -129,9 +141,36 @@ def needs_text(name: str, spec: ScenarioSpec | None, target: Target = "socrates"
     if len(parts) > 1:
         lines.append(f"- {name} switches reactions: a later encounter's part takes over from an earlier one when its "
                      f"trigger holds, so check the later encounters' conditions first (their branches come first "
-                     f"in the Fallback).")
+                     f"in the Fallback); when the later trigger stops holding the earlier branch runs again if its condition "
+                     f"holds, unless the later part is latched. A latched part (<{LATCH_NODE}>) is not left while it runs: the Sequence and the "
+                     f"Fallback above it resume at the RUNNING child without checking the branches before it again. So when "
+                     f"an earlier encounter's part is latched, put the later encounter's branch INSIDE the latch: "
+                     f"<{LATCH_NODE}><Fallback><Sequence>(later trigger)(later action)</Sequence>(earlier action)"
+                     f"</Fallback></{LATCH_NODE}>.")
     lines += person_lines(name, spec)
     return "\n".join(["What the scenario's spec requires of this human's tree:", *lines, script_text(spec)])
+
+
+def _gesture_ends(part: HumanPart, target: Target) -> bool:
+    """A `say` part that ends (it lasts, or holds only while its trigger does) with a gesture that stays shown
+    until another MakeGesture replaces it (bt.library: MakeGesture)."""
+    ends = part.lasting() is not None or (part.trigger != "always" and not part.latch)
+    return part.reaction == "say" and ends and GESTURE in nodes_for_reaction("say", target)
+
+
+def _timer_xml(part: HumanPart) -> str:
+    return f"<Inverter><{TIMER} seconds='{part.lasting():g}' ts='{{dt}}' only_once='true'/></Inverter>"
+
+
+def _latch_by_node(part: HumanPart, target: Target) -> bool:
+    """The latch of this part is LATCH_NODE (no condition of the trigger stays SUCCESS by itself)."""
+    return latching_node(part.trigger, target) is None
+
+
+def _timed_latch_words(part: HumanPart) -> str:
+    return (f"put a Sequence of the timer and the action inside <{LATCH_NODE}> right after the condition: "
+            f"<{LATCH_NODE}><Sequence>{_timer_xml(part)}(the action)</Sequence></{LATCH_NODE}> (when the timer "
+            f"expires the latch fails, and the expired timer keeps the reaction from starting again)")
 
 
 def _latch_words(part: HumanPart, target: Target) -> str:
@@ -161,7 +200,7 @@ def script_text(spec: ScenarioSpec) -> str:
     for cue in spec.script.cues:
         t = cue.trigger
         when = {"start": "at the start", "at_encounter": f"within {t.distance:g} m of encounter {t.encounter}",
-                "blocked": f"when someone stands in its way within {t.distance:g} m",
+                "blocked": f"when someone is in its way within {t.distance:g} m",
                 "human_within": f"when {t.human or 'anyone'} is within {t.distance:g} m",
                 "human_farther": f"when {t.human or 'anyone'} is farther than {t.distance:g} m",
                 "human_says": f"when {t.human or 'someone'} says {t.phrase}",
@@ -253,6 +292,19 @@ def _latched(action: Node, path: tuple[Node, ...], trigger: Need) -> bool:
     return False
 
 
+def _timed_inside_latch(action: Node, path: tuple[Node, ...], timer: Need) -> bool:
+    """The timer gates the action below LATCH_NODE (the latch re-checks it on every tick, so it ends)."""
+    timed = False
+    for parent, child in _steps(action, path):
+        if parent.name == LATCH_NODE:
+            return timed
+        flow = parent.spec.flow if parent.spec is not None else None
+        if flow is not None and any(_contains(c, timer, inverted=flow == "fallback")
+                                    for c in parent.children[:_index(parent, child)]):
+            timed = True
+    return False
+
+
 def tree_need_mistakes(xml: str, name: str, spec: ScenarioSpec | None, target: Target = "socrates") -> list[str]:
     """What the tree of `name` (one `bt check` accepts) lacks for its encounter parts, each mistake naming
     the nodes to add. The tree is read as it runs: SubTree calls expanded, ports typed, controls and
@@ -289,8 +341,16 @@ def _part_mistakes(nodes: list[Placed], enc: Encounter, part: HumanPart, target:
                     f"the action in a Sequence (or inverted in an earlier branch of a Fallback)"]
     timer = lasting_need(part, target)
     if timer is not None and not any(_gated(a, path, timer) for a, path in actions):
-        return [f"{what}: the reaction lasts {part.lasting():g} s; put <Inverter><{TIMER} seconds='{part.lasting():g}' "
-                f"ts='{{dt}}' only_once='true'/></Inverter> before {reaction.describe()} in its Sequence"]
+        return [f"{what}: the reaction lasts {part.lasting():g} s; put {_timer_xml(part)} before "
+                f"{reaction.describe()} in its Sequence"]
+    if timer is not None and part.latch and trigger is not None and _latch_by_node(part, target) \
+            and not any(_timed_inside_latch(a, path, timer) for a, path in actions):
+        return [f"{what}: the reaction is latched and lasts {part.lasting():g} s; a timer outside the latch is never "
+                f"checked again once the latch runs: {_timed_latch_words(part)}"]
+    if _gesture_ends(part, target) and not any(n.name == GESTURE and literal_text(n.value("message")) == "0"
+                                               for n, _ in nodes):
+        return [f"{what}: MakeGesture keeps showing {part.says} until another MakeGesture, and this reaction ends; "
+                f"clear the phrase when it does: begin the branch that walks on with {CLEAR_GESTURE}"]
     if part.latch and trigger is not None and latching_node(part.trigger, target) is None \
             and not any(_latched(a, path, trigger) for a, path in actions):
         return [f"{what}: the reaction is latched (it lasts for good once triggered); {_latch_words(part, target)}"]

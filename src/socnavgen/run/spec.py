@@ -38,7 +38,7 @@ class CueTrigger(BaseModel):
 
     start         at t = 0
     at_encounter  the robot is within `distance` of the node of encounter `encounter`
-    blocked       a person stands within `distance` ahead of the robot, in its way
+    blocked       a person, standing or walking, is within `distance` ahead of the robot, in its way
     human_within  `human` (any human when not given) is within `distance` of the robot
     human_farther `human` (any human when not given) is farther than `distance` from the robot (a guide waits for a slow follower)
     human_says    `human` (any when not given) makes the phrase `phrase`
@@ -113,7 +113,10 @@ class HumanPart(BaseModel):
     follow_human (`other`) | wait_then_go (stands `lasts` s, WAIT_THEN_GO_SECONDS unless set, then walks
     on) | join (a group).
     `lasts`: the reaction stops after this many seconds (then the person walks on); unset, it lasts while
-    the trigger holds. `latch`: once triggered, keep reacting for good (the trigger is not checked again)."""
+    the trigger holds. `latch`: once triggered, keep reacting for good (the trigger is not checked again).
+    Both: once triggered, the reaction runs its `lasts` seconds whatever the trigger does meanwhile, then
+    the person walks on for good (wait_then_go latched: stands `lasts` s, then walks on and never waits
+    again)."""
 
     model_config = ConfigDict(extra="forbid")
     human: str
@@ -143,12 +146,11 @@ class HumanPart(BaseModel):
         if self.seconds is not None and self.trigger != "time":
             raise ValueError(f"{self.human}: `seconds` belongs to the trigger time (after how many seconds); how "
                              f"long a reaction lasts is `lasts`")
-        if self.lasts is not None and self.latch:
-            raise ValueError(f"{self.human}: a latched reaction lasts for good; drop `lasts` or `latch`")
         return self
 
     def lasting(self) -> float | None:
-        """Seconds the reaction lasts once triggered (None: while the trigger holds, or for good if latched)."""
+        """Seconds the reaction lasts once triggered (None: while the trigger holds, or for good if latched;
+        latched with `lasts`: these seconds once triggered, the trigger not checked again)."""
         return self.lasts if self.lasts is not None else WAIT_THEN_GO_SECONDS if self.reaction == "wait_then_go" \
             else None
 

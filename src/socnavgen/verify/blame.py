@@ -200,7 +200,10 @@ def _stuck(cc: Compiled, s: Signals, spec: ScenarioSpec, settings_deadlock: floa
     if _never_said(s, phrase):
         return ("robot_script", None, f"{who} waits for the robot to say {phrase.replace('_', ' ').upper()}, "
                                       "which the script never says: add a cue (e.g. when blocked)")
-    return ("behaviors", who, f"{who} stood in the robot's way {dead.max():.0f} s: its tree must give way")
+    return ("behaviors", who, f"{who} stood in the robot's way {dead.max():.0f} s: its tree must let the robot "
+                              "through, by giving way where there is room to step aside, or by walking on toward "
+                              "its goal past the robot (the robot makes way for someone who needs to get past it), "
+                              "not by standing in front of it")
 
 
 def _scripted_wait(s: Signals, spec: ScenarioSpec, settings_deadlock: float) -> Verdict | None:
@@ -250,7 +253,11 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
                 f"the robot never said {robot_phrase.replace('_', ' ').upper()}: add a cue that says it")
     if kind == "reacts_after_phrase" and h and cc.reaction:
         says, react = s.get(f"robot_says_{cc.phrase}") > 0.5, s.get(f"react_{h}_{cc.reaction}") > 0.5
-        if react.any() and int(np.argmax(react)) < int(np.argmax(says)):
+        first = int(np.argmax(says))
+        if react.any() and says.any() and react[first]:  # already reacting when it first spoke
+            if cc.reaction == "walk_past":  # the person's ordinary walking
+                return "behaviors", h, (f"{h} was already walking when the robot spoke: make it stand (its earlier "
+                                        f"part) until the phrase, and walk on gated by RobotSays")
             return "behaviors", h, f"{h} reacted before the robot spoke: gate the reaction on RobotSays"
     if kind == "hidden_until":
         return "paths", None, "robot and human see each other before they meet: choose a blind place"

@@ -28,7 +28,7 @@ def _together_at(human: str, enc: Encounter, distance: float) -> str:
     return f"((dist_{human} <= {distance:g}) and (mid_{human}_to_{enc.id} <= {enc.within:g}))"
 
 
-def _meeting_distance(spec: ScenarioSpec, enc: Encounter, human: str, settings: VerifySettings) -> float:
+def meeting_distance(spec: ScenarioSpec, enc: Encounter, human: str, settings: VerifySettings) -> float:
     """How close counts as meeting `human` at `enc`: the distance of the spec's own `meets` criterion for it
     (so the order of two encounters is judged on the same meetings their criteria found), else the default."""
     for c in spec.criteria:
@@ -47,8 +47,8 @@ def _order_criteria(spec: ScenarioSpec, settings: VerifySettings) -> Judged:
             continue
         a, b = first.humans[0].human, then.humans[0].human
         out.append((Criterion(id=f"order_{first.id}_{then.id}", kind="stl",
-                              formula=f"(not {_together_at(b, then, _meeting_distance(spec, then, b, settings))})"
-                                      f" until {_together_at(a, first, _meeting_distance(spec, first, a, settings))}",
+                              formula=f"(not {_together_at(b, then, meeting_distance(spec, then, b, settings))})"
+                                      f" until {_together_at(a, first, meeting_distance(spec, first, a, settings))}",
                               text=f"{first.id} ({a}) happens before {then.id} ({b})"), "implied"))
     return out
 
