@@ -9,6 +9,7 @@ compiled episode compiles the simulator (~40 s, cached).
     python benchmarks/campaign_bench.py --quick    # smaller counts
     python benchmarks/campaign_bench.py --full     # + the 10,000-episode point of the growth table
     python benchmarks/campaign_bench.py --dt-check # does dt 0.1 s change outcomes? (every card, bundled maps)
+    python benchmarks/campaign_bench.py --parts    # CPU ms of each part of one worker's episode
 """
 
 from __future__ import annotations
@@ -75,6 +76,22 @@ def cli_loop(runs: list[Path], count: int) -> float:
     return count / (time.perf_counter() - start)
 
 
+def simulate_cpu(run: Path, plot: bool, repeats: int = 3) -> float:
+    """CPU seconds (user + sys, best of `repeats`) of `socnavgen simulate RUN` with a warm cache: the whole
+    command, start-up, imports, simulation, outputs and the interpreter's exit."""
+    import resource
+
+    env = {**os.environ, "PYTHONPATH": str(REPO / "src")}
+    best = float("inf")
+    for _ in range(repeats):
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
+        subprocess.run([sys.executable, "-c", CLI, "simulate", str(run), "--plot" if plot else "--no-plot"],
+                       env=env, check=True, capture_output=True, timeout=300)
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        best = min(best, after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime)
+    return best
+
+
 def help_seconds(repeats: int = 5) -> float:
     env = {**os.environ, "PYTHONPATH": str(REPO / "src")}
     best = float("inf")
@@ -114,13 +131,73 @@ def dt_check(root: Path, seeds: int = 2) -> None:
         print(f"| same `{col}` in both | {same}/{n} | |")
 
 
+def episode_parts(root: Path, episodes: int = 100) -> None:
+    """CPU ms per episode of each part of a worker's episode loop (run_episode on the 5-person card, one
+    thread): each part's function wrapped in a thread_time clock; `rest` is the episode's own bookkeeping."""
+    from collections import defaultdict
+
+    import socnavgen.campaign.variation as variation
+    import socnavgen.sim as sim
+    import socnavgen.sim.metrics as metrics
+    import socnavgen.sim.outputs.trajectory as trajectory
+    import socnavgen.sim.social_metrics as social
+    import socnavgen.verify.runner as verify
+    from socnavgen.campaign import episode as ep
+    from socnavgen.campaign.scenarios import build_suite
+    from socnavgen.sim.engine.simulation import Simulation
+
+    scenario = build_suite(spec_for(1), root / "parts").scenarios[0]
+    settings = ep.EpisodeSettings()
+    for seed in range(3):  # compiled, every location and run file loaded
+        ep.run_episode(ep.Episode(scenario, "waypoints", "waypoints", seed), settings)
+    spent: dict[str, float] = defaultdict(float)
+
+    def clocked(owner: object, name: str, label: str) -> None:
+        inner = getattr(owner, name)
+
+        def wrapper(*args: object, **kwargs: object) -> object:
+            start = time.thread_time()
+            try:
+                return inner(*args, **kwargs)
+            finally:
+                spent[label] += time.thread_time() - start
+
+        setattr(owner, name, wrapper)
+
+    for owner, name, label in [(sim, "load_simulation", "building the Simulation (load_simulation)"),
+                               (Simulation, "run", "simulation (Simulation.run)"),
+                               (variation, "draw_people", "drawing the people's traits"),
+                               (metrics, "compute_metrics", "evaluator metrics (compute_metrics)"),
+                               (metrics, "navigation_metrics", "navigation metrics"),
+                               (social, "social_metrics", "social metrics"),
+                               (ep, "expected_behaviour", "card's expected-behaviour checks"),
+                               (trajectory, "trajectory_bytes", "trajectory file (trajectory_bytes)"),
+                               (verify, "verify_trace", "verifier (verify_trace)")]:
+        clocked(owner, name, label)
+    start = time.thread_time()
+    for seed in range(episodes):
+        ep.run_episode(ep.Episode(scenario, "waypoints", "waypoints", 100 + seed), settings)
+    total = time.thread_time() - start
+    spent["rest (rows, bookkeeping)"] = total - sum(spent.values())
+    print(f"\nParts of an episode: {episodes} episodes of crowd-navigation on the warehouse, waypoints robot, one "
+          f"thread, {1000 * total / episodes:.2f} CPU ms each = {episodes / total:.0f} episodes per CPU second")
+    print("| part | CPU ms per episode | share |\n|---|---:|---:|")
+    for label, seconds in sorted(spent.items(), key=lambda kv: -kv[1]):
+        print(f"| {label} | {1000 * seconds / episodes:.2f} | {100 * seconds / total:.0f} % |")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true")
     parser.add_argument("--full", action="store_true")
     parser.add_argument("--dt-check", action="store_true", help="only compare outcomes at dt 0.05 and 0.1 s")
+    parser.add_argument("--parts", action="store_true", help="only the CPU time of each part of an episode")
     args = parser.parse_args()
     cores = os.cpu_count() or 1
+    if args.parts:
+        with tempfile.TemporaryDirectory() as tmp:
+            episode_parts(Path(tmp))
+        return
     if args.dt_check:
         with tempfile.TemporaryDirectory() as tmp:
             dt_check(Path(tmp))
@@ -165,6 +242,8 @@ def main() -> None:
         for size in sizes:
             total, wall, cpu = campaign_rate(size, "inline", 1, root, f"grow{size}", "blind-corner", LOCATIONS[:1])
             print(f"| {total} | {cpu:.1f} | {wall:.1f} | {1000 * cpu / total:.2f} |", flush=True)
+        print(f"\n`socnavgen simulate` on a card (warm cache, CPU s, best of 3; target < 1 s): "
+              f"{simulate_cpu(runs[0], True):.2f} s, {simulate_cpu(runs[0], False):.2f} s with --no-plot")
     print(f"\n`socnavgen --help` start-up: {help_seconds():.3f} s (best of 5; target < 0.3 s)")
 
 

@@ -9,15 +9,17 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from socnavgen import proxemics
 from socnavgen.export.as_target import run_as_target, target_twin, waypoint_robot
 from socnavgen.export.scene import build_scene
 from socnavgen.export.timing import (
     GOAL_REACHED,
     HOLD_BEFORE,
-    NEVER_HOLD_WITHIN,
     RELEASE_MARGIN,
     START_LAG,
     WALK_SPEED,
+    _Line,
+    held_up_from,
     hold_for,
     holds,
     with_waiting_goals,
@@ -77,7 +79,20 @@ def test_who_is_not_timed(tmp_path: Path, hall: Path) -> None:
     hold = hold_for(scene.humans[0], scene)
     assert hold is not None and hold.goals_first == 0 and hold.wait_goal is None  # waits where it stands
     assert hold.wait_at == pytest.approx((scene.humans[0].start.x, scene.humans[0].start.y), abs=1e-3)
-    assert hold.release_distance >= NEVER_HOLD_WITHIN
+    # it waits on the robot's path: released before the robot would wait for it (proxemics.HELD_UP_DISTANCE)
+    assert hold.release_distance == pytest.approx(proxemics.HELD_UP_DISTANCE + RELEASE_MARGIN, abs=0.06)
+
+
+def test_a_person_waiting_in_the_robots_way_is_released_before_the_robot_is_held_up() -> None:
+    east_then_north = _Line([0j, 10 + 0j, 10 + 10j])
+    # on the path ahead: in the way from HELD_UP_DISTANCE on
+    assert held_up_from(east_then_north, 8 + 0j, 20.0) == pytest.approx(proxemics.HELD_UP_DISTANCE, abs=0.06)
+    # beside the path (1 m off, more than the corridor the bodies sweep): never in its way
+    assert held_up_from(east_then_north, 5 + 1j, 20.0) is None
+    # round the corner: in its way only once the robot has turned north, 2 m below it
+    assert held_up_from(east_then_north, 10 + 2j, 20.0) == pytest.approx(2.0, abs=0.06)
+    # the robot stops before it comes that close (`upto`): never held up
+    assert held_up_from(east_then_north, 8 + 0j, 4.0) is None
 
 
 @pytest.mark.parametrize("speed", [0.5, 1.0, 1.5])

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from socnavgen.sim import empty_room, load_policy
-from socnavgen.sim.people.give_way import GIVE_WAY_MARGIN, SIDE_STEP_MAX, plan_side_step
+from socnavgen.sim.people.give_way import GIVE_WAY_MARGIN, SIDE_STEP_MAX, SPOT_ROOM, plan_side_step
 from tests.sim.simhelpers import REGULAR, human, make_sim, tree_xml
 
 ROOMS = {  # (width, height, walls, robot path): a room with walls, and a corridor too narrow to leave the path
@@ -26,14 +26,18 @@ def to_path(points: np.ndarray, path: np.ndarray) -> tuple[np.ndarray, np.ndarra
     return d.min(axis=1), d.argmin(axis=1)
 
 
-def reachable_spots(world, p: complex, radius: float) -> np.ndarray:  # noqa: ANN001
-    """Every spot within SIDE_STEP_MAX of p a body walks to in a straight line (64 directions, every 5 cm)."""
+def reachable_spots(world, p: complex, radius: float, others: np.ndarray) -> np.ndarray:  # noqa: ANN001
+    """Every spot within SIDE_STEP_MAX of p a body walks to in a straight line (64 directions, every 5 cm) where
+    no one else stands, with 0.3 m to spare (`others`: their centres, bodies of `radius`)."""
     out = []
     for angle in np.linspace(0, 2 * np.pi, 64, endpoint=False):
         u = complex(np.cos(angle), np.sin(angle))
         room = world.free_along(p, u, SIDE_STEP_MAX, radius)
         out.extend(p + u * np.arange(0.05, room + 1e-9, 0.05))
-    return np.array(out, dtype=complex)
+    spots = np.array(out, dtype=complex)
+    if len(others) and len(spots):
+        spots = spots[np.abs(spots[:, None] - others[None, :]).min(axis=1) >= 2 * radius + SPOT_ROOM + 0.3]
+    return spots
 
 
 @pytest.mark.parametrize("seed", range(3))
@@ -69,7 +73,10 @@ def test_the_side_step_leaves_the_robots_path_when_there_is_room(room: str, seed
                 walk = p + (spot - p) * np.linspace(0, 1, 40)[1:]
                 assert world.clearance_at(walk).min() >= radius - 1e-9
             (there,), _ = to_path(np.array([spot]), upcoming)
-            spots = reachable_spots(world, p, radius)
+            others = np.array([complex(sim.people[j].pos) for j in range(12) if j != i])
+            if spot != p:  # nobody stands there
+                assert np.abs(others - spot).min() >= 2 * radius + SPOT_ROOM - 1e-9
+            spots = reachable_spots(world, p, radius, others)
             room_left = to_path(spots, upcoming)[0].max(initial=0.0) if len(spots) else 0.0
             if room_left >= want + 0.3:  # clearly room: it must get out of the way
                 roomy += 1
@@ -85,3 +92,47 @@ def test_the_side_step_leaves_the_robots_path_when_there_is_room(room: str, seed
     assert same_side >= roomy // 2  # it mostly keeps to its own side
     if room == "corridor":
         assert cramped >= 10  # the corridor leaves no spot clear of the robot: the fallback is exercised
+
+
+def test_a_group_giving_way_in_a_corridor_each_finds_a_spot_and_the_robot_passes():
+    """Three people chatting in the middle of a 2.9 m corridor, on the robot's path, give way when it comes
+    near: each steps to a spot of their own (the one in the middle does not walk into the spot of the one
+    beside it and stand in the robot's way, as the hospital's handover nurses did for 52 s), and the robot,
+    waiting until the way is clear, gets past without touching anyone."""
+    from socnavgen.run.spec import CueTrigger, RobotCue, RobotScript
+
+    gives_way = tree_xml('<Fallback><Sequence><IsRobotNearby agent_id="{id}" distance="3.0"/>'
+                         '<GiveWaytoRobot agent_id="{id}" time_step="{dt}"/></Sequence>'
+                         '<LookAtRobot agent_id="{id}"/></Fallback>')
+    group = [human("human1", start=(7.7, 1.45), goals=[(7.7, 1.45)], group_id=0),
+             human("human2", start=(6.8, 1.96), goals=[(6.8, 1.96)], group_id=0),
+             human("human3", start=(6.8, 0.93), goals=[(6.8, 0.93)], group_id=0)]
+    script = RobotScript(cues=[RobotCue(trigger=CueTrigger(when="blocked", distance=2.5), say="EXCUSE ME", hold=2.0,
+                                        wait_until_clear=True)])
+    sim = make_sim(group, [gives_way] * 3, [(1.0, 1.45), (13.0, 1.45)], policy=load_policy("scripted"),
+                   world=empty_room(14.0, 2.9), script=script, timeout=60)
+    trace = sim.run()
+    assert trace.end_reason == "robot_goal" and trace.t[-1] < 40.0
+    spots = [complex(sim.people[i].aside) for i in range(3)]
+    assert min(abs(a - b) for k, a in enumerate(spots) for b in spots[k + 1:]) >= 0.5 + SPOT_ROOM - 1e-9
+    assert [text for _, text in sim.cues.fired][-1] != "still blocked: stop waiting, go around"
+    from socnavgen.sim.contact import trace_gaps
+
+    assert trace_gaps(trace).min() > 0.05  # nobody touched
+
+
+def test_a_follower_on_the_last_leg_of_a_round_trip_follows_at_once():
+    """FOLLOW ME at the start of a round trip whose last leg leads back past the follower (into their room):
+    they are not in the robot's way now, so they follow it out instead of standing aside until it comes back
+    (the rehab patient stayed 12 m behind for the whole walk)."""
+    follows = tree_xml('<FollowRobot agent_id="{id}" time_step="{dt}"/>')
+    route = [(4.0, 4.0), (12.0, 4.0), (4.0, 4.0), (4.0, 8.0)]
+    sim = make_sim([human(start=(4.0, 5.4), goals=[(4.0, 5.4)])], [follows], route, policy=load_policy("scripted"),
+                   world=empty_room(16.0, 10.0), timeout=60)
+    trace = sim.run()
+    at = {round(float(t), 2): k for k, t in enumerate(trace.t)}
+    k = at[12.0]  # the robot is near the far end
+    robot, person = trace.robot[k, :2], trace.humans[k, 0, :2]
+    assert robot[0] > 9.0
+    assert np.hypot(*(robot - person)) < 4.0  # following, not waiting at the start
+    assert not trace.executed(0, "GiveWaytoRobot").any() or person[0] > 6.0

@@ -97,3 +97,19 @@ def test_a_person_with_a_start_delay_stands_until_then_and_walks_after():
     before = trace.t < 2.0 - 1e-9
     assert np.allclose(trace.humans[before, 0, 0], 2.0) and np.allclose(trace.humans[before, 0, 1], 5.0)
     assert trace.humans[-1, 0, 0] > 4.0
+
+
+def test_a_larger_personal_space_preference_keeps_a_walker_farther_from_the_robot():
+    """HumanSpec.pass_gap (campaigns set it from each person's drawn personal-space preference,
+    people.avoid.pass_gap_for): walking past a standing robot in an open room, a person preferring 1.5 m
+    leaves more room than one preferring 1 m, and one preferring 0.5 m less."""
+    from socnavgen.sim.people.avoid import pass_gap_for
+
+    closest = {}
+    for space in (0.5, 1.0, 1.5):
+        trace = make_sim([human(start=(2.0, 5.0), goals=[(18.0, 5.0)], pass_gap=pass_gap_for(space))],
+                         [tree_xml(REGULAR)], [(10.0, 5.0), (10.5, 5.0)], Stay(), timeout=25).run()
+        closest[space] = float(gaps(trace).min())
+        assert abs(final(trace) - complex(18.0, 5.0)) <= 0.6  # and still arrives
+    assert closest[0.5] + 0.1 < closest[1.0] < closest[1.5] - 0.1
+    assert closest[1.5] >= 0.6  # about the 0.75 m gap it asks for

@@ -1,5 +1,5 @@
-"""The planner (robot.fields, robot.planner) gets the default robot, and the ORCA and DWA baselines following
-it (robot.route), to the goal on every card of every bundled location and of the extracted SocRATES maps
+"""The planner (robot.fields, robot.planner) gets the default robot, the social-force robot and the ORCA and DWA
+baselines following it (robot.route), to the goal on every card of every bundled location and of the extracted SocRATES maps
 (nobody else there): around a shelf post, through doors, round corners. The waypoints robot (no planner) is held on the SocRATES small warehouse (issue 29's shelf post)."""
 
 from __future__ import annotations
@@ -32,7 +32,7 @@ def _routes(location_dir: Path, out: Path) -> list[tuple[str, World, list]]:
     return routes
 
 
-@pytest.mark.parametrize("robot", ["scripted", "orca", "dwa"])
+@pytest.mark.parametrize("robot", ["scripted", "sfm", "orca", "dwa"])
 @pytest.mark.parametrize("where", [*(p.name for p in BUNDLED), "socrates_arena", "socrates_hospital",
                                    "socrates_small_warehouse"])
 def test_the_planning_robots_reach_every_cards_goal(where: str, robot: str, tmp_path: Path) -> None:

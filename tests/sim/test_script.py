@@ -244,3 +244,43 @@ def test_gesture_rules_hold_their_gesture_for_their_duration():
     last_near = np.flatnonzero(near)[-1]
     assert shown[near][1:].all()  # while someone is near
     assert shown[last_near + 1:last_near + 20].all() and not shown[last_near + 22:].any()  # then 1 s more
+
+
+def test_waiting_until_clear_looks_along_the_route_round_its_corner():
+    """`wait_until_clear` waits for people on the robot's route ahead (round its turn), not for someone standing
+    straight ahead past the corner, beside the route (the elevator-door case: a visitor who stepped aside beyond
+    the lobby node held the robot in the door for 24 s)."""
+    script = RobotScript(cues=[RobotCue(trigger=CueTrigger(when="start"), say="EXCUSE ME", hold=1.0,
+                                        wait_until_clear=True)])
+    route = [(6.0, 5.0), (8.0, 5.0), (8.0, 1.5)]
+    past_corner = human(start=(8.9, 5.0), goals=[(8.9, 5.0)])  # 0.9 m off the second leg, 2.9 m straight ahead
+    sim = make_sim([past_corner], [STANDING], route, policy=ScriptedPolicy(), script=script, timeout=20)
+    trace = sim.run()
+    assert trace.end_reason == "robot_goal" and trace.t[-1] < 16.0  # never held up (giving up takes 24 s)
+    assert [text for _, text in sim.cues.fired] == ["start: say EXCUSE ME, wait until clear"]
+    on_route = human(start=(8.0, 4.2), goals=[(8.0, 4.2)])  # round the corner, on the second leg
+    sim = make_sim([on_route], [STANDING], route, policy=ScriptedPolicy(), script=script, timeout=20)
+    rows = _run(sim, 100)
+    assert abs(rows[-1][2] - (6.0 + 5.0j)) < 0.05  # still waiting at 5 s: that person is in its way
+
+
+def test_waiting_until_clear_squeezes_past_someone_just_beside_its_route_where_there_is_room():
+    """Someone who stepped aside but could not get quite clear (cramped between furniture, 0.05 m inside the
+    swept corridor) does not hold the robot "until clear" when it can pass them keeping its polite gap by edging
+    a little aside (the party guest held the robot 24 s); in a corridor with a wall on that side they do."""
+    from socnavgen.sim import empty_room
+
+    script = RobotScript(cues=[RobotCue(trigger=CueTrigger(when="start"), say="EXCUSE ME", hold=1.0,
+                                        wait_until_clear=True)])
+    route = [(2.0, 2.0), (12.0, 2.0)]
+    beside = human(start=(4.5, 2.0 - 0.65), goals=[(4.5, 2.0 - 0.65)])  # 0.65 m off: the swept corridor is 0.7
+    room = empty_room(14.0, 5.0)
+    sim = make_sim([beside], [STANDING], route, policy=ScriptedPolicy(), script=script, world=room, timeout=40)
+    trace = sim.run()
+    assert trace.end_reason == "robot_goal" and trace.t[-1] < 30.0  # not held up (giving up takes 24 s)
+    assert [text for _, text in sim.cues.fired] == ["start: say EXCUSE ME, wait until clear"]
+    assert _gaps(trace).min() >= 0.1
+    narrow = empty_room(14.0, 5.0, walls=[(0.0, 2.45, 14.0, 5.0)])  # a wall 0.45 m beside the route: no room
+    sim = make_sim([beside], [STANDING], route, policy=ScriptedPolicy(), script=script, world=narrow, timeout=40)
+    rows = _run(sim, 100)
+    assert abs(rows[-1][2] - (2.0 + 2.0j)) < 0.05  # still waiting at 5 s

@@ -160,6 +160,34 @@ def test_a_walking_reaction_needs_the_body_to_walk() -> None:
     assert _judge("reacts_after_phrase", _walk_trace(True), human="human1", phrase="EXCUSE ME", reaction="walk_past")
 
 
+def _ran_in_then_blocked(reacts_after: bool) -> object:
+    """human1 runs in (RegularNav, walking 1 m/s) for 2 s, then stands in front of the robot (IsRobotVisible);
+    the robot says EXCUSE ME from t = 4 to 6 s; `reacts_after`: human1 walks off (RegularNav) from 5 s, else it
+    stays put."""
+    robot = np.tile([[3.0, 3.0]], (len(T), 1))
+    run_in = np.clip(T, 0.0, 2.0)
+    off = 0.8 * np.clip(T - 5.0, 0.0, None) if reacts_after else 0.0 * T
+    human = np.stack([np.full_like(T, 4.5), 1.0 + run_in + off], 1)[:, None]
+    walking = (T < 2.0) | ((T >= 5.0) & reacts_after)
+    actions = {(k, 0): "RegularNav" if walking[k] else "IsRobotVisible" for k in range(len(T))}
+    return build_trace(T, robot, human, actions=actions, robot_gesture=np.where((T >= 4.0) & (T <= 6.0), 4, 0),
+                       goal=(11.0, 3.0))
+
+
+def test_a_reaction_to_a_phrase_is_judged_at_the_phrase_not_from_the_start() -> None:
+    """Walking before the robot spoke (a child who ran in, then stood in its way) is no reaction to EXCUSE ME;
+    walking off after it is. Walking on through the phrase without stopping is no reaction to it either."""
+    assert _judge("reacts_after_phrase", _ran_in_then_blocked(True), human="human1", phrase="EXCUSE ME",
+                  reaction="walk_past")
+    assert not _judge("reacts_after_phrase", _ran_in_then_blocked(False), human="human1", phrase="EXCUSE ME",
+                      reaction="walk_past")
+    robot = np.tile([[3.0, 3.0]], (len(T), 1))
+    human = np.stack([np.full_like(T, 4.5), 0.5 + 0.6 * T], 1)[:, None]  # walks past the whole time
+    through = build_trace(T, robot, human, actions={(k, 0): "RegularNav" for k in range(len(T))},
+                          robot_gesture=np.where((T >= 4.0) & (T <= 6.0), 4, 0), goal=(11.0, 3.0))
+    assert not _judge("reacts_after_phrase", through, human="human1", phrase="EXCUSE ME", reaction="walk_past")
+
+
 def _child_trace(stands_at: float | None) -> object:
     """The robot stands at (3, 3) and says EXCUSE ME from t = 4 to 7 s; human1 walks (RegularNav, 0.5 m/s) from
     (7, 3) toward it until t = 2.5 s (to 5.75, 3); `stands_at`: it stands there until this time,

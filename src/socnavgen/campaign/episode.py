@@ -220,14 +220,11 @@ def _measure(ep: Episode, settings: EpisodeSettings, cache: WorkerCache, deadlin
     row.update(status="ok", end_reason=trace.end_reason, steps=int(trace.steps),
                sim_seconds=float(trace.t[-1]) if trace.steps else 0.0)
     if settings.verify:
-        from socnavgen.verify.runner import verify_trace
+        from socnavgen.verify.runner import blame_the_policy, verify_trace
 
         report = verify_trace(cache.run(ep.scenario.run_dir), trace, location=location)
         if not report.passed and not _is_default(ep) and _default_verifies(ep, settings, cache, deadline):
-            for f in report.failures:  # the scenario happens with the default robot: the policy is at fault
-                f.blame, f.blame_human, f.stage = "policy", None, None
-                f.blame_reason = (f"the scenario verified with the default robot ({_default_robot()}) on seed {ep.seed}: "
-                                  f"the policy under test ({ep.policy}) is what differs")
+            blame_the_policy(report, ep.policy, ep.seed)  # the scenario happens with the default robot
         row["verified"] = bool(report.passed)
         row["verify_failed"] = "; ".join(f.name for f in report.failures)
         row["verdicts"] = json.dumps([f.model_dump(mode="json", include=VERDICT_FIELDS) for f in report.findings])

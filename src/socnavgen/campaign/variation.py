@@ -15,9 +15,10 @@ Distributions (DISTRIBUTIONS, shown by the report):
 - start delay ~ Exponential(mean 0.8 s), capped at 3 s: the time a pedestrian takes to start walking once it
   may (Fugger et al. 2000: most of 288 pedestrians started within 1 s of the walk signal); the shape is ours.
 
-Applied today: the speed (the person's max_vel, HuNavSim's desired speed). The simulator has no start-delay or
-personal-space parameter yet (/work/notes/SIM_NEEDS.md): those two are drawn and recorded in the row, so the
-same seeds give the same people once it has; APPLIED says which traits an episode really varies.
+Applied (APPLIED): the speed (the person's max_vel, HuNavSim's desired speed), the start delay
+(HumanSpec.start_delay) and the personal-space preference: the gap the person leaves passing the robot where
+there is room (people.avoid.pass_gap_for: 0.5 m for a 1 m preference, in proportion), the only personal
+distance of the simulated people's avoidance (their social force between people has none).
 """
 
 from __future__ import annotations
@@ -34,7 +35,7 @@ from socnavgen.bodies import PERSON_TOP_SPEED
 SPEED_MEAN, SPEED_SD, SPEED_RANGE = 1.34, 0.26, (0.5, PERSON_TOP_SPEED)
 SPACE_MEAN, SPACE_SD, SPACE_RANGE = 1.0, 0.2, (0.5, 1.5)
 DELAY_MEAN, DELAY_MAX = 0.8, 3.0
-APPLIED = ("speed", "start_delay")  # traits the simulator takes today; the others wait for it (SIM_NEEDS.md)
+APPLIED = ("speed", "personal_space", "start_delay")  # traits the simulator takes (apply_traits)
 STREAM = 0x50_45_4F_50_4C_45  # "PEOPLE": the variation's random stream, apart from the simulator's spawn draws
 
 DISTRIBUTIONS = {
@@ -52,7 +53,7 @@ class Traits(BaseModel):
 
     model_config = ConfigDict(extra="forbid", frozen=True)
     speed: float  # m/s: desired (max) walking speed
-    personal_space: float  # m: preferred distance to others (not applied yet)
+    personal_space: float  # m: preferred distance to others (the gap it leaves passing the robot: pass_gap_for)
     start_delay: float  # s: stands this long before walking (HumanSpec.start_delay)
 
 
@@ -88,9 +89,11 @@ def people_of(run: Any) -> tuple[list[str], dict[str, float]]:
 
 def apply_traits(sim: Any, traits: dict[str, Traits]) -> None:
     """Give the simulation's people their drawn speeds (what HumanSpec.max_vel sets: the desired speed and the
-    pace a paced person starts from) and start delays (HumanSpec.start_delay), before it runs. Until
-    load_simulation takes per-person traits (SIM_NEEDS.md), this writes the fields of Simulation.people that
-    those HumanSpec fields initialise."""
+    pace a paced person starts from), start delays (HumanSpec.start_delay) and passing gaps from their
+    personal-space preferences (HumanSpec.pass_gap), before it runs. Until load_simulation takes per-person
+    traits (SIM_NEEDS.md), this writes the fields of Simulation.people that those HumanSpec fields initialise."""
+    from socnavgen.sim.people.avoid import pass_gap_for
+
     people = sim.people
     for i, human in enumerate(sim.humans):
         mine = traits.get(human.name)
@@ -98,6 +101,7 @@ def apply_traits(sim: Any, traits: dict[str, Traits]) -> None:
             people.max_speed[i] = mine.speed
             people.pace[i] = mine.speed
             people.start_delay[i] = mine.start_delay
+            people.pass_gap[i] = pass_gap_for(mine.personal_space)
 
 
 def summary(traits: dict[str, Traits]) -> dict[str, Any]:

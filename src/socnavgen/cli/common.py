@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import gc
+from collections.abc import Iterator
+from contextlib import contextmanager
+
 from rich.console import Console
 from rich.progress import (
     BarColumn,
@@ -24,6 +28,19 @@ def print_machine(text: str) -> None:
 
     sys.stdout.write(text if text.endswith("\n") else text + "\n")
     sys.stdout.flush()
+
+
+@contextmanager
+def starting() -> Iterator[None]:
+    """A command's imports and set-up without garbage collection: they make ~10^6 objects and hardly any garbage
+    (numba's, scipy's and matplotlib's imports run ~15 % faster), which are then set aside from later
+    collections (gc.freeze). Around imports and loading only, never a loop that makes garbage."""
+    gc.disable()
+    try:
+        yield
+    finally:
+        gc.freeze()
+        gc.enable()
 
 
 def progress() -> Progress:

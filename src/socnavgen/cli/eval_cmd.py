@@ -112,7 +112,8 @@ def _replay_fixtures(folder: Path, out: Path, verify: bool) -> None:
     with progress() as bar:
         task = bar.add_task("replaying fixtures", total=len(paths))
         for path in paths:
-            rows.append(replay_fixture(path, out / "fixtures" / path.stem, root=Path.cwd(), verify=verify))
+            rows.append(replay_fixture(path, out / "fixtures" / path.stem, root=Path.cwd(), verify=verify,
+                                       first_answers=True))
             bar.update(task, advance=1, description=f"{path.stem}: verified={rows[-1].verified}")
     text = fixtures_markdown(rows)
     out.mkdir(parents=True, exist_ok=True)

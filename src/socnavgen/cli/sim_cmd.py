@@ -4,11 +4,12 @@ headless 2D simulator and check it."""
 from __future__ import annotations
 
 import time
+from contextlib import nullcontext
 from pathlib import Path
 
 import typer
 
-from socnavgen.cli.common import console, finite_between, progress
+from socnavgen.cli.common import console, finite_between, progress, starting
 from socnavgen.errors import SocnavgenError
 from socnavgen.limits import MAX_SIM_SECONDS, MAX_SIM_STEPS
 
@@ -57,19 +58,6 @@ def simulate(
 
     Example: socnavgen simulate runs/blind_corner --bag runs/blind_corner/sim/episode_bag
     """
-    from socnavgen.run import RunFolder
-    from socnavgen.sim import (
-        COMPILING_NOTE,
-        MadeFrom,
-        SimConfig,
-        ThrottleConfig,
-        cache_ready,
-        folder_identity,
-        load_policy,
-        load_simulation,
-        save_run_outputs,
-    )
-
     if timeout / dt > MAX_SIM_STEPS:
         raise SocnavgenError(f"--timeout {timeout:g} at --dt {dt:g} is {timeout / dt:.0f} steps, more than the "
                              f"{MAX_SIM_STEPS} allowed", hint="raise --dt or lower --timeout")
@@ -80,19 +68,35 @@ def simulate(
     formats = _figure_formats(figures)
     if out is not None and out.exists() and not out.is_dir():
         raise SocnavgenError("--out is a file, not a folder", file=out, hint="give a folder (it is created)")
-    folder = RunFolder(run)
-    folder.require()
-    if out is None:
-        folder.hold_lock()  # one writer of RUN/sim at a time (two simulations would mix their outputs)
-    else:
-        _hold_out_lock(out)
-    identity = folder_identity(run)
-    policy = load_policy(robot)
-    config = SimConfig(dt=dt, timeout=timeout, seed=seed)
-    loaded = folder.location(location)
+    with starting():  # imports and loading without garbage collection
+        from socnavgen.run import RunFolder
+        from socnavgen.sim import (
+            COMPILING_NOTE,
+            MadeFrom,
+            SimConfig,
+            ThrottleConfig,
+            cache_ready,
+            folder_identity,
+            load_policy,
+            load_simulation,
+            save_run_outputs,
+        )
+        if plot:
+            import socnavgen.sim.outputs.plot  # noqa: F401 - matplotlib, imported with the rest (see starting)
+        folder = RunFolder(run)
+        folder.require()
+        if out is None:
+            folder.hold_lock()  # one writer of RUN/sim at a time (two simulations would mix their outputs)
+        else:
+            _hold_out_lock(out)
+        identity = folder_identity(run)
+        policy = load_policy(robot)
+        config = SimConfig(dt=dt, timeout=timeout, seed=seed)
+        loaded = folder.location(location)
     if not cache_ready():
         console.print(f"[dim]{COMPILING_NOTE}[/]", highlight=False)
-    sim = load_simulation(run, policy, config, ThrottleConfig(enabled=not no_throttle), loaded)
+    with starting() if cache_ready() else nullcontext():  # numba's compiling makes garbage: collected
+        sim = load_simulation(run, policy, config, ThrottleConfig(enabled=not no_throttle), loaded)
     sim.meta["robot_plugin"] = robot
     total = int(round(timeout / dt))
     start = time.perf_counter()

@@ -26,6 +26,9 @@ class FixtureRow(BaseModel):
     verify_rounds: int = 0  # rounds of the recorded --verify loop (0: recorded without --verify)
     failing: list[str] = []  # names of the failing criteria
     min_robustness: float | None = None
+    verified_first: bool | None = None  # the first answers verified (before any --verify re-ask); None: not run
+    eyes: str = ""  # what a person saw in the GIF frames of the recorded run (the fixture's `eyes.seen`)
+    eyes_match: bool | None = None  # did that person judge the run as its text says (`eyes.matches`)
 
 
 def fixture_request(path: Path, root: Path | None = None) -> ScenarioRequest:
@@ -41,15 +44,39 @@ def fixture_request(path: Path, root: Path | None = None) -> ScenarioRequest:
     return request
 
 
-def replay_fixture(path: Path, out: Path, root: Path | None = None, verify: bool = True) -> FixtureRow:
+def _first_answers_verified(request: ScenarioRequest, out: Path) -> bool | None:
+    """Replay only the first answers of a recorded --verify loop (no re-ask) and verify them."""
+    from socnavgen.llm import make_llm
+    from socnavgen.proposal import generate
+    from socnavgen.verify import verify_run
+
+    llm = make_llm(request.llm, transcript=out / "transcript.jsonl", use_cache=False)
+    try:
+        generate(request, llm, out, verify=False)
+    except StageFailed:
+        return None
+    return verify_run(out).passed
+
+
+def _eyes(data: dict) -> tuple[str, bool | None]:
+    eyes = data.get("eyes") if isinstance(data.get("eyes"), dict) else {}
+    matches = eyes.get("matches")
+    return str(eyes.get("seen") or ""), matches if isinstance(matches, bool) else None
+
+
+def replay_fixture(path: Path, out: Path, root: Path | None = None, verify: bool = True,
+                   first_answers: bool = False) -> FixtureRow:
     """Replay one fixture into `out` and judge it. A fixture recorded with `--verify` (`verify_loop:
-    true`) is replayed through the same loop, so its re-asked answers are used as they were live."""
+    true`) is replayed through the same loop, so its re-asked answers are used as they were live; with
+    `first_answers`, its first answers are also replayed alone (into out/first) and verified, for Table III's
+    first-answer column."""
     from socnavgen.llm import make_llm
     from socnavgen.llm.transcript import read_transcript
     from socnavgen.proposal import generate
 
     request = fixture_request(path, root)
-    loop = bool(load_yaml_file(path).get("verify_loop"))
+    data = load_yaml_file(path)
+    loop = bool(data.get("verify_loop"))
     llm = make_llm(request.llm, transcript=out / "transcript.jsonl", use_cache=False)
     failed, report, ended = False, None, None
     try:
@@ -83,6 +110,10 @@ def replay_fixture(path: Path, out: Path, root: Path | None = None, verify: bool
         row.verified = report.passed and ended is None
         row.failing = [f.name for f in report.failures] + ([ended] if ended else [])
         row.min_robustness = round(min(robustness), 2) if robustness else None
+        row.verified_first = _first_answers_verified(request, out.with_name(out.name + ".first")) \
+            if loop and first_answers else \
+            row.verified
+    row.eyes, row.eyes_match = _eyes(data)
     return row
 
 
@@ -97,21 +128,32 @@ def fixture_paths(folder: Path) -> list[Path]:
 
 
 def fixtures_markdown(rows: list[FixtureRow]) -> str:
+    """Table III over fixtures: validity per stage at the first answer, verified at the first answers and at
+    the end of the recorded --verify loop, and whether a person who looked at the frames agrees."""
     head = ("| fixture | location | humans | scenario + spec valid | paths valid | trees valid | every answer valid "
-            "at 1st try | verified in simulation | --verify rounds | lowest robustness | failing criteria |\n"
-            "|---|---|---|---|---|---|---|---|---|---|---|")
+            "at 1st try | verified, first answers | verified, end of --verify | --verify rounds | lowest robustness "
+            "| eyes: as its text says | failing criteria |\n"
+            "|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     lines = [head]
     for r in rows:
-        verified = "–" if r.verified is None else ("**yes**" if r.verified else "no")
         lines.append(f"| {r.fixture} | {r.location} | {r.humans} | {_yes(r.scenario_valid)} | {_yes(r.paths_valid)} | "
-                     f"{_yes(r.trees_valid)} | {_yes(r.first_attempt)} | {verified} | {r.verify_rounds or '–'} | "
-                     f"{'–' if r.min_robustness is None else f'{r.min_robustness:+.2f}'} | "
+                     f"{_yes(r.trees_valid)} | {_yes(r.first_attempt)} | {_verdict(r.verified_first)} | "
+                     f"{_verdict(r.verified)} | {r.verify_rounds or '–'} | "
+                     f"{'–' if r.min_robustness is None else f'{r.min_robustness:+.2f}'} | {_verdict(r.eyes_match)} | "
                      f"{'; '.join(r.failing) or '–'} |")
-    share = [r.verified for r in rows if r.verified is not None]
+    first = [r.verified_first for r in rows if r.verified_first is not None]
+    final = [r.verified for r in rows if r.verified is not None]
+    judged = [r for r in rows if r.eyes_match is not None and r.verified is not None]
+    disagree = sum(r.eyes_match != r.verified for r in judged)
     lines.append(f"| **all** | | | {sum(r.scenario_valid for r in rows)}/{len(rows)} | "
                  f"{sum(r.paths_valid for r in rows)}/{len(rows)} | {sum(r.trees_valid for r in rows)}/{len(rows)} | "
-                 f"{sum(r.first_attempt for r in rows)}/{len(rows)} | {sum(share)}/{len(rows)} | | | |")
+                 f"{sum(r.first_attempt for r in rows)}/{len(rows)} | {sum(first)}/{len(rows)} | "
+                 f"{sum(final)}/{len(rows)} | | | {len(judged) - disagree}/{len(judged)} agree | |")
     return "\n".join(lines)
+
+
+def _verdict(flag: bool | None) -> str:
+    return "–" if flag is None else ("**yes**" if flag else "no")
 
 
 def _yes(flag: bool) -> str:

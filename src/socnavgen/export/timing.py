@@ -10,9 +10,11 @@ the export puts the timing into the person's own tree, as conditions the target 
 2. set off - and from then on run the person's own tree - once the robot is within `release_distance`
    (IsRobotNearby / HuNavSim 2.x IsRobotClose): the distance between the hold point and the point of the
    robot's path that is as far (in time, at the robot's nominal speed) from the node as the person is
-   (HOLD_BEFORE at walking speed); never less than the simulator's own release distance, so a waiting
-   person never stands in the robot's way; or at the latest after `timeout` seconds (a robot that never
-   comes). The release is latched: the person never waits again.
+   (HOLD_BEFORE at walking speed); and where the waiting spot is in the robot's way (ahead of it, inside the
+   corridor its body sweeps) at least the distance at which the robot first has them there within
+   proxemics.HELD_UP_DISTANCE (where someone in its way holds the robot up; the simulator's pacing never holds
+   a person that close either), so robot and person never wait for each other; or at the latest after `timeout` seconds (a robot that never comes). The release is latched: the
+   person never waits again.
 
 Because the release is a robot POSITION, not a time, a robot at half or 1.5 times the nominal speed still
 meets the person at the node: only the last HOLD_BEFORE metres are walked without the robot, and those
@@ -25,7 +27,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from socnavgen.bodies import PERSON_GOAL_RADIUS, PERSON_GOAL_SLACK, PERSON_MAX_SPEED
+from socnavgen import proxemics
+from socnavgen.bodies import (
+    PERSON_GOAL_RADIUS,
+    PERSON_GOAL_SLACK,
+    PERSON_MAX_SPEED,
+    PERSON_RADIUS,
+    ROBOT_RADIUS,
+)
 from socnavgen.bt.model import Node
 from socnavgen.bt.write import node
 from socnavgen.export.models import ExportScene, HumanExport, WorldPoint
@@ -35,7 +44,6 @@ WALK_SPEED = PERSON_MAX_SPEED  # m/s: a person's walking speed (HuNavSim's max_v
 START_LAG = 0.5  # s: a person setting off from rest walks this much later than at full speed (SFM's tau)
 GOAL_REACHED = PERSON_GOAL_RADIUS + PERSON_GOAL_SLACK  # m: IsGoalReached holds this close to a goal
 REUSE_GOAL = 0.3  # m: a goal of the path this close to where the waiting goal would go is used instead
-NEVER_HOLD_WITHIN = 2.0  # m: a person is never held with the robot this close (the simulator's release_distance)
 RELEASE_MARGIN = 0.1  # m: a person stops a few centimetres either side of its waiting spot
 TIMEOUT_FACTOR, TIMEOUT_SLACK = 3.0, 10.0  # released at the latest after 3x the nominal time + 10 s
 SAMPLE = 0.05  # m: the robot's path is sampled this finely to find where the release really happens
@@ -82,6 +90,25 @@ class _Line:
         """(arc positions, distances to p) sampled from the start to `upto`."""
         s = np.arange(0.0, upto + SAMPLE, SAMPLE)
         return s, np.array([abs(self.at(x) - p) for x in s])
+
+
+def held_up_from(robot: _Line, spot: complex, upto: float) -> float | None:
+    """How far (centre to centre) from `spot` the robot, driving its path up to arc `upto`, first has a person
+    standing there in its way within proxemics.HELD_UP_DISTANCE (ahead, inside the corridor its body sweeps
+    widened by WAY_MARGIN_SCRIPT: where a robot waits for them); None when it never does."""
+    s = np.arange(0.0, upto + SAMPLE, SAMPLE)
+    if len(robot.points) < 2 or not len(s):
+        return None
+    here = np.array([robot.at(x) for x in s])
+    ahead = np.array([robot.at(x + SAMPLE) for x in s]) - here
+    norm = np.abs(ahead)
+    ok = norm > 1e-9
+    heading = np.where(ok, ahead / np.where(ok, norm, 1.0), 0.0)
+    way = proxemics.in_way(here.real, here.imag, heading.real, heading.imag, spot.real, spot.imag, ROBOT_RADIUS,
+                           PERSON_RADIUS, proxemics.WAY_MARGIN_SCRIPT)
+    gap = np.abs(here - spot)
+    held = ok & way & (gap <= proxemics.HELD_UP_DISTANCE)
+    return float(gap[int(np.argmax(held))]) if held.any() else None
 
 
 def _route(h: HumanExport, scene: ExportScene) -> tuple[_Line, float] | None:
@@ -145,7 +172,10 @@ def hold_for(h: HumanExport, scene: ExportScene) -> Hold | None:
     node_s = float(robot.arc[scene.robot.path.index(h.interaction_point, 1)])
     release_s = max(0.0, node_s - scene.robot_speed * (setting_off + START_LAG))
     robot_at = robot.at(release_s)
-    distance = max(abs(robot_at - wait_at) + RELEASE_MARGIN, NEVER_HOLD_WITHIN)
+    distance = abs(robot_at - wait_at) + RELEASE_MARGIN
+    held_up = held_up_from(robot, wait_at, node_s)
+    if held_up is not None:  # the person waits in the robot's way: released before it would wait for them
+        distance = max(distance, held_up + RELEASE_MARGIN)
     samples, gaps = robot.gaps(wait_at, release_s)
     reach = gaps <= distance + 1e-9
     first = float(samples[int(np.argmax(reach))]) if reach.any() else release_s
@@ -240,4 +270,4 @@ def describe(hold: Hold) -> str:
             f"{hold.timeout:g} s), then meets it at {hold.node}{early}")
 
 
-__all__ = ["HOLD_BEFORE", "Hold", "hold_for", "hold_root", "holds", "latch"]
+__all__ = ["HOLD_BEFORE", "Hold", "held_up_from", "hold_for", "hold_root", "holds", "latch"]

@@ -90,10 +90,23 @@ def physical_facts_text(scene_graph: bool = False) -> str:
         "A group (humans listed "
         "together in a group_together criterion) is met where the robot meets any member: members stepping "
         "aside is their reaction; a `meets` criterion may name the group's `humans`.",
+        _follow_fact(b.robot_speed),
         *(["- Positions: `pos` is the pixel position of a node in the map image; `xy_m` is the same point in "
            "metres in the world frame (x east, y north), so distances between nodes can be computed from it."]
           if scene_graph else []),
     ])
+
+
+def _follow_fact(robot_speed: float) -> str:
+    """How far a follower trails (sim/people/leaves.follow: speed FOLLOW_GAIN x its distance along the way)."""
+    from socnavgen.sim.people.leaves import FOLLOW_GAIN, FOLLOW_STOP
+
+    trail = robot_speed / FOLLOW_GAIN
+    return (f"- A follower (FollowRobot, FollowHuman) walks at {FOLLOW_GAIN:g} m/s per metre between it and whom it "
+            f"follows (measured along the walkable way) and stands within {FOLLOW_STOP:g} m: behind the robot at "
+            f"{robot_speed:g} m/s it trails about {trail:.1f} m, more after doors and corners and behind other "
+            f"followers, so a follows_robot `distance` under {trail + 2:.0f} m fails; a robot that must not lose "
+            f"them waits (a human_farther cue) or drives slower.")
 
 
 def approach_room(spec: ScenarioSpec | None = None, enc: Encounter | None = None, human: str | None = None) -> float:

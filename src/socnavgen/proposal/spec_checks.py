@@ -64,26 +64,19 @@ def prose_spec_mistakes(behaviors: dict[str, str], spec: ScenarioSpec) -> list[s
     or asked by a `says` criterion). What the spec contradicts in itself is the verifier's rule S1
     (verify/blame.py contradictions), which spec_mistakes applies."""
     texts = {human_name(k) or k: _words(str(v)) for k, v in behaviors.items()}
-    mistakes = []
-    for c in spec.criteria:
-        words = texts.get(c.human or "")
-        if c.kind != "says" or not c.phrase or words is None:
-            continue
-        phrase = _words(c.phrase)
-        if not any(words[i:i + len(phrase)] == phrase for i in range(len(words))):
-            mistakes.append(f"criterion {c.id} asks {c.human} to say {c.phrase}, but the behavior of {c.human} never "
-                            f"mentions it; say in human_behaviors when and why {c.human} says {c.phrase} (and give "
-                            f"them the reaction say), or drop the criterion")
-    for enc in spec.encounters:
-        for part in enc.humans:
-            words = texts.get(part.human)
-            if part.reaction != "say" or not part.says or words is None:
-                continue
-            phrase = _words(part.says)
-            if not any(words[i:i + len(phrase)] == phrase for i in range(len(words))):
-                mistakes.append(f"encounter {enc.id}: {part.human} says {part.says} in the spec, but the behavior of "
-                                f"{part.human} never mentions it; say in human_behaviors when and why {part.human} "
-                                f"says {part.says}, or change the reaction")
+
+    def unsaid(human: str | None, phrase: str | None) -> bool:  # a phrase their behavior text never has
+        words, said = texts.get(human or ""), _words(phrase or "")
+        return words is not None and bool(said) and \
+            not any(words[i:i + len(said)] == said for i in range(len(words)))
+
+    mistakes = [f"criterion {c.id} asks {c.human} to say {c.phrase}, but the behavior of {c.human} never mentions "
+                f"it; say in human_behaviors when and why {c.human} says {c.phrase} (and give them the reaction "
+                f"say), or drop the criterion" for c in spec.criteria if c.kind == "says" and unsaid(c.human, c.phrase)]
+    mistakes += [f"encounter {enc.id}: {part.human} says {part.says} in the spec, but the behavior of {part.human} "
+                 f"never mentions it; say in human_behaviors when and why {part.human} says {part.says}, or change "
+                 f"the reaction" for enc in spec.encounters for part in enc.humans
+                 if part.reaction == "say" and unsaid(part.human, part.says)]
     return mistakes
 
 

@@ -31,7 +31,6 @@ Deliberate differences (data the evaluator gets from Gazebo that we derive from 
 
 from __future__ import annotations
 
-import contextlib
 import json
 import math
 from dataclasses import dataclass
@@ -41,6 +40,7 @@ from typing import Any
 import numpy as np
 
 from socnavgen.bodies import INTIMATE_SPACE, PERSONAL_SPACE, ROBOT_GOAL_TOLERANCE, SOCIAL_SPACE
+from socnavgen.memo import kept
 from socnavgen.safeio import atomic_write_text
 from socnavgen.sim import contact
 from socnavgen.sim.trace import OMEGA, VX, VY, YAW, Trace, X, Y
@@ -194,12 +194,7 @@ class ObstacleLookup:
 def obstacle_lookup(location: Any) -> ObstacleLookup:
     """The location's ObstacleLookup, built once per Location object (campaign workers compute metrics for
     thousands of episodes on the same map; the distance transform is the costly part)."""
-    lookup = getattr(location, "_socnavgen_obstacle_lookup", None)
-    if lookup is None:
-        lookup = ObstacleLookup(location)
-        with contextlib.suppress(AttributeError):  # a frozen or slotted stand-in: just do not cache
-            location._socnavgen_obstacle_lookup = lookup
-    return lookup
+    return kept(location, "obstacle_lookup", lambda: ObstacleLookup(location))
 
 
 def sample_indices(t: np.ndarray, sample_hz: float | None) -> np.ndarray:

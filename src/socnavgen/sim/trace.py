@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import io
 import json
 import math
 import zipfile
@@ -61,21 +62,17 @@ class Trace:
         return (self.succeeded[:, human] & bit) != 0
 
     def save(self, path: Path) -> None:
-        import io
-
         meta = {
             "dt": self.dt, "human_names": self.human_names, "group_ids": self.group_ids,
             "robot_radius": self.robot_radius, "node_names": self.node_names,
             "robot_goal": self.robot_goal, "robot_waypoints": self.robot_waypoints,
             "end_reason": self.end_reason, "meta": self.meta,
         }
-        buf = io.BytesIO()
-        np.savez_compressed(
-            buf, t=self.t, robot=self.robot, humans=self.humans, human_radii=self.human_radii,
-            action=self.action, succeeded=self.succeeded, human_gesture=self.human_gesture,
-            robot_gesture=self.robot_gesture, behavior_state=self.behavior_state,
-            meta=np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8))
-        atomic_write_bytes(Path(path), buf.getvalue())
+        atomic_write_bytes(Path(path), npz_bytes({
+            "t": self.t, "robot": self.robot, "humans": self.humans, "human_radii": self.human_radii,
+            "action": self.action, "succeeded": self.succeeded, "human_gesture": self.human_gesture,
+            "robot_gesture": self.robot_gesture, "behavior_state": self.behavior_state,
+            "meta": np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)}))
 
     @classmethod
     def load(cls, path: Path) -> Trace:
@@ -99,6 +96,20 @@ ARRAYS = ("t", "robot", "humans", "human_radii", "action", "succeeded", "human_g
           "behavior_state", "meta")
 
 HEADER_READERS = {(1, 0): np.lib.format.read_array_header_1_0, (2, 0): np.lib.format.read_array_header_2_0}
+
+
+NPZ_LEVEL = 1  # deflate level of our .npz files: ~2x faster to write than np.savez_compressed's 6, ~2 % larger
+
+
+def npz_bytes(arrays: dict[str, np.ndarray], level: int = NPZ_LEVEL) -> bytes:
+    """The bytes np.savez_compressed would write for `arrays` (a zip of .npy files that numpy.load reads), at
+    deflate `level` (a campaign writes one file per episode)."""
+    buf = io.BytesIO()
+    with zipfile.ZipFile(buf, "w", compression=zipfile.ZIP_DEFLATED, compresslevel=level) as archive:
+        for name, array in arrays.items():
+            with archive.open(f"{name}.npy", "w", force_zip64=True) as f:
+                np.lib.format.write_array(f, np.asanyarray(array), allow_pickle=False)
+    return buf.getvalue()
 
 
 class TraceError(ValueError):

@@ -56,7 +56,7 @@ from socnavgen.bodies import (
 )
 from socnavgen.run.models import PathPlan
 from socnavgen.run.spec import Blame, Criterion, ScenarioSpec
-from socnavgen.verify.criteria import ORDINARY_REACTIONS, Compiled
+from socnavgen.verify.criteria import Compiled
 from socnavgen.verify.evidence import deadlock_culprit, met_mask
 from socnavgen.verify.signals import ROBOT_PHRASES, Signals, phrase_id
 from socnavgen.verify.stl import formula_signals
@@ -254,11 +254,10 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
     if kind == "reacts_after_phrase" and h and cc.reaction:
         says, react = s.get(f"robot_says_{cc.phrase}") > 0.5, s.get(f"react_{h}_{cc.reaction}") > 0.5
         first = int(np.argmax(says))
-        if cc.reaction in ORDINARY_REACTIONS:
-            if react[first]:
+        if react.any() and says.any() and react[first]:  # already reacting when it first spoke
+            if cc.reaction == "walk_past":  # the person's ordinary walking
                 return "behaviors", h, (f"{h} was already walking when the robot spoke: make it stand (its earlier "
                                         f"part) until the phrase, and walk on gated by RobotSays")
-        elif react.any() and int(np.argmax(react)) < first:
             return "behaviors", h, f"{h} reacted before the robot spoke: gate the reaction on RobotSays"
     if kind == "hidden_until":
         return "paths", None, "robot and human see each other before they meet: choose a blind place"

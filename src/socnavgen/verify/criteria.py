@@ -147,11 +147,6 @@ def _stops_near_robot(c: Criterion, ctx: Context, out: Compiled) -> None:
                    f"(speed_{h} <= {STOP_SPEED:g})))))")
 
 
-# Reactions whose evidence is the person's ordinary motion (walking their path: RegularNav while walking): "after
-# the phrase, and not before" is judged at the phrase, since walking to the place before it is no reaction.
-ORDINARY_REACTIONS = frozenset({"walk_past"})
-
-
 def _reacts_after_phrase(c: Criterion, ctx: Context, out: Compiled) -> None:
     h = _need_human(c)
     p = out.phrase = _phrase(c, out.part)
@@ -160,11 +155,12 @@ def _reacts_after_phrase(c: Criterion, ctx: Context, out: Compiled) -> None:
         raise FormulaError(f"criterion {c.id}: reacts_after_phrase needs the robot's `phrase` and the `reaction`")
     s = out.seconds = c.seconds or ctx.settings.reaction_seconds
     react, says = f"react_{h}_{r}", f"robot_says_{p}"
-    if r in ORDINARY_REACTIONS:  # walking before the phrase is what they did anyway: the cause is the moment it is said
-        out.formula = (f"{_not(says)} until ({_b(says)} and {_not(react)} and (eventually[0:{s:g}] {_b(react)}))")
-        return
-    out.formula = (f"({_not(react)} until {_b(says)}) and "
-                   f"(eventually ({_b(says)} and (eventually[0:{s:g}] {_b(react)})))")
+    # caused by the phrase: for STOP_HOLD s around the moment it starts being said the person does not show the
+    # reaction, and shows it within S s after. Walking before (a person who ran in, then stood in the robot's way) is no
+    # reaction to it; one going on while the robot speaks (started before, without the cause) does not count.
+    w = STOP_HOLD
+    out.formula = (f"eventually ({_not(says)} and (always[0:{w:g}] {_not(react)}) and (eventually[0:{w:g}] "
+                   f"{_b(says)}) and (eventually[0:{w + s:g}] {_b(react)}))")
 
 
 def _gives_way(c: Criterion, ctx: Context, out: Compiled) -> None:
@@ -266,10 +262,9 @@ CRITERION_KINDS: dict[str, CriterionKind] = {k.name: k for k in (
     CriterionKind("stops_near_robot", "eventually ((dist_h <= max(D + 1, 3)) and (closer_h >= A) and "
                   "eventually[0:S] always[0:1] (dist_h <= D and ahead_h and speed_h <= 0.1))",
                   "the robot came near (they approached), then h stood still 1 s ahead of it", _stops_near_robot),
-    CriterionKind("reacts_after_phrase", "(not react_h_R) until robot_says_P  and  eventually (robot_says_P and "
-                  "eventually[0:S] react_h_R)  (R walk_past: (not robot_says_P) until (robot_says_P and not "
-                  "react_h_R and eventually[0:S] react_h_R))", "the phrase said first, the reaction seen after it "
-                  "(walking on: not walking when it is first said)",
+    CriterionKind("reacts_after_phrase", "eventually (not robot_says_P and always[0:H] not react_h_R and "
+                  "eventually[0:H] robot_says_P and eventually[0:H+S] react_h_R)", "h shows no reaction for H s "
+                  "around the moment the phrase starts, then reacts within S s",
                   _reacts_after_phrase),
     CriterionKind("gives_way", "eventually (dist_h <= D and inway_h)  and  always ((dist_h <= D and inway_h) "
                   "implies eventually[0:S] aside_h)", "h was in the robot's way and moved out of it itself",

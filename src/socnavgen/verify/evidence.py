@@ -9,9 +9,9 @@ from collections.abc import Callable
 import numpy as np
 
 from socnavgen.sim import contact
-from socnavgen.verify.criteria import ORDINARY_REACTIONS, Compiled
+from socnavgen.verify.criteria import Compiled
 from socnavgen.verify.signals import Signals
-from socnavgen.verify.thresholds import APPROACH, PROGRESS_STEP, WALK_SPEED
+from socnavgen.verify.thresholds import APPROACH, PROGRESS_STEP, STOP_HOLD, WALK_SPEED
 
 Evidence = tuple[str, float | None, float | None]  # text, time, distance
 
@@ -118,17 +118,30 @@ def _phrase_evidence(cc: Compiled, s: Signals) -> Evidence:
     first_react = _first(react > 0.5)
     parts = [f"the robot said {words(cc.phrase)} first at t={t[first_say]:.1f} s" if first_say is not None
              else f"the robot never said {words(cc.phrase)}"]
-    if cc.reaction in ORDINARY_REACTIONS and first_say is not None and first_react is not None:
-        after = _first(react[first_say:] > 0.5)  # judged at the phrase (criteria.py): its walking on is after it
-        first_react = first_say + after if after is not None else first_react
     if cc.reaction:
+        reacting = react > 0.5
+        hold = int(round(STOP_HOLD / max(s.trace.dt, 1e-9)))
+        window = int(round((cc.seconds or 0.0) / max(s.trace.dt, 1e-9)))
+        n = len(t)
+        calm = np.array([not says[k] and says[k:k + hold + 1].any() and not reacting[k:k + hold + 1].any()
+                         for k in range(n)], dtype=bool)  # a quiet STOP_HOLD s in which the phrase starts
+        after = None
+        for k0 in np.flatnonzero(calm):
+            hit = _first(reacting[k0:k0 + hold + window + 1])
+            if hit is not None:
+                after = k0 + hit
+                break
         if first_react is None:
             parts.append(f"{h} never showed {cc.reaction}")
+        elif after is not None:
+            parts.append(f"{h} showed {cc.reaction} at t={t[after]:.1f} s, after the phrase")
+        elif first_say is not None and not calm.any():
+            parts.append(f"{h} was showing {cc.reaction} within {STOP_HOLD:g} s of every moment the phrase started "
+                         f"(first at t={t[first_react]:.1f} s, BEFORE it): no reaction to it")
         else:
-            when = "BEFORE the phrase" if first_say is None or first_react < first_say else "after it"
-            parts.append(f"{h} first showed {cc.reaction} at t={t[first_react]:.1f} s ({when})")
-            if cc.reaction in ORDINARY_REACTIONS and first_say is not None:
-                parts.append(f"{'walking' if react[first_say] > 0.5 else 'not walking'} when it was first said")
+            parts.append(f"{h} first showed {cc.reaction} at t={t[first_react]:.1f} s, not within "
+                         f"{cc.seconds or 0:g} s of the phrase")
+        first_react = after if after is not None else first_react
     k = first_react if first_react is not None else first_say
     d = float(s.get(f"dist_{h}")[k]) if k is not None and h else None
     return "; ".join(parts), (float(t[k]) if k is not None else None), d

@@ -85,6 +85,27 @@ def verify_trace(run_dir: Path | str | LoadedRun, trace: Trace, *, location: Any
                  run_name=str(run.root), prepared=prepared)
 
 
+def blame_the_policy(report: VerifyReport, policy: str, seed: int) -> None:
+    """Put every failure of `report` on the robot policy under test: the scenario verified with the default
+    robot on this seed, so the policy is what differs (campaigns and `socnavgen verify` of a run simulated with
+    another robot)."""
+    from socnavgen.sim import DEFAULT_ROBOT
+
+    for f in report.failures:
+        f.blame, f.blame_human, f.stage = "policy", None, None
+        f.blame_reason = (f"the scenario verified with the default robot ({DEFAULT_ROBOT}) on seed {seed}: "
+                          f"the policy under test ({policy}) is what differs")
+
+
+def _default_verifies(run: LoadedRun, location: Any, settings: VerifySettings, options: dict) -> bool:
+    """Whether the run verifies when simulated with the default robot and the same settings (nothing saved)."""
+    from socnavgen.sim import DEFAULT_ROBOT, simulate_run
+
+    kept = {k: options[k] for k in ("dt", "timeout", "seed", "throttle") if k in options}
+    trace = simulate_run(run, DEFAULT_ROBOT, location=location, save=False, plot=False, **kept)
+    return verify_trace(run, trace, location=location, settings=settings).passed
+
+
 def verify_run(run_dir: Path | str, *, simulate_if_missing: bool = True, location: Any = None,
                settings: VerifySettings | None = None, write: bool = True,
                simulate_options: dict | None = None, **thresholds: float | bool | None) -> VerifyReport:
@@ -102,6 +123,31 @@ def verify_run(run_dir: Path | str, *, simulate_if_missing: bool = True, locatio
     options.setdefault("location", loaded)
     trace = load_trace(run, simulate_if_missing=simulate_if_missing, simulate_options=options)
     report = verify_trace(run, trace, location=loaded, settings=settings)
+    made = _made_with(run, trace)
+    robot = made.get("robot")
+    if not report.passed and isinstance(robot, str) and robot != _default_robot() and \
+            _default_verifies(run, loaded, settings, made):
+        blame_the_policy(report, robot, int(made.get("seed", 0)))
     if write:
         atomic_write_text(run.folder.sim_dir / REPORT_FILE, report.model_dump_json(indent=2) + "\n")
     return report
+
+
+def _default_robot() -> str:
+    from socnavgen.sim import DEFAULT_ROBOT
+
+    return DEFAULT_ROBOT
+
+
+def _made_with(run: LoadedRun, trace: Trace) -> dict[str, Any]:
+    """The robot and settings the trace was simulated with: RUN/sim/outputs.json's record, else the trace's
+    meta (`robot_plugin`, seed, timeout, dt)."""
+    from socnavgen.sim import recorded_options
+
+    made = recorded_options(run.root)
+    if made:
+        return made
+    meta = trace.meta if isinstance(trace.meta, dict) else {}
+    found = {"robot": meta.get("robot_plugin"), "seed": meta.get("seed"), "timeout": meta.get("timeout"),
+             "dt": getattr(trace, "dt", None)}
+    return {k: v for k, v in found.items() if isinstance(v, str | int | float) and not isinstance(v, bool)}

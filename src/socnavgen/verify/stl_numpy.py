@@ -28,6 +28,8 @@ from typing import Any
 
 import numpy as np
 
+from socnavgen.memo import kept
+
 INF = float("inf")
 
 
@@ -53,15 +55,15 @@ def evaluate(spec: Any, data: dict[str, np.ndarray]) -> np.ndarray:
 
 def count_nodes(spec: Any) -> int:
     """How many nodes the parsed formula has (each holds one series while it is evaluated); kept on the spec."""
-    found = getattr(spec, "_socnavgen_nodes", None)
-    if found is None:
+    def count() -> int:
         stack, found = [spec.ast.specs[-1]], 0
         while stack:
             node = stack.pop()
             found += 1
             stack.extend(getattr(node, "children", []) or [])
-        spec._socnavgen_nodes = found
-    return found
+        return found
+
+    return kept(spec, "nodes", count)
 
 
 def sliding(x: np.ndarray, width: int, reduce: Any) -> np.ndarray:

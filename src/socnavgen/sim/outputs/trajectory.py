@@ -18,14 +18,13 @@ before compression.
 
 from __future__ import annotations
 
-import io
 import json
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from socnavgen.sim.trace import VX, VY, YAW, Trace, X, Y
+from socnavgen.sim.trace import VX, VY, YAW, Trace, X, Y, npz_bytes
 
 SCHEMA = 1
 MAX_HZ = 50.0
@@ -53,15 +52,14 @@ def trajectory_bytes(trace: Trace, hz: float = 10.0) -> bytes:
             "robot_goal": list(trace.robot_goal) if trace.robot_goal is not None else None,
             "robot_waypoints": [list(w) for w in trace.robot_waypoints], "end_reason": trace.end_reason,
             "columns": ["x", "y", "yaw", "vx", "vy"]}
-    buf = io.BytesIO()
-    np.savez_compressed(
-        buf, t=np.asarray(trace.t, dtype=np.float32)[k],
-        robot=np.asarray(trace.robot[k][:, _COLUMNS], dtype=np.float32),
-        humans=np.asarray(trace.humans[k][:, :, _COLUMNS], dtype=np.float32),
-        robot_gesture=np.asarray(trace.robot_gesture[k], dtype=np.int8),
-        human_gesture=np.asarray(trace.human_gesture[k], dtype=np.int8),
-        meta=np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8))
-    return buf.getvalue()
+    return npz_bytes({
+        "t": np.asarray(trace.t, dtype=np.float32)[k],
+        "robot": np.asarray(trace.robot[k][:, _COLUMNS], dtype=np.float32),
+        "humans": np.asarray(trace.humans[k][:, :, _COLUMNS], dtype=np.float32),
+        "robot_gesture": np.asarray(trace.robot_gesture[k], dtype=np.int8),
+        "human_gesture": np.asarray(trace.human_gesture[k], dtype=np.int8),
+        "meta": np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)})
+
 
 
 def read_trajectory(path: Path | str) -> dict[str, Any]:

@@ -5,7 +5,8 @@ standing or walking in their way, and never walks into it.
 walk - their velocity relative to the robot's would bring them within the passing gap of its body within
 HORIZON s - they head along the tangent of the robot's body widened by that gap: on the side they are
 already on, or on the other when that side leaves them no room (walls). The gap is PASS_GAP where there is
-room, down to MIN_PASS_GAP past a standing robot in a tight spot (MOVING_PASS_GAP past a moving one); with
+room (the person's own `pass_gap`: pass_gap_for their personal-space preference), down to MIN_PASS_GAP
+past a standing robot in a tight spot (MOVING_PASS_GAP past a moving one); with
 room on neither side they slow down to stand WAIT_GAP from the robot until it moves, or walk WAIT_GAP behind
 it when it goes their way. A way round that would take them backwards (a robot crossing in front, moving
 away along their side) is not taken: they stop and let it go by. A person whose target is at the robot (following it) does not steer around it.
@@ -28,6 +29,7 @@ from socnavgen.sim.jit import jit
 from socnavgen.sim.world.queries import clearance_at, line_of_sight
 
 PASS_GAP = 0.5  # m: the gap a person leaves passing the robot where there is room (beyond intimate space)
+PREFERRED_SPACE = 1.0  # m: the personal-space preference PASS_GAP is for (a stranger's ~1 m, Hecht et al. 2019)
 MIN_PASS_GAP = 0.1  # m: the least gap a person squeezes past a standing robot with
 MOVING_PASS_GAP = 0.3  # m: the least gap a person overtakes or meets a moving robot with
 BACK_ANGLE = 1.8  # rad: a way round the robot this far off the walking direction goes back the way they came
@@ -43,12 +45,18 @@ STEER_RANGE = 4.0  # m between centres: farther robots are not steered around
 FIELD_OF_VIEW = 1.75  # rad either side of the walking direction (a person's visual field spans about 200 deg)
 
 
+def pass_gap_for(personal_space: float) -> float:
+    """The gap (m) a person whose personal-space preference is `personal_space` m leaves passing the robot where
+    there is room: PASS_GAP scaled by the preference over PREFERRED_SPACE."""
+    return PASS_GAP * float(personal_space) / PREFERRED_SPACE
+
+
 @jit
-def room_beside(s, normal, reach, least):  # noqa: ANN001, ANN201
-    """The largest passing gap (PASS_GAP down to `least`) beside the robot on the side `normal` (unit)
+def room_beside(s, normal, reach, least, most):  # noqa: ANN001, ANN201
+    """The largest passing gap (`most` down to `least`) beside the robot on the side `normal` (unit)
     where a person's body fits off the walls; -1 when none does."""
     robot = s.robot[0]
-    gap = PASS_GAP
+    gap = most
     while gap >= least - 1e-9:
         if clearance_at(s.world, robot.pos + normal * (reach + gap)) >= FIT_CLEARANCE:
             return gap
@@ -73,7 +81,7 @@ def steer_around_robot(s, i):  # noqa: ANN001, ANN201
     dist = abs(rel)
     reach = p.radius + robot.radius
     target = p.goal if p.to_goal else p.target
-    if dist > STEER_RANGE or dist < 1e-9 or abs(target - robot.pos) < reach + PASS_GAP:
+    if dist > STEER_RANGE or dist < 1e-9 or abs(target - robot.pos) < reach + p.pass_gap:
         return
     if abs(target - p.pos) < dist - reach:  # arrives before reaching the robot
         return
@@ -91,7 +99,7 @@ def steer_around_robot(s, i):  # noqa: ANN001, ANN201
     along, across = frame.real, frame.imag
     if along <= 0 or along > HORIZON * speed_rel:
         return
-    if abs(across) >= reach + PASS_GAP:  # it passes the robot with room to spare
+    if abs(across) >= reach + p.pass_gap:  # it passes the robot with room to spare
         return
     unit = rel / dist
     u = w / speed_rel  # room on a side: the person fits beside the robot as they see it, or abeam on their walk
@@ -99,8 +107,9 @@ def steer_around_robot(s, i):  # noqa: ANN001, ANN201
     # a moving robot is passed with more room, unless the person is already alongside it (they carry on past)
     alongside = (rel * e.conjugate()).real < reach
     least = MOVING_PASS_GAP if abs(robot.vel) > MOVING and not alongside else MIN_PASS_GAP
-    room_right = max(room_beside(s, right, reach, least), room_beside(s, u * -1j, reach, least))
-    room_left = max(room_beside(s, left, reach, least), room_beside(s, u * 1j, reach, least))
+    most = max(p.pass_gap, least)
+    room_right = max(room_beside(s, right, reach, least, most), room_beside(s, u * -1j, reach, least, most))
+    room_left = max(room_beside(s, left, reach, least, most), room_beside(s, u * 1j, reach, least, most))
     # pass on the side the walk already leans to (the robot on the left: pass it on its right), else the roomier
     clockwise = across > 0 or (across == 0 and room_right >= room_left)
     room = room_right if clockwise else room_left

@@ -28,6 +28,7 @@ SIDE_STEP_SPACING = 0.1  # m: candidate spots every 0.1 m along each direction, 
 SIDE_STEP_TURN_COST = 0.3  # m of walk a radian away from straight sideways is worth
 SIDE_STEP_FAR_COST = 0.05  # per m of walk, against clearance, when no spot is far enough
 TIE = 1e-9  # m: spots and directions this close count as equally good; the first is taken
+SPOT_ROOM = 0.05  # m between two bodies: a side-step spot this close to another person (or their spot) is taken
 ASIDE_RADIUS = 0.05  # m: the side-step target is reached within this
 PASSED_MARGIN = 0.3  # m beyond both radii: the robot has passed the person's spot on its path
 ASIDE, WAIT, RESUME = 0, 1, 2  # give-way phases
@@ -75,22 +76,48 @@ def arc_before(s, seg, k, fallback):  # noqa: ANN001, ANN201
 
 @jit
 def in_robot_way(s, i):  # noqa: ANN001, ANN201
-    """Person i stands on the robot's remaining path, ahead of it within FOLLOW_WAY_AHEAD metres."""
+    """Person i stands on the robot's remaining path within its next FOLLOW_WAY_AHEAD metres (a follower the
+    robot will pass only on its way back, at the end of a round trip, is not in its way now)."""
     p, robot = s.people[i], s.robot[0]
     if abs(p.pos - robot.pos) > FOLLOW_WAY_AHEAD or abs(robot.pos - robot.goal) <= robot.goal_tolerance:
         return False
     _, seg = robot_progress(s)
     if path_size(s, seg, False) < 2:
         return False
-    k, along, dist = nearest_segment(s, p.pos, seg, False)
-    return dist < p.radius + robot.radius + FOLLOW_WAY_MARGIN and arc_before(s, seg, k, False) + along > 0.0
+    reach, arc = p.radius + robot.radius + FOLLOW_WAY_MARGIN, 0.0
+    for j in range(path_size(s, seg, False) - 1):
+        a, b = path_point(s, seg, j, False), path_point(s, seg, j + 1, False)
+        along, dist = project(p.pos, a, b)
+        if dist < reach and 0.0 < arc + along <= FOLLOW_WAY_AHEAD:
+            return True
+        arc += abs(b - a)
+        if arc > FOLLOW_WAY_AHEAD:
+            break
+    return False
+
+
+@jit
+def taken(s, i, spot):  # noqa: ANN001, ANN201
+    """Another person stands at `spot` (bodies SPOT_ROOM apart at least), or is stepping aside to it: people
+    who give way together (a group in a corridor) each find a place of their own instead of walking into
+    each other's and standing in the robot's way."""
+    people = s.people
+    for j in range(people.shape[0]):
+        if j == i:
+            continue
+        q = people[j]
+        where = q.aside if q.gives_way and q.behavior == 2 and q.give_way_phase != RESUME else q.pos
+        if abs(where - spot) < people[i].radius + q.radius + SPOT_ROOM:
+            return True
+    return False
 
 
 @jit
 def plan_side_step(s, i):  # noqa: ANN001, ANN201
-    """Where to stand: the nearest reachable spot (walls respected) that leaves GIVE_WAY_MARGIN between the
-    person and the robot all along the robot's upcoming path, preferring straight sideways on the side the
-    person is on; when no spot is that far, the one farthest from the path (shorter walks preferred)."""
+    """Where to stand: the nearest reachable spot (walls respected, not taken by someone else) that leaves
+    GIVE_WAY_MARGIN between the person and the robot all along the robot's upcoming path, preferring straight
+    sideways on the side the person is on; when no spot is that far, the one farthest from the path (shorter
+    walks preferred)."""
     p, robot = s.people[i], s.robot[0]
     want = p.radius + robot.radius + GIVE_WAY_MARGIN
     progress, seg = robot_progress(s)
@@ -120,11 +147,14 @@ def plan_side_step(s, i):  # noqa: ANN001, ANN201
             d = np.inf
             for q in range(segments):
                 d = min(d, project(spot, path_point(s, seg, q, fallback), path_point(s, seg, q + 1, fallback))[1])
-            if d >= want:
+            free = not taken(s, i, spot)
+            if d >= want and free:
                 first_ok = m
                 break
-            distances[m] = d
-            farthest = max(farthest, d)
+            distances[m] = d if free else -np.inf
+            farthest = max(farthest, distances[m])
+        if first_ok < 0 and farthest == -np.inf:  # every spot that way is taken
+            continue
         if first_ok >= 0:
             walk = SIDE_STEP_SPACING * (first_ok + 1)
             rank, cost = 0, walk + SIDE_STEP_TURN_COST * SIDE_TURNS[j]

@@ -7,7 +7,8 @@ as `pause_nav` in the fork. Two rules:
 * `eta` (default): all the way to the node, walk at the speed that arrives together with the robot (slow
   down), stand while that speed would be a crawl (hold, or start later), wait at the node if still early,
   but never stand with the robot within `release_distance` (walk on at `min_pace`); full speed once the robot
-  is close to the node. So both arrive together and meet AT the node.
+  is close to the node, and while the robot stands (`robot_waits` s or more: a robot waiting for someone has no
+  ETA, and holding people for it left both waiting). So both arrive together and meet AT the node.
 * `socrates`: the fork's rule - hold on the leg before the node until the robot's current waypoint is the
   node (the robot counts a waypoint as passed within 1.5 m).
 """
@@ -38,6 +39,7 @@ class ThrottleConfig:
     robot_speed: float = 0.6  # m/s: nominal robot speed for the eta rule (the script's cruise speed)
     min_pace: float = 0.3  # m/s: a person who would walk slower than this stands instead (holds)
     robot_near: float = 0.5  # m: once the robot is this close to the node (along its path), full speed
+    robot_waits: float = 1.0  # s: a robot standing this long has no ETA (it waits for someone): nobody is held
 
 
 @dataclass
@@ -51,7 +53,8 @@ class PacingPlan:
 
 
 SETTINGS = layout([("enabled", "?"), ("rule", "i8"), ("next_waypoint", "i8"), ("waypoint_radius", "f8"),
-                   ("release_distance", "f8"), ("robot_speed", "f8"), ("min_pace", "f8"), ("robot_near", "f8")])
+                   ("release_distance", "f8"), ("robot_speed", "f8"), ("min_pace", "f8"), ("robot_near", "f8"),
+                   ("robot_waits", "f8")])
 HELD = layout([("agent", "i8"), ("goals", "i8"), ("node_at", "i8"), ("spawn_is_node", "?"), ("robot_index", "i8")])
 
 
@@ -92,7 +95,8 @@ def lower_pacing(plan: PacingPlan | None, goals: list[list[complex]]) -> tuple[P
         robot_goal_is_node[j, :len(robot_goals)] = [g == node for g in robot_goals]
     settings = table(SETTINGS, 1, enabled=config.enabled and bool(held), rule=RULES[config.rule],
                       waypoint_radius=config.waypoint_radius, release_distance=config.release_distance,
-                      robot_speed=config.robot_speed, min_pace=config.min_pace, robot_near=config.robot_near)
+                      robot_speed=config.robot_speed, min_pace=config.min_pace, robot_near=config.robot_near,
+                      robot_waits=config.robot_waits)
     return Pacing(settings, rows[:len(held)], points, goal_is_node, robot_goal_is_node), skipped
 
 
@@ -124,7 +128,7 @@ def pace(s, pacing):  # noqa: ANN001, ANN201, C901
             hold, speed = False, p.max_speed
             robot_left = 0.0 if k > node else abs(wps[k + 1] - rp) + s.offsets[node + 1] - s.offsets[k + 1]
             if (p.behavior == 0 and p.queue_count > 0 and at >= 0 and (at <= paced.node_at or paced.spawn_is_node)
-                    and robot_left > settings.robot_near):
+                    and robot_left > settings.robot_near and s.clock[0].idle < settings.robot_waits):
                 if paced.spawn_is_node or at > paced.node_at:
                     human_left = abs(wps[node + 1] - p.pos)
                 else:

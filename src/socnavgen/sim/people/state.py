@@ -10,6 +10,7 @@ import numpy as np
 
 from socnavgen.bodies import PERSON_GOAL_RADIUS, PERSON_GOAL_SLACK, PERSON_MAX_SPEED, PERSON_RADIUS
 from socnavgen.sim.jit import jit
+from socnavgen.sim.people.avoid import PASS_GAP
 from socnavgen.sim.records import layout, table
 
 DONE_SPEED = 0.05  # m/s: a person slower than this at its last goal has finished its walk
@@ -34,6 +35,7 @@ class HumanSpec:
     interaction_point: tuple[float, float] | None = None
     path_nodes: list[str] = field(default_factory=list)
     start_delay: float = 0.0  # s: stands at its spawn point, facing its first goal, until then (its tree waits)
+    pass_gap: float = PASS_GAP  # m left passing the robot where there is room (people.avoid.pass_gap_for)
 
 
 PERSON = layout([
@@ -41,6 +43,7 @@ PERSON = layout([
     ("pos", "c16"), ("vel", "c16"), ("yaw", "f8"), ("omega", "f8"), ("radius", "f8"), ("max_speed", "f8"),
     ("group", "i8"),  # label of its group (0..G-1, groups of two or more), -1 alone
     ("start_delay", "f8"),  # s: its tree is not ticked (it stands) before then
+    ("pass_gap", "f8"),  # m: the gap it leaves passing the robot where there is room (people.avoid)
     # goal queue: the front goal, and the ring goals[i, start:start + count] (wrapping)
     ("goal", "c16"), ("goal_radius", "f8"), ("has_goal", "?"), ("queue_start", "i8"), ("queue_count", "i8"),
     ("cyclic", "?"),
@@ -83,6 +86,7 @@ def new_people(specs: list[HumanSpec]) -> tuple[np.recarray, np.ndarray, np.ndar
                    radius=[s.radius for s in specs], max_speed=[s.max_vel for s in specs], group=labels,
                    goal_radius=[s.goal_radius for s in specs], cyclic=[s.cyclic for s in specs],
                    pace=[s.max_vel for s in specs], start_delay=[s.start_delay for s in specs], sees_robot=-1,
+                   pass_gap=[s.pass_gap for s in specs],
                    action=-1, via_step=-1, via_mark=-1,
                    goal_mark=-1)
     capacity = max([len(s.goals) for s in specs] + [0]) + 2  # a cyclic queue re-appends before it pops

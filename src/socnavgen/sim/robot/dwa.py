@@ -40,7 +40,7 @@ import math
 import numpy as np
 
 from socnavgen.sim.robot.api import RobotAction
-from socnavgen.sim.robot.route import Route, arrive_speed
+from socnavgen.sim.robot.route import Route, RouteFollower
 
 HARD = 0.06  # m: an arc coming closer than this to a person is not admissible (contact is 0.05 m)
 CELL_SLACK = 0.01  # m: already closer to a wall than the margin, an arc counts as hitting it only this much closer
@@ -51,7 +51,7 @@ REVERSE_SPEED = 0.15  # m/s: backing away when stuck
 ESCAPE = 1.5  # s backing away
 
 
-class DWAPolicy:
+class DWAPolicy(RouteFollower):
     """`--robot dwa` (see the module's docstring). Parameters (a campaign's `params:`): max_speed (m/s),
     window (s: h), horizon (s of predicted motion), step (s between predicted points), v_samples, w_samples,
     alpha, beta, gamma (weights of heading, clearance and speed), dist_cap (m), safety (m added to the
@@ -70,21 +70,11 @@ class DWAPolicy:
         self._turning, self._stuck = False, 0.0  # turning on the spot; s it has chosen to stand
         self._times = np.arange(1, int(round(self.horizon / self.step)) + 1) * self.step
 
-    def reset(self, obs) -> None:  # noqa: ANN001 - an Observation
-        self.route = Route(obs)
-
     def act(self, obs) -> RobotAction:  # noqa: ANN001 - an Observation
-        if self.route is None:
-            self.reset(obs)
-        route, p, yaw = self.route, obs.position_c, obs.yaw
-        target, last = route.target(p, obs.human_positions_c, obs.human_radii, obs.t)
-        to = target - p
-        if last and abs(route.goal - p) <= 0.05:
+        way = self.way(obs)
+        if way is None:
             return RobotAction.unicycle(0.0, 0.0)
-        lim = obs.limits
-        top = min(self.max_speed, lim["max_speed"])
-        if last:
-            top = arrive_speed(top, self.goal_decel, abs(to))
+        route, p, yaw, to, top, lim = self.route, obs.position_c, obs.yaw, way.to, way.top, obs.limits
         error = _wrap(math.atan2(to.imag, to.real) - yaw)
         v_now, w_now = max(obs.speed, 0.0), obs.omega
         if abs(error) > (TURNED if self._turning else self.turn_in_place):  # facing away: turn on the spot first

@@ -31,7 +31,7 @@ from __future__ import annotations
 import math
 
 from socnavgen.sim.robot.api import RobotAction
-from socnavgen.sim.robot.route import Route, arrive_speed
+from socnavgen.sim.robot.route import Route, RouteFollower
 
 EPS = 1e-9
 BIAS = complex(math.cos(0.1), -math.sin(0.1))  # the preferred velocity turned 0.1 rad clockwise: symmetric
@@ -153,7 +153,7 @@ def least_violation(lines: list[tuple[complex, complex]], walls: int, start: int
     return result
 
 
-class ORCAPolicy:
+class ORCAPolicy(RouteFollower):
     """`--robot orca`: ORCA toward the route's target (see the module's docstring). Parameters (a campaign's
     `params:`): max_speed (m/s), tau (s: the time horizon toward people), tau_obst (s: toward walls),
     neighbour_dist (m: people farther are not looked at), wall_reach (m: wall points within this are
@@ -167,23 +167,13 @@ class ORCAPolicy:
         self.responsibility, self.goal_decel = float(responsibility), float(goal_decel)
         self.route: Route | None = None
 
-    def reset(self, obs) -> None:  # noqa: ANN001 - an Observation
-        self.route = Route(obs)
-
     def act(self, obs) -> RobotAction:  # noqa: ANN001 - an Observation
-        if self.route is None:
-            self.reset(obs)
-        route, p, v = self.route, obs.position_c, obs.velocity_c
-        target, last = route.target(p, obs.human_positions_c, obs.human_radii, obs.t)
-        to = target - p
-        goal_dist = abs(route.goal - p)
-        if last and goal_dist <= 0.05:
+        way = self.way(obs)
+        if way is None:
             return RobotAction(0.0, 0.0)
-        speed = min(self.max_speed, obs.limits["max_speed"])
-        if last:
-            speed = arrive_speed(speed, self.goal_decel, abs(to))
-        preferred = to / max(abs(to), EPS) * speed * BIAS  # a hair to the right: no deadlock dead ahead
-        lines, walls = self._walls(obs, route, p, v)
+        p, v, speed = obs.position_c, obs.velocity_c, way.top
+        preferred = way.to / max(abs(way.to), EPS) * speed * BIAS  # a hair to the right: no deadlock dead ahead
+        lines, walls = self._walls(obs, self.route, p, v)
         lines += self._people(obs, p, v)
         kept, result = solve(lines, speed, preferred)
         if kept < len(lines):

@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 
 from socnavgen.sim.jit import jit
-from socnavgen.sim.world.queries import cell_of, clearance_at, path_clear
+from socnavgen.sim.world.queries import cell_of, clearance_at, lowest_around, path_clear
 
 LINE_CLEAR = 0.95  # x radius: a straight line to the waypoint keeping this from walls is taken as it is
 LOOK = 2.5  # m along the planned way: the farthest carrot
@@ -69,12 +69,7 @@ def carrot_at(world, fields, k, target, p, radius, scale):  # noqa: ANN001, ANN2
     half = 0.5 * (scale - 1)
     carrot, found = target, False
     for n in range(int(LOOK / step)):
-        nr, nc, low = fr, fc, fields[k, fr, fc]
-        for dr in range(-1, 2):
-            for dc in range(-1, 2):
-                r2, c2 = fr + dr, fc + dc
-                if 0 <= r2 < rows and 0 <= c2 < cols and fields[k, r2, c2] < low:
-                    nr, nc, low = r2, c2, fields[k, r2, c2]
+        nr, nc, _ = lowest_around(fields[k], fr, fc, 1)
         if nr == fr and nc == fc:  # the waypoint's cell
             return carrot if found else target
         fr, fc = nr, nc

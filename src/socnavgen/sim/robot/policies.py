@@ -114,8 +114,9 @@ def slide_along_walls(s, v):  # noqa: ANN001, ANN201
 
 
 @jit
-def sfm_toward(s, target, max_speed, last):  # noqa: ANN001, ANN201
-    """One social-force step of the robot toward `target` (slowing down for it when it is the last)."""
+def sfm_toward(s, target, max_speed, last, planned):  # noqa: ANN001, ANN201
+    """One social-force step of the robot toward `target` (slowing down for it when it is the last). `planned`:
+    the target is the planner's carrot (a way its disc fits), so the wall force only steers it sideways."""
     robot, prm = s.robot[0], s.forces
     to = target - robot.pos
     dist = abs(to)
@@ -125,7 +126,11 @@ def sfm_toward(s, target, max_speed, last):  # noqa: ANN001, ANN201
     force = prm.k_des * (v0 * to / max(dist, 1e-9) - robot.vel) / prm.tau
     for i in range(s.people.shape[0]):
         force += pair_force(s.people[i].pos - robot.pos, robot.vel - s.people[i].vel, prm)
-    force += wall_force(robot.pos, robot.radius, s.world, prm)
+    wall = wall_force(robot.pos, robot.radius, s.world, prm)
+    back = (wall * (to / max(dist, 1e-9)).conjugate()).real
+    if planned and back < 0:  # the way fits its disc: walls steer it sideways, never hold it back (doorways)
+        wall -= back * to / max(dist, 1e-9)
+    force += wall
     v = robot.vel + force * s.clock[0].dt
     if abs(v) > v0:
         v = v * (v0 / abs(v))
@@ -226,7 +231,7 @@ def waypoints_act(s):  # noqa: ANN001, ANN201
                 left = clearance_at(s.world, p + direction * 1j * AROUND_LOOK)
                 right = clearance_at(s.world, p - direction * 1j * AROUND_LOOK)
                 policy.around_side = 1.0 if left > right + 0.05 else -1.0
-            v = sfm_toward(s, target, policy.detour_speed, False)
+            v = sfm_toward(s, target, policy.detour_speed, False, False)
             if abs(v) < AROUND_BIAS:  # pushed straight back by someone dead ahead: sidestep
                 v += direction * 1j * policy.around_side * AROUND_BIAS
             v = slide_along_walls(s, v)
@@ -317,7 +322,7 @@ def act(s, now):  # noqa: ANN001, ANN201
         target, last = track(s, False)
         if policy.plans:
             target = steer(s, s.fields, policy.waypoint, target)
-        return keep_clear(s, sfm_toward(s, target, policy.max_speed, last), policy.keep_gap)
+        return keep_clear(s, sfm_toward(s, target, policy.max_speed, last, policy.plans), policy.keep_gap)
     if kind == WAYPOINTS:
         v = waypoints_act(s)
         return kept_clear(s, v, v)

@@ -4,11 +4,15 @@ robot.fields, robot.planner.carrot_at, the same plan the built-in robots follow)
 
     route = Route(obs)              # in reset(obs)
     target, last = route.target(obs.position_c)
+
+or, for a policy with a top speed and a braking rate toward the goal, subclass RouteFollower and ask
+`self.way(obs)` each step (None: it has arrived).
 """
 
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -27,6 +31,7 @@ NEAR = 0.8  # m gap: someone this close holds it
 BACK_OFF = 2.0  # m back along its own trail
 MAKE_WAY = 4.0  # s making way
 TRAIL_STEP = 0.2  # m between the points of its trail
+ARRIVED = 0.05  # m from the goal: a RouteFollower stands
 
 
 class Route:
@@ -106,6 +111,39 @@ class Route:
     def clearance(self, points: np.ndarray) -> np.ndarray:
         """Metres from each point to the nearest wall (0 off the map)."""
         return self.world.clearance_at(points)
+
+
+class Way(NamedTuple):
+    """Where a RouteFollower heads this step."""
+
+    to: complex  # from the robot to the point to head for (Route.target)
+    top: float  # the speed it may drive: its max_speed within the body's limit, braking toward the goal
+    last: bool  # heading for the last waypoint
+
+
+class RouteFollower:
+    """What the Python baselines (ORCA, DWA) share: the route, made on reset (or on the first step), and each
+    step the way to head and how fast. A subclass sets max_speed (m/s) and goal_decel (m/s^2: it brakes at
+    this rate to stop at the goal)."""
+
+    max_speed: float
+    goal_decel: float
+    route: Route | None = None
+
+    def reset(self, obs) -> None:  # noqa: ANN001 - an Observation
+        self.route = Route(obs)
+
+    def way(self, obs) -> Way | None:  # noqa: ANN001 - an Observation
+        """This step's Way (passing waypoints reached or occupied), None within ARRIVED of the goal."""
+        if self.route is None:
+            self.reset(obs)
+        route, p = self.route, obs.position_c
+        target, last = route.target(p, obs.human_positions_c, obs.human_radii, obs.t)
+        to = target - p
+        if last and abs(route.goal - p) <= ARRIVED:
+            return None
+        top = min(self.max_speed, obs.limits["max_speed"])
+        return Way(to, arrive_speed(top, self.goal_decel, abs(to)) if last else top, last)
 
 
 def arrive_speed(max_speed: float, decel: float, dist: float) -> float:

@@ -27,12 +27,17 @@ from socnavgen.run.models import RobotGestureRule
 from socnavgen.run.spec import RobotCue, RobotScript
 from socnavgen.sim.jit import jit
 from socnavgen.sim.records import layout, table
+from socnavgen.sim.robot.polite import POLITE_GAP, WALL_ROOM
+from socnavgen.sim.world.grid import empty_room
+from socnavgen.sim.world.queries import clearance_at
 
 ROBOT_PHRASE_CODE = {name: code for code, name in ROBOT_GESTURES.items() if code}
 HUMAN_PHRASE_CODE = {name: code for code, name in HUMAN_GESTURES.items() if code}
 CLEAR_PATIENCE = 8.0  # s: still blocked after this long, the robot asks again (its cue's phrase) ...
 CLEAR_REPEATS = 2  # ... this many times, then stops waiting and drives around like an operator would
 AT_NODE = 1.0  # m: a gesture rule `at_node` holds within this distance of its node
+SQUEEZE = 0.3  # m: someone beside the route whom the robot passes by edging at most this far aside (keeping
+# POLITE_GAP, where walls and other people leave it room) does not hold it "until clear"
 
 START, AFTER, AT_ENCOUNTER, BLOCKED, HUMAN_WITHIN, HUMAN_SAYS, HUMAN_FARTHER = range(7)
 TRIGGERS = {"start": START, "after": AFTER, "at_encounter": AT_ENCOUNTER, "blocked": BLOCKED,
@@ -52,23 +57,27 @@ RULE = layout([("when", "i8"), ("gesture", "i8"), ("has_point", "?"), ("point", 
 
 
 POSE = layout([("t", "f8"), ("pos", "c16"), ("heading", "c16"), ("radius", "f8"), ("gesture", "i8")])
-STEERING = layout([("heading", "c16"), ("has_heading", "?")])  # where a policy drives (none: the robot's heading)
+# where a policy drives (none: the robot's heading) and the waypoint it heads for (its route: Poses.waypoints)
+STEERING = layout([("heading", "c16"), ("has_heading", "?"), ("waypoint", "i8")])
 
 
 class Poses(NamedTuple):
-    """What the script reads of the state (s.clock[0].t, s.robot[0].pos/heading/radius, s.policy[0].heading,
-    s.people[i].pos/radius/gesture), as one-row tables and a table per person: fill it and play_gesture. A replayed
-    robot has no policy steering: its way is its heading."""
+    """What the script reads of the state (s.clock[0].t, s.robot[0].pos/heading/radius, s.policy[0].heading/waypoint,
+    s.people[i].pos/radius/gesture, s.waypoints), as one-row tables and a table per person: fill it and
+    play_gesture. A replayed robot has no policy steering and (without waypoints) no route: its way is its heading."""
 
     clock: np.recarray
     robot: np.recarray
     people: np.recarray
     policy: np.recarray
+    waypoints: np.ndarray  # (W,) complex: the robot's route (empty: unknown, its way is straight ahead)
+    world: object  # the map's walls (World.map; a replay without a route never looks at it)
 
 
 def poses(people: int) -> Poses:
     """Empty poses of the robot and `people` people."""
-    return Poses(table(POSE, 1), table(POSE, 1, heading=1 + 0j), table(POSE, people), table(STEERING, 1))
+    return Poses(table(POSE, 1), table(POSE, 1, heading=1 + 0j), table(POSE, people), table(STEERING, 1),
+                 np.zeros(0, complex), empty_room(1.0, 1.0).map)
 
 
 class Script(NamedTuple):
@@ -139,20 +148,93 @@ blocking = jit(proxemics.blocking)  # the one "in the robot's way" (socnavgen.pr
 
 
 @jit
+def route_segment(s):  # noqa: ANN001, ANN201
+    """The segment of the robot's route it is on: the nearest to it from the one before the waypoint it heads
+    for (the first as near as the nearest); -1 without a route."""
+    wps, r = s.waypoints, s.robot[0].pos
+    first = max(s.policy[0].waypoint - 1, 0)
+    if wps.shape[0] - first < 2:
+        return -1
+    best, seg = math.inf, first
+    for j in range(first, wps.shape[0] - 1):
+        d = segment_distance(r, wps[j], wps[j + 1])[1]
+        if d < best - 1e-9:
+            best, seg = d, j
+    return seg
+
+
+@jit(inline=True)
+def segment_distance(p, a, b):  # noqa: ANN001, ANN201
+    """(distance along a->b of p's nearest point, distance from p to it)."""
+    ab = b - a
+    length = abs(ab)
+    u = ab / length if length > 1e-9 else 0j
+    along = min(max(((p - a) * u.conjugate()).real, 0.0), length)
+    return along, abs(p - (a + u * along))
+
+
+@jit
+def squeezes_past(s, i, foot, d):  # noqa: ANN001, ANN201
+    """The robot passes person i (d from its route, `foot` the nearest route point) on the far side keeping
+    POLITE_GAP, by edging at most SQUEEZE aside, with room from walls and everyone else there."""
+    robot, q = s.robot[0], s.people[i]
+    clear = robot.radius + q.radius + POLITE_GAP
+    if d < 1e-6 or clear - d > SQUEEZE:
+        return False
+    at = q.pos - (q.pos - foot) / d * clear  # the robot's centre passing them
+    if clearance_at(s.world, at) < robot.radius + WALL_ROOM:
+        return False
+    for k in range(s.people.shape[0]):
+        if k != i and abs(s.people[k].pos - at) < robot.radius + s.people[k].radius + POLITE_GAP:
+            return False
+    return True
+
+
+@jit
+def on_route_ahead(s, seg, i, reach, distance):  # noqa: ANN001, ANN201
+    """Person i stands within `reach` of the robot's route ahead of it (from the robot along the remaining
+    waypoints of segment `seg` on, the first `distance` metres of it), ahead of the robot, and the robot
+    cannot squeeze past them (squeezes_past)."""
+    wps, a, q = s.waypoints, s.robot[0].pos, s.people[i].pos
+    left = distance
+    for j in range(seg + 1, wps.shape[0]):
+        b = wps[j]
+        length = abs(b - a)
+        if length > 1e-9:
+            along, d = segment_distance(q, a, b)
+            if along <= left and d < reach and (along > 0.0 or j > seg + 1):
+                beside = 1e-6 < along < length - 1e-6  # not off either end of the leg (ahead, round a corner)
+                if not (beside and squeezes_past(s, i, a + (b - a) / length * along, d)):
+                    return True
+            left -= length
+            if left <= 0.0:
+                return False
+        a = b
+    return False
+
+
+@jit
 def person_in_way(s, distance, swept_only):  # noqa: ANN001, ANN201
     """Someone within `distance` (centres) ahead of the robot's direction of travel, in its way: in a cone
-    ahead (to notice people coming), or (`swept_only`) only inside the corridor its body sweeps, so that
-    people who stepped aside do not keep a robot waiting "until clear"."""
+    ahead (to notice people coming), or (`swept_only`) only inside the corridor its body sweeps along its
+    route's next `distance` metres (round its turns: someone beside the route past a corner is not in its way;
+    nor is someone it passes by edging a little aside; straight ahead without a route), so that people who
+    stepped aside do not keep a robot waiting "until clear"."""
     robot, policy = s.robot[0], s.policy[0]
     r = robot.pos
     # the way it is going: a built-in robot's direction of travel (a differential drive may face elsewhere
     # while it turns or edges aside), else where it last moved
     h = policy.heading if policy.has_heading and abs(policy.heading) > 0 else robot.heading
     cone = -1.0 if swept_only else proxemics.FRONT_CONE_SCRIPT
+    seg = route_segment(s) if swept_only else -1
     for i in range(s.people.shape[0]):
         p = s.people[i]
-        if blocking(r.real, r.imag, h.real, h.imag, p.pos.real, p.pos.imag, robot.radius, p.radius, distance,
-                    proxemics.WAY_MARGIN_SCRIPT, cone):
+        if seg >= 0:
+            if abs(p.pos - r) <= distance and on_route_ahead(s, seg, i, robot.radius + p.radius +
+                                                             proxemics.WAY_MARGIN_SCRIPT, distance):
+                return True
+        elif blocking(r.real, r.imag, h.real, h.imag, p.pos.real, p.pos.imag, robot.radius, p.radius, distance,
+                      proxemics.WAY_MARGIN_SCRIPT, cone):
             return True
     return False
 

@@ -14,12 +14,13 @@ rule and grid (least recently used first out), so a campaign's worker grows each
 
 from __future__ import annotations
 
-import contextlib
 from collections import OrderedDict
 from typing import Any, NamedTuple
 
 import numpy as np
 from scipy import ndimage
+
+from socnavgen.memo import kept
 
 KEEP = 512  # fields kept per World, rule and grid
 
@@ -75,15 +76,7 @@ class CostField:
     @classmethod
     def of(cls, world: Any, rule: CellCost, k: int, keep: int = KEEP) -> CostField:
         """The World's CostField for this rule and grid, built once per World."""
-        found = getattr(world, "_socnavgen_costfields", None)
-        if found is None:
-            found = {}
-            with contextlib.suppress(AttributeError):  # a slotted stand-in: just do not cache
-                world._socnavgen_costfields = found
-        key = (rule, int(k))
-        if key not in found:
-            found[key] = cls(world, rule, k, keep)
-        return found[key]
+        return kept(world, "costfields", lambda: cls(world, rule, k, keep), (rule, int(k)))
 
     def cells(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Grid cells (rows, cols) of complex world points (clamped to the map)."""

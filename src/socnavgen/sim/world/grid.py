@@ -8,12 +8,11 @@ world.queries, the ones the simulator itself asks.
 
 from __future__ import annotations
 
-import contextlib
-
 import numpy as np
 
 from socnavgen.location.occupancy import OccupancyGrid
 from socnavgen.location.transform import Transform
+from socnavgen.memo import kept
 from socnavgen.sim.world import queries
 
 OBSTACLE_RANGE = 10.0  # m: the Gazebo wrapper sends each human the nearest obstacle point within 10 m
@@ -49,15 +48,8 @@ class World:
     def from_location(cls, location, obstacle_range: float = OBSTACLE_RANGE) -> World:  # noqa: ANN001
         """The location's world, built once per Location object and range (simulation, metrics and the
         verifier all need it; campaigns ask for it thousands of times)."""
-        cache = getattr(location, "_socnavgen_worlds", None)
-        if cache is None:
-            cache = {}
-            with contextlib.suppress(AttributeError):  # a slotted stand-in: just do not cache
-                location._socnavgen_worlds = cache
-        key = float(obstacle_range)
-        if key not in cache:
-            cache[key] = cls(location.occupancy, location.transform, obstacle_range)
-        return cache[key]
+        return kept(location, "worlds", lambda: cls(location.occupancy, location.transform, obstacle_range),
+                    float(obstacle_range))
 
     # -- queries on any number of complex world points ---------------------------------------------
     def to_cells(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -132,3 +132,19 @@ def nearest_obstacles(world, points, out, valid):  # noqa: ANN001, ANN201
 def segments_clear(world, a, b, out):  # noqa: ANN001, ANN201
     for k in range(a.shape[0]):
         out[k] = line_of_sight(world, a[k], b[k])
+
+
+@jit(inline=True)
+def lowest_around(field, row, col, reach):  # noqa: ANN001, ANN201
+    """One step down a cost field (a 2D array): (row, col, value) of the lowest cell within `reach` cells of
+    (row, col) along both axes, strictly lower than it (the first such in row order wins a tie), or (row, col)
+    itself and its value when none is lower. The people's routes (world.routes.downhill) and the robot's
+    planner (robot.planner.carrot_at) both walk their fields with it."""
+    rows, cols = field.shape
+    br, bc, best = row, col, field[row, col]
+    for dr in range(-reach, reach + 1):
+        for dc in range(-reach, reach + 1):
+            r, c = row + dr, col + dc
+            if 0 <= r < rows and 0 <= c < cols and field[r, c] < best:
+                br, bc, best = r, c, field[r, c]
+    return br, bc, best

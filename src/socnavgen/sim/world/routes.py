@@ -16,15 +16,15 @@ campaign grows each field once per process) into a slot of the pool.
 
 from __future__ import annotations
 
-import contextlib
 import math
 from typing import NamedTuple
 
 import numpy as np
 
+from socnavgen.memo import kept
 from socnavgen.sim.jit import jit
 from socnavgen.sim.world.costfield import CellCost, CostField, cells_per_side
-from socnavgen.sim.world.queries import clearance_at
+from socnavgen.sim.world.queries import clearance_at, lowest_around
 
 ROUTE_CELL = 0.1  # m: side of the coarse cells of a route field
 SQUEEZE = 0.3  # m: the least clearance a person's centre passes (a 0.6 m gap, sideways)
@@ -49,12 +49,7 @@ class RouteGrid:
 
     @classmethod
     def of(cls, world) -> RouteGrid:  # noqa: ANN001
-        found = getattr(world, "_socnavgen_routes", None)
-        if found is None:
-            found = cls(world)
-            with contextlib.suppress(AttributeError):
-                world._socnavgen_routes = found
-        return found
+        return kept(world, "routes", lambda: cls(world))
 
     def cell(self, point: complex) -> tuple[int, int]:
         """The coarse cell of a world point where a person fits: its own, else the nearest passable one
@@ -193,18 +188,12 @@ def downhill(world, routes, slot, p, clearance):  # noqa: ANN001, ANN201
     walls walks to in a straight line (the first cell down the field when none is)."""
     field, chain = routes.pool[slot], routes.chain
     row, col = coarse_cell(world, routes, p)
-    rows, cols = field.shape
     count = 0
     value = field[row, col]
     for _ in range(LOOKAHEAD):
-        best, br, bc = value, -1, -1
         reach = 1 if math.isfinite(value) else 3  # off the passable floor: step back onto it first
-        for dr in range(-reach, reach + 1):
-            for dc in range(-reach, reach + 1):
-                r, c = row + dr, col + dc
-                if (dr != 0 or dc != 0) and 0 <= r < rows and 0 <= c < cols and field[r, c] < best:
-                    best, br, bc = field[r, c], r, c
-        if br < 0:
+        br, bc, best = lowest_around(field, row, col, reach)
+        if br == row and bc == col:
             break
         row, col, value = br, bc, best
         chain[count, 0], chain[count, 1] = row, col

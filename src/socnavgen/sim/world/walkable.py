@@ -20,12 +20,12 @@ Cost (hospital map, 600 x 280 px at 0.05 m): one field ~5 ms at 0.1 m cells.
 
 from __future__ import annotations
 
-import contextlib
 import math
 from typing import Any
 
 import numpy as np
 
+from socnavgen.memo import kept
 from socnavgen.sim.world.costfield import CellCost, CostField, cells_per_side
 
 CELL = 0.1  # m: side of the coarse cells the fields are grown on
@@ -50,15 +50,7 @@ class WalkableDistance:
     def of(cls, world: Any, clearance: float = 0.0) -> WalkableDistance:
         """The World's WalkableDistance for this clearance, built once per World (campaign workers keep their
         worlds)."""
-        found = getattr(world, "_socnavgen_walkable", None)
-        if found is None:
-            found = {}
-            with contextlib.suppress(AttributeError):  # a slotted stand-in: just do not cache
-                world._socnavgen_walkable = found
-        key = float(clearance)
-        if key not in found:
-            found[key] = cls(world, clearance=key)
-        return found[key]
+        return kept(world, "walkable", lambda: cls(world, clearance=float(clearance)), float(clearance))
 
     def cells(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Free coarse cells (rows, cols) of complex world points (the nearest free one to a point in a wall)."""
