@@ -300,3 +300,28 @@ def test_the_paths_grammar_admits_only_starts_the_start_rule_accepts(mini_locati
         assert not [p for p in problems if "where the robot starts" in p or "from where the robot starts" in p], text
         count += 1
     assert count == 300
+
+
+def test_the_paths_grammar_admits_no_wait_at_a_meeting_too_near_the_robots_start(warehouse_dir):
+    """A person waiting at the meeting point nearer the robot's start than approach_room() is met without an
+    approach (path_checks refuses it): the local model's grammar does not offer it either."""
+    from socnavgen.location import load_location
+    from socnavgen.location.placement import clear_starts
+    from socnavgen.proposal.paths import too_near
+    from socnavgen.run.spec import ScenarioSpec
+
+    warehouse = load_location(warehouse_dir)
+    spec = ScenarioSpec.model_validate(_grammar_spec(1, place="INTERSECTION", trigger="robot_near"))
+    near = too_near(warehouse, spec)
+    assert ("qs", "sh") in near and ("up", "sh") not in near  # 1.9 m and farther than 2.5 m
+    waits_near = _answer(interaction_points={"human1": "sh"}, trajectories={"robot": ["qs", "sh", "ki"],
+                                                                           "human1": ["sh", "sw"]},
+                         group_ids={"human1": -1}, encounter_nodes={"e1": "sh"})
+    loose = build_paths_grammar(warehouse.graph, ["human1"], spec, clear_starts=clear_starts(warehouse))
+    strict = build_paths_grammar(warehouse.graph, ["human1"], spec, clear_starts=clear_starts(warehouse),
+                                 too_near=near)
+    assert loose.matches(waits_near) and not strict.matches(waits_near)
+    for text in _sentences(strict, limit=200):
+        reply = PathsReply.model_validate(json.loads(text))
+        problems = check_paths(reply, warehouse.graph, ["human1"], spec, warehouse)
+        assert not [p for p in problems if "waits at node" in p], text

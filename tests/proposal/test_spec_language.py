@@ -166,6 +166,20 @@ def test_a_latch_with_lasts_runs_its_seconds_then_walks_on_for_good():
                                       "seconds='4'") for a in acts), acts
 
 
+def test_a_standing_person_walks_on_inside_a_latch_that_lasts():
+    """otherwise stand + latch + lasts: the tree's last branch stands, so walking on after the timed part goes
+    inside the latch (a player followed the plain template and the person stood for good)."""
+    stand = spec({"human": "human1", "trigger": "robot_visible", "reaction": "look", "distance": 3.0, "latch": True,
+                  "lasts": 4}, people={"human1": {"otherwise": "stand"}})
+    text = needs_text("human1", stand)
+    assert "<KeepRunningUntilFailure><Fallback><Sequence><Inverter><TimeExpiredCondition seconds='4'" in text
+    assert "they walk on inside the latch" in text
+    walks_on = tree(f"<Fallback><Sequence>{VISIBLE}<KeepRunningUntilFailure><Fallback><Sequence>{timer('4')}{LOOK}"
+                    f"</Sequence>{WALK}</Fallback></KeepRunningUntilFailure></Sequence>{CLEAR}</Fallback>")
+    assert needs(walks_on, stand) == []
+    assert "<KeepRunningUntilFailure><Sequence><Inverter>" in needs_text("human1", SEEN_A_WHILE)  # walkers: plain
+
+
 def test_a_latch_with_lasts_holds_in_the_simulator():
     """Seen once within 2 m, the person keeps the gesture after the robot left for the 3 s it lasts, then the
     other one for good."""
@@ -319,9 +333,10 @@ def test_stage1_teaches_the_new_fields_and_what_the_robot_cannot_do():
     assert "\"it follows someone\": they lead along its route" in system
     assert "It stops about 1.25 m (centres) from a person in its way; a wait_until_clear cue holds it where the cue " \
            "fired while anyone is in its way within 3 m" in system  # a closer cue never fires then
-    assert "nobody stands between two nodes" in system  # positions are nodes
-    assert "a place that is an edge, such as an aisle between two nodes, is met at one of its end nodes" in system
-    assert "latch the later part to end the earlier one for good" in system  # the earlier part comes back
+    assert "nobody stands between nodes: an aisle that is an edge is met at an end node" in system
+    assert "an encounter's node lies on the robot's path and on each of its humans' paths" in system
+    assert "Two encounters are two meetings: the two part (farther than the meeting distance) in between" in system
+    assert "takes over while its trigger holds (latch it, or the earlier part comes back" in system
     assert "where 1.6-2.3 m is free they pass only if the person keeps to one side" in system
     assert "only for a human whose encounter has the reaction block" in system  # blocks_robot needs block
     assert "A route may come back to its start after passing other nodes" in system

@@ -211,3 +211,20 @@ def test_walking_on_after_the_phrase_is_judged_at_the_phrase() -> None:
     assert not _judge("reacts_after_phrase", _child_trace(None), **judge)  # walking through the phrase
     assert not _judge("reacts_after_phrase", _child_trace(3.5), **judge)  # left before the robot spoke
     assert not _judge("reacts_after_phrase", _child_trace(12.0), **judge)  # stood until 8 s after it: too late
+
+
+def test_a_phrase_said_at_the_start_is_a_cause_too() -> None:
+    """A cue at the start (FOLLOW ME at t = 0.1 s) leaves no quiet second before the phrase: a reaction 0.2 s after
+    it is after it; one already going on from t = 0 is not."""
+    robot = np.stack([np.clip(T, 0.0, 20.0) * 0.5 + 3.0, np.full_like(T, 3.0)], 1)
+    gesture = np.where((T >= 0.1) & (T <= 3.0), 5, 0)  # FOLLOW ME
+
+    def walker(from_t: float) -> object:
+        hx = 1.0 + 0.5 * np.clip(T - from_t, 0.0, None)
+        human = np.stack([hx, np.full_like(T, 3.0)], 1)[:, None]
+        actions = {(k, 0): "RegularNav" if T[k] >= from_t else "IsRobotVisible" for k in range(len(T))}
+        return build_trace(T, robot, human, actions=actions, robot_gesture=gesture, goal=(14.0, 3.0))
+
+    judge = {"human": "human1", "phrase": "FOLLOW ME", "reaction": "walk_past"}
+    assert _judge("reacts_after_phrase", walker(0.5), **judge)
+    assert not _judge("reacts_after_phrase", walker(0.0), **judge)

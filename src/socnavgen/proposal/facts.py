@@ -186,7 +186,7 @@ def latch_text(target: Target = "socrates") -> str:
     return ("- \"latch\": true keeps a reaction going for good once its trigger fired (seen the robot once, it "
             "said FOLLOW ME once): the trigger is not checked again. Without a latch a reaction lasts while its "
             "trigger holds, or `lasts` seconds if set. With both, the reaction runs its `lasts` s once triggered, "
-            "whatever the trigger does, then they walk on for good (a latched wait_then_go waits once).")
+            "whatever the trigger does, then they walk on for good.")
 
 
 def people_text() -> str:
@@ -198,10 +198,9 @@ def people_text() -> str:
             f"for someone slow, with a cane) and \"otherwise\": \"walk\" (default: walk their path while no trigger "
             f"holds) or \"stand\" (stand at their start until a trigger sets them going).\n"
             f"- One person in several encounters switches reactions (e1 block the robot, e2 give way once it says "
-            f"EXCUSE ME): the later encounter's part (higher order) takes over while its trigger holds, and the "
-            f"earlier part comes back when it stops holding (the phrase is over) if its own trigger still holds: "
-            f"latch the later part to end the earlier one for good; two steps at "
-            f"one place are two encounters there. Pacing brings them to their FIRST encounter's node.\n"
+            f"EXCUSE ME): the later encounter's part (higher order) takes over while its trigger holds (latch it, "
+            f"or the earlier part comes back once, e.g., the phrase is over). Two encounters are two meetings: the "
+            f"two part (farther than the meeting distance) in between. Pacing brings them to their FIRST encounter's node.\n"
             f"- \"lasts\" (s) ends a reaction (then they walk on), e.g. say WAIT for at most 5 s; wait_then_go "
             f"stands {WAIT_THEN_GO_SECONDS:g} s unless set. \"seconds\" is only the time trigger's. {_negations()}")
 

@@ -8,7 +8,8 @@ an edge of the graph, rules out back-and-forth (A B A) and guarantees the path e
 names are exactly stage 1's, their interaction point is X (on their path and the robot's), and group
 ids come from {-1, 1, 2} with every used group of at least two members. Given where people may start for
 each robot start (`clear_starts`, the start rule), the grammar also chooses the robot's start S inside X's
-branch and admits only human walks starting clear of S. Size: about 3·V² small rules.
+branch and admits only human walks starting clear of S, and none starting at X when X is too near S for a
+meeting with an approach (`too_near`). Size: about 3·V² small rules.
 """
 
 from __future__ import annotations
@@ -43,7 +44,10 @@ def _meeting_candidates(graph: nx.Graph, spec: ScenarioSpec | None, cramped: set
 
 def build_paths_grammar(graph: nx.Graph, humans: list[str], spec: ScenarioSpec | None = None,
                         cramped: set[str] | None = None,
-                        clear_starts: dict[str, frozenset[str]] | None = None) -> Grammar:
+                        clear_starts: dict[str, frozenset[str]] | None = None,
+                        too_near: frozenset[tuple[str, str]] = frozenset()) -> Grammar:
+    """`too_near`: (robot start, meeting point) pairs where nobody may wait at the meeting point (path_checks'
+    approach rule: a meeting needs an approach), so a human's walk does not start there."""
     g = Grammar()
     nodes = sorted(graph.nodes)
     index = {n: i for i, n in enumerate(nodes)}
@@ -68,6 +72,8 @@ def build_paths_grammar(graph: nx.Graph, humans: list[str], spec: ScenarioSpec |
             if clear_starts is not None else [(None, reachable)]
         tails: list[list[Symbol]] = []
         for s, walkable in by_start:
+            if (s, x) in too_near:
+                walkable = [u for u in walkable if u != x]
             if not walkable or (s is not None and not starts_at[s]):
                 continue
             key = f"{xi}" if s is None else f"{xi}-{index[s]}"
@@ -158,9 +164,10 @@ def _moves(c1: int, c2: int) -> list[tuple[int, tuple[int, int]]]:
 
 
 def paths_grammar(graph: nx.Graph, humans: list[str], spec: ScenarioSpec | None = None,
-                  cramped: set[str] | None = None, clear_starts: dict[str, frozenset[str]] | None = None) -> str:
+                  cramped: set[str] | None = None, clear_starts: dict[str, frozenset[str]] | None = None,
+                  too_near: frozenset[tuple[str, str]] = frozenset()) -> str:
     """The GBNF text passed as `grammar=` to `llm.chat` for stage 2."""
-    return build_paths_grammar(graph, humans, spec, cramped, clear_starts).to_gbnf()
+    return build_paths_grammar(graph, humans, spec, cramped, clear_starts, too_near).to_gbnf()
 
 
 __all__ = ["build_paths_grammar", "paths_grammar"]

@@ -19,7 +19,14 @@ from socnavgen.llm.base import LLM, ChatMessage
 from socnavgen.location import Location
 from socnavgen.location.inventory import inventory_text
 from socnavgen.location.location import SCENE_GRAPH_IMAGE
-from socnavgen.location.placement import Walker, clear_starts, shown_position, start_problems, start_rule_text
+from socnavgen.location.placement import (
+    Walker,
+    clear_starts,
+    node_distance,
+    shown_position,
+    start_problems,
+    start_rule_text,
+)
 from socnavgen.proposal.conversation import Outcome, Policy, Recorder, converse
 from socnavgen.proposal.facts import approach_room, groups_text, pacing_text, physical_facts_text
 from socnavgen.proposal.fit import NOTHING, Cut, Note, examples_kept, fit_prompt
@@ -210,12 +217,21 @@ def fitted_paths_messages(location: Location, scenario: ScenarioProposal, llm: L
                       reply_tokens=MAX_TOKENS, stage=STAGE, note=note)
 
 
+def too_near(location: Location, spec: ScenarioSpec | None) -> frozenset[tuple[str, str]]:
+    """(robot start, node) pairs nearer than approach_room(): a person waiting at such a node is met without an
+    approach (path_checks refuses it; the grammar of in-process models leaves it out)."""
+    if spec is None or not spec.encounters:
+        return frozenset()
+    room, nodes = approach_room(), list(location.inventory.nodes)
+    return frozenset((a, b) for a in nodes for b in nodes if node_distance(location, a, b) < room)
+
+
 def plan_paths(messages: list[ChatMessage], location: Location, scenario: ScenarioProposal, llm: LLM,
                recorder: Recorder, policy: Policy, spec: ScenarioSpec | None = None) -> Outcome[PathsReply]:
     humans = list(scenario.human_behaviors)
     graph = location.graph
     cramped = {n for n, facts in location.inventory.nodes.items() if not facts.turnable}
-    grammar = paths_grammar(graph, humans, spec, cramped, clear_starts(location)) \
+    grammar = paths_grammar(graph, humans, spec, cramped, clear_starts(location), too_near(location, spec)) \
         if getattr(llm, "supports_grammar", False) else None
     return converse(llm, messages, PathsReply, lambda reply: check_paths(reply, graph, humans, spec, location),
                     stage=STAGE, key=None, recorder=recorder, policy=policy, grammar=grammar, max_tokens=MAX_TOKENS)

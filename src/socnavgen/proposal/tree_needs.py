@@ -124,7 +124,8 @@ def needs_text(name: str, spec: ScenarioSpec | None, target: Target = "socrates"
         timer = lasting_need(part, target)
         if timer is not None and part.latch and _latch_by_node(part, target):
             need += (f"; once triggered it lasts {part.lasting():g} s whatever the trigger does (latch with lasts), "
-                     f"then they walk on for good: {_timed_latch_words(part)}")
+                     f"then they walk on for good: "
+                     f"{_timed_latch_words(part, spec.person(name).otherwise == 'stand')}")
         else:
             if timer is not None:
                 need += (f"; it lasts {part.lasting():g} s: {_timer_xml(part)} before the action in its Sequence")
@@ -167,7 +168,14 @@ def _latch_by_node(part: HumanPart, target: Target) -> bool:
     return latching_node(part.trigger, target) is None
 
 
-def _timed_latch_words(part: HumanPart) -> str:
+def _timed_latch_words(part: HumanPart, stand: bool = False) -> str:
+    """How to write a latched part that lasts; `stand`: the person's otherwise is stand, so walking on goes inside
+    the latch too (the tree's last branch stands)."""
+    if stand:
+        return (f"inside <{LATCH_NODE}> right after the condition, a Fallback of the timed action and the walk: "
+                f"<{LATCH_NODE}><Fallback><Sequence>{_timer_xml(part)}(the action)</Sequence>(the walking Sequence "
+                f"with RegularNavTree)</Fallback></{LATCH_NODE}> (when the timer expires they walk on inside the "
+                f"latch; the tree's last branch, standing, is only for before the trigger)")
     return (f"put a Sequence of the timer and the action inside <{LATCH_NODE}> right after the condition: "
             f"<{LATCH_NODE}><Sequence>{_timer_xml(part)}(the action)</Sequence></{LATCH_NODE}> (when the timer "
             f"expires the latch fails, and the expired timer keeps the reaction from starting again)")

@@ -158,9 +158,12 @@ def _reacts_after_phrase(c: Criterion, ctx: Context, out: Compiled) -> None:
     # caused by the phrase: for STOP_HOLD s around the moment it starts being said the person does not show the
     # reaction, and shows it within S s after. Walking before (a person who ran in, then stood in the robot's way) is no
     # reaction to it; one going on while the robot speaks (started before, without the cause) does not count.
+    # A phrase said in the run's first STOP_HOLD s (a cue at the start) has no such moment before it: there the
+    # person shows no reaction from the start until it is said.
     w = STOP_HOLD
-    out.formula = (f"eventually ({_not(says)} and (always[0:{w:g}] {_not(react)}) and (eventually[0:{w:g}] "
-                   f"{_b(says)}) and (eventually[0:{w + s:g}] {_b(react)}))")
+    out.formula = (f"(eventually ({_not(says)} and (always[0:{w:g}] {_not(react)}) and (eventually[0:{w:g}] "
+                   f"{_b(says)}) and (eventually[0:{w + s:g}] {_b(react)}))) or ((eventually[0:{w:g}] {_b(says)}) "
+                   f"and ({_not(react)} until ({_b(says)} and (eventually[0:{s:g}] {_b(react)}))))")
 
 
 def _gives_way(c: Criterion, ctx: Context, out: Compiled) -> None:

@@ -125,6 +125,9 @@ def _phrase_evidence(cc: Compiled, s: Signals) -> Evidence:
         n = len(t)
         calm = np.array([not says[k] and says[k:k + hold + 1].any() and not reacting[k:k + hold + 1].any()
                          for k in range(n)], dtype=bool)  # a quiet STOP_HOLD s in which the phrase starts
+        start = _first(says)
+        if start is not None and start <= hold and not reacting[:start + 1].any():
+            calm[max(start - 1, 0)] = True  # said at the run's start, nobody reacting before it
         after = None
         for k0 in np.flatnonzero(calm):
             hit = _first(reacting[k0:k0 + hold + window + 1])
