@@ -34,9 +34,18 @@ _DOORWAY = ("released without our pacing, the person reaches the 0.9 m bedroom d
             "face to face in the door 4 s, the person squeezes past and pushes the robot off its line); the robot (the "
             "plain waypoints robot HuNavSim's users drive, no planner) then stands below the door frame with the person "
             "1.4 m away at their goal for 100 s and never reaches its goal 1f; our pacing has the person wait off the door")
+# reacts_after_phrase measures the reaction from the moment the phrase STARTS (issue 25: no credit for a reaction
+# to a phrase the robot has been repeating for 20 s); 2.x has no phrase input and no side step: the translated
+# person (AvoidRobot on the script's geometric condition) backs away along the passage ahead of the robot and
+# leaves its way 10-20 s after EXCUSE ME began (measured: warehouse narrow-hallway said 28.2 s, aside 49.9 s)
+_PHRASE_LATE = ("hunav2 has no phrase input and no side step: the person backs away along the passage and leaves the "
+                "robot's way 10-20 s after EXCUSE ME began, later than the criterion's window")
 KNOWN_LOST = {
     ("socrates", "home/entering-room", 1.0): _DOORWAY,
     ("hunav2", "home/entering-room", 1.0): _DOORWAY,
+    ("hunav2", "home/pedestrian-obstruction", 0.5): _PHRASE_LATE,
+    ("hunav2", "hospital/narrow-hallway", 0.5): _PHRASE_LATE,
+    ("hunav2", "warehouse/narrow-hallway", 1.0): _PHRASE_LATE,
 }
 
 
@@ -79,8 +88,6 @@ def test_cards_happen_as_the_target_runs_them(outcomes, target: str) -> None:  #
     assert len(missed) <= 0.1 * len(rows), missed
 
 
-@pytest.mark.xfail(strict=True, reason="no capable-model fixture verifies in our simulator today (paper_scene_c: the "
-                   "group stands 26 s in the robot's way; tests/proposal/test_capable_fixtures.py FAILS)")
 def test_fixtures_happen_as_the_targets_run_them(outcomes) -> None:  # noqa: ANN001
     rows = [r for r in outcomes if r[0] == "fixtures"]
     assert rows and {r[2] for r in rows} == set(TIMED_TARGETS)

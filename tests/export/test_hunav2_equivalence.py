@@ -19,9 +19,17 @@ from .equivalence_helpers import outcomes
 # home hallway (1.2 m, a dead end at 3y), where AvoidRobot keeps 2 m and the robot has no room to pass.
 _HALLWAY = ("2.x has no side step: the hunav2 person (AvoidRobot) retreats along the 1.2 m home hallway ahead of the "
             "robot, which never reaches its goal 3y; the socrates person steps aside (GiveWaytoRobot)")
+_PHRASE_LATE = ("2.x has no side step: the translated person backs away along the passage after EXCUSE ME and leaves "
+                "the robot's way 10-20 s after the phrase began (the criterion measures from its start); the socrates "
+                "person steps aside within the window")
+_CROWD = ("both twins fail this card (contact in the crowd: tests/cards KNOWN_FAILING); the robot's hold-up lasts 8.6 s "
+          "with the socrates trees and 12.4 s with the 2.x people, who back away instead of stepping aside")
 KNOWN_DIVERGENT = {
     "home/robot-overtaking": _HALLWAY,
     "home/accompanying-peer": _HALLWAY,
+    "home/pedestrian-obstruction": _PHRASE_LATE,
+    "warehouse/narrow-hallway": _PHRASE_LATE,
+    "home/robot-crowding": _CROWD,
 }
 
 
