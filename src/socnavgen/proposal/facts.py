@@ -200,7 +200,7 @@ def people_text() -> str:
             f"- One person in several encounters switches reactions (e1 block the robot, e2 give way once it says "
             f"EXCUSE ME): the later encounter's part (higher order) takes over while its trigger holds (latch it, "
             f"or the earlier part comes back once, e.g., the phrase is over). Two encounters are two meetings: the "
-            f"two part (farther than the meeting distance) in between. Pacing brings them to their FIRST encounter's node.\n"
+            f"robot and the person move apart (farther than the meeting distance) between them. Pacing brings them to their FIRST encounter's node.\n"
             f"- \"lasts\" (s) ends a reaction (then they walk on), e.g. say WAIT for at most 5 s; wait_then_go "
             f"stands {WAIT_THEN_GO_SECONDS:g} s unless set. \"seconds\" is only the time trigger's. {_negations()}")
 
