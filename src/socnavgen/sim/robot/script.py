@@ -26,6 +26,7 @@ from socnavgen.bt.library import HUMAN_GESTURES, ROBOT_GESTURES
 from socnavgen.run.models import RobotGestureRule
 from socnavgen.run.spec import RobotCue, RobotScript
 from socnavgen.sim.jit import jit
+from socnavgen.sim.people.routing import project
 from socnavgen.sim.records import layout, table
 from socnavgen.sim.robot.polite import POLITE_GAP, WALL_ROOM
 from socnavgen.sim.world.grid import empty_room
@@ -157,20 +158,10 @@ def route_segment(s):  # noqa: ANN001, ANN201
         return -1
     best, seg = math.inf, first
     for j in range(first, wps.shape[0] - 1):
-        d = segment_distance(r, wps[j], wps[j + 1])[1]
+        d = project(r, wps[j], wps[j + 1])[1]
         if d < best - 1e-9:
             best, seg = d, j
     return seg
-
-
-@jit(inline=True)
-def segment_distance(p, a, b):  # noqa: ANN001, ANN201
-    """(distance along a->b of p's nearest point, distance from p to it)."""
-    ab = b - a
-    length = abs(ab)
-    u = ab / length if length > 1e-9 else 0j
-    along = min(max(((p - a) * u.conjugate()).real, 0.0), length)
-    return along, abs(p - (a + u * along))
 
 
 @jit
@@ -201,7 +192,7 @@ def on_route_ahead(s, seg, i, reach, distance):  # noqa: ANN001, ANN201
         b = wps[j]
         length = abs(b - a)
         if length > 1e-9:
-            along, d = segment_distance(q, a, b)
+            along, d = project(q, a, b)
             if along <= left and d < reach and (along > 0.0 or j > seg + 1):
                 beside = 1e-6 < along < length - 1e-6  # not off either end of the leg (ahead, round a corner)
                 if not (beside and squeezes_past(s, i, a + (b - a) / length * along, d)):
