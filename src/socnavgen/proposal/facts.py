@@ -6,6 +6,7 @@ changes in the prompts."""
 
 from __future__ import annotations
 
+import json
 import re
 from dataclasses import dataclass
 from functools import cache
@@ -39,6 +40,10 @@ from socnavgen.run.spec import (
 # trigger they latch; any other trigger latches with LATCH_NODE (where the target keeps a RUNNING child).
 LATCHING_CONDITIONS: dict[str, str] = {"robot_says": "RobotSaid"}
 LATCH_NODE = "KeepRunningUntilFailure"
+# The rule for one person in several encounters, stated in stage 1 and stage 2 and checked by stage 2 (path_checks):
+# the verifier tells two meetings of one person apart by where they happen and the parting between them.
+TWO_ENCOUNTERS = ("One person in two encounters meets the robot twice, at two DIFFERENT nodes, and the two move apart "
+                  "(farther than the meeting distance) in between")
 STL_EXAMPLE = "eventually[0:60] (robot_says_excuse_me > 0.5 and dist_human1 <= 2.0)"
 
 
@@ -161,9 +166,10 @@ def encounter_within_text() -> str:
 
 def cue_once_text() -> str:
     once = RobotCue.model_fields["once"].default
+    example = {"trigger": {"when": "human_farther", "human": "human1", "distance": 5}, "wait": 3, "once": not once}
     return (f"- A cue fires {'once, the first time its trigger holds' if once else 'each time its trigger holds'}, "
-            f"unless it says \"once\": {str(not once).lower()} (then it fires again each time its trigger becomes "
-            f"true, e.g. wait every time the follower falls behind).")
+            f"unless it says \"once\": {str(not once).lower()}, a field of the cue beside \"trigger\" (not inside "
+            f"it): {json.dumps(example)} waits 3 s each time the follower falls 5 m behind.")
 
 
 def latches_by_running(target: Target) -> bool:
@@ -197,10 +203,10 @@ def people_text() -> str:
     return (f"- \"people\": per human, \"speed\" (m/s, at most {most:g}; default up to {PERSON_MAX_SPEED:g}; 0.5-0.8 "
             f"for someone slow, with a cane) and \"otherwise\": \"walk\" (default: walk their path while no trigger "
             f"holds) or \"stand\" (stand at their start until a trigger sets them going).\n"
-            f"- One person in several encounters switches reactions (e1 block the robot, e2 give way once it says "
-            f"EXCUSE ME): the later encounter's part (higher order) takes over while its trigger holds (latch it, "
-            f"or the earlier part comes back once, e.g., the phrase is over). Two encounters are two meetings: the "
-            f"robot and the person move apart (farther than the meeting distance) between them. Pacing brings them to their FIRST encounter's node.\n"
+            f"- {TWO_ENCOUNTERS} (e1 give way at the door, e2 follow it from the lobby once it says FOLLOW ME). "
+            f"The later encounter's part (higher order) takes over while its trigger holds (latch it, or the earlier "
+            f"part comes back once, e.g., the phrase is over). Pacing brings them to their FIRST encounter's node. "
+            f"One meeting is one encounter: one reaction per person (\"lasts\" ends it).\n"
             f"- \"lasts\" (s) ends a reaction (then they walk on), e.g. say WAIT for at most 5 s; wait_then_go "
             f"stands {WAIT_THEN_GO_SECONDS:g} s unless set. \"seconds\" is only the time trigger's. {_negations()}")
 

@@ -191,6 +191,16 @@ def _encounter_mistakes(reply: PathsReply, graph: nx.Graph, spec: ScenarioSpec, 
         if key not in ids:
             mistakes.append(f"encounter_nodes: '{key}' is not an encounter of the scenario ({', '.join(ids)})")
     first = {h: parts[0][0].id for h in paths if (parts := spec.parts_of(h))}  # where pacing brings them
+    for human in paths:  # TWO_ENCOUNTERS: one person's meetings are told apart by their nodes
+        at: dict[str, str] = {}
+        for enc, _ in spec.parts_of(human):
+            node = reply.encounter_nodes.get(enc.id)
+            if node is not None and node in at:
+                mistakes.append(f"encounters {at[node]} and {enc.id} of {human} are both at node {node}: the two "
+                                f"meetings cannot be told apart there; ground {enc.id} at another {enc.place} node of "
+                                f"the robot's and {human}'s paths (they part in between), or make them one encounter")
+            elif node is not None:
+                at[node] = enc.id
     for enc in spec.encounters:
         node = reply.encounter_nodes.get(enc.id)
         if node is None:
