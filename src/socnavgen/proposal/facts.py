@@ -102,16 +102,29 @@ def physical_facts_text(scene_graph: bool = False) -> str:
     ])
 
 
+def follow_trail(robot_speed: float) -> float:
+    """How far (m) a follower trails a robot driving at `robot_speed` (sim/people/leaves.follow: it walks at
+    FOLLOW_GAIN m/s per metre of way between them)."""
+    from socnavgen.sim.people.leaves import FOLLOW_GAIN
+
+    return robot_speed / FOLLOW_GAIN
+
+
+def follows_distance_text() -> str:
+    """The least follows_robot `distance` that a follower behind the default robot can keep (stage 1's criteria)."""
+    speed = body().robot_speed
+    return (f"a follower trails about {follow_trail(speed):.1f} m behind the robot at {speed:g} m/s, so use a "
+            f"`distance` of at least {follow_trail(speed) + 2:.0f} m")
+
+
 def _follow_fact(robot_speed: float) -> str:
-    """How far a follower trails (sim/people/leaves.follow: speed FOLLOW_GAIN x its distance along the way)."""
+    """How far a follower trails (kept short: a player's reader cut this line when it was long)."""
     from socnavgen.sim.people.leaves import FOLLOW_GAIN, FOLLOW_STOP
 
-    trail = robot_speed / FOLLOW_GAIN
-    return (f"- A follower (FollowRobot, FollowHuman) walks at {FOLLOW_GAIN:g} m/s per metre between it and whom it "
-            f"follows (measured along the walkable way) and stands within {FOLLOW_STOP:g} m: behind the robot at "
-            f"{robot_speed:g} m/s it trails about {trail:.1f} m, more after doors and corners and behind other "
-            f"followers, so a follows_robot `distance` under {trail + 2:.0f} m fails; a robot that must not lose "
-            f"them waits (a human_farther cue) or drives slower.")
+    return (f"- A follower (FollowRobot, FollowHuman) walks {FOLLOW_GAIN:g} m/s per metre of way (around walls) "
+            f"to whom it follows and stops within {FOLLOW_STOP:g} m: it trails about "
+            f"{follow_trail(robot_speed):.1f} m behind the robot at {robot_speed:g} m/s, more after doors, corners "
+            f"and other followers.")
 
 
 def approach_room(spec: ScenarioSpec | None = None, enc: Encounter | None = None, human: str | None = None) -> float:
