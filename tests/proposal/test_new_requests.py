@@ -35,6 +35,14 @@ DISAGREE: dict[str, str] = {
     "and walks up to it (pacing releases a person in the robot's way 3 m ahead), not a sudden emergence",
 }
 
+# Fixtures whose recorded answers a stage check added since refuses, each with why; the recording has no answer
+# that passes, so the replay stops at that stage (and the eyes saw the scenario fail as recorded).
+REFUSED: dict[str, str] = {
+    "home_01_child_blocks_vacuum": "paths: the child's two encounters (block, then give way on EXCUSE ME) share node "
+    "vh, which stage 2 refuses (one person's two meetings cannot be told apart at one node: proposal/facts.py "
+    "TWO_ENCOUNTERS); one meeting is one encounter",
+}
+
 
 def test_the_suite_is_there_and_judged():
     names = [p.stem for p in PATHS]
@@ -56,6 +64,10 @@ def test_the_suite_is_there_and_judged():
     strict=True, reason=DISAGREE[p.stem])) if p.stem in DISAGREE else pytest.param(p, id=p.stem) for p in PATHS])
 def test_the_verifier_and_the_eyes_agree(path, tmp_path):
     row = replay_fixture(path, tmp_path / path.stem, root=ROOT)
+    if path.stem in REFUSED:
+        stage = REFUSED[path.stem].split(":")[0]
+        assert not getattr(row, f"{stage}_valid") and row.verified is None and row.eyes_match is False
+        return
     assert row.scenario_valid and row.paths_valid and row.trees_valid
     assert row.eyes_match is not None
     assert row.verified == row.eyes_match, (row.failing, row.eyes)

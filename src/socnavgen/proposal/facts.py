@@ -219,7 +219,8 @@ def people_text() -> str:
             f"- {TWO_ENCOUNTERS} (e1 give way at the door, e2 follow it from the lobby once it says FOLLOW ME). "
             f"The later encounter's part (higher order) takes over while its trigger holds (latch it, or the earlier "
             f"part comes back once, e.g., the phrase is over). Pacing brings them to their FIRST encounter's node. "
-            f"One meeting is one encounter: one reaction per person (\"lasts\" ends it).\n"
+            f"One meeting is one encounter, one reaction per person (\"lasts\" ends it; to stand in the robot's "
+            f"way until it says EXCUSE ME, then step aside: \"otherwise\": \"stand\" and give_way on robot_says).\n"
             f"- \"lasts\" (s) ends a reaction (then they walk on), e.g. say WAIT for at most 5 s; wait_then_go "
             f"stands {WAIT_THEN_GO_SECONDS:g} s unless set. \"seconds\" is only the time trigger's. {_negations()}")
 

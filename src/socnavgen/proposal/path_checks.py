@@ -198,7 +198,7 @@ def _encounter_mistakes(reply: PathsReply, graph: nx.Graph, spec: ScenarioSpec, 
             if node is not None and node in at:
                 mistakes.append(f"encounters {at[node]} and {enc.id} of {human} are both at node {node}: the two "
                                 f"meetings cannot be told apart there; ground {enc.id} at another {enc.place} node of "
-                                f"the robot's and {human}'s paths (they part in between), or make them one encounter")
+                                f"the robot's and {human}'s paths (they part in between)")
             elif node is not None:
                 at[node] = enc.id
     for enc in spec.encounters:
