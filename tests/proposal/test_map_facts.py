@@ -149,8 +149,10 @@ def test_hidden_until_needs_a_blind_place_and_a_distance_it_can_hold(warehouse):
 
     assert any("needs a blind turn, but no ENTRANCE node" in m for m in hidden("ENTRANCE", 3.0))
     too_close = hidden("BLIND CORNER", 1.0)
-    assert any("first see each other 2.5 m apart or more; set its distance to at least 3" in m for m in too_close)
-    assert hidden("BLIND CORNER", 3.5) == []
+    assert any("first see each other 3.2 m apart or more (+0.5 m margin); set its distance to at least 4" in m
+               for m in too_close), too_close
+    assert any("set its distance to at least 4" in m for m in hidden("BLIND CORNER", 3.5))  # 3.2 m + the margin
+    assert hidden("BLIND CORNER", 4.0) == []
 
 
 def test_a_says_criterion_for_someone_who_never_speaks_is_refused(home):
@@ -235,8 +237,8 @@ def test_stage2_grounds_a_hidden_until_encounter_only_where_it_is_blind_enough(w
 
     reply = _reply("BLIND CORNER", part={"reaction": "stop"}, criteria=[
         {"id": "c1", "kind": "meets", "human": "human1", "encounter": "e1"},
-        {"id": "c2", "kind": "hidden_until", "human": "human1", "encounter": "e1", "distance": 2.8}])
-    assert scenario_checker(warehouse)(reply) == []  # 54 is blind until 2.5 m: the place can work
+        {"id": "c2", "kind": "hidden_until", "human": "human1", "encounter": "e1", "distance": 4.0}])
+    assert scenario_checker(warehouse)(reply) == []  # 54 is blind until 3.2 m (+0.5 m margin): the place can work
     spec = to_spec(reply)
 
     def ground(robot: list[str], human: list[str], node: str) -> list[str]:
@@ -245,11 +247,37 @@ def test_stage2_grounds_a_hidden_until_encounter_only_where_it_is_blind_enough(w
                                             "encounter_nodes": {"e1": node}})
         return check_paths(answer, warehouse.graph, ["human1"], spec, warehouse)
 
-    at_f7 = ground(["co", "54", "f7", "6r"], ["hd", "6r", "f7"], "f7")  # f7 hides them only until 3.0 m
-    assert any("they see each other from 3.0 m; blind enough: 54 between co and f7 (2.5 m)" in m for m in at_f7), at_f7
+    at_f7 = ground(["co", "54", "f7", "6r"], ["hd", "6r", "f7"], "f7")  # f7 hides them only until 3.6 m
+    assert any("they see each other from 3.6 m (+0.5 m margin); blind enough for 4 m (+0.5 m margin): 54 (BLIND "
+               "CORNER) between co and f7: 3.2 m" in m for m in at_f7), at_f7
     assert ground(["up", "co", "54", "f7"], ["6r", "f7", "54"], "54") == []
     same_way = ground(["up", "co", "54", "f7"], ["up", "co", "54"], "54")  # walking in behind the robot
     assert any("they see each other from afar" in m for m in same_way), same_way
+
+
+def test_stage2_refuses_a_way_in_that_looks_into_the_blind_turn():
+    """Hospital q9 hides the elevator car jb from a robot coming past 8z, not from one coming through the
+    doorway cc (it looks into the car from 11 m: a round-5 player's hidden_until failed there)."""
+    from socnavgen.proposal.path_checks import check_paths
+    from socnavgen.proposal.replies import PathsReply
+    from socnavgen.proposal.scenario import to_spec
+
+    hospital = load_location(EXAMPLES / "hospital")
+    reply = _reply("ELEVATOR LOBBY", part={"reaction": "stop", "trigger": "robot_visible"}, criteria=[
+        {"id": "c1", "kind": "meets", "human": "human1", "encounter": "e1"},
+        {"id": "c2", "kind": "hidden_until", "human": "human1", "encounter": "e1", "distance": 4.5}])
+    spec = to_spec(reply)
+
+    def ground(robot: list[str]) -> list[str]:
+        answer = PathsReply.model_validate({"trajectories": {"robot": robot, "human1": ["jb", "q9"]},
+                                            "group_ids": {"human1": -1}, "interaction_points": {"human1": "q9"},
+                                            "encounter_nodes": {"e1": "q9"}})
+        return [m for m in check_paths(answer, hospital.graph, ["human1"], spec, hospital) if "c2" in m]
+
+    through_cc = ground(["1g", "cc", "8r", "q9"])
+    assert any("coming into node q9 of encounter e1 the way they do, they see each other from afar" in m
+               for m in through_cc), through_cc
+    assert ground(["lc", "8z", "8r", "q9"]) == []
 
 
 def test_every_cue_trigger_is_explained_from_the_models_docstring():

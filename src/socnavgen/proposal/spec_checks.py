@@ -16,6 +16,7 @@ from pydantic import BaseModel, ValidationError
 
 from socnavgen.bt.library import Target, nodes_for_reaction
 from socnavgen.location import Location
+from socnavgen.location.inventory import BLIND_MARGIN
 from socnavgen.proposal.facts import can_latch, detecting_nodes
 from socnavgen.proposal.replies import human_name
 from socnavgen.run.spec import Criterion, Encounter, ScenarioSpec
@@ -302,10 +303,11 @@ def place_mistakes(spec: ScenarioSpec, location: Location) -> list[str]:
             continue
         distance = c.distance or HIDDEN_UNTIL_DEFAULT
         closest = turns[0].sight_m
-        if distance < closest:
+        if distance < closest + BLIND_MARGIN:
             mistakes.append(f"criterion {c.id} (hidden_until) asks that they see each other only within {distance:g} "
                             f"m, but at the {enc.place} nodes of this map they first see each other {closest:.1f} m "
-                            f"apart or more; set its distance to at least {math.ceil(closest + 0.5):g}")
+                            f"apart or more (+{BLIND_MARGIN:g} m margin); set its distance to at least "
+                            f"{math.ceil(2 * (closest + BLIND_MARGIN)) / 2:g}")
     return mistakes
 
 
