@@ -90,6 +90,17 @@ def test_stage1_states_how_far_a_follower_trails_where_criteria_are_written(home
     assert len(bullet) <= 240 and bullet.endswith("other followers.")
 
 
+def test_the_prompts_state_the_simulations_time_limit_from_its_home(home):
+    """A slow round trip with a follower timed out and no prompt said when a run ends (a round-5 player)."""
+    from socnavgen.proposal.facts import physical_facts_text
+    from socnavgen.sim import SimConfig
+
+    limit = SimConfig().timeout
+    system, _ = _stage1_prompt(home)
+    assert f"A run ends after {limit:g} s of simulated time" in system and f"that is {limit * 0.6:.0f} m" in system
+    assert f"A run ends after {limit:g} s" in physical_facts_text(scene_graph=True)  # stages 2 and 3 too
+
+
 def test_the_target_says_which_nodes_it_lacks(home):
     from socnavgen.bt.library import prompt_nodes
 

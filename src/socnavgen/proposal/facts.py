@@ -96,10 +96,21 @@ def physical_facts_text(scene_graph: bool = False) -> str:
         "together in a group_together criterion) is met where the robot meets any member: members stepping "
         "aside is their reaction; a `meets` criterion may name the group's `humans`.",
         _follow_fact(b.robot_speed),
+        time_limit_text(b.robot_speed),
         *(["- Positions: `pos` is the pixel position of a node in the map image; `xy_m` is the same point in "
            "metres in the world frame (x east, y north), so distances between nodes can be computed from it."]
           if scene_graph else []),
     ])
+
+
+def time_limit_text(robot_speed: float) -> str:
+    """The simulated time a run gets (sim SimConfig.timeout: the one home of the limit) and what must fit in it."""
+    from socnavgen.sim import SimConfig
+
+    limit = SimConfig().timeout
+    return (f"- A run ends after {limit:g} s of simulated time: the robot's whole route at its speed (at "
+            f"{robot_speed:g} m/s that is {limit * robot_speed:.0f} m), with its waits and its stops for people and "
+            f"slow followers, must fit well inside it, or it fails to reach its goal.")
 
 
 def follow_trail(robot_speed: float) -> float:
