@@ -101,6 +101,22 @@ def test_the_prompts_state_the_simulations_time_limit_from_its_home(home):
     assert f"A run ends after {limit:g} s" in physical_facts_text(scene_graph=True)  # stages 2 and 3 too
 
 
+def test_pacing_is_stated_as_the_simulator_does_it(home):
+    """Round-5 players: 'the person waits for the robot there' was optimistic. Pacing uses the robot's nominal
+    ETA (its own cue waits delay it past the person) and releases a waiting person near the robot, who walks on."""
+    from socnavgen.sim import ThrottleConfig
+
+    pace = ThrottleConfig()
+    system, _ = _stage1_prompt(home)
+    assert "the person waits for the robot there" not in system
+    assert "NOMINAL arrival there (its remaining route at its cruise speed; its cue waits and stops for people are " \
+           "not counted" in system and "A robot delayed by its own waits arrives after them" in system
+    assert f"Nobody is held within {pace.release_distance:g} m of the robot: a person waiting at the node then walks " \
+           f"on along their path (a trigger nearer than {pace.release_distance:g} m fires there only if they walk " \
+           "toward the robot)" in system
+    assert f"while it stands {pace.robot_waits:g} s or more nobody is held" in system
+
+
 def test_the_target_says_which_nodes_it_lacks(home):
     from socnavgen.bt.library import prompt_nodes
 

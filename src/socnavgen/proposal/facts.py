@@ -152,18 +152,21 @@ def approach_room(spec: ScenarioSpec | None = None, enc: Encounter | None = None
 
 
 def pacing_text() -> str:
-    """How the simulator holds a person back so that the encounter happens at its node (sim/interaction.py)."""
+    """How the simulator holds a person back so that the encounter happens at its node (sim/people/pacing.py's
+    `eta` rule, what it does today: the robot's nominal ETA, no holding near a robot or while it stands)."""
     from socnavgen.sim import ThrottleConfig
 
     pace = ThrottleConfig()
     return (f"- Pacing: a person who is alone (group id -1) and has an interaction point on the robot's path "
-            f"(after the robot's start) is paced to arrive there together with the robot: while the robot is "
-            f"still far, they walk slower, or stand at their start (or at the node) when they would walk slower "
-            f"than {pace.min_pace:g} m/s. Only walking normally (RegularNav) is paced; nobody is held within "
-            f"{pace.release_distance:g} m of the robot, and once the robot is {pace.robot_near:g} m from the node "
-            f"they walk at full speed. So put the interaction point where the encounter should happen: the person "
-            f"waits for the robot there. Members of a group and people without an interaction point are never "
-            f"paced: they walk from the start.")
+            f"(after the robot's start) is paced by the robot's NOMINAL arrival there (its remaining route at its "
+            f"cruise speed; its cue waits and stops for people are not counted, and while it stands "
+            f"{pace.robot_waits:g} s or more nobody is held): they walk slower, or stand at their start (or at the "
+            f"node) when they would walk slower than {pace.min_pace:g} m/s. Only walking normally (RegularNav) is "
+            f"paced. Nobody is held within {pace.release_distance:g} m of the robot: a person waiting at the node "
+            f"then walks on along their path (a trigger nearer than {pace.release_distance:g} m fires there only if "
+            f"they walk toward the robot), and once the robot is {pace.robot_near:g} m from the node they walk at "
+            f"full speed. A robot delayed by its own waits arrives after them. Members of a group and people "
+            f"without an interaction point are never paced: they walk from the start.")
 
 
 def groups_text() -> str:
