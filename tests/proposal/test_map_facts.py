@@ -117,6 +117,16 @@ def test_pacing_is_stated_as_the_simulator_does_it(home):
     assert f"while it stands {pace.robot_waits:g} s or more nobody is held" in system
 
 
+def test_stage1_says_a_stop_shows_only_after_having_walked(home):
+    """A player held a worker with MakeGesture 0 from the start and no wait_then_go showed: the tree held them
+    still (tests/sim/test_nodes), but the verifier sees a stop only after a walk (verify/signals.reaction_evidence)."""
+    from socnavgen.verify.thresholds import MOVED_DISTANCE, STOP_HOLD, STOP_SPEED
+
+    system, _ = _stage1_prompt(home)
+    assert f"a stop or wait_then_go is a person slower than {STOP_SPEED:g} m/s for {STOP_HOLD:g} s AFTER having " \
+           f"walked {MOVED_DISTANCE:g} m from their start" in system and "shows none until they have walked" in system
+
+
 def test_the_target_says_which_nodes_it_lacks(home):
     from socnavgen.bt.library import prompt_nodes
 

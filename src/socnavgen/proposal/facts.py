@@ -236,7 +236,17 @@ def people_text() -> str:
             f"One meeting is one encounter, one reaction per person (\"lasts\" ends it; to stand in the robot's "
             f"way until it says EXCUSE ME, then step aside: \"otherwise\": \"stand\" and give_way on robot_says).\n"
             f"- \"lasts\" (s) ends a reaction (then they walk on), e.g. say WAIT for at most 5 s; wait_then_go "
-            f"stands {WAIT_THEN_GO_SECONDS:g} s unless set. \"seconds\" is only the time trigger's. {_negations()}")
+            f"stands {WAIT_THEN_GO_SECONDS:g} s unless set. \"seconds\" is only the time trigger's. {_negations()}\n"
+            f"- {stop_evidence_text()}")
+
+
+def stop_evidence_text() -> str:
+    """How the verifier sees a stop (verify/signals.reaction_evidence: a change, after having walked)."""
+    from socnavgen.verify.thresholds import MOVED_DISTANCE, STOP_HOLD, STOP_SPEED
+
+    return (f"As a reaction (reacts_after_phrase), a stop or wait_then_go is a person slower than {STOP_SPEED:g} "
+            f"m/s for {STOP_HOLD:g} s AFTER having walked {MOVED_DISTANCE:g} m from their start: someone standing "
+            f"from the start (\"otherwise\": \"stand\", or held by pacing) shows none until they have walked.")
 
 
 def _negations() -> str:
