@@ -147,12 +147,12 @@ def _blind_mistakes(reply: PathsReply, spec: ScenarioSpec, location: Location, r
         turns = [t for t in inventory.blind_turns if t.node == node and (None in legs or {t.a, t.b} == legs)
                  and (None in legs or t.hidden(ways[t.a], ways[t.b]))]
         distance = c.distance or HIDDEN_UNTIL_DEFAULT
-        if turns and min(t.sight_m for t in turns) + BLIND_MARGIN <= distance:
+        if turns and min(t.sight_m for t in turns) <= distance:
             continue
         fitting = [t.text(enc.place) for t in inventory.blind_nodes(enc.place) if t.sight_m + BLIND_MARGIN <= distance]
-        hint = f"; blind enough for {distance:g} m (+{BLIND_MARGIN:g} m margin): {', '.join(fitting)}" if fitting \
+        hint = f"; blind enough for {distance:g} m with a {BLIND_MARGIN:g} m margin: {', '.join(fitting)}" if fitting \
             else ""
-        seen = f"from {min(t.sight_m for t in turns):.1f} m (+{BLIND_MARGIN:g} m margin)" if turns else "from afar"
+        seen = f"from {min(t.sight_m for t in turns):.1f} m" if turns else "from afar"
         mistakes.append(f"criterion {c.id} needs the robot and {c.human} hidden from each other until {distance:g} m, "
                         f"but coming into node {node} of encounter {enc.id} the way they do, they see each other "
                         f"{seen}{hint}")

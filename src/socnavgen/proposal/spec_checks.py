@@ -303,11 +303,11 @@ def place_mistakes(spec: ScenarioSpec, location: Location) -> list[str]:
             continue
         distance = c.distance or HIDDEN_UNTIL_DEFAULT
         closest = turns[0].sight_m
-        if distance < closest + BLIND_MARGIN:
+        if distance < closest:  # refused only below the worst approach measured; the advice adds the margin
             mistakes.append(f"criterion {c.id} (hidden_until) asks that they see each other only within {distance:g} "
                             f"m, but at the {enc.place} nodes of this map they first see each other {closest:.1f} m "
-                            f"apart or more (+{BLIND_MARGIN:g} m margin); set its distance to at least "
-                            f"{math.ceil(2 * (closest + BLIND_MARGIN)) / 2:g}")
+                            f"apart or more; set its distance to at least {math.ceil(2 * (closest + BLIND_MARGIN)) / 2:g} "
+                            f"(+{BLIND_MARGIN:g} m margin)")
     return mistakes
 
 
