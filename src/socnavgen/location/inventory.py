@@ -98,7 +98,7 @@ class BlindTurn:
     # the approaches (node the robot or person comes from into a, into b) on which they see each other earlier
     unless: tuple[tuple[str, str], ...] = ()
 
-    def hidden(self, from_a: str, from_b: str) -> bool:
+    def hidden(self, from_a: str | None, from_b: str | None) -> bool:
         """Blind on this approach: coming into a from `from_a` and into b from `from_b` (a or b itself for a way
         that starts there)."""
         return (from_a, from_b) not in self.unless
