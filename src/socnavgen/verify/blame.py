@@ -57,7 +57,7 @@ from socnavgen.bodies import (
 from socnavgen.run.models import PathPlan
 from socnavgen.run.spec import Blame, Criterion, ScenarioSpec
 from socnavgen.verify.criteria import Compiled
-from socnavgen.verify.evidence import deadlock_culprit, met_mask
+from socnavgen.verify.evidence import deadlock_culprit, in_window, met_mask
 from socnavgen.verify.signals import ROBOT_PHRASES, Signals, phrase_id
 from socnavgen.verify.stl import formula_signals
 from socnavgen.verify.thresholds import APPROACH, KIND_DISTANCE, MEET_DISTANCE, STILL_SPEED
@@ -301,9 +301,13 @@ def _blame_meeting(cc: Compiled, s: Signals, h: str) -> Verdict:
 def _missing_cause(cc: Compiled, s: Signals, h: str) -> Verdict | None:
     """Rule N3 for reactions: the cause never held (h never in the robot's way, never walking near it)."""
     kind, d = cc.criterion.kind, cc.distance or KIND_DISTANCE.get(cc.criterion.kind, MEET_DISTANCE)
-    if kind == "gives_way" and not ((s.get(f"inway_{h}") > 0.5) & (s.get(f"dist_{h}") <= d)).any():
-        return "paths", None, (f"{h} was never in the robot's way within {d:g} m: nothing to give way to; make "
-                               "their paths meet head-on")
+    if cc.window and not in_window(cc, s).any():
+        node = cc.encounter.node or cc.encounter.id if cc.encounter is not None else "its place"
+        return "paths", None, (f"the robot and {h} were never together at {node} after their encounter before it "
+                               "ended: make their paths meet there again")
+    if kind == "gives_way" and not ((s.get(f"inway_{h}") > 0.5) & (s.get(f"dist_{h}") <= d) & in_window(cc, s)).any():
+        return "paths", None, (f"{h} was never in the robot's way within {d:g} m" + (" in this encounter" if cc.window
+                               else "") + ": nothing to give way to; make their paths meet head-on")
     if kind == "follows_robot" and cc.encounter is not None:
         there = s.get(f"{h}_to_{cc.encounter.id}") <= cc.encounter.within + (cc.distance or 0.0)
         if cc.phrase:

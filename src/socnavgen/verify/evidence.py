@@ -12,6 +12,7 @@ from socnavgen.sim import contact
 from socnavgen.verify.criteria import Compiled
 from socnavgen.verify.signals import Signals
 from socnavgen.verify.thresholds import APPROACH, PROGRESS_STEP, STOP_HOLD, WALK_SPEED
+from socnavgen.verify.windows import window_text
 
 Evidence = tuple[str, float | None, float | None]  # text, time, distance
 
@@ -110,6 +111,11 @@ def _no_approach(cc: Compiled, s: Signals, h: str, j: int) -> str:
     return ""
 
 
+def in_window(cc: Compiled, s: Signals) -> np.ndarray:
+    """(T,) bool: the steps of the criterion's encounter window (every step when it has none)."""
+    return s.get(cc.window) > 0.5 if cc.window else np.ones(s.trace.steps, dtype=bool)
+
+
 def _phrase_evidence(cc: Compiled, s: Signals) -> Evidence:
     h, t = cc.human or "", s.t
     says = s.get(f"robot_says_{cc.phrase}") > 0.5
@@ -124,9 +130,9 @@ def _phrase_evidence(cc: Compiled, s: Signals) -> Evidence:
         window = int(round((cc.seconds or 0.0) / max(s.trace.dt, 1e-9)))
         n = len(t)
         calm = np.array([not says[k] and says[k:k + hold + 1].any() and not reacting[k:k + hold + 1].any()
-                         for k in range(n)], dtype=bool)  # a quiet STOP_HOLD s in which the phrase starts
+                         for k in range(n)], dtype=bool) & in_window(cc, s)  # a quiet STOP_HOLD s: the phrase starts
         start = _first(says)
-        if start is not None and start <= hold and not reacting[:start + 1].any():
+        if start is not None and start <= hold and not reacting[:start + 1].any() and in_window(cc, s)[0]:
             calm[max(start - 1, 0)] = True  # said at the run's start, nobody reacting before it
         after = None
         for k0 in np.flatnonzero(calm):
@@ -147,7 +153,7 @@ def _phrase_evidence(cc: Compiled, s: Signals) -> Evidence:
         first_react = after if after is not None else first_react
     k = first_react if first_react is not None else first_say
     d = float(s.get(f"dist_{h}")[k]) if k is not None and h else None
-    return "; ".join(parts), (float(t[k]) if k is not None else None), d
+    return "; ".join(parts) + window_text(s, cc.window), (float(t[k]) if k is not None else None), d
 
 
 def _human_evidence(cc: Compiled, s: Signals) -> Evidence:
@@ -157,7 +163,7 @@ def _human_evidence(cc: Compiled, s: Signals) -> Evidence:
     kind = cc.criterion.kind
     if kind in ("stops_near_robot", "blocks_robot"):
         speed = s.get(f"speed_{h}")
-        near = s.get(f"dist_{h}") <= (cc.distance or 0)
+        near = (s.get(f"dist_{h}") <= (cc.distance or 0)) & in_window(cc, s)
         text += f"; slowest while within {cc.distance:g} m: {speed[near].min():.2f} m/s" if near.any() else \
             f"; never within {cc.distance:g} m"
         if kind == "stops_near_robot" and not (s.get(f"closer_{h}") >= APPROACH).any():
@@ -169,7 +175,7 @@ def _human_evidence(cc: Compiled, s: Signals) -> Evidence:
             return text, float(t[seen]), float(s.get(f"dist_{h}")[seen])
         text += "; never in sight"
     elif kind == "gives_way":
-        way = (s.get(f"inway_{h}") > 0.5) & (s.get(f"dist_{h}") <= (cc.distance or 0))
+        way = (s.get(f"inway_{h}") > 0.5) & (s.get(f"dist_{h}") <= (cc.distance or 0)) & in_window(cc, s)
         text += f"; in the robot's way within {cc.distance:g} m for {way.sum() * s.trace.dt:.1f} s"
         first = _first(way)
         if first is not None:
@@ -182,7 +188,7 @@ def _human_evidence(cc: Compiled, s: Signals) -> Evidence:
             f"; {h} never said {words(cc.phrase)}"
     elif kind == "follows_robot":
         text += _follow_text(cc, s, h)
-    return text, float(t[k]), closest
+    return text + window_text(s, cc.window), float(t[k]), closest
 
 
 def _follow_text(cc: Compiled, s: Signals, h: str) -> str:

@@ -98,8 +98,10 @@ class Signals:
 
     def __init__(self, trace: Trace, *, world=None, places: dict[str, tuple[float, float]] | None = None,  # noqa: ANN001
                  node_points: dict[str, tuple[float, float]] | None = None, goal_radius: float = 0.5,
-                 world_factory: Callable[[], object] | None = None) -> None:
+                 world_factory: Callable[[], object] | None = None,
+                 windows: Callable[[Signals, str, str], np.ndarray] | None = None) -> None:
         self.trace = trace
+        self._windows = windows  # verify/windows.encounter_window with the run's spec: during_<human>_<encounter>
         self.world = world
         self._world_factory = world_factory  # builds the World only if a formula needs line of sight
         self.places = dict(places or {})
@@ -404,10 +406,9 @@ def aside(s: Signals, human: str) -> np.ndarray:
     (0 before it was ever in the way): evidence that the person made way, not that the robot went around.
 
     With a route (two or more waypoints), "in the way" is ahead along the robot's heading, or on the route (within
-    the corridor its body sweeps: robot + person radius + WAY_MARGIN_VERIFY) ahead of the robot along it, round
-    bends too; where it stood is where it last stood so ON the route (a robot turning
-    toward someone who already stepped off does not undo the step). Stepping aside means gaining ASIDE_DISTANCE of
-    distance from the route since that stand began (moving on along the route does not count)."""
+    the corridor its body sweeps: robot + person radius + WAY_MARGIN_VERIFY) ahead of the robot along it, round bends
+    too; where it stood is where it last stood so ON the route (a robot turning toward someone who already stepped off
+    does not undo the step). Stepping aside: gaining ASIDE_DISTANCE from the route since that stand began."""
     i = s.human(human)
     way = s.in_way(i)
     p = s.pos(human)
@@ -479,6 +480,12 @@ def _react(s: Signals, m: re.Match) -> np.ndarray:
     return reaction_evidence(s, m[1], m[2])
 
 
+def _during(s: Signals, m: re.Match) -> np.ndarray:
+    if s._windows is None:
+        raise UnknownSignal(f"{m[0]}: encounter windows need the run's spec")
+    return s._windows(s, m[1], m[2])
+
+
 _H = r"(human[1-9][0-9]{0,2})"
 SIGNAL_KINDS: tuple[SignalKind, ...] = (
     SignalKind(rf"dist_{_H}", "dist_<human>", "m", "robot-human centre distance", _dist),
@@ -527,6 +534,9 @@ SIGNAL_KINDS: tuple[SignalKind, ...] = (
                f"wait_then_go: slower than 0.1 m/s for {STOP_HOLD:g} s after having walked; say: showing a gesture; give_way: aside_<human>; "
                f"walk_past, follow, follow_human, join, avoid: their nodes while faster than {WALK_SPEED:g} m/s",
                _react),
+    SignalKind(rf"during_{_H}_([a-z][a-z0-9_]*)", "during_<human>_<encounter>", "0/1", "inside the window of the "
+               "human's encounter (verify/windows.py: from when the two are together at its place, after the one "
+               "before it ended, until the next one opens)", _during),
 )
 
 
