@@ -18,6 +18,9 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
       robot never said                                                                        -> robot_script
   D3  (checked before D1) deadlock behind a human standing at its own goal off the robot's route
       (the robot could pass: the paths put that goal beside the route)                         -> paths
+  D4  (checked before D2) a standoff the spec sets up: the robot's wait_until_clear cue fired while h is in its
+      way, or h's encounter has it stop / look while the robot is there with no `lasts` (each waits for the
+      other), with who, where, gap and how long                                                 -> spec
   D2  deadlock / goal not reached behind a human (the human's tree keeps it in the way)        -> behaviors(h)
   P1  the criterion (or, for meets / stops / gives_way / says / blocks, its encounter) waits for
       a robot phrase the robot never said                                                       -> robot_script
@@ -200,10 +203,48 @@ def _stuck(cc: Compiled, s: Signals, spec: ScenarioSpec, settings_deadlock: floa
     if phrase and _never_said(s, phrase):
         return ("robot_script", None, f"{who} waits for the robot to say {phrase.replace('_', ' ').upper()}, "
                                       "which the script never says: add a cue (e.g. when blocked)")
+    standoff = _standoff(s, spec, who, k)
+    if standoff:
+        return "spec", None, standoff
     return ("behaviors", who, f"{who} stood in the robot's way {dead.max():.0f} s: its tree must let the robot "
                               "through, by giving way where there is room to step aside, or by walking on toward "
                               "its goal past the robot (the robot makes way for someone who needs to get past it), "
                               "not by standing in front of it")
+
+
+HOLDING_REACTIONS = ("stop", "look")  # a person with one of these stands while its trigger holds (no `lasts`)
+PRESENCE_TRIGGERS = ("robot_blocking", "robot_near", "robot_visible")  # triggers the robot standing there keeps true
+
+
+def _where(s: Signals, who: str, k: int) -> str:
+    """'at node iq (0.4 m)': the scene-graph node nearest `who` at step k, '' when the run has none."""
+    nodes = [(float(np.hypot(*(s.pos(who)[k] - np.asarray(p)))), n[5:]) for n, p in s.places.items()
+             if n.startswith("node_")]
+    return f" at node {min(nodes)[1]} ({min(nodes)[0]:.1f} m)" if nodes else ""
+
+
+def _standoff(s: Signals, spec: ScenarioSpec, who: str, k: int) -> str | None:
+    """Rule D4: the deadlock is a standoff the spec itself sets up, with who, where, gap and how long: the robot's
+    script waits until nobody is in its way (wait_until_clear, its cue having fired) while `who` is in it, or
+    `who`'s encounter has it stand (stop / look, no `lasts`) for as long as the robot is there: each waits for
+    the other, which no path or tree can undo."""
+    dead = float(s.get("deadlock")[k])
+    gap = float(s.gaps()[k, s.human(who)])
+    fact = (f"{who} in the robot's way{_where(s, who, k)}, {gap:.2f} m gap, {dead:.0f} s from "
+            f"t={s.t[k] - dead + s.trace.dt:.1f} s")
+    for n, cue in enumerate(spec.script.cues, 1):
+        said = cue.say is None or (np.asarray(s.trace.robot_gesture[:k + 1]) == ROBOT_PHRASES.get(
+            phrase_id(cue.say), -1)).any()
+        if cue.wait_until_clear and said:
+            return (f"a standoff set by the spec: cue {n} of the robot's script waits until nobody is in its way "
+                    f"(wait_until_clear) with {fact}, where the two cannot pass each other: say who yields (drop "
+                    f"wait_until_clear, or have {who} give way or walk past, or meet at a wider place)")
+    for enc, part in spec.parts_of(who):
+        if part.reaction in HOLDING_REACTIONS and part.trigger in PRESENCE_TRIGGERS and part.lasting() is None:
+            return (f"a standoff set by the spec: {enc.id} has {who} {part.reaction} while the robot is there "
+                    f"({part.trigger}, no `lasts`) and the robot waits for {who}: {fact}; say who yields (give the "
+                    f"{part.reaction} `lasts` seconds, or let {who} come through first, or meet at a wider place)")
+    return None
 
 
 def _scripted_wait(s: Signals, spec: ScenarioSpec, settings_deadlock: float) -> Verdict | None:

@@ -23,7 +23,7 @@ from socnavgen import proxemics
 from socnavgen.bt.library import HUMAN_GESTURES, LIBRARY, REACTION_NODES, ROBOT_GESTURES
 from socnavgen.sim import contact
 from socnavgen.sim.trace import VX, VY, YAW, Trace
-from socnavgen.verify.route import progress_events, route_offset, route_progress
+from socnavgen.verify.route import ahead_on_route, progress_events, route_offset, route_progress
 from socnavgen.verify.thresholds import (
     AHEAD_HALF_ANGLE,
     ASIDE_DISTANCE,
@@ -71,8 +71,8 @@ class SignalKind:
 
 
 def _runlength(flags: np.ndarray, dt: float) -> np.ndarray:
-    """Seconds each step has been inside a continuous run of True (0 where False): dt added once per step of
-    the run (dt, dt + dt, ...), the j-th step of every run reading the j-th partial sum of one cumsum."""
+    """Seconds each step has been inside a continuous run of True (0 where False): dt added once per step of the
+    run, the j-th step of every run reading the j-th partial sum of one cumsum."""
     flags = np.asarray(flags, dtype=bool)
     n = len(flags)
     if not n:
@@ -217,15 +217,10 @@ class Signals:
 
         return self._keep("route", build)
 
-    def in_route_way(self, i: int) -> np.ndarray:
-        """1 where human i is in the robot's way along its heading OR along its route's direction (a robot
-        turning or jittering in place does not stop being held up by the person ahead on its route)."""
-        return self._ways("heading")[:, i] | self._ways("route")[:, i]
-
     def holding_up(self) -> np.ndarray:
-        """(T, H) 1 where a human stands in the robot's way (heading or route) within proxemics.HELD_UP_DISTANCE
-        (centres; the distance the script's wait_until_clear waits for). The way is only worked out for the
-        (step, human) pairs that close."""
+        """(T, H) 1 where a human stands in the robot's way (heading, route direction, or on the route just ahead
+        round a bend: route.ahead_on_route) within proxemics.HELD_UP_DISTANCE (centres; the distance the script's
+        wait_until_clear waits for). The way is only worked out for the (step, human) pairs that close."""
         def build() -> np.ndarray:
             close = self.distances() <= proxemics.HELD_UP_DISTANCE
             out = np.zeros(close.shape, dtype=bool)
@@ -242,7 +237,10 @@ class Signals:
                                         proxemics.WAY_MARGIN_VERIFY)
 
             tx, ty = tangent[:, 0], tangent[:, 1]
-            out[k, i] = way(np.cos(yaw), np.sin(yaw)) | (way(tx, ty) & ((tx != 0) | (ty != 0)))
+            half = float(self.trace.robot_radius) + radius + proxemics.WAY_MARGIN_VERIFY
+            out[k, i] = way(np.cos(yaw), np.sin(yaw)) | (way(tx, ty) & ((tx != 0) | (ty != 0))) | ahead_on_route(
+                self.route()[0][k], np.stack([px, py], 1), list(self.trace.robot_waypoints), half,
+                proxemics.HELD_UP_DISTANCE)
             return out
 
         return self._keep("holding_up", build)

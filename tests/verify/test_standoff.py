@@ -1,0 +1,87 @@
+"""Blame that names the standoff (issue 25, home_02 and home_06 of the new-request suite):
+
+- a robot circling for 100 s in front of a 0.9 m bedroom door, where the resident stands just past the route's
+  turn, is held up by her (on its route just ahead, round the bend) and deadlocked: the old `holding_up` looked
+  along the robot's heading and the current leg only and saw nobody, and the failed goal was blamed "check the
+  robot path" for a valid path;
+- a deadlock the spec itself sets up (the robot's wait_until_clear cue fired with the person in its way; the
+  person's encounter has it stop while the robot is there, with no `lasts`) is blamed on the spec, naming who,
+  where, the gap and how long; a person whose spec reaction is to give way but who stays in the way is still the
+  tree's fault.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from socnavgen.run.spec import CueTrigger, Encounter, HumanPart, RobotCue, RobotScript, ScenarioSpec
+from socnavgen.verify.blame import blame_criterion
+from socnavgen.verify.criteria import compile_criterion
+from socnavgen.verify.models import VerifySettings
+from socnavgen.verify.route import ahead_on_route
+from socnavgen.verify.signals import Signals
+
+from .verify_builders import build_trace
+
+T = np.arange(0, 40.0 + 1e-9, 0.5)
+ROUTE = [(1.0, 3.0), (4.0, 3.0), (4.0, 7.0)]  # east along a hall, then north through a door at (4, 4)
+
+
+def _circling(person: tuple[float, float]) -> object:
+    """The robot drives east to (3.6, 3) by t = 5 s, then circles there (0.15 m radius) to the end; the person
+    stands at `person` the whole run."""
+    x = np.interp(T, [0.0, 5.0], [1.0, 3.6])
+    wiggle = np.where(T > 5.0, 0.15, 0.0)
+    robot = np.stack([x + wiggle * np.cos(T), 3.0 + wiggle * np.sin(T)], 1)
+    trace = build_trace(T, robot, np.tile([person], (len(T), 1))[:, None], goal=ROUTE[-1])
+    trace.robot_waypoints = list(ROUTE)
+    trace.humans[:, :, 2] = -np.pi / 2  # facing the robot
+    return trace
+
+
+def _signals(trace: object) -> Signals:
+    return Signals(trace, goal_radius=0.3, places={f"node_{n}": p for n, p in zip("abc", ROUTE, strict=True)})
+
+
+def test_someone_on_the_route_just_past_its_turn_holds_the_robot_up() -> None:
+    in_door = _signals(_circling((4.0, 4.3)))  # 1.3 m from the robot, off its heading and its current leg
+    assert in_door.in_way(0)[20:].mean() < 0.5  # along its heading only now and then, as it circles
+    assert in_door.get("deadlock").max() >= 30.0
+    beside = _signals(_circling((5.4, 4.3)))  # as far, but 1.4 m beside the route: nobody in its way
+    assert beside.get("deadlock").max() < 10.0  # held up only when the circling robot faces it, never for long
+    far = ahead_on_route(np.array([2.6]), np.array([[4.0, 6.9]]), ROUTE, 0.85, 3.0)  # on the route, 4.3 m on
+    assert not far.any()
+
+
+def _spec(part: HumanPart, wait_until_clear: bool = False) -> ScenarioSpec:
+    cues = [RobotCue(trigger=CueTrigger(when="blocked", distance=2.0), wait_until_clear=True)] \
+        if wait_until_clear else []
+    return ScenarioSpec(script=RobotScript(cues=cues), encounters=[
+        Encounter(id="e1", place="DOORWAY", node="b", within=1.5, humans=[part])])
+
+
+def _blame(spec: ScenarioSpec, kind: str = "no_deadlock") -> tuple[str, str | None, str]:
+    s = _signals(_circling((4.0, 4.3)))
+    from socnavgen.run.spec import Criterion
+
+    cc = compile_criterion(Criterion(id="c", kind=kind, text="t"), spec, VerifySettings(), 0.3)
+    return blame_criterion(cc, s, spec, None, 10.0)
+
+
+def test_a_standoff_the_spec_sets_up_is_blamed_on_the_spec_with_who_where_and_how_long() -> None:
+    stops = _spec(HumanPart(human="human1", trigger="robot_blocking", distance=2.0, reaction="stop"))
+    for kind in ("no_deadlock", "robot_reaches_goal"):
+        blame, who, reason = _blame(stops, kind)
+        assert blame == "spec", reason
+        assert "human1" in reason and "node b" in reason and "gap" in reason and "s from t=" in reason
+        assert "check the robot path" not in reason
+    waits = _spec(HumanPart(human="human1", trigger="robot_blocking", reaction="give_way"), wait_until_clear=True)
+    blame, _, reason = _blame(waits)
+    assert blame == "spec" and "wait_until_clear" in reason, reason
+
+
+def test_a_person_meant_to_give_way_who_stays_in_the_way_is_the_trees_fault() -> None:
+    gives = _spec(HumanPart(human="human1", trigger="robot_blocking", reaction="give_way"))
+    assert _blame(gives)[:2] == ("behaviors", "human1")
+    lasting = _spec(HumanPart(human="human1", trigger="robot_blocking", reaction="stop", lasts=3.0))
+    assert _blame(lasting)[:2] == ("behaviors", "human1")  # her stop ends after 3 s by the spec; the tree holds on
