@@ -23,6 +23,7 @@ from socnavgen import proxemics
 from socnavgen.bt.library import HUMAN_GESTURES, LIBRARY, REACTION_NODES, ROBOT_GESTURES
 from socnavgen.sim import contact
 from socnavgen.sim.trace import VX, VY, YAW, Trace
+from socnavgen.verify.passing import kept_aside
 from socnavgen.verify.route import ahead_on_route, progress_events, route_offset, route_progress
 from socnavgen.verify.thresholds import (
     AHEAD_HALF_ANGLE,
@@ -434,8 +435,8 @@ def aside(s: Signals, human: str) -> np.ndarray:
     return ~way & (last >= 0) & moved_off
 
 
-def _aside(s: Signals, m: re.Match) -> np.ndarray:
-    return aside(s, m[1])
+def _aside(s: Signals, m: re.Match) -> np.ndarray:  # kept out of the way until the robot got past (verify/passing.py)
+    return kept_aside(s, m[1], aside(s, m[1]))
 
 
 def _way(s: Signals, m: re.Match) -> np.ndarray:
@@ -459,7 +460,7 @@ def reaction_evidence(s: Signals, human: str, reaction: str, says: str | None = 
     if reaction in ("stop", "wait_then_go"):
         return lasting((s.speed(human) < STOP_SPEED) & (moved(s, human) > 0.5), STOP_HOLD, s.trace.dt)
     if reaction == "give_way":
-        return aside(s, human)
+        return s.get(f"aside_{human}") > 0.5
     if reaction == "say":
         gest = np.asarray(s.trace.human_gesture[:, i])
         return gest == HUMAN_PHRASES[phrase_id(says)] if says else gest != 0
@@ -524,7 +525,7 @@ SIGNAL_KINDS: tuple[SignalKind, ...] = (
                "closer_<human>, closer_robot_to_<place>, closer_<human>_to_<place>", "m",
                "how much closer than at the start: robot and human, or the robot / the human and a place", _closer),
     SignalKind(rf"aside_{_H}", "aside_<human>", "0/1", f"the human is out of the robot's way, having moved "
-               f"{ASIDE_DISTANCE:g} m from where it last stood in it", _aside),
+               f"{ASIDE_DISTANCE:g} m from where it last stood in it, and stays out until the robot got past", _aside),
     SignalKind(rf"way_{_H}", "way_<human>", "m", "walkable robot-human distance along the map's free space, never "
                "through a wall (straight where they see each other)", _way),
     SignalKind(rf"react_{_H}_([a-z_]+)", "react_<human>_<reaction>", "0/1",

@@ -1,0 +1,57 @@
+"""Giving way lets the robot through: a step aside counts only if the person stays out of the robot's way until
+the robot has got past them (issue 25, hospital_08 of the new-request suite: three nurses stepped aside after
+EXCUSE ME and closed up again round the robot while it was still in the gap; it had to back out and go round
+them, and every give-way criterion passed on the step aside).
+
+- back in the way: the person holds the robot up again (signals.holding_up: in its way, along its heading, its
+  route's direction or on its route just ahead, within proxemics.HELD_UP_DISTANCE);
+- past: the robot has come at least as far along its route as the person (without a route: the person is no
+  longer ahead of the robot along its heading).
+
+A step aside at step k is kept when, after k, the robot gets past the person before the person is back in its
+way (or the person is never back in its way).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from socnavgen.sim.trace import YAW
+from socnavgen.verify.route import route_progress
+
+if TYPE_CHECKING:  # pragma: no cover - signals calls in here, never the other way round at import time
+    from socnavgen.verify.signals import Signals
+
+
+def _next(mask: np.ndarray) -> np.ndarray:
+    """(T,) for each step the first step at or after it where `mask` holds (T when none)."""
+    n = len(mask)
+    idx = np.where(mask, np.arange(n), n)
+    return np.minimum.accumulate(idx[::-1])[::-1] if n else idx
+
+
+def got_past(s: Signals, human: str) -> np.ndarray:
+    """(T,) bool: the robot is level with or past `human` (along its route; else along its heading)."""
+    p = s.pos(human)
+    points = list(s.trace.robot_waypoints)
+    if len(points) >= 2:
+        return route_progress(p, points)[0] <= s.route()[0]
+    rel = p - s.pos("robot")
+    yaw = s.trace.robot[:, YAW]
+    return rel[:, 0] * np.cos(yaw) + rel[:, 1] * np.sin(yaw) <= 0.0
+
+
+def kept_aside(s: Signals, human: str, stepped: np.ndarray) -> np.ndarray:
+    """`stepped` (signals.aside) on the steps after which the person stays out of the robot's way until it has got
+    past them (module doc)."""
+    stepped = np.asarray(stepped, dtype=bool)
+    if not stepped.any():
+        return stepped
+    back = s.holding_up()[:, s.human(human)]
+    n = len(stepped)
+    after = np.minimum(np.arange(n) + 1, n - 1)
+    next_back, next_past = _next(back)[after], _next(got_past(s, human))[after]
+    last = np.arange(n) == n - 1
+    return stepped & (last | (next_back >= n) | (next_past < next_back))
