@@ -85,3 +85,45 @@ def test_a_person_meant_to_give_way_who_stays_in_the_way_is_the_trees_fault() ->
     assert _blame(gives)[:2] == ("behaviors", "human1")
     lasting = _spec(HumanPart(human="human1", trigger="robot_blocking", reaction="stop", lasts=3.0))
     assert _blame(lasting)[:2] == ("behaviors", "human1")  # her stop ends after 3 s by the spec; the tree holds on
+
+
+def _make_way(back_at: float | None) -> object:
+    """human1 stands at (5, 3) on the robot's route (0, 3) -> (14, 3); the robot drives east, stops at x = 3.2 and
+    says EXCUSE ME (5-6 s); human1 steps 1.2 m north from 6.5 s; the robot drives on from 8 s; `back_at`: human1
+    steps back onto the route then (the robot stands again once it is 1.8 m short of her while she is there)."""
+    t = np.arange(0, 40.0 + 1e-9, 0.25)
+    hy = 3.0 + np.clip(0.6 * (t - 6.5), 0.0, 1.2)
+    if back_at is not None:
+        hy = np.where(t >= back_at, np.maximum(4.2 - 0.6 * (t - back_at), 3.0), hy)
+    rx, x = np.zeros_like(t), 0.0
+    for k in range(len(t)):
+        blocked = hy[k] < 3.9 and x >= 5.0 - 1.8 - 1e-9 and x < 5.0
+        if not blocked and not (3.2 <= x and t[k] < 8.0):
+            x = min(x + 0.5 * 0.25, 14.0)
+        rx[k] = x
+    trace = build_trace(t, np.stack([rx, np.full_like(t, 3.0)], 1), np.stack([np.full_like(t, 5.0), hy], 1)[:, None],
+                        dt=0.25, goal=(14.0, 3.0), robot_gesture=np.where((t >= 5.0) & (t <= 6.0), 4, 0))
+    trace.robot[:, 2] = 0.0
+    trace.robot_waypoints = [(0.0, 3.0), (14.0, 3.0)]
+    return trace
+
+
+def test_giving_way_lets_the_robot_through() -> None:
+    """hospital_08: a step aside undone by stepping back onto the robot's route before it got past is no giving
+    way; stepping aside and staying there, or coming back once it has passed, is."""
+    from socnavgen.run.spec import Criterion
+    from socnavgen.verify.evidence import evidence
+    from socnavgen.verify.stl import monitor
+
+    def judged(trace: object) -> tuple[bool, str]:
+        c = Criterion(id="c", kind="reacts_after_phrase", human="human1", phrase="EXCUSE ME", reaction="give_way",
+                      text="t")
+        cc = compile_criterion(c, ScenarioSpec(), VerifySettings(), 0.5)
+        s = Signals(trace, goal_radius=0.5)
+        return monitor(cc.formula, s).passed, evidence(cc, s)[0]
+
+    assert judged(_make_way(None))[0]
+    assert judged(_make_way(25.0))[0]  # back on the route once the robot is past her (x = 5 at about 12 s)
+    passed, text = judged(_make_way(9.0))
+    assert not passed
+    assert "stepped aside at t=" in text and "back in the robot's way at t=9" in text, text

@@ -10,7 +10,8 @@ import numpy as np
 
 from socnavgen.sim import contact
 from socnavgen.verify.criteria import Compiled
-from socnavgen.verify.signals import Signals
+from socnavgen.verify.passing import undone
+from socnavgen.verify.signals import Signals, aside
 from socnavgen.verify.thresholds import APPROACH, PROGRESS_STEP, STOP_HOLD, WALK_SPEED
 from socnavgen.verify.windows import window_text
 
@@ -141,7 +142,7 @@ def _phrase_evidence(cc: Compiled, s: Signals) -> Evidence:
                 after = int(k0) + hit
                 break
         if first_react is None:
-            parts.append(f"{h} never showed {cc.reaction}")
+            parts.append(f"{h} never showed {cc.reaction}" + _undone_text(s, h, cc.reaction))
         elif after is not None:
             parts.append(f"{h} showed {cc.reaction} at t={t[after]:.1f} s, after the phrase")
         elif first_say is not None and not calm.any():
@@ -154,6 +155,13 @@ def _phrase_evidence(cc: Compiled, s: Signals) -> Evidence:
     k = first_react if first_react is not None else first_say
     d = float(s.get(f"dist_{h}")[k]) if k is not None and h else None
     return "; ".join(parts) + window_text(s, cc.window), (float(t[k]) if k is not None else None), d
+
+
+def _undone_text(s: Signals, h: str, reaction: str | None) -> str:
+    """' (stepped aside at t=20.0 s, back in the robot's way at t=27.1 s before it got past)' when that is why."""
+    found = undone(s, h, aside(s, h)) if reaction == "give_way" else None
+    return "" if found is None else (f" (stepped aside at t={found[0]:.1f} s, but was back in the robot's way at "
+                                     f"t={found[1]:.1f} s before it got past)")
 
 
 def _human_evidence(cc: Compiled, s: Signals) -> Evidence:
@@ -181,7 +189,8 @@ def _human_evidence(cc: Compiled, s: Signals) -> Evidence:
         if first is not None:
             aside = _first((s.get(f"aside_{h}") > 0.5) & (np.arange(len(t)) >= first))
             text += (f", first at t={t[first]:.1f} s; " + (f"stepped aside at t={t[aside]:.1f} s" if aside is not None
-                                                          else f"{h} never stepped out of it itself"))
+                                                          else f"{h} never stepped out of it itself"
+                                                          + _undone_text(s, h, "give_way")))
     elif kind == "says" and cc.phrase:
         first = _first(s.get(f"{h}_says_{cc.phrase}") > 0.5)
         text += f"; {h} said {words(cc.phrase)} first at t={t[first]:.1f} s" if first is not None else \

@@ -3,8 +3,9 @@ the robot has got past them (issue 25, hospital_08 of the new-request suite: thr
 EXCUSE ME and closed up again round the robot while it was still in the gap; it had to back out and go round
 them, and every give-way criterion passed on the step aside).
 
-- back in the way: the person holds the robot up again (signals.holding_up: in its way, along its heading, its
-  route's direction or on its route just ahead, within proxemics.HELD_UP_DISTANCE);
+- back in the way: the person is again on the robot's route just ahead of it, in the corridor its body sweeps
+  (route.ahead_on_route, within proxemics.HELD_UP_DISTANCE along it); without a route, ahead along its heading
+  within that distance. The robot turning toward someone standing aside does not put them back in its way;
 - past: the robot has come at least as far along its route as the person (without a route: the person is no
   longer ahead of the robot along its heading).
 
@@ -18,8 +19,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from socnavgen import proxemics
 from socnavgen.sim.trace import YAW
-from socnavgen.verify.route import route_progress
+from socnavgen.verify.route import ahead_on_route, route_progress
 
 if TYPE_CHECKING:  # pragma: no cover - signals calls in here, never the other way round at import time
     from socnavgen.verify.signals import Signals
@@ -43,15 +45,37 @@ def got_past(s: Signals, human: str) -> np.ndarray:
     return rel[:, 0] * np.cos(yaw) + rel[:, 1] * np.sin(yaw) <= 0.0
 
 
+def back_in_way(s: Signals, human: str) -> np.ndarray:
+    """(T,) bool: `human` is on the robot's route just ahead of it (module doc)."""
+    i = s.human(human)
+    points = list(s.trace.robot_waypoints)
+    if len(points) < 2:
+        return s.in_way(i) & (s.distances()[:, i] <= proxemics.HELD_UP_DISTANCE)
+    half = float(s.trace.robot_radius) + float(np.asarray(s.trace.human_radii, dtype=float)[i]) \
+        + proxemics.WAY_MARGIN_VERIFY
+    return ahead_on_route(s.route()[0], s.pos(human), points, half, proxemics.HELD_UP_DISTANCE)
+
+
 def kept_aside(s: Signals, human: str, stepped: np.ndarray) -> np.ndarray:
     """`stepped` (signals.aside) on the steps after which the person stays out of the robot's way until it has got
     past them (module doc)."""
     stepped = np.asarray(stepped, dtype=bool)
     if not stepped.any():
         return stepped
-    back = s.holding_up()[:, s.human(human)]
+    back = back_in_way(s, human)
     n = len(stepped)
     after = np.minimum(np.arange(n) + 1, n - 1)
     next_back, next_past = _next(back)[after], _next(got_past(s, human))[after]
     last = np.arange(n) == n - 1
     return stepped & (last | (next_back >= n) | (next_past < next_back))
+
+
+def undone(s: Signals, human: str, stepped: np.ndarray) -> tuple[float, float] | None:
+    """(when it first stepped aside, when it was back in the robot's way before it got past) for a person whose
+    every step aside was undone, else None."""
+    stepped = np.asarray(stepped, dtype=bool)
+    if not stepped.any() or kept_aside(s, human, stepped).any():
+        return None
+    k = int(np.flatnonzero(stepped)[0])
+    back = np.flatnonzero(back_in_way(s, human)[k:])
+    return float(s.t[k]), float(s.t[k + int(back[0])]) if len(back) else float(s.t[-1])
