@@ -127,3 +127,17 @@ def test_giving_way_lets_the_robot_through() -> None:
     passed, text = judged(_make_way(9.0))
     assert not passed
     assert "stepped aside at t=" in text and "back in the robot's way at t=9" in text, text
+
+
+def test_a_goal_missed_by_a_slow_robot_says_so_not_check_the_path() -> None:
+    """hospital_06: a patrol too long for the run; the robot never stopped and nobody held it up."""
+    from socnavgen.run.spec import Criterion
+
+    t = np.arange(0, 30.0 + 1e-9, 0.5)
+    trace = build_trace(t, np.stack([0.3 * t, np.full_like(t, 3.0)], 1), np.tile([[5.0, 9.0]], (len(t), 1))[:, None],
+                        goal=(20.0, 3.0), end_reason="timeout")
+    trace.robot_waypoints = [(0.0, 3.0), (20.0, 3.0)]
+    spec = ScenarioSpec()
+    cc = compile_criterion(Criterion(id="g", kind="robot_reaches_goal", text="t"), spec, VerifySettings(), 0.3)
+    blame, _, reason = blame_criterion(cc, Signals(trace, goal_radius=0.3), spec, None, 10.0)
+    assert blame == "paths" and "still on its way" in reason and "11.0 m of its route left" in reason, reason

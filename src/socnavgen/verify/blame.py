@@ -35,7 +35,8 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
   R1  the trigger held (the robot near / said the phrase) but the reaction never ran           -> behaviors(h)
   R3  robot_reaches_goal failed, the robot ending still with nobody in its way while its script has
       waiting cues (wait, wait_until_clear, a human's phrase)                                   -> robot_script
-  R2  robot_reaches_goal failed without a deadlock (otherwise)                                -> paths
+  R2  robot_reaches_goal failed without a deadlock (otherwise), saying whether the robot was still on its
+      way when the run ended (the route takes longer than the run) or stood short of its goal   -> paths
   T1  tree checks (no spec.json): a RobotSays gate whose gesture the robot never made           -> robot_script
   T2  tree checks: IsRobotVisible / IsRobotNearby never succeeded                               -> paths
   T3  tree checks: any other node never ran, or ran before its cause                           -> behaviors(h)
@@ -247,6 +248,26 @@ def _standoff(s: Signals, spec: ScenarioSpec, who: str, k: int) -> str | None:
     return None
 
 
+def _short_of_goal(s: Signals) -> str:
+    """Rule R2's reason, with what the robot did: still on its way when the run ended, or standing short of it."""
+    points = np.asarray(s.trace.robot_waypoints, dtype=float).reshape(-1, 2)
+    total = float(np.hypot(*np.diff(points, axis=0).T).sum()) if len(points) > 1 else 0.0
+    left = max(total - float(s.route()[0][-1]), 0.0) if total else float(s.get("robot_to_goal")[-1])
+    stalled = float(s.get("stalled")[-1])
+    where = f"{left:.1f} m of its route left{_where_robot(s)}"
+    if stalled < 1.0 and s.trace.end_reason == "timeout":
+        return (f"the robot was still on its way when the simulation ended at t={s.t[-1]:.0f} s ({where}), nobody "
+                "holding it up: its route takes longer than the run; make it shorter (or the robot faster)")
+    return (f"the robot ended standing still for its last {stalled:.0f} s with {where} and nobody in its way: its "
+            "route does not bring it to its goal (check the route's last nodes)")
+
+
+def _where_robot(s: Signals) -> str:
+    nodes = [(float(np.hypot(*(s.pos("robot")[-1] - np.asarray(p)))), n[5:]) for n, p in s.places.items()
+             if n.startswith("node_")]
+    return f", nearest node {min(nodes)[1]}" if nodes else ""
+
+
 def _scripted_wait(s: Signals, spec: ScenarioSpec, settings_deadlock: float) -> Verdict | None:
     """Rule R3: the robot ended standing still for longer than the deadlock limit with nobody in its way,
     and its script has cues that make it stand (wait, wait until clear, a human's phrase): the script."""
@@ -284,7 +305,7 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
         waiting = _scripted_wait(s, spec, settings_deadlock)
         if waiting:
             return waiting
-        return "paths", None, "the robot did not reach its goal: check the robot path"
+        return "paths", None, _short_of_goal(s)
     if kind == "stl":
         return _blame_formula(cc, s)
     robot_phrase = cc.phrase if kind in ("reacts_after_phrase", "follows_robot") else \
