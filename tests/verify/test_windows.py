@@ -107,3 +107,35 @@ def test_a_person_met_once_is_judged_over_the_whole_run() -> None:
     assert cc.window is None and "during_" not in cc.formula
     passed, text, _ = _gives_way(_aisle(steps_aside_at=22.5), one)
     assert not passed and "window" not in text  # in the robot's way all through the aisle, 16 s before stepping aside
+
+
+def _door(aside_from: float) -> object:
+    """hospital_01: human1 stands at SOUTH in front of the robot (e1: block); the robot, 1.6 m short, says EXCUSE
+    ME from 6 s; human1 steps aside (+y) from `aside_from`. e2's place (NORTH) is never visited."""
+    hy = 3.0 + np.clip(0.6 * (T - aside_from), 0.0, 1.2)
+    rx = np.interp(T, [0.0, 4.8, 12.0, 45.0], [0.0, 2.4, 2.4, 12.0])
+    trace = build_trace(T, np.stack([rx, np.full_like(T, 3.0)], 1), np.stack([np.full_like(T, 4.0), hy], 1)[:, None],
+                        dt=DT, goal=(12.0, 3.0), robot_gesture=np.where((T >= 6.0) & (T <= 8.0), 4, 0))
+    trace.robot[:, 2] = 0.0
+    trace.humans[:, :, 2] = np.pi
+    trace.robot_waypoints = [(0.0, 3.0), (12.0, 3.0)]
+    return trace
+
+
+def test_a_later_part_triggered_by_the_phrase_opens_its_window_at_the_phrase() -> None:
+    """"e1 block the robot, e2 give way once it says EXCUSE ME" (the prompt's own example) is one meeting: the
+    simulated person switches to e2's part as soon as its trigger holds, so e2's window opens at the phrase."""
+    spec = ScenarioSpec(
+        encounters=[Encounter(id="e1", place="ELEVATOR", node="a", order=1, within=1.5, humans=[
+            HumanPart(human="human1", trigger="robot_near", distance=3.0, reaction="block")]),
+            Encounter(id="e2", place="CORRIDOR", node="b", order=2, within=1.5, humans=[
+                HumanPart(human="human1", trigger="robot_says", phrase="EXCUSE ME", reaction="give_way")])],
+        criteria=[Criterion(id="c", kind="reacts_after_phrase", human="human1", encounter="e2", phrase="EXCUSE ME",
+                            reaction="give_way", seconds=5.0, text="steps aside after EXCUSE ME")])
+    cc = compile_criterion(spec.criteria[0], spec, VerifySettings(), 0.5)
+    assert cc.window == "during_human1_e2"
+    s = _signals(_door(6.5), spec)
+    assert s.t[int(np.flatnonzero(s.get("during_human1_e2") > 0.5)[0])] == 6.0
+    assert monitor(cc.formula, s).passed, evidence(cc, s)[0]
+    early = _signals(_door(3.0), spec)  # out of its way at 4.4 s, before the robot spoke: no reaction to it
+    assert not monitor(cc.formula, early).passed

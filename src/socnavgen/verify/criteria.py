@@ -166,9 +166,10 @@ def _reacts_after_phrase(c: Criterion, ctx: Context, out: Compiled) -> None:
     # reaction to it; one going on while the robot speaks (started before, without the cause) does not count.
     # A phrase said in the run's first STOP_HOLD s (a cue at the start) has no such moment before it: there the
     # person shows no reaction from the start until it is said.
-    # Judged in the encounter's window (verify/windows.py) for a person met more than once.
+    # Judged in the encounter's window (verify/windows.py) for a person met more than once: the phrase starts in it.
     w, inside = STOP_HOLD, _in_window(out)
-    out.formula = (f"(eventually ({inside}{_not(says)} and (always[0:{w:g}] {_not(react)}) and (eventually[0:{w:g}] "
+    soon = f"(eventually[0:{w:g}] {_b(out.window)}) and " if out.window else ""
+    out.formula = (f"(eventually ({soon}{_not(says)} and (always[0:{w:g}] {_not(react)}) and (eventually[0:{w:g}] "
                    f"{_b(says)}) and (eventually[0:{w + s:g}] {_b(react)}))) or ({inside}(eventually[0:{w:g}] "
                    f"{_b(says)}) and ({_not(react)} until ({_b(says)} and (eventually[0:{s:g}] {_b(react)}))))")
 

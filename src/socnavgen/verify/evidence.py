@@ -112,9 +112,16 @@ def _no_approach(cc: Compiled, s: Signals, h: str, j: int) -> str:
     return ""
 
 
-def in_window(cc: Compiled, s: Signals) -> np.ndarray:
-    """(T,) bool: the steps of the criterion's encounter window (every step when it has none)."""
-    return s.get(cc.window) > 0.5 if cc.window else np.ones(s.trace.steps, dtype=bool)
+def in_window(cc: Compiled, s: Signals, after: float = 0.0) -> np.ndarray:
+    """(T,) bool: the steps of the criterion's encounter window and `after` s past its end (every step without
+    one): a cause inside it may have its reaction that much later."""
+    if not cc.window:
+        return np.ones(s.trace.steps, dtype=bool)
+    win = s.get(cc.window) > 0.5
+    idx = np.flatnonzero(win)
+    if len(idx) and after > 0:
+        win[idx[-1]:idx[-1] + int(round(after / max(s.trace.dt, 1e-9))) + 1] = True
+    return win
 
 
 def _phrase_evidence(cc: Compiled, s: Signals) -> Evidence:
@@ -130,10 +137,11 @@ def _phrase_evidence(cc: Compiled, s: Signals) -> Evidence:
         hold = int(round(STOP_HOLD / max(s.trace.dt, 1e-9)))
         window = int(round((cc.seconds or 0.0) / max(s.trace.dt, 1e-9)))
         n = len(t)
+        win = in_window(cc, s)
         calm = np.array([not says[k] and says[k:k + hold + 1].any() and not reacting[k:k + hold + 1].any()
-                         for k in range(n)], dtype=bool) & in_window(cc, s)  # a quiet STOP_HOLD s: the phrase starts
+                         and win[k:k + hold + 1].any() for k in range(n)], dtype=bool)  # quiet; the phrase starts
         start = _first(says)
-        if start is not None and start <= hold and not reacting[:start + 1].any() and in_window(cc, s)[0]:
+        if start is not None and start <= hold and not reacting[:start + 1].any() and win[0]:
             calm[max(start - 1, 0)] = True  # said at the run's start, nobody reacting before it
         after = None
         for k0 in np.flatnonzero(calm):
@@ -171,7 +179,7 @@ def _human_evidence(cc: Compiled, s: Signals) -> Evidence:
     kind = cc.criterion.kind
     if kind in ("stops_near_robot", "blocks_robot"):
         speed = s.get(f"speed_{h}")
-        near = (s.get(f"dist_{h}") <= (cc.distance or 0)) & in_window(cc, s)
+        near = (s.get(f"dist_{h}") <= (cc.distance or 0)) & in_window(cc, s, cc.seconds or 0.0)
         text += f"; slowest while within {cc.distance:g} m: {speed[near].min():.2f} m/s" if near.any() else \
             f"; never within {cc.distance:g} m"
         if kind == "stops_near_robot" and not (s.get(f"closer_{h}") >= APPROACH).any():

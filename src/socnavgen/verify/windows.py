@@ -10,8 +10,10 @@ the encounter's reach (the meeting distance, or the largest distance a criterion
 their midpoint within the encounter's `within` of its node.
 
 - the first encounter's window opens at the start of the run;
-- a later one opens at the first step the two are together at its place after the previous encounter ended
-  (the first step, after they were first together there, on which they no longer are);
+- a later one opens at the first step, after the previous one began, on which the person's part in it is
+  triggered (the simulated person switches to a later part as soon as its trigger holds: "e1 block the robot,
+  e2 give way once it says EXCUSE ME" is one meeting), or the two are together at its place after the previous
+  encounter ended (the first step, after they were first together there, on which they no longer are);
 - each window closes when the person's next encounter opens (the last one at the end of the run).
 
 A window that never opens is empty: its criteria have no cause in it and fail, blamed on the paths.
@@ -23,7 +25,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from socnavgen.run.spec import Encounter, ScenarioSpec
+from socnavgen.run.spec import Encounter, HumanPart, ScenarioSpec
 from socnavgen.verify.models import VerifySettings
 
 if TYPE_CHECKING:  # pragma: no cover - signals imports nothing from here at run time
@@ -70,18 +72,54 @@ def _first(mask: np.ndarray, start: int) -> int | None:
     return start + int(idx[0]) if len(idx) else None
 
 
+def triggered(s: Signals, human: str, part: HumanPart) -> np.ndarray | None:
+    """(T,) bool: the steps on which the person's part is triggered (run.spec.HumanPart.trigger, as the verifier's
+    signals see it), None when the trigger cannot be told from the trace (a distance it does not give)."""
+    from socnavgen.verify.signals import UnknownSignal, phrase_id
+
+    d, dist = part.distance, s.get(f"dist_{human}")
+    try:
+        if part.trigger == "always":
+            return np.ones(s.trace.steps, dtype=bool)
+        if part.trigger == "robot_says" and part.phrase:
+            return s.get(f"robot_says_{phrase_id(part.phrase)}") > 0.5
+        if part.trigger == "human_says" and part.phrase and part.other:
+            return s.get(f"{part.other}_says_{phrase_id(part.phrase)}") > 0.5
+        if part.trigger == "robot_moving":
+            return s.get("robot_still") < 0.5
+        if part.trigger == "time" and part.seconds is not None:
+            return s.t >= part.seconds
+        if d is None:
+            return None
+        near = {"robot_near": dist <= d, "robot_far": dist > d,
+                "robot_blocking": (dist <= d) & (s.get(f"ahead_{human}") > 0.5)}.get(part.trigger)
+        if near is None and part.trigger == "robot_visible":
+            near = (dist <= d) & (s.get(f"los_{human}") > 0.5)
+        return near
+    except UnknownSignal:
+        return None
+
+
 def opening_steps(s: Signals, spec: ScenarioSpec, human: str, settings: VerifySettings) -> list[int | None]:
     """The step each encounter of `human` (encounters_of order) opens at, None for one that never does."""
     steps = s.trace.steps
     opens: list[int | None] = []
-    ended = 0  # the step the previous encounter ended
+    ended, began = 0, 0  # the step the previous encounter ended, and began
     for k, enc in enumerate(encounters_of(spec, human)):
         at = together(s, human, enc, reach(spec, enc, human, settings))
         first = _first(at, ended)
-        opens.append(0 if k == 0 else first)
+        part = next(p for p in enc.humans if p.human == human)
+        cue = triggered(s, human, part) if k else None
+        by_cue = _first(cue, min(began + 1, steps)) if cue is not None and steps else None
+        start = min((x for x in (first, by_cue) if x is not None), default=None)
+        opens.append(0 if k == 0 else start)
         if first is not None:
             gone = _first(~at, first)
             ended = steps if gone is None else gone
+        if k == 0:
+            began = first if first is not None else 0
+        elif start is not None:
+            began = start
     return opens
 
 
