@@ -98,7 +98,7 @@ def _make_way(back_at: float | None) -> object:
     rx, x = np.zeros_like(t), 0.0
     for k in range(len(t)):
         blocked = hy[k] < 3.9 and x >= 5.0 - 1.8 - 1e-9 and x < 5.0
-        if not blocked and not (3.2 <= x and t[k] < 8.0):
+        if not blocked and not (x >= 3.2 and t[k] < 8.0):
             x = min(x + 0.5 * 0.25, 14.0)
         rx[k] = x
     trace = build_trace(t, np.stack([rx, np.full_like(t, 3.0)], 1), np.stack([np.full_like(t, 5.0), hy], 1)[:, None],
