@@ -49,8 +49,9 @@ def test_someone_on_the_route_just_past_its_turn_holds_the_robot_up() -> None:
     assert in_door.get("deadlock").max() >= 30.0
     beside = _signals(_circling((5.4, 4.3)))  # as far, but 1.4 m beside the route: nobody in its way
     assert beside.get("deadlock").max() < 10.0  # held up only when the circling robot faces it, never for long
-    far = ahead_on_route(np.array([2.6]), np.array([[4.0, 6.9]]), ROUTE, 0.85, 3.0)  # on the route, 4.3 m on
-    assert not far.any()
+    far = ahead_on_route(np.array([2.6]), np.array([[4.0, 6.9]]), ROUTE, 0.85, 3.0, 0.35)  # on the route, 4.3 m on
+    level = ahead_on_route(np.array([2.6]), np.array([[2.7, 3.8]]), ROUTE, 0.85, 3.0, 0.35)  # beside it, 0.1 m on
+    assert not far.any() and not level.any()
 
 
 def _spec(part: HumanPart, wait_until_clear: bool = False) -> ScenarioSpec:

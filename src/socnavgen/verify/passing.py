@@ -53,7 +53,8 @@ def back_in_way(s: Signals, human: str) -> np.ndarray:
         return s.in_way(i) & (s.distances()[:, i] <= proxemics.HELD_UP_DISTANCE)
     half = float(s.trace.robot_radius) + float(np.asarray(s.trace.human_radii, dtype=float)[i]) \
         + proxemics.WAY_MARGIN_VERIFY
-    return ahead_on_route(s.route()[0], s.pos(human), points, half, proxemics.HELD_UP_DISTANCE)
+    return ahead_on_route(s.route()[0], s.pos(human), points, half, proxemics.HELD_UP_DISTANCE,
+                          float(s.trace.robot_radius))
 
 
 def kept_aside(s: Signals, human: str, stepped: np.ndarray) -> np.ndarray:

@@ -241,7 +241,7 @@ class Signals:
             half = float(self.trace.robot_radius) + radius + proxemics.WAY_MARGIN_VERIFY
             out[k, i] = way(np.cos(yaw), np.sin(yaw)) | (way(tx, ty) & ((tx != 0) | (ty != 0))) | ahead_on_route(
                 self.route()[0][k], np.stack([px, py], 1), list(self.trace.robot_waypoints), half,
-                proxemics.HELD_UP_DISTANCE)
+                proxemics.HELD_UP_DISTANCE, float(self.trace.robot_radius))
             return out
 
         return self._keep("holding_up", build)
