@@ -15,7 +15,7 @@ way (or the person is never back in its way).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import Any
 
 import numpy as np
 
@@ -23,8 +23,7 @@ from socnavgen import proxemics
 from socnavgen.sim.trace import YAW
 from socnavgen.verify.route import ahead_on_route, route_progress
 
-if TYPE_CHECKING:  # pragma: no cover - signals calls in here, never the other way round at import time
-    from socnavgen.verify.signals import Signals
+Signals = Any  # a verify.signals.Signals (which calls in here: importing it back would make a cycle)
 
 
 def _next(mask: np.ndarray) -> np.ndarray:
