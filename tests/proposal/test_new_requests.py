@@ -20,6 +20,10 @@ PATHS = fixture_paths(FIXTURES)
 
 # Where the verifier and the eyes disagree today, each with what was seen (a strict xfail: it turns red the day
 # they agree, and the pin must go). Empty means they agree on every fixture.
+# No longer pinned (wt-verify): hospital_08 (a step aside undone before the robot got past is no giving way:
+# verify/passing.py); warehouse_01 agrees only because its replay stops: its first answers now deadlock 89 s in a
+# standoff the spec sets up (blamed on the spec, which the recorded loop never re-asked), while its final answers
+# still pass leniently (0.17 m from the stopped worker, the meeting moved to 54: the model's criteria).
 DISAGREE: dict[str, str] = {
     "home_08_checking_on_couple_cooking": "lenient PASS: the robot stops 0.2 m from the wife (no contact, within its "
     "criteria) where the text wants it to keep about 2 m without crowding the couple; no criterion says 2 m",
@@ -27,10 +31,6 @@ DISAGREE: dict[str, str] = {
     "(people touching each other is judged nowhere), the visitor is still in the doorway when the run ends",
     "hospital_05_elevator_at_visiting_hour": "strict FAIL: the model's own hidden_until criterion cannot hold on this "
     "map (the robot sees into the elevator car through the double doors); what the text describes happens",
-    "hospital_08_shift_handover_cluster": "lenient PASS: the nurses close up again while the robot is in the gap and it "
-    "gets past by backing out and detouring; the criteria (give way after EXCUSE ME, goal, no contact) hold",
-    "warehouse_01_blind_corner_cart": "lenient PASS: the robot drives on to a 0.17 m gap of the stopped worker (no "
-    "contact by the 5 cm rule, but it looks touching), and the meeting moved to corner 54 while the prose says f7",
     "warehouse_04_pallet_jack_backing_out": "lenient PASS: the worker comes out of the aisle with the robot 9 m away "
     "and walks up to it (pacing releases a person in the robot's way 3 m ahead), not a sudden emergence",
 }
