@@ -28,7 +28,8 @@ DISAGREE: dict[str, str] = {
     "home_08_checking_on_couple_cooking": "lenient PASS: the robot stops 0.2 m from the wife (no contact, within its "
     "criteria) where the text wants it to keep about 2 m without crowding the couple; no criterion says 2 m",
     "hospital_02_guide_visitor_to_room": "lenient PASS: the nurse walks into another room and brushes the visitor "
-    "(people touching each other is judged nowhere), the visitor is still in the doorway when the run ends",
+    "(people touching each other is judged nowhere: on today's simulator people bump at >= 1 m/s in 12 verifying cards, "
+    "so the check waits for wt-people, NEWS.md), the visitor is still in the doorway when the run ends",
     "hospital_05_elevator_at_visiting_hour": "strict FAIL: the model's own hidden_until criterion cannot hold on this "
     "map (the robot sees into the elevator car through the double doors); what the text describes happens",
     "warehouse_04_pallet_jack_backing_out": "lenient PASS: the worker comes out of the aisle with the robot 9 m away "
