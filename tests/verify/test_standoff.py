@@ -27,13 +27,16 @@ T = np.arange(0, 40.0 + 1e-9, 0.5)
 ROUTE = [(1.0, 3.0), (4.0, 3.0), (4.0, 7.0)]  # east along a hall, then north through a door at (4, 4)
 
 
-def _circling(person: tuple[float, float]) -> object:
-    """The robot drives east to (3.6, 3) by t = 5 s, then circles there (0.15 m radius) to the end; the person
-    stands at `person` the whole run."""
+def _circling(person: tuple[float, float], says: tuple[float, float] | None = None) -> object:
+    """The robot drives east to (3.6, 3) by t = 5 s, then circles there (0.15 m radius) to the end, saying EXCUSE
+    ME during `says` (from, to); the person stands at `person` the whole run."""
     x = np.interp(T, [0.0, 5.0], [1.0, 3.6])
     wiggle = np.where(T > 5.0, 0.15, 0.0)
     robot = np.stack([x + wiggle * np.cos(T), 3.0 + wiggle * np.sin(T)], 1)
-    trace = build_trace(T, robot, np.tile([person], (len(T), 1))[:, None], goal=ROUTE[-1])
+    lo, hi = says or (-1.0, -1.0)
+    times = T
+    gesture = np.where((times >= lo) & (times <= hi), 4, 0)
+    trace = build_trace(T, robot, np.tile([person], (len(T), 1))[:, None], goal=ROUTE[-1], robot_gesture=gesture)
     trace.robot_waypoints = list(ROUTE)
     trace.humans[:, :, 2] = -np.pi / 2  # facing the robot
     return trace
@@ -55,14 +58,15 @@ def test_someone_on_the_route_just_past_its_turn_holds_the_robot_up() -> None:
 
 
 def _spec(part: HumanPart, wait_until_clear: bool = False) -> ScenarioSpec:
-    cues = [RobotCue(trigger=CueTrigger(when="blocked", distance=2.0), wait_until_clear=True)] \
+    cues = [RobotCue(trigger=CueTrigger(when="blocked", distance=2.0), say="EXCUSE ME", wait_until_clear=True)] \
         if wait_until_clear else []
     return ScenarioSpec(script=RobotScript(cues=cues), encounters=[
         Encounter(id="e1", place="DOORWAY", node="b", within=1.5, humans=[part])])
 
 
-def _blame(spec: ScenarioSpec, kind: str = "no_deadlock") -> tuple[str, str | None, str]:
-    s = _signals(_circling((4.0, 4.3)))
+def _blame(spec: ScenarioSpec, kind: str = "no_deadlock",
+           says: tuple[float, float] | None = None) -> tuple[str, str | None, str]:
+    s = _signals(_circling((4.0, 4.3), says))
     from socnavgen.run.spec import Criterion
 
     cc = compile_criterion(Criterion(id="c", kind=kind, text="t"), spec, VerifySettings(), 0.3)
@@ -77,8 +81,9 @@ def test_a_standoff_the_spec_sets_up_is_blamed_on_the_spec_with_who_where_and_ho
         assert "human1" in reason and "node b" in reason and "gap" in reason and "s from t=" in reason
         assert "check the robot path" not in reason
     waits = _spec(HumanPart(human="human1", trigger="robot_blocking", reaction="give_way"), wait_until_clear=True)
-    blame, _, reason = _blame(waits)
+    blame, _, reason = _blame(waits, says=(4.5, 6.0))  # EXCUSE ME as the robot starts waiting
     assert blame == "spec" and "wait_until_clear" in reason, reason
+    assert _blame(waits, says=(0.0, 0.5))[0] == "behaviors"  # said long before: that wait was over
 
 
 def test_a_person_meant_to_give_way_who_stays_in_the_way_is_the_trees_fault() -> None:

@@ -207,12 +207,13 @@ def _stuck(cc: Compiled, s: Signals, spec: ScenarioSpec, settings_deadlock: floa
     standoff = _standoff(s, spec, who, k)
     if standoff:
         return "spec", None, standoff
-    return ("behaviors", who, f"{who} stood in the robot's way {dead.max():.0f} s: its tree must let the robot "
-                              "through, by giving way where there is room to step aside, or by walking on toward "
+    return ("behaviors", who, f"{who} stood in the robot's way ({_held_up_fact(s, who, k)}): its tree must let "
+                              "the robot through, by giving way where there is room to step aside, or by walking on toward "
                               "its goal past the robot (the robot makes way for someone who needs to get past it), "
                               "not by standing in front of it")
 
 
+STANDOFF_LEAD = 3.0  # s: a wait_until_clear cue whose phrase was said this long before a deadlock began started it
 HOLDING_REACTIONS = ("stop", "look")  # a person with one of these stands while its trigger holds (no `lasts`)
 PRESENCE_TRIGGERS = ("robot_blocking", "robot_near", "robot_visible")  # triggers the robot standing there keeps true
 
@@ -224,17 +225,24 @@ def _where(s: Signals, who: str, k: int) -> str:
     return f" at node {min(nodes)[1]} ({min(nodes)[0]:.1f} m)" if nodes else ""
 
 
-def _standoff(s: Signals, spec: ScenarioSpec, who: str, k: int) -> str | None:
-    """Rule D4: the deadlock is a standoff the spec itself sets up, with who, where, gap and how long: the robot's
-    script waits until nobody is in its way (wait_until_clear, its cue having fired) while `who` is in it, or
-    `who`'s encounter has it stand (stop / look, no `lasts`) for as long as the robot is there: each waits for
-    the other, which no path or tree can undo."""
+def _held_up_fact(s: Signals, who: str, k: int) -> str:
+    """'at node iq (0.4 m), 0.55 m gap, 103 s from t=17.5 s': where, how close and how long `who` held the robot up
+    in the deadlock ending at step k."""
     dead = float(s.get("deadlock")[k])
     gap = float(s.gaps()[k, s.human(who)])
-    fact = (f"{who} in the robot's way{_where(s, who, k)}, {gap:.2f} m gap, {dead:.0f} s from "
-            f"t={s.t[k] - dead + s.trace.dt:.1f} s")
-    for n, cue in enumerate(spec.script.cues, 1):
-        said = cue.say is None or (np.asarray(s.trace.robot_gesture[:k + 1]) == ROBOT_PHRASES.get(
+    return f"{_where(s, who, k).strip() or 'here'}, {gap:.2f} m gap, {dead:.0f} s from t={s.t[k] - dead + s.trace.dt:.1f} s"
+
+
+def _standoff(s: Signals, spec: ScenarioSpec, who: str, k: int) -> str | None:
+    """Rule D4: the deadlock is a standoff the spec itself sets up, with who, where, gap and how long: the robot's
+    script waits until nobody is in its way (wait_until_clear, its cue's phrase said as the wait began, or during
+    it) while `who` is in it, or
+    `who`'s encounter has it stand (stop / look, no `lasts`) for as long as the robot is there: each waits for
+    the other, which no path or tree can undo."""
+    fact = f"{who} in the robot's way ({_held_up_fact(s, who, k)})"
+    start = max(0, k - int(round(float(s.get("deadlock")[k]) / s.trace.dt)) - int(round(STANDOFF_LEAD / s.trace.dt)))
+    for n, cue in enumerate(spec.script.cues, 1):  # its phrase said as this wait began (a cue without one: unknown)
+        said = cue.say is not None and (np.asarray(s.trace.robot_gesture[start:k + 1]) == ROBOT_PHRASES.get(
             phrase_id(cue.say), -1)).any()
         if cue.wait_until_clear and said:
             return (f"a standoff set by the spec: cue {n} of the robot's script waits until nobody is in its way "
