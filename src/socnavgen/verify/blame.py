@@ -18,8 +18,8 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
       robot never said                                                                        -> robot_script
   D3  (checked before D1) deadlock behind a human standing at its own goal off the robot's route
       (the robot could pass: the paths put that goal beside the route)                         -> paths
-  D4  (checked before D2) a standoff the spec sets up: the robot's wait_until_clear cue fired while h is in its
-      way, or h's encounter has it stop / look while the robot is there with no `lasts` (each waits for the
+  D4  (checked before D2) a standoff the spec sets up: the robot's wait_until_clear cue fired as the wait began
+      (its phrase said up to 3 s before) with h in its way, or h's encounter has it stop / look while the robot is there with no `lasts` (each waits for the
       other), with who, where, gap and how long                                                 -> spec
   D2  deadlock / goal not reached behind a human (the human's tree keeps it in the way)        -> behaviors(h)
   P1  the criterion (or, for meets / stops / gives_way / says / blocks, its encounter) waits for
