@@ -80,7 +80,9 @@ def test_a_standoff_the_spec_sets_up_is_blamed_on_the_spec_with_who_where_and_ho
         assert blame == "spec", reason
         assert "human1" in reason and "node b" in reason and "gap" in reason and "s from t=" in reason
         assert "check the robot path" not in reason
-    waits = _spec(HumanPart(human="human1", trigger="robot_blocking", reaction="give_way"), wait_until_clear=True)
+    # home_06: she is to walk past a robot that waits until nobody is in its way (in a 1.2 m hallway)
+    waits = _spec(HumanPart(human="human1", trigger="robot_blocking", distance=2.5, reaction="walk_past"),
+                  wait_until_clear=True)
     blame, _, reason = _blame(waits, says=(4.5, 6.0))  # EXCUSE ME as the robot starts waiting
     assert blame == "spec" and "wait_until_clear" in reason, reason
     assert _blame(waits, says=(0.0, 0.5))[0] == "behaviors"  # said long before: that wait was over
@@ -147,3 +149,11 @@ def test_a_goal_missed_by_a_slow_robot_says_so_not_check_the_path() -> None:
     cc = compile_criterion(Criterion(id="g", kind="robot_reaches_goal", text="t"), spec, VerifySettings(), 0.3)
     blame, _, reason = blame_criterion(cc, Signals(trace, goal_radius=0.3), spec, None, 10.0)
     assert blame == "paths" and "still on its way" in reason and "11.0 m of its route left" in reason, reason
+
+
+def test_a_person_meant_to_give_way_after_the_phrase_is_not_a_spec_standoff() -> None:
+    """The robot waits until clear after EXCUSE ME, and the spec has the person give way to it: a person who stays
+    is the tree's fault, not the spec's (tests/verify/corpus.py `deadlock`)."""
+    waits = _spec(HumanPart(human="human1", trigger="robot_says", phrase="EXCUSE ME", reaction="give_way"),
+                  wait_until_clear=True)
+    assert _blame(waits, says=(4.5, 6.0))[:2] == ("behaviors", "human1")

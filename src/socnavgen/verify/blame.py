@@ -18,7 +18,8 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
       robot never said                                                                        -> robot_script
   D3  (checked before D1) deadlock behind a human standing at its own goal off the robot's route
       (the robot could pass: the paths put that goal beside the route)                         -> paths
-  D4  (checked before D2) a standoff the spec sets up: the robot's wait_until_clear cue fired as the wait began
+  D4  (checked before D2) a standoff the spec sets up, h having no part that makes way (give_way, avoid): the
+      robot's wait_until_clear cue fired as the wait began
       (its phrase said up to 3 s before) with h in its way, or h's encounter has it stop / look while the robot is there with no `lasts` (each waits for the
       other), with who, where, gap and how long                                                 -> spec
   D2  deadlock / goal not reached behind a human (the human's tree keeps it in the way)        -> behaviors(h)
@@ -214,6 +215,7 @@ def _stuck(cc: Compiled, s: Signals, spec: ScenarioSpec, settings_deadlock: floa
 
 
 STANDOFF_LEAD = 3.0  # s: a wait_until_clear cue whose phrase was said this long before a deadlock began started it
+YIELDING = ("give_way", "avoid")  # a person with one of these parts is meant to make way for the robot
 HOLDING_REACTIONS = ("stop", "look")  # a person with one of these stands while its trigger holds (no `lasts`)
 PRESENCE_TRIGGERS = ("robot_blocking", "robot_near", "robot_visible")  # triggers the robot standing there keeps true
 
@@ -234,11 +236,14 @@ def _held_up_fact(s: Signals, who: str, k: int) -> str:
 
 
 def _standoff(s: Signals, spec: ScenarioSpec, who: str, k: int) -> str | None:
-    """Rule D4: the deadlock is a standoff the spec itself sets up, with who, where, gap and how long: the robot's
+    """Rule D4: the deadlock is a standoff the spec itself sets up (`who` has no part that makes way for the robot),
+    with who, where, gap and how long: the robot's
     script waits until nobody is in its way (wait_until_clear, its cue's phrase said as the wait began, or during
     it) while `who` is in it, or
     `who`'s encounter has it stand (stop / look, no `lasts`) for as long as the robot is there: each waits for
     the other, which no path or tree can undo."""
+    if any(part.reaction in YIELDING for _, part in spec.parts_of(who)):
+        return None  # the spec has them make way: staying in it is their tree's doing (D2)
     fact = f"{who} in the robot's way ({_held_up_fact(s, who, k)})"
     start = max(0, k - int(round(float(s.get("deadlock")[k]) / s.trace.dt)) - int(round(STANDOFF_LEAD / s.trace.dt)))
     for n, cue in enumerate(spec.script.cues, 1):  # its phrase said as this wait began (a cue without one: unknown)
