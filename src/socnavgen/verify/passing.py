@@ -1,5 +1,6 @@
-"""Giving way lets the robot through: a step aside counts only if the person stays out of the robot's way until
-the robot has got past them (issue 25, hospital_08 of the new-request suite: three nurses stepped aside after
+"""Giving way: the step aside (`aside`: out of the robot's way, having moved off its route by itself; moved here
+from verify/signals.py, which re-exports it) and letting the robot through: a step aside counts only if the person
+stays out of the robot's way until the robot has got past them (issue 25, hospital_08 of the new-request suite: three nurses stepped aside after
 EXCUSE ME and closed up again round the robot while it was still in the gap; it had to back out and go round
 them, and every give-way criterion passed on the step aside).
 
@@ -20,10 +21,47 @@ from typing import Any
 import numpy as np
 
 from socnavgen import proxemics
+from socnavgen.sim import contact
 from socnavgen.sim.trace import YAW
-from socnavgen.verify.route import ahead_on_route, route_progress
+from socnavgen.verify.route import ahead_on_route, route_offset, route_progress
+from socnavgen.verify.thresholds import ASIDE_DISTANCE
 
 Signals = Any  # a verify.signals.Signals (which calls in here: importing it back would make a cycle)
+
+
+def aside(s: Signals, human: str) -> np.ndarray:
+    """1 where the human is out of the robot's way having moved ASIDE_DISTANCE from where it last stood in it
+    (0 before it was ever in the way): evidence that the person made way, not that the robot went around.
+
+    With a route (two or more waypoints), "in the way" is ahead along the robot's heading, or on the route (within
+    the corridor its body sweeps: robot + person radius + WAY_MARGIN_VERIFY) ahead of the robot along it, round bends
+    too; where it stood is where it last stood so ON the route (a robot turning toward someone who already stepped off
+    does not undo the step). Stepping aside: gaining ASIDE_DISTANCE from the route since that stand began."""
+    i = s.human(human)
+    way = s.in_way(i)
+    p = s.pos(human)
+    points = list(s.trace.robot_waypoints)
+    steps = np.arange(s.trace.steps)
+    if len(points) < 2:
+        last = np.maximum.accumulate(np.where(way, steps, -1)) if len(steps) else steps
+        moved_off = contact.lengths(p - p[np.maximum(last, 0)]) >= ASIDE_DISTANCE
+        return ~way & (last >= 0) & moved_off
+    half = float(s.trace.robot_radius) + float(np.asarray(s.trace.human_radii, dtype=float)[i]) \
+        + proxemics.WAY_MARGIN_VERIFY
+    off = route_offset(p, points)
+    ahead = route_progress(p, points)[0] - route_progress(s.pos("robot"), points)[0]
+    corridor = off < half
+    way = way | (corridor & (ahead > 0.0))
+    stood = way & corridor
+    last = np.maximum.accumulate(np.where(stood, steps, -1))
+    ref = np.maximum(last, 0)
+    closest = off.copy()  # per step of a stand: the nearest to the route it came during that stand
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], stood.astype(np.int8), [0]])))
+    for a, b in zip(edges[::2], edges[1::2], strict=True):
+        closest[a:b] = off[a:b].min()
+    gained = off - closest[ref]
+    moved_off = gained >= ASIDE_DISTANCE  # the route stays put: only the person's own steps change `off`
+    return ~way & (last >= 0) & moved_off
 
 
 def _next(mask: np.ndarray) -> np.ndarray:
@@ -57,7 +95,7 @@ def back_in_way(s: Signals, human: str) -> np.ndarray:
 
 
 def kept_aside(s: Signals, human: str, stepped: np.ndarray) -> np.ndarray:
-    """`stepped` (signals.aside) on the steps after which the person stays out of the robot's way until it has got
+    """`stepped` (`aside`) on the steps after which the person stays out of the robot's way until it has got
     past them (module doc)."""
     stepped = np.asarray(stepped, dtype=bool)
     if not stepped.any():

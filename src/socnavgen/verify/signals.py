@@ -23,8 +23,8 @@ from socnavgen import proxemics
 from socnavgen.bt.library import HUMAN_GESTURES, LIBRARY, REACTION_NODES, ROBOT_GESTURES
 from socnavgen.sim import contact
 from socnavgen.sim.trace import VX, VY, YAW, Trace
-from socnavgen.verify.passing import kept_aside
-from socnavgen.verify.route import ahead_on_route, progress_events, route_offset, route_progress
+from socnavgen.verify.passing import aside, kept_aside  # aside: re-exported (its home is verify/passing.py)
+from socnavgen.verify.route import ahead_on_route, progress_events, route_progress
 from socnavgen.verify.thresholds import (
     AHEAD_HALF_ANGLE,
     ASIDE_DISTANCE,
@@ -398,41 +398,6 @@ def _closer(s: Signals, m: re.Match) -> np.ndarray:
     """How much closer than at the start: robot-human distance, or the robot's / a human's distance to a place."""
     values = s.get(f"dist_{m[1]}" if m[1] else f"{m[2]}_to_{m[3]}")
     return values[:1] - values if len(values) else values
-
-
-def aside(s: Signals, human: str) -> np.ndarray:
-    """1 where the human is out of the robot's way having moved ASIDE_DISTANCE from where it last stood in it
-    (0 before it was ever in the way): evidence that the person made way, not that the robot went around.
-
-    With a route (two or more waypoints), "in the way" is ahead along the robot's heading, or on the route (within
-    the corridor its body sweeps: robot + person radius + WAY_MARGIN_VERIFY) ahead of the robot along it, round bends
-    too; where it stood is where it last stood so ON the route (a robot turning toward someone who already stepped off
-    does not undo the step). Stepping aside: gaining ASIDE_DISTANCE from the route since that stand began."""
-    i = s.human(human)
-    way = s.in_way(i)
-    p = s.pos(human)
-    points = list(s.trace.robot_waypoints)
-    steps = np.arange(s.trace.steps)
-    if len(points) < 2:
-        last = np.maximum.accumulate(np.where(way, steps, -1)) if len(steps) else steps
-        moved_off = contact.lengths(p - p[np.maximum(last, 0)]) >= ASIDE_DISTANCE
-        return ~way & (last >= 0) & moved_off
-    half = float(s.trace.robot_radius) + float(np.asarray(s.trace.human_radii, dtype=float)[i]) \
-        + proxemics.WAY_MARGIN_VERIFY
-    off = route_offset(p, points)
-    ahead = route_progress(p, points)[0] - route_progress(s.pos("robot"), points)[0]
-    corridor = off < half
-    way = way | (corridor & (ahead > 0.0))
-    stood = way & corridor
-    last = np.maximum.accumulate(np.where(stood, steps, -1))
-    ref = np.maximum(last, 0)
-    closest = off.copy()  # per step of a stand: the nearest to the route it came during that stand
-    edges = np.flatnonzero(np.diff(np.concatenate([[0], stood.astype(np.int8), [0]])))
-    for a, b in zip(edges[::2], edges[1::2], strict=True):
-        closest[a:b] = off[a:b].min()
-    gained = off - closest[ref]
-    moved_off = gained >= ASIDE_DISTANCE  # the route stays put: only the person's own steps change `off`
-    return ~way & (last >= 0) & moved_off
 
 
 def _aside(s: Signals, m: re.Match) -> np.ndarray:  # kept out of the way until the robot got past (verify/passing.py)
