@@ -157,3 +157,19 @@ def test_a_person_meant_to_give_way_after_the_phrase_is_not_a_spec_standoff() ->
     waits = _spec(HumanPart(human="human1", trigger="robot_says", phrase="EXCUSE ME", reaction="give_way"),
                   wait_until_clear=True)
     assert _blame(waits, says=(4.5, 6.0))[:2] == ("behaviors", "human1")
+
+
+def test_a_run_ending_with_someone_in_the_way_names_them() -> None:
+    """The run ends 8 s into a wait (under the 10 s deadlock limit) with the resident on the route just past the
+    turn: the goal's blame names her and the spec's stop rule, not the path."""
+    from socnavgen.run.spec import Criterion
+
+    trace = _circling((4.0, 4.3))
+    short = trace.__class__(**{**trace.__dict__})
+    n = int(np.searchsorted(T, 13.0))
+    for name in ("t", "robot", "humans", "action", "succeeded", "human_gesture", "robot_gesture", "behavior_state"):
+        setattr(short, name, getattr(trace, name)[:n])
+    spec = _spec(HumanPart(human="human1", trigger="robot_blocking", distance=2.0, reaction="stop"))
+    cc = compile_criterion(Criterion(id="g", kind="robot_reaches_goal", text="t"), spec, VerifySettings(), 0.3)
+    blame, _, reason = blame_criterion(cc, _signals(short), spec, None, 10.0)
+    assert blame == "spec" and "human1" in reason and "node b" in reason, reason

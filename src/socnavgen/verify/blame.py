@@ -36,6 +36,9 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
   R1  the trigger held (the robot near / said the phrase) but the reaction never ran           -> behaviors(h)
   R3  robot_reaches_goal failed, the robot ending still with nobody in its way while its script has
       waiting cues (wait, wait_until_clear, a human's phrase)                                   -> robot_script
+  R4  (checked before R2) robot_reaches_goal failed with someone holding the robot up at the end of the run (a
+      wait shorter than the deadlock limit): rule D4's standoff                                 -> spec
+      else                                                                                      -> behaviors(h)
   R2  robot_reaches_goal failed without a deadlock (otherwise), saying whether the robot was still on its
       way when the run ended (the route takes longer than the run) or stood short of its goal   -> paths
   T1  tree checks (no spec.json): a RobotSays gate whose gesture the robot never made           -> robot_script
@@ -261,6 +264,22 @@ def _standoff(s: Signals, spec: ScenarioSpec, who: str, k: int) -> str | None:
     return None
 
 
+def _held_at_end(s: Signals, spec: ScenarioSpec) -> Verdict | None:
+    """Rule R4: the run ended with someone holding the robot up short of its goal (a wait shorter than the deadlock
+    limit): a standoff the spec sets up (rule D4), else that person's tree."""
+    k = s.trace.steps - 1
+    holding = s.holding_up()[k]
+    if k < 0 or not holding.any():
+        return None
+    gaps = np.where(holding, s.gaps()[k], np.inf)
+    who = s.trace.human_names[int(np.argmin(gaps))]
+    standoff = _standoff(s, spec, who, k)
+    if standoff:
+        return "spec", None, standoff
+    return ("behaviors", who, f"the run ended with {who} in the robot's way short of its goal "
+                              f"({_held_up_fact(s, who, k)}): its tree must let the robot through")
+
+
 def _short_of_goal(s: Signals) -> str:
     """Rule R2's reason, with what the robot did: still on its way when the run ended, or standing short of it."""
     points = np.asarray(s.trace.robot_waypoints, dtype=float).reshape(-1, 2)
@@ -318,7 +337,8 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
         waiting = _scripted_wait(s, spec, settings_deadlock)
         if waiting:
             return waiting
-        return "paths", None, _short_of_goal(s)
+        held = _held_at_end(s, spec)
+        return held or ("paths", None, _short_of_goal(s))
     if kind == "stl":
         return _blame_formula(cc, s)
     robot_phrase = cc.phrase if kind in ("reacts_after_phrase", "follows_robot") else \
