@@ -20,13 +20,16 @@ PATHS = fixture_paths(FIXTURES)
 
 # Where the verifier and the eyes disagree today, each with what was seen (a strict xfail: it turns red the day
 # they agree, and the pin must go). Empty means they agree on every fixture.
+# No longer pinned: hospital_08 (a step aside undone before the robot got past is no giving way:
+# verify/passing.py); warehouse_01 agrees only because its replay stops: its first answers now deadlock 89 s in a
+# standoff the spec sets up (blamed on the spec, which the recorded loop never re-asked), while its final answers
+# still pass leniently (0.17 m from the stopped worker, the meeting moved to 54: the model's criteria).
 DISAGREE: dict[str, str] = {
     "home_08_checking_on_couple_cooking": "lenient PASS: the robot stops 0.2 m from the wife (no contact, within its "
     "criteria) where the text wants it to keep about 2 m without crowding the couple; no criterion says 2 m",
     "hospital_02_guide_visitor_to_room": "lenient PASS: the nurse walks into another room and brushes the visitor "
-    "(people touching each other is judged nowhere), the visitor is still in the doorway when the run ends",
-    "hospital_08_shift_handover_cluster": "lenient PASS: the nurses close up again while the robot is in the gap and it "
-    "gets past by backing out and detouring; the criteria (give way after EXCUSE ME, goal, no contact) hold",
+    "(people touching each other is judged nowhere: on today's simulator people bump at >= 1 m/s in 12 verifying cards, "
+    "so a check for it waits for the people to keep apart), the visitor is still in the doorway when the run ends",
     "warehouse_04_pallet_jack_backing_out": "lenient PASS: the worker comes out of the aisle with the robot 9 m away "
     "and walks up to it (pacing releases a person in the robot's way 3 m ahead), not a sudden emergence",
 }
