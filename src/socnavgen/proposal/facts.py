@@ -98,13 +98,14 @@ def physical_facts_text(scene_graph: bool = False) -> str:
 
 
 def _follow_fact(robot_speed: float) -> str:
-    """How far a follower trails (sim/people/leaves.follow: speed FOLLOW_GAIN x its distance along the way)."""
-    from socnavgen.sim.people.leaves import FOLLOW_GAIN, FOLLOW_STOP
+    """How far a follower trails (sim/people/leaves.follow: their own pace, slowing near whom they follow)."""
+    from socnavgen.bodies import PERSON_MAX_SPEED
+    from socnavgen.sim.people.leaves import FOLLOW_STOP, follow_trail
 
-    trail = robot_speed / FOLLOW_GAIN
-    return (f"- A follower (FollowRobot, FollowHuman) walks at {FOLLOW_GAIN:g} m/s per metre between it and whom it "
-            f"follows (measured along the walkable way) and stands within {FOLLOW_STOP:g} m: behind the robot at "
-            f"{robot_speed:g} m/s it trails about {trail:.1f} m, more after doors and corners and behind other "
+    trail = follow_trail(robot_speed, PERSON_MAX_SPEED)
+    return (f"- A follower (FollowRobot, FollowHuman) walks at their own speed to catch up with whom they follow and "
+            f"stands within {FOLLOW_STOP:g} m of them (measured along the walkable way): behind the robot at "
+            f"{robot_speed:g} m/s they trail about {trail:.1f} m, more after doors and corners and behind other "
             f"followers, so a follows_robot `distance` under {trail + 2:.0f} m fails; a robot that must not lose "
             f"them waits (a human_farther cue) or drives slower.")
 

@@ -63,8 +63,9 @@ PERSON = layout([
     ("succeeded", "i8"), ("tree", "i8"), ("dt_slot", "i8"),
     # pacing at the interaction point (people.pacing)
     ("held", "?"), ("pace", "f8"), ("held_steps", "i8"), ("first_held", "i8"),
-    # giving way (people.give_way): where it stands aside and from which arc position of the robot's path
-    ("gives_way", "?"), ("give_way_phase", "i8"), ("aside", "c16"), ("aside_at", "f8"),
+    # giving way (people.give_way): where it stands aside and from which arc position of the robot's path, and
+    # the point of the robot's path it backs out to first where there is no room beside it
+    ("gives_way", "?"), ("give_way_phase", "i8"), ("aside", "c16"), ("aside_at", "f8"), ("aside_via", "c16"),
 ])
 
 
