@@ -24,7 +24,7 @@ EXCUSE_ME = RobotScript(cues=[RobotCue(trigger=CueTrigger(when="blocked", distan
 NARROW = {  # (world walls, person's start and goal): a 1 m aisle 8 m long between racks; a 0.9 m door in a wall,
     # walked through slowly (a cane) and reached as the robot comes
     "aisle": ([(4.0, 0.0, 12.0, 3.0), (4.0, 4.0, 12.0, 7.0)], (9.0, 3.5), (1.5, 3.5)),
-    "door": ([(7.9, 0.0, 8.1, 3.05), (7.9, 3.95, 8.1, 7.0)], (12.0, 3.5), (1.5, 3.5)),
+    "door": ([(7.9, 0.0, 8.1, 3.05), (7.9, 3.95, 8.1, 7.0)], (11.0, 3.5), (1.5, 3.5)),
 }
 
 
@@ -41,14 +41,15 @@ def test_a_person_met_where_there_is_no_room_backs_out_and_lets_the_robot_by(pla
     resident with a cane): the person backs out to where there is room, the robot gets past without touching
     them, and the person then walks on toward their goal through the narrow part."""
     walls, start, goal = NARROW[place]
-    sim = make_sim([human(start=start, goals=[goal], max_vel=0.8 if place == "aisle" else 0.4)], [GIVES_WAY_NEAR], [(1.0, 3.5), (22.0, 3.5)],
+    slow = 0.8 if place == "aisle" else 0.4
+    sim = make_sim([human(start=start, goals=[goal], max_vel=slow)], [GIVES_WAY_NEAR], [(1.0, 3.5), (22.0, 3.5)],
                    policy=load_policy("scripted"), world=empty_room(23.0, 7.0, walls=walls), script=EXCUSE_ME,
                    timeout=90)
     trace = sim.run()
     gaps = trace_gaps(trace)[:, 0]
     robot_x, person = trace.robot[:, 0], trace.humans[:, 0, :2]
-    passed = int(np.argmax(robot_x > person[:, 0] + 1.0))
-    assert robot_x[passed] > person[passed, 0] + 1.0, "the robot never got past the person"
+    passed = int(np.argmax(robot_x > person[:, 0]))  # abreast
+    assert robot_x[passed] > person[passed, 0], "the robot never got past the person"
     assert abs(person[passed, 1] - 3.5) > 1.0  # it passed them standing aside, off its lane
     assert person[:passed, 0].max() > 12.0 if place == "aisle" else person[:passed, 0].max() > 8.4  # backed out
     assert gaps.min() > 0.05  # nobody touched

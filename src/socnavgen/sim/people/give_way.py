@@ -117,10 +117,15 @@ def taken(s, i, spot):  # noqa: ANN001, ANN201
 
 @jit
 def path_distance(s, seg, fallback, spot):  # noqa: ANN001, ANN201
-    """Distance from `spot` to the robot's upcoming path."""
+    """Distance from `spot` to the robot's upcoming path, and to the leg of its route it is on (a robot that
+    swerved comes back to its line)."""
     d = np.inf
     for q in range(path_size(s, seg, fallback) - 1):
         d = min(d, project(spot, path_point(s, seg, q, fallback), path_point(s, seg, q + 1, fallback))[1])
+    if not fallback and seg + 1 < s.waypoints.shape[0]:  # the leg from abreast of the robot on
+        a, b = s.waypoints[seg], s.waypoints[seg + 1]
+        along = project(s.robot[0].pos, a, b)[0]
+        d = min(d, project(spot, a + (b - a) * (along / max(abs(b - a), 1e-9)), b)[1])
     return d
 
 

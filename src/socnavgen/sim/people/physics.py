@@ -20,6 +20,8 @@ from socnavgen.sim.people.avoid import keep_off
 from socnavgen.sim.people.neighbours import Grid, new_grid, span
 from socnavgen.sim.world.queries import clearance_at, nearest_obstacle
 
+WALL_HOLD_BACK = 0.5  # the wall force holds a walker back by at most this fraction of their drive (wall_relief)
+
 
 class SFMParams(NamedTuple):
     """lightsfm factors with HuNavSim's override k_soc = 5.0 (library default 2.1)."""
@@ -96,6 +98,17 @@ def wall_force(p, radius, world, prm):  # noqa: ANN001, ANN201
     return prm.k_obs * math.exp(-(dist - radius) / prm.sigma_obs) * d / dist
 
 
+@jit(inline=True)
+def wall_relief(p, e, prm):  # noqa: ANN001, ANN201
+    """What takes back the part of the wall force against a walker's way (unit e) beyond WALL_HOLD_BACK of their
+    drive (k_des * desired speed / tau): the way (people.routing) keeps clear of walls, and the door jambs
+    either side of a 0.9 m door would otherwise stop a slow walker (a person with a cane, 0.4 m/s) in front of
+    it. Sideways the wall force is whole: it keeps them in the middle of the door."""
+    against = -(p.wall_force * e.conjugate()).real
+    most = WALL_HOLD_BACK * prm.k_des * p.desired_speed / prm.tau
+    return (against - most) * e if against > most else 0j
+
+
 @jit
 def social_dense(people, prm, out):  # noqa: ANN001, ANN201
     """People-people social forces over every pair, each pair computed once (the force is antisymmetric);
@@ -145,8 +158,8 @@ def environment(people, prm, world, robot_pos, robot_vel, social):  # noqa: ANN0
     """Each person's environment force (social incl. the robot, nearest wall) and distance to the robot."""
     for i in range(people.shape[0]):
         p = people[i]
-        p.env_force = social[i] + pair_force(robot_pos - p.pos, p.vel - robot_vel, prm) + \
-            wall_force(p.pos, p.radius, world, prm)
+        p.wall_force = wall_force(p.pos, p.radius, world, prm)
+        p.env_force = social[i] + pair_force(robot_pos - p.pos, p.vel - robot_vel, prm) + p.wall_force
         p.robot_distance = abs(robot_pos - p.pos)
 
 
@@ -213,7 +226,7 @@ def move(people, group_sizes, prm, dt, scratch, robot_pos, robot_radius):  # noq
             force[i] = prm.k_des * (p.desired_speed * direction[i] - p.vel) / prm.tau
         else:
             force[i] = -p.vel / prm.tau  # within the target's radius: brake
-        force[i] += p.env_force + p.push
+        force[i] += p.env_force + p.push + wall_relief(p, direction[i], prm)
     if group_sizes.shape[0] > 0:
         group_forces(people, prm, direction, force, scratch.centres, scratch.counts)
     reached = 0
