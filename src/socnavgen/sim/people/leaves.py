@@ -33,8 +33,9 @@ ROBOT_MOVED_SPEED = 0.1  # m/s
 # FOLLOW_STOP (along the walkable way, centre to centre), where they stand: people keep 1-1.5 m behind whom they
 # follow. (The SocRATES fork's follow speed 1.8 * r / 10 closes a gap at 0.18 m/s per metre: chains of followers
 # spread over tens of metres and a follower trails a 0.6 m/s robot by 3.3 m.)
-FOLLOW_STOP = 1.2  # m
-FOLLOW_SLOWING = 0.5  # m
+FOLLOW_STOP = 1.3  # m
+FOLLOW_SLOWING = 0.7  # m
+FOLLOW_MIN_SPEED = 0.1  # m/s: a follower who would walk slower than this stands (no creeping in front of the stop)
 RUN_AWAY_SPEED = 0.6  # m/s
 RUN_AWAY_GAIN = 20 * 0.2  # 20 * sigma_obs
 RUN_AWAY_MIN_GAP = 0.05  # m: the run-away push is computed as if no closer than this to the robot
@@ -184,16 +185,18 @@ def follow_speed(r, own_speed):  # noqa: ANN001, ANN201
 
 @jit
 def follow(s, i, target, target_radius, route):  # noqa: ANN001, ANN201
-    """Within FOLLOW_STOP (along the walkable way) face the target without moving; else walk toward it, around
-    walls (`route`: people.routing), at their own pace, slowing over the last FOLLOW_SLOWING metres."""
+    """Walk toward the target, around walls (`route`: people.routing), at their own pace, slowing over the last
+    FOLLOW_SLOWING metres before FOLLOW_STOP (along the walkable way); stand facing it once that is slower than
+    FOLLOW_MIN_SPEED."""
     p = s.people[i]
     p.behavior = 1
     _, r = head(s, i, target, route)
-    if r <= FOLLOW_STOP:
+    speed = follow_speed(r, p.max_speed)
+    if speed < FOLLOW_MIN_SPEED:
         d = target - p.pos
         turn(s.people, i, math.atan2(d.imag, d.real))
     else:
-        walk_to(s.people, i, target, target_radius, follow_speed(r, p.max_speed), route)
+        walk_to(s.people, i, target, target_radius, speed, route)
 
 
 @leaf("FollowHuman")
