@@ -272,19 +272,27 @@ def advance(people, group_sizes, prm, world, robot_pos, robot_vel, robot_radius,
 
 @jit(inline=True)
 def separate(people, world, i, j):  # noqa: ANN001, ANN201
-    """Push i and j apart along the line of their centres to just past touching (both people overlap);
-    returns whether anyone moved."""
+    """Push i and j apart along the line of their centres to just past touching (both people overlap): halves
+    between two walkers or two standing, all of it by the walker when one stands; a share that would end in a
+    wall (closer than half a body) is taken by the other instead (someone pressed against a wall is not pushed
+    into it, and the one who walked into them steps back the whole way); returns whether anyone moved."""
     a, b = people[i], people[j]
     d = a.pos - b.pos
     dist = abs(d)
     unit = d / dist if dist > 1e-9 else complex(math.cos(0.7 * (i + 1)), math.sin(0.7 * (j + 1)))
     depth = a.radius + b.radius - dist + 1e-4  # just apart: no state exactly on the boundary
     share_a = 0.5 if a.walks == b.walks else (1.0 if a.walks else 0.0)
+    a_free = clearance_at(world, a.pos + unit * depth * share_a) >= 0.5 * a.radius
+    b_free = clearance_at(world, b.pos - unit * depth * (1 - share_a)) >= 0.5 * b.radius
+    if not a_free and share_a > 0 and clearance_at(world, b.pos - unit * depth) >= 0.5 * b.radius:
+        share_a, a_free, b_free = 0.0, True, True
+    elif not b_free and share_a < 1 and clearance_at(world, a.pos + unit * depth) >= 0.5 * a.radius:
+        share_a, a_free, b_free = 1.0, True, True
     moved = False
-    if share_a > 0 and clearance_at(world, a.pos + unit * depth * share_a) >= 0.5 * a.radius:
+    if share_a > 0 and a_free:
         a.pos = a.pos + unit * depth * share_a
         moved = True
-    if share_a < 1 and clearance_at(world, b.pos - unit * depth * (1 - share_a)) >= 0.5 * b.radius:
+    if share_a < 1 and b_free:
         b.pos = b.pos - unit * depth * (1 - share_a)
         moved = True
     return moved
