@@ -68,3 +68,30 @@ def test_people_giving_way_in_a_corridor_never_overlap():
     trace = sim.run()
     assert person_gaps(trace).min() > -0.01
     assert trace_gaps(trace).min() > 0.0
+
+
+def test_a_group_that_stepped_aside_stays_aside_until_the_robot_has_passed():
+    """Three people chatting on the robot's way give way for 3 s (a one-shot timer, as the hospital's handover nurses'
+    tree did) and then walk back to their places: they wait until the robot has gone through the gap they made
+    instead of closing up around it (the nurses did, and the robot detoured through the nurse station)."""
+    from socnavgen.run.spec import CueTrigger, RobotCue, RobotScript
+
+    gives_way_a_while = tree_xml('<Fallback><Sequence><IsRobotNearby agent_id="{id}" distance="3.0"/>'
+                                 '<Inverter><TimeExpiredCondition seconds="3" ts="{dt}" only_once="true"/></Inverter>'
+                                 '<GiveWaytoRobot agent_id="{id}" time_step="{dt}"/></Sequence>'
+                                 '<Sequence><SetBlackboard output_key="agentid" value="{id}"/>'
+                                 '<SetBlackboard output_key="timestep" value="{dt}"/>'
+                                 '<SubTree ID="RegularNavTree" id="agentid" dt="timestep"/></Sequence></Fallback>')
+    spots = [(7.7, 2.0), (6.8, 2.5), (6.8, 1.5)]
+    group = [human(f"human{k + 1}", start=xy, goals=[xy], group_id=0) for k, xy in enumerate(spots)]
+    script = RobotScript(cues=[RobotCue(trigger=CueTrigger(when="blocked", distance=2.5), say="EXCUSE ME", hold=1.0,
+                                        wait_until_clear=True)])
+    sim = make_sim(group, [gives_way_a_while] * 3, [(1.0, 2.0), (13.0, 2.0)], policy=load_policy("scripted"),
+                   world=empty_room(14.0, 4.0), script=script, timeout=60)
+    trace = sim.run()
+    assert trace.end_reason == "robot_goal"
+    among = (trace.robot[:, 0] > 6.8 - 0.4) & (trace.robot[:, 0] < 7.7 + 0.4)  # the robot in the group's midst
+    assert among.any() and trace.t[among][0] > 8.0  # it came after the 3 s of giving way were over
+    assert np.abs(trace.humans[among, :, 1] - 2.0).min() > 0.9  # nobody walked back toward their place on its route
+    assert trace_gaps(trace).min() > 0.05
+    assert person_gaps(trace).min() > -0.01

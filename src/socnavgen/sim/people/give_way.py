@@ -32,6 +32,7 @@ SPOT_ROOM = 0.05  # m between two bodies: a side-step spot this close to another
 ASIDE_RADIUS = 0.05  # m: the side-step target is reached within this
 BACK_OUT_MAX = 12.0  # m along the robot's path: the farthest a person backs out to find room to stand aside
 BACK_OUT_STEP = 0.2  # m: points of the robot's path tried every this far
+BACK_OUT_GAP = 0.2  # m: a person backs out when no spot nearby leaves the robot this gap to pass them by
 BACK_OUT_CLEARANCE = 0.3  # m from walls along the straight walk back (a body squeezes through a 0.9 m door)
 PASSED_MARGIN = 0.3  # m beyond both radii: the robot has passed the person's spot on its path
 ASIDE, WAIT, RESUME = 0, 1, 2  # give-way phases (ASIDE: by way of `aside_via` when backing out)
@@ -199,9 +200,9 @@ def back_out(s, i, want, seg, fallback, k):  # noqa: ANN001, ANN201
 def plan_side_step(s, i):  # noqa: ANN001, ANN201
     """Where to stand: the nearest reachable spot (walls respected, not taken by someone else) that leaves
     GIVE_WAY_MARGIN between the person and the robot all along the robot's upcoming path, preferring straight
-    sideways on the side the person is on; with no such spot within SIDE_STEP_MAX, the person backs out along the
-    robot's path to the nearest place wide enough (`back_out`), and only when there is none either, the spot
-    farthest from the path (shorter walks preferred)."""
+    sideways on the side the person is on; with no such spot within SIDE_STEP_MAX, the spot farthest from the path
+    (shorter walks preferred), unless that leaves the robot less than BACK_OUT_GAP to pass them: then the person
+    backs out along the robot's path to the nearest place wide enough (`back_out`), if there is one."""
     p, robot = s.people[i], s.robot[0]
     want = p.radius + robot.radius + GIVE_WAY_MARGIN
     progress, seg = robot_progress(s)
@@ -218,7 +219,7 @@ def plan_side_step(s, i):  # noqa: ANN001, ANN201
     side = 1.0 if ((p.pos - a) * along_path.conjugate()).imag >= 0 else -1.0
     prefer = along_path * 1j * side  # away from the path on the person's side
     rank, _, best = side_spot(s, i, p.pos, prefer, want, seg, fallback)
-    if rank != 0:
+    if rank != 0 and path_distance(s, seg, fallback, best) < p.radius + robot.radius + BACK_OUT_GAP:
         found, via, spot, arc = back_out(s, i, want, seg, fallback, k)
         if found:
             p.aside_via, best, p.aside_at = via, spot, progress + arc
