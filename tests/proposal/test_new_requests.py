@@ -21,8 +21,9 @@ PATHS = fixture_paths(FIXTURES)
 # Where the verifier and the eyes disagree today, each with what was seen (a strict xfail: it turns red the day
 # they agree, and the pin must go). Empty means they agree on every fixture.
 DISAGREE: dict[str, str] = {
-    "home_08_checking_on_couple_cooking": "lenient PASS: the robot stops 0.2 m from the wife (no contact, within its "
-    "criteria) where the text wants it to keep about 2 m without crowding the couple; no criterion says 2 m",
+    "home_06_neighbour_lets_herself_in": "lenient PASS: the neighbour says EXCUSE ME, then backs into the front door's "
+    "alcove and gives way while the robot drives up to i6 and turns back there; the text wants the robot to stand "
+    "aside and let her walk past (roles reversed, as the eyes saw on main)",
     "hospital_02_guide_visitor_to_room": "lenient PASS: the nurse walks into another room and brushes the visitor "
     "(people touching each other is judged nowhere), the visitor is still in the doorway when the run ends",
     "hospital_05_elevator_at_visiting_hour": "strict FAIL: the model's own hidden_until criterion cannot hold on this "

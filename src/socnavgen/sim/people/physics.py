@@ -20,6 +20,7 @@ from socnavgen.sim.people.avoid import keep_off
 from socnavgen.sim.people.neighbours import Grid, new_grid, span
 from socnavgen.sim.world.queries import clearance_at, nearest_obstacle
 
+CONTACT_SWEEPS = 4  # passes of the contact step over the overlapping pairs, while one still moved someone
 WALL_HOLD_BACK = 0.5  # the wall force holds a walker back by at most this fraction of their drive (wall_relief)
 
 
@@ -302,7 +303,8 @@ def separate(people, world, i, j):  # noqa: ANN001, ANN201
 def resolve_contacts(people, robot, world, slack, before, snap, grid):  # noqa: ANN001, ANN201
     """Bodies do not interpenetrate (HuNavSim's agents are solid in Gazebo). Two people who overlap are
     pushed apart along the line of their centres to just past touching, the walkers taking the whole
-    correction from someone standing, pair after pair in index order (a large crowd finds its overlapping
+    correction from someone standing, pair after pair in index order, in up to CONTACT_SWEEPS sweeps (someone
+    arriving among people standing close together is pushed from one into the next) (a large crowd finds its overlapping
     pairs with the cell list of this step's positions, people.neighbours); then a person whose own step took
     them into the robot is put back on the robot's surface (never closer than the robot's own move left them:
     an overlap the ROBOT causes stays, and counts as a collision). Corrections that would end inside a wall
@@ -310,11 +312,16 @@ def resolve_contacts(people, robot, world, slack, before, snap, grid):  # noqa: 
     was moved."""
     n = people.shape[0]
     moved = False
-    for i in range(n):
-        snap[i] = people[i].pos
-    for i in range(n):
-        for k in range(neighbours.later_overlaps(grid, people, snap, i)):
-            moved = separate(people, world, i, grid.found[k]) or moved
+    for _ in range(CONTACT_SWEEPS):  # again while a separation pushed someone into a third person
+        pushed = False
+        for i in range(n):
+            snap[i] = people[i].pos
+        for i in range(n):
+            for k in range(neighbours.later_overlaps(grid, people, snap, i)):
+                pushed = separate(people, world, i, grid.found[k]) or pushed
+        moved = moved or pushed
+        if not pushed:
+            break
     for i in range(n):
         p = people[i]
         reach = p.radius + robot.radius
