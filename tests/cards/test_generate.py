@@ -110,3 +110,21 @@ def test_card_that_does_not_fit_raises_with_reason(tmp_path: Path, repo_root: Pa
     with pytest.raises(SocnavgenError, match="ELEVATOR"):
         write_card_run("entering-elevator", loc, tmp_path / "x")
     assert not (tmp_path / "x").exists()
+
+
+def test_crossing_people_never_walk_to_where_the_robot_starts(repo_root: Path) -> None:
+    """A crossing person with no branch of their own past P turns into the robot's way in; walking on to the robot's
+    start they walked up to a robot that had not left and stood in its way for the whole run (home, 3-way hallway)."""
+    crossing_cards = 0
+    for name in ("home", "hospital", "warehouse"):
+        for fit in fit_all(load_location(repo_root / "examples" / "locations" / name)):
+            if not fit.fits:
+                continue
+            for human in fit.placement.humans:
+                if human.role.role == "crossing":
+                    crossing_cards += 1
+                    assert human.path[-1] != fit.placement.robot[0], (name, fit.card.name, human.path)
+    assert crossing_cards >= 5  # the warehouse's intersection cards still place their crossing people
+    home = load_location(repo_root / "examples" / "locations" / "home")
+    fit = place_card(get_card("perpendicular-traffic"), home)  # its 3-way hallway would need that walk
+    assert not fit.fits and "side branch at i6" in fit.reason

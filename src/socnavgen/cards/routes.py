@@ -200,7 +200,11 @@ class RouteBuilder:
             c = branches[0]
             feeder = self.extend(c, p, {p, *robot}, hops=REACH)
             exits = [n for n in branches[1:] if n not in feeder]
+            # with no branch of their own past P they turn into the robot's way in, behind the robot; never as far
+            # as where it starts (it may still be there: they would walk up to it and stand in its way)
             tail = self.extend(exits[0], p, {p, *feeder}, hops=1) if exits else robot[:i][::-1][:2]
+            if not exits and tail[-1:] == robot[:1]:
+                return []
             return [(feeder[k::-1] + [p] + tail, p) for k in range(len(feeder))]
         if kind == "gathering":  # nearest first, so the group forms quickly; no pausing for groups
             ring = sorted(self.near_nodes(p, set(robot)), key=lambda n: (self.f.distance(n, p), n))
