@@ -27,13 +27,16 @@ KNOWN_FAILING: dict[tuple[str, str], str] = {
                                    "person through (make_way), 13.5 s without route progress with them in its way; it "
                                    "then reaches its goal, nobody touched",
     ("warehouse", "leave-group"): "contact (closest gap 0.00 m)",
+    ("warehouse", "robot-crowding"): "meets e1: seen in the GIF, the three followers crowd round the robot at hd "
+                                     "(21-26 s, stepping off its path as it passes) and then follow it ~1.3 m behind; "
+                                     "the verifier places the meeting at the closest moment (1.24 m at 28.4 s, 1.62 m "
+                                     "past hd, while following), not at the approach",
     ("warehouse", "pedestrian-obstruction"): "reacts_after_phrase give_way: seen in the GIF, the person stands still at "
                                              "the node the whole run; the robot drives round her before and after "
                                              "EXCUSE ME while her GiveWaytoRobot node runs (the body never moves; the "
                                              "verifier judges the body since issue 25)",
     ("hospital", "blind-corner"): "contact (closest gap 0.00 m); hidden_until: seen before they came within 5 m",
     ("home", "exiting-room"): "contact (closest gap 0.00 m)",
-    ("home", "robot-crowding"): "contact (closest gap 0.03 m)",
 }
 
 

@@ -22,14 +22,19 @@ _HALLWAY = ("2.x has no side step: the hunav2 person (AvoidRobot) retreats along
 _PHRASE_LATE = ("2.x has no side step: the translated person backs away along the passage after EXCUSE ME and leaves "
                 "the robot's way 10-20 s after the phrase began (the criterion measures from its start); the socrates "
                 "person steps aside within the window")
-_CROWD = ("both twins fail this card (contact in the crowd: tests/cards KNOWN_FAILING); the robot's hold-up lasts 8.6 s "
-          "with the socrates trees and 12.4 s with the 2.x people, who back away instead of stepping aside")
+_CROWD = ("in the crowd the 2.x people back away instead of stepping aside (the robot's hold-up lasted 8.6 s with the "
+          "socrates trees and 12.4 s with the 2.x people); the socrates twin plays out since its followers no longer "
+          "overlap (tests/cards)")
+_FOLLOW = ("2.x's follower (ApproachRobot/CuriousNav) closes a gap at 0.18 m/s per metre and stops at 1.5 m; ours walks at "
+           "its own pace and stands 1.3 m behind (people.leaves.follow), so the socrates followers trail the robot past "
+           "hd and the verifier puts the meeting at that closest moment, 1.6 m past the node (tests/cards KNOWN_FAILING)")
 KNOWN_DIVERGENT = {
     "home/robot-overtaking": _HALLWAY,
     "home/accompanying-peer": _HALLWAY,
     "home/pedestrian-obstruction": _PHRASE_LATE,
     "warehouse/narrow-hallway": _PHRASE_LATE,
     "home/robot-crowding": _CROWD,
+    "warehouse/robot-crowding": _FOLLOW,
 }
 
 

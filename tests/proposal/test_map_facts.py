@@ -79,12 +79,13 @@ def test_how_the_spec_plays_out_comes_from_its_sources(home):
 def test_stage1_states_how_far_a_follower_trails_where_criteria_are_written(home):
     """The follower's trail (sim/people/leaves.follow) sits at the follows_robot criterion of stage 1, and its
     physical-facts bullet is short enough to reach a player whole (a long one came back cut)."""
+    from socnavgen.bodies import PERSON_MAX_SPEED
     from socnavgen.proposal.facts import follow_trail
-    from socnavgen.sim.people.leaves import FOLLOW_GAIN
+    from socnavgen.sim.people.leaves import follow_trail as simulated_trail
 
     system, _ = _stage1_prompt(home)
     criterion = system[system.index("follows_robot: `human` stays within"):].split(";")[0]
-    assert f"trails about {0.6 / FOLLOW_GAIN:.1f} m behind the robot at 0.6 m/s" in criterion
+    assert f"trails about {simulated_trail(0.6, PERSON_MAX_SPEED):.1f} m behind the robot at 0.6 m/s" in criterion
     assert f"a `distance` of at least {follow_trail(0.6) + 2:.0f} m" in criterion
     bullet = next(line for line in system.splitlines() if line.startswith("- A follower (FollowRobot"))
     assert len(bullet) <= 240 and bullet.endswith("other followers.")

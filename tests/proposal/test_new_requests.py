@@ -25,8 +25,9 @@ PATHS = fixture_paths(FIXTURES)
 # standoff the spec sets up (blamed on the spec, which the recorded loop never re-asked), while its final answers
 # still pass leniently (0.17 m from the stopped worker, the meeting moved to 54: the model's criteria).
 DISAGREE: dict[str, str] = {
-    "home_08_checking_on_couple_cooking": "lenient PASS: the robot stops 0.2 m from the wife (no contact, within its "
-    "criteria) where the text wants it to keep about 2 m without crowding the couple; no criterion says 2 m",
+    "home_06_neighbour_lets_herself_in": "lenient PASS: the neighbour says EXCUSE ME, then backs into the front door's "
+    "alcove and gives way while the robot drives up to i6 and turns back there; the text wants the robot to stand "
+    "aside and let her walk past (roles reversed, as the eyes saw on main)",
     "hospital_02_guide_visitor_to_room": "lenient PASS: the nurse walks into another room and brushes the visitor "
     "(people touching each other is judged nowhere: on today's simulator people bump at >= 1 m/s in 12 verifying cards, "
     "so a check for it waits for the people to keep apart), the visitor is still in the doorway when the run ends",

@@ -214,20 +214,23 @@ NODES: list[NodeSpec] = [
              targets={"socrates", "hunav2"}, hunav2="LookAtRobot", hunav1="SurprisedNav"),
     NodeSpec(name="FollowRobot", kind="action", ports=[_AGENT, _STEP], moves=True, interaction=True,
              realizes=("follow",),
-             description="One step following the robot; the human stops 1.5 m behind it and faces it. A follower "
+             description="One step following the robot; the human walks at their own pace to catch up and stands about "
+                         "1.3 m behind it, facing it. A follower "
                          "standing in the robot's way (ahead of it on its path) first steps aside and lets it pass.",
              capability="Follow the robot",
              targets={"socrates", "hunav2"}, hunav2="ApproachRobot", hunav1="CuriousNav",
              sim_note="HuNavSim's follower (CuriousNav) walks up to the robot even from in front of it and stands "
                       "1.5 m ahead of it, blocking it for good; ours steps aside first (GiveWaytoRobot's side step), "
                       "and the hunav2 export walks a follower the robot comes within 2 m of on along its goals "
-                      "(AvoidRobot)."),
+                      "(AvoidRobot). HuNavSim's follower closes a gap at 0.18 m/s per metre and stops at 1.5 m; ours "
+                      "walks at its own pace and stops at 1.3 m (people keep 1-1.5 m behind whom they follow)."),
     NodeSpec(name="FollowHuman", kind="action", moves=True, interaction=True,
              realizes=("follow_human", "join"),
              ports=[_AGENT, Port(name="target_id", type=PortType.INT, description="id of the human to follow",
                                  other_human=True),
                     _STEP],
-             description="One step following human `target_id`, stopping 1.5 m from them.",
+             description="One step following human `target_id` at the follower's own pace, stopping about 1.3 m "
+                         "from them.",
              capability="Follow another human",
              targets={"socrates", "hunav2"}, hunav2="FollowAgent"),
     NodeSpec(name="RunAwayFromRobot", kind="action", ports=[_AGENT, _STEP], moves=True, interaction=True,

@@ -114,11 +114,12 @@ def time_limit_text(robot_speed: float) -> str:
 
 
 def follow_trail(robot_speed: float) -> float:
-    """How far (m) a follower trails a robot driving at `robot_speed` (sim/people/leaves.follow: it walks at
-    FOLLOW_GAIN m/s per metre of way between them)."""
-    from socnavgen.sim.people.leaves import FOLLOW_GAIN
+    """How far (m) a follower at a person's usual top speed trails a robot driving at `robot_speed`
+    (sim/people/leaves.follow_trail: their own pace, slowing near whom they follow)."""
+    from socnavgen.bodies import PERSON_MAX_SPEED
+    from socnavgen.sim.people.leaves import follow_trail as trail
 
-    return robot_speed / FOLLOW_GAIN
+    return trail(robot_speed, PERSON_MAX_SPEED)
 
 
 def follows_distance_text() -> str:
@@ -130,12 +131,11 @@ def follows_distance_text() -> str:
 
 def _follow_fact(robot_speed: float) -> str:
     """How far a follower trails (kept short: a player's reader cut this line when it was long)."""
-    from socnavgen.sim.people.leaves import FOLLOW_GAIN, FOLLOW_STOP
+    from socnavgen.sim.people.leaves import FOLLOW_STOP
 
-    return (f"- A follower (FollowRobot, FollowHuman) walks {FOLLOW_GAIN:g} m/s per metre of way (around walls) "
-            f"to whom it follows and stops within {FOLLOW_STOP:g} m: it trails about "
-            f"{follow_trail(robot_speed):.1f} m behind the robot at {robot_speed:g} m/s, more after doors, corners "
-            f"and other followers.")
+    return (f"- A follower (FollowRobot, FollowHuman) walks at their own speed to catch up (around walls) and stands "
+            f"within {FOLLOW_STOP:g} m of whom they follow: about {follow_trail(robot_speed):.1f} m behind the robot "
+            f"at {robot_speed:g} m/s, more after doors, corners and other followers.")
 
 
 def approach_room(spec: ScenarioSpec | None = None, enc: Encounter | None = None, human: str | None = None) -> float:

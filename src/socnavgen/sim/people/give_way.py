@@ -14,7 +14,7 @@ from socnavgen import proxemics
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.leaves import follow, leaf
 from socnavgen.sim.people.routing import project, robot_progress
-from socnavgen.sim.people.state import ROUTE_ROBOT, ROUTE_STRAIGHT, turn, walk_to, walk_to_goal
+from socnavgen.sim.people.state import ROUTE_ROBOT, ROUTE_STRAIGHT, stand, turn, walk_to, walk_to_goal
 from socnavgen.sim.people.trees import SUCCESS
 from socnavgen.sim.world.queries import free_along
 
@@ -30,8 +30,12 @@ SIDE_STEP_FAR_COST = 0.05  # per m of walk, against clearance, when no spot is f
 TIE = 1e-9  # m: spots and directions this close count as equally good; the first is taken
 SPOT_ROOM = 0.05  # m between two bodies: a side-step spot this close to another person (or their spot) is taken
 ASIDE_RADIUS = 0.05  # m: the side-step target is reached within this
+BACK_OUT_MAX = 12.0  # m along the robot's path: the farthest a person backs out to find room to stand aside
+BACK_OUT_STEP = 0.2  # m: points of the robot's path tried every this far
+BACK_OUT_GAP = 0.2  # m: a person backs out when no spot nearby leaves the robot this gap to pass them by
+BACK_OUT_CLEARANCE = 0.3  # m from walls along the straight walk back (a body squeezes through a 0.9 m door)
 PASSED_MARGIN = 0.3  # m beyond both radii: the robot has passed the person's spot on its path
-ASIDE, WAIT, RESUME = 0, 1, 2  # give-way phases
+ASIDE, WAIT, RESUME = 0, 1, 2  # give-way phases (ASIDE: by way of `aside_via` when backing out)
 SIDE_UNITS = np.array([complex(math.cos(2 * math.pi * j / SIDE_STEP_DIRECTIONS),
                                math.sin(2 * math.pi * j / SIDE_STEP_DIRECTIONS)) for j in range(SIDE_STEP_DIRECTIONS)])
 SIDE_TURNS = np.array([abs(math.remainder(2 * math.pi * j / SIDE_STEP_DIRECTIONS, 2 * math.pi))
@@ -113,40 +117,37 @@ def taken(s, i, spot):  # noqa: ANN001, ANN201
 
 
 @jit
-def plan_side_step(s, i):  # noqa: ANN001, ANN201
-    """Where to stand: the nearest reachable spot (walls respected, not taken by someone else) that leaves
-    GIVE_WAY_MARGIN between the person and the robot all along the robot's upcoming path, preferring straight
-    sideways on the side the person is on; when no spot is that far, the one farthest from the path (shorter
-    walks preferred)."""
-    p, robot = s.people[i], s.robot[0]
-    want = p.radius + robot.radius + GIVE_WAY_MARGIN
-    progress, seg = robot_progress(s)
-    fallback = path_size(s, seg, False) < 2
-    k, along, dist = nearest_segment(s, p.pos, seg, fallback)
-    p.aside_at = progress + arc_before(s, seg, k, fallback) + along
-    p.give_way_phase = ASIDE
-    p.aside = p.pos
-    if dist >= want:
-        return
-    a, b = path_point(s, seg, k, fallback), path_point(s, seg, k + 1, fallback)
-    along_path = (b - a) / abs(b - a) if abs(b - a) > 1e-9 else robot.heading
-    side = 1.0 if ((p.pos - a) * along_path.conjugate()).imag >= 0 else -1.0
-    prefer = along_path * 1j * side  # away from the path on the person's side
-    segments = path_size(s, seg, fallback) - 1
+def path_distance(s, seg, fallback, spot):  # noqa: ANN001, ANN201
+    """Distance from `spot` to the robot's upcoming path, and to the leg of its route it is on (a robot that
+    swerved comes back to its line)."""
+    d = np.inf
+    for q in range(path_size(s, seg, fallback) - 1):
+        d = min(d, project(spot, path_point(s, seg, q, fallback), path_point(s, seg, q + 1, fallback))[1])
+    if not fallback and seg + 1 < s.waypoints.shape[0]:  # the leg from abreast of the robot on
+        a, b = s.waypoints[seg], s.waypoints[seg + 1]
+        along = project(s.robot[0].pos, a, b)[0]
+        d = min(d, project(spot, a + (b - a) * (along / max(abs(b - a), 1e-9)), b)[1])
+    return d
+
+
+@jit
+def side_spot(s, i, origin, prefer, want, seg, fallback):  # noqa: ANN001, ANN201
+    """(rank, cost, spot) of the best spot a body walks to straight from `origin` within SIDE_STEP_MAX, not taken
+    by someone else: rank 0 the nearest leaving `want` from the robot's upcoming path (straight toward `prefer`
+    preferred), rank 1 (none is that far) the one farthest from it (shorter walks preferred); rank 2: none."""
+    p = s.people[i]
     distances = s.work[0]
-    found, best_rank, best_cost, best = False, 0, 0.0, p.pos
+    found, best_rank, best_cost, best = False, 2, 0.0, origin
     for j in range(SIDE_STEP_DIRECTIONS):
         u = prefer * SIDE_UNITS[j]
-        room = free_along(s.world, p.pos, u, SIDE_STEP_MAX, p.radius)
+        room = free_along(s.world, origin, u, SIDE_STEP_MAX, p.radius)
         count = int(math.ceil((room + 1e-9 - SIDE_STEP_SPACING) / SIDE_STEP_SPACING)) if room > 0 else 0
         if count <= 0:
             continue
         first_ok, farthest = -1, -np.inf
         for m in range(count):  # spots every SIDE_STEP_SPACING along u, from SIDE_STEP_SPACING on
-            spot = p.pos + u * (SIDE_STEP_SPACING * (m + 1))
-            d = np.inf
-            for q in range(segments):
-                d = min(d, project(spot, path_point(s, seg, q, fallback), path_point(s, seg, q + 1, fallback))[1])
+            spot = origin + u * (SIDE_STEP_SPACING * (m + 1))
+            d = path_distance(s, seg, fallback, spot)
             free = not taken(s, i, spot)
             if d >= want and free:
                 first_ok = m
@@ -165,7 +166,63 @@ def plan_side_step(s, i):  # noqa: ANN001, ANN201
             walk = SIDE_STEP_SPACING * (m + 1)
             rank, cost = 1, -distances[m] + SIDE_STEP_FAR_COST * walk
         if not found or rank < best_rank or (rank == best_rank and cost < best_cost - TIE):
-            found, best_rank, best_cost, best = True, rank, cost, p.pos + u * walk
+            found, best_rank, best_cost, best = True, rank, cost, origin + u * walk
+    return best_rank, best_cost, best
+
+
+@jit
+def back_out(s, i, want, seg, fallback, k):  # noqa: ANN001, ANN201
+    """With no room beside the robot's path (a 1 m aisle, a doorway): the nearest point straight ahead of the
+    person along the robot's path (away from the robot: back the way they came when they meet it, on ahead when it
+    comes up behind), at most BACK_OUT_MAX away and walkable keeping BACK_OUT_CLEARANCE from walls, from which a
+    spot leaving `want` beside the path is reached: (found, that point, the spot, its arc along the upcoming
+    path)."""
+    p = s.people[i]
+    a, b = path_point(s, seg, k, fallback), path_point(s, seg, k + 1, fallback)
+    if abs(b - a) < 1e-9:
+        return False, p.pos, p.pos, 0.0
+    u = (b - a) / abs(b - a)
+    room = free_along(s.world, p.pos, u, BACK_OUT_MAX, BACK_OUT_CLEARANCE)
+    t = BACK_OUT_STEP
+    while t <= room:
+        q = p.pos + u * t
+        t += BACK_OUT_STEP
+        if taken(s, i, q):
+            continue
+        rank, _, spot = side_spot(s, i, q, u * 1j, want, seg, fallback)
+        if rank == 0:
+            j, along, _ = nearest_segment(s, q, seg, fallback)
+            return True, q, spot, arc_before(s, seg, j, fallback) + along
+    return False, p.pos, p.pos, 0.0
+
+
+@jit
+def plan_side_step(s, i):  # noqa: ANN001, ANN201
+    """Where to stand: the nearest reachable spot (walls respected, not taken by someone else) that leaves
+    GIVE_WAY_MARGIN between the person and the robot all along the robot's upcoming path, preferring straight
+    sideways on the side the person is on; with no such spot within SIDE_STEP_MAX, the spot farthest from the path
+    (shorter walks preferred), unless that leaves the robot less than BACK_OUT_GAP to pass them: then the person
+    backs out along the robot's path to the nearest place wide enough (`back_out`), if there is one."""
+    p, robot = s.people[i], s.robot[0]
+    want = p.radius + robot.radius + GIVE_WAY_MARGIN
+    progress, seg = robot_progress(s)
+    fallback = path_size(s, seg, False) < 2
+    k, along, dist = nearest_segment(s, p.pos, seg, fallback)
+    p.aside_at = progress + arc_before(s, seg, k, fallback) + along
+    p.give_way_phase = ASIDE
+    p.aside = p.pos
+    p.aside_via = p.pos
+    if dist >= want:
+        return
+    a, b = path_point(s, seg, k, fallback), path_point(s, seg, k + 1, fallback)
+    along_path = (b - a) / abs(b - a) if abs(b - a) > 1e-9 else robot.heading
+    side = 1.0 if ((p.pos - a) * along_path.conjugate()).imag >= 0 else -1.0
+    prefer = along_path * 1j * side  # away from the path on the person's side
+    rank, _, best = side_spot(s, i, p.pos, prefer, want, seg, fallback)
+    if rank != 0 and path_distance(s, seg, fallback, best) < p.radius + robot.radius + BACK_OUT_GAP:
+        found, via, spot, arc = back_out(s, i, want, seg, fallback, k)
+        if found:
+            p.aside_via, best, p.aside_at = via, spot, progress + arc
     p.aside = best
 
 
@@ -191,15 +248,42 @@ def give_way(s, i):  # noqa: ANN001, ANN201
         plan_side_step(s, i)
     if p.give_way_phase != RESUME and robot_has_passed(s, i):
         p.give_way_phase = RESUME
+    if p.give_way_phase == ASIDE and abs(p.aside_via - p.pos) <= GIVE_WAY_ARRIVED:
+        p.aside_via = p.aside  # backed out to where there is room: now to the side
     if p.give_way_phase == ASIDE and abs(p.aside - p.pos) <= GIVE_WAY_ARRIVED:
         p.give_way_phase = WAIT
     if p.give_way_phase == ASIDE:
-        walk_to(s.people, i, p.aside, ASIDE_RADIUS, p.max_speed, ROUTE_STRAIGHT)
+        walk_to(s.people, i, p.aside_via, ASIDE_RADIUS, p.max_speed, ROUTE_STRAIGHT)
     elif p.give_way_phase == WAIT:
         d = s.robot[0].pos - p.pos
         turn(s.people, i, math.atan2(d.imag, d.real))
     else:
         walk_to_goal(s.people, i, p.max_speed, 0j)
+
+
+@jit
+def giving_way(p):  # noqa: ANN001, ANN201
+    """Person p stepped aside (or is stepping aside) for the robot at the last step and it has not passed yet."""
+    return p.gives_way and p.behavior == 2 and p.give_way_phase != RESUME
+
+
+@leaf("RegularNav")
+def regular_nav(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
+    """Social-force walking toward the goal; a person held at its interaction point stands (pacing). Someone who
+    stepped aside for the robot stays aside until it has passed (a tree that stops giving way once the robot is
+    no longer in front or near - it is passing them, or they turned to back out - would otherwise walk them back
+    into its way, or close a group up again around it)."""
+    p = s.people[i]
+    if giving_way(p):
+        give_way(s, i)
+        if p.give_way_phase != RESUME:
+            return SUCCESS
+    p.behavior = 0
+    if p.held:
+        stand(s.people, i)
+    else:
+        walk_to_goal(s.people, i, p.pace, 0j)
+    return SUCCESS
 
 
 @leaf("GiveWaytoRobot")
@@ -213,7 +297,7 @@ def follow_robot(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     """Follow the robot; a follower standing in the robot's way (ahead of it, on its remaining path) first
     steps aside and lets it pass, as a person told FOLLOW ME by a robot coming up behind does."""
     p = s.people[i]
-    if (p.gives_way and p.behavior == 2 and p.give_way_phase != RESUME) or in_robot_way(s, i):
+    if giving_way(p) or in_robot_way(s, i):
         give_way(s, i)
         if p.give_way_phase != RESUME:
             return SUCCESS

@@ -1,6 +1,7 @@
 """The library's leaves, one function each (semantics: reference §3 plus each NodeSpec.sim_note).
 
-Adding a leaf is one row in the node library (bt/library.py) and one function here, decorated with
+Adding a leaf is one row in the node library (bt/library.py) and one function here (or in people.give_way
+for the leaves that may give way: RegularNav, GiveWaytoRobot, FollowRobot), decorated with
 `@leaf("Name")`: the interpreter dispatches to it by the row's position. A leaf gets the simulation state
 `s`, its node's record (`node.memory` is its own number to keep), the person `i` it acts for (its agent_id
 port) and its ports by name, `a[Port.distance]`; it returns SUCCESS, FAILURE or RUNNING, or
@@ -19,7 +20,7 @@ from collections.abc import Callable
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.avoid import sees
 from socnavgen.sim.people.routing import head
-from socnavgen.sim.people.state import ROUTE_ROBOT, goal_reached, pop_goal, stand, turn, walk_to, walk_to_goal
+from socnavgen.sim.people.state import ROUTE_ROBOT, goal_reached, pop_goal, turn, walk_to, walk_to_goal
 from socnavgen.sim.people.trees import FAILURE, SUCCESS, Port
 
 LEAVES: dict[str, Callable] = {}
@@ -28,8 +29,13 @@ BAD_PORT = -10  # a leaf's status BAD_PORT - column: the port in that column hol
 # Constants of the SocRATES fork (reference §1.3, §3)
 BLOCKING_CONE = 0.5  # rad
 ROBOT_MOVED_SPEED = 0.1  # m/s
-FOLLOW_STOP = 1.5  # m
-FOLLOW_GAIN = 1.8 / 10.0  # follow speed = 1.8 * r / max_dist_view(10)
+# A follower walks at their own pace to close a gap and slows only over the last FOLLOW_SLOWING metres before
+# FOLLOW_STOP (along the walkable way, centre to centre), where they stand: people keep 1-1.5 m behind whom they
+# follow. (The SocRATES fork's follow speed 1.8 * r / 10 closes a gap at 0.18 m/s per metre: chains of followers
+# spread over tens of metres and a follower trails a 0.6 m/s robot by 3.3 m.)
+FOLLOW_STOP = 1.3  # m
+FOLLOW_SLOWING = 0.7  # m
+FOLLOW_MIN_SPEED = 0.1  # m/s: a follower who would walk slower than this stands (no creeping in front of the stop)
 RUN_AWAY_SPEED = 0.6  # m/s
 RUN_AWAY_GAIN = 20 * 0.2  # 20 * sigma_obs
 RUN_AWAY_MIN_GAP = 0.05  # m: the run-away push is computed as if no closer than this to the robot
@@ -149,18 +155,6 @@ def make_gesture(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     return SUCCESS
 
 
-@leaf("RegularNav")
-def regular_nav(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
-    """Social-force walking toward the goal; a person held at its interaction point stands (pacing)."""
-    p = s.people[i]
-    p.behavior = 0
-    if p.held:
-        stand(s.people, i)
-    else:
-        walk_to_goal(s.people, i, p.pace, 0j)
-    return SUCCESS
-
-
 @jit
 def look_at_robot_step(s, i):  # noqa: ANN001, ANN201
     """Stand and turn toward the robot at LOOK_TURN_RATE."""
@@ -177,17 +171,32 @@ def look_at_robot(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     return SUCCESS
 
 
+def follow_trail(leader_speed: float, own_speed: float) -> float:
+    """How far (m, along the walkable way) a follower walking at up to `own_speed` keeps behind someone
+    walking steadily at `leader_speed` (`follow`)."""
+    return FOLLOW_STOP + FOLLOW_SLOWING * min(leader_speed / max(own_speed, 1e-9), 1.0)
+
+
+@jit(inline=True)
+def follow_speed(r, own_speed):  # noqa: ANN001, ANN201
+    """A follower's walking speed at distance r (along the walkable way) from whom they follow."""
+    return own_speed * min(max((r - FOLLOW_STOP) / FOLLOW_SLOWING, 0.0), 1.0)
+
+
 @jit
 def follow(s, i, target, target_radius, route):  # noqa: ANN001, ANN201
-    """Within FOLLOW_STOP (along the walkable way) face the target without moving; else walk toward it, around
-    walls (`route`: people.routing), at FOLLOW_GAIN * that distance."""
-    s.people[i].behavior = 1
+    """Walk toward the target, around walls (`route`: people.routing), at their own pace, slowing over the last
+    FOLLOW_SLOWING metres before FOLLOW_STOP (along the walkable way); stand facing it once that is slower than
+    FOLLOW_MIN_SPEED."""
+    p = s.people[i]
+    p.behavior = 1
     _, r = head(s, i, target, route)
-    if r <= FOLLOW_STOP:
-        d = target - s.people[i].pos
+    speed = follow_speed(r, p.max_speed)
+    if speed < FOLLOW_MIN_SPEED:
+        d = target - p.pos
         turn(s.people, i, math.atan2(d.imag, d.real))
     else:
-        walk_to(s.people, i, target, target_radius, FOLLOW_GAIN * r, route)
+        walk_to(s.people, i, target, target_radius, speed, route)
 
 
 @leaf("FollowHuman")

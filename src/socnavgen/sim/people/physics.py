@@ -20,6 +20,9 @@ from socnavgen.sim.people.avoid import keep_off
 from socnavgen.sim.people.neighbours import Grid, new_grid, span
 from socnavgen.sim.world.queries import clearance_at, nearest_obstacle
 
+CONTACT_SWEEPS = 4  # passes of the contact step over the overlapping pairs, while one still moved someone
+WALL_HOLD_BACK = 0.5  # the wall force holds a walker back by at most this fraction of their drive (wall_relief)
+
 
 class SFMParams(NamedTuple):
     """lightsfm factors with HuNavSim's override k_soc = 5.0 (library default 2.1)."""
@@ -96,6 +99,17 @@ def wall_force(p, radius, world, prm):  # noqa: ANN001, ANN201
     return prm.k_obs * math.exp(-(dist - radius) / prm.sigma_obs) * d / dist
 
 
+@jit(inline=True)
+def wall_relief(p, e, prm):  # noqa: ANN001, ANN201
+    """What takes back the part of the wall force against a walker's way (unit e) beyond WALL_HOLD_BACK of their
+    drive (k_des * desired speed / tau): the way (people.routing) keeps clear of walls, and the door jambs
+    either side of a 0.9 m door would otherwise stop a slow walker (a person with a cane, 0.4 m/s) in front of
+    it. Sideways the wall force is whole: it keeps them in the middle of the door."""
+    against = -(p.wall_force * e.conjugate()).real
+    most = WALL_HOLD_BACK * prm.k_des * p.desired_speed / prm.tau
+    return (against - most) * e if against > most else 0j
+
+
 @jit
 def social_dense(people, prm, out):  # noqa: ANN001, ANN201
     """People-people social forces over every pair, each pair computed once (the force is antisymmetric);
@@ -145,8 +159,8 @@ def environment(people, prm, world, robot_pos, robot_vel, social):  # noqa: ANN0
     """Each person's environment force (social incl. the robot, nearest wall) and distance to the robot."""
     for i in range(people.shape[0]):
         p = people[i]
-        p.env_force = social[i] + pair_force(robot_pos - p.pos, p.vel - robot_vel, prm) + \
-            wall_force(p.pos, p.radius, world, prm)
+        p.wall_force = wall_force(p.pos, p.radius, world, prm)
+        p.env_force = social[i] + pair_force(robot_pos - p.pos, p.vel - robot_vel, prm) + p.wall_force
         p.robot_distance = abs(robot_pos - p.pos)
 
 
@@ -213,7 +227,7 @@ def move(people, group_sizes, prm, dt, scratch, robot_pos, robot_radius):  # noq
             force[i] = prm.k_des * (p.desired_speed * direction[i] - p.vel) / prm.tau
         else:
             force[i] = -p.vel / prm.tau  # within the target's radius: brake
-        force[i] += p.env_force + p.push
+        force[i] += p.env_force + p.push + wall_relief(p, direction[i], prm)
     if group_sizes.shape[0] > 0:
         group_forces(people, prm, direction, force, scratch.centres, scratch.counts)
     reached = 0
@@ -259,19 +273,27 @@ def advance(people, group_sizes, prm, world, robot_pos, robot_vel, robot_radius,
 
 @jit(inline=True)
 def separate(people, world, i, j):  # noqa: ANN001, ANN201
-    """Push i and j apart along the line of their centres to just past touching (both people overlap);
-    returns whether anyone moved."""
+    """Push i and j apart along the line of their centres to just past touching (both people overlap): halves
+    between two walkers or two standing, all of it by the walker when one stands; a share that would end in a
+    wall (closer than half a body) is taken by the other instead (someone pressed against a wall is not pushed
+    into it, and the one who walked into them steps back the whole way); returns whether anyone moved."""
     a, b = people[i], people[j]
     d = a.pos - b.pos
     dist = abs(d)
     unit = d / dist if dist > 1e-9 else complex(math.cos(0.7 * (i + 1)), math.sin(0.7 * (j + 1)))
     depth = a.radius + b.radius - dist + 1e-4  # just apart: no state exactly on the boundary
     share_a = 0.5 if a.walks == b.walks else (1.0 if a.walks else 0.0)
+    a_free = clearance_at(world, a.pos + unit * depth * share_a) >= 0.5 * a.radius
+    b_free = clearance_at(world, b.pos - unit * depth * (1 - share_a)) >= 0.5 * b.radius
+    if not a_free and share_a > 0 and clearance_at(world, b.pos - unit * depth) >= 0.5 * b.radius:
+        share_a, a_free, b_free = 0.0, True, True
+    elif not b_free and share_a < 1 and clearance_at(world, a.pos + unit * depth) >= 0.5 * a.radius:
+        share_a, a_free, b_free = 1.0, True, True
     moved = False
-    if share_a > 0 and clearance_at(world, a.pos + unit * depth * share_a) >= 0.5 * a.radius:
+    if share_a > 0 and a_free:
         a.pos = a.pos + unit * depth * share_a
         moved = True
-    if share_a < 1 and clearance_at(world, b.pos - unit * depth * (1 - share_a)) >= 0.5 * b.radius:
+    if share_a < 1 and b_free:
         b.pos = b.pos - unit * depth * (1 - share_a)
         moved = True
     return moved
@@ -281,7 +303,8 @@ def separate(people, world, i, j):  # noqa: ANN001, ANN201
 def resolve_contacts(people, robot, world, slack, before, snap, grid):  # noqa: ANN001, ANN201
     """Bodies do not interpenetrate (HuNavSim's agents are solid in Gazebo). Two people who overlap are
     pushed apart along the line of their centres to just past touching, the walkers taking the whole
-    correction from someone standing, pair after pair in index order (a large crowd finds its overlapping
+    correction from someone standing, pair after pair in index order, in up to CONTACT_SWEEPS sweeps (someone
+    arriving among people standing close together is pushed from one into the next) (a large crowd finds its overlapping
     pairs with the cell list of this step's positions, people.neighbours); then a person whose own step took
     them into the robot is put back on the robot's surface (never closer than the robot's own move left them:
     an overlap the ROBOT causes stays, and counts as a collision). Corrections that would end inside a wall
@@ -289,11 +312,16 @@ def resolve_contacts(people, robot, world, slack, before, snap, grid):  # noqa: 
     was moved."""
     n = people.shape[0]
     moved = False
-    for i in range(n):
-        snap[i] = people[i].pos
-    for i in range(n):
-        for k in range(neighbours.later_overlaps(grid, people, snap, i)):
-            moved = separate(people, world, i, grid.found[k]) or moved
+    for _ in range(CONTACT_SWEEPS):  # again while a separation pushed someone into a third person
+        pushed = False
+        for i in range(n):
+            snap[i] = people[i].pos
+        for i in range(n):
+            for k in range(neighbours.later_overlaps(grid, people, snap, i)):
+                pushed = separate(people, world, i, grid.found[k]) or pushed
+        moved = moved or pushed
+        if not pushed:
+            break
     for i in range(n):
         p = people[i]
         reach = p.radius + robot.radius

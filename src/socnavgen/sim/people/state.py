@@ -55,16 +55,17 @@ PERSON = layout([
     # the landmark of the current goal (goal_mark, for the goal goal_mark_of)
     ("route", "i8"), ("via", "c16"), ("via_step", "i8"), ("via_until", "i8"), ("via_for", "c16"), ("via_mark", "i8"),
     ("goal_mark", "i8"), ("goal_mark_of", "c16"),
-    # forces of the current positions (social incl. the robot, nearest wall), distance to the robot
-    ("env_force", "c16"), ("robot_distance", "f8"), ("reached", "?"),
+    # forces of the current positions (social incl. the robot, nearest wall; the wall's alone), distance to the robot
+    ("env_force", "c16"), ("wall_force", "c16"), ("robot_distance", "f8"), ("reached", "?"),
     # behaviour: gesture shown, behavior_state code (0 regular, 1 robot-related, 2 giving way), sight of
     # the robot this step (-1 not asked yet), the trace's action and succeeded-leaves mask of this step
     ("gesture", "i8"), ("behavior", "i8"), ("sees_robot", "i8"), ("action", "i8"), ("action_moves", "?"),
     ("succeeded", "i8"), ("tree", "i8"), ("dt_slot", "i8"),
     # pacing at the interaction point (people.pacing)
     ("held", "?"), ("pace", "f8"), ("held_steps", "i8"), ("first_held", "i8"),
-    # giving way (people.give_way): where it stands aside and from which arc position of the robot's path
-    ("gives_way", "?"), ("give_way_phase", "i8"), ("aside", "c16"), ("aside_at", "f8"),
+    # giving way (people.give_way): where it stands aside and from which arc position of the robot's path, and
+    # the point of the robot's path it backs out to first where there is no room beside it
+    ("gives_way", "?"), ("give_way_phase", "i8"), ("aside", "c16"), ("aside_at", "f8"), ("aside_via", "c16"),
 ])
 
 
