@@ -2,13 +2,17 @@
 (reference §11), both ways.
 
 A person without a group whose path has an interaction node that is also on the robot's path is paced by
-the robot's ETA at that node (its remaining path at the script's cruise speed). Only RegularNav honours it,
-as `pause_nav` in the fork. Two rules:
-* `eta` (default): all the way to the node, walk at the speed that arrives together with the robot (slow
-  down), stand while that speed would be a crawl (hold, or start later), wait at the node if still early,
-  but never stand with the robot within `release_distance` (walk on at `min_pace`); full speed once the robot
-  is close to the node, and while the robot stands (`robot_waits` s or more: a robot waiting for someone has no
-  ETA, and holding people for it left both waiting). So both arrive together and meet AT the node.
+the robot's ETA at that node, re-estimated every step from what the robot does: its route left from where it
+is, at its cruise speed now (the script's, changed by its cues), plus the time it will still stand for its
+timed waits (a cue's `wait`, a late start). Only RegularNav honours it, as `pause_nav` in the fork. Two rules:
+* `eta` (default): a person standing (at the start, or held) stays where it is until walking to the node at
+  its own speed takes as long as the robot's ETA (bodies.walk_time: the export's timing sets off by the same
+  time), then walks there; a person walking slows down to arrive together with the robot and stands while that
+  speed would be a crawl (`min_pace`), so it waits for a delayed robot, out of sight if it was. Never held where
+  the robot would wait for them: in its way (ahead, in the corridor its body sweeps) within `release_distance`,
+  or while it stands for no known time (`robot_waits` s or more without a timed wait: it waits for someone);
+  there it walks on to the node at `min_pace`. Full speed once the robot is close to the node. So both arrive
+  together and meet AT the node, whatever delays the robot had.
 * `socrates`: the fork's rule - hold on the leg before the node until the robot's current waypoint is the
   node (the robot counts a waypoint as passed within 1.5 m).
 """
@@ -20,7 +24,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from socnavgen import proxemics
+from socnavgen import bodies, proxemics
 from socnavgen.sim.jit import jit
 from socnavgen.sim.records import layout, table
 
@@ -100,18 +104,32 @@ def lower_pacing(plan: PacingPlan | None, goals: list[list[complex]]) -> tuple[P
     return Pacing(settings, rows[:len(held)], points, goal_is_node, robot_goal_is_node), skipped
 
 
+walk_time = jit(bodies.walk_time)  # THE set-off time of a waiting person (socnavgen.bodies), compiled
+in_way = jit(proxemics.in_way)  # the one "in the robot's way" (socnavgen.proxemics), compiled
+
+
 @jit
-def pace(s, pacing):  # noqa: ANN001, ANN201, C901
+def pace(s, pacing, cruise, waits):  # noqa: ANN001, ANN201, C901
     """Advance the robot's waypoint index; set `held` (and `pace`, the speed RegularNav walks at) of every
-    paced person for this step."""
+    paced person for this step. `cruise`: the robot's speed where nothing slows it (robot.policies.cruise; < 0:
+    unknown, the config's robot_speed); `waits`: seconds it will still stand for its script's timed waits
+    (robot.script.still_waits)."""
     settings = pacing.settings[0]
     if not settings.enabled:
         return
-    wps, rp = s.waypoints, s.robot[0].pos
+    wps, robot = s.waypoints, s.robot[0]
+    rp = robot.pos
     k = settings.next_waypoint  # index among the robot's goals (its waypoints after the first)
     while k < wps.shape[0] - 2 and abs(wps[k + 1] - rp) <= settings.waypoint_radius:
         k += 1
     settings.next_waypoint = k
+    # the robot's ETA: its route left at its cruise speed, plus the time it will still stand (timed waits, a
+    # late start); standing for no known time (for someone: wait until clear, its own manners) is not counted
+    drive = cruise if cruise > 0 else settings.robot_speed
+    stands = waits + max(0.0, s.policy[0].start_delay - s.clock[0].t)
+    untimed = stands <= 0.0 and s.clock[0].idle >= settings.robot_waits
+    way = wps[k + 1] - rp
+    heading = way / abs(way) if abs(way) > 1e-9 else robot.heading
     for h in range(pacing.held.shape[0]):
         paced = pacing.held[h]
         i = paced.agent
@@ -128,19 +146,27 @@ def pace(s, pacing):  # noqa: ANN001, ANN201, C901
             hold, speed = False, p.max_speed
             robot_left = 0.0 if k > node else abs(wps[k + 1] - rp) + s.offsets[node + 1] - s.offsets[k + 1]
             if (p.behavior == 0 and p.queue_count > 0 and at >= 0 and (at <= paced.node_at or paced.spawn_is_node)
-                    and robot_left > settings.robot_near and s.clock[0].idle < settings.robot_waits):
+                    and robot_left > settings.robot_near):
                 if paced.spawn_is_node or at > paced.node_at:
                     human_left = abs(wps[node + 1] - p.pos)
                 else:
                     human_left = abs(pacing.points[h, at] - p.pos)
                     for j in range(at, paced.node_at):
                         human_left += abs(pacing.points[h, j + 1] - pacing.points[h, j])
-                want = human_left / max(robot_left / max(settings.robot_speed, 1e-3), 1e-3)
-                if want < settings.min_pace:  # too early: stand; with the robot near, never (it would wait for
-                    hold = p.robot_distance > settings.release_distance  # them): walk on to the node slowly, and
+                eta = robot_left / max(drive, 1e-3) + stands
+                # never held where the robot would wait for them: in its way, near it or while it stands for someone
+                blocks = in_way(rp.real, rp.imag, heading.real, heading.imag, p.pos.real, p.pos.imag, robot.radius,
+                                p.radius, proxemics.WAY_MARGIN_SCRIPT)
+                may_hold = not blocks or (p.robot_distance > settings.release_distance and not untimed)
+                want = human_left / max(eta, 1e-3)
+                if p.held or abs(p.vel) < settings.min_pace:  # standing: set off at its own speed when that
+                    hold = may_hold and eta > walk_time(human_left, p.max_speed)  # arrives with the robot
+                else:  # walking: slower to arrive together; stand when that would be a crawl
+                    hold = may_hold and want < settings.min_pace
+                if not hold and want < settings.min_pace:  # too early but not to be held: on to the node slowly;
                     if not paced.spawn_is_node:  # someone who waited at the node sets off at their own speed
                         speed = min(speed, settings.min_pace)
-                else:
+                elif not hold:
                     speed = min(speed, want)
             p.pace = speed
         p.held = hold
