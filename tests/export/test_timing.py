@@ -10,13 +10,13 @@ import numpy as np
 import pytest
 
 from socnavgen import proxemics
+from socnavgen.bodies import PERSON_START_LAG
 from socnavgen.export.as_target import run_as_target, target_twin, waypoint_robot
 from socnavgen.export.scene import build_scene
 from socnavgen.export.timing import (
     GOAL_REACHED,
     HOLD_BEFORE,
     RELEASE_MARGIN,
-    START_LAG,
     WALK_SPEED,
     _Line,
     held_up_from,
@@ -62,7 +62,7 @@ def test_the_person_waits_before_the_node_and_is_released_by_the_robots_distance
     spot = complex(*hold.wait_at)
     assert abs(abs(node - spot) - HOLD_BEFORE) < 1e-3
     # released when the robot is as far before x (at its cruise speed) as the person's last 2 m take
-    behind = scene.robot_speed * (HOLD_BEFORE / WALK_SPEED + START_LAG)
+    behind = scene.robot_speed * (HOLD_BEFORE / WALK_SPEED + PERSON_START_LAG)
     robot_at = node - behind  # the robot comes from the west along y = const
     assert abs(complex(*hold.robot_at) - robot_at) < 1e-3
     assert hold.release_distance == pytest.approx(abs(robot_at - spot) + RELEASE_MARGIN, abs=0.01)
