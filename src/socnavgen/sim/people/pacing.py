@@ -5,14 +5,15 @@ A person without a group whose path has an interaction node that is also on the 
 the robot's ETA at that node, re-estimated every step from what the robot does: its route left from where it
 is, at its cruise speed now (the script's, changed by its cues), plus the time it will still stand for its
 timed waits (a cue's `wait`, a late start). Only RegularNav honours it, as `pause_nav` in the fork. Two rules:
-* `eta` (default): a person standing (at the start, or held) stays where it is until walking to the node at
-  its own speed takes as long as the robot's ETA (bodies.walk_time: the export's timing sets off by the same
-  time), then walks there; a person walking slows down to arrive together with the robot and stands while that
-  speed would be a crawl (`min_pace`), so it waits for a delayed robot, out of sight if it was. Never held where
-  the robot would wait for them: in its way (ahead, in the corridor its body sweeps) within `release_distance`,
-  or while it stands for no known time (`robot_waits` s or more without a timed wait: it waits for someone);
-  there it walks on to the node at `min_pace`. Full speed once the robot is close to the node. So both arrive
-  together and meet AT the node, whatever delays the robot had.
+* `eta` (default): a person standing (at the start, or held) stays where it is until walking to the node
+  takes as long as the robot's ETA (bodies.walk_time, the time by which the export's timing sets people off
+  too, at `set_off_pace` of its top speed: the rest is slack to catch up after corners), then walks there; a
+  person walking slows down to arrive together with the robot and stands while that speed would be a crawl
+  (`min_pace`), so it waits for a delayed robot, out of sight if it was. Never held where the robot would wait
+  for them: in its way (ahead, in the corridor its body sweeps) within `release_distance`, or while it stands
+  for no known time (`robot_waits` s or more without a timed wait: it waits for someone); there it walks on to
+  the node at `min_pace`. Full speed once the robot is close to the node. So both arrive together and meet AT
+  the node, whatever delays the robot had.
 * `socrates`: the fork's rule - hold on the leg before the node until the robot's current waypoint is the
   node (the robot counts a waypoint as passed within 1.5 m).
 """
@@ -43,7 +44,10 @@ class ThrottleConfig:
     robot_speed: float = 0.6  # m/s: nominal robot speed for the eta rule (the script's cruise speed)
     min_pace: float = 0.3  # m/s: a person who would walk slower than this stands instead (holds)
     robot_near: float = 0.5  # m: once the robot is this close to the node (along its path), full speed
-    robot_waits: float = 1.0  # s: a robot standing this long has no ETA (it waits for someone): nobody is held
+    robot_waits: float = 1.0  # s: a robot standing this long with no timed wait stands for someone: no ETA
+    # a standing person sets off when walking at this share of its top speed gets it there with the robot (the
+    # rest is its slack for corners and people on its way)
+    set_off_pace: float = 0.8
 
 
 @dataclass
@@ -58,7 +62,7 @@ class PacingPlan:
 
 SETTINGS = layout([("enabled", "?"), ("rule", "i8"), ("next_waypoint", "i8"), ("waypoint_radius", "f8"),
                    ("release_distance", "f8"), ("robot_speed", "f8"), ("min_pace", "f8"), ("robot_near", "f8"),
-                   ("robot_waits", "f8")])
+                   ("robot_waits", "f8"), ("set_off_pace", "f8")])
 HELD = layout([("agent", "i8"), ("goals", "i8"), ("node_at", "i8"), ("spawn_is_node", "?"), ("robot_index", "i8")])
 
 
@@ -100,7 +104,7 @@ def lower_pacing(plan: PacingPlan | None, goals: list[list[complex]]) -> tuple[P
     settings = table(SETTINGS, 1, enabled=config.enabled and bool(held), rule=RULES[config.rule],
                       waypoint_radius=config.waypoint_radius, release_distance=config.release_distance,
                       robot_speed=config.robot_speed, min_pace=config.min_pace, robot_near=config.robot_near,
-                      robot_waits=config.robot_waits)
+                      robot_waits=config.robot_waits, set_off_pace=config.set_off_pace)
     return Pacing(settings, rows[:len(held)], points, goal_is_node, robot_goal_is_node), skipped
 
 
@@ -160,7 +164,7 @@ def pace(s, pacing, cruise, waits):  # noqa: ANN001, ANN201, C901
                 may_hold = not blocks or (p.robot_distance > settings.release_distance and not untimed)
                 want = human_left / max(eta, 1e-3)
                 if p.held or abs(p.vel) < settings.min_pace:  # standing: set off at its own speed when that
-                    hold = may_hold and eta > walk_time(human_left, p.max_speed)  # arrives with the robot
+                    hold = may_hold and eta > walk_time(human_left, p.max_speed * settings.set_off_pace)  # arrives with the robot
                 else:  # walking: slower to arrive together; stand when that would be a crawl
                     hold = may_hold and want < settings.min_pace
                 if not hold and want < settings.min_pace:  # too early but not to be held: on to the node slowly;
