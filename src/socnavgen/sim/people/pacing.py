@@ -13,7 +13,8 @@ timed waits (a cue's `wait`, a late start). Only RegularNav honours it, as `paus
   for them: in its way (ahead, in the corridor its body sweeps) within `release_distance`, or while it stands
   for no known time (`robot_waits` s or more without a timed wait: it waits for someone); there it walks on to
   the node at `min_pace`. Full speed once the robot is close to the node. So both arrive together and meet AT
-  the node, whatever delays the robot had.
+  the node, whatever delays the robot had; at a narrow node (a door) the person is there while the robot is
+  still `clear_lead` m before it, and clears it first.
 * `socrates`: the fork's rule - hold on the leg before the node until the robot's current waypoint is the
   node (the robot counts a waypoint as passed within 1.5 m).
 """
@@ -28,6 +29,7 @@ import numpy as np
 from socnavgen import bodies, proxemics
 from socnavgen.sim.jit import jit
 from socnavgen.sim.records import layout, table
+from socnavgen.sim.world.queries import clearance_at
 
 ETA, SOCRATES = 0, 1
 RULES = {"eta": ETA, "socrates": SOCRATES}
@@ -48,6 +50,12 @@ class ThrottleConfig:
     # a standing person sets off when walking at this share of its top speed gets it there with the robot (the
     # rest is its slack for corners and people on its way)
     set_off_pace: float = 0.8
+    # m: at an interaction node that is a door on the robot's way (less than this from its centre to a wall, so a
+    # robot and a person cannot pass each other in it, and not so `clear_lead` m before it on the robot's route)
+    # the person aims to be at the node while the robot is still `clear_lead` m before it: they clear the door
+    # first instead of meeting face to face in it
+    narrow_clearance: float = bodies.TOUCH_DISTANCE
+    clear_lead: float = bodies.CLEAR_LEAD
 
 
 @dataclass
@@ -62,7 +70,8 @@ class PacingPlan:
 
 SETTINGS = layout([("enabled", "?"), ("rule", "i8"), ("next_waypoint", "i8"), ("waypoint_radius", "f8"),
                    ("release_distance", "f8"), ("robot_speed", "f8"), ("min_pace", "f8"), ("robot_near", "f8"),
-                   ("robot_waits", "f8"), ("set_off_pace", "f8")])
+                   ("robot_waits", "f8"), ("set_off_pace", "f8"),
+                   ("narrow_clearance", "f8"), ("clear_lead", "f8")])
 HELD = layout([("agent", "i8"), ("goals", "i8"), ("node_at", "i8"), ("spawn_is_node", "?"), ("robot_index", "i8")])
 
 
@@ -104,12 +113,32 @@ def lower_pacing(plan: PacingPlan | None, goals: list[list[complex]]) -> tuple[P
     settings = table(SETTINGS, 1, enabled=config.enabled and bool(held), rule=RULES[config.rule],
                       waypoint_radius=config.waypoint_radius, release_distance=config.release_distance,
                       robot_speed=config.robot_speed, min_pace=config.min_pace, robot_near=config.robot_near,
-                      robot_waits=config.robot_waits, set_off_pace=config.set_off_pace)
+                      robot_waits=config.robot_waits, set_off_pace=config.set_off_pace,
+                      narrow_clearance=config.narrow_clearance, clear_lead=config.clear_lead)
     return Pacing(settings, rows[:len(held)], points, goal_is_node, robot_goal_is_node), skipped
 
 
 walk_time = jit(bodies.walk_time)  # THE set-off time of a waiting person (socnavgen.bodies), compiled
 in_way = jit(proxemics.in_way)  # the one "in the robot's way" (socnavgen.proxemics), compiled
+
+
+@jit(inline=True)
+def door_ahead(s, w, narrow, lead):  # noqa: ANN001, ANN201
+    """Whether the robot's waypoint `w` is a door on its way: narrower there than `narrow` from its centre to a
+    wall (robot and person cannot pass each other in it) while the robot's route `lead` m before it is not (it
+    comes from where they can)."""
+    if clearance_at(s.world, s.waypoints[w]) >= narrow:
+        return False
+    back = s.offsets[w] - lead
+    j = w
+    while j > 0 and s.offsets[j - 1] > back:
+        j -= 1
+    if j == 0:
+        return False  # the robot starts nearer the door than that
+    a, b = s.waypoints[j - 1], s.waypoints[j]
+    span = s.offsets[j] - s.offsets[j - 1]
+    before = b if span <= 1e-9 else a + (b - a) * ((back - s.offsets[j - 1]) / span)
+    return clearance_at(s.world, before) >= narrow
 
 
 @jit
@@ -157,6 +186,8 @@ def pace(s, pacing, cruise, waits):  # noqa: ANN001, ANN201, C901
                     human_left = abs(pacing.points[h, at] - p.pos)
                     for j in range(at, paced.node_at):
                         human_left += abs(pacing.points[h, j + 1] - pacing.points[h, j])
+                if door_ahead(s, node + 1, settings.narrow_clearance, settings.clear_lead):  # clear it first
+                    robot_left = max(robot_left - settings.clear_lead, 0.0)
                 eta = robot_left / max(drive, 1e-3) + stands
                 # never held where the robot would wait for them: in its way, near it or while it stands for someone
                 blocks = in_way(rp.real, rp.imag, heading.real, heading.imag, p.pos.real, p.pos.imag, robot.radius,
