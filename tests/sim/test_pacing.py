@@ -5,8 +5,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from socnavgen.bodies import CLEAR_LEAD
 from socnavgen.run.spec import CueTrigger, RobotCue, RobotScript
 from socnavgen.sim import PacingPlan, ThrottleConfig
+from socnavgen.sim.people.pacing import door_lead
 from socnavgen.sim.robot.api import ScriptedPolicy
 from socnavgen.sim.world.grid import empty_room
 from tests.sim.simhelpers import REGULAR, human, make_sim, tree_xml
@@ -86,3 +88,35 @@ def test_a_person_waiting_out_of_sight_beside_a_corner_comes_out_as_the_robot_ar
     when, off = _meeting(trace, node)
     assert off <= 1.0
     assert robot[int(when / trace.dt)].real <= node.real  # met as the robot arrives, not after it passed
+
+
+DOOR_WALLS = [(9.9, 0.0, 10.1, 4.55), (9.9, 5.45, 10.1, 10.0)]  # a wall at x = 10 with a 0.9 m door at y = 5
+
+
+def test_a_door_on_the_robots_way_gets_a_lead_and_a_corridor_does_not():
+    door = empty_room(20.0, 10.0, walls=DOOR_WALLS)
+    route = [2 + 5j, 10 + 5j, 16 + 5j]
+    assert door_lead(door, route, 1) == CLEAR_LEAD  # narrow at the node, room to pass 1.5 m before it
+    assert door_lead(door, route, 2) == 0.0  # the room beyond is wide
+    assert door_lead(door, [9.0 + 5j, 10 + 5j, 16 + 5j], 1) == 0.0  # the robot starts nearer the door than that
+    corridor = empty_room(20.0, 10.0, walls=[(0.0, 0.0, 20.0, 4.4), (0.0, 5.6, 20.0, 10.0)])  # 1.2 m wide
+    assert door_lead(corridor, route, 1) == 0.0  # narrow before it too: no place to let them through
+
+
+def test_a_person_coming_out_through_a_door_clears_it_before_the_robot_gets_there():
+    """The robot enters a room through a 0.9 m door while a person leaves the room through it: the person is
+    paced to go through first, so they never stand face to face in the door, and the robot gets through."""
+    world = empty_room(20.0, 10.0, walls=DOOR_WALLS)
+    route = [(2.0, 5.0), (6.0, 5.0), (10.0, 5.0), (16.0, 5.0)]
+    person = human(start=(15.0, 5.5), goals=[(10.0, 5.0), (4.0, 7.5)])
+    pacing = PacingPlan(ThrottleConfig(), ROBOT_NODES, [(0, ["a", "n", "b"], "n", -1)])
+    trace = make_sim([person], [tree_xml(REGULAR)], route, policy=ScriptedPolicy(), world=world, pacing=pacing,
+                     timeout=60).run()
+    robot, walker = _tracks(trace)
+    door = 10 + 5j
+    near = int(np.argmax(np.abs(robot - door) <= 1.0))
+    assert np.abs(robot - door).min() <= 1.0 and walker[near].real < 9.5  # through before the robot gets there
+    assert np.abs(robot - walker).min() >= 0.8  # never face to face in it
+    _, off = _meeting(trace, door, within=3.0)
+    assert off <= 1.5  # still met at the door
+    assert trace.end_reason == "robot_goal"

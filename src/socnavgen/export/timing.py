@@ -11,7 +11,8 @@ the export puts the timing into the person's own tree, as conditions the target 
    (IsRobotNearby / HuNavSim 2.x IsRobotClose): the distance between the hold point and the point of the
    robot's path that is as far (in time, at the robot's nominal speed) from the node as the person is
    (bodies.walk_time of HOLD_BEFORE at walking speed: the time by which the simulator's pacing lets a
-   standing person set off, sim.people.pacing); and where the waiting spot is in the robot's way (ahead of it, inside the
+   standing person set off, sim.people.pacing; at a door on the robot's way, as far again as the robot's lead
+   there, scene.leads, pacing's door_lead: the person goes through the door first); and where the waiting spot is in the robot's way (ahead of it, inside the
    corridor its body sweeps) at least the distance at which the robot first has them there within
    proxemics.HELD_UP_DISTANCE (where someone in its way holds the robot up; the simulator's pacing never holds
    a person that close either), so robot and person never wait for each other; or at the latest after `timeout` seconds (a robot that never comes). The release is latched: the
@@ -171,7 +172,7 @@ def hold_for(h: HumanExport, scene: ExportScene) -> Hold | None:
     setting_off = walk_time(to_node - wait_s, WALK_SPEED)  # from the waiting spot to the node: pacing's own rule
     robot = _Line([complex(scene.robot.start.x, scene.robot.start.y)] + [complex(w.x, w.y) for w in scene.robot.waypoints])
     node_s = float(robot.arc[scene.robot.path.index(h.interaction_point, 1)])
-    release_s = max(0.0, node_s - scene.robot_speed * setting_off)
+    release_s = max(0.0, node_s - scene.leads.get(h.interaction_point, 0.0) - scene.robot_speed * setting_off)
     robot_at = robot.at(release_s)
     distance = abs(robot_at - wait_at) + RELEASE_MARGIN
     held_up = held_up_from(robot, wait_at, node_s)

@@ -21,6 +21,7 @@ timed waits (a cue's `wait`, a late start). Only RegularNav honours it, as `paus
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -29,7 +30,7 @@ import numpy as np
 from socnavgen import bodies, proxemics
 from socnavgen.sim.jit import jit
 from socnavgen.sim.records import layout, table
-from socnavgen.sim.world.queries import clearance_at
+from socnavgen.sim.world.grid import World
 
 ETA, SOCRATES = 0, 1
 RULES = {"eta": ETA, "socrates": SOCRATES}
@@ -50,10 +51,9 @@ class ThrottleConfig:
     # a standing person sets off when walking at this share of its top speed gets it there with the robot (the
     # rest is its slack for corners and people on its way)
     set_off_pace: float = 0.8
-    # m: at an interaction node that is a door on the robot's way (less than this from its centre to a wall, so a
-    # robot and a person cannot pass each other in it, and not so `clear_lead` m before it on the robot's route)
-    # the person aims to be at the node while the robot is still `clear_lead` m before it: they clear the door
-    # first instead of meeting face to face in it
+    # m: at an interaction node that is a door on the robot's way (door_lead: narrower than `narrow_clearance`
+    # from its centre to a wall, and not so `clear_lead` m before it on the robot's route) the person aims to be
+    # at the node while the robot is still `clear_lead` m before it: they clear the door first
     narrow_clearance: float = bodies.TOUCH_DISTANCE
     clear_lead: float = bodies.CLEAR_LEAD
 
@@ -71,8 +71,9 @@ class PacingPlan:
 SETTINGS = layout([("enabled", "?"), ("rule", "i8"), ("next_waypoint", "i8"), ("waypoint_radius", "f8"),
                    ("release_distance", "f8"), ("robot_speed", "f8"), ("min_pace", "f8"), ("robot_near", "f8"),
                    ("robot_waits", "f8"), ("set_off_pace", "f8"),
-                   ("narrow_clearance", "f8"), ("clear_lead", "f8")])
-HELD = layout([("agent", "i8"), ("goals", "i8"), ("node_at", "i8"), ("spawn_is_node", "?"), ("robot_index", "i8")])
+])
+HELD = layout([("agent", "i8"), ("goals", "i8"), ("node_at", "i8"), ("spawn_is_node", "?"), ("robot_index", "i8"),
+               ("lead", "f8")])  # lead: m before the robot reaches the node the person aims to be there (door_lead)
 
 
 class Pacing(NamedTuple):
@@ -83,8 +84,30 @@ class Pacing(NamedTuple):
     robot_goal_is_node: np.ndarray  # (held, robot goals) bool: which robot goal is its interaction node
 
 
-def lower_pacing(plan: PacingPlan | None, goals: list[list[complex]]) -> tuple[Pacing, list[str]]:
-    """(Pacing, notes on people who cannot be paced) for a plan (None: nobody is paced)."""
+def door_lead(world: World, route: Sequence[complex], node: int, narrow: float = bodies.TOUCH_DISTANCE,
+              lead: float = bodies.CLEAR_LEAD) -> float:
+    """How far (m, along the robot's route) before the robot reaches its route point `node` a person meeting it
+    there must be at it: `lead` where that point is a door on the robot's way - less than `narrow` from it to a
+    wall, so robot and person cannot pass each other in it, while the route `lead` m before it is not (the robot
+    comes from where they can) -, so that the person clears the door first instead of meeting the robot face to
+    face in it; 0 elsewhere. THE rule of pacing and of the export's timing (export.timing)."""
+    points = [complex(p) for p in route]
+    if not 0 < node < len(points) or lead <= 0 or world.clearance_at_point(points[node]) >= narrow:
+        return 0.0
+    arc = np.concatenate([[0.0], np.cumsum(np.abs(np.diff(np.array(points[:node + 1]))))])
+    back = float(arc[-1]) - lead
+    if back <= 0:
+        return 0.0  # the robot starts nearer the door than that
+    j = int(np.searchsorted(arc, back, side="right"))  # back lies on the leg j-1 -> j
+    span = arc[j] - arc[j - 1]
+    before = points[j] if span <= 1e-9 else points[j - 1] + (points[j] - points[j - 1]) * ((back - arc[j - 1]) / span)
+    return lead if world.clearance_at_point(before) >= narrow else 0.0
+
+
+def lower_pacing(plan: PacingPlan | None, goals: list[list[complex]], world: World | None = None,
+                 route: Sequence[complex] = ()) -> tuple[Pacing, list[str]]:
+    """(Pacing, notes on people who cannot be paced) for a plan (None: nobody is paced); `world` and the robot's
+    `route` (its waypoints, first one included) tell which interaction nodes are doors (door_lead)."""
     config = plan.config if plan is not None else ThrottleConfig(enabled=False)
     if config.rule not in RULES:
         raise ValueError(f"unknown pacing rule {config.rule!r} (use {', '.join(RULES)})")
@@ -107,38 +130,20 @@ def lower_pacing(plan: PacingPlan | None, goals: list[list[complex]]) -> tuple[P
         row.agent, row.goals, row.spawn_is_node = agent, len(path_goals), spawn == node
         row.node_at = path_goals.index(node) if node in path_goals else -1
         row.robot_index = robot_goals.index(node)
+        row.lead = door_lead(world, route, row.robot_index + 1, config.narrow_clearance, config.clear_lead) \
+            if world is not None and len(route) > row.robot_index + 1 else 0.0
         points[j, :len(goals[agent])] = goals[agent]
         goal_is_node[j, :len(path_goals)] = [g == node for g in path_goals]
         robot_goal_is_node[j, :len(robot_goals)] = [g == node for g in robot_goals]
     settings = table(SETTINGS, 1, enabled=config.enabled and bool(held), rule=RULES[config.rule],
                       waypoint_radius=config.waypoint_radius, release_distance=config.release_distance,
                       robot_speed=config.robot_speed, min_pace=config.min_pace, robot_near=config.robot_near,
-                      robot_waits=config.robot_waits, set_off_pace=config.set_off_pace,
-                      narrow_clearance=config.narrow_clearance, clear_lead=config.clear_lead)
+                      robot_waits=config.robot_waits, set_off_pace=config.set_off_pace)
     return Pacing(settings, rows[:len(held)], points, goal_is_node, robot_goal_is_node), skipped
 
 
 walk_time = jit(bodies.walk_time)  # THE set-off time of a waiting person (socnavgen.bodies), compiled
 in_way = jit(proxemics.in_way)  # the one "in the robot's way" (socnavgen.proxemics), compiled
-
-
-@jit(inline=True)
-def door_ahead(s, w, narrow, lead):  # noqa: ANN001, ANN201
-    """Whether the robot's waypoint `w` is a door on its way: narrower there than `narrow` from its centre to a
-    wall (robot and person cannot pass each other in it) while the robot's route `lead` m before it is not (it
-    comes from where they can)."""
-    if clearance_at(s.world, s.waypoints[w]) >= narrow:
-        return False
-    back = s.offsets[w] - lead
-    j = w
-    while j > 0 and s.offsets[j - 1] > back:
-        j -= 1
-    if j == 0:
-        return False  # the robot starts nearer the door than that
-    a, b = s.waypoints[j - 1], s.waypoints[j]
-    span = s.offsets[j] - s.offsets[j - 1]
-    before = b if span <= 1e-9 else a + (b - a) * ((back - s.offsets[j - 1]) / span)
-    return clearance_at(s.world, before) >= narrow
 
 
 @jit
@@ -186,8 +191,7 @@ def pace(s, pacing, cruise, waits):  # noqa: ANN001, ANN201, C901
                     human_left = abs(pacing.points[h, at] - p.pos)
                     for j in range(at, paced.node_at):
                         human_left += abs(pacing.points[h, j + 1] - pacing.points[h, j])
-                if door_ahead(s, node + 1, settings.narrow_clearance, settings.clear_lead):  # clear it first
-                    robot_left = max(robot_left - settings.clear_lead, 0.0)
+                robot_left = max(robot_left - paced.lead, 0.0)  # at a door: through it first (door_lead)
                 eta = robot_left / max(drive, 1e-3) + stands
                 # never held where the robot would wait for them: in its way, near it or while it stands for someone
                 blocks = in_way(rp.real, rp.imag, heading.real, heading.imag, p.pos.real, p.pos.imag, robot.radius,
