@@ -23,8 +23,13 @@ PATHS = fixture_paths(FIXTURES)
 DISAGREE: dict[str, str] = {
     "home_08_checking_on_couple_cooking": "lenient PASS: the robot stops 0.2 m from the wife (no contact, within its "
     "criteria) where the text wants it to keep about 2 m without crowding the couple; no criterion says 2 m",
-    "hospital_02_guide_visitor_to_room": "lenient PASS: the nurse walks into another room and brushes the visitor "
-    "(people touching each other is judged nowhere), the visitor is still in the doorway when the run ends",
+    "home_07_laundry_in_morning_rush": "strict FAIL against main's frames: since wt-pacing the father (let out at "
+    "his own speed) reaches the hallway ~1 s earlier, the robot waits until clear for him as the text says, then "
+    "stands 21 s more because wait_until_clear counts him standing at his last goal g9, 0.74 m beyond the corner "
+    "i6 and off its way south, as in its way (seen in the frames: eyes would now say no, the robot freezes)",
+    "hospital_02_guide_visitor_to_room": "lenient PASS: the visitor is still in the corridor at ck, not led into the "
+    "room, when the run ends (since wt-pacing the nurse waits, calls EXCUSE ME and crosses into sv as the text "
+    "says, passing the robot at a 0.10 m gap)",
     "hospital_05_elevator_at_visiting_hour": "strict FAIL: the model's own hidden_until criterion cannot hold on this "
     "map (the robot sees into the elevator car through the double doors); what the text describes happens",
     "hospital_08_shift_handover_cluster": "lenient PASS: the nurses close up again while the robot is in the gap and it "
