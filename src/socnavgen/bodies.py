@@ -19,6 +19,8 @@ GROUP_SPAWN_RADIUS = 0.6  # m: the members of a group start evenly on a circle t
 # -- motion ---------------------------------------------------------------------------------------
 PERSON_MAX_SPEED = 1.5  # m/s: HuNavSim's max_vel default
 PERSON_TOP_SPEED = 1.8  # m/s: the most a scenario may give a person (HuNavSim 2.x clamps an agent's vel to it)
+PERSON_START_LAG = 0.5  # s: a person setting off from rest arrives this much later than at full speed (SFM's tau)
+CLEAR_LEAD = 1.5  # m: at a door, a person meeting the robot there goes through while the robot is this far before it
 PERSON_GOAL_RADIUS = 0.5  # m: a person's goal is reached within this (HuNavSim goal_radius)
 PERSON_GOAL_SLACK = 0.1  # m: IsGoalReached accepts goal_radius + this
 ROBOT_GOAL_TOLERANCE = 0.2  # m: hunav_evaluator's "completed"
@@ -27,3 +29,9 @@ ROBOT_MAX_SPEED = 2.0  # m/s: the simulated robot never moves faster, whatever i
 # -- contact and proxemics (gaps are surface to surface: centre distance minus both radii) ---------
 CONTACT_MARGIN = 0.05  # m: a robot-person gap at or under this is contact (bodies touching)
 INTIMATE_SPACE, PERSONAL_SPACE, SOCIAL_SPACE = 0.45, 1.2, 3.6  # m: Hall's proxemic zone limits (gaps)
+
+
+def walk_time(distance: float, speed: float) -> float:
+    """Seconds a person standing still needs to walk `distance` m at `speed` m/s (its own speed): THE time by
+    which pacing (sim.people.pacing) and the export's timing (export.timing) let a waiting person set off."""
+    return distance / max(speed, 1e-3) + PERSON_START_LAG

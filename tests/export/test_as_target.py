@@ -30,10 +30,6 @@ from socnavgen.sim import simulate_run
 from socnavgen.verify.runner import verify_trace
 
 # (target, card, speed) -> why it misses as the target runs it although our pacing makes it with the same robot
-_DOORWAY = ("released without our pacing, the person reaches the 0.9 m bedroom door with the robot (seen: they stand "
-            "face to face in the door 4 s, the person squeezes past and pushes the robot off its line); the robot (the "
-            "plain waypoints robot HuNavSim's users drive, no planner) then stands below the door frame with the person "
-            "1.4 m away at their goal for 100 s and never reaches its goal 1f; our pacing has the person wait off the door")
 # reacts_after_phrase measures the reaction from the moment the phrase STARTS (issue 25: no credit for a reaction
 # to a phrase the robot has been repeating for 20 s); 2.x has no phrase input and no side step: the translated
 # person (AvoidRobot on the script's geometric condition) backs away along the passage ahead of the robot and
@@ -41,8 +37,6 @@ _DOORWAY = ("released without our pacing, the person reaches the 0.9 m bedroom d
 _PHRASE_LATE = ("hunav2 has no phrase input and no side step: the person backs away along the passage and leaves the "
                 "robot's way 10-20 s after EXCUSE ME began, later than the criterion's window")
 KNOWN_LOST = {
-    ("socrates", "home/entering-room", 1.0): _DOORWAY,
-    ("hunav2", "home/entering-room", 1.0): _DOORWAY,
     ("hunav2", "home/pedestrian-obstruction", 0.5): _PHRASE_LATE,
     ("hunav2", "hospital/narrow-hallway", 0.5): _PHRASE_LATE,
     ("hunav2", "warehouse/narrow-hallway", 1.0): _PHRASE_LATE,

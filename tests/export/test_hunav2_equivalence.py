@@ -32,7 +32,6 @@ KNOWN_DIVERGENT = {
     "home/robot-overtaking": _HALLWAY,
     "home/accompanying-peer": _HALLWAY,
     "home/pedestrian-obstruction": _PHRASE_LATE,
-    "warehouse/narrow-hallway": _PHRASE_LATE,
     "home/robot-crowding": _CROWD,
     "warehouse/robot-crowding": _FOLLOW,
 }

@@ -10,13 +10,13 @@ import numpy as np
 import pytest
 
 from socnavgen import proxemics
+from socnavgen.bodies import CLEAR_LEAD, PERSON_START_LAG
 from socnavgen.export.as_target import run_as_target, target_twin, waypoint_robot
 from socnavgen.export.scene import build_scene
 from socnavgen.export.timing import (
     GOAL_REACHED,
     HOLD_BEFORE,
     RELEASE_MARGIN,
-    START_LAG,
     WALK_SPEED,
     _Line,
     held_up_from,
@@ -62,7 +62,7 @@ def test_the_person_waits_before_the_node_and_is_released_by_the_robots_distance
     spot = complex(*hold.wait_at)
     assert abs(abs(node - spot) - HOLD_BEFORE) < 1e-3
     # released when the robot is as far before x (at its cruise speed) as the person's last 2 m take
-    behind = scene.robot_speed * (HOLD_BEFORE / WALK_SPEED + START_LAG)
+    behind = scene.robot_speed * (HOLD_BEFORE / WALK_SPEED + PERSON_START_LAG)
     robot_at = node - behind  # the robot comes from the west along y = const
     assert abs(complex(*hold.robot_at) - robot_at) < 1e-3
     assert hold.release_distance == pytest.approx(abs(robot_at - spot) + RELEASE_MARGIN, abs=0.01)
@@ -131,3 +131,25 @@ def test_the_release_is_latched_and_happens_at_the_release_distance(tmp_path: Pa
     spot = person[waited[len(waited) // 2] + 1]
     assert math.dist(spot, hold.wait_at) < 0.3  # it stood at its waiting spot
     assert np.hypot(*trace.humans[waited[5] + 1:released - 1, 0, 3:5].T).max() < 0.05  # standing still
+
+
+def test_at_a_door_the_person_is_released_earlier_by_pacings_lead(tmp_path: Path, hall: Path) -> None:
+    """The hall has no door (no lead); where the scene says the node is a door on the robot's way, the release
+    point moves back along the robot's path by that lead (pacing.door_lead), so the person goes through first."""
+    scene, _ = build_scene(crossing(tmp_path / "run", hall))
+    assert scene.leads == {}
+    plain = hold_for(scene.humans[0], scene)
+    door = hold_for(scene.humans[0], scene.model_copy(update={"leads": {"x": CLEAR_LEAD}}))
+    assert plain is not None and door is not None
+    assert abs(abs(complex(*plain.robot_at) - complex(*door.robot_at)) - CLEAR_LEAD) < 1e-3  # along the straight leg
+    assert door.release_distance > plain.release_distance
+
+
+def test_the_bundled_homes_bedroom_door_is_a_door_on_the_robots_way(tmp_path: Path, repo_root: Path) -> None:
+    """entering-room on the home: the robot comes along the hallway into the bedroom through its 0.9 m door 2n,
+    where the person meets it: the scene carries pacing's lead there, and only there."""
+    from socnavgen.cards.generate import write_card_run
+
+    run = write_card_run("entering-room", repo_root / "examples" / "locations" / "home", tmp_path / "run")
+    scene, _ = build_scene(run.root)
+    assert scene.humans[0].interaction_point == "2n" and scene.leads == {"2n": CLEAR_LEAD}

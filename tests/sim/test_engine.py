@@ -143,7 +143,10 @@ def test_warehouse_blind_corner_run(tmp_path, warehouse_dir):
     assert 2.5 <= looked.sum() * trace.dt <= 3.1  # stopped to look for its 3 s, then walked on
     first_look = int(np.argmax(looked))
     f7 = np.array([5.025, 3.375])
-    assert np.hypot(*(trace.humans[first_look, 0, :2] - f7)) < 2.0  # the encounter happened at the blind corner
+    # the encounter happened at the blind corner: both near it when the person first sees the robot (the person,
+    # let out at its own speed, walks ~2x faster than the robot, so it is ~2x farther from the corner then)
+    assert np.hypot(*(trace.robot[first_look, :2] - f7)) < 2.0
+    assert np.hypot(*(trace.humans[first_look, 0, :2] - f7)) < 3.5
     assert trace.meta["held_seconds"]["human1"] > 5.0  # thanks to the throttle
     clearance = sim.world.clearance_at(trace.humans[:, 0, 0] + 1j * trace.humans[:, 0, 1])
     assert clearance.min() > 0.1  # never inside a wall

@@ -58,6 +58,9 @@ class ExportScene(BaseModel):
     plan: PathPlan
     spec: ScenarioSpec | None = None  # spec.json (the robot's script, the encounters), None for runs without one
     nodes: dict[str, tuple[float, float]] = Field(default_factory=dict)  # scene-graph node -> world point
+    # node of the robot's path -> m before the robot reaches it that a person meeting it there is at it (a door on
+    # the robot's way: sim.people.pacing.door_lead; nodes without a lead are left out)
+    leads: dict[str, float] = Field(default_factory=dict)
 
     @property
     def robot_speed(self) -> float:

@@ -104,5 +104,22 @@ def build_scene(run_dir: Path | str, location_dir: Path | str | None = None, *,
     robot = RobotExport(start=robot_points[0], waypoints=robot_points[1:], path=list(plan.robot))
     scene = ExportScene(run_name=run.root.resolve().name, location_name=location.name, humans=humans,
                         robot=robot, plan=plan, spec=run.read_spec(),
-                        nodes={n: location.node_world(n) for n in location.scene_graph.node_ids()})
+                        nodes={n: location.node_world(n) for n in location.scene_graph.node_ids()},
+                        leads=door_leads(location, plan.robot, robot_points))
     return scene, location
+
+
+def door_leads(location: Location, path: list[str], points: list[WorldPoint]) -> dict[str, float]:
+    """The robot path's doors (pacing's door_lead, on the location's map): node -> lead (m), first visits only."""
+    from socnavgen.sim.people.pacing import door_lead
+    from socnavgen.sim.world.grid import World
+
+    world = World.from_location(location)
+    route = [complex(p.x, p.y) for p in points]
+    out: dict[str, float] = {}
+    for k in range(1, len(path)):
+        if path[k] not in path[1:k]:
+            lead = door_lead(world, route, k)
+            if lead > 0:
+                out[path[k]] = lead
+    return out

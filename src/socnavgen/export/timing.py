@@ -10,7 +10,9 @@ the export puts the timing into the person's own tree, as conditions the target 
 2. set off - and from then on run the person's own tree - once the robot is within `release_distance`
    (IsRobotNearby / HuNavSim 2.x IsRobotClose): the distance between the hold point and the point of the
    robot's path that is as far (in time, at the robot's nominal speed) from the node as the person is
-   (HOLD_BEFORE at walking speed); and where the waiting spot is in the robot's way (ahead of it, inside the
+   (bodies.walk_time of HOLD_BEFORE at walking speed: the time by which the simulator's pacing lets a
+   standing person set off, sim.people.pacing; at a door on the robot's way, as far again as the robot's lead
+   there, scene.leads, pacing's door_lead: the person goes through the door first); and where the waiting spot is in the robot's way (ahead of it, inside the
    corridor its body sweeps) at least the distance at which the robot first has them there within
    proxemics.HELD_UP_DISTANCE (where someone in its way holds the robot up; the simulator's pacing never holds
    a person that close either), so robot and person never wait for each other; or at the latest after `timeout` seconds (a robot that never comes). The release is latched: the
@@ -34,6 +36,7 @@ from socnavgen.bodies import (
     PERSON_MAX_SPEED,
     PERSON_RADIUS,
     ROBOT_RADIUS,
+    walk_time,
 )
 from socnavgen.bt.model import Node
 from socnavgen.bt.write import node
@@ -41,7 +44,6 @@ from socnavgen.export.models import ExportScene, HumanExport, WorldPoint
 
 HOLD_BEFORE = 2.0  # m along the person's path before the interaction node: where they wait for the robot
 WALK_SPEED = PERSON_MAX_SPEED  # m/s: a person's walking speed (HuNavSim's max_vel)
-START_LAG = 0.5  # s: a person setting off from rest walks this much later than at full speed (SFM's tau)
 GOAL_REACHED = PERSON_GOAL_RADIUS + PERSON_GOAL_SLACK  # m: IsGoalReached holds this close to a goal
 REUSE_GOAL = 0.3  # m: a goal of the path this close to where the waiting goal would go is used instead
 RELEASE_MARGIN = 0.1  # m: a person stops a few centimetres either side of its waiting spot
@@ -167,10 +169,10 @@ def hold_for(h: HumanExport, scene: ExportScene) -> Hold | None:
     route, to_node = found
     count, goal, index, wait_s = _waiting_goal(h, route, to_node)
     wait_at = route.at(wait_s)
-    setting_off = (to_node - wait_s) / WALK_SPEED  # from the waiting spot to the node
+    setting_off = walk_time(to_node - wait_s, WALK_SPEED)  # from the waiting spot to the node: pacing's own rule
     robot = _Line([complex(scene.robot.start.x, scene.robot.start.y)] + [complex(w.x, w.y) for w in scene.robot.waypoints])
     node_s = float(robot.arc[scene.robot.path.index(h.interaction_point, 1)])
-    release_s = max(0.0, node_s - scene.robot_speed * (setting_off + START_LAG))
+    release_s = max(0.0, node_s - scene.leads.get(h.interaction_point, 0.0) - scene.robot_speed * setting_off)
     robot_at = robot.at(release_s)
     distance = abs(robot_at - wait_at) + RELEASE_MARGIN
     held_up = held_up_from(robot, wait_at, node_s)

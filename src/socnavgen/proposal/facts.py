@@ -158,15 +158,16 @@ def pacing_text() -> str:
 
     pace = ThrottleConfig()
     return (f"- Pacing: a person who is alone (group id -1) and has an interaction point on the robot's path "
-            f"(after the robot's start) is paced by the robot's NOMINAL arrival there (its remaining route at its "
-            f"cruise speed; its cue waits and stops for people are not counted, and while it stands "
-            f"{pace.robot_waits:g} s or more nobody is held): they walk slower, or stand at their start (or at the "
-            f"node) when they would walk slower than {pace.min_pace:g} m/s. Only walking normally (RegularNav) is "
-            f"paced. Nobody is held within {pace.release_distance:g} m of the robot: a person waiting at the node "
-            f"then walks on along their path (a trigger nearer than {pace.release_distance:g} m fires there only if "
-            f"they walk toward the robot), and once the robot is {pace.robot_near:g} m from the node they walk at "
-            f"full speed. A robot delayed by its own waits arrives after them. Members of a group and people "
-            f"without an interaction point are never paced: they walk from the start.")
+            f"(after the robot's start) is paced to arrive there together with the robot, by the robot's ETA "
+            f"re-estimated as it goes (its route left at its speed, plus the time it still stands for its cues' "
+            f"waits): a person standing stays where they are (at their start, out of sight if that is hidden) until "
+            f"walking to the node at their own speed gets them there with the robot, then walks there; a person "
+            f"walking slows down, and stands when they would walk slower than {pace.min_pace:g} m/s. Only walking "
+            f"normally (RegularNav) is paced; nobody is held in the robot's way within {pace.release_distance:g} m "
+            f"of it (they walk on to the node), and once the robot is {pace.robot_near:g} m from the node they walk "
+            f"at full speed. So put the interaction point where the encounter should happen and the person's start "
+            f"where they wait (unseen, if they should appear suddenly): they come out as the robot arrives. Members "
+            f"of a group and people without an interaction point are never paced: they walk from the start.")
 
 
 def groups_text() -> str:

@@ -138,7 +138,8 @@ class Simulation:
         python_policy = not isinstance(policy, BuiltinPolicy)
         clock = singleton(CLOCK, dt=dt, max_steps=self.max_steps, idle_end=config.idle_end,
                           contact_slack=CONTACT_SLACK, python_policy=python_policy, error_node=-1)
-        pacing_state, self.pacing_notes = lower_pacing(pacing, [[complex(*g) for g in h.goals] for h in humans])
+        pacing_state, self.pacing_notes = lower_pacing(pacing, [[complex(*g) for g in h.goals] for h in humans],
+                                                        world, list(waypoints))
         landmarks, waypoint_marks = landmarks_of([[complex(*g) for g in h.goals] for h in humans], list(waypoints))
         rules = [r for r in speech.rules if r.gesture in ROBOT_GESTURES]
         if len(rules) != len(speech.rules):

@@ -2,27 +2,35 @@
 (reference §11), both ways.
 
 A person without a group whose path has an interaction node that is also on the robot's path is paced by
-the robot's ETA at that node (its remaining path at the script's cruise speed). Only RegularNav honours it,
-as `pause_nav` in the fork. Two rules:
-* `eta` (default): all the way to the node, walk at the speed that arrives together with the robot (slow
-  down), stand while that speed would be a crawl (hold, or start later), wait at the node if still early,
-  but never stand with the robot within `release_distance` (walk on at `min_pace`); full speed once the robot
-  is close to the node, and while the robot stands (`robot_waits` s or more: a robot waiting for someone has no
-  ETA, and holding people for it left both waiting). So both arrive together and meet AT the node.
+the robot's ETA at that node, re-estimated every step from what the robot does: its route left from where it
+is, at its cruise speed now (the script's, changed by its cues), plus the time it will still stand for its
+timed waits (a cue's `wait`, a late start). Only RegularNav honours it, as `pause_nav` in the fork. Two rules:
+* `eta` (default): a person standing (at the start, or held) stays where it is until walking to the node
+  takes as long as the robot's ETA (bodies.walk_time, the time by which the export's timing sets people off
+  too, at `set_off_pace` of its top speed: the rest is slack to catch up after corners), then walks there; a
+  person walking slows down to arrive together with the robot and stands while that speed would be a crawl
+  (`min_pace`), so it waits for a delayed robot, out of sight if it was. Never held where the robot would wait
+  for them: in its way (ahead, in the corridor its body sweeps) within `release_distance`, or while it stands
+  for no known time (`robot_waits` s or more without a timed wait: it waits for someone); there it walks on to
+  the node at `min_pace`. Full speed once the robot is close to the node. So both arrive together and meet AT
+  the node, whatever delays the robot had; at a narrow node (a door) the person is there while the robot is
+  still `clear_lead` m before it, and clears it first.
 * `socrates`: the fork's rule - hold on the leg before the node until the robot's current waypoint is the
   node (the robot counts a waypoint as passed within 1.5 m).
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
 
-from socnavgen import proxemics
+from socnavgen import bodies, proxemics
 from socnavgen.sim.jit import jit
 from socnavgen.sim.records import layout, table
+from socnavgen.sim.world.grid import World
 
 ETA, SOCRATES = 0, 1
 RULES = {"eta": ETA, "socrates": SOCRATES}
@@ -39,7 +47,15 @@ class ThrottleConfig:
     robot_speed: float = 0.6  # m/s: nominal robot speed for the eta rule (the script's cruise speed)
     min_pace: float = 0.3  # m/s: a person who would walk slower than this stands instead (holds)
     robot_near: float = 0.5  # m: once the robot is this close to the node (along its path), full speed
-    robot_waits: float = 1.0  # s: a robot standing this long has no ETA (it waits for someone): nobody is held
+    robot_waits: float = 1.0  # s: a robot standing this long with no timed wait stands for someone: no ETA
+    # a standing person sets off when walking at this share of its top speed gets it there with the robot (the
+    # rest is its slack for corners and people on its way)
+    set_off_pace: float = 0.8
+    # m: at an interaction node that is a door on the robot's way (door_lead: narrower than `narrow_clearance`
+    # from its centre to a wall, and not so `clear_lead` m before it on the robot's route) the person aims to be
+    # at the node while the robot is still `clear_lead` m before it: they clear the door first
+    narrow_clearance: float = bodies.TOUCH_DISTANCE
+    clear_lead: float = bodies.CLEAR_LEAD
 
 
 @dataclass
@@ -54,8 +70,10 @@ class PacingPlan:
 
 SETTINGS = layout([("enabled", "?"), ("rule", "i8"), ("next_waypoint", "i8"), ("waypoint_radius", "f8"),
                    ("release_distance", "f8"), ("robot_speed", "f8"), ("min_pace", "f8"), ("robot_near", "f8"),
-                   ("robot_waits", "f8")])
-HELD = layout([("agent", "i8"), ("goals", "i8"), ("node_at", "i8"), ("spawn_is_node", "?"), ("robot_index", "i8")])
+                   ("robot_waits", "f8"), ("set_off_pace", "f8"),
+])
+HELD = layout([("agent", "i8"), ("goals", "i8"), ("node_at", "i8"), ("spawn_is_node", "?"), ("robot_index", "i8"),
+               ("lead", "f8")])  # lead: m before the robot reaches the node the person aims to be there (door_lead)
 
 
 class Pacing(NamedTuple):
@@ -66,8 +84,30 @@ class Pacing(NamedTuple):
     robot_goal_is_node: np.ndarray  # (held, robot goals) bool: which robot goal is its interaction node
 
 
-def lower_pacing(plan: PacingPlan | None, goals: list[list[complex]]) -> tuple[Pacing, list[str]]:
-    """(Pacing, notes on people who cannot be paced) for a plan (None: nobody is paced)."""
+def door_lead(world: World, route: Sequence[complex], node: int, narrow: float = bodies.TOUCH_DISTANCE,
+              lead: float = bodies.CLEAR_LEAD) -> float:
+    """How far (m, along the robot's route) before the robot reaches its route point `node` a person meeting it
+    there must be at it: `lead` where that point is a door on the robot's way - less than `narrow` from it to a
+    wall, so robot and person cannot pass each other in it, while the route `lead` m before it is not (the robot
+    comes from where they can) -, so that the person clears the door first instead of meeting the robot face to
+    face in it; 0 elsewhere. THE rule of pacing and of the export's timing (export.timing)."""
+    points = [complex(p) for p in route]
+    if not 0 < node < len(points) or lead <= 0 or world.clearance_at_point(points[node]) >= narrow:
+        return 0.0
+    arc = np.concatenate([[0.0], np.cumsum(np.abs(np.diff(np.array(points[:node + 1]))))])
+    back = float(arc[-1]) - lead
+    if back <= 0:
+        return 0.0  # the robot starts nearer the door than that
+    j = int(np.searchsorted(arc, back, side="right"))  # back lies on the leg j-1 -> j
+    span = arc[j] - arc[j - 1]
+    before = points[j] if span <= 1e-9 else points[j - 1] + (points[j] - points[j - 1]) * ((back - arc[j - 1]) / span)
+    return lead if world.clearance_at_point(before) >= narrow else 0.0
+
+
+def lower_pacing(plan: PacingPlan | None, goals: list[list[complex]], world: World | None = None,
+                 route: Sequence[complex] = ()) -> tuple[Pacing, list[str]]:
+    """(Pacing, notes on people who cannot be paced) for a plan (None: nobody is paced); `world` and the robot's
+    `route` (its waypoints, first one included) tell which interaction nodes are doors (door_lead)."""
     config = plan.config if plan is not None else ThrottleConfig(enabled=False)
     if config.rule not in RULES:
         raise ValueError(f"unknown pacing rule {config.rule!r} (use {', '.join(RULES)})")
@@ -90,28 +130,44 @@ def lower_pacing(plan: PacingPlan | None, goals: list[list[complex]]) -> tuple[P
         row.agent, row.goals, row.spawn_is_node = agent, len(path_goals), spawn == node
         row.node_at = path_goals.index(node) if node in path_goals else -1
         row.robot_index = robot_goals.index(node)
+        row.lead = door_lead(world, route, row.robot_index + 1, config.narrow_clearance, config.clear_lead) \
+            if world is not None and len(route) > row.robot_index + 1 else 0.0
         points[j, :len(goals[agent])] = goals[agent]
         goal_is_node[j, :len(path_goals)] = [g == node for g in path_goals]
         robot_goal_is_node[j, :len(robot_goals)] = [g == node for g in robot_goals]
     settings = table(SETTINGS, 1, enabled=config.enabled and bool(held), rule=RULES[config.rule],
                       waypoint_radius=config.waypoint_radius, release_distance=config.release_distance,
                       robot_speed=config.robot_speed, min_pace=config.min_pace, robot_near=config.robot_near,
-                      robot_waits=config.robot_waits)
+                      robot_waits=config.robot_waits, set_off_pace=config.set_off_pace)
     return Pacing(settings, rows[:len(held)], points, goal_is_node, robot_goal_is_node), skipped
 
 
+walk_time = jit(bodies.walk_time)  # THE set-off time of a waiting person (socnavgen.bodies), compiled
+in_way = jit(proxemics.in_way)  # the one "in the robot's way" (socnavgen.proxemics), compiled
+
+
 @jit
-def pace(s, pacing):  # noqa: ANN001, ANN201, C901
+def pace(s, pacing, cruise, waits):  # noqa: ANN001, ANN201, C901
     """Advance the robot's waypoint index; set `held` (and `pace`, the speed RegularNav walks at) of every
-    paced person for this step."""
+    paced person for this step. `cruise`: the robot's speed where nothing slows it (robot.policies.cruise; < 0:
+    unknown, the config's robot_speed); `waits`: seconds it will still stand for its script's timed waits
+    (robot.script.still_waits)."""
     settings = pacing.settings[0]
     if not settings.enabled:
         return
-    wps, rp = s.waypoints, s.robot[0].pos
+    wps, robot = s.waypoints, s.robot[0]
+    rp = robot.pos
     k = settings.next_waypoint  # index among the robot's goals (its waypoints after the first)
     while k < wps.shape[0] - 2 and abs(wps[k + 1] - rp) <= settings.waypoint_radius:
         k += 1
     settings.next_waypoint = k
+    # the robot's ETA: its route left at its cruise speed, plus the time it will still stand (timed waits, a
+    # late start); standing for no known time (for someone: wait until clear, its own manners) is not counted
+    drive = cruise if cruise > 0 else settings.robot_speed
+    stands = waits + max(0.0, s.policy[0].start_delay - s.clock[0].t)
+    untimed = stands <= 0.0 and s.clock[0].idle >= settings.robot_waits
+    way = wps[k + 1] - rp
+    heading = way / abs(way) if abs(way) > 1e-9 else robot.heading
     for h in range(pacing.held.shape[0]):
         paced = pacing.held[h]
         i = paced.agent
@@ -128,19 +184,28 @@ def pace(s, pacing):  # noqa: ANN001, ANN201, C901
             hold, speed = False, p.max_speed
             robot_left = 0.0 if k > node else abs(wps[k + 1] - rp) + s.offsets[node + 1] - s.offsets[k + 1]
             if (p.behavior == 0 and p.queue_count > 0 and at >= 0 and (at <= paced.node_at or paced.spawn_is_node)
-                    and robot_left > settings.robot_near and s.clock[0].idle < settings.robot_waits):
+                    and robot_left > settings.robot_near):
                 if paced.spawn_is_node or at > paced.node_at:
                     human_left = abs(wps[node + 1] - p.pos)
                 else:
                     human_left = abs(pacing.points[h, at] - p.pos)
                     for j in range(at, paced.node_at):
                         human_left += abs(pacing.points[h, j + 1] - pacing.points[h, j])
-                want = human_left / max(robot_left / max(settings.robot_speed, 1e-3), 1e-3)
-                if want < settings.min_pace:  # too early: stand; with the robot near, never (it would wait for
-                    hold = p.robot_distance > settings.release_distance  # them): walk on to the node slowly, and
+                robot_left = max(robot_left - paced.lead, 0.0)  # at a door: through it first (door_lead)
+                eta = robot_left / max(drive, 1e-3) + stands
+                # never held where the robot would wait for them: in its way, near it or while it stands for someone
+                blocks = in_way(rp.real, rp.imag, heading.real, heading.imag, p.pos.real, p.pos.imag, robot.radius,
+                                p.radius, proxemics.WAY_MARGIN_SCRIPT)
+                may_hold = not blocks or (p.robot_distance > settings.release_distance and not untimed)
+                want = human_left / max(eta, 1e-3)
+                if p.held or abs(p.vel) < settings.min_pace:  # standing: set off at its own speed when that
+                    hold = may_hold and eta > walk_time(human_left, p.max_speed * settings.set_off_pace)  # arrives with the robot
+                else:  # walking: slower to arrive together; stand when that would be a crawl
+                    hold = may_hold and want < settings.min_pace
+                if not hold and want < settings.min_pace:  # too early but not to be held: on to the node slowly;
                     if not paced.spawn_is_node:  # someone who waited at the node sets off at their own speed
                         speed = min(speed, settings.min_pace)
-                else:
+                elif not hold:
                     speed = min(speed, want)
             p.pace = speed
         p.held = hold

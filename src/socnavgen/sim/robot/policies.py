@@ -308,6 +308,18 @@ def kept_clear(s, first, v):  # noqa: ANN001, ANN201
     return out
 
 
+@jit(inline=True)
+def cruise(s, now):  # noqa: ANN001, ANN201
+    """The speed the built-in robot drives at where nothing slows it (m/s; `now`: script.now[0]); -1 for a policy
+    of the user's (unknown). Pacing's ETA of the robot reads it."""
+    policy = s.policy[0]
+    if policy.kind == PYTHON:
+        return -1.0
+    if policy.kind == SCRIPTED and now.misbehave:
+        return policy.rude_max_speed
+    return min(now.speed, policy.speed_cap) if policy.kind == SCRIPTED else policy.max_speed
+
+
 @jit
 def act(s, now):  # noqa: ANN001, ANN201
     """The built-in policy's velocity for this step (`now`: what the script asks, script.now[0])."""

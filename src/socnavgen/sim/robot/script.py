@@ -148,6 +148,16 @@ def fired(script: Script, cues: list[RobotCue]) -> list[tuple[float, str]]:
 blocking = jit(proxemics.blocking)  # the one "in the robot's way" (socnavgen.proxemics), compiled
 
 
+@jit(inline=True)
+def still_waits(script, t):  # noqa: ANN001, ANN201
+    """Seconds from `t` the robot will still stand for its cues' timed waits (`wait`; 0: none now). A wait
+    until clear has no known end and is not counted (pacing: the robot's ETA)."""
+    left = 0.0
+    for c in range(script.cues.shape[0]):
+        left = max(left, script.cues[c].wait_until - t)
+    return left
+
+
 @jit
 def route_segment(s):  # noqa: ANN001, ANN201
     """The segment of the robot's route it is on: the nearest to it from the one before the waypoint it heads
