@@ -128,7 +128,7 @@ def format_line(humans: list[str], spec: ScenarioSpec | None = None) -> str:
     answer = {"reasoning": "<short reasoning>",
               "interaction_points": {h: "<node id>" for h in humans},
               "trajectories": {"robot": ["<node id>", "..."], **{h: ["<node id>", "..."] for h in humans}},
-              "group_ids": {h: "<-1 or group id>" for h in humans}}
+              "group_ids": {h: -1 for h in humans}}  # an integer: -1 alone, or the group's id
     if spec is not None and spec.encounters:
         answer["encounter_nodes"] = {e.id: "<node id>" for e in spec.encounters}
     return reply_json(answer)
