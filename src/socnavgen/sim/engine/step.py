@@ -28,6 +28,7 @@ import math
 from socnavgen import proxemics
 from socnavgen.sim.engine.state import ALL_DONE, ROBOT_GOAL, RUNNING, TIMEOUT
 from socnavgen.sim.jit import generator, jit
+from socnavgen.sim.people.make_room import make_room
 from socnavgen.sim.people.pacing import pace
 from socnavgen.sim.people.physics import advance, resolve_contacts
 from socnavgen.sim.people.routing import plan
@@ -39,6 +40,8 @@ from socnavgen.sim.robot.script import play, scripted_gesture
 
 STEPPED, ACT, PROGRESS, ENDED, FAILED, ROUTES = 0, 1, 2, 3, 4, 5
 IDLE_SPEED = 1e-3  # m/s: a robot slower than this is idle (the run ends once everything stopped)
+STILL_REACH = 0.1  # m: a robot that stays this close to where it stopped waits there (clock.still), even while
+#   it edges back and forth (the polite robot's small moves beside someone reset clock.idle every second or so)
 
 
 @jit(inline=True)
@@ -60,6 +63,7 @@ def think(s, trees, pacing, script, scratch):  # noqa: ANN001, ANN201
             continue
         if tick(s, nodes, ports, slots, texts, kids, stack, args, dt, i) == ERROR:
             return ERROR
+    make_room(s)  # someone standing in the way of a robot that waits steps aside (after their tree)
     plan(s)
     play(s, script)
     return 0
@@ -116,6 +120,10 @@ def ending(s):  # noqa: ANN001, ANN201
     if abs(robot.goal - robot.pos) <= robot.goal_tolerance and robot.passed >= wps.shape[0] - 2:
         return ROBOT_GOAL
     clock.idle = clock.idle + clock.dt if abs(robot.vel) < IDLE_SPEED else 0.0
+    if abs(robot.pos - clock.still_at) > STILL_REACH:
+        clock.still_at, clock.still = robot.pos, 0.0
+    else:
+        clock.still += clock.dt
     if clock.idle >= clock.idle_end:
         finished = True
         for i in range(s.people.shape[0]):

@@ -65,6 +65,8 @@ PERSON = layout([
     ("held", "?"), ("pace", "f8"), ("held_steps", "i8"), ("first_held", "i8"),
     # giving way (people.give_way): where it stands aside and from which arc position of the robot's path
     ("gives_way", "?"), ("give_way_phase", "i8"), ("aside", "c16"), ("aside_at", "f8"),
+    # making room for a robot that waits (people.make_room): stepping aside, and the spot to go back to
+    ("makes_room", "i8"), ("room_home", "c16"),
 ])
 
 
