@@ -59,6 +59,9 @@ def test_a_person_who_blocks_the_robot_on_purpose_stays():
     trace = run([BLOCKS, tree_xml(REGULAR)])
     person = trace.humans[:, 0, :2]
     assert trace.end_reason != "robot_goal"
-    assert trace.executed(0, "IsRobotBlocking").any()
+    assert trace.fired(0, "IsRobotBlocking").any()
+    robot, last = trace.robot[:, :2], np.searchsorted(trace.t, trace.t[-1] - 10.0)
+    assert np.hypot(*(robot[last:] - robot[last]).T).max() < 0.1  # the robot waited for them the last 10 s
+    assert np.hypot(*(robot[-1] - person[-1])) < 2.0
     assert off_route(person).max() < 0.3
     assert not (trace.behavior_state[:, 0] == 2).any()
