@@ -26,13 +26,11 @@ KNOWN_FAILING: dict[tuple[str, str], str] = {
     ("warehouse", "blind-corner"): "no_deadlock: in the 1.2 m corridor the robot backs 5.5 m down it to let the "
                                    "person through (make_way), 13.5 s without route progress with them in its way; it "
                                    "then reaches its goal, nobody touched",
-    ("warehouse", "leave-group"): "contact (closest gap 0.00 m)",
     ("warehouse", "pedestrian-obstruction"): "reacts_after_phrase give_way: seen in the GIF, the person stands still at "
                                              "the node the whole run; the robot drives round her before and after "
                                              "EXCUSE ME while her GiveWaytoRobot node runs (the body never moves; the "
                                              "verifier judges the body since issue 25)",
     ("hospital", "blind-corner"): "contact (closest gap 0.00 m); hidden_until: seen before they came within 5 m",
-    ("home", "robot-crowding"): "contact (closest gap 0.03 m)",
 }
 
 
