@@ -3,7 +3,8 @@
 Per step:
 1. pacing sets who is held at their interaction point; every tree is ticked once (person-id order) on the
    current snapshot (distances to the robot and environment forces were computed for it at the end of the
-   last step); actions only set motion commands; each walker's way there (around walls and the robot);
+   last step); actions only set motion commands; people standing in the way of a robot that waits make room
+   (people.make_room); each walker's way there (around walls and the robot);
 2. the robot's script plays; the robot's policy acts on the same snapshot - a built-in one right here, a
    Python one between two resumptions of the generator (it answers through `s.action[0]`); its velocity is
    capped at the robot's max speed and a move that would cross or end inside a wall is refused;
