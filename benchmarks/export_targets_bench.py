@@ -10,6 +10,7 @@ translation (what the translation alone does).
     python benchmarks/export_targets_bench.py                      # the full matrix (~3 min on 2 cores)
     python benchmarks/export_targets_bench.py --robot waypoints    # the plain waypoints robot (pushes into people)
     python benchmarks/export_targets_bench.py --location warehouse --card blind-corner
+    python benchmarks/export_targets_bench.py --no-cards               # the replay fixtures only
 """
 
 from __future__ import annotations
@@ -40,16 +41,18 @@ from socnavgen.verify import verify_trace
 
 ROOT = Path(__file__).resolve().parents[1]
 LOCATIONS = ROOT / "examples" / "locations"
-FIXTURES = ROOT / "tests" / "fixtures" / "replay"
+FIXTURES = (ROOT / "tests" / "fixtures" / "replay", ROOT / "tests" / "fixtures" / "new_requests")
 OWN, TRANSLATED = "(our pacing, own trees)", "(our pacing, hunav2 trees)"
 UNTIMED = {t: f"({t} trees without timing)" for t in ("socrates", "hunav2")}
 
 
-def runs(work: Path, location: str | None, card: str | None, fixtures: bool) -> list[tuple[str, str, Path]]:
-    """(kind, label, run folder) of every card on every bundled location, and of every replay fixture."""
+def runs(work: Path, location: str | None, card: str | None, fixtures: bool,
+         cards: bool = True) -> list[tuple[str, str, Path]]:
+    """(kind, label, run folder) of every card on every bundled location, and of every replay fixture (the capable
+    fixtures and the new requests, each at its final answers)."""
     out = []
     for loc in sorted(p for p in LOCATIONS.iterdir() if (p / "location.yaml").is_file()):
-        if location and loc.name != location:
+        if not cards or (location and loc.name != location):
             continue
         for fit in fit_all(load_location(loc)):
             if fit.placement is None or (card and fit.card.name != card):
@@ -57,7 +60,7 @@ def runs(work: Path, location: str | None, card: str | None, fixtures: bool) -> 
             label = f"{loc.name}/{fit.card.name}"
             out.append(("cards", label, write_card_run(fit.card.name, loc, work / label.replace("/", "__")).root))
     if fixtures and not card:
-        for path in fixture_paths(FIXTURES):
+        for path in (p for folder in FIXTURES for p in fixture_paths(folder)):
             replay_fixture(path, work / path.stem, root=ROOT, verify=True)
             out.append(("fixtures", path.stem, work / path.stem))
     return out
@@ -81,6 +84,7 @@ def main() -> None:
     ap.add_argument("--location")
     ap.add_argument("--card")
     ap.add_argument("--no-fixtures", action="store_true")
+    ap.add_argument("--no-cards", action="store_true", help="the replay fixtures only")
     args = ap.parse_args()
     started = time.process_time()
     tally: dict[tuple, list[int]] = defaultdict(lambda: [0, 0, 0])  # (kind, target, speed) -> verified, refused, total
@@ -88,7 +92,8 @@ def main() -> None:
     passed: dict[tuple, bool] = {}  # (label, reference row, speed) -> verified
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
-        for kind, label, run in runs(work / "runs", args.location, args.card, not args.no_fixtures):
+        for kind, label, run in runs(work / "runs", args.location, args.card, not args.no_fixtures,
+                                    not args.no_cards):
             if not verify_trace(run, simulate_run(run, save=False)).passed:
                 print(f"  ({label}: does not verify in our simulator; not counted)")
                 continue

@@ -76,6 +76,57 @@ def test_how_the_spec_plays_out_comes_from_its_sources(home):
     assert formula_problems(STL_EXAMPLE, ["human1"], ["e1"]) == []  # the example itself can be monitored
 
 
+def test_stage1_states_how_far_a_follower_trails_where_criteria_are_written(home):
+    """The follower's trail (sim/people/leaves.follow) sits at the follows_robot criterion of stage 1, and its
+    physical-facts bullet is short enough to reach a player whole (a long one came back cut)."""
+    from socnavgen.proposal.facts import follow_trail
+    from socnavgen.sim.people.leaves import FOLLOW_GAIN
+
+    system, _ = _stage1_prompt(home)
+    criterion = system[system.index("follows_robot: `human` stays within"):].split(";")[0]
+    assert f"trails about {0.6 / FOLLOW_GAIN:.1f} m behind the robot at 0.6 m/s" in criterion
+    assert f"a `distance` of at least {follow_trail(0.6) + 2:.0f} m" in criterion
+    bullet = next(line for line in system.splitlines() if line.startswith("- A follower (FollowRobot"))
+    assert len(bullet) <= 240 and bullet.endswith("other followers.")
+
+
+def test_the_prompts_state_the_simulations_time_limit_from_its_home(home):
+    """A slow round trip with a follower timed out and no prompt said when a run ends (a round-5 player)."""
+    from socnavgen.proposal.facts import physical_facts_text
+    from socnavgen.sim import SimConfig
+
+    limit = SimConfig().timeout
+    system, _ = _stage1_prompt(home)
+    assert f"A run ends after {limit:g} s of simulated time" in system and f"that is {limit * 0.6:.0f} m" in system
+    assert f"A run ends after {limit:g} s" in physical_facts_text(scene_graph=True)  # stages 2 and 3 too
+
+
+def test_pacing_is_stated_as_the_simulator_does_it(home):
+    """Round-5 players: 'the person waits for the robot there' was optimistic. Pacing uses the robot's nominal
+    ETA (its own cue waits delay it past the person) and releases a waiting person near the robot, who walks on."""
+    from socnavgen.sim import ThrottleConfig
+
+    pace = ThrottleConfig()
+    system, _ = _stage1_prompt(home)
+    assert "the person waits for the robot there" not in system
+    assert "NOMINAL arrival there (its remaining route at its cruise speed; its cue waits and stops for people are " \
+           "not counted" in system and "A robot delayed by its own waits arrives after them" in system
+    assert f"Nobody is held within {pace.release_distance:g} m of the robot: a person waiting at the node then walks " \
+           f"on along their path (a trigger nearer than {pace.release_distance:g} m fires there only if they walk " \
+           "toward the robot)" in system
+    assert f"while it stands {pace.robot_waits:g} s or more nobody is held" in system
+
+
+def test_stage1_says_a_stop_shows_only_after_having_walked(home):
+    """A player held a worker with MakeGesture 0 from the start and no wait_then_go showed: the tree held them
+    still (tests/sim/test_nodes), but the verifier sees a stop only after a walk (verify/signals.reaction_evidence)."""
+    from socnavgen.verify.thresholds import MOVED_DISTANCE, STOP_HOLD, STOP_SPEED
+
+    system, _ = _stage1_prompt(home)
+    assert f"a stop or wait_then_go is a person slower than {STOP_SPEED:g} m/s for {STOP_HOLD:g} s AFTER having " \
+           f"walked {MOVED_DISTANCE:g} m from their start" in system and "shows none until they have walked" in system
+
+
 def test_the_target_says_which_nodes_it_lacks(home):
     from socnavgen.bt.library import prompt_nodes
 
@@ -135,8 +186,10 @@ def test_hidden_until_needs_a_blind_place_and_a_distance_it_can_hold(warehouse):
 
     assert any("needs a blind turn, but no ENTRANCE node" in m for m in hidden("ENTRANCE", 3.0))
     too_close = hidden("BLIND CORNER", 1.0)
-    assert any("first see each other 2.5 m apart or more; set its distance to at least 3" in m for m in too_close)
-    assert hidden("BLIND CORNER", 3.5) == []
+    assert any("first see each other 3.2 m apart or more; set its distance to at least 4 (+0.5 m margin)" in m
+               for m in too_close), too_close
+    assert any("set its distance to at least 4" in m for m in hidden("BLIND CORNER", 3.0))  # under the worst way
+    assert hidden("BLIND CORNER", 3.5) == [] and hidden("BLIND CORNER", 4.0) == []  # refused only below 3.2 m
 
 
 def test_a_says_criterion_for_someone_who_never_speaks_is_refused(home):
@@ -221,8 +274,8 @@ def test_stage2_grounds_a_hidden_until_encounter_only_where_it_is_blind_enough(w
 
     reply = _reply("BLIND CORNER", part={"reaction": "stop"}, criteria=[
         {"id": "c1", "kind": "meets", "human": "human1", "encounter": "e1"},
-        {"id": "c2", "kind": "hidden_until", "human": "human1", "encounter": "e1", "distance": 2.8}])
-    assert scenario_checker(warehouse)(reply) == []  # 54 is blind until 2.5 m: the place can work
+        {"id": "c2", "kind": "hidden_until", "human": "human1", "encounter": "e1", "distance": 4.0}])
+    assert scenario_checker(warehouse)(reply) == []  # 54 is blind until 3.2 m (+0.5 m margin): the place can work
     spec = to_spec(reply)
 
     def ground(robot: list[str], human: list[str], node: str) -> list[str]:
@@ -231,11 +284,39 @@ def test_stage2_grounds_a_hidden_until_encounter_only_where_it_is_blind_enough(w
                                             "encounter_nodes": {"e1": node}})
         return check_paths(answer, warehouse.graph, ["human1"], spec, warehouse)
 
-    at_f7 = ground(["co", "54", "f7", "6r"], ["hd", "6r", "f7"], "f7")  # f7 hides them only until 3.0 m
-    assert any("they see each other from 3.0 m; blind enough: 54 between co and f7 (2.5 m)" in m for m in at_f7), at_f7
+    at_f7 = ground(["co", "54", "f7", "6r"], ["hd", "6r", "f7"], "f7")  # f7 hides them only until 3.6 m
+    assert at_f7 == []  # 3.6 m <= 4 m: it can hold (the prompt advises the margin)
+    spec.criteria[1].distance = 3.4
+    at_f7 = ground(["co", "54", "f7", "6r"], ["hd", "6r", "f7"], "f7")
+    assert any("they see each other from 3.6 m" in m for m in at_f7), at_f7
     assert ground(["up", "co", "54", "f7"], ["6r", "f7", "54"], "54") == []
     same_way = ground(["up", "co", "54", "f7"], ["up", "co", "54"], "54")  # walking in behind the robot
     assert any("they see each other from afar" in m for m in same_way), same_way
+
+
+def test_stage2_refuses_a_way_in_that_looks_into_the_blind_turn():
+    """Hospital q9 hides the elevator car jb from a robot coming past 8z, not from one coming through the
+    doorway cc (it looks into the car from 11 m: a round-5 player's hidden_until failed there)."""
+    from socnavgen.proposal.path_checks import check_paths
+    from socnavgen.proposal.replies import PathsReply
+    from socnavgen.proposal.scenario import to_spec
+
+    hospital = load_location(EXAMPLES / "hospital")
+    reply = _reply("ELEVATOR LOBBY", part={"reaction": "stop", "trigger": "robot_visible"}, criteria=[
+        {"id": "c1", "kind": "meets", "human": "human1", "encounter": "e1"},
+        {"id": "c2", "kind": "hidden_until", "human": "human1", "encounter": "e1", "distance": 4.5}])
+    spec = to_spec(reply)
+
+    def ground(robot: list[str]) -> list[str]:
+        answer = PathsReply.model_validate({"trajectories": {"robot": robot, "human1": ["jb", "q9"]},
+                                            "group_ids": {"human1": -1}, "interaction_points": {"human1": "q9"},
+                                            "encounter_nodes": {"e1": "q9"}})
+        return [m for m in check_paths(answer, hospital.graph, ["human1"], spec, hospital) if "c2" in m]
+
+    through_cc = ground(["1g", "cc", "8r", "q9"])
+    assert any("coming into node q9 of encounter e1 the way they do, they see each other from afar" in m
+               for m in through_cc), through_cc
+    assert ground(["lc", "8z", "8r", "q9"]) == []
 
 
 def test_every_cue_trigger_is_explained_from_the_models_docstring():

@@ -123,3 +123,24 @@ def test_findings_no_stage_can_fix_are_sent_nowhere(tmp_path, mini_location):
     run, llm = run_replay(script, mini_location, tmp_path / "run", verify=True, verifier=verify)
     assert len(seen) == 1 and len(llm.calls) == 4 and manifest(tmp_path / "run")["status"] == "failed"
     assert set(REASK.values()) == {"scenario", "paths", "behaviors"}
+
+
+def test_a_changed_part_asks_that_persons_tree_again_from_its_fresh_prompt(tmp_path, mini_location):
+    """A scenario-stage correction that changes only what human1 does (here its trigger's distance) keeps the
+    paths, but human1's tree is asked again from the fresh stage-3 prompt on the new spec, not handed the old
+    tree to correct (a round-5 player got their old tree after the spec changed); human2's tree is kept."""
+    changed = scenario_reply()
+    changed["spec"]["encounters"][0]["humans"][0]["distance"] = 1.0
+    script = write_script(tmp_path / "s.yaml", {
+        "scenario": [scenario_reply(), changed], "paths": [paths_reply()],
+        "behaviors": {"human1": [tree_reply(), tree_reply()], "human2": [tree_reply()]}})
+    verify, seen = _verifier([_finding("spec", evidence="human1 stops too late")], [])
+    run, llm = run_replay(script, mini_location, tmp_path / "run", verify=True, verifier=verify)
+    assert isinstance(run, Run), run
+    calls = [(s, k) for s, k, _ in llm.calls]
+    assert calls.count(("paths", None)) == 1 and calls.count(("behaviors", "human2")) == 1
+    first, again = _asked(llm, "behaviors", "human1")
+    assert [m.role for m in again] == [m.role for m in first] and again[-1].role == "user"
+    assert "when robot blocking (within 0.5 m) -> stop" in first[-1].content
+    assert "when robot blocking (within 1 m) -> stop" in again[-1].content  # the new spec, not a correction
+    assert RunFolder(tmp_path / "run").read_spec().encounters[0].humans[0].distance == 1.0 and len(seen) == 2

@@ -335,8 +335,8 @@ def test_stage1_teaches_the_new_fields_and_what_the_robot_cannot_do():
            "fired while anyone is in its way within 3 m" in system  # a closer cue never fires then
     assert "nobody stands between nodes: an aisle that is an edge is met at an end node" in system
     assert "an encounter's node lies on the robot's path and on each of its humans' paths" in system
-    assert "Two encounters are two meetings: the robot and the person move apart (farther than the meeting distance) "\
-           "between them" in system
+    assert "meets the robot twice, at two DIFFERENT nodes, and the two move apart (farther than the meeting " \
+           "distance) in between" in system
     assert "takes over while its trigger holds (latch it, or the earlier part comes back" in system
     assert "where 1.6-2.3 m is free they pass only if the person keeps to one side" in system
     assert "only for a human whose encounter has the reaction block" in system  # blocks_robot needs block

@@ -4,6 +4,7 @@ stage 1 is shown to name places ("the north elevator"): node positions and the a
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import pytest
@@ -83,6 +84,53 @@ def test_the_interaction_point_of_a_person_in_several_encounters_is_their_first_
     missing = PathsReply.model_validate({"trajectories": {"robot": robot, "human1": human},
                                          "group_ids": {"human1": -1}, "encounter_nodes": nodes})
     assert to_path_plan(missing, ["human1"], spec).humans[0].interaction_point == "f7"
+
+
+def test_one_persons_two_encounters_need_two_nodes(warehouse):
+    """Two meetings of one person at one node cannot be told apart (the verifier orders encounters by where they
+    happen): stage 2 refuses the same node, stage 1 more encounters at a kind of place than the map has nodes of."""
+    from socnavgen.proposal.facts import TWO_ENCOUNTERS
+    from socnavgen.proposal.paths import POINT_RULE_ENCOUNTERS, encounter_rule
+
+    spec = to_spec(_reply(_encounter("e1", "INTERSECTION", reaction="stop"),
+                          _encounter("e2", "INTERSECTION", reaction="look", order=2)))
+    robot, human = ["up", "ki", "sh", "ki", "hd"], ["sw", "sh", "ki", "hd"]
+    same = check_paths(_answer(robot, human, "ki", {"e1": "ki", "e2": "ki"}), warehouse.graph, ["human1"], spec,
+                       warehouse)
+    assert any("encounters e1 and e2 of human1 are both at node ki" in m for m in same), same
+    assert check_paths(_answer(robot, human, "sh", {"e1": "sh", "e2": "ki"}), warehouse.graph, ["human1"], spec,
+                       warehouse) == []
+    check = scenario_checker(warehouse)
+    corner = {n for n, d in warehouse.graph.nodes(data=True) if d.get("type") == "CORNER"}
+    assert len(corner) == 1  # the warehouse has one CORNER node
+    twice = check(_reply(_encounter("e1", "CORNER", reaction="stop"), _encounter("e2", "CORNER", "look", 2)))
+    assert any("encounters e1, e2 of human1 are all at a CORNER, but this map has only 1 CORNER node" in m
+               for m in twice), twice
+    assert not any("are all at a" in m for m in check(_reply(_encounter("e1", "INTERSECTION", reaction="stop"),
+                                                                _encounter("e2", "INTERSECTION", "look", 2))))
+    request = ScenarioRequest(location=str(warehouse.root), context="c", task="carry a box", llm="replay")
+    system = fitted_scenario_messages(request, warehouse, object())[0].content  # type: ignore[arg-type]
+    assert TWO_ENCOUNTERS in system and TWO_ENCOUNTERS in POINT_RULE_ENCOUNTERS and "e2 give way" not in system
+    assert encounter_rule()  # stage 2 states it with rule 6
+
+
+def test_a_field_at_the_wrong_level_says_where_it_belongs():
+    """A player put a cue's "once" inside its trigger: the mistake names where it goes (and the prompt shows it)."""
+    from socnavgen.proposal.facts import cue_once_text
+    from socnavgen.proposal.spec_checks import parse_spec
+    from socnavgen.run.spec import RobotCue
+
+    _, inside = parse_spec({"script": {"cues": [{"trigger": {"when": "start", "once": False}, "say": "EXCUSE ME"}]}})
+    assert inside == ['spec.script.cues.0.trigger.once: Extra inputs are not permitted here: "once" belongs to '
+                      'spec.script.cues.0, not inside "trigger"'], inside
+    _, beside = parse_spec({"script": {"cues": [{"trigger": {"when": "human_within"}, "distance": 2.0}]}})
+    assert 'spec.script.cues.0.distance: Extra inputs are not permitted here: "distance" belongs inside "trigger" ' \
+           '(spec.script.cues.0.trigger)' in beside, beside
+    _, unknown = parse_spec({"people": {"human1": {"fast": True}}})
+    assert unknown == ["spec.people.human1.fast: Extra inputs are not permitted"]
+    assert '"wait": 3, "once": false}' in cue_once_text() and 'beside "trigger" (not inside it)' in cue_once_text()
+    cue = json.loads(cue_once_text().split("it): ")[1].split(" waits")[0])
+    assert RobotCue.model_validate(cue).once is False
 
 
 # ---- round trips --------------------------------------------------------------------------------------

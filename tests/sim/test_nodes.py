@@ -248,3 +248,21 @@ def test_is_robot_blocking_cone_distance_and_sight(robot_at, walls, expected):
                    world=world)
     sim.step()
     assert sim.people[0].gesture == expected
+
+
+def test_make_gesture_zero_holds_a_walking_person_still():
+    """The tree tutorial's claim (bt_examples.yaml: MakeGesture 0 'keeps it standing still'): a person walking
+    (RegularNav) whose tree then ticks only MakeGesture 0 stands at once (zero velocity, like LookAtRobot), so the
+    verifier's stop evidence (slower than STOP_SPEED for STOP_HOLD after having walked MOVED_DISTANCE) shows."""
+    from socnavgen.verify.thresholds import MOVED_DISTANCE, STOP_HOLD, STOP_SPEED
+
+    walk_then_hold = tree_xml('<Fallback><Sequence><Inverter><TimeExpiredCondition seconds="2" ts="{dt}" '
+                              f'only_once="true"/></Inverter>{REGULAR}</Sequence>'
+                              '<MakeGesture agent_id="{id}" message="0"/></Fallback>')
+    trace = make_sim([human(start=(2.0, 5.0), goals=[(18.0, 5.0)])], [walk_then_hold], [(10.0, 9.0), (11.0, 9.0)],
+                     Stay(), timeout=5).run()
+    speed = np.hypot(trace.humans[:, 0, 3], trace.humans[:, 0, 4])
+    held = trace.t >= 2.1
+    assert speed[(trace.t > 1.0) & (trace.t < 1.9)].min() > 0.5  # it walked
+    assert abs(xy(trace, -1) - 2.0 - 5.0j) >= MOVED_DISTANCE and speed[held].max() < STOP_SPEED
+    assert trace.t[-1] - 2.1 >= STOP_HOLD and trace.executed(0, "MakeGesture")[held].all()

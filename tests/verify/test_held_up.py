@@ -228,3 +228,23 @@ def test_a_phrase_said_at_the_start_is_a_cause_too() -> None:
     judge = {"human": "human1", "phrase": "FOLLOW ME", "reaction": "walk_past"}
     assert _judge("reacts_after_phrase", walker(0.5), **judge)
     assert not _judge("reacts_after_phrase", walker(0.0), **judge)
+
+
+
+def test_a_start_cue_follow_me_with_the_follower_going_0_2_s_later_passes() -> None:
+    """hospital_07 (issue 25): the prompt's own example, a start cue saying FOLLOW ME (t = 0.1 s), the patient's
+    FollowRobot walking from 0.3 s: after the phrase. A follower already walking at t = 0 did not react to it."""
+    t = np.round(np.arange(0, 20.0 + 1e-9, 0.1), 2)
+    robot = np.stack([t * 0.5 + 3.0, np.full_like(t, 3.0)], 1)
+    gesture = np.where((t >= 0.1) & (t <= 3.0), 5, 0)  # FOLLOW ME
+
+    def follower(from_t: float) -> object:
+        hx = 1.0 + 0.5 * np.clip(t - from_t, 0.0, None)
+        human = np.stack([hx, np.full_like(t, 3.0)], 1)[:, None]
+        actions = {(k, 0): "FollowRobot" if t[k] >= from_t else "IsRobotVisible" for k in range(len(t))}
+        return build_trace(t, robot, human, dt=0.1, node_names=["FollowRobot", "IsRobotVisible"], actions=actions,
+                           robot_gesture=gesture, goal=(14.0, 3.0))
+
+    judge = {"human": "human1", "phrase": "FOLLOW ME", "reaction": "follow"}
+    assert _judge("reacts_after_phrase", follower(0.3), **judge)
+    assert not _judge("reacts_after_phrase", follower(0.0), **judge)

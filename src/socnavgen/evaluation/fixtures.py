@@ -54,7 +54,7 @@ def _first_answers_verified(request: ScenarioRequest, out: Path) -> bool | None:
     llm = make_llm(request.llm, transcript=out / "transcript.jsonl", use_cache=False)
     try:
         generate(request, llm, out, verify=False)
-    except StageFailed:
+    except (StageFailed, LLMError):  # a stage failed, or its recorded answers no longer pass its checks
         return None
     return verify_run(out).passed
 
@@ -105,7 +105,7 @@ def replay_fixture(path: Path, out: Path, root: Path | None = None, verify: bool
                      scenario_valid=ok("scenario"), paths_valid=ok("paths"), trees_valid=ok("behaviors"),
                      first_attempt=not failed and all(e.get("valid") for e in checks), verified=None,
                      verify_rounds=manifest.stages["verify"].attempts if "verify" in manifest.stages else 0)
-    if verify and not failed:
+    if verify and not failed and ok("paths") and ok("behaviors"):  # (a recording may end before a run exists)
         from socnavgen.verify import verify_run
 
         report = report or verify_run(out)

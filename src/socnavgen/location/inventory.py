@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 from socnavgen.bodies import GROUP_SPAWN_RADIUS, PERSON_RADIUS, PERSON_TOUCH_DISTANCE, ROBOT_RADIUS
 from socnavgen.location.location import Location
-from socnavgen.location.passages import first_sight_m, passage_width_m
+from socnavgen.location.passages import approach_sights, passage_width_m
 from socnavgen.location.places import CORNER_TURN_DEG, PlaceFinder
 
 PASS_MARGIN = 0.1  # m of slack the robot needs beside a person
@@ -28,6 +28,14 @@ GROUP_RADIUS = round(GROUP_SPAWN_RADIUS + PERSON_RADIUS, 2)
 # ... and to let the robot pass beside it.
 GROUP_PASS_RADIUS = round(GROUP_RADIUS + 2 * ROBOT_RADIUS + PASS_MARGIN, 2)
 BLIND_SIGHT_M = 5.0  # m: a turn is blind when people approaching it see each other only this close (centres)
+# How a blind turn is measured (passages.approach_sights): the robot and a person come in along every way into it
+# (the edge and the edge before it), arriving together, the person at each of these times the robot's speed (a
+# paced person walks from 0.3 m/s, sim/people/pacing.min_pace, to a brisk 1.2 m/s, against the robot's 0.6); the
+# listed distance is the worst of them ...
+APPROACH_RATIOS = (0.5, 1.0, 2.0)
+# ... and a hidden_until distance needs this much more (the simulated approach is never exactly the measured one:
+# people keep to a side, the robot slows; round-5 players saw 3.08-3.44 m at a corner measured at 3.0 m).
+BLIND_MARGIN = 0.5
 MAX_LISTED = 12  # nodes / passages listed per line of the text; more are counted
 
 
@@ -87,6 +95,18 @@ class BlindTurn:
     a: str
     b: str
     sight_m: float  # centre distance at which people coming from a and from b first see each other
+    # the approaches (node the robot or person comes from into a, into b) on which they see each other earlier
+    unless: tuple[tuple[str, str], ...] = ()
+
+    def hidden(self, from_a: str | None, from_b: str | None) -> bool:
+        """Blind on this approach: coming into a from `from_a` and into b from `from_b` (a or b itself for a way
+        that starts there)."""
+        return (from_a, from_b) not in self.unless
+
+    def text(self, node_type: str) -> str:
+        unless = "; ".join(f"{p} and {q}" for p, q in self.unless)
+        return (f"{self.node} ({node_type}) between {self.a} and {self.b}: {self.sight_m:.1f} m"
+                + (f" (not coming from {unless}: seen from farther)" if unless else ""))
 
 
 @dataclass
@@ -166,9 +186,11 @@ def place_inventory(location: Location) -> PlaceInventory:
         for a, b in itertools.combinations(nodes[p].neighbours, 2):
             if finder.turn_deg(a, p, b) < CORNER_TURN_DEG:
                 continue
-            sight = first_sight_m(location, p, a, b)
-            if sight is not None and sight <= BLIND_SIGHT_M:
-                inventory.blind_turns.append(BlindTurn(p, a, b, sight))
+            sights = approach_sights(location, p, a, b, APPROACH_RATIOS)
+            blind = [v for v in sights.values() if v is not None and v <= BLIND_SIGHT_M]
+            if blind:
+                unless = tuple(k for k, v in sorted(sights.items()) if v is None or v > BLIND_SIGHT_M)
+                inventory.blind_turns.append(BlindTurn(p, a, b, max(blind), unless))
     return inventory
 
 
@@ -191,7 +213,7 @@ def _node_words(n: NodeFacts, blind: dict[str, float], at: tuple[float, float] |
         ways = f"{len(n.neighbours)} ways" if n.neighbours else "not connected"
     words = [ways, f"{n.free_width_m:.1f} m free"]
     if n.id in blind:
-        words.append(f"blind turn: seen only within {blind[n.id]:.1f} m")
+        words.append(f"blind turn: seen within {blind[n.id]:.1f} m")
     where = f"at {at[0]:g},{at[1]:g}; " if at is not None else ""
     return f"{n.id} ({where}{', '.join(words)})"
 
@@ -244,10 +266,10 @@ def inventory_text(location: Location, *, positions: bool = True, detail: bool =
                      + _listing([f"{p.a}-{p.b} {p.width_m:.1f} m" for p in squeezes]) + ".")
     if inv.blind_turns:
         turns = sorted(inv.blind_turns, key=lambda t: (t.sight_m, t.node))
-        lines.append("Blind turns (a person coming from one way and the robot from the other first see each other "
-                     "this close, centre to centre; a hidden_until distance must be at least this): "
-                     + _listing([f"{t.node} ({inv.nodes[t.node].type}) between {t.a} and {t.b}: {t.sight_m:.1f} m"
-                                 for t in turns]) + ".")
+        lines.append("Blind turns (a person coming from one way and the robot from the other, arriving together, "
+                     "first see each other this close, centre to centre, on every approach but those named; a "
+                     f"hidden_until distance needs {BLIND_MARGIN:g} m more, and nobody waiting at the turn's node): "
+                     + _listing([t.text(inv.nodes[t.node].type) for t in turns]) + ".")
     else:
         lines.append(f"Blind turns: none (at every turn people see each other from farther than {BLIND_SIGHT_M:g} m).")
     fits = [n.id for n in inv.nodes.values() if n.group_fits and not n.dead_end]

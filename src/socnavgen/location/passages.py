@@ -63,25 +63,71 @@ def passage_width_m(location: Location, a: str, b: str, band_m: float = DETOUR_B
     return round(2 * float(levels[lo]) * mpp, 2)
 
 
-def first_sight_m(location: Location, turn: str, a: str, b: str) -> float | None:
-    """Two people walk toward node `turn`, one along the edge from `a`, the other along the edge from `b`,
-    equally far from it: the centre distance at which they first see each other (line of sight on the
-    map). None when they see each other from the far ends of the edges already (nothing hides them)."""
-    sg, occ = location.scene_graph, location.occupancy
-    mpp = location.transform.meters_per_pixel
-    p = np.asarray(sg.node(turn).pos, float)
-    ends = [np.asarray(sg.node(n).pos, float) for n in (a, b)]
-    lengths = [float(np.linalg.norm(e - p)) for e in ends]
-    if min(lengths) < 1e-9:
-        return None
-    units = [(e - p) / n for e, n in zip(ends, lengths, strict=True)]
+def segments_clear_px(blocked: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Line of sight between pixel points a[k] and b[k] (complex x + iy) on a blocked grid, by the rule of the
+    simulator's sim/world/queries.line_of_sight that the verifier's `los` signal uses: no blocked cell (nor
+    one off the map) among samples every half pixel or closer, the two end samples not looked at. (numpy
+    here, numba there: location sits below sim; tests/location checks that the two agree.)"""
+    a, b = np.broadcast_arrays(np.asarray(a, complex).ravel(), np.asarray(b, complex).ravel())
+    d = b - a
+    count = np.maximum(2, np.ceil(np.abs(d) / 0.5).astype(np.intp) + 1)
+    k = np.arange(1, int(count.max()) - 1 if count.size else 1)
+    if k.size == 0:
+        return np.ones(a.shape, dtype=bool)
+    frac = k[None, :] / (count[:, None] - 1)
+    points = a[:, None] + d[:, None] * frac
+    cols, rows = np.floor(points.real + 0.5).astype(np.intp), np.floor(points.imag + 0.5).astype(np.intp)
+    h, w = blocked.shape
+    inside = (cols >= 0) & (cols < w) & (rows >= 0) & (rows < h)
+    hit = ~inside | blocked[np.clip(rows, 0, h - 1), np.clip(cols, 0, w - 1)]
+    return ~np.any(hit & (k[None, :] < (count[:, None] - 1)), axis=1)
+
+
+def _ways_in(location: Location, turn: str, first: str) -> list[list[str]]:
+    """The ways into node `turn` through its neighbour `first`: [turn, first, before] for each other neighbour
+    `before` of `first` (the edge and the edge before it), or [turn, first] when `first` is a dead end."""
+    before = [n for n in sorted(location.graph.neighbors(first)) if n != turn]
+    return [[turn, first, n] for n in before] or [[turn, first]]
+
+
+def _along(chain: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """Points at arc lengths `s` (pixels) along a polyline from its first point (clamped to its end)."""
+    seg = np.abs(np.diff(chain))
+    cum = np.concatenate([[0.0], np.cumsum(seg)])
+    s = np.clip(s, 0.0, cum[-1])
+    i = np.clip(np.searchsorted(cum, s, side="right") - 1, 0, len(seg) - 1)
+    frac = np.where(seg[i] > 0, (s - cum[i]) / np.where(seg[i] > 0, seg[i], 1.0), 0.0)
+    return chain[i] + (chain[i + 1] - chain[i]) * frac
+
+
+def approach_sights(location: Location, turn: str, a: str, b: str, ratios: tuple[float, ...] = (1.0,)
+                    ) -> dict[tuple[str, str], float | None]:
+    """The robot walks into node `turn` through `a`, a person through `b`, each along every way in (the edge and
+    the edge before it), both arriving together, the person at each of `ratios` times the robot's speed. Per
+    pair of ways (keyed by the node each comes from), the largest centre distance (m) at which they first see
+    each other by the verifier's line of sight, or None when they see each other from where they come
+    (nothing hides them on that approach)."""
+    sg, mpp = location.scene_graph, location.transform.meters_per_pixel
+    blocked = location.occupancy.blocked
+
+    def line(chain: list[str]) -> np.ndarray:
+        return np.array([complex(*sg.node(n).pos) for n in chain])
+
     step = SIGHT_STEP_M / mpp
-    s = max(lengths)
-    first = True
-    while s > 0:
-        qa, qb = (p + u * min(s, n) for u, n in zip(units, lengths, strict=True))
-        if occ.segment_clear((float(qa[0]), float(qa[1])), (float(qb[0]), float(qb[1]))):
-            return None if first else round(float(np.linalg.norm(qa - qb)) * mpp, 1)
-        first = False
-        s -= step
-    return 0.0
+    out: dict[tuple[str, str], float | None] = {}
+    for robot_way in _ways_in(location, turn, a):
+        for person_way in _ways_in(location, turn, b):
+            robot, person = line(robot_way), line(person_way)
+            worst: float | None = 0.0
+            for k in ratios:
+                length = max(float(np.abs(np.diff(robot)).sum()), float(np.abs(np.diff(person)).sum()) / k)
+                s = np.arange(length, -step / max(1.0, k), -step / max(1.0, k))  # from afar to the node
+                r, q = _along(robot, s), _along(person, k * s)
+                seen = np.flatnonzero(segments_clear_px(blocked, r, q))
+                if seen.size and seen[0] == 0:
+                    worst = None
+                    break
+                if seen.size:
+                    worst = max(worst or 0.0, round(float(abs(r[seen[0]] - q[seen[0]])) * mpp, 1))
+            out[(robot_way[-1], person_way[-1])] = worst
+    return out

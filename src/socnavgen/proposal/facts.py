@@ -6,6 +6,7 @@ changes in the prompts."""
 
 from __future__ import annotations
 
+import json
 import re
 from dataclasses import dataclass
 from functools import cache
@@ -39,6 +40,10 @@ from socnavgen.run.spec import (
 # trigger they latch; any other trigger latches with LATCH_NODE (where the target keeps a RUNNING child).
 LATCHING_CONDITIONS: dict[str, str] = {"robot_says": "RobotSaid"}
 LATCH_NODE = "KeepRunningUntilFailure"
+# The rule for one person in several encounters, stated in stage 1 and stage 2 and checked by stage 2 (path_checks):
+# the verifier tells two meetings of one person apart by where they happen and the parting between them.
+TWO_ENCOUNTERS = ("One person in two encounters meets the robot twice, at two DIFFERENT nodes, and the two move apart "
+                  "(farther than the meeting distance) in between")
 STL_EXAMPLE = "eventually[0:60] (robot_says_excuse_me > 0.5 and dist_human1 <= 2.0)"
 
 
@@ -91,22 +96,46 @@ def physical_facts_text(scene_graph: bool = False) -> str:
         "together in a group_together criterion) is met where the robot meets any member: members stepping "
         "aside is their reaction; a `meets` criterion may name the group's `humans`.",
         _follow_fact(b.robot_speed),
+        time_limit_text(b.robot_speed),
         *(["- Positions: `pos` is the pixel position of a node in the map image; `xy_m` is the same point in "
            "metres in the world frame (x east, y north), so distances between nodes can be computed from it."]
           if scene_graph else []),
     ])
 
 
+def time_limit_text(robot_speed: float) -> str:
+    """The simulated time a run gets (sim SimConfig.timeout: the one home of the limit) and what must fit in it."""
+    from socnavgen.sim import SimConfig
+
+    limit = SimConfig().timeout
+    return (f"- A run ends after {limit:g} s of simulated time: the robot's whole route at its speed (at "
+            f"{robot_speed:g} m/s that is {limit * robot_speed:.0f} m), with its waits and its stops for people and "
+            f"slow followers, must fit well inside it, or it fails to reach its goal.")
+
+
+def follow_trail(robot_speed: float) -> float:
+    """How far (m) a follower trails a robot driving at `robot_speed` (sim/people/leaves.follow: it walks at
+    FOLLOW_GAIN m/s per metre of way between them)."""
+    from socnavgen.sim.people.leaves import FOLLOW_GAIN
+
+    return robot_speed / FOLLOW_GAIN
+
+
+def follows_distance_text() -> str:
+    """The least follows_robot `distance` that a follower behind the default robot can keep (stage 1's criteria)."""
+    speed = body().robot_speed
+    return (f"a follower trails about {follow_trail(speed):.1f} m behind the robot at {speed:g} m/s, so use a "
+            f"`distance` of at least {follow_trail(speed) + 2:.0f} m")
+
+
 def _follow_fact(robot_speed: float) -> str:
-    """How far a follower trails (sim/people/leaves.follow: speed FOLLOW_GAIN x its distance along the way)."""
+    """How far a follower trails (kept short: a player's reader cut this line when it was long)."""
     from socnavgen.sim.people.leaves import FOLLOW_GAIN, FOLLOW_STOP
 
-    trail = robot_speed / FOLLOW_GAIN
-    return (f"- A follower (FollowRobot, FollowHuman) walks at {FOLLOW_GAIN:g} m/s per metre between it and whom it "
-            f"follows (measured along the walkable way) and stands within {FOLLOW_STOP:g} m: behind the robot at "
-            f"{robot_speed:g} m/s it trails about {trail:.1f} m, more after doors and corners and behind other "
-            f"followers, so a follows_robot `distance` under {trail + 2:.0f} m fails; a robot that must not lose "
-            f"them waits (a human_farther cue) or drives slower.")
+    return (f"- A follower (FollowRobot, FollowHuman) walks {FOLLOW_GAIN:g} m/s per metre of way (around walls) "
+            f"to whom it follows and stops within {FOLLOW_STOP:g} m: it trails about "
+            f"{follow_trail(robot_speed):.1f} m behind the robot at {robot_speed:g} m/s, more after doors, corners "
+            f"and other followers.")
 
 
 def approach_room(spec: ScenarioSpec | None = None, enc: Encounter | None = None, human: str | None = None) -> float:
@@ -123,18 +152,21 @@ def approach_room(spec: ScenarioSpec | None = None, enc: Encounter | None = None
 
 
 def pacing_text() -> str:
-    """How the simulator holds a person back so that the encounter happens at its node (sim/interaction.py)."""
+    """How the simulator holds a person back so that the encounter happens at its node (sim/people/pacing.py's
+    `eta` rule, what it does today: the robot's nominal ETA, no holding near a robot or while it stands)."""
     from socnavgen.sim import ThrottleConfig
 
     pace = ThrottleConfig()
     return (f"- Pacing: a person who is alone (group id -1) and has an interaction point on the robot's path "
-            f"(after the robot's start) is paced to arrive there together with the robot: while the robot is "
-            f"still far, they walk slower, or stand at their start (or at the node) when they would walk slower "
-            f"than {pace.min_pace:g} m/s. Only walking normally (RegularNav) is paced; nobody is held within "
-            f"{pace.release_distance:g} m of the robot, and once the robot is {pace.robot_near:g} m from the node "
-            f"they walk at full speed. So put the interaction point where the encounter should happen: the person "
-            f"waits for the robot there. Members of a group and people without an interaction point are never "
-            f"paced: they walk from the start.")
+            f"(after the robot's start) is paced by the robot's NOMINAL arrival there (its remaining route at its "
+            f"cruise speed; its cue waits and stops for people are not counted, and while it stands "
+            f"{pace.robot_waits:g} s or more nobody is held): they walk slower, or stand at their start (or at the "
+            f"node) when they would walk slower than {pace.min_pace:g} m/s. Only walking normally (RegularNav) is "
+            f"paced. Nobody is held within {pace.release_distance:g} m of the robot: a person waiting at the node "
+            f"then walks on along their path (a trigger nearer than {pace.release_distance:g} m fires there only if "
+            f"they walk toward the robot), and once the robot is {pace.robot_near:g} m from the node they walk at "
+            f"full speed. A robot delayed by its own waits arrives after them. Members of a group and people "
+            f"without an interaction point are never paced: they walk from the start.")
 
 
 def groups_text() -> str:
@@ -161,9 +193,10 @@ def encounter_within_text() -> str:
 
 def cue_once_text() -> str:
     once = RobotCue.model_fields["once"].default
+    example = {"trigger": {"when": "human_farther", "human": "human1", "distance": 5}, "wait": 3, "once": not once}
     return (f"- A cue fires {'once, the first time its trigger holds' if once else 'each time its trigger holds'}, "
-            f"unless it says \"once\": {str(not once).lower()} (then it fires again each time its trigger becomes "
-            f"true, e.g. wait every time the follower falls behind).")
+            f"unless it says \"once\": {str(not once).lower()}, a field of the cue beside \"trigger\" (not inside "
+            f"it): {json.dumps(example)} waits 3 s each time the follower falls 5 m behind.")
 
 
 def latches_by_running(target: Target) -> bool:
@@ -197,12 +230,23 @@ def people_text() -> str:
     return (f"- \"people\": per human, \"speed\" (m/s, at most {most:g}; default up to {PERSON_MAX_SPEED:g}; 0.5-0.8 "
             f"for someone slow, with a cane) and \"otherwise\": \"walk\" (default: walk their path while no trigger "
             f"holds) or \"stand\" (stand at their start until a trigger sets them going).\n"
-            f"- One person in several encounters switches reactions (e1 block the robot, e2 give way once it says "
-            f"EXCUSE ME): the later encounter's part (higher order) takes over while its trigger holds (latch it, "
-            f"or the earlier part comes back once, e.g., the phrase is over). Two encounters are two meetings: the "
-            f"robot and the person move apart (farther than the meeting distance) between them. Pacing brings them to their FIRST encounter's node.\n"
+            f"- {TWO_ENCOUNTERS} (e1 give way at the door, e2 follow it from the lobby once it says FOLLOW ME). "
+            f"The later encounter's part (higher order) takes over while its trigger holds (latch it, or the earlier "
+            f"part comes back once, e.g., the phrase is over). Pacing brings them to their FIRST encounter's node. "
+            f"One meeting is one encounter, one reaction per person (\"lasts\" ends it; to stand in the robot's "
+            f"way until it says EXCUSE ME, then step aside: \"otherwise\": \"stand\" and give_way on robot_says).\n"
             f"- \"lasts\" (s) ends a reaction (then they walk on), e.g. say WAIT for at most 5 s; wait_then_go "
-            f"stands {WAIT_THEN_GO_SECONDS:g} s unless set. \"seconds\" is only the time trigger's. {_negations()}")
+            f"stands {WAIT_THEN_GO_SECONDS:g} s unless set. \"seconds\" is only the time trigger's. {_negations()}\n"
+            f"- {stop_evidence_text()}")
+
+
+def stop_evidence_text() -> str:
+    """How the verifier sees a stop (verify/signals.reaction_evidence: a change, after having walked)."""
+    from socnavgen.verify.thresholds import MOVED_DISTANCE, STOP_HOLD, STOP_SPEED
+
+    return (f"As a reaction (reacts_after_phrase), a stop or wait_then_go is a person slower than {STOP_SPEED:g} "
+            f"m/s for {STOP_HOLD:g} s AFTER having walked {MOVED_DISTANCE:g} m from their start: someone standing "
+            f"from the start (\"otherwise\": \"stand\", or held by pacing) shows none until they have walked.")
 
 
 def _negations() -> str:

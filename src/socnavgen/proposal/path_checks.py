@@ -9,7 +9,7 @@ from typing import TypeVar
 import networkx as nx
 
 from socnavgen.location import Location
-from socnavgen.location.inventory import PASS_WIDTH
+from socnavgen.location.inventory import BLIND_MARGIN, PASS_WIDTH
 from socnavgen.location.placement import Walker, node_distance, route_problems, start_problems
 from socnavgen.location.scene_graph import path_mistakes
 from socnavgen.proposal.facts import approach_room
@@ -141,14 +141,17 @@ def _blind_mistakes(reply: PathsReply, spec: ScenarioSpec, location: Location, r
         node = reply.encounter_nodes.get(enc.id) if enc is not None else None
         if enc is None or node not in inventory.nodes:
             continue
-        legs = {_before(robot, node), _before(paths.get(c.human, []), node)}
-        turns = [t for t in inventory.blind_turns if t.node == node and (None in legs or {t.a, t.b} == legs)]
+        person = paths.get(c.human, [])
+        legs = {_before(robot, node), _before(person, node)}
+        ways = {_before(robot, node): _from(robot, node), _before(person, node): _from(person, node)}
+        turns = [t for t in inventory.blind_turns if t.node == node and (None in legs or {t.a, t.b} == legs)
+                 and (None in legs or t.hidden(ways[t.a], ways[t.b]))]
         distance = c.distance or HIDDEN_UNTIL_DEFAULT
         if turns and min(t.sight_m for t in turns) <= distance:
             continue
-        fitting = [f"{t.node} between {t.a} and {t.b} ({t.sight_m:.1f} m)" for t in inventory.blind_nodes(enc.place)
-                   if t.sight_m <= distance]
-        hint = f"; blind enough: {', '.join(fitting)}" if fitting else ""
+        fitting = [t.text(enc.place) for t in inventory.blind_nodes(enc.place) if t.sight_m + BLIND_MARGIN <= distance]
+        hint = f"; blind enough for {distance:g} m with a {BLIND_MARGIN:g} m margin: {', '.join(fitting)}" if fitting \
+            else ""
         seen = f"from {min(t.sight_m for t in turns):.1f} m" if turns else "from afar"
         mistakes.append(f"criterion {c.id} needs the robot and {c.human} hidden from each other until {distance:g} m, "
                         f"but coming into node {node} of encounter {enc.id} the way they do, they see each other "
@@ -176,6 +179,12 @@ def _room_mistakes(reply: PathsReply, spec: ScenarioSpec, location: Location) ->
     return mistakes
 
 
+def _from(path: list[str], node: str) -> str | None:
+    """The node a path comes from into the node before `node` (that node itself when the path starts there)."""
+    i = path.index(node) if node in path else 0
+    return path[i - 2] if i > 1 else path[0] if i == 1 else None
+
+
 def _before(path: list[str], node: str) -> str | None:
     """The node a path comes from into `node` (None: it starts there or never gets there)."""
     i = path.index(node) if node in path else 0
@@ -191,6 +200,16 @@ def _encounter_mistakes(reply: PathsReply, graph: nx.Graph, spec: ScenarioSpec, 
         if key not in ids:
             mistakes.append(f"encounter_nodes: '{key}' is not an encounter of the scenario ({', '.join(ids)})")
     first = {h: parts[0][0].id for h in paths if (parts := spec.parts_of(h))}  # where pacing brings them
+    for human in paths:  # TWO_ENCOUNTERS: one person's meetings are told apart by their nodes
+        at: dict[str, str] = {}
+        for enc, _ in spec.parts_of(human):
+            node = reply.encounter_nodes.get(enc.id)
+            if node is not None and node in at:
+                mistakes.append(f"encounters {at[node]} and {enc.id} of {human} are both at node {node}: the two "
+                                f"meetings cannot be told apart there; ground {enc.id} at another {enc.place} node of "
+                                f"the robot's and {human}'s paths (they part in between)")
+            elif node is not None:
+                at[node] = enc.id
     for enc in spec.encounters:
         node = reply.encounter_nodes.get(enc.id)
         if node is None:

@@ -28,7 +28,13 @@ from socnavgen.location.placement import (
     start_rule_text,
 )
 from socnavgen.proposal.conversation import Outcome, Policy, Recorder, converse
-from socnavgen.proposal.facts import approach_room, groups_text, pacing_text, physical_facts_text
+from socnavgen.proposal.facts import (
+    TWO_ENCOUNTERS,
+    approach_room,
+    groups_text,
+    pacing_text,
+    physical_facts_text,
+)
 from socnavgen.proposal.fit import NOTHING, Cut, Note, examples_kept, fit_prompt
 from socnavgen.proposal.path_checks import check_paths
 from socnavgen.proposal.path_grammar import paths_grammar
@@ -45,8 +51,8 @@ POINT_RULE = ("6. The interaction point of a human is the node where pacing brin
               "robot: it must be on that human's path AND on the robot's path.")
 POINT_RULE_ENCOUNTERS = ("6. The interaction point of a human is the node of that human's FIRST encounter (lowest "
                          "order; its node in encounter_nodes): pacing brings the human there together with the robot. "
-                         "It must be on that human's path AND on the robot's path. A human in later encounters meets "
-                         "the robot again at those encounters' nodes.")
+                         "It must be on that human's path AND on the robot's path. " + TWO_ENCOUNTERS + ": each later "
+                         "encounter of a human on a node of its own.")
 
 
 def encounter_rule() -> str:

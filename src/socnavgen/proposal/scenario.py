@@ -22,6 +22,7 @@ from socnavgen.proposal.conversation import Outcome, Policy, Recorder, converse
 from socnavgen.proposal.facts import (
     cue_triggers_text,
     detecting_nodes,
+    follows_distance_text,
     missing_nodes,
     physical_facts_text,
     robot_vocabulary_text,
@@ -65,7 +66,8 @@ def spec_help_text(target: Target | None = None, *, signals: bool = True, robot:
     the robot does by itself; fit.py)."""
     return render("scenario_spec.md", vocabulary=robot_vocabulary_text(), facts=physical_facts_text(),
                   kinds=", ".join(get_args(CriterionKind)), target=target_text(target),
-                  rules=scenario_rules_text(target, signals, robot), cue_triggers=cue_triggers_text())
+                  rules=scenario_rules_text(target, signals, robot), cue_triggers=cue_triggers_text(),
+                  follow_distance=follows_distance_text())
 
 
 def target_text(target: Target | None) -> str:

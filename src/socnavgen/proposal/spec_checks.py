@@ -10,11 +10,13 @@ from __future__ import annotations
 
 import math
 import re
+from typing import get_args
 
-from pydantic import ValidationError
+from pydantic import BaseModel, ValidationError
 
 from socnavgen.bt.library import Target, nodes_for_reaction
 from socnavgen.location import Location
+from socnavgen.location.inventory import BLIND_MARGIN
 from socnavgen.proposal.facts import can_latch, detecting_nodes
 from socnavgen.proposal.replies import human_name
 from socnavgen.run.spec import Criterion, Encounter, ScenarioSpec
@@ -90,8 +92,45 @@ def parse_spec(data: object) -> tuple[ScenarioSpec | None, list[str]]:
         out = []
         for err in exc.errors()[:12]:
             where = ".".join(str(p) for p in err["loc"])
-            out.append(f"spec.{where}: {err['msg']}" if where else f"spec: {err['msg']}")
+            home = _belongs(err["loc"]) if err["type"] == "extra_forbidden" else ""
+            out.append(f"spec.{where}: {err['msg']}{home}" if where else f"spec: {err['msg']}")
         return None, out
+
+
+def _model_at(loc: tuple) -> type[BaseModel] | None:
+    """The spec model at a validation error's location (list indices and dict keys skipped)."""
+    model: type[BaseModel] | None = ScenarioSpec
+    for step in loc:
+        if model is None:
+            return None
+        if isinstance(step, str) and step in model.model_fields:
+            inner = [a for a in _flat(model.model_fields[step].annotation) if isinstance(a, type)
+                     and issubclass(a, BaseModel)]
+            model = inner[0] if inner else None
+    return model
+
+
+def _flat(annotation: object) -> list[object]:
+    args = get_args(annotation)
+    return [a for arg in args for a in _flat(arg)] if args else [annotation]
+
+
+def _belongs(loc: tuple) -> str:
+    """Where a field given at the wrong level belongs: one level up (a cue's "once" put in its trigger) or
+    one level down (a trigger's "distance" put beside it), so the mistake says where to move it."""
+    name, parent = loc[-1], tuple(loc[:-1])
+    ups = [parent[:k] for k in range(len(parent) - 1, -1, -1)]
+    for up in ups:
+        model = _model_at(up)
+        if model is not None and name in model.model_fields:
+            return f" here: \"{name}\" belongs to {'spec.' + '.'.join(map(str, up)) if up else 'spec'}, not inside " \
+                   f"\"{parent[-1]}\""
+    model = _model_at(parent)
+    for field in (list(model.model_fields) if model is not None else []):
+        inner = _model_at((*parent, field))
+        if inner is not None and inner is not model and name in inner.model_fields:
+            return f" here: \"{name}\" belongs inside \"{field}\" (spec.{'.'.join(map(str, (*parent, field)))})"
+    return ""
 
 
 def _human_refs(criterion: Criterion) -> list[str]:
@@ -239,6 +278,15 @@ def place_mistakes(spec: ScenarioSpec, location: Location) -> list[str]:
                 mistakes.append(f"encounter {enc.id}: {part.human} gives way at a {enc.place}, but {cramped}; let "
                                 f"them give way at a place with room before it, or walk out ahead of the robot "
                                 f"(walk_past), or wait (stop) before the narrow part")
+    for human in spec.humans():  # TWO_ENCOUNTERS (facts.py): one person's encounters need a node each
+        parts = spec.parts_of(human)
+        for place in sorted({e.place.strip().upper() for e, _ in parts}):
+            ids = [e.id for e, _ in parts if e.place.strip().upper() == place]
+            nodes = [n.id for n in inventory.of_type(place)]
+            if 1 <= len(nodes) < len(ids):
+                mistakes.append(f"encounters {', '.join(ids)} of {human} are all at a {place}, but this map has only "
+                                f"{len(nodes)} {place} node(s) ({', '.join(nodes)}): one person's encounters happen at "
+                                f"different nodes; put one at another place, or make them one encounter")
     for c in spec.criteria:
         if c.kind != "hidden_until" or not c.human:
             continue
@@ -255,10 +303,11 @@ def place_mistakes(spec: ScenarioSpec, location: Location) -> list[str]:
             continue
         distance = c.distance or HIDDEN_UNTIL_DEFAULT
         closest = turns[0].sight_m
-        if distance < closest:
+        if distance < closest:  # refused only below the worst approach measured; the advice adds the margin
             mistakes.append(f"criterion {c.id} (hidden_until) asks that they see each other only within {distance:g} "
                             f"m, but at the {enc.place} nodes of this map they first see each other {closest:.1f} m "
-                            f"apart or more; set its distance to at least {math.ceil(closest + 0.5):g}")
+                            f"apart or more; set its distance to at least {math.ceil(2 * (closest + BLIND_MARGIN)) / 2:g} "
+                            f"(+{BLIND_MARGIN:g} m margin)")
     return mistakes
 
 

@@ -11,8 +11,9 @@ stage its blame names (verify/blame.py), as REASK says:
 A finding without blame, or with a blame no stage can fix, is not sent anywhere. Each re-ask continues
 the stage's conversation after the model's own accepted answer (its words and reasoning, from the
 transcript). When stage 1 changes who takes part or where, the paths and trees that depended on it are
-regenerated; when only the robot's script changed, they are kept (the grounding is carried over). Up to
-the restart budget."""
+regenerated; when it changes only what a person does (a part's trigger, distance, `lasts`, latch; their
+`otherwise`), that person's tree is asked again from its FRESH prompt (never the old tree to correct); when
+only the robot's script changed, they are kept (the grounding is carried over). Up to the restart budget."""
 
 from __future__ import annotations
 
@@ -66,6 +67,14 @@ def _shape(spec: ScenarioSpec | None) -> object:
             for e in sorted(spec.encounters, key=lambda e: e.id)]
 
 
+def _tree_shape(spec: ScenarioSpec | None, human: str) -> object:
+    """What `human`'s tree is built from (stage 3's prompt and tree_needs): their parts in order, whole, and
+    what they do while no trigger holds."""
+    if spec is None:
+        return None
+    return ([(e.order, p.model_dump()) for e, p in spec.parts_of(human)], spec.person(human).otherwise)
+
+
 def _carry_grounding(old: ScenarioSpec | None, new: ScenarioSpec | None) -> ScenarioSpec | None:
     if old is None or new is None:
         return new
@@ -109,6 +118,11 @@ def verify_and_repair(stages: Stages, scenario: ScenarioProposal, spec: Scenario
                 spec = _carry_grounding(old, spec)
                 if spec is not None:
                     run.write_spec(spec)
+                stale = [h for h in scenario.human_behaviors if _tree_shape(old, h) != _tree_shape(spec, h)]
+                for human in stale:  # asked again from the fresh prompt, on the new spec
+                    run.behavior_path(human).unlink(missing_ok=True)
+                if stale:
+                    trees = stages.behaviors(scenario, paths, spec)
             continue
         trees_to_fix: dict[str, list[Finding]] = {}
         for finding in stages_to_ask.get("behaviors", []):

@@ -161,7 +161,8 @@ class Encounter(BaseModel):
 
     `order`: the encounters happen in this order (1 first). A person in several encounters switches
     reactions: the part of a later encounter takes over from an earlier one as soon as its trigger holds
-    (its tree checks the later trigger first), e.g. e1 block the robot, e2 give way once it says EXCUSE ME.
+    (its tree checks the later trigger first), e.g. e1 give way at the door, e2 follow it from the lobby once
+    it says FOLLOW ME; one person's encounters happen at different nodes (proposal/facts.TWO_ENCOUNTERS).
     The person's interaction point (where pacing brings them to meet the robot) is the node of their first
     encounter."""
 

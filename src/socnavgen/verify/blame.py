@@ -18,6 +18,10 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
       robot never said                                                                        -> robot_script
   D3  (checked before D1) deadlock behind a human standing at its own goal off the robot's route
       (the robot could pass: the paths put that goal beside the route)                         -> paths
+  D4  (checked before D2) a standoff the spec sets up, h having no part that makes way (give_way, avoid): the
+      robot's wait_until_clear cue fired as the wait began
+      (its phrase said up to 3 s before) with h in its way, or h's encounter has it stop / look while the robot is there with no `lasts` (each waits for the
+      other), with who, where, gap and how long                                                 -> spec
   D2  deadlock / goal not reached behind a human (the human's tree keeps it in the way)        -> behaviors(h)
   P1  the criterion (or, for meets / stops / gives_way / says / blocks, its encounter) waits for
       a robot phrase the robot never said                                                       -> robot_script
@@ -32,7 +36,11 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
   R1  the trigger held (the robot near / said the phrase) but the reaction never ran           -> behaviors(h)
   R3  robot_reaches_goal failed, the robot ending still with nobody in its way while its script has
       waiting cues (wait, wait_until_clear, a human's phrase)                                   -> robot_script
-  R2  robot_reaches_goal failed without a deadlock (otherwise)                                -> paths
+  R4  (checked before R2) robot_reaches_goal failed with someone holding the robot up at the end of the run (a
+      wait shorter than the deadlock limit): rule D4's standoff                                 -> spec
+      else                                                                                      -> behaviors(h)
+  R2  robot_reaches_goal failed without a deadlock (otherwise), saying whether the robot was still on its
+      way when the run ended (the route takes longer than the run) or stood short of its goal   -> paths
   T1  tree checks (no spec.json): a RobotSays gate whose gesture the robot never made           -> robot_script
   T2  tree checks: IsRobotVisible / IsRobotNearby never succeeded                               -> paths
   T3  tree checks: any other node never ran, or ran before its cause                           -> behaviors(h)
@@ -57,7 +65,7 @@ from socnavgen.bodies import (
 from socnavgen.run.models import PathPlan
 from socnavgen.run.spec import Blame, Criterion, ScenarioSpec
 from socnavgen.verify.criteria import Compiled
-from socnavgen.verify.evidence import deadlock_culprit, met_mask
+from socnavgen.verify.evidence import deadlock_culprit, in_window, met_mask
 from socnavgen.verify.signals import ROBOT_PHRASES, Signals, phrase_id
 from socnavgen.verify.stl import formula_signals
 from socnavgen.verify.thresholds import APPROACH, KIND_DISTANCE, MEET_DISTANCE, STILL_SPEED
@@ -200,10 +208,96 @@ def _stuck(cc: Compiled, s: Signals, spec: ScenarioSpec, settings_deadlock: floa
     if phrase and _never_said(s, phrase):
         return ("robot_script", None, f"{who} waits for the robot to say {phrase.replace('_', ' ').upper()}, "
                                       "which the script never says: add a cue (e.g. when blocked)")
-    return ("behaviors", who, f"{who} stood in the robot's way {dead.max():.0f} s: its tree must let the robot "
-                              "through, by giving way where there is room to step aside, or by walking on toward "
+    standoff = _standoff(s, spec, who, k)
+    if standoff:
+        return "spec", None, standoff
+    return ("behaviors", who, f"{who} stood in the robot's way ({_held_up_fact(s, who, k)}): its tree must let "
+                              "the robot through, by giving way where there is room to step aside, or by walking on toward "
                               "its goal past the robot (the robot makes way for someone who needs to get past it), "
                               "not by standing in front of it")
+
+
+STANDOFF_LEAD = 3.0  # s: a wait_until_clear cue whose phrase was said this long before a deadlock began started it
+YIELDING = ("give_way", "avoid")  # a person with one of these parts is meant to make way for the robot
+HOLDING_REACTIONS = ("stop", "look")  # a person with one of these stands while its trigger holds (no `lasts`)
+PRESENCE_TRIGGERS = ("robot_blocking", "robot_near", "robot_visible")  # triggers the robot standing there keeps true
+
+
+def _where(s: Signals, who: str, k: int) -> str:
+    """'at node iq (0.4 m)': the scene-graph node nearest `who` at step k, '' when the run has none."""
+    nodes = [(float(np.hypot(*(s.pos(who)[k] - np.asarray(p)))), n[5:]) for n, p in s.places.items()
+             if n.startswith("node_")]
+    return f" at node {min(nodes)[1]} ({min(nodes)[0]:.1f} m)" if nodes else ""
+
+
+def _held_up_fact(s: Signals, who: str, k: int) -> str:
+    """'at node iq (0.4 m), 0.55 m gap, 103 s from t=17.5 s': where, how close and how long `who` held the robot up
+    in the deadlock ending at step k."""
+    dead = float(s.get("deadlock")[k])
+    gap = float(s.gaps()[k, s.human(who)])
+    return f"{_where(s, who, k).strip() or 'here'}, {gap:.2f} m gap, {dead:.0f} s from t={s.t[k] - dead + s.trace.dt:.1f} s"
+
+
+def _standoff(s: Signals, spec: ScenarioSpec, who: str, k: int) -> str | None:
+    """Rule D4: the deadlock is a standoff the spec itself sets up (`who` has no part that makes way for the robot),
+    with who, where, gap and how long: the robot's
+    script waits until nobody is in its way (wait_until_clear, its cue's phrase said as the wait began, or during
+    it) while `who` is in it, or
+    `who`'s encounter has it stand (stop / look, no `lasts`) for as long as the robot is there: each waits for
+    the other, which no path or tree can undo."""
+    if any(part.reaction in YIELDING for _, part in spec.parts_of(who)):
+        return None  # the spec has them make way: staying in it is their tree's doing (D2)
+    fact = f"{who} in the robot's way ({_held_up_fact(s, who, k)})"
+    start = max(0, k - int(round(float(s.get("deadlock")[k]) / s.trace.dt)) - int(round(STANDOFF_LEAD / s.trace.dt)))
+    for n, cue in enumerate(spec.script.cues, 1):  # its phrase said as this wait began (a cue without one: unknown)
+        said = cue.say is not None and (np.asarray(s.trace.robot_gesture[start:k + 1]) == ROBOT_PHRASES.get(
+            phrase_id(cue.say), -1)).any()
+        if cue.wait_until_clear and said:
+            return (f"a standoff set by the spec: cue {n} of the robot's script waits until nobody is in its way "
+                    f"(wait_until_clear) with {fact}, where the two cannot pass each other: say who yields (drop "
+                    f"wait_until_clear, or have {who} give way or walk past, or meet at a wider place)")
+    for enc, part in spec.parts_of(who):
+        if part.reaction in HOLDING_REACTIONS and part.trigger in PRESENCE_TRIGGERS and part.lasting() is None:
+            return (f"a standoff set by the spec: {enc.id} has {who} {part.reaction} while the robot is there "
+                    f"({part.trigger}, no `lasts`) and the robot waits for {who}: {fact}; say who yields (give the "
+                    f"{part.reaction} `lasts` seconds, or let {who} come through first, or meet at a wider place)")
+    return None
+
+
+def _held_at_end(s: Signals, spec: ScenarioSpec) -> Verdict | None:
+    """Rule R4: the run ended with someone holding the robot up short of its goal (a wait shorter than the deadlock
+    limit): a standoff the spec sets up (rule D4), else that person's tree."""
+    k = s.trace.steps - 1
+    holding = s.holding_up()[k]
+    if k < 0 or not holding.any():
+        return None
+    gaps = np.where(holding, s.gaps()[k], np.inf)
+    who = s.trace.human_names[int(np.argmin(gaps))]
+    standoff = _standoff(s, spec, who, k)
+    if standoff:
+        return "spec", None, standoff
+    return ("behaviors", who, f"the run ended with {who} in the robot's way short of its goal "
+                              f"({_held_up_fact(s, who, k)}): its tree must let the robot through")
+
+
+def _short_of_goal(s: Signals) -> str:
+    """Rule R2's reason, with what the robot did: still on its way when the run ended, or standing short of it."""
+    points = np.asarray(s.trace.robot_waypoints, dtype=float).reshape(-1, 2)
+    total = float(np.hypot(*np.diff(points, axis=0).T).sum()) if len(points) > 1 else 0.0
+    left = max(total - float(s.route()[0][-1]), 0.0) if total else float(s.get("robot_to_goal")[-1])
+    stalled = float(s.get("stalled")[-1])
+    where = f"{left:.1f} m of its route left{_where_robot(s)}"
+    if stalled < 1.0 and s.trace.end_reason == "timeout":
+        return (f"the robot was still on its way when the simulation ended at t={s.t[-1]:.0f} s ({where}), nobody "
+                "holding it up: its route takes longer than the run; make it shorter (or the robot faster)")
+    return (f"the robot ended standing still for its last {stalled:.0f} s with {where} and nobody in its way: its "
+            "route does not bring it to its goal (check the route's last nodes)")
+
+
+def _where_robot(s: Signals) -> str:
+    nodes = [(float(np.hypot(*(s.pos("robot")[-1] - np.asarray(p)))), n[5:]) for n, p in s.places.items()
+             if n.startswith("node_")]
+    return f", nearest node {min(nodes)[1]}" if nodes else ""
 
 
 def _scripted_wait(s: Signals, spec: ScenarioSpec, settings_deadlock: float) -> Verdict | None:
@@ -243,7 +337,8 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
         waiting = _scripted_wait(s, spec, settings_deadlock)
         if waiting:
             return waiting
-        return "paths", None, "the robot did not reach its goal: check the robot path"
+        held = _held_at_end(s, spec)
+        return held or ("paths", None, _short_of_goal(s))
     if kind == "stl":
         return _blame_formula(cc, s)
     robot_phrase = cc.phrase if kind in ("reacts_after_phrase", "follows_robot") else \
@@ -301,9 +396,13 @@ def _blame_meeting(cc: Compiled, s: Signals, h: str) -> Verdict:
 def _missing_cause(cc: Compiled, s: Signals, h: str) -> Verdict | None:
     """Rule N3 for reactions: the cause never held (h never in the robot's way, never walking near it)."""
     kind, d = cc.criterion.kind, cc.distance or KIND_DISTANCE.get(cc.criterion.kind, MEET_DISTANCE)
-    if kind == "gives_way" and not ((s.get(f"inway_{h}") > 0.5) & (s.get(f"dist_{h}") <= d)).any():
-        return "paths", None, (f"{h} was never in the robot's way within {d:g} m: nothing to give way to; make "
-                               "their paths meet head-on")
+    if cc.window and not in_window(cc, s).any():
+        node = cc.encounter.node or cc.encounter.id if cc.encounter is not None else "its place"
+        return "paths", None, (f"the robot and {h} were never together at {node} after their encounter before it "
+                               "ended: make their paths meet there again")
+    if kind == "gives_way" and not ((s.get(f"inway_{h}") > 0.5) & (s.get(f"dist_{h}") <= d) & in_window(cc, s)).any():
+        return "paths", None, (f"{h} was never in the robot's way within {d:g} m" + (" in this encounter" if cc.window
+                               else "") + ": nothing to give way to; make their paths meet head-on")
     if kind == "follows_robot" and cc.encounter is not None:
         there = s.get(f"{h}_to_{cc.encounter.id}") <= cc.encounter.within + (cc.distance or 0.0)
         if cc.phrase:

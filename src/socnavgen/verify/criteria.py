@@ -33,6 +33,7 @@ from socnavgen.verify.thresholds import (
     STOP_SPEED,
     WALK_SPEED,
 )
+from socnavgen.verify.windows import WINDOWED, encounters_of, window_name
 
 
 @dataclass
@@ -49,6 +50,7 @@ class Compiled:
     phrase: str | None = None  # robot phrase identifier (excuse_me) the criterion waits for
     reaction: str | None = None
     previous: Encounter | None = None  # meets: the earlier encounter of the same human, met before this one
+    window: str | None = None  # during_<human>_<encounter>: judged in this encounter's window (verify/windows.py)
     notes: list[str] = field(default_factory=list)
 
 
@@ -99,11 +101,14 @@ def met_expression(h: str, enc: Encounter | None, distance: float) -> str:
 def previous_encounter(spec: ScenarioSpec, enc: Encounter, human: str) -> Encounter | None:
     """The encounter of `human` just before `enc` (by order, then as listed) where it is to be met (not one
     it avoids): two encounters never share one meeting."""
-    mine = [e for e in spec.encounters if any(p.human == human and p.reaction != "avoid" for p in e.humans)]
-    ranked = sorted(range(len(mine)), key=lambda k: (mine[k].order, k))
-    order = [mine[k] for k in ranked]
+    order = encounters_of(spec, human)
     at = next((k for k, e in enumerate(order) if e.id == enc.id), None)
     return order[at - 1] if at else None
+
+
+def _in_window(out: Compiled) -> str:
+    """'(during_h_e > 0.5) and ' for a criterion judged in its encounter's window, else ''."""
+    return f"{_b(out.window)} and " if out.window else ""
 
 
 def _need_human(c: Criterion) -> str:
@@ -142,7 +147,8 @@ def _stops_near_robot(c: Criterion, ctx: Context, out: Compiled) -> None:
     d = out.distance = c.distance or KIND_DISTANCE[c.kind]
     s = out.seconds = c.seconds or ctx.settings.reaction_seconds
     notice = max(d + 1.0, STOP_NOTICE_RANGE)  # the cause: the robot comes near (an approach, not where it started)
-    out.formula = (f"eventually ((dist_{h} <= {notice:g}) and (closer_{h} >= {APPROACH:g}) and (eventually[0:{s:g}] "
+    out.formula = (f"eventually ({_in_window(out)}(dist_{h} <= {notice:g}) and (closer_{h} >= {APPROACH:g}) and "
+                   f"(eventually[0:{s:g}] "
                    f"(always[0:{STOP_HOLD:g}] ((dist_{h} <= {d:g}) and {_b(f'ahead_{h}')} and "
                    f"(speed_{h} <= {STOP_SPEED:g})))))")
 
@@ -160,17 +166,19 @@ def _reacts_after_phrase(c: Criterion, ctx: Context, out: Compiled) -> None:
     # reaction to it; one going on while the robot speaks (started before, without the cause) does not count.
     # A phrase said in the run's first STOP_HOLD s (a cue at the start) has no such moment before it: there the
     # person shows no reaction from the start until it is said.
-    w = STOP_HOLD
-    out.formula = (f"(eventually ({_not(says)} and (always[0:{w:g}] {_not(react)}) and (eventually[0:{w:g}] "
-                   f"{_b(says)}) and (eventually[0:{w + s:g}] {_b(react)}))) or ((eventually[0:{w:g}] {_b(says)}) "
-                   f"and ({_not(react)} until ({_b(says)} and (eventually[0:{s:g}] {_b(react)}))))")
+    # Judged in the encounter's window (verify/windows.py) for a person met more than once: the phrase starts in it.
+    w, inside = STOP_HOLD, _in_window(out)
+    soon = f"(eventually[0:{w:g}] {_b(out.window)}) and " if out.window else ""
+    out.formula = (f"(eventually ({soon}{_not(says)} and (always[0:{w:g}] {_not(react)}) and (eventually[0:{w:g}] "
+                   f"{_b(says)}) and (eventually[0:{w + s:g}] {_b(react)}))) or ({inside}(eventually[0:{w:g}] "
+                   f"{_b(says)}) and ({_not(react)} until ({_b(says)} and (eventually[0:{s:g}] {_b(react)}))))")
 
 
 def _gives_way(c: Criterion, ctx: Context, out: Compiled) -> None:
     h = _need_human(c)
     d = out.distance = c.distance or KIND_DISTANCE[c.kind]
     s = out.seconds = c.seconds or ctx.settings.reaction_seconds
-    cause = f"((dist_{h} <= {d:g}) and {_b(f'inway_{h}')})"
+    cause = f"({_in_window(out)}(dist_{h} <= {d:g}) and {_b(f'inway_{h}')})"
     out.formula = f"(eventually {cause}) and (always ({cause} implies (eventually[0:{s:g}] {_b(f'aside_{h}')})))"
 
 
@@ -258,19 +266,21 @@ class CriterionKind:
     build: Callable[[Criterion, Context, Compiled], None]
 
 
+_IN_WINDOW = "; for a person met more than once, the cause inside its encounter's window (during_h_e)"
 CRITERION_KINDS: dict[str, CriterionKind] = {k.name: k for k in (
     CriterionKind("meets", "eventually met(h, e)  (a second encounter of h: eventually (met(h, e) and once "
                   "((dist_h > D) and once met(h, e_before))))", "an approach at the place, its own meeting",
                   _meets),
     CriterionKind("stops_near_robot", "eventually ((dist_h <= max(D + 1, 3)) and (closer_h >= A) and "
                   "eventually[0:S] always[0:1] (dist_h <= D and ahead_h and speed_h <= 0.1))",
-                  "the robot came near (they approached), then h stood still 1 s ahead of it", _stops_near_robot),
+                  "the robot came near (they approached), then h stood still 1 s ahead of it" + _IN_WINDOW,
+                  _stops_near_robot),
     CriterionKind("reacts_after_phrase", "eventually (not robot_says_P and always[0:H] not react_h_R and "
                   "eventually[0:H] robot_says_P and eventually[0:H+S] react_h_R)", "h shows no reaction for H s "
-                  "around the moment the phrase starts, then reacts within S s",
+                  "around the moment the phrase starts, then reacts within S s" + _IN_WINDOW,
                   _reacts_after_phrase),
     CriterionKind("gives_way", "eventually (dist_h <= D and inway_h)  and  always ((dist_h <= D and inway_h) "
-                  "implies eventually[0:S] aside_h)", "h was in the robot's way and moved out of it itself",
+                  "implies eventually[0:S] aside_h)", "h was in the robot's way and moved out of it itself" + _IN_WINDOW,
                   _gives_way),
     CriterionKind("follows_robot", "eventually (robot_says_P and h_to_e <= W + D and eventually[0:S] ((always "
                   "way_h <= D) and eventually speed_h > 0.3))  (no P: eventually (... and h_to_e <= W + D))",
@@ -300,7 +310,8 @@ def compile_criterion(c: Criterion, spec: ScenarioSpec, settings: VerifySettings
                       goal_radius: float) -> Compiled:
     """The STL formula of one criterion (FormulaError when the criterion is incomplete)."""
     enc, part = encounter_of(c, spec)
-    out = Compiled(criterion=c, formula="", human=c.human, encounter=enc, part=part)
+    out = Compiled(criterion=c, formula="", human=c.human, encounter=enc, part=part,
+                   window=window_name(spec, c.human, enc) if c.kind in WINDOWED else None)
     kind = CRITERION_KINDS.get(c.kind)
     if kind is None:  # pragma: no cover - the Literal of spec.py lists every kind (tested against the registry)
         raise FormulaError(f"criterion {c.id}: unknown kind {c.kind!r}")

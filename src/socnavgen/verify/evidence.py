@@ -10,8 +10,10 @@ import numpy as np
 
 from socnavgen.sim import contact
 from socnavgen.verify.criteria import Compiled
-from socnavgen.verify.signals import Signals
+from socnavgen.verify.passing import undone
+from socnavgen.verify.signals import Signals, aside
 from socnavgen.verify.thresholds import APPROACH, PROGRESS_STEP, STOP_HOLD, WALK_SPEED
+from socnavgen.verify.windows import window_text
 
 Evidence = tuple[str, float | None, float | None]  # text, time, distance
 
@@ -110,6 +112,18 @@ def _no_approach(cc: Compiled, s: Signals, h: str, j: int) -> str:
     return ""
 
 
+def in_window(cc: Compiled, s: Signals, after: float = 0.0) -> np.ndarray:
+    """(T,) bool: the steps of the criterion's encounter window and `after` s past its end (every step without
+    one): a cause inside it may have its reaction that much later."""
+    if not cc.window:
+        return np.ones(s.trace.steps, dtype=bool)
+    win = s.get(cc.window) > 0.5
+    idx = np.flatnonzero(win)
+    if len(idx) and after > 0:
+        win[idx[-1]:idx[-1] + int(round(after / max(s.trace.dt, 1e-9))) + 1] = True
+    return win
+
+
 def _phrase_evidence(cc: Compiled, s: Signals) -> Evidence:
     h, t = cc.human or "", s.t
     says = s.get(f"robot_says_{cc.phrase}") > 0.5
@@ -123,10 +137,11 @@ def _phrase_evidence(cc: Compiled, s: Signals) -> Evidence:
         hold = int(round(STOP_HOLD / max(s.trace.dt, 1e-9)))
         window = int(round((cc.seconds or 0.0) / max(s.trace.dt, 1e-9)))
         n = len(t)
+        win = in_window(cc, s)
         calm = np.array([not says[k] and says[k:k + hold + 1].any() and not reacting[k:k + hold + 1].any()
-                         for k in range(n)], dtype=bool)  # a quiet STOP_HOLD s in which the phrase starts
+                         and win[k:k + hold + 1].any() for k in range(n)], dtype=bool)  # quiet; the phrase starts
         start = _first(says)
-        if start is not None and start <= hold and not reacting[:start + 1].any():
+        if start is not None and start <= hold and not reacting[:start + 1].any() and win[0]:
             calm[max(start - 1, 0)] = True  # said at the run's start, nobody reacting before it
         after = None
         for k0 in np.flatnonzero(calm):
@@ -135,7 +150,7 @@ def _phrase_evidence(cc: Compiled, s: Signals) -> Evidence:
                 after = int(k0) + hit
                 break
         if first_react is None:
-            parts.append(f"{h} never showed {cc.reaction}")
+            parts.append(f"{h} never showed {cc.reaction}" + _undone_text(s, h, cc.reaction))
         elif after is not None:
             parts.append(f"{h} showed {cc.reaction} at t={t[after]:.1f} s, after the phrase")
         elif first_say is not None and not calm.any():
@@ -147,7 +162,14 @@ def _phrase_evidence(cc: Compiled, s: Signals) -> Evidence:
         first_react = after if after is not None else first_react
     k = first_react if first_react is not None else first_say
     d = float(s.get(f"dist_{h}")[k]) if k is not None and h else None
-    return "; ".join(parts), (float(t[k]) if k is not None else None), d
+    return "; ".join(parts) + window_text(s, cc.window), (float(t[k]) if k is not None else None), d
+
+
+def _undone_text(s: Signals, h: str, reaction: str | None) -> str:
+    """' (stepped aside at t=20.0 s, back in the robot's way at t=27.1 s before it got past)' when that is why."""
+    found = undone(s, h, aside(s, h)) if reaction == "give_way" else None
+    return "" if found is None else (f" (stepped aside at t={found[0]:.1f} s, but was back in the robot's way at "
+                                     f"t={found[1]:.1f} s before it got past)")
 
 
 def _human_evidence(cc: Compiled, s: Signals) -> Evidence:
@@ -157,7 +179,7 @@ def _human_evidence(cc: Compiled, s: Signals) -> Evidence:
     kind = cc.criterion.kind
     if kind in ("stops_near_robot", "blocks_robot"):
         speed = s.get(f"speed_{h}")
-        near = s.get(f"dist_{h}") <= (cc.distance or 0)
+        near = (s.get(f"dist_{h}") <= (cc.distance or 0)) & in_window(cc, s, cc.seconds or 0.0)
         text += f"; slowest while within {cc.distance:g} m: {speed[near].min():.2f} m/s" if near.any() else \
             f"; never within {cc.distance:g} m"
         if kind == "stops_near_robot" and not (s.get(f"closer_{h}") >= APPROACH).any():
@@ -169,20 +191,21 @@ def _human_evidence(cc: Compiled, s: Signals) -> Evidence:
             return text, float(t[seen]), float(s.get(f"dist_{h}")[seen])
         text += "; never in sight"
     elif kind == "gives_way":
-        way = (s.get(f"inway_{h}") > 0.5) & (s.get(f"dist_{h}") <= (cc.distance or 0))
+        way = (s.get(f"inway_{h}") > 0.5) & (s.get(f"dist_{h}") <= (cc.distance or 0)) & in_window(cc, s)
         text += f"; in the robot's way within {cc.distance:g} m for {way.sum() * s.trace.dt:.1f} s"
         first = _first(way)
         if first is not None:
             aside = _first((s.get(f"aside_{h}") > 0.5) & (np.arange(len(t)) >= first))
             text += (f", first at t={t[first]:.1f} s; " + (f"stepped aside at t={t[aside]:.1f} s" if aside is not None
-                                                          else f"{h} never stepped out of it itself"))
+                                                          else f"{h} never stepped out of it itself"
+                                                          + _undone_text(s, h, "give_way")))
     elif kind == "says" and cc.phrase:
         first = _first(s.get(f"{h}_says_{cc.phrase}") > 0.5)
         text += f"; {h} said {words(cc.phrase)} first at t={t[first]:.1f} s" if first is not None else \
             f"; {h} never said {words(cc.phrase)}"
     elif kind == "follows_robot":
         text += _follow_text(cc, s, h)
-    return text, float(t[k]), closest
+    return text + window_text(s, cc.window), float(t[k]), closest
 
 
 def _follow_text(cc: Compiled, s: Signals, h: str) -> str:

@@ -4,6 +4,7 @@ failure, and assemble the VerifyReport. Pure: everything comes in as objects, no
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import partial
 from typing import Any
 
 from socnavgen.run.models import PathPlan
@@ -19,6 +20,7 @@ from socnavgen.verify.models import Expectation, Finding, Source, VerifyReport, 
 from socnavgen.verify.signals import Signals
 from socnavgen.verify.stl import FormulaError, monitor
 from socnavgen.verify.thresholds import DEFAULT_GOAL_RADIUS, MIN_RUN_SECONDS
+from socnavgen.verify.windows import encounter_window
 
 
 def _title(c: Criterion) -> str:
@@ -164,7 +166,7 @@ def judge(trace: Trace, *, plan: PathPlan, location: Any, spec: ScenarioSpec | N
     if trace.robot_goal is None and plan.robot and location is not None:
         places["goal"] = prepared.plan_goal()
     signals = Signals(trace, world_factory=world_factory, places=places, node_points=prepared.node_points,
-                      goal_radius=goal_radius)
+                      goal_radius=goal_radius, windows=partial(encounter_window, spec=used, settings=settings))
     findings: list[Finding] = []
     early = "the trace is empty" if trace.steps == 0 else ended_early(trace, signals.places.get("goal"), goal_radius)
     expectations = prepared.expectations

@@ -63,3 +63,16 @@ def route_offset(xy: np.ndarray, waypoints: list[tuple[float, float]]) -> np.nda
     t = np.clip((rel_x * seg[:, 0] + rel_y * seg[:, 1]) / lens2, 0.0, 1.0)
     dx, dy = rel_x - t * seg[:, 0], rel_y - t * seg[:, 1]
     return np.sqrt(dx * dx + dy * dy).min(axis=1)
+
+
+def ahead_on_route(progress: np.ndarray, xy: np.ndarray, waypoints: list[tuple[float, float]], half: np.ndarray | float,
+                   reach: float, front: float) -> np.ndarray:
+    """(N,) bool: each point within `half` of the route polyline and `front` to `reach` m farther along it than
+    the robot's `progress` there: on the robot's route just ahead of it, round bends too (a person standing in a
+    doorway just past the route's turn holds up a robot still on the leg before it), beyond the robot's front
+    (`front`: its radius; someone level with it at the corridor's edge is beside it). False without a route."""
+    xy = np.asarray(xy, dtype=float).reshape(-1, 2)
+    if len(np.asarray(waypoints, dtype=float).reshape(-1, 2)) < 2 or not len(xy):
+        return np.zeros(len(xy), dtype=bool)
+    ahead = route_progress(xy, waypoints)[0] - np.asarray(progress, dtype=float)
+    return (route_offset(xy, waypoints) < half) & (ahead > front) & (ahead <= reach)

@@ -23,7 +23,8 @@ from socnavgen import proxemics
 from socnavgen.bt.library import HUMAN_GESTURES, LIBRARY, REACTION_NODES, ROBOT_GESTURES
 from socnavgen.sim import contact
 from socnavgen.sim.trace import VX, VY, YAW, Trace
-from socnavgen.verify.route import progress_events, route_offset, route_progress
+from socnavgen.verify.passing import aside, kept_aside  # aside: re-exported (its home is verify/passing.py)
+from socnavgen.verify.route import ahead_on_route, progress_events, route_progress
 from socnavgen.verify.thresholds import (
     AHEAD_HALF_ANGLE,
     ASIDE_DISTANCE,
@@ -71,8 +72,8 @@ class SignalKind:
 
 
 def _runlength(flags: np.ndarray, dt: float) -> np.ndarray:
-    """Seconds each step has been inside a continuous run of True (0 where False): dt added once per step of
-    the run (dt, dt + dt, ...), the j-th step of every run reading the j-th partial sum of one cumsum."""
+    """Seconds each step has been inside a continuous run of True (0 where False): dt added once per step of the
+    run, the j-th step of every run reading the j-th partial sum of one cumsum."""
     flags = np.asarray(flags, dtype=bool)
     n = len(flags)
     if not n:
@@ -98,8 +99,10 @@ class Signals:
 
     def __init__(self, trace: Trace, *, world=None, places: dict[str, tuple[float, float]] | None = None,  # noqa: ANN001
                  node_points: dict[str, tuple[float, float]] | None = None, goal_radius: float = 0.5,
-                 world_factory: Callable[[], object] | None = None) -> None:
+                 world_factory: Callable[[], object] | None = None,
+                 windows: Callable[[Signals, str, str], np.ndarray] | None = None) -> None:
         self.trace = trace
+        self._windows = windows  # verify/windows.encounter_window with the run's spec: during_<human>_<encounter>
         self.world = world
         self._world_factory = world_factory  # builds the World only if a formula needs line of sight
         self.places = dict(places or {})
@@ -215,15 +218,10 @@ class Signals:
 
         return self._keep("route", build)
 
-    def in_route_way(self, i: int) -> np.ndarray:
-        """1 where human i is in the robot's way along its heading OR along its route's direction (a robot
-        turning or jittering in place does not stop being held up by the person ahead on its route)."""
-        return self._ways("heading")[:, i] | self._ways("route")[:, i]
-
     def holding_up(self) -> np.ndarray:
-        """(T, H) 1 where a human stands in the robot's way (heading or route) within proxemics.HELD_UP_DISTANCE
-        (centres; the distance the script's wait_until_clear waits for). The way is only worked out for the
-        (step, human) pairs that close."""
+        """(T, H) 1 where a human stands in the robot's way (heading, route direction, or on the route just ahead
+        round a bend: route.ahead_on_route) within proxemics.HELD_UP_DISTANCE (centres; the distance the script's
+        wait_until_clear waits for). The way is only worked out for the (step, human) pairs that close."""
         def build() -> np.ndarray:
             close = self.distances() <= proxemics.HELD_UP_DISTANCE
             out = np.zeros(close.shape, dtype=bool)
@@ -240,7 +238,10 @@ class Signals:
                                         proxemics.WAY_MARGIN_VERIFY)
 
             tx, ty = tangent[:, 0], tangent[:, 1]
-            out[k, i] = way(np.cos(yaw), np.sin(yaw)) | (way(tx, ty) & ((tx != 0) | (ty != 0)))
+            half = float(self.trace.robot_radius) + radius + proxemics.WAY_MARGIN_VERIFY
+            out[k, i] = way(np.cos(yaw), np.sin(yaw)) | (way(tx, ty) & ((tx != 0) | (ty != 0))) | ahead_on_route(
+                self.route()[0][k], np.stack([px, py], 1), list(self.trace.robot_waypoints), half,
+                proxemics.HELD_UP_DISTANCE, float(self.trace.robot_radius))
             return out
 
         return self._keep("holding_up", build)
@@ -399,44 +400,8 @@ def _closer(s: Signals, m: re.Match) -> np.ndarray:
     return values[:1] - values if len(values) else values
 
 
-def aside(s: Signals, human: str) -> np.ndarray:
-    """1 where the human is out of the robot's way having moved ASIDE_DISTANCE from where it last stood in it
-    (0 before it was ever in the way): evidence that the person made way, not that the robot went around.
-
-    With a route (two or more waypoints), "in the way" is ahead along the robot's heading, or on the route (within
-    the corridor its body sweeps: robot + person radius + WAY_MARGIN_VERIFY) ahead of the robot along it, round
-    bends too; where it stood is where it last stood so ON the route (a robot turning
-    toward someone who already stepped off does not undo the step). Stepping aside means gaining ASIDE_DISTANCE of
-    distance from the route since that stand began (moving on along the route does not count)."""
-    i = s.human(human)
-    way = s.in_way(i)
-    p = s.pos(human)
-    points = list(s.trace.robot_waypoints)
-    steps = np.arange(s.trace.steps)
-    if len(points) < 2:
-        last = np.maximum.accumulate(np.where(way, steps, -1)) if len(steps) else steps
-        moved_off = contact.lengths(p - p[np.maximum(last, 0)]) >= ASIDE_DISTANCE
-        return ~way & (last >= 0) & moved_off
-    half = float(s.trace.robot_radius) + float(np.asarray(s.trace.human_radii, dtype=float)[i]) \
-        + proxemics.WAY_MARGIN_VERIFY
-    off = route_offset(p, points)
-    ahead = route_progress(p, points)[0] - route_progress(s.pos("robot"), points)[0]
-    corridor = off < half
-    way = way | (corridor & (ahead > 0.0))
-    stood = way & corridor
-    last = np.maximum.accumulate(np.where(stood, steps, -1))
-    ref = np.maximum(last, 0)
-    closest = off.copy()  # per step of a stand: the nearest to the route it came during that stand
-    edges = np.flatnonzero(np.diff(np.concatenate([[0], stood.astype(np.int8), [0]])))
-    for a, b in zip(edges[::2], edges[1::2], strict=True):
-        closest[a:b] = off[a:b].min()
-    gained = off - closest[ref]
-    moved_off = gained >= ASIDE_DISTANCE  # the route stays put: only the person's own steps change `off`
-    return ~way & (last >= 0) & moved_off
-
-
-def _aside(s: Signals, m: re.Match) -> np.ndarray:
-    return aside(s, m[1])
+def _aside(s: Signals, m: re.Match) -> np.ndarray:  # kept out of the way until the robot got past (verify/passing.py)
+    return kept_aside(s, m[1], aside(s, m[1]))
 
 
 def _way(s: Signals, m: re.Match) -> np.ndarray:
@@ -460,7 +425,7 @@ def reaction_evidence(s: Signals, human: str, reaction: str, says: str | None = 
     if reaction in ("stop", "wait_then_go"):
         return lasting((s.speed(human) < STOP_SPEED) & (moved(s, human) > 0.5), STOP_HOLD, s.trace.dt)
     if reaction == "give_way":
-        return aside(s, human)
+        return s.get(f"aside_{human}") > 0.5
     if reaction == "say":
         gest = np.asarray(s.trace.human_gesture[:, i])
         return gest == HUMAN_PHRASES[phrase_id(says)] if says else gest != 0
@@ -477,6 +442,12 @@ def reaction_evidence(s: Signals, human: str, reaction: str, says: str | None = 
 
 def _react(s: Signals, m: re.Match) -> np.ndarray:
     return reaction_evidence(s, m[1], m[2])
+
+
+def _during(s: Signals, m: re.Match) -> np.ndarray:
+    if s._windows is None:
+        raise UnknownSignal(f"{m[0]}: encounter windows need the run's spec")
+    return s._windows(s, m[1], m[2])
 
 
 _H = r"(human[1-9][0-9]{0,2})"
@@ -519,7 +490,7 @@ SIGNAL_KINDS: tuple[SignalKind, ...] = (
                "closer_<human>, closer_robot_to_<place>, closer_<human>_to_<place>", "m",
                "how much closer than at the start: robot and human, or the robot / the human and a place", _closer),
     SignalKind(rf"aside_{_H}", "aside_<human>", "0/1", f"the human is out of the robot's way, having moved "
-               f"{ASIDE_DISTANCE:g} m from where it last stood in it", _aside),
+               f"{ASIDE_DISTANCE:g} m from where it last stood in it, and stays out until the robot got past", _aside),
     SignalKind(rf"way_{_H}", "way_<human>", "m", "walkable robot-human distance along the map's free space, never "
                "through a wall (straight where they see each other)", _way),
     SignalKind(rf"react_{_H}_([a-z_]+)", "react_<human>_<reaction>", "0/1",
@@ -527,6 +498,9 @@ SIGNAL_KINDS: tuple[SignalKind, ...] = (
                f"wait_then_go: slower than 0.1 m/s for {STOP_HOLD:g} s after having walked; say: showing a gesture; give_way: aside_<human>; "
                f"walk_past, follow, follow_human, join, avoid: their nodes while faster than {WALK_SPEED:g} m/s",
                _react),
+    SignalKind(rf"during_{_H}_([a-z][a-z0-9_]*)", "during_<human>_<encounter>", "0/1", "inside the window of the "
+               "human's encounter (verify/windows.py: from when the two are together at its place, after the one "
+               "before it ended, until the next one opens)", _during),
 )
 
 

@@ -1,0 +1,119 @@
+"""Giving way: the step aside (`aside`: out of the robot's way, having moved off its route by itself; moved here
+from verify/signals.py, which re-exports it) and letting the robot through: a step aside counts only if the person
+stays out of the robot's way until the robot has got past them (issue 25, hospital_08 of the new-request suite: three nurses stepped aside after
+EXCUSE ME and closed up again round the robot while it was still in the gap; it had to back out and go round
+them, and every give-way criterion passed on the step aside).
+
+- back in the way: the person is again on the robot's route just ahead of it, in the corridor its body sweeps
+  (route.ahead_on_route, within proxemics.HELD_UP_DISTANCE along it); without a route, ahead along its heading
+  within that distance. The robot turning toward someone standing aside does not put them back in its way;
+- past: the robot has come at least as far along its route as the person (without a route: the person is no
+  longer ahead of the robot along its heading).
+
+A step aside at step k is kept when, after k, the robot gets past the person before the person is back in its
+way (or the person is never back in its way).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from socnavgen import proxemics
+from socnavgen.sim import contact
+from socnavgen.sim.trace import YAW
+from socnavgen.verify.route import ahead_on_route, route_offset, route_progress
+from socnavgen.verify.thresholds import ASIDE_DISTANCE
+
+Signals = Any  # a verify.signals.Signals (which calls in here: importing it back would make a cycle)
+
+
+def aside(s: Signals, human: str) -> np.ndarray:
+    """1 where the human is out of the robot's way having moved ASIDE_DISTANCE from where it last stood in it
+    (0 before it was ever in the way): evidence that the person made way, not that the robot went around.
+
+    With a route (two or more waypoints), "in the way" is ahead along the robot's heading, or on the route (within
+    the corridor its body sweeps: robot + person radius + WAY_MARGIN_VERIFY) ahead of the robot along it, round bends
+    too; where it stood is where it last stood so ON the route (a robot turning toward someone who already stepped off
+    does not undo the step). Stepping aside: gaining ASIDE_DISTANCE from the route since that stand began."""
+    i = s.human(human)
+    way = s.in_way(i)
+    p = s.pos(human)
+    points = list(s.trace.robot_waypoints)
+    steps = np.arange(s.trace.steps)
+    if len(points) < 2:
+        last = np.maximum.accumulate(np.where(way, steps, -1)) if len(steps) else steps
+        moved_off = contact.lengths(p - p[np.maximum(last, 0)]) >= ASIDE_DISTANCE
+        return ~way & (last >= 0) & moved_off
+    half = float(s.trace.robot_radius) + float(np.asarray(s.trace.human_radii, dtype=float)[i]) \
+        + proxemics.WAY_MARGIN_VERIFY
+    off = route_offset(p, points)
+    ahead = route_progress(p, points)[0] - route_progress(s.pos("robot"), points)[0]
+    corridor = off < half
+    way = way | (corridor & (ahead > 0.0))
+    stood = way & corridor
+    last = np.maximum.accumulate(np.where(stood, steps, -1))
+    ref = np.maximum(last, 0)
+    closest = off.copy()  # per step of a stand: the nearest to the route it came during that stand
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], stood.astype(np.int8), [0]])))
+    for a, b in zip(edges[::2], edges[1::2], strict=True):
+        closest[a:b] = off[a:b].min()
+    gained = off - closest[ref]
+    moved_off = gained >= ASIDE_DISTANCE  # the route stays put: only the person's own steps change `off`
+    return ~way & (last >= 0) & moved_off
+
+
+def _next(mask: np.ndarray) -> np.ndarray:
+    """(T,) for each step the first step at or after it where `mask` holds (T when none)."""
+    n = len(mask)
+    idx = np.where(mask, np.arange(n), n)
+    return np.minimum.accumulate(idx[::-1])[::-1] if n else idx
+
+
+def got_past(s: Signals, human: str) -> np.ndarray:
+    """(T,) bool: the robot is level with or past `human` (along its route; else along its heading)."""
+    p = s.pos(human)
+    points = list(s.trace.robot_waypoints)
+    if len(points) >= 2:
+        return route_progress(p, points)[0] <= s.route()[0]
+    rel = p - s.pos("robot")
+    yaw = s.trace.robot[:, YAW]
+    return rel[:, 0] * np.cos(yaw) + rel[:, 1] * np.sin(yaw) <= 0.0
+
+
+def back_in_way(s: Signals, human: str) -> np.ndarray:
+    """(T,) bool: `human` is on the robot's route just ahead of it (module doc)."""
+    i = s.human(human)
+    points = list(s.trace.robot_waypoints)
+    if len(points) < 2:
+        return s.in_way(i) & (s.distances()[:, i] <= proxemics.HELD_UP_DISTANCE)
+    half = float(s.trace.robot_radius) + float(np.asarray(s.trace.human_radii, dtype=float)[i]) \
+        + proxemics.WAY_MARGIN_VERIFY
+    return ahead_on_route(s.route()[0], s.pos(human), points, half, proxemics.HELD_UP_DISTANCE,
+                          float(s.trace.robot_radius))
+
+
+def kept_aside(s: Signals, human: str, stepped: np.ndarray) -> np.ndarray:
+    """`stepped` (`aside`) on the steps after which the person stays out of the robot's way until it has got
+    past them (module doc)."""
+    stepped = np.asarray(stepped, dtype=bool)
+    if not stepped.any():
+        return stepped
+    back = back_in_way(s, human)
+    n = len(stepped)
+    after = np.minimum(np.arange(n) + 1, n - 1)
+    next_back, next_past = _next(back)[after], _next(got_past(s, human))[after]
+    last = np.arange(n) == n - 1
+    return stepped & (last | (next_back >= n) | (next_past < next_back))
+
+
+def undone(s: Signals, human: str, stepped: np.ndarray) -> tuple[float, float] | None:
+    """(when it first stepped aside, when it was back in the robot's way before it got past) for a person whose
+    every step aside was undone, else None."""
+    stepped = np.asarray(stepped, dtype=bool)
+    if not stepped.any() or kept_aside(s, human, stepped).any():
+        return None
+    k = int(np.flatnonzero(stepped)[0])
+    back = np.flatnonzero(back_in_way(s, human)[k:])
+    return float(s.t[k]), float(s.t[k + int(back[0])]) if len(back) else float(s.t[-1])
