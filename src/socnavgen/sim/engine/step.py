@@ -32,7 +32,7 @@ from socnavgen.sim.jit import generator, jit
 from socnavgen.sim.people.make_room import make_room
 from socnavgen.sim.people.pacing import pace
 from socnavgen.sim.people.physics import advance, resolve_contacts
-from socnavgen.sim.people.routing import plan
+from socnavgen.sim.people.routing import plan, robot_progress
 from socnavgen.sim.people.state import done, pop_goal
 from socnavgen.sim.people.vm import ERROR, tick
 from socnavgen.sim.robot.body import drive
@@ -41,8 +41,8 @@ from socnavgen.sim.robot.script import play, scripted_gesture
 
 STEPPED, ACT, PROGRESS, ENDED, FAILED, ROUTES = 0, 1, 2, 3, 4, 5
 IDLE_SPEED = 1e-3  # m/s: a robot slower than this is idle (the run ends once everything stopped)
-STILL_REACH = 0.1  # m: a robot that stays this close to where it stopped waits there (clock.still), even while
-#   it edges back and forth (the polite robot's small moves beside someone reset clock.idle every second or so)
+STALL_PROGRESS = 0.1  # m along its route: a robot that has not got this much farther than its best waits
+#   (clock.stalled), however it edges about (the polite robot's small moves reset clock.idle every second or so)
 
 
 @jit(inline=True)
@@ -121,10 +121,11 @@ def ending(s):  # noqa: ANN001, ANN201
     if abs(robot.goal - robot.pos) <= robot.goal_tolerance and robot.passed >= wps.shape[0] - 2:
         return ROBOT_GOAL
     clock.idle = clock.idle + clock.dt if abs(robot.vel) < IDLE_SPEED else 0.0
-    if abs(robot.pos - clock.still_at) > STILL_REACH:
-        clock.still_at, clock.still = robot.pos, 0.0
+    progress, _ = robot_progress(s)
+    if progress > clock.best_progress + STALL_PROGRESS:
+        clock.best_progress, clock.stalled = progress, 0.0
     else:
-        clock.still += clock.dt
+        clock.stalled += clock.dt
     if clock.idle >= clock.idle_end:
         finished = True
         for i in range(s.people.shape[0]):

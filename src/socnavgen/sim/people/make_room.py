@@ -6,8 +6,8 @@ standing still in this sense: a person whose tree's IsRobotBlocking holds this s
 way on purpose, and stays (a BlockRobot-type leaf walks, so it never counts as standing still).
 
 When such a person is in the robot's way (give_way.in_robot_way: on its remaining path, a few metres ahead)
-and the robot has waited for ROBOT_WAITED s (the engine's clock.still: it stayed where it stopped), they step
-aside to the nearest spot that lets the robot by (give_way.plan_side_step), wait there facing it until it has
+and the robot has waited for ROBOT_WAITED s (the engine's clock.stalled: no progress along its route, standing
+or edging about), they step aside to the nearest spot that lets the robot by (give_way.plan_side_step), wait there facing it until it has
 passed (give_way.robot_has_passed), and walk back to where they stood. They give way meanwhile (behaviour 2, the
 side-step spot marked as theirs for others who look for one). Their tree keeps running every step; this rule
 replaces its motion command while it lasts (engine.step calls `make_room` after the trees), and ends as soon
@@ -33,7 +33,7 @@ from socnavgen.sim.people.give_way import (
 from socnavgen.sim.people.state import ROUTE_STRAIGHT, turn, walk_to
 from socnavgen.sim.people.trees import LEAF_NAMES
 
-ROBOT_WAITED = 2.0  # s the robot has waited in place (clock.still) before a person standing in its way makes room
+ROBOT_WAITED = 2.0  # s the robot has made no progress (clock.stalled) before a person standing in its way makes room
 BACK_SPEED = 0.6  # m/s at most, walking back to their spot once the robot has passed
 DELIBERATE = 1 << LEAF_NAMES.index("IsRobotBlocking")  # a succeeded-mask bit: standing in its way on purpose
 NONE, STEPPING = 0, 1  # p.makes_room
@@ -80,7 +80,7 @@ def step_aside(s, i):  # noqa: ANN001, ANN201
 def make_room(s):  # noqa: ANN001, ANN201
     """After the trees: who starts making room for the waiting robot, and the motion of everyone who does."""
     people, clock = s.people, s.clock[0]
-    waited = clock.still >= ROBOT_WAITED
+    waited = clock.stalled >= ROBOT_WAITED
     for i in range(people.shape[0]):
         p = people[i]
         if clock.t < p.start_delay:
