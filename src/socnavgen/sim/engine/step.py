@@ -41,8 +41,9 @@ from socnavgen.sim.robot.script import play, scripted_gesture
 
 STEPPED, ACT, PROGRESS, ENDED, FAILED, ROUTES = 0, 1, 2, 3, 4, 5
 IDLE_SPEED = 1e-3  # m/s: a robot slower than this is idle (the run ends once everything stopped)
-STALL_PROGRESS = 0.1  # m along its route: a robot that has not got this much farther than its best waits
-#   (clock.stalled), however it edges about (the polite robot's small moves reset clock.idle every second or so)
+STALL_PROGRESS = 0.1  # m along its route: a robot that has not got this much farther than its best, and has
+STALL_REACH = 0.5  # m: ... stayed this close to where it began to, waits (clock.stalled), however it edges about
+#   there (the polite robot's small moves reset clock.idle every second or so); one driving round someone does not
 
 
 @jit(inline=True)
@@ -122,8 +123,8 @@ def ending(s):  # noqa: ANN001, ANN201
         return ROBOT_GOAL
     clock.idle = clock.idle + clock.dt if abs(robot.vel) < IDLE_SPEED else 0.0
     progress, _ = robot_progress(s)
-    if progress > clock.best_progress + STALL_PROGRESS:
-        clock.best_progress, clock.stalled = progress, 0.0
+    if progress > clock.best_progress + STALL_PROGRESS or abs(robot.pos - clock.stalled_at) > STALL_REACH:
+        clock.best_progress, clock.stalled_at, clock.stalled = max(progress, clock.best_progress), robot.pos, 0.0
     else:
         clock.stalled += clock.dt
     if clock.idle >= clock.idle_end:

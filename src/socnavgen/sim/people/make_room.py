@@ -7,7 +7,7 @@ way on purpose, and stays (a BlockRobot-type leaf walks, so it never counts as s
 
 When such a person is in the robot's way (give_way.in_robot_way: on its remaining path, a few metres ahead)
 and the robot has waited for ROBOT_WAITED s (the engine's clock.stalled: no progress along its route, standing
-or edging about), they step aside to the nearest spot that lets the robot by (give_way.plan_side_step), wait there facing it until it has
+or edging about where it stopped), they step aside to the nearest spot that lets the robot by (give_way.plan_side_step), wait there facing it until it has
 passed (give_way.robot_has_passed), and walk back to where they stood. They give way meanwhile (behaviour 2, the
 side-step spot marked as theirs for others who look for one). Their tree keeps running every step; this rule
 replaces its motion command while it lasts (engine.step calls `make_room` after the trees), and ends as soon
