@@ -37,7 +37,6 @@ KNOWN_FAILING: dict[tuple[str, str], str] = {
                                              "EXCUSE ME while her GiveWaytoRobot node runs (the body never moves; the "
                                              "verifier judges the body since issue 25)",
     ("hospital", "blind-corner"): "contact (closest gap 0.00 m); hidden_until: seen before they came within 5 m",
-    ("home", "exiting-room"): "contact (closest gap 0.00 m)",
 }
 
 

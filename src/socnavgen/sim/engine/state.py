@@ -23,6 +23,8 @@ END_REASONS = {TIMEOUT: "timeout", ROBOT_GOAL: "robot_goal", ALL_DONE: "all_done
 CLOCK = layout([
     ("t", "f8"), ("dt", "f8"), ("step", "i8"), ("max_steps", "i8"), ("idle", "f8"), ("idle_end", "f8"),
     ("end", "i8"), ("contact_slack", "f8"),
+    # s the robot has made no progress along its route, near stalled_at (engine.step.STALL_PROGRESS, STALL_REACH)
+    ("stalled", "f8"), ("best_progress", "f8"), ("stalled_at", "c16"),
     # how the episode hands control back to Python (engine.step's events)
     ("python_policy", "?"), ("each_step", "?"), ("progress_every", "i8"), ("stop_at_end", "?"),
     # a tree that could not go on: its node, what went wrong, the port column and the value it held

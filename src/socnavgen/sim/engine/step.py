@@ -3,7 +3,8 @@
 Per step:
 1. pacing sets who is held at their interaction point; every tree is ticked once (person-id order) on the
    current snapshot (distances to the robot and environment forces were computed for it at the end of the
-   last step); actions only set motion commands; each walker's way there (around walls and the robot);
+   last step); actions only set motion commands; people standing in the way of a robot that waits make room
+   (people.make_room); each walker's way there (around walls and the robot);
 2. the robot's script plays; the robot's policy acts on the same snapshot - a built-in one right here, a
    Python one between two resumptions of the generator (it answers through `s.action[0]`); its velocity is
    capped at the robot's max speed and a move that would cross or end inside a wall is refused;
@@ -28,9 +29,10 @@ import math
 from socnavgen import proxemics
 from socnavgen.sim.engine.state import ALL_DONE, ROBOT_GOAL, RUNNING, TIMEOUT
 from socnavgen.sim.jit import generator, jit
+from socnavgen.sim.people.make_room import make_room
 from socnavgen.sim.people.pacing import pace
 from socnavgen.sim.people.physics import advance, resolve_contacts
-from socnavgen.sim.people.routing import plan
+from socnavgen.sim.people.routing import plan, robot_progress
 from socnavgen.sim.people.state import done, pop_goal
 from socnavgen.sim.people.vm import ERROR, tick
 from socnavgen.sim.robot.body import drive
@@ -39,6 +41,9 @@ from socnavgen.sim.robot.script import play, scripted_gesture, still_waits
 
 STEPPED, ACT, PROGRESS, ENDED, FAILED, ROUTES = 0, 1, 2, 3, 4, 5
 IDLE_SPEED = 1e-3  # m/s: a robot slower than this is idle (the run ends once everything stopped)
+STALL_PROGRESS = 0.1  # m along its route: a robot that has not got this much farther than its best, and has
+STALL_REACH = 0.5  # m: ... stayed this close to where it began to, waits (clock.stalled), however it edges about
+#   there (the polite robot's small moves reset clock.idle every second or so); one driving round someone does not
 
 
 @jit(inline=True)
@@ -60,6 +65,7 @@ def think(s, trees, pacing, script, scratch):  # noqa: ANN001, ANN201
             continue
         if tick(s, nodes, ports, slots, texts, kids, stack, args, dt, i) == ERROR:
             return ERROR
+    make_room(s)  # someone standing in the way of a robot that waits steps aside (after their tree)
     plan(s)
     play(s, script)
     return 0
@@ -116,6 +122,11 @@ def ending(s):  # noqa: ANN001, ANN201
     if abs(robot.goal - robot.pos) <= robot.goal_tolerance and robot.passed >= wps.shape[0] - 2:
         return ROBOT_GOAL
     clock.idle = clock.idle + clock.dt if abs(robot.vel) < IDLE_SPEED else 0.0
+    progress, _ = robot_progress(s)
+    if progress > clock.best_progress + STALL_PROGRESS or abs(robot.pos - clock.stalled_at) > STALL_REACH:
+        clock.best_progress, clock.stalled_at, clock.stalled = max(progress, clock.best_progress), robot.pos, 0.0
+    else:
+        clock.stalled += clock.dt
     if clock.idle >= clock.idle_end:
         finished = True
         for i in range(s.people.shape[0]):

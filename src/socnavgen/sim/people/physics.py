@@ -16,7 +16,7 @@ import numpy as np
 
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people import neighbours
-from socnavgen.sim.people.avoid import keep_off
+from socnavgen.sim.people.avoid import KEEP_GAP, keep_off
 from socnavgen.sim.people.neighbours import Grid, new_grid, span
 from socnavgen.sim.world.queries import clearance_at, nearest_obstacle
 
@@ -305,9 +305,9 @@ def resolve_contacts(people, robot, world, slack, before, snap, grid):  # noqa: 
     pushed apart along the line of their centres to just past touching, the walkers taking the whole
     correction from someone standing, pair after pair in index order, in up to CONTACT_SWEEPS sweeps (someone
     arriving among people standing close together is pushed from one into the next) (a large crowd finds its overlapping
-    pairs with the cell list of this step's positions, people.neighbours); then a person whose own step took
-    them into the robot is put back on the robot's surface (never closer than the robot's own move left them:
-    an overlap the ROBOT causes stays, and counts as a collision). Corrections that would end inside a wall
+    pairs with the cell list of this step's positions, people.neighbours); then a person whose step (their own,
+    or others pushing them) took them within KEEP_GAP of the robot is put back that far from it (never farther
+    than the robot's own move left them: an overlap the ROBOT causes stays, and counts as a collision). Corrections that would end inside a wall
     are dropped (between people) or the person's step is not taken (into the robot). Returns whether anyone
     was moved."""
     n = people.shape[0]
@@ -322,13 +322,14 @@ def resolve_contacts(people, robot, world, slack, before, snap, grid):  # noqa: 
         moved = moved or pushed
         if not pushed:
             break
+    keep = max(slack, KEEP_GAP)  # pushed by someone else, a person keeps what keep_off kept their own steps to
     for i in range(n):
         p = people[i]
         reach = p.radius + robot.radius
         gap = abs(p.pos - robot.pos) - reach
-        if gap >= slack:
+        if gap >= keep:
             continue
-        allowed = min(abs(before[i] - robot.pos) - reach, slack)
+        allowed = min(abs(before[i] - robot.pos) - reach, keep)
         if gap < allowed - 1e-9:
             away = p.pos - robot.pos
             unit = away / abs(away) if abs(away) > 1e-9 else -robot.heading

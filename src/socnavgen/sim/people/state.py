@@ -66,6 +66,8 @@ PERSON = layout([
     # giving way (people.give_way): where it stands aside and from which arc position of the robot's path, and
     # the point of the robot's path it backs out to first where there is no room beside it
     ("gives_way", "?"), ("give_way_phase", "i8"), ("aside", "c16"), ("aside_at", "f8"), ("aside_via", "c16"),
+    # making room for a robot that waits (people.make_room): stepping aside, and the spot to go back to
+    ("makes_room", "i8"), ("room_home", "c16"),
 ])
 
 

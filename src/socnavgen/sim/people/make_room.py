@@ -1,0 +1,98 @@
+"""Making room: a person who stands still in the way of a robot that waits for them steps aside, as people do.
+
+A person stands still when their tree moves nobody this step: no walking leaf (they are idle at the end of
+their path, wait, look, or talk), or RegularNav at their last goal, already there. A deliberate block is not
+standing still in this sense: a person whose tree's IsRobotBlocking holds this step stands in the robot's
+way on purpose, and stays (a BlockRobot-type leaf walks, so it never counts as standing still).
+
+When such a person is in the robot's way (give_way.in_robot_way: on its remaining path, a few metres ahead)
+and the robot has waited for ROBOT_WAITED s (the engine's clock.stalled: no progress along its route, standing
+or edging about where it stopped), they step aside to the nearest spot that lets the robot by (give_way.plan_side_step), wait there facing it until it has
+passed (give_way.robot_has_passed), and walk back to where they stood. They give way meanwhile (behaviour 2, the
+side-step spot marked as theirs for others who look for one). Their tree keeps running every step; this rule
+replaces its motion command while it lasts (engine.step calls `make_room` after the trees), and ends as soon
+as the tree makes them walk somewhere else or blocks the robot on purpose.
+"""
+
+from __future__ import annotations
+
+import math
+
+from socnavgen.bodies import PERSON_GOAL_SLACK
+from socnavgen.sim.jit import jit
+from socnavgen.sim.people.give_way import (
+    ASIDE,
+    ASIDE_RADIUS,
+    GIVE_WAY_ARRIVED,
+    RESUME,
+    WAIT,
+    in_robot_way,
+    plan_side_step,
+    robot_has_passed,
+)
+from socnavgen.sim.people.state import ROUTE_STRAIGHT, turn, walk_to
+from socnavgen.sim.people.trees import LEAF_NAMES
+
+ROBOT_WAITED = 2.0  # s the robot has made no progress (clock.stalled) before a person standing in its way makes room
+BACK_SPEED = 0.6  # m/s at most, walking back to their spot once the robot has passed
+DELIBERATE = 1 << LEAF_NAMES.index("IsRobotBlocking")  # a succeeded-mask bit: standing in its way on purpose
+NONE, STEPPING = 0, 1  # p.makes_room
+
+
+@jit
+def stands_still(s, i, spot):  # noqa: ANN001, ANN201
+    """Person i's tree keeps them at `spot` this step (no walk, or a walk to their last goal, at `spot`), and
+    does not block the robot on purpose."""
+    p = s.people[i]
+    if p.succeeded & DELIBERATE:
+        return False
+    if not p.walks:
+        return True
+    last = p.to_goal and p.has_goal and p.queue_count <= 1 and not p.cyclic
+    return last and abs(p.goal - spot) <= p.goal_radius + PERSON_GOAL_SLACK
+
+
+@jit
+def step_aside(s, i):  # noqa: ANN001, ANN201
+    """This step's motion of person i making room: to the side-step spot, wait there facing the robot, then
+    back to where they stood; the rule ends once they are back."""
+    p, robot = s.people[i], s.robot[0]
+    if p.give_way_phase != RESUME and robot_has_passed(s, i):
+        p.give_way_phase = RESUME
+    if p.give_way_phase == ASIDE and abs(p.aside - p.pos) <= GIVE_WAY_ARRIVED:
+        p.give_way_phase = WAIT
+    if p.give_way_phase == RESUME:
+        if abs(p.room_home - p.pos) <= GIVE_WAY_ARRIVED:
+            p.makes_room, p.gives_way = NONE, False
+            return
+        p.behavior = 1
+        walk_to(s.people, i, p.room_home, ASIDE_RADIUS, min(p.max_speed, BACK_SPEED), ROUTE_STRAIGHT)
+        return
+    p.behavior = 2
+    if p.give_way_phase == ASIDE:
+        walk_to(s.people, i, p.aside, ASIDE_RADIUS, p.max_speed, ROUTE_STRAIGHT)
+    else:
+        d = robot.pos - p.pos
+        turn(s.people, i, math.atan2(d.imag, d.real))
+
+
+@jit
+def make_room(s):  # noqa: ANN001, ANN201
+    """After the trees: who starts making room for the waiting robot, and the motion of everyone who does."""
+    people, clock = s.people, s.clock[0]
+    waited = clock.stalled >= ROBOT_WAITED
+    for i in range(people.shape[0]):
+        p = people[i]
+        if clock.t < p.start_delay:
+            continue
+        if p.makes_room != NONE:
+            if stands_still(s, i, p.room_home):
+                step_aside(s, i)
+            else:  # the tree walks them elsewhere, or blocks the robot: it has the say again
+                p.makes_room = NONE
+        elif (waited and not (p.gives_way and p.behavior == 2 and p.give_way_phase != RESUME)  # not giving way
+              and stands_still(s, i, p.pos) and in_robot_way(s, i)):  # already (their tree's GiveWaytoRobot)
+            p.makes_room, p.room_home = STEPPING, p.pos
+            p.behavior, p.gives_way = 2, True
+            plan_side_step(s, i)
+            step_aside(s, i)

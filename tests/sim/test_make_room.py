@@ -1,0 +1,67 @@
+"""People standing still in the way of a robot that waits for them make room (sim.people.make_room), as people
+do; a person who blocks the robot on purpose does not.
+
+The place: two rooms joined by a 0.9 m door; the robot drives from the left room through the door to the
+right one; a person stands just behind the door on the robot's route, where the robot cannot get past them."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from socnavgen.bodies import CONTACT_MARGIN
+from socnavgen.sim import empty_room, load_policy
+from socnavgen.sim.contact import trace_gaps
+from socnavgen.sim.people.give_way import GIVE_WAY_MARGIN
+from tests.sim.simhelpers import REGULAR, human, make_sim, tree_xml
+
+DOOR = (7.0, 3.0)  # centre of the 0.9 m door in the wall x = 7
+WALLS = [(6.9, 0.0, 7.1, 2.55), (6.9, 3.45, 7.1, 6.0)]
+ROUTE = [(3.0, 3.0), DOOR, (12.0, 3.0)]
+SPOT = (7.85, 3.0)  # just behind the door, on the route
+BYSTANDER = (10.0, 5.2)  # in the right room, well off the route
+BLOCKS = tree_xml(f'<Fallback><Sequence><IsRobotBlocking agent_id="{{id}}" distance="3.0"/>'
+                  f'<LookAtRobot agent_id="{{id}}"/></Sequence>{REGULAR}</Fallback>')
+
+
+def run(trees: list[str]):  # noqa: ANN201
+    people = [human("human1", start=SPOT, goals=[SPOT], yaw=np.pi),  # faces the door: idle at their goal
+              human("human2", start=BYSTANDER, goals=[BYSTANDER])]
+    sim = make_sim(people, trees, ROUTE, policy=load_policy("scripted"), world=empty_room(14.0, 6.0, walls=WALLS),
+                   timeout=45)
+    return sim.run()
+
+
+def off_route(xy: np.ndarray) -> np.ndarray:
+    """Distance of each point from the robot's route after the door (the line y = 3, x >= 7)."""
+    return np.hypot(np.maximum(DOOR[0] - xy[..., 0], 0.0), xy[..., 1] - DOOR[1])
+
+
+def test_a_person_idle_behind_a_door_steps_aside_and_the_robot_gets_through():
+    """Idle at their goal behind the door: once the robot has waited they step aside far enough for it to pass
+    with room, wait there, and go back to their spot after it passed; the robot reaches its goal and nobody is
+    touched; the bystander off the route never moves."""
+    trace = run([tree_xml(REGULAR)] * 2)
+    assert trace.end_reason == "robot_goal"
+    assert trace_gaps(trace).min() > CONTACT_MARGIN
+    person = trace.humans[:, 0, :2]
+    radii = trace.human_radii[0] + 0.35
+    assert off_route(person).max() >= radii + GIVE_WAY_MARGIN - 0.1  # made room (0.5 m beside the robot)
+    assert (trace.behavior_state[:, 0] == 2).any()  # giving way while they did
+    assert np.hypot(*(person[-1] - SPOT)) < 0.3 or trace.t[-1] < 45  # back at their spot, or on the way there
+    first_moved = int(np.argmax(np.hypot(*(person - SPOT).T) > 0.05))
+    assert trace.t[first_moved] > 2.0  # not before the robot had waited
+    assert np.hypot(*(trace.humans[:, 1, :2] - BYSTANDER).T).max() < 0.05
+
+
+def test_a_person_who_blocks_the_robot_on_purpose_stays():
+    """The same person whose tree blocks the robot (IsRobotBlocking, then stand looking at it) stays on the
+    route while the robot waits: the robot does not get through."""
+    trace = run([BLOCKS, tree_xml(REGULAR)])
+    person = trace.humans[:, 0, :2]
+    assert trace.end_reason != "robot_goal"
+    assert trace.fired(0, "IsRobotBlocking").any()
+    robot, last = trace.robot[:, :2], np.searchsorted(trace.t, trace.t[-1] - 10.0)
+    assert np.hypot(*(robot[last:] - robot[last]).T).max() < 0.1  # the robot waited for them the last 10 s
+    assert np.hypot(*(robot[-1] - person[-1])) < 2.0
+    assert off_route(person).max() < 0.3
+    assert not (trace.behavior_state[:, 0] == 2).any()
