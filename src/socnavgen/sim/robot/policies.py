@@ -64,7 +64,8 @@ POLICY = layout([
     ("speed", "f8"), ("waited", "f8"), ("around_side", "f8"), ("pass_side", "f8"), ("has_heading", "?"), ("heading", "c16"),
     ("unicycle", "?"), ("forward", "f8"), ("turn", "f8"),  # a unicycle command (DWA) instead of a velocity
     ("speed_cap", "f8"),  # m/s: the scripted robot's cruise speed is the script's, at most this (inf: no cap)
-    ("guard", "f8"), ("retreat_to", "i8"),  # retreat_to: the waypoint it backs toward making way (-1: none)  # m: the body's protective field (robot.body.drive; NaN: none)
+    ("guard", "f8"),  # m: the body's protective field (robot.body.drive; NaN: none)
+    ("retreat_to", "i8"), ("way_for", "i8"),  # making way (polite.make_way): the waypoint it backs toward, for whom (-1: none)
     ("plans", "?"), ("field_scale", "i8"),  # it follows the planner's way (robot.planner) where the line to its waypoint is blocked
     ("waypoint", "i8"), ("rude_waypoint", "i8")])
 

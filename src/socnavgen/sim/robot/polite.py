@@ -9,8 +9,10 @@ them, steps back from someone walking into it, and never moves closer than a mar
 * close_speed: at most CLOSE_SPEED toward anyone within PASS_GAP (intimate space, Hall's 0.45 m); moving
   away from them is not slowed (someone walking into its back or side is left behind, not waited for).
 * yield_to: a person closing in within YIELD_GAP: the robot backs away from them (the robot gives way).
-* make_way: someone who needs to get past it, face to face within FACE_GAP for `patience` s (both waiting):
-  it backs away along the way it came while they are near, and steps aside where there is room.
+* make_way: someone who needs to get past it (their goal, or their own route through their next goals, lies
+  past the robot: a person the robot's presence stopped in a doorway or a hallway), face to face within
+  FACE_GAP for `patience` s (both waiting): it backs away along the way it came, stepping aside where there is
+  room, until it is out of their way and they walk; it stands there while they come past, then goes on.
 * keep_clear: the part of a move that would bring the robot closer than `gap` (surface to surface) to a
   person is dropped: it slides past or stops, and never pushes into anyone.
 """
@@ -21,6 +23,7 @@ import math
 
 from socnavgen.bodies import CONTACT_MARGIN, INTIMATE_SPACE
 from socnavgen.sim.jit import jit
+from socnavgen.sim.people.routing import project
 from socnavgen.sim.world.queries import free_along
 
 PASS_GAP = INTIMATE_SPACE  # m: the gap the robot tries to leave beside a person it passes
@@ -41,6 +44,8 @@ MAKE_WAY_KEEP = 1.0  # m beyond MAKE_WAY_GAP: making way goes on while they are 
 FACE_GAP = 0.8  # m: standing face to face this close for `patience` s also makes it give way
 MAKE_WAY_SPEED = 0.5  # m/s making way (faster than robot.body.REVERSE_SPEED: a differential drive turns round)
 MAKE_WAY_REACH = 0.3  # m: a previous waypoint this close is passed on the way back
+ROUTE_LOOK = 4  # goals of a person's queue looked along for whether their route goes through the robot
+WALKING = 0.25  # m/s: a person making way was waited for walks again faster than this
 
 
 @jit
@@ -171,9 +176,25 @@ def keep_clear(s, v, gap):  # noqa: ANN001, ANN201
 
 
 @jit
+def route_through(s, i, point, clear):  # noqa: ANN001, ANN201
+    """Person i's own route (from where they are through their next ROUTE_LOOK goals) passes within `clear`
+    of `point` before it ends: someone standing there is in their way (they may have stopped because of it)."""
+    q, goals = s.people[i], s.goals[i]
+    a, n = q.pos, min(q.queue_count, ROUTE_LOOK)
+    for j in range(n):
+        b = goals[(q.queue_start + j) % goals.shape[0]]
+        along, d = project(point, a, b)
+        if d < clear and (j < n - 1 or along < abs(b - a) - clear):
+            return True
+        a = b
+    return False
+
+
+@jit
 def coming_through(s, forward, reach, in_line):  # noqa: ANN001, ANN201
     """(who, walking): the nearest person within `reach` (gap) of the robot (`in_line`: ahead along the unit
-    `forward`, its way on, in line with it) whose goal lies beyond the robot (they need to get past it); -1 when nobody is.
+    `forward`, its way on, in line with it) whose goal lies beyond the robot or whose route goes through it
+    (route_through: they need to get past it); -1 when nobody is.
     `walking`: they walk toward the robot now (not standing, waiting)."""
     robot, people = s.robot[0], s.people
     p, back = robot.pos, forward.conjugate()
@@ -187,7 +208,8 @@ def coming_through(s, forward, reach, in_line):  # noqa: ANN001, ANN201
             continue
         toward = p - q.pos
         u = toward / max(abs(toward), 1e-9)
-        if ((q.goal - q.pos) * u.conjugate()).real <= abs(toward):  # their goal is short of the robot
+        if ((q.goal - q.pos) * u.conjugate()).real <= abs(toward) and not route_through(
+                s, i, p, q.radius + robot.radius + PASS_GAP):  # their goal is short of the robot, their route too
             continue
         if gap < best:
             who, best, walking = i, gap, (q.vel * u.conjugate()).real > CLOSING
@@ -227,36 +249,43 @@ def behind(s):  # noqa: ANN001, ANN201
 
 @jit
 def make_way(s, forward):  # noqa: ANN001, ANN201
-    """(backing off?, velocity): someone who needs to get past the robot has stood face to face with it, within
-    FACE_GAP, for `patience` s: it goes back the way it came (toward its previous waypoints) at MAKE_WAY_SPEED
-    while they are within MAKE_WAY_GAP + MAKE_WAY_KEEP, and steps aside, off their way, where the passage has
-    room. A person and a robot that both wait for the other are a deadlock; the robot gives way."""
+    """(making way?, velocity): someone who needs to get past the robot (coming_through) has stood face to face
+    with it, within FACE_GAP, for `patience` s: a person and a robot that both wait for the other are a
+    deadlock, and the robot gives way. It goes back the way it came (toward its previous waypoints) at
+    MAKE_WAY_SPEED, stepping aside off their way where the passage has room, while they stand or while it
+    is still on their route; once it is off their route and they walk, it stands and lets them come past;
+    it goes on when they walk away from it or are farther than MAKE_WAY_GAP + MAKE_WAY_KEEP."""
     policy, robot, wps = s.policy[0], s.robot[0], s.waypoints
-    if policy.retreat_to < 0:  # someone ahead, in line; once making way: them, wherever, until they are through
-        who, walking = coming_through(s, forward, MAKE_WAY_GAP, True)
-    else:
-        who, walking = coming_through(s, forward, MAKE_WAY_GAP + MAKE_WAY_KEEP, False)
-    if who < 0:
-        policy.retreat_to = -1
-        return False, 0j
     p = robot.pos
-    need = 2 * s.people[who].radius + PASS_GAP
-    if policy.retreat_to < 0:
-        j = behind(s)
-        back = wps[j] - p
-        if abs(back) < MAKE_WAY_REACH:
-            return False, 0j  # at its start: nowhere to back off to
-        side = room_beside(s, back / abs(back), need, who)
-        gap = abs(s.people[who].pos - p) - s.people[who].radius - robot.radius
-        if not (policy.waited >= policy.patience and gap <= FACE_GAP):  # face to face, both waiting
+    if policy.retreat_to < 0:  # someone ahead, in line, face to face while both wait
+        who, _ = coming_through(s, forward, MAKE_WAY_GAP, True)
+        if who < 0:
             return False, 0j
-        policy.retreat_to = j
+        j = behind(s)
+        if abs(wps[j] - p) < MAKE_WAY_REACH:
+            return False, 0j  # at its start: nowhere to back off to
+        gap = abs(s.people[who].pos - p) - s.people[who].radius - robot.radius
+        if not (policy.waited >= policy.patience and gap <= FACE_GAP):
+            return False, 0j
+        policy.retreat_to, policy.way_for = j, who
+    who = policy.way_for
+    q = s.people[who]
+    d = q.pos - p
+    walking = abs(q.vel) > WALKING
+    in_their_way = route_through(s, who, p, q.radius + robot.radius + PASS_GAP)
+    away = walking and (q.vel * d.conjugate()).real > 0  # walking away from the robot: past it, or leaving
+    if abs(d) - q.radius - robot.radius > MAKE_WAY_GAP + MAKE_WAY_KEEP or (away and not in_their_way):
+        policy.retreat_to, policy.way_for, policy.waited = -1, -1, 0.0
+        return False, 0j
+    if walking and not in_their_way:
+        return True, 0j  # out of their way: it waits while they come past
+    need = 2 * q.radius + PASS_GAP
     target = wps[policy.retreat_to]
     while abs(target - p) < MAKE_WAY_REACH and policy.retreat_to > 0:
         policy.retreat_to -= 1
         target = wps[policy.retreat_to]
     if abs(target - p) < MAKE_WAY_REACH:  # back at its start: nowhere further to go
-        policy.retreat_to, policy.waited = -1, 0.0
+        policy.retreat_to, policy.way_for, policy.waited = -1, -1, 0.0
         return False, 0j
     back = (target - p) / abs(target - p)
     side = room_beside(s, back, need, who)
