@@ -221,6 +221,10 @@ def _goal_evidence(cc: Compiled, s: Signals) -> Evidence:
         text += "; it never came near every waypoint of its route before the goal"
     if s.trace.end_reason:
         text += f"; simulation ended by {s.trace.end_reason}"
+        meta = s.trace.meta if isinstance(s.trace.meta, dict) else {}
+        if s.trace.end_reason == "timeout" and isinstance(meta.get("timeout"), int | float):
+            why = meta.get("timeout_why")
+            text += f" (its limit {meta['timeout']:g} s" + (f": {why})" if isinstance(why, str) and why else ")")
     stalled = s.get("stalled")
     if stalled[-1] > 0:
         text += f"; the robot stood still for the last {stalled[-1]:.1f} s"
