@@ -273,10 +273,11 @@ class Simulation:
         return self.trace()
 
     def robot_at_goal(self) -> bool:
-        """At its goal, having come near its route's other waypoints in turn (engine.step.ending's rule)."""
+        """At its goal (or stopped short of someone standing there: proxemics.short_of_goal), having come near
+        its route's other waypoints in turn (engine.step.ending's rule)."""
         robot = self.state.robot[0]
-        return abs(robot.goal - robot.pos) <= robot.goal_tolerance and \
-            int(robot.passed) >= self.state.waypoints.shape[0] - 2
+        return (abs(robot.goal - robot.pos) <= robot.goal_tolerance or bool(policies.stopped_short(self.state))) \
+            and int(robot.passed) >= self.state.waypoints.shape[0] - 2
 
     def trace(self) -> Trace:
         """The trace of every step recorded so far, with the run's meta."""

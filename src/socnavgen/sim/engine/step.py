@@ -34,7 +34,7 @@ from socnavgen.sim.people.routing import plan
 from socnavgen.sim.people.state import done, pop_goal
 from socnavgen.sim.people.vm import ERROR, tick
 from socnavgen.sim.robot.body import drive
-from socnavgen.sim.robot.policies import act
+from socnavgen.sim.robot.policies import act, stopped_short
 from socnavgen.sim.robot.script import play, scripted_gesture
 
 STEPPED, ACT, PROGRESS, ENDED, FAILED, ROUTES = 0, 1, 2, 3, 4, 5
@@ -113,7 +113,8 @@ def ending(s):  # noqa: ANN001, ANN201
     wps = s.waypoints
     while robot.passed < wps.shape[0] - 2 and abs(wps[1 + robot.passed] - robot.pos) <= proxemics.OCCUPIED_REACH:
         robot.passed += 1
-    if abs(robot.goal - robot.pos) <= robot.goal_tolerance and robot.passed >= wps.shape[0] - 2:
+    if robot.passed >= wps.shape[0] - 2 and (abs(robot.goal - robot.pos) <= robot.goal_tolerance or
+                                             stopped_short(s)):
         return ROBOT_GOAL
     clock.idle = clock.idle + clock.dt if abs(robot.vel) < IDLE_SPEED else 0.0
     if clock.idle >= clock.idle_end:

@@ -182,6 +182,35 @@ def reachable_goal(s, goal):  # noqa: ANN001, ANN201
     return goal + (goal - people[k].pos) / d * ROBOT_GOAL_TOLERANCE * 0.75, ROBOT_GOAL_TOLERANCE * 0.15
 
 
+short_of_goal = jit(proxemics.short_of_goal)  # the one arrival short of a goal someone stands at, compiled
+
+
+@jit
+def goal_holder(s):  # noqa: ANN001, ANN201
+    """The person standing on or next to the robot's goal nearest to the robot (proxemics.short_of_goal's
+    first half), -1 when nobody is."""
+    robot, people = s.robot[0], s.people
+    who, best = -1, math.inf
+    for i in range(people.shape[0]):
+        q = people[i]
+        if abs(q.pos - robot.goal) < robot.radius + q.radius + proxemics.GOAL_STOP_GAP and \
+                abs(q.vel) < proxemics.STANDING_SPEED and abs(q.pos - robot.pos) < best:
+            who, best = i, abs(q.pos - robot.pos)
+    return who
+
+
+@jit
+def stopped_short(s):  # noqa: ANN001, ANN201
+    """The robot stands short of its goal at a social distance from someone standing there: arrived."""
+    robot, people = s.robot[0], s.people
+    for i in range(people.shape[0]):
+        q = people[i]
+        if short_of_goal(abs(q.pos - robot.goal), abs(q.pos - robot.pos) - q.radius - robot.radius, abs(q.vel),
+                         robot.radius, q.radius):
+            return True
+    return False
+
+
 @jit
 def skip_occupied_waypoint(s):  # noqa: ANN001, ANN201
     """Someone standing on an intermediate waypoint: head for the next one if it is in a clear line."""
@@ -205,7 +234,13 @@ def waypoints_act(s):  # noqa: ANN001, ANN201
     p, dt = robot.pos, s.clock[0].dt
     arrive = ARRIVED
     if last and abs(target - p) < policy.slow_gap + 1.0:
-        target, arrive = reachable_goal(s, target)
+        holder = goal_holder(s) if policy.kind == SCRIPTED else -1
+        if holder >= 0:  # the polite robot stops at a social distance short of someone standing at its goal
+            q = s.people[holder]
+            away = p - q.pos
+            target = q.pos + away / max(abs(away), 1e-9) * (q.radius + robot.radius + proxemics.GOAL_STOP_GAP)
+        else:
+            target, arrive = reachable_goal(s, target)
     to = target - p
     dist = abs(to)
     if last and dist <= arrive:
