@@ -318,11 +318,11 @@ def _short_of_goal(s: Signals, m: re.Match) -> np.ndarray:
     out = np.zeros(s.trace.steps, dtype=bool)
     if "goal" not in s.places:
         return out.astype(float)
-    gaps = s.gaps()
+    gaps, robot_to_goal, robot_speed = s.gaps(), contact.lengths(s.pos("robot") - s.place("goal")), s.speed("robot")
     for k, name in enumerate(s.trace.human_names):
         to_goal = contact.lengths(s.pos(name) - s.place("goal"))
-        out |= proxemics.short_of_goal(to_goal, gaps[:, k], s.speed(name), s.trace.robot_radius,
-                                       float(s.trace.human_radii[k]))
+        out |= proxemics.short_of_goal(robot_to_goal, to_goal, gaps[:, k], s.speed(name), robot_speed,
+                                       s.trace.robot_radius, float(s.trace.human_radii[k]))
     return out.astype(float)
 
 
@@ -504,9 +504,10 @@ SIGNAL_KINDS: tuple[SignalKind, ...] = (
     SignalKind(r"progress", "progress", "m", "how far along its route the robot has come (best so far)", _progress),
     SignalKind(r"route_done", "route_done", "0/1", "the robot has come near every waypoint of its route but the last, "
                "in turn: a round trip's goal counts only on the way back", _route_done),
-    SignalKind(r"short_of_goal", "short_of_goal", "0/1", "the robot is within "
+    SignalKind(r"short_of_goal", "short_of_goal", "0/1", "the robot stands within "
                f"{proxemics.GOAL_STOP_GAP + proxemics.GOAL_STOP_SLACK:g} m (gap) of someone standing on or next to its "
-               "goal (a robot at the goal would be in their personal space): it has arrived", _short_of_goal),
+               "goal (a robot at the goal would be in their personal space), near the goal: it has arrived",
+               _short_of_goal),
     SignalKind(r"deadlock", "deadlock", "s", f"how long the robot has made no progress along its route (less than "
                f"{PROGRESS_STEP:g} m) with someone in its way within {proxemics.HELD_UP_DISTANCE:g} m (not at its "
                f"goal), continuously: standing still or jittering in place", _deadlock),

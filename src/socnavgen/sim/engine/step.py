@@ -113,10 +113,10 @@ def ending(s):  # noqa: ANN001, ANN201
     wps = s.waypoints
     while robot.passed < wps.shape[0] - 2 and abs(wps[1 + robot.passed] - robot.pos) <= proxemics.OCCUPIED_REACH:
         robot.passed += 1
-    if robot.passed >= wps.shape[0] - 2 and (abs(robot.goal - robot.pos) <= robot.goal_tolerance or
-                                             stopped_short(s)):
-        return ROBOT_GOAL
     clock.idle = clock.idle + clock.dt if abs(robot.vel) < IDLE_SPEED else 0.0
+    if robot.passed >= wps.shape[0] - 2 and (abs(robot.goal - robot.pos) <= robot.goal_tolerance or (
+            clock.idle >= proxemics.GOAL_STOP_DWELL and stopped_short(s))):  # stood short of someone at its goal
+        return ROBOT_GOAL
     if clock.idle >= clock.idle_end:
         finished = True
         for i in range(s.people.shape[0]):

@@ -205,8 +205,8 @@ def stopped_short(s):  # noqa: ANN001, ANN201
     robot, people = s.robot[0], s.people
     for i in range(people.shape[0]):
         q = people[i]
-        if short_of_goal(abs(q.pos - robot.goal), abs(q.pos - robot.pos) - q.radius - robot.radius, abs(q.vel),
-                         robot.radius, q.radius):
+        if short_of_goal(abs(robot.goal - robot.pos), abs(q.pos - robot.goal), abs(q.pos - robot.pos) - q.radius
+                         - robot.radius, abs(q.vel), abs(robot.vel), robot.radius, q.radius):
             return True
     return False
 
@@ -235,10 +235,14 @@ def waypoints_act(s):  # noqa: ANN001, ANN201
     arrive = ARRIVED
     if last and abs(target - p) < policy.slow_gap + 1.0:
         holder = goal_holder(s) if policy.kind == SCRIPTED else -1
+        stop = target
         if holder >= 0:  # the polite robot stops at a social distance short of someone standing at its goal
             q = s.people[holder]
             away = p - q.pos
-            target = q.pos + away / max(abs(away), 1e-9) * (q.radius + robot.radius + proxemics.GOAL_STOP_GAP)
+            reach = q.radius + robot.radius + proxemics.GOAL_STOP_GAP
+            stop = q.pos + away / max(abs(away), 1e-9) * reach
+        if holder >= 0 and abs(stop - target) <= reach:  # there it has arrived (proxemics.short_of_goal)
+            target = stop
         else:
             target, arrive = reachable_goal(s, target)
     to = target - p
