@@ -30,6 +30,7 @@ from socnavgen.sim.robot.planner import steer
 from socnavgen.sim.robot.polite import (
     CLOSE_SPEED,
     PASS_GAP,
+    corner_speed,
     keep_clear,
     make_way,
     pass_aside,
@@ -305,7 +306,8 @@ def scripted_act(s, now):  # noqa: ANN001, ANN201
     policy = s.policy[0]
     if now.misbehave:
         return straight_act(s, policy.rude_max_speed, True)
-    policy.max_speed = min(now.speed, policy.speed_cap)
+    corner = corner_speed(s)
+    policy.max_speed = min(now.speed, policy.speed_cap, corner)
     if now.wait:
         policy.speed = 0.0
         return keep_clear(s, slide_along_walls(s, yield_to(s)), policy.keep_gap)
@@ -330,7 +332,10 @@ def scripted_act(s, now):  # noqa: ANN001, ANN201
     v += pass_aside(s, direction)
     if abs(v) > CLOSE_SPEED and toward_near(s, v, PASS_GAP):
         v = v * (CLOSE_SPEED / abs(v))
-    v = keep_clear(s, slide_along_walls(s, v + yield_to(s)), policy.keep_gap)
+    v = v + yield_to(s)
+    if abs(v) > corner:  # all of it (passing aside, yielding) within the blind corner's speed
+        v = v * (corner / abs(v))
+    v = keep_clear(s, slide_along_walls(s, v), policy.keep_gap)
     forward = (v * direction.conjugate()).real
     if forward < policy.speed:
         policy.speed = max(0.0, forward)

@@ -13,6 +13,9 @@ them, steps back from someone walking into it, and never moves closer than a mar
   past the robot: a person the robot's presence stopped in a doorway or a hallway), face to face within
   FACE_GAP for `patience` s (both waiting): it backs away along the way it came, stepping aside where there is
   room, until it is out of their way and they walk; it stands there while they come past, then goes on.
+* corner_speed: near a blind turn of its route (the legs' points BLIND_SIGHT_M / 2 before and after the turn do
+  not see each other on the map: the place inventory's blind turn), it drives at most CORNER_SPEED, approaching
+  and leaving the turn within CORNER_REACH (braking into it at CORNER_DECEL): someone may come round it.
 * keep_clear: the part of a move that would bring the robot closer than `gap` (surface to surface) to a
   person is dropped: it slides past or stops, and never pushes into anyone.
 """
@@ -22,9 +25,11 @@ from __future__ import annotations
 import math
 
 from socnavgen.bodies import CONTACT_MARGIN, INTIMATE_SPACE
+from socnavgen.location.inventory import BLIND_SIGHT_M
+from socnavgen.location.places import CORNER_TURN_DEG
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.routing import project
-from socnavgen.sim.world.queries import free_along
+from socnavgen.sim.world.queries import free_along, line_of_sight
 
 PASS_GAP = INTIMATE_SPACE  # m: the gap the robot tries to leave beside a person it passes
 PASS_LOOK = 3.5  # m (gap) ahead: people this close ahead make the robot move aside
@@ -44,6 +49,10 @@ MAKE_WAY_KEEP = 1.0  # m beyond MAKE_WAY_GAP: making way goes on while they are 
 FACE_GAP = 0.8  # m: standing face to face this close for `patience` s also makes it give way
 MAKE_WAY_SPEED = 0.5  # m/s making way (faster than robot.body.REVERSE_SPEED: a differential drive turns round)
 MAKE_WAY_REACH = 0.3  # m: a previous waypoint this close is passed on the way back
+CORNER_SPEED = 0.3  # m/s at most near a blind turn of its route
+CORNER_REACH = 2.5  # m from the turn's waypoint, before and after it
+CORNER_DECEL = 0.8  # m/s2: it brakes into that speed at this rate (under the 1.5 m/s2 comfort limit)
+CORNER_COS = math.cos(math.radians(CORNER_TURN_DEG))  # a turn sharper than the inventory's corner
 ROUTE_LOOK = 4  # goals of a person's queue looked along for whether their route goes through the robot
 WALKING = 0.25  # m/s: a person making way was waited for walks again faster than this
 
@@ -292,3 +301,32 @@ def make_way(s, forward):  # noqa: ANN001, ANN201
     if side != 0.0:
         return True, side * 1j * back * LATERAL_SPEED
     return True, back * MAKE_WAY_SPEED
+
+
+@jit
+def blind_turn(s, k):  # noqa: ANN001, ANN201
+    """Waypoint k turns the route by more than a corner (CORNER_TURN_DEG) and the points BLIND_SIGHT_M / 2 before
+    and after it along the two legs (or the legs' ends) do not see each other: the robot cannot see round it."""
+    wps = s.waypoints
+    if k <= 0 or k >= wps.shape[0] - 1:
+        return False
+    a, c, b = wps[k - 1], wps[k], wps[k + 1]
+    into, out = c - a, b - c
+    if abs(into) < 1e-9 or abs(out) < 1e-9 or ((out * into.conjugate()).real > CORNER_COS * abs(into) * abs(out)):
+        return False
+    look = 0.5 * BLIND_SIGHT_M
+    return not line_of_sight(s.world, c - into / abs(into) * min(look, abs(into)),
+                             c + out / abs(out) * min(look, abs(out)))
+
+
+@jit
+def corner_speed(s):  # noqa: ANN001, ANN201
+    """The most the robot drives now for the blind turns of its route near it (inf: none near): CORNER_SPEED
+    within CORNER_REACH of the turn it heads for or has just passed, braking at CORNER_DECEL before that."""
+    policy, p = s.policy[0], s.robot[0].pos
+    top = math.inf
+    for k in range(max(policy.waypoint - 1, 1), min(policy.waypoint + 1, s.waypoints.shape[0] - 1)):
+        d = abs(s.waypoints[k] - p)
+        if d < CORNER_REACH + 1.0 and blind_turn(s, k):
+            top = min(top, math.sqrt(CORNER_SPEED ** 2 + 2 * CORNER_DECEL * max(0.0, d - CORNER_REACH)))
+    return top
