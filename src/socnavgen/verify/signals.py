@@ -22,6 +22,7 @@ import numpy as np
 from socnavgen import proxemics
 from socnavgen.bt.library import HUMAN_GESTURES, LIBRARY, REACTION_NODES, ROBOT_GESTURES
 from socnavgen.sim import contact
+from socnavgen.sim.arrival import short_of_goal_steps
 from socnavgen.sim.trace import VX, VY, YAW, Trace
 from socnavgen.verify.route import progress_events, route_offset, route_progress
 from socnavgen.verify.thresholds import (
@@ -314,16 +315,10 @@ def _deadlock(s: Signals, m: re.Match) -> np.ndarray:
 
 def _short_of_goal(s: Signals, m: re.Match) -> np.ndarray:
     """1 where the robot stands short of its goal at a social distance from someone standing there
-    (proxemics.short_of_goal, the simulator's rule)."""
-    out = np.zeros(s.trace.steps, dtype=bool)
+    (proxemics.short_of_goal, the simulator's rule: sim.arrival)."""
     if "goal" not in s.places:
-        return out.astype(float)
-    gaps, robot_to_goal, robot_speed = s.gaps(), contact.lengths(s.pos("robot") - s.place("goal")), s.speed("robot")
-    for k, name in enumerate(s.trace.human_names):
-        to_goal = contact.lengths(s.pos(name) - s.place("goal"))
-        out |= proxemics.short_of_goal(robot_to_goal, to_goal, gaps[:, k], s.speed(name), robot_speed,
-                                       s.trace.robot_radius, float(s.trace.human_radii[k]))
-    return out.astype(float)
+        return np.zeros(s.trace.steps)
+    return short_of_goal_steps(s.trace, s.places["goal"]).astype(float)
 
 
 def _route_done(s: Signals, m: re.Match) -> np.ndarray:
