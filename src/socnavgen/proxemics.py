@@ -88,11 +88,11 @@ def short_of_goal(robot_to_goal: Num, person_to_goal: Num, gap: Num, person_spee
                   robot_radius: Num, person_radius: Num) -> Num:
     """The robot has arrived short of its goal: a person stands on or next to the goal (a robot at the goal
     would be inside their personal space: their centre within reach = robot_radius + person_radius +
-    GOAL_STOP_GAP of it), and the robot stands at most GOAL_STOP_GAP (+ GOAL_STOP_SLACK) from them (`gap`,
+    GOAL_STOP_GAP of it, and nearer it than the robot: it stops short of them), and the robot stands at most GOAL_STOP_GAP (+ GOAL_STOP_SLACK) from them (`gap`,
     surface to surface) and within reach (+ slack) of its goal (not in another room beyond them). The ONE
     arrival rule besides the goal tolerance: the simulator's end of run, the polite robot's stopping point and
     the verifier's robot_reaches_goal all use it."""
     reach = robot_radius + person_radius + GOAL_STOP_GAP
-    held = (person_to_goal < reach) & (person_speed < STANDING_SPEED)
+    held = (person_to_goal < reach) & (person_speed < STANDING_SPEED) & (person_to_goal < robot_to_goal)
     near = (gap <= GOAL_STOP_GAP + GOAL_STOP_SLACK) & (robot_to_goal <= reach + GOAL_STOP_SLACK)
     return held & near & (robot_speed < STANDING_SPEED)

@@ -59,3 +59,8 @@ def test_the_scripted_robot_stops_short_of_someone_standing_on_its_goal_and_has_
     gap = np.hypot(*(trace.humans[-1, 0, :2] - trace.robot[-1, :2])) - 0.75
     assert 1.05 <= gap <= 1.35  # outside personal space, about 2 m centre to centre
     assert Signals(trace, goal_radius=0.2).get("short_of_goal")[-1] == 1.0
+
+
+def test_a_robot_nearer_its_goal_than_the_person_is_not_short_of_it():
+    # the person stands 1.4 m before a goal the robot (0.5 m from it) has not moved to: not an arrival
+    assert not _reaches_goal(10.5, person_xy=(9.6, 3.0))
