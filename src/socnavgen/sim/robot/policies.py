@@ -66,7 +66,7 @@ POLICY = layout([
     ("unicycle", "?"), ("forward", "f8"), ("turn", "f8"),  # a unicycle command (DWA) instead of a velocity
     ("speed_cap", "f8"),  # m/s: the scripted robot's cruise speed is the script's, at most this (inf: no cap)
     ("guard", "f8"),  # m: the body's protective field (robot.body.drive; NaN: none)
-    ("retreat_to", "i8"), ("way_for", "i8"),  # making way (polite.make_way): the waypoint it backs toward, for whom (-1: none)
+    ("retreat_to", "i8"),  # making way (polite.make_way): the waypoint it backs toward (-1: none)
     ("plans", "?"), ("field_scale", "i8"),  # it follows the planner's way (robot.planner) where the line to its waypoint is blocked
     ("waypoint", "i8"), ("rude_waypoint", "i8")])
 
@@ -242,7 +242,8 @@ def waypoints_act(s):  # noqa: ANN001, ANN201
             away = p - q.pos
             reach = q.radius + robot.radius + proxemics.GOAL_STOP_GAP
             stop = q.pos + away / max(abs(away), 1e-9) * reach
-        if holder >= 0 and abs(stop - target) <= reach:  # there it has arrived (proxemics.short_of_goal)
+        if holder >= 0 and abs(s.people[holder].pos - target) < abs(stop - target) <= reach:  # there it has
+            # arrived (proxemics.short_of_goal: short of them, they nearer the goal, it near enough to it)
             target = stop
         else:
             target, arrive = reachable_goal(s, target)

@@ -11,8 +11,8 @@ them, steps back from someone walking into it, and never moves closer than a mar
 * yield_to: a person closing in within YIELD_GAP: the robot backs away from them (the robot gives way).
 * make_way: someone who needs to get past it (their goal, or their own route through their next goals, lies
   past the robot: a person the robot's presence stopped in a doorway or a hallway), face to face within
-  FACE_GAP for `patience` s (both waiting): it backs away along the way it came, stepping aside where there is
-  room, until it is out of their way and they walk; it stands there while they come past, then goes on.
+  FACE_GAP for `patience` s (both waiting): it backs away along the way it came while they are near, and steps
+  aside where there is room.
 * corner_speed: near a blind turn of its route (the legs' points BLIND_SIGHT_M / 2 before and after the turn do
   not see each other on the map: the place inventory's blind turn), it drives at most CORNER_SPEED, approaching
   and leaving the turn within CORNER_REACH (braking into it at CORNER_DECEL): someone may come round it.
@@ -54,7 +54,6 @@ CORNER_REACH = 2.5  # m from the turn's waypoint, before and after it
 CORNER_DECEL = 0.8  # m/s2: it brakes into that speed at this rate (under the 1.5 m/s2 comfort limit)
 CORNER_COS = math.cos(math.radians(CORNER_TURN_DEG))  # a turn sharper than the inventory's corner
 ROUTE_LOOK = 4  # goals of a person's queue looked along for whether their route goes through the robot
-WALKING = 0.25  # m/s: a person making way was waited for walks again faster than this
 
 
 @jit
@@ -258,43 +257,36 @@ def behind(s):  # noqa: ANN001, ANN201
 
 @jit
 def make_way(s, forward):  # noqa: ANN001, ANN201
-    """(making way?, velocity): someone who needs to get past the robot (coming_through) has stood face to face
-    with it, within FACE_GAP, for `patience` s: a person and a robot that both wait for the other are a
-    deadlock, and the robot gives way. It goes back the way it came (toward its previous waypoints) at
-    MAKE_WAY_SPEED, stepping aside off their way where the passage has room, while they stand or while it
-    is still on their route; once it is off their route and they walk, it stands and lets them come past;
-    it goes on when they walk away from it or are farther than MAKE_WAY_GAP + MAKE_WAY_KEEP."""
+    """(backing off?, velocity): someone who needs to get past the robot (coming_through: their goal or their own
+    route lies past it) has stood face to face with it, within FACE_GAP, for `patience` s: it goes back the way
+    it came (toward its previous waypoints) at MAKE_WAY_SPEED while they are within MAKE_WAY_GAP +
+    MAKE_WAY_KEEP, and steps aside, off their way, where the passage has room. A person and a robot that both
+    wait for the other are a deadlock; the robot gives way."""
     policy, robot, wps = s.policy[0], s.robot[0], s.waypoints
+    if policy.retreat_to < 0:  # someone ahead, in line; once making way: them, wherever, until they are through
+        who, walking = coming_through(s, forward, MAKE_WAY_GAP, True)
+    else:
+        who, walking = coming_through(s, forward, MAKE_WAY_GAP + MAKE_WAY_KEEP, False)
+    if who < 0:
+        policy.retreat_to = -1
+        return False, 0j
     p = robot.pos
-    if policy.retreat_to < 0:  # someone ahead, in line, face to face while both wait
-        who, _ = coming_through(s, forward, MAKE_WAY_GAP, True)
-        if who < 0:
-            return False, 0j
+    need = 2 * s.people[who].radius + PASS_GAP
+    if policy.retreat_to < 0:
         j = behind(s)
-        if abs(wps[j] - p) < MAKE_WAY_REACH:
+        back = wps[j] - p
+        if abs(back) < MAKE_WAY_REACH:
             return False, 0j  # at its start: nowhere to back off to
         gap = abs(s.people[who].pos - p) - s.people[who].radius - robot.radius
-        if not (policy.waited >= policy.patience and gap <= FACE_GAP):
+        if not (policy.waited >= policy.patience and gap <= FACE_GAP):  # face to face, both waiting
             return False, 0j
-        policy.retreat_to, policy.way_for = j, who
-    who = policy.way_for
-    q = s.people[who]
-    d = q.pos - p
-    walking = abs(q.vel) > WALKING
-    in_their_way = route_through(s, who, p, q.radius + robot.radius + PASS_GAP)
-    away = walking and (q.vel * d.conjugate()).real > 0  # walking away from the robot: past it, or leaving
-    if abs(d) - q.radius - robot.radius > MAKE_WAY_GAP + MAKE_WAY_KEEP or (away and not in_their_way):
-        policy.retreat_to, policy.way_for, policy.waited = -1, -1, 0.0
-        return False, 0j
-    if walking and not in_their_way:
-        return True, 0j  # out of their way: it waits while they come past
-    need = 2 * q.radius + PASS_GAP
+        policy.retreat_to = j
     target = wps[policy.retreat_to]
     while abs(target - p) < MAKE_WAY_REACH and policy.retreat_to > 0:
         policy.retreat_to -= 1
         target = wps[policy.retreat_to]
     if abs(target - p) < MAKE_WAY_REACH:  # back at its start: nowhere further to go
-        policy.retreat_to, policy.way_for, policy.waited = -1, -1, 0.0
+        policy.retreat_to, policy.waited = -1, 0.0
         return False, 0j
     back = (target - p) / abs(target - p)
     side = room_beside(s, back, need, who)
