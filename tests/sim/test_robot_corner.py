@@ -1,5 +1,5 @@
-"""The scripted robot approaches a blind turn of its route slowly (polite.corner_speed): a turn round a wall
-corner it cannot see past, not one in the open."""
+"""The scripted robot with a corner_speed approaches a blind turn of its route slowly (polite.corner_speed): a
+turn round a wall corner it cannot see past, not one in the open."""
 
 from __future__ import annotations
 
@@ -14,7 +14,8 @@ TURN = 9.2 + 7.2j
 
 
 def _top_speed_near_turn(world) -> tuple[float, str]:  # noqa: ANN001
-    trace = make_sim([], [], ROUTE, load_policy("scripted"), world=world, timeout=60).run()
+    robot = load_policy("scripted", {"corner_speed": CORNER_SPEED})
+    trace = make_sim([], [], ROUTE, robot, world=world, timeout=60).run()
     pos = trace.robot[:, 0] + 1j * trace.robot[:, 1]
     speed = np.hypot(trace.robot[:, 3], trace.robot[:, 4])
     return float(speed[np.abs(pos - TURN) <= 2.0].max()), trace.end_reason

@@ -65,6 +65,7 @@ POLICY = layout([
     ("speed", "f8"), ("waited", "f8"), ("around_side", "f8"), ("pass_side", "f8"), ("has_heading", "?"), ("heading", "c16"),
     ("unicycle", "?"), ("forward", "f8"), ("turn", "f8"),  # a unicycle command (DWA) instead of a velocity
     ("speed_cap", "f8"),  # m/s: the scripted robot's cruise speed is the script's, at most this (inf: no cap)
+    ("corner_speed", "f8"),  # m/s near blind turns of its route (robot.polite.corner_speed; inf: not slowed)
     ("guard", "f8"),  # m: the body's protective field (robot.body.drive; NaN: none)
     ("retreat_to", "i8"),  # making way (polite.make_way): the waypoint it backs toward (-1: none)
     ("plans", "?"), ("field_scale", "i8"),  # it follows the planner's way (robot.planner) where the line to its waypoint is blocked

@@ -13,9 +13,10 @@ them, steps back from someone walking into it, and never moves closer than a mar
   past the robot: a person the robot's presence stopped in a doorway or a hallway), face to face within
   FACE_GAP for `patience` s (both waiting): it backs away along the way it came while they are near, and steps
   aside where there is room.
-* corner_speed: near a blind turn of its route (the legs' points BLIND_SIGHT_M / 2 before and after the turn do
-  not see each other on the map: the place inventory's blind turn), it drives at most CORNER_SPEED, approaching
-  and leaving the turn within CORNER_REACH (braking into it at CORNER_DECEL): someone may come round it.
+* corner_speed (when the policy's corner_speed is set): near a blind turn of its route (the legs' points
+  BLIND_SIGHT_M / 2 before and after the turn do not see each other on the map: the place inventory's blind
+  turn), it drives at most corner_speed, approaching and leaving the turn within CORNER_REACH (braking into
+  it at CORNER_DECEL): someone may come round it.
 * keep_clear: the part of a move that would bring the robot closer than `gap` (surface to surface) to a
   person is dropped: it slides past or stops, and never pushes into anyone.
 """
@@ -49,7 +50,7 @@ MAKE_WAY_KEEP = 1.0  # m beyond MAKE_WAY_GAP: making way goes on while they are 
 FACE_GAP = 0.8  # m: standing face to face this close for `patience` s also makes it give way
 MAKE_WAY_SPEED = 0.5  # m/s making way (faster than robot.body.REVERSE_SPEED: a differential drive turns round)
 MAKE_WAY_REACH = 0.3  # m: a previous waypoint this close is passed on the way back
-CORNER_SPEED = 0.3  # m/s at most near a blind turn of its route
+CORNER_SPEED = 0.3  # m/s: the suggested ScriptedPolicy(corner_speed=...) near a blind turn of its route
 CORNER_REACH = 2.5  # m from the turn's waypoint, before and after it
 CORNER_DECEL = 0.8  # m/s2: it brakes into that speed at this rate (under the 1.5 m/s2 comfort limit)
 CORNER_COS = math.cos(math.radians(CORNER_TURN_DEG))  # a turn sharper than the inventory's corner
@@ -313,12 +314,15 @@ def blind_turn(s, k):  # noqa: ANN001, ANN201
 
 @jit
 def corner_speed(s):  # noqa: ANN001, ANN201
-    """The most the robot drives now for the blind turns of its route near it (inf: none near): CORNER_SPEED
-    within CORNER_REACH of the turn it heads for or has just passed, braking at CORNER_DECEL before that."""
+    """The most the robot drives now for the blind turns of its route near it (inf: none near, or the policy's
+    corner_speed is off): its corner_speed (CORNER_SPEED suggested) within CORNER_REACH of the turn it heads
+    for or has just passed, braking at CORNER_DECEL before that."""
     policy, p = s.policy[0], s.robot[0].pos
-    top = math.inf
+    top, slow = math.inf, policy.corner_speed
+    if not slow < math.inf:  # off (the policy's corner_speed is inf or NaN)
+        return top
     for k in range(max(policy.waypoint - 1, 1), min(policy.waypoint + 1, s.waypoints.shape[0] - 1)):
         d = abs(s.waypoints[k] - p)
         if d < CORNER_REACH + 1.0 and blind_turn(s, k):
-            top = min(top, math.sqrt(CORNER_SPEED ** 2 + 2 * CORNER_DECEL * max(0.0, d - CORNER_REACH)))
+            top = min(top, math.sqrt(slow ** 2 + 2 * CORNER_DECEL * max(0.0, d - CORNER_REACH)))
     return top
