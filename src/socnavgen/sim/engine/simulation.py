@@ -107,8 +107,9 @@ def _points(name: str, points: Any) -> np.ndarray:
 def _cruise(policy: Any, body_speed: float) -> float:
     """The fastest the robot means to drive: its policy's max_speed (when it has one) within its body's."""
     speed = getattr(policy, "max_speed", None)
-    ok = isinstance(speed, int | float) and math.isfinite(speed) and speed > 0
-    return min(float(speed), body_speed) if ok else body_speed
+    if isinstance(speed, int | float) and math.isfinite(speed) and speed > 0:
+        return min(float(speed), body_speed)
+    return body_speed
 
 
 class Simulation:
