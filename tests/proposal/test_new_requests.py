@@ -21,10 +21,12 @@ PATHS = fixture_paths(FIXTURES)
 # Where the verifier and the eyes disagree today, each with what was seen (a strict xfail: it turns red the day
 # they agree, and the pin must go). Empty means they agree on every fixture.
 DISAGREE: dict[str, str] = {
-    "home_08_checking_on_couple_cooking": "lenient PASS: the robot stops 0.2 m from the wife (no contact, within its "
-    "criteria) where the text wants it to keep about 2 m without crowding the couple; no criterion says 2 m",
     "hospital_02_guide_visitor_to_room": "lenient PASS: the nurse walks into another room and brushes the visitor "
     "(people touching each other is judged nowhere), the visitor is still in the doorway when the run ends",
+    "hospital_06_night_wandering_patient": "lenient PASS (wt-robot, frames at 56-130 s): with the time limit that "
+    "follows the route (293 s) the robot completes its round trip at 130.7 s with the patient following 2-3 m behind, "
+    "but it still drives up to her spot at 8z and makes her step aside where the text wants it to keep its distance "
+    "and turn at 8r; no criterion says so",
     "hospital_05_elevator_at_visiting_hour": "strict FAIL: the model's own hidden_until criterion cannot hold on this "
     "map (the robot sees into the elevator car through the double doors); what the text describes happens",
     "hospital_08_shift_handover_cluster": "lenient PASS: the nurses close up again while the robot is in the gap and it "
