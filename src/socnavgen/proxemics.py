@@ -36,6 +36,12 @@ HELD_UP_DISTANCE = 3.0  # m centre to centre: someone in the robot's way this cl
 OCCUPIED_REACH = 2.0  # m: an intermediate waypoint someone stands on is skipped by the robots this close, so the
 # verifier counts a waypoint as passed this close too (a round trip's goal counts only after its other waypoints)
 GIVE_WAY_CLEARANCE = 0.5  # m: a person who gave way leaves this much free space beside the robot's body
+# -- arriving at a goal someone stands on or next to (short_of_goal) -------------------------------------
+GOAL_STOP_GAP = 1.2  # m gap: the robot stops this far from a person standing at its goal (Hall's personal space
+#   ends here: bodies.PERSONAL_SPACE; about 2 m centre to centre), and that counts as arrived
+GOAL_STOP_SLACK = 0.15  # m: ... within this much more
+STANDING_SPEED = 0.2  # m/s: a person (or the robot) slower than this stands (people jitter in place at ~0.1 m/s)
+GOAL_STOP_DWELL = 3.0  # s: the simulator ends a run when the robot has stood short of its goal this long
 
 Num = Any  # a float, or a numpy array of floats (elementwise)
 
@@ -76,3 +82,17 @@ def blocking(rx: Num, ry: Num, hx: Num, hy: Num, px: Num, py: Num, robot_radius:
     swept = (along > 0.0) & (abs(dy * hx - dx * hy) < robot_radius + person_radius + margin)
     front = (cone >= 0.0) & (along >= centre * math.cos(cone))
     return (centre <= distance) & (swept | front)
+
+
+def short_of_goal(robot_to_goal: Num, person_to_goal: Num, gap: Num, person_speed: Num, robot_speed: Num,
+                  robot_radius: Num, person_radius: Num) -> Num:
+    """The robot has arrived short of its goal: a person stands on or next to the goal (a robot at the goal
+    would be inside their personal space: their centre within reach = robot_radius + person_radius +
+    GOAL_STOP_GAP of it, and nearer it than the robot: it stops short of them), and the robot stands at most GOAL_STOP_GAP (+ GOAL_STOP_SLACK) from them (`gap`,
+    surface to surface) and within reach (+ slack) of its goal (not in another room beyond them). The ONE
+    arrival rule besides the goal tolerance: the simulator's end of run, the polite robot's stopping point and
+    the verifier's robot_reaches_goal all use it."""
+    reach = robot_radius + person_radius + GOAL_STOP_GAP
+    held = (person_to_goal < reach) & (person_speed < STANDING_SPEED) & (person_to_goal < robot_to_goal)
+    near = (gap <= GOAL_STOP_GAP + GOAL_STOP_SLACK) & (robot_to_goal <= reach + GOAL_STOP_SLACK)
+    return held & near & (robot_speed < STANDING_SPEED)

@@ -151,3 +151,49 @@ def test_scripted_robot_makes_way_in_a_corridor_too_narrow_for_both():
     out = int(np.argmax(through))
     assert x[:out].max() > 4.0 and x[out] < 3.0  # the robot was in the corridor and out of it when they came out
     assert trace.end_reason == "robot_goal"
+
+
+# stops while the robot is in front of her within 2 m (she faces it), walks her route otherwise: a resident
+# with a cane meeting the robot at a door, a neighbour meeting it in a hallway
+STOP_WHILE_BLOCKED = tree_xml('<Fallback><Sequence><IsRobotBlocking agent_id="{id}" distance="2.0"/>'
+                              '<LookAtRobot agent_id="{id}"/></Sequence>'
+                              '<Sequence><SetBlackboard output_key="agentid" value="{id}"/>'
+                              '<SetBlackboard output_key="timestep" value="{dt}"/>'
+                              '<SubTree ID="RegularNavTree" id="agentid" dt="timestep"/></Sequence></Fallback>')
+
+
+def _standoff(world, person, path):  # noqa: ANN001, ANN202
+    trace = make_sim([person], [STOP_WHILE_BLOCKED], path, load_policy("scripted"), world=world, timeout=90).run()
+    assert trace.end_reason == "robot_goal"  # no deadlock until the timeout
+    assert _gaps(trace)[:, 0].min() > 0.0  # never touching
+    return trace
+
+
+def test_scripted_robot_backs_out_of_a_hallway_for_a_person_its_presence_stopped():
+    """A 1.2 m hallway: she sets off late and stops (IsRobotBlocking) as the robot comes up; her current goal is the hallway's
+    end short of the robot, her route goes on past it. The robot backs out, steps aside in the room, she
+    walks out of the hallway, then the robot goes up it to its goal."""
+    world = empty_room(20.0, 10.0, walls=[(4.0, 0.0, 20.0, 4.4), (4.0, 5.6, 20.0, 10.0)])
+    person = human(start=(11.0, 5.0), goals=[(4.5, 5.0), (1.5, 8.5)], start_delay=8.0)
+    trace = _standoff(world, person, [(1.5, 5.0), (17.0, 5.0)])
+    x, out = trace.robot[:, 0], trace.humans[:, 0, 0] < 4.0
+    assert out.any()  # she came out of the hallway
+    first = int(np.argmax(out))
+    assert x[:first].max() > 5.0 and x[first] < 4.0  # the robot was in the hallway, and out of it when she came out
+    assert np.hypot(*(trace.humans[-1, 0, :2] - (1.5, 8.5))) < 1.0  # she went on to her goal
+
+
+def test_scripted_robot_backs_away_from_a_door_for_a_person_its_presence_stopped():
+    """A 0.9 m door in a wall across the room: she stands beyond it, stopped by the robot in front; her route
+    leads through the door and past the robot. The robot backs off and aside until she walks, waits while she
+    comes through, then drives through the door to its goal."""
+    world = empty_room(20.0, 10.0, walls=[(10.0, 0.0, 10.2, 4.55), (10.0, 5.45, 10.2, 10.0)])
+    person = human(start=(12.5, 5.0), goals=[(10.1, 5.0), (7.0, 5.0), (2.0, 8.5)])
+    trace = _standoff(world, person, [(3.0, 5.0), (16.0, 5.0)])
+    through = trace.humans[:, 0, 0] < 9.5
+    assert through.any()  # she came through the door
+    first = int(np.argmax(through))
+    gap = _gaps(trace)[first, 0]
+    assert gap > 0.45  # the robot stood aside, out of her intimate space, as she came through
+    assert trace.robot[first, 0] < 10.0  # ... on its side of the door, waiting
+    assert (trace.robot[first:, 0] > 10.2).any()  # then it went through

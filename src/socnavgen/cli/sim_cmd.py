@@ -23,8 +23,10 @@ def simulate(
                               "robot that drives through people), `orca` and `dwa` (the ORCA and Dynamic Window baselines), or your own policy as `package.module:Class` or "
                               "`path/to/file.py:Class` (the RobotPolicy protocol is described in docs/simulator.md)."),
     dt: float = typer.Option(0.05, "--dt", callback=finite_between(0.001, 0.5), help="Fixed time step in seconds."),
-    timeout: float = typer.Option(120.0, "--timeout", callback=finite_between(0.1, MAX_SIM_SECONDS),
-                                  help=f"Stop after this many simulated seconds (at most {MAX_SIM_SECONDS:g})."),
+    timeout: float | None = typer.Option(None, "--timeout", callback=finite_between(0.1, MAX_SIM_SECONDS),
+                                         help="Stop after this many simulated seconds (at most "
+                                         f"{MAX_SIM_SECONDS:g}). Default: twice the time the robot's route takes at "
+                                         "its cruise speed plus its script's waits plus 30 s, at least 120 s."),
     seed: int = typer.Option(0, "--seed", min=0, max=2**63 - 1,
                              help="Seed of the only randomness (spawn offsets): same seed, same run."),
     gif: bool = typer.Option(False, "--gif", help="Also write RUN/sim/animation.gif."),
@@ -58,7 +60,7 @@ def simulate(
 
     Example: socnavgen simulate runs/blind_corner --bag runs/blind_corner/sim/episode_bag
     """
-    if timeout / dt > MAX_SIM_STEPS:
+    if timeout is not None and timeout / dt > MAX_SIM_STEPS:
         raise SocnavgenError(f"--timeout {timeout:g} at --dt {dt:g} is {timeout / dt:.0f} steps, more than the "
                              f"{MAX_SIM_STEPS} allowed", hint="raise --dt or lower --timeout")
     if bag_msgs not in ("socrates", "hunav"):
@@ -98,13 +100,13 @@ def simulate(
     with starting() if cache_ready() else nullcontext():  # numba's compiling makes garbage: collected
         sim = load_simulation(run, policy, config, ThrottleConfig(enabled=not no_throttle), loaded)
     sim.meta["robot_plugin"] = robot
-    total = int(round(timeout / dt))
+    total = sim.max_steps
     start = time.perf_counter()
     with progress() as bar:
         task = bar.add_task(f"simulating {run.name}", total=total)
         trace = sim.run(progress=lambda k, n: bar.update(task, completed=k))
     wall = time.perf_counter() - start
-    written = save_run_outputs(trace, loaded, run, MadeFrom(robot, dt, timeout, seed, not no_throttle),
+    written = save_run_outputs(trace, loaded, run, MadeFrom(robot, dt, sim.timeout, seed, not no_throttle),
                                identity=identity, plot=plot, gif=gif, out_dir=out, formats=formats, mp4=mp4)
     out = out if out is not None else folder.sim_dir
     sim_seconds = float(trace.t[-1]) if trace.steps else 0.0

@@ -40,7 +40,8 @@ from socnavgen.location.models import Edge
 from socnavgen.location.models import Node as GraphNode
 from socnavgen.location.scene_graph import to_networkx
 from socnavgen.run import LoadedRun, load_run
-from socnavgen.sim import BUILTIN, SimConfig, ThrottleConfig, Trace, simulate_run
+from socnavgen.sim import BUILTIN, ThrottleConfig, Trace, simulate_run
+from socnavgen.sim.engine.budget import FLOOR
 from socnavgen.verify.runner import verify_trace
 
 SPEEDS = (0.5, 1.0, 1.5)  # robot speed / the script's cruise speed
@@ -51,7 +52,7 @@ WAIT_NODE_TYPE = "WAITING SPOT"
 
 
 ROBOTS = {"careful": KEEP_GAP, "waypoints": math.nan}  # the proof's robots: the gap each keeps from people
-TIMEOUT = SimConfig().timeout  # s: a run at the nominal speed or faster ends after this long
+TIMEOUT = FLOOR  # s: a run at the nominal speed or faster ends after this long (the simulator's shortest limit)
 
 
 def timeout_for(speed: float) -> float:

@@ -74,7 +74,10 @@ def dispatcher(name: str, functions: Sequence[Callable], arity: int) -> Callable
     return env[name]
 
 
-_IMPORT = re.compile(r"^\s*(?:from\s+(socnavgen[\w.]*)\s+import\s+\(?([\w\s,]+)|import\s+(socnavgen[\w.]*))", re.M)
+# `from socnavgen import a, b` on one line, or a parenthesised list over lines (the names of a one-line import
+# must not run on into the next line: `from socnavgen import proxemics` was read as "proxemics from socnavgen")
+_IMPORT = re.compile(r"^\s*(?:from\s+(socnavgen[\w.]*)\s+import\s+(?:\(([\w\s,]+)\)|([\w \t,]+))"
+                     r"|import\s+(socnavgen[\w.]*))", re.M)
 
 
 _COMPILED = re.compile(r"^@(jit|generator)\b|= dispatcher\(", re.M)  # a module that defines compiled code
@@ -98,7 +101,8 @@ def _sources() -> list[Path]:
         if path in seen:
             continue
         seen.add(path)
-        for module, names, plain in _IMPORT.findall(path.read_text(encoding="utf-8")):
+        for module, listed, names, plain in _IMPORT.findall(path.read_text(encoding="utf-8")):
+            names = listed or names
             targets = [plain] if plain else [module, *(f"{module}.{n.strip()}" for n in names.split(",") if n.strip())]
             todo += [f for f in map(_module_file, targets) if f is not None]
     return sorted(seen)

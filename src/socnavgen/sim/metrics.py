@@ -43,6 +43,7 @@ from socnavgen.bodies import INTIMATE_SPACE, PERSONAL_SPACE, ROBOT_GOAL_TOLERANC
 from socnavgen.memo import kept
 from socnavgen.safeio import atomic_write_text
 from socnavgen.sim import contact
+from socnavgen.sim.arrival import short_of_goal_steps
 from socnavgen.sim.trace import OMEGA, VX, VY, YAW, Trace, X, Y
 
 NO_AGENT_DISTANCE = 10000.0  # the evaluator's "infinity"
@@ -321,7 +322,8 @@ def _own_metrics(trace: Trace, pairs: _Pairs | None = None, to_goal: np.ndarray 
     if goals and trace.steps > 0 and to_goal is None:
         pr = trace.robot[:, :2] - np.asarray(goals[-1])
         to_goal = hypot2(pr[:, 0], pr[:, 1])
-    reached = bool(goals) and trace.steps > 0 and to_goal is not None and float(to_goal.min()) <= radius
+    reached = bool(goals) and trace.steps > 0 and to_goal is not None and (
+        float(to_goal.min()) <= radius or bool(short_of_goal_steps(trace, goals[-1]).any()))
     return {"success": bool(reached and collisions == 0), "collisions": collisions, "min_time_to_collision": min_ttc}
 
 

@@ -42,7 +42,9 @@ def goal_radius(trace: Trace) -> float:
 
 
 def arrival_step(trace: Trace) -> int | None:
-    """The first step the robot is within the goal radius of its goal (None: never)."""
+    """The first step the robot is within the goal radius of its goal, or stands short of it at a social
+    distance from someone standing there (sim.arrival; None: never)."""
+    from socnavgen.sim.arrival import short_of_goal_steps
     from socnavgen.sim.metrics import robot_goals
 
     goals = robot_goals(trace)
@@ -50,6 +52,7 @@ def arrival_step(trace: Trace) -> int | None:
         return None
     gx, gy = goals[-1]
     near = np.hypot(trace.robot[:, X] - gx, trace.robot[:, Y] - gy) <= goal_radius(trace)
+    near |= short_of_goal_steps(trace, goals[-1])
     return int(np.argmax(near)) if near.any() else None
 
 

@@ -236,7 +236,7 @@ def _blocks_robot(c: Criterion, ctx: Context, out: Compiled) -> None:
 
 def _robot_reaches_goal(c: Criterion, ctx: Context, out: Compiled) -> None:
     d = out.distance = c.distance or ctx.goal_radius
-    out.formula = f"eventually ((robot_to_goal <= {d:g}) and {_b('route_done')})"
+    out.formula = f"eventually (((robot_to_goal <= {d:g}) or {_b('short_of_goal')}) and {_b('route_done')})"
 
 
 def _no_collision(c: Criterion, ctx: Context, out: Compiled) -> None:
@@ -296,7 +296,7 @@ CRITERION_KINDS: dict[str, CriterionKind] = {k.name: k for k in (
                   "los_h and dist_h <= max(5, D + 2)", "h must have seen the robot first", _keeps_away),
     CriterionKind("blocks_robot", "eventually always[0:1] (inway_h and dist_h <= D and speed_h <= 0.1 and "
                   "robot_still)", "a real 1 s standoff", _blocks_robot),
-    CriterionKind("robot_reaches_goal", "eventually (robot_to_goal <= D and route_done)",
+    CriterionKind("robot_reaches_goal", "eventually ((robot_to_goal <= D or short_of_goal) and route_done)",
                   "always judged; a round trip's goal counts on the way back", _robot_reaches_goal),
     CriterionKind("no_collision", "always (gap_min > 0.05)  (gap_h with a human)", "contact = gap <= 0.05 m",
                   _no_collision),

@@ -236,14 +236,21 @@ def _group_evidence(cc: Compiled, s: Signals) -> Evidence:
 
 def _goal_evidence(cc: Compiled, s: Signals) -> Evidence:
     to_goal = s.get("robot_to_goal")
-    reached = _first((to_goal <= (cc.distance or 0)) & (s.get("route_done") > 0.5))
+    short = s.get("short_of_goal") > 0.5
+    reached = _first(((to_goal <= (cc.distance or 0)) | short) & (s.get("route_done") > 0.5))
     if reached is not None:
-        return f"reached at t={s.t[reached]:.1f} s", float(s.t[reached]), float(to_goal[reached])
+        how = f", {to_goal[reached]:.2f} m short of it at a social distance from someone standing there" \
+            if to_goal[reached] > (cc.distance or 0) else ""
+        return f"reached at t={s.t[reached]:.1f} s{how}", float(s.t[reached]), float(to_goal[reached])
     text = f"ended {to_goal[-1]:.2f} m from the goal (closest {to_goal.min():.2f} m, radius {cc.distance:g} m)"
     if not s.get("route_done")[-1]:
         text += "; it never came near every waypoint of its route before the goal"
     if s.trace.end_reason:
         text += f"; simulation ended by {s.trace.end_reason}"
+        meta = s.trace.meta if isinstance(s.trace.meta, dict) else {}
+        if s.trace.end_reason == "timeout" and isinstance(meta.get("timeout"), int | float):
+            why = meta.get("timeout_why")
+            text += f" (its limit {meta['timeout']:g} s" + (f": {why})" if isinstance(why, str) and why else ")")
     stalled = s.get("stalled")
     if stalled[-1] > 0:
         text += f"; the robot stood still for the last {stalled[-1]:.1f} s"

@@ -22,6 +22,7 @@ import numpy as np
 from socnavgen import proxemics
 from socnavgen.bt.library import HUMAN_GESTURES, LIBRARY, REACTION_NODES, ROBOT_GESTURES
 from socnavgen.sim import contact
+from socnavgen.sim.arrival import short_of_goal_steps
 from socnavgen.sim.trace import VX, VY, YAW, Trace
 from socnavgen.verify.passing import aside, kept_aside  # aside: re-exported (its home is verify/passing.py)
 from socnavgen.verify.route import ahead_on_route, progress_events, route_progress
@@ -313,6 +314,14 @@ def _deadlock(s: Signals, m: re.Match) -> np.ndarray:
     return _runlength(stuck & blocked & ~at_goal, s.trace.dt)
 
 
+def _short_of_goal(s: Signals, m: re.Match) -> np.ndarray:
+    """1 where the robot stands short of its goal at a social distance from someone standing there
+    (proxemics.short_of_goal, the simulator's rule: sim.arrival)."""
+    if "goal" not in s.places:
+        return np.zeros(s.trace.steps)
+    return short_of_goal_steps(s.trace, s.places["goal"]).astype(float)
+
+
 def _route_done(s: Signals, m: re.Match) -> np.ndarray:
     """1 from the step the robot has come within proxemics.OCCUPIED_REACH of each intermediate waypoint in turn
     (the robots skip an occupied one that close); routes without one: always 1. Sequential, so a round trip
@@ -461,6 +470,10 @@ SIGNAL_KINDS: tuple[SignalKind, ...] = (
     SignalKind(r"progress", "progress", "m", "how far along its route the robot has come (best so far)", _progress),
     SignalKind(r"route_done", "route_done", "0/1", "the robot has come near every waypoint of its route but the last, "
                "in turn: a round trip's goal counts only on the way back", _route_done),
+    SignalKind(r"short_of_goal", "short_of_goal", "0/1", "the robot stands within "
+               f"{proxemics.GOAL_STOP_GAP + proxemics.GOAL_STOP_SLACK:g} m (gap) of someone standing on or next to its "
+               "goal (a robot at the goal would be in their personal space), near the goal: it has arrived",
+               _short_of_goal),
     SignalKind(r"deadlock", "deadlock", "s", f"how long the robot has made no progress along its route (less than "
                f"{PROGRESS_STEP:g} m) with someone in its way within {proxemics.HELD_UP_DISTANCE:g} m (not at its "
                f"goal), continuously: standing still or jittering in place", _deadlock),

@@ -145,7 +145,7 @@ def load_simulation(run_dir: Path | str | LoadedRun, policy: Any, config: SimCon
 
 
 def simulate_run(run_dir: Path | str | LoadedRun, robot: str | Any = DEFAULT_ROBOT, location: Any = None,
-                 dt: float = 0.05, timeout: float = 120.0, seed: int = 0, throttle: bool | ThrottleConfig = True,
+                 dt: float = 0.05, timeout: float | None = None, seed: int = 0, throttle: bool | ThrottleConfig = True,
                  progress: Any = None, save: bool = True, plot: bool = True, gif: bool = False) -> Trace:
     """One call from a run folder to its trace. With `save` (default) it writes what `socnavgen simulate`
     writes: RUN/sim/trace.npz, metrics.json and (with `plot`) trajectories.png, (with `gif`) animation.gif.
@@ -163,6 +163,6 @@ def simulate_run(run_dir: Path | str | LoadedRun, robot: str | Any = DEFAULT_ROB
     sim.meta["robot_plugin"] = robot if isinstance(robot, str) else type(robot).__name__
     trace = sim.run(progress=progress)
     if save:  # the outputs carry what they were made from (sim/outputs.py)
-        made = MadeFrom(sim.meta["robot_plugin"], dt, timeout, seed, throttle.enabled)
+        made = MadeFrom(sim.meta["robot_plugin"], dt, sim.timeout, seed, throttle.enabled)
         save_run_outputs(trace, loaded, run.root, made, identity=identity, plot=plot, gif=gif)
     return trace

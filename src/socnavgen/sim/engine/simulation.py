@@ -19,6 +19,7 @@ from socnavgen.limits import MAX_COORDINATE, MAX_SIM_PEOPLE, MAX_SIM_STEPS
 from socnavgen.run.models import RobotGestureRule
 from socnavgen.run.spec import RobotScript
 from socnavgen.sim.engine import step as stepper
+from socnavgen.sim.engine.budget import time_limit
 from socnavgen.sim.engine.errors import tree_error
 from socnavgen.sim.engine.state import (
     ACTION,
@@ -54,7 +55,7 @@ PROGRESS_EVERY = 200  # steps between two progress callbacks of run()
 @dataclass
 class SimConfig:
     dt: float = 0.05
-    timeout: float = 120.0
+    timeout: float | None = None  # s; None: it follows the robot's route (engine.budget.time_limit)
     seed: int = 0
     sfm: SFMParams = field(default_factory=SFMParams)
     robot_radius: float = ROBOT_RADIUS
@@ -70,7 +71,8 @@ class SimConfig:
             value = getattr(self, name)
             if not (isinstance(value, int | float) and math.isfinite(value) and low < value <= high):
                 bad(name, value, f"a number in ({low:g}, {high:g}]")
-        if not (isinstance(self.timeout, int | float) and self.timeout > 0 and self.timeout / self.dt <= MAX_SIM_STEPS):
+        if self.timeout is not None and not (isinstance(self.timeout, int | float) and self.timeout > 0
+                                             and self.timeout / self.dt <= MAX_SIM_STEPS):
             bad("timeout", self.timeout, f"positive and at most {MAX_SIM_STEPS} steps of dt")
         if not (isinstance(self.idle_end, int | float) and self.idle_end >= 0) or math.isnan(self.idle_end):
             bad("idle_end", self.idle_end, "zero or more seconds")
@@ -102,6 +104,14 @@ def _points(name: str, points: Any) -> np.ndarray:
     return array
 
 
+def _cruise(policy: Any, body_speed: float) -> float:
+    """The fastest the robot means to drive: its policy's max_speed (when it has one) within its body's."""
+    speed = getattr(policy, "max_speed", None)
+    if isinstance(speed, int | float) and math.isfinite(speed) and speed > 0:
+        return min(float(speed), body_speed)
+    return body_speed
+
+
 class Simulation:
     def __init__(self, world: World, humans: list[HumanSpec], trees: list[str], robot_path: list[tuple[float, float]],
                  policy: Any, config: SimConfig | None = None, speech: RobotSpeech | None = None,
@@ -125,6 +135,9 @@ class Simulation:
             raise ValidationFailed("the robot needs at least one waypoint")
         self.program = program or lower_trees(trees, tree_names)
         n, dt = len(humans), float(config.dt)
+        self.timeout, self.timeout_why = (float(config.timeout), "set by the caller") if config.timeout is not None \
+            else time_limit(waypoints, _cruise(policy, config.body.max_speed), speech.script,
+                            float(getattr(policy, "start_delay", 0.0) or 0.0), dt)
         people, goals, sizes = new_people(humans)
         people.tree, people.dt_slot = self.program.roots, self.program.dt_slots
         first_leg = waypoints[1] - waypoints[0] if len(waypoints) > 1 else 1 + 0j
@@ -179,7 +192,7 @@ class Simulation:
     @property
     def max_steps(self) -> int:
         """Steps of a run that reaches its timeout."""
-        return int(math.ceil(self.config.timeout / self.config.dt))
+        return int(math.ceil(self.timeout / self.config.dt))
 
     @property
     def dt(self) -> float:
@@ -262,10 +275,11 @@ class Simulation:
         return self.trace()
 
     def robot_at_goal(self) -> bool:
-        """At its goal, having come near its route's other waypoints in turn (engine.step.ending's rule)."""
+        """At its goal (or stopped short of someone standing there: proxemics.short_of_goal), having come near
+        its route's other waypoints in turn (engine.step.ending's rule)."""
         robot = self.state.robot[0]
-        return abs(robot.goal - robot.pos) <= robot.goal_tolerance and \
-            int(robot.passed) >= self.state.waypoints.shape[0] - 2
+        return (abs(robot.goal - robot.pos) <= robot.goal_tolerance or bool(policies.stopped_short(self.state))) \
+            and int(robot.passed) >= self.state.waypoints.shape[0] - 2
 
     def trace(self) -> Trace:
         """The trace of every step recorded so far, with the run's meta."""
@@ -275,7 +289,8 @@ class Simulation:
         pos, vel = cols.pos[:steps], cols.vel[:steps]
         humans = np.stack([pos.real, pos.imag, cols.yaw[:steps], vel.real, vel.imag, cols.omega[:steps]], axis=-1)
         meta = dict(self.meta)
-        meta.update(seed=config.seed, timeout=config.timeout, robot_goal_radius=config.goal_tolerance,
+        meta.update(seed=config.seed, timeout=self.timeout, timeout_why=self.timeout_why,
+                    robot_goal_radius=config.goal_tolerance,
                     kernels="numba" if AVAILABLE else "python", robot_body=config.body.meta(),
                     human_goals={h.name: [list(g) for g in h.goals] for h in self.humans})
         if self.cue_list:

@@ -36,7 +36,7 @@ from socnavgen.sim.people.routing import plan, robot_progress
 from socnavgen.sim.people.state import done, pop_goal
 from socnavgen.sim.people.vm import ERROR, tick
 from socnavgen.sim.robot.body import drive
-from socnavgen.sim.robot.policies import act, cruise
+from socnavgen.sim.robot.policies import act, cruise, stopped_short
 from socnavgen.sim.robot.script import play, scripted_gesture, still_waits
 
 STEPPED, ACT, PROGRESS, ENDED, FAILED, ROUTES = 0, 1, 2, 3, 4, 5
@@ -119,14 +119,15 @@ def ending(s):  # noqa: ANN001, ANN201
     wps = s.waypoints
     while robot.passed < wps.shape[0] - 2 and abs(wps[1 + robot.passed] - robot.pos) <= proxemics.OCCUPIED_REACH:
         robot.passed += 1
-    if abs(robot.goal - robot.pos) <= robot.goal_tolerance and robot.passed >= wps.shape[0] - 2:
-        return ROBOT_GOAL
     clock.idle = clock.idle + clock.dt if abs(robot.vel) < IDLE_SPEED else 0.0
     progress, _ = robot_progress(s)
     if progress > clock.best_progress + STALL_PROGRESS or abs(robot.pos - clock.stalled_at) > STALL_REACH:
         clock.best_progress, clock.stalled_at, clock.stalled = max(progress, clock.best_progress), robot.pos, 0.0
     else:
         clock.stalled += clock.dt
+    if robot.passed >= wps.shape[0] - 2 and (abs(robot.goal - robot.pos) <= robot.goal_tolerance or (
+            clock.idle >= proxemics.GOAL_STOP_DWELL and stopped_short(s))):  # stood short of someone at its goal
+        return ROBOT_GOAL
     if clock.idle >= clock.idle_end:
         finished = True
         for i in range(s.people.shape[0]):

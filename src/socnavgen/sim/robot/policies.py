@@ -30,6 +30,7 @@ from socnavgen.sim.robot.planner import steer
 from socnavgen.sim.robot.polite import (
     CLOSE_SPEED,
     PASS_GAP,
+    corner_speed,
     keep_clear,
     make_way,
     pass_aside,
@@ -64,7 +65,9 @@ POLICY = layout([
     ("speed", "f8"), ("waited", "f8"), ("around_side", "f8"), ("pass_side", "f8"), ("has_heading", "?"), ("heading", "c16"),
     ("unicycle", "?"), ("forward", "f8"), ("turn", "f8"),  # a unicycle command (DWA) instead of a velocity
     ("speed_cap", "f8"),  # m/s: the scripted robot's cruise speed is the script's, at most this (inf: no cap)
-    ("guard", "f8"), ("retreat_to", "i8"),  # retreat_to: the waypoint it backs toward making way (-1: none)  # m: the body's protective field (robot.body.drive; NaN: none)
+    ("corner_speed", "f8"),  # m/s near blind turns of its route (robot.polite.corner_speed; inf: not slowed)
+    ("guard", "f8"),  # m: the body's protective field (robot.body.drive; NaN: none)
+    ("retreat_to", "i8"),  # making way (polite.make_way): the waypoint it backs toward (-1: none)
     ("plans", "?"), ("field_scale", "i8"),  # it follows the planner's way (robot.planner) where the line to its waypoint is blocked
     ("waypoint", "i8"), ("rude_waypoint", "i8")])
 
@@ -181,6 +184,35 @@ def reachable_goal(s, goal):  # noqa: ANN001, ANN201
     return goal + (goal - people[k].pos) / d * ROBOT_GOAL_TOLERANCE * 0.75, ROBOT_GOAL_TOLERANCE * 0.15
 
 
+short_of_goal = jit(proxemics.short_of_goal)  # the one arrival short of a goal someone stands at, compiled
+
+
+@jit
+def goal_holder(s):  # noqa: ANN001, ANN201
+    """The person standing on or next to the robot's goal nearest to the robot (proxemics.short_of_goal's
+    first half), -1 when nobody is."""
+    robot, people = s.robot[0], s.people
+    who, best = -1, math.inf
+    for i in range(people.shape[0]):
+        q = people[i]
+        if abs(q.pos - robot.goal) < robot.radius + q.radius + proxemics.GOAL_STOP_GAP and \
+                abs(q.vel) < proxemics.STANDING_SPEED and abs(q.pos - robot.pos) < best:
+            who, best = i, abs(q.pos - robot.pos)
+    return who
+
+
+@jit
+def stopped_short(s):  # noqa: ANN001, ANN201
+    """The robot stands short of its goal at a social distance from someone standing there: arrived."""
+    robot, people = s.robot[0], s.people
+    for i in range(people.shape[0]):
+        q = people[i]
+        if short_of_goal(abs(robot.goal - robot.pos), abs(q.pos - robot.goal), abs(q.pos - robot.pos) - q.radius
+                         - robot.radius, abs(q.vel), abs(robot.vel), robot.radius, q.radius):
+            return True
+    return False
+
+
 @jit
 def skip_occupied_waypoint(s):  # noqa: ANN001, ANN201
     """Someone standing on an intermediate waypoint: head for the next one if it is in a clear line."""
@@ -204,7 +236,18 @@ def waypoints_act(s):  # noqa: ANN001, ANN201
     p, dt = robot.pos, s.clock[0].dt
     arrive = ARRIVED
     if last and abs(target - p) < policy.slow_gap + 1.0:
-        target, arrive = reachable_goal(s, target)
+        holder = goal_holder(s) if policy.kind == SCRIPTED else -1
+        stop = target
+        if holder >= 0:  # the polite robot stops at a social distance short of someone standing at its goal
+            q = s.people[holder]
+            away = p - q.pos
+            reach = q.radius + robot.radius + proxemics.GOAL_STOP_GAP
+            stop = q.pos + away / max(abs(away), 1e-9) * reach
+        if holder >= 0 and abs(s.people[holder].pos - target) < abs(stop - target) <= reach:  # there it has
+            # arrived (proxemics.short_of_goal: short of them, they nearer the goal, it near enough to it)
+            target = stop
+        else:
+            target, arrive = reachable_goal(s, target)
     to = target - p
     dist = abs(to)
     if last and dist <= arrive:
@@ -265,7 +308,8 @@ def scripted_act(s, now):  # noqa: ANN001, ANN201
     policy = s.policy[0]
     if now.misbehave:
         return straight_act(s, policy.rude_max_speed, True)
-    policy.max_speed = min(now.speed, policy.speed_cap)
+    corner = corner_speed(s)
+    policy.max_speed = min(now.speed, policy.speed_cap, corner)
     if now.wait:
         policy.speed = 0.0
         return keep_clear(s, slide_along_walls(s, yield_to(s)), policy.keep_gap)
@@ -290,7 +334,10 @@ def scripted_act(s, now):  # noqa: ANN001, ANN201
     v += pass_aside(s, direction)
     if abs(v) > CLOSE_SPEED and toward_near(s, v, PASS_GAP):
         v = v * (CLOSE_SPEED / abs(v))
-    v = keep_clear(s, slide_along_walls(s, v + yield_to(s)), policy.keep_gap)
+    v = v + yield_to(s)
+    if abs(v) > corner:  # all of it (passing aside, yielding) within the blind corner's speed
+        v = v * (corner / abs(v))
+    v = keep_clear(s, slide_along_walls(s, v), policy.keep_gap)
     forward = (v * direction.conjugate()).real
     if forward < policy.speed:
         policy.speed = max(0.0, forward)

@@ -9,8 +9,14 @@ them, steps back from someone walking into it, and never moves closer than a mar
 * close_speed: at most CLOSE_SPEED toward anyone within PASS_GAP (intimate space, Hall's 0.45 m); moving
   away from them is not slowed (someone walking into its back or side is left behind, not waited for).
 * yield_to: a person closing in within YIELD_GAP: the robot backs away from them (the robot gives way).
-* make_way: someone who needs to get past it, face to face within FACE_GAP for `patience` s (both waiting):
-  it backs away along the way it came while they are near, and steps aside where there is room.
+* make_way: someone who needs to get past it (their goal, or their own route through their next goals, lies
+  past the robot: a person the robot's presence stopped in a doorway or a hallway), face to face within
+  FACE_GAP for `patience` s (both waiting): it backs away along the way it came while they are near, and steps
+  aside where there is room.
+* corner_speed (when the policy's corner_speed is set): near a blind turn of its route (the legs' points
+  BLIND_SIGHT_M / 2 before and after the turn do not see each other on the map: the place inventory's blind
+  turn), it drives at most corner_speed, approaching and leaving the turn within CORNER_REACH (braking into
+  it at CORNER_DECEL): someone may come round it.
 * keep_clear: the part of a move that would bring the robot closer than `gap` (surface to surface) to a
   person is dropped: it slides past or stops, and never pushes into anyone.
 """
@@ -20,8 +26,11 @@ from __future__ import annotations
 import math
 
 from socnavgen.bodies import CONTACT_MARGIN, INTIMATE_SPACE
+from socnavgen.location.inventory import BLIND_SIGHT_M
+from socnavgen.location.places import CORNER_TURN_DEG
 from socnavgen.sim.jit import jit
-from socnavgen.sim.world.queries import free_along
+from socnavgen.sim.people.routing import project
+from socnavgen.sim.world.queries import free_along, line_of_sight
 
 PASS_GAP = INTIMATE_SPACE  # m: the gap the robot tries to leave beside a person it passes
 PASS_LOOK = 3.5  # m (gap) ahead: people this close ahead make the robot move aside
@@ -41,6 +50,11 @@ MAKE_WAY_KEEP = 1.0  # m beyond MAKE_WAY_GAP: making way goes on while they are 
 FACE_GAP = 0.8  # m: standing face to face this close for `patience` s also makes it give way
 MAKE_WAY_SPEED = 0.5  # m/s making way (faster than robot.body.REVERSE_SPEED: a differential drive turns round)
 MAKE_WAY_REACH = 0.3  # m: a previous waypoint this close is passed on the way back
+CORNER_SPEED = 0.3  # m/s: the suggested ScriptedPolicy(corner_speed=...) near a blind turn of its route
+CORNER_REACH = 2.5  # m from the turn's waypoint, before and after it
+CORNER_DECEL = 0.8  # m/s2: it brakes into that speed at this rate (under the 1.5 m/s2 comfort limit)
+CORNER_COS = math.cos(math.radians(CORNER_TURN_DEG))  # a turn sharper than the inventory's corner
+ROUTE_LOOK = 4  # goals of a person's queue looked along for whether their route goes through the robot
 
 
 @jit
@@ -171,9 +185,25 @@ def keep_clear(s, v, gap):  # noqa: ANN001, ANN201
 
 
 @jit
+def route_through(s, i, point, clear):  # noqa: ANN001, ANN201
+    """Person i's own route (from where they are through their next ROUTE_LOOK goals) passes within `clear`
+    of `point` before it ends: someone standing there is in their way (they may have stopped because of it)."""
+    q, goals = s.people[i], s.goals[i]
+    a, n = q.pos, min(q.queue_count, ROUTE_LOOK)
+    for j in range(n):
+        b = goals[(q.queue_start + j) % goals.shape[0]]
+        along, d = project(point, a, b)
+        if d < clear and (j < n - 1 or along < abs(b - a) - clear):
+            return True
+        a = b
+    return False
+
+
+@jit
 def coming_through(s, forward, reach, in_line):  # noqa: ANN001, ANN201
     """(who, walking): the nearest person within `reach` (gap) of the robot (`in_line`: ahead along the unit
-    `forward`, its way on, in line with it) whose goal lies beyond the robot (they need to get past it); -1 when nobody is.
+    `forward`, its way on, in line with it) whose goal lies beyond the robot or whose route goes through it
+    (route_through: they need to get past it); -1 when nobody is.
     `walking`: they walk toward the robot now (not standing, waiting)."""
     robot, people = s.robot[0], s.people
     p, back = robot.pos, forward.conjugate()
@@ -187,7 +217,8 @@ def coming_through(s, forward, reach, in_line):  # noqa: ANN001, ANN201
             continue
         toward = p - q.pos
         u = toward / max(abs(toward), 1e-9)
-        if ((q.goal - q.pos) * u.conjugate()).real <= abs(toward):  # their goal is short of the robot
+        if ((q.goal - q.pos) * u.conjugate()).real <= abs(toward) and not route_through(
+                s, i, p, q.radius + robot.radius + PASS_GAP):  # their goal is short of the robot, their route too
             continue
         if gap < best:
             who, best, walking = i, gap, (q.vel * u.conjugate()).real > CLOSING
@@ -227,10 +258,11 @@ def behind(s):  # noqa: ANN001, ANN201
 
 @jit
 def make_way(s, forward):  # noqa: ANN001, ANN201
-    """(backing off?, velocity): someone who needs to get past the robot has stood face to face with it, within
-    FACE_GAP, for `patience` s: it goes back the way it came (toward its previous waypoints) at MAKE_WAY_SPEED
-    while they are within MAKE_WAY_GAP + MAKE_WAY_KEEP, and steps aside, off their way, where the passage has
-    room. A person and a robot that both wait for the other are a deadlock; the robot gives way."""
+    """(backing off?, velocity): someone who needs to get past the robot (coming_through: their goal or their own
+    route lies past it) has stood face to face with it, within FACE_GAP, for `patience` s: it goes back the way
+    it came (toward its previous waypoints) at MAKE_WAY_SPEED while they are within MAKE_WAY_GAP +
+    MAKE_WAY_KEEP, and steps aside, off their way, where the passage has room. A person and a robot that both
+    wait for the other are a deadlock; the robot gives way."""
     policy, robot, wps = s.policy[0], s.robot[0], s.waypoints
     if policy.retreat_to < 0:  # someone ahead, in line; once making way: them, wherever, until they are through
         who, walking = coming_through(s, forward, MAKE_WAY_GAP, True)
@@ -246,7 +278,6 @@ def make_way(s, forward):  # noqa: ANN001, ANN201
         back = wps[j] - p
         if abs(back) < MAKE_WAY_REACH:
             return False, 0j  # at its start: nowhere to back off to
-        side = room_beside(s, back / abs(back), need, who)
         gap = abs(s.people[who].pos - p) - s.people[who].radius - robot.radius
         if not (policy.waited >= policy.patience and gap <= FACE_GAP):  # face to face, both waiting
             return False, 0j
@@ -263,3 +294,35 @@ def make_way(s, forward):  # noqa: ANN001, ANN201
     if side != 0.0:
         return True, side * 1j * back * LATERAL_SPEED
     return True, back * MAKE_WAY_SPEED
+
+
+@jit
+def blind_turn(s, k):  # noqa: ANN001, ANN201
+    """Waypoint k turns the route by more than a corner (CORNER_TURN_DEG) and the points BLIND_SIGHT_M / 2 before
+    and after it along the two legs (or the legs' ends) do not see each other: the robot cannot see round it."""
+    wps = s.waypoints
+    if k <= 0 or k >= wps.shape[0] - 1:
+        return False
+    a, c, b = wps[k - 1], wps[k], wps[k + 1]
+    into, out = c - a, b - c
+    if abs(into) < 1e-9 or abs(out) < 1e-9 or ((out * into.conjugate()).real > CORNER_COS * abs(into) * abs(out)):
+        return False
+    look = 0.5 * BLIND_SIGHT_M
+    return not line_of_sight(s.world, c - into / abs(into) * min(look, abs(into)),
+                             c + out / abs(out) * min(look, abs(out)))
+
+
+@jit
+def corner_speed(s):  # noqa: ANN001, ANN201
+    """The most the robot drives now for the blind turns of its route near it (inf: none near, or the policy's
+    corner_speed is off): its corner_speed (CORNER_SPEED suggested) within CORNER_REACH of the turn it heads
+    for or has just passed, braking at CORNER_DECEL before that."""
+    policy, p = s.policy[0], s.robot[0].pos
+    top, slow = math.inf, policy.corner_speed
+    if not slow < math.inf:  # off (the policy's corner_speed is inf or NaN)
+        return top
+    for k in range(max(policy.waypoint - 1, 1), min(policy.waypoint + 1, s.waypoints.shape[0] - 1)):
+        d = abs(s.waypoints[k] - p)
+        if d < CORNER_REACH + 1.0 and blind_turn(s, k):
+            top = min(top, math.sqrt(slow ** 2 + 2 * CORNER_DECEL * max(0.0, d - CORNER_REACH)))
+    return top

@@ -1,0 +1,66 @@
+"""Arriving short of a goal someone stands at (proxemics.short_of_goal): the robot that stops at a social
+distance from a person standing on its goal has arrived; one driving past, stopping in another room, or
+stopping near a person who walks on has not."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from socnavgen.run.spec import Criterion, ScenarioSpec
+from socnavgen.verify.criteria import compile_criterion
+from socnavgen.verify.models import VerifySettings
+from socnavgen.verify.signals import Signals
+from socnavgen.verify.stl import monitor
+
+from .verify_builders import build_trace
+
+T = np.arange(0, 20.0 + 1e-9, 0.5)
+GOAL = (11.0, 3.0)
+
+
+def _reaches_goal(robot_stop_x: float, person_xy=(11.0, 3.0), person_walks: bool = False) -> bool:  # noqa: ANN001
+    """The robot drives +x from x = 1 and stands at robot_stop_x from t = 10 s; human1 stands at person_xy (or
+    walks +y past it at 0.5 m/s)."""
+    rx = np.interp(T, [0, 10, 20], [1.0, robot_stop_x, robot_stop_x])
+    robot = np.stack([rx, np.full_like(T, 3.0)], 1)
+    human = np.tile([person_xy], (len(T), 1)).astype(float)
+    if person_walks:
+        human[:, 1] += 0.5 * (T - 10.0)
+    trace = build_trace(T, robot, human[:, None], goal=GOAL)
+    trace.robot_waypoints = [(1.0, 3.0), GOAL]
+    cc = compile_criterion(Criterion(id="c", kind="robot_reaches_goal", text="t"), ScenarioSpec(), VerifySettings(),
+                           0.2)
+    return monitor(cc.formula, Signals(trace, goal_radius=0.2)).passed
+
+
+def test_stopping_at_a_social_distance_from_someone_on_the_goal_is_arriving():
+    assert _reaches_goal(11.0 - 0.75 - 1.2)  # gap 1.2 m (centres 1.95 m), standing
+    assert "short_of_goal" in compile_criterion(Criterion(id="c", kind="robot_reaches_goal", text="t"),
+                                                ScenarioSpec(), VerifySettings(), 0.2).formula
+
+
+def test_stopping_too_far_or_beside_a_walker_or_for_nobody_is_not_arriving():
+    assert not _reaches_goal(11.0 - 0.75 - 1.6)  # gap 1.6 m: still short of the social distance
+    assert not _reaches_goal(11.0 - 0.75 - 1.2, person_walks=True)  # they walk away: the goal is free
+    assert not _reaches_goal(11.0 - 0.75 - 1.2, person_xy=(11.0, 13.0))  # nobody near the goal
+    # the person stands 1.5 m beyond the goal (next to it); the robot 2.9 m short of it (gap 1.2 m to them,
+    # but too far from its own goal: in the room before theirs)
+    assert not _reaches_goal(12.5 - 0.75 - 1.2 - 1.0, person_xy=(12.5, 3.0))
+
+
+def test_the_scripted_robot_stops_short_of_someone_standing_on_its_goal_and_has_arrived():
+    from socnavgen.sim import load_policy
+    from tests.sim.simhelpers import human, make_sim, tree_xml
+
+    stand = tree_xml('<LookAtRobot agent_id="{id}"/>')
+    person = human(start=(12.0, 5.0), goals=[(12.0, 5.0)])
+    trace = make_sim([person], [stand], [(2.0, 5.0), (12.0, 5.0)], load_policy("scripted")).run()
+    assert trace.end_reason == "robot_goal"
+    gap = np.hypot(*(trace.humans[-1, 0, :2] - trace.robot[-1, :2])) - 0.75
+    assert 1.05 <= gap <= 1.35  # outside personal space, about 2 m centre to centre
+    assert Signals(trace, goal_radius=0.2).get("short_of_goal")[-1] == 1.0
+
+
+def test_a_robot_nearer_its_goal_than_the_person_is_not_short_of_it():
+    # the person stands 1.4 m before a goal the robot (0.5 m from it) has not moved to: not an arrival
+    assert not _reaches_goal(10.5, person_xy=(9.6, 3.0))
