@@ -94,28 +94,26 @@ def test_stage1_states_how_far_a_follower_trails_where_criteria_are_written(home
 def test_the_prompts_state_the_simulations_time_limit_from_its_home(home):
     """A slow round trip with a follower timed out and no prompt said when a run ends (a round-5 player)."""
     from socnavgen.proposal.facts import physical_facts_text
-    from socnavgen.sim import SimConfig
+    from socnavgen.sim.engine.budget import RULE_TEXT
 
-    limit = SimConfig().timeout
     system, _ = _stage1_prompt(home)
-    assert f"A run ends after {limit:g} s of simulated time" in system and f"that is {limit * 0.6:.0f} m" in system
-    assert f"A run ends after {limit:g} s" in physical_facts_text(scene_graph=True)  # stages 2 and 3 too
+    assert f"at its time limit: {RULE_TEXT}" in system
+    assert RULE_TEXT in physical_facts_text(scene_graph=True)  # stages 2 and 3 too
 
 
 def test_pacing_is_stated_as_the_simulator_does_it(home):
-    """Round-5 players: 'the person waits for the robot there' was optimistic. Pacing uses the robot's nominal
-    ETA (its own cue waits delay it past the person) and releases a waiting person near the robot, who walks on."""
+    """Round-5 players: 'the person waits for the robot there' was optimistic when the robot stood for its own cues.
+    Pacing now re-estimates the robot's arrival with the time it still stands (sim/people/pacing.py) and the prompt
+    says so, with the release distance from ThrottleConfig."""
     from socnavgen.sim import ThrottleConfig
 
     pace = ThrottleConfig()
     system, _ = _stage1_prompt(home)
     assert "the person waits for the robot there" not in system
-    assert "NOMINAL arrival there (its remaining route at its cruise speed; its cue waits and stops for people are " \
-           "not counted" in system and "A robot delayed by its own waits arrives after them" in system
-    assert f"Nobody is held within {pace.release_distance:g} m of the robot: a person waiting at the node then walks " \
-           f"on along their path (a trigger nearer than {pace.release_distance:g} m fires there only if they walk " \
-           "toward the robot)" in system
-    assert f"while it stands {pace.robot_waits:g} s or more nobody is held" in system
+    assert "by the robot's ETA re-estimated as it goes (its route left at its speed, plus the time it still stands " \
+           "for its cues' waits)" in system
+    assert f"nobody is held in the robot's way within {pace.release_distance:g} m of it" in system
+    assert f"slower than {pace.min_pace:g} m/s" in system
 
 
 def test_stage1_says_a_stop_shows_only_after_having_walked(home):

@@ -104,13 +104,11 @@ def physical_facts_text(scene_graph: bool = False) -> str:
 
 
 def time_limit_text(robot_speed: float) -> str:
-    """The simulated time a run gets (sim SimConfig.timeout: the one home of the limit) and what must fit in it."""
-    from socnavgen.sim import SimConfig
+    """When a run ends (sim/engine/budget.py: the one home of the rule) and what must fit in it."""
+    from socnavgen.sim.engine.budget import RULE_TEXT
 
-    limit = SimConfig().timeout
-    return (f"- A run ends after {limit:g} s of simulated time: the robot's whole route at its speed (at "
-            f"{robot_speed:g} m/s that is {limit * robot_speed:.0f} m), with its waits and its stops for people and "
-            f"slow followers, must fit well inside it, or it fails to reach its goal.")
+    return (f"- A run ends when the robot reaches its goal, or at its time limit: {RULE_TEXT}. A route that the "
+            f"robot drives at {robot_speed:g} m/s fits; long waits for people and slow followers beyond that do not.")
 
 
 def follow_trail(robot_speed: float) -> float:
