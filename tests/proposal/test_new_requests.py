@@ -19,36 +19,36 @@ ROOT = Path(__file__).resolve().parents[2]
 PATHS = fixture_paths(FIXTURES)
 
 # Where the verifier and the eyes disagree today, each with what was seen (a strict xfail: it turns red the day
-# they agree, and the pin must go). Empty means they agree on every fixture.
-# No longer pinned: hospital_08 (a step aside undone before the robot got past is no giving way:
-# verify/passing.py); warehouse_01 agrees only because its replay stops: its first answers now deadlock 89 s in a
-# standoff the spec sets up (blamed on the spec, which the recorded loop never re-asked), while its final answers
-# still pass leniently (0.17 m from the stopped worker, the meeting moved to 54: the model's criteria).
+# they agree, and the pin must go). Empty means they agree on every fixture. Judged 2026-11-26 (round 6) on the
+# final code of that day. Five lenient passes share one cause: people pass the robot at exactly 0.10 m (the gap
+# their own steps keep, sim/people/avoid.py KEEP_GAP / MIN_PASS_GAP), which is no contact by the 5 cm rule but reads
+# as touching in the GIF.
+_TOUCH = "a gap of 0.10 m, which the eyes read as touching (no contact by the verifier's 5 cm rule)"
 DISAGREE: dict[str, str] = {
-    "home_06_neighbour_lets_herself_in": "lenient PASS: the neighbour says EXCUSE ME, then backs into the front door's "
-    "alcove and gives way while the robot drives up to i6 and turns back there; the text wants the robot to stand "
-    "aside and let her walk past (roles reversed, as the eyes saw on main)",
-    "hospital_02_guide_visitor_to_room": "lenient PASS: the nurse walks into another room and brushes the visitor "
-    "(people touching each other is judged nowhere: on today's simulator people bump at >= 1 m/s in 12 verifying cards, "
-    "so a check for it waits for the people to keep apart), the visitor is still in the doorway when the run ends",
-    "warehouse_04_pallet_jack_backing_out": "lenient PASS: the worker comes out of the aisle with the robot 9 m away "
-    "and walks up to it (pacing releases a person in the robot's way 3 m ahead), not a sudden emergence",
+    "home_02_resident_with_cane_in_doorway": "lenient PASS: the resident walks into the waiting robot's spot "
+    f"instead of on to the west end; {_TOUCH} at 31.6 s and again as the robot squeezes to the door",
+    "home_04_grandchild_shows_drawing": "lenient PASS: the robot turns back at i6 and parks in the hallway corner; "
+    "robot_reaches_goal counts it as arrived 1.10 m short 'at a social distance from someone standing there' "
+    "(proxemics.short_of_goal), the eyes see it never reach the bedroom doorway 2n",
+    "home_05_serving_drinks_at_party": f"lenient PASS: a guest walks back to her spot into the passing robot, {_TOUCH}",
+    "home_07_laundry_in_morning_rush": f"lenient PASS: the daughter comes out as the robot reaches 41, {_TOUCH}",
+    "hospital_02_guide_visitor_to_room": "lenient PASS: the robot stands on the nurse's crossing point and creeps "
+    f"on, she squeezes behind it ({_TOUCH}); the visitor sets off before she has passed",
+    "hospital_05_elevator_at_visiting_hour": "lenient PASS: the robot waits in the middle of the lobby in the exit "
+    f"path, not beside the door; the couple squeeze past ({_TOUCH}) where the text wants a wide berth",
+    "hospital_06_night_wandering_patient": "lenient PASS: after FOLLOW ME the robot drives up to the elevator where "
+    "the patient stood and makes her step aside for ~20 s instead of turning round at the lobby centre",
+    "hospital_08_shift_handover_cluster": "strict FAIL: the two nurses step aside to opposite sides of the robot "
+    "(3.34 m apart for a moment, the spec's group_together asks 3 m); the eyes accept the split as making room",
+    "warehouse_03_fire_alarm_evacuation": "strict FAIL: the first worker is 6.6 m (walkable) behind the robot for a moment "
+    "(follows_robot 6 m); the eyes count the workers catching up ~15 s late as minor",
+    "warehouse_04_pallet_jack_backing_out": "lenient PASS: the worker comes out with the robot ~8 m away, walks at it "
+    "and stands in front of it looking at it; no backing out across the aisle at sh, which the text wants",
 }
 
 # Fixtures whose recorded answers a stage check added since refuses, each with why; the recording has no answer
 # that passes, so the replay stops at that stage (the eyes' judgement of the recorded end stays in the fixture).
-REFUSED: dict[str, str] = {
-    "home_01_child_blocks_vacuum": "paths: the child's two encounters (block, then give way on EXCUSE ME) share node "
-    "vh, which stage 2 refuses (one person's two meetings cannot be told apart at one node: proposal/facts.py "
-    "TWO_ENCOUNTERS); one meeting is one encounter",
-    "hospital_05_elevator_at_visiting_hour": "paths: every recorded route comes into the blind lobby q9 through the "
-    "doorway cc, which looks into the elevator car from 11 m, so hidden_until (4 m) cannot hold; stage 2 now "
-    "refuses that way in (the inventory names it); before, the verifier failed it after simulating (eyes: the rest "
-    "happened as written)",
-    "warehouse_01_blind_corner_cart": "scenario: hidden_until 3 m at a BLIND CORNER, whose blindest way in is now "
-    "measured at 3.2 m on the worst approach (the player's own runs saw 3.08-3.44 m at f7); stage 1 asks for 4 m "
-    "(+0.5 m margin). Its recorded end was a lenient PASS (eyes: no)",
-}
+REFUSED: dict[str, str] = {}
 
 
 def test_the_suite_is_there_and_judged():

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import math
 
+from socnavgen import proxemics
 from socnavgen.bodies import PERSON_GOAL_SLACK
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.give_way import (
@@ -76,11 +77,27 @@ def step_aside(s, i):  # noqa: ANN001, ANN201
         turn(s.people, i, math.atan2(d.imag, d.real))
 
 
+short_of_goal = jit(proxemics.short_of_goal)  # the one arrival short of a goal someone stands at, compiled
+
+
+@jit
+def stopped_short(s):  # noqa: ANN001, ANN201
+    """The robot stands short of its goal at a social distance from someone standing there: arrived."""
+    robot, people = s.robot[0], s.people
+    for i in range(people.shape[0]):
+        q = people[i]
+        if short_of_goal(abs(robot.goal - robot.pos), abs(q.pos - robot.goal), abs(q.pos - robot.pos) - q.radius
+                         - robot.radius, abs(q.vel), abs(robot.vel), robot.radius, q.radius):
+            return True
+    return False
+
+
 @jit
 def make_room(s):  # noqa: ANN001, ANN201
     """After the trees: who starts making room for the waiting robot, and the motion of everyone who does."""
     people, clock = s.people, s.clock[0]
-    waited = clock.stalled >= ROBOT_WAITED
+    # a robot that stopped short of someone standing at its goal has arrived: it is not waiting to get past
+    waited = clock.stalled >= ROBOT_WAITED and not stopped_short(s)
     for i in range(people.shape[0]):
         p = people[i]
         if clock.t < p.start_delay:

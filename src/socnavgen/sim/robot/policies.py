@@ -24,6 +24,7 @@ import numpy as np
 from socnavgen import proxemics
 from socnavgen.bodies import ROBOT_GOAL_TOLERANCE
 from socnavgen.sim.jit import jit
+from socnavgen.sim.people.make_room import short_of_goal, stopped_short  # noqa: F401 - step.py's import
 from socnavgen.sim.people.physics import pair_force, wall_force
 from socnavgen.sim.records import layout
 from socnavgen.sim.robot.planner import steer
@@ -184,7 +185,6 @@ def reachable_goal(s, goal):  # noqa: ANN001, ANN201
     return goal + (goal - people[k].pos) / d * ROBOT_GOAL_TOLERANCE * 0.75, ROBOT_GOAL_TOLERANCE * 0.15
 
 
-short_of_goal = jit(proxemics.short_of_goal)  # the one arrival short of a goal someone stands at, compiled
 
 
 @jit
@@ -199,18 +199,6 @@ def goal_holder(s):  # noqa: ANN001, ANN201
                 abs(q.vel) < proxemics.STANDING_SPEED and abs(q.pos - robot.pos) < best:
             who, best = i, abs(q.pos - robot.pos)
     return who
-
-
-@jit
-def stopped_short(s):  # noqa: ANN001, ANN201
-    """The robot stands short of its goal at a social distance from someone standing there: arrived."""
-    robot, people = s.robot[0], s.people
-    for i in range(people.shape[0]):
-        q = people[i]
-        if short_of_goal(abs(robot.goal - robot.pos), abs(q.pos - robot.goal), abs(q.pos - robot.pos) - q.radius
-                         - robot.radius, abs(q.vel), abs(robot.vel), robot.radius, q.radius):
-            return True
-    return False
 
 
 @jit
