@@ -26,13 +26,19 @@ def to_path(points: np.ndarray, path: np.ndarray) -> tuple[np.ndarray, np.ndarra
     return d.min(axis=1), d.argmin(axis=1)
 
 
-def reachable_spots(world, p: complex, radius: float, others: np.ndarray) -> np.ndarray:  # noqa: ANN001
+def reachable_spots(world, p: complex, radius: float, others: np.ndarray, robot: complex,  # noqa: ANN001
+                    robot_radius: float) -> np.ndarray:
     """Every spot within SIDE_STEP_MAX of p a body walks to in a straight line (64 directions, every 5 cm) where
-    no one else stands, with 0.3 m to spare (`others`: their centres, bodies of `radius`)."""
+    no one else stands, with 0.3 m to spare (`others`: their centres, bodies of `radius`), and not through the
+    robot's body (a spot behind the robot in the corridor is reached only through it)."""
     out = []
+    reach = radius + robot_radius
     for angle in np.linspace(0, 2 * np.pi, 64, endpoint=False):
         u = complex(np.cos(angle), np.sin(angle))
         room = world.free_along(p, u, SIDE_STEP_MAX, radius)
+        rel = (robot - p) * u.conjugate()
+        if rel.real > 0 and abs(rel.imag) < reach:  # the walk meets the robot's body: it stops short of it
+            room = min(room, max(0.0, rel.real - np.sqrt(reach**2 - rel.imag**2)))
         out.extend(p + u * np.arange(0.05, room + 1e-9, 0.05))
     spots = np.array(out, dtype=complex)
     if len(others) and len(spots):
@@ -76,14 +82,16 @@ def test_the_side_step_leaves_the_robots_path_when_there_is_room(room: str, seed
             others = np.array([complex(sim.people[j].pos) for j in range(12) if j != i])
             if spot != p:  # nobody stands there
                 assert np.abs(others - spot).min() >= 2 * radius + SPOT_ROOM - 1e-9
-            spots = reachable_spots(world, p, radius, others)
+            spots = reachable_spots(world, p, radius, others, robot, float(sim.robot.radius))
             room_left = to_path(spots, upcoming)[0].max(initial=0.0) if len(spots) else 0.0
             if room_left >= want + 0.3:  # clearly room: it must get out of the way
                 roomy += 1
                 assert there >= want - 1e-9
                 a, b = upcoming[segment], upcoming[segment + 1]
                 sideways = ((p - a) * (b - a).conjugate()).imag
-                if abs(sideways) > 0.05 and ((spot - a) * (b - a).conjugate()).imag * sideways > 0:
+                if ((spot - a) * (b - a).conjugate()).real <= 0:  # behind the robot (the corridor's only room,
+                    roomy -= 1  # walked to round it, never through it): no side of its path to keep to
+                elif abs(sideways) > 0.05 and ((spot - a) * (b - a).conjugate()).imag * sideways > 0:
                     same_side += 1
             else:
                 cramped += 1

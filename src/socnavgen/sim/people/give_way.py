@@ -131,6 +131,20 @@ def path_distance(s, seg, fallback, spot):  # noqa: ANN001, ANN201
 
 
 @jit
+def short_of_robot(s, i, origin, u):  # noqa: ANN001, ANN201
+    """How far person i walks straight from `origin` along the unit `u` before their body meets the robot's
+    (inf: it never does): a side-step spot beyond the robot is not reached through it."""
+    robot = s.robot[0]
+    rel = robot.pos - origin
+    along = (rel * u.conjugate()).real
+    reach = s.people[i].radius + robot.radius
+    across = abs((rel * u.conjugate()).imag)
+    if along <= 0 or across >= reach:
+        return np.inf
+    return max(0.0, along - math.sqrt(reach * reach - across * across))
+
+
+@jit
 def side_spot(s, i, origin, prefer, want, seg, fallback):  # noqa: ANN001, ANN201
     """(rank, cost, spot) of the best spot a body walks to straight from `origin` within SIDE_STEP_MAX, not taken
     by someone else: rank 0 the nearest leaving `want` from the robot's upcoming path (straight toward `prefer`
@@ -140,7 +154,7 @@ def side_spot(s, i, origin, prefer, want, seg, fallback):  # noqa: ANN001, ANN20
     found, best_rank, best_cost, best = False, 2, 0.0, origin
     for j in range(SIDE_STEP_DIRECTIONS):
         u = prefer * SIDE_UNITS[j]
-        room = free_along(s.world, origin, u, SIDE_STEP_MAX, p.radius)
+        room = min(free_along(s.world, origin, u, SIDE_STEP_MAX, p.radius), short_of_robot(s, i, origin, u))
         count = int(math.ceil((room + 1e-9 - SIDE_STEP_SPACING) / SIDE_STEP_SPACING)) if room > 0 else 0
         if count <= 0:
             continue

@@ -60,6 +60,8 @@ def step_aside(s, i):  # noqa: ANN001, ANN201
     p, robot = s.people[i], s.robot[0]
     if p.give_way_phase != RESUME and robot_has_passed(s, i):
         p.give_way_phase = RESUME
+    if p.give_way_phase == ASIDE and abs(p.aside_via - p.pos) <= GIVE_WAY_ARRIVED:
+        p.aside_via = p.aside  # backed out to where there is room (or never had to): now to the side
     if p.give_way_phase == ASIDE and abs(p.aside - p.pos) <= GIVE_WAY_ARRIVED:
         p.give_way_phase = WAIT
     if p.give_way_phase == RESUME:
@@ -71,7 +73,9 @@ def step_aside(s, i):  # noqa: ANN001, ANN201
         return
     p.behavior = 2
     if p.give_way_phase == ASIDE:
-        walk_to(s.people, i, p.aside, ASIDE_RADIUS, p.max_speed, ROUTE_STRAIGHT)
+        # via aside_via as give_way.give_way walks: a tree that takes over this side step (RegularNav keeps
+        # someone giving way aside) must not find aside_via still at the spot they left, and walk them back
+        walk_to(s.people, i, p.aside_via, ASIDE_RADIUS, p.max_speed, ROUTE_STRAIGHT)
     else:
         d = robot.pos - p.pos
         turn(s.people, i, math.atan2(d.imag, d.real))
