@@ -37,11 +37,19 @@ from socnavgen.verify.runner import verify_trace
 _PHRASE_LATE = ("hunav2 has no phrase input and no side step: the person backs away along the passage and leaves the "
                 "robot's way 10-20 s after EXCUSE ME began, later than the criterion's window")
 # Measured 2026-11-26 on the merged simulator (at one speed per card, socrates 4 and hunav2 5 misses of 59 rows): what
-# is lost is hunav2's late give-way in the narrow hallways. home/exiting-room (both targets, 1.5x: the waypoint robot
+# is lost is hunav2's late give-way in the narrow hallways and one crossing. home/exiting-room (both targets, 1.5x: the waypoint robot
 # used to edge into the person at the 0.9 m door) and hunav2 home/pedestrian-obstruction (0.5x) verify as the
 # targets run them again; hospital/narrow-hallway runs at 1.5x and warehouse/narrow-hallway at 0.5x only (the speed
 # a card runs at follows its place among the cards that fit), so their entries at 0.5x and 1.0x left
+# warehouse intersection-no-gesture at 1.5x, measured 2026-11-26: a face-off at the crossing that our pacing keeps
+# 4 cm outside contact; neither timing keeps the person out of the robot's intimate space
+_CROSSING = ("the target's timing (socrates: the fork's hold until the robot's waypoint is the node; hunav2 alike) sets "
+             "human1 off 0.5 s later than our live-ETA pacing, so at 1.5x it reaches the crossing as the waypoint robot "
+             "does and stops against its body (gap 0.01 m, 5.2 s in contact) until it makes room at 21.5 s; with our "
+             "pacing it arrives first and the same face-off (6.5 s within intimate space) stays 0.09 m apart")
 KNOWN_LOST = {
+    ("socrates", "warehouse/intersection-no-gesture", 1.5): _CROSSING,
+    ("hunav2", "warehouse/intersection-no-gesture", 1.5): _CROSSING,
     ("hunav2", "hospital/narrow-hallway", 1.5): _PHRASE_LATE,
     ("hunav2", "warehouse/narrow-hallway", 0.5): _PHRASE_LATE,
 }
