@@ -36,18 +36,22 @@ from socnavgen.verify.runner import verify_trace
 # leaves its way 10-20 s after EXCUSE ME began (measured: warehouse narrow-hallway said 28.2 s, aside 49.9 s)
 _PHRASE_LATE = ("hunav2 has no phrase input and no side step: the person backs away along the passage and leaves the "
                 "robot's way 10-20 s after EXCUSE ME began, later than the criterion's window")
-# a card that verifies in our simulator only since people make room for a waiting robot (sim.people.make_room);
-# measured 2026-11-26 with the twins
-_EDGES_IN = ("without our pacing the person reaches the 0.9 m door with the robot; the plain waypoints robot edges to "
-             "0.049 m of them at 7 s (its own move, 0.16 m/s); later the person makes room and it reaches its goal")
+# Measured 2026-11-26 on the merged simulator (at one speed per card, socrates 4 and hunav2 5 misses of 59 rows): what
+# is lost is hunav2's late give-way in the narrow hallways and one crossing. home/exiting-room (both targets, 1.5x: the waypoint robot
+# used to edge into the person at the 0.9 m door) and hunav2 home/pedestrian-obstruction (0.5x) verify as the
+# targets run them again; hospital/narrow-hallway runs at 1.5x and warehouse/narrow-hallway at 0.5x only (the speed
+# a card runs at follows its place among the cards that fit), so their entries at 0.5x and 1.0x left
+# warehouse intersection-no-gesture at 1.5x, measured 2026-11-26: a face-off at the crossing that our pacing keeps
+# 4 cm outside contact; neither timing keeps the person out of the robot's intimate space
+_CROSSING = ("the target's timing (socrates: the fork's hold until the robot's waypoint is the node; hunav2 alike) sets "
+             "human1 off 0.5 s later than our live-ETA pacing, so at 1.5x it reaches the crossing as the waypoint robot "
+             "does and stops against its body (gap 0.01 m, 5.2 s in contact) until it makes room at 21.5 s; with our "
+             "pacing it arrives first and the same face-off (6.5 s within intimate space) stays 0.09 m apart")
 KNOWN_LOST = {
-    ("hunav2", "home/pedestrian-obstruction", 0.5): _PHRASE_LATE,
-    ("hunav2", "hospital/narrow-hallway", 0.5): _PHRASE_LATE,
-    ("hunav2", "warehouse/narrow-hallway", 1.0): _PHRASE_LATE,
-    ("socrates", "home/exiting-room", 1.5): _EDGES_IN,
-    ("hunav2", "home/exiting-room", 1.5): _EDGES_IN,
-    ("hunav2", "hospital/narrow-hallway", 1.5): _PHRASE_LATE,  # the speeds each card runs at moved when
-    ("hunav2", "warehouse/narrow-hallway", 0.5): _PHRASE_LATE,  # perpendicular-traffic stopped fitting the home
+    ("socrates", "warehouse/intersection-no-gesture", 1.5): _CROSSING,
+    ("hunav2", "warehouse/intersection-no-gesture", 1.5): _CROSSING,
+    ("hunav2", "hospital/narrow-hallway", 1.5): _PHRASE_LATE,
+    ("hunav2", "warehouse/narrow-hallway", 0.5): _PHRASE_LATE,
 }
 
 
@@ -88,7 +92,7 @@ def test_cards_happen_as_the_target_runs_them(outcomes, target: str) -> None:  #
     assert set(lost) == set(known), lost  # what our pacing manages, the exported timing manages
     missed = [f"{label} at {speed:g}x: {why}" for _, label, _, speed, ok, _, why in rows if not ok]
     # the same robot with our pacing misses some too (docs/export.md); measured 2026-11-26 at one speed per card:
-    # hunav2 7 of 56 (its three late give-ways above among them), socrates at most 5
+    # hunav2 5 of 59 (its two late give-ways above among them), socrates 4
     assert len(missed) <= 0.125 * len(rows), missed
 
 

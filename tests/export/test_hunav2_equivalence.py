@@ -22,18 +22,32 @@ _HALLWAY = ("2.x has no side step: the hunav2 person (AvoidRobot) retreats along
 _PHRASE_LATE = ("2.x has no side step: the translated person backs away along the passage after EXCUSE ME and leaves "
                 "the robot's way 10-20 s after the phrase began (the criterion measures from its start); the socrates "
                 "person steps aside within the window")
-_CROWD = ("in the crowd the 2.x people back away instead of stepping aside (the robot's hold-up lasted 8.6 s with the "
-          "socrates trees and 12.4 s with the 2.x people); the socrates twin plays out since its followers no longer "
-          "overlap (tests/cards)")
-_FOLLOW = ("2.x's follower (ApproachRobot/CuriousNav) closes a gap at 0.18 m/s per metre and stops at 1.5 m; ours walks at "
-           "its own pace and stands 1.3 m behind (people.leaves.follow), so the socrates followers trail the robot past "
-           "hd and the verifier puts the meeting at that closest moment, 1.6 m past the node (tests/cards KNOWN_FAILING)")
+# Measured 2026-11-26 on the merged simulator (people give way with no room, the robot makes way backwards, pacing
+# from the robot's live ETA, a robot stopped short of someone at its goal has arrived). The robot-crowding twins no
+# longer diverge (both twins of each verify alike) and left this list.
+_DOOR_SHORT = ("2.x has no side step: the robot stops 1.6 m short of the person beyond the home door (it has arrived: "
+               "proxemics.short_of_goal) and the hunav2 person (AvoidRobot) stays on its line, so their body never "
+               "leaves the robot's way within 5 s; the socrates person steps aside (GiveWaytoRobot)")
+_OVERTAKE = ("2.x has no side step: the overtaken hunav2 person (AvoidRobot) walks on ahead of the robot along the "
+             "hospital corridor, out of its way only at its goal (the robot stops short of them at 44 s, 29 s with the "
+             "socrates twin, who steps aside at once)")
+_DOOR_STANDOFF = ("2.x has no side step: at the hospital door the hunav2 person (AvoidRobot, its goal past the robot) "
+                  "stands 1.5 m in front of the robot, pushed off by it; the robot makes way backwards from 28 s and "
+                  "they pass only at 41 s, 18 s of back and forth the verifier counts as a stand; the socrates person "
+                  "steps aside and the robot passes at once")
+_FOLLOW_AHEAD = ("2.x's follower (CuriousNav closing to 1.5 m, AvoidRobot pushing off at 2 m) walks ahead of the robot "
+                 "to its goal and hovers there at 0.05-0.3 m/s, so the robot waits 17-23 s before it counts as arrived "
+                 "short of them (proxemics.short_of_goal wants them standing); ours follows 1.3 m behind "
+                 "(people.leaves.follow) and the robot reaches its goal")
 KNOWN_DIVERGENT = {
     "home/robot-overtaking": _HALLWAY,
     "home/accompanying-peer": _HALLWAY,
     "home/pedestrian-obstruction": _PHRASE_LATE,
-    "home/robot-crowding": _CROWD,
-    "warehouse/robot-crowding": _FOLLOW,
+    "home/narrow-doorway": _DOOR_SHORT,
+    "hospital/robot-overtaking": _OVERTAKE,
+    "hospital/narrow-doorway": _DOOR_STANDOFF,
+    "hospital/accompanying-peer": _FOLLOW_AHEAD,
+    "warehouse/accompanying-peer": _FOLLOW_AHEAD,
 }
 
 
@@ -86,6 +100,16 @@ REACTIONS = {
                       '<GiveWaytoRobot agent_id="{id}" time_step="{dt}"/>',
 }
 
+# (node, finding) -> why it differs (the test fails if it stops differing). Measured 2026-11-26 on the merged simulator:
+# paced from the robot's live ETA, human1 now walks to `up` at its own speed to arrive WITH the robot, so the 3 m
+# trigger fires with both ~1.5 m from the node
+REACTIONS_DIVERGENT = {
+    ("GiveWaytoRobot", "robot meets human1 at up (e1)"):
+        "2.x has no side step: the socrates person steps aside 2.3 m before up (t=26 s) and waits there until the "
+        "robot has passed, so the two are closest 2.08 m from the node (and human1 reaches it 7 s after the robot); "
+        "the hunav2 person (AvoidRobot) keeps walking to its goal at 0.6 m/s and meets the robot 0.53 m from up",
+}
+
 
 def test_reactions_no_card_uses_verify_the_same(tmp_path: Path) -> None:
     """Translations the cards do not exercise, on a head-on encounter (warehouse frontal-approach)."""
@@ -110,7 +134,11 @@ def test_reactions_no_card_uses_verify_the_same(tmp_path: Path) -> None:
         result = outcomes(run, scene, tmp_path / f"{node}_twin")
         assert result is not None
         socrates, hunav2 = result
-        assert socrates == hunav2, node
+        differ = {k for k in socrates.keys() | hunav2.keys() if socrates.get(k) != hunav2.get(k)}
+        known = {finding for (name, finding) in REACTIONS_DIVERGENT if name == node}
+        if known:  # a required criterion: the overall verdict differs with it
+            known.add("passed")
+        assert differ == known, (node, socrates, hunav2)
         acted = [k for k in socrates if k.startswith(("human1 executes", "human1 gives way"))]
         assert acted and all(socrates[k] for k in acted), (node, socrates)  # the reaction really happened
 

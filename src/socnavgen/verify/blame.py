@@ -191,6 +191,15 @@ def _off_route_at_goal(s: Signals, plan: PathPlan | None, who: str, k: int) -> s
     return goal_node if off >= float(s.trace.robot_radius) + radius else None
 
 
+def _unsaid_phrase(s: Signals, spec: ScenarioSpec, who: str) -> Verdict | None:
+    """The person in the robot's way waits for a phrase the robot never said: the script's to fix (D1, R4)."""
+    phrase = _waited_phrase(spec, who)
+    if phrase and _never_said(s, phrase):
+        return ("robot_script", None, f"{who} waits for the robot to say {phrase.replace('_', ' ').upper()}, "
+                                      "which the script never says: add a cue (e.g. when blocked)")
+    return None
+
+
 def _stuck(cc: Compiled, s: Signals, spec: ScenarioSpec, settings_deadlock: float,
            plan: PathPlan | None = None) -> Verdict | None:
     """Rules D3, D1, D2."""
@@ -204,10 +213,9 @@ def _stuck(cc: Compiled, s: Signals, spec: ScenarioSpec, settings_deadlock: floa
     if at_goal:
         return ("paths", None, f"{who} stood at its own goal ({at_goal}) beside the robot's route and the robot would "
                                "not pass: put that goal off the robot's way, or route the robot elsewhere")
-    phrase = _waited_phrase(spec, who)
-    if phrase and _never_said(s, phrase):
-        return ("robot_script", None, f"{who} waits for the robot to say {phrase.replace('_', ' ').upper()}, "
-                                      "which the script never says: add a cue (e.g. when blocked)")
+    unsaid = _unsaid_phrase(s, spec, who)
+    if unsaid:
+        return unsaid
     standoff = _standoff(s, spec, who, k)
     if standoff:
         return "spec", None, standoff
@@ -273,6 +281,9 @@ def _held_at_end(s: Signals, spec: ScenarioSpec) -> Verdict | None:
         return None
     gaps = np.where(holding, s.gaps()[k], np.inf)
     who = s.trace.human_names[int(np.argmin(gaps))]
+    unsaid = _unsaid_phrase(s, spec, who)
+    if unsaid:
+        return unsaid
     standoff = _standoff(s, spec, who, k)
     if standoff:
         return "spec", None, standoff

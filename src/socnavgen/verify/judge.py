@@ -190,6 +190,7 @@ def judge(trace: Trace, *, plan: PathPlan, location: Any, spec: ScenarioSpec | N
             finding = _with_blame(finding, *blame_tree_check(node, message, finding.human,
                                                              signals if trace.steps else None, before_cause))
         findings.append(finding)
+    findings = _held_up_by_an_unsaid_phrase(findings)
     seconds = float(trace.t[-1] - trace.t[0]) if trace.steps else 0.0
     return VerifyReport(run=run_name, passed=all(f.passed or not f.required for f in findings), findings=findings,
                         settings=settings, spec=spec is not None, trace_steps=trace.steps,
@@ -206,3 +207,18 @@ def _first_missing_cause(trace: Trace, node: str | None, message: int | None, ca
         if not node_steps(trace, i, gate, gate_message).any():
             return gate, gate_message
     return node, message
+
+
+def _held_up_by_an_unsaid_phrase(findings: list[Finding]) -> list[Finding]:
+    """A robot held up by someone whose tree waits for a phrase the script never said (its tree check is blamed on
+    the robot's script) is the script's to fix, also where no spec names the phrase (rules D1 and R4 with a spec)."""
+    waiting = {f.human: f for f in findings if not f.passed and f.node and f.blame == "robot_script" and f.human}
+    out = []
+    for f in findings:
+        cause = waiting.get(f.blame_human)
+        if (not f.passed and cause is not None and f.blame == "behaviors"
+                and f.kind in ("robot_reaches_goal", "no_deadlock")):
+            f = _with_blame(f, "robot_script", None, f"{f.blame_human} waits for the robot's phrase, which it never "
+                                                      f"said ({cause.name}): {cause.blame_reason}")
+        out.append(f)
+    return out
