@@ -27,10 +27,6 @@ KNOWN_FAILING: dict[tuple[str, str], str] = {
                                              "the node the whole run; the robot drives round her before and after "
                                              "EXCUSE ME while her GiveWaytoRobot node runs (the body never moves; the "
                                              "verifier judges the body since issue 25)",
-    ("home", "robot-crowding"): "no_deadlock and goal: after the three followers walk on they stand round the robot "
-                                "in the 1.2 m hallway; it makes no progress for 112 s with one of them 0.45 m ahead "
-                                "(people following a robot, making room and the robot's make-way do not resolve a "
-                                "crowd around it yet)",
     ("hospital", "blind-corner"): "contact (closest gap 0.00 m); hidden_until: seen before they came within 5 m",
 }
 
