@@ -215,7 +215,7 @@ def _held_up_by_an_unsaid_phrase(findings: list[Finding]) -> list[Finding]:
     waiting = {f.human: f for f in findings if not f.passed and f.node and f.blame == "robot_script" and f.human}
     out = []
     for f in findings:
-        cause = waiting.get(f.blame_human)
+        cause = waiting.get(f.blame_human) if f.blame_human else None
         if (not f.passed and cause is not None and f.blame == "behaviors"
                 and f.kind in ("robot_reaches_goal", "no_deadlock")):
             f = _with_blame(f, "robot_script", None, f"{f.blame_human} waits for the robot's phrase, which it never "
