@@ -48,6 +48,9 @@ _CROSSING = ("the target's timing (socrates: the fork's hold until the robot's w
              "does and stops against its body (gap 0.01 m, 5.2 s in contact) until it makes room at 21.5 s; with our "
              "pacing it arrives first and the same face-off (6.5 s within intimate space) stays 0.09 m apart")
 KNOWN_LOST = {
+    ("socrates", "home/robot-crowding", 1.0): "three followers released by the export's timing swarm the waypoint "
+    "robot in the 1.2 m hallway: it stands over 10 s behind them and does not reach its goal (measured 2026-11-26 after "
+    "side steps stopped going through the robot; our pacing with the same robot makes it)",
     ("socrates", "warehouse/intersection-no-gesture", 1.5): _CROSSING,
     ("hunav2", "warehouse/intersection-no-gesture", 1.5): _CROSSING,
     ("hunav2", "hospital/narrow-hallway", 1.5): _PHRASE_LATE,

@@ -40,6 +40,9 @@ _FOLLOW_AHEAD = ("2.x's follower (CuriousNav closing to 1.5 m, AvoidRobot pushin
                  "short of them (proxemics.short_of_goal wants them standing); ours follows 1.3 m behind "
                  "(people.leaves.follow) and the robot reaches its goal")
 KNOWN_DIVERGENT = {
+    # since side steps are never planned through the robot's body (2026-11-26): the socrates and the 2.x runs of the
+    # three followers swarming the robot in the 1.2 m hallway no longer end the same; not analysed finding by finding
+    "home/robot-crowding": "followers crowding the robot in a 1.2 m hallway: the two tree sets end differently",
     "home/robot-overtaking": _HALLWAY,
     "home/accompanying-peer": _HALLWAY,
     "home/pedestrian-obstruction": _PHRASE_LATE,
