@@ -70,7 +70,7 @@ class WorkerCache:
     locations: dict[str, Any] = field(default_factory=dict)
     worlds: dict[str, Any] = field(default_factory=dict)
     runs: dict[str, Any] = field(default_factory=dict)
-    default_verified: dict[tuple[str, int], bool] = field(default_factory=dict)  # (scenario, seed) -> verified
+    default_verified: dict[tuple[str, int, str], bool] = field(default_factory=dict)  # (run, seed, settings)
     loads: int = 0  # how many locations this worker loaded (tests check it stays at one per location)
 
     def run(self, run_dir: str) -> Any:
@@ -245,7 +245,9 @@ def _is_default(ep: Episode) -> bool:
 def _default_verifies(ep: Episode, settings: EpisodeSettings, cache: WorkerCache, deadline: _Deadline) -> bool:
     """Whether the scenario verifies with the default robot on this seed (simulated and verified once per
     worker, scenario and seed; blame in a campaign falls on the policy under test when it does)."""
-    key = (ep.scenario.id, ep.seed)
+    # keyed by the scenario's run folder and the settings too: the worker cache outlives a campaign in its process,
+    # and the same card in another campaign (another folder, other settings) may verify differently
+    key = (str(ep.scenario.run_dir), ep.seed, repr(settings))
     if key not in cache.default_verified:
         from socnavgen.verify.runner import verify_trace
 
