@@ -191,13 +191,15 @@ def _off_route_at_goal(s: Signals, plan: PathPlan | None, who: str, k: int) -> s
     return goal_node if off >= float(s.trace.robot_radius) + radius else None
 
 
-def _unsaid_phrase(s: Signals, spec: ScenarioSpec, who: str) -> Verdict | None:
-    """The person in the robot's way waits for a phrase the robot never said: the script's to fix (D1, R4)."""
+def _not_the_tree(s: Signals, spec: ScenarioSpec, who: str, k: int) -> Verdict | None:
+    """Someone holds the robot up at step k for a reason their tree cannot fix (D1, D4, R4): they wait for a phrase
+    the script never says, or the spec sets up the standoff."""
     phrase = _waited_phrase(spec, who)
     if phrase and _never_said(s, phrase):
         return ("robot_script", None, f"{who} waits for the robot to say {phrase.replace('_', ' ').upper()}, "
                                       "which the script never says: add a cue (e.g. when blocked)")
-    return None
+    standoff = _standoff(s, spec, who, k)
+    return ("spec", None, standoff) if standoff else None
 
 
 def _stuck(cc: Compiled, s: Signals, spec: ScenarioSpec, settings_deadlock: float,
@@ -213,12 +215,9 @@ def _stuck(cc: Compiled, s: Signals, spec: ScenarioSpec, settings_deadlock: floa
     if at_goal:
         return ("paths", None, f"{who} stood at its own goal ({at_goal}) beside the robot's route and the robot would "
                                "not pass: put that goal off the robot's way, or route the robot elsewhere")
-    unsaid = _unsaid_phrase(s, spec, who)
-    if unsaid:
-        return unsaid
-    standoff = _standoff(s, spec, who, k)
-    if standoff:
-        return "spec", None, standoff
+    elsewhere = _not_the_tree(s, spec, who, k)
+    if elsewhere:
+        return elsewhere
     return ("behaviors", who, f"{who} stood in the robot's way ({_held_up_fact(s, who, k)}): its tree must let "
                               "the robot through, by giving way where there is room to step aside, or by walking on toward "
                               "its goal past the robot (the robot makes way for someone who needs to get past it), "
@@ -281,12 +280,9 @@ def _held_at_end(s: Signals, spec: ScenarioSpec) -> Verdict | None:
         return None
     gaps = np.where(holding, s.gaps()[k], np.inf)
     who = s.trace.human_names[int(np.argmin(gaps))]
-    unsaid = _unsaid_phrase(s, spec, who)
-    if unsaid:
-        return unsaid
-    standoff = _standoff(s, spec, who, k)
-    if standoff:
-        return "spec", None, standoff
+    elsewhere = _not_the_tree(s, spec, who, k)
+    if elsewhere:
+        return elsewhere
     return ("behaviors", who, f"the run ended with {who} in the robot's way short of its goal "
                               f"({_held_up_fact(s, who, k)}): its tree must let the robot through")
 
