@@ -89,10 +89,9 @@ def physical_facts_text(scene_graph: bool = False) -> str:
         f"- How an encounter is checked: the robot and the human 'meet' when their centres are within "
         f"{meet.distance:g} m (or the criterion's `distance`) while the point halfway between them is within "
         f"the encounter's `within` ({meet.near:g} m by default) of the encounter's node, and only after an "
-        f"approach: both came {APPROACH:g} m closer to each other than at the start"
-        + (f" (a person waiting at the node: at least {approach_room():g} m from the robot's start)" if scene_graph
-           else "") + ". "
-        "A group (humans listed "
+        f"approach: both came {APPROACH:g} m closer to each other than at the start (a person waiting at the "
+        f"node: at least {approach_room():g} m from the robot's start, more with a larger meets `distance`: that "
+        f"+ {APPROACH:g} m). A group (humans listed "
         "together in a group_together criterion) is met where the robot meets any member: members stepping "
         "aside is their reaction; a `meets` criterion may name the group's `humans`.",
         _follow_fact(b.robot_speed),
@@ -164,8 +163,15 @@ def pacing_text() -> str:
             f"normally (RegularNav) is paced; nobody is held in the robot's way within {pace.release_distance:g} m "
             f"of it (they walk on to the node), and once the robot is {pace.robot_near:g} m from the node they walk "
             f"at full speed. So put the interaction point where the encounter should happen and the person's start "
-            f"where they wait (unseen, if they should appear suddenly): they come out as the robot arrives. Members "
-            f"of a group and people without an interaction point are never paced: they walk from the start.")
+            f"where they wait (unseen, if they should appear suddenly): they come out as the robot arrives. {_narrow_pacing()} "
+            f"Members of a group and people without an interaction point are never paced: they walk from the start.")
+
+
+def _narrow_pacing() -> str:
+    """What arriving together means at a passage one person closes (a player's doorway standoff, round 6)."""
+    return (f"Arriving together at a passage narrower than {BLOCKING_WIDTH:g} m (a doorway) puts the two face to "
+            f"face in it: for the person to come through first while the robot waits before it, put the encounter "
+            f"(their interaction point) at the wider place on the robot's side where it waits, not at the passage.")
 
 
 def groups_text() -> str:
