@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from socnavgen.run.models import HumanPlan
-from socnavgen.run.spec import Criterion, ScenarioSpec
+from socnavgen.run.spec import Criterion, HumanPart, ScenarioSpec
 from socnavgen.verify import VerifyReport, verify_trace
 from socnavgen.verify.blame import spec_problem
 
@@ -83,3 +83,39 @@ def test_criteria_contradicting_their_spec(criterion: Criterion, words: str) -> 
     problem = spec_problem(criterion, spec)
     assert problem is not None and words in problem
     assert spec_problem(spec.criteria[0], spec) is None
+
+
+# ---- what only the spec can change: its `lasts`, its own formula's thresholds --------------------------------
+_STOPS_EARLY = [(0.0, 6.3, 5.2), (3.0, 6.3, 3.0), (5.0, 6.3, 3.0), (8.0, 6.3, 5.5), (20.0, 6.3, 5.5)]
+
+
+def _stopping(lasts: float | None) -> ScenarioSpec:
+    spec = base_spec()
+    e1 = spec.encounter("e1").model_copy(update={"humans": [
+        HumanPart(human="human1", trigger="robot_visible", distance=4.0, reaction="stop", lasts=lasts)]})
+    return spec.model_copy(update={"encounters": [e1, spec.encounter("e2")]})
+
+
+def test_a_stop_that_ran_its_whole_lasts_too_early_is_the_specs_timing(tmp_path: Path, corner: Path) -> None:
+    """human1 stands 2 s (its `lasts`) 2 m off the robot's way, then walks back: stops_near_robot fails. The tree
+    must keep the spec's `lasts` (stage 3's static check), so asking the tree to fix it is asking the impossible
+    (a round-6 player's block: 'the sim correction asks for a change the static check then forbids')."""
+    scene = _h1(base_scene(), _STOPS_EARLY, [(3.0, 5.0, "LookAtRobot")])
+    stop = _finding(_verify(tmp_path / "r", corner, _stopping(2.0), scene), "c3")
+    assert not stop.passed and stop.blame == "spec", (stop.blame, stop.blame_reason)
+    assert "its whole `lasts` (2 s" in stop.blame_reason and "a longer `lasts`, or a later trigger" in stop.blame_reason
+    # without a `lasts` the stop's end is the tree's doing: R1 as before
+    tree = _finding(_verify(tmp_path / "t", corner, _stopping(None), scene), "c3")
+    assert not tree.passed and tree.blame == "behaviors" and tree.blame_human == "human1"
+
+
+def test_the_specs_own_formula_failing_on_geometry_goes_to_the_spec(tmp_path: Path, corner: Path) -> None:
+    """A user formula's thresholds are the spec's: a re-asked paths stage can only move people (a round-6 player
+    sent to stage 2 for a 1.5 m threshold). A formula naming the robot's phrase stays the script's (corpus)."""
+    spec = base_spec()
+    spec = spec.model_copy(update={"criteria": [*spec.criteria, Criterion(
+        id="c12", kind="stl", formula="always (dist_human1 > 1.5)", text="human1 keeps 1.5 m from the robot")]})
+    found = _finding(_verify(tmp_path / "r", corner, spec, base_scene()), "c12")
+    assert not found.passed and found.blame == "spec"
+    assert "criterion c12 (human1 keeps 1.5 m from the robot)" in found.blame_reason and "thresholds" in \
+        found.blame_reason

@@ -34,6 +34,8 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
   G1  a group apart whose members walk different paths                                          -> paths
   G2  a group apart on one path                                                                -> behaviors(farthest)
   R1  the trigger held (the robot near / said the phrase) but the reaction never ran           -> behaviors(h)
+      except: a hold (blocks_robot, stops_near_robot) whose reaction ran its whole `lasts` and was over
+      before the robot was held there (the tree must keep the spec's `lasts`)                  -> spec
   R3  robot_reaches_goal failed, the robot ending still with nobody in its way while its script has
       waiting cues (wait, wait_until_clear, a human's phrase)                                   -> robot_script
   R4  (checked before R2) robot_reaches_goal failed with someone holding the robot up at the end of the run (a
@@ -45,7 +47,8 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
   T2  tree checks: IsRobotVisible / IsRobotNearby never succeeded                               -> paths
   T3  tree checks: any other node never ran, or ran before its cause                           -> behaviors(h)
   U1  a user `stl` formula: robot phrases it names never said -> robot_script; it names a human's
-      actions, phrases or reactions -> behaviors(h); otherwise                                 -> paths
+      actions, phrases or reactions -> behaviors(h); otherwise the spec's own formula (its thresholds)
+      -> spec; a formula derived from the spec (the encounters' order)                          -> paths
 """
 
 from __future__ import annotations
@@ -66,9 +69,9 @@ from socnavgen.run.models import PathPlan
 from socnavgen.run.spec import Blame, Criterion, ScenarioSpec
 from socnavgen.verify.criteria import Compiled
 from socnavgen.verify.evidence import deadlock_culprit, in_window, met_mask
-from socnavgen.verify.signals import ROBOT_PHRASES, Signals, phrase_id
+from socnavgen.verify.signals import ROBOT_PHRASES, Signals, lasting, phrase_id, reaction_evidence
 from socnavgen.verify.stl import formula_signals
-from socnavgen.verify.thresholds import APPROACH, KIND_DISTANCE, MEET_DISTANCE, STILL_SPEED
+from socnavgen.verify.thresholds import APPROACH, KIND_DISTANCE, MEET_DISTANCE, STILL_SPEED, STOP_HOLD
 
 Verdict = tuple[Blame, str | None, str]  # blame, human (for behaviors), reason
 
@@ -347,7 +350,7 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
         held = _held_at_end(s, spec)
         return held or ("paths", None, _short_of_goal(s))
     if kind == "stl":
-        return _blame_formula(cc, s)
+        return _blame_formula(cc, s, spec, authored)
     robot_phrase = cc.phrase if kind in ("reacts_after_phrase", "follows_robot") else \
         _waited_phrase(spec, h) if kind in ("meets", "says", "stops_near_robot", "gives_way", "blocks_robot") else None
     if robot_phrase and _never_said(s, robot_phrase):
@@ -371,7 +374,7 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
         reach = max(cc.distance or MEET_DISTANCE, MEET_DISTANCE)
         if s.get(f"dist_{h}").min() > reach:
             return "paths", None, f"the robot never came within {reach:g} m of {h}"
-        cause = _missing_cause(cc, s, h)
+        cause = _missing_cause(cc, s, h) or _spent(cc, s, spec, h)
         if cause:
             return cause
         return "behaviors", h, f"the robot came near {h} but {h} did not react as asked ({kind})"
@@ -424,6 +427,28 @@ def _missing_cause(cc: Compiled, s: Signals, h: str) -> Verdict | None:
     return None
 
 
+HOLDS = ("blocks_robot", "stops_near_robot")  # criteria that need the person to hold still while the robot is there
+
+
+def _spent(cc: Compiled, s: Signals, spec: ScenarioSpec, h: str) -> Verdict | None:
+    """Rule R1's exception: h did its reaction for the whole `lasts` its spec gives it (the tree must keep the spec's
+    `lasts`: proposal/tree_needs.py), and it was over before the criterion saw it hold: the spec's timing (its
+    `lasts` or trigger), not the tree."""
+    if cc.criterion.kind not in HOLDS:
+        return None
+    for enc, part in spec.parts_of(h):
+        if part.lasts is None or (cc.encounter is not None and enc.id != cc.encounter.id):
+            continue
+        ran = lasting(reaction_evidence(s, h, part.reaction, part.says), max(part.lasts - STOP_HOLD, 0.0), s.trace.dt)
+        if ran.any():
+            start = float(s.t[int(np.argmax(ran))])
+            return ("spec", None, f"{h} did {part.reaction} for its whole `lasts` ({part.lasts:g} s, from t={start:.1f} "
+                                  f"s, {part.trigger}) and it was over before the robot was held there ({cc.criterion.kind}"
+                                  f"): its tree must keep the spec's `lasts`, so the spec must time it (a longer "
+                                  f"`lasts`, or a later trigger)")
+    return None
+
+
 def _blame_group(cc: Compiled, s: Signals, plan: PathPlan | None) -> Verdict:
     names = re.findall(r"human\d+", cc.formula)
     if plan is not None:
@@ -445,7 +470,9 @@ def _blame_group(cc: Compiled, s: Signals, plan: PathPlan | None) -> Verdict:
     return "behaviors", who, f"{who} leaves its group: its tree must keep it with the others"
 
 
-def _blame_formula(cc: Compiled, s: Signals) -> Verdict:
+def _blame_formula(cc: Compiled, s: Signals, spec: ScenarioSpec, authored: bool = True) -> Verdict:
+    """Rule U1: the robot's phrases, a human's doings, else the geometry: the spec's when the formula is its own
+    (only stage 1 can change a threshold; a re-asked stage 2 can only move people), the paths' when derived."""
     names = formula_signals(cc.formula)
     for name in names:
         m = re.fullmatch(r"robot_(?:says|said)_([a-z_]+)", name)
@@ -457,6 +484,10 @@ def _blame_formula(cc: Compiled, s: Signals) -> Verdict:
             who = m[1] or m[2]
             return "behaviors", who, f"the formula asks something of {who}'s behavior"
     what = cc.criterion.text or "the formula's geometry"
+    if authored and any(c.id == cc.criterion.id for c in spec.criteria):  # the spec's own formula and thresholds
+        return "spec", None, (f"criterion {cc.criterion.id} ({what}): not so in the simulation; its formula and "
+                              "thresholds are the spec's: make them fit the distances of this map (the nodes' "
+                              "positions) and what the scenario does, or change the encounter's place")
     return "paths", None, f"{what}: not so in the simulation; check where and when the paths meet"
 
 
