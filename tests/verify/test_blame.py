@@ -85,7 +85,7 @@ def test_criteria_contradicting_their_spec(criterion: Criterion, words: str) -> 
     assert spec_problem(spec.criteria[0], spec) is None
 
 
-# ---- what only the spec can change: its `lasts`, its own formula's thresholds --------------------------------
+# ---- what only the spec can change: its `lasts` --------------------------------
 _STOPS_EARLY = [(0.0, 6.3, 5.2), (3.0, 6.3, 3.0), (5.0, 6.3, 3.0), (8.0, 6.3, 5.5), (20.0, 6.3, 5.5)]
 
 
@@ -107,15 +107,3 @@ def test_a_stop_that_ran_its_whole_lasts_too_early_is_the_specs_timing(tmp_path:
     # without a `lasts` the stop's end is the tree's doing: R1 as before
     tree = _finding(_verify(tmp_path / "t", corner, _stopping(None), scene), "c3")
     assert not tree.passed and tree.blame == "behaviors" and tree.blame_human == "human1"
-
-
-def test_the_specs_own_formula_failing_on_geometry_goes_to_the_spec(tmp_path: Path, corner: Path) -> None:
-    """A user formula's thresholds are the spec's: a re-asked paths stage can only move people (a round-6 player
-    sent to stage 2 for a 1.5 m threshold). A formula naming the robot's phrase stays the script's (corpus)."""
-    spec = base_spec()
-    spec = spec.model_copy(update={"criteria": [*spec.criteria, Criterion(
-        id="c12", kind="stl", formula="always (dist_human1 > 1.5)", text="human1 keeps 1.5 m from the robot")]})
-    found = _finding(_verify(tmp_path / "r", corner, spec, base_scene()), "c12")
-    assert not found.passed and found.blame == "spec"
-    assert "criterion c12 (human1 keeps 1.5 m from the robot)" in found.blame_reason and "thresholds" in \
-        found.blame_reason

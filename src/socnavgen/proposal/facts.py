@@ -44,6 +44,9 @@ LATCH_NODE = "KeepRunningUntilFailure"
 # the verifier tells two meetings of one person apart by where they happen and the parting between them.
 TWO_ENCOUNTERS = ("One person in two encounters meets the robot twice, at two DIFFERENT nodes, and the two move apart "
                   "(farther than the meeting distance) in between")
+# `until` (run/spec.py HumanPart), stated once for stage 1's rules and its field list
+UNTIL_FACT = ("\"until\" (a robot phrase) ends it for good once the robot has said it, then they walk on: a child "
+              "blocks the robot from first sight, stepping into its way, \"until\": \"EXCUSE ME\"")
 STL_EXAMPLE = "eventually[0:60] (robot_says_excuse_me > 0.5 and dist_human1 <= 2.0)"
 
 
@@ -238,8 +241,9 @@ def people_text() -> str:
             f"- {TWO_ENCOUNTERS} (e1 give way at the door, e2 follow it from the lobby once it says FOLLOW ME). "
             f"The later encounter's part (higher order) takes over while its trigger holds (latch it, or the earlier "
             f"part comes back once, e.g., the phrase is over). Pacing brings them to their FIRST encounter's node. "
-            f"One meeting is one encounter, one reaction per person (\"lasts\" ends it; to stand in the robot's "
-            f"way until it says EXCUSE ME, then step aside: \"otherwise\": \"stand\" and give_way on robot_says).\n"
+            f"One meeting is one encounter, one reaction per person (\"lasts\" ends it after so many seconds, "
+            f"{UNTIL_FACT}; to stand still in the robot's way until it says EXCUSE ME, then step aside: "
+            f"\"otherwise\": \"stand\" and give_way on robot_says).\n"
             f"- \"lasts\" (s) ends a reaction (then they walk on), e.g. say WAIT for at most 5 s; wait_then_go "
             f"stands {WAIT_THEN_GO_SECONDS:g} s unless set. \"seconds\" is only the time trigger's. {_negations()}\n"
             f"- {stop_evidence_text()}")

@@ -47,8 +47,8 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
   T2  tree checks: IsRobotVisible / IsRobotNearby never succeeded                               -> paths
   T3  tree checks: any other node never ran, or ran before its cause                           -> behaviors(h)
   U1  a user `stl` formula: robot phrases it names never said -> robot_script; it names a human's
-      actions, phrases or reactions -> behaviors(h); otherwise the spec's own formula (its thresholds)
-      -> spec; a formula derived from the spec (the encounters' order)                          -> paths
+      actions, phrases or reactions -> behaviors(h); otherwise                                 -> paths
+      (proposal/verify_loop.py: the spec's own formula failing again after the paths changed -> spec)
 """
 
 from __future__ import annotations
@@ -170,9 +170,12 @@ def _never_said(s: Signals, phrase: str | None) -> bool:
 
 
 def _waited_phrase(spec: ScenarioSpec, human: str | None) -> str | None:
+    """The robot phrase `human` waits for: to react (trigger robot_says) or to end a reaction (`until`)."""
     for _, p in spec.parts_of(human) if human else []:
         if p.trigger == "robot_says" and p.phrase:
             return phrase_id(p.phrase)
+        if p.until:
+            return phrase_id(p.until)
     return None
 
 
@@ -350,7 +353,7 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
         held = _held_at_end(s, spec)
         return held or ("paths", None, _short_of_goal(s))
     if kind == "stl":
-        return _blame_formula(cc, s, spec, authored)
+        return _blame_formula(cc, s)
     robot_phrase = cc.phrase if kind in ("reacts_after_phrase", "follows_robot") else \
         _waited_phrase(spec, h) if kind in ("meets", "says", "stops_near_robot", "gives_way", "blocks_robot") else None
     if robot_phrase and _never_said(s, robot_phrase):
@@ -470,9 +473,9 @@ def _blame_group(cc: Compiled, s: Signals, plan: PathPlan | None) -> Verdict:
     return "behaviors", who, f"{who} leaves its group: its tree must keep it with the others"
 
 
-def _blame_formula(cc: Compiled, s: Signals, spec: ScenarioSpec, authored: bool = True) -> Verdict:
-    """Rule U1: the robot's phrases, a human's doings, else the geometry: the spec's when the formula is its own
-    (only stage 1 can change a threshold; a re-asked stage 2 can only move people), the paths' when derived."""
+def _blame_formula(cc: Compiled, s: Signals) -> Verdict:
+    """Rule U1: the robot's phrases, a human's doings, else the geometry: the paths (where and when people meet;
+    the --verify loop sends the spec's own formula to stage 1 when it still fails after the paths changed)."""
     names = formula_signals(cc.formula)
     for name in names:
         m = re.fullmatch(r"robot_(?:says|said)_([a-z_]+)", name)
@@ -484,10 +487,6 @@ def _blame_formula(cc: Compiled, s: Signals, spec: ScenarioSpec, authored: bool 
             who = m[1] or m[2]
             return "behaviors", who, f"the formula asks something of {who}'s behavior"
     what = cc.criterion.text or "the formula's geometry"
-    if authored and any(c.id == cc.criterion.id for c in spec.criteria):  # the spec's own formula and thresholds
-        return "spec", None, (f"criterion {cc.criterion.id} ({what}): not so in the simulation; its formula and "
-                              "thresholds are the spec's: make them fit the distances of this map (the nodes' "
-                              "positions) and what the scenario does, or change the encounter's place")
     return "paths", None, f"{what}: not so in the simulation; check where and when the paths meet"
 
 
