@@ -107,3 +107,31 @@ def test_a_stop_that_ran_its_whole_lasts_too_early_is_the_specs_timing(tmp_path:
     # without a `lasts` the stop's end is the tree's doing: R1 as before
     tree = _finding(_verify(tmp_path / "t", corner, _stopping(None), scene), "c3")
     assert not tree.passed and tree.blame == "behaviors" and tree.blame_human == "human1"
+
+
+def _group_scene(apart_from: float):  # noqa: ANN202 - a Scene
+    """human3 walks beside human1 but runs 3 m east for a second from `apart_from` s (human1 steps aside 6.8-8.2 s)."""
+    t = apart_from
+    keys = [(0.0, 6.8, 5.2), (5.5, 6.8, 2.6), (t - 0.5, 6.8, 2.6), (t, 9.5, 2.6), (t + 1.0, 6.8, 2.6),
+            (max(t + 2.0, 14.2), 6.8, 5.5), (20.0, 6.8, 5.5)]
+    scene = base_scene()
+    follow = {k: v for k, v in scene.follow.items() if k != "human3"}
+    return replace(scene, humans={**scene.humans, "human3": keys}, follow=follow)
+
+
+def test_a_group_apart_while_a_member_makes_way_as_asked_is_the_specs(tmp_path: Path, corner: Path) -> None:
+    """G3: the group is widest while human1 gives way as its spec asks (stepping aside leaves the group's pull):
+    no tree can keep the group within the spec's distance then (a round-6 player: two nurses stepping to opposite
+    sides, the correction asked one nurse's tree). Apart at another moment: the lagging member's tree (G2)."""
+    spec = base_spec()
+    spec = spec.model_copy(update={"criteria": [*spec.criteria, Criterion(
+        id="c12", kind="group_together", humans=["human1", "human3"], distance=2.5)]})
+    plan = base_plan()
+    plan = plan.model_copy(update={"humans": [h if h.name != "human3" else h.model_copy(
+        update={"path": ["north", "corner"], "group_id": -1}) for h in plan.humans]})  # one path: not G1
+    aside = _finding(_verify(tmp_path / "a", corner, spec, _group_scene(8.0), plan), "c12")
+    assert not aside.passed and aside.blame == "spec", (aside.blame, aside.blame_reason)
+    assert "while human1 did give_way as the spec asks" in aside.blame_reason
+    later = _finding(_verify(tmp_path / "b", corner, spec, _group_scene(17.0), plan), "c12")
+    assert not later.passed and later.blame == "behaviors" and "m apart at t=" in later.blame_reason, \
+        (later.blame, later.blame_reason)

@@ -32,6 +32,7 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
       never held), or a meeting had no approach / shares the earlier encounter's meeting         -> paths
   V1  hidden_until failed: the two saw each other early (the place is not blind)               -> paths
   G1  a group apart whose members walk different paths                                          -> paths
+  G3  (checked before G2) a group apart while a member makes way as its spec asks (give_way) -> spec
   G2  a group apart on one path                                                                -> behaviors(farthest)
   R1  the trigger held (the robot near / said the phrase) but the reaction never ran           -> behaviors(h)
       except: a hold (blocks_robot, stops_near_robot) whose reaction ran its whole `lasts` and was over
@@ -65,6 +66,7 @@ from socnavgen.bodies import (
     ROBOT_RADIUS,
     TOUCH_DISTANCE,
 )
+from socnavgen.bt.library import REACTION_NODES
 from socnavgen.run.models import PathPlan
 from socnavgen.run.spec import Blame, Criterion, ScenarioSpec
 from socnavgen.verify.criteria import Compiled
@@ -370,7 +372,7 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
     if kind == "hidden_until":
         return "paths", None, "robot and human see each other before they meet: choose a blind place"
     if kind == "group_together":
-        return _blame_group(cc, s, plan)
+        return _blame_group(cc, s, plan, spec)
     if h and kind == "meets":
         return _blame_meeting(cc, s, h)
     if h:
@@ -452,7 +454,16 @@ def _spent(cc: Compiled, s: Signals, spec: ScenarioSpec, h: str) -> Verdict | No
     return None
 
 
-def _blame_group(cc: Compiled, s: Signals, plan: PathPlan | None) -> Verdict:
+def _running(s: Signals, who: str, reaction: str, k: int) -> bool:
+    """`who`'s tree runs a node of `reaction` (bt.library REACTION_NODES) at step k (the act, not its lasting
+    result: a person who stepped aside stays aside long after)."""
+    i = s.human(who)
+    return any(bool(s.trace.executed(i, node)[k]) for node in REACTION_NODES.get(reaction, ()))
+
+
+def _blame_group(cc: Compiled, s: Signals, plan: PathPlan | None, spec: ScenarioSpec) -> Verdict:
+    """Rules G1, G2; G3: at the widest moment a member was making way as its spec asks (YIELDING: stepping aside
+    takes it out of the group's pull): the spec's group_together distance vs its reactions, not a tree."""
     names = re.findall(r"human\d+", cc.formula)
     if plan is not None:
         paths = {tuple(h.path) for h in plan.humans if h.name in names}
@@ -470,7 +481,15 @@ def _blame_group(cc: Compiled, s: Signals, plan: PathPlan | None) -> Verdict:
         pos = np.stack([s.pos(n)[k] for n in names])
         far = list(np.linalg.norm(pos - pos.mean(axis=0), axis=1))
     who = names[int(np.argmax(far))]
-    return "behaviors", who, f"{who} leaves its group: its tree must keep it with the others"
+    when = f"{float(spread[k]):.2f} m apart at t={float(s.t[k]):.1f} s"
+    reacting = [f"{n} did {part.reaction}" for n in names for _, part in spec.parts_of(n)
+                if part.reaction in YIELDING and _running(s, n, part.reaction, k)]
+    if reacting:
+        return "spec", None, (f"the group was {when} while {' and '.join(reacting)} as the spec asks (a member "
+                              "reacting leaves the group's pull): allow the group a larger group_together distance, "
+                              "or let fewer members react")
+    where = "lags behind the others" if goal is not None else "is farthest from the others"
+    return "behaviors", who, f"{who} {where} ({when}): its tree must keep it with the others"
 
 
 def _blame_formula(cc: Compiled, s: Signals) -> Verdict:
