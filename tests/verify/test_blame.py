@@ -135,3 +135,16 @@ def test_a_group_apart_while_a_member_makes_way_as_asked_is_the_specs(tmp_path: 
     later = _finding(_verify(tmp_path / "b", corner, spec, _group_scene(17.0), plan), "c12")
     assert not later.passed and later.blame == "behaviors" and "m apart at t=" in later.blame_reason, \
         (later.blame, later.blame_reason)
+
+
+def test_a_block_until_a_phrase_the_robot_never_says_is_the_scripts(tmp_path: Path, corner: Path) -> None:
+    """`until`: human1 blocks until the robot says EXCUSE ME; it never does, so the standoff is the script's (add the
+    cue), not the tree's (which does what the spec says)."""
+    spec = base_spec()
+    e1 = spec.encounter("e1").model_copy(update={"humans": [
+        HumanPart(human="human1", trigger="robot_visible", distance=4.0, reaction="block", until="EXCUSE ME")]})
+    spec = spec.model_copy(update={"encounters": [e1, spec.encounter("e2")]})
+    scene = _h1(_robot(base_scene(), STUCK_ROBOT, says=[(0.2, 2.0, 5)]), STAYS, [(5.5, 20.0, "LookAtRobot")])
+    dead = _finding(_verify(tmp_path / "r", corner, spec, scene), "c10")
+    assert not dead.passed and dead.blame == "robot_script" and "EXCUSE ME" in dead.blame_reason, \
+        (dead.blame, dead.blame_reason)

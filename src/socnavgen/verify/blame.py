@@ -171,12 +171,13 @@ def _never_said(s: Signals, phrase: str | None) -> bool:
     return bool(phrase) and not (s.get(f"robot_says_{phrase}") > 0.5).any()
 
 
-def _waited_phrase(spec: ScenarioSpec, human: str | None) -> str | None:
-    """The robot phrase `human` waits for: to react (trigger robot_says) or to end a reaction (`until`)."""
+def _waited_phrase(spec: ScenarioSpec, human: str | None, ending: bool = False) -> str | None:
+    """The robot phrase `human` waits for to react (trigger robot_says); `ending`: or to end a reaction (`until`:
+    a person blocking until a phrase the robot never says holds it up for good)."""
     for _, p in spec.parts_of(human) if human else []:
         if p.trigger == "robot_says" and p.phrase:
             return phrase_id(p.phrase)
-        if p.until:
+        if ending and p.until:
             return phrase_id(p.until)
     return None
 
@@ -202,7 +203,7 @@ def _off_route_at_goal(s: Signals, plan: PathPlan | None, who: str, k: int) -> s
 def _not_the_tree(s: Signals, spec: ScenarioSpec, who: str, k: int) -> Verdict | None:
     """Someone holds the robot up at step k for a reason their tree cannot fix (D1, D4, R4): they wait for a phrase
     the script never says, or the spec sets up the standoff."""
-    phrase = _waited_phrase(spec, who)
+    phrase = _waited_phrase(spec, who, ending=True)
     if phrase and _never_said(s, phrase):
         return ("robot_script", None, f"{who} waits for the robot to say {phrase.replace('_', ' ').upper()}, "
                                       "which the script never says: add a cue (e.g. when blocked)")
