@@ -220,6 +220,8 @@ def main() -> None:
         rows.append(("campaign, one process, per CPU second (load-independent)", total, total / cpu))
         total, _, cpu = campaign_rate(seeds, "inline", 1, root, "scripted", policy="scripted")
         rows.append(("  the same with the default (scripted) robot, per CPU second", total, total / cpu))
+        total, _, cpu = campaign_rate(seeds, "inline", 1, root, "three", policy="scripted, waypoints, straight")
+        rows.append(("  three robots (scripted, waypoints, straight), per CPU second", total, total / cpu))
         total, _, cpu = campaign_rate(seeds, "inline", 1, root, "dt10", dt=0.1)
         rows.append(("  the same at dt 0.1 s (simulation: {dt: 0.1}), per CPU second", total, total / cpu))
         total, wall, _ = campaign_rate(seeds, "local", cores, root, "local")
