@@ -148,8 +148,9 @@ def episode_parts(root: Path, episodes: int = 100) -> None:
 
     scenario = build_suite(spec_for(1), root / "parts").scenarios[0]
     settings = ep.EpisodeSettings()
-    for seed in range(3):  # compiled, every location and run file loaded
-        ep.run_episode(ep.Episode(scenario, "waypoints", "waypoints", seed), settings)
+    for seed in range(3):  # compiled, every location and run file loaded, the default robot's route fields
+        ep.run_episode(ep.Episode(scenario, "waypoints", "waypoints", seed), settings)  # (the blame's re-runs plan)
+        ep.run_episode(ep.Episode(scenario, "scripted", "scripted", seed), settings)
     spent: dict[str, float] = defaultdict(float)
 
     def clocked(owner: object, name: str, label: str) -> None:
