@@ -10,9 +10,10 @@ from socnavgen.run.spec import CueTrigger, RobotCue, RobotScript
 from socnavgen.sim import empty_room
 from socnavgen.sim.robot.api import ScriptedPolicy
 from socnavgen.sim.robot.polite import CLOSE_SPEED
-from tests.sim.simhelpers import human, make_sim, tree_xml
+from tests.sim.simhelpers import REGULAR, human, make_sim, tree_xml
 
 STAND = tree_xml('<LookAtRobot agent_id="{id}"/>')  # a person who never moves, only faces the robot
+WALK = tree_xml(REGULAR)
 
 
 def _corridor(width: float, centre: float = 5.0):  # noqa: ANN202
@@ -31,12 +32,12 @@ def _pass(person_y: float):  # noqa: ANN202
 
 
 def test_robot_passes_a_person_standing_in_a_3m_corridor_outside_their_intimate_space():
-    trace = _pass(5.3)  # standing a little left of the corridor's middle: room on the right to pass
+    trace = _pass(5.5)  # standing left of the corridor's middle: room on the right to pass
     gap, speed = _gap_and_speed(trace)
     assert trace.end_reason == "robot_goal"
     assert gap.min() >= INTIMATE_SPACE
-    beside = np.abs(trace.robot[:, 0] - 10.0) < 1.5
-    assert speed[beside].max() < 0.55  # slower than its cruise (0.6) within personal space
+    approaching = (trace.robot[:, 0] < 10.0) & (gap < 1.0)
+    assert speed[approaching].max() < 0.55  # slower than its cruise (0.6) within personal space
 
 
 def test_robot_passes_slowly_where_the_corridor_leaves_no_social_distance():
@@ -44,19 +45,30 @@ def test_robot_passes_slowly_where_the_corridor_leaves_no_social_distance():
     trace = _pass(5.0)
     gap, speed = _gap_and_speed(trace)
     assert trace.end_reason == "robot_goal" and gap.min() > 0.15  # it did pass, as far aside as the wall lets it
-    assert speed[gap < INTIMATE_SPACE].max() <= CLOSE_SPEED + 0.02
+    approaching = (trace.robot[:, 0] < 10.0) & (gap < INTIMATE_SPACE)
+    assert approaching.any() and speed[approaching].max() <= CLOSE_SPEED + 0.02
     assert trace.robot[np.argmin(gap), 1] < 4.1  # on the right (south) side of the corridor
 
 
-def test_waiting_robot_stands_beside_the_walkway_not_in_a_corridors_middle():
-    script = RobotScript(cues=[RobotCue(trigger=CueTrigger(when="after", seconds=1.0), wait=8.0)])
-    sim = make_sim([], [], [(2.0, 5.0), (18.0, 5.0)], ScriptedPolicy(), world=_corridor(2.5), script=script,
-                   timeout=60)
+def _waiting(people: list) -> tuple:  # noqa: ANN001
+    script = RobotScript(cues=[RobotCue(trigger=CueTrigger(when="after", seconds=1.0), wait=12.0)])
+    sim = make_sim(people, [WALK] * len(people), [(2.0, 5.0), (18.0, 5.0)], ScriptedPolicy(), world=_corridor(2.5),
+                   script=script, timeout=60)
     trace = sim.run()
-    waiting = (trace.t > 6.0) & (trace.t < 9.0)
-    y = trace.robot[waiting, 1]
-    assert (y < 5.0 - 0.5).all()  # to the right of its way (heading +x: right is -y), out of the middle
-    assert (y - trace.robot_radius > 5.0 - 1.25).all()  # not into the wall
-    x = trace.robot[waiting, 0]
-    assert np.ptp(x) < 0.05  # it stood (no progress) while waiting
+    return trace, (trace.t > 2.0) & (trace.t < 12.5)
+
+
+def test_waiting_robot_stands_beside_the_walkway_not_in_a_corridors_middle():
+    trace, waiting = _waiting([human(start=(17.0, 5.0), goals=[(1.0, 5.0)])])  # someone walking down the corridor
+    gap, _ = _gap_and_speed(trace)
+    abreast = waiting & (np.abs(trace.humans[:, 0, 0] - trace.robot[:, 0]) < 0.5)
+    assert abreast.any()  # they came past while it waited
+    assert (trace.robot[abreast, 1] < 5.0 - 0.5).all()  # to the right of its way (heading +x: -y), not in the middle
+    assert (trace.robot[waiting, 1] - trace.robot_radius > 5.0 - 1.25).all()  # not into the wall
+    assert np.ptp(trace.robot[waiting, 0]) < 0.1  # no progress along its way while it waited
     assert trace.end_reason == "robot_goal"
+
+
+def test_waiting_robot_with_nobody_coming_stays_on_its_route():
+    trace, waiting = _waiting([])
+    assert np.abs(trace.robot[waiting, 1] - 5.0).max() < 0.05

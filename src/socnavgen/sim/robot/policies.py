@@ -297,10 +297,12 @@ def scripted_act(s, now):  # noqa: ANN001, ANN201
         return straight_act(s, policy.rude_max_speed, True)
     corner = corner_speed(s)
     policy.max_speed = min(now.speed, policy.speed_cap, corner)
-    if now.wait:  # out of the way of anyone closing in, else to the right of its way, out of the walkway
+    if now.wait:  # out of the way of anyone closing in; in a timed wait, out of the walkway of someone coming
         policy.speed = 0.0
         v = yield_to(s)
-        return keep_clear(s, slide_along_walls(s, v if v != 0 else wait_aside(s)), policy.keep_gap)
+        if v == 0 and now.timed:
+            v = wait_aside(s)
+        return keep_clear(s, slide_along_walls(s, v), policy.keep_gap)
     target, _ = track(s, False)
     forward = target - s.robot[0].pos
     if abs(forward) > 1e-9:
