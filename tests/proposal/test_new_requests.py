@@ -42,6 +42,10 @@ DISAGREE: dict[str, str] = {
     "(3.34 m apart for a moment, the spec's group_together asks 3 m); the eyes accept the split as making room",
     "warehouse_03_fire_alarm_evacuation": "strict FAIL: the first worker is 6.6 m (walkable) behind the robot for a moment "
     "(follows_robot 6 m); the eyes count the workers catching up ~15 s late as minor",
+    "warehouse_01_blind_corner_cart": "stale eyes, not a verifier bug: the eyes judged the robot before wt-robot s7 "
+    "(standoff, timeout); since the robot slows near people and a waiting robot steps right of its way (robot.polite near_speed, wait_aside) it PASSES at the end "
+    "of --verify, and frames at 34/37/40/43 s show the worker stopping at f7, the robot pulled into the corner pocket "
+    "south of f7 (closest gap ~0.3 m), the worker walking on west past it, the robot going north to hd: re-judge by eye",
     "warehouse_04_pallet_jack_backing_out": "lenient PASS: the worker comes out with the robot ~8 m away, walks at it "
     "and stands in front of it looking at it; no backing out across the aisle at sh, which the text wants",
 }

@@ -37,6 +37,7 @@ from socnavgen.sim.people.state import done, pop_goal
 from socnavgen.sim.people.vm import ERROR, tick
 from socnavgen.sim.robot.body import drive
 from socnavgen.sim.robot.policies import act, cruise, stopped_short
+from socnavgen.sim.robot.polite import corner_late
 from socnavgen.sim.robot.script import play, scripted_gesture, still_waits
 
 STEPPED, ACT, PROGRESS, ENDED, FAILED, ROUTES = 0, 1, 2, 3, 4, 5
@@ -57,7 +58,9 @@ def think(s, trees, pacing, script, scratch):  # noqa: ANN001, ANN201
         p.action, p.action_moves, p.succeeded = -1, False, 0
         scratch.before[i] = p.pos  # the contact step compares with where everyone stood
     if people.shape[0]:
-        pace(s, pacing, cruise(s, script.now[0]), still_waits(script, s.clock[0].t))
+        cruising = cruise(s, script.now[0])
+        corner_late(s, cruising, pacing.robot_late)  # the robot's ETA knows its slower blind corners
+        pace(s, pacing, cruising, still_waits(script, s.clock[0].t))
     nodes, ports, slots, texts, kids, stack, args = trees
     dt = s.clock[0].dt
     for i in range(people.shape[0]):

@@ -4,7 +4,8 @@
 A person without a group whose path has an interaction node that is also on the robot's path is paced by
 the robot's ETA at that node, re-estimated every step from what the robot does: its route left from where it
 is, at its cruise speed now (the script's, changed by its cues), plus the time it will still stand for its
-timed waits (a cue's `wait`, a late start). Only RegularNav honours it, as `pause_nav` in the fork. Two rules:
+timed waits (a cue's `wait`, a late start) and the time it loses at slow spots on the way (`robot_late`, filled
+by the robot's package every step: its blind corners, robot.polite.corner_late). Only RegularNav honours it, as `pause_nav` in the fork. Two rules:
 * `eta` (default): a person standing (at the start, or held) stays where it is until walking to the node
   takes as long as the robot's ETA (bodies.walk_time, the time by which the export's timing sets people off
   too, at `set_off_pace` of its top speed: the rest is slack to catch up after corners), then walks there; a
@@ -82,6 +83,7 @@ class Pacing(NamedTuple):
     points: np.ndarray  # (held, goals) complex: each paced person's goals
     goal_is_node: np.ndarray  # (held, goals) bool: which of its goals is its interaction node
     robot_goal_is_node: np.ndarray  # (held, robot goals) bool: which robot goal is its interaction node
+    robot_late: np.ndarray  # (robot waypoints,) s the robot will lose at slow spots before each (set every step)
 
 
 def door_lead(world: World, route: Sequence[complex], node: int, narrow: float = bodies.TOUCH_DISTANCE,
@@ -139,7 +141,8 @@ def lower_pacing(plan: PacingPlan | None, goals: list[list[complex]], world: Wor
                       waypoint_radius=config.waypoint_radius, release_distance=config.release_distance,
                       robot_speed=config.robot_speed, min_pace=config.min_pace, robot_near=config.robot_near,
                       robot_waits=config.robot_waits, set_off_pace=config.set_off_pace)
-    return Pacing(settings, rows[:len(held)], points, goal_is_node, robot_goal_is_node), skipped
+    late = np.zeros(max(len(route), len(robot_goals) + 1, 1))
+    return Pacing(settings, rows[:len(held)], points, goal_is_node, robot_goal_is_node, late), skipped
 
 
 walk_time = jit(bodies.walk_time)  # THE set-off time of a waiting person (socnavgen.bodies), compiled
@@ -192,7 +195,7 @@ def pace(s, pacing, cruise, waits):  # noqa: ANN001, ANN201, C901
                     for j in range(at, paced.node_at):
                         human_left += abs(pacing.points[h, j + 1] - pacing.points[h, j])
                 robot_left = max(robot_left - paced.lead, 0.0)  # at a door: through it first (door_lead)
-                eta = robot_left / max(drive, 1e-3) + stands
+                eta = robot_left / max(drive, 1e-3) + stands + pacing.robot_late[node + 1]  # + its slow corners
                 # never held where the robot would wait for them: in its way, near it or while it stands for someone
                 blocks = in_way(rp.real, rp.imag, heading.real, heading.imag, p.pos.real, p.pos.imag, robot.radius,
                                 p.radius, proxemics.WAY_MARGIN_SCRIPT)

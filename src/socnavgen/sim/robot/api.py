@@ -219,7 +219,8 @@ class ScriptedPolicy(WaypointsPolicy):
     max_speed: float = math.inf
     keep_gap: float = POLITE_GAP  # m kept from everyone (robot.polite; 3 x the contact margin)
     corner_speed: float = math.inf  # m/s at most near a blind turn of its route (robot.polite.corner_speed;
-    # inf: off - on by default once pacing knows the slower corners: 0.3 m/s late robots miss 6 cards' encounters)
+    # inf: off). Pacing's ETA counts the time lost there (polite.corner_late), but ON by default 5 cards still
+    # fail (hidden_until seen at 5.14 m, a crowd standing in its way, a late elevator meeting: docs/NEWS, s7)
 
 
 @dataclass

@@ -29,13 +29,12 @@ from socnavgen.sim.people.physics import pair_force, wall_force
 from socnavgen.sim.records import layout
 from socnavgen.sim.robot.planner import steer
 from socnavgen.sim.robot.polite import (
-    CLOSE_SPEED,
-    PASS_GAP,
     corner_speed,
     keep_clear,
     make_way,
+    near_speed,
     pass_aside,
-    toward_near,
+    wait_aside,
     yield_to,
 )
 from socnavgen.sim.world.queries import clearance_at, nearest_obstacle, path_clear
@@ -298,9 +297,12 @@ def scripted_act(s, now):  # noqa: ANN001, ANN201
         return straight_act(s, policy.rude_max_speed, True)
     corner = corner_speed(s)
     policy.max_speed = min(now.speed, policy.speed_cap, corner)
-    if now.wait:
+    if now.wait:  # out of the way of anyone closing in; in a timed wait, out of the walkway of someone coming
         policy.speed = 0.0
-        return keep_clear(s, slide_along_walls(s, yield_to(s)), policy.keep_gap)
+        v = yield_to(s)
+        if v == 0 and now.timed:
+            v = wait_aside(s)
+        return keep_clear(s, slide_along_walls(s, v), policy.keep_gap)
     target, _ = track(s, False)
     forward = target - s.robot[0].pos
     if abs(forward) > 1e-9:
@@ -320,8 +322,9 @@ def scripted_act(s, now):  # noqa: ANN001, ANN201
         if back < 0:  # never retreat on its own: a crowd pushing it back would drive it the wrong way for good
             v -= back * u
     v += pass_aside(s, direction)
-    if abs(v) > CLOSE_SPEED and toward_near(s, v, PASS_GAP):
-        v = v * (CLOSE_SPEED / abs(v))
+    top = near_speed(s, v, policy.max_speed)  # slower the nearer it passes someone (personal to intimate space)
+    if abs(v) > top:
+        v = v * (top / abs(v))
     v = v + yield_to(s)
     if abs(v) > corner:  # all of it (passing aside, yielding) within the blind corner's speed
         v = v * (corner / abs(v))

@@ -6,7 +6,8 @@ them, steps back from someone walking into it, and never moves closer than a mar
   right has no room, until the lateral distance between the two centres leaves PASS_GAP between the bodies
   (or as far as the walls allow). A head-on walker's social force has no sideways part when the two are
   exactly in line (lightsfm's angular term vanishes at theta = 0), so without this the two meet nose to nose.
-* close_speed: at most CLOSE_SPEED toward anyone within PASS_GAP (intimate space, Hall's 0.45 m); moving
+* near_speed: toward anyone within EASE_GAP (personal space) it slows with the gap, down to CLOSE_SPEED at PASS_GAP
+  (intimate space, Hall's 0.45 m) and nearer: where it cannot pass at a social distance it passes slowly; moving
   away from them is not slowed (someone walking into its back or side is left behind, not waited for).
 * yield_to: a person closing in within YIELD_GAP: the robot backs away from them (the robot gives way).
 * make_way: someone who needs to get past it (their goal, or their own route through their next goals, lies
@@ -17,6 +18,9 @@ them, steps back from someone walking into it, and never moves closer than a mar
   BLIND_SIGHT_M / 2 before and after the turn do not see each other on the map: the place inventory's blind
   turn), it drives at most corner_speed, approaching and leaving the turn within CORNER_REACH (braking into
   it at CORNER_DECEL): someone may come round it.
+* wait_aside: while a cue's timed wait holds it and someone near needs to get past it, it stands to the right of
+  its way (keep right), out of the walkway, ASIDE m off its route's line or as far as the walls leave WALL_ROOM:
+  not in the middle of a corridor.
 * keep_clear: the part of a move that would bring the robot closer than `gap` (surface to surface) to a
   person is dropped: it slides past or stops, and never pushes into anyone.
 """
@@ -25,7 +29,7 @@ from __future__ import annotations
 
 import math
 
-from socnavgen.bodies import CONTACT_MARGIN, INTIMATE_SPACE
+from socnavgen.bodies import CONTACT_MARGIN, INTIMATE_SPACE, PERSONAL_SPACE
 from socnavgen.location.inventory import BLIND_SIGHT_M
 from socnavgen.location.places import CORNER_TURN_DEG
 from socnavgen.sim.jit import jit
@@ -41,6 +45,7 @@ LATERAL_SPEED = 0.3  # m/s at most sideways
 LATERAL_GAIN = 1.5  # 1/s: sideways speed per metre still to go
 WALL_ROOM = 0.08  # m beyond its radius: the robot moves aside only where this much room from walls is left
 CLOSE_SPEED = 0.3  # m/s at most while someone is within PASS_GAP
+EASE_GAP = PERSONAL_SPACE  # m: nearer than this to someone it drives toward, the robot slows (near_speed)
 YIELD_GAP = 0.3  # m: someone closing in this close makes the robot back away
 YIELD_SPEED = 0.35  # m/s at most, backing away
 CLOSING = 0.1  # m/s: a person this fast toward the robot is closing in
@@ -54,6 +59,8 @@ CORNER_SPEED = 0.3  # m/s: the suggested ScriptedPolicy(corner_speed=...) near a
 CORNER_REACH = 2.5  # m from the turn's waypoint, before and after it
 CORNER_DECEL = 0.8  # m/s2: it brakes into that speed at this rate (under the 1.5 m/s2 comfort limit)
 CORNER_COS = math.cos(math.radians(CORNER_TURN_DEG))  # a turn sharper than the inventory's corner
+ASIDE = 1.0  # m right of its route's line at most, a waiting robot stands (wait_aside)
+ASIDE_LOOK = 3.6  # m (gap, social space): someone this near who needs to get past makes a waiting robot step aside
 ROUTE_LOOK = 4  # goals of a person's queue looked along for whether their route goes through the robot
 
 
@@ -112,6 +119,21 @@ def nearest_gap(s):  # noqa: ANN001, ANN201
     for i in range(people.shape[0]):
         best = min(best, abs(people[i].pos - robot.pos) - people[i].radius - robot.radius)
     return best
+
+
+@jit
+def near_speed(s, v, cruise):  # noqa: ANN001, ANN201
+    """The most the robot drives with velocity `v` (inf: no limit): for each person it moves toward within EASE_GAP
+    (surface gap), `cruise` scaled down linearly with the gap to CLOSE_SPEED at PASS_GAP and nearer."""
+    robot, people = s.robot[0], s.people
+    top = math.inf
+    for i in range(people.shape[0]):
+        d = people[i].pos - robot.pos
+        gap = abs(d) - people[i].radius - robot.radius
+        if gap < EASE_GAP and (v * d.conjugate()).real > 0:
+            share = min(1.0, max(0.0, (gap - PASS_GAP) / (EASE_GAP - PASS_GAP)))
+            top = min(top, CLOSE_SPEED + max(0.0, cruise - CLOSE_SPEED) * share)
+    return top
 
 
 @jit
@@ -326,3 +348,51 @@ def corner_speed(s):  # noqa: ANN001, ANN201
         if d < CORNER_REACH + 1.0 and blind_turn(s, k):
             top = min(top, math.sqrt(slow ** 2 + 2 * CORNER_DECEL * max(0.0, d - CORNER_REACH)))
     return top
+
+
+@jit
+def corner_late(s, cruise, out):  # noqa: ANN001, ANN201
+    """Fill out[m] with the seconds the robot loses at the blind turns of its route (corner_speed) between where
+    it is and its waypoint m, driving at `cruise` elsewhere (0 where it is not slowed: corner_speed off, a cruise
+    no faster): pacing adds it to the robot's ETA, so a person paced to meet it is not early by the corners."""
+    policy, wps, offs = s.policy[0], s.waypoints, s.offsets
+    out[:] = 0.0
+    slow = policy.corner_speed
+    n = min(out.shape[0], wps.shape[0])
+    if not slow < cruise or n < 3:
+        return
+    per_m = 1.0 / slow - 1.0 / cruise  # s lost per metre driven at the corner's speed
+    k = min(max(policy.waypoint, 1), n - 1)
+    here = offs[k] - abs(wps[k] - s.robot[0].pos)  # the robot's arc position along its route
+    for j in range(max(k - 1, 1), n - 1):
+        if not blind_turn(s, j):
+            continue
+        lo, hi = max(here, offs[j] - CORNER_REACH), offs[j] + CORNER_REACH
+        for m in range(j, n):
+            out[m] += max(0.0, min(hi, offs[m]) - lo) * per_m
+
+
+@jit
+def wait_aside(s):  # noqa: ANN001, ANN201
+    """Sideways velocity (complex) that takes a waiting robot to the right of its route's current leg, ASIDE m off
+    its line or as far as the walls leave it WALL_ROOM, while someone within ASIDE_LOOK (gap) needs to get past
+    it (coming_through: their goal or route lies beyond it); 0 once there, with nobody coming, or on a leg of no
+    length."""
+    policy, robot, wps = s.policy[0], s.robot[0], s.waypoints
+    k = min(max(policy.waypoint, 1), wps.shape[0] - 1)
+    leg = wps[k] - wps[k - 1]
+    if abs(leg) < 1e-9:
+        return 0j
+    forward = leg / abs(leg)
+    who, _ = coming_through(s, forward, ASIDE_LOOK, False)
+    if who < 0:
+        return 0j
+    right = -1j * forward
+    off = -((robot.pos - wps[k - 1]) * forward.conjugate()).imag  # m right of the leg's line now
+    want = ASIDE - off
+    if want <= 0.02:
+        return 0j
+    go = min(want, free_along(s.world, robot.pos, right, want, robot.radius + WALL_ROOM))
+    if go <= 0.02:
+        return 0j
+    return right * min(LATERAL_SPEED, LATERAL_GAIN * go)

@@ -47,7 +47,8 @@ ALWAYS, NEAR_HUMAN = 7, 8  # gesture rules' own conditions (`blocked` and `at_no
 RULE_WHEN = {"always": ALWAYS, "at_node": AT_ENCOUNTER, "near_human": NEAR_HUMAN, "blocked": BLOCKED}
 FIRED, ASKED_AGAIN, GAVE_UP = 0, 1, 2  # events of the cue log
 
-NOW = layout([("say", "i8"), ("wait", "?"), ("speed", "f8"), ("misbehave", "?"), ("logged", "i8")])
+NOW = layout([("say", "i8"), ("wait", "?"), ("timed", "?"),  # timed: a cue's `wait` s hold it (not until clear)
+              ("speed", "f8"), ("misbehave", "?"), ("logged", "i8")])
 CUE = layout([("when", "i8"), ("who", "i8"), ("phrase", "i8"), ("say", "i8"), ("once", "?"), ("until_clear", "?"),
               ("has_point", "?"), ("point", "c16"), ("seconds", "f8"), ("distance", "f8"), ("hold", "f8"),
               ("pause", "f8"), ("speed", "f8"),  # speed NaN: no change
@@ -296,13 +297,13 @@ def play(s, script):  # noqa: ANN001, ANN201
         if not math.isnan(cue.speed):
             now.speed = cue.speed
         log(script, t, c, FIRED)
-    say, wait = 0, False
+    say, wait, timed = 0, False, False
     for c in range(script.cues.shape[0]):
         cue = script.cues[c]
         if cue.say != 0 and t < cue.say_until:
             say = cue.say  # the latest cue in script order wins
         if t < cue.wait_until:
-            wait = True
+            wait = timed = True
         elif cue.waiting_until_clear:
             blocked = person_in_way(s, max(cue.distance, proxemics.HELD_UP_DISTANCE), True)
             cue.waiting_until_clear = blocked
@@ -316,7 +317,7 @@ def play(s, script):  # noqa: ANN001, ANN201
                     cue.waiting_until_clear = False
                     log(script, t, c, GAVE_UP)
             wait = wait or cue.waiting_until_clear
-    now.say, now.wait = say, wait
+    now.say, now.wait, now.timed = say, wait, timed
 
 
 @jit
