@@ -137,17 +137,6 @@ def near_speed(s, v, cruise):  # noqa: ANN001, ANN201
 
 
 @jit
-def toward_near(s, v, gap):  # noqa: ANN001, ANN201
-    """Whether velocity v takes the robot toward someone within `gap` (driving away from them is not slowed)."""
-    robot, people = s.robot[0], s.people
-    for i in range(people.shape[0]):
-        d = people[i].pos - robot.pos
-        if abs(d) - people[i].radius - robot.radius < gap and (v * d.conjugate()).real > 0:
-            return True
-    return False
-
-
-@jit
 def yield_to(s):  # noqa: ANN001, ANN201
     """Velocity out of the way of the people closing in within YIELD_GAP (0 when nobody is): sideways off the
     line they walk along, to the side the robot already is on (the other when that side has no room), and a
