@@ -319,7 +319,8 @@ def _short_of_goal(s: Signals, m: re.Match) -> np.ndarray:
     (proxemics.short_of_goal, the simulator's rule: sim.arrival)."""
     if "goal" not in s.places:
         return np.zeros(s.trace.steps)
-    return short_of_goal_steps(s.trace, s.places["goal"]).astype(float)
+    world = s.world if s.world is not None or s._world_factory is None else s._need_world("line of sight")
+    return short_of_goal_steps(s.trace, s.places["goal"], world).astype(float)
 
 
 def _route_done(s: Signals, m: re.Match) -> np.ndarray:
