@@ -27,9 +27,6 @@ _TOUCH = "a gap of 0.10 m, which the eyes read as touching (no contact by the ve
 DISAGREE: dict[str, str] = {
     "home_02_resident_with_cane_in_doorway": "lenient PASS: the resident walks into the waiting robot's spot "
     f"instead of on to the west end; {_TOUCH} at 31.6 s and again as the robot squeezes to the door",
-    "home_04_grandchild_shows_drawing": "lenient PASS: the robot turns back at i6 and parks in the hallway corner; "
-    "robot_reaches_goal counts it as arrived 1.10 m short 'at a social distance from someone standing there' "
-    "(proxemics.short_of_goal), the eyes see it never reach the bedroom doorway 2n",
     "home_05_serving_drinks_at_party": f"lenient PASS: a guest walks back to her spot into the passing robot, {_TOUCH}",
     "home_07_laundry_in_morning_rush": f"lenient PASS: the daughter comes out as the robot reaches 41, {_TOUCH}",
     "hospital_02_guide_visitor_to_room": "lenient PASS: the robot stands on the nurse's crossing point and creeps "
