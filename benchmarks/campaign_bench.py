@@ -148,8 +148,9 @@ def episode_parts(root: Path, episodes: int = 100) -> None:
 
     scenario = build_suite(spec_for(1), root / "parts").scenarios[0]
     settings = ep.EpisodeSettings()
-    for seed in range(3):  # compiled, every location and run file loaded
-        ep.run_episode(ep.Episode(scenario, "waypoints", "waypoints", seed), settings)
+    for seed in range(3):  # compiled, every location and run file loaded, the default robot's route fields
+        ep.run_episode(ep.Episode(scenario, "waypoints", "waypoints", seed), settings)  # (the blame's re-runs plan)
+        ep.run_episode(ep.Episode(scenario, "scripted", "scripted", seed), settings)
     spent: dict[str, float] = defaultdict(float)
 
     def clocked(owner: object, name: str, label: str) -> None:
@@ -220,6 +221,8 @@ def main() -> None:
         rows.append(("campaign, one process, per CPU second (load-independent)", total, total / cpu))
         total, _, cpu = campaign_rate(seeds, "inline", 1, root, "scripted", policy="scripted")
         rows.append(("  the same with the default (scripted) robot, per CPU second", total, total / cpu))
+        total, _, cpu = campaign_rate(seeds, "inline", 1, root, "three", policy="scripted, waypoints, straight")
+        rows.append(("  three robots (scripted, waypoints, straight), per CPU second", total, total / cpu))
         total, _, cpu = campaign_rate(seeds, "inline", 1, root, "dt10", dt=0.1)
         rows.append(("  the same at dt 0.1 s (simulation: {dt: 0.1}), per CPU second", total, total / cpu))
         total, wall, _ = campaign_rate(seeds, "local", cores, root, "local")

@@ -57,3 +57,34 @@ def test_blame_falls_on_the_policy_when_the_scenario_verifies_with_the_default_r
     assert not rows["rude"]["verified"]
     failed = [v for v in json.loads(rows["rude"]["verdicts"]) if v["required"] and not v["passed"]]
     assert failed and all(v["blame"] == "policy" and v["blame_human"] is None for v in failed)
+
+
+def test_the_default_robots_own_episode_answers_whether_the_scenario_verifies_with_it(tmp_path, monkeypatch) -> None:  # noqa: ANN001
+    """Blame needs the default robot's verdict on the failing episode's seed: a campaign that ran the default
+    robot on that seed in this worker already has it (one simulation fewer), and the rows are the same
+    whichever policy runs first (then the verdict is simulated on demand)."""
+    import socnavgen.campaign.episode as episode
+    from tests.campaign.conftest import POLICIES
+
+    simulated: list[str] = []
+    inner = episode.simulate_episode
+
+    def counting(ep, *args, **kwargs):  # noqa: ANN001, ANN002, ANN003, ANN202
+        simulated.append(ep.robot)
+        return inner(ep, *args, **kwargs)
+
+    monkeypatch.setattr(episode, "simulate_episode", counting)
+    rude = f"{{name: rude, robot: '{POLICIES}:StraightThrough'}}"
+    tables = {}
+    for order in (["scripted", rude], [rude, "scripted"]):
+        simulated.clear()
+        out = tmp_path / str(len(tables))
+        run_campaign(parse_campaign(campaign_yaml(["crowd-navigation"], order, 1, timeout=60.0)), out, executor="inline")
+        tables[order[0]] = (list(simulated), {r["policy"]: r for r in read_episodes(out)[0].to_pylist()})
+    default_first, rude_first = tables["scripted"], tables[rude]
+    assert default_first[0].count("scripted") == 1  # its own episode; the rude one's blame reused its verdict
+    assert rude_first[0].count("scripted") == 2  # asked for by the rude episode's blame, then its own episode
+    for policy in ("scripted", "rude"):
+        for column in ("verified", "verify_failed", "verdicts", "success", "steps"):
+            assert default_first[1][policy][column] == rude_first[1][policy][column], (policy, column)
+    assert any(v["blame"] == "policy" for v in json.loads(default_first[1]["rude"]["verdicts"]))

@@ -144,3 +144,30 @@ def test_a_changed_part_asks_that_persons_tree_again_from_its_fresh_prompt(tmp_p
     assert "when robot blocking (within 0.5 m) -> stop" in first[-1].content
     assert "when robot blocking (within 1 m) -> stop" in again[-1].content  # the new spec, not a correction
     assert RunFolder(tmp_path / "run").read_spec().encounters[0].humans[0].distance == 1.0 and len(seen) == 2
+
+
+def test_the_specs_own_formula_failing_again_after_the_paths_changed_goes_to_the_spec():
+    """U1 blames the paths for a formula's geometry (most such failures are where and when people meet), but its
+    thresholds are stage 1's: once stage 2 was re-asked for the spec's own formula and it still fails, stage 1 is
+    (a round-6 player sent to stage 2 twice for a 1.5 m threshold). A derived formula stays with the paths."""
+    from socnavgen.proposal.verify_loop import routed
+    from socnavgen.run.spec import ScenarioSpec
+    from socnavgen.verify.models import Finding, VerifyReport
+
+    spec = ScenarioSpec.model_validate({
+        "encounters": [{"id": "e1", "place": "X", "humans": [{"human": "human1", "reaction": "walk_past"}]}],
+        "criteria": [{"id": "c3", "kind": "stl", "formula": "always (dist_human1 > 1.5)", "text": "keeps 1.5 m"}]})
+
+    def failing(criterion: str) -> Finding:
+        return Finding(name=criterion, kind="stl", passed=False, evidence="dist_human1 min 1.2 m", criterion=criterion,
+                       blame="paths", blame_reason="keeps 1.5 m: not so in the simulation; check where and when the "
+                                                   "paths meet")
+
+    report = VerifyReport(run="r", passed=False, findings=[failing("c3"), failing("order_e1_e2")])
+    first = routed(report, spec)
+    assert [f.criterion for f in first["paths"]] == ["c3", "order_e1_e2"] and "scenario" not in first
+    again = routed(report, spec, frozenset({"c3", "order_e1_e2"}))
+    assert [f.criterion for f in again["scenario"]] == ["c3"] and [f.criterion for f in again["paths"]] == \
+        ["order_e1_e2"]
+    assert "the paths were changed for it already" in again["scenario"][0].blame_reason
+    assert "the paths were changed" not in report.findings[0].blame_reason  # the report itself is not rewritten

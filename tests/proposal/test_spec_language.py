@@ -342,3 +342,52 @@ def test_stage1_teaches_the_new_fields_and_what_the_robot_cannot_do():
     assert "only for a human whose encounter has the reaction block" in system  # blocks_robot needs block
     assert "A route may come back to its start after passing other nodes" in system
     assert "hunav2 lacks" in system and "robot_blocking" in system.split("hunav2 lacks")[1][:200]
+
+
+# ---- until: a reaction that ends when the robot says a phrase ---------------------------------------
+BLOCK_UNTIL = spec({"human": "human1", "trigger": "robot_visible", "reaction": "block", "distance": 3.0,
+                    "until": "EXCUSE ME"})
+
+
+def test_a_reaction_until_a_phrase_is_gated_by_the_remembered_phrase():
+    """A child blocks the robot from first sight, stepping into its way, until it says EXCUSE ME (a round-6 player
+    found no way to end a block on a phrase that kept the sidesteps): the block is gated by RobotSaid inverted."""
+    said = "<Inverter><RobotSaid agent_id='{id}' message='4'/></Inverter>"
+    block = "<BlockRobot agent_id='{id}' time_step='{dt}'/>"
+    ok = tree(f"<Fallback><Sequence>{VISIBLE}{said}{block}</Sequence>{WALK}</Fallback>")
+    assert needs(ok, BLOCK_UNTIL) == []
+    forever = tree(f"<Fallback><Sequence>{VISIBLE}{block}</Sequence>{WALK}</Fallback>")
+    assert any("ends once the robot said EXCUSE ME" in m and "RobotSaid" in m for m in needs(forever, BLOCK_UNTIL))
+    while_said = tree(f"<Fallback><Sequence>{VISIBLE}<RobotSaid agent_id='{{id}}' message='4'/>{block}</Sequence>"
+                      f"{WALK}</Fallback>")  # not inverted: blocks only AFTER the phrase
+    assert needs(while_said, BLOCK_UNTIL) != []
+    text = needs_text("human1", BLOCK_UNTIL)
+    assert "block until the robot has said EXCUSE ME, then walk on" in text and "RobotSaid" in text
+
+
+def test_a_latched_reaction_until_a_phrase_checks_it_inside_the_latch():
+    latched = spec({"human": "human1", "trigger": "robot_visible", "reaction": "block", "distance": 3.0,
+                    "until": "EXCUSE ME", "latch": True})
+    said = "<Inverter><RobotSaid agent_id='{id}' message='4'/></Inverter>"
+    block = "<BlockRobot agent_id='{id}' time_step='{dt}'/>"
+    inside = tree(f"<Fallback><Sequence>{VISIBLE}<KeepRunningUntilFailure><Sequence>{said}{block}</Sequence>"
+                  f"</KeepRunningUntilFailure></Sequence>{WALK}</Fallback>")
+    assert needs(inside, latched) == []
+    outside = tree(f"<Fallback><Sequence>{said}{VISIBLE}<KeepRunningUntilFailure>{block}</KeepRunningUntilFailure>"
+                   f"</Sequence>{WALK}</Fallback>")  # once the latch runs the phrase is never checked again
+    assert any("INSIDE <KeepRunningUntilFailure>" in m for m in needs(outside, latched)), needs(outside, latched)
+    grammar = build_spec_tree_grammar("human1", latched)
+    for text in _sample(grammar, 4):
+        assert needs(json.loads(text)["tree"], latched) == []
+
+
+def test_until_is_taught_in_stage_1_and_refused_without_its_phrase():
+    from socnavgen.proposal.facts import UNTIL_FACT, people_text
+    from socnavgen.proposal.spec_checks import spec_mistakes
+
+    assert UNTIL_FACT in people_text() and '"until": "EXCUSE ME"' in UNTIL_FACT
+    with pytest.raises(ValidationError):  # starts and ends on the same phrase
+        spec({"human": "human1", "trigger": "robot_says", "phrase": "EXCUSE ME", "reaction": "block",
+              "until": "EXCUSE ME"})
+    unsaid = spec_mistakes(BLOCK_UNTIL, ["human1"])
+    assert any("ends when the robot says EXCUSE ME (`until`), but no cue" in m for m in unsaid), unsaid

@@ -154,8 +154,9 @@ def test_an_encounter_where_a_person_waits_too_near_the_robots_start_is_refused(
     assert approach_room() == MEET_DISTANCE + APPROACH
     assert f"at least {MEET_DISTANCE + APPROACH:g} m (between xy_m) from the robot's start" in encounter_rule()
     from socnavgen.proposal.facts import physical_facts_text
-    assert f"both came {APPROACH:g} m closer to each other than at the start (a person waiting at the node: at " \
-           f"least {MEET_DISTANCE + APPROACH:g} m from the robot's start)" in physical_facts_text(scene_graph=True)
+    for stage2 in (True, False):  # stage 1 places its encounters with it too (a round-6 player missed it there)
+        assert f"both came {APPROACH:g} m closer to each other than at the start (a person waiting at the node: at " \
+               f"least {MEET_DISTANCE + APPROACH:g} m from the robot's start" in physical_facts_text(scene_graph=stage2)
     spec = to_spec(_reply(_encounter("e1", "INTERSECTION", reaction="look")))
     waits_near = _answer(["qs", "sh", "ki", "up"], ["sh"], "sh", {"e1": "sh"})  # qs-sh: 1.9 m
     refused = check_paths(waits_near, warehouse.graph, ["human1"], spec, warehouse)
@@ -233,3 +234,48 @@ def test_the_grammars_of_small_models_offer_give_way_only_where_there_is_room(wa
     meeting = {r for r in paths.rules if r.startswith("robot")}
     index = {n: i for i, n in enumerate(sorted(warehouse.graph.nodes))}
     assert f"robot{index['f7']}" in meeting and f"robot{index['54']}" not in meeting  # 54: 1.4 m free
+
+
+# ---- a checked stop needs a walk before it ---------------------------------------------------------------
+def test_a_checked_stop_of_a_person_who_starts_at_its_node_is_refused(warehouse):
+    """reacts_after_phrase sees a stop only after the person walked MOVED_DISTANCE from their start (verify/signals
+    reaction_evidence): a person who starts at the node where they stop can never pass it. Stage 2 refuses that
+    path, and rule 8 says so (a round-6 player learnt it only from the verifier)."""
+    from socnavgen.proposal.facts import stop_evidence_text
+    from socnavgen.proposal.paths import encounter_rule
+    from socnavgen.verify.thresholds import MOVED_DISTANCE
+
+    assert stop_evidence_text() in encounter_rule() and f"AFTER having walked {MOVED_DISTANCE:g} m" in encounter_rule()
+    encounter = {"id": "e1", "place": "INTERSECTION", "order": 1,
+                 "humans": [{"human": "human1", "trigger": "robot_says", "phrase": "EXCUSE ME",
+                             "reaction": "wait_then_go"}]}
+    reply = _reply(encounter)
+    reply.spec["criteria"].append({"id": "c2", "kind": "reacts_after_phrase", "human": "human1", "encounter": "e1",
+                                   "phrase": "EXCUSE ME", "reaction": "wait_then_go", "seconds": 5})
+    spec = to_spec(reply)
+    starts_there = _answer(["up", "ki", "sh", "qs"], ["sh", "sw"], "sh", {"e1": "sh"})
+    refused = check_paths(starts_there, warehouse.graph, ["human1"], spec, warehouse)
+    assert any(f"criterion c2 sees human1's wait_then_go at node sh only after they walked {MOVED_DISTANCE:g} m"
+               in m and "starts at sh" in m for m in refused), refused
+    walks_in = _answer(["up", "ki", "sh", "qs"], ["sw", "sh"], "sh", {"e1": "sh"})
+    assert not any("only after they walked" in m for m in
+                   check_paths(walks_in, warehouse.graph, ["human1"], spec, warehouse))
+    spec.criteria.pop()  # without the criterion nothing checks the stop: the start is free
+    assert not any("only after they walked" in m for m in
+                   check_paths(starts_there, warehouse.graph, ["human1"], spec, warehouse))
+
+
+def test_both_stages_say_that_pacing_meets_face_to_face_in_a_narrow_passage(warehouse):
+    """Pacing brings the person to the node WITH the robot: in a passage one person closes that is a standoff, so
+    the prompts say where to put the encounter when the robot should wait before it (a round-6 player's doorway)."""
+    from socnavgen.location.inventory import BLOCKING_WIDTH
+    from socnavgen.proposal.facts import pacing_text, scenario_rules_text
+    from socnavgen.proposal.paths import paths_messages
+    from socnavgen.run import ScenarioProposal
+
+    fact = f"Arriving together at a passage narrower than {BLOCKING_WIDTH:g} m (a doorway) puts the two face to face"
+    assert fact in pacing_text() and fact in scenario_rules_text()
+    proposal = ScenarioProposal(scenario_description="A worker comes out of an aisle.", number_of_humans=1,
+                                human_behaviors={"human1": "A worker walks out of the aisle past the robot."},
+                                expected_robot_behavior="Wait before the aisle.")
+    assert fact in paths_messages(warehouse, proposal, images=False)[-1].content

@@ -144,3 +144,21 @@ def test_a_follower_on_the_last_leg_of_a_round_trip_follows_at_once():
     assert robot[0] > 9.0
     assert np.hypot(*(robot - person)) < 4.0  # following, not waiting at the start
     assert not trace.executed(0, "GiveWaytoRobot").any() or person[0] > 6.0
+
+
+def test_a_person_who_gave_way_to_a_round_trip_walks_on_once_the_robot_is_past_them():
+    """A person who steps aside for a robot that will come back past them at the end of its round trip (the rehab
+    patient in his room: the robot's last leg leads into it) is in its way where the robot passes them FIRST: once
+    it has gone by there they follow it, instead of waiting for its return (the patient stood 80 s in his room)."""
+    tree = tree_xml('<Fallback><Sequence><IsRobotBlocking agent_id="{id}" distance="1.8"/>'
+                    '<GiveWaytoRobot agent_id="{id}" time_step="{dt}"/></Sequence>'
+                    '<FollowRobot agent_id="{id}" time_step="{dt}"/></Fallback>')
+    route = [(4.0, 5.6), (4.0, 4.0), (13.0, 4.0), (4.0, 4.0), (4.0, 8.6)]  # out of the room, along, back into it
+    sim = make_sim([human(start=(4.2, 7.4), goals=[(4.2, 7.4)])], [tree], route, policy=load_policy("scripted"),
+                   world=empty_room(16.0, 10.0), timeout=40)
+    trace = sim.run()
+    assert trace.executed(0, "GiveWaytoRobot").any()  # the robot came at them first
+    k = int(np.searchsorted(trace.t, 18.0))  # the robot near the far end of its way out
+    robot, person = trace.robot[k, :2], trace.humans[k, 0, :2]
+    assert robot[0] > 9.0
+    assert person[1] < 6.0 and np.hypot(*(robot - person)) < 6.0  # out of the room, following

@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from socnavgen.run.models import HumanPlan
-from socnavgen.run.spec import Criterion, ScenarioSpec
+from socnavgen.run.spec import Criterion, HumanPart, ScenarioSpec
 from socnavgen.verify import VerifyReport, verify_trace
 from socnavgen.verify.blame import spec_problem
 
@@ -83,3 +83,68 @@ def test_criteria_contradicting_their_spec(criterion: Criterion, words: str) -> 
     problem = spec_problem(criterion, spec)
     assert problem is not None and words in problem
     assert spec_problem(spec.criteria[0], spec) is None
+
+
+# ---- what only the spec can change: its `lasts` --------------------------------
+_STOPS_EARLY = [(0.0, 6.3, 5.2), (3.0, 6.3, 3.0), (5.0, 6.3, 3.0), (8.0, 6.3, 5.5), (20.0, 6.3, 5.5)]
+
+
+def _stopping(lasts: float | None) -> ScenarioSpec:
+    spec = base_spec()
+    e1 = spec.encounter("e1").model_copy(update={"humans": [
+        HumanPart(human="human1", trigger="robot_visible", distance=4.0, reaction="stop", lasts=lasts)]})
+    return spec.model_copy(update={"encounters": [e1, spec.encounter("e2")]})
+
+
+def test_a_stop_that_ran_its_whole_lasts_too_early_is_the_specs_timing(tmp_path: Path, corner: Path) -> None:
+    """human1 stands 2 s (its `lasts`) 2 m off the robot's way, then walks back: stops_near_robot fails. The tree
+    must keep the spec's `lasts` (stage 3's static check), so asking the tree to fix it is asking the impossible
+    (a round-6 player's block: 'the sim correction asks for a change the static check then forbids')."""
+    scene = _h1(base_scene(), _STOPS_EARLY, [(3.0, 5.0, "LookAtRobot")])
+    stop = _finding(_verify(tmp_path / "r", corner, _stopping(2.0), scene), "c3")
+    assert not stop.passed and stop.blame == "spec", (stop.blame, stop.blame_reason)
+    assert "its whole `lasts` (2 s" in stop.blame_reason and "a longer `lasts`, or a later trigger" in stop.blame_reason
+    # without a `lasts` the stop's end is the tree's doing: R1 as before
+    tree = _finding(_verify(tmp_path / "t", corner, _stopping(None), scene), "c3")
+    assert not tree.passed and tree.blame == "behaviors" and tree.blame_human == "human1"
+
+
+def _group_scene(apart_from: float):  # noqa: ANN202 - a Scene
+    """human3 walks beside human1 but runs 3 m east for a second from `apart_from` s (human1 steps aside 6.8-8.2 s)."""
+    t = apart_from
+    keys = [(0.0, 6.8, 5.2), (5.5, 6.8, 2.6), (t - 0.5, 6.8, 2.6), (t, 9.5, 2.6), (t + 1.0, 6.8, 2.6),
+            (max(t + 2.0, 14.2), 6.8, 5.5), (20.0, 6.8, 5.5)]
+    scene = base_scene()
+    follow = {k: v for k, v in scene.follow.items() if k != "human3"}
+    return replace(scene, humans={**scene.humans, "human3": keys}, follow=follow)
+
+
+def test_a_group_apart_while_a_member_makes_way_as_asked_is_the_specs(tmp_path: Path, corner: Path) -> None:
+    """G3: the group is widest while human1 gives way as its spec asks (stepping aside leaves the group's pull):
+    no tree can keep the group within the spec's distance then (a round-6 player: two nurses stepping to opposite
+    sides, the correction asked one nurse's tree). Apart at another moment: the lagging member's tree (G2)."""
+    spec = base_spec()
+    spec = spec.model_copy(update={"criteria": [*spec.criteria, Criterion(
+        id="c12", kind="group_together", humans=["human1", "human3"], distance=2.5)]})
+    plan = base_plan()
+    plan = plan.model_copy(update={"humans": [h if h.name != "human3" else h.model_copy(
+        update={"path": ["north", "corner"], "group_id": -1}) for h in plan.humans]})  # one path: not G1
+    aside = _finding(_verify(tmp_path / "a", corner, spec, _group_scene(8.0), plan), "c12")
+    assert not aside.passed and aside.blame == "spec", (aside.blame, aside.blame_reason)
+    assert "while human1 did give_way as the spec asks" in aside.blame_reason
+    later = _finding(_verify(tmp_path / "b", corner, spec, _group_scene(17.0), plan), "c12")
+    assert not later.passed and later.blame == "behaviors" and "m apart at t=" in later.blame_reason, \
+        (later.blame, later.blame_reason)
+
+
+def test_a_block_until_a_phrase_the_robot_never_says_is_the_scripts(tmp_path: Path, corner: Path) -> None:
+    """`until`: human1 blocks until the robot says EXCUSE ME; it never does, so the standoff is the script's (add the
+    cue), not the tree's (which does what the spec says)."""
+    spec = base_spec()
+    e1 = spec.encounter("e1").model_copy(update={"humans": [
+        HumanPart(human="human1", trigger="robot_visible", distance=4.0, reaction="block", until="EXCUSE ME")]})
+    spec = spec.model_copy(update={"encounters": [e1, spec.encounter("e2")]})
+    scene = _h1(_robot(base_scene(), STUCK_ROBOT, says=[(0.2, 2.0, 5)]), STAYS, [(5.5, 20.0, "LookAtRobot")])
+    dead = _finding(_verify(tmp_path / "r", corner, spec, scene), "c10")
+    assert not dead.passed and dead.blame == "robot_script" and "EXCUSE ME" in dead.blame_reason, \
+        (dead.blame, dead.blame_reason)

@@ -223,7 +223,9 @@ def _measure(ep: Episode, settings: EpisodeSettings, cache: WorkerCache, deadlin
         from socnavgen.verify.runner import blame_the_policy, verify_trace
 
         report = verify_trace(cache.run(ep.scenario.run_dir), trace, location=location)
-        if not report.passed and not _is_default(ep) and _default_verifies(ep, settings, cache, deadline):
+        if _is_default(ep):  # this is the episode _default_verifies would simulate: its verdict, kept
+            cache.default_verified.setdefault(_default_key(ep, settings), bool(report.passed))
+        elif not report.passed and _default_verifies(ep, settings, cache, deadline):
             blame_the_policy(report, ep.policy, ep.seed)  # the scenario happens with the default robot
         row["verified"] = bool(report.passed)
         row["verify_failed"] = "; ".join(f.name for f in report.failures)
@@ -242,12 +244,18 @@ def _is_default(ep: Episode) -> bool:
     return ep.robot == _default_robot() and not ep.params
 
 
+def _default_key(ep: Episode, settings: EpisodeSettings) -> tuple[str, int, str]:
+    """WorkerCache.default_verified's key of an episode's scenario and seed: the scenario's run folder and the
+    settings too (the worker cache outlives a campaign in its process, and the same card in another campaign -
+    another folder, other settings - may verify differently)."""
+    return str(ep.scenario.run_dir), ep.seed, repr(settings)
+
+
 def _default_verifies(ep: Episode, settings: EpisodeSettings, cache: WorkerCache, deadline: _Deadline) -> bool:
     """Whether the scenario verifies with the default robot on this seed (simulated and verified once per
-    worker, scenario and seed; blame in a campaign falls on the policy under test when it does)."""
-    # keyed by the scenario's run folder and the settings too: the worker cache outlives a campaign in its process,
-    # and the same card in another campaign (another folder, other settings) may verify differently
-    key = (str(ep.scenario.run_dir), ep.seed, repr(settings))
+    worker, scenario and seed, or kept from the default robot's own episode of that seed when the campaign ran
+    it in this worker first; blame in a campaign falls on the policy under test when it does)."""
+    key = _default_key(ep, settings)
     if key not in cache.default_verified:
         from socnavgen.verify.runner import verify_trace
 

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import json
 import math
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -64,8 +65,16 @@ def _clipped_normal(rng: np.random.Generator, mean: float, sd: float, low: float
 def draw_people(scenario: str, seed: int, names: list[str],
                 spec_speeds: dict[str, float] | None = None) -> dict[str, Traits]:
     """Each person's traits for this scenario and seed (deterministic; each person from its own stream, so
-    that adding a person to a scenario does not change the others' draws, and scenarios draw independently)."""
-    spec_speeds = spec_speeds or {}
+    that adding a person to a scenario does not change the others' draws, and scenarios draw independently).
+    Drawn once per worker, scenario and seed: every policy of a campaign meets the same people."""
+    return dict(_drawn(scenario, int(seed), tuple(names), tuple(sorted((spec_speeds or {}).items()))))
+
+
+@lru_cache(maxsize=4096)
+def _drawn(scenario: str, seed: int, names: tuple[str, ...],
+           speeds: tuple[tuple[str, float], ...]) -> dict[str, Traits]:
+    """draw_people's draw, kept (Traits are frozen; callers get a copy of the dict)."""
+    spec_speeds = dict(speeds)
     out = {}
     for name in names:
         rng = np.random.default_rng([STREAM, int(seed), *f"{scenario}|{name}".encode()])

@@ -44,6 +44,9 @@ LATCH_NODE = "KeepRunningUntilFailure"
 # the verifier tells two meetings of one person apart by where they happen and the parting between them.
 TWO_ENCOUNTERS = ("One person in two encounters meets the robot twice, at two DIFFERENT nodes, and the two move apart "
                   "(farther than the meeting distance) in between")
+# `until` (run/spec.py HumanPart), stated once for stage 1's rules and its field list
+UNTIL_FACT = ("\"until\" (a robot phrase) ends it for good once the robot has said it, then they walk on: a child "
+              "blocks the robot from first sight, stepping into its way, \"until\": \"EXCUSE ME\"")
 STL_EXAMPLE = "eventually[0:60] (robot_says_excuse_me > 0.5 and dist_human1 <= 2.0)"
 
 
@@ -89,10 +92,9 @@ def physical_facts_text(scene_graph: bool = False) -> str:
         f"- How an encounter is checked: the robot and the human 'meet' when their centres are within "
         f"{meet.distance:g} m (or the criterion's `distance`) while the point halfway between them is within "
         f"the encounter's `within` ({meet.near:g} m by default) of the encounter's node, and only after an "
-        f"approach: both came {APPROACH:g} m closer to each other than at the start"
-        + (f" (a person waiting at the node: at least {approach_room():g} m from the robot's start)" if scene_graph
-           else "") + ". "
-        "A group (humans listed "
+        f"approach: both came {APPROACH:g} m closer to each other than at the start (a person waiting at the "
+        f"node: at least {approach_room():g} m from the robot's start, more with a larger meets `distance`: that "
+        f"+ {APPROACH:g} m). A group (humans listed "
         "together in a group_together criterion) is met where the robot meets any member: members stepping "
         "aside is their reaction; a `meets` criterion may name the group's `humans`.",
         _follow_fact(b.robot_speed),
@@ -164,8 +166,15 @@ def pacing_text() -> str:
             f"normally (RegularNav) is paced; nobody is held in the robot's way within {pace.release_distance:g} m "
             f"of it (they walk on to the node), and once the robot is {pace.robot_near:g} m from the node they walk "
             f"at full speed. So put the interaction point where the encounter should happen and the person's start "
-            f"where they wait (unseen, if they should appear suddenly): they come out as the robot arrives. Members "
-            f"of a group and people without an interaction point are never paced: they walk from the start.")
+            f"where they wait (unseen, if they should appear suddenly): they come out as the robot arrives. {_narrow_pacing()} "
+            f"Members of a group and people without an interaction point are never paced: they walk from the start.")
+
+
+def _narrow_pacing() -> str:
+    """What arriving together means at a passage one person closes (a player's doorway standoff, round 6)."""
+    return (f"Arriving together at a passage narrower than {BLOCKING_WIDTH:g} m (a doorway) puts the two face to "
+            f"face in it: for the person to come through first while the robot waits before it, put the encounter "
+            f"(their interaction point) at the wider place on the robot's side where it waits, not at the passage.")
 
 
 def groups_text() -> str:
@@ -232,8 +241,9 @@ def people_text() -> str:
             f"- {TWO_ENCOUNTERS} (e1 give way at the door, e2 follow it from the lobby once it says FOLLOW ME). "
             f"The later encounter's part (higher order) takes over while its trigger holds (latch it, or the earlier "
             f"part comes back once, e.g., the phrase is over). Pacing brings them to their FIRST encounter's node. "
-            f"One meeting is one encounter, one reaction per person (\"lasts\" ends it; to stand in the robot's "
-            f"way until it says EXCUSE ME, then step aside: \"otherwise\": \"stand\" and give_way on robot_says).\n"
+            f"One meeting is one encounter, one reaction per person (\"lasts\" ends it after so many seconds, "
+            f"{UNTIL_FACT}; to stand still in the robot's way until it says EXCUSE ME, then step aside: "
+            f"\"otherwise\": \"stand\" and give_way on robot_says).\n"
             f"- \"lasts\" (s) ends a reaction (then they walk on), e.g. say WAIT for at most 5 s; wait_then_go "
             f"stands {WAIT_THEN_GO_SECONDS:g} s unless set. \"seconds\" is only the time trigger's. {_negations()}\n"
             f"- {stop_evidence_text()}")

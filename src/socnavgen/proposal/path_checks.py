@@ -18,7 +18,7 @@ from socnavgen.proposal.spec_checks import HIDDEN_UNTIL_DEFAULT
 from socnavgen.run import HumanPlan, PathPlan
 from socnavgen.run.spec import Encounter, ScenarioSpec
 from socnavgen.verify.derive import SHOWS_ENCOUNTER
-from socnavgen.verify.thresholds import APPROACH
+from socnavgen.verify.thresholds import APPROACH, MOVED_DISTANCE
 
 _V = TypeVar("_V")
 
@@ -89,6 +89,7 @@ def check_paths(reply: PathsReply, graph: nx.Graph, humans: list[str], spec: Sce
         mistakes += [p for p in start_problems(location, robot, walkers) if p not in route_problems(robot)]
     if spec is not None:
         mistakes += _encounter_mistakes(reply, graph, spec, robot, paths, points)
+        mistakes += _standing_stop_mistakes(reply, spec, paths)
         if location is not None:
             mistakes += _blind_mistakes(reply, spec, location, robot, paths)
             mistakes += _room_mistakes(reply, spec, location)
@@ -125,6 +126,28 @@ def _approach_mistakes(reply: PathsReply, spec: ScenarioSpec, location: Location
                                 f"robot's start {robot[0]}, so they are together before anyone moved; a meeting "
                                 f"needs the two to come {APPROACH:g} m closer, so put {enc.id} at least {need:g} m "
                                 f"from the robot's start (or start the robot farther away)")
+    return mistakes
+
+
+STOPS = ("stop", "wait_then_go")  # reactions the verifier sees as a stop after walking (verify/signals.reaction_evidence)
+
+
+def _standing_stop_mistakes(reply: PathsReply, spec: ScenarioSpec, paths: dict[str, list[str]]) -> list[str]:
+    """A stop checked by reacts_after_phrase shows only AFTER the person walked MOVED_DISTANCE from their start
+    (facts.stop_evidence_text): a person who starts at the node where they stop shows none."""
+    mistakes = []
+    for c in spec.criteria:
+        if c.kind != "reacts_after_phrase" or c.reaction not in STOPS or not c.human:
+            continue
+        encounters = [e for e, part in spec.parts_of(c.human) if part.reaction == c.reaction
+                      and c.encounter in (None, e.id)]
+        path = paths.get(c.human) or []
+        for enc in encounters[:1]:
+            node = reply.encounter_nodes.get(enc.id)
+            if path and node is not None and path[0] == node:
+                mistakes.append(f"criterion {c.id} sees {c.human}'s {c.reaction} at node {node} only after they "
+                                f"walked {MOVED_DISTANCE:g} m from their start, but {c.human} starts at {node}: start "
+                                f"them at a node before it on their way (pacing holds them there until it is time)")
     return mistakes
 
 

@@ -34,6 +34,7 @@ from socnavgen.proposal.facts import (
     groups_text,
     pacing_text,
     physical_facts_text,
+    stop_evidence_text,
 )
 from socnavgen.proposal.fit import NOTHING, Cut, Note, examples_kept, fit_prompt
 from socnavgen.proposal.path_checks import check_paths
@@ -64,7 +65,8 @@ def encounter_rule() -> str:
             f"node must be at least {approach_room():g} m (between xy_m) from the robot's start: a meeting counts "
             f"only after the robot and the person came {APPROACH:g} m closer to each other (more when a meets "
             "criterion's distance is larger: that distance + "
-            f"{APPROACH:g} m).")
+            f"{APPROACH:g} m). {stop_evidence_text()} So a person whose stop is checked starts at a node before "
+            "the encounter's node and walks in.")
 
 
 def scene_graph_text(location: Location) -> str:

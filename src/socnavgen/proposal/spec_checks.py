@@ -17,7 +17,7 @@ from pydantic import BaseModel, ValidationError
 from socnavgen.bt.library import Target, nodes_for_reaction
 from socnavgen.location import Location
 from socnavgen.location.inventory import BLIND_MARGIN
-from socnavgen.proposal.facts import can_latch, detecting_nodes
+from socnavgen.proposal.facts import can_latch, detecting_nodes, latching_node
 from socnavgen.proposal.replies import human_name
 from socnavgen.run.spec import Criterion, Encounter, ScenarioSpec
 from socnavgen.verify.blame import contradictions, spec_problem
@@ -206,6 +206,12 @@ def spec_mistakes(spec: ScenarioSpec, humans: list[str], node_types: list[str] |
                 mistakes.append(f"{who}: latch is true, but a {target} tree cannot remember the trigger "
                                 f"{part.trigger} (it re-checks every condition at each tick); set latch false "
                                 f"(the reaction then lasts while its trigger holds, or `lasts` seconds)")
+            if part.until and part.until not in robot_phrases:
+                mistakes.append(f"{who}: the reaction ends when the robot says {part.until} (`until`), but no cue of "
+                                f"spec.script.cues says {part.until}; add a cue that says it")
+            if part.until and latching_node("robot_says", target or "socrates") is None:
+                mistakes.append(f"{who}: `until` needs a tree that remembers what the robot said, which {target} "
+                                f"cannot; end the reaction with `lasts` instead")
             if target is not None:
                 if part.trigger != "always" and not detecting_nodes(part.trigger, target)[0]:
                     mistakes.append(f"{who}: trigger {part.trigger} cannot be detected by any node {target} runs; "

@@ -14,7 +14,7 @@ from __future__ import annotations
 from socnavgen.bt.library import LIBRARY, REGULAR_NAV_CALL, Target, nodes_for_reaction
 from socnavgen.proposal.facts import LATCH_NODE, detecting_nodes
 from socnavgen.proposal.gbnf import Chars, Grammar, Lit, Ref, Symbol, text_rules
-from socnavgen.proposal.tree_needs import TIMER
+from socnavgen.proposal.tree_needs import TIMER, until_need, until_xml
 from socnavgen.run.spec import ScenarioSpec
 
 REASONING_CHARS = 200
@@ -77,6 +77,8 @@ def build_spec_tree_grammar(name: str, spec: ScenarioSpec | None, target: Target
     lasting = part.lasting()
     timer = [Lit(f"<Inverter><{TIMER} seconds='{lasting:g}' ts='{{dt}}' only_once='true'/></Inverter>")] \
         if lasting is not None else []
+    if until_need(part, target) is not None:  # ends once the robot said `until`: a gate like the timer
+        timer = [*timer, Lit(until_xml(part))]
     if part.latch and part.trigger != "always":  # latched with `lasts`: the timer inside the latch (tree_needs)
         acts = [[Lit(f"<{LATCH_NODE}>"), *([Lit("<Sequence name='Timed'>"), *timer] if timer else []), *act,
                  *([Lit("</Sequence>")] if timer else []), Lit(f"</{LATCH_NODE}>")] for act in acts]

@@ -106,6 +106,18 @@ def lasting_need(part: HumanPart, target: Target = "socrates") -> Need | None:
     return Need((TIMER,), (), negated=True, numbers=(("seconds", seconds),))
 
 
+def until_need(part: HumanPart, target: Target = "socrates") -> Need | None:
+    """The remembered phrase that ends a reaction for good (`until`): the latching condition of robot_says,
+    inverted (the action runs while the robot has not said it yet)."""
+    node = latching_node("robot_says", target) if part.until else None
+    code = _code(ROBOT_GESTURES, part.until)
+    return Need((node,), (("message", code),), negated=True) if node and code is not None else None
+
+
+def until_xml(part: HumanPart) -> str:
+    return f"<Inverter><RobotSaid agent_id='{{id}}' message='{_code(ROBOT_GESTURES, part.until)}'/></Inverter>"
+
+
 # ---- the prompt ------------------------------------------------------------------------------------
 def needs_text(name: str, spec: ScenarioSpec | None, target: Target = "socrates") -> str:
     """What the prompt tells the model this human's tree must contain."""
@@ -131,6 +143,11 @@ def needs_text(name: str, spec: ScenarioSpec | None, target: Target = "socrates"
                 need += (f"; it lasts {part.lasting():g} s: {_timer_xml(part)} before the action in its Sequence")
             if part.latch:
                 need += "; once triggered it lasts for good (latch): " + _latch_words(part, target)
+        if until_need(part, target) is not None:
+            inside = f" INSIDE <{LATCH_NODE}>, right before the action (outside it is never checked again)" \
+                if part.latch and _latch_by_node(part, target) else " before the action in its Sequence"
+            need += (f"; it ends for good once the robot has said {part.until}: {until_xml(part)}{inside}, then "
+                     f"they walk on")
         if _gesture_ends(part, target):
             need += (f"; MakeGesture keeps showing {part.says} until another MakeGesture, so when the reaction ends "
                      f"({'its ' + format(part.lasting(), 'g') + ' s are over' if part.lasting() else 'its trigger no longer holds'}) "
@@ -244,6 +261,8 @@ def _part_words(part: HumanPart) -> str:
         (f" {part.other}" if part.reaction == "follow_human" and part.other else "")
     if part.lasting() is not None:
         reaction += f" for {part.lasting():g} s, then walk on"
+    if part.until:
+        reaction += f" until the robot has said {part.until}, then walk on"
     return f"when {trig} -> {reaction}" if part.trigger != "always" else reaction
 
 
@@ -355,6 +374,15 @@ def _part_mistakes(nodes: list[Placed], enc: Encounter, part: HumanPart, target:
             and not any(_timed_inside_latch(a, path, timer) for a, path in actions):
         return [f"{what}: the reaction is latched and lasts {part.lasting():g} s; a timer outside the latch is never "
                 f"checked again once the latch runs: {_timed_latch_words(part)}"]
+    until = until_need(part, target)
+    if until is not None and not any(_gated(a, path, until) for a, path in actions):
+        return [f"{what}: the reaction ends once the robot said {part.until}; put {until_xml(part)} before "
+                f"{reaction.describe()} in its Sequence"]
+    if until is not None and part.latch and trigger is not None and _latch_by_node(part, target) \
+            and not any(_timed_inside_latch(a, path, until) for a, path in actions):
+        return [f"{what}: the reaction is latched and ends once the robot said {part.until}; a check outside the "
+                f"latch is never made again once the latch runs: put {until_xml(part)} INSIDE <{LATCH_NODE}>, "
+                f"right before the action"]
     if _gesture_ends(part, target) and not any(n.name == GESTURE and (v := n.value("message")) is not None
                                                and literal_text(v) == "0"
                                                for n, _ in nodes):

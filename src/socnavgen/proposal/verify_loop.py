@@ -4,7 +4,8 @@ stage its blame names (verify/blame.py), as REASK says:
   robot_script, spec, scenario -> stage 1 (the scenario and its spec: the robot's script, the encounters
                                   and their places, the criteria); a tree is never asked to fix what only
                                   the robot, the spec or the choice of place can cause
-  paths                        -> stage 2, with the findings
+  paths                        -> stage 2, with the findings (the spec's own stl formula failing again
+                                  after stage 2 was re-asked for it -> stage 1: its thresholds)
   behaviors + human            -> stage 3 for that human only, with that human's findings
                                   (paths and trees blamed in the same round are both re-asked, paths first)
 
@@ -47,11 +48,24 @@ def _correction(findings: list[Finding]) -> str:
     return render("verify_correction.md", findings=bullet_list([describe(f) for f in findings]))
 
 
-def routed(report: VerifyReport) -> dict[str, list[Finding]]:
-    """The failing findings per stage to re-ask (REASK); findings no stage can fix are left out."""
+def _own_formula(finding: Finding, spec: ScenarioSpec | None) -> bool:
+    """The finding is about an `stl` criterion the spec wrote itself (its formula and thresholds are stage 1's)."""
+    return spec is not None and any(c.id == finding.criterion and c.kind == "stl" for c in spec.criteria)
+
+
+def routed(report: VerifyReport, spec: ScenarioSpec | None = None,
+           paths_tried: frozenset[str] = frozenset()) -> dict[str, list[Finding]]:
+    """The failing findings per stage to re-ask (REASK); findings no stage can fix are left out. The spec's own
+    formula that still fails after the paths were re-asked for it (`paths_tried`: criterion ids) goes to stage 1:
+    a re-asked stage 2 can only move people, the formula's thresholds are the spec's."""
     out: dict[str, list[Finding]] = {}
     for finding in report.failures:
         stage = REASK.get(finding.blame or "")
+        if stage == "paths" and finding.criterion in paths_tried and _own_formula(finding, spec):
+            stage, finding = "scenario", finding.model_copy(update={"blame_reason": (
+                f"{finding.blame_reason}; the paths were changed for it already and it still fails: its formula "
+                "and thresholds are the spec's, make them fit this map's distances (the nodes' positions) and what "
+                "the scenario does, or change the encounter's place")})
         if stage == "behaviors" and not finding.blame_human:
             continue  # a tree to fix, but whose: nobody to ask
         if stage is not None:
@@ -89,6 +103,7 @@ def verify_and_repair(stages: Stages, scenario: ScenarioProposal, spec: Scenario
                       trees: dict[str, str], verify_run: Verifier) -> Outcome:
     run, recorder = stages.run, stages.recorder
     report: VerifyReport | None = None
+    paths_tried: set[str] = set()  # criteria the paths stage was re-asked for (routed: then the spec's formula)
     for round_ in range(stages.policy.max_restarts + 1):
         (run.sim_dir / "trace.npz").unlink(missing_ok=True)  # the trace of the previous answer is stale
         recorder.set_status(STAGE, None, "running")
@@ -104,7 +119,8 @@ def verify_and_repair(stages: Stages, scenario: ScenarioProposal, spec: Scenario
         if round_ == stages.policy.max_restarts:
             break
         recorder.progress(ProgressEvent(STAGE, None, "invalid", round_ + 1, message="; ".join(map(describe, failing))))
-        stages_to_ask = routed(report)
+        stages_to_ask = routed(report, spec, frozenset(paths_tried))
+        paths_tried |= {f.criterion for f in stages_to_ask.get("paths", []) if f.criterion}
         if stages_to_ask.get("scenario"):
             old = spec
             scenario, spec = stages.scenario(correction=_correction(stages_to_ask["scenario"]))

@@ -116,7 +116,8 @@ class HumanPart(BaseModel):
     the trigger holds. `latch`: once triggered, keep reacting for good (the trigger is not checked again).
     Both: once triggered, the reaction runs its `lasts` seconds whatever the trigger does meanwhile, then
     the person walks on for good (wait_then_go latched: stands `lasts` s, then walks on and never waits
-    again)."""
+    again). `until`: a robot phrase that ends the reaction for good once the robot has said it (then the
+    person walks on): a child blocks the robot from first sight until it says EXCUSE ME."""
 
     model_config = ConfigDict(extra="forbid")
     human: str
@@ -129,6 +130,7 @@ class HumanPart(BaseModel):
     seconds: float | None = Field(default=None, ge=0, le=3600)  # of the trigger time
     lasts: float | None = Field(default=None, gt=0, le=600)
     latch: bool = False
+    until: RobotPhrase | None = None  # the robot's phrase that ends the reaction for good
 
     @field_validator("human", "other")
     @classmethod
@@ -143,6 +145,9 @@ class HumanPart(BaseModel):
             raise ValueError(f"{self.human}: reaction say names the phrase in `says`")
         if self.trigger == "human_says" and not (self.other and self.phrase):
             raise ValueError(f"{self.human}: trigger human_says names the `other` human and the `phrase`")
+        if self.until is not None and self.trigger == "robot_says" and self.until == self.phrase:
+            raise ValueError(f"{self.human}: the reaction starts and ends when the robot says {self.until}; end it "
+                             f"with `lasts`, or `until` another phrase")
         if self.seconds is not None and self.trigger != "time":
             raise ValueError(f"{self.human}: `seconds` belongs to the trigger time (after how many seconds); how "
                              f"long a reaction lasts is `lasts`")

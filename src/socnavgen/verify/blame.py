@@ -32,8 +32,11 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
       never held), or a meeting had no approach / shares the earlier encounter's meeting         -> paths
   V1  hidden_until failed: the two saw each other early (the place is not blind)               -> paths
   G1  a group apart whose members walk different paths                                          -> paths
+  G3  (checked before G2) a group apart while a member makes way as its spec asks (give_way) -> spec
   G2  a group apart on one path                                                                -> behaviors(farthest)
   R1  the trigger held (the robot near / said the phrase) but the reaction never ran           -> behaviors(h)
+      except: a hold (blocks_robot, stops_near_robot) whose reaction ran its whole `lasts` and was over
+      before the robot was held there (the tree must keep the spec's `lasts`)                  -> spec
   R3  robot_reaches_goal failed, the robot ending still with nobody in its way while its script has
       waiting cues (wait, wait_until_clear, a human's phrase)                                   -> robot_script
   R4  (checked before R2) robot_reaches_goal failed with someone holding the robot up at the end of the run (a
@@ -46,6 +49,7 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
   T3  tree checks: any other node never ran, or ran before its cause                           -> behaviors(h)
   U1  a user `stl` formula: robot phrases it names never said -> robot_script; it names a human's
       actions, phrases or reactions -> behaviors(h); otherwise                                 -> paths
+      (proposal/verify_loop.py: the spec's own formula failing again after the paths changed -> spec)
 """
 
 from __future__ import annotations
@@ -62,13 +66,14 @@ from socnavgen.bodies import (
     ROBOT_RADIUS,
     TOUCH_DISTANCE,
 )
+from socnavgen.bt.library import REACTION_NODES
 from socnavgen.run.models import PathPlan
 from socnavgen.run.spec import Blame, Criterion, ScenarioSpec
 from socnavgen.verify.criteria import Compiled
 from socnavgen.verify.evidence import deadlock_culprit, in_window, met_mask
-from socnavgen.verify.signals import ROBOT_PHRASES, Signals, phrase_id
+from socnavgen.verify.signals import ROBOT_PHRASES, Signals, lasting, phrase_id, reaction_evidence
 from socnavgen.verify.stl import formula_signals
-from socnavgen.verify.thresholds import APPROACH, KIND_DISTANCE, MEET_DISTANCE, STILL_SPEED
+from socnavgen.verify.thresholds import APPROACH, KIND_DISTANCE, MEET_DISTANCE, STILL_SPEED, STOP_HOLD
 
 Verdict = tuple[Blame, str | None, str]  # blame, human (for behaviors), reason
 
@@ -166,10 +171,14 @@ def _never_said(s: Signals, phrase: str | None) -> bool:
     return bool(phrase) and not (s.get(f"robot_says_{phrase}") > 0.5).any()
 
 
-def _waited_phrase(spec: ScenarioSpec, human: str | None) -> str | None:
+def _waited_phrase(spec: ScenarioSpec, human: str | None, ending: bool = False) -> str | None:
+    """The robot phrase `human` waits for to react (trigger robot_says); `ending`: or to end a reaction (`until`:
+    a person blocking until a phrase the robot never says holds it up for good)."""
     for _, p in spec.parts_of(human) if human else []:
         if p.trigger == "robot_says" and p.phrase:
             return phrase_id(p.phrase)
+        if ending and p.until:
+            return phrase_id(p.until)
     return None
 
 
@@ -194,7 +203,7 @@ def _off_route_at_goal(s: Signals, plan: PathPlan | None, who: str, k: int) -> s
 def _not_the_tree(s: Signals, spec: ScenarioSpec, who: str, k: int) -> Verdict | None:
     """Someone holds the robot up at step k for a reason their tree cannot fix (D1, D4, R4): they wait for a phrase
     the script never says, or the spec sets up the standoff."""
-    phrase = _waited_phrase(spec, who)
+    phrase = _waited_phrase(spec, who, ending=True)
     if phrase and _never_said(s, phrase):
         return ("robot_script", None, f"{who} waits for the robot to say {phrase.replace('_', ' ').upper()}, "
                                       "which the script never says: add a cue (e.g. when blocked)")
@@ -364,14 +373,14 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
     if kind == "hidden_until":
         return "paths", None, "robot and human see each other before they meet: choose a blind place"
     if kind == "group_together":
-        return _blame_group(cc, s, plan)
+        return _blame_group(cc, s, plan, spec)
     if h and kind == "meets":
         return _blame_meeting(cc, s, h)
     if h:
         reach = max(cc.distance or MEET_DISTANCE, MEET_DISTANCE)
         if s.get(f"dist_{h}").min() > reach:
             return "paths", None, f"the robot never came within {reach:g} m of {h}"
-        cause = _missing_cause(cc, s, h)
+        cause = _missing_cause(cc, s, h) or _spent(cc, s, spec, h)
         if cause:
             return cause
         return "behaviors", h, f"the robot came near {h} but {h} did not react as asked ({kind})"
@@ -424,7 +433,38 @@ def _missing_cause(cc: Compiled, s: Signals, h: str) -> Verdict | None:
     return None
 
 
-def _blame_group(cc: Compiled, s: Signals, plan: PathPlan | None) -> Verdict:
+HOLDS = ("blocks_robot", "stops_near_robot")  # criteria that need the person to hold still while the robot is there
+
+
+def _spent(cc: Compiled, s: Signals, spec: ScenarioSpec, h: str) -> Verdict | None:
+    """Rule R1's exception: h did its reaction for the whole `lasts` its spec gives it (the tree must keep the spec's
+    `lasts`: proposal/tree_needs.py), and it was over before the criterion saw it hold: the spec's timing (its
+    `lasts` or trigger), not the tree."""
+    if cc.criterion.kind not in HOLDS:
+        return None
+    for enc, part in spec.parts_of(h):
+        if part.lasts is None or (cc.encounter is not None and enc.id != cc.encounter.id):
+            continue
+        ran = lasting(reaction_evidence(s, h, part.reaction, part.says), max(part.lasts - STOP_HOLD, 0.0), s.trace.dt)
+        if ran.any():
+            start = float(s.t[int(np.argmax(ran))])
+            return ("spec", None, f"{h} did {part.reaction} for its whole `lasts` ({part.lasts:g} s, from t={start:.1f} "
+                                  f"s, {part.trigger}) and it was over before the robot was held there ({cc.criterion.kind}"
+                                  f"): its tree must keep the spec's `lasts`, so the spec must time it (a longer "
+                                  f"`lasts`, or a later trigger)")
+    return None
+
+
+def _running(s: Signals, who: str, reaction: str, k: int) -> bool:
+    """`who`'s tree runs a node of `reaction` (bt.library REACTION_NODES) at step k (the act, not its lasting
+    result: a person who stepped aside stays aside long after)."""
+    i = s.human(who)
+    return any(bool(s.trace.executed(i, node)[k]) for node in REACTION_NODES.get(reaction, ()))
+
+
+def _blame_group(cc: Compiled, s: Signals, plan: PathPlan | None, spec: ScenarioSpec) -> Verdict:
+    """Rules G1, G2; G3: at the widest moment a member was making way as its spec asks (YIELDING: stepping aside
+    takes it out of the group's pull): the spec's group_together distance vs its reactions, not a tree."""
     names = re.findall(r"human\d+", cc.formula)
     if plan is not None:
         paths = {tuple(h.path) for h in plan.humans if h.name in names}
@@ -442,10 +482,20 @@ def _blame_group(cc: Compiled, s: Signals, plan: PathPlan | None) -> Verdict:
         pos = np.stack([s.pos(n)[k] for n in names])
         far = list(np.linalg.norm(pos - pos.mean(axis=0), axis=1))
     who = names[int(np.argmax(far))]
-    return "behaviors", who, f"{who} leaves its group: its tree must keep it with the others"
+    when = f"{float(spread[k]):.2f} m apart at t={float(s.t[k]):.1f} s"
+    reacting = [f"{n} did {part.reaction}" for n in names for _, part in spec.parts_of(n)
+                if part.reaction in YIELDING and _running(s, n, part.reaction, k)]
+    if reacting:
+        return "spec", None, (f"the group was {when} while {' and '.join(reacting)} as the spec asks (a member "
+                              "reacting leaves the group's pull): allow the group a larger group_together distance, "
+                              "or let fewer members react")
+    where = "lags behind the others" if goal is not None else "is farthest from the others"
+    return "behaviors", who, f"{who} {where} ({when}): its tree must keep it with the others"
 
 
 def _blame_formula(cc: Compiled, s: Signals) -> Verdict:
+    """Rule U1: the robot's phrases, a human's doings, else the geometry: the paths (where and when people meet;
+    the --verify loop sends the spec's own formula to stage 1 when it still fails after the paths changed)."""
     names = formula_signals(cc.formula)
     for name in names:
         m = re.fullmatch(r"robot_(?:says|said)_([a-z_]+)", name)

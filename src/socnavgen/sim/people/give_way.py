@@ -56,17 +56,34 @@ def path_point(s, seg, j, fallback):  # noqa: ANN001, ANN201
 
 
 @jit
-def nearest_segment(s, p, seg, fallback):  # noqa: ANN001, ANN201
-    """(index, along, distance) of the upcoming path's segment nearest to p: the first within TIE of the
-    nearest (at a corner both segments are as near)."""
-    nearest = np.inf
+def nearest_segment(s, p, seg, fallback, horizon):  # noqa: ANN001, ANN201
+    """(index, along, distance) of the segment of the upcoming path's next `horizon` metres nearest to p: the first
+    within TIE of the nearest (at a corner both segments are as near). A round trip passes a person twice: where
+    the robot comes at them now is within the horizon, its way back at the end is not."""
+    nearest, arc = np.inf, 0.0
     for j in range(path_size(s, seg, fallback) - 1):
-        nearest = min(nearest, project(p, path_point(s, seg, j, fallback), path_point(s, seg, j + 1, fallback))[1])
+        a, b = path_point(s, seg, j, fallback), path_point(s, seg, j + 1, fallback)
+        if arc > horizon:
+            break
+        nearest = min(nearest, project(p, a, within(a, b, horizon - arc))[1])
+        arc += abs(b - a)
+    arc = 0.0
     for j in range(path_size(s, seg, fallback) - 1):
-        along, dist = project(p, path_point(s, seg, j, fallback), path_point(s, seg, j + 1, fallback))
+        a, b = path_point(s, seg, j, fallback), path_point(s, seg, j + 1, fallback)
+        if arc > horizon:
+            break
+        along, dist = project(p, a, within(a, b, horizon - arc))
         if dist <= nearest + TIE:
             return j, along, dist
+        arc += abs(b - a)
     return 0, 0.0, np.inf
+
+
+@jit(inline=True)
+def within(a, b, length):  # noqa: ANN001, ANN201
+    """The segment a->b cut to its first `length` metres."""
+    ab = b - a
+    return b if abs(ab) <= length else a + ab * (max(length, 0.0) / abs(ab))
 
 
 @jit
@@ -205,7 +222,7 @@ def back_out(s, i, want, seg, fallback, k):  # noqa: ANN001, ANN201
             continue
         rank, _, spot = side_spot(s, i, q, u * 1j, want, seg, fallback)
         if rank == 0:
-            j, along, _ = nearest_segment(s, q, seg, fallback)
+            j, along, _ = nearest_segment(s, q, seg, fallback, np.inf)
             return True, q, spot, arc_before(s, seg, j, fallback) + along
     return False, p.pos, p.pos, 0.0
 
@@ -221,8 +238,10 @@ def plan_side_step(s, i):  # noqa: ANN001, ANN201
     want = p.radius + robot.radius + GIVE_WAY_MARGIN
     progress, seg = robot_progress(s)
     fallback = path_size(s, seg, False) < 2
-    k, along, dist = nearest_segment(s, p.pos, seg, fallback)
-    p.aside_at = progress + arc_before(s, seg, k, fallback) + along
+    k, along, dist = nearest_segment(s, p.pos, seg, fallback, np.inf)
+    # where the robot passes them: the place of its path it comes to first, not its way back at a round trip's end
+    soon, along_soon, _ = nearest_segment(s, p.pos, seg, fallback, abs(p.pos - robot.pos) + want)
+    p.aside_at = progress + arc_before(s, seg, soon, fallback) + along_soon
     p.give_way_phase = ASIDE
     p.aside = p.pos
     p.aside_via = p.pos
