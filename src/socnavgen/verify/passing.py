@@ -126,7 +126,7 @@ def parted_for_robot(s: Signals, a: int, b: int) -> np.ndarray:
     """(T,) bool: two people (human indices a, b) are apart to let the robot through: the robot's centre is
     between them (its projection inside the segment joining them, within its radius + GIVE_WAY_CLEARANCE of
     it), or its heading crosses that segment within proxemics.HELD_UP_DISTANCE ahead (it is about to pass
-    between them), or either executes GiveWaytoRobot, and after that while they are closing up again (their distance
+    between them), or either executes GiveWaytoRobot with the robot within HELD_UP_DISTANCE of them, and after that while they are closing up again (their distance
     shrinking step by step, after at most REGROUP_PAUSE standing where they stepped to). A group's cohesion (`spread`) is judged outside these steps: a group that parts for
     the robot and closes again is a group, one whose member leaves is not (hospital_08)."""
     pos = s.trace.humans[:, :, :2]
@@ -142,7 +142,8 @@ def parted_for_robot(s: Signals, a: int, b: int) -> np.ndarray:
     j = (rel[:, 0] * hy - rel[:, 1] * hx) / safe
     k = (rel[:, 0] * seg[:, 1] - rel[:, 1] * seg[:, 0]) / safe
     between |= (j > 0.0) & (j < 1.0) & (k >= 0.0) & (k <= proxemics.HELD_UP_DISTANCE)
-    parted = between | s.trace.executed(a, "GiveWaytoRobot") | s.trace.executed(b, "GiveWaytoRobot")
+    near = [contact.lengths(robot - pos[:, i]) <= proxemics.HELD_UP_DISTANCE for i in (a, b)]
+    parted = between | (s.trace.executed(a, "GiveWaytoRobot") & near[0]) | (s.trace.executed(b, "GiveWaytoRobot") & near[1])
     change = np.diff(contact.lengths(seg), prepend=np.inf)
     t = np.asarray(s.trace.t, dtype=float)
     out, ended, closed = parted.copy(), -np.inf, False
