@@ -70,3 +70,4 @@ def test_floats_arrays_and_numba_agree(name: str) -> None:
     jitted = [bool(compiled(*(float(c[k]) for c in cases), *extra)) for k in range(len(cases[0]))]
     assert vectorised.tolist() == scalar == jitted
     assert 0 < sum(scalar) < len(scalar)  # the cases exercise both answers
+

@@ -41,7 +41,9 @@ GOAL_STOP_GAP = 1.2  # m gap: the robot stops this far from a person standing at
 #   ends here: bodies.PERSONAL_SPACE; about 2 m centre to centre), and that counts as arrived
 GOAL_STOP_SLACK = 0.15  # m: ... within this much more
 STANDING_SPEED = 0.2  # m/s: a person (or the robot) slower than this stands (people jitter in place at ~0.1 m/s)
-GOAL_STOP_DWELL = 3.0  # s: the simulator ends a run when the robot has stood short of its goal this long
+GOAL_STOP_DWELL = 3.0  # s: the simulator ends a run when the robot has stood short of its goal this long, and
+#   the metrics and the verifier count a stop short of it as arriving only after it stood there this long (or
+#   until the run ended): a robot slowing for a moment on its way past is not arriving
 
 Num = Any  # a float, or a numpy array of floats (elementwise)
 
@@ -85,14 +87,16 @@ def blocking(rx: Num, ry: Num, hx: Num, hy: Num, px: Num, py: Num, robot_radius:
 
 
 def short_of_goal(robot_to_goal: Num, person_to_goal: Num, gap: Num, person_speed: Num, robot_speed: Num,
-                  robot_radius: Num, person_radius: Num) -> Num:
+                  robot_radius: Num, person_radius: Num, seen: Num) -> Num:
     """The robot has arrived short of its goal: a person stands on or next to the goal (a robot at the goal
     would be inside their personal space: their centre within reach = robot_radius + person_radius +
     GOAL_STOP_GAP of it, and nearer it than the robot: it stops short of them), and the robot stands at most GOAL_STOP_GAP (+ GOAL_STOP_SLACK) from them (`gap`,
-    surface to surface) and within reach (+ slack) of its goal (not in another room beyond them). The ONE
+    surface to surface) and within reach (+ slack) of its goal (not in another room beyond them), and sees them
+    (`seen`: no wall between the two centres; a robot parked in a corridor corner beside a doorway goal, the
+    person behind the wall in the room, is not at the goal's place). The ONE
     arrival rule besides the goal tolerance: the simulator's end of run, the polite robot's stopping point and
     the verifier's robot_reaches_goal all use it."""
     reach = robot_radius + person_radius + GOAL_STOP_GAP
     held = (person_to_goal < reach) & (person_speed < STANDING_SPEED) & (person_to_goal < robot_to_goal)
-    near = (gap <= GOAL_STOP_GAP + GOAL_STOP_SLACK) & (robot_to_goal <= reach + GOAL_STOP_SLACK)
+    near = (gap <= GOAL_STOP_GAP + GOAL_STOP_SLACK) & (robot_to_goal <= reach + GOAL_STOP_SLACK) & (seen > 0)
     return held & near & (robot_speed < STANDING_SPEED)

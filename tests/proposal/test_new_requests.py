@@ -27,9 +27,6 @@ _TOUCH = "a gap of 0.10 m, which the eyes read as touching (no contact by the ve
 DISAGREE: dict[str, str] = {
     "home_02_resident_with_cane_in_doorway": "lenient PASS: the resident walks into the waiting robot's spot "
     f"instead of on to the west end; {_TOUCH} at 31.6 s and again as the robot squeezes to the door",
-    "home_04_grandchild_shows_drawing": "lenient PASS: the robot turns back at i6 and parks in the hallway corner; "
-    "robot_reaches_goal counts it as arrived 1.10 m short 'at a social distance from someone standing there' "
-    "(proxemics.short_of_goal), the eyes see it never reach the bedroom doorway 2n",
     "home_05_serving_drinks_at_party": f"lenient PASS: a guest walks back to her spot into the passing robot, {_TOUCH}",
     "home_07_laundry_in_morning_rush": f"lenient PASS: the daughter comes out as the robot reaches 41, {_TOUCH}",
     "hospital_02_guide_visitor_to_room": "lenient PASS: the robot stands on the nurse's crossing point and creeps "
@@ -38,16 +35,18 @@ DISAGREE: dict[str, str] = {
     f"path, not beside the door; the couple squeeze past ({_TOUCH}) where the text wants a wide berth",
     "hospital_06_night_wandering_patient": "lenient PASS: after FOLLOW ME the robot drives up to the elevator where "
     "the patient stood and makes her step aside for ~20 s instead of turning round at the lobby centre",
-    "hospital_08_shift_handover_cluster": "strict FAIL: the two nurses step aside to opposite sides of the robot "
-    "(3.34 m apart for a moment, the spec's group_together asks 3 m); the eyes accept the split as making room",
-    "warehouse_03_fire_alarm_evacuation": "strict FAIL: the first worker is 6.6 m (walkable) behind the robot for a moment "
-    "(follows_robot 6 m); the eyes count the workers catching up ~15 s late as minor",
+    "warehouse_03_fire_alarm_evacuation": "strict FAIL, the verifier is right (wt-verify s7 looked at the frames): "
+    "after FOLLOW ME the first worker (FollowRobot) stands still at 9z from 13 s to 37 s while the robot drives 5 m "
+    "south, then runs to catch up (6.6 m walkable behind at 37 s); a follower who stands while the leader leaves is "
+    "not following; the eyes call the late catch-up minor. Cause: the follower waiting (simulator), not the verifier",
     "warehouse_01_blind_corner_cart": "stale eyes, not a verifier bug: the eyes judged the robot before wt-robot s7 "
     "(standoff, timeout); since the robot slows near people and a waiting robot steps right of its way (robot.polite near_speed, wait_aside) it PASSES at the end "
     "of --verify, and frames at 34/37/40/43 s show the worker stopping at f7, the robot pulled into the corner pocket "
     "south of f7 (closest gap ~0.3 m), the worker walking on west past it, the robot going north to hd: re-judge by eye",
     "warehouse_04_pallet_jack_backing_out": "lenient PASS: the worker comes out with the robot ~8 m away, walks at it "
-    "and stands in front of it looking at it; no backing out across the aisle at sh, which the text wants",
+    "and stands in front of it looking at it; no backing out across the aisle at sh, which the text wants. No criterion "
+    "passed vacuously (wt-verify s7): the --verify repair moved the meeting from sh to ki and no criterion states the "
+    "text's event (out of the aisle at sh when the robot is ~3 m away, not looking at it): the spec stage's job",
 }
 
 # Fixtures whose recorded answers a stage check added since refuses, each with why; the recording has no answer

@@ -119,7 +119,7 @@ def _group_scene(apart_from: float):  # noqa: ANN202 - a Scene
     return replace(scene, humans={**scene.humans, "human3": keys}, follow=follow)
 
 
-def test_a_group_apart_while_a_member_makes_way_as_asked_is_the_specs(tmp_path: Path, corner: Path) -> None:
+def test_a_group_apart_while_a_member_makes_way_holds_apart_later_is_the_trees(tmp_path: Path, corner: Path) -> None:
     """G3: the group is widest while human1 gives way as its spec asks (stepping aside leaves the group's pull):
     no tree can keep the group within the spec's distance then (a round-6 player: two nurses stepping to opposite
     sides, the correction asked one nurse's tree). Apart at another moment: the lagging member's tree (G2)."""
@@ -129,9 +129,10 @@ def test_a_group_apart_while_a_member_makes_way_as_asked_is_the_specs(tmp_path: 
     plan = base_plan()
     plan = plan.model_copy(update={"humans": [h if h.name != "human3" else h.model_copy(
         update={"path": ["north", "corner"], "group_id": -1}) for h in plan.humans]})  # one path: not G1
+    # since wt-verify s7 (brief: a group that parts for the robot and closes again is a group) the spread leaves
+    # out the moments a member gives way to the robot near it and the closing up after: apart then, it holds
     aside = _finding(_verify(tmp_path / "a", corner, spec, _group_scene(8.0), plan), "c12")
-    assert not aside.passed and aside.blame == "spec", (aside.blame, aside.blame_reason)
-    assert "while human1 did give_way as the spec asks" in aside.blame_reason
+    assert aside.passed, aside.evidence
     later = _finding(_verify(tmp_path / "b", corner, spec, _group_scene(17.0), plan), "c12")
     assert not later.passed and later.blame == "behaviors" and "m apart at t=" in later.blame_reason, \
         (later.blame, later.blame_reason)

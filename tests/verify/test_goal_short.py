@@ -18,11 +18,13 @@ T = np.arange(0, 20.0 + 1e-9, 0.5)
 GOAL = (11.0, 3.0)
 
 
-def _reaches_goal(robot_stop_x: float, person_xy=(11.0, 3.0), person_walks: bool = False) -> bool:  # noqa: ANN001
-    """The robot drives +x from x = 1 and stands at robot_stop_x from t = 10 s; human1 stands at person_xy (or
-    walks +y past it at 0.5 m/s)."""
-    rx = np.interp(T, [0, 10, 20], [1.0, robot_stop_x, robot_stop_x])
-    robot = np.stack([rx, np.full_like(T, 3.0)], 1)
+def _reaches_goal(robot_stop_x: float, person_xy=(11.0, 3.0), person_walks: bool = False,  # noqa: ANN001
+                  robot_moves: tuple[list[float], list[float], list[float]] | None = None, world=None) -> bool:
+    """The robot drives +x from x = 1 and stands at robot_stop_x from t = 10 s (or moves through `robot_moves`:
+    times, xs, ys), along its one leg (1, 3) -> GOAL; human1 stands at person_xy (or walks +y past it at
+    0.5 m/s); `world`: the walls (None: none known)."""
+    times, xs, ys = robot_moves or ([0, 10, 20], [1.0, robot_stop_x, robot_stop_x], [3.0, 3.0, 3.0])
+    robot = np.stack([np.interp(T, times, xs), np.interp(T, times, ys)], 1)
     human = np.tile([person_xy], (len(T), 1)).astype(float)
     if person_walks:
         human[:, 1] += 0.5 * (T - 10.0)
@@ -30,7 +32,7 @@ def _reaches_goal(robot_stop_x: float, person_xy=(11.0, 3.0), person_walks: bool
     trace.robot_waypoints = [(1.0, 3.0), GOAL]
     cc = compile_criterion(Criterion(id="c", kind="robot_reaches_goal", text="t"), ScenarioSpec(), VerifySettings(),
                            0.2)
-    return monitor(cc.formula, Signals(trace, goal_radius=0.2)).passed
+    return monitor(cc.formula, Signals(trace, goal_radius=0.2, world=world)).passed
 
 
 def test_stopping_at_a_social_distance_from_someone_on_the_goal_is_arriving():
@@ -64,3 +66,26 @@ def test_the_scripted_robot_stops_short_of_someone_standing_on_its_goal_and_has_
 def test_a_robot_nearer_its_goal_than_the_person_is_not_short_of_it():
     # the person stands 1.4 m before a goal the robot (0.5 m from it) has not moved to: not an arrival
     assert not _reaches_goal(10.5, person_xy=(9.6, 3.0))
+
+
+def test_a_robot_parked_beside_a_doorway_goal_behind_the_wall_has_not_arrived():
+    # home_04: the goal is a 0.9 m doorway (x = 11, y 2.55-3.45) in a wall, the child stands just inside the
+    # room beyond it; the robot parked in the corridor corner beside the door (1.21 m from the goal, 1.23 m gap
+    # to the child) sees only the wall: not arrived. The same spot without the wall, or a stop on its way in
+    # front of the door seeing the child through it, is an arrival.
+    from socnavgen.sim import empty_room
+
+    wall = empty_room(20.0, 10.0, walls=[(10.9, 0.0, 11.1, 2.55), (10.9, 3.45, 11.1, 10.0)])
+    child = (11.9, 3.3)
+    corner = ([0, 8, 10, 20], [1.0, 9.0, 10.5, 10.5], [3.0, 3.0, 1.9, 1.9])
+    assert not _reaches_goal(0.0, person_xy=child, robot_moves=corner, world=wall)
+    assert _reaches_goal(0.0, person_xy=child, robot_moves=corner, world=empty_room(20.0, 10.0))
+    assert _reaches_goal(9.95, person_xy=child, world=wall)
+
+
+def test_a_robot_pausing_short_of_its_goal_for_a_moment_and_driving_off_has_not_arrived():
+    # it stands 1 s at a social distance from the person on its goal, then drives away sideways: the
+    # simulator ends a run only after GOAL_STOP_DWELL standing there, and so do the verifier and the metrics
+    stop = 11.0 - 0.75 - 1.2
+    assert not _reaches_goal(0.0, robot_moves=([0, 10, 11, 20], [1.0, stop, stop, stop], [3.0, 3.0, 3.0, 0.0]))
+    assert _reaches_goal(0.0, robot_moves=([0, 10, 14, 20], [1.0, stop, stop, stop], [3.0, 3.0, 3.0, 0.0]))

@@ -298,8 +298,10 @@ def _pairs(rob: np.ndarray, hum: np.ndarray, robot_radius: float, human_radii: n
                   centre=centre, gap=centre - (float(robot_radius) + human_radii.reshape(1, -1)))  # = contact.gaps_from
 
 
-def _own_metrics(trace: Trace, pairs: _Pairs | None = None, to_goal: np.ndarray | None = None) -> dict[str, Any]:
+def _own_metrics(trace: Trace, pairs: _Pairs | None = None, to_goal: np.ndarray | None = None,
+                 location: Any = None) -> dict[str, Any]:
     """success, collisions and min_time_to_collision on EVERY step (sampling would miss short contacts).
+    `location`: its walls decide whether a robot short of its goal sees the person standing there.
     `pairs` and `to_goal` (distance of every step to the last goal): the same values compute_metrics already
     has when it saw every step of a float64 trace."""
     h = trace.humans.shape[1]
@@ -323,8 +325,17 @@ def _own_metrics(trace: Trace, pairs: _Pairs | None = None, to_goal: np.ndarray 
         pr = trace.robot[:, :2] - np.asarray(goals[-1])
         to_goal = hypot2(pr[:, 0], pr[:, 1])
     reached = bool(goals) and trace.steps > 0 and to_goal is not None and (
-        float(to_goal.min()) <= radius or bool(short_of_goal_steps(trace, goals[-1]).any()))
+        float(to_goal.min()) <= radius or bool(short_of_goal_steps(trace, goals[-1], _world(location)).any()))
     return {"success": bool(reached and collisions == 0), "collisions": collisions, "min_time_to_collision": min_ttc}
+
+
+def _world(location: Any) -> Any:
+    """The location's sim World (its walls), built once per Location object; None without a location."""
+    if location is None:
+        return None
+    from socnavgen.sim.world import World
+
+    return kept(location, "world", lambda: World.from_location(location))
 
 
 def compute_metrics(trace: Trace, location: Any = None, *, sample_hz: float | None = None,
@@ -339,7 +350,7 @@ def compute_metrics(trace: Trace, location: Any = None, *, sample_hz: float | No
     idx = sample_indices(trace.t, sample_hz)
     n = len(idx)
     if n == 0:
-        return {**dict.fromkeys(EVALUATOR_METRICS), **_own_metrics(trace), "samples": 0}
+        return {**dict.fromkeys(EVALUATOR_METRICS), **_own_metrics(trace, location=location), "samples": 0}
     every = n == trace.steps  # no sampling: the arrays are the trace's own
     t = np.asarray(trace.t, dtype=float)
     rob = np.asarray(trace.robot, dtype=float)
@@ -439,7 +450,7 @@ def compute_metrics(trace: Trace, location: Any = None, *, sample_hz: float | No
 
     full = every and trace.robot.dtype == np.float64 and trace.humans.dtype == np.float64
     m.update(_own_metrics(trace, pairs if full and h else None, to_goal[:, -1] if full and to_goal is not None
-                          else None))
+                          else None, location))
     m["samples"] = n
     return m
 

@@ -41,9 +41,9 @@ def goal_radius(trace: Trace) -> float:
         else SUCCESS_GOAL_RADIUS
 
 
-def arrival_step(trace: Trace) -> int | None:
+def arrival_step(trace: Trace, world: Any = None) -> int | None:
     """The first step the robot is within the goal radius of its goal, or stands short of it at a social
-    distance from someone standing there (sim.arrival; None: never)."""
+    distance from someone standing there whom it sees (`world`: its walls; sim.arrival; None: never)."""
     from socnavgen.sim.arrival import short_of_goal_steps
     from socnavgen.sim.metrics import robot_goals
 
@@ -52,7 +52,7 @@ def arrival_step(trace: Trace) -> int | None:
         return None
     gx, gy = goals[-1]
     near = np.hypot(trace.robot[:, X] - gx, trace.robot[:, Y] - gy) <= goal_radius(trace)
-    near |= short_of_goal_steps(trace, goals[-1])
+    near |= short_of_goal_steps(trace, goals[-1], world)
     return int(np.argmax(near)) if near.any() else None
 
 
@@ -129,7 +129,7 @@ def social_metrics(trace: Trace, world: Any = None, *, success: bool | None = No
     if trace.steps == 0:
         return out
     durations = step_durations(trace.t)
-    arrived = arrival_step(trace)
+    arrived = arrival_step(trace, world)
     out["reached_goal"] = arrived is not None
     if arrived is not None and success is not False:
         out["time_to_goal"] = float(trace.t[arrived] - trace.t[0])

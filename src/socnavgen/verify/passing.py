@@ -26,6 +26,9 @@ from socnavgen.sim.trace import YAW
 from socnavgen.verify.route import ahead_on_route, route_offset, route_progress
 from socnavgen.verify.thresholds import ASIDE_DISTANCE
 
+CLOSING_STEP = 1e-3  # m per step: two people whose distance shrinks by more than this are closing up
+REGROUP_PAUSE = 1.0  # s: two who parted for the robot may stand this long before they start closing up again
+
 Signals = Any  # a verify.signals.Signals (which calls in here: importing it back would make a cycle)
 
 
@@ -117,3 +120,38 @@ def undone(s: Signals, human: str, stepped: np.ndarray) -> tuple[float, float] |
     k = int(np.flatnonzero(stepped)[0])
     back = np.flatnonzero(back_in_way(s, human)[k:])
     return float(s.t[k]), float(s.t[k + int(back[0])]) if len(back) else float(s.t[-1])
+
+
+def parted_for_robot(s: Signals, a: int, b: int) -> np.ndarray:
+    """(T,) bool: two people (human indices a, b) are apart to let the robot through: the robot's centre is
+    between them (its projection inside the segment joining them, within its radius + GIVE_WAY_CLEARANCE of
+    it), or its heading crosses that segment within proxemics.HELD_UP_DISTANCE ahead (it is about to pass
+    between them), or either executes GiveWaytoRobot with the robot within HELD_UP_DISTANCE of them, and after that while they are closing up again (their distance
+    shrinking step by step, after at most REGROUP_PAUSE standing where they stepped to). A group's cohesion (`spread`) is judged outside these steps: a group that parts for
+    the robot and closes again is a group, one whose member leaves is not (hospital_08)."""
+    pos = s.trace.humans[:, :, :2]
+    robot = s.trace.robot[:, :2]
+    seg = pos[:, b] - pos[:, a]
+    rel = robot - pos[:, a]
+    u = np.einsum("ij,ij->i", rel, seg) / (np.einsum("ij,ij->i", seg, seg) + 1e-12)
+    off = contact.lengths(rel - u[:, None] * seg)
+    between = (u > 0.0) & (u < 1.0) & (off <= float(s.trace.robot_radius) + proxemics.GIVE_WAY_CLEARANCE)
+    hx, hy = np.cos(s.trace.robot[:, YAW]), np.sin(s.trace.robot[:, YAW])
+    cross = seg[:, 0] * hy - seg[:, 1] * hx  # where robot + k * heading meets a + j * seg: j, k below
+    safe = np.where(np.abs(cross) > 1e-9, cross, np.inf)
+    j = (rel[:, 0] * hy - rel[:, 1] * hx) / safe
+    k = (rel[:, 0] * seg[:, 1] - rel[:, 1] * seg[:, 0]) / safe
+    between |= (j > 0.0) & (j < 1.0) & (k >= 0.0) & (k <= proxemics.HELD_UP_DISTANCE)
+    near = [contact.lengths(robot - pos[:, i]) <= proxemics.HELD_UP_DISTANCE for i in (a, b)]
+    parted = between | (s.trace.executed(a, "GiveWaytoRobot") & near[0]) | (s.trace.executed(b, "GiveWaytoRobot") & near[1])
+    change = np.diff(contact.lengths(seg), prepend=np.inf)
+    t = np.asarray(s.trace.t, dtype=float)
+    out, ended, closed = parted.copy(), -np.inf, False
+    for k in range(1, len(parted)):  # the closing-up after a parting continues it
+        if parted[k]:
+            ended, closed = t[k], False
+            continue
+        closed = closed or change[k] < -CLOSING_STEP
+        out[k] = out[k - 1] and (change[k] < -CLOSING_STEP or (
+            not closed and change[k] <= CLOSING_STEP and t[k] - ended <= REGROUP_PAUSE))
+    return out

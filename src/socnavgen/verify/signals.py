@@ -24,7 +24,11 @@ from socnavgen.bt.library import HUMAN_GESTURES, LIBRARY, REACTION_NODES, ROBOT_
 from socnavgen.sim import contact
 from socnavgen.sim.arrival import short_of_goal_steps
 from socnavgen.sim.trace import VX, VY, YAW, Trace
-from socnavgen.verify.passing import aside, kept_aside  # aside: re-exported (its home is verify/passing.py)
+from socnavgen.verify.passing import (  # aside: re-exported (its home is verify/passing.py)
+    aside,
+    kept_aside,
+    parted_for_robot,
+)
 from socnavgen.verify.route import ahead_on_route, progress_events, route_progress
 from socnavgen.verify.thresholds import (
     AHEAD_HALF_ANGLE,
@@ -319,7 +323,8 @@ def _short_of_goal(s: Signals, m: re.Match) -> np.ndarray:
     (proxemics.short_of_goal, the simulator's rule: sim.arrival)."""
     if "goal" not in s.places:
         return np.zeros(s.trace.steps)
-    return short_of_goal_steps(s.trace, s.places["goal"]).astype(float)
+    world = s.world if s.world is not None or s._world_factory is None else s._need_world("line of sight")
+    return short_of_goal_steps(s.trace, s.places["goal"], world).astype(float)
 
 
 def _route_done(s: Signals, m: re.Match) -> np.ndarray:
@@ -399,7 +404,8 @@ def _spread(s: Signals, m: re.Match) -> np.ndarray:
     names = m[1].split("_")
     idx = [s.human(n) for n in names]
     pos = s.trace.humans[:, :, :2]
-    pairs = [contact.lengths(pos[:, a] - pos[:, b]) for a, b in itertools.combinations(idx, 2)]
+    pairs = [np.where(parted_for_robot(s, a, b), 0.0, contact.lengths(pos[:, a] - pos[:, b]))
+             for a, b in itertools.combinations(idx, 2)]  # not while they part to let the robot through
     return np.max(np.stack(pairs, axis=1), axis=1)
 
 
@@ -496,7 +502,8 @@ SIGNAL_KINDS: tuple[SignalKind, ...] = (
                "distance of the robot / the human / the robot-human midpoint to a place: an encounter id (its "
                "node), goal, or node_<scene-graph id>", _to_place),
     SignalKind(rf"spread_({_H[1:-1]}(?:_{_H[1:-1]})+)", "spread_<human>_<human>[_...]", "m",
-               "largest distance between any two of these humans (group spread)", _spread),
+               "largest distance between any two of these humans (group spread), "
+               "not counting two who part to let the robot through (it is between them, or one gives way)", _spread),
     SignalKind(rf"moved_{_H}", "moved_<human>", "0/1", f"the human has walked {MOVED_DISTANCE} m from its start",
                _moved),
     SignalKind(rf"closer_(?:{_H}|(robot|{_H[1:-1]})_to_([a-z][a-z0-9_]*))",

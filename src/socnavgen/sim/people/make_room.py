@@ -33,6 +33,7 @@ from socnavgen.sim.people.give_way import (
 )
 from socnavgen.sim.people.state import ROUTE_STRAIGHT, turn, walk_to
 from socnavgen.sim.people.trees import LEAF_NAMES
+from socnavgen.sim.world.queries import line_of_sight
 
 ROBOT_WAITED = 2.0  # s the robot has made no progress (clock.stalled) before a person standing in its way makes room
 BACK_SPEED = 0.6  # m/s at most, walking back to their spot once the robot has passed
@@ -91,7 +92,8 @@ def stopped_short(s):  # noqa: ANN001, ANN201
     for i in range(people.shape[0]):
         q = people[i]
         if short_of_goal(abs(robot.goal - robot.pos), abs(q.pos - robot.goal), abs(q.pos - robot.pos) - q.radius
-                         - robot.radius, abs(q.vel), abs(robot.vel), robot.radius, q.radius):
+                         - robot.radius, abs(q.vel), abs(robot.vel), robot.radius, q.radius,
+                         1.0 if line_of_sight(s.world, robot.pos, q.pos) else 0.0):
             return True
     return False
 

@@ -1,0 +1,46 @@
+"""A group that parts to let the robot through is still a group (hospital_08 of the new-request suite: two nurses
+stepped aside to opposite sides of the robot, 3.34 m apart for a moment, and closed up again): group_together
+judges cohesion outside the steps the robot is between them or one gives way, and while they close up again
+after it; a member who leaves, or a pair that splits with no robot between them, still fails."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from socnavgen.run.spec import Criterion, ScenarioSpec
+from socnavgen.verify.criteria import compile_criterion
+from socnavgen.verify.models import VerifySettings
+from socnavgen.verify.signals import Signals
+from socnavgen.verify.stl import monitor
+
+from .verify_builders import build_trace
+
+T = np.arange(0, 24.0 + 1e-9, 0.1)
+
+
+def _together(robot_x: list[float], north: tuple[list[float], list[float]],
+              south: tuple[list[float], list[float]]) -> bool:
+    """The robot drives along y = 3 (x at times 0, 8, 12, 24: robot_x); human1 / human2 stand at x = 5 and
+    move in y at the times and to the ys given (`north`, `south`: times, ys)."""
+    robot = np.stack([np.interp(T, [0, 8, 12, 24], robot_x), np.full_like(T, 3.0)], 1)
+    humans = np.stack([np.stack([np.full_like(T, 5.0), np.interp(T, *who)], 1) for who in (north, south)], 1)
+    trace = build_trace(T, robot, humans, dt=0.1, groups=[0, 0])
+    cc = compile_criterion(Criterion(id="c", kind="group_together", humans=["human1", "human2"], distance=3.0,
+                                     text="t"), ScenarioSpec(), VerifySettings(), 0.2)
+    return monitor(cc.formula, Signals(trace)).passed
+
+
+PASSING = [0.0, 4.0, 6.0, 12.0]  # the robot reaches the pair at ~8 s and is past them at ~12 s
+APART_N, APART_S = ([0, 7, 8, 12, 14], [3.6, 3.6, 4.7, 4.7, 3.6]), ([0, 7, 8, 12, 14], [2.4, 2.4, 1.3, 1.3, 2.4])
+
+
+def test_a_pair_parting_for_the_robot_and_closing_again_is_a_group():
+    assert _together(PASSING, APART_N, APART_S)  # 3.4 m apart while the robot drives between them
+
+
+def test_a_member_who_leaves_after_the_robot_passed_or_a_split_without_the_robot_is_not():
+    leaves = ([0, 7, 8, 12, 20], [3.6, 3.6, 4.7, 4.7, 9.0])  # north keeps walking away after the robot passed
+    assert not _together(PASSING, leaves, APART_S)
+    assert not _together([0.0, 0.0, 0.0, 0.0], APART_N, APART_S)  # parted with the robot far away
+    stays = ([0, 7, 8], [3.6, 3.6, 4.7])  # they never close up again after it has passed
+    assert not _together(PASSING, stays, ([0, 7, 8], [2.4, 2.4, 1.3]))
