@@ -14,6 +14,7 @@ from socnavgen.verify.blame import spec_problem
 
 from .corpus import (
     DOCK,
+    EAST,
     STAYS,
     STUCK_ROBOT,
     _h1,
@@ -83,3 +84,26 @@ def test_criteria_contradicting_their_spec(criterion: Criterion, words: str) -> 
     problem = spec_problem(criterion, spec)
     assert problem is not None and words in problem
     assert spec_problem(spec.criteria[0], spec) is None
+
+
+def _looks_when_it_sees(spec: ScenarioSpec) -> ScenarioSpec:
+    """e1's human1 reacts to the robot in sight within 3 m (home_08's couple at the stove), not to a phrase."""
+    e1 = spec.encounters[0]
+    part = e1.humans[0].model_copy(update={"trigger": "robot_visible", "phrase": None, "reaction": "look",
+                                           "distance": 3.0})
+    return spec.model_copy(update={"encounters": [e1.model_copy(update={"humans": [part]}), *spec.encounters[1:]]})
+
+
+@pytest.mark.parametrize(("x0", "x1", "blame", "words"), [
+    (9.4, 11.2, "paths", "always with a wall between them"),  # in the room, behind its wall (y 3.0-3.1, x >= 9)
+    (7.0, 8.8, "behaviors", "did not react as asked"),  # in the open: the robot in sight, no stop
+])
+def test_a_look_whose_cue_never_held_is_the_paths(tmp_path: Path, corner: Path, x0: float, x1: float, blame: str,
+                                                  words: str) -> None:
+    """Rule N3: the robot passed within 1.8 m of human1 only with a wall between them, so human1's
+    robot_visible cue never held and its tree had nothing to react to: the place is the paths' to change. The
+    same walk in the open (the cue held, no stop) stays the tree's."""
+    walks = [(0.0, x0, 3.3), (10.0, x1, 3.3), (20.0, x0, 3.3)]  # 0.18 m/s: never stops
+    scene = _h1(_robot(base_scene(), [(0.0, *DOCK), (12.0, *EAST), (20.0, *EAST)]), walks, actions=[], says=[])
+    stop = _finding(_verify(tmp_path / "r", corner, _looks_when_it_sees(base_spec()), scene), "c3")
+    assert not stop.passed and stop.blame == blame and words in stop.blame_reason, stop.blame_reason

@@ -29,7 +29,8 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
   N1  the robot, or the human, never came within `within` of the encounter node                -> paths
   N2  both reached the node but never within the distance at the same time (timing, place)    -> paths
   N3  the robot never came near the human, or the human was never in its way (a reaction's cause
-      never held), or a meeting had no approach / shares the earlier encounter's meeting         -> paths
+      never held: also its encounter's robot_visible / robot_near / robot_blocking cue, e.g. a wall
+      between them), or a meeting had no approach / shares the earlier encounter's meeting       -> paths
   V1  hidden_until failed: the two saw each other early (the place is not blind)               -> paths
   G1  a group apart whose members walk different paths                                          -> paths
   G2  a group apart on one path                                                                -> behaviors(farthest)
@@ -69,6 +70,7 @@ from socnavgen.verify.evidence import deadlock_culprit, in_window, met_mask
 from socnavgen.verify.signals import ROBOT_PHRASES, Signals, phrase_id
 from socnavgen.verify.stl import formula_signals
 from socnavgen.verify.thresholds import APPROACH, KIND_DISTANCE, MEET_DISTANCE, STILL_SPEED
+from socnavgen.verify.windows import triggered
 
 Verdict = tuple[Blame, str | None, str]  # blame, human (for behaviors), reason
 
@@ -421,7 +423,32 @@ def _missing_cause(cc: Compiled, s: Signals, h: str) -> Verdict | None:
                                       else "") + ": the following must start there")
     if kind == "stops_near_robot" and not (s.get(f"closer_{h}") >= APPROACH).any():
         return "paths", None, f"the robot never came closer to {h} than where they started"
-    return None
+    return _cue_never_held(cc, s, h)
+
+
+_SEEN_CUES = {"robot_visible": "in sight of", "robot_near": "near", "robot_blocking": "in front of"}
+
+
+def _cue_never_held(cc: Compiled, s: Signals, h: str) -> Verdict | None:
+    """Rule N3, the encounter's cue: h's part reacts to where the robot is (robot_visible / robot_near /
+    robot_blocking) and that never held, so h's tree had nothing to react to (a wall between them, the robot
+    stopping out of sight): where the robot goes and h stands is the paths' to change, not h's tree."""
+    part = cc.part
+    if part is None or part.trigger not in _SEEN_CUES or part.distance is None:
+        return None
+    held = triggered(s, h, part)
+    if held is None or held.any():
+        return None
+    dist = s.get(f"dist_{h}")
+    k = int(np.argmin(dist))
+    fact = f"closest {dist[k]:.2f} m at t={s.t[k]:.1f} s"
+    if part.trigger == "robot_visible" and dist[k] <= part.distance:
+        near = dist <= part.distance
+        fact += (", always with a wall between them while within it" if not (s.get(f"los_{h}")[near] > 0.5).any()
+                 else "")
+    node = cc.encounter.node or cc.encounter.id if cc.encounter is not None else "its place"
+    return "paths", None, (f"the robot was never {_SEEN_CUES[part.trigger]} {h} within {part.distance:g} m ({fact}): "
+                           f"{h}'s cue never held; make the robot's path end or pass where {h} at {node} sees it")
 
 
 def _blame_group(cc: Compiled, s: Signals, plan: PathPlan | None) -> Verdict:
