@@ -162,29 +162,3 @@ def test_a_person_who_gave_way_to_a_round_trip_walks_on_once_the_robot_is_past_t
     robot, person = trace.robot[k, :2], trace.humans[k, 0, :2]
     assert robot[0] > 9.0
     assert person[1] < 6.0 and np.hypot(*(robot - person)) < 6.0  # out of the room, following
-
-
-class _ComesThenBacksOff:
-    """A robot that drives east at 0.5 m/s for 4 s, stands 4 s, then backs off west the way it came (as the robot
-    making way for someone who needs to get past it does: robot/polite.make_way)."""
-
-    def act(self, obs):  # noqa: ANN001, ANN201
-        from socnavgen.sim.robot.api import RobotAction
-
-        return RobotAction(0.5 if obs.t < 4.0 else 0.0 if obs.t < 8.0 else -0.5, 0.0)
-
-
-def test_a_person_waiting_aside_walks_on_when_the_robot_backs_away():
-    """A person who stepped aside for the robot waits for it to pass; a robot that backs off the way it came (it
-    makes way for them) will never pass, so they walk on to their goal past it (warehouse_01: the worker stood
-    aside in the corridor for 90 s while the robot backed off and came back, again and again)."""
-    tree = tree_xml('<Fallback><Sequence><IsRobotNearby agent_id="{id}" distance="2.5"/>'
-                    '<GiveWaytoRobot agent_id="{id}" time_step="{dt}"/></Sequence>' + REGULAR + '</Fallback>')
-    sim = make_sim([human(start=(9.0, 5.0), goals=[(1.0, 5.0)])], [tree], [(4.0, 5.0), (18.0, 5.0)],
-                   policy=_ComesThenBacksOff(), timeout=24)
-    trace = sim.run()
-    k = int(np.searchsorted(trace.t, 8.0))
-    assert trace.executed(0, "GiveWaytoRobot")[:k].any()  # it stepped aside for the robot coming at it
-    assert abs(trace.humans[k, 0, 1] - 5.0) > 0.5  # off the robot's path, waiting
-    person = trace.humans[-1, 0, :2]
-    assert person[0] < 3.0  # walked on west past the backing robot, not still waiting aside at x ~ 7-9

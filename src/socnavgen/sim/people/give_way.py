@@ -35,7 +35,6 @@ BACK_OUT_STEP = 0.2  # m: points of the robot's path tried every this far
 BACK_OUT_GAP = 0.2  # m: a person backs out when no spot nearby leaves the robot this gap to pass them by
 BACK_OUT_CLEARANCE = 0.3  # m from walls along the straight walk back (a body squeezes through a 0.9 m door)
 PASSED_MARGIN = 0.3  # m beyond both radii: the robot has passed the person's spot on its path
-BACKING_SPEED = 0.1  # m/s against its path: the robot backs off (it makes way), it will not pass anyone waiting
 ASIDE, WAIT, RESUME = 0, 1, 2  # give-way phases (ASIDE: by way of `aside_via` when backing out)
 SIDE_UNITS = np.array([complex(math.cos(2 * math.pi * j / SIDE_STEP_DIRECTIONS),
                                math.sin(2 * math.pi * j / SIDE_STEP_DIRECTIONS)) for j in range(SIDE_STEP_DIRECTIONS)])
@@ -272,30 +271,15 @@ def robot_has_passed(s, i):  # noqa: ANN001, ANN201
 
 
 @jit
-def robot_backs_away(s, i):  # noqa: ANN001, ANN201
-    """The robot goes back the way it came (against its path, faster than BACKING_SPEED), away from person i:
-    it makes way rather than passing them, so waiting aside for it to pass would wait for ever."""
-    robot, p, wps = s.robot[0], s.people[i], s.waypoints
-    if wps.shape[0] < 2:
-        return False
-    _, seg = robot_progress(s)
-    along = wps[seg + 1] - wps[seg]
-    if abs(along) < 1e-9:
-        return False
-    back = -(robot.vel * along.conjugate()).real / abs(along)
-    return back > BACKING_SPEED and (robot.vel * (robot.pos - p.pos).conjugate()).real > 0.0
-
-
-@jit
 def give_way(s, i):  # noqa: ANN001, ANN201
-    """Step off the robot's upcoming path, wait there facing the robot until it has passed (or backs away from
-    them: it makes way for them), then walk on to the goal. A new side step is planned whenever the previous action was something else."""
+    """Step off the robot's upcoming path, wait there facing the robot until it has passed, then walk on to
+    the goal. A new side step is planned whenever the previous action was something else."""
     p = s.people[i]
     if p.behavior != 2 or not p.gives_way:
         p.behavior = 2
         p.gives_way = True
         plan_side_step(s, i)
-    if p.give_way_phase != RESUME and (robot_has_passed(s, i) or robot_backs_away(s, i)):
+    if p.give_way_phase != RESUME and robot_has_passed(s, i):
         p.give_way_phase = RESUME
     if p.give_way_phase == ASIDE and abs(p.aside_via - p.pos) <= GIVE_WAY_ARRIVED:
         p.aside_via = p.aside  # backed out to where there is room: now to the side
