@@ -14,6 +14,7 @@ from socnavgen.verify.blame import spec_problem
 
 from .corpus import (
     DOCK,
+    EAST,
     STAYS,
     STUCK_ROBOT,
     _h1,
@@ -120,9 +121,8 @@ def _group_scene(apart_from: float):  # noqa: ANN202 - a Scene
 
 
 def test_a_group_apart_while_a_member_makes_way_holds_apart_later_is_the_trees(tmp_path: Path, corner: Path) -> None:
-    """G3: the group is widest while human1 gives way as its spec asks (stepping aside leaves the group's pull):
-    no tree can keep the group within the spec's distance then (a round-6 player: two nurses stepping to opposite
-    sides, the correction asked one nurse's tree). Apart at another moment: the lagging member's tree (G2)."""
+    """The group is widest while human1 gives way to the robot (two nurses stepping to opposite sides of it, round
+    6): parting for the robot, the group holds. Apart at another moment: the lagging member's tree (G2)."""
     spec = base_spec()
     spec = spec.model_copy(update={"criteria": [*spec.criteria, Criterion(
         id="c12", kind="group_together", humans=["human1", "human3"], distance=2.5)]})
@@ -149,3 +149,26 @@ def test_a_block_until_a_phrase_the_robot_never_says_is_the_scripts(tmp_path: Pa
     dead = _finding(_verify(tmp_path / "r", corner, spec, scene), "c10")
     assert not dead.passed and dead.blame == "robot_script" and "EXCUSE ME" in dead.blame_reason, \
         (dead.blame, dead.blame_reason)
+
+
+def _looks_when_it_sees(spec: ScenarioSpec) -> ScenarioSpec:
+    """e1's human1 reacts to the robot in sight within 3 m (home_08's couple at the stove), not to a phrase."""
+    e1 = spec.encounters[0]
+    part = e1.humans[0].model_copy(update={"trigger": "robot_visible", "phrase": None, "reaction": "look",
+                                           "distance": 3.0})
+    return spec.model_copy(update={"encounters": [e1.model_copy(update={"humans": [part]}), *spec.encounters[1:]]})
+
+
+@pytest.mark.parametrize(("x0", "x1", "blame", "words"), [
+    (9.4, 11.2, "paths", "always with a wall between them"),  # in the room, behind its wall (y 3.0-3.1, x >= 9)
+    (7.0, 8.8, "behaviors", "did not react as asked"),  # in the open: the robot in sight, no stop
+])
+def test_a_look_whose_cue_never_held_is_the_paths(tmp_path: Path, corner: Path, x0: float, x1: float, blame: str,
+                                                  words: str) -> None:
+    """Rule N3: the robot passed within 1.8 m of human1 only with a wall between them, so human1's
+    robot_visible cue never held and its tree had nothing to react to: the place is the paths' to change. The
+    same walk in the open (the cue held, no stop) stays the tree's."""
+    walks = [(0.0, x0, 3.3), (10.0, x1, 3.3), (20.0, x0, 3.3)]  # 0.18 m/s: never stops
+    scene = _h1(_robot(base_scene(), [(0.0, *DOCK), (12.0, *EAST), (20.0, *EAST)]), walks, actions=[], says=[])
+    stop = _finding(_verify(tmp_path / "r", corner, _looks_when_it_sees(base_spec()), scene), "c3")
+    assert not stop.passed and stop.blame == blame and words in stop.blame_reason, stop.blame_reason

@@ -29,10 +29,10 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
   N1  the robot, or the human, never came within `within` of the encounter node                -> paths
   N2  both reached the node but never within the distance at the same time (timing, place)    -> paths
   N3  the robot never came near the human, or the human was never in its way (a reaction's cause
-      never held), or a meeting had no approach / shares the earlier encounter's meeting         -> paths
+      never held: also its encounter's robot_visible / robot_near / robot_blocking cue, e.g. a wall
+      between them), or a meeting had no approach / shares the earlier encounter's meeting       -> paths
   V1  hidden_until failed: the two saw each other early (the place is not blind)               -> paths
   G1  a group apart whose members walk different paths                                          -> paths
-  G3  (checked before G2) a group apart while a member makes way as its spec asks (give_way) -> spec
   G2  a group apart on one path                                                                -> behaviors(farthest)
   R1  the trigger held (the robot near / said the phrase) but the reaction never ran           -> behaviors(h)
       except: a hold (blocks_robot, stops_near_robot) whose reaction ran its whole `lasts` and was over
@@ -66,7 +66,6 @@ from socnavgen.bodies import (
     ROBOT_RADIUS,
     TOUCH_DISTANCE,
 )
-from socnavgen.bt.library import REACTION_NODES
 from socnavgen.run.models import PathPlan
 from socnavgen.run.spec import Blame, Criterion, ScenarioSpec
 from socnavgen.verify.criteria import Compiled
@@ -74,6 +73,7 @@ from socnavgen.verify.evidence import deadlock_culprit, in_window, met_mask
 from socnavgen.verify.signals import ROBOT_PHRASES, Signals, lasting, phrase_id, reaction_evidence
 from socnavgen.verify.stl import formula_signals
 from socnavgen.verify.thresholds import APPROACH, KIND_DISTANCE, MEET_DISTANCE, STILL_SPEED, STOP_HOLD
+from socnavgen.verify.windows import triggered
 
 Verdict = tuple[Blame, str | None, str]  # blame, human (for behaviors), reason
 
@@ -373,7 +373,7 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
     if kind == "hidden_until":
         return "paths", None, "robot and human see each other before they meet: choose a blind place"
     if kind == "group_together":
-        return _blame_group(cc, s, plan, spec)
+        return _blame_group(cc, s, plan)
     if h and kind == "meets":
         return _blame_meeting(cc, s, h)
     if h:
@@ -430,7 +430,32 @@ def _missing_cause(cc: Compiled, s: Signals, h: str) -> Verdict | None:
                                       else "") + ": the following must start there")
     if kind == "stops_near_robot" and not (s.get(f"closer_{h}") >= APPROACH).any():
         return "paths", None, f"the robot never came closer to {h} than where they started"
-    return None
+    return _cue_never_held(cc, s, h)
+
+
+_SEEN_CUES = {"robot_visible": "in sight of", "robot_near": "near", "robot_blocking": "in front of"}
+
+
+def _cue_never_held(cc: Compiled, s: Signals, h: str) -> Verdict | None:
+    """Rule N3, the encounter's cue: h's part reacts to where the robot is (robot_visible / robot_near /
+    robot_blocking) and that never held, so h's tree had nothing to react to (a wall between them, the robot
+    stopping out of sight): where the robot goes and h stands is the paths' to change, not h's tree."""
+    part = cc.part
+    if part is None or part.trigger not in _SEEN_CUES or part.distance is None:
+        return None
+    held = triggered(s, h, part)
+    if held is None or held.any():
+        return None
+    dist = s.get(f"dist_{h}")
+    k = int(np.argmin(dist))
+    fact = f"closest {dist[k]:.2f} m at t={s.t[k]:.1f} s"
+    if part.trigger == "robot_visible" and dist[k] <= part.distance:
+        near = dist <= part.distance
+        fact += (", always with a wall between them while within it" if not (s.get(f"los_{h}")[near] > 0.5).any()
+                 else "")
+    node = cc.encounter.node or cc.encounter.id if cc.encounter is not None else "its place"
+    return "paths", None, (f"the robot was never {_SEEN_CUES[part.trigger]} {h} within {part.distance:g} m ({fact}): "
+                           f"{h}'s cue never held; make the robot's path end or pass where {h} at {node} sees it")
 
 
 HOLDS = ("blocks_robot", "stops_near_robot")  # criteria that need the person to hold still while the robot is there
@@ -455,16 +480,8 @@ def _spent(cc: Compiled, s: Signals, spec: ScenarioSpec, h: str) -> Verdict | No
     return None
 
 
-def _running(s: Signals, who: str, reaction: str, k: int) -> bool:
-    """`who`'s tree runs a node of `reaction` (bt.library REACTION_NODES) at step k (the act, not its lasting
-    result: a person who stepped aside stays aside long after)."""
-    i = s.human(who)
-    return any(bool(s.trace.executed(i, node)[k]) for node in REACTION_NODES.get(reaction, ()))
-
-
-def _blame_group(cc: Compiled, s: Signals, plan: PathPlan | None, spec: ScenarioSpec) -> Verdict:
-    """Rules G1, G2; G3: at the widest moment a member was making way as its spec asks (YIELDING: stepping aside
-    takes it out of the group's pull): the spec's group_together distance vs its reactions, not a tree."""
+def _blame_group(cc: Compiled, s: Signals, plan: PathPlan | None) -> Verdict:
+    """Rules G1, G2 (a group parting for the robot is not apart: verify/passing.parted_for_robot)."""
     names = re.findall(r"human\d+", cc.formula)
     if plan is not None:
         paths = {tuple(h.path) for h in plan.humans if h.name in names}
@@ -483,12 +500,6 @@ def _blame_group(cc: Compiled, s: Signals, plan: PathPlan | None, spec: Scenario
         far = list(np.linalg.norm(pos - pos.mean(axis=0), axis=1))
     who = names[int(np.argmax(far))]
     when = f"{float(spread[k]):.2f} m apart at t={float(s.t[k]):.1f} s"
-    reacting = [f"{n} did {part.reaction}" for n in names for _, part in spec.parts_of(n)
-                if part.reaction in YIELDING and _running(s, n, part.reaction, k)]
-    if reacting:
-        return "spec", None, (f"the group was {when} while {' and '.join(reacting)} as the spec asks (a member "
-                              "reacting leaves the group's pull): allow the group a larger group_together distance, "
-                              "or let fewer members react")
     where = "lags behind the others" if goal is not None else "is farthest from the others"
     return "behaviors", who, f"{who} {where} ({when}): its tree must keep it with the others"
 
