@@ -9,7 +9,10 @@ room (the person's own `pass_gap`: pass_gap_for their personal-space preference)
 past a standing robot in a tight spot (MOVING_PASS_GAP past a moving one); with
 room on neither side they slow down to stand WAIT_GAP from the robot until it moves, or walk WAIT_GAP behind
 it when it goes their way. A way round that would take them backwards (a robot crossing in front, moving
-away along their side) is not taken: they stop and let it go by. A person whose target is at the robot (following it) does not steer around it.
+away along their side) is not taken: they stop and let it go by. A person whose walk is to the robot itself
+(following, blocking, approaching it: route ROUTE_ROBOT) does not steer around it. A goal the robot passes
+over is no reason to walk into it: the moving robot is steered around or let go by like any other; a goal
+the robot STANDS on (or beside) is approached to GOAL_GAP from its body, where they wait until it moves.
 
 `keep_off` (the walking step, once the robot has moved): the part of a person's velocity that would bring
 them closer than KEEP_GAP to the robot's body is dropped, so they slide along it or stop. The contact step
@@ -25,10 +28,12 @@ from __future__ import annotations
 import cmath
 import math
 
+from socnavgen.bodies import PERSON_PASS_GAP
 from socnavgen.sim.jit import jit
+from socnavgen.sim.people.state import ROUTE_ROBOT
 from socnavgen.sim.world.queries import clearance_at, line_of_sight
 
-PASS_GAP = 0.5  # m: the gap a person leaves passing the robot where there is room (beyond intimate space)
+PASS_GAP = PERSON_PASS_GAP  # m: the gap a person leaves passing the robot where there is room (beyond intimate space)
 PREFERRED_SPACE = 1.0  # m: the personal-space preference PASS_GAP is for (a stranger's ~1 m, Hecht et al. 2019)
 MIN_PASS_GAP = 0.1  # m: the least gap a person squeezes past a standing robot with
 MOVING_PASS_GAP = 0.3  # m: the least gap a person overtakes or meets a moving robot with
@@ -39,6 +44,7 @@ ROOM_STEP = 0.05  # m: passing gaps tried from PASS_GAP down
 FIT_CLEARANCE = 0.35  # m: the passing spot must keep a person's body (0.4 m, 5 cm slack) off the walls
 WAIT_GAP = 0.5  # m: with no room to pass, a person stands (or walks behind it) this far from the robot
 WAIT_TIME = 1.0  # s: ... slowing down to get there in about this time
+GOAL_GAP = 0.3  # m: a person whose goal the robot stands on (or next to) stops this far from its body
 KEEP_GAP = 0.1  # m: a person's own step never brings them closer than this to the robot's body
 HORIZON = 3.0  # s: a robot the person would come that close to within this time is in their way
 STEER_RANGE = 4.0  # m between centres: farther robots are not steered around
@@ -81,7 +87,7 @@ def steer_around_robot(s, i):  # noqa: ANN001, ANN201
     dist = abs(rel)
     reach = p.radius + robot.radius
     target = p.goal if p.to_goal else p.target
-    if dist > STEER_RANGE or dist < 1e-9 or abs(target - robot.pos) < reach + p.pass_gap:
+    if dist > STEER_RANGE or dist < 1e-9 or p.route == ROUTE_ROBOT:  # the robot is where they walk to
         return
     if abs(target - p.pos) < dist - reach:  # arrives before reaching the robot
         return
@@ -90,6 +96,10 @@ def steer_around_robot(s, i):  # noqa: ANN001, ANN201
         return
     e = ahead / abs(ahead)
     if (rel * e.conjugate()).real < dist * math.cos(FIELD_OF_VIEW) or not sees(s, i):
+        return
+    if abs(target - robot.pos) < reach + p.pass_gap and abs(robot.vel) <= MOVING:  # it stands at their goal
+        if abs((rel * e.conjugate()).imag) < reach + GOAL_GAP:  # walking at its body: stop GOAL_GAP from it
+            p.desired_speed = min(p.desired_speed, max(0.0, dist - reach - GOAL_GAP) / WAIT_TIME)
         return
     w = p.desired_speed * e - robot.vel  # the walk relative to the robot
     speed_rel = abs(w)
