@@ -49,6 +49,7 @@ PERSON = layout([
     ("group", "i8"),  # label of its group (0..G-1, groups of two or more), -1 alone
     ("start_delay", "f8"),  # s: its tree is not ticked (it stands) before then
     ("pass_gap", "f8"),  # m: the gap it leaves passing the robot where there is room (people.avoid)
+    ("goal_wait", "f8"),  # s it has been held back short of a goal the robot stands on (people.avoid.GOAL_PATIENCE)
     # goal queue: the front goal, and the ring goals[i, start:start + count] (wrapping)
     ("goal", "c16"), ("goal_radius", "f8"), ("has_goal", "?"), ("queue_start", "i8"), ("queue_count", "i8"),
     ("cyclic", "?"),
