@@ -46,8 +46,7 @@ FIT_CLEARANCE = 0.35  # m: the passing spot must keep a person's body (0.4 m, 5 
 WAIT_GAP = 0.5  # m: with no room to pass, a person stands (or walks behind it) this far from the robot
 WAIT_TIME = 1.0  # s: ... slowing down to get there in about this time
 GOAL_GAP = 0.3  # m: a person whose goal the robot stands on (or next to) stops this far from its body ...
-GOAL_PATIENCE = 4.0  # s: ... and waits there (held below WAITING) this long at most before squeezing on to the goal
-WAITING = 0.15  # m/s: a person held back to less than this is waiting (shuffling at most)
+GOAL_PATIENCE = 5.0  # s: ... and is held back by it this long at most (all told) before squeezing on to the goal
 KEEP_GAP = 0.1  # m: a person's own step never brings them closer than this to the robot's body
 HORIZON = 3.0  # s: a robot the person would come that close to within this time is in their way
 STEER_RANGE = 4.0  # m between centres: farther robots are not steered around
@@ -85,8 +84,9 @@ def sees(s, i):  # noqa: ANN001, ANN201
 @jit
 def steer_around_robot(s, i):  # noqa: ANN001, ANN201
     """Turn walker i's heading (p.via, p.desired_speed) around the robot when the robot is in their way."""
-    if not steer(s, i):
-        s.people[i].goal_wait = 0.0
+    p = s.people[i]
+    if not steer(s, i):  # not held back by it this step: patience comes back as fast as it went
+        p.goal_wait = max(0.0, p.goal_wait - s.clock[0].dt)
 
 
 @jit
@@ -113,8 +113,7 @@ def steer(s, i):  # noqa: ANN001, ANN201
         held = max(0.0, swept_gap(p.pos, robot.pos, robot.vel, reach) - GOAL_GAP) / WAIT_TIME
         if held < p.desired_speed:  # held back by the robot
             p.desired_speed = held
-            if held < WAITING:
-                p.goal_wait += s.clock[0].dt
+            p.goal_wait += s.clock[0].dt
         return True
     if abs(target - p.pos) < dist - reach:  # arrives before reaching the robot
         return False
