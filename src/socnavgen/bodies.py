@@ -21,6 +21,7 @@ PERSON_MAX_SPEED = 1.5  # m/s: HuNavSim's max_vel default
 PERSON_TOP_SPEED = 1.8  # m/s: the most a scenario may give a person (HuNavSim 2.x clamps an agent's vel to it)
 PERSON_START_LAG = 0.5  # s: a person setting off from rest arrives this much later than at full speed (SFM's tau)
 CLEAR_LEAD = 1.5  # m: at a door, a person meeting the robot there goes through while the robot is this far before it
+PERSON_PASS_GAP = 0.5  # m: the gap a person leaves passing the robot where there is room (sim.people.avoid)
 PERSON_GOAL_RADIUS = 0.5  # m: a person's goal is reached within this (HuNavSim goal_radius)
 PERSON_GOAL_SLACK = 0.1  # m: IsGoalReached accepts goal_radius + this
 ROBOT_GOAL_TOLERANCE = 0.2  # m: hunav_evaluator's "completed"

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from socnavgen.bodies import CONTACT_MARGIN, PERSON_RADIUS, ROBOT_RADIUS
-from socnavgen.sim import empty_room, load_policy
+from socnavgen.sim import RobotAction, empty_room, load_policy
 
 from .simhelpers import INSTANT, REGULAR, Drive, Stay, human, make_sim, tree_xml
 
@@ -113,3 +113,35 @@ def test_a_larger_personal_space_preference_keeps_a_walker_farther_from_the_robo
         assert abs(final(trace) - complex(18.0, 5.0)) <= 0.6  # and still arrives
     assert closest[0.5] + 0.1 < closest[1.0] < closest[1.5] - 0.1
     assert closest[1.5] >= 0.6  # about the 0.75 m gap it asks for
+
+
+class StandThenDrive:
+    """A robot that stands until `t` s, then drives at (vx, 0)."""
+
+    def __init__(self, t: float, vx: float) -> None:
+        self.t, self.vx = t, vx
+
+    def act(self, obs):  # noqa: ANN001, ANN201
+        return RobotAction(self.vx if obs.t >= self.t else 0.0, 0.0)
+
+
+def test_a_walker_whose_goal_the_robot_stands_on_waits_a_social_gap_off_it():
+    """The robot stands on the person's goal for a while, then drives on: the person walks up, stops GOAL_GAP
+    (0.3 m) from its body and waits, then reaches the goal once it has gone (they walked at it and slid along
+    its body 0.10 m off: the goal next to the robot exempted them from steering round it)."""
+    trace = make_sim([human(start=(2.0, 5.0), goals=[(10.3, 5.0)])], [tree_xml(REGULAR)],
+                     [(10.0, 5.0), (19.0, 5.0)], StandThenDrive(8.0, 1.0), timeout=20, body=INSTANT).run()
+    assert gaps(trace).min() >= 0.25
+    waiting = (trace.t > 7.0) & (trace.t < 8.0)  # arrived (8 m at ~1.3 m/s), the robot still standing
+    assert np.hypot(trace.humans[waiting, 0, 3], trace.humans[waiting, 0, 4]).max() < 0.1  # stands, waiting
+    assert abs(final(trace) - complex(10.3, 5.0)) <= 0.6
+
+
+def test_a_walker_heading_across_a_moving_robots_path_lets_it_pass():
+    """A person whose goal lies on the path of a robot driving by stops and lets it pass, never within 0.2 m
+    of it (they walked into its side down to 0.10 m), then goes on to the goal."""
+    trace = make_sim([human(start=(10.0, 1.0), goals=[(10.0, 5.3), (10.0, 9.0)], start_delay=9.5)],
+                     [tree_xml(REGULAR)], [(2.0, 5.0), (19.0, 5.0)], Drive(0.6), timeout=30, body=INSTANT).run()
+    assert gaps(trace).min() >= 0.2
+    assert trace.robot[-1, 0] > 12.0  # it drove by
+    assert trace.humans[:, 0, 1].max() > 8.0  # and they went on after it

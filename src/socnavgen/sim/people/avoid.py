@@ -9,7 +9,11 @@ room (the person's own `pass_gap`: pass_gap_for their personal-space preference)
 past a standing robot in a tight spot (MOVING_PASS_GAP past a moving one); with
 room on neither side they slow down to stand WAIT_GAP from the robot until it moves, or walk WAIT_GAP behind
 it when it goes their way. A way round that would take them backwards (a robot crossing in front, moving
-away along their side) is not taken: they stop and let it go by. A person whose target is at the robot (following it) does not steer around it.
+away along their side) is not taken: they stop and let it go by. A person whose walk is to the robot itself
+(following, blocking, approaching it: route ROUTE_ROBOT) does not steer around it. A goal the robot passes
+(or stands on, or next to) is no reason to walk into it: such a goal is approached to GOAL_GAP from the robot's
+body, where they wait until it has moved on, GOAL_PATIENCE s at most (a robot that waits for them in turn
+would never move on): then they squeeze on to it.
 
 `keep_off` (the walking step, once the robot has moved): the part of a person's velocity that would bring
 them closer than KEEP_GAP to the robot's body is dropped, so they slide along it or stop. The contact step
@@ -25,10 +29,12 @@ from __future__ import annotations
 import cmath
 import math
 
+from socnavgen.bodies import PERSON_PASS_GAP
 from socnavgen.sim.jit import jit
+from socnavgen.sim.people.state import ROUTE_ROBOT
 from socnavgen.sim.world.queries import clearance_at, line_of_sight
 
-PASS_GAP = 0.5  # m: the gap a person leaves passing the robot where there is room (beyond intimate space)
+PASS_GAP = PERSON_PASS_GAP  # m: the gap a person leaves passing the robot where there is room (beyond intimate space)
 PREFERRED_SPACE = 1.0  # m: the personal-space preference PASS_GAP is for (a stranger's ~1 m, Hecht et al. 2019)
 MIN_PASS_GAP = 0.1  # m: the least gap a person squeezes past a standing robot with
 MOVING_PASS_GAP = 0.3  # m: the least gap a person overtakes or meets a moving robot with
@@ -39,6 +45,8 @@ ROOM_STEP = 0.05  # m: passing gaps tried from PASS_GAP down
 FIT_CLEARANCE = 0.35  # m: the passing spot must keep a person's body (0.4 m, 5 cm slack) off the walls
 WAIT_GAP = 0.5  # m: with no room to pass, a person stands (or walks behind it) this far from the robot
 WAIT_TIME = 1.0  # s: ... slowing down to get there in about this time
+GOAL_GAP = 0.3  # m: a person whose goal the robot stands on (or next to) stops this far from its body ...
+GOAL_PATIENCE = 5.0  # s: ... and is held back by it this long at most (all told) before squeezing on to the goal
 KEEP_GAP = 0.1  # m: a person's own step never brings them closer than this to the robot's body
 HORIZON = 3.0  # s: a robot the person would come that close to within this time is in their way
 STEER_RANGE = 4.0  # m between centres: farther robots are not steered around
@@ -76,31 +84,49 @@ def sees(s, i):  # noqa: ANN001, ANN201
 @jit
 def steer_around_robot(s, i):  # noqa: ANN001, ANN201
     """Turn walker i's heading (p.via, p.desired_speed) around the robot when the robot is in their way."""
+    p = s.people[i]
+    if not steer(s, i):  # not held back by it this step: patience comes back as fast as it went
+        p.goal_wait = max(0.0, p.goal_wait - s.clock[0].dt)
+
+
+@jit
+def steer(s, i):  # noqa: ANN001, ANN201
+    """steer_around_robot; True while person i waits short of a goal the robot stands on."""
     p, robot = s.people[i], s.robot[0]
     rel = robot.pos - p.pos
     dist = abs(rel)
     reach = p.radius + robot.radius
     target = p.goal if p.to_goal else p.target
-    if dist > STEER_RANGE or dist < 1e-9 or abs(target - robot.pos) < reach + p.pass_gap:
-        return
-    if abs(target - p.pos) < dist - reach:  # arrives before reaching the robot
-        return
+    if dist > STEER_RANGE or dist < 1e-9 or p.route == ROUTE_ROBOT:  # the robot is where they walk to
+        return False
     ahead = p.via - p.pos
     if abs(ahead) < 1e-9:
-        return
+        return False
     e = ahead / abs(ahead)
     if (rel * e.conjugate()).real < dist * math.cos(FIELD_OF_VIEW) or not sees(s, i):
-        return
+        return False
+    if abs(target - robot.pos) < reach + p.pass_gap:  # the robot stands on (or passes over) their goal
+        if abs((rel * e.conjugate()).imag) >= reach + GOAL_GAP:
+            return False  # walks past its body with room
+        if p.goal_wait >= GOAL_PATIENCE:
+            return True  # has waited long enough (the robot waits for them in turn): goes on to the goal
+        held = max(0.0, swept_gap(p.pos, robot.pos, robot.vel, reach) - GOAL_GAP) / WAIT_TIME
+        if held < p.desired_speed:  # held back by the robot
+            p.desired_speed = held
+            p.goal_wait += s.clock[0].dt
+        return True
+    if abs(target - p.pos) < dist - reach:  # arrives before reaching the robot
+        return False
     w = p.desired_speed * e - robot.vel  # the walk relative to the robot
     speed_rel = abs(w)
     if speed_rel < 1e-6:
-        return
+        return False
     frame = rel * (w / speed_rel).conjugate()  # the robot in the frame of the relative walk
     along, across = frame.real, frame.imag
     if along <= 0 or along > HORIZON * speed_rel:
-        return
+        return False
     if abs(across) >= reach + p.pass_gap:  # it passes the robot with room to spare
-        return
+        return False
     unit = rel / dist
     u = w / speed_rel  # room on a side: the person fits beside the robot as they see it, or abeam on their walk
     right, left = unit * -1j, unit * 1j
@@ -120,9 +146,9 @@ def steer_around_robot(s, i):  # noqa: ANN001, ANN201
             gap = dist - reach
             following = max(0.0, (robot.vel * e.conjugate()).real)
             p.desired_speed = min(p.desired_speed, max(0.0, gap - WAIT_GAP) / WAIT_TIME + following)
-        return
+        return False
     if abs(across) >= reach + room:
-        return
+        return False
     v = passing(robot.vel, unit, dist, reach + room, speed_rel, clockwise)
     # round a standing or oncoming robot any way but back; one crossing or going their way is let go by rather
     # than walked along with
@@ -133,10 +159,23 @@ def steer_around_robot(s, i):  # noqa: ANN001, ANN201
         v = passing(robot.vel, unit, dist, reach + other, speed_rel, not clockwise) if other >= 0 else 0j
         if off_way(v, e, limit) or abs(v) < 1e-9:
             p.desired_speed = 0.0
-            return
+            return False
     speed = abs(v)
     p.desired_speed = min(p.desired_speed, speed)
     p.via = p.pos + v / speed * max(abs(ahead), 1.0)
+    return False
+
+
+@jit(inline=True)
+def swept_gap(pos, robot_pos, robot_vel, reach):  # noqa: ANN001, ANN201
+    """The gap between a person at `pos` and the robot's body where it is or will be within HORIZON s, driving on
+    at robot_vel (a moving robot is let by off its way, not only off where it is now)."""
+    run = robot_vel * HORIZON
+    length = abs(run)
+    if length < 1e-9:
+        return abs(pos - robot_pos) - reach
+    along = min(max(((pos - robot_pos) * (run / length).conjugate()).real, 0.0), length)
+    return abs(pos - (robot_pos + run / length * along)) - reach
 
 
 @jit(inline=True)

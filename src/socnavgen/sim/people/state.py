@@ -8,9 +8,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from socnavgen.bodies import PERSON_GOAL_RADIUS, PERSON_GOAL_SLACK, PERSON_MAX_SPEED, PERSON_RADIUS
+from socnavgen.bodies import (
+    PERSON_GOAL_RADIUS,
+    PERSON_GOAL_SLACK,
+    PERSON_MAX_SPEED,
+    PERSON_PASS_GAP,
+    PERSON_RADIUS,
+)
 from socnavgen.sim.jit import jit
-from socnavgen.sim.people.avoid import PASS_GAP
 from socnavgen.sim.records import layout, table
 
 DONE_SPEED = 0.05  # m/s: a person slower than this at its last goal has finished its walk
@@ -35,7 +40,7 @@ class HumanSpec:
     interaction_point: tuple[float, float] | None = None
     path_nodes: list[str] = field(default_factory=list)
     start_delay: float = 0.0  # s: stands at its spawn point, facing its first goal, until then (its tree waits)
-    pass_gap: float = PASS_GAP  # m left passing the robot where there is room (people.avoid.pass_gap_for)
+    pass_gap: float = PERSON_PASS_GAP  # m left passing the robot where there is room (people.avoid.pass_gap_for)
 
 
 PERSON = layout([
@@ -44,6 +49,7 @@ PERSON = layout([
     ("group", "i8"),  # label of its group (0..G-1, groups of two or more), -1 alone
     ("start_delay", "f8"),  # s: its tree is not ticked (it stands) before then
     ("pass_gap", "f8"),  # m: the gap it leaves passing the robot where there is room (people.avoid)
+    ("goal_wait", "f8"),  # s it has been held back short of a goal the robot stands on (people.avoid.GOAL_PATIENCE)
     # goal queue: the front goal, and the ring goals[i, start:start + count] (wrapping)
     ("goal", "c16"), ("goal_radius", "f8"), ("has_goal", "?"), ("queue_start", "i8"), ("queue_count", "i8"),
     ("cyclic", "?"),
