@@ -106,6 +106,8 @@ def steer(s, i):  # noqa: ANN001, ANN201
     if (rel * e.conjugate()).real < dist * math.cos(FIELD_OF_VIEW) or not sees(s, i):
         return False
     if abs(target - robot.pos) < reach + p.pass_gap:  # the robot stands on (or passes over) their goal
+        if abs(p.push) > 0.0:  # driven off by it (RunAwayFromRobot): their goal is no pull toward it
+            return False
         if abs((rel * e.conjugate()).imag) >= reach + GOAL_GAP:
             return False  # walks past its body with room
         if p.goal_wait >= GOAL_PATIENCE:
