@@ -19,34 +19,37 @@ ROOT = Path(__file__).resolve().parents[2]
 PATHS = fixture_paths(FIXTURES)
 
 # Where the verifier and the eyes disagree today, each with what was seen (a strict xfail: it turns red the day
-# they agree, and the pin must go). Empty means they agree on every fixture. Judged 2026-11-26 (round 6) on the
-# final code of that day. Five lenient passes share one cause: people pass the robot at exactly 0.10 m (the gap
-# their own steps keep, sim/people/avoid.py KEEP_GAP / MIN_PASS_GAP), which is no contact by the 5 cm rule but reads
-# as touching in the GIF.
-_TOUCH = "a gap of 0.10 m, which the eyes read as touching (no contact by the verifier's 5 cm rule)"
+# they agree, and the pin must go). Empty means they agree on every fixture. Round 7 answers, judged 2026-11-26 (third
+# session) on that session's code. Causes shared by several: people bumping into EACH OTHER (bodies at 0.00 m: the
+# contact step leaves them touching; the verifier checks robot-person contact only), the robot passing people at
+# 0.10-0.17 m (no contact by the 5 cm rule, brushing to the eyes), and events of the text that no criterion of the
+# model's spec states (then no verifier can see them missing).
+_BUMP = "two people's bodies touch each other (gap 0.00 m), which no criterion checks"
 DISAGREE: dict[str, str] = {
-    "home_02_resident_with_cane_in_doorway": "lenient PASS: the resident walks into the waiting robot's spot "
-    f"instead of on to the west end; {_TOUCH} at 31.6 s and again as the robot squeezes to the door",
-    "home_05_serving_drinks_at_party": f"lenient PASS: a guest walks back to her spot into the passing robot, {_TOUCH}",
-    "home_07_laundry_in_morning_rush": f"lenient PASS: the daughter comes out as the robot reaches 41, {_TOUCH}",
-    "hospital_02_guide_visitor_to_room": "lenient PASS: the robot stands on the nurse's crossing point and creeps "
-    f"on, she squeezes behind it ({_TOUCH}); the visitor sets off before she has passed",
-    "hospital_05_elevator_at_visiting_hour": "lenient PASS: the robot waits in the middle of the lobby in the exit "
-    f"path, not beside the door; the couple squeeze past ({_TOUCH}) where the text wants a wide berth",
-    "hospital_06_night_wandering_patient": "lenient PASS: after FOLLOW ME the robot drives up to the elevator where "
-    "the patient stood and makes her step aside for ~20 s instead of turning round at the lobby centre",
-    "warehouse_03_fire_alarm_evacuation": "strict FAIL, the verifier is right (wt-verify s7 looked at the frames): "
-    "after FOLLOW ME the first worker (FollowRobot) stands still at 9z from 13 s to 37 s while the robot drives 5 m "
-    "south, then runs to catch up (6.6 m walkable behind at 37 s); a follower who stands while the leader leaves is "
-    "not following; the eyes call the late catch-up minor. Cause: the follower waiting (simulator), not the verifier",
-    "warehouse_01_blind_corner_cart": "stale eyes, not a verifier bug: the eyes judged the robot before wt-robot s7 "
-    "(standoff, timeout); since the robot slows near people and a waiting robot steps right of its way (robot.polite near_speed, wait_aside) it PASSES at the end "
-    "of --verify, and frames at 34/37/40/43 s show the worker stopping at f7, the robot pulled into the corner pocket "
-    "south of f7 (closest gap ~0.3 m), the worker walking on west past it, the robot going north to hd: re-judge by eye",
-    "warehouse_04_pallet_jack_backing_out": "lenient PASS: the worker comes out with the robot ~8 m away, walks at it "
-    "and stands in front of it looking at it; no backing out across the aisle at sh, which the text wants. No criterion "
-    "passed vacuously (wt-verify s7): the --verify repair moved the meeting from sh to ki and no criterion states the "
-    "text's event (out of the aisle at sh when the robot is ~3 m away, not looking at it): the spec stage's job",
+    "home_02_resident_with_cane_in_doorway": "lenient PASS: the robot waits right next to the door and the resident "
+    "brushes it coming out (~23 s, gap 0.17 m), against the text's 'clear way' and 'safe distance'",
+    "home_03_welcome_dinner_guests": f"lenient PASS: the guests walk side by side, not in single file ({_BUMP}, ~4 s), "
+    "and the greeting stop in the living room never visibly happens (no criterion states it)",
+    "home_04_grandchild_shows_drawing": "lenient PASS: the robot stands stuck in the doorway ~11 s until the child "
+    "leaves the drawing spot, then takes the spot itself; the child never faces it at the drawing",
+    "home_07_laundry_in_morning_rush": "lenient PASS: the robot does not stop in the bedroom doorway for the children, "
+    "passes human2 at 0.10 m at 13.4 s and stands face to face with the mother at z2 for ~10 s",
+    "hospital_04_telepresence_ward_round": f"lenient PASS: the robot ends in the doorway ~1.8 m short of its goal "
+    "(counted as arrived short of an occupied goal) after stalling ~20 s; two of the four start on one spot (gap "
+    f"-0.80 m at t=0) and jump apart; {_BUMP} within the team",
+    "hospital_05_elevator_at_visiting_hour": "lenient PASS: in the corridor the visitor steps into a room doorway and "
+    "waits while the robot drives past - the reverse of the text (no criterion says who waits)",
+    "hospital_06_night_wandering_patient": "lenient PASS: after FOLLOW ME the robot drives up to ~0.4 m of the confused "
+    "patient, who has to give way, where the text has it stop at a respectful distance and wait",
+    "warehouse_02_aisle_picker_excuse_me": "strict FAIL: the eyes see every event happen (stop ~2 m short, EXCUSE ME, "
+    "the picker leads out, waits beside the aisle end, goes back); the spec's first encounter window closes (13.4 s) "
+    "before the robot reaches the picker (EXCUSE ME at 15 s): the model's `within`, not the scene",
+    "warehouse_04_pallet_jack_backing_out": "lenient PASS: the worker never backs out across the cross aisle in front "
+    "of the robot and the robot never stops; it drives past the worker still standing at the aisle end",
+    "warehouse_05_sweeping_at_shift_change": f"lenient PASS: the three encounters happen, but {_BUMP} (workers 2 and 3, "
+    "~43-45 s) and worker 3 idles ~43 s before setting off",
+    "warehouse_07_night_patrol_west_corridor": "lenient PASS: no PROCEED at hd (the robot goes down the aisle first), "
+    f"ACKNOWLEDGED before WAIT at ki, the second worker never passes in front of the robot, and {_BUMP}",
 }
 
 # Fixtures whose recorded answers a stage check added since refuses, each with why; the recording has no answer
