@@ -41,3 +41,15 @@ def test_with_no_clear_spot_a_person_starts_on_their_node() -> None:
     node = 5.5 + 4j  # a dead end 1.1 m on: the robot stands 0.3 m off the node
     for seed in range(10):
         assert spawn_points(corridor, [node], [-1], PERSON_RADIUS, np.random.default_rng(seed), 5.2 + 4j) == [node]
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_a_group_of_four_in_a_corridor_never_starts_on_one_spot(seed: int) -> None:
+    """Four members on a 0.6 m circle round a node of a 2.4 m corridor: the two across it do not fit; they start at
+    the nearest clear spots along it, never on the node on top of each other (the ward-round team of round 7 started
+    two bodies on one point, gap -0.80 m)."""
+    corridor = empty_room(14.0, 8.0, walls=[(0.0, 0.0, 14.0, 2.8), (0.0, 5.2, 14.0, 8.0)])
+    node = 7.0 + 4j
+    points = spawn_points(corridor, [node] * 4, [0] * 4, PERSON_RADIUS, np.random.default_rng(seed), 2.0 + 4j)
+    assert min(abs(a - b) for a, b in itertools.combinations(points, 2)) - 2 * PERSON_RADIUS >= CONTACT_MARGIN - 1e-9
+    assert all(corridor.is_free(p, PERSON_RADIUS) and abs(p - node) <= 1.5 + 1e-9 for p in points)

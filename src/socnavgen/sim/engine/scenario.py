@@ -5,6 +5,7 @@ world coordinates via Location.node_world, people spawned around their first nod
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -64,14 +65,39 @@ def spawn_points(world: World, first_nodes: list[complex], group_ids: list[int],
         else:
             angle = float(rng.uniform(0, 2 * math.pi))
             rho = float(rng.uniform(0, SPAWN_SPREAD))
-        point = node
+        point = None
         for attempt in range(12):
             spot = node + rho * (0.7 ** attempt) * complex(math.cos(angle), math.sin(angle))
             if world.is_free(spot, radius) and world.line_of_sight(node, spot)[0] and clear(spot, g):
                 point = spot
                 break
+        if point is None:  # no room where it was drawn (a group of four in a corridor): the nearest clear spot
+            point = nearest_clear(world, node, radius, lambda spot, g=g, node=node: clear(spot, g) and not (
+                robot_start is not None and segment_distance(robot_start, spot, node) < radius + ROBOT_RADIUS))
         out.append(point)
     return out
+
+
+SPAWN_SEARCH = (np.arange(0.0, SPAWN_SPREAD + 1e-9, 0.1), 24)  # radii (m) and directions tried for a free spot
+
+
+def segment_distance(p: complex, a: complex, b: complex) -> float:
+    """Distance from p to the segment a-b (a spot whose way to its node runs through the robot is no spot)."""
+    ab = b - a
+    t = 0.0 if abs(ab) < 1e-12 else min(max(((p - a) * ab.conjugate()).real / abs(ab) ** 2, 0.0), 1.0)
+    return abs(p - (a + ab * t))
+
+
+def nearest_clear(world: World, node: complex, radius: float, clear: Callable[[complex], bool]) -> complex:
+    """The spot nearest `node` (in sight of it, off the walls) that `clear` accepts: bodies never start on each
+    other; the node itself when there is none within SPAWN_SPREAD."""
+    radii, directions = SPAWN_SEARCH
+    for rho in radii:
+        for k in range(directions if rho > 0 else 1):
+            spot = node + rho * complex(math.cos(2 * math.pi * k / directions), math.sin(2 * math.pi * k / directions))
+            if world.is_free(spot, radius) and world.line_of_sight(node, spot)[0] and clear(spot):
+                return spot
+    return node
 
 
 def node_worlds(run: LoadedRun, location: Location) -> dict[str, tuple[float, float]]:
