@@ -17,7 +17,8 @@ def test_report_ranks_the_bad_policy_worst_and_is_self_contained(small_spec, tmp
     agg = aggregate(read_episodes(out)[0], resamples=500, baseline="scripted")
     bad, good = agg.per_policy["bad"]["collisions"], agg.per_policy["scripted"]["collisions"]
     assert bad.mean > good.mean
-    assert agg.paired["bad"]["collisions"].losses >= 3  # worse on most of the same scenario+seed pairs
+    paired = agg.paired["bad"]["collisions"]  # worse on the blind corner's pairs, never better (people let it
+    assert paired.losses >= 2 and paired.wins == 0  # drive across the open intersection: ties there)
     assert agg.worst[0]["policy"] == "bad"
 
     html_path, md_path, ranking_path = write_report(out, gifs=1, resamples=500, baseline="scripted")  # ReportFiles

@@ -32,7 +32,9 @@ def test_inline_and_local_processes_write_the_same_table(small_spec, tmp_path) -
     assert all(r[3] == "ok" and r[6] is not None and r[7].startswith("[") for r in rows)
     bad = [r[5] for r in rows if r[1] == "bad"]
     good = [r[5] for r in rows if r[1] == "scripted"]
-    assert max(bad) == 0.0 < min(good)  # driving through people shows in the table: bodies overlap
+    # driving through people shows in the table: at the blind corner (nobody sees it coming) bodies overlap; at the
+    # open intersection people let a robot that drives across go by (sim/people/avoid.py: off its swept way)
+    assert [r[5] for r in rows if r[1] == "bad" and "blind" in r[0]] == [0.0, 0.0] and min(bad) == 0.0 < min(good)
 
 
 def test_crash_and_hang_fail_their_episode_only(tmp_path) -> None:  # noqa: ANN001

@@ -31,10 +31,6 @@ _DOOR_SHORT = ("2.x has no side step: the robot stops 1.6 m short of the person 
 _OVERTAKE = ("2.x has no side step: the overtaken hunav2 person (AvoidRobot) walks on ahead of the robot along the "
              "hospital corridor, out of its way only at its goal (the robot stops short of them at 44 s, 29 s with the "
              "socrates twin, who steps aside at once)")
-_DOOR_STANDOFF = ("2.x has no side step: at the hospital door the hunav2 person (AvoidRobot, its goal past the robot) "
-                  "stands 1.5 m in front of the robot, pushed off by it; the robot makes way backwards from 28 s and "
-                  "they pass only at 41 s, 18 s of back and forth the verifier counts as a stand; the socrates person "
-                  "steps aside and the robot passes at once")
 _FOLLOW_AHEAD = ("2.x's follower (CuriousNav closing to 1.5 m, AvoidRobot pushing off at 2 m) walks ahead of the robot "
                  "to its goal and hovers there at 0.05-0.3 m/s, so the robot waits 17-23 s before it counts as arrived "
                  "short of them (proxemics.short_of_goal wants them standing); ours follows 1.3 m behind "
@@ -48,7 +44,11 @@ KNOWN_DIVERGENT = {
     "home/pedestrian-obstruction": _PHRASE_LATE,
     "home/narrow-doorway": _DOOR_SHORT,
     "hospital/robot-overtaking": _OVERTAKE,
-    "hospital/narrow-doorway": _DOOR_STANDOFF,
+    # since people stop short of a goal the robot is on (2026-11-26, s7): the hospital door's twins now verify alike
+    # (the card fails in both: tests/cards KNOWN_FAILING) and the hospital hallway's part (finding by finding, not yet
+    # looked at in frames): the hunav2 person (AvoidRobot) never leaves the robot's way, the robot stands behind them
+    # over 10 s and never reaches 0g; the socrates person gives way after EXCUSE ME and the robot passes
+    "hospital/narrow-hallway": "2.x has no side step: the hunav2 person stays in the robot's way in the hallway",
     "hospital/accompanying-peer": _FOLLOW_AHEAD,
     "warehouse/accompanying-peer": _FOLLOW_AHEAD,
 }
