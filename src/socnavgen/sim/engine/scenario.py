@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -58,6 +59,11 @@ def spawn_points(world: World, first_nodes: list[complex], group_ids: list[int],
                 return False
         return True
 
+    def free_of_others(spot: complex, node: complex, g: int) -> bool:
+        """Clear of everybody, and not reached from its node through the robot's body."""
+        return clear(spot, g) and not (
+            robot_start is not None and segment_distance(robot_start, spot, node) < radius + ROBOT_RADIUS)
+
     for k, (node, g) in enumerate(zip(first_nodes, group_ids, strict=True)):
         if g != -1 and len(members[g]) > 1:  # a group stands together, evenly on a small circle
             angle = members[g].index(k) * 2 * math.pi / len(members[g])
@@ -72,8 +78,7 @@ def spawn_points(world: World, first_nodes: list[complex], group_ids: list[int],
                 point = spot
                 break
         if point is None:  # no room where it was drawn (a group of four in a corridor): the nearest clear spot
-            point = nearest_clear(world, node, radius, lambda spot, g=g, node=node: clear(spot, g) and not (
-                robot_start is not None and segment_distance(robot_start, spot, node) < radius + ROBOT_RADIUS))
+            point = nearest_clear(world, node, radius, partial(free_of_others, node=node, g=g))
         out.append(point)
     return out
 
