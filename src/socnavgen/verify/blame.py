@@ -37,7 +37,8 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
   R1  the trigger held (the robot near / said the phrase) but the reaction never ran           -> behaviors(h)
       except: a hold (blocks_robot, stops_near_robot) whose reaction ran its whole `lasts` and was over
       before the robot was held there (the tree must keep the spec's `lasts`)                  -> spec
-      except: a block whose `until` phrase a `blocked` cue says where the blocker stands      -> spec
+      except: a block whose `until` phrase a `blocked` cue says where the blocker stands, or
+      (checked first) the robot within reach only after the encounter's window closed         -> spec
   R3  robot_reaches_goal failed, the robot ending still with nobody in its way while its script has
       waiting cues (wait, wait_until_clear, a human's phrase)                                   -> robot_script
   R4  (checked before R2) robot_reaches_goal failed with someone holding the robot up at the end of the run (a
@@ -69,7 +70,7 @@ from socnavgen.bodies import (
 )
 from socnavgen.run.models import PathPlan
 from socnavgen.run.spec import Blame, Criterion, ScenarioSpec
-from socnavgen.sim.people.leaves import BLOCK_AHEAD
+from socnavgen.verify.blame_timing import ended_at_once, window_closed_early
 from socnavgen.verify.criteria import Compiled
 from socnavgen.verify.evidence import deadlock_culprit, in_window, met_mask
 from socnavgen.verify.signals import ROBOT_PHRASES, Signals, lasting, phrase_id, reaction_evidence
@@ -382,7 +383,8 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
         reach = max(cc.distance or MEET_DISTANCE, MEET_DISTANCE)
         if s.get(f"dist_{h}").min() > reach:
             return "paths", None, f"the robot never came within {reach:g} m of {h}"
-        cause = _missing_cause(cc, s, h) or _spent(cc, s, spec, h) or _ended_at_once(cc, s, spec, h)
+        cause = (window_closed_early(cc, s, h, reach) or _missing_cause(cc, s, h) or _spent(cc, s, spec, h)
+                 or ended_at_once(cc, s, spec, h))
         if cause:
             return cause
         return "behaviors", h, f"the robot came near {h} but {h} did not react as asked ({kind})"
@@ -479,18 +481,6 @@ def _spent(cc: Compiled, s: Signals, spec: ScenarioSpec, h: str) -> Verdict | No
                                   f"s, {part.trigger}) and it was over before the robot was held there ({cc.criterion.kind}"
                                   f"): its tree must keep the spec's `lasts`, so the spec must time it (a longer "
                                   f"`lasts`, or a later trigger)")
-    return None
-
-
-def _ended_at_once(cc: Compiled, s: Signals, spec: ScenarioSpec, h: str) -> Verdict | None:
-    """R1's other exception: h's block ends (`until`) on a phrase a `blocked` cue says where a blocker stands."""
-    for (enc, part), (n, cue) in ((ep, nc) for ep in spec.parts_of(h) for nc in enumerate(spec.script.cues, 1)):
-        if (cc.criterion.kind == "blocks_robot" and part.reaction == "block" and part.until and cue.say == part.until
-                and cue.trigger.when == "blocked" and cue.trigger.distance >= BLOCK_AHEAD and not _never_said(
-                    s, phrase_id(part.until)) and (cc.encounter is None or enc.id == cc.encounter.id)):
-            return "spec", None, (f"cue {n} says {part.until} when someone is within {cue.trigger.distance:g} m ahead, "
-                                  f"and a blocker stands {BLOCK_AHEAD:g} m ahead: {h}'s block ends (`until`) as it "
-                                  "begins; give the block `lasts`, or say the phrase later (an `after` cue)")
     return None
 
 
