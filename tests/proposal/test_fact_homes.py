@@ -92,3 +92,11 @@ def test_no_example_robot_says_proceed_while_it_holds():
         spec = example["reply"].get("spec") or {}
         for cue in (spec.get("script") or {}).get("cues", []):
             assert not (cue.get("say") == "PROCEED" and (cue.get("wait") or cue.get("wait_until_clear"))), cue
+
+
+def test_the_stl_text_says_bounds_are_optional_and_an_unbounded_formula_parses():
+    from socnavgen.proposal.facts import stl_text
+    from socnavgen.verify.stl import formula_bounds
+
+    assert "without bounds: over the whole run" in stl_text()
+    assert formula_bounds("eventually (dist_human1 <= 2.0)", 0.1) == []

@@ -352,7 +352,8 @@ def stl_text(signals: bool = True) -> str:
         ", ".join(k.shown for k in SIGNAL_KINDS)
     return (f"- A criterion of kind stl holds a signal temporal logic \"formula\": one expression of at most "
             f"{MAX_FORMULA_CHARS} characters and {MAX_NESTING} nested levels, with the operators always, "
-            f"eventually, historically, once, until, since (bounds in seconds, e.g. eventually[0:5]), and, or, "
+            f"eventually, historically, once, until, since (bounds in seconds, e.g. eventually[0:5]; without bounds: "
+            f"over the whole run), and, or, "
             f"not, implies, and comparisons (<, <=, >, >=); 0/1 signals are compared with 0.5. Example: "
             f"\"{STL_EXAMPLE}\" (within the first 60 s the robot says EXCUSE ME while human1 is within 2 m). "
             f"Signals: {listed}. Use the other kinds when one fits: they are checked with care for cause and "
