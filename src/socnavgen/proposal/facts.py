@@ -255,8 +255,8 @@ def block_until_text() -> str:
     from socnavgen.sim.people.leaves import BLOCK_AHEAD
 
     return (f"a person who blocks (block) stands {BLOCK_AHEAD:g} m (centres) ahead of the robot, so a robot cue "
-            f"\"blocked\" with a `distance` of {BLOCK_AHEAD:g} m or more fires as the block begins: if that cue says "
-            f"the block's \"until\" phrase, the block is over at once. To hold the robot a while, give the block "
+            f"\"blocked\" with a `distance` of {BLOCK_AHEAD:g} m or more fires as soon as the block stands in front of it: if "
+            f"that cue says the block's \"until\" phrase, the block is over the moment it holds the robot. To hold the robot a while, give the block "
             f"\"lasts\" seconds, or have the phrase said by a cue that fires later (\"after\" a time when the "
             f"block is under way)")
 
