@@ -83,7 +83,7 @@ def test_stage_1_states_the_start_rule_and_the_waits_with_their_sources_numbers(
     assert "whatever the trigger is (at_encounter, human_within, blocked" in text
     assert f"still held after {CLEAR_PATIENCE:g} s" in text
     assert f"stands {BLOCK_AHEAD:g} m (centres) ahead of the robot" in text
-    assert "The description above is the location author's words" in text
+    assert "where its widths differ from this inventory, the inventory (measured) is right" in text
 
 
 def test_no_example_robot_says_proceed_while_it_holds():

@@ -230,8 +230,9 @@ def latch_text(target: Target = "socrates") -> str:
             "whatever the trigger does, then they walk on for good.")
 
 
-def people_text() -> str:
-    """Per-person facts of the spec (run/spec.py Person) and how one person's several parts combine."""
+def people_text(detail: bool = True) -> str:
+    """Per-person facts of the spec (run/spec.py Person) and how one person's several parts combine; `detail` False
+    (fit.py's `robot` cut) leaves out why a block can end at once (block_until_text)."""
     from socnavgen.bodies import PERSON_MAX_SPEED
 
     most = next((m.le for m in Person.model_fields["speed"].metadata if getattr(m, "le", None) is not None), None)
@@ -242,7 +243,7 @@ def people_text() -> str:
             f"The later encounter's part (higher order) takes over while its trigger holds (latch it, or the earlier "
             f"part comes back once, e.g., the phrase is over). Pacing brings them to their FIRST encounter's node. "
             f"One meeting is one encounter, one reaction per person (\"lasts\" ends it after so many seconds, "
-            f"{UNTIL_FACT}; {block_until_text()}; to stand still in the robot's way until it says EXCUSE ME, then step aside: "
+            f"{UNTIL_FACT}; {block_until_text() + '; ' if detail else ''}to stand still in the robot's way until it says EXCUSE ME, then step aside: "
             f"\"otherwise\": \"stand\" and give_way on robot_says).\n"
             f"- \"lasts\" (s) ends a reaction (then they walk on), e.g. say WAIT for at most 5 s; wait_then_go "
             f"stands {WAIT_THEN_GO_SECONDS:g} s unless set. \"seconds\" is only the time trigger's. {_negations()}\n"
@@ -378,8 +379,8 @@ def robot_vocabulary_text() -> str:
 def scenario_rules_text(target: Target | None = None, signals: bool = True, robot: bool = True) -> str:
     """What stage 1 must know about how its spec plays out (pacing, within, cues, groups, people, latch, what
     the robot cannot do, export, stl); `signals` False names the STL signals without their meanings."""
-    lines = ["HOW THE SPEC PLAYS OUT:", starts_text(), pacing_text(), encounter_within_text(), cue_once_text(), groups_text(),
-             people_text(), latch_text(target or "socrates"), robot_limits_text(robot), export_text(target, spec_words=True),
+    lines = ["HOW THE SPEC PLAYS OUT:", starts_text() if robot else "", pacing_text(), encounter_within_text(),
+             cue_once_text(), groups_text(), people_text(detail=robot), latch_text(target or "socrates"), robot_limits_text(robot), export_text(target, spec_words=True),
              stl_text(signals)]
     return "\n".join(line for line in lines if line)
 
