@@ -366,23 +366,21 @@ def _part_mistakes(nodes: list[Placed], enc: Encounter, part: HumanPart, target:
         if not actions:
             return [f"{what}: {reaction.describe()} is not gated by {trigger.describe()}; put the condition before "
                     f"the action in a Sequence (or inverted in an earlier branch of a Fallback)"]
-    timer = lasting_need(part, target)
-    if timer is not None and not any(_gated(a, path, timer) for a, path in actions):
-        return [f"{what}: the reaction lasts {part.lasting():g} s; put {_timer_xml(part)} before "
-                f"{reaction.describe()} in its Sequence"]
-    if timer is not None and part.latch and trigger is not None and _latch_by_node(part, target) \
-            and not any(_timed_inside_latch(a, path, timer) for a, path in actions):
-        return [f"{what}: the reaction is latched and lasts {part.lasting():g} s; a timer outside the latch is never "
-                f"checked again once the latch runs: {_timed_latch_words(part)}"]
-    until = until_need(part, target)
-    if until is not None and not any(_gated(a, path, until) for a, path in actions):
-        return [f"{what}: the reaction ends once the robot said {part.until}; put {until_xml(part)} before "
-                f"{reaction.describe()} in its Sequence"]
-    if until is not None and part.latch and trigger is not None and _latch_by_node(part, target) \
-            and not any(_timed_inside_latch(a, path, until) for a, path in actions):
-        return [f"{what}: the reaction is latched and ends once the robot said {part.until}; a check outside the "
-                f"latch is never made again once the latch runs: put {until_xml(part)} INSIDE <{LATCH_NODE}>, "
-                f"right before the action"]
+    timer, until = lasting_need(part, target), until_need(part, target)
+    ends = []  # what ends the reaction: a gate before it, inside the latch if the reaction is latched
+    if timer is not None:
+        ends.append((timer, f"lasts {part.lasting():g} s", _timer_xml(part),
+                     f"a timer outside the latch is never checked again once the latch runs: {_timed_latch_words(part)}"))
+    if until is not None:
+        ends.append((until, f"ends once the robot said {part.until}", until_xml(part),
+                     f"a check outside the latch is never made again once the latch runs: put {until_xml(part)} "
+                     f"INSIDE <{LATCH_NODE}>, right before the action"))
+    for need, how, xml, inside in ends:
+        if not any(_gated(a, path, need) for a, path in actions):
+            return [f"{what}: the reaction {how}; put {xml} before {reaction.describe()} in its Sequence"]
+        if part.latch and trigger is not None and _latch_by_node(part, target) \
+                and not any(_timed_inside_latch(a, path, need) for a, path in actions):
+            return [f"{what}: the reaction is latched and {how}; {inside}"]
     if _gesture_ends(part, target) and not any(n.name == GESTURE and (v := n.value("message")) is not None
                                                and literal_text(v) == "0"
                                                for n, _ in nodes):
