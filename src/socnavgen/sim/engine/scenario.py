@@ -25,6 +25,7 @@ from socnavgen.errors import ValidationFailed
 from socnavgen.run import LoadedRun, load_run
 from socnavgen.sim.engine.simulation import RobotSpeech, SimConfig, Simulation
 from socnavgen.sim.people.pacing import PacingPlan, ThrottleConfig
+from socnavgen.sim.people.routing import project
 from socnavgen.sim.people.state import HumanSpec
 from socnavgen.sim.people.trees import lower_trees
 from socnavgen.sim.robot.api import DEFAULT_ROBOT, load_policy
@@ -62,7 +63,7 @@ def spawn_points(world: World, first_nodes: list[complex], group_ids: list[int],
     def free_of_others(spot: complex, node: complex, g: int) -> bool:
         """Clear of everybody, and not reached from its node through the robot's body."""
         return clear(spot, g) and not (
-            robot_start is not None and segment_distance(robot_start, spot, node) < radius + ROBOT_RADIUS)
+            robot_start is not None and project(robot_start, spot, node)[1] < radius + ROBOT_RADIUS)
 
     for k, (node, g) in enumerate(zip(first_nodes, group_ids, strict=True)):
         if g != -1 and len(members[g]) > 1:  # a group stands together, evenly on a small circle
@@ -84,13 +85,6 @@ def spawn_points(world: World, first_nodes: list[complex], group_ids: list[int],
 
 
 SPAWN_SEARCH = (np.arange(0.0, SPAWN_SPREAD + 1e-9, 0.1), 24)  # radii (m) and directions tried for a free spot
-
-
-def segment_distance(p: complex, a: complex, b: complex) -> float:
-    """Distance from p to the segment a-b (a spot whose way to its node runs through the robot is no spot)."""
-    ab = b - a
-    t = 0.0 if abs(ab) < 1e-12 else min(max(((p - a) * ab.conjugate()).real / abs(ab) ** 2, 0.0), 1.0)
-    return abs(p - (a + ab * t))
 
 
 def nearest_clear(world: World, node: complex, radius: float, clear: Callable[[complex], bool]) -> complex:
