@@ -172,3 +172,64 @@ def test_a_look_whose_cue_never_held_is_the_paths(tmp_path: Path, corner: Path, 
     scene = _h1(_robot(base_scene(), [(0.0, *DOCK), (12.0, *EAST), (20.0, *EAST)]), walks, actions=[], says=[])
     stop = _finding(_verify(tmp_path / "r", corner, _looks_when_it_sees(base_spec()), scene), "c3")
     assert not stop.passed and stop.blame == blame and words in stop.blame_reason, stop.blame_reason
+
+
+@pytest.mark.parametrize(("cue_distance", "blame"), [(1.6, "spec"), (1.0, "behaviors")])
+def test_a_block_that_its_own_until_cue_ends_as_it_begins_is_the_specs(tmp_path: Path, corner: Path,
+                                                                     cue_distance: float, blame: str) -> None:
+    """human1 blocks until the robot says EXCUSE ME, and the robot's `blocked` cue says it within 1.6 m, farther
+    than where a blocker stands (sim/people/leaves.BLOCK_AHEAD, 1.5 m): the block ends as it begins, whatever the
+    tree (a round-7 player's two changed trees, the same numbers twice). A cue reaching nearer: R1, the tree's."""
+    from socnavgen.run.spec import RobotCue, RobotScript
+
+    spec = base_spec()
+    e1 = spec.encounter("e1").model_copy(update={"humans": [
+        HumanPart(human="human1", trigger="robot_visible", distance=4.0, reaction="block", until="EXCUSE ME")]})
+    cue = RobotCue.model_validate({"trigger": {"when": "blocked", "distance": cue_distance}, "say": "EXCUSE ME"})
+    spec = spec.model_copy(update={"encounters": [e1, spec.encounter("e2")],
+                                   "script": RobotScript(route=spec.script.route, cues=[cue]),
+                                   "criteria": [*spec.criteria, Criterion(id="c12", kind="blocks_robot",
+                                                                          human="human1", encounter="e1")]})
+    steps_off = [(0.0, 6.3, 5.2), (5.5, 6.3, 1.9), (6.0, 6.3, 1.9), (8.0, 6.3, 5.5), (20.0, 6.3, 5.5)]
+    scene = _h1(_robot(base_scene(), STUCK_ROBOT, says=[(5.5, 8.0, 4)]), steps_off, [(5.5, 6.0, "LookAtRobot")])
+    block = _finding(_verify(tmp_path / "r", corner, spec, scene), "c12")
+    assert not block.passed and block.blame == blame, (block.blame, block.blame_reason)
+    if blame == "spec":
+        assert "ends (`until`) as it begins" in block.blame_reason and "1.5 m ahead" in block.blame_reason
+
+
+class _Series:
+    """The few signals window_closed_early reads: the robot 6 m from human1, coming within 1.3 m at 20 s; human1's
+    e1 window open until `closes` s."""
+
+    def __init__(self, closes: float) -> None:
+        from types import SimpleNamespace
+
+        import numpy as np
+
+        self.t = np.arange(0.0, 30.0, 0.1)
+        self.trace = SimpleNamespace(steps=len(self.t), dt=0.1)
+        self._signals = {"dist_human1": np.where(self.t >= 20.0, 1.3, 6.0),
+                         "during_human1_e1": (self.t < closes).astype(float)}
+
+    def get(self, name: str):  # noqa: ANN201
+        return self._signals[name]
+
+
+@pytest.mark.parametrize(("closes", "blame"), [(13.4, "spec"), (25.0, None)])
+def test_a_window_that_closed_before_the_robot_came_near_is_the_specs(closes: float, blame: str | None) -> None:
+    """warehouse_02 round 7: the picker's stop was judged in e1's window (t=0-13.4 s), closed by e2 opening early;
+    the robot reached the picker at 23.6 s. Two changed trees could not move it: the spec's timing. A window still
+    open when the robot comes near: not this rule."""
+    from socnavgen.run.spec import Encounter
+    from socnavgen.verify.blame_timing import window_closed_early
+    from socnavgen.verify.criteria import Compiled
+
+    cc = Compiled(criterion=Criterion(id="c1", kind="stops_near_robot", human="human1", encounter="e1"), formula="",
+                  human="human1", encounter=Encounter(id="e1", place="AISLE END", node="12", humans=[HumanPart(human="human1", reaction="stop")]),
+                  window="during_human1_e1")
+    verdict = window_closed_early(cc, _Series(closes), "human1", 2.5)  # type: ignore[arg-type]
+    assert (verdict[0] if verdict else None) == blame, verdict
+    if verdict:
+        assert "e1's window ended at t=13.3 s, before the robot first came within 2.5 m of human1 (t=20.0 s)" \
+            in verdict[2]

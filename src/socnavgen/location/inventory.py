@@ -127,6 +127,11 @@ class PlaceInventory:
         found = self.passage(a, b)
         return found.width_m if found is not None else float("inf")
 
+    def narrow_passages(self) -> list[Passage]:
+        """Every edge one standing person closes to the robot, narrowest first: the one list stage 1's inventory
+        text names and stage 2's scene graph marks `"narrow": true` (Passage.narrow for both; doorway edges too)."""
+        return sorted((p for p in self.passages.values() if p.narrow), key=lambda p: (p.width_m, p.a, p.b))
+
     def blind_nodes(self, place: str) -> list[BlindTurn]:
         """The blind turns at nodes of this type, blindest first."""
         ids = {n.id for n in self.of_type(place)}
@@ -254,12 +259,11 @@ def inventory_text(location: Location, *, positions: bool = True, detail: bool =
                   + " and ".join(f"{s} ({inv.nodes[s].type})" for s in d.sides) for d in inv.doorways[:MAX_LISTED]]
     if not detail:
         return "\n".join(lines)
-    doors = {d.node for d in inv.doorways}
-    narrow = sorted((p for p in inv.passages.values() if p.narrow and not {p.a, p.b} & doors),
-                    key=lambda p: (p.width_m, p.a, p.b))
-    if narrow:
-        lines.append(f"Narrow passages (narrower than {BLOCKING_WIDTH:g} m: one standing person closes them to the "
-                     "robot): " + _listing([f"{p.a}-{p.b} {p.width_m:.1f} m" for p in narrow]) + ".")
+    narrow = inv.narrow_passages()
+    if narrow:  # all of them (the edges stage 2's scene graph marks narrow), the doorways' edges included
+        lines.append(f"Narrow passages (every edge narrower than {BLOCKING_WIDTH:g} m, doorways' edges included: one "
+                     "standing person closes them to the robot): "
+                     + ", ".join(f"{p.a}-{p.b} {p.width_m:.1f} m" for p in narrow) + ".")
     squeezes = [p for p in inv.passages.values() if p.squeeze]
     if squeezes:
         lines.append(f"Too narrow for a person ({PERSON_TOUCH_DISTANCE:g} m): "

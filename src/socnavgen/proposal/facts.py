@@ -230,8 +230,9 @@ def latch_text(target: Target = "socrates") -> str:
             "whatever the trigger does, then they walk on for good.")
 
 
-def people_text() -> str:
-    """Per-person facts of the spec (run/spec.py Person) and how one person's several parts combine."""
+def people_text(detail: bool = True) -> str:
+    """Per-person facts of the spec (run/spec.py Person) and how one person's several parts combine; `detail` False
+    (fit.py's `robot` cut) leaves out why a block can end at once (block_until_text)."""
     from socnavgen.bodies import PERSON_MAX_SPEED
 
     most = next((m.le for m in Person.model_fields["speed"].metadata if getattr(m, "le", None) is not None), None)
@@ -242,11 +243,23 @@ def people_text() -> str:
             f"The later encounter's part (higher order) takes over while its trigger holds (latch it, or the earlier "
             f"part comes back once, e.g., the phrase is over). Pacing brings them to their FIRST encounter's node. "
             f"One meeting is one encounter, one reaction per person (\"lasts\" ends it after so many seconds, "
-            f"{UNTIL_FACT}; to stand still in the robot's way until it says EXCUSE ME, then step aside: "
+            f"{UNTIL_FACT}; {block_until_text() + '; ' if detail else ''}to stand still in the robot's way until it says EXCUSE ME, then step aside: "
             f"\"otherwise\": \"stand\" and give_way on robot_says).\n"
             f"- \"lasts\" (s) ends a reaction (then they walk on), e.g. say WAIT for at most 5 s; wait_then_go "
             f"stands {WAIT_THEN_GO_SECONDS:g} s unless set. \"seconds\" is only the time trigger's. {_negations()}\n"
             f"- {stop_evidence_text()}")
+
+
+def block_until_text() -> str:
+    """Why a block can end the moment it begins (sim/people/leaves.BLOCK_AHEAD: where BlockRobot stands; a round-7
+    player's child stepped in front, the robot's blocked cue said EXCUSE ME at once and the block was over)."""
+    from socnavgen.sim.people.leaves import BLOCK_AHEAD
+
+    return (f"a person who blocks (block) stands {BLOCK_AHEAD:g} m (centres) ahead of the robot, so a robot cue "
+            f"\"blocked\" with a `distance` of {BLOCK_AHEAD:g} m or more fires as soon as the block stands in front of it: if "
+            f"that cue says the block's \"until\" phrase, the block is over the moment it holds the robot. To hold the robot a while, give the block "
+            f"\"lasts\" seconds, or have the phrase said by a cue that fires later (\"after\" a time when the "
+            f"block is under way)")
 
 
 def stop_evidence_text() -> str:
@@ -267,7 +280,6 @@ def robot_limits_text(detail: bool = True) -> str:
     """What the robot's script can and cannot do, and (`detail`) what the default robot does by itself
     (sim/robot/polite.py, its make_way after `patience` s face to face) and where it stops, so that the model
     plans around it (fit.py leaves the detail out for a small context: the "robot" cut)."""
-    from socnavgen import proxemics
     from socnavgen.bodies import TOUCH_DISTANCE
     from socnavgen.sim.robot.api import ScriptedPolicy
     from socnavgen.sim.robot.polite import FACE_GAP
@@ -284,9 +296,20 @@ def robot_limits_text(detail: bool = True) -> str:
             "passage, or a wait_until_clear cue at a wider node; \"it follows someone\": they lead along its route "
             "(robot_far to wait).\n"
             f"- It stops about {round(ScriptedPolicy.stop_gap + TOUCH_DISTANCE, 2):g} m (centres) from a person in "
-            f"its way; a wait_until_clear cue holds it where the cue fired while anyone is in its way within "
-            f"{proxemics.HELD_UP_DISTANCE:g} m (or the cue's distance), so a cue needing it closer to them never "
-            "fires meanwhile.")
+            f"its way; {wait_until_clear_text()}, so a cue needing it closer to them never fires meanwhile.")
+
+
+def wait_until_clear_text() -> str:
+    """What a wait_until_clear cue waits for (sim/robot/script.py: the larger of HELD_UP_DISTANCE and the cue's
+    trigger distance, whatever the trigger; CLEAR_PATIENCE, CLEAR_REPEATS)."""
+    from socnavgen import proxemics
+    from socnavgen.sim.robot.script import CLEAR_PATIENCE, CLEAR_REPEATS
+
+    return (f"a wait_until_clear cue holds it where the cue fired while anyone is in its way (ahead of it, on its "
+            f"route) within {proxemics.HELD_UP_DISTANCE:g} m, or within the cue trigger's `distance` when that is "
+            f"larger, whatever the trigger is (at_encounter, human_within, blocked alike; nobody ahead: it goes on "
+            f"at once); still held after {CLEAR_PATIENCE:g} s it says its phrase again, {CLEAR_REPEATS} times, then "
+            f"drives around them")
 
 
 def export_text(target: Target | None = None, spec_words: bool = False) -> str:
@@ -330,7 +353,8 @@ def stl_text(signals: bool = True) -> str:
         ", ".join(k.shown for k in SIGNAL_KINDS)
     return (f"- A criterion of kind stl holds a signal temporal logic \"formula\": one expression of at most "
             f"{MAX_FORMULA_CHARS} characters and {MAX_NESTING} nested levels, with the operators always, "
-            f"eventually, historically, once, until, since (bounds in seconds, e.g. eventually[0:5]), and, or, "
+            f"eventually, historically, once, until, since (bounds in seconds, e.g. eventually[0:5]; without bounds: "
+            f"over the whole run), and, or, "
             f"not, implies, and comparisons (<, <=, >, >=); 0/1 signals are compared with 0.5. Example: "
             f"\"{STL_EXAMPLE}\" (within the first 60 s the robot says EXCUSE ME while human1 is within 2 m). "
             f"Signals: {listed}. Use the other kinds when one fits: they are checked with care for cause and "
@@ -355,10 +379,20 @@ def robot_vocabulary_text() -> str:
 def scenario_rules_text(target: Target | None = None, signals: bool = True, robot: bool = True) -> str:
     """What stage 1 must know about how its spec plays out (pacing, within, cues, groups, people, latch, what
     the robot cannot do, export, stl); `signals` False names the STL signals without their meanings."""
-    lines = ["HOW THE SPEC PLAYS OUT:", pacing_text(), encounter_within_text(), cue_once_text(), groups_text(),
-             people_text(), latch_text(target or "socrates"), robot_limits_text(robot), export_text(target, spec_words=True),
+    lines = ["HOW THE SPEC PLAYS OUT:", starts_text() if robot else "", pacing_text(), encounter_within_text(),
+             cue_once_text(), groups_text(), people_text(detail=robot), latch_text(target or "socrates"), robot_limits_text(robot), export_text(target, spec_words=True),
              stl_text(signals)]
     return "\n".join(line for line in lines if line)
+
+
+def starts_text() -> str:
+    """Stage 2's start rule (location/placement.py, the one home of its numbers and its check), told at stage 1 too:
+    the prose decides who waits where, and a scene it cannot place is refused only at stage 2 (round-7 players)."""
+    from socnavgen.location.placement import start_rule_text
+
+    return (f"- {start_rule_text()} The paths stage refuses other starts, so write the scene with them: people "
+            "waiting together at one place are a group (or wait at different nodes), and whoever waits for the "
+            "robot stands a node or more away from where it starts.")
 
 
 def target_nodes(target: Target) -> list[str]:

@@ -10,7 +10,8 @@ leaving out, one after the other in this order (CUTS), what a small model needs 
 3. `inventory`     - the place inventory's detail lists (narrow passages, each blind turn's two ways,
                      where groups fit); the kinds of place with their nodes, what cannot work, the
                      doorways and where nobody can step aside stay;
-4. `robot`         - what the robot does by itself (passing, making way) and where it stops (stage 1; what
+4. `robot`         - what the robot does by itself (passing, making way) and where it stops, why a block can
+                     end at once, and the start rule (stage 2 states and checks it again) (stage 1; what
                      its script can and cannot do stays);
 5. `examples`      - the last worked example (a small model copies the answer's shape from it: without
                      any, SmolLM2-135M wrote "Human 1" as a person's behavior);

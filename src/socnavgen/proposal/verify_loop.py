@@ -11,7 +11,9 @@ stage its blame names (verify/blame.py), as REASK says:
 
 A finding without blame, or with a blame no stage can fix, is not sent anywhere. Each re-ask continues
 the stage's conversation after the model's own accepted answer (its words and reasoning, from the
-transcript). When stage 1 changes who takes part or where, the paths and trees that depended on it are
+transcript), and says which stage it is and what that stage may change (SCOPE). When a stage 2 or stage 3 answer
+was CHANGED for some findings and the very same findings (same numbers) come back, the cause is not in that stage:
+they go to stage 1 instead, saying so (`escalated`). When stage 1 changes who takes part or where, the paths and trees that depended on it are
 regenerated; when it changes only what a person does (a part's trigger, distance, `lasts`, latch; their
 `otherwise`), that person's tree is asked again from its FRESH prompt (never the old tree to correct); when
 only the robot's script changed, they are kept (the grounding is carried over). Up to the restart budget."""
@@ -38,14 +40,73 @@ Verifier = Callable[..., "VerifyReport"]  # verify_run(run_dir, location=Locatio
 Outcome = tuple[ScenarioProposal, ScenarioSpec | None, PathPlan, dict[str, str], "VerifyReport"]
 
 
+# What each re-asked stage is and may change, at the head of its correction (a round-7 player answered a tree
+# correction with a scenario JSON: the correction alone did not say which stage asked).
+SCOPE: dict[str, str] = {
+    "scenario": ("This correction is for STAGE 1, the scenario and its spec (your JSON object with "
+                 "\"scenario_description\", \"human_behaviors\" and \"spec\"). Here you may change the robot's "
+                 "script (route, speed, cues and their triggers and distances), the encounters (their place, order, "
+                 "`within`, each person's trigger, distance, reaction, `lasts`, `until`, latch), the people and the "
+                 "criteria; the paths and trees are planned again from it where it changed who meets where."),
+    "paths": ("This correction is for STAGE 2, the paths (your JSON object with the trajectories, group ids, "
+              "interaction points and encounter nodes). Here you may change only where the robot and each person "
+              "start, walk and end, and on which node each encounter happens; what anyone does, the robot's cues "
+              "and the criteria are stage 1's and stay as they are."),
+    "behaviors": ("This correction is for STAGE 3, the behavior tree of $human (your JSON object with "
+                  "\"reasoning\" and \"tree\"). Here you may change only what $human does and when (the nodes of "
+                  "the tree); where people walk, what the robot does and the criteria belong to earlier stages and "
+                  "stay as they are. Answer with the tree, not with a scenario or paths."),
+}
+STAGE_NAMES = {"paths": "the paths (stage 2)", "behaviors": "the behavior tree of {human} (stage 3)"}
+UNCHANGED = ("Your last answer was the same as the one before it, so the simulation was the same: change what "
+             "the findings point at.")
+REPEATED = ("Your last change did not change what happened (the same findings with the same numbers came back): "
+            "the cause is probably not in this stage; change something else than last time.")
+
+
 def describe(finding: Finding) -> str:
     who = f" ({finding.human})" if finding.human else ""
     fix = f" - fix: {finding.blame_reason}" if finding.blame_reason else ""
     return f"{finding.name}{who}: {finding.evidence}{fix}"
 
 
-def _correction(findings: list[Finding]) -> str:
-    return render("verify_correction.md", findings=bullet_list([describe(f) for f in findings]))
+def _correction(findings: list[Finding], stage: str, human: str | None = None, repeat: str = "") -> str:
+    scope = SCOPE[stage].replace("$human", human or "this human")
+    return render("verify_correction.md", scope=scope, findings=bullet_list([describe(f) for f in findings]),
+                  repeat=repeat)
+
+
+Sent = dict[tuple[str, str | None], tuple[list[str], object]]  # (stage, human) -> (findings sent, answer then)
+
+
+def escalated(to_ask: dict[str, list[Finding]], sent: Sent, answers: dict[tuple[str, str | None], object]
+              ) -> tuple[dict[str, list[Finding]], dict[tuple[str, str | None], str]]:
+    """`to_ask` (routed) with the findings that came back unchanged after stage 2 or a tree was CHANGED for them
+    moved to stage 1 (the cause is not where they were sent), and a note per (stage, human) still asked whose
+    findings repeat (its answer unchanged: UNCHANGED; stage 1 again: REPEATED). `sent`: what each stage was last
+    sent and its answer then; `answers`: each stage's answer now."""
+    out = {stage: list(found) for stage, found in to_ask.items()}
+    notes: dict[tuple[str, str | None], str] = {}
+    for stage in ("paths", "behaviors"):
+        for human in sorted({f.blame_human if stage == "behaviors" else None for f in to_ask.get(stage, [])},
+                            key=str):
+            found = [f for f in to_ask[stage] if stage == "paths" or f.blame_human == human]
+            before = sent.get((stage, human))
+            if before is None or before[0] != [describe(f) for f in found]:
+                continue
+            if before[1] == answers.get((stage, human)):
+                notes[(stage, human)] = UNCHANGED
+                continue
+            what = STAGE_NAMES[stage].format(human=human)
+            out[stage] = [f for f in out[stage] if f not in found]
+            out.setdefault("scenario", []).extend(f.model_copy(update={"blame_reason": (
+                f"{f.blame_reason}; {what} was changed for this and it came back with the same numbers: the cause "
+                "is probably not there but in the spec (the place, a trigger or cue distance, the timing, `lasts`, "
+                "an encounter's `within`, a criterion's distance)")}) for f in found)
+    if "scenario" in to_ask and sent.get(("scenario", None), ([], None))[0] == [describe(f) for f in
+                                                                               to_ask["scenario"]]:
+        notes[("scenario", None)] = REPEATED
+    return {stage: found for stage, found in out.items() if found}, notes
 
 
 def _own_formula(finding: Finding, spec: ScenarioSpec | None) -> bool:
@@ -104,6 +165,7 @@ def verify_and_repair(stages: Stages, scenario: ScenarioProposal, spec: Scenario
     run, recorder = stages.run, stages.recorder
     report: VerifyReport | None = None
     paths_tried: set[str] = set()  # criteria the paths stage was re-asked for (routed: then the spec's formula)
+    sent: Sent = {}  # what each stage was last sent (escalated: the same findings after a changed answer)
     for round_ in range(stages.policy.max_restarts + 1):
         (run.sim_dir / "trace.npz").unlink(missing_ok=True)  # the trace of the previous answer is stale
         recorder.set_status(STAGE, None, "running")
@@ -119,11 +181,19 @@ def verify_and_repair(stages: Stages, scenario: ScenarioProposal, spec: Scenario
         if round_ == stages.policy.max_restarts:
             break
         recorder.progress(ProgressEvent(STAGE, None, "invalid", round_ + 1, message="; ".join(map(describe, failing))))
-        stages_to_ask = routed(report, spec, frozenset(paths_tried))
+        answers: dict[tuple[str, str | None], object] = {("paths", None): paths.model_dump(),
+                                                          **{("behaviors", h): xml for h, xml in trees.items()}}
+        stages_to_ask, notes = escalated(routed(report, spec, frozenset(paths_tried)), sent, answers)
         paths_tried |= {f.criterion for f in stages_to_ask.get("paths", []) if f.criterion}
+        for stage, found in stages_to_ask.items():
+            for human in ({f.blame_human for f in found} if stage == "behaviors" else {None}):
+                mine = [f for f in found if stage != "behaviors" or f.blame_human == human]
+                sent[(stage, human)] = ([describe(f) for f in mine], answers.get((stage, human)))
         if stages_to_ask.get("scenario"):
             old = spec
-            scenario, spec = stages.scenario(correction=_correction(stages_to_ask["scenario"]))
+            scenario, spec = stages.scenario(correction=_correction(
+                stages_to_ask["scenario"], "scenario", repeat=notes.get(("scenario", None), "")))
+            sent = {key: value for key, value in sent.items() if key[0] == "scenario"}  # later stages start afresh
             if _shape(spec) != _shape(old) or list(scenario.human_behaviors) != [h.name for h in paths.humans]:
                 run.paths_path.unlink(missing_ok=True)
                 for xml in run.behaviors_dir.glob("*.xml"):
@@ -147,9 +217,11 @@ def verify_and_repair(stages: Stages, scenario: ScenarioProposal, spec: Scenario
         if not stages_to_ask.get("paths") and not trees_to_fix:  # nothing a stage can fix: asking changes nothing
             break
         if stages_to_ask.get("paths"):
-            paths, spec = stages.paths(scenario, _ungrounded(spec), correction=_correction(stages_to_ask["paths"]))
+            paths, spec = stages.paths(scenario, _ungrounded(spec), correction=_correction(
+                stages_to_ask["paths"], "paths", repeat=notes.get(("paths", None), "")))
         if trees_to_fix:  # the blamed trees in the same round (on the new paths, if they changed)
-            corrections = {human: _correction(found) for human, found in
+            corrections = {human: _correction(found, "behaviors", human, notes.get(("behaviors", human), ""))
+                           for human, found in
                            sorted(trees_to_fix.items(), key=lambda kv: int(kv[0][5:]))}
             trees = stages.behaviors(scenario, paths, spec, corrections)
     recorder.set_status(STAGE, None, "failed")

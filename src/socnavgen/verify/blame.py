@@ -37,6 +37,8 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
   R1  the trigger held (the robot near / said the phrase) but the reaction never ran           -> behaviors(h)
       except: a hold (blocks_robot, stops_near_robot) whose reaction ran its whole `lasts` and was over
       before the robot was held there (the tree must keep the spec's `lasts`)                  -> spec
+      except: a block whose `until` phrase a `blocked` cue says where the blocker stands, or
+      (checked first) the robot within reach only after the encounter's window closed         -> spec
   R3  robot_reaches_goal failed, the robot ending still with nobody in its way while its script has
       waiting cues (wait, wait_until_clear, a human's phrase)                                   -> robot_script
   R4  (checked before R2) robot_reaches_goal failed with someone holding the robot up at the end of the run (a
@@ -68,6 +70,7 @@ from socnavgen.bodies import (
 )
 from socnavgen.run.models import PathPlan
 from socnavgen.run.spec import Blame, Criterion, ScenarioSpec
+from socnavgen.verify.blame_timing import ended_at_once, window_closed_early
 from socnavgen.verify.criteria import Compiled
 from socnavgen.verify.evidence import deadlock_culprit, in_window, met_mask
 from socnavgen.verify.signals import ROBOT_PHRASES, Signals, lasting, phrase_id, reaction_evidence
@@ -380,7 +383,8 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
         reach = max(cc.distance or MEET_DISTANCE, MEET_DISTANCE)
         if s.get(f"dist_{h}").min() > reach:
             return "paths", None, f"the robot never came within {reach:g} m of {h}"
-        cause = _missing_cause(cc, s, h) or _spent(cc, s, spec, h)
+        cause = (window_closed_early(cc, s, h, reach) or _missing_cause(cc, s, h) or _spent(cc, s, spec, h)
+                 or ended_at_once(cc, s, spec, h))
         if cause:
             return cause
         return "behaviors", h, f"the robot came near {h} but {h} did not react as asked ({kind})"

@@ -1,0 +1,71 @@
+"""What a --verify correction tells the model (round-7 players): which stage it is for and what that stage may
+change (one answered a tree correction with a scenario JSON), and, when a stage 2 or 3 answer was CHANGED and the
+very same findings came back, that the cause is not in that stage: the findings go to stage 1 instead."""
+
+from __future__ import annotations
+
+from gen_helpers import STOP_TREE, paths_reply, run_replay, scenario_reply, tree_reply, write_script
+
+from socnavgen.proposal import Run
+from socnavgen.proposal.verify_loop import REPEATED, SCOPE, UNCHANGED, describe, escalated
+from socnavgen.verify.models import Finding, VerifyReport
+
+LOOK_TREE = STOP_TREE.replace("distance='0.5'", "distance='1.0'")  # a changed tree for the same spec
+
+
+def _finding(blame: str, human: str | None = None, evidence: str = "closest 0.97 m at t=33.8 s") -> Finding:
+    return Finding(name="c1 stops_near_robot", kind="stops_near_robot", passed=False, evidence=evidence, human=human,
+                   blame=blame, blame_human=human if blame == "behaviors" else None, blame_reason="did not stop")
+
+
+def _verifier(*reports):  # noqa: ANN002, ANN202
+    queue = iter([VerifyReport(run="run", passed=not found, findings=found) for found in reports])
+    return lambda run_dir, location=None: next(queue)
+
+
+def test_the_same_findings_after_a_changed_tree_go_to_the_spec():
+    found = [_finding("behaviors", "human1")]
+    sent = {("behaviors", "human1"): ([describe(f) for f in found], "<old tree/>")}
+    out, notes = escalated({"behaviors": found}, sent, {("behaviors", "human1"): "<new tree/>"})
+    assert list(out) == ["scenario"] and out["scenario"][0].criterion == found[0].criterion
+    reason = out["scenario"][0].blame_reason
+    assert reason.startswith("did not stop; the behavior tree of human1 (stage 3) was changed for this")
+    assert "probably not there but in the spec" in reason and not notes
+    assert found[0].blame_reason == "did not stop"  # the report's finding is not rewritten
+
+
+def test_findings_that_changed_or_an_unchanged_answer_stay_with_their_stage():
+    found = [_finding("behaviors", "human1")]
+    other = [_finding("behaviors", "human1", evidence="closest 0.60 m at t=30.1 s")]
+    sent = {("behaviors", "human1"): ([describe(f) for f in found], "<old tree/>")}
+    moved, _ = escalated({"behaviors": other}, sent, {("behaviors", "human1"): "<new tree/>"})
+    assert list(moved) == ["behaviors"]  # different numbers: the change did something
+    same, notes = escalated({"behaviors": found}, sent, {("behaviors", "human1"): "<old tree/>"})
+    assert list(same) == ["behaviors"] and notes == {("behaviors", "human1"): UNCHANGED}  # never changed: no proof
+    paths = [_finding("paths")]
+    out, _ = escalated({"paths": paths}, {("paths", None): ([describe(f) for f in paths], {"a": 1})},
+                       {("paths", None): {"a": 2}})
+    assert list(out) == ["scenario"] and "the paths (stage 2) was changed" in out["scenario"][0].blame_reason
+    spec = [_finding("spec")]
+    again, notes = escalated({"scenario": spec}, {("scenario", None): ([describe(f) for f in spec], None)}, {})
+    assert list(again) == ["scenario"] and notes == {("scenario", None): REPEATED}
+
+
+def test_a_tree_correction_says_its_stage_and_a_repeat_goes_to_stage_1(tmp_path, mini_location):
+    """Live through the loop: the tree of human1 is corrected, its changed tree gives the same findings, and the
+    next correction goes to the scenario stage (its answer re-plans nothing here: the same shape)."""
+    script = write_script(tmp_path / "s.yaml", {
+        "scenario": [scenario_reply(), scenario_reply()], "paths": [paths_reply()],
+        "behaviors": {"human1": [tree_reply(), tree_reply(LOOK_TREE)], "human2": [tree_reply()]}})
+    same = [_finding("behaviors", "human1")]
+    run, llm = run_replay(script, mini_location, tmp_path / "run", verify=True,
+                          verifier=_verifier(same, same, []))
+    assert isinstance(run, Run), run
+    asked = [(s, k) for s, k, _ in llm.calls]
+    assert asked.count(("behaviors", "human1")) == 2 and asked.count(("scenario", None)) == 2
+    tree_fix = [m for s, k, m in llm.calls if (s, k) == ("behaviors", "human1")][1][-1].content
+    assert tree_fix.startswith(SCOPE["behaviors"].replace("$human", "human1")[:60])
+    assert "STAGE 3, the behavior tree of human1" in tree_fix and "Answer with the tree" in tree_fix
+    spec_fix = [m for s, k, m in llm.calls if s == "scenario"][1][-1].content
+    assert "STAGE 1, the scenario and its spec" in spec_fix and "came back with the same numbers" in spec_fix
+    assert "closest 0.97 m at t=33.8 s" in spec_fix
