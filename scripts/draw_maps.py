@@ -316,12 +316,12 @@ def home() -> Example:
     ]
     description = (
         "A one-floor home. The front door (ENTRANCE) opens into a narrow HALLWAY; from the hallway a "
-        "DOORWAY leads into the second BEDROOM and a wide opening leads south into the open-plan LIVING "
-        "ROOM, with a DINING AREA and, behind a half wall, the KITCHEN with its counters and island. "
-        "From the living room doors lead north into the main BEDROOM and the BATHROOM. Doorways are "
-        "0.9 m wide, so only one person passes at a time: an edge through a door is THROUGH DOOR, the "
-        "hallway edges are HALLWAY, and edges across a room are OPEN SPACE. Residents, children, guests "
-        "and pets move between the rooms; furniture leaves little room to step aside."
+        "DOORWAY leads into the second BEDROOM and another DOORWAY, an opening a little wider than a door, "
+        "leads south into the open-plan LIVING ROOM, with a DINING AREA and, behind a half wall, the KITCHEN "
+        "with its counters and island. From the living room doors lead north into the main BEDROOM and the "
+        "BATHROOM. Every doorway lets only one person pass at a time: an edge through a door is THROUGH "
+        "DOOR, the hallway edges are HALLWAY, and edges across a room are OPEN SPACE. Residents, children, "
+        "guests and pets move between the rooms; furniture leaves little room to step aside."
     )
     return Example("home", description, 0.05, (-2.0, -1.5, 0.0), d,
                    ["ENTRANCE", "HALLWAY", "DOORWAY", "LIVING ROOM", "DINING AREA", "KITCHEN", "BEDROOM",
