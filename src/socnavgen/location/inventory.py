@@ -211,14 +211,14 @@ def _listing(items: list[str]) -> str:
     return shown + (f" and {len(items) - MAX_LISTED} more" if len(items) > MAX_LISTED else "")
 
 
-def _node_words(n: NodeFacts, blind: dict[str, float], at: tuple[float, float] | None) -> str:
+def _node_words(n: NodeFacts, blind: dict[str, float], at: tuple[float, float] | None, sight: bool = True) -> str:
     if n.dead_end and n.neighbours:
         ways = f"dead end from {n.neighbours[0]}"
     else:
         ways = f"{len(n.neighbours)} ways" if n.neighbours else "not connected"
     words = [ways, f"{n.free_width_m:.1f} m free"]
     if n.id in blind:
-        words.append(f"blind turn: seen within {blind[n.id]:.1f} m")
+        words.append(f"blind turn: seen within {blind[n.id]:.1f} m" if sight else "blind turn")
     where = f"at {at[0]:g},{at[1]:g}; " if at is not None else ""
     return f"{n.id} ({where}{', '.join(words)})"
 
@@ -226,9 +226,9 @@ def _node_words(n: NodeFacts, blind: dict[str, float], at: tuple[float, float] |
 def inventory_text(location: Location, *, positions: bool = True, detail: bool = True) -> str:
     """The inventory in words, for the prompts. `positions`: each node's position (stage 1 names places by
     where they are: "the north elevator"; stage 2 has them in its scene graph). `detail` False leaves out
-    the lists a small model needs least (narrow passages, each blind turn's two ways, group places): the
-    kinds of place with their nodes, the places that cannot work, the doorways and where nobody can step
-    aside stay."""
+    the lists a small model needs least (narrow passages, each blind turn's two ways and how near it is seen,
+    group places): the kinds of place with their nodes, the places that cannot work, the doorways and where
+    nobody can step aside stay."""
     inv = location.inventory
     blind: dict[str, float] = {}
     for turn in inv.blind_turns:
@@ -245,7 +245,7 @@ def inventory_text(location: Location, *, positions: bool = True, detail: bool =
         members = inv.of_type(kind)
         if members:
             lines.append(f"- {kind}: " + _listing([_node_words(n, blind, _position(location, n.id) if positions
-                                                               else None) for n in members]))
+                                                               else None, sight=detail) for n in members]))
     unworkable = [reason for kind in types if inv.of_type(kind) and (reason := inv.unworkable_reason(kind))]
     lines += [f"NOTE: {reason}. A route may still start or end there." for reason in unworkable]
     cramped = [n.id for n in inv.nodes.values() if n.neighbours and not n.turnable]

@@ -345,12 +345,14 @@ def _detected(trigger: str, target: Target) -> bool:
 
 
 def stl_text(signals: bool = True) -> str:
-    """How to write a `stl` criterion: the syntax and the signals (verify/stl.py, verify/signals.py)."""
+    """How to write a `stl` criterion: the syntax and the signals (verify/stl.py, verify/signals.py); `signals`
+    False (fit.py's `signals` cut, a small context) only says to use the other kinds."""
     from socnavgen.verify.signals import SIGNAL_KINDS
     from socnavgen.verify.stl import MAX_FORMULA_CHARS, MAX_NESTING
 
-    listed = "; ".join(f"{k.shown} ({k.unit}): {k.meaning}" for k in SIGNAL_KINDS) if signals else \
-        ", ".join(k.shown for k in SIGNAL_KINDS)
+    if not signals:
+        return "- A criterion of kind stl holds a raw signal temporal logic formula: use the other kinds."
+    listed = "; ".join(f"{k.shown} ({k.unit}): {k.meaning}" for k in SIGNAL_KINDS)
     return (f"- A criterion of kind stl holds a signal temporal logic \"formula\": one expression of at most "
             f"{MAX_FORMULA_CHARS} characters and {MAX_NESTING} nested levels, with the operators always, "
             f"eventually, historically, once, until, since (bounds in seconds, e.g. eventually[0:5]; without bounds: "

@@ -6,10 +6,12 @@ leaving out, one after the other in this order (CUTS), what a small model needs 
 
 1. `more_examples` - every worked example but the first of each stage (stage 1's example scenarios,
                      stage 2's map examples, stage 3's example trees);
-2. `signals`       - the meaning of each STL signal (stage 1; their names stay);
-3. `inventory`     - the place inventory's detail lists (narrow passages, each blind turn's two ways,
-                     where groups fit); the kinds of place with their nodes, what cannot work, the
-                     doorways and where nobody can step aside stay;
+2. `signals`       - how to write an stl criterion: its syntax, example and signals (stage 1; the kind
+                     stays named, with "use the other kinds");
+3. `inventory`     - the place inventory's detail lists (narrow passages, each blind turn's two ways and
+                     how near it is seen, where groups fit), stage 1's node positions and its note that
+                     the inventory beats the description's widths; the kinds of place with their nodes,
+                     what cannot work, the doorways and where nobody can step aside stay;
 4. `robot`         - what the robot does by itself (passing, making way) and where it stops, why a block can
                      end at once, and the start rule (stage 2 states and checks it again) (stage 1; what
                      its script can and cannot do stays);

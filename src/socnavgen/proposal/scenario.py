@@ -50,14 +50,19 @@ _PLAIN_TRIGGERS = ("always", "robot_visible", "robot_near", "robot_blocking", "r
 _PLAIN_REACTIONS = ("walk_past", "stop", "look", "give_way", "follow", "block", "avoid", "wait_then_go")
 
 
+INVENTORY_TRUST = ("The description above is the location author's words; where its widths differ from this inventory, "
+                   "the inventory (measured) is right.")
+
+
 def location_text(location: Location, inventory: bool = True, *, detail: bool = True) -> str:
     """The user's description of the location, its schema, and (unless `inventory` is False: the naive
     baseline) the place inventory measured on its map, with node positions (`detail` False: without the
-    inventory's detail lists, fit.py)."""
+    positions and the inventory's detail lists, fit.py)."""
     schema = location.schema
     return render("scenario_location.md", description=location.config.description.strip(),
                   node_types=", ".join(schema.node_types), edge_types=", ".join(schema.edge_types),
-                  inventory=inventory_text(location, detail=detail) if inventory else "")
+                  inventory=inventory_text(location, positions=detail, detail=detail) if inventory else "",
+                  trust=f"\n{INVENTORY_TRUST}" if inventory and detail else "")
 
 
 def spec_help_text(target: Target | None = None, *, signals: bool = True, robot: bool = True) -> str:
