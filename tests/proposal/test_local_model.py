@@ -37,3 +37,21 @@ def test_local_model_generates_a_valid_scenario(tmp_path, warehouse_dir):
     ids = set(range(len(humans)))
     for name in humans:
         assert validate_bt_text(folder.read_behavior(name), f"{name}.xml", human_ids=ids) == []
+
+
+def test_the_local_models_stage1_prompt_keeps_its_worked_example(warehouse_dir):
+    """Without a worked example SmolLM2-135M writes "Human 1" as each behavior (docs/generate.md): the stage-1
+    prompt it gets for the request above must fit its context with the first example kept (tokenizer only)."""
+    from socnavgen.llm import make_llm
+    from socnavgen.proposal import scenario
+    from socnavgen.proposal.fit import CUTS
+
+    llm = make_llm("local", use_cache=False)
+    request = ScenarioRequest(location=str(warehouse_dir), context="Delivery robot in a small warehouse",
+                              task="Transport a box from one point to another",
+                              rough="The robot turns at a blind corner and meets a human who stops", llm="local")
+    fitted = scenario.fitted_scenario_messages(request, load_location(warehouse_dir), llm)
+    example = scenario.template_data("scenario_examples.json")[0]["context"]
+    assert any(example in m.content for m in fitted)
+    assert fitted == scenario.scenario_messages(request, load_location(warehouse_dir),
+                                                left_out=frozenset(CUTS[:CUTS.index("robot") + 1]))
