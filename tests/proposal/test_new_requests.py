@@ -23,6 +23,9 @@ PATHS = fixture_paths(FIXTURES)
 # session) on that session's code. People touching EACH OTHER is judged since s8 (`people_apart`): home_03, home_07,
 # hospital_04, hospital_05, warehouse_05 and warehouse_07 fail it (their people's discs touch in the frames) and agree
 # with their eyes; hospital_01 and warehouse_08 fail it too while their eyes, which saw the touching, accepted it.
+# warehouse_02 agrees since e2's window no longer opens before e1's latched part began (verify/windows.py; seen in
+# the frames: stop ~2 m behind the picker at 13.5 s, EXCUSE ME at 15 s, the picker walks out and steps aside at
+# 17.5 s, the robot passes at 23.6 s and reaches p0 at 33.8 s while she walks back).
 # Left: the robot passing people at 0.10-0.17 m (no contact by the 5 cm rule, brushing to the eyes: the eyes call
 # 0.10 m "close but not touching" in home_06 and 0.17 m "brushing" in home_02, so no gap threshold agrees with both),
 # and events of the text that no criterion of the model's spec states (then no verifier can see them missing).
@@ -38,9 +41,6 @@ DISAGREE: dict[str, str] = {
     "counts against home_03 and warehouse_05 (wt-people: group members keep apart)",
     "hospital_06_night_wandering_patient": "lenient PASS: after FOLLOW ME the robot drives up to ~0.4 m of the confused "
     "patient, who has to give way, where the text has it stop at a respectful distance and wait",
-    "warehouse_02_aisle_picker_excuse_me": "strict FAIL: the eyes see every event happen (stop ~2 m short, EXCUSE ME, "
-    "the picker leads out, waits beside the aisle end, goes back); the spec's first encounter window closes (13.4 s) "
-    "before the robot reaches the picker (EXCUSE ME at 15 s): the model's `within`, not the scene",
     "warehouse_04_pallet_jack_backing_out": "lenient PASS: the worker never backs out across the cross aisle in front "
     "of the robot and the robot never stops; it drives past the worker still standing at the aisle end",
     "warehouse_08_group_at_staging_pallet": f"strict FAIL (people_apart): the events happen as written, but {_BUMP} "
