@@ -36,6 +36,9 @@ def short_of_goal_steps(trace: Trace, goal: tuple[float, float] | None = None, w
     return _stood(out & no_nearer_spot(trace, target, out, world), trace)
 
 
+CHUNK = 256  # steps worked out at once (a chunk's gaps: CHUNK x spots x people floats)
+
+
 def no_nearer_spot(trace: Trace, goal: complex, steps: np.ndarray, world: Any = None) -> np.ndarray:
     """(T,) bool, on the `steps` asked (False elsewhere): no free spot proxemics.NEARER_SPOT nearer the goal than the
     robot where it would keep at least as far from everyone (its own smallest gap, at most GOAL_STOP_GAP): clear of
@@ -57,10 +60,12 @@ def no_nearer_spot(trace: Trace, goal: complex, steps: np.ndarray, world: Any = 
     people = trace.humans[ks][:, :, X] + 1j * trace.humans[ks][:, :, Y]  # (K, H)
     own = (np.abs(people - robot[:, None]) - radii[None, :] - rr).min(axis=1)  # (K,)
     keep = np.minimum(own, proxemics.GOAL_STOP_GAP)
-    for n, k in enumerate(ks):
-        nearer = spots[np.abs(spots - goal) <= abs(robot[n] - goal) - proxemics.NEARER_SPOT]
-        gaps = np.abs(nearer[:, None] - people[n][None, :]) - radii[None, :] - rr
-        out[k] = not bool((gaps.min(axis=1) >= keep[n] - 1e-9).any()) if len(nearer) else True
+    spot_to_goal = np.abs(spots - goal)
+    for a in range(0, len(ks), CHUNK):  # (steps, spots, people) gaps, a chunk of steps at a time
+        gaps = np.abs(spots[None, :, None] - people[a:a + CHUNK, None, :]) - radii[None, None, :] - rr
+        roomy = gaps.min(axis=2) >= keep[a:a + CHUNK, None] - 1e-9
+        nearer = spot_to_goal[None, :] <= np.abs(robot[a:a + CHUNK] - goal)[:, None] - proxemics.NEARER_SPOT
+        out[ks[a:a + CHUNK]] = ~(roomy & nearer).any(axis=1)
     return out
 
 
