@@ -45,6 +45,11 @@ GOAL_STOP_DWELL = 3.0  # s: the simulator ends a run when the robot has stood sh
 #   the metrics and the verifier count a stop short of it as arriving only after it stood there this long (or
 #   until the run ended): a robot slowing for a moment on its way past is not arriving
 
+NEARER_SPOT = 0.5  # m: stopping short of an occupied goal counts as arriving only where the people there leave no free
+#   spot this much nearer the goal that keeps as far from them (sim.arrival.no_nearer_spot): a robot parked in a
+#   doorway 1.4 m off while the middle of the room around its goal is free has not arrived
+SPOT_GRID = 0.1  # m: the spacing of the spots tried
+
 Num = Any  # a float, or a numpy array of floats (elementwise)
 
 

@@ -37,6 +37,25 @@ KNOWN_FAILING: dict[tuple[str, str], str] = {
     ("hospital", "narrow-doorway"): "meets at cc: closest 1.35 m, 2.66 m from cc; the robot was nearest the node at "
                                     "t=16.0 s, the person at t=25.4 s (not yet looked at in the GIF)",
 }
+# People touching EACH OTHER is judged since 2026-11-26 s8 (verify `people_apart`, sim/contact.py's contact): in these
+# cards two people's discs touch (gap <= 0.05 m) for seconds, seen in the frames (warehouse join-group: the three
+# members pressed together 0.7-12 s; hospital perpendicular-traffic: the three walking in a touching file at 10 s and
+# bunched at their goal at 15 s). A defect of the people's physics (group force, followers converging), for the
+# people helper: not a verifier leniency to restore.
+_TOUCHING = "people_apart: two people touch each other (the group force / a file of walkers presses them together)"
+KNOWN_FAILING.update({(location, card): _TOUCHING for location, card in (
+    ("warehouse", "join-group"), ("warehouse", "leave-group"), ("warehouse", "crowd-navigation"),
+    ("warehouse", "parallel-traffic"), ("warehouse", "perpendicular-traffic"), ("warehouse", "robot-crowding"),
+    ("hospital", "join-group"), ("hospital", "leave-group"), ("hospital", "crowd-navigation"),
+    ("hospital", "parallel-traffic"), ("hospital", "perpendicular-traffic"), ("hospital", "circular-crossing"),
+    ("hospital", "robot-crowding"), ("home", "robot-crowding"))})
+# Stopping short of an occupied goal counts only where the people there leave no nearer free spot (s8,
+# sim.arrival.no_nearer_spot): in these the robot parks in the doorway (narrow-doorway: 1.53 m off, the person gave
+# way 1.19 m beside the goal, the room around the goal free; narrow-hallway: 1.83 m off a free doorway goal, the
+# person 1.63 m from it) and the simulator ends the run as arrived: the polite robot's stopping point, for the robot
+# helper.
+KNOWN_FAILING.update({("home", "narrow-doorway"): "robot_reaches_goal: parks in the doorway 1.53 m off a free goal",
+                      ("home", "narrow-hallway"): "robot_reaches_goal: stops 1.83 m off a free doorway goal"})
 
 
 def _encounter_offsets(run, trace, location) -> list[float]:  # noqa: ANN001

@@ -7,7 +7,7 @@ end of the corridor: 2 m from the robot's goal straight through it, 4.5 m around
 1.525), corner (5.775, 1.625), north (6.275, 6.025), east (10.975, 1.525).
 
 Base scene (20 s, dt 0.1): the robot says FOLLOW ME (0.2-2 s) and drives east at 0.6 m/s; human2
-follows 1.2 m behind it with human3 beside (a group); human1 walks south, the robot stops at x 5.215
+follows 1.2 m behind it with human3 beside, 0.125 m apart (a group); human1 walks south, the robot stops at x 5.215
 (t 5.4) with human1 standing 1.15 m ahead of it at the corner, facing it and saying WAIT (5.5-6 s); the
 robot says EXCUSE ME (6-8 s); human1 gives way (GiveWaytoRobot 6.8-8.2 s, back up to y 3.0); the
 robot drives on at 8.5 s and reaches east at 18.1 s. Every mutation changes one thing.
@@ -164,8 +164,8 @@ def base_scene() -> Scene:
         robot=[(0.0, *DOCK), (5.4, STOP_X, 1.525), (8.5, STOP_X, 1.525), (18.1, *EAST), (20.0, *EAST)],
         humans={"human1": [(0.0, 6.3, 5.2), (5.5, 6.3, 1.9), (6.8, 6.3, 1.9), (8.2, 6.3, 3.0), (10.0, 6.3, 3.0),
                            (14.2, 6.3, 5.5), (20.0, 6.3, 5.5)],
-                "human2": [(0.0, 0.775, 1.525)], "human3": [(0.0, 0.775, 0.725)]},
-        follow={"human2": (1.2, 1.525), "human3": (1.2, 0.725)},
+                "human2": [(0.0, 0.775, 1.525)], "human3": [(0.0, 0.775, 0.6)]},
+        follow={"human2": (1.2, 1.525), "human3": (1.2, 0.6)},
         groups={"human2": 0, "human3": 0},
         robot_says=[(0.2, 2.0, 5), (6.0, 8.0, 4)],
         human_says={"human1": [(5.5, 6.0, 1)]},
@@ -347,8 +347,8 @@ CASES: list[Case] = [
          scene=lambda s: replace(s, follow={"human2": s.follow["human2"]})),
     # a group is met where the robot meets any member (derive.with_implied); group_together keeps them near
     Case("group_met_by_one_member", passes=True,
-         scene=lambda s: replace(s, follow={"human2": s.follow["human2"], "human3": (2.0, 0.725)},
-                                 humans={**s.humans, "human3": [(0.0, 0.0, 0.725)]})),  # never within 2 m
+         scene=lambda s: replace(s, follow={"human2": s.follow["human2"], "human3": (2.0, 0.6)},
+                                 humans={**s.humans, "human3": [(0.0, 0.0, 0.6)]})),  # never within 2 m
     Case("follow_starts_off_its_node", passes=False, failing="c7", blame="paths",
          spec=lambda sp: sp.model_copy(update={"encounters": [sp.encounters[0],
                                                               sp.encounters[1].model_copy(update={"node": "north"})]})),
@@ -404,6 +404,18 @@ CASES: list[Case] = [
     Case("run_of_a_tenth_of_a_second", passes=False, failing="c9", blame="paths",
          scene=lambda s: replace(s, robot=[(0.0, *DOCK), (0.1, *DOCK)], duration=0.1, goal=DOCK,
                                  end_reason="robot_goal")),
+    # two people touching each other (sim/contact.py's contact, gap <= 5 cm), whatever the robot does: the group's
+    # members walk side by side 0.125 m apart (base); human3 drifting to 3 cm of human2 while both walk ...
+    Case("people_touch_each_other", passes=False, failing="people_apart", blame="paths",
+         scene=lambda s: replace(s, follow={"human2": s.follow["human2"], "human3": (1.2, 0.695)})),
+    # ... human1 walking into human3 standing at the dock (left behind by the group) is human1's tree ...
+    Case("person_walks_into_standing_person", passes=False, failing="people_apart", blame="behaviors",
+         blame_human="human1", scene=lambda s: _h1(replace(s, follow={"human2": s.follow["human2"]}), [
+             *s.humans["human1"][:4], (15.0, 6.3, 3.0), (16.0, 6.3, 1.9), (19.5, 1.2, 1.3), (20.0, 1.2, 1.3)])),
+    # ... two people starting on one spot fail at t = 0, on the paths
+    Case("people_start_on_one_spot", passes=False, failing="people_apart", blame="paths",
+         scene=lambda s: replace(s, follow={"human2": s.follow["human2"], "human3": (1.2, 1.2)},
+                                 humans={**s.humans, "human3": [(0.0, 0.775, 1.2)]})),
     Case("legacy_met_too_far", passes=False, failing="robot meets human1", blame="paths", spec=None,
          scene=lambda s: _robot(s, [(0.0, *DOCK), (3.0, 3.775, 1.525), (8.5, 3.775, 1.525), (18.1, *EAST),
                                     (20.0, *EAST)])),

@@ -40,7 +40,7 @@ def test_derived_spec_is_strict(tiny_location) -> None:
     assert meet.distance == 2.0  # the card's 3.5 m is capped at the strict 2 m
     assert dict((c.kind, src) for c, src in judged)["meets"] == "card"
     kinds = [c.kind for c, _ in judged]
-    assert kinds == ["meets", "group_together", "robot_reaches_goal", "no_collision", "no_deadlock"]
+    assert kinds == ["meets", "group_together", "robot_reaches_goal", "no_collision", "no_deadlock", "people_apart"]
     group = next(c for c, _ in judged if c.kind == "group_together")
     assert group.humans == ["human2", "human3"]
 
@@ -66,10 +66,13 @@ def test_implied_criteria() -> None:
     judged = with_implied(spec, VerifySettings())
     ids = [(c.id, src) for c, src in judged]
     # human1 meets the robot at e1 (implied); human2 must keep away, so no implied meeting; the goal is always
-    # judged; no_collision implied; no_deadlock NOT implied because human2 is meant to block the robot
-    assert ids == [("c1", "spec"), ("meet_human1_e1", "implied"), ("goal", "implied"), ("no_collision", "implied")]
+    # judged; no_collision implied; the two people never touch each other (people_apart, whatever the robot does);
+    # no_deadlock NOT implied because human2 is meant to block the robot
+    assert ids == [("c1", "spec"), ("meet_human1_e1", "implied"), ("goal", "implied"), ("no_collision", "implied"),
+                   ("people_apart", "implied")]
     rude = spec.model_copy(update={"script": spec.script.model_copy(update={"misbehave": True})})
-    assert [c.id for c, _ in with_implied(rude, VerifySettings())] == ["c1", "meet_human1_e1", "goal"]
+    assert [c.id for c, _ in with_implied(rude, VerifySettings())] == ["c1", "meet_human1_e1", "goal", "people_apart"]
+    assert "people_apart" not in [c.id for c, _ in with_implied(rude, VerifySettings(), people=1)]  # one person
 
 
 def test_every_run_is_judged_on_its_goal_and_contact() -> None:

@@ -89,3 +89,16 @@ def test_a_robot_pausing_short_of_its_goal_for_a_moment_and_driving_off_has_not_
     stop = 11.0 - 0.75 - 1.2
     assert not _reaches_goal(0.0, robot_moves=([0, 10, 11, 20], [1.0, stop, stop, stop], [3.0, 3.0, 3.0, 0.0]))
     assert _reaches_goal(0.0, robot_moves=([0, 10, 14, 20], [1.0, stop, stop, stop], [3.0, 3.0, 3.0, 0.0]))
+
+
+def test_stopping_short_where_a_nearer_spot_keeps_as_far_from_everyone_is_not_arriving():
+    # hospital_04: a robot parked 1.6 m off its goal, 1.14 m (gap) from a person standing 1 m beside the goal, while
+    # the other side of the goal (1 m south of it) is free and as far from them: the people leave room nearer, so
+    # it has not arrived (sim.arrival.no_nearer_spot). With a wall filling that side, stopping there is arriving.
+    from socnavgen.sim import empty_room
+
+    beside = ([0, 10, 20], [1.0, 9.4, 9.4], [3.0, 3.0, 3.0])
+    assert not _reaches_goal(0.0, person_xy=(11.0, 4.0), robot_moves=beside)
+    assert not _reaches_goal(0.0, person_xy=(11.0, 4.0), robot_moves=beside, world=empty_room(20.0, 10.0))
+    walled = empty_room(20.0, 10.0, walls=[(9.9, 0.0, 20.0, 2.6)])  # everything south of y 2.6 east of the robot
+    assert _reaches_goal(0.0, person_xy=(11.0, 4.0), robot_moves=beside, world=walled)

@@ -27,7 +27,9 @@ def _simulate_and_verify(run: Path, timeout: float) -> tuple[dict, str]:
 
 
 def test_a_user_policy_is_blamed_when_the_default_robot_verifies(tmp_path: Path) -> None:
-    run = write_card_run("crowd-navigation", WAREHOUSE, tmp_path / "run").root
+    # frontal-approach: the default robot passes the person; crowd-navigation's people touch each other whatever
+    # the robot does (people_apart, tests/cards KNOWN_FAILING), so the scenario itself fails there
+    run = write_card_run("frontal-approach", WAREHOUSE, tmp_path / "run").root
     report, shown = _simulate_and_verify(run, 60.0)
     failed = [f for f in report["findings"] if f["required"] and not f["passed"]]
     assert failed and all(f["blame"] == "policy" and f["blame_human"] is None for f in failed)

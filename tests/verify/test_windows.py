@@ -139,3 +139,18 @@ def test_a_later_part_triggered_by_the_phrase_opens_its_window_at_the_phrase() -
     assert monitor(cc.formula, s).passed, evidence(cc, s)[0]
     early = _signals(_door(3.0), spec)  # out of its way at 4.4 s, before the robot spoke: no reaction to it
     assert not monitor(cc.formula, early).passed
+
+
+def test_a_later_trigger_before_a_latched_part_began_opens_no_window() -> None:
+    """warehouse_02: e1 (latched, after EXCUSE ME) holds e2's branch inside its latch (proposal/tree_needs.py), so
+    e2's trigger (the robot within 4 m) holding BEFORE the robot said EXCUSE ME (5 s) is no switch: e2's window
+    opens at the phrase, and e1's reaction to it is judged in e1's window. Without the latch it opens before it."""
+    near = SPEC.model_copy(update={"encounters": [SPEC.encounters[0], SPEC.encounters[1].model_copy(update={
+        "humans": [HumanPart(human="human1", trigger="robot_near", distance=4.0, reaction="give_way")]})]})
+    s = _signals(_aisle(steps_aside_at=22.5), near)
+    assert s.get("dist_human1")[0] <= 4.0  # e2's trigger holds from the start
+    assert s.t[opening_steps(s, near, "human1", VerifySettings())[1]] == 5.0
+    loose = near.model_copy(update={"encounters": [near.encounters[0].model_copy(update={"humans": [
+        near.encounters[0].humans[0].model_copy(update={"latch": False})]}), near.encounters[1]]})
+    s = _signals(_aisle(steps_aside_at=22.5), loose)
+    assert s.t[opening_steps(s, loose, "human1", VerifySettings())[1]] < 5.0

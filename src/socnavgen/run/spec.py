@@ -211,7 +211,8 @@ CriterionKind = Literal[
     "keeps_away",  # `human` keeps at least `distance` from the robot after first noticing it
     "blocks_robot",  # `human` stands in front of the robot within `distance` while the robot stands still
     "robot_reaches_goal",  # the robot reaches its last waypoint
-    "no_collision",  # robot and humans never overlap (sim.contact defines overlap)
+    "no_collision",  # robot and humans never touch (sim.contact defines contact)
+    "people_apart",  # no two humans touch each other (the same contact; `human`: that one with anybody)
     "no_deadlock",  # the robot never stands still longer than `seconds` with someone in its way
     "stl",  # `formula`: a raw STL formula over the named signals (docs/verify.md lists them)
 ]

@@ -157,3 +157,16 @@ def summarize(trace: Trace, gaps: np.ndarray | None = None) -> ContactSummary:
         min_gap=float(gaps[k, j]), min_gap_time=float(trace.t[k]), min_gap_human=trace.human_names[j],
         steps_per_human=dict(zip(trace.human_names, np.count_nonzero(hits, axis=0).tolist(), strict=True)),
         intimate_seconds=round(int(np.count_nonzero(closest < INTIMATE_SPACE)) * dt, 6))
+
+
+def people_gaps(trace: Trace) -> tuple[np.ndarray, list[tuple[int, int]]]:
+    """(T, P) person-person surface gaps of a trace, one column per pair (i < j) listed in the second value:
+    the same gap as the robot's (centre distance minus both radii), so `in_contact` is THE contact of two
+    people too (bodies.CONTACT_MARGIN)."""
+    h = trace.humans.shape[1] if trace.humans.ndim == 3 else 0
+    pairs = [(i, j) for i in range(h) for j in range(i + 1, h)]
+    if not pairs:
+        return np.zeros((trace.steps, 0)), pairs
+    xy, radii = trace.humans[:, :, :2], np.asarray(trace.human_radii, dtype=float)
+    a, b = np.array([p[0] for p in pairs]), np.array([p[1] for p in pairs])
+    return lengths(xy[:, a] - xy[:, b]) - (radii[a] + radii[b])[None, :], pairs

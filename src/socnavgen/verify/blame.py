@@ -14,6 +14,8 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
   C1  collision, with a robot that is not meant to misbehave                                   -> robot_script
   C2  collision demanded away by a spec whose robot misbehaves on purpose                      -> spec
   C3  (checked before C1) a human walked into the robot while it stood still                  -> behaviors(h)
+  A1  two people touch (people_apart) from the start, or both walking into one place at once  -> paths
+  A2  two people touch, one walking into the other standing                                   -> behaviors(walker)
   D1  deadlock / goal not reached behind a human whose reaction waits for a robot phrase the
       robot never said                                                                        -> robot_script
   D3  (checked before D1) deadlock behind a human standing at its own goal off the robot's route
@@ -73,6 +75,7 @@ from socnavgen.run.spec import Blame, Criterion, ScenarioSpec
 from socnavgen.verify.blame_timing import ended_at_once, window_closed_early
 from socnavgen.verify.criteria import Compiled
 from socnavgen.verify.evidence import deadlock_culprit, in_window, met_mask
+from socnavgen.verify.people import blame_people
 from socnavgen.verify.signals import ROBOT_PHRASES, Signals, lasting, phrase_id, reaction_evidence
 from socnavgen.verify.stl import formula_signals
 from socnavgen.verify.thresholds import APPROACH, KIND_DISTANCE, MEET_DISTANCE, STILL_SPEED, STOP_HOLD
@@ -347,6 +350,8 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
         if walker:
             return "behaviors", walker, f"{walker} walked into the standing robot: its tree must stop or go around"
         return "robot_script", None, "the robot ran into a person: its script must stop or wait (wait_until_clear)"
+    if kind == "people_apart":
+        return blame_people(h, s)
     if kind in ("no_deadlock", "robot_reaches_goal"):
         stuck = _stuck(cc, s, spec, settings_deadlock, plan)
         if stuck:

@@ -244,6 +244,11 @@ def _no_collision(c: Criterion, ctx: Context, out: Compiled) -> None:
     out.formula = f"always ({gap} > {CONTACT_MARGIN:g})"
 
 
+def _people_apart(c: Criterion, ctx: Context, out: Compiled) -> None:
+    gap = f"pgap_{c.human}" if c.human else "pgap_min"
+    out.formula = f"always ({gap} > {CONTACT_MARGIN:g})"
+
+
 def _no_deadlock(c: Criterion, ctx: Context, out: Compiled) -> None:
     s = out.seconds = c.seconds or ctx.settings.deadlock_seconds
     out.formula = f"always (deadlock < {s:g})"
@@ -300,6 +305,8 @@ CRITERION_KINDS: dict[str, CriterionKind] = {k.name: k for k in (
                   "always judged; a round trip's goal counts on the way back", _robot_reaches_goal),
     CriterionKind("no_collision", "always (gap_min > 0.05)  (gap_h with a human)", "contact = gap <= 0.05 m",
                   _no_collision),
+    CriterionKind("people_apart", "always (pgap_min > 0.05)  (pgap_h with a human)", "two people touching = their "
+                  "gap <= 0.05 m (the robot's contact), from t = 0", _people_apart),
     CriterionKind("no_deadlock", "always (deadlock < S)", "no progress along the route counts, not standing",
                   _no_deadlock),
     CriterionKind("stl", "the criterion's own formula", "up to the author", _stl),

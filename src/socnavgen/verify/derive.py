@@ -19,6 +19,7 @@ from socnavgen.verify.models import Source, VerifySettings
 from socnavgen.verify.thresholds import WAIT_MARGIN
 
 Judged = list[tuple[Criterion, Source]]
+_PEOPLE_APART = Criterion(id="people_apart", kind="people_apart", text="no two people touch each other")
 SHOWS_ENCOUNTER = {"meets", "keeps_away", "follows_robot"}  # criterion kinds that already show a human's encounter
 
 
@@ -105,12 +106,15 @@ def derive_spec(plan: PathPlan, location: Any, card_criteria: list[dict] | None,
                        "paths"))
         judged.append((Criterion(id="no_deadlock", kind="no_deadlock",
                                  text="robot never stuck behind a person"), "paths"))
+    if len(plan.humans) >= 2:
+        judged.append((_PEOPLE_APART, "paths"))
     spec = ScenarioSpec(encounters=encounters, criteria=[c for c, _ in judged])
     return spec, judged
 
 
-def with_implied(spec: ScenarioSpec, settings: VerifySettings) -> Judged:
-    """The spec's criteria and those its encounters imply, and those every run is judged on (source `implied`)."""
+def with_implied(spec: ScenarioSpec, settings: VerifySettings, people: int | None = None) -> Judged:
+    """The spec's criteria and those its encounters imply, and those every run is judged on (source `implied`).
+    `people`: how many humans the run has (paths.json; default: those the encounters name)."""
     judged: Judged = [(c, "spec") for c in spec.criteria]
     kinds_of: dict[str | None, set[str]] = {}
     for c in spec.criteria:
@@ -142,6 +146,8 @@ def with_implied(spec: ScenarioSpec, settings: VerifySettings) -> Judged:
     if "no_collision" not in present and not spec.script.misbehave:
         judged.append((Criterion(id="no_collision", kind="no_collision", text="robot never touches a person"),
                        "implied"))
+    if "people_apart" not in present and (len(spec.humans()) if people is None else people) >= 2:
+        judged.append((_PEOPLE_APART, "implied"))  # whatever the robot does: nothing in a spec makes people touch
     if "no_deadlock" not in present and not spec.script.misbehave and not blocking:
         longest_wait = max((cue.wait for cue in spec.script.cues), default=0.0)
         seconds = max(settings.deadlock_seconds, longest_wait + WAIT_MARGIN)  # a scripted wait is no deadlock

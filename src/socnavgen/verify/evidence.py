@@ -11,6 +11,7 @@ import numpy as np
 from socnavgen.sim import contact
 from socnavgen.verify.criteria import Compiled
 from socnavgen.verify.passing import undone
+from socnavgen.verify.people import people_evidence
 from socnavgen.verify.signals import Signals, aside
 from socnavgen.verify.thresholds import APPROACH, PROGRESS_STEP, STOP_HOLD, WALK_SPEED
 from socnavgen.verify.windows import window_text
@@ -257,6 +258,10 @@ def _goal_evidence(cc: Compiled, s: Signals) -> Evidence:
     return text, float(s.t[-1]), float(to_goal[-1])
 
 
+def _people_evidence(cc: Compiled, s: Signals) -> Evidence:
+    return people_evidence(cc.human, s)
+
+
 def _collision_evidence(cc: Compiled, s: Signals) -> Evidence:
     summary = s.contacts()
     return summary.describe(), summary.min_gap_time, summary.min_gap
@@ -317,7 +322,7 @@ def _stl_evidence(cc: Compiled, s: Signals) -> Evidence:
 EVIDENCE: dict[str, Callable[[Compiled, Signals], Evidence]] = {
     "meets": _meets_evidence, "reacts_after_phrase": _phrase_evidence, "group_together": _group_evidence,
     "robot_reaches_goal": _goal_evidence, "no_collision": _collision_evidence, "no_deadlock": _deadlock_evidence,
-    "stl": _stl_evidence,
+    "people_apart": _people_evidence, "stl": _stl_evidence,
 }  # every other kind of criteria.CRITERION_KINDS: _human_evidence
 
 

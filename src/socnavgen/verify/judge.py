@@ -86,7 +86,7 @@ def prepare(plan: PathPlan, location: Any, spec: ScenarioSpec | None, trees: dic
     if spec is None:
         used, judged = derive_spec(plan, location, card_criteria, settings)
     else:
-        used, judged = spec, with_implied(spec, settings)
+        used, judged = spec, with_implied(spec, settings, len(plan.humans))
     node_points: dict[str, tuple[float, float]] = {}
     if location is not None:
         node_points = {n: tuple(location.node_world(n)) for n in location.scene_graph.node_ids()}

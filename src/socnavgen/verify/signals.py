@@ -177,6 +177,10 @@ class Signals:
         radii = float(self.trace.robot_radius) + np.asarray(self.trace.human_radii, dtype=float).reshape(1, -1)
         return self._keep("gaps", lambda: self.distances() - radii)
 
+    def people_gaps(self) -> tuple[np.ndarray, list[tuple[int, int]]]:
+        """contact.people_gaps of the trace ((T, P) person-person gaps and their pairs), computed once."""
+        return self._keep("people_gaps", lambda: contact.people_gaps(self.trace))
+
     def contacts(self) -> contact.ContactSummary:
         """contact.summarize of the trace, computed once."""
         return self._keep("contacts", lambda: contact.summarize(self.trace, gaps=self.gaps()
@@ -290,6 +294,12 @@ def _gap_min(s: Signals, m: re.Match) -> np.ndarray:
     if not s.trace.human_names:
         return np.full(s.trace.steps, FAR)
     return contact.row_min(s.gaps())
+
+
+def _pgap(s: Signals, m: re.Match) -> np.ndarray:
+    gaps, pairs = s.people_gaps()
+    cols = [c for c, pair in enumerate(pairs) if m[1] is None or s.human(m[1]) in pair]
+    return contact.row_min(gaps[:, cols]) if cols else np.full(s.trace.steps, FAR)
 
 
 def _speed(s: Signals, m: re.Match) -> np.ndarray:
@@ -470,6 +480,7 @@ SIGNAL_KINDS: tuple[SignalKind, ...] = (
     SignalKind(rf"dist_{_H}", "dist_<human>", "m", "robot-human centre distance", _dist),
     SignalKind(rf"gap_{_H}", "gap_<human>", "m", "robot-human surface gap (negative: overlap)", _gap),
     SignalKind(r"gap_min", "gap_min", "m", "smallest robot-human gap over all humans", _gap_min),
+    SignalKind(rf"pgap_(?:min|{_H})", "pgap_min, pgap_<human>", "m", "smallest person-person gap (of that human)", _pgap),
     SignalKind(rf"speed_(robot|{_H[1:-1]})", "speed_robot, speed_<human>", "m/s", "speed", _speed),
     SignalKind(r"robot_still", "robot_still", "0/1", f"robot speed below {STILL_SPEED} m/s", _robot_still),
     SignalKind(r"stalled", "stalled", "s", "how long the robot has been standing still, continuously", _stalled),

@@ -13,7 +13,10 @@ their midpoint within the encounter's `within` of its node.
 - a later one opens at the first step, after the previous one began, on which the person's part in it is
   triggered (the simulated person switches to a later part as soon as its trigger holds: "e1 block the robot,
   e2 give way once it says EXCUSE ME" is one meeting), or the two are together at its place after the previous
-  encounter ended (the first step, after they were first together there, on which they no longer are);
+  encounter ended (the first step, after they were first together there, on which they no longer are); after a
+  LATCHED part, whose tree holds the later parts inside its latch (proposal/tree_needs.py), a later trigger
+  counts only once the latched part's own trigger has held (warehouse_02: the robot within 4 m of the picker,
+  e2's trigger, before it says EXCUSE ME, e1's, opens no e2 window);
 - each window closes when the person's next encounter opens (the last one at the end of the run).
 
 A window that never opens is empty: its criteria have no cause in it and fail, blamed on the paths.
@@ -105,12 +108,17 @@ def opening_steps(s: Signals, spec: ScenarioSpec, human: str, settings: VerifySe
     steps = s.trace.steps
     opens: list[int | None] = []
     ended, began = 0, 0  # the step the previous encounter ended, and began
+    held: int | None = 0  # the step from which a later part may take over (a latched earlier part: once triggered)
     for k, enc in enumerate(encounters_of(spec, human)):
         at = together(s, human, enc, reach(spec, enc, human, settings))
         first = _first(at, ended)
         part = next(p for p in enc.humans if p.human == human)
         cue = triggered(s, human, part) if k else None
-        by_cue = _first(cue, min(began + 1, steps)) if cue is not None and steps else None
+        by_cue = _first(cue, min(max(began + 1, held), steps)) if cue is not None and steps and held is not None \
+            else None
+        if part.latch:  # the later parts live inside its latch (proposal/tree_needs.py): not before its trigger
+            gate = triggered(s, human, part)
+            held = held if gate is None else _first(gate, 0)
         start = min((x for x in (first, by_cue) if x is not None), default=None)
         opens.append(0 if k == 0 else start)
         if first is not None:
