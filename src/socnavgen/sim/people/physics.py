@@ -14,10 +14,12 @@ from typing import NamedTuple
 
 import numpy as np
 
+from socnavgen.bodies import PERSON_KEEP_GAP
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people import neighbours
 from socnavgen.sim.people.avoid import KEEP_GAP, keep_off
 from socnavgen.sim.people.neighbours import Grid, new_grid, span
+from socnavgen.sim.people.spacing import keep_apart
 from socnavgen.sim.world.queries import clearance_at, nearest_obstacle
 
 CONTACT_SWEEPS = 4  # passes of the contact step over the overlapping pairs, while one still moved someone
@@ -209,7 +211,8 @@ def group_forces(people, prm, direction, force, centres, counts):  # noqa: ANN00
 @jit
 def move(people, group_sizes, prm, dt, scratch, robot_pos, robot_radius):  # noqa: ANN001, ANN201
     """One force step for the walkers (using the environment force of the previous call), each heading for
-    its point of this step (`via`: people.routing) and never stepping into the robot (people.avoid); the
+    its point of this step (`via`: people.routing), never stepping into someone (people.spacing) nor into the
+    robot (people.avoid); the
     others stand (zero velocity) or turn. Flags people that reached their real goal; returns how many."""
     n = people.shape[0]
     direction, force = scratch.direction, scratch.force
@@ -240,6 +243,7 @@ def move(people, group_sizes, prm, dt, scratch, robot_pos, robot_radius):  # noq
             speed = abs(v)
             if speed > p.desired_speed:
                 v = v * (p.desired_speed / speed)
+            v = keep_apart(people, i, v, dt, scratch.grid)
             v = keep_off(v, p.pos, robot_pos, p.radius + robot_radius, dt)
             speed = abs(v)
             if speed > 1e-9:
@@ -273,7 +277,7 @@ def advance(people, group_sizes, prm, world, robot_pos, robot_vel, robot_radius,
 
 @jit(inline=True)
 def separate(people, world, i, j):  # noqa: ANN001, ANN201
-    """Push i and j apart along the line of their centres to just past touching (both people overlap): halves
+    """Push i and j apart along the line of their centres to just past PERSON_KEEP_GAP (they came closer): halves
     between two walkers or two standing, all of it by the walker when one stands; a share that would end in a
     wall (closer than half a body) is taken by the other instead (someone pressed against a wall is not pushed
     into it, and the one who walked into them steps back the whole way); returns whether anyone moved."""
@@ -281,7 +285,7 @@ def separate(people, world, i, j):  # noqa: ANN001, ANN201
     d = a.pos - b.pos
     dist = abs(d)
     unit = d / dist if dist > 1e-9 else complex(math.cos(0.7 * (i + 1)), math.sin(0.7 * (j + 1)))
-    depth = a.radius + b.radius - dist + 1e-4  # just apart: no state exactly on the boundary
+    depth = a.radius + b.radius + PERSON_KEEP_GAP - dist + 1e-4  # just past the gap: no state on the boundary
     share_a = 0.5 if a.walks == b.walks else (1.0 if a.walks else 0.0)
     a_free = clearance_at(world, a.pos + unit * depth * share_a) >= 0.5 * a.radius
     b_free = clearance_at(world, b.pos - unit * depth * (1 - share_a)) >= 0.5 * b.radius
@@ -301,8 +305,8 @@ def separate(people, world, i, j):  # noqa: ANN001, ANN201
 
 @jit
 def resolve_contacts(people, robot, world, slack, before, snap, grid):  # noqa: ANN001, ANN201
-    """Bodies do not interpenetrate (HuNavSim's agents are solid in Gazebo). Two people who overlap are
-    pushed apart along the line of their centres to just past touching, the walkers taking the whole
+    """Bodies do not interpenetrate (HuNavSim's agents are solid in Gazebo). Two people closer than
+    PERSON_KEEP_GAP are pushed apart along the line of their centres to that gap, the walkers taking the whole
     correction from someone standing, pair after pair in index order, in up to CONTACT_SWEEPS sweeps (someone
     arriving among people standing close together is pushed from one into the next) (a large crowd finds its overlapping
     pairs with the cell list of this step's positions, people.neighbours); then a person whose step (their own,
