@@ -20,9 +20,11 @@ from socnavgen.sim.people import neighbours
 from socnavgen.sim.people.avoid import KEEP_GAP, keep_off
 from socnavgen.sim.people.neighbours import Grid, new_grid, span
 from socnavgen.sim.people.spacing import keep_apart
+from socnavgen.sim.people.state import queued_at
 from socnavgen.sim.world.queries import clearance_at, nearest_obstacle
 
 CONTACT_SWEEPS = 4  # passes of the contact step over the overlapping pairs, while one still moved someone
+HEELS_GAP = 0.2  # m: a group-mate this much beyond the keep gap behind a member is on its heels (on_heels)
 WALL_HOLD_BACK = 0.5  # the wall force holds a walker back by at most this fraction of their drive (wall_relief)
 
 
@@ -173,6 +175,22 @@ def in_group_walk(p):  # noqa: ANN001, ANN201
     return p.group >= 0 and p.walks and p.to_goal and p.behavior == 0
 
 
+@jit(inline=True)
+def on_heels(people, i, e):  # noqa: ANN001, ANN201
+    """A member of i's group walking together with it is right behind i (gap under PERSON_KEEP_GAP + HEELS_GAP,
+    behind along i's direction e): i does not stand waiting for the others then - the one behind cannot pass
+    (a team going through a door one by one would stand in it, the first waiting for the ones it holds up)."""
+    p = people[i]
+    for j in range(people.shape[0]):
+        q = people[j]
+        if j == i or q.group != p.group or not in_group_walk(q):
+            continue
+        d = p.pos - q.pos
+        if (d * e.conjugate()).real > 0 and abs(d) - p.radius - q.radius < PERSON_KEEP_GAP + HEELS_GAP:
+            return True
+    return False
+
+
 @jit
 def group_forces(people, prm, direction, force, centres, counts):  # noqa: ANN001, ANN201
     """Gaze, coherence and repulsion among the members of a group walking together (reference §6.5), added to
@@ -195,7 +213,7 @@ def group_forces(people, prm, direction, force, centres, counts):  # noqa: ANN00
         e = direction[i]
         along = (e * others.conjugate()).real
         e2 = abs(e) ** 2
-        if along < 0 and e2 > 0:  # the others are behind: slow down
+        if along < 0 and e2 > 0 and not on_heels(people, i, e):  # the others are behind: slow down
             force[i] += prm.k_gaze * along / e2 * e
         w = centre - p.pos
         force[i] += prm.k_coh * (math.tanh(abs(w) - (size - 1) / 2) + 1) / 2 * w
@@ -250,7 +268,7 @@ def move(people, group_sizes, prm, dt, scratch, robot_pos, robot_radius):  # noq
                 p.yaw = math.atan2(v.imag, v.real)
             p.pos = p.pos + v * dt
             p.vel = v
-            if p.to_goal and p.has_goal and abs(p.goal - p.pos) <= p.goal_radius:
+            if p.to_goal and p.has_goal and (abs(p.goal - p.pos) <= p.goal_radius or queued_at(people, i, p.goal)):
                 p.reached = True
                 reached += 1
         else:

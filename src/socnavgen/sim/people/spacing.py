@@ -2,12 +2,13 @@
 
 `keep_apart` (the walking step, after the social force): the part of a walker's velocity that would bring them
 closer than bodies.PERSON_KEEP_GAP to another person's body is dropped, so they slow down, slide along them or
-stop, as pedestrians do; one who walks straight into someone (little of their walk left after that) steps round
-them on their own right at SIDESTEP of their speed (two people meeting head-on both keep right and pass), unless
-that person's body is where they walk to (following someone, a goal someone stands on): then they stop at the
-gap. The social force (physics.pair_force) alone lets followers, group members held by the group force and
-walkers crossing at one spot press together. The contact step (physics.resolve_contacts) stays the last resort,
-for people others push, and restores the same gap.
+stop, as pedestrians do (behind someone walking on ahead of them, they follow); one who walks straight into
+someone standing or coming toward them (little of their walk left after that) steps round them on their own
+right at SIDESTEP of their speed (two people meeting head-on both keep right and pass), unless that person's
+body is where they walk to (following someone, a goal someone stands on): then they stop at the gap. The social
+force (physics.pair_force) alone lets followers, group members held by the group force and walkers crossing at
+one spot press together. The contact step (physics.resolve_contacts) stays the last resort, for people others
+push, and restores the same gap.
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ from socnavgen.sim.jit import jit
 from socnavgen.sim.people import neighbours
 
 SIDESTEP = 0.5  # of their speed: a walker blocked head-on by someone steps round them on the right this fast
+MOVING = 0.1  # m/s: someone walking away faster than this is followed, not stepped round
 BLOCKED = 0.5  # of their speed: a walker left with less than this of their walk is blocked
 
 
@@ -47,7 +49,8 @@ def keep_apart(people, i, v, dt, grid):  # noqa: ANN001, ANN201
         if radial >= lowest:
             continue
         v = v + (lowest - radial) * unit
-        if abs(v) < BLOCKED * speed and abs(target - q.pos) > reach + PERSON_KEEP_GAP:
+        if abs(v) < BLOCKED * speed and (q.vel * unit.conjugate()).real >= -MOVING and \
+                abs(target - q.pos) > reach + PERSON_KEEP_GAP:
             side = unit * 1j  # along their body, to the walker's right
             if (side * (e * -1j).conjugate()).real < 0:
                 side = -side
