@@ -24,21 +24,18 @@ PATHS = fixture_paths(FIXTURES)
 # contact step leaves them touching; the verifier checks robot-person contact only), the robot passing people at
 # 0.10-0.17 m (no contact by the 5 cm rule, brushing to the eyes), and events of the text that no criterion of the
 # model's spec states (then no verifier can see them missing).
-_BUMP = "two people's bodies touch each other (gap 0.00 m), which no criterion checks"
 DISAGREE: dict[str, str] = {
     "home_02_resident_with_cane_in_doorway": "lenient PASS: the robot waits right next to the door and the resident "
     "brushes it coming out (~23 s, gap 0.17 m), against the text's 'clear way' and 'safe distance'",
-    "home_03_welcome_dinner_guests": f"lenient PASS: the guests walk side by side, not in single file ({_BUMP}, ~4 s), "
-    "and the greeting stop in the living room never visibly happens (no criterion states it)",
+    "home_03_welcome_dinner_guests": "lenient PASS: the greeting stop in the living room never visibly happens (no "
+    "criterion states it); the guests now keep a gap (>= 0.10 m) and go through the hallway one behind the other",
     "home_04_grandchild_shows_drawing": "lenient PASS: the robot stands stuck in the doorway ~11 s until the child "
     "leaves the drawing spot, then takes the spot itself; the child never faces it at the drawing",
     "home_07_laundry_in_morning_rush": "lenient PASS: the robot does not stop in the bedroom doorway for the children, "
     "passes human2 at 0.10 m at 13.4 s and stands face to face with the mother at z2 for ~10 s",
-    "hospital_04_telepresence_ward_round": f"lenient PASS: the robot ends in the doorway ~1.8 m short of its goal "
+    "hospital_04_telepresence_ward_round": "lenient PASS: the robot ends in the doorway ~1.8 m short of its goal "
     "(counted as arrived short of an occupied goal) after stalling ~20 s; two of the four start on one spot (gap "
-    f"-0.80 m at t=0) and jump apart; {_BUMP} within the team",
-    "hospital_05_elevator_at_visiting_hour": "lenient PASS: in the corridor the visitor steps into a room doorway and "
-    "waits while the robot drives past - the reverse of the text (no criterion says who waits)",
+    "-0.80 m at t=0) and jump apart; four people share one goal point and jam in the doorway (kept 0.10 m apart)",
     "hospital_06_night_wandering_patient": "lenient PASS: after FOLLOW ME the robot drives up to ~0.4 m of the confused "
     "patient, who has to give way, where the text has it stop at a respectful distance and wait",
     "warehouse_02_aisle_picker_excuse_me": "strict FAIL: the eyes see every event happen (stop ~2 m short, EXCUSE ME, "
@@ -46,10 +43,10 @@ DISAGREE: dict[str, str] = {
     "before the robot reaches the picker (EXCUSE ME at 15 s): the model's `within`, not the scene",
     "warehouse_04_pallet_jack_backing_out": "lenient PASS: the worker never backs out across the cross aisle in front "
     "of the robot and the robot never stops; it drives past the worker still standing at the aisle end",
-    "warehouse_05_sweeping_at_shift_change": f"lenient PASS: the three encounters happen, but {_BUMP} (workers 2 and 3, "
-    "~43-45 s) and worker 3 idles ~43 s before setting off",
+    "warehouse_05_sweeping_at_shift_change": "lenient PASS: the three encounters happen, but worker 3 idles ~43 s "
+    "before setting off (workers 2 and 3 now meet at the aisle end ~43-47 s 0.10 m apart, not touching)",
     "warehouse_07_night_patrol_west_corridor": "lenient PASS: no PROCEED at hd (the robot goes down the aisle first), "
-    f"ACKNOWLEDGED before WAIT at ki, the second worker never passes in front of the robot, and {_BUMP}",
+    "ACKNOWLEDGED before WAIT at ki, and the second worker never passes in front of the robot",
 }
 
 # Fixtures whose recorded answers a stage check added since refuses, each with why; the recording has no answer

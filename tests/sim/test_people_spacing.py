@@ -60,3 +60,15 @@ def test_a_group_walking_together_keeps_a_spacing_and_arrives():
     trace = make_sim(people, [tree_xml(REGULAR)] * 3, [(10.0, 9.0), (10.5, 9.0)], Drive(0.0), timeout=25).run()
     assert pair_gaps(trace).min() >= PERSON_KEEP_GAP - 1e-3
     assert all(trace.humans[-1, k, 0] > 13.0 for k in range(3))
+
+
+def test_a_walker_whose_goal_someone_stands_on_stops_beside_them_and_has_arrived():
+    """Someone stands on the very point another person walks to: the walker stops at the gap from them (no
+    pressing into them, which never reached the goal either) and counts as arrived: their walk is over."""
+    stand = tree_xml('<Sequence><SetBlackboard output_key="agentid" value="{id}"/></Sequence>')
+    people = [human("human1", start=(3.0, 5.0), goals=[(12.0, 5.0)]), human("human2", start=(12.0, 5.0), goals=[])]
+    sim = make_sim(people, [tree_xml(REGULAR), stand], [(10.0, 9.0), (10.5, 9.0)], Stay(), timeout=20)
+    trace = sim.run()
+    assert pair_gaps(trace).min() >= PERSON_KEEP_GAP - 1e-3
+    assert abs(complex(*trace.humans[-1, 0, :2]) - 12.0 - 5.0j) < 1.0  # came up to them
+    assert "UpdateGoal" in {trace.node_names[a] for a in trace.action[-20:, 0] if a >= 0}  # arrived: at its goal
