@@ -21,9 +21,9 @@ from socnavgen.sim.records import layout, table
 
 # a goal someone stands on (people keep PERSON_KEEP_GAP from each other: nobody gets within the goal radius of
 # a goal another body covers) is reached as close as the people standing at it let a person come: within
-# QUEUE_REACH of it, at the gap (+ QUEUE_SLACK) from someone standing nearer to it
+# QUEUE_REACH of it, within the gap + QUEUE_SLACK of someone standing nearer to it
 QUEUE_REACH = PERSON_GOAL_RADIUS + 2 * PERSON_RADIUS + PERSON_KEEP_GAP + 0.1  # m: one ring of people round it
-QUEUE_SLACK = 0.05  # m
+QUEUE_SLACK = 0.5  # m: the social force alone holds a walker about this far off someone standing on their goal
 STANDING = 0.1  # m/s: someone slower than this stands
 DONE_SPEED = 0.05  # m/s: a person slower than this at its last goal has finished its walk
 # how a walk finds its way (PERSON.route; people.routing): straight at the target, or around walls toward the
