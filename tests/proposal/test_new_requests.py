@@ -31,8 +31,6 @@ DISAGREE: dict[str, str] = {
     "criterion states it); the guests now keep a gap (>= 0.10 m) and go through the hallway one behind the other",
     "home_04_grandchild_shows_drawing": "lenient PASS: the robot stands stuck in the doorway ~11 s until the child "
     "leaves the drawing spot, then takes the spot itself; the child never faces it at the drawing",
-    "home_07_laundry_in_morning_rush": "lenient PASS: the robot does not stop in the bedroom doorway for the children, "
-    "passes human2 at 0.10 m at 13.4 s and stands face to face with the mother at z2 for ~10 s",
     "hospital_04_telepresence_ward_round": "lenient PASS: the robot ends in the doorway ~1.8 m short of its goal "
     "(counted as arrived short of an occupied goal) after stalling ~20 s; two of the four start on one spot (gap "
     "-0.80 m at t=0) and jump apart; four people share one goal point and jam in the doorway (kept 0.10 m apart)",
