@@ -1,45 +1,76 @@
-"""How close people come to the robot: the smallest robot-person gap and the time spent within CLOSE m, per run.
+"""How close people come to the robot and to each other, per run.
 
     python scripts/passing_gaps.py --eval /tmp/ev            # the final runs of an `eval --fixtures` out folder
     python scripts/passing_gaps.py --cards /tmp/cards        # every fitting card on the bundled locations
 
 Prints one table row per run (and a total), so two branches can be compared before/after a change to the
-people's rules."""
+people's rules: the smallest robot-person gap and the seconds with some robot-person gap <= CLOSE; the smallest
+person-person gap (with the pair and when), the seconds with some pair in contact (gap <= CONTACT_MARGIN) and
+with some pair within CLOSE."""
 
 from __future__ import annotations
 
 import argparse
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
-from socnavgen.sim.contact import row_min, trace_gaps
+from socnavgen.bodies import CONTACT_MARGIN
+from socnavgen.sim.contact import lengths, row_min, trace_gaps
 from socnavgen.sim.trace import Trace
 
 CLOSE = 0.15  # m: a gap a person looking at the animation sees as touching
 
 
-def gap_numbers(trace: Trace) -> tuple[float, float]:
-    """(smallest robot-person gap in m, seconds with some gap <= CLOSE) of one trace."""
+class Row(NamedTuple):
+    name: str
+    robot_gap: float  # m: smallest robot-person gap
+    robot_close: float  # s with a robot-person gap <= CLOSE
+    person_gap: float  # m: smallest person-person gap (inf with fewer than two people)
+    person_pair: str  # who, and when
+    person_contact: float  # s with a pair at gap <= CONTACT_MARGIN
+    person_close: float  # s with a pair at gap <= CLOSE
+
+
+def person_gaps(trace: Trace) -> np.ndarray:
+    """(T, P) surface gaps of every pair of people (P = H (H - 1) / 2, pairs in np.triu_indices order)."""
+    h = trace.humans.shape[1] if trace.humans.ndim == 3 else 0
+    i, j = np.triu_indices(h, 1)
+    xy = trace.humans[:, :, :2]
+    return lengths(xy[:, i] - xy[:, j]) - (trace.human_radii[i] + trace.human_radii[j])[None, :]
+
+
+def gap_numbers(name: str, trace: Trace) -> Row:
+    """The row of one trace."""
     gaps = trace_gaps(trace)
-    if gaps.size == 0:
-        return float("inf"), 0.0
-    closest = row_min(gaps)
-    return float(closest.min()), float((closest <= CLOSE).sum() * trace.dt)
+    robot_gap, robot_close = float("inf"), 0.0
+    if gaps.size:
+        closest = row_min(gaps)
+        robot_gap, robot_close = float(closest.min()), float((closest <= CLOSE).sum() * trace.dt)
+    pg = person_gaps(trace)
+    if pg.size == 0:
+        return Row(name, robot_gap, robot_close, float("inf"), "", 0.0, 0.0)
+    closest = pg.min(axis=1)
+    k, m = np.unravel_index(int(np.argmin(pg)), pg.shape)
+    i, j = np.triu_indices(trace.humans.shape[1], 1)
+    pair = f"{trace.human_names[i[m]]}-{trace.human_names[j[m]]} @{trace.t[k]:.1f}s"
+    return Row(name, robot_gap, robot_close, float(closest.min()), pair,
+               float((closest <= CONTACT_MARGIN).sum() * trace.dt), float((closest <= CLOSE).sum() * trace.dt))
 
 
-def eval_rows(out: Path) -> list[tuple[str, float, float]]:
+def eval_rows(out: Path) -> list[Row]:
     """One row per fixture's final run (not the `.first` ones) of an eval out folder."""
     rows = []
     for trace_path in sorted((out / "fixtures").glob("*/sim/trace.npz")):
         name = trace_path.parents[1].name
         if name.endswith(".first"):
             continue
-        rows.append((name, *gap_numbers(Trace.load(trace_path))))
+        rows.append(gap_numbers(name, Trace.load(trace_path)))
     return rows
 
 
-def card_rows(work: Path) -> list[tuple[str, float, float]]:
+def card_rows(work: Path) -> list[Row]:
     """One row per fitting card on each bundled location, simulated with the default robot."""
     from socnavgen.cards.generate import fit_all, write_card_run
     from socnavgen.location import load_location
@@ -54,7 +85,7 @@ def card_rows(work: Path) -> list[tuple[str, float, float]]:
                 continue
             run = write_card_run(fit.card.name, path, work / name / fit.card.name)
             trace = simulate_run(run.root, location=location, save=False)
-            rows.append((f"{name}/{fit.card.name}", *gap_numbers(trace)))
+            rows.append(gap_numbers(f"{name}/{fit.card.name}", trace))
     return rows
 
 
@@ -65,14 +96,20 @@ def main() -> None:
     parser.add_argument("--cards", type=Path, help="a scratch folder to write the card runs to")
     args = parser.parse_args()
     rows = (eval_rows(args.eval) if args.eval else []) + (card_rows(args.cards) if args.cards else [])
-    print(f"| run | min gap (m) | s within {CLOSE} m |")
-    print("|---|---|---|")
-    for name, gap, close in rows:
-        print(f"| {name} | {gap:.3f} | {close:.1f} |")
+    print(f"| run | robot: min gap (m) | s within {CLOSE} m | people: min gap (m) | pair | "
+          f"s in contact (<= {CONTACT_MARGIN} m) | s within {CLOSE} m |")
+    print("|---|---|---|---|---|---|---|")
+    for r in rows:
+        print(f"| {r.name} | {r.robot_gap:.3f} | {r.robot_close:.1f} | {r.person_gap:.3f} | {r.person_pair} | "
+              f"{r.person_contact:.1f} | {r.person_close:.1f} |")
     if rows:
-        gaps = np.array([r[1] for r in rows])
+        gaps = np.array([r.robot_gap for r in rows])
+        pgaps = np.array([r.person_gap for r in rows])
         print(f"| **all {len(rows)}** | min {gaps.min():.3f}, median {np.median(gaps):.3f}, "
-              f"{int((gaps <= CLOSE).sum())} runs <= {CLOSE} | {sum(r[2] for r in rows):.1f} |")
+              f"{int((gaps <= CLOSE).sum())} runs <= {CLOSE} | {sum(r.robot_close for r in rows):.1f} | "
+              f"min {pgaps.min():.3f}, {int((pgaps <= CONTACT_MARGIN).sum())} runs in contact, "
+              f"{int((pgaps <= CLOSE).sum())} runs <= {CLOSE} | | {sum(r.person_contact for r in rows):.1f} | "
+              f"{sum(r.person_close for r in rows):.1f} |")
 
 
 if __name__ == "__main__":

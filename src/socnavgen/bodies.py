@@ -28,7 +28,9 @@ ROBOT_GOAL_TOLERANCE = 0.2  # m: hunav_evaluator's "completed"
 ROBOT_MAX_SPEED = 2.0  # m/s: the simulated robot never moves faster, whatever its policy asks
 
 # -- contact and proxemics (gaps are surface to surface: centre distance minus both radii) ---------
-CONTACT_MARGIN = 0.05  # m: a robot-person gap at or under this is contact (bodies touching)
+CONTACT_MARGIN = 0.05  # m: a robot-person (or person-person) gap at or under this is contact (bodies touching)
+PERSON_KEEP_GAP = 0.1  # m: two people keep at least this gap (> CONTACT_MARGIN): a walker's own step never closes
+#   it (sim.people.spacing) and the contact step (sim.people.physics) pushes people apart to it
 INTIMATE_SPACE, PERSONAL_SPACE, SOCIAL_SPACE = 0.45, 1.2, 3.6  # m: Hall's proxemic zone limits (gaps)
 
 

@@ -31,7 +31,7 @@ from socnavgen.sim.people.give_way import (
     plan_side_step,
     robot_has_passed,
 )
-from socnavgen.sim.people.state import ROUTE_STRAIGHT, turn, walk_to
+from socnavgen.sim.people.state import ROUTE_STRAIGHT, queued_at, turn, walk_to
 from socnavgen.sim.people.trees import LEAF_NAMES
 from socnavgen.sim.world.queries import line_of_sight
 
@@ -44,14 +44,14 @@ NONE, STEPPING = 0, 1  # p.makes_room
 @jit
 def stands_still(s, i, spot):  # noqa: ANN001, ANN201
     """Person i's tree keeps them at `spot` this step (no walk, or a walk to their last goal, at `spot`), and
-    does not block the robot on purpose."""
+    does not block the robot on purpose (at a goal others stand on: as close as they let them, state.queued_at)."""
     p = s.people[i]
     if p.succeeded & DELIBERATE:
         return False
     if not p.walks:
         return True
     last = p.to_goal and p.has_goal and p.queue_count <= 1 and not p.cyclic
-    return last and abs(p.goal - spot) <= p.goal_radius + PERSON_GOAL_SLACK
+    return last and (abs(p.goal - spot) <= p.goal_radius + PERSON_GOAL_SLACK or queued_at(s.people, i, p.goal))
 
 
 @jit

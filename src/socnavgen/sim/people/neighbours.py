@@ -15,8 +15,10 @@ from typing import NamedTuple
 
 import numpy as np
 
+from socnavgen.bodies import PERSON_KEEP_GAP
 from socnavgen.sim.jit import jit
 
+LOOK_AHEAD = 0.5  # m: people this much beyond the keep gap are in a walker's step's reach (people.spacing)
 GRID_MIN = 64  # above this many people, neighbours come from the cell list (linear cost)
 CELLS_PER_PERSON = 4  # cells made per person (the cells grow when the crowd's extent needs more)
 NX, NY, REACH_SOCIAL, REACH_CONTACT = 0, 1, 2, 3  # Grid.dims
@@ -69,7 +71,7 @@ def build(grid, people, social_reach):  # noqa: ANN001, ANN201
         radius = max(radius, people[i].radius)
     if not (x1 >= x0 and y1 >= y0):  # nobody at a finite position
         x0, y0, x1, y1 = 0.0, 0.0, 0.0, 0.0
-    contact = 2.0 * radius
+    contact = 2.0 * radius + PERSON_KEEP_GAP + LOOK_AHEAD
     if math.isfinite(social_reach):
         size = max(0.5 * social_reach, contact, 1e-3)
         cap = grid.start.shape[0] - 1
@@ -119,9 +121,9 @@ def span(grid, gy, lo, hi):  # noqa: ANN001, ANN201
 
 @jit(inline=True)
 def overlaps(people, snap, i, j):  # noqa: ANN001, ANN201
-    """Whether i and j overlapped (by more than a micrometre) where the walking step left them (the squared
-    distance first: most pairs are far apart, and then the exact test could not hold either)."""
-    d, reach = snap[i] - snap[j], people[i].radius + people[j].radius
+    """Whether i and j came closer than PERSON_KEEP_GAP (by more than a micrometre) where the walking step left
+    them (the squared distance first: most pairs are far apart, and then the exact test could not hold either)."""
+    d, reach = snap[i] - snap[j], people[i].radius + people[j].radius + PERSON_KEEP_GAP
     if d.real * d.real + d.imag * d.imag > reach * reach:
         return False
     return reach - abs(d) > 1e-6
@@ -129,7 +131,7 @@ def overlaps(people, snap, i, j):  # noqa: ANN001, ANN201
 
 @jit
 def later_overlaps(grid, people, snap, i):  # noqa: ANN001, ANN201
-    """The people j > i that overlap person i, in index order, into grid.found; returns how many. Every j
+    """The people j > i closer than PERSON_KEEP_GAP to person i (`overlaps`), in index order, into grid.found; returns how many. Every j
     after i when the crowd has no cell list, else those of the cells around i's."""
     n, found, m = people.shape[0], grid.found, 0
     if not active(grid, n):
@@ -150,5 +152,29 @@ def later_overlaps(grid, people, snap, i):  # noqa: ANN001, ANN201
                     found[at] = found[at - 1]
                     at -= 1
                 found[at] = j
+                m += 1
+    return m
+
+
+@jit
+def near(grid, people, i):  # noqa: ANN001, ANN201
+    """The other people within reach of a walker's step (their bodies, PERSON_KEEP_GAP and LOOK_AHEAD) of person
+    i, in index order, into grid.found; returns how many. Everyone else when the crowd has no cell list, else
+    those of the cells around i's (built at the end of the last step)."""
+    n, found, m = people.shape[0], grid.found, 0
+    if not active(grid, n):
+        for j in range(n):
+            if j != i:
+                found[m] = j
+                m += 1
+        return m
+    nx, reach = grid.dims[NX], grid.dims[REACH_CONTACT]
+    cx, cy = grid.cell[i] % nx, grid.cell[i] // nx
+    for gy in range(cy - reach, cy + reach + 1):
+        a, b = span(grid, gy, cx - reach, cx + reach)
+        for k in range(a, b):
+            j = grid.order[k]
+            if j != i:
+                found[m] = j
                 m += 1
     return m

@@ -14,13 +14,17 @@ from typing import NamedTuple
 
 import numpy as np
 
+from socnavgen.bodies import PERSON_KEEP_GAP
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people import neighbours
 from socnavgen.sim.people.avoid import KEEP_GAP, keep_off
 from socnavgen.sim.people.neighbours import Grid, new_grid, span
+from socnavgen.sim.people.spacing import keep_apart
+from socnavgen.sim.people.state import queued_at
 from socnavgen.sim.world.queries import clearance_at, nearest_obstacle
 
 CONTACT_SWEEPS = 4  # passes of the contact step over the overlapping pairs, while one still moved someone
+HEELS_GAP = 0.2  # m: a group-mate this much beyond the keep gap behind a member is on its heels (on_heels)
 WALL_HOLD_BACK = 0.5  # the wall force holds a walker back by at most this fraction of their drive (wall_relief)
 
 
@@ -171,6 +175,22 @@ def in_group_walk(p):  # noqa: ANN001, ANN201
     return p.group >= 0 and p.walks and p.to_goal and p.behavior == 0
 
 
+@jit(inline=True)
+def on_heels(people, i, e):  # noqa: ANN001, ANN201
+    """A member of i's group walking together with it is right behind i (gap under PERSON_KEEP_GAP + HEELS_GAP,
+    behind along i's direction e): i does not stand waiting for the others then - the one behind cannot pass
+    (a team going through a door one by one would stand in it, the first waiting for the ones it holds up)."""
+    p = people[i]
+    for j in range(people.shape[0]):
+        q = people[j]
+        if j == i or q.group != p.group or not in_group_walk(q):
+            continue
+        d = p.pos - q.pos
+        if (d * e.conjugate()).real > 0 and abs(d) - p.radius - q.radius < PERSON_KEEP_GAP + HEELS_GAP:
+            return True
+    return False
+
+
 @jit
 def group_forces(people, prm, direction, force, centres, counts):  # noqa: ANN001, ANN201
     """Gaze, coherence and repulsion among the members of a group walking together (reference §6.5), added to
@@ -193,7 +213,7 @@ def group_forces(people, prm, direction, force, centres, counts):  # noqa: ANN00
         e = direction[i]
         along = (e * others.conjugate()).real
         e2 = abs(e) ** 2
-        if along < 0 and e2 > 0:  # the others are behind: slow down
+        if along < 0 and e2 > 0 and not on_heels(people, i, e):  # the others are behind: slow down
             force[i] += prm.k_gaze * along / e2 * e
         w = centre - p.pos
         force[i] += prm.k_coh * (math.tanh(abs(w) - (size - 1) / 2) + 1) / 2 * w
@@ -209,7 +229,8 @@ def group_forces(people, prm, direction, force, centres, counts):  # noqa: ANN00
 @jit
 def move(people, group_sizes, prm, dt, scratch, robot_pos, robot_radius):  # noqa: ANN001, ANN201
     """One force step for the walkers (using the environment force of the previous call), each heading for
-    its point of this step (`via`: people.routing) and never stepping into the robot (people.avoid); the
+    its point of this step (`via`: people.routing), never stepping into someone (people.spacing) nor into the
+    robot (people.avoid); the
     others stand (zero velocity) or turn. Flags people that reached their real goal; returns how many."""
     n = people.shape[0]
     direction, force = scratch.direction, scratch.force
@@ -240,13 +261,14 @@ def move(people, group_sizes, prm, dt, scratch, robot_pos, robot_radius):  # noq
             speed = abs(v)
             if speed > p.desired_speed:
                 v = v * (p.desired_speed / speed)
+            v = keep_apart(people, i, v, dt, scratch.grid)
             v = keep_off(v, p.pos, robot_pos, p.radius + robot_radius, dt)
             speed = abs(v)
             if speed > 1e-9:
                 p.yaw = math.atan2(v.imag, v.real)
             p.pos = p.pos + v * dt
             p.vel = v
-            if p.to_goal and p.has_goal and abs(p.goal - p.pos) <= p.goal_radius:
+            if p.to_goal and p.has_goal and (abs(p.goal - p.pos) <= p.goal_radius or queued_at(people, i, p.goal)):
                 p.reached = True
                 reached += 1
         else:
@@ -273,7 +295,7 @@ def advance(people, group_sizes, prm, world, robot_pos, robot_vel, robot_radius,
 
 @jit(inline=True)
 def separate(people, world, i, j):  # noqa: ANN001, ANN201
-    """Push i and j apart along the line of their centres to just past touching (both people overlap): halves
+    """Push i and j apart along the line of their centres to just past PERSON_KEEP_GAP (they came closer): halves
     between two walkers or two standing, all of it by the walker when one stands; a share that would end in a
     wall (closer than half a body) is taken by the other instead (someone pressed against a wall is not pushed
     into it, and the one who walked into them steps back the whole way); returns whether anyone moved."""
@@ -281,7 +303,7 @@ def separate(people, world, i, j):  # noqa: ANN001, ANN201
     d = a.pos - b.pos
     dist = abs(d)
     unit = d / dist if dist > 1e-9 else complex(math.cos(0.7 * (i + 1)), math.sin(0.7 * (j + 1)))
-    depth = a.radius + b.radius - dist + 1e-4  # just apart: no state exactly on the boundary
+    depth = a.radius + b.radius + PERSON_KEEP_GAP - dist + 1e-4  # just past the gap: no state on the boundary
     share_a = 0.5 if a.walks == b.walks else (1.0 if a.walks else 0.0)
     a_free = clearance_at(world, a.pos + unit * depth * share_a) >= 0.5 * a.radius
     b_free = clearance_at(world, b.pos - unit * depth * (1 - share_a)) >= 0.5 * b.radius
@@ -301,8 +323,8 @@ def separate(people, world, i, j):  # noqa: ANN001, ANN201
 
 @jit
 def resolve_contacts(people, robot, world, slack, before, snap, grid):  # noqa: ANN001, ANN201
-    """Bodies do not interpenetrate (HuNavSim's agents are solid in Gazebo). Two people who overlap are
-    pushed apart along the line of their centres to just past touching, the walkers taking the whole
+    """Bodies do not interpenetrate (HuNavSim's agents are solid in Gazebo). Two people closer than
+    PERSON_KEEP_GAP are pushed apart along the line of their centres to that gap, the walkers taking the whole
     correction from someone standing, pair after pair in index order, in up to CONTACT_SWEEPS sweeps (someone
     arriving among people standing close together is pushed from one into the next) (a large crowd finds its overlapping
     pairs with the cell list of this step's positions, people.neighbours); then a person whose step (their own,

@@ -11,6 +11,7 @@ import numpy as np
 from socnavgen.bodies import (
     PERSON_GOAL_RADIUS,
     PERSON_GOAL_SLACK,
+    PERSON_KEEP_GAP,
     PERSON_MAX_SPEED,
     PERSON_PASS_GAP,
     PERSON_RADIUS,
@@ -18,6 +19,12 @@ from socnavgen.bodies import (
 from socnavgen.sim.jit import jit
 from socnavgen.sim.records import layout, table
 
+# a goal someone stands on (people keep PERSON_KEEP_GAP from each other: nobody gets within the goal radius of
+# a goal another body covers) is reached as close as the people standing at it let a person come: within
+# QUEUE_REACH of it, within the gap + QUEUE_SLACK of someone standing nearer to it
+QUEUE_REACH = PERSON_GOAL_RADIUS + 2 * PERSON_RADIUS + PERSON_KEEP_GAP + 0.1  # m: one ring of people round it
+QUEUE_SLACK = 0.5  # m: the social force alone holds a walker about this far off someone standing on their goal
+STANDING = 0.1  # m/s: someone slower than this stands
 DONE_SPEED = 0.05  # m/s: a person slower than this at its last goal has finished its walk
 # how a walk finds its way (PERSON.route; people.routing): straight at the target, or around walls toward the
 # person's goal, the robot, or person j (route = j >= 0)
@@ -140,9 +147,31 @@ def pop_goal(people, goals, i, keep_last):  # noqa: ANN001, ANN201
 
 @jit
 def goal_reached(people, goals, i):  # noqa: ANN001, ANN201
-    """IsGoalReached: a goal is left and the person is within its goal radius (+ slack) of the front one."""
+    """IsGoalReached: a goal is left and the person is within its goal radius (+ slack) of the front one, or as
+    close as the people standing at it let them (queued_at)."""
     p = people[i]
-    return p.queue_count > 0 and abs(goals[i, p.queue_start] - p.pos) <= p.goal_radius + PERSON_GOAL_SLACK
+    if p.queue_count == 0:
+        return False
+    goal = goals[i, p.queue_start]
+    return abs(goal - p.pos) <= p.goal_radius + PERSON_GOAL_SLACK or queued_at(people, i, goal)
+
+
+@jit
+def queued_at(people, i, goal):  # noqa: ANN001, ANN201
+    """Person i is as close to `goal` as the people standing at it let them: within QUEUE_REACH of it and at the
+    keep gap (+ QUEUE_SLACK) from someone standing nearer to it (a team gathering at one bed, workers at one
+    pallet: the later ones stop beside the first, not pressed into them)."""
+    p = people[i]
+    away = abs(goal - p.pos)
+    if away > QUEUE_REACH:
+        return False
+    for j in range(people.shape[0]):
+        q = people[j]
+        if j == i or abs(q.vel) >= STANDING or abs(goal - q.pos) >= away:
+            continue
+        if abs(q.pos - p.pos) - p.radius - q.radius <= PERSON_KEEP_GAP + QUEUE_SLACK:
+            return True
+    return False
 
 
 @jit
