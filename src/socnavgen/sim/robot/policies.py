@@ -327,7 +327,9 @@ def scripted_act(s, now):  # noqa: ANN001, ANN201
     top = near_speed(s, v, policy.max_speed)  # slower the nearer it passes someone (personal to intimate space)
     if abs(v) > top:
         v = v * (top / abs(v))
-    v = v + yield_to(s)
+    away = yield_to(s)
+    if away != 0:  # someone walking at it or closing in: it stops and steps out of their way (no progress meanwhile)
+        v = away
     if abs(v) > corner:  # all of it (passing aside, yielding) within the blind corner's speed
         v = v * (corner / abs(v))
     v = social_clear(s, slide_along_walls(s, v))
