@@ -171,9 +171,12 @@ def yield_to(s):  # noqa: ANN001, ANN201
         side = 1.0 if lateral >= 0 else -1.0
         if free_along(s.world, robot.pos, side * 1j * w, 0.3, robot.radius + WALL_ROOM) < 0.1:
             side = -side
-        if gap > YIELD_GAP:  # stepping off their line early: sideways only, where there is room (never ahead of
-            if free_along(s.world, robot.pos, side * 1j * w, 0.3, robot.radius + WALL_ROOM) < 0.1:  # them, along
-                continue  # their way, into where they are going)
+        if gap > YIELD_GAP:  # stepping off their line early: sideways only (never along their way), not toward
+            to_goal = q.goal - robot.pos  # their goal (where they turn to) when it lies beyond the robot, where
+            if abs(q.goal - q.pos) > dist and (to_goal * (side * 1j * w).conjugate()).real > 0:  # there is room
+                side = -side
+            if free_along(s.world, robot.pos, side * 1j * w, 0.3, robot.radius + WALL_ROOM) < 0.1:
+                continue
             v += side * 1j * w * YIELD_SPEED
             continue
         out = side * 1j * w + 0.5 * u
