@@ -168,6 +168,8 @@ def yield_to(s):  # noqa: ANN001, ANN201
         if gap > YIELD_GAP and not (abs(q.vel) > CLOSING and abs(lateral) < q.radius + robot.radius
                                     + ROBOT_SOCIAL_GAP):
             continue  # farther off: only someone walking at it, whose line would bring them too close
+        if gap > YIELD_GAP and (q.vel * robot.vel.conjugate()).real > 0:
+            continue  # farther off and walking the way it drives (catching up from behind): pass_aside's
         side = 1.0 if lateral >= 0 else -1.0
         if free_along(s.world, robot.pos, side * 1j * w, 0.3, robot.radius + WALL_ROOM) < 0.1:
             side = -side
