@@ -26,12 +26,6 @@ PATHS = fixture_paths(FIXTURES)
 # model's spec states (then no verifier can see them missing).
 _BUMP = "two people's bodies touch each other (gap 0.00 m), which no criterion checks"
 DISAGREE: dict[str, str] = {
-    "home_01_child_blocks_vacuum": "stale eyes (wt-robot s8: the robot keeps a social gap, and the replay now ends at "
-    "the verified first answer, which the eyes never judged). Frames of that answer: the child comes out of the "
-    "hallway opening NW of the robot at vh (~12 s) and stands there; the robot stops and says EXCUSE ME (13-15 s); the "
-    "child steps back into the opening, the robot goes on west, the child trails right behind it, touching its back "
-    "(gap 0.10 m at 32 s), and only then turns off to the dining area; it never sidesteps to stay in front: re-judge "
-    "blind",
     "home_02_resident_with_cane_in_doorway": "lenient PASS: the robot waits right next to the door and the resident "
     "brushes it coming out (~23 s, gap 0.17 m), against the text's 'clear way' and 'safe distance'",
     "home_03_welcome_dinner_guests": f"lenient PASS: the guests walk side by side, not in single file ({_BUMP}, ~4 s), "
@@ -50,7 +44,7 @@ DISAGREE: dict[str, str] = {
     "warehouse_01_blind_corner_cart": "stale eyes (wt-robot s8: the replay now ends at the verified first answer, "
     "which the eyes never judged). Frames of that answer: the worker coming down the north leg stops (~33 s, "
     "LookAtRobot) at the corner; the robot, instead of pulling over or backing off, edges round the stopped worker's "
-    "east side at 0.24-0.3 m (38-48 s) and drives on north; the worker walks on south-west once it is past (~55 s): "
+    "east side at 0.25-0.3 m (38-48 s) and drives on north; the worker walks on south-west once it is past (~55 s): "
     "re-judge blind",
     "warehouse_02_aisle_picker_excuse_me": "strict FAIL: the eyes see every event happen (stop ~2 m short, EXCUSE ME, "
     "the picker leads out, waits beside the aisle end, goes back); the spec's first encounter window closes (13.4 s) "
