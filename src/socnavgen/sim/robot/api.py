@@ -20,7 +20,7 @@ from typing import Any, ClassVar, Protocol, runtime_checkable
 
 import numpy as np
 
-from socnavgen.bodies import ROBOT_RADIUS
+from socnavgen.bodies import ROBOT_RADIUS, ROBOT_SOCIAL_GAP
 from socnavgen.bt.library import ROBOT_GESTURES
 from socnavgen.errors import InputFileError, ValidationFailed
 from socnavgen.sim.records import Columns, table
@@ -217,7 +217,7 @@ class ScriptedPolicy(WaypointsPolicy):
     plans: ClassVar[bool] = True
     guard: ClassVar[float] = POLITE_GAP
     max_speed: float = math.inf
-    keep_gap: float = POLITE_GAP  # m kept from everyone (robot.polite; 3 x the contact margin)
+    keep_gap: float = ROBOT_SOCIAL_GAP  # m its own moves never close to anyone (bodies; robot.polite.keep_clear)
     corner_speed: float = math.inf  # m/s at most near a blind turn of its route (robot.polite.corner_speed;
     # inf: off). Pacing's ETA counts the time lost there (polite.corner_late), but ON by default 5 cards still
     # fail (hidden_until seen at 5.14 m, a crowd standing in its way, a late elevator meeting: docs/NEWS, s7)

@@ -34,6 +34,7 @@ from socnavgen.sim.robot.polite import (
     make_way,
     near_speed,
     pass_aside,
+    social_clear,
     wait_aside,
     yield_to,
 )
@@ -68,6 +69,7 @@ POLICY = layout([
     ("corner_speed", "f8"),  # m/s near blind turns of its route (robot.polite.corner_speed; inf: not slowed)
     ("guard", "f8"),  # m: the body's protective field (robot.body.drive; NaN: none)
     ("retreat_to", "i8"),  # making way (polite.make_way): the waypoint it backs toward (-1: none)
+    ("pinned", "f8"),  # s its moves have been held back by its keep_gap (polite.social_clear)
     ("plans", "?"), ("field_scale", "i8"),  # it follows the planner's way (robot.planner) where the line to its waypoint is blocked
     ("waypoint", "i8"), ("rude_waypoint", "i8")])
 
@@ -291,7 +293,7 @@ def straight_act(s, max_speed, rude):  # noqa: ANN001, ANN201
 @jit
 def scripted_act(s, now):  # noqa: ANN001, ANN201
     """Drives like waypoints with the manners of robot.polite: moves aside to pass people with room, slows
-    down near them, backs away from someone walking into it, never comes within keep_gap (POLITE_GAP) of anyone."""
+    down near them, backs away from someone walking into it, never comes within keep_gap (bodies.ROBOT_SOCIAL_GAP) of anyone."""
     policy = s.policy[0]
     if now.misbehave:
         return straight_act(s, policy.rude_max_speed, True)
@@ -302,7 +304,7 @@ def scripted_act(s, now):  # noqa: ANN001, ANN201
         v = yield_to(s)
         if v == 0 and now.timed:
             v = wait_aside(s)
-        return keep_clear(s, slide_along_walls(s, v), policy.keep_gap)
+        return social_clear(s, slide_along_walls(s, v))
     target, _ = track(s, False)
     forward = target - s.robot[0].pos
     if abs(forward) > 1e-9:
@@ -310,7 +312,7 @@ def scripted_act(s, now):  # noqa: ANN001, ANN201
         if backing:
             policy.speed = 0.0
             policy.has_heading, policy.heading = True, forward / abs(forward)
-            return keep_clear(s, slide_along_walls(s, v), policy.keep_gap)
+            return social_clear(s, slide_along_walls(s, v))
     v = waypoints_act(s)
     direction = policy.heading if abs(policy.heading) > 0 else complex(math.cos(s.robot[0].yaw),
                                                                        math.sin(s.robot[0].yaw))
@@ -325,10 +327,12 @@ def scripted_act(s, now):  # noqa: ANN001, ANN201
     top = near_speed(s, v, policy.max_speed)  # slower the nearer it passes someone (personal to intimate space)
     if abs(v) > top:
         v = v * (top / abs(v))
-    v = v + yield_to(s)
+    away = yield_to(s)
+    if away != 0:  # someone walking at it or closing in: it stops and steps out of their way (no progress meanwhile)
+        v = away
     if abs(v) > corner:  # all of it (passing aside, yielding) within the blind corner's speed
         v = v * (corner / abs(v))
-    v = keep_clear(s, slide_along_walls(s, v), policy.keep_gap)
+    v = social_clear(s, slide_along_walls(s, v))
     forward = (v * direction.conjugate()).real
     if forward < policy.speed:
         policy.speed = max(0.0, forward)

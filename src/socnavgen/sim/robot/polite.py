@@ -9,7 +9,9 @@ them, steps back from someone walking into it, and never moves closer than a mar
 * near_speed: toward anyone within EASE_GAP (personal space) it slows with the gap, down to CLOSE_SPEED at PASS_GAP
   (intimate space, Hall's 0.45 m) and nearer: where it cannot pass at a social distance it passes slowly; moving
   away from them is not slowed (someone walking into its back or side is left behind, not waited for).
-* yield_to: a person closing in within YIELD_GAP: the robot backs away from them (the robot gives way).
+* yield_to: a person closing in within YIELD_GAP, or walking at the robot within YIELD_LOOK on a line that would
+  bring them within ROBOT_SOCIAL_GAP of it (someone coming out of a door next to which it waits): the robot
+  steps off their line and away from them (the robot gives way, before they brush it).
 * make_way: someone who needs to get past it (their goal, or their own route through their next goals, lies
   past the robot: a person the robot's presence stopped in a doorway or a hallway), face to face within
   FACE_GAP for `patience` s (both waiting): it backs away along the way it came while they are near, and steps
@@ -23,13 +25,16 @@ them, steps back from someone walking into it, and never moves closer than a mar
   not in the middle of a corridor.
 * keep_clear: the part of a move that would bring the robot closer than `gap` (surface to surface) to a
   person is dropped: it slides past or stops, and never pushes into anyone.
+* social_clear: keep_clear with the policy's keep_gap (bodies.ROBOT_SOCIAL_GAP for the default robot): it never
+  drives closer than that to anyone, waiting instead; held back so for PINNED_PATIENCE s (people pressing round
+  it where no move keeps that gap), it keeps only POLITE_GAP, so that a crowd never pins it for good.
 """
 
 from __future__ import annotations
 
 import math
 
-from socnavgen.bodies import CONTACT_MARGIN, INTIMATE_SPACE, PERSONAL_SPACE
+from socnavgen.bodies import CONTACT_MARGIN, INTIMATE_SPACE, PERSONAL_SPACE, ROBOT_SOCIAL_GAP
 from socnavgen.location.inventory import BLIND_SIGHT_M
 from socnavgen.location.places import CORNER_TURN_DEG
 from socnavgen.sim.jit import jit
@@ -47,9 +52,12 @@ WALL_ROOM = 0.08  # m beyond its radius: the robot moves aside only where this m
 CLOSE_SPEED = 0.3  # m/s at most while someone is within PASS_GAP
 EASE_GAP = PERSONAL_SPACE  # m: nearer than this to someone it drives toward, the robot slows (near_speed)
 YIELD_GAP = 0.3  # m: someone closing in this close makes the robot back away
+YIELD_LOOK = 1.0  # m (gap): someone walking at the robot this close, on a line within ROBOT_SOCIAL_GAP of its body,
+# makes it step off their line
 YIELD_SPEED = 0.35  # m/s at most, backing away
 CLOSING = 0.1  # m/s: a person this fast toward the robot is closing in
 POLITE_GAP = 3 * CONTACT_MARGIN  # m: the default robot never moves closer than this to anyone (0.15)
+PINNED_PATIENCE = 4.0  # s held back by its keep_gap before the robot settles for POLITE_GAP (social_clear)
 MAKE_WAY_GAP = 1.5  # m: someone walking toward the robot this close, face to face, may make it give way
 MAKE_WAY_KEEP = 1.0  # m beyond MAKE_WAY_GAP: making way goes on while they are this near, wherever they are
 FACE_GAP = 0.8  # m: standing face to face this close for `patience` s also makes it give way
@@ -138,16 +146,18 @@ def near_speed(s, v, cruise):  # noqa: ANN001, ANN201
 
 @jit
 def yield_to(s):  # noqa: ANN001, ANN201
-    """Velocity out of the way of the people closing in within YIELD_GAP (0 when nobody is): sideways off the
-    line they walk along, to the side the robot already is on (the other when that side has no room), and a
-    little away from them."""
+    """Velocity out of the way of the people closing in within YIELD_GAP, or walking at the robot within YIELD_LOOK
+    on a line that passes within ROBOT_SOCIAL_GAP of its body (0 when nobody is): sideways off the line they walk
+    along, to the side the robot already is on (the other when that side has no room), and a little away from
+    them."""
     robot, people = s.robot[0], s.people
     v = 0j
     for i in range(people.shape[0]):
         q = people[i]
         d = robot.pos - q.pos
         dist = abs(d)
-        if dist < 1e-9 or dist - q.radius - robot.radius > YIELD_GAP:
+        gap = dist - q.radius - robot.radius
+        if dist < 1e-9 or gap > YIELD_LOOK:
             continue
         u = d / dist
         closing = ((q.vel - robot.vel) * u.conjugate()).real
@@ -155,9 +165,22 @@ def yield_to(s):  # noqa: ANN001, ANN201
             continue
         w = q.vel / abs(q.vel) if abs(q.vel) > CLOSING else u
         lateral = (d * w.conjugate()).imag
+        if gap > YIELD_GAP and not (abs(q.vel) > CLOSING and abs(lateral) < q.radius + robot.radius
+                                    + ROBOT_SOCIAL_GAP):
+            continue  # farther off: only someone walking at it, whose line would bring them too close
+        if gap > YIELD_GAP and (q.vel * robot.vel.conjugate()).real > 0:
+            continue  # farther off and walking the way it drives (catching up from behind): pass_aside's
         side = 1.0 if lateral >= 0 else -1.0
         if free_along(s.world, robot.pos, side * 1j * w, 0.3, robot.radius + WALL_ROOM) < 0.1:
             side = -side
+        if gap > YIELD_GAP:  # stepping off their line early: sideways only (never along their way), not toward
+            to_goal = q.goal - robot.pos  # their goal (where they turn to) when it lies beyond the robot, where
+            if abs(q.goal - q.pos) > dist and (to_goal * (side * 1j * w).conjugate()).real > 0:  # there is room
+                side = -side
+            if free_along(s.world, robot.pos, side * 1j * w, 0.3, robot.radius + WALL_ROOM) < 0.1:
+                continue
+            v += side * 1j * w * YIELD_SPEED
+            continue
         out = side * 1j * w + 0.5 * u
         v += out / abs(out) * YIELD_SPEED
     if abs(v) > YIELD_SPEED:
@@ -193,6 +216,21 @@ def keep_clear(s, v, gap):  # noqa: ANN001, ANN201
         if not abs(people[k].pos - ahead) >= min(people[k].radius + robot.radius + gap, abs(people[k].pos - p)):
             return 0j
     return v
+
+
+@jit
+def social_clear(s, v):  # noqa: ANN001, ANN201
+    """`v` kept clear of people by the policy's keep_gap (keep_clear); after PINNED_PATIENCE s in which that gap held
+    most of the robot's wish back, by POLITE_GAP only (no less than that, never into anyone)."""
+    policy = s.policy[0]
+    out = keep_clear(s, v, policy.keep_gap)
+    if abs(v) < 0.05 or abs(out) >= 0.3 * abs(v) or not policy.keep_gap > POLITE_GAP:
+        policy.pinned = 0.0
+        return out
+    policy.pinned += s.clock[0].dt
+    if policy.pinned < PINNED_PATIENCE:
+        return out
+    return keep_clear(s, v, POLITE_GAP)
 
 
 @jit

@@ -22,13 +22,14 @@ from typing import NamedTuple
 import numpy as np
 
 from socnavgen import proxemics
+from socnavgen.bodies import ROBOT_SOCIAL_GAP
 from socnavgen.bt.library import HUMAN_GESTURES, ROBOT_GESTURES
 from socnavgen.run.models import RobotGestureRule
 from socnavgen.run.spec import RobotCue, RobotScript
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.routing import project
 from socnavgen.sim.records import layout, table
-from socnavgen.sim.robot.polite import POLITE_GAP, WALL_ROOM
+from socnavgen.sim.robot.polite import WALL_ROOM
 from socnavgen.sim.world.grid import empty_room
 from socnavgen.sim.world.queries import clearance_at
 
@@ -38,7 +39,7 @@ CLEAR_PATIENCE = 8.0  # s: still blocked after this long, the robot asks again (
 CLEAR_REPEATS = 2  # ... this many times, then stops waiting and drives around like an operator would
 AT_NODE = 1.0  # m: a gesture rule `at_node` holds within this distance of its node
 SQUEEZE = 0.3  # m: someone beside the route whom the robot passes by edging at most this far aside (keeping
-# POLITE_GAP, where walls and other people leave it room) does not hold it "until clear"
+# ROBOT_SOCIAL_GAP, where walls and other people leave it room) does not hold it "until clear"
 
 START, AFTER, AT_ENCOUNTER, BLOCKED, HUMAN_WITHIN, HUMAN_SAYS, HUMAN_FARTHER = range(7)
 TRIGGERS = {"start": START, "after": AFTER, "at_encounter": AT_ENCOUNTER, "blocked": BLOCKED,
@@ -178,16 +179,16 @@ def route_segment(s):  # noqa: ANN001, ANN201
 @jit
 def squeezes_past(s, i, foot, d):  # noqa: ANN001, ANN201
     """The robot passes person i (d from its route, `foot` the nearest route point) on the far side keeping
-    POLITE_GAP, by edging at most SQUEEZE aside, with room from walls and everyone else there."""
+    ROBOT_SOCIAL_GAP (the gap its moves keep), by edging at most SQUEEZE aside, with room from walls and everyone else there."""
     robot, q = s.robot[0], s.people[i]
-    clear = robot.radius + q.radius + POLITE_GAP
+    clear = robot.radius + q.radius + ROBOT_SOCIAL_GAP
     if d < 1e-6 or clear - d > SQUEEZE:
         return False
     at = q.pos - (q.pos - foot) / d * clear  # the robot's centre passing them
     if clearance_at(s.world, at) < robot.radius + WALL_ROOM:
         return False
     for k in range(s.people.shape[0]):
-        if k != i and abs(s.people[k].pos - at) < robot.radius + s.people[k].radius + POLITE_GAP:
+        if k != i and abs(s.people[k].pos - at) < robot.radius + s.people[k].radius + ROBOT_SOCIAL_GAP:
             return False
     return True
 
