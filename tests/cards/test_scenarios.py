@@ -34,15 +34,6 @@ KNOWN_FAILING: dict[tuple[str, str], str] = {
     ("warehouse", "blind-corner"): "deadlock: the robot makes way by backing down the 2.3 m corridor ahead of the "
                                    "worker it held short (7.2 m back and forth, 20 s, 0.23 m gap) instead of pulling "
                                    "aside at the corner",
-    # since people keep PERSON_KEEP_GAP (0.1 m) from each other (sim/people/spacing.py, 2026-11-26 s8), nobody is
-    # pressed out of the robot's way by the people walking into them any more; on main these two passed only so:
-    ("home", "robot-crowding"): "deadlock: human1 (RegularNav to z2, 1.06 m from the stopped robot) waits short of "
-                                "the robot standing by its goal while the robot waits for human1 in its way (0.89 m "
-                                "gap, 102 s); on main human2/human3 walking into human1 pushed it south out of the "
-                                "robot's way at ~10 s (seen in the GIF at 8-24 s)",
-    ("warehouse", "perpendicular-traffic"): "deadlock: in the narrow corridor 6r-f7 human2 stands at its last goal f7, "
-                                            "human3 queues behind it next to the robot coming up the corridor (0.17 m "
-                                            "gap, 13 s); on main human3 pressed past human2 (seen in the GIF at 20-32 s)",
     ("hospital", "narrow-doorway"): "meets at cc: closest 1.35 m, 2.66 m from cc; the robot was nearest the node at "
                                     "t=16.0 s, the person at t=25.4 s (not yet looked at in the GIF)",
 }
@@ -51,13 +42,10 @@ KNOWN_FAILING: dict[tuple[str, str], str] = {
 # members pressed together 0.7-12 s; hospital perpendicular-traffic: the three walking in a touching file at 10 s and
 # bunched at their goal at 15 s). A defect of the people's physics (group force, followers converging), for the
 # people helper: not a verifier leniency to restore.
-_TOUCHING = "people_apart: two people touch each other (the group force / a file of walkers presses them together)"
-KNOWN_FAILING.update({(location, card): _TOUCHING for location, card in (
-    ("warehouse", "join-group"), ("warehouse", "leave-group"), ("warehouse", "crowd-navigation"),
-    ("warehouse", "parallel-traffic"), ("warehouse", "perpendicular-traffic"), ("warehouse", "robot-crowding"),
-    ("hospital", "join-group"), ("hospital", "leave-group"), ("hospital", "crowd-navigation"),
-    ("hospital", "parallel-traffic"), ("hospital", "perpendicular-traffic"), ("hospital", "circular-crossing"),
-    ("hospital", "robot-crowding"), ("home", "robot-crowding"))})
+# since the default robot keeps ROBOT_SOCIAL_GAP and steps off the line of someone walking at it (s8, robot.polite):
+KNOWN_FAILING[("warehouse", "crowd-navigation")] = ("no_deadlock: the robot moves 6.2 m back and forth without "
+                                                     "progress for 34.5 s from t=37.8 s with human1 in its way "
+                                                     "(0.80 m gap); not yet looked at in the GIF")
 # Stopping short of an occupied goal counts only where the people there leave no nearer free spot (s8,
 # sim.arrival.no_nearer_spot): in these the robot parks in the doorway (narrow-doorway: 1.53 m off, the person gave
 # way 1.19 m beside the goal, the room around the goal free; narrow-hallway: 1.83 m off a free doorway goal, the
