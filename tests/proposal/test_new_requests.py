@@ -20,32 +20,32 @@ PATHS = fixture_paths(FIXTURES)
 
 # Where the verifier and the eyes disagree today, each with what was seen (a strict xfail: it turns red the day
 # they agree, and the pin must go). Empty means they agree on every fixture. Round 7 answers, judged 2026-11-26 (third
-# session) on that session's code. People touching EACH OTHER is judged since s8 (`people_apart`): home_03, home_07,
-# hospital_04, hospital_05, warehouse_05 and warehouse_07 fail it (their people's discs touch in the frames) and agree
-# with their eyes; hospital_01 and warehouse_08 fail it too while their eyes, which saw the touching, accepted it.
-# warehouse_02 agrees since e2's window no longer opens before e1's latched part began (verify/windows.py; seen in
-# the frames: stop ~2 m behind the picker at 13.5 s, EXCUSE ME at 15 s, the picker walks out and steps aside at
-# 17.5 s, the robot passes at 23.6 s and reaches p0 at 33.8 s while she walks back).
-# Left: the robot passing people at 0.10-0.17 m (no contact by the 5 cm rule, brushing to the eyes: the eyes call
-# 0.10 m "close but not touching" in home_06 and 0.17 m "brushing" in home_02, so no gap threshold agrees with both),
-# and events of the text that no criterion of the model's spec states (then no verifier can see them missing).
-_BUMP = "two people's bodies touch each other (gap 0.00 m)"
+# session) on that session's code; replayed on the code of s8 (people keep PERSON_KEEP_GAP from each other, the robot
+# keeps ROBOT_SOCIAL_GAP, people_apart judged, arrival short of an occupied goal only with no nearer free spot).
+# Causes left: events of the text that no criterion of the model's spec states (then no verifier can see them
+# missing), and eyes that judged an earlier run of the same answers ("stale eyes").
 DISAGREE: dict[str, str] = {
     "home_02_resident_with_cane_in_doorway": "lenient PASS: the robot waits right next to the door and the resident "
-    "brushes it coming out (~23 s, gap 0.17 m), against the text's 'clear way' and 'safe distance'",
+    "passes it coming out (gap 0.22 m since s8; the eyes saw 0.17 m as brushing), against the text's 'clear way'",
+    "home_03_welcome_dinner_guests": "lenient PASS: the greeting stop in the living room never visibly happens (no "
+    "criterion states it); the guests now keep a gap (>= 0.10 m) and go through the hallway one behind the other",
     "home_04_grandchild_shows_drawing": "lenient PASS: the robot stands stuck in the doorway ~11 s until the child "
     "leaves the drawing spot, then takes the spot itself; the child never faces it at the drawing",
-    "hospital_01_elevator_door_standoff": f"strict FAIL (people_apart): every event of the text happens, but {_BUMP}: "
-    "the two visitors (one group) walk shoulder to shoulder with their discs touching at 1.4 s and 15-22 s (seen in "
-    "the frames, 2026-11-26 s8); the eyes noted the overlap and judged the run as matching - the same bump that "
-    "counts against home_03 and warehouse_05 (wt-people: group members keep apart)",
-    "hospital_06_night_wandering_patient": "lenient PASS: after FOLLOW ME the robot drives up to ~0.4 m of the confused "
-    "patient, who has to give way, where the text has it stop at a respectful distance and wait",
+    "hospital_06_night_wandering_patient": "lenient PASS: after FOLLOW ME the robot drives on to ~0.5 m of the "
+    "confused patient, where the text has it stop at a respectful distance and wait",
+    "warehouse_01_blind_corner_cart": "stale eyes (s8: the replay now ends at the verified first answer, which the "
+    "eyes never judged). Frames of that answer: the worker coming down the north leg stops (~33 s, LookAtRobot) at "
+    "the corner; the robot, instead of pulling over or backing off, edges round the stopped worker's east side at "
+    "0.25-0.3 m (38-48 s) and drives on north; the worker walks on south-west once it is past (~55 s)",
+    "warehouse_02_aisle_picker_excuse_me": "strict FAIL: the eyes saw every event happen; since the s8 robot keeps "
+    "its social gap it waits 2.2-2.5 m behind the picker, inside stops_near_robot's 2.5 m only for ~0.7 s before "
+    "EXCUSE ME closes e1's window (robustness -0.01): not yet looked at in the frames",
     "warehouse_04_pallet_jack_backing_out": "lenient PASS: the worker never backs out across the cross aisle in front "
     "of the robot and the robot never stops; it drives past the worker still standing at the aisle end",
-    "warehouse_08_group_at_staging_pallet": f"strict FAIL (people_apart): the events happen as written, but {_BUMP} "
-    "for a moment: the two packers standing together at the pallet touch (gap 0.04-0.05 m, 0.1 s at 38.4 s, as they "
-    "start to give way; their discs touch in the frames at 37.5-38.4 s), which the eyes did not count",
+    "warehouse_05_sweeping_at_shift_change": "lenient PASS: the three encounters happen, but worker 3 idles ~43 s "
+    "before setting off (workers 2 and 3 now meet at the aisle end ~43-47 s 0.10 m apart, not touching)",
+    "warehouse_07_night_patrol_west_corridor": "lenient PASS: no PROCEED at hd (the robot goes down the aisle first), "
+    "ACKNOWLEDGED before WAIT at ki, and the second worker never passes in front of the robot",
 }
 
 # Fixtures whose recorded answers a stage check added since refuses, each with why; the recording has no answer
