@@ -105,6 +105,25 @@ def test_criteria_are_not_vacuous() -> None:
     assert _criterion(_approach(stop_at=0.0, human_x=2.9), kind="meets", human="human1") < 0
 
 
+def test_stops_near_robot_needs_them_in_front_of_one_another() -> None:
+    # the robot comes up to 1 m of a still person: in front of each other when the person faces it, or stands in its
+    # way with its back to it (a picker at a shelf the robot drove up behind: warehouse_02); never when the person
+    # stands beside the robot's way, or behind it, facing away
+    facing = _approach(stop_at=4.0)
+    assert _criterion(facing, kind="stops_near_robot", human="human1") > 0
+    back_in_way = _approach(stop_at=4.0)
+    back_in_way.trace.humans[:, 0, 2] = 0.0  # faces +x, away from the robot coming up behind it
+    assert _criterion(back_in_way, kind="stops_near_robot", human="human1") > 0
+    beside = _approach(stop_at=4.0)
+    beside.trace.humans[:, 0, 1] = 10.9  # 0.9 m off the robot's line, out of its swept corridor (0.85 m) ...
+    beside.trace.humans[:, 0, 2] = 0.0  # ... and facing away: the robot is not in front of them
+    assert _criterion(beside, kind="stops_near_robot", human="human1") < 0
+    shelf = _approach(stop_at=6.0, human_x=5.5)  # the robot drives past a person 1 m off its line ...
+    shelf.trace.humans[:, 0, 1] = 11.0
+    shelf.trace.humans[:, 0, 2] = np.pi / 2  # ... who faces a shelf the other way, never towards it
+    assert _criterion(shelf, kind="stops_near_robot", human="human1") < 0
+
+
 def test_gives_way_robustness_follows_the_human() -> None:
     # the robot stops 1 m from the human, who stays in its way: fails; stepping 1.5 m aside at t = 4 s, within
     # 2 s of the robot coming within 2 m (t = 3 s): passes

@@ -201,7 +201,7 @@ class Person(BaseModel):
 # ---- acceptance criteria -----------------------------------------------------------------------
 CriterionKind = Literal[
     "meets",  # robot and `human` come within `distance` (centre) of each other, within the encounter's `within` of its node
-    "stops_near_robot",  # `human` slower than 0.1 m/s while the robot is within `distance` ahead of it (and that happens)
+    "stops_near_robot",  # `human` slower than 0.1 m/s within `distance` in front of the robot: facing it or in its way
     "reacts_after_phrase",  # after the robot says `phrase`, `human` does `reaction` within `seconds`, and not before
     "gives_way",  # `human` leaves the robot's corridor within `seconds` of the robot coming within `distance`
     "follows_robot",  # after the trigger, `human` stays within `distance` of the robot for the rest of the run

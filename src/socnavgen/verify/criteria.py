@@ -147,9 +147,13 @@ def _stops_near_robot(c: Criterion, ctx: Context, out: Compiled) -> None:
     d = out.distance = c.distance or KIND_DISTANCE[c.kind]
     s = out.seconds = c.seconds or ctx.settings.reaction_seconds
     notice = max(d + 1.0, STOP_NOTICE_RANGE)  # the cause: the robot comes near (an approach, not where it started)
+    # "in front of" either way round: the robot ahead of h (h faces it), or h ahead of the robot in its way (a
+    # picker with its back to the robot that drove up behind it and stopped: warehouse_02). Beside or behind the
+    # robot with h facing away is neither.
+    front = f"({_b(f'ahead_{h}')} or {_b(f'inway_{h}')})"
     out.formula = (f"eventually ({_in_window(out)}(dist_{h} <= {notice:g}) and (closer_{h} >= {APPROACH:g}) and "
                    f"(eventually[0:{s:g}] "
-                   f"(always[0:{STOP_HOLD:g}] ((dist_{h} <= {d:g}) and {_b(f'ahead_{h}')} and "
+                   f"(always[0:{STOP_HOLD:g}] ((dist_{h} <= {d:g}) and {front} and "
                    f"(speed_{h} <= {STOP_SPEED:g})))))")
 
 
@@ -277,8 +281,9 @@ CRITERION_KINDS: dict[str, CriterionKind] = {k.name: k for k in (
                   "((dist_h > D) and once met(h, e_before))))", "an approach at the place, its own meeting",
                   _meets),
     CriterionKind("stops_near_robot", "eventually ((dist_h <= max(D + 1, 3)) and (closer_h >= A) and "
-                  "eventually[0:S] always[0:1] (dist_h <= D and ahead_h and speed_h <= 0.1))",
-                  "the robot came near (they approached), then h stood still 1 s ahead of it" + _IN_WINDOW,
+                  "eventually[0:S] always[0:1] (dist_h <= D and (ahead_h or inway_h) and speed_h <= 0.1))",
+                  "the robot came near (they approached), then h stood still 1 s in front of it (facing it, or in "
+                  "its way)" + _IN_WINDOW,
                   _stops_near_robot),
     CriterionKind("reacts_after_phrase", "eventually (not robot_says_P and always[0:H] not react_h_R and "
                   "eventually[0:H] robot_says_P and eventually[0:H+S] react_h_R)", "h shows no reaction for H s "
