@@ -33,19 +33,20 @@ DISAGREE: dict[str, str] = {
     "leaves the drawing spot, then takes the spot itself; the child never faces it at the drawing",
     "hospital_06_night_wandering_patient": "lenient PASS: after FOLLOW ME the robot drives on to ~0.5 m of the "
     "confused patient, where the text has it stop at a respectful distance and wait",
-    "warehouse_01_blind_corner_cart": "stale eyes (s8: the replay now ends at the verified first answer, which the "
-    "eyes never judged). Frames of that answer: the worker coming down the north leg stops (~33 s, LookAtRobot) at "
-    "the corner; the robot, instead of pulling over or backing off, edges round the stopped worker's east side at "
-    "0.25-0.3 m (38-48 s) and drives on north; the worker walks on south-west once it is past (~55 s)",
-    "warehouse_02_aisle_picker_excuse_me": "strict FAIL: the eyes saw every event happen; since the s8 robot keeps "
-    "its social gap it waits 2.2-2.5 m behind the picker, inside stops_near_robot's 2.5 m only for ~0.7 s before "
-    "EXCUSE ME closes e1's window (robustness -0.01): not yet looked at in the frames",
+    "warehouse_01_blind_corner_cart": "stale eyes, lenient PASS by a look at today's replay (wt-verify s8 wave 2): the "
+    "worker coming down the north leg stops at the corner (LookAtRobot ~33-50 s); the robot neither pulls over nor backs "
+    "off but edges round the stopped worker's east side at 0.25 m (38-44 s, 6 s in intimate space) and drives on north; "
+    "the worker walks on south-west once it is past (~55 s). No criterion states the robot pulling over or backing off",
     "warehouse_04_pallet_jack_backing_out": "lenient PASS: the worker never backs out across the cross aisle in front "
     "of the robot and the robot never stops; it drives past the worker still standing at the aisle end",
-    "warehouse_05_sweeping_at_shift_change": "lenient PASS: the three encounters happen, but worker 3 idles ~43 s "
-    "before setting off (workers 2 and 3 now meet at the aisle end ~43-47 s 0.10 m apart, not touching)",
-    "warehouse_07_night_patrol_west_corridor": "lenient PASS: no PROCEED at hd (the robot goes down the aisle first), "
-    "ACKNOWLEDGED before WAIT at ki, and the second worker never passes in front of the robot",
+    "warehouse_05_sweeping_at_shift_change": "stale eyes: on today's replay (wt-verify s8 wave 2 look) the three "
+    "encounters happen (worker 1 stops in the aisle at ki ~16 s, PROCEED ~30 s and worker 2 walks out past the robot "
+    "pulled aside at sh ~35 s, worker 3 passes it at sw ~57 s, gap >= 0.48 m), workers 2 and 3 meet at 9z ~43-47 s "
+    "one behind the other without touching; worker 3 still idles at 9z ~50 s before setting off (pacing)",
+    "warehouse_07_night_patrol_west_corridor": "stale eyes: on today's replay (88 s; wt-verify s8 wave 2 look) the robot "
+    "says PROCEED at 41-44 s before hd, the worker waits (LookAtRobot) and goes down the westernmost aisle first "
+    "(45-55 s); at ki the second worker says WAIT at 66.2 s, the robot ACKNOWLEDGED from the same step, waits in the "
+    "aisle mouth and she passes west in front of it (70-75 s); closest gap 0.34 m, the workers never touch",
 }
 
 # Fixtures whose recorded answers a stage check added since refuses, each with why; the recording has no answer
