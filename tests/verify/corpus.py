@@ -85,6 +85,7 @@ class Scene:
     dt: float = 0.1
     follow: dict[str, tuple[float, float]] = field(default_factory=dict)  # name -> (distance behind, y)
     goal: tuple[float, float] | None = None  # the robot's goal (default: east)
+    facing: dict[str, float] = field(default_factory=dict)  # name -> yaw while standing (default: facing the robot)
     end_reason: str = "goal"
 
 
@@ -129,6 +130,10 @@ def build(scene: Scene) -> Trace:
 
     robot = state(robot_xy, None)
     humans = np.stack([state(humans_xy[:, i], robot_xy) for i in range(len(names))], axis=1)
+    for i, name in enumerate(names):
+        if name in scene.facing:  # stands looking that way, whatever the robot does
+            still = np.hypot(humans[:, i, 3], humans[:, i, 4]) == 0
+            humans[still, i, 2] = scene.facing[name]
     action = np.zeros((n, len(names)), dtype=np.int16)
     gesture = np.zeros((n, len(names)), dtype=np.int8)
     for i, name in enumerate(names):
@@ -341,6 +346,13 @@ CASES: list[Case] = [
          spec=lambda sp: _crit(sp, "c2", distance=1.0)),
     Case("never_stops", passes=False, failing="c3", blame="behaviors", blame_human="human1",
          scene=lambda s: _h1(s, [(0.0, 6.3, 5.2), (5.5, 6.3, 1.9), (9.5, 6.3, 4.3), (20.0, 6.3, 5.5)])),
+    # human1 comes down the north leg and stands just beside the robot's way (0.98 m off its line, out of its swept
+    # corridor) looking back up the leg: still and near, but neither facing the robot nor in its way (c3)
+    Case("stands_beside_facing_away", passes=False, failing="c3", blame="behaviors", blame_human="human1",
+         scene=lambda s: replace(_h1(s, [(0.0, 6.3, 5.2), (5.5, 6.3, 2.5), (20.0, 6.3, 2.5)]),
+                                 facing={"human1": np.pi / 2})),
+    # ... while standing in its way with its back to the robot (looking east, on: a picker the robot came up behind) it is
+    Case("stands_in_way_back_to_robot", passes=True, scene=lambda s: replace(s, facing={"human1": 0.0})),
     Case("never_says_wait", passes=False, failing="c6", blame="behaviors", blame_human="human1",
          scene=lambda s: _h1(s, says=[])),
     Case("group_apart", passes=False, failing="c8", blame="behaviors", blame_human="human3",
