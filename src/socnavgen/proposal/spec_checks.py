@@ -17,7 +17,7 @@ from pydantic import BaseModel, ValidationError
 from socnavgen.bt.library import Target, nodes_for_reaction
 from socnavgen.location import Location
 from socnavgen.location.inventory import BLIND_MARGIN
-from socnavgen.proposal.facts import can_latch, detecting_nodes, latching_node
+from socnavgen.proposal.facts import STATED_BY, can_latch, detecting_nodes, latching_node
 from socnavgen.proposal.replies import human_name
 from socnavgen.run.spec import Criterion, Encounter, ScenarioSpec
 from socnavgen.verify.blame import contradictions, spec_problem
@@ -226,6 +226,7 @@ def spec_mistakes(spec: ScenarioSpec, humans: list[str], node_types: list[str] |
         if cue.trigger.human and cue.trigger.human not in humans:
             mistakes.append(f"spec.script.cues: the cue names {cue.trigger.human}, who is not a human of the scenario")
     mistakes += _criteria_mistakes(spec, humans, ids, robot_phrases)
+    mistakes += unstated_reactions(spec)
     mistakes += [m for c in spec.criteria for m in contradictions(c, spec)]  # the verifier's rule S1
     if location is not None:
         mistakes += place_mistakes(spec, location)
@@ -265,6 +266,42 @@ def _criteria_mistakes(spec: ScenarioSpec, humans: list[str], ids: list[str], ro
             mistakes.append(f"criterion {c.id}: kind stl needs its `formula`")
         if c.text.strip():
             mistakes += prose_mistakes(f"criterion {c.id}: text", c.text)
+    return mistakes
+
+
+def _about(c: Criterion, human: str) -> bool:
+    """The criterion is about `human`: names it, or (stl) uses one of its signals."""
+    if c.kind == "stl":
+        return re.search(rf"\w_{human}\b|\b{human}_\w", c.formula or "") is not None
+    return human in _human_refs(c)
+
+
+def unstated_reactions(spec: ScenarioSpec) -> list[str]:
+    """Every person the text gives a reaction to the robot (a part on a robot_* trigger whose reaction a criterion
+    kind states: facts.STATED_BY) has a criterion that states it; `meets` only says they came near, so an event of
+    the text would go unchecked and no verifier could see it missing. A group member is stated by group_together
+    with a member whose reaction is stated."""
+    reacting: dict[str, list[tuple[Encounter, str]]] = {}
+    stated: dict[str, bool] = {}
+    for human in spec.humans():
+        parts = [(e, p) for e, p in spec.parts_of(human) if p.reaction in STATED_BY and p.trigger.startswith("robot_")]
+        if not parts:
+            continue
+        kinds = {"stl", *(k for _, p in parts for k in STATED_BY[p.reaction]),
+                 *(["reacts_after_phrase"] if any(p.trigger == "robot_says" for _, p in parts) else [])}
+        reacting[human] = [(e, f"{p.reaction} on {p.trigger}") for e, p in parts]
+        stated[human] = any(c.kind in kinds and _about(c, human) for c in spec.criteria)
+    mistakes = []
+    for human, parts in reacting.items():
+        if stated[human] or any(c.kind == "group_together" and human in c.humans and
+                                any(stated.get(g) for g in c.humans if g != human) for c in spec.criteria):
+            continue
+        enc, what = parts[0]
+        reaction = what.split(" ")[0]
+        kinds = " or ".join(STATED_BY[reaction] + (("reacts_after_phrase",) if what.endswith("robot_says") else ()))
+        mistakes.append(f"encounter {enc.id}: {human} reacts to the robot ({what}), but no criterion states it (meets "
+                        f"only says they came near, so the verifier could not see it missing); add a criterion of "
+                        f"kind {kinds} for {human} with encounter {enc.id}, its text saying what {human} does")
     return mistakes
 
 
