@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import copy
 import json
+from typing import get_args
 
 import pytest
 from gen_helpers import STOP_TREE, paths_reply, scenario_reply, spec_for, tree_reply, write_script
@@ -135,6 +136,19 @@ def test_a_reaction_of_the_text_needs_the_criterion_that_states_it(check):
     # walking past or looking is no reaction a kind states; reacting to another human is not to the robot
     spec["encounters"][0]["humans"][1].update(trigger="robot_near", reaction="walk_past")
     assert _spec_mistakes(check, spec) == []
+
+
+def test_the_kind_stage_one_asks_for_a_reaction_is_one_the_verifier_accepts_for_it():
+    """Following the correction never leads into rule S1 (a kind asked of a reaction it contradicts)."""
+    from socnavgen.proposal.facts import STATED_BY
+    from socnavgen.run.spec import CriterionKind, Reaction
+    from socnavgen.verify.blame import REACTIONS_OF
+
+    for reaction, kinds in STATED_BY.items():
+        assert reaction in get_args(Reaction)
+        for kind in kinds:
+            assert kind in get_args(CriterionKind)
+            assert reaction in REACTIONS_OF.get(kind, {reaction}), (reaction, kind)
 
 
 def test_criteria_the_verifier_would_blame_on_the_spec_are_refused(check):

@@ -54,7 +54,7 @@ STL_EXAMPLE = "eventually[0:60] (robot_says_excuse_me > 0.5 and dist_human1 <= 2
 STATED_BY: dict[str, tuple[str, ...]] = {
     "follow": ("follows_robot",), "follow_human": ("follows_robot",), "join": ("follows_robot", "group_together"),
     "give_way": ("gives_way", "keeps_away"), "avoid": ("keeps_away", "gives_way"), "block": ("blocks_robot",),
-    "say": ("says",), "stop": ("stops_near_robot", "blocks_robot"), "wait_then_go": ("stops_near_robot",)}
+    "say": ("says",), "stop": ("stops_near_robot",), "wait_then_go": ("stops_near_robot",)}
 # Stage 1's worked example of "who goes first" (an order of places), told with the stl help (fit.py's signals cut)
 ORDER_EXAMPLE = "(robot_to_node_B > 1.0) until (human1_to_node_A < 1.0)"
 
