@@ -19,7 +19,7 @@ from socnavgen.location import Location
 from socnavgen.location.inventory import BLIND_MARGIN
 from socnavgen.proposal.facts import STATED_BY, can_latch, detecting_nodes, latching_node
 from socnavgen.proposal.replies import human_name
-from socnavgen.run.spec import Criterion, Encounter, ScenarioSpec
+from socnavgen.run.spec import Criterion, Encounter, HumanPart, ScenarioSpec
 from socnavgen.verify.blame import contradictions, spec_problem
 from socnavgen.verify.stl import formula_problems
 from socnavgen.verify.thresholds import KIND_DISTANCE as CRITERION_DEFAULTS
@@ -276,32 +276,35 @@ def _about(c: Criterion, human: str) -> bool:
     return human in _human_refs(c)
 
 
+def _stating_kinds(part: HumanPart) -> tuple[str, ...]:
+    """The criterion kinds that state one part's reaction (facts.STATED_BY; after a robot phrase also
+    reacts_after_phrase)."""
+    return STATED_BY[part.reaction] + (("reacts_after_phrase",) if part.trigger == "robot_says" else ())
+
+
 def unstated_reactions(spec: ScenarioSpec) -> list[str]:
     """Every person the text gives a reaction to the robot (a part on a robot_* trigger whose reaction a criterion
     kind states: facts.STATED_BY) has a criterion that states it; `meets` only says they came near, so an event of
-    the text would go unchecked and no verifier could see it missing. A group member is stated by group_together
-    with a member whose reaction is stated."""
-    reacting: dict[str, list[tuple[Encounter, str]]] = {}
+    the text would go unchecked and no verifier could see it missing. An stl naming the person states it too, and
+    a group member is stated by group_together with a member whose reaction is stated."""
+    reacting: dict[str, list[tuple[Encounter, HumanPart]]] = {}
     stated: dict[str, bool] = {}
     for human in spec.humans():
         parts = [(e, p) for e, p in spec.parts_of(human) if p.reaction in STATED_BY and p.trigger.startswith("robot_")]
-        if not parts:
-            continue
-        kinds = {"stl", *(k for _, p in parts for k in STATED_BY[p.reaction]),
-                 *(["reacts_after_phrase"] if any(p.trigger == "robot_says" for _, p in parts) else [])}
-        reacting[human] = [(e, f"{p.reaction} on {p.trigger}") for e, p in parts]
-        stated[human] = any(c.kind in kinds and _about(c, human) for c in spec.criteria)
+        if parts:
+            kinds = {"stl", *(k for _, p in parts for k in _stating_kinds(p))}
+            reacting[human] = parts
+            stated[human] = any(c.kind in kinds and _about(c, human) for c in spec.criteria)
     mistakes = []
     for human, parts in reacting.items():
         if stated[human] or any(c.kind == "group_together" and human in c.humans and
                                 any(stated.get(g) for g in c.humans if g != human) for c in spec.criteria):
             continue
-        enc, what = parts[0]
-        reaction = what.split(" ")[0]
-        kinds = " or ".join(STATED_BY[reaction] + (("reacts_after_phrase",) if what.endswith("robot_says") else ()))
-        mistakes.append(f"encounter {enc.id}: {human} reacts to the robot ({what}), but no criterion states it (meets "
-                        f"only says they came near, so the verifier could not see it missing); add a criterion of "
-                        f"kind {kinds} for {human} with encounter {enc.id}, its text saying what {human} does")
+        enc, part = parts[0]
+        mistakes.append(f"encounter {enc.id}: {human} reacts to the robot ({part.reaction} on {part.trigger}), but no "
+                        f"criterion states it (meets only says they came near, so the verifier could not see it "
+                        f"missing); add a criterion of kind {' or '.join(_stating_kinds(part))} for {human} with "
+                        f"encounter {enc.id}, its text saying what {human} does")
     return mistakes
 
 
