@@ -35,7 +35,8 @@ SCENARIO = {"scenario_description": "A worker meets the robot at a blind corner 
             "expected_robot_behavior": "Slow down at the corner and pass.",
             "spec": {"encounters": [{"id": "e1", "place": "BLIND CORNER", "humans": [
                 {"human": "human1", "trigger": "robot_blocking", "reaction": "stop", "distance": 1.0}]}],
-                     "criteria": [{"id": "c1", "kind": "meets", "human": "human1", "encounter": "e1"}]}}
+                     "criteria": [{"id": "c1", "kind": "meets", "human": "human1", "encounter": "e1"},
+                                  {"id": "c2", "kind": "stops_near_robot", "human": "human1", "encounter": "e1"}]}}
 PATHS = {"reasoning": "f7 is a blind corner on both paths.",
          "trajectories": {"robot": ["6r", "f7", "54"], "human1": ["54", "f7", "6r"]},
          "group_ids": {"human1": -1}, "interaction_points": {"human1": "f7"}, "encounter_nodes": {"e1": "f7"}}

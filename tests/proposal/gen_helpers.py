@@ -59,8 +59,10 @@ def spec_for(n: int = 2) -> dict:
             "encounters": [{"id": "e1", "place": "BLIND CORNER", "humans": [
                 {"human": f"human{i}", "trigger": "robot_blocking", "reaction": "stop", "distance": 0.5}
                 for i in range(1, n + 1)]}],
-            "criteria": [{"id": f"c{i}", "kind": "meets", "human": f"human{i}", "encounter": "e1"}
-                         for i in range(1, n + 1)]}
+            "criteria": [*({"id": f"c{i}", "kind": "meets", "human": f"human{i}", "encounter": "e1"}
+                           for i in range(1, n + 1)),
+                         *({"id": f"c{n + i}", "kind": "stops_near_robot", "human": f"human{i}", "encounter": "e1",
+                            "text": f"human{i} stops with the robot in its way"} for i in range(1, n + 1))]}
 
 
 def paths_reply(**changes: object) -> dict:

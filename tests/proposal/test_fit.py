@@ -16,6 +16,7 @@ from socnavgen.llm.budget import SAFETY_TOKENS, estimate_tokens
 from socnavgen.location import load_location
 from socnavgen.proposal import behaviors, paths, scenario
 from socnavgen.proposal.behaviors import examples_text
+from socnavgen.proposal.facts import ORDER_EXAMPLE
 from socnavgen.proposal.fit import CUTS, fit_history
 from socnavgen.run import HumanPlan, PathPlan, ScenarioProposal
 from socnavgen.run.spec import ScenarioSpec
@@ -98,6 +99,9 @@ def test_stage1_leaves_out_what_a_small_model_needs_least_in_the_documented_orde
     # the signals cut leaves out the whole stl help (its syntax, example and signals); the kind stays named
     assert "eventually[0:60]" in one_example and "eventually[0:60]" not in no_signals
     assert SIGNAL_KINDS[0].meaning not in no_signals and SIGNAL_KINDS[0].shown not in no_signals
+    # with it the rule that the criteria state the text's events and its worked example (the check stays)
+    assert "STATE THE EVENTS OF YOUR TEXT" in one_example and ORDER_EXAMPLE in one_example
+    assert "STATE THE EVENTS OF YOUR TEXT" not in no_signals and ORDER_EXAMPLE not in no_signals
     assert "Narrow passages" in no_signals and EXAMPLE_CONTEXT in no_signals
     assert "54 (at " in no_signals and "seen within" in no_signals and scenario.INVENTORY_TRUST in no_signals
     assert "Narrow passages" not in no_detail and "Blind turns (" not in no_detail and EXAMPLE_CONTEXT in no_detail

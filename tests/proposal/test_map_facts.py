@@ -10,6 +10,7 @@ from pathlib import Path
 import pytest
 
 from socnavgen.location import load_location
+from socnavgen.proposal.facts import STATED_BY
 from socnavgen.proposal.replies import ScenarioReply
 from socnavgen.proposal.scenario import scenario_checker, scenario_messages
 from socnavgen.run import ScenarioRequest
@@ -156,7 +157,14 @@ def test_stage2_widths_are_the_inventorys_and_it_knows_where_people_may_start(ho
 # ---- stage 1 refuses what cannot work here, and passes what can ---------------------------------------
 def _reply(place: str, criteria: list[dict] | None = None, part: dict | None = None, behavior: str = "",
            cues: list[dict] | None = None) -> ScenarioReply:
+    """One resident at `place`; the criteria given (meets by default) and the one stating her reaction (stage 1
+    asks it: spec_checks.unstated_reactions), unless given."""
     human = {"human": "human1", "trigger": "robot_near", "reaction": "give_way", "distance": 2.0, **(part or {})}
+    criteria = criteria or [{"id": "c1", "kind": "meets", "human": "human1", "encounter": "e1"}]
+    stating = STATED_BY.get(human["reaction"], ())
+    if stating and not any(c["kind"] in stating for c in criteria):
+        criteria = [*criteria, {"id": "c9", "kind": stating[0], "human": "human1", "encounter": "e1",
+                                "text": f"the resident does {human['reaction']}"}]
     return ScenarioReply.model_validate({
         "scenario_description": "The robot carries tea through the home and meets a resident on the way.",
         "number_of_humans": 1,
@@ -164,7 +172,7 @@ def _reply(place: str, criteria: list[dict] | None = None, part: dict | None = N
         "expected_robot_behavior": "Slow down near the resident and pass at a polite distance.",
         "spec": {"script": {"route": "through the home", "cues": cues or []},
                  "encounters": [{"id": "e1", "place": place, "humans": [human]}],
-                 "criteria": criteria or [{"id": "c1", "kind": "meets", "human": "human1", "encounter": "e1"}]}})
+                 "criteria": criteria}})
 
 
 def test_an_encounter_in_the_dead_end_dining_area_is_refused(home):
@@ -339,7 +347,8 @@ def test_the_stage1_grammar_offers_only_places_that_can_work_here(home):
     spec = {"script": {"route": "through the home", "cues": []},
             "encounters": [{"id": "e1", "place": "DINING AREA", "humans": [
                 {"human": "human1", "trigger": "robot_near", "reaction": "give_way"}]}],
-            "criteria": [{"id": "c1", "kind": "meets", "human": "human1", "encounter": "e1"}]}
+            "criteria": [{"id": "c1", "kind": "meets", "human": "human1", "encounter": "e1"},
+                         {"id": "c2", "kind": "gives_way", "human": "human1", "encounter": "e1"}]}
     import json
 
     assert not grammar.matches(json.dumps({**reply, "spec": spec}))

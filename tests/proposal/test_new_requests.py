@@ -27,8 +27,6 @@ PATHS = fixture_paths(FIXTURES)
 DISAGREE: dict[str, str] = {
     "home_02_resident_with_cane_in_doorway": "lenient PASS: the robot waits right next to the door and the resident "
     "passes it coming out (gap 0.22 m since s8; the eyes saw 0.17 m as brushing), against the text's 'clear way'",
-    "home_03_welcome_dinner_guests": "lenient PASS: the greeting stop in the living room never visibly happens (no "
-    "criterion states it); the guests now keep a gap (>= 0.10 m) and go through the hallway one behind the other",
     "home_04_grandchild_shows_drawing": "lenient PASS: the robot stands stuck in the doorway ~11 s until the child "
     "leaves the drawing spot, then takes the spot itself; the child never faces it at the drawing",
     "hospital_06_night_wandering_patient": "lenient PASS: after FOLLOW ME the robot drives on to ~0.5 m of the "
@@ -51,7 +49,11 @@ DISAGREE: dict[str, str] = {
 
 # Fixtures whose recorded answers a stage check added since refuses, each with why; the recording has no answer
 # that passes, so the replay stops at that stage (the eyes' judgement of the recorded end stays in the fixture).
-REFUSED: dict[str, str] = {}
+REFUSED: dict[str, str] = {
+    "home_03_welcome_dinner_guests": "scenario: the host stands to greet the guests (wait_then_go on robot_visible) "
+    "but only meets was asked of her, so no verifier could see the greeting stop never happen (the eyes: the guests "
+    "walk on past the host); stage 1 now asks the criterion that states the reaction (stops_near_robot)",
+}
 
 
 def test_the_suite_is_there_and_judged():

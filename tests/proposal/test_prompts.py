@@ -200,8 +200,8 @@ def _grammar_spec(n: int, place: str = "BLIND CORNER", trigger: str = "robot_blo
     return {"script": {"route": "along the loop", "cues": []},
             "encounters": [{"id": "e1", "place": place, "humans": [
                 {"human": f"human{i}", "trigger": trigger, "reaction": "stop"} for i in range(1, n + 1)]}],
-            "criteria": [{"id": f"c{i}", "kind": "meets", "human": f"human{i}", "encounter": "e1"}
-                         for i in range(1, n + 1)]}
+            "criteria": [{"id": f"c{j}", "kind": kind, "human": f"human{i}", "encounter": "e1"} for j, (kind, i) in
+                         enumerate([(k, i) for k in ("meets", "stops_near_robot") for i in range(1, n + 1)], start=1)]}
 
 
 def _grammar_reply(n: int, **changes: object) -> str:

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import copy
 import json
+from typing import get_args
 
 import pytest
 from gen_helpers import STOP_TREE, paths_reply, scenario_reply, spec_for, tree_reply, write_script
@@ -100,10 +101,54 @@ def test_each_encounter_needs_a_criterion(check):
 def test_a_phrase_waited_for_must_be_said_by_the_robot(check):
     spec = spec_for(2)
     spec["encounters"][0]["humans"][0].update(trigger="robot_says", phrase="EXCUSE ME", reaction="give_way")
+    spec["criteria"][2].update(kind="gives_way", text="human1 steps out of the robot's way")
     mistakes = _spec_mistakes(check, spec)
     assert any("no cue of spec.script.cues says EXCUSE ME" in m for m in mistakes)
     spec["script"]["cues"] = [{"trigger": {"when": "blocked"}, "say": "EXCUSE ME"}]
     assert _spec_mistakes(check, spec) == []
+
+
+def test_a_reaction_of_the_text_needs_the_criterion_that_states_it(check):
+    """home_03 (round 7): the host stands to greet the guests (wait_then_go on robot_visible), but only `meets`
+    was asked, so nobody could see the greeting never happen. A reaction to the robot needs its kind."""
+    spec = spec_for(2)
+    spec["encounters"][0]["humans"][1].update(trigger="robot_visible", reaction="wait_then_go", lasts=5.0)
+    del spec["criteria"][3]  # human2's stops_near_robot: only meets is left for them
+    mistakes = _spec_mistakes(check, spec)
+    assert mistakes == ["encounter e1: human2 reacts to the robot (wait_then_go on robot_visible), but no criterion "
+                        "states it (meets only says they came near, so the verifier could not see it missing); add "
+                        "a criterion of kind stops_near_robot for human2 with encounter e1, its text saying what "
+                        "human2 does"], mistakes
+    spec["encounters"][0]["humans"][1].update(trigger="robot_says", phrase="EXCUSE ME", reaction="give_way")
+    spec["script"]["cues"] = [{"trigger": {"when": "blocked"}, "say": "EXCUSE ME"}]
+    assert any("kind gives_way or keeps_away or reacts_after_phrase for human2" in m
+               for m in _spec_mistakes(check, spec))
+    for stated in ({"kind": "reacts_after_phrase", "human": "human2", "phrase": "EXCUSE ME", "reaction": "give_way"},
+                   {"kind": "gives_way", "human": "human2", "encounter": "e1"},
+                   {"kind": "stl", "formula": "eventually (aside_human2 > 0.5)"},
+                   {"kind": "group_together", "humans": ["human1", "human2"]}):  # human1's stop is stated (c3)
+        assert _spec_mistakes(check, {**spec, "criteria": [*spec["criteria"], {"id": "c9", **stated}]}) == [], stated
+    # another person's criterion, an unrelated kind or a group of unstated members states nothing
+    for unstated in ({"kind": "gives_way", "human": "human1"}, {"kind": "says", "human": "human2"},
+                     {"kind": "stl", "formula": "eventually (dist_human12 < 1)"}):
+        assert any("human2 reacts to the robot" in m for m in
+                   _spec_mistakes(check, {**spec, "criteria": [*spec["criteria"], {"id": "c9", **unstated}]})), unstated
+    # walking past or looking is no reaction a kind states; reacting to another human is not to the robot
+    spec["encounters"][0]["humans"][1].update(trigger="robot_near", reaction="walk_past")
+    assert _spec_mistakes(check, spec) == []
+
+
+def test_the_kind_stage_one_asks_for_a_reaction_is_one_the_verifier_accepts_for_it():
+    """Following the correction never leads into rule S1 (a kind asked of a reaction it contradicts)."""
+    from socnavgen.proposal.facts import STATED_BY
+    from socnavgen.run.spec import CriterionKind, Reaction
+    from socnavgen.verify.blame import REACTIONS_OF
+
+    for reaction, kinds in STATED_BY.items():
+        assert reaction in get_args(Reaction)
+        for kind in kinds:
+            assert kind in get_args(CriterionKind)
+            assert reaction in REACTIONS_OF.get(kind, {reaction}), (reaction, kind)
 
 
 def test_criteria_the_verifier_would_blame_on_the_spec_are_refused(check):

@@ -10,6 +10,7 @@ from pathlib import Path
 import pytest
 
 from socnavgen.location import load_location
+from socnavgen.proposal.facts import STATED_BY
 from socnavgen.proposal.path_checks import check_paths, to_path_plan
 from socnavgen.proposal.replies import PathsReply, ScenarioReply
 from socnavgen.proposal.scenario import fitted_scenario_messages, scenario_checker, to_spec
@@ -31,8 +32,9 @@ def _reply(*encounters: dict) -> ScenarioReply:
         "human_behaviors": {h: "A worker walks to the racks and lets the robot pass." for h in humans},
         "expected_robot_behavior": "Slow down near the workers and pass at a polite distance.",
         "spec": {"script": {"route": "from the entrance to the racks"}, "encounters": list(encounters),
-                 "criteria": [{"id": f"c{k + 1}", "kind": "meets", "human": e["humans"][0]["human"],
-                               "encounter": e["id"]} for k, e in enumerate(encounters)]}})
+                 "criteria": [{"id": f"c{k + 1}", "kind": kind, "human": e["humans"][0]["human"], "encounter": e["id"]}
+                              for k, (kind, e) in enumerate((kind, e) for e in encounters for kind in
+                                                            ("meets", *STATED_BY.get(e["humans"][0]["reaction"], ())[:1]))]}})
 
 
 def _encounter(eid: str, place: str, reaction: str = "give_way", order: int = 1, human: str = "human1") -> dict:
@@ -214,7 +216,10 @@ def test_the_grammars_of_small_models_offer_give_way_only_where_there_is_room(wa
     class Small:
         supports_grammar = True
 
-    assert "reaction-tight" in stage_grammar(Small(), warehouse, None)  # AISLE END is tight on this map
+    rule = next(line for line in stage_grammar(Small(), warehouse, None).splitlines()  # AISLE END is tight here
+                if line.startswith("encounter1 ::="))
+    offered = [(alt.split('"')[1], "give_way" in alt) for alt in rule.split("::=")[1].split(" | ")]
+    assert ("AISLE END", False) in offered and ("AISLE END", True) not in offered and ("BLIND CORNER", True) in offered
     grammar = build_scenario_grammar(node_types=["AISLE END", "BLIND CORNER"], tight={"AISLE END"})
     reply = _reply(_encounter("e1", "AISLE END")).model_dump(exclude={"spec"})
     spec = {"script": {"route": "from the entrance to the racks", "cues": []},
@@ -226,6 +231,8 @@ def test_the_grammars_of_small_models_offer_give_way_only_where_there_is_room(wa
     assert grammar.matches(json.dumps({**reply, "spec": spec}))
     spec["encounters"][0].update(place="BLIND CORNER", humans=[{"human": "human1", "trigger": "robot_near",
                                                                  "reaction": "give_way"}])
+    assert not grammar.matches(json.dumps({**reply, "spec": spec}))  # its giving way is stated, too
+    spec["criteria"].append({"id": "c2", "kind": "gives_way", "human": "human1", "encounter": "e1"})
     assert grammar.matches(json.dumps({**reply, "spec": spec}))
 
     corner = to_spec(_reply(_encounter("e1", "BLIND CORNER")))

@@ -48,6 +48,15 @@ TWO_ENCOUNTERS = ("One person in two encounters meets the robot twice, at two DI
 UNTIL_FACT = ("\"until\" (a robot phrase) ends it for good once the robot has said it, then they walk on: a child "
               "blocks the robot from first sight, stepping into its way, \"until\": \"EXCUSE ME\"")
 STL_EXAMPLE = "eventually[0:60] (robot_says_excuse_me > 0.5 and dist_human1 <= 2.0)"
+# The criterion kinds that state a person's reaction to the robot (stage 1 asks one for every person the text gives
+# one, spec_checks.unstated_reactions): `meets` only says they came near. A reaction to a robot phrase is also stated
+# by reacts_after_phrase; a group member's by group_together with a member whose reaction is stated; any by stl.
+STATED_BY: dict[str, tuple[str, ...]] = {
+    "follow": ("follows_robot",), "follow_human": ("follows_robot",), "join": ("follows_robot", "group_together"),
+    "give_way": ("gives_way", "keeps_away"), "avoid": ("keeps_away", "gives_way"), "block": ("blocks_robot",),
+    "say": ("says",), "stop": ("stops_near_robot",), "wait_then_go": ("stops_near_robot",)}
+# Stage 1's worked example of "who goes first" (an order of places), told with the stl help (fit.py's signals cut)
+ORDER_EXAMPLE = "(robot_to_node_B > 1.0) until (human1_to_node_A < 1.0)"
 
 
 @dataclass(frozen=True)
@@ -383,8 +392,24 @@ def scenario_rules_text(target: Target | None = None, signals: bool = True, robo
     the robot cannot do, export, stl); `signals` False names the STL signals without their meanings."""
     lines = ["HOW THE SPEC PLAYS OUT:", starts_text() if robot else "", pacing_text(), encounter_within_text(),
              cue_once_text(), groups_text(), people_text(detail=robot), latch_text(target or "socrates"), robot_limits_text(robot), export_text(target, spec_words=True),
-             stl_text(signals)]
+             stl_text(signals), events_text(signals)]
     return "\n".join(line for line in lines if line)
+
+
+def events_text(detail: bool = True) -> str:
+    """Stage 1's rule that its criteria state the events its own text names (no verifier sees an unstated event
+    missing), with a worked example; told with the stl help (`detail` False: fit.py's signals cut drops it, the
+    check spec_checks.unstated_reactions still names what is missing)."""
+    if not detail:
+        return ""
+    kinds = "; ".join(f"{r}: {' or '.join(k)}" for r, k in STATED_BY.items())
+    return ("- STATE THE EVENTS OF YOUR TEXT: an event no criterion states can fail unseen. Every person who reacts "
+            f"to the robot gets a criterion of the reaction's kind ({kinds}; after a robot phrase also "
+            "reacts_after_phrase): meets only says they came near. Who goes first is an event too: \"the robot "
+            "stands aside while the visitor passes\" is {\"kind\": \"stl\", \"formula\": "
+            f"\"{ORDER_EXAMPLE}\"}}, with A a node she reaches once past the robot and B the node the robot "
+            "drives on to. \"always (X implies Y)\" also holds when X never happens: when X is an event of your "
+            "text (the worker stands in the robot's way), state X itself too (eventually X).")
 
 
 def starts_text() -> str:

@@ -20,6 +20,7 @@ from socnavgen.location.inventory import inventory_text
 from socnavgen.location.location import SCENE_GRAPH_IMAGE
 from socnavgen.proposal.conversation import Outcome, Policy, Recorder, converse
 from socnavgen.proposal.facts import (
+    STATED_BY,
     cue_triggers_text,
     detecting_nodes,
     follows_distance_text,
@@ -41,6 +42,7 @@ from socnavgen.proposal.spec_checks import (
 from socnavgen.proposal.templates import render, template_data
 from socnavgen.run import ScenarioProposal, ScenarioRequest
 from socnavgen.run.spec import CriterionKind, HumanTrigger, Reaction, ScenarioSpec
+from socnavgen.verify.derive import SHOWS_ENCOUNTER
 
 STAGE = "scenario"
 MAX_HUMANS = 8
@@ -197,9 +199,11 @@ def build_scenario_grammar(max_humans: int = MAX_HUMANS, description_chars: int 
     bounded (a small model otherwise rambles until the token limit cuts the JSON), with a small spec:
     one encounter at a node type of the location, each human with a trigger and a reaction that need no
     further field (and that `target` can run; no give_way at the `tight` places, where nobody can step
-    aside), and a `meets` criterion per human."""
+    aside), all humans with one reaction, and per human a `meets` criterion and one of the kind that states
+    the reaction (facts.STATED_BY: stage 1's check asks it; a kind that shows the encounter replaces meets)."""
     g = Grammar()
     places = node_types or ["PLACE"]
+    reactions = [r for r in _PLAIN_REACTIONS if nodes_for_reaction(r, target or "socrates")]
     per_human: list[list[Symbol]] = []
     for n in range(1, max_humans + 1):
         body: list[Symbol] = [Lit(f'{n}, "human_behaviors": {{')]
@@ -209,16 +213,16 @@ def build_scenario_grammar(max_humans: int = MAX_HUMANS, description_chars: int 
                  Lit('", "spec": {"script": {"route": "'), Ref("route"),
                  Lit('", "cues": []}, "encounters": [{"id": "e1", "place": "'), Ref(f"encounter{n}")]
         per_human.append(body)
-        criteria = ", ".join(f'{{"id": "c{i}", "kind": "meets", "human": "human{i}", "encounter": "e1"}}'
-                             for i in range(1, n + 1))
         alternatives = []
         for place in places:
-            reaction = "reaction-tight" if place in (tight or set()) else "reaction"
-            alt: list[Symbol] = [Lit(place), Lit('", "humans": [')]
-            for i in range(1, n + 1):
-                alt += [Lit(("" if i == 1 else ", ") + f'{{"human": "human{i}", "trigger": "'), Ref("trigger"),
-                        Lit('", "reaction": "'), Ref(reaction), Lit('"}')]
-            alternatives.append([*alt, Lit(f']}}], "criteria": [{criteria}]}}}}')])
+            for reaction in reactions:
+                if reaction == "give_way" and place in (tight or set()):
+                    continue
+                alt: list[Symbol] = [Lit(place), Lit('", "humans": [')]
+                for i in range(1, n + 1):
+                    alt += [Lit(("" if i == 1 else ", ") + f'{{"human": "human{i}", "trigger": "'), Ref("trigger"),
+                            Lit(f'", "reaction": "{reaction}"}}')]
+                alternatives.append([*alt, Lit(f']}}], "criteria": [{_grammar_criteria(n, reaction)}]}}}}')])
         g.add(f"encounter{n}", *alternatives)
     g.add("root", [Lit('{"scenario_description": "'), Ref("long"), Lit('", "number_of_humans": '), Ref("humans")])
     g.add("humans", *per_human)
@@ -226,11 +230,17 @@ def build_scenario_grammar(max_humans: int = MAX_HUMANS, description_chars: int 
     text_rules(g, "short", behavior_chars, non_empty=True, prose=True)
     text_rules(g, "route", 120, non_empty=True, prose=True)
     triggers = [t for t in _PLAIN_TRIGGERS if t == "always" or detecting_nodes(t, target or "socrates")[0]]
-    reactions = [r for r in _PLAIN_REACTIONS if nodes_for_reaction(r, target or "socrates")]
     g.add("trigger", *[[Lit(t)] for t in triggers])
-    g.add("reaction", *[[Lit(r)] for r in reactions])
-    g.add("reaction-tight", *[[Lit(r)] for r in reactions if r != "give_way"])
     return g
+
+
+def _grammar_criteria(n: int, reaction: str) -> str:
+    """The grammar's criteria for n humans with one reaction: meets, and the kind that states the reaction."""
+    stating = STATED_BY.get(reaction, ("",))[0]
+    kinds = [stating] if stating in SHOWS_ENCOUNTER else ["meets", *([stating] if stating else [])]
+    rows = [(k, i) for k in kinds for i in range(1, n + 1)]
+    return ", ".join(f'{{"id": "c{j}", "kind": "{k}", "human": "human{i}", "encounter": "e1"}}'
+                     for j, (k, i) in enumerate(rows, start=1))
 
 
 def propose_scenarios(request: ScenarioRequest, location: Location, llm: LLM, recorder: Recorder,

@@ -17,9 +17,9 @@ from pydantic import BaseModel, ValidationError
 from socnavgen.bt.library import Target, nodes_for_reaction
 from socnavgen.location import Location
 from socnavgen.location.inventory import BLIND_MARGIN
-from socnavgen.proposal.facts import can_latch, detecting_nodes, latching_node
+from socnavgen.proposal.facts import STATED_BY, can_latch, detecting_nodes, latching_node
 from socnavgen.proposal.replies import human_name
-from socnavgen.run.spec import Criterion, Encounter, ScenarioSpec
+from socnavgen.run.spec import Criterion, Encounter, HumanPart, ScenarioSpec
 from socnavgen.verify.blame import contradictions, spec_problem
 from socnavgen.verify.stl import formula_problems
 from socnavgen.verify.thresholds import KIND_DISTANCE as CRITERION_DEFAULTS
@@ -226,6 +226,7 @@ def spec_mistakes(spec: ScenarioSpec, humans: list[str], node_types: list[str] |
         if cue.trigger.human and cue.trigger.human not in humans:
             mistakes.append(f"spec.script.cues: the cue names {cue.trigger.human}, who is not a human of the scenario")
     mistakes += _criteria_mistakes(spec, humans, ids, robot_phrases)
+    mistakes += unstated_reactions(spec)
     mistakes += [m for c in spec.criteria for m in contradictions(c, spec)]  # the verifier's rule S1
     if location is not None:
         mistakes += place_mistakes(spec, location)
@@ -265,6 +266,45 @@ def _criteria_mistakes(spec: ScenarioSpec, humans: list[str], ids: list[str], ro
             mistakes.append(f"criterion {c.id}: kind stl needs its `formula`")
         if c.text.strip():
             mistakes += prose_mistakes(f"criterion {c.id}: text", c.text)
+    return mistakes
+
+
+def _about(c: Criterion, human: str) -> bool:
+    """The criterion is about `human`: names it, or (stl) uses one of its signals."""
+    if c.kind == "stl":
+        return re.search(rf"\w_{human}\b|\b{human}_\w", c.formula or "") is not None
+    return human in _human_refs(c)
+
+
+def _stating_kinds(part: HumanPart) -> tuple[str, ...]:
+    """The criterion kinds that state one part's reaction (facts.STATED_BY; after a robot phrase also
+    reacts_after_phrase)."""
+    return STATED_BY[part.reaction] + (("reacts_after_phrase",) if part.trigger == "robot_says" else ())
+
+
+def unstated_reactions(spec: ScenarioSpec) -> list[str]:
+    """Every person the text gives a reaction to the robot (a part on a robot_* trigger whose reaction a criterion
+    kind states: facts.STATED_BY) has a criterion that states it; `meets` only says they came near, so an event of
+    the text would go unchecked and no verifier could see it missing. An stl naming the person states it too, and
+    a group member is stated by group_together with a member whose reaction is stated."""
+    reacting: dict[str, list[tuple[Encounter, HumanPart]]] = {}
+    stated: dict[str, bool] = {}
+    for human in spec.humans():
+        parts = [(e, p) for e, p in spec.parts_of(human) if p.reaction in STATED_BY and p.trigger.startswith("robot_")]
+        if parts:
+            kinds = {"stl", *(k for _, p in parts for k in _stating_kinds(p))}
+            reacting[human] = parts
+            stated[human] = any(c.kind in kinds and _about(c, human) for c in spec.criteria)
+    mistakes = []
+    for human, parts in reacting.items():
+        if stated[human] or any(c.kind == "group_together" and human in c.humans and
+                                any(stated.get(g) for g in c.humans if g != human) for c in spec.criteria):
+            continue
+        enc, part = parts[0]
+        mistakes.append(f"encounter {enc.id}: {human} reacts to the robot ({part.reaction} on {part.trigger}), but no "
+                        f"criterion states it (meets only says they came near, so the verifier could not see it "
+                        f"missing); add a criterion of kind {' or '.join(_stating_kinds(part))} for {human} with "
+                        f"encounter {enc.id}, its text saying what {human} does")
     return mistakes
 
 
