@@ -39,6 +39,7 @@ from socnavgen.sim.robot.polite import (
     yield_to,
 )
 from socnavgen.sim.world.queries import clearance_at, nearest_obstacle, path_clear
+from socnavgen.sim.world.spots import nearer_spot
 
 PYTHON, SCRIPTED, WAYPOINTS, SFM, STRAIGHT = range(5)  # PYTHON: a policy object of the user's, called per step
 SWEPT_MARGIN = proxemics.WAY_MARGIN_DRIVE  # m beyond the two radii: a person this close to its path blocks it
@@ -227,6 +228,10 @@ def waypoints_act(s):  # noqa: ANN001, ANN201
     if last and abs(target - p) < policy.slow_gap + 1.0:
         holder = goal_holder(s) if policy.kind == SCRIPTED else -1
         stop = target
+        if holder >= 0:  # a free spot nearer the goal that keeps as far from everyone: it goes on there first
+            found, spot = nearer_spot(s.world, target, p, robot.radius, s.people)
+            if found:
+                target, holder = spot, -1
         if holder >= 0:  # the polite robot stops at a social distance short of someone standing at its goal
             q = s.people[holder]
             away = p - q.pos

@@ -104,6 +104,8 @@ def pass_aside(s, direction):  # noqa: ANN001, ANN201
     policy = s.policy[0]
     away = -1.0 if across > -0.2 else 1.0
     first = policy.pass_side if policy.pass_side != 0.0 else away
+    if first * across > 0 and best <= PASS_CROSS:  # the side kept from passing someone else would cross in front
+        first = away  # of this nearer person (in a crowd it sent the robot metres sideways, back and forth)
     shift = need + first * across  # sideways distance that leaves `need` between the centres, across
     room = free_along(s.world, p, first * 1j * direction, shift, rr + WALL_ROOM)
     side = first
