@@ -31,6 +31,11 @@ DISAGREE: dict[str, str] = {
     "criterion states it); the guests now keep a gap (>= 0.10 m) and go through the hallway one behind the other",
     "home_04_grandchild_shows_drawing": "lenient PASS: the robot stands stuck in the doorway ~11 s until the child "
     "leaves the drawing spot, then takes the spot itself; the child never faces it at the drawing",
+    "hospital_04_telepresence_ward_round": "stale eyes (s8 wave 2: the robot now goes on to the nearer free spot "
+    "instead of parking in the doorway). Frames: the four staff start in a compact cluster at i1 (no overlap, no "
+    "jump), the robot comes up behind them (~10 s) and waits in the corridor while they file into the room, goes in "
+    "last (in the doorway ~50-57 s) and stops at its goal ~1.5 m inside the door beside the team (62.8 s, 0.58 m "
+    "from the nurse): by this look it matches its text",
     "hospital_06_night_wandering_patient": "lenient PASS: after FOLLOW ME the robot drives on to ~0.5 m of the "
     "confused patient, where the text has it stop at a respectful distance and wait",
     "warehouse_01_blind_corner_cart": "stale eyes (s8: the replay now ends at the verified first answer, which the "
