@@ -43,10 +43,6 @@ KNOWN_DIVERGENT = {
     "home/accompanying-peer": _HALLWAY,
     "home/pedestrian-obstruction": _PHRASE_LATE,
     "home/narrow-doorway": _DOOR_SHORT,
-    # since stopping short of an occupied goal needs no nearer free spot (s8, sim.arrival.no_nearer_spot): the
-    # socrates twin's robot parks 1.83 m off the free doorway goal iq, the person having given way beside it (not
-    # arrived: tests/cards KNOWN_FAILING, the robot's stopping point); the hunav2 twin's robot reaches iq
-    "home/narrow-hallway": "the socrates twin's robot stops 1.83 m off its free doorway goal (not arrived)",
     "hospital/robot-overtaking": _OVERTAKE,
     # since people stop short of a goal the robot is on (2026-11-26, s7): the hospital door's twins now verify alike
     # (the card fails in both: tests/cards KNOWN_FAILING) and the hospital hallway's part (finding by finding, not yet

@@ -29,6 +29,11 @@ DISAGREE: dict[str, str] = {
     "passes it coming out (gap 0.22 m since s8; the eyes saw 0.17 m as brushing), against the text's 'clear way'",
     "home_04_grandchild_shows_drawing": "lenient PASS: the robot stands stuck in the doorway ~11 s until the child "
     "leaves the drawing spot, then takes the spot itself; the child never faces it at the drawing",
+    "hospital_04_telepresence_ward_round": "stale eyes (s8 wave 2: the robot now goes on to the nearer free spot "
+    "instead of parking in the doorway). Frames: the four staff start in a compact cluster at i1 (no overlap, no "
+    "jump), the robot comes up behind them (~10 s) and waits in the corridor while they file into the room, goes in "
+    "last (in the doorway ~50-57 s) and stops at its goal ~1.5 m inside the door beside the team (62.8 s, 0.58 m "
+    "from the nurse): by this look it matches its text",
     "hospital_06_night_wandering_patient": "lenient PASS: after FOLLOW ME the robot drives on to ~0.5 m of the "
     "confused patient, where the text has it stop at a respectful distance and wait",
     "warehouse_01_blind_corner_cart": "stale eyes, lenient PASS by a look at today's replay (wt-verify s8 wave 2): the "

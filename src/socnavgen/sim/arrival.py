@@ -10,6 +10,11 @@ import numpy as np
 
 from socnavgen import proxemics
 from socnavgen.sim.trace import VX, VY, Trace, X, Y
+from socnavgen.sim.world.queries import WorldMap
+from socnavgen.sim.world.spots import nearer_spot
+
+NO_WALLS = WorldMap(np.zeros((1, 1)), np.zeros((1, 1), dtype=bool), np.zeros((1, 1), dtype=complex), np.eye(3), 1.0,
+                    0.0, False)  # a map without walls, for a trace whose walls are not known
 
 
 def short_of_goal_steps(trace: Trace, goal: tuple[float, float] | None = None, world: Any = None) -> np.ndarray:
@@ -36,36 +41,23 @@ def short_of_goal_steps(trace: Trace, goal: tuple[float, float] | None = None, w
     return _stood(out & no_nearer_spot(trace, target, out, world), trace)
 
 
-CHUNK = 256  # steps worked out at once (a chunk's gaps: CHUNK x spots x people floats)
-
-
 def no_nearer_spot(trace: Trace, goal: complex, steps: np.ndarray, world: Any = None) -> np.ndarray:
-    """(T,) bool, on the `steps` asked (False elsewhere): no free spot proxemics.NEARER_SPOT nearer the goal than the
-    robot where it would keep at least as far from everyone (its own smallest gap, at most GOAL_STOP_GAP): clear of
-    walls by the robot's radius and in sight of the goal (`world`: its walls; None: no walls known). Spots are tried
-    on a proxemics.SPOT_GRID grid within the arrival reach of the goal."""
+    """(T,) bool, on the `steps` asked (False elsewhere): the people round the goal leave no free spot
+    proxemics.NEARER_SPOT nearer it than the robot where it would keep at least as far from everyone (its own
+    smallest gap, at most GOAL_STOP_GAP), clear of walls by the robot's radius and in sight of the goal (`world`: its
+    walls; None: no walls known). The simulator's rule: world.spots.nearer_spot, step by step."""
     out = np.zeros(trace.steps, dtype=bool)
     ks = np.flatnonzero(steps)
     if not len(ks):
         return out
-    radii = np.asarray(trace.human_radii, dtype=float)
+    people = np.zeros(trace.humans.shape[1], dtype=[("pos", "c16"), ("radius", "f8")]).view(np.recarray)
+    people["radius"] = np.asarray(trace.human_radii, dtype=float)
+    walls = world.map if world is not None else NO_WALLS
     rr = float(trace.robot_radius)
-    reach = rr + float(radii.max()) + proxemics.GOAL_STOP_GAP + proxemics.GOAL_STOP_SLACK
-    axis = np.arange(-reach, reach + 1e-9, proxemics.SPOT_GRID)
-    spots = (goal + axis[None, :] + 1j * axis[:, None]).ravel()
-    spots = spots[np.abs(spots - goal) <= reach]
-    if world is not None:
-        spots = spots[(world.clearance_at(spots) >= rr) & world.segments_clear(np.full(spots.shape, goal), spots)]
-    robot = trace.robot[ks, X] + 1j * trace.robot[ks, Y]
-    people = trace.humans[ks][:, :, X] + 1j * trace.humans[ks][:, :, Y]  # (K, H)
-    own = (np.abs(people - robot[:, None]) - radii[None, :] - rr).min(axis=1)  # (K,)
-    keep = np.minimum(own, proxemics.GOAL_STOP_GAP)
-    spot_to_goal = np.abs(spots - goal)
-    for a in range(0, len(ks), CHUNK):  # (steps, spots, people) gaps, a chunk of steps at a time
-        gaps = np.abs(spots[None, :, None] - people[a:a + CHUNK, None, :]) - radii[None, None, :] - rr
-        roomy = gaps.min(axis=2) >= keep[a:a + CHUNK, None] - 1e-9
-        nearer = spot_to_goal[None, :] <= np.abs(robot[a:a + CHUNK] - goal)[:, None] - proxemics.NEARER_SPOT
-        out[ks[a:a + CHUNK]] = ~(roomy & nearer).any(axis=1)
+    for k in ks:
+        people["pos"] = trace.humans[k, :, X] + 1j * trace.humans[k, :, Y]
+        found, _ = nearer_spot(walls, complex(goal), complex(trace.robot[k, X], trace.robot[k, Y]), rr, people)
+        out[k] = not found
     return out
 
 

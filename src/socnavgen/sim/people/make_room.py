@@ -34,6 +34,7 @@ from socnavgen.sim.people.give_way import (
 from socnavgen.sim.people.state import ROUTE_STRAIGHT, queued_at, turn, walk_to
 from socnavgen.sim.people.trees import LEAF_NAMES
 from socnavgen.sim.world.queries import line_of_sight
+from socnavgen.sim.world.spots import nearer_spot
 
 ROBOT_WAITED = 2.0  # s the robot has made no progress (clock.stalled) before a person standing in its way makes room
 BACK_SPEED = 0.6  # m/s at most, walking back to their spot once the robot has passed
@@ -87,14 +88,16 @@ short_of_goal = jit(proxemics.short_of_goal)  # the one arrival short of a goal 
 
 @jit
 def stopped_short(s):  # noqa: ANN001, ANN201
-    """The robot stands short of its goal at a social distance from someone standing there: arrived."""
+    """The robot stands short of its goal at a social distance from someone standing there, and the people there
+    leave no nearer free spot (world.spots.nearer_spot, as sim.arrival counts it): arrived."""
     robot, people = s.robot[0], s.people
     for i in range(people.shape[0]):
         q = people[i]
         if short_of_goal(abs(robot.goal - robot.pos), abs(q.pos - robot.goal), abs(q.pos - robot.pos) - q.radius
                          - robot.radius, abs(q.vel), abs(robot.vel), robot.radius, q.radius,
                          1.0 if line_of_sight(s.world, robot.pos, q.pos) else 0.0):
-            return True
+            found, _ = nearer_spot(s.world, robot.goal, robot.pos, robot.radius, people)
+            return not found
     return False
 
 

@@ -188,7 +188,7 @@ class BuiltinPolicy:
              "waypoint_tolerance": 0.4, "line_clearance": math.nan, "corner_speed": math.inf, **vars(self)}
         return table(policies.POLICY, 1, kind=self.kind, plans=self.plans, guard=self.guard,
                      speed_cap=self.max_speed, rude_max_speed=StraightPolicy.max_speed,
-                      rude_tolerance=StraightPolicy.waypoint_tolerance, waypoint=1, rude_waypoint=1, retreat_to=-1,
+                      rude_tolerance=StraightPolicy.waypoint_tolerance, waypoint=1, rude_waypoint=1, retreat_to=-1, pass_who=-1,
                       **{k: v for k, v in p.items() if k in (policies.POLICY.names or ())})
 
 

@@ -39,6 +39,7 @@ from socnavgen.sim.robot.polite import (
     yield_to,
 )
 from socnavgen.sim.world.queries import clearance_at, nearest_obstacle, path_clear
+from socnavgen.sim.world.spots import nearer_spot
 
 PYTHON, SCRIPTED, WAYPOINTS, SFM, STRAIGHT = range(5)  # PYTHON: a policy object of the user's, called per step
 SWEPT_MARGIN = proxemics.WAY_MARGIN_DRIVE  # m beyond the two radii: a person this close to its path blocks it
@@ -63,7 +64,7 @@ POLICY = layout([
     ("start_delay", "f8"), ("keep_gap", "f8"),  # s standing at the start; m kept from people (NaN: none)
     ("line_clearance", "f8"),  # NaN: a waypoint counts as reached within the tolerance whatever the walls
     ("rude_max_speed", "f8"), ("rude_tolerance", "f8"),  # the scripted robot's straight robot
-    ("speed", "f8"), ("waited", "f8"), ("around_side", "f8"), ("pass_side", "f8"), ("has_heading", "?"), ("heading", "c16"),
+    ("speed", "f8"), ("waited", "f8"), ("around_side", "f8"), ("pass_side", "f8"), ("pass_who", "i8"), ("has_heading", "?"), ("heading", "c16"),
     ("unicycle", "?"), ("forward", "f8"), ("turn", "f8"),  # a unicycle command (DWA) instead of a velocity
     ("speed_cap", "f8"),  # m/s: the scripted robot's cruise speed is the script's, at most this (inf: no cap)
     ("corner_speed", "f8"),  # m/s near blind turns of its route (robot.polite.corner_speed; inf: not slowed)
@@ -227,6 +228,10 @@ def waypoints_act(s):  # noqa: ANN001, ANN201
     if last and abs(target - p) < policy.slow_gap + 1.0:
         holder = goal_holder(s) if policy.kind == SCRIPTED else -1
         stop = target
+        if holder >= 0:  # a free spot nearer the goal that keeps as far from everyone: it goes on there first
+            found, spot = nearer_spot(s.world, target, p, robot.radius, s.people)
+            if found:
+                target, holder = spot, -1
         if holder >= 0:  # the polite robot stops at a social distance short of someone standing at its goal
             q = s.people[holder]
             away = p - q.pos

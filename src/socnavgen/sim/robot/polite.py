@@ -45,6 +45,7 @@ PASS_GAP = INTIMATE_SPACE  # m: the gap the robot tries to leave beside a person
 PASS_LOOK = 3.5  # m (gap) ahead: people this close ahead make the robot move aside
 BEHIND_LOOK = 1.5  # m (gap) behind: someone this close and faster makes the robot move aside
 PASS_CROSS = 1.5  # m (gap): the robot crosses to a person's side only while they are this far ahead
+KEPT_SIDE = 0.25  # m: a pass's side is kept unless the nearer person ahead stands this far to that side
 CATCHING_UP = 0.3  # m/s faster than the robot along its way: a person behind is overtaking
 LATERAL_SPEED = 0.3  # m/s at most sideways
 LATERAL_GAIN = 1.5  # 1/s: sideways speed per metre still to go
@@ -80,7 +81,7 @@ def pass_aside(s, direction):  # noqa: ANN001, ANN201
     p, rr = robot.pos, robot.radius
     back = direction.conjugate()
     vr = (robot.vel * back).real
-    best, across, need = math.inf, 0.0, 0.0
+    best, across, need, who = math.inf, 0.0, 0.0, -1
     for i in range(people.shape[0]):
         q = people[i]
         rel = (q.pos - p) * back  # real: ahead, imag: to the left
@@ -94,9 +95,9 @@ def pass_aside(s, direction):  # noqa: ANN001, ANN201
         elif gap > BEHIND_LOOK or (q.vel * back).real - vr < CATCHING_UP:
             continue
         if gap < best:
-            best, across, need = gap, rel.imag, want
+            best, across, need, who = gap, rel.imag, want, i
     if best == math.inf:
-        s.policy[0].pass_side = 0.0
+        s.policy[0].pass_side, s.policy[0].pass_who = 0.0, -1
         return 0j
     # the side away from the person (keep right when they are ahead in line); the side taken for this pass
     # is kept while it has room (no flip-flopping); crossing to the person's side only when they are far
@@ -104,6 +105,9 @@ def pass_aside(s, direction):  # noqa: ANN001, ANN201
     policy = s.policy[0]
     away = -1.0 if across > -0.2 else 1.0
     first = policy.pass_side if policy.pass_side != 0.0 else away
+    if who != policy.pass_who and first * across > KEPT_SIDE and best <= PASS_CROSS:  # the side kept from passing
+        first = away  # someone else would cross in front of this nearer person, clearly on that side (in a crowd it
+    policy.pass_who = who  # sent the robot metres sideways, back and forth)
     shift = need + first * across  # sideways distance that leaves `need` between the centres, across
     room = free_along(s.world, p, first * 1j * direction, shift, rr + WALL_ROOM)
     side = first
