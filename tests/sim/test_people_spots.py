@@ -41,8 +41,9 @@ def robot_gaps(trace) -> np.ndarray:  # noqa: ANN001
 
 def test_a_walker_never_squeezes_past_a_standing_robot_closer_than_the_least_passing_gap():
     """A robot stands against one wall of a 1.65 m corridor, leaving a person room to pass it only 0.1-0.15 m
-    from its body: the person coming down the corridor does not brush past it (on integ they squeezed by at
-    0.10 m); they stop short of it with the least passing gap (avoid.MIN_PASS_GAP)."""
+    from its body: the person coming down the corridor does not brush past it; they keep at least the least
+    passing gap (avoid.MIN_PASS_GAP) from it. (This one passes on integ too: it guards the rule, it does not show
+    the change.)"""
     walls = [(0.0, 0.0, 20.0, 3.5), (0.0, 5.15, 20.0, 10.0)]  # the corridor y 3.5 - 5.15
     people = [human("human1", start=(3.0, 4.5), goals=[(17.0, 4.5)])]
     trace = make_sim(people, [tree_xml(REGULAR)], [(10.0, 3.9), (10.5, 3.9)], Stay(),
