@@ -34,6 +34,12 @@ DISAGREE: dict[str, str] = {
     "jump), the robot comes up behind them (~10 s) and waits in the corridor while they file into the room, goes in "
     "last (in the doorway ~50-57 s) and stops at its goal ~1.5 m inside the door beside the team (62.8 s, 0.58 m "
     "from the nurse): by this look it matches its text",
+    "home_07_laundry_in_morning_rush": "lenient PASS since wt-people s8-2 (people stand round a taken goal, keep "
+    "0.2 m off a standing robot): frames of the replay: after ACKNOWLEDGED (~6 s) the robot still drives up the "
+    "hallway instead of stopping in the bedroom doorway, the children pass it (~10-16 s) while it stands in the "
+    "north-west corner; the robot and the mother stand face to face in the hallway doorway ~27-35 s (robot gap "
+    "0.10 m); it drives close past the father at the interaction point (~48 s) and reaches the bedroom ~57 s. None "
+    "of the three yields plays out as written, yet `verify` passes at the end of --verify",
     "hospital_06_night_wandering_patient": "lenient PASS: after FOLLOW ME the robot drives on to ~0.5 m of the "
     "confused patient, where the text has it stop at a respectful distance and wait",
     "warehouse_01_blind_corner_cart": "stale eyes, lenient PASS by a look at today's replay (wt-verify s8 wave 2): the "

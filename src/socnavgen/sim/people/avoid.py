@@ -16,7 +16,8 @@ body, where they wait until it has moved on, GOAL_PATIENCE s at most (a robot th
 would never move on): then they squeeze on to it.
 
 `keep_off` (the walking step, once the robot has moved): the part of a person's velocity that would bring
-them closer than KEEP_GAP to the robot's body is dropped, so they slide along it or stop. The contact step
+them closer than KEEP_GAP to the robot's body (STAND_GAP to a robot standing still that they do not walk to:
+`keep_for`) is dropped, so they slide along it or stop. The contact step
 (physics.resolve_contacts) stays the last resort, for people other people push.
 
 HuNavSim's people only meet the robot through its social force (REGULAR agents; the SocRATES fork leaves even
@@ -36,7 +37,7 @@ from socnavgen.sim.world.queries import clearance_at, line_of_sight
 
 PASS_GAP = PERSON_PASS_GAP  # m: the gap a person leaves passing the robot where there is room (beyond intimate space)
 PREFERRED_SPACE = 1.0  # m: the personal-space preference PASS_GAP is for (a stranger's ~1 m, Hecht et al. 2019)
-MIN_PASS_GAP = 0.1  # m: the least gap a person squeezes past a standing robot with
+MIN_PASS_GAP = 0.2  # m: the least gap a person squeezes past a standing robot with (0.1 looked like brushing it)
 MOVING_PASS_GAP = 0.3  # m: the least gap a person overtakes or meets a moving robot with
 BACK_ANGLE = 1.8  # rad: a way round the robot this far off the walking direction goes back the way they came
 YIELD_ANGLE = 1.1  # rad: a way round a robot crossing (not oncoming) this far off means walking along with it
@@ -47,7 +48,8 @@ WAIT_GAP = 0.5  # m: with no room to pass, a person stands (or walks behind it) 
 WAIT_TIME = 1.0  # s: ... slowing down to get there in about this time
 GOAL_GAP = 0.3  # m: a person whose goal the robot stands on (or next to) stops this far from its body ...
 GOAL_PATIENCE = 5.0  # s: ... and is held back by it this long at most (all told) before squeezing on to the goal
-KEEP_GAP = 0.1  # m: a person's own step never brings them closer than this to the robot's body
+KEEP_GAP = 0.1  # m: a person's own step never brings them closer than this to the robot's body ...
+STAND_GAP = MIN_PASS_GAP  # m: ... nor closer than this to a robot standing still, unless they walk to the robot
 HORIZON = 3.0  # s: a robot the person would come that close to within this time is in their way
 STEER_RANGE = 4.0  # m between centres: farther robots are not steered around
 FIELD_OF_VIEW = 1.75  # rad either side of the walking direction (a person's visual field spans about 200 deg)
@@ -195,17 +197,25 @@ def passing(robot_vel, unit, dist, clear, speed_rel, clockwise):  # noqa: ANN001
 
 
 @jit(inline=True)
-def keep_off(v, pos, robot_pos, reach, dt):  # noqa: ANN001, ANN201
-    """Velocity v of a person at `pos` without the part that would take them closer than KEEP_GAP to the
+def keep_off(v, pos, robot_pos, reach, dt, keep):  # noqa: ANN001, ANN201
+    """Velocity v of a person at `pos` without the part that would take them closer than `keep` to the
     robot's body (never closer than they are, when the robot came closer itself)."""
     away = pos - robot_pos
     dist = abs(away)
     if dist < 1e-9:
         return v
     gap = dist - reach
-    if gap > KEEP_GAP + 2.0 * abs(v) * dt:
+    if gap > keep + 2.0 * abs(v) * dt:
         return v
     unit = away / dist
     radial = (v * unit.conjugate()).real
-    lowest = (min(KEEP_GAP, gap) - gap) / dt
+    lowest = (min(keep, gap) - gap) / dt
     return v + (lowest - radial) * unit if radial < lowest else v
+
+
+@jit(inline=True)
+def keep_for(route, robot_vel):  # noqa: ANN001, ANN201
+    """The gap keep_off keeps a walker (walking by `route`) from the robot's body: STAND_GAP from a robot standing
+    still (they stop or go round it, as they do round a person standing), KEEP_GAP from a moving one or one they
+    walk to (following, approaching it)."""
+    return STAND_GAP if abs(robot_vel) <= MOVING and route != ROUTE_ROBOT else KEEP_GAP

@@ -17,14 +17,16 @@ import numpy as np
 from socnavgen.bodies import PERSON_KEEP_GAP
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people import neighbours
-from socnavgen.sim.people.avoid import KEEP_GAP, keep_off
+from socnavgen.sim.people.avoid import KEEP_GAP, keep_for, keep_off
 from socnavgen.sim.people.neighbours import Grid, new_grid, span
 from socnavgen.sim.people.spacing import keep_apart
+from socnavgen.sim.people.spots import REACH as SPOT_REACH
 from socnavgen.sim.people.state import queued_at
 from socnavgen.sim.world.queries import clearance_at, nearest_obstacle
 
 CONTACT_SWEEPS = 4  # passes of the contact step over the overlapping pairs, while one still moved someone
 HEELS_GAP = 0.2  # m: a group-mate this much beyond the keep gap behind a member is on its heels (on_heels)
+SPOT_BRAKE = 0.5 * SPOT_REACH  # m: a walker brakes this close to their spot round a taken goal (people.spots)
 WALL_HOLD_BACK = 0.5  # the wall force holds a walker back by at most this fraction of their drive (wall_relief)
 
 
@@ -227,7 +229,7 @@ def group_forces(people, prm, direction, force, centres, counts):  # noqa: ANN00
 
 
 @jit
-def move(people, group_sizes, prm, dt, scratch, robot_pos, robot_radius):  # noqa: ANN001, ANN201
+def move(people, group_sizes, prm, dt, scratch, robot_pos, robot_vel, robot_radius):  # noqa: ANN001, ANN201
     """One force step for the walkers (using the environment force of the previous call), each heading for
     its point of this step (`via`: people.routing), never stepping into someone (people.spacing) nor into the
     robot (people.avoid); the
@@ -237,7 +239,9 @@ def move(people, group_sizes, prm, dt, scratch, robot_pos, robot_radius):  # noq
     for i in range(n):
         p = people[i]
         direction[i] = 0j
-        if p.to_goal:
+        if p.to_goal and p.has_spot:  # a spot round a goal someone else stands on (people.spots)
+            target, radius, has = p.spot, SPOT_BRAKE, p.has_goal
+        elif p.to_goal:
             target, radius, has = p.goal, p.goal_radius, p.has_goal
         else:
             target, radius, has = p.target, p.target_radius, True
@@ -248,7 +252,8 @@ def move(people, group_sizes, prm, dt, scratch, robot_pos, robot_radius):  # noq
             force[i] = prm.k_des * (p.desired_speed * direction[i] - p.vel) / prm.tau
         else:
             force[i] = -p.vel / prm.tau  # within the target's radius: brake
-        force[i] += p.env_force + p.push + wall_relief(p, direction[i], prm)
+        if not (p.to_goal and p.has_spot and (dist <= radius or not has)):  # at their spot round a taken goal: they stand
+            force[i] += p.env_force + p.push + wall_relief(p, direction[i], prm)
     if group_sizes.shape[0] > 0:
         group_forces(people, prm, direction, force, scratch.centres, scratch.counts)
     reached = 0
@@ -262,7 +267,7 @@ def move(people, group_sizes, prm, dt, scratch, robot_pos, robot_radius):  # noq
             if speed > p.desired_speed:
                 v = v * (p.desired_speed / speed)
             v = keep_apart(people, i, v, dt, scratch.grid)
-            v = keep_off(v, p.pos, robot_pos, p.radius + robot_radius, dt)
+            v = keep_off(v, p.pos, robot_pos, p.radius + robot_radius, dt, keep_for(p.route, robot_vel))
             speed = abs(v)
             if speed > 1e-9:
                 p.yaw = math.atan2(v.imag, v.real)
@@ -283,7 +288,7 @@ def move(people, group_sizes, prm, dt, scratch, robot_pos, robot_radius):  # noq
 def advance(people, group_sizes, prm, world, robot_pos, robot_vel, robot_radius, dt, scratch, step):  # noqa: ANN001, ANN201
     """(step) move the walkers; then the environment forces of the (new) positions. Returns how many people
     reached their real goal."""
-    reached = move(people, group_sizes, prm, dt, scratch, robot_pos, robot_radius) if step else 0
+    reached = move(people, group_sizes, prm, dt, scratch, robot_pos, robot_vel, robot_radius) if step else 0
     if neighbours.active(scratch.grid, people.shape[0]):
         neighbours.build(scratch.grid, people, prm.cutoff)  # the contact step uses it too
         social_grid(people, prm, scratch.grid, scratch.social)

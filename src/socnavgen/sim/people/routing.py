@@ -20,6 +20,7 @@ import numpy as np
 
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.avoid import steer_around_robot
+from socnavgen.sim.people.spots import aim
 from socnavgen.sim.people.state import ROUTE_GOAL, ROUTE_ROBOT, ROUTE_STRAIGHT
 from socnavgen.sim.world.routes import downhill, effort, field_of, walkable_straight
 
@@ -137,5 +138,5 @@ def plan(s):  # noqa: ANN001, ANN201
         if not p.walks:
             continue
         if p.via_step != step:
-            head(s, i, p.goal if p.to_goal else p.target, p.route)
+            head(s, i, aim(s, i) if p.to_goal else p.target, p.route)
         steer_around_robot(s, i)

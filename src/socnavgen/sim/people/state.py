@@ -17,6 +17,7 @@ from socnavgen.bodies import (
     PERSON_RADIUS,
 )
 from socnavgen.sim.jit import jit
+from socnavgen.sim.people.spots import at_spot, spot_taken
 from socnavgen.sim.records import layout, table
 
 # a goal someone stands on (people keep PERSON_KEEP_GAP from each other: nobody gets within the goal radius of
@@ -81,6 +82,8 @@ PERSON = layout([
     ("gives_way", "?"), ("give_way_phase", "i8"), ("aside", "c16"), ("aside_at", "f8"), ("aside_via", "c16"),
     # making room for a robot that waits (people.make_room): stepping aside, and the spot to go back to
     ("makes_room", "i8"), ("room_home", "c16"),
+    # a goal point someone else stands on (people.spots): the spot round it this person walks to instead
+    ("has_spot", "?"), ("spot", "c16"), ("spot_for", "c16"),
 ])
 
 
@@ -158,10 +161,13 @@ def goal_reached(people, goals, i):  # noqa: ANN001, ANN201
 
 @jit
 def queued_at(people, i, goal):  # noqa: ANN001, ANN201
-    """Person i is as close to `goal` as the people standing at it let them: within QUEUE_REACH of it and at the
+    """Person i is as close to `goal` as the people standing at it let them: at the spot they took round it
+    (people.spots), or within QUEUE_REACH of it and at the
     keep gap (+ QUEUE_SLACK) from someone standing nearer to it (a team gathering at one bed, workers at one
     pallet: the later ones stop beside the first, not pressed into them)."""
     p = people[i]
+    if spot_taken(people, i, goal):
+        return at_spot(people, i)
     away = abs(goal - p.pos)
     if away > QUEUE_REACH:
         return False

@@ -1,0 +1,116 @@
+"""One goal point, several people: the first one there stands on it, the others stand round them.
+
+`aim` (people.routing.plan, for every walk to a goal, whatever tree node commands it): while someone else
+stands on the walker's goal point (within its goal radius), or is walking to it ahead of them, the walker takes
+the nearest free spot beside it - on rings round the point, in sight of it, a body off the walls, a body and
+bodies.PERSON_KEEP_GAP (+ SLACK) from everyone standing and from the spots others took - and walks there
+instead (`p.spot`, kept while it stays free). So a team of four gathers round a bed instead of queueing in
+its doorway, children fill a bedroom, a crowd stands round the point it walked to. The spot counts as the goal
+reached (state.queued_at). With no free spot within the rings they walk to the point itself, and stop as close
+as the others let them (state.queued_at).
+"""
+
+from __future__ import annotations
+
+import math
+
+from socnavgen.bodies import PERSON_GOAL_SLACK, PERSON_KEEP_GAP, PERSON_RADIUS
+from socnavgen.sim.jit import jit
+from socnavgen.sim.world.queries import clearance_at, line_of_sight
+
+RINGS = 3  # rings of spots round the point ...
+RING_STEP = 2 * PERSON_RADIUS + PERSON_KEEP_GAP + 0.1  # m: ... this far apart (the first one body from the point)
+ANGLES = 24  # spots per ring
+SLACK = 0.05  # m: a spot is free with this much more than the keep gap to everyone
+WALL_CLEARANCE = PERSON_RADIUS + 0.05  # m: a spot keeps a body off the walls
+LOOK = 5.0  # m: a walker farther than this from the point does not look for a spot yet
+REACH = 0.3  # m: a walker this close to their spot has reached it
+STANDING = 0.1  # m/s: someone slower than this stands
+NEARER = 3.0  # a spot one ring nearer the point is worth walking this many metres farther round it
+
+
+@jit
+def occupied(people, i, goal):  # noqa: ANN001, ANN201
+    """Someone else stands on `goal` (where person i would have reached it), or walks to it ahead of person i
+    without a spot of their own."""
+    p = people[i]
+    away = abs(goal - p.pos)
+    for j in range(people.shape[0]):
+        if j == i:
+            continue
+        q = people[j]
+        there = abs(goal - q.pos)
+        if there <= p.goal_radius + PERSON_GOAL_SLACK + SLACK and abs(q.vel) < STANDING:
+            return True
+        if q.walks and q.to_goal and abs(q.goal - goal) < 1e-6 and not q.has_spot and there < away:
+            return True
+    return False
+
+
+@jit
+def free(people, i, goal, spot):  # noqa: ANN001, ANN201
+    """`spot` keeps person i's body the keep gap (+ SLACK) from everyone standing and from the spots others took
+    round the same goal."""
+    p = people[i]
+    for j in range(people.shape[0]):
+        if j == i:
+            continue
+        q = people[j]
+        reach = p.radius + q.radius + PERSON_KEEP_GAP + SLACK
+        if abs(q.vel) < STANDING and abs(q.pos - spot) < reach:
+            return False
+        if q.has_spot and abs(q.spot_for - goal) < 1e-6 and abs(q.spot - spot) < reach:
+            return False
+    return True
+
+
+@jit
+def pick(s, i, goal):  # noqa: ANN001, ANN201
+    """The free spot round `goal` nearest to person i, the inner rings first (a walk NEARER m longer round the point
+    beats a spot a ring farther out); (found, spot)."""
+    p = s.people[i]
+    best, found, score = goal, False, math.inf
+    for ring in range(1, RINGS + 1):
+        radius = ring * RING_STEP
+        for k in range(ANGLES):
+            spot = goal + radius * complex(math.cos(2 * math.pi * k / ANGLES), math.sin(2 * math.pi * k / ANGLES))
+            value = abs(spot - p.pos) + NEARER * radius
+            if value >= score or clearance_at(s.world, spot) < WALL_CLEARANCE:
+                continue
+            if not free(s.people, i, goal, spot) or not line_of_sight(s.world, spot, goal):
+                continue
+            best, found, score = spot, True, value
+    return found, best
+
+
+@jit
+def aim(s, i):  # noqa: ANN001, ANN201
+    """Where walker i, walking to their goal, heads: their spot round it while it is taken, else the goal."""
+    p = s.people[i]
+    goal = p.goal
+    if not p.has_goal:  # the walk is over (the goal reached at their spot is consumed): they stay at the spot
+        return p.spot if p.has_spot else goal
+    if abs(goal - p.pos) > LOOK or not occupied(s.people, i, goal):
+        p.has_spot = False
+        return goal
+    if p.has_spot and abs(p.spot_for - goal) < 1e-6 and free(s.people, i, goal, p.spot):
+        return p.spot
+    found, spot = pick(s, i, goal)
+    p.has_spot = found
+    p.spot = spot
+    p.spot_for = goal
+    return spot
+
+
+@jit
+def spot_taken(people, i, goal):  # noqa: ANN001, ANN201
+    """Person i took a spot round `goal` (then reaching it is reaching the goal)."""
+    p = people[i]
+    return p.has_spot and abs(p.spot_for - goal) < 1e-6
+
+
+@jit
+def at_spot(people, i):  # noqa: ANN001, ANN201
+    """Person i stands (or walks) within REACH of the spot they took."""
+    p = people[i]
+    return abs(p.spot - p.pos) <= REACH
