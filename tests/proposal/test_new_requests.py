@@ -19,43 +19,36 @@ ROOT = Path(__file__).resolve().parents[2]
 PATHS = fixture_paths(FIXTURES)
 
 # Where the verifier and the eyes disagree today, each with what was seen (a strict xfail: it turns red the day
-# they agree, and the pin must go). Empty means they agree on every fixture. Round 7 answers, judged 2026-11-26 (third
-# session) on that session's code; replayed on the code of s8 (people keep PERSON_KEEP_GAP from each other, the robot
-# keeps ROBOT_SOCIAL_GAP, people_apart judged, arrival short of an occupied goal only with no nearer free spot).
-# Causes left: events of the text that no criterion of the model's spec states (then no verifier can see them
-# missing), and eyes that judged an earlier run of the same answers ("stale eyes").
+# they agree, and the pin must go). Empty means they agree on every fixture. Round 7 answers, replayed on the code of
+# 2026-11-26's fourth session (people keep PERSON_KEEP_GAP from each other and stand round a shared goal, the robot
+# keeps ROBOT_SOCIAL_GAP and goes on to the nearer free spot, people_apart judged, reactions stated by the spec) and
+# judged from GIF frames by three sessions that read no code and saw no verdict (round 9 of the eyes).
+# Causes left: the robot passing a person it could have waited for at 0.2-0.3 m (no contact, "a hair" to the eyes:
+# warehouse_01, warehouse_07), two people standing 0.10 m apart (PERSON_KEEP_GAP, "pressed together" to the eyes:
+# warehouse_05), events no criterion of the model's spec states (warehouse_04, home_04), and two strict fails where
+# the spec asks more than the eyes did (home_01, hospital_05).
 DISAGREE: dict[str, str] = {
-    "home_02_resident_with_cane_in_doorway": "lenient PASS: the robot waits right next to the door and the resident "
-    "passes it coming out (gap 0.22 m since s8; the eyes saw 0.17 m as brushing), against the text's 'clear way'",
-    "home_04_grandchild_shows_drawing": "lenient PASS: the robot stands stuck in the doorway ~11 s until the child "
-    "leaves the drawing spot, then takes the spot itself; the child never faces it at the drawing",
-    "hospital_04_telepresence_ward_round": "stale eyes (s8 wave 2: the robot now goes on to the nearer free spot "
-    "instead of parking in the doorway). Frames: the four staff start in a compact cluster at i1 (no overlap, no "
-    "jump), the robot comes up behind them (~10 s) and waits in the corridor while they file into the room, goes in "
-    "last (in the doorway ~50-57 s) and stops at its goal ~1.5 m inside the door beside the team (62.8 s, 0.58 m "
-    "from the nurse): by this look it matches its text",
-    "home_07_laundry_in_morning_rush": "lenient PASS since wt-people s8-2 (people stand round a taken goal, keep "
-    "0.2 m off a standing robot): frames of the replay: after ACKNOWLEDGED (~6 s) the robot still drives up the "
-    "hallway instead of stopping in the bedroom doorway, the children pass it (~10-16 s) while it stands in the "
-    "north-west corner; the robot and the mother stand face to face in the hallway doorway ~27-35 s (robot gap "
-    "0.10 m); it drives close past the father at the interaction point (~48 s) and reaches the bedroom ~57 s. None "
-    "of the three yields plays out as written, yet `verify` passes at the end of --verify",
-    "hospital_06_night_wandering_patient": "lenient PASS: after FOLLOW ME the robot drives on to ~0.5 m of the "
-    "confused patient, where the text has it stop at a respectful distance and wait",
-    "warehouse_01_blind_corner_cart": "stale eyes, lenient PASS by a look at today's replay (wt-verify s8 wave 2): the "
-    "worker coming down the north leg stops at the corner (LookAtRobot ~33-50 s); the robot neither pulls over nor backs "
-    "off but edges round the stopped worker's east side at 0.25 m (38-44 s, 6 s in intimate space) and drives on north; "
-    "the worker walks on south-west once it is past (~55 s). No criterion states the robot pulling over or backing off",
+    "home_01_child_blocks_vacuum": "strict FAIL: the eyes saw the child stand in the hallway opening in front of the "
+    "stopped robot ~10.5-12.5 s, EXCUSE ME ~12.8-15 s, the child step back and follow to the dining area, the robot "
+    "reach ai (~31 s); blocks_robot fails (the cue says EXCUSE ME when the child is 1.6 m ahead, she stands 1.5 m "
+    "ahead: the block ends as it begins, the verifier's hint asks the spec for `lasts`)",
+    "home_04_grandchild_shows_drawing": "lenient PASS: the child walks to the drawing spot and stands there; the robot "
+    "creeps from i6 to the doorway (11-18 s), the child walks away ~1.2 m as it comes in and the robot drives onto "
+    "the child's spot; the child never stops to wait for it on the way",
+    "hospital_05_elevator_at_visiting_hour": "strict FAIL: the eyes saw every event (EXCUSE ME in the corridor, the "
+    "couple leaving the car after PROCEED, the robot entering the empty car) and did not count the couple walking "
+    "apart; the spec's `group_together` (<= 3 m) sees them 5.59 m apart at 40.7 s (human2 held at the corridor)",
+    "warehouse_01_blind_corner_cart": "lenient PASS: the worker stops at the corner (~33 s); the robot neither backs "
+    "off to f7 nor pulls over but swerves round him, 'within a hair' at 42-45 s (gap ~0.25 m), and he walks on only "
+    "after it passed; no criterion states the robot yielding",
     "warehouse_04_pallet_jack_backing_out": "lenient PASS: the worker never backs out across the cross aisle in front "
-    "of the robot and the robot never stops; it drives past the worker still standing at the aisle end",
-    "warehouse_05_sweeping_at_shift_change": "stale eyes: on today's replay (wt-verify s8 wave 2 look) the three "
-    "encounters happen (worker 1 stops in the aisle at ki ~16 s, PROCEED ~30 s and worker 2 walks out past the robot "
-    "pulled aside at sh ~35 s, worker 3 passes it at sw ~57 s, gap >= 0.48 m), workers 2 and 3 meet at 9z ~43-47 s "
-    "one behind the other without touching; worker 3 still idles at 9z ~50 s before setting off (pacing)",
-    "warehouse_07_night_patrol_west_corridor": "stale eyes: on today's replay (88 s; wt-verify s8 wave 2 look) the robot "
-    "says PROCEED at 41-44 s before hd, the worker waits (LookAtRobot) and goes down the westernmost aisle first "
-    "(45-55 s); at ki the second worker says WAIT at 66.2 s, the robot ACKNOWLEDGED from the same step, waits in the "
-    "aisle mouth and she passes west in front of it (70-75 s); closest gap 0.34 m, the workers never touch",
+    "of the robot and the robot never stops; it drives past her still swinging the jack in the aisle mouth",
+    "warehouse_05_sweeping_at_shift_change": "lenient PASS: the encounters at ki and sh happen, but worker 2 walks into "
+    "worker 3 at the staging pallet and the two stand 'pressed together' ~45-53 s (0.10 m apart, PERSON_KEEP_GAP: "
+    "no contact by the 5 cm rule) and worker 3 meets the robot at vj, not at sw",
+    "warehouse_07_night_patrol_west_corridor": "lenient PASS: PROCEED at hd and the worker first down the aisle as "
+    "written; at ki after WAIT/ACKNOWLEDGED the robot pulls out right beside the second worker ('a hand's breadth', "
+    "~74-77 s) instead of following behind her",
 }
 
 # Fixtures whose recorded answers a stage check added since refuses, each with why; the recording has no answer
