@@ -43,18 +43,10 @@ _PHRASE_LATE = ("hunav2 has no phrase input and no side step: the person backs a
 # a card runs at follows its place among the cards that fit), so their entries at 0.5x and 1.0x left
 # Measured 2026-11-26 (third session) after people stop short of a goal the robot is on and let a robot driving
 # across go by: warehouse intersection-no-gesture at 1.5x verifies as both targets run it again (it left the list);
-# the crowd in the hospital's lobby and the followers in the home hallway now lose to contact with the plain
-# waypoint robot, and the socrates hallway person to the phrase timing too
-_CROWD_CONTACT = ("the crowd released by the export's timing meets the plain waypoint robot in the lobby: closest gap "
-                  "0.03 m to human1 at 16.9 s, 0.8 s in contact; with our pacing the same robot keeps clear")
+# the crowd in the hospital's lobby and the followers in the home hallway lost to contact with the plain waypoint
+# robot for one session; since people keep PERSON_KEEP_GAP from each other and stand round a shared goal (2026-11-26,
+# fourth session) both verify as the targets run them again (they left the list)
 KNOWN_LOST = {
-    ("socrates", "home/robot-crowding", 1.0): "three followers released by the export's timing swarm the waypoint "
-    "robot in the 1.2 m hallway: it moves 6.9 m back and forth for 102 s with human3 0.08 m in its way and does not "
-    "reach its goal (our pacing with the same robot makes it)",
-    ("hunav2", "home/robot-crowding", 1.0): "the 2.x followers crowd the waypoint robot in the 1.2 m hallway: gap "
-    "0.05 m to human2 at 29.0 s (4 steps in contact)",
-    ("socrates", "hospital/crowd-navigation", 1.0): _CROWD_CONTACT,
-    ("hunav2", "hospital/crowd-navigation", 1.0): _CROWD_CONTACT,
     ("socrates", "hospital/narrow-hallway", 1.5): "at 1.5x the person never shows give_way after EXCUSE ME (said at "
     "6.3 s) within the criterion's window as the fork's trees run it",
     ("hunav2", "hospital/narrow-hallway", 1.5): _PHRASE_LATE,
