@@ -42,12 +42,6 @@ KNOWN_FAILING: dict[tuple[str, str], str] = {
 # members pressed together 0.7-12 s; hospital perpendicular-traffic: the three walking in a touching file at 10 s and
 # bunched at their goal at 15 s). A defect of the people's physics (group force, followers converging), for the
 # people helper: not a verifier leniency to restore.
-# Looked at in the GIF (s8 wave 2): the five people gather round their shared goal sk next to `up` and the robot,
-# passing through them, is hemmed in (human5, human2, human1, human4 round it, 0.3-0.8 m) and shuffles 1.1 m in
-# place for 10.4 s from t=57 s before it gets out (was 6.2 m sideways back and forth for 34.5 s: robot.pass_aside
-# kept the side of an earlier pass, crossing in front of the next person). Just over no_deadlock's 10 s.
-KNOWN_FAILING[("warehouse", "crowd-navigation")] = ("no_deadlock: the robot moves 1.1 m without progress for 10.4 s "
-                                                     "from t=57.1 s, hemmed in by the crowd gathered at their goal")
 
 
 def _encounter_offsets(run, trace, location) -> list[float]:  # noqa: ANN001
