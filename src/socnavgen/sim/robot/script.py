@@ -38,8 +38,10 @@ HUMAN_PHRASE_CODE = {name: code for code, name in HUMAN_GESTURES.items() if code
 CLEAR_PATIENCE = 8.0  # s: still blocked after this long, the robot asks again (its cue's phrase) ...
 CLEAR_REPEATS = 2  # ... this many times, then stops waiting and drives around like an operator would
 AT_NODE = 1.0  # m: a gesture rule `at_node` holds within this distance of its node
-SQUEEZE = 0.3  # m: someone beside the route whom the robot passes by edging at most this far aside (keeping
-# ROBOT_SOCIAL_GAP, where walls and other people leave it room) does not hold it "until clear"
+SQUEEZE = ROBOT_SOCIAL_GAP + 0.15  # m: someone beside the route whom the robot passes by edging at most this far
+# aside (keeping ROBOT_SOCIAL_GAP, where walls and other people leave it room) does not hold it "until clear". Named
+# from the gap: the people it passes so are those up to SQUEEZE - ROBOT_SOCIAL_GAP + proxemics.WAY_MARGIN_SCRIPT
+# (0.25 m) inside the corridor its body sweeps, whatever the gap (a SQUEEZE below gap - margin passes nobody)
 
 START, AFTER, AT_ENCOUNTER, BLOCKED, HUMAN_WITHIN, HUMAN_SAYS, HUMAN_FARTHER = range(7)
 TRIGGERS = {"start": START, "after": AFTER, "at_encounter": AT_ENCOUNTER, "blocked": BLOCKED,
