@@ -48,7 +48,7 @@ def test_a_sweep_that_is_not_a_mapping_of_lists_is_refused() -> None:
 def test_blame_falls_on_the_policy_when_the_scenario_verifies_with_the_default_robot(tmp_path) -> None:  # noqa: ANN001
     from tests.campaign.conftest import POLICIES
 
-    spec = parse_campaign(campaign_yaml(["crowd-navigation"], ["scripted", f"{{name: rude, robot: '{POLICIES}:StraightThrough'}}"],
+    spec = parse_campaign(campaign_yaml(["frontal-approach"], ["scripted", f"{{name: rude, robot: '{POLICIES}:StraightThrough'}}"],
                                         1, timeout=60.0))
     out = tmp_path / "o"
     run_campaign(spec, out, executor="inline")
@@ -79,7 +79,7 @@ def test_the_default_robots_own_episode_answers_whether_the_scenario_verifies_wi
     for order in (["scripted", rude], [rude, "scripted"]):
         simulated.clear()
         out = tmp_path / str(len(tables))
-        run_campaign(parse_campaign(campaign_yaml(["crowd-navigation"], order, 1, timeout=60.0)), out, executor="inline")
+        run_campaign(parse_campaign(campaign_yaml(["frontal-approach"], order, 1, timeout=60.0)), out, executor="inline")
         tables[order[0]] = (list(simulated), {r["policy"]: r for r in read_episodes(out)[0].to_pylist()})
     default_first, rude_first = tables["scripted"], tables[rude]
     assert default_first[0].count("scripted") == 1  # its own episode; the rude one's blame reused its verdict
