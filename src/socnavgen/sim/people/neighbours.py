@@ -159,8 +159,9 @@ def later_overlaps(grid, people, snap, i):  # noqa: ANN001, ANN201
 @jit
 def near(grid, people, i):  # noqa: ANN001, ANN201
     """The other people within reach of a walker's step (their bodies, PERSON_KEEP_GAP and LOOK_AHEAD) of person
-    i, in index order, into grid.found; returns how many. Everyone else when the crowd has no cell list, else
-    those of the cells around i's (built at the end of the last step)."""
+    i, into grid.found; returns how many. Everyone else in index order when the crowd has no cell list, else
+    those of the cells around i's (built at the end of the last step) in cell order (the same
+    order every run, so a step stays deterministic)."""
     n, found, m = people.shape[0], grid.found, 0
     if not active(grid, n):
         for j in range(n):
