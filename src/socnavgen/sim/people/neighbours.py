@@ -130,33 +130,6 @@ def overlaps(people, snap, i, j):  # noqa: ANN001, ANN201
 
 
 @jit
-def later_overlaps(grid, people, snap, i):  # noqa: ANN001, ANN201
-    """The people j > i closer than PERSON_KEEP_GAP to person i (`overlaps`), in index order, into grid.found; returns how many. Every j
-    after i when the crowd has no cell list, else those of the cells around i's."""
-    n, found, m = people.shape[0], grid.found, 0
-    if not active(grid, n):
-        for j in range(i + 1, n):
-            if overlaps(people, snap, i, j):
-                found[m] = j
-                m += 1
-        return m
-    nx, reach = grid.dims[NX], grid.dims[REACH_CONTACT]
-    cx, cy = grid.cell[i] % nx, grid.cell[i] // nx
-    for gy in range(cy - reach, cy + reach + 1):
-        a, b = span(grid, gy, cx - reach, cx + reach)
-        for k in range(a, b):
-            j = grid.order[k]
-            if j > i and overlaps(people, snap, i, j):
-                at = m  # insertion sort: a person overlaps few others
-                while at > 0 and found[at - 1] > j:
-                    found[at] = found[at - 1]
-                    at -= 1
-                found[at] = j
-                m += 1
-    return m
-
-
-@jit
 def near(grid, people, i):  # noqa: ANN001, ANN201
     """The other people within reach of a walker's step (their bodies, PERSON_KEEP_GAP and LOOK_AHEAD) of person
     i, into grid.found; returns how many. Everyone else in index order when the crowd has no cell list, else
@@ -178,4 +151,22 @@ def near(grid, people, i):  # noqa: ANN001, ANN201
             if j != i:
                 found[m] = j
                 m += 1
+    return m
+
+
+@jit
+def later_overlaps(grid, people, snap, i):  # noqa: ANN001, ANN201
+    """The people j > i closer than PERSON_KEEP_GAP to person i (`overlaps`), in index order, into grid.found;
+    returns how many. The candidates are `near`'s (every other person, or those of the cells around i's), filtered
+    in place: a kept index is written at or before the slot it was read from."""
+    found, m = grid.found, 0
+    for k in range(near(grid, people, i)):
+        j = found[k]
+        if j > i and overlaps(people, snap, i, j):
+            at = m  # insertion sort: a person overlaps few others
+            while at > 0 and found[at - 1] > j:
+                found[at] = found[at - 1]
+                at -= 1
+            found[at] = j
+            m += 1
     return m
