@@ -13,7 +13,15 @@ from __future__ import annotations
 
 import numpy as np
 
-from socnavgen.run.spec import Criterion, CueTrigger, Encounter, HumanPart, RobotCue, RobotScript, ScenarioSpec
+from socnavgen.run.spec import (
+    Criterion,
+    CueTrigger,
+    Encounter,
+    HumanPart,
+    RobotCue,
+    RobotScript,
+    ScenarioSpec,
+)
 from socnavgen.verify.blame import blame_criterion
 from socnavgen.verify.criteria import compile_criterion
 from socnavgen.verify.evidence import evidence
@@ -43,7 +51,7 @@ def _trace(people: list[tuple[float, float, float | None, float]], say_at: float
     and driving on once nobody is); each person (x, y, t_aside, dy) stands at (x, y) and from t_aside (None:
     never) walks sideways by dy at 0.6 m/s. EXCUSE ME is shown from `say_at` for 2 s."""
     ys = []
-    for x, y, at, dy in people:
+    for _x, y, at, dy in people:
         ys.append(np.full_like(T, y) if at is None else y + np.sign(dy) * np.clip(0.6 * (T - at), 0.0, abs(dy)))
     xs = [np.full_like(T, p[0]) for p in people]
     rx = np.zeros_like(T)
@@ -54,7 +62,7 @@ def _trace(people: list[tuple[float, float, float | None, float]], say_at: float
         rx[k] = x
     humans = np.stack([np.stack([xs[i], ys[i]], 1) for i in range(len(people))], 1)
     trace = build_trace(T, np.stack([rx, np.zeros_like(T)], 1), humans, dt=DT, goal=(20.0, 0.0),
-                        robot_gesture=np.where((T >= say_at) & (T <= say_at + 2.0), EXCUSE_ME, 0))
+                        robot_gesture=np.where((say_at <= T) & (say_at + 2.0 >= T), EXCUSE_ME, 0))
     trace.robot[:, 2] = 0.0
     trace.robot_waypoints = [(0.0, 0.0), (20.0, 0.0)]
     return trace
