@@ -237,8 +237,11 @@ def script_text(spec: ScenarioSpec) -> str:
             acts.append(f"stands still {cue.wait:g} s and then until its way is clear")
         elif cue.wait_until_clear:
             acts.append("stands still until its way is clear")
-        elif cue.wait:
+        elif cue.wait and not cue.let_pass:
             acts.append(f"stands still {cue.wait:g} s")
+        if cue.let_pass:
+            acts.append(f"stands still until {cue.let_pass} has gone by"
+                        + (f" (at most {cue.wait:g} s)" if cue.wait else ""))
         if cue.speed is not None:
             acts.append(f"goes on at {cue.speed:g} m/s")
         again = "" if cue.once else " (each time)"

@@ -69,7 +69,8 @@ class CueTrigger(BaseModel):
 
 class RobotCue(BaseModel):
     """One line of the robot's script: on `trigger`, say `say` (held `hold` s), and/or stand still for
-    `wait` s (`wait_until_clear`: until nobody is in its way any more), then go on at `speed` if given."""
+    `wait` s (`wait_until_clear`: until nobody is in its way any more; `let_pass`: until that person has gone
+    by), then go on at `speed` if given."""
 
     model_config = ConfigDict(extra="forbid")
     trigger: CueTrigger
@@ -79,6 +80,9 @@ class RobotCue(BaseModel):
     wait_until_clear: bool = False
     speed: float | None = Field(default=None, ge=0, le=2.0)
     once: bool = True  # fire at most once (False: every time the trigger becomes true)
+    # humanN: after firing, stand until that person has gone by (across its way, past it, or on ahead of it), at
+    # most `wait` s (20 without): "the robot lets her go first" (sim/robot/script.py gone_by)
+    let_pass: str | None = Field(default=None, pattern=r"^human[1-9][0-9]?$")
 
 
 class RobotScript(BaseModel):
@@ -264,6 +268,9 @@ class ScenarioSpec(BaseModel):
             if cue.trigger.human and cue.trigger.human not in humans:
                 raise ValueError(f"{when} names {cue.trigger.human}, who takes part in no encounter "
                                  f"({', '.join(humans) or 'none'}): it would never fire")
+            if cue.let_pass and cue.let_pass not in humans:
+                raise ValueError(f"{when} lets {cue.let_pass} pass, who takes part in no encounter "
+                                 f"({', '.join(humans) or 'none'}): it would wait for nobody")
         for name in self.people:
             _check_human(name)
             if name not in humans:

@@ -74,7 +74,7 @@ from socnavgen.run.models import PathPlan
 from socnavgen.run.spec import Blame, Criterion, ScenarioSpec
 from socnavgen.verify.blame_timing import ended_at_once, window_closed_early
 from socnavgen.verify.criteria import Compiled
-from socnavgen.verify.evidence import deadlock_culprit, in_window, met_mask
+from socnavgen.verify.evidence import deadlock_culprit, in_window, met_mask, way_cause
 from socnavgen.verify.people import blame_people
 from socnavgen.verify.signals import ROBOT_PHRASES, Signals, lasting, phrase_id, reaction_evidence
 from socnavgen.verify.stl import formula_signals
@@ -425,9 +425,10 @@ def _missing_cause(cc: Compiled, s: Signals, h: str) -> Verdict | None:
         node = cc.encounter.node or cc.encounter.id if cc.encounter is not None else "its place"
         return "paths", None, (f"the robot and {h} were never together at {node} after their encounter before it "
                                "ended: make their paths meet there again")
-    if kind == "gives_way" and not ((s.get(f"inway_{h}") > 0.5) & (s.get(f"dist_{h}") <= d) & in_window(cc, s)).any():
-        return "paths", None, (f"{h} was never in the robot's way within {d:g} m" + (" in this encounter" if cc.window
-                               else "") + ": nothing to give way to; make their paths meet head-on")
+    if kind == "gives_way" and not way_cause(cc, s).any():
+        who = " or ".join((h, *cc.together))
+        return "paths", None, (f"{who} was never in the robot's way within {d:g} m" + (" in this encounter"
+                               if cc.window else "") + ": nothing to give way to; make their paths meet head-on")
     if kind == "follows_robot" and cc.encounter is not None:
         there = s.get(f"{h}_to_{cc.encounter.id}") <= cc.encounter.within + (cc.distance or 0.0)
         if cc.phrase:

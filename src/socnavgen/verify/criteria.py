@@ -28,6 +28,7 @@ from socnavgen.verify.thresholds import (
     APPROACH,
     KIND_DISTANCE,
     NOTICE_RANGE,
+    REACTION_SLACK,
     STOP_HOLD,
     STOP_NOTICE_RANGE,
     STOP_SPEED,
@@ -51,6 +52,7 @@ class Compiled:
     reaction: str | None = None
     previous: Encounter | None = None  # meets: the earlier encounter of the same human, met before this one
     window: str | None = None  # during_<human>_<encounter>: judged in this encounter's window (verify/windows.py)
+    together: tuple[str, ...] = ()  # gives_way: the others giving way with the human (giving_way_together)
     notes: list[str] = field(default_factory=list)
 
 
@@ -178,12 +180,65 @@ def _reacts_after_phrase(c: Criterion, ctx: Context, out: Compiled) -> None:
                    f"{_b(says)}) and ({_not(react)} until ({_b(says)} and (eventually[0:{s:g}] {_b(react)}))))")
 
 
+def reaction_reach(spec: ScenarioSpec, part: HumanPart | None) -> float | None:
+    """How far from the robot a part's reaction can begin: its trigger's distance, or for a robot phrase the
+    largest distance at which a cue of the script says it (None when the spec does not tell)."""
+    if part is None:
+        return None
+    if part.trigger == "robot_says" and part.phrase:
+        reach = [cue.trigger.distance for cue in spec.script.cues
+                 if cue.say == part.phrase and cue.trigger.when in ("blocked", "human_within")
+                 and cue.trigger.human in (None, part.human)]
+        return max(reach, default=None)
+    if part.trigger in ("robot_near", "robot_visible", "robot_blocking"):
+        return part.distance
+    return None
+
+
+def giving_way_together(enc: Encounter | None, human: str) -> tuple[str, ...]:
+    """The others who give way in the same encounter, on the same trigger: one of them in the robot's way is
+    the cause for all (a group parting for the robot: one member stands in its way, the others beside)."""
+    if enc is None:
+        return ()
+    mine = next((p for p in enc.humans if p.human == human), None)
+    if mine is None or mine.reaction != "give_way":
+        return ()
+    return tuple(p.human for p in enc.humans if p.human != human and p.reaction == "give_way"
+                 and (p.trigger, p.phrase) == (mine.trigger, mine.phrase))
+
+
+def _trigger_formula(part: HumanPart | None, h: str) -> str | None:
+    """The part's trigger as a formula over the signals (windows.triggered's rule), None when it has none the
+    trace shows as such (always, time, another's phrase: the window and the cause time those)."""
+    if part is None:
+        return None
+    if part.trigger == "robot_says" and part.phrase:
+        return _b(f"robot_says_{phrase_id(part.phrase)}")
+    if part.distance is None:
+        return None
+    near = f"(dist_{h} <= {part.distance:g})"
+    return {"robot_near": near, "robot_visible": f"({near} and {_b(f'los_{h}')})",
+            "robot_blocking": f"({near} and {_b(f'ahead_{h}')})"}.get(part.trigger)
+
+
 def _gives_way(c: Criterion, ctx: Context, out: Compiled) -> None:
     h = _need_human(c)
-    d = out.distance = c.distance or KIND_DISTANCE[c.kind]
+    reach = reaction_reach(ctx.spec, out.part)  # in the way when the reaction was asked for counts, however far
+    d = out.distance = max(c.distance or KIND_DISTANCE[c.kind], reach + REACTION_SLACK if reach else 0.0)
     s = out.seconds = c.seconds or ctx.settings.reaction_seconds
-    cause = f"({_in_window(out)}(dist_{h} <= {d:g}) and {_b(f'inway_{h}')})"
-    out.formula = f"(eventually {cause}) and (always ({cause} implies (eventually[0:{s:g}] {_b(f'aside_{h}')})))"
+    out.together = giving_way_together(out.encounter, h)
+
+    def cause(who: str) -> str:
+        return f"((dist_{who} <= {d:g}) and {_b(f'inway_{who}')})"
+
+    anyone = " or ".join(cause(who) for who in (h, *out.together))
+    # with others: h's clock starts once h's own trigger held too (another in the way is not h's cue to move)
+    asked = _trigger_formula(out.part, h) if out.together else None
+    cause_h = f"({_in_window(out)}({anyone}){f' and (once {asked})' if asked else ''})"
+    react = _b(f"aside_{h}")
+    if out.together:  # a member never in the way itself has made way by standing aside
+        react = f"({react} or (not (once {cause(h)})))"
+    out.formula = f"(eventually {cause_h}) and (always ({cause_h} implies (eventually[0:{s:g}] {react})))"
 
 
 def _follows_robot(c: Criterion, ctx: Context, out: Compiled) -> None:
@@ -290,7 +345,10 @@ CRITERION_KINDS: dict[str, CriterionKind] = {k.name: k for k in (
                   "around the moment the phrase starts, then reacts within S s" + _IN_WINDOW,
                   _reacts_after_phrase),
     CriterionKind("gives_way", "eventually (dist_h <= D and inway_h)  and  always ((dist_h <= D and inway_h) "
-                  "implies eventually[0:S] aside_h)", "h was in the robot's way and moved out of it itself" + _IN_WINDOW,
+                  "implies eventually[0:S] aside_h)  (D at least the reaction's trigger distance + 0.5; with others giving "
+                  "way on the same trigger: any of them in the way is the cause, one never in it counts as aside)",
+                  "h (or one giving way together with h) was in the robot's way and h moved out of it itself"
+                  + _IN_WINDOW,
                   _gives_way),
     CriterionKind("follows_robot", "eventually (robot_says_P and h_to_e <= W + D and eventually[0:S] ((always "
                   "way_h <= D) and eventually speed_h > 0.3))  (no P: eventually (... and h_to_e <= W + D))",

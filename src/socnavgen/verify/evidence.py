@@ -113,6 +113,16 @@ def _no_approach(cc: Compiled, s: Signals, h: str, j: int) -> str:
     return ""
 
 
+def way_cause(cc: Compiled, s: Signals) -> np.ndarray:
+    """(T,) bool: the cause of a gives_way criterion holds - its human, or one of those giving way together with
+    it, in the robot's way within the criterion's distance, in its window (criteria._gives_way's formula)."""
+    d = cc.distance or 0.0
+    out = np.zeros(s.trace.steps, dtype=bool)
+    for who in (cc.human, *cc.together):
+        out |= (s.get(f"inway_{who}") > 0.5) & (s.get(f"dist_{who}") <= d)
+    return out & in_window(cc, s)
+
+
 def in_window(cc: Compiled, s: Signals, after: float = 0.0) -> np.ndarray:
     """(T,) bool: the steps of the criterion's encounter window and `after` s past its end (every step without
     one): a cause inside it may have its reaction that much later."""
@@ -192,8 +202,9 @@ def _human_evidence(cc: Compiled, s: Signals) -> Evidence:
             return text, float(t[seen]), float(s.get(f"dist_{h}")[seen])
         text += "; never in sight"
     elif kind == "gives_way":
-        way = (s.get(f"inway_{h}") > 0.5) & (s.get(f"dist_{h}") <= (cc.distance or 0)) & in_window(cc, s)
-        text += f"; in the robot's way within {cc.distance:g} m for {way.sum() * s.trace.dt:.1f} s"
+        way = way_cause(cc, s)
+        text += (f"; in the robot's way within {cc.distance:g} m for {way.sum() * s.trace.dt:.1f} s"
+                 + (f" ({' or '.join((h, *cc.together))}, giving way together)" if cc.together else ""))
         first = _first(way)
         if first is not None:
             aside = _first((s.get(f"aside_{h}") > 0.5) & (np.arange(len(t)) >= first))

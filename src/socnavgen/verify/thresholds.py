@@ -11,6 +11,7 @@ PASSING_DISTANCE = 2.5  # m: a tree's GiveWaytoRobot counts "while the robot pas
 GROUP_SPREAD = 2.5  # m: largest distance between group members, the whole run
 DEADLOCK_SECONDS = 10.0  # s: longest the robot may make no progress with someone in its way
 REACTION_SECONDS = 5.0  # s: default time a reaction has after its cause
+REACTION_SLACK = 0.5  # m: the robot comes this much closer while a reaction asked for at a distance begins
 
 # -- definitions of events (fixed) ------------------------------------------------------------------
 STILL_SPEED = 0.05  # m/s: the robot stands still below this

@@ -6,7 +6,9 @@ A cue fires on the step its trigger becomes true (`once`: only the first time). 
 phrase for `hold` s, `wait` stands still for `wait` s, `wait_until_clear` then stands until nobody is inside
 the corridor the robot's body sweeps ahead (people who stepped aside do not hold it); still blocked after
 CLEAR_PATIENCE s it says the cue's phrase again, CLEAR_REPEATS times, then stops waiting (the robot then
-goes around where there is room: a scripted wait never becomes a deadlock); `speed` sets the cruise speed.
+goes around where there is room: a scripted wait never becomes a deadlock); `let_pass` stands until that
+person has gone by (gone_by: came near, out of its way, moving off), at most `wait` s (LET_PASS_PATIENCE without
+one): "the robot lets her go first"; `speed` sets the cruise speed.
 A gesture rule holds its gesture while its condition held within its last `duration` seconds; the first
 rule that holds wins. The robot shows a cue's phrase, else the first rule's gesture (scripted_gesture).
 
@@ -37,6 +39,8 @@ ROBOT_PHRASE_CODE = {name: code for code, name in ROBOT_GESTURES.items() if code
 HUMAN_PHRASE_CODE = {name: code for code, name in HUMAN_GESTURES.items() if code}
 CLEAR_PATIENCE = 8.0  # s: still blocked after this long, the robot asks again (its cue's phrase) ...
 CLEAR_REPEATS = 2  # ... this many times, then stops waiting and drives around like an operator would
+LET_PASS_PATIENCE = 20.0  # s: a `let_pass` cue without a `wait` stands at most this long for its person
+LET_PASS_AWAY = 0.5  # m: the person let pass has gone by once this much farther from the robot than its closest
 AT_NODE = 1.0  # m: a gesture rule `at_node` holds within this distance of its node
 SQUEEZE = ROBOT_SOCIAL_GAP + 0.15  # m: someone beside the route whom the robot passes by edging at most this far
 # aside (keeping ROBOT_SOCIAL_GAP, where walls and other people leave it room) does not hold it "until clear". Named
@@ -48,7 +52,7 @@ TRIGGERS = {"start": START, "after": AFTER, "at_encounter": AT_ENCOUNTER, "block
             "human_within": HUMAN_WITHIN, "human_farther": HUMAN_FARTHER, "human_says": HUMAN_SAYS}
 ALWAYS, NEAR_HUMAN = 7, 8  # gesture rules' own conditions (`blocked` and `at_node` are shared)
 RULE_WHEN = {"always": ALWAYS, "at_node": AT_ENCOUNTER, "near_human": NEAR_HUMAN, "blocked": BLOCKED}
-FIRED, ASKED_AGAIN, GAVE_UP = 0, 1, 2  # events of the cue log
+FIRED, ASKED_AGAIN, GAVE_UP, WENT_BY = 0, 1, 2, 3  # events of the cue log
 
 NOW = layout([("say", "i8"), ("wait", "?"), ("timed", "?"),  # timed: a cue's `wait` s hold it (not until clear)
               ("speed", "f8"), ("misbehave", "?"), ("logged", "i8")])
@@ -56,7 +60,10 @@ CUE = layout([("when", "i8"), ("who", "i8"), ("phrase", "i8"), ("say", "i8"), ("
               ("has_point", "?"), ("point", "c16"), ("seconds", "f8"), ("distance", "f8"), ("hold", "f8"),
               ("pause", "f8"), ("speed", "f8"),  # speed NaN: no change
               ("fired", "i8"), ("was_true", "?"), ("waiting_until_clear", "?"), ("repeats", "i8"),
-              ("say_until", "f8"), ("wait_until", "f8"), ("clear_since", "f8")])
+              ("say_until", "f8"), ("wait_until", "f8"), ("clear_since", "f8"),
+              # let_pass: the person (-1: none), waiting for them, they came near, their closest, the limit
+              ("lets_pass", "i8"), ("letting_pass", "?"), ("pass_near", "?"), ("pass_closest", "f8"),
+              ("pass_until", "f8")])
 RULE = layout([("when", "i8"), ("gesture", "i8"), ("has_point", "?"), ("point", "c16"), ("distance", "f8"),
                ("duration", "f8"), ("last_true", "f8")])
 
@@ -118,6 +125,7 @@ def lower_script(script: RobotScript | None, encounter_points: dict[str, complex
         row.seconds, row.distance, row.hold, row.pause = trig.seconds, trig.distance, cue.hold, cue.wait
         row.speed = math.nan if cue.speed is None else cue.speed
         row.say_until = row.wait_until = -math.inf
+        row.lets_pass = human_index(cue.let_pass, people) if cue.let_pass else -1
         row.clear_since = math.inf
     rows = table(RULE, len(rules), last_true=-math.inf)
     for k, rule in enumerate(rules):
@@ -134,7 +142,8 @@ def lower_script(script: RobotScript | None, encounter_points: dict[str, complex
 def describe(cue: RobotCue) -> str:
     trig = cue.trigger
     what = [f"say {cue.say}" if cue.say else "", f"wait {cue.wait:g} s" if cue.wait else "",
-            "wait until clear" if cue.wait_until_clear else "", f"speed {cue.speed:g}" if cue.speed is not None else ""]
+            "wait until clear" if cue.wait_until_clear else "", f"let {cue.let_pass} pass" if cue.let_pass else "",
+            f"speed {cue.speed:g}" if cue.speed is not None else ""]
     return f"{trig.when}: " + ", ".join(w for w in what if w)
 
 
@@ -144,6 +153,8 @@ def fired(script: Script, cues: list[RobotCue]) -> list[tuple[float, str]]:
     for m in range(min(int(script.now[0].logged), script.log_t.shape[0])):
         cue, event = cues[int(script.log_cue[m])], int(script.log_event[m])
         text = (describe(cue) if event == FIRED else f"still blocked: say {cue.say} again" if event == ASKED_AGAIN
+                else f"{cue.let_pass} has gone by: drive on" if event == WENT_BY
+                else f"{cue.let_pass} did not go by: drive on" if cue.let_pass and not cue.wait_until_clear
                 else "still blocked: stop waiting, go around")
         out.append((round(float(script.log_t[m]), 3), text))
     return out
@@ -219,29 +230,51 @@ def on_route_ahead(s, seg, i, reach, distance):  # noqa: ANN001, ANN201
 
 
 @jit
+def in_way(s, i, distance, seg, cone):  # noqa: ANN001, ANN201
+    """Person i in the robot's way within `distance` (person_in_way's rule for one person; seg: the route
+    segment, -1 for the cone ahead)."""
+    robot, policy, p = s.robot[0], s.policy[0], s.people[i]
+    r = robot.pos
+    if seg >= 0:
+        return abs(p.pos - r) <= distance and on_route_ahead(s, seg, i, robot.radius + p.radius
+                                                             + proxemics.WAY_MARGIN_SCRIPT, distance)
+    # the way it is going: a built-in robot's direction of travel (a differential drive may face elsewhere
+    # while it turns or edges aside), else where it last moved
+    h = policy.heading if policy.has_heading and abs(policy.heading) > 0 else robot.heading
+    return blocking(r.real, r.imag, h.real, h.imag, p.pos.real, p.pos.imag, robot.radius, p.radius, distance,
+                    proxemics.WAY_MARGIN_SCRIPT, cone)
+
+
+@jit
 def person_in_way(s, distance, swept_only):  # noqa: ANN001, ANN201
     """Someone within `distance` (centres) ahead of the robot's direction of travel, in its way: in a cone
     ahead (to notice people coming), or (`swept_only`) only inside the corridor its body sweeps along its
     route's next `distance` metres (round its turns: someone beside the route past a corner is not in its way;
     nor is someone it passes by edging a little aside; straight ahead without a route), so that people who
     stepped aside do not keep a robot waiting "until clear"."""
-    robot, policy = s.robot[0], s.policy[0]
-    r = robot.pos
-    # the way it is going: a built-in robot's direction of travel (a differential drive may face elsewhere
-    # while it turns or edges aside), else where it last moved
-    h = policy.heading if policy.has_heading and abs(policy.heading) > 0 else robot.heading
     cone = -1.0 if swept_only else proxemics.FRONT_CONE_SCRIPT
     seg = route_segment(s) if swept_only else -1
-    for i in range(s.people.shape[0]):
-        p = s.people[i]
-        if seg >= 0:
-            if abs(p.pos - r) <= distance and on_route_ahead(s, seg, i, robot.radius + p.radius +
-                                                             proxemics.WAY_MARGIN_SCRIPT, distance):
-                return True
-        elif blocking(r.real, r.imag, h.real, h.imag, p.pos.real, p.pos.imag, robot.radius, p.radius, distance,
-                      proxemics.WAY_MARGIN_SCRIPT, cone):
+    for i in range(s.people.shape[0]):  # noqa: SIM110 - numba compiles no generator
+        if in_way(s, i, distance, seg, cone):
             return True
     return False
+
+
+@jit
+def gone_by(s, cue):  # noqa: ANN001, ANN201
+    """Whether the person a `let_pass` cue waits for has gone by: they came within HELD_UP_DISTANCE of the robot
+    (or were in its way), are out of its way now (the corridor its body sweeps ahead, as wait_until_clear) and
+    LET_PASS_AWAY farther from it than the closest they came: past it, across its way, or on ahead of it. From
+    poses alone (the export's ROS node has no velocities)."""
+    i = cue.lets_pass
+    if i < 0 or i >= s.people.shape[0]:
+        return True
+    d = abs(s.people[i].pos - s.robot[0].pos)
+    way = in_way(s, i, proxemics.HELD_UP_DISTANCE, route_segment(s), -1.0)
+    if d <= proxemics.HELD_UP_DISTANCE or way:
+        cue.pass_near = True
+    cue.pass_closest = min(cue.pass_closest, d)
+    return cue.pass_near and not way and d >= cue.pass_closest + LET_PASS_AWAY
 
 
 @jit
@@ -293,9 +326,11 @@ def play(s, script):  # noqa: ANN001, ANN201
         cue.fired += 1
         if cue.say != 0:
             cue.say_until = t + cue.hold
-        if cue.pause != 0:
+        if cue.pause != 0 and cue.lets_pass < 0:  # with let_pass, `wait` is the most it stands for them
             cue.wait_until = t + cue.pause
         cue.waiting_until_clear = cue.until_clear
+        cue.letting_pass, cue.pass_near, cue.pass_closest = cue.lets_pass >= 0, False, math.inf
+        cue.pass_until = t + (cue.pause if cue.pause > 0 else LET_PASS_PATIENCE)
         cue.clear_since, cue.repeats = t, 0
         if not math.isnan(cue.speed):
             now.speed = cue.speed
@@ -320,6 +355,12 @@ def play(s, script):  # noqa: ANN001, ANN201
                     cue.waiting_until_clear = False
                     log(script, t, c, GAVE_UP)
             wait = wait or cue.waiting_until_clear
+        if cue.letting_pass:  # stands (for no known time: pacing lets the person come) until they went by
+            went = gone_by(s, cue)
+            if went or t >= cue.pass_until:
+                cue.letting_pass = False
+                log(script, t, c, WENT_BY if went else GAVE_UP)
+            wait = wait or cue.letting_pass
     now.say, now.wait, now.timed = say, wait, timed
 
 

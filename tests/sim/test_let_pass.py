@@ -1,0 +1,70 @@
+"""A `let_pass` cue: "the robot lets her go first" (issue 25, round 10 of the new-request suite: five of 24 first
+answers asked the robot to stay back until someone had gone by, with wait_until_clear, which waits only while
+someone is in its way, so the robot went first). The robot stands where the cue fired until that person has gone
+by (came near, out of its way, moving off), at most `wait` s (script.LET_PASS_PATIENCE without one)."""
+
+from __future__ import annotations
+
+import pytest
+
+from socnavgen.run.spec import CueTrigger, RobotCue, RobotScript, ScenarioSpec
+from socnavgen.sim.robot.api import ScriptedPolicy
+from socnavgen.sim.robot.script import LET_PASS_PATIENCE
+from tests.sim.simhelpers import REGULAR, human, make_sim, tree_xml
+
+ROUTE = [(2.0, 5.0), (18.0, 5.0)]
+
+
+def _cue(**kw) -> RobotScript:  # noqa: ANN003
+    return RobotScript(cues=[RobotCue(trigger=CueTrigger(when="human_within", human="human1", distance=4.0), **kw)])
+
+
+def _drive(script: RobotScript, person: dict, tree: str, seconds: float) -> list[tuple[float, complex, complex]]:
+    sim = make_sim([human(**person)], [tree], ROUTE, policy=ScriptedPolicy(), script=script)
+    rows = []
+    while sim.t < seconds:
+        sim.step()
+        rows.append((sim.t, complex(sim.robot.pos), complex(sim.people.pos[0])))
+    return rows
+
+
+ONCOMING = {"start": (17.0, 5.0), "goals": [(1.0, 5.0)]}  # walks the robot's route the other way
+
+
+def test_the_robot_stands_until_the_person_coming_the_other_way_has_gone_by():
+    rows = _drive(_cue(let_pass="human1"), ONCOMING, tree_xml(REGULAR), 40.0)
+    fired = next(k for k, (_, r, p) in enumerate(rows) if abs(r - p) <= 4.0)
+    passed = next(k for k, (_, r, p) in enumerate(rows) if p.real < r.real - 1.0)  # she is behind it
+    stood = [r for _, r, _ in rows[fired + 10:passed]]
+    assert max(abs(r - stood[0]) for r in stood) < 0.3, "the robot drove on before she had gone by"
+    assert rows[-1][1].real > 17.0  # then it drove on to its goal
+
+
+def test_without_let_pass_the_robot_does_not_stand_for_her():
+    rows = _drive(_cue(), ONCOMING, tree_xml(REGULAR), 40.0)
+    fired = next(k for k, (_, r, p) in enumerate(rows) if abs(r - p) <= 4.0)
+    passed = next(k for k, (_, r, p) in enumerate(rows) if p.real < r.real - 1.0)
+    moved = [r for _, r, _ in rows[fired + 10:passed]]
+    assert max(abs(r - moved[0]) for r in moved) > 0.5
+
+
+STANDING = tree_xml('<Sequence><LookAtRobot agent_id="{id}"/></Sequence>')
+
+
+@pytest.mark.parametrize(("wait", "limit"), [(0.0, LET_PASS_PATIENCE), (6.0, 6.0)])
+def test_someone_who_never_goes_by_holds_the_robot_at_most_its_limit(wait: float, limit: float):
+    # she stands beside its route 3 m ahead: near, out of its way, never moving off
+    rows = _drive(_cue(let_pass="human1", wait=wait), {"start": (9.0, 7.2), "goals": [(9.0, 7.2)]}, STANDING,
+                  limit + 12.0)
+    fired = next(k for k, (_, r, p) in enumerate(rows) if abs(r - p) <= 4.0)
+    t0, r0 = rows[fired][0], rows[fired + 20][1]  # where it stands, 1 s after the cue (braking from cruise)
+    still = [t for t, r, _ in rows[fired:] if abs(r - r0) < 0.05]
+    assert still[-1] - t0 == pytest.approx(limit, abs=0.6)
+    assert rows[-1][1].real > r0.real + 1.0  # it drove on after the limit
+
+
+def test_a_cue_letting_pass_someone_of_no_encounter_is_refused():
+    with pytest.raises(ValueError, match="lets human2 pass, who takes part in no encounter"):
+        ScenarioSpec.model_validate({
+            "encounters": [{"id": "e1", "place": "HALL", "humans": [{"human": "human1", "reaction": "walk_past"}]}],
+            "script": {"cues": [{"trigger": {"when": "start"}, "let_pass": "human2"}]}})
