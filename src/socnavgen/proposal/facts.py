@@ -212,7 +212,7 @@ def _group_places() -> str:
     return (" On the circle, member k of n (counted from 0 in the order of their names) starts k x 360/n degrees "
             "counter-clockwise from east of the node (two: east and west of it; three: east, north-west, "
             "south-west; nearer the node where a wall is there), so which member stands in the robot's way depends "
-            "on where it comes from: give each member who may be in its way a reaction to it.")
+            "on the side it comes from.")
 
 
 def encounter_within_text() -> str:
