@@ -80,7 +80,7 @@ def test_the_start_rule_is_one_comparison_stated_as_it_is_checked(tmp_path: Path
                                     [("r0", "p1"), ("p1", "far")])
     room = load_location(root)
     assert "a person starts at least 1.2 m from the robot's start" in start_rule_text()
-    assert "exactly 1.2 m is allowed" in start_rule_text()
+    assert "a person exactly 1.2 m from the robot's start passes" in start_rule_text()
     problems = start_problems(room, ["r0", "far"], [Walker("human1", ["p1", "far"])])
     assert bool(problems) is refused, (node_distance(room, "r0", "p1"), problems)
     if refused:

@@ -308,7 +308,7 @@ def test_the_tree_prompt_says_every_field_of_the_spec():
     assert "23 s after the start -> wait then go for 4 s, then walk on" in text
     assert "seconds='4'" in text and "seconds='23'" in text
     assert "stands still 4 s and then until its way is clear" in text  # the cue's wait is not dropped
-    assert "farther than 3 m (each time) it stands still 2 s" in text
+    assert "farther than 3 m (each time it becomes true again) it stands still 2 s" in text
     proposal = ScenarioProposal(scenario_description="d", number_of_humans=1, human_behaviors={"human1": "b"},
                                 expected_robot_behavior="e")
     plan = PathPlan(robot=["a", "b"], humans=[HumanPlan(name="human1", path=["b"])])

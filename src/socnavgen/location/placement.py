@@ -65,8 +65,9 @@ def start_rule_text() -> str:
             f"start only after passing other nodes (a round trip: [A, B, C, B, A]); a person starts at least {alone:.1f} m "
             f"from the robot's start ({alone + GROUP_SPAWN_RADIUS:.1f} m for a group, whose members stand on a "
             f"{GROUP_SPAWN_RADIUS:g} m circle around their shared first node) and at least {people:.2f} m from "
-            f"any other person who is not in their group (measured between the xy_m of the two start nodes, as "
-            f"shown; exactly {alone:.1f} m is allowed); nobody starts on the robot's goal unless their path walks "
+            f"any other person who is not in their group, so two people not in one group never start at one node "
+            f"(measured between the xy_m of the two start nodes, as shown; \"at least\" includes the number itself: "
+            f"a person exactly {alone:.1f} m from the robot's start passes); nobody starts on the robot's goal unless their path walks "
             f"away from it and ends elsewhere.")
 
 

@@ -160,9 +160,11 @@ def approach_room(spec: ScenarioSpec | None = None, enc: Encounter | None = None
     return distance + APPROACH
 
 
-def pacing_text() -> str:
+def pacing_text(detail: bool = True) -> str:
     """How the simulator holds a person back so that the encounter happens at its node (sim/people/pacing.py's
-    `eta` rule, what it does today: the robot's nominal ETA, no holding near a robot or while it stands)."""
+    `eta` rule, what it does today: the robot's nominal ETA, no holding near a robot or while it stands; its
+    lower_pacing aims at the FIRST pass of a route that passes the node twice). `detail` False (stage 1's `robot`
+    cut, fit.py) leaves out the round trip."""
     from socnavgen.sim import ThrottleConfig
 
     pace = ThrottleConfig()
@@ -176,7 +178,11 @@ def pacing_text() -> str:
             f"of it (they walk on to the node), and once the robot is {pace.robot_near:g} m from the node they walk "
             f"at full speed. So put the interaction point where the encounter should happen and the person's start "
             f"where they wait (unseen, if they should appear suddenly): they come out as the robot arrives. {_narrow_pacing()} "
-            f"Members of a group and people without an interaction point are never paced: they walk from the start.")
+            f"Members of a group and people without an interaction point are never paced: they walk from the start."
+            + (" On a route that passes the interaction point twice (a round trip [A, B, C, B, A]) pacing aims at "
+               "the robot's FIRST pass; once it has passed they walk at their own speed: to meet on the way back, "
+               "start them where walking at their own speed brings them there then, or meet at a node passed once."
+               if detail else ""))
 
 
 def _narrow_pacing() -> str:
@@ -186,9 +192,10 @@ def _narrow_pacing() -> str:
             f"(their interaction point) at the wider place on the robot's side where it waits, not at the passage.")
 
 
-def groups_text() -> str:
+def groups_text(detail: bool = True) -> str:
     """How groups are simulated (sim.spawn_points spawns them, sim/people/physics.group_forces holds together the
-    members walking the group's walk; a member whose tree does something else leaves the group meanwhile)."""
+    members walking the group's walk; a member whose tree does something else leaves the group meanwhile);
+    `detail` False (stage 1's `robot` cut) leaves out where on the circle each member stands."""
     from socnavgen.bodies import GROUP_SPAWN_RADIUS
 
     return (f"- Groups: humans who share a group id (at least two) start evenly on a circle of "
@@ -196,7 +203,16 @@ def groups_text() -> str:
             f"their path (group forces of the social force model): give every member the same path. A member "
             f"whose tree makes them do something else (give way, follow the robot, run away, stand) leaves the "
             f"group's pull while doing it, so a group whose members react differently splits up and the others "
-            f"walk on; once that member walks their path again the pull holds them together again.")
+            f"walk on; once that member walks their path again the pull holds them together again."
+            + (_group_places() if detail else ""))
+
+
+def _group_places() -> str:
+    """Where each member of a group starts (sim/engine/scenario.spawn_points, its one home)."""
+    return (" On the circle, member k of n (counted from 0 in the order of their names) starts k x 360/n degrees "
+            "counter-clockwise from east of the node (two: east and west of it; three: east, north-west, "
+            "south-west; nearer the node where a wall is there), so which member stands in the robot's way depends "
+            "on the side it comes from.")
 
 
 def encounter_within_text() -> str:
@@ -208,12 +224,32 @@ def encounter_within_text() -> str:
             f"just before a doorway.")
 
 
-def cue_once_text() -> str:
+def implied_meets_text() -> str:
+    """The meeting every encounter part is checked on unless the spec shows it itself (verify/derive.with_implied,
+    its one home: a round-10 player's stop at 4 m failed an unwritten 2 m meeting)."""
+    from socnavgen.verify.derive import NOT_MET, SHOWS_ENCOUNTER
+    from socnavgen.verify.models import VerifySettings
+
+    kinds = ", ".join(sorted(SHOWS_ENCOUNTER))
+    return (f"- Every person of an encounter is also checked as meeting the robot there: unless a criterion of "
+            f"theirs is of kind {kinds} (or their reaction is {', '.join(NOT_MET)}), the verifier adds a meets "
+            f"criterion with the default {VerifySettings().distance:g} m, even when the reaction fires farther off. "
+            f"For someone who reacts at a distance (stops as soon as they see the robot 4 m away), write that meets "
+            f"criterion yourself with the `distance` they react at (4.5) and give the encounter a `within` of half "
+            f"of it or more (the point halfway between them lies that far from the node).")
+
+
+def cue_once_text(detail: bool = True) -> str:
+    """When a cue fires (sim/robot/script.play: on the step its trigger becomes true, `was_true` starting False);
+    `detail` False (stage 1's `robot` cut) leaves out the rising edge and t = 0."""
     once = RobotCue.model_fields["once"].default
     example = {"trigger": {"when": "human_farther", "human": "human1", "distance": 5}, "wait": 3, "once": not once}
+    edge = (" A cue fires on the step its trigger becomes true (at t = 0 when it holds from the start); with "
+            "\"once\": false again each time it becomes true again after it stopped holding, never twice while it "
+            "keeps holding (the example drives on after its 3 s, whether the follower caught up or not).")
     return (f"- A cue fires {'once, the first time its trigger holds' if once else 'each time its trigger holds'}, "
             f"unless it says \"once\": {str(not once).lower()}, a field of the cue beside \"trigger\" (not inside "
-            f"it): {json.dumps(example)} waits 3 s each time the follower falls 5 m behind.")
+            f"it): {json.dumps(example)} waits 3 s each time the follower falls 5 m behind.{edge if detail else ''}")
 
 
 def latches_by_running(target: Target) -> bool:
@@ -235,7 +271,7 @@ def latch_text(target: Target = "socrates") -> str:
                 f"while its trigger holds, or `lasts` seconds.")
     return ("- \"latch\": true keeps a reaction going for good once its trigger fired (seen the robot once, it "
             "said FOLLOW ME once): the trigger is not checked again. Without a latch a reaction lasts while its "
-            "trigger holds, or `lasts` seconds if set. With both, the reaction runs its `lasts` s once triggered, "
+            "trigger holds, or `lasts` seconds if set. With both, `lasts` wins: the reaction runs its `lasts` s once triggered, "
             "whatever the trigger does, then they walk on for good.")
 
 
@@ -255,7 +291,8 @@ def people_text(detail: bool = True) -> str:
             f"{UNTIL_FACT}; {block_until_text() + '; ' if detail else ''}to stand still in the robot's way until it says EXCUSE ME, then step aside: "
             f"\"otherwise\": \"stand\" and give_way on robot_says).\n"
             f"- \"lasts\" (s) ends a reaction (then they walk on), e.g. say WAIT for at most 5 s; wait_then_go "
-            f"stands {WAIT_THEN_GO_SECONDS:g} s unless set. \"seconds\" is only the time trigger's. {_negations()}\n"
+            f"stands {WAIT_THEN_GO_SECONDS:g} s unless set. \"seconds\" is only the time trigger's. "
+            f"{_negations(detail)}\n"
             f"- {stop_evidence_text()}")
 
 
@@ -280,9 +317,13 @@ def stop_evidence_text() -> str:
             f"from the start (\"otherwise\": \"stand\", or held by pacing) shows none until they have walked.")
 
 
-def _negations() -> str:
+def _negations(detail: bool = True) -> str:
+    """The negated triggers (run/spec.py); `detail`: that they hold from t = 0 (a tree's condition is ticked from
+    the first step: a round-10 player's guide stood at her start while the robot was far away)."""
+    start = (", from t = 0 when the robot starts farther away: a guide whose stop is on it stands at their start "
+             "until the robot comes within `distance`") if detail else ""
     return " ".join(f"{neg} holds exactly when {base} does not (a guide waits while the robot is farther than "
-                    f"`distance`)." for neg, base in NEGATED_TRIGGERS.items())
+                    f"`distance`{start})." for neg, base in NEGATED_TRIGGERS.items())
 
 
 def robot_limits_text(detail: bool = True) -> str:
@@ -312,6 +353,21 @@ def robot_limits_text(detail: bool = True) -> str:
             f"its way; {wait_until_clear_text()}, so a cue needing it closer to them never fires meanwhile.")
 
 
+def follower_turn_text() -> str:
+    """What a follower does when the robot turns round toward them (sim/people/give_way.follow_robot: in its way
+    within FOLLOW_WAY_AHEAD on its remaining path, they give way first, backing out along its path where there is
+    no room beside it: plan_side_step; following never walks their own path)."""
+    from socnavgen.sim.people.give_way import FOLLOW_WAY_AHEAD
+
+    return (f"- A follower (follow, FollowRobot) who finds themself on the robot's way ahead of it, within "
+            f"{FOLLOW_WAY_AHEAD:g} m (it turns round at a dead end or on a round trip), steps aside like give_way "
+            f"and follows again once it has passed; where there is no room beside it (under {PASS_WIDTH:g} m free) "
+            f"they first walk ahead of it along its way to the nearest place wide enough, so the robot turns round "
+            f"best where there is room. "
+            f"Following does not walk the follower's own path: when it ends they walk on to the node they were "
+            f"walking to when it began (back the way they came).")
+
+
 def wait_until_clear_text() -> str:
     """What a wait_until_clear cue waits for (sim/robot/script.py: the larger of HELD_UP_DISTANCE and the cue's
     trigger distance, whatever the trigger; CLEAR_PATIENCE, CLEAR_REPEATS)."""
@@ -321,8 +377,8 @@ def wait_until_clear_text() -> str:
     return (f"a wait_until_clear cue holds it where the cue fired while anyone is in its way (ahead of it, on its "
             f"route) within {proxemics.HELD_UP_DISTANCE:g} m, or within the cue trigger's `distance` when that is "
             f"larger, whatever the trigger is (at_encounter, human_within, blocked alike; nobody ahead: it goes on "
-            f"at once); still held after {CLEAR_PATIENCE:g} s it says its phrase again, {CLEAR_REPEATS} times, then "
-            f"drives around them")
+            f"at once); still held after {CLEAR_PATIENCE:g} s it says its phrase again, {CLEAR_REPEATS} times "
+            f"{CLEAR_PATIENCE:g} s apart (a cue without a phrase does not), then drives around them")
 
 
 def export_text(target: Target | None = None, spec_words: bool = False) -> str:
@@ -368,8 +424,8 @@ def stl_text(signals: bool = True) -> str:
     listed = "; ".join(f"{k.shown} ({k.unit}): {k.meaning}" for k in SIGNAL_KINDS)
     return (f"- A criterion of kind stl holds a signal temporal logic \"formula\": one expression of at most "
             f"{MAX_FORMULA_CHARS} characters and {MAX_NESTING} nested levels, with the operators always, "
-            f"eventually, historically, once, until, since (bounds in seconds, e.g. eventually[0:5]; without bounds: "
-            f"over the whole run), and, or, "
+            f"eventually, historically, once, until, since (bounds in seconds, e.g. eventually[0:5]; an operator "
+            f"without bounds, e.g. \"eventually (dist_human1 < 2.0)\", is allowed and spans the whole run), and, or, "
             f"not, implies, and comparisons (<, <=, >, >=); 0/1 signals are compared with 0.5. Example: "
             f"\"{STL_EXAMPLE}\" (within the first 60 s the robot says EXCUSE ME while human1 is within 2 m). "
             f"Signals: {listed}. Use the other kinds when one fits: they are checked with care for cause and "
@@ -394,9 +450,10 @@ def robot_vocabulary_text() -> str:
 def scenario_rules_text(target: Target | None = None, signals: bool = True, robot: bool = True) -> str:
     """What stage 1 must know about how its spec plays out (pacing, within, cues, groups, people, latch, what
     the robot cannot do, export, stl); `signals` False names the STL signals without their meanings."""
-    lines = ["HOW THE SPEC PLAYS OUT:", starts_text() if robot else "", pacing_text(), encounter_within_text(),
-             cue_once_text(), groups_text(), people_text(detail=robot), latch_text(target or "socrates"), robot_limits_text(robot), export_text(target, spec_words=True),
-             stl_text(signals), events_text(signals)]
+    lines = ["HOW THE SPEC PLAYS OUT:", starts_text() if robot else "", pacing_text(robot), encounter_within_text(),
+             implied_meets_text() if robot else "", cue_once_text(robot), groups_text(robot), people_text(detail=robot),
+             latch_text(target or "socrates"), robot_limits_text(robot), follower_turn_text() if robot else "",
+             export_text(target, spec_words=True), stl_text(signals), events_text(signals)]
     return "\n".join(line for line in lines if line)
 
 
@@ -423,7 +480,9 @@ def starts_text() -> str:
 
     return (f"- {start_rule_text()} The paths stage refuses other starts, so write the scene with them: people "
             "waiting together at one place are a group (or wait at different nodes), and whoever waits for the "
-            "robot stands a node or more away from where it starts.")
+            f"robot at an encounter's node stands at least {approach_room():g} m (straight) from where it starts "
+            f"(a meeting counts only after an approach; more with a larger meets `distance`): \"right in front "
+            f"of\" the robot's start means a node that far away, or the robot starts a node farther back.")
 
 
 def target_nodes(target: Target) -> list[str]:

@@ -13,8 +13,10 @@ leaving out, one after the other in this order (CUTS), what a small model needs 
                      the inventory beats the description's widths; the kinds of place with their nodes,
                      what cannot work, the doorways and where nobody can step aside stay;
 4. `robot`         - what the robot does by itself (passing, making way) and where it stops, why a block can
-                     end at once, and the start rule (stage 2 states and checks it again) (stage 1; what
-                     its script can and cannot do stays);
+                     end at once, the start rule (stage 2 states and checks it again), and the finer points
+                     of how the spec plays out (the implied meeting, when a cue fires, robot_far from t = 0,
+                     pacing on a round trip, group places, a follower turned round on) (stage 1; what its
+                     script can and cannot do stays);
 5. `examples`      - the last worked example (a small model copies the answer's shape from it: without
                      any, SmolLM2-135M wrote "Human 1" as a person's behavior);
 6. `tutorials`     - the question-and-answer tutorials (stage 2's scene-graph tutorial, stage 3's tree

@@ -31,6 +31,7 @@ from socnavgen.proposal.conversation import Outcome, Policy, Recorder, converse
 from socnavgen.proposal.facts import (
     TWO_ENCOUNTERS,
     approach_room,
+    follower_turn_text,
     groups_text,
     pacing_text,
     physical_facts_text,
@@ -201,7 +202,8 @@ def paths_messages(location: Location, scenario: ScenarioProposal, *, seed: int 
                   node_types=", ".join(location.schema.node_types), edge_types=", ".join(location.schema.edge_types),
                   tutorial=tutorial, examples=examples,
                   scenario=scenario_text(scenario), humans=", ".join(humans), format=format_line(humans, spec),
-                  facts="\n".join([physical_facts_text(scene_graph=True), pacing_text(), groups_text()]),
+                  facts="\n".join([physical_facts_text(scene_graph=True), pacing_text(), groups_text(),
+                                   follower_turn_text()]),
                   encounters=encounters_text(spec),
                   inventory=inventory_text(location, positions=False, detail="inventory" not in left_out),
                   start_rule=start_rule_text(),

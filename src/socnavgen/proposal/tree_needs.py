@@ -37,7 +37,13 @@ from socnavgen.bt.library import (
 )
 from socnavgen.bt.model import Node, literal_text
 from socnavgen.errors import ValidationFailed
-from socnavgen.proposal.facts import LATCH_NODE, detecting_nodes, latches_by_running, latching_node
+from socnavgen.proposal.facts import (
+    LATCH_NODE,
+    detecting_nodes,
+    follower_turn_text,
+    latches_by_running,
+    latching_node,
+)
 from socnavgen.run.spec import NEGATED_TRIGGERS, Encounter, HumanPart, ScenarioSpec
 
 TIMER = "TimeExpiredCondition"
@@ -152,6 +158,9 @@ def needs_text(name: str, spec: ScenarioSpec | None, target: Target = "socrates"
             need += (f"; MakeGesture keeps showing {part.says} until another MakeGesture, so when the reaction ends "
                      f"({'its ' + format(part.lasting(), 'g') + ' s are over' if part.lasting() else 'its trigger no longer holds'}) "
                      f"clear it: begin the branch that walks on with {CLEAR_GESTURE}")
+        if part.trigger in NEGATED_TRIGGERS:  # a tree's condition is ticked from the first step
+            need += (f"; {part.trigger.replace('_', ' ')} holds from t = 0 while the robot starts farther away, so "
+                     f"this reaction runs from the start")
         lines.append(f"- Encounter {enc.id} (order {enc.order}) at {where}: {_part_words(part)}. Your tree must "
                      f"{need}.")
     if not lines:
@@ -166,6 +175,8 @@ def needs_text(name: str, spec: ScenarioSpec | None, target: Target = "socrates"
                      f"<{LATCH_NODE}><Fallback><Sequence>(later trigger)(later action)</Sequence>(earlier action)"
                      f"</Fallback></{LATCH_NODE}>.")
     lines += person_lines(name, spec)
+    if any(part.reaction == "follow" for _, part in parts):
+        lines.append(follower_turn_text())
     return "\n".join(["What the scenario's spec requires of this human's tree:", *lines, script_text(spec)])
 
 
@@ -244,7 +255,7 @@ def script_text(spec: ScenarioSpec) -> str:
                         + (f" (at most {cue.wait:g} s)" if cue.wait else ""))
         if cue.speed is not None:
             acts.append(f"goes on at {cue.speed:g} m/s")
-        again = "" if cue.once else " (each time)"
+        again = "" if cue.once else " (each time it becomes true again)"
         cues.append(f"{when}{again} it {' and '.join(acts) or 'does nothing special'}")
     script = "; ".join(cues) if cues else "it says nothing and does not stop on purpose"
     return f"The robot drives at {spec.script.speed:g} m/s; {script}."

@@ -21,6 +21,7 @@ from socnavgen.verify.thresholds import WAIT_MARGIN
 Judged = list[tuple[Criterion, Source]]
 _PEOPLE_APART = Criterion(id="people_apart", kind="people_apart", text="no two people touch each other")
 SHOWS_ENCOUNTER = {"meets", "keeps_away", "follows_robot"}  # criterion kinds that already show a human's encounter
+NOT_MET = ("avoid",)  # reactions of a part that gets no implied meets (they keep away from the robot)
 
 
 def _together_at(human: str, enc: Encounter, distance: float) -> str:
@@ -133,7 +134,7 @@ def with_implied(spec: ScenarioSpec, settings: VerifySettings, people: int | Non
             for h in members:
                 kinds_of.setdefault(h, set()).add("meets")
         for part in enc.humans:
-            if SHOWS_ENCOUNTER & kinds_of.get(part.human, set()) or part.reaction in ("avoid",):
+            if SHOWS_ENCOUNTER & kinds_of.get(part.human, set()) or part.reaction in NOT_MET:
                 continue
             judged.append((Criterion(id=f"meet_{part.human}_{enc.id}", kind="meets", human=part.human,
                                      encounter=enc.id, text=f"robot meets {part.human} at {enc.node or enc.place} "
