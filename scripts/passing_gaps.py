@@ -6,8 +6,8 @@
 Prints one table row per run (and a total), so two branches can be compared before/after a change to the
 people's rules: the smallest robot-person gap and the seconds with some robot-person gap <= CLOSE; the smallest
 person-person gap (with the pair and when), the seconds with some pair in contact (gap <= CONTACT_MARGIN) and
-with some pair within CLOSE. Also the smallest robot-person gap while the robot drives (faster than MOVING: a gap
-it drove into, not one someone walked into while it stood) and when the robot reached its goal (the polite robot's
+with some pair within CLOSE. Also the smallest robot-person gap while the robot drives toward the nearest person
+(faster than MOVING: a gap it drove into, not one someone walked into) and when the robot reached its goal (the polite robot's
 cost)."""
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ from socnavgen.sim.contact import lengths, row_min, trace_gaps
 from socnavgen.sim.trace import Trace
 
 CLOSE = 0.15  # m: a gap a person looking at the animation sees as touching
-MOVING = 0.05  # m/s: the robot drives
+MOVING = 0.05  # m/s: the robot drives toward someone this fast
 
 
 class Row(NamedTuple):
@@ -34,7 +34,7 @@ class Row(NamedTuple):
     person_pair: str  # who, and when
     person_contact: float  # s with a pair at gap <= CONTACT_MARGIN
     person_close: float  # s with a pair at gap <= CLOSE
-    moving_gap: float = float("inf")  # m: smallest robot-person gap while the robot drives (faster than MOVING)
+    moving_gap: float = float("inf")  # m: smallest robot-person gap while the robot drives toward them (MOVING)
     goal_time: float = float("nan")  # s: when the robot first came within ROBOT_GOAL_TOLERANCE of its goal after
     # leaving it (NaN: never)
 
@@ -54,7 +54,10 @@ def gap_numbers(name: str, trace: Trace) -> Row:
     if gaps.size:
         closest = row_min(gaps)
         robot_gap, robot_close = float(closest.min()), float((closest <= CLOSE).sum() * trace.dt)
-        moves = np.hypot(trace.robot[:, 3], trace.robot[:, 4]) > MOVING
+        near = np.argmin(gaps, axis=1)
+        to = trace.humans[np.arange(trace.steps), near, :2] - trace.robot[:, :2]
+        toward = (trace.robot[:, 3] * to[:, 0] + trace.robot[:, 4] * to[:, 1]) / np.maximum(np.hypot(*to.T), 1e-9)
+        moves = toward > MOVING  # driving toward the nearest person
         moving_gap = float(closest[moves].min()) if moves.any() else float("inf")
     goal_time = float("nan")
     if trace.robot_goal is not None:
@@ -112,7 +115,7 @@ def main() -> None:
     parser.add_argument("--cards", type=Path, help="a scratch folder to write the card runs to")
     args = parser.parse_args()
     rows = (eval_rows(args.eval) if args.eval else []) + (card_rows(args.cards) if args.cards else [])
-    print(f"| run | robot: min gap (m) | driving: min gap (m) | s within {CLOSE} m | goal at (s) | "
+    print(f"| run | robot: min gap (m) | driving at them: min gap (m) | s within {CLOSE} m | goal at (s) | "
           f"people: min gap (m) | pair | s in contact (<= {CONTACT_MARGIN} m) | s within {CLOSE} m |")
     print("|---|---|---|---|---|---|---|---|---|")
     for r in rows:

@@ -25,9 +25,9 @@ them, steps back from someone walking into it, and never moves closer than a mar
   not in the middle of a corridor.
 * keep_clear: the part of a move that would bring the robot closer than `gap` (surface to surface) to a
   person is dropped: it slides past or stops, and never pushes into anyone.
-* follow_speed: behind or abreast of someone walking its way with less than PASS_GAP beside them (no room to overtake
-  with that gap), it drives along its way no faster than they walk it (it follows at the distance look-ahead keeps),
-  and slower while not yet behind them: it falls in behind rather than drive abreast of them.
+* follow_speed: within personal space behind or abreast of someone walking its way with less than PASS_GAP beside
+  them (no room to overtake with that gap), it drives along its way no faster than they walk it (it follows), and
+  slower while not yet behind them: it falls in behind rather than drive abreast of them.
 * social_clear: keep_clear with the policy's keep_gap (bodies.ROBOT_SOCIAL_GAP for the default robot): it never
   drives closer than that to anyone, waiting behind them instead (where the way beside someone is narrower, it does
   not pass); held back so for PINNED_PATIENCE s while people press on it (pressed: someone came within that gap, or
@@ -233,8 +233,9 @@ def keep_clear(s, v, gap):  # noqa: ANN001, ANN201
 @jit
 def follow_speed(s, direction):  # noqa: ANN001, ANN201
     """The most the robot drives along the unit `direction` (inf: no limit): for each person walking that way (faster
-    than CLOSING along it) with less than PASS_GAP between the two sideways, not behind it, their speed along it
-    while they are ahead of it, FALL_BACK of that while they are abreast (it falls in behind them)."""
+    than CLOSING along it) within EASE_GAP (personal space) of it with less than PASS_GAP between the two sideways, not
+    behind it: their speed along it while they are ahead of it, FALL_BACK of that while they are abreast (it falls
+    in behind them). Farther off, look-ahead's slowing for people in its path is all (a robot following a guide)."""
     robot, people = s.robot[0], s.people
     back = direction.conjugate()
     top = math.inf
@@ -245,7 +246,7 @@ def follow_speed(s, direction):  # noqa: ANN001, ANN201
             continue
         rel = (q.pos - robot.pos) * back
         touch = q.radius + robot.radius
-        if abs(rel.imag) - touch >= PASS_GAP or rel.real < -touch:
+        if abs(rel.imag) - touch >= PASS_GAP or rel.real < -touch or abs(rel) - touch >= EASE_GAP:
             continue
         top = min(top, along if rel.real > touch else FALL_BACK * along)
     return top
