@@ -1,17 +1,18 @@
-"""The default robot passes a person only with its social gap (bodies.ROBOT_SOCIAL_GAP): where the way beside someone
-standing is narrower it waits behind them, and behind someone walking its way with no room to overtake it follows
-(robot.polite.social_clear, follow_speed); with room it passes in both cases."""
+"""The default robot passes a person only with its social gap (bodies.ROBOT_SOCIAL_GAP): held back by someone standing
+it waits behind them, settling for the smaller POLITE_GAP only while people press on it (robot.polite.social_clear),
+and behind someone walking its way with no room to overtake it follows (follow_speed); with room it passes."""
 
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from socnavgen.bodies import ROBOT_SOCIAL_GAP
 from socnavgen.sim import empty_room
 from socnavgen.sim.robot.api import ScriptedPolicy
+from socnavgen.sim.robot.polite import FALL_BACK, PINNED_PATIENCE, POLITE_GAP, follow_speed, social_clear
 from tests.sim.simhelpers import REGULAR, human, make_sim, tree_xml
 
-STAND = tree_xml('<LookAtRobot agent_id="{id}"/>')  # a person who never moves, only faces the robot
 WALK = tree_xml(REGULAR)
 MOVING = 0.05  # m/s: the robot drives
 
@@ -30,28 +31,52 @@ def _driving(trace) -> np.ndarray:  # noqa: ANN001
     return np.hypot(trace.robot[:, 3], trace.robot[:, 4]) > MOVING
 
 
-def _past_someone_standing(width: float):  # noqa: ANN202
-    """A person standing against the corridor's north wall at x = 10 (0.05 m off it); the robot drives along it."""
-    person = human(start=(10.0, 5.0 + width / 2 - 0.45), goals=[(10.0, 5.0 + width / 2 - 0.45)])
-    return make_sim([person], [STAND], [(2.0, 5.0), (18.0, 5.0)], ScriptedPolicy(), world=_corridor(width),
-                    timeout=60).run()
+def _robot_facing(person_at: complex, person_vel: complex = 0j):  # noqa: ANN202
+    """A simulation's state with the default robot at (8, 5), heading +x, and one person at `person_at` walking
+    with `person_vel`."""
+    sim = make_sim([human(start=(person_at.real, person_at.imag), goals=[(19.0, 5.0)])], [WALK],
+                   [(8.0, 5.0), (18.0, 5.0)], ScriptedPolicy())
+    s = sim.state
+    s.robot[0].pos, s.people[0].pos, s.people[0].vel = 8.0 + 5.0j, person_at, person_vel
+    return s
 
 
-def test_robot_passes_someone_standing_where_the_way_beside_them_leaves_its_social_gap():
-    trace = _past_someone_standing(2.2)  # 1.35 m beside them: the 0.7 m robot passes 0.3 m off with room to spare
-    assert trace.end_reason == "robot_goal"
-    assert _gaps(trace).min() >= ROBOT_SOCIAL_GAP - 0.01
+def _held_for(s, seconds: float) -> complex:  # noqa: ANN001
+    """social_clear's answer to a 0.6 m/s wish straight ahead (+x) after asking it for `seconds`."""
+    out = 0j
+    for _ in range(int(seconds / s.clock[0].dt) + 1):
+        out = social_clear(s, 0.6 + 0j)
+    return out
 
 
-def test_robot_waits_behind_someone_standing_where_the_way_beside_them_is_narrower_than_its_social_gap():
-    # 0.95 m beside them: the robot fits past at 0.15 m (the old fallback squeezed through so after 4 s held back),
-    # not at 0.3 m; nobody presses on it, so it waits behind them for the whole run
-    trace = _past_someone_standing(1.8)
-    gaps = _gaps(trace)
-    assert trace.end_reason != "robot_goal"
-    assert trace.robot[:, 0].max() < 10.0  # never beside them
-    assert gaps[_driving(trace)].min() >= ROBOT_SOCIAL_GAP - 0.01
-    assert gaps[-1] < 1.5  # it waits near them (not driven off)
+def test_robot_held_back_by_someone_standing_waits_behind_them_however_long():
+    s = _robot_facing(8.0 + 0.35 + 0.4 + ROBOT_SOCIAL_GAP + 0.005 + 5.0j)  # just outside its gap, straight ahead
+    assert abs(_held_for(s, 3 * PINNED_PATIENCE)) < 1e-9  # the old fallback drove on at POLITE_GAP after 4 s
+    assert s.policy[0].guard == pytest.approx(ROBOT_SOCIAL_GAP)  # its body's field keeps the same gap
+
+
+@pytest.mark.parametrize("gap, vel", [(ROBOT_SOCIAL_GAP - 0.05, 0j),  # someone who came inside its gap
+                                      (ROBOT_SOCIAL_GAP + 0.005, -0.5 + 0j)])  # someone walking at it
+def test_robot_pressed_by_people_settles_for_the_polite_gap_after_its_patience(gap, vel):
+    s = _robot_facing(8.0 + 0.35 + 0.4 + gap + 5.0j, vel)
+    assert abs(_held_for(s, 0.5 * PINNED_PATIENCE)) < 1e-9  # not yet
+    out = _held_for(s, PINNED_PATIENCE)
+    assert out.real > 0.1  # on, toward them, down to POLITE_GAP
+    assert s.policy[0].guard == pytest.approx(POLITE_GAP)
+
+
+@pytest.mark.parametrize("where, vel, top", [
+    (9.5 + 5.2j, 0.3 + 0j, 0.3),  # ahead, a little aside, walking its way: no faster than them
+    (8.2 + 5.9j, 0.3 + 0j, FALL_BACK * 0.3),  # abreast, less than PASS_GAP aside: it falls back
+    (9.5 + 6.4j, 0.3 + 0j, float("inf")),  # far enough aside to pass them with room
+    (11.0 + 5.0j, 0.3 + 0j, float("inf")),  # beyond personal space ahead: look-ahead's business
+    (9.5 + 5.0j, -0.3 + 0j, float("inf")),  # walking toward it
+    (7.0 + 5.0j, 0.3 + 0j, float("inf")),  # behind it
+    (9.5 + 5.0j, 0j, float("inf")),  # standing
+])
+def test_robot_drives_no_faster_than_someone_walking_its_way_it_has_no_room_to_overtake(where, vel, top):
+    s = _robot_facing(where, vel)
+    assert follow_speed(s, 1.0 + 0j) == pytest.approx(top)
 
 
 def _behind_someone_walking(world):  # noqa: ANN001, ANN202
