@@ -67,6 +67,8 @@ POLITE_GAP = 3 * CONTACT_MARGIN  # m: the default robot never moves closer than 
 PINNED_PATIENCE = 4.0  # s held back by its keep_gap, pressed, before the robot settles for POLITE_GAP (social_clear)
 PRESSED = 0.02  # m inside its keep_gap: someone this far in came there themselves (its moves keep out of it)
 FALL_BACK = 0.5  # share of a same-way walker's speed the robot keeps while not yet behind them (follow_speed)
+WALKING = 0.2  # m/s along the robot's way: a person walks its way (follow_speed)
+SAME_WAY = math.cos(math.radians(30))  # their heading within 30 degrees of its way
 MAKE_WAY_GAP = 1.5  # m: someone walking toward the robot this close, face to face, may make it give way
 MAKE_WAY_KEEP = 1.0  # m beyond MAKE_WAY_GAP: making way goes on while they are this near, wherever they are
 FACE_GAP = 0.8  # m: standing face to face this close for `patience` s also makes it give way
@@ -233,7 +235,7 @@ def keep_clear(s, v, gap):  # noqa: ANN001, ANN201
 @jit
 def follow_speed(s, direction):  # noqa: ANN001, ANN201
     """The most the robot drives along the unit `direction` (inf: no limit): for each person walking that way (faster
-    than CLOSING along it) within EASE_GAP (personal space) of it with less than PASS_GAP between the two sideways, not
+    than WALKING along it, within SAME_WAY of it: not someone milling about or crossing) within EASE_GAP (personal space) of it with less than PASS_GAP between the two sideways, not
     behind it: their speed along it while they are ahead of it, FALL_BACK of that while they are abreast (it falls
     in behind them). Farther off, look-ahead's slowing for people in its path is all (a robot following a guide)."""
     robot, people = s.robot[0], s.people
@@ -242,7 +244,7 @@ def follow_speed(s, direction):  # noqa: ANN001, ANN201
     for i in range(people.shape[0]):
         q = people[i]
         along = (q.vel * back).real
-        if along <= CLOSING:
+        if along <= WALKING or along < SAME_WAY * abs(q.vel):
             continue
         rel = (q.pos - robot.pos) * back
         touch = q.radius + robot.radius
