@@ -370,8 +370,7 @@ def make_way(s, forward):  # noqa: ANN001, ANN201
     """(backing off?, velocity): someone who needs to get past the robot (coming_through: their goal or their own
     route lies past it) has stood face to face with it, within FACE_GAP, for `patience` s: it goes back the way
     it came (toward its previous waypoints) at MAKE_WAY_SPEED while they are within MAKE_WAY_GAP +
-    MAKE_WAY_KEEP, and steps aside, off their way, where the passage has room (a side opening, a wider place), until
-    it stands ROBOT_SOCIAL_GAP off their line: they pass it with its gap. A person and a robot that both
+    MAKE_WAY_KEEP, and steps aside, off their way, where the passage has room. A person and a robot that both
     wait for the other are a deadlock; the robot gives way."""
     policy, robot, wps = s.policy[0], s.robot[0], s.waypoints
     if policy.retreat_to < 0:  # someone ahead, in line; once making way: them, wherever, until they are through
@@ -400,11 +399,7 @@ def make_way(s, forward):  # noqa: ANN001, ANN201
         policy.retreat_to, policy.waited = -1, 0.0
         return False, 0j
     back = (target - p) / abs(target - p)
-    q = s.people[who]
-    want = q.radius + robot.radius + ROBOT_SOCIAL_GAP - abs(((q.pos - p) * back.conjugate()).imag)
-    if want <= 0.02:  # aside by its social gap from their line: it stands there while they pass
-        return True, 0j
-    side = room_beside(s, back, min(need, want), who)
+    side = room_beside(s, back, need, who)
     if side != 0.0:
         return True, side * 1j * back * LATERAL_SPEED
     return True, back * MAKE_WAY_SPEED
