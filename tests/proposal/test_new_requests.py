@@ -32,6 +32,10 @@ DISAGREE: dict[str, str] = {
     "stopped robot ~10.5-12.5 s, EXCUSE ME ~12.8-15 s, the child step back and follow to the dining area, the robot "
     "reach ai (~31 s); blocks_robot fails (the cue says EXCUSE ME when the child is 1.6 m ahead, she stands 1.5 m "
     "ahead: the block ends as it begins, the verifier's hint asks the spec for `lasts`)",
+    "home_05_serving_drinks_at_party": "lenient PASS since the robot waits at its social gap instead of squeezing past "
+    "(s10): frames of that code show the robot come up between the waiting pair (~36-40 s) and stand 0.30 m from "
+    "human5 while human6 stands on its goal; human6 steps off south-west (~43-46 s) and the robot drives onto her spot "
+    "(~48 s) with her beside it, as round 9's eyes saw; they wanted it to stop at a polite distance in front of the pair",
     "home_04_grandchild_shows_drawing": "lenient PASS: the child walks to the drawing spot and stands there; the robot "
     "creeps from i6 to the doorway (11-18 s), the child walks away ~1.2 m as it comes in and the robot drives onto "
     "the child's spot; the child never stops to wait for it on the way",

@@ -30,6 +30,7 @@ from socnavgen.sim.records import layout
 from socnavgen.sim.robot.planner import steer
 from socnavgen.sim.robot.polite import (
     corner_speed,
+    follow_speed,
     keep_clear,
     make_way,
     near_speed,
@@ -68,7 +69,8 @@ POLICY = layout([
     ("unicycle", "?"), ("forward", "f8"), ("turn", "f8"),  # a unicycle command (DWA) instead of a velocity
     ("speed_cap", "f8"),  # m/s: the scripted robot's cruise speed is the script's, at most this (inf: no cap)
     ("corner_speed", "f8"),  # m/s near blind turns of its route (robot.polite.corner_speed; inf: not slowed)
-    ("guard", "f8"),  # m: the body's protective field (robot.body.drive; NaN: none)
+    ("guard", "f8"),  # m: the body's protective field (robot.body.drive; NaN: none); the scripted robot's follows
+    # the gap it keeps now (polite.social_clear)
     ("retreat_to", "i8"),  # making way (polite.make_way): the waypoint it backs toward (-1: none)
     ("pinned", "f8"),  # s its moves have been held back by its keep_gap (polite.social_clear)
     ("plans", "?"), ("field_scale", "i8"),  # it follows the planner's way (robot.planner) where the line to its waypoint is blocked
@@ -329,6 +331,10 @@ def scripted_act(s, now):  # noqa: ANN001, ANN201
         if back < 0:  # never retreat on its own: a crowd pushing it back would drive it the wrong way for good
             v -= back * u
     v += pass_aside(s, direction)
+    along = (v * direction.conjugate()).real
+    behind_them = follow_speed(s, direction)  # a same-way walker with no room to overtake: it follows them
+    if along > behind_them:
+        v -= (along - behind_them) * direction
     top = near_speed(s, v, policy.max_speed)  # slower the nearer it passes someone (personal to intimate space)
     if abs(v) > top:
         v = v * (top / abs(v))

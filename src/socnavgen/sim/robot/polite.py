@@ -25,9 +25,15 @@ them, steps back from someone walking into it, and never moves closer than a mar
   not in the middle of a corridor.
 * keep_clear: the part of a move that would bring the robot closer than `gap` (surface to surface) to a
   person is dropped: it slides past or stops, and never pushes into anyone.
+* follow_speed: within personal space behind or abreast of someone walking its way with less than PASS_GAP beside
+  them (no room to overtake with that gap), it drives along its way no faster than they walk it (it follows), and
+  slower while not yet behind them: it falls in behind rather than drive abreast of them.
 * social_clear: keep_clear with the policy's keep_gap (bodies.ROBOT_SOCIAL_GAP for the default robot): it never
-  drives closer than that to anyone, waiting instead; held back so for PINNED_PATIENCE s (people pressing round
-  it where no move keeps that gap), it keeps only POLITE_GAP, so that a crowd never pins it for good.
+  drives closer than that to anyone, waiting behind them instead (where the way beside someone is narrower, it does
+  not pass); held back so for PINNED_PATIENCE s while people press on it (pressed: someone came within that gap, or
+  walks at it within PASS_GAP of it), it keeps only POLITE_GAP, so that a crowd never pins it for good. The body's
+  protective field (policy.guard, robot.body.drive) follows the gap it keeps: a differential drive turning toward
+  its wish does not cut closer either.
 """
 
 from __future__ import annotations
@@ -58,7 +64,11 @@ YIELD_LOOK = 1.0  # m (gap): someone walking at the robot this close, on a line 
 YIELD_SPEED = 0.35  # m/s at most, backing away
 CLOSING = 0.1  # m/s: a person this fast toward the robot is closing in
 POLITE_GAP = 3 * CONTACT_MARGIN  # m: the default robot never moves closer than this to anyone (0.15)
-PINNED_PATIENCE = 4.0  # s held back by its keep_gap before the robot settles for POLITE_GAP (social_clear)
+PINNED_PATIENCE = 4.0  # s held back by its keep_gap, pressed, before the robot settles for POLITE_GAP (social_clear)
+PRESSED = 0.02  # m inside its keep_gap: someone this far in came there themselves (its moves keep out of it)
+FALL_BACK = 0.5  # share of a same-way walker's speed the robot keeps while not yet behind them (follow_speed)
+WALKING = 0.2  # m/s along the robot's way: a person walks its way (follow_speed)
+SAME_WAY = math.cos(math.radians(30))  # their heading within 30 degrees of its way
 MAKE_WAY_GAP = 1.5  # m: someone walking toward the robot this close, face to face, may make it give way
 MAKE_WAY_KEEP = 1.0  # m beyond MAKE_WAY_GAP: making way goes on while they are this near, wherever they are
 FACE_GAP = 0.8  # m: standing face to face this close for `patience` s also makes it give way
@@ -223,17 +233,63 @@ def keep_clear(s, v, gap):  # noqa: ANN001, ANN201
 
 
 @jit
+def follow_speed(s, direction):  # noqa: ANN001, ANN201
+    """The most the robot drives along the unit `direction` (inf: no limit): for each person walking that way (faster
+    than WALKING along it, within SAME_WAY of it: not someone milling about or crossing) within EASE_GAP (personal space) of it with less than PASS_GAP between the two sideways, not
+    behind it: their speed along it while they are ahead of it, FALL_BACK of that while they are abreast (it falls
+    in behind them). Farther off, look-ahead's slowing for people in its path is all (a robot following a guide)."""
+    robot, people = s.robot[0], s.people
+    back = direction.conjugate()
+    top = math.inf
+    for i in range(people.shape[0]):
+        q = people[i]
+        along = (q.vel * back).real
+        if along <= WALKING or along < SAME_WAY * abs(q.vel):
+            continue
+        rel = (q.pos - robot.pos) * back
+        touch = q.radius + robot.radius
+        if abs(rel.imag) - touch >= PASS_GAP or rel.real < -touch or abs(rel) - touch >= EASE_GAP:
+            continue
+        top = min(top, along if rel.real > touch else FALL_BACK * along)
+    return top
+
+
+@jit
+def pressed(s, gap):  # noqa: ANN001, ANN201
+    """Someone presses on the robot: within `gap` of it by more than PRESSED (its own moves keep out of that), or
+    walking at it within `gap` + PASS_GAP."""
+    robot, people = s.robot[0], s.people
+    for i in range(people.shape[0]):
+        q = people[i]
+        d = robot.pos - q.pos
+        dist = abs(d)
+        between = dist - q.radius - robot.radius
+        if between < gap - PRESSED:
+            return True
+        if between < gap + PASS_GAP and dist > 1e-9 and ((q.vel - robot.vel) * (d / dist).conjugate()).real > CLOSING:
+            return True
+    return False
+
+
+@jit
 def social_clear(s, v):  # noqa: ANN001, ANN201
     """`v` kept clear of people by the policy's keep_gap (keep_clear); after PINNED_PATIENCE s in which that gap held
-    most of the robot's wish back, by POLITE_GAP only (no less than that, never into anyone)."""
+    most of the robot's wish back while people pressed on it (pressed), by POLITE_GAP only (no less than that, never
+    into anyone). Held back with nobody pressing it waits: it does not squeeze past anyone. The body's protective
+    field (policy.guard) is set to the gap kept."""
     policy = s.policy[0]
+    if not policy.keep_gap > POLITE_GAP:
+        return keep_clear(s, v, policy.keep_gap)
     out = keep_clear(s, v, policy.keep_gap)
-    if abs(v) < 0.05 or abs(out) >= 0.3 * abs(v) or not policy.keep_gap > POLITE_GAP:
-        policy.pinned = 0.0
+    if abs(v) < 0.05 or abs(out) >= 0.3 * abs(v):
+        policy.pinned, policy.guard = 0.0, policy.keep_gap
         return out
-    policy.pinned += s.clock[0].dt
+    if pressed(s, policy.keep_gap):
+        policy.pinned += s.clock[0].dt
     if policy.pinned < PINNED_PATIENCE:
+        policy.guard = policy.keep_gap
         return out
+    policy.guard = POLITE_GAP
     return keep_clear(s, v, POLITE_GAP)
 
 
