@@ -4,10 +4,15 @@ driven at speed (not crept along a wall), and a person walking ahead of it down 
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 
-from socnavgen.sim import empty_room, load_policy
+from socnavgen.location import load_location
+from socnavgen.sim import World, empty_room, load_policy
 from tests.sim.simhelpers import REGULAR, human, make_sim, tree_xml
+
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def _path_length(trace) -> float:  # noqa: ANN001
@@ -62,3 +67,15 @@ def test_a_person_walking_down_the_aisle_ahead_is_followed_not_driven_round():
     gap = np.abs((trace.humans[:, 0, 0] - trace.robot[:, 0]) + 1j * (trace.humans[:, 0, 1] - trace.robot[:, 1]))
     in_aisle = (trace.robot[:, 1] < 11.0) & (trace.robot[:, 1] > 3.0)
     assert in_aisle.any() and gap[in_aisle].min() > 0.6  # behind them, not on their heels
+
+
+def test_on_the_bundled_warehouse_the_robot_turns_from_the_north_cross_aisle_down_the_westernmost_aisle():
+    # the last legs of a recorded patrol (6r, hd, ki): east along the north cross aisle, then south down the 1 m
+    # aisle to ki. The planner sent the robot from hd back west round the office block (~30 m), and it crept
+    # along the wall at 0.03 m/s until the time ran out
+    location = load_location(ROOT / "examples" / "locations" / "warehouse")
+    route = [(5.025, 8.475), (7.525, 8.475), (7.525, -3.025)]
+    trace = make_sim([], [], route, load_policy("scripted"), world=World.from_location(location), timeout=60).run()
+    assert trace.end_reason == "robot_goal"
+    assert trace.t[-1] < 40.0  # ~14 m of way
+    assert trace.robot[:, 0].min() > 4.5  # never back west of 6r
