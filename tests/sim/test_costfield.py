@@ -92,3 +92,23 @@ def test_the_three_users_read_one_kind_of_field() -> None:
     grid = CostField.of(world, planner_fields.rule(0.3), planner_fields.field_scale(world))
     (r,), (c,) = grid.cells(np.array([6 + 1j]))
     assert robot is grid.field(int(r), int(c), opened=planner_fields.GOAL_SEED)
+
+
+def test_along_the_middle_a_narrow_passage_costs_its_length_and_its_sides_still_cost_more() -> None:
+    # a 1 m aisle (clearance 0.5 m at its middle on 5 cm cells) for a 0.35 m robot: comfort is 0.75 m, so every
+    # cell of the aisle paid the near-wall cost (its middle 2.9 per metre); counted from the middle, the middle
+    # costs 1 as open floor does
+    world = empty_room(6.0, 4.0, walls=[(0.0, 0.0, 6.0, 1.45), (0.0, 2.55, 6.0, 4.0)])
+    radius = 0.35
+    flat, middle = (CellCost(passable=0.9 * radius, full=radius, comfort=radius + 0.4, extra=3.0, along_middle=m)
+                    for m in (False, True))
+    cell = 0.05
+    clearance = np.asarray(world.clearance)
+    rows, cols, _ = world.to_cells(np.array([3 + 2j, 3 + 2.1j, 3 + 2.15j]))  # the middle, 10 and 15 cm off it
+    old, new = flat.costs(clearance, cell)[rows, cols], middle.costs(clearance, cell)[rows, cols]
+    assert clearance[rows[0], cols[0]] == pytest.approx(0.5, abs=0.06)  # the middle (map cells of 5 cm)
+    assert old[0] > 2.5 and new[0] == pytest.approx(1.0)
+    assert 1.0 < new[1] < new[2] <= old[2]  # off the middle it still costs more the nearer the wall
+    open_room = np.asarray(empty_room(6.0, 6.0).clearance)  # on open floor the two rules agree
+    assert np.allclose(flat.costs(open_room, cell), middle.costs(open_room, cell))
+    assert planner_fields.rule(radius).along_middle  # the robot's planner counts along the middle

@@ -4,8 +4,10 @@ with diagonal steps costing sqrt(2)), under the robot's cell-cost rule (`rule`).
 
 A cell's cost per metre is 1 where the robot's disc keeps SOFT metres more than its radius from every wall,
 rising linearly to 1 + PENALTY at its radius (the planned way keeps to the middle of a corridor, not to a
-wall), and the cell is impassable where the clearance is under INFLATE x radius (a doorway the robot just
-fits through still counts). The field holds, per cell, the cost of the cheapest way from that cell to the
+wall); in a passage narrower than that the rise is counted from its middle (CellCost.along_middle), which
+costs 1 per metre: a narrow aisle the robot fits through is not dearer than a detour twice as long round it.
+A cell is impassable where the clearance is under INFLATE x radius (a doorway the robot just fits through
+still counts). The field holds, per cell, the cost of the cheapest way from that cell to the
 waypoint (about metres; inf where no way exists); the compiled planner (robot.planner) follows its steepest
 descent. Fields are kept per World, goal cell and radius: a campaign's worker computes each once.
 """
@@ -34,7 +36,7 @@ def field_scale(world: World) -> int:
 def rule(radius: float) -> CellCost:
     """The planner's cell-cost rule for a robot of this radius."""
     radius = round(float(radius), 4)
-    return CellCost(passable=INFLATE * radius, full=radius, comfort=radius + SOFT, extra=PENALTY)
+    return CellCost(passable=INFLATE * radius, full=radius, comfort=radius + SOFT, extra=PENALTY, along_middle=True)
 
 
 def cost_to_go(world: World, goal: complex, radius: float) -> np.ndarray:

@@ -298,6 +298,20 @@ def straight_act(s, max_speed, rude):  # noqa: ANN001, ANN201
 
 
 @jit
+def way_ahead(s):  # noqa: ANN001, ANN201
+    """The unit direction of the robot's way on to its current waypoint (0j there): the planner's (steer) where
+    it plans. Measured against the straight line to the waypoint instead, a planned way round a wall that first
+    leads away from the waypoint counted as retreating: the robot drove only its sideways part, into the wall,
+    and crept along it at a few cm/s."""
+    policy, p = s.policy[0], s.robot[0].pos
+    target, _ = track(s, False)
+    if policy.plans:
+        target = steer(s, s.fields, policy.waypoint, target)
+    ahead = target - p
+    return ahead / abs(ahead) if abs(ahead) > 1e-9 else 0j
+
+
+@jit
 def scripted_act(s, now):  # noqa: ANN001, ANN201
     """Drives like waypoints with the manners of robot.polite: moves aside to pass people with room, slows
     down near them, backs away from someone walking into it, never comes within keep_gap (bodies.ROBOT_SOCIAL_GAP) of anyone."""
@@ -312,21 +326,18 @@ def scripted_act(s, now):  # noqa: ANN001, ANN201
         if v == 0 and now.timed:
             v = wait_aside(s)
         return social_clear(s, slide_along_walls(s, v))
-    target, _ = track(s, False)
-    forward = target - s.robot[0].pos
+    forward = way_ahead(s)
     if abs(forward) > 1e-9:
-        backing, v = make_way(s, forward / abs(forward))
+        backing, v = make_way(s, forward)
         if backing:
             policy.speed = 0.0
-            policy.has_heading, policy.heading = True, forward / abs(forward)
+            policy.has_heading, policy.heading = True, forward
             return social_clear(s, slide_along_walls(s, v))
     v = waypoints_act(s)
     direction = policy.heading if abs(policy.heading) > 0 else complex(math.cos(s.robot[0].yaw),
                                                                        math.sin(s.robot[0].yaw))
-    target, _ = track(s, False)
-    ahead = target - s.robot[0].pos
-    if abs(ahead) > 1e-9:
-        u = ahead / abs(ahead)
+    u = way_ahead(s)
+    if abs(u) > 1e-9:
         back = (v * u.conjugate()).real
         if back < 0:  # never retreat on its own: a crowd pushing it back would drive it the wrong way for good
             v -= back * u

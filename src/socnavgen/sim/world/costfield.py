@@ -6,7 +6,11 @@ people's route fields through doors and to the robot (world.routes) and the robo
 A field lives on a grid of square cells of `k` map cells each (a cell takes the least clearance of its map
 cells; cells past the map's edge count as walls). A cell's cost per metre follows a CellCost rule from its
 clearance (metres to the nearest wall): impassable in a wall or under `passable`, else 1 + `extra` at
-`full` falling linearly to 1 at `comfort` (a body keeps to the middle of a door). The field is
+`full` falling linearly to 1 at `comfort` (a body keeps to the middle of a door). A rule `along_middle`
+measures that fall from the middle of the passage instead: from the most clearance within comfort - full
+metres, when that is less than `comfort`, so the middle of a passage narrower than 2 x comfort costs 1 per
+metre as open floor does (a long aisle the body fits through is not dearer than a walk twice as long round
+it) and its sides still cost more. The field is
 scikit-image's minimum cost path (`MCP_Geometric`: Dijkstra on the 8-connected grid, a diagonal step
 costing sqrt(2)) grown from one cell, in metres x cost (inf where no way leads). Fields are kept per World,
 rule and grid (least recently used first out), so a campaign's worker grows each once.
@@ -27,18 +31,24 @@ KEEP = 512  # fields kept per World, rule and grid
 
 class CellCost(NamedTuple):
     """Cost per metre of a cell with clearance c: inf when c is 0 (a wall) or under `passable`; else
-    1 + extra x clip((comfort - c) / (comfort - full), 0, 1)."""
+    1 + extra x clip((top - c) / (comfort - full), 0, 1), where top is `comfort`, or with `along_middle` the
+    least of `comfort` and the most clearance within comfort - full metres of the cell (its passage's middle)."""
 
     passable: float = 0.0  # m: the least clearance of a passable cell (0: any cell outside a wall)
     full: float = 0.0  # m: the clearance at which the near-wall cost is all `extra`
     comfort: float = 0.0  # m: from this clearance on a cell costs 1
     extra: float = 0.0  # extra cost per metre at `full` clearance
+    along_middle: bool = False  # the near-wall cost is counted from the passage's middle (see the module)
 
-    def costs(self, clearance: np.ndarray) -> np.ndarray:
-        """Cost per metre of cells of this clearance (inf: impassable)."""
+    def costs(self, clearance: np.ndarray, cell: float = 0.0) -> np.ndarray:
+        """Cost per metre of cells of this clearance (inf: impassable); `cell`: metres per cell (along_middle)."""
         cost = np.ones(clearance.shape)
         if self.extra > 0 and self.comfort > self.full:
-            cost += self.extra * np.clip((self.comfort - clearance) / (self.comfort - self.full), 0.0, 1.0)
+            top = np.full(clearance.shape, self.comfort)
+            if self.along_middle and cell > 0:
+                reach = int(np.ceil((self.comfort - self.full) / cell))
+                top = np.minimum(top, ndimage.maximum_filter(clearance, size=2 * reach + 1, mode="nearest"))
+            cost += self.extra * np.clip((top - clearance) / (self.comfort - self.full), 0.0, 1.0)
         cost[(clearance <= 0) | (clearance < self.passable)] = np.inf
         return cost
 
@@ -67,7 +77,7 @@ class CostField:
     def __init__(self, world: Any, rule: CellCost, k: int, keep: int = KEEP) -> None:
         self.world, self.rule, self.k, self.keep = world, rule, int(k), keep
         self.size = self.k * float(world.mpp)  # metres per grid cell
-        self.cost = rule.costs(coarse_clearance(world, self.k))
+        self.cost = rule.costs(coarse_clearance(world, self.k), self.size)
         self.shape = self.cost.shape
         self.passable = np.isfinite(self.cost)
         self._snap: tuple[np.ndarray, np.ndarray] | None = None
