@@ -4,7 +4,15 @@ very same findings came back, that the cause is not in that stage: the findings 
 
 from __future__ import annotations
 
-from gen_helpers import STOP_TREE, paths_reply, run_replay, scenario_reply, tree_reply, write_script
+from gen_helpers import (
+    STOP_TREE,
+    paths_reply,
+    request_for,
+    run_replay,
+    scenario_reply,
+    tree_reply,
+    write_script,
+)
 
 from socnavgen.proposal import Run
 from socnavgen.proposal.verify_loop import REPEATED, SCOPE, UNCHANGED, describe, escalated
@@ -120,3 +128,28 @@ def test_what_only_the_simulator_did_is_sent_nowhere():
     stuck = Finding(name="c5", kind="robot_reaches_goal", passed=False, evidence="stood still 97 s", blame="simulator",
                     blame_reason="the robot's own navigation failed")
     assert routed(VerifyReport(run="r", passed=False, findings=[stuck])) == {}
+
+
+def test_an_encounter_counts_as_tried_by_stage_2_only_once_stage_2_was_asked(tmp_path, mini_location):
+    """Live: round 1 blames the spec and the paths (stage 1 goes first, alone), round 2 the meeting of e1 again:
+    stage 2 was never asked about it, so it is asked now (not sent to stage 1 as if stage 2 had failed); round 3
+    the same meeting, worse: stage 2 had its try for e1, so stage 1 is asked."""
+    script = write_script(tmp_path / "s.yaml", {
+        "scenario": [scenario_reply(), scenario_reply(), scenario_reply()], "paths": [paths_reply(), paths_reply()],
+        "behaviors": {"human1": [tree_reply()], "human2": [tree_reply()]}})
+
+    def meet(evidence: str) -> Finding:
+        return Finding(name="c1", kind="meets", passed=False, evidence=evidence, criterion="c1", human="human1",
+                       blame="paths", blame_reason="the robot and human1 were not at 11 at the same time")
+
+    spec = Finding(name="c9", kind="stl", passed=False, evidence="x", criterion="c9", blame="spec",
+                   blame_reason="a standoff set by the spec")
+    request = request_for(mini_location).model_copy(update={"max_restarts": 3})
+    run, llm = run_replay(script, mini_location, tmp_path / "run", verify=True, request=request,
+                          verifier=_verifier([spec, meet("closest 6 m")], [meet("closest 5 m")], [meet("closest 4 m")],
+                                             []))
+    assert isinstance(run, Run), run
+    asked = [(s, k) for s, k, _ in llm.calls if s != "behaviors"]
+    assert asked == [("scenario", None), ("paths", None), ("scenario", None), ("paths", None), ("scenario", None)]
+    last = [m for s, k, m in llm.calls if s == "scenario"][-1][-1].content
+    assert "the paths were changed for encounter e1 already" in last

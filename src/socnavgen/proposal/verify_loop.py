@@ -224,7 +224,8 @@ def verify_and_repair(stages: Stages, scenario: ScenarioProposal, spec: Scenario
         answers: dict[tuple[str, str | None], object] = {("paths", None): paths.model_dump(),
                                                           **{("behaviors", h): xml for h, xml in trees.items()}}
         stages_to_ask, notes = escalated(routed(report, spec, frozenset(paths_tried)), sent, answers)
-        paths_tried |= {f.criterion for f in stages_to_ask.get("paths", []) if f.criterion}
+        if not stages_to_ask.get("scenario"):  # stage 1 goes first and alone: stage 2 is asked only without it
+            paths_tried |= {f.criterion for f in stages_to_ask.get("paths", []) if f.criterion}
         for stage, found in stages_to_ask.items():
             for human in ({f.blame_human for f in found} if stage == "behaviors" else {None}):
                 mine = [f for f in found if stage != "behaviors" or f.blame_human == human]
@@ -236,6 +237,7 @@ def verify_and_repair(stages: Stages, scenario: ScenarioProposal, spec: Scenario
             sent = {key: value for key, value in sent.items() if key[0] == "scenario"}  # later stages start afresh
             if _shape(spec) != _shape(old) or list(scenario.human_behaviors) != [h.name for h in paths.humans]:
                 run.paths_path.unlink(missing_ok=True)
+                paths_tried.clear()  # paths planned afresh on the new spec: nothing tried on them yet
                 for xml in run.behaviors_dir.glob("*.xml"):
                     xml.unlink()
                 paths, spec = stages.paths(scenario, spec)
