@@ -15,7 +15,7 @@ the stage's conversation after the model's own accepted answer (its words and re
 transcript), and says which stage it is and what that stage may change (SCOPE). When a stage 2 or stage 3 answer
 was CHANGED for some findings and the very same findings (same numbers, `same_findings`) come back, the cause is not in that stage:
 they go to stage 1 instead, saying so (`escalated`). When stage 1 changes who takes part or where, the paths and trees that depended on it are
-regenerated; when it changes only what a person does (a part's trigger, distance, `lasts`, latch; their
+regenerated (also when its prose names other nodes of the map: `_named_nodes`); when it changes only what a person does (a part's trigger, distance, `lasts`, latch; their
 `otherwise`), that person's tree is asked again from its FRESH prompt (never the old tree to correct); when
 only the robot's script changed, they are kept (the grounding is carried over). Up to the restart budget."""
 
@@ -182,6 +182,23 @@ def _shape(spec: ScenarioSpec | None) -> object:
             for e in sorted(spec.encounters, key=lambda e: e.id)]
 
 
+_TOKEN = re.compile(r"[A-Za-z0-9_]+")
+
+
+def _named_nodes(scenario: ScenarioProposal, spec: ScenarioSpec | None, nodes: set[str]) -> object:
+    """The map's nodes each part of the prose names (where the scenario says people start, meet and go; stage 2
+    plans the paths from it): a stage-1 answer that moves a person's start in its words re-plans the paths
+    (warehouse_04, round 10: the old start was simulated again)."""
+    def named(text: str) -> frozenset[str]:
+        return frozenset(w for w in _TOKEN.findall(text) if w in nodes)
+
+    said = {"description": named(scenario.scenario_description),
+            **{h: named(text) for h, text in scenario.human_behaviors.items()}}
+    if spec is not None:
+        said |= {e.id: named(e.robot_does or "") for e in spec.encounters}
+    return said
+
+
 def _tree_shape(spec: ScenarioSpec | None, human: str) -> object:
     """What `human`'s tree is built from (stage 3's prompt and tree_needs): their parts in order, whole, and
     what they do while no trigger holds."""
@@ -206,6 +223,7 @@ def verify_and_repair(stages: Stages, scenario: ScenarioProposal, spec: Scenario
     report: VerifyReport | None = None
     paths_tried: set[str] = set()  # criteria the paths stage was re-asked for (routed: then the spec's formula)
     sent: Sent = {}  # what each stage was last sent (escalated: the same findings after a changed answer)
+    nodes = set(getattr(getattr(stages.location, "inventory", None), "nodes", None) or ())  # the map's node ids
     for round_ in range(stages.policy.max_restarts + 1):
         (run.sim_dir / "trace.npz").unlink(missing_ok=True)  # the trace of the previous answer is stale
         recorder.set_status(STAGE, None, "running")
@@ -231,11 +249,12 @@ def verify_and_repair(stages: Stages, scenario: ScenarioProposal, spec: Scenario
                 mine = [f for f in found if stage != "behaviors" or f.blame_human == human]
                 sent[(stage, human)] = ([describe(f) for f in mine], answers.get((stage, human)))
         if stages_to_ask.get("scenario"):
-            old = spec
+            old, old_nodes = spec, _named_nodes(scenario, spec, nodes)
             scenario, spec = stages.scenario(correction=_correction(
                 stages_to_ask["scenario"], "scenario", repeat=notes.get(("scenario", None), "")))
             sent = {key: value for key, value in sent.items() if key[0] == "scenario"}  # later stages start afresh
-            if _shape(spec) != _shape(old) or list(scenario.human_behaviors) != [h.name for h in paths.humans]:
+            if (_shape(spec) != _shape(old) or list(scenario.human_behaviors) != [h.name for h in paths.humans]
+                    or _named_nodes(scenario, spec, nodes) != old_nodes):
                 run.paths_path.unlink(missing_ok=True)
                 paths_tried.clear()  # paths planned afresh on the new spec: nothing tried on them yet
                 for xml in run.behaviors_dir.glob("*.xml"):
