@@ -4,7 +4,15 @@ very same findings came back, that the cause is not in that stage: the findings 
 
 from __future__ import annotations
 
-from gen_helpers import STOP_TREE, paths_reply, run_replay, scenario_reply, tree_reply, write_script
+from gen_helpers import (
+    STOP_TREE,
+    paths_reply,
+    request_for,
+    run_replay,
+    scenario_reply,
+    tree_reply,
+    write_script,
+)
 
 from socnavgen.proposal import Run
 from socnavgen.proposal.verify_loop import REPEATED, SCOPE, UNCHANGED, describe, escalated
@@ -69,3 +77,79 @@ def test_a_tree_correction_says_its_stage_and_a_repeat_goes_to_stage_1(tmp_path,
     spec_fix = [m for s, k, m in llm.calls if s == "scenario"][1][-1].content
     assert "STAGE 1, the scenario and its spec" in spec_fix and "came back with the same numbers" in spec_fix
     assert "closest 0.97 m at t=33.8 s" in spec_fix
+
+
+def test_a_changed_tree_that_moves_the_numbers_by_a_hair_changed_nothing():
+    """hospital_06: the tree changed, the deadlock came back 48.0 s from t=54.9 s instead of t=55.0 s, and the same
+    correction went to the same tree: numbers this close are the same outcome; others are not."""
+    from socnavgen.proposal.verify_loop import same_findings
+
+    text = "moved 19.2 m without progress 48.0 s from t=55.0 s with human1 in its way (1.02 m gap)"
+    assert same_findings([text], [text.replace("t=55.0", "t=54.9")])
+    assert not same_findings([text], [text.replace("19.2 m", "12.0 m")])  # it moved otherwise
+    assert not same_findings([text], [text.replace("human1", "human2")])  # someone else
+    assert not same_findings([text], [text, text]) and not same_findings([], [])
+    found = [_finding("behaviors", "human1", evidence="closest 0.97 m at t=33.8 s")]
+    hair = [_finding("behaviors", "human1", evidence="closest 0.98 m at t=33.9 s")]
+    out, _ = escalated({"behaviors": hair}, {("behaviors", "human1"): ([describe(f) for f in found], "<old tree/>")},
+                       {("behaviors", "human1"): "<new tree/>"})
+    assert list(out) == ["scenario"]
+
+
+def test_an_encounter_stage_2_could_not_make_happen_goes_to_stage_1():
+    """warehouse_06: a guide the robot follows can only meet it at its start, which stage 2's own rules forbid; the
+    paths were re-asked for that encounter's meeting and its other criteria failed next: stage 1's, not stage 2's
+    again. An encounter the paths were not asked about, and the derived order of encounters, stay with stage 2."""
+    from socnavgen.proposal.verify_loop import routed
+    from socnavgen.run.spec import ScenarioSpec
+
+    spec = ScenarioSpec.model_validate({
+        "encounters": [{"id": "e1", "place": "X", "humans": [{"human": "human1", "reaction": "walk_past"}]},
+                       {"id": "e2", "place": "Y", "humans": [{"human": "human2", "reaction": "walk_past"}]}],
+        "criteria": [{"id": "c2", "kind": "stl", "encounter": "e1", "human": "human1", "text": "she leads",
+                      "formula": "(robot_to_e1 > 2.0) until (human1_to_e1 < 1.0)"}]})
+
+    def failing(criterion: str) -> Finding:
+        return Finding(name=criterion, kind="stl", passed=False, evidence="x", criterion=criterion, blame="paths",
+                       blame_reason="check where and when the paths meet")
+
+    report = VerifyReport(run="r", passed=False, findings=[failing(c) for c in
+                                                          ("c2", "meet_human2_e2", "order_e1_e2")])
+    assert "scenario" not in routed(report, spec)
+    again = routed(report, spec, frozenset({"meet_human1_e1"}))
+    assert [f.criterion for f in again["scenario"]] == ["c2"]
+    assert [f.criterion for f in again["paths"]] == ["meet_human2_e2", "order_e1_e2"]
+    assert "the paths were changed for encounter e1 already" in again["scenario"][0].blame_reason
+
+
+def test_what_only_the_simulator_did_is_sent_nowhere():
+    from socnavgen.proposal.verify_loop import routed
+
+    stuck = Finding(name="c5", kind="robot_reaches_goal", passed=False, evidence="stood still 97 s", blame="simulator",
+                    blame_reason="the robot's own navigation failed")
+    assert routed(VerifyReport(run="r", passed=False, findings=[stuck])) == {}
+
+
+def test_an_encounter_counts_as_tried_by_stage_2_only_once_stage_2_was_asked(tmp_path, mini_location):
+    """Live: round 1 blames the spec and the paths (stage 1 goes first, alone), round 2 the meeting of e1 again:
+    stage 2 was never asked about it, so it is asked now (not sent to stage 1 as if stage 2 had failed); round 3
+    the same meeting, worse: stage 2 had its try for e1, so stage 1 is asked."""
+    script = write_script(tmp_path / "s.yaml", {
+        "scenario": [scenario_reply(), scenario_reply(), scenario_reply()], "paths": [paths_reply(), paths_reply()],
+        "behaviors": {"human1": [tree_reply()], "human2": [tree_reply()]}})
+
+    def meet(evidence: str) -> Finding:
+        return Finding(name="c1", kind="meets", passed=False, evidence=evidence, criterion="c1", human="human1",
+                       blame="paths", blame_reason="the robot and human1 were not at 11 at the same time")
+
+    spec = Finding(name="c9", kind="stl", passed=False, evidence="x", criterion="c9", blame="spec",
+                   blame_reason="a standoff set by the spec")
+    request = request_for(mini_location).model_copy(update={"max_restarts": 3})
+    run, llm = run_replay(script, mini_location, tmp_path / "run", verify=True, request=request,
+                          verifier=_verifier([spec, meet("closest 6 m")], [meet("closest 5 m")], [meet("closest 4 m")],
+                                             []))
+    assert isinstance(run, Run), run
+    asked = [(s, k) for s, k, _ in llm.calls if s != "behaviors"]
+    assert asked == [("scenario", None), ("paths", None), ("scenario", None), ("paths", None), ("scenario", None)]
+    last = [m for s, k, m in llm.calls if s == "scenario"][-1][-1].content
+    assert "the paths were changed for encounter e1 already" in last

@@ -50,6 +50,10 @@ DISAGREE: dict[str, str] = {
     "warehouse_05_sweeping_at_shift_change": "lenient PASS: the encounters at ki and sh happen, but worker 2 walks into "
     "worker 3 at the staging pallet and the two stand 'pressed together' ~45-53 s (0.10 m apart, PERSON_KEEP_GAP: "
     "no contact by the 5 cm rule) and worker 3 meets the robot at vj, not at sw",
+    "hospital_06_night_wandering_patient": "strict FAIL of the replay, not of the run: the eyes saw the recorded end "
+    "play as written; the recording's first tree correction brought the deadlock back with the same numbers (42.4 s "
+    "from t=52.3 s, then t=52.0 s), so the loop now sends it to stage 1 (issue 25 part 3: a changed answer that "
+    "changes nothing is not asked again), which the round-7 recording never answered (its third tree did it)",
     "warehouse_07_night_patrol_west_corridor": "lenient PASS: PROCEED at hd and the worker first down the aisle as "
     "written; at ki after WAIT/ACKNOWLEDGED the robot pulls out right beside the second worker ('a hand's breadth', "
     "~74-77 s) instead of following behind her",

@@ -171,3 +171,23 @@ def test_the_specs_own_formula_failing_again_after_the_paths_changed_goes_to_the
         ["order_e1_e2"]
     assert "the paths were changed for it already" in again["scenario"][0].blame_reason
     assert "the paths were changed" not in report.findings[0].blame_reason  # the report itself is not rewritten
+
+
+def test_a_scenario_answer_that_moves_a_person_in_its_words_plans_the_paths_again(tmp_path, mini_location):
+    """warehouse_04, round 10: stage 1 moved the worker's start in its prose (the same encounters), the paths were
+    kept and the old start was simulated again. Prose naming other nodes of the map re-plans the paths; prose that
+    names the same nodes (or none) keeps them."""
+    moved = scenario_reply()
+    moved["human_behaviors"]["human1"] = "Worker 1 starts at d9, walks to the corner and stops when blocked."
+    reworded = scenario_reply()
+    reworded["scenario_description"] = "The robot brings a box round the loop; workers meet it at the corner."
+    for reply, paths_asked in ((moved, 2), (reworded, 1)):
+        out = tmp_path / str(paths_asked)
+        out.mkdir()
+        script = write_script(out / "s.yaml", {
+            "scenario": [scenario_reply(), reply], "paths": [paths_reply(), paths_reply()],
+            "behaviors": {"human1": [tree_reply(), tree_reply()], "human2": [tree_reply(), tree_reply()]}})
+        verify, _ = _verifier([_finding("spec", evidence="the worker starts in the wrong place")], [])
+        run, llm = run_replay(script, mini_location, out / "run", verify=True, verifier=verify)
+        assert isinstance(run, Run), run
+        assert [(s, k) for s, k, _ in llm.calls].count(("paths", None)) == paths_asked

@@ -9,17 +9,19 @@ stage its blame names (verify/blame.py), as REASK says:
   behaviors + human            -> stage 3 for that human only, with that human's findings
                                   (paths and trees blamed in the same round are both re-asked, paths first)
 
-A finding without blame, or with a blame no stage can fix, is not sent anywhere. Each re-ask continues
+A finding without blame, or with a blame no stage can fix (`simulator`: the robot failed on its own), is not sent
+anywhere. A finding of an encounter stage 2 was re-asked for that fails again goes to stage 1 (`routed`). Each re-ask continues
 the stage's conversation after the model's own accepted answer (its words and reasoning, from the
 transcript), and says which stage it is and what that stage may change (SCOPE). When a stage 2 or stage 3 answer
-was CHANGED for some findings and the very same findings (same numbers) come back, the cause is not in that stage:
+was CHANGED for some findings and the very same findings (same numbers, `same_findings`) come back, the cause is not in that stage:
 they go to stage 1 instead, saying so (`escalated`). When stage 1 changes who takes part or where, the paths and trees that depended on it are
-regenerated; when it changes only what a person does (a part's trigger, distance, `lasts`, latch; their
+regenerated (also when its prose names other nodes of the map: `_named_nodes`); when it changes only what a person does (a part's trigger, distance, `lasts`, latch; their
 `otherwise`), that person's tree is asked again from its FRESH prompt (never the old tree to correct); when
 only the robot's script changed, they are kept (the grounding is carried over). Up to the restart budget."""
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
@@ -28,6 +30,8 @@ from socnavgen.proposal.stages import Stages
 from socnavgen.proposal.templates import render
 from socnavgen.run import PathPlan, ScenarioProposal
 from socnavgen.run.spec import ScenarioSpec
+from socnavgen.verify.derive import with_implied
+from socnavgen.verify.models import VerifySettings
 
 if TYPE_CHECKING:
     from socnavgen.verify.models import Finding, VerifyReport
@@ -92,7 +96,7 @@ def escalated(to_ask: dict[str, list[Finding]], sent: Sent, answers: dict[tuple[
                             key=str):
             found = [f for f in to_ask[stage] if stage == "paths" or f.blame_human == human]
             before = sent.get((stage, human))
-            if before is None or before[0] != [describe(f) for f in found]:
+            if before is None or not same_findings(before[0], [describe(f) for f in found]):
                 continue
             if before[1] == answers.get((stage, human)):
                 notes[(stage, human)] = UNCHANGED
@@ -103,10 +107,28 @@ def escalated(to_ask: dict[str, list[Finding]], sent: Sent, answers: dict[tuple[
                 f"{f.blame_reason}; {what} was changed for this and it came back with the same numbers: the cause "
                 "is probably not there but in the spec (the place, a trigger or cue distance, the timing, `lasts`, "
                 "an encounter's `within`, a criterion's distance)")}) for f in found)
-    if "scenario" in to_ask and sent.get(("scenario", None), ([], None))[0] == [describe(f) for f in
-                                                                               to_ask["scenario"]]:
+    if "scenario" in to_ask and same_findings(sent.get(("scenario", None), ([], None))[0],
+                                              [describe(f) for f in to_ask["scenario"]]):
         notes[("scenario", None)] = REPEATED
     return {stage: found for stage, found in out.items() if found}, notes
+
+
+_NUMBER = re.compile(r"-?\d+(?:\.\d+)?")
+SAME_ABS, SAME_REL = 0.25, 0.03  # numbers this close (absolute, or relative to the larger) are the same outcome
+
+
+def same_findings(before: list[str], now: list[str]) -> bool:
+    """The same findings with the same numbers: the same words, each number within SAME_ABS or SAME_REL of the one
+    before (a changed answer that moves a deadlock's start from t=55.0 to t=54.9 s changed nothing that matters)."""
+    if len(before) != len(now) or not now:
+        return False
+    for a, b in zip(before, now, strict=True):
+        if _NUMBER.split(a) != _NUMBER.split(b):
+            return False
+        for x, y in zip(map(float, _NUMBER.findall(a)), map(float, _NUMBER.findall(b)), strict=True):
+            if abs(x - y) > max(SAME_ABS, SAME_REL * max(abs(x), abs(y))):
+                return False
+    return True
 
 
 def _own_formula(finding: Finding, spec: ScenarioSpec | None) -> bool:
@@ -118,20 +140,38 @@ def routed(report: VerifyReport, spec: ScenarioSpec | None = None,
            paths_tried: frozenset[str] = frozenset()) -> dict[str, list[Finding]]:
     """The failing findings per stage to re-ask (REASK); findings no stage can fix are left out. The spec's own
     formula that still fails after the paths were re-asked for it (`paths_tried`: criterion ids) goes to stage 1:
-    a re-asked stage 2 can only move people, the formula's thresholds are the spec's."""
+    a re-asked stage 2 can only move people, the formula's thresholds are the spec's. So does any finding of an
+    encounter stage 2 was re-asked for before (a criterion of it in `paths_tried`) that fails again: within its own
+    rules stage 2 could not make that encounter happen (a guide who must meet the robot at its start), stage 1 can."""
     out: dict[str, list[Finding]] = {}
+    tried = _encounters(spec, paths_tried)
     for finding in report.failures:
         stage = REASK.get(finding.blame or "")
+        encounter = _encounters(spec, {finding.criterion} if finding.criterion else set())
         if stage == "paths" and finding.criterion in paths_tried and _own_formula(finding, spec):
             stage, finding = "scenario", finding.model_copy(update={"blame_reason": (
                 f"{finding.blame_reason}; the paths were changed for it already and it still fails: its formula "
                 "and thresholds are the spec's, make them fit this map's distances (the nodes' positions) and what "
                 "the scenario does, or change the encounter's place")})
+        elif stage == "paths" and encounter & tried:
+            stage, finding = "scenario", finding.model_copy(update={"blame_reason": (
+                f"{finding.blame_reason}; the paths were changed for encounter {', '.join(sorted(encounter))} "
+                "already and it still fails: what stage 2 may change (where people start, walk and end, within its "
+                "own rules, e.g. nobody waiting at an encounter's node near the robot's start) does not make this "
+                "encounter happen; change the encounter itself (its place, who comes to whom and from where, the "
+                "robot's speed or cues, its criteria)")})
         if stage == "behaviors" and not finding.blame_human:
             continue  # a tree to fix, but whose: nobody to ask
         if stage is not None:
             out.setdefault(stage, []).append(finding)
     return out
+
+
+def _encounters(spec: ScenarioSpec | None, criteria: set[str] | frozenset[str]) -> set[str]:
+    """The encounters the given criteria (the spec's own and those it implies: verify/derive.py) are about."""
+    if spec is None or not criteria:
+        return set()
+    return {c.encounter for c, _ in with_implied(spec, VerifySettings()) if c.id in criteria and c.encounter}
 
 
 def _shape(spec: ScenarioSpec | None) -> object:
@@ -140,6 +180,23 @@ def _shape(spec: ScenarioSpec | None) -> object:
         return None
     return [(e.id, e.place, [(p.human, p.trigger, p.phrase, p.reaction, p.says, p.other) for p in e.humans])
             for e in sorted(spec.encounters, key=lambda e: e.id)]
+
+
+_TOKEN = re.compile(r"[A-Za-z0-9_]+")
+
+
+def _named_nodes(scenario: ScenarioProposal, spec: ScenarioSpec | None, nodes: set[str]) -> object:
+    """The map's nodes each part of the prose names (where the scenario says people start, meet and go; stage 2
+    plans the paths from it): a stage-1 answer that moves a person's start in its words re-plans the paths
+    (warehouse_04, round 10: the old start was simulated again)."""
+    def named(text: str) -> frozenset[str]:
+        return frozenset(w for w in _TOKEN.findall(text) if w in nodes)
+
+    said = {"description": named(scenario.scenario_description),
+            **{h: named(text) for h, text in scenario.human_behaviors.items()}}
+    if spec is not None:
+        said |= {e.id: named(e.robot_does or "") for e in spec.encounters}
+    return said
 
 
 def _tree_shape(spec: ScenarioSpec | None, human: str) -> object:
@@ -166,6 +223,7 @@ def verify_and_repair(stages: Stages, scenario: ScenarioProposal, spec: Scenario
     report: VerifyReport | None = None
     paths_tried: set[str] = set()  # criteria the paths stage was re-asked for (routed: then the spec's formula)
     sent: Sent = {}  # what each stage was last sent (escalated: the same findings after a changed answer)
+    nodes = set(getattr(getattr(stages.location, "inventory", None), "nodes", None) or ())  # the map's node ids
     for round_ in range(stages.policy.max_restarts + 1):
         (run.sim_dir / "trace.npz").unlink(missing_ok=True)  # the trace of the previous answer is stale
         recorder.set_status(STAGE, None, "running")
@@ -184,18 +242,21 @@ def verify_and_repair(stages: Stages, scenario: ScenarioProposal, spec: Scenario
         answers: dict[tuple[str, str | None], object] = {("paths", None): paths.model_dump(),
                                                           **{("behaviors", h): xml for h, xml in trees.items()}}
         stages_to_ask, notes = escalated(routed(report, spec, frozenset(paths_tried)), sent, answers)
-        paths_tried |= {f.criterion for f in stages_to_ask.get("paths", []) if f.criterion}
+        if not stages_to_ask.get("scenario"):  # stage 1 goes first and alone: stage 2 is asked only without it
+            paths_tried |= {f.criterion for f in stages_to_ask.get("paths", []) if f.criterion}
         for stage, found in stages_to_ask.items():
             for human in ({f.blame_human for f in found} if stage == "behaviors" else {None}):
                 mine = [f for f in found if stage != "behaviors" or f.blame_human == human]
                 sent[(stage, human)] = ([describe(f) for f in mine], answers.get((stage, human)))
         if stages_to_ask.get("scenario"):
-            old = spec
+            old, old_nodes = spec, _named_nodes(scenario, spec, nodes)
             scenario, spec = stages.scenario(correction=_correction(
                 stages_to_ask["scenario"], "scenario", repeat=notes.get(("scenario", None), "")))
             sent = {key: value for key, value in sent.items() if key[0] == "scenario"}  # later stages start afresh
-            if _shape(spec) != _shape(old) or list(scenario.human_behaviors) != [h.name for h in paths.humans]:
+            if (_shape(spec) != _shape(old) or list(scenario.human_behaviors) != [h.name for h in paths.humans]
+                    or _named_nodes(scenario, spec, nodes) != old_nodes):
                 run.paths_path.unlink(missing_ok=True)
+                paths_tried.clear()  # paths planned afresh on the new spec: nothing tried on them yet
                 for xml in run.behaviors_dir.glob("*.xml"):
                     xml.unlink()
                 paths, spec = stages.paths(scenario, spec)

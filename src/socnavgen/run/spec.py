@@ -221,7 +221,8 @@ CriterionKind = Literal[
     "stl",  # `formula`: a raw STL formula over the named signals (docs/verify.md lists them)
 ]
 
-Blame = Literal["robot_script", "paths", "behaviors", "spec", "scenario", "policy"]  # policy: a campaign's robot
+Blame = Literal["robot_script", "paths", "behaviors", "spec", "scenario", "policy", "simulator"]  # policy: a campaign's robot;
+# simulator: the simulated robot failed on its own (no stage can fix it)
 
 
 class Criterion(BaseModel):

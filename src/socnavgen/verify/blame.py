@@ -18,6 +18,8 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
   A2  two people touch, one walking into the other standing                                   -> behaviors(walker)
   D1  deadlock / goal not reached behind a human whose reaction waits for a robot phrase the
       robot never said                                                                        -> robot_script
+  D5  (checked first) deadlock / goal not reached behind a human standing round its own goal, its tree only
+      walking it there, that goal at or next to the robot's goal (verify/blame_end.py)          -> paths
   D3  (checked before D1) deadlock behind a human standing at its own goal off the robot's route
       (the robot could pass: the paths put that goal beside the route)                         -> paths
   D4  (checked before D2) a standoff the spec sets up, h having no part that makes way (give_way, avoid): the
@@ -41,8 +43,9 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
       before the robot was held there (the tree must keep the spec's `lasts`)                  -> spec
       except: a block whose `until` phrase a `blocked` cue says where the blocker stands, or
       (checked first) the robot within reach only after the encounter's window closed         -> spec
-  R3  robot_reaches_goal failed, the robot ending still with nobody in its way while its script has
-      waiting cues (wait, wait_until_clear, a human's phrase)                                   -> robot_script
+  R3  robot_reaches_goal failed, the robot ending still with nobody in its way, a cue of its script holding
+      it then (the trace's cue log; without one: the script has cues that can make it stand)  -> robot_script
+  R5  ... and the cue log shows no cue holding it: the robot's own navigation (blame_end.py)  -> simulator
   R4  (checked before R2) robot_reaches_goal failed with someone holding the robot up at the end of the run (a
       wait shorter than the deadlock limit): rule D4's standoff                                 -> spec
       else                                                                                      -> behaviors(h)
@@ -50,7 +53,8 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
       way when the run ended (the route takes longer than the run) or stood short of its goal   -> paths
   T1  tree checks (no spec.json): a RobotSays gate whose gesture the robot never made           -> robot_script
   T2  tree checks: IsRobotVisible / IsRobotNearby never succeeded                               -> paths
-  T3  tree checks: any other node never ran, or ran before its cause                           -> behaviors(h)
+  T3  tree checks: any other node never ran, or ran before its cause, or (GiveWaytoRobot) ran without the
+      body getting out of the robot's way                                                       -> behaviors(h)
   U1  a user `stl` formula: robot phrases it names never said -> robot_script; it names a human's
       actions, phrases or reactions -> behaviors(h); otherwise                                 -> paths
       (proposal/verify_loop.py: the spec's own formula failing again after the paths changed -> spec)
@@ -72,6 +76,7 @@ from socnavgen.bodies import (
 )
 from socnavgen.run.models import PathPlan
 from socnavgen.run.spec import Blame, Criterion, ScenarioSpec
+from socnavgen.verify.blame_end import goal_taken, standing_at_end
 from socnavgen.verify.blame_timing import ended_at_once, window_closed_early
 from socnavgen.verify.criteria import Compiled
 from socnavgen.verify.evidence import deadlock_culprit, in_window, met_mask, way_cause
@@ -226,6 +231,9 @@ def _stuck(cc: Compiled, s: Signals, spec: ScenarioSpec, settings_deadlock: floa
     k, who = deadlock_culprit(s)
     if who is None:
         return None
+    taken = goal_taken(s, plan, who, k)
+    if taken:
+        return taken
     at_goal = _off_route_at_goal(s, plan, who, k)
     if at_goal:
         return ("paths", None, f"{who} stood at its own goal ({at_goal}) beside the robot's route and the robot would "
@@ -286,7 +294,7 @@ def _standoff(s: Signals, spec: ScenarioSpec, who: str, k: int) -> str | None:
     return None
 
 
-def _held_at_end(s: Signals, spec: ScenarioSpec) -> Verdict | None:
+def _held_at_end(s: Signals, spec: ScenarioSpec, plan: PathPlan | None) -> Verdict | None:
     """Rule R4: the run ended with someone holding the robot up short of its goal (a wait shorter than the deadlock
     limit): a standoff the spec sets up (rule D4), else that person's tree."""
     k = s.trace.steps - 1
@@ -295,7 +303,7 @@ def _held_at_end(s: Signals, spec: ScenarioSpec) -> Verdict | None:
         return None
     gaps = np.where(holding, s.gaps()[k], np.inf)
     who = s.trace.human_names[int(np.argmin(gaps))]
-    elsewhere = _not_the_tree(s, spec, who, k)
+    elsewhere = goal_taken(s, plan, who, k) or _not_the_tree(s, spec, who, k)
     if elsewhere:
         return elsewhere
     return ("behaviors", who, f"the run ended with {who} in the robot's way short of its goal "
@@ -322,18 +330,6 @@ def _where_robot(s: Signals) -> str:
     return f", nearest node {min(nodes)[1]}" if nodes else ""
 
 
-def _scripted_wait(s: Signals, spec: ScenarioSpec, settings_deadlock: float) -> Verdict | None:
-    """Rule R3: the robot ended standing still for longer than the deadlock limit with nobody in its way,
-    and its script has cues that make it stand (wait, wait until clear, a human's phrase): the script."""
-    stalled, in_way = s.get("stalled"), s.blocked()
-    waits = [c for c in spec.script.cues if c.wait or c.wait_until_clear or c.trigger.when == "human_says"]
-    if not waits or stalled[-1] < settings_deadlock or in_way[-1]:
-        return None
-    return ("robot_script", None, f"the robot stood still for its last {stalled[-1]:.0f} s with nobody in its way: "
-                                  "a cue of its script keeps it waiting (wait, wait_until_clear or a phrase that "
-                                  "never comes); shorten the wait or change its trigger")
-
-
 def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan | None,
                     settings_deadlock: float, location: Any = None, authored: bool = True) -> Verdict:
     """Apply the rule table to one failing, monitored criterion that does not contradict its spec (rule S1 is
@@ -358,10 +354,10 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
             return stuck
         if kind == "no_deadlock":
             return "robot_script", None, "the robot stood still too long: its script's waits are too long"
-        waiting = _scripted_wait(s, spec, settings_deadlock)
+        waiting = standing_at_end(s, spec, settings_deadlock)
         if waiting:
             return waiting
-        held = _held_at_end(s, spec)
+        held = _held_at_end(s, spec, plan)
         return held or ("paths", None, _short_of_goal(s))
     if kind == "stl":
         return _blame_formula(cc, s)
@@ -532,8 +528,9 @@ def _blame_formula(cc: Compiled, s: Signals) -> Verdict:
 
 
 def blame_tree_check(node: str | None, message: int | None, human: str | None, s: Signals | None,
-                     before_cause: bool) -> Verdict:
-    """Rules T1-T3 for a failing tree expectation."""
+                     before_cause: bool, ran_at: float | None = None) -> Verdict:
+    """Rules T1-T3 for a failing tree expectation. `ran_at`: when the node ran, for a check that failed although
+    it ran (its effect never showed)."""
     if before_cause:
         return "behaviors", human, f"{human}'s {node} ran before its cause"
     if node == "RobotSays" and s is not None:
@@ -542,4 +539,8 @@ def blame_tree_check(node: str | None, message: int | None, human: str | None, s
             return "robot_script", None, "the robot never made the gesture this tree waits for: script it"
     if node in ("IsRobotVisible", "IsRobotNearby"):
         return "paths", None, f"the robot never came where {human} could see it"
+    if ran_at is not None:  # the node ran, its effect did not show (evaluate.py: GiveWaytoRobot without stepping aside)
+        return "behaviors", human, (f"{human}'s tree ran {node} (from t={ran_at:.1f} s) but its body did not get out "
+                                    f"of the robot's way: keep {node} running until {human} stands aside (do not cut "
+                                    "it short with another node), or start it earlier, where there is room to step aside")
     return "behaviors", human, f"{human}'s tree never ran {node}"

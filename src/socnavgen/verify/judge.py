@@ -187,8 +187,10 @@ def judge(trace: Trace, *, plan: PathPlan, location: Any, spec: ScenarioSpec | N
         if not finding.passed:
             node, message = _first_missing_cause(trace, exp.node, exp.message, exp.caused_by, finding.human,
                                                  before_cause)
+            ran = exp.kind == "gives_way_while_passing" and node == exp.node and not before_cause  # ran, no effect
             finding = _with_blame(finding, *blame_tree_check(node, message, finding.human,
-                                                             signals if trace.steps else None, before_cause))
+                                                             signals if trace.steps else None, before_cause,
+                                                             finding.time if ran else None))
         findings.append(finding)
     findings = _held_up_by_an_unsaid_phrase(findings)
     seconds = float(trace.t[-1] - trace.t[0]) if trace.steps else 0.0
