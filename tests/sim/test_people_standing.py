@@ -6,7 +6,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from socnavgen.bodies import PERSON_PASS_GAP, PERSON_STAND_GAP
+from socnavgen.bodies import PERSON_PASS_GAP, PERSON_RADIUS, PERSON_STAND_GAP
+from socnavgen.sim.people.neighbours import new_grid
+from socnavgen.sim.people.spacing import SIDESTEP, keep_apart
+from socnavgen.sim.people.state import PERSON
+from socnavgen.sim.records import table
 
 from .simhelpers import REGULAR, Stay, human, make_sim, tree_xml
 from .test_people_spacing import pair_gaps
@@ -49,24 +53,39 @@ def test_a_walker_whose_goal_the_robot_stands_on_stands_at_a_free_spot_beside_it
 
 
 def test_people_standing_round_a_shared_goal_keep_off_the_robots_way():
-    """The robot's way runs 1.5 m north of a point four people walk to from the north: they stand round it on
-    the side away from the robot's way (on main the nearest spots, on the way, were taken)."""
+    """The robot's way runs 2 m north of a point four people walk to from the north: the first stands on the point,
+    the others round it on the side away from the robot's way, the robot's passing gap off its body passing (on
+    main the nearest spots, on the way, were taken: 1.1 m from it)."""
     goal = 10.0 + 5.0j
-    people = [human(f"human{k + 1}", start=(7.0 + 2.0 * k, 9.0), goals=[(goal.real, goal.imag)]) for k in range(4)]
-    route = [(2.0, 6.5), (18.0, 6.5)]
+    people = [human(f"human{k + 1}", start=(7.0 + 2.0 * k, 9.5), goals=[(goal.real, goal.imag)]) for k in range(4)]
+    route = [(2.0, 7.0), (18.0, 7.0)]
     trace = make_sim(people, [tree_xml(REGULAR)] * 4, route, Stay(), timeout=40).run()
     assert trace.end_reason == "all_done"
     end = trace.humans[-1, :, 1]
-    clear = trace.human_radii + trace.robot_radius  # the robot's body passing on y = 6.5 touches theirs at this
-    assert np.all(6.5 - end >= clear - TOLERANCE), end
+    clear = trace.human_radii + trace.robot_radius + PERSON_PASS_GAP  # the robot passes on y = 7 with its gap
+    assert np.all(7.0 - end >= clear - TOLERANCE), end
 
 
-def test_a_walker_slowed_to_a_crawl_still_steps_round_someone_in_the_way():
-    """A walker starts from rest right in front of someone standing between them and their goal (a crowd slowed
-    them to a stop): they step round at a walking pace and arrive (on main the sidestep was a share of the
-    walker's current speed, so from a crawl it stayed a crawl)."""
-    people = [human("human1", start=(9.05, 5.0), goals=[(18.0, 5.0)]), human("human2", start=(10.0, 5.0), goals=[])]
-    trace = make_sim(people, [tree_xml(REGULAR), STAND], [(10.0, 9.0), (10.5, 9.0)], Stay(), timeout=20).run()
-    x = trace.humans[:, 0, 0]
-    past = np.flatnonzero(x > 10.0 + 0.8)
-    assert past.size and trace.t[past[0]] < 4.0, trace.t[past[0]] if past.size else "never got past"
+def test_a_walker_slowed_to_a_crawl_steps_round_someone_in_the_way_at_a_walking_pace():
+    """keep_apart on its own: a walker crawling (0.05 m/s) straight at someone standing in their way, their goal
+    beyond them, steps round them at SIDESTEP of the speed they mean to walk (on main: of the crawl, 0.025 m/s, so
+    a crowd slowed to a crawl never got round each other)."""
+    people = table(PERSON, 2, pos=[5.0 + 5.0j, 5.9 + 5.0j], radius=PERSON_RADIUS, desired_speed=[1.3, 0.0],
+                   goal=[12.0 + 5.0j, 5.9 + 5.0j], via=[12.0 + 5.0j, 5.9 + 5.0j], walks=[True, False],
+                   to_goal=[True, False], vel=[0.05 + 0j, 0j])
+    v = keep_apart(people, 0, 0.05 + 0j, 0.05, new_grid(2))
+    assert abs(v.imag) >= SIDESTEP * 1.3 - 1e-6, v  # round them, at a walking pace
+    assert v.real <= 1e-9, v  # not into them
+
+
+def test_a_walker_coming_to_stand_keeps_the_standing_gap_and_one_walking_past_the_walking_gap():
+    """keep_apart on its own: a walker 0.2 m from someone, stepping toward them, is held there when their walk
+    ends beside them (they come to stand: PERSON_STAND_GAP), and may close in to PERSON_KEEP_GAP walking past."""
+    def step(goal: complex) -> complex:
+        people = table(PERSON, 2, pos=[5.0 + 5.0j, 6.0 + 5.0j], radius=PERSON_RADIUS, desired_speed=[1.0, 0.0],
+                       goal=[goal, 6.0 + 5.0j], via=[goal, 6.0 + 5.0j], walks=[True, False], to_goal=[True, False])
+        return keep_apart(people, 0, 1.0 + 1.0j, 0.05, new_grid(2))
+
+    arriving, passing = step(5.2 + 5.5j), step(12.0 + 9.0j)
+    assert arriving.real <= 1e-9, arriving  # held at the 0.2 m it has (under the standing gap)
+    assert passing.real > 0.5, passing  # closes in toward the walking gap

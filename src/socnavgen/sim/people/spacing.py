@@ -4,7 +4,7 @@
 closer than the keep gap to another person's body is dropped, so they slow down, slide along them or stop, as
 pedestrians do (behind someone walking on ahead of them, they follow). The keep gap is bodies.PERSON_KEEP_GAP
 between walkers, bodies.PERSON_STAND_GAP from anyone when the walker comes to stand (near the end of their walk)
-and from someone standing when the walker's own walk ends beside them (at a goal they stand on or a spot round it).
+and from someone standing where the walker's walk ends (on their goal); walkers passing keep PERSON_KEEP_GAP.
 One who walks straight into someone standing or coming toward them (little of their walk left after that) steps
 round them on their own right at SIDESTEP of the speed they mean to walk at (their desired speed: a walker slowed
 by the crowd still steps round at a walking pace, so the sidestep never dies away; two people meeting head-on both
@@ -24,17 +24,16 @@ SIDESTEP = 0.5  # of their desired speed: a walker blocked head-on by someone st
 MOVING = 0.1  # m/s: someone walking away faster than this is followed, not stepped round
 BLOCKED = 0.5  # of their desired speed: a walker left with less than this of their walk is blocked
 STANDING = 0.1  # m/s: someone slower than this stands
-BESIDE = 1.0  # m: a walk that ends within this of someone's body (beyond the stand gap) ends beside them
 ARRIVING = 1.0  # m: a walker this close to the end of their walk is coming to stand
 
 
 @jit(inline=True)
 def keep_gap(p, q, end):  # noqa: ANN001, ANN201
     """The gap walker p keeps from q's body: PERSON_STAND_GAP when p comes to stand (within ARRIVING of the end of
-    their walk, `end`) or q stands and p's walk ends beside them, else PERSON_KEEP_GAP."""
+    their walk, `end`) or q stands where p's walk ends (on their goal), else PERSON_KEEP_GAP (walking past)."""
     if abs(end - p.pos) < ARRIVING:
         return PERSON_STAND_GAP
-    if abs(q.vel) < STANDING and abs(end - q.pos) < p.radius + q.radius + PERSON_STAND_GAP + BESIDE:
+    if abs(q.vel) < STANDING and abs(end - q.pos) < p.radius + q.radius:
         return PERSON_STAND_GAP
     return PERSON_KEEP_GAP
 
