@@ -7,7 +7,8 @@ the nearest free spot beside it - on rings round the point, in sight of it, a bo
 bodies.PERSON_STAND_GAP (+ SLACK) from everyone standing and from the spots others took, a body and ROBOT_GAP from
 the robot - and walks there instead (`p.spot`, kept while it stays free). Spots by the robot's way still to go
 (within ROUTE_CLEAR of it) count OFF_ROUTE m farther: people stand round a shared goal beside the robot's route,
-not on it. So a team of four gathers round a bed instead of queueing in its doorway, children fill a bedroom, a
+not on it; a group member's spot counts TOGETHER x its distance to the farthest of their group there farther (a
+group gathers side by side, not across the point from each other). So a team of four gathers round a bed instead of queueing in its doorway, children fill a bedroom, a
 crowd stands round the point it walked to, a person whose goal the robot stands on waits beside it. The spot
 counts as the goal reached (state.queued_at). With no free spot within the rings they walk to the point itself,
 and stop as close as the others let them (state.queued_at).
@@ -33,6 +34,7 @@ NEARER = 3.0  # a spot one ring nearer the point is worth walking this many metr
 ROBOT_GAP = PERSON_PASS_GAP  # m: a spot keeps this gap from the robot's body
 ROUTE_CLEAR = PERSON_PASS_GAP  # m: a spot whose body comes within this of the robot's body on its way is by it ...
 OFF_ROUTE = 6.0  # m: ... and counts this much farther
+TOGETHER = 1.0  # a group member's spot counts this many times its distance to the farthest member there farther
 
 
 @jit(inline=True)
@@ -107,6 +109,22 @@ def free(s, i, goal, spot):  # noqa: ANN001, ANN201
 
 
 @jit
+def group_spread(people, i, goal, spot):  # noqa: ANN001, ANN201
+    """How far `spot` is from the farthest member of person i's group already at `goal` (standing within a ring of
+    spots of it, or holding a spot round it); 0 with none there."""
+    p, far = people[i], 0.0
+    for j in range(people.shape[0]):
+        q = people[j]
+        if j == i or q.group != p.group:
+            continue
+        if q.has_spot and abs(q.spot_for - goal) < 1e-6:
+            far = max(far, abs(q.spot - spot))
+        elif abs(q.vel) < STANDING and abs(q.pos - goal) < RING_STEP:
+            far = max(far, abs(q.pos - spot))
+    return far
+
+
+@jit
 def pick(s, i, goal):  # noqa: ANN001, ANN201
     """The free spot round `goal` nearest to person i, the inner rings first (a walk NEARER m longer round the point
     beats a spot a ring farther out), off the robot's way (a spot by it counts OFF_ROUTE m farther) and never on its
@@ -125,8 +143,10 @@ def pick(s, i, goal):  # noqa: ANN001, ANN201
                 continue
             if by_route(s, spot, clear):
                 value += OFF_ROUTE
-                if value >= score:
-                    continue
+            if p.group >= 0:
+                value += TOGETHER * group_spread(s.people, i, goal, spot)
+            if value >= score:
+                continue
             if not free(s, i, goal, spot) or not line_of_sight(s.world, spot, goal):
                 continue
             best, found, score = spot, True, value
@@ -143,7 +163,8 @@ def aim(s, i):  # noqa: ANN001, ANN201
     if abs(goal - p.pos) > LOOK or not occupied(s, i, goal):
         p.has_spot = False
         return goal
-    if p.has_spot and abs(p.spot_for - goal) < 1e-6 and free(s, i, goal, p.spot):
+    # a spot is kept while it stays free; a group member looks again as the others of the group settle
+    if p.has_spot and abs(p.spot_for - goal) < 1e-6 and free(s, i, goal, p.spot) and p.group < 0:
         return p.spot
     found, spot = pick(s, i, goal)
     p.has_spot = found
