@@ -13,8 +13,8 @@ away along their side) is not taken: they stop and let it go by. A person whose 
 (following, blocking, approaching it: route ROUTE_ROBOT) does not steer around it. A goal the robot passes
 (or stands on, or next to) is no reason to walk into it: such a goal is approached to GOAL_GAP from the robot's
 body, where they wait until it has moved on, GOAL_PATIENCE s at most (a robot that waits for them in turn
-would never move on): then they take a free spot beside it (people.spots: a goal the robot stands on is then taken,
-as one a person stands on), or with none free squeeze on to it.
+would never move on): then they squeeze on to it. A walker who took a spot beside such a goal (people.spots: a
+goal the robot stands on is taken, as one a person stands on) walks to the spot instead.
 
 `keep_off` (the walking step, once the robot has moved): the part of a person's velocity that would bring
 them closer than KEEP_GAP to the robot's body (STAND_GAP to a robot standing still that they do not walk to:
@@ -33,7 +33,6 @@ import math
 
 from socnavgen.bodies import PERSON_PASS_GAP
 from socnavgen.sim.jit import jit
-from socnavgen.sim.people.spots import GOAL_PATIENCE
 from socnavgen.sim.people.state import ROUTE_ROBOT
 from socnavgen.sim.world.queries import clearance_at, line_of_sight
 
@@ -48,7 +47,8 @@ ROOM_STEP = 0.05  # m: passing gaps tried from PASS_GAP down
 FIT_CLEARANCE = 0.35  # m: the passing spot must keep a person's body (0.4 m, 5 cm slack) off the walls
 WAIT_GAP = 0.5  # m: with no room to pass, a person stands (or walks behind it) this far from the robot
 WAIT_TIME = 1.0  # s: ... slowing down to get there in about this time
-GOAL_GAP = 0.3  # m: a person whose goal the robot stands on (or next to) stops this far from its body (GOAL_PATIENCE s)
+GOAL_GAP = 0.3  # m: a person whose goal the robot stands on (or next to) stops this far from its body ...
+GOAL_PATIENCE = 5.0  # s: ... and is held back by it this long at most (all told) before squeezing on to the goal
 KEEP_GAP = 0.1  # m: a person's own step never brings them closer than this to the robot's body ...
 STAND_GAP = MIN_PASS_GAP  # m: ... nor closer than this to a robot standing still, unless they walk to the robot
 HORIZON = 3.0  # s: a robot the person would come that close to within this time is in their way

@@ -2,7 +2,7 @@
 
 `aim` (people.routing.plan, for every walk to a goal, whatever tree node commands it): while someone else
 stands on the walker's goal point (within its goal radius), or is walking to it ahead of them, or the robot stands
-on it (within the walker's passing gap of its body, and they waited GOAL_PATIENCE s for it), the walker takes
+on it (within the walker's passing gap of its body: people.avoid would hold them back there), the walker takes
 the nearest free spot beside it - on rings round the point, in sight of it, a body off the walls, a body and
 bodies.PERSON_STAND_GAP (+ SLACK) from everyone standing and from the spots others took, a body and ROBOT_GAP from
 the robot - and walks there instead (`p.spot`, kept while it stays free). Spots by the robot's way still to go
@@ -18,13 +18,7 @@ from __future__ import annotations
 
 import math
 
-from socnavgen.bodies import (
-    PERSON_GOAL_SLACK,
-    PERSON_PASS_GAP,
-    PERSON_RADIUS,
-    PERSON_STAND_GAP,
-    ROBOT_SOCIAL_GAP,
-)
+from socnavgen.bodies import PERSON_GOAL_SLACK, PERSON_PASS_GAP, PERSON_RADIUS, PERSON_STAND_GAP
 from socnavgen.sim.jit import jit
 from socnavgen.sim.world.queries import clearance_at, line_of_sight
 
@@ -37,11 +31,9 @@ LOOK = 5.0  # m: a walker farther than this from the point does not look for a s
 REACH = 0.3  # m: a walker this close to their spot has reached it
 STANDING = 0.1  # m/s: someone (or the robot) slower than this stands
 NEARER = 3.0  # a spot one ring nearer the point is worth walking this many metres farther round it
-ROBOT_GAP = ROBOT_SOCIAL_GAP  # m: a spot keeps this gap from the robot's body
+ROBOT_GAP = PERSON_PASS_GAP  # m: a spot keeps this gap from the robot's body
 ROUTE_CLEAR = PERSON_PASS_GAP  # m: a spot whose body comes within this of the robot's body on its way is by it ...
 OFF_ROUTE = 6.0  # m: ... and counts this much farther
-GOAL_PATIENCE = 5.0  # s: a person held back short of a goal the robot stands on waits this long at most (all told)
-#   for it to move on (people.avoid), then takes a spot beside it
 TOGETHER = 1.0  # a group member's spot counts this many times its distance to the farthest member there farther
 
 
@@ -58,28 +50,21 @@ def segment_distance(p, a, b):  # noqa: ANN001, ANN201
 
 @jit
 def by_route(s, spot, clear):  # noqa: ANN001, ANN201
-    """`spot` is within `clear` of the robot's way still to go (from where it is along its waypoints to its goal; a
-    spot behind the robot is not on its way)."""
+    """`spot` is within `clear` of the robot's way still to go (from where it is along its waypoints to its goal)."""
     robot, wps = s.robot[0], s.waypoints
     a = robot.pos
     for j in range(robot.search_from + 1, wps.shape[0]):
-        ahead = wps[j] - a
-        behind = j == robot.search_from + 1 and ((spot - a) * ahead.conjugate()).real <= 0.0
-        if not behind and segment_distance(spot, a, wps[j]) < clear:
+        if segment_distance(spot, a, wps[j]) < clear:
             return True
         a = wps[j]
-    return abs(spot - a) < clear and a != robot.pos
+    return abs(spot - a) < clear
 
 
 @jit
 def robot_on(s, i, goal):  # noqa: ANN001, ANN201
-    """The robot stands on `goal` for person i: still, its body within their passing gap of the point, and they
-    have waited GOAL_PATIENCE for it to move on (people.avoid holds them back short of it; a face-to-face standoff
-    stays one) or took a spot beside it already."""
+    """The robot stands on `goal` for person i: still, its body within their passing gap of the point."""
     p, robot = s.people[i], s.robot[0]
-    if abs(robot.vel) >= STANDING or abs(goal - robot.pos) >= p.radius + robot.radius + p.pass_gap:
-        return False
-    return p.goal_wait >= GOAL_PATIENCE or (p.has_spot and abs(p.spot_for - goal) < 1e-6)
+    return abs(robot.vel) < STANDING and abs(goal - robot.pos) < p.radius + robot.radius + p.pass_gap
 
 
 @jit
