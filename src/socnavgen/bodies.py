@@ -31,6 +31,10 @@ ROBOT_MAX_SPEED = 2.0  # m/s: the simulated robot never moves faster, whatever i
 CONTACT_MARGIN = 0.05  # m: a robot-person (or person-person) gap at or under this is contact (bodies touching)
 PERSON_KEEP_GAP = 0.1  # m: two people keep at least this gap (> CONTACT_MARGIN): a walker's own step never closes
 #   it (sim.people.spacing) and the contact step (sim.people.physics) pushes people apart to it
+PERSON_STAND_GAP = 0.3  # m: people standing or waiting side by side keep this gap (people keep ~0.3-0.5 m between
+#   bodies; a 0.4 m disc is wider than a body, so 0.3 m between discs is ~0.6 m between shoulders; 0.1 m read as
+#   "pressed together" to the eyes): the spots round a shared goal (sim.people.spots), a walker coming to stand
+#   beside someone standing (sim.people.spacing) and the queue at a goal (sim.people.state.queued_at)
 ROBOT_SOCIAL_GAP = 0.3  # m: the gap the default robot keeps from a person where there is room: it never drives
 # closer (robot.polite.keep_clear), steps off the way of someone walking at it, and waits rather than squeezes past
 INTIMATE_SPACE, PERSONAL_SPACE, SOCIAL_SPACE = 0.45, 1.2, 3.6  # m: Hall's proxemic zone limits (gaps)

@@ -39,9 +39,11 @@ DISAGREE: dict[str, str] = {
     "home_04_grandchild_shows_drawing": "lenient PASS: the child walks to the drawing spot and stands there; the robot "
     "creeps from i6 to the doorway (11-18 s), the child walks away ~1.2 m as it comes in and the robot drives onto "
     "the child's spot; the child never stops to wait for it on the way",
-    "hospital_05_elevator_at_visiting_hour": "strict FAIL: the eyes saw every event (EXCUSE ME in the corridor, the "
-    "couple leaving the car after PROCEED, the robot entering the empty car) and did not count the couple walking "
-    "apart; the spec's `group_together` (<= 3 m) sees them 5.59 m apart at 40.7 s (human2 held at the corridor)",
+    "hospital_01_elevator_door_standoff": "strict FAIL since s10 (wt-people: a goal the robot stands on gives a spot "
+    "beside it): the visitors, whose goal is the elevator the robot stands in, head for spots beside the door before "
+    "EXCUSE ME (human2 'gives way' at 1.5 s, the phrase at 4.7 s); the eyes saw the old run's face-to-face standoff",
+    "home_07_laundry_in_morning_rush": "lenient PASS since s10 (wt-people: standing gap, spots off the robot's way): "
+    "the verifier now passes the final answers; the eyes judged the old run (not yet looked at in the new GIF)",
     "warehouse_01_blind_corner_cart": "lenient PASS: the worker stops at the corner (~33 s); the robot neither backs "
     "off to f7 nor pulls over but swerves round him, 'within a hair' at 42-45 s (gap ~0.25 m), and he walks on only "
     "after it passed; no criterion states the robot yielding",

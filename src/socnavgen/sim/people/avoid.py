@@ -13,7 +13,8 @@ away along their side) is not taken: they stop and let it go by. A person whose 
 (following, blocking, approaching it: route ROUTE_ROBOT) does not steer around it. A goal the robot passes
 (or stands on, or next to) is no reason to walk into it: such a goal is approached to GOAL_GAP from the robot's
 body, where they wait until it has moved on, GOAL_PATIENCE s at most (a robot that waits for them in turn
-would never move on): then they squeeze on to it.
+would never move on): then they squeeze on to it. A walker who took a spot beside such a goal (people.spots: a
+goal the robot stands on is taken, as one a person stands on) walks to the spot instead.
 
 `keep_off` (the walking step, once the robot has moved): the part of a person's velocity that would bring
 them closer than KEEP_GAP to the robot's body (STAND_GAP to a robot standing still that they do not walk to:
@@ -99,6 +100,8 @@ def steer(s, i):  # noqa: ANN001, ANN201
     dist = abs(rel)
     reach = p.radius + robot.radius
     target = p.goal if p.to_goal else p.target
+    if p.to_goal and p.has_spot and abs(p.spot_for - p.goal) < 1e-6:  # a spot beside a goal taken (people.spots)
+        target = p.spot
     if dist > STEER_RANGE or dist < 1e-9 or p.route == ROUTE_ROBOT:  # the robot is where they walk to
         return False
     ahead = p.via - p.pos

@@ -15,10 +15,10 @@ from typing import NamedTuple
 
 import numpy as np
 
-from socnavgen.bodies import PERSON_KEEP_GAP
+from socnavgen.bodies import PERSON_KEEP_GAP, PERSON_STAND_GAP
 from socnavgen.sim.jit import jit
 
-LOOK_AHEAD = 0.5  # m: people this much beyond the keep gap are in a walker's step's reach (people.spacing)
+LOOK_AHEAD = 0.5  # m: people this much beyond the (standing) keep gap are in a walker's step's reach (people.spacing)
 GRID_MIN = 64  # above this many people, neighbours come from the cell list (linear cost)
 CELLS_PER_PERSON = 4  # cells made per person (the cells grow when the crowd's extent needs more)
 NX, NY, REACH_SOCIAL, REACH_CONTACT = 0, 1, 2, 3  # Grid.dims
@@ -71,7 +71,7 @@ def build(grid, people, social_reach):  # noqa: ANN001, ANN201
         radius = max(radius, people[i].radius)
     if not (x1 >= x0 and y1 >= y0):  # nobody at a finite position
         x0, y0, x1, y1 = 0.0, 0.0, 0.0, 0.0
-    contact = 2.0 * radius + PERSON_KEEP_GAP + LOOK_AHEAD
+    contact = 2.0 * radius + max(PERSON_KEEP_GAP, PERSON_STAND_GAP) + LOOK_AHEAD
     if math.isfinite(social_reach):
         size = max(0.5 * social_reach, contact, 1e-3)
         cap = grid.start.shape[0] - 1
@@ -131,7 +131,7 @@ def overlaps(people, snap, i, j):  # noqa: ANN001, ANN201
 
 @jit
 def near(grid, people, i):  # noqa: ANN001, ANN201
-    """The other people within reach of a walker's step (their bodies, PERSON_KEEP_GAP and LOOK_AHEAD) of person
+    """The other people within reach of a walker's step (their bodies, the standing keep gap and LOOK_AHEAD) of person
     i, into grid.found; returns how many. Everyone else in index order when the crowd has no cell list, else
     those of the cells around i's (built at the end of the last step) in cell order (the same
     order every run, so a step stays deterministic)."""

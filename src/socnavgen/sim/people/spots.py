@@ -1,38 +1,79 @@
 """One goal point, several people: the first one there stands on it, the others stand round them.
 
 `aim` (people.routing.plan, for every walk to a goal, whatever tree node commands it): while someone else
-stands on the walker's goal point (within its goal radius), or is walking to it ahead of them, the walker takes
+stands on the walker's goal point (within its goal radius), or is walking to it ahead of them, or the robot stands
+on it (within the walker's passing gap of its body: people.avoid would hold them back there), the walker takes
 the nearest free spot beside it - on rings round the point, in sight of it, a body off the walls, a body and
-bodies.PERSON_KEEP_GAP (+ SLACK) from everyone standing and from the spots others took - and walks there
-instead (`p.spot`, kept while it stays free). So a team of four gathers round a bed instead of queueing in
-its doorway, children fill a bedroom, a crowd stands round the point it walked to. The spot counts as the goal
-reached (state.queued_at). With no free spot within the rings they walk to the point itself, and stop as close
-as the others let them (state.queued_at).
+bodies.PERSON_STAND_GAP (+ SLACK) from everyone standing and from the spots others took, a body and ROBOT_GAP from
+the robot - and walks there instead (`p.spot`, kept while it stays free). Spots by the robot's way still to go
+(within ROUTE_CLEAR of it) count OFF_ROUTE m farther: people stand round a shared goal beside the robot's route,
+not on it; a group member's spot counts TOGETHER x its distance to the farthest of their group there farther (a
+group gathers side by side, not across the point from each other). So a team of four gathers round a bed instead of queueing in its doorway, children fill a bedroom, a
+crowd stands round the point it walked to, a person whose goal the robot stands on waits beside it. The spot
+counts as the goal reached (state.queued_at). With no free spot within the rings they walk to the point itself,
+and stop as close as the others let them (state.queued_at).
 """
 
 from __future__ import annotations
 
 import math
 
-from socnavgen.bodies import PERSON_GOAL_SLACK, PERSON_KEEP_GAP, PERSON_RADIUS
+from socnavgen.bodies import PERSON_GOAL_SLACK, PERSON_PASS_GAP, PERSON_RADIUS, PERSON_STAND_GAP
 from socnavgen.sim.jit import jit
 from socnavgen.sim.world.queries import clearance_at, line_of_sight
 
 RINGS = 3  # rings of spots round the point ...
-RING_STEP = 2 * PERSON_RADIUS + PERSON_KEEP_GAP + 0.1  # m: ... this far apart (the first one body from the point)
+RING_STEP = 2 * PERSON_RADIUS + PERSON_STAND_GAP + 0.1  # m: ... this far apart (the first one body from the point)
 ANGLES = 24  # spots per ring
-SLACK = 0.05  # m: a spot is free with this much more than the keep gap to everyone
+SLACK = 0.05  # m: a spot is free with this much more than the standing gap to everyone
 WALL_CLEARANCE = PERSON_RADIUS + 0.05  # m: a spot keeps a body off the walls
 LOOK = 5.0  # m: a walker farther than this from the point does not look for a spot yet
 REACH = 0.3  # m: a walker this close to their spot has reached it
-STANDING = 0.1  # m/s: someone slower than this stands
+STANDING = 0.1  # m/s: someone (or the robot) slower than this stands
 NEARER = 3.0  # a spot one ring nearer the point is worth walking this many metres farther round it
+ROBOT_GAP = PERSON_PASS_GAP  # m: a spot keeps this gap from the robot's body
+ROUTE_CLEAR = PERSON_PASS_GAP  # m: a spot whose body comes within this of the robot's body on its way is by it ...
+OFF_ROUTE = 6.0  # m: ... and counts this much farther
+TOGETHER = 1.0  # a group member's spot counts this many times its distance to the farthest member there farther
+
+
+@jit(inline=True)
+def segment_distance(p, a, b):  # noqa: ANN001, ANN201
+    """Distance from point p to the segment a-b."""
+    ab = b - a
+    length = abs(ab)
+    if length < 1e-9:
+        return abs(p - a)
+    along = min(max(((p - a) * ab.conjugate()).real / length, 0.0), length)
+    return abs(p - (a + ab / length * along))
 
 
 @jit
-def occupied(people, i, goal):  # noqa: ANN001, ANN201
+def by_route(s, spot, clear):  # noqa: ANN001, ANN201
+    """`spot` is within `clear` of the robot's way still to go (from where it is along its waypoints to its goal)."""
+    robot, wps = s.robot[0], s.waypoints
+    a = robot.pos
+    for j in range(robot.search_from + 1, wps.shape[0]):
+        if segment_distance(spot, a, wps[j]) < clear:
+            return True
+        a = wps[j]
+    return abs(spot - a) < clear
+
+
+@jit
+def robot_on(s, i, goal):  # noqa: ANN001, ANN201
+    """The robot stands on `goal` for person i: still, its body within their passing gap of the point."""
+    p, robot = s.people[i], s.robot[0]
+    return abs(robot.vel) < STANDING and abs(goal - robot.pos) < p.radius + robot.radius + p.pass_gap
+
+
+@jit
+def occupied(s, i, goal):  # noqa: ANN001, ANN201
     """Someone else stands on `goal` (where person i would have reached it), or walks to it ahead of person i
-    without a spot of their own."""
+    without a spot of their own, or the robot stands on it."""
+    people = s.people
+    if robot_on(s, i, goal):
+        return True
     p = people[i]
     away = abs(goal - p.pos)
     for j in range(people.shape[0]):
@@ -48,15 +89,18 @@ def occupied(people, i, goal):  # noqa: ANN001, ANN201
 
 
 @jit
-def free(people, i, goal, spot):  # noqa: ANN001, ANN201
-    """`spot` keeps person i's body the keep gap (+ SLACK) from everyone standing and from the spots others took
-    round the same goal."""
+def free(s, i, goal, spot):  # noqa: ANN001, ANN201
+    """`spot` keeps person i's body the standing gap (+ SLACK) from everyone standing and from the spots others took
+    round the same goal, and ROBOT_GAP from the robot standing."""
+    people, robot = s.people, s.robot[0]
     p = people[i]
+    if abs(robot.vel) < STANDING and abs(robot.pos - spot) < p.radius + robot.radius + ROBOT_GAP:
+        return False
     for j in range(people.shape[0]):
         if j == i:
             continue
         q = people[j]
-        reach = p.radius + q.radius + PERSON_KEEP_GAP + SLACK
+        reach = p.radius + q.radius + PERSON_STAND_GAP + SLACK
         if abs(q.vel) < STANDING and abs(q.pos - spot) < reach:
             return False
         if q.has_spot and abs(q.spot_for - goal) < 1e-6 and abs(q.spot - spot) < reach:
@@ -65,10 +109,28 @@ def free(people, i, goal, spot):  # noqa: ANN001, ANN201
 
 
 @jit
+def group_spread(people, i, goal, spot):  # noqa: ANN001, ANN201
+    """How far `spot` is from the farthest member of person i's group already at `goal` (standing within a ring of
+    spots of it, or holding a spot round it); 0 with none there."""
+    p, far = people[i], 0.0
+    for j in range(people.shape[0]):
+        q = people[j]
+        if j == i or q.group != p.group:
+            continue
+        if q.has_spot and abs(q.spot_for - goal) < 1e-6:
+            far = max(far, abs(q.spot - spot))
+        elif abs(q.vel) < STANDING and abs(q.pos - goal) < RING_STEP:
+            far = max(far, abs(q.pos - spot))
+    return far
+
+
+@jit
 def pick(s, i, goal):  # noqa: ANN001, ANN201
     """The free spot round `goal` nearest to person i, the inner rings first (a walk NEARER m longer round the point
-    beats a spot a ring farther out); (found, spot)."""
-    p = s.people[i]
+    beats a spot a ring farther out), off the robot's way (a spot by it counts OFF_ROUTE m farther) and never on its
+    body; (found, spot)."""
+    p, robot = s.people[i], s.robot[0]
+    clear = p.radius + robot.radius + ROUTE_CLEAR
     best, found, score = goal, False, math.inf
     for ring in range(1, RINGS + 1):
         radius = ring * RING_STEP
@@ -77,7 +139,15 @@ def pick(s, i, goal):  # noqa: ANN001, ANN201
             value = abs(spot - p.pos) + NEARER * radius
             if value >= score or clearance_at(s.world, spot) < WALL_CLEARANCE:
                 continue
-            if not free(s.people, i, goal, spot) or not line_of_sight(s.world, spot, goal):
+            if abs(spot - robot.pos) < p.radius + robot.radius + ROBOT_GAP:
+                continue
+            if by_route(s, spot, clear):
+                value += OFF_ROUTE
+            if p.group >= 0:
+                value += TOGETHER * group_spread(s.people, i, goal, spot)
+            if value >= score:
+                continue
+            if not free(s, i, goal, spot) or not line_of_sight(s.world, spot, goal):
                 continue
             best, found, score = spot, True, value
     return found, best
@@ -90,10 +160,11 @@ def aim(s, i):  # noqa: ANN001, ANN201
     goal = p.goal
     if not p.has_goal:  # the walk is over (the goal reached at their spot is consumed): they stay at the spot
         return p.spot if p.has_spot else goal
-    if abs(goal - p.pos) > LOOK or not occupied(s.people, i, goal):
+    if abs(goal - p.pos) > LOOK or not occupied(s, i, goal):
         p.has_spot = False
         return goal
-    if p.has_spot and abs(p.spot_for - goal) < 1e-6 and free(s.people, i, goal, p.spot):
+    # a spot is kept while it stays free; a group member looks again as the others of the group settle
+    if p.has_spot and abs(p.spot_for - goal) < 1e-6 and free(s, i, goal, p.spot) and p.group < 0:
         return p.spot
     found, spot = pick(s, i, goal)
     p.has_spot = found

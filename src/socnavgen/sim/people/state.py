@@ -11,19 +11,19 @@ import numpy as np
 from socnavgen.bodies import (
     PERSON_GOAL_RADIUS,
     PERSON_GOAL_SLACK,
-    PERSON_KEEP_GAP,
     PERSON_MAX_SPEED,
     PERSON_PASS_GAP,
     PERSON_RADIUS,
+    PERSON_STAND_GAP,
 )
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.spots import at_spot, spot_taken
 from socnavgen.sim.records import layout, table
 
-# a goal someone stands on (people keep PERSON_KEEP_GAP from each other: nobody gets within the goal radius of
+# a goal someone stands on (people coming to stand keep PERSON_STAND_GAP from them: nobody gets within the goal radius of
 # a goal another body covers) is reached as close as the people standing at it let a person come: within
 # QUEUE_REACH of it, within the gap + QUEUE_SLACK of someone standing nearer to it
-QUEUE_REACH = PERSON_GOAL_RADIUS + 2 * PERSON_RADIUS + PERSON_KEEP_GAP + 0.1  # m: one ring of people round it
+QUEUE_REACH = PERSON_GOAL_RADIUS + 2 * PERSON_RADIUS + PERSON_STAND_GAP + 0.1  # m: one ring of people round it
 QUEUE_SLACK = 0.5  # m: the social force alone holds a walker about this far off someone standing on their goal
 STANDING = 0.1  # m/s: someone slower than this stands
 DONE_SPEED = 0.05  # m/s: a person slower than this at its last goal has finished its walk
@@ -163,7 +163,7 @@ def goal_reached(people, goals, i):  # noqa: ANN001, ANN201
 def queued_at(people, i, goal):  # noqa: ANN001, ANN201
     """Person i is as close to `goal` as the people standing at it let them: at the spot they took round it
     (people.spots), or within QUEUE_REACH of it and at the
-    keep gap (+ QUEUE_SLACK) from someone standing nearer to it (a team gathering at one bed, workers at one
+    standing gap (+ QUEUE_SLACK) from someone standing nearer to it (a team gathering at one bed, workers at one
     pallet: the later ones stop beside the first, not pressed into them)."""
     p = people[i]
     if spot_taken(people, i, goal):
@@ -175,7 +175,7 @@ def queued_at(people, i, goal):  # noqa: ANN001, ANN201
         q = people[j]
         if j == i or abs(q.vel) >= STANDING or abs(goal - q.pos) >= away:
             continue
-        if abs(q.pos - p.pos) - p.radius - q.radius <= PERSON_KEEP_GAP + QUEUE_SLACK:
+        if abs(q.pos - p.pos) - p.radius - q.radius <= PERSON_STAND_GAP + QUEUE_SLACK:
             return True
     return False
 
