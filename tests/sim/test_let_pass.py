@@ -68,3 +68,30 @@ def test_a_cue_letting_pass_someone_of_no_encounter_is_refused():
         ScenarioSpec.model_validate({
             "encounters": [{"id": "e1", "place": "HALL", "humans": [{"human": "human1", "reaction": "walk_past"}]}],
             "script": {"cues": [{"trigger": {"when": "start"}, "let_pass": "human2"}]}})
+
+
+def test_a_paced_person_the_robot_lets_pass_goes_first():
+    """Round 11 of the new-request suite: with pacing, the person let pass was held about 4 m off while the robot
+    stood for them, until the cue's limit ran out and the robot went first. Pacing now lets them go first."""
+    from socnavgen.sim import PacingPlan, ThrottleConfig
+
+    # she crosses the robot's route at node n (10, 5) from the north; the robot stops 3 m before n
+    crossing = human(start=(10.0, 9.0), goals=[(10.0, 7.0), (10.0, 5.0), (10.0, 1.0)])
+    robot_points = [(2.0, 5.0), (6.0, 5.0), (10.0, 5.0), (18.0, 5.0)]
+    script = RobotScript(cues=[RobotCue(trigger=CueTrigger(when="at_encounter", encounter="e1", distance=3.0),
+                                        let_pass="human1")])
+
+    def run(cue: RobotScript | None):  # noqa: ANN202
+        pacing = PacingPlan(ThrottleConfig(), ["r0", "r1", "n", "r3"], [(0, ["h0", "h1", "n", "h3"], "n", -1)])
+        sim = make_sim([crossing], [tree_xml(REGULAR)], robot_points, policy=ScriptedPolicy(), script=cue,
+                       pacing=pacing, encounters={"e1": complex(10.0, 5.0)}, timeout=90)
+        trace = sim.run()
+        her_past = next(k for k in range(trace.steps) if trace.humans[k, 0, 1] < 3.5)  # across the route
+        robot_at_node = next(k for k in range(trace.steps) if trace.robot[k, 0] > 9.0)
+        return trace.t[her_past], trace.t[robot_at_node], trace.end_reason
+
+    her, robot, end = run(script)
+    assert her < robot, f"she crossed at {her:.1f} s, the robot reached the crossing at {robot:.1f} s"
+    assert end == "robot_goal" and robot < 35.0  # well before the cue's 20 s limit would have sent it on
+    her, robot, _ = run(None)  # without the cue, pacing brings them there together: the robot is not behind her
+    assert her > robot - 1.0

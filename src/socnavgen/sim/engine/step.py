@@ -38,7 +38,7 @@ from socnavgen.sim.people.vm import ERROR, tick
 from socnavgen.sim.robot.body import drive
 from socnavgen.sim.robot.policies import act, cruise, stopped_short
 from socnavgen.sim.robot.polite import corner_late
-from socnavgen.sim.robot.script import play, scripted_gesture, still_waits
+from socnavgen.sim.robot.script import play, scripted_gesture, still_waits, waiting_for
 
 STEPPED, ACT, PROGRESS, ENDED, FAILED, ROUTES = 0, 1, 2, 3, 4, 5
 IDLE_SPEED = 1e-3  # m/s: a robot slower than this is idle (the run ends once everything stopped)
@@ -60,7 +60,7 @@ def think(s, trees, pacing, script, scratch):  # noqa: ANN001, ANN201
     if people.shape[0]:
         cruising = cruise(s, script.now[0])
         corner_late(s, cruising, pacing.robot_late)  # the robot's ETA knows its slower blind corners
-        pace(s, pacing, cruising, still_waits(script, s.clock[0].t))
+        pace(s, pacing, cruising, still_waits(script, s.clock[0].t), waiting_for(script))
     nodes, ports, slots, texts, kids, stack, args = trees
     dt = s.clock[0].dt
     for i in range(people.shape[0]):

@@ -150,11 +150,12 @@ in_way = jit(proxemics.in_way)  # the one "in the robot's way" (socnavgen.proxem
 
 
 @jit
-def pace(s, pacing, cruise, waits):  # noqa: ANN001, ANN201, C901
+def pace(s, pacing, cruise, waits, let_pass=-1):  # noqa: ANN001, ANN201, C901
     """Advance the robot's waypoint index; set `held` (and `pace`, the speed RegularNav walks at) of every
     paced person for this step. `cruise`: the robot's speed where nothing slows it (robot.policies.cruise; < 0:
     unknown, the config's robot_speed); `waits`: seconds it will still stand for its script's timed waits
-    (robot.script.still_waits)."""
+    (robot.script.still_waits); `let_pass`: the person the robot stands for to let them go first
+    (robot.script.waiting_for; -1: none), never held nor slowed: they go first at their own speed."""
     settings = pacing.settings[0]
     if not settings.enabled:
         return
@@ -177,6 +178,9 @@ def pace(s, pacing, cruise, waits):  # noqa: ANN001, ANN201, C901
         p = s.people[i]
         at = paced.goals - p.queue_count  # index among its goals of the goal it walks to now
         node = paced.robot_index
+        if i == let_pass:  # the robot stands for them: they go first, at their own pace
+            p.pace, p.held = p.max_speed, False
+            continue
         if settings.rule == SOCRATES:
             if p.queue_count == 0 or (p.queue_count == 1 and abs(p.goal - p.pos) <= p.goal_radius):
                 continue  # SocRATES sends no entry: the previous value stays

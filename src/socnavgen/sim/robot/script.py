@@ -173,6 +173,15 @@ def still_waits(script, t):  # noqa: ANN001, ANN201
     return left
 
 
+@jit(inline=True)
+def waiting_for(script):  # noqa: ANN001, ANN201
+    """The person a `let_pass` cue stands the robot for now (-1: none): pacing lets them go first."""
+    for c in range(script.cues.shape[0]):
+        if script.cues[c].letting_pass:
+            return script.cues[c].lets_pass
+    return -1
+
+
 @jit
 def route_segment(s):  # noqa: ANN001, ANN201
     """The segment of the robot's route it is on: the nearest to it from the one before the waypoint it heads
