@@ -111,3 +111,15 @@ def test_a_give_way_that_ran_is_not_said_never_to_have_run() -> None:
     assert (blame, who) == ("behaviors", "human1")
     assert "ran GiveWaytoRobot (from t=45.1 s)" in reason and "never ran" not in reason
     assert blame_tree_check("GiveWaytoRobot", None, "human1", None, False)[2] == "human1's tree never ran GiveWaytoRobot"
+
+
+def test_a_person_held_up_on_the_way_to_a_goal_behind_the_robot_is_not_at_its_goal() -> None:
+    # home exiting-room: she stands in the door on her way to her goal g2 in the room behind the robot (the robot
+    # between her and it, her goal within the area round the robot's goal): held up on her way, not arrived
+    NODES["g2"] = (4.5, 3.0)
+    try:
+        blame, who, reason = _blame(_held_short((6.8, 3.0)), _plan("g2"))
+    finally:
+        del NODES["g2"]
+    assert (blame, who) == ("behaviors", "human1"), reason
+    assert "its own goal" not in reason

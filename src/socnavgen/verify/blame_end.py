@@ -36,7 +36,8 @@ def _node(s: Signals, name: str) -> str:
 
 def goal_taken(s: Signals, plan: PathPlan | None, who: str, k: int) -> Verdict | None:
     """Rule D5: `who` holds the robot up at step k standing round its own goal (its last path node, within
-    GOAL_AREA: on it or on a spot round it, sim/people/spots), its tree only walking it there (WALKING_NODES),
+    GOAL_AREA: on it or on a spot round it, sim/people/spots; not with the robot between it and that goal: held up on
+    its way there), its tree only walking it there (WALKING_NODES),
     and that goal is at or next to the robot's goal (within GOAL_AREA of it): the plan ends `who` where the robot
     must arrive. A person at its own goal there is never its tree's fault."""
     mine = next((h.path for h in (plan.humans if plan is not None else []) if h.name == who and h.path), None)
@@ -46,6 +47,11 @@ def goal_taken(s: Signals, plan: PathPlan | None, who: str, k: int) -> Verdict |
         return None
     if float(np.hypot(*(s.pos(who)[k] - np.asarray(goal)))) > GOAL_AREA:
         return None
+    began = max(0, k - int(round(float(s.get("deadlock")[k]) / s.trace.dt)) + 1)  # where the hold began
+    here = s.pos(who)[began]
+    to_goal, to_robot = np.asarray(goal) - here, s.pos("robot")[began] - here
+    if float(np.dot(to_goal, to_robot)) > 0 and float(np.hypot(*to_robot)) < float(np.hypot(*to_goal)):
+        return None  # the robot stood between them and their goal: held up on their way, not arrived (D2, D4)
     apart = float(np.hypot(*(np.asarray(goal) - np.asarray(robot_goal))))
     if apart > GOAL_AREA:
         return None
