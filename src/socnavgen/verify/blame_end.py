@@ -43,7 +43,7 @@ def goal_taken(s: Signals, plan: PathPlan | None, who: str, k: int) -> Verdict |
     mine = next((h.path for h in (plan.humans if plan is not None else []) if h.name == who and h.path), None)
     goal = s.places.get(f"node_{mine[-1]}") if mine else None
     robot_goal = s.places.get("goal")
-    if goal is None or robot_goal is None or not 0 <= k < s.trace.steps:
+    if mine is None or goal is None or robot_goal is None or not 0 <= k < s.trace.steps:
         return None
     if float(np.hypot(*(s.pos(who)[k] - np.asarray(goal)))) > GOAL_AREA:
         return None
