@@ -333,12 +333,12 @@ def robot_limits_text(detail: bool = True) -> str:
     from socnavgen.bodies import TOUCH_DISTANCE
     from socnavgen.sim.robot.api import ScriptedPolicy
     from socnavgen.sim.robot.polite import FACE_GAP
-    from socnavgen.sim.robot.script import LET_PASS_PATIENCE, LET_PASS_STILL
+    from socnavgen.sim.robot.script import LET_PASS_PATIENCE
 
     limits = ("- The script drives the robot's route (node to node), stands it still (wait, wait_until_clear, "
               "let_pass) and speaks; no cue makes it back off, pull over or follow someone. \"It lets her go "
               "first\" is a cue with \"let_pass\": \"humanN\": the robot stands where the cue fires until that "
-              f"person has gone by (across its way, past it, on ahead of it, or standing aside {LET_PASS_STILL:g} s), at most `wait` s "
+              "person has gone by (across its way, past it, or on ahead of it), at most `wait` s "
               f"({LET_PASS_PATIENCE:g} without); fire it before the place they cross (at_encounter with a distance, "
               "or human_within). A route may come back to its start after passing other nodes.")
     if not detail:

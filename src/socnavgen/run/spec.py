@@ -80,7 +80,7 @@ class RobotCue(BaseModel):
     wait_until_clear: bool = False
     speed: float | None = Field(default=None, ge=0, le=2.0)
     once: bool = True  # fire at most once (False: every time the trigger becomes true)
-    # humanN: after firing, stand until that person has gone by (across its way, past it, on ahead, or aside), at
+    # humanN: after firing, stand until that person has gone by (across its way, past it, or on ahead of it), at
     # most `wait` s (20 without): "the robot lets her go first" (sim/robot/script.py gone_by)
     let_pass: str | None = Field(default=None, pattern=r"^human[1-9][0-9]?$")
 

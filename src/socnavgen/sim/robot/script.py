@@ -7,7 +7,7 @@ phrase for `hold` s, `wait` stands still for `wait` s, `wait_until_clear` then s
 the corridor the robot's body sweeps ahead (people who stepped aside do not hold it); still blocked after
 CLEAR_PATIENCE s it says the cue's phrase again, CLEAR_REPEATS times, then stops waiting (the robot then
 goes around where there is room: a scripted wait never becomes a deadlock); `let_pass` stands until that
-person has gone by (gone_by: came near, out of its way, moving off or standing there), at most `wait` s (LET_PASS_PATIENCE without
+person has gone by (gone_by: came near, out of its way, moving off), at most `wait` s (LET_PASS_PATIENCE without
 one): "the robot lets her go first"; `speed` sets the cruise speed.
 A gesture rule holds its gesture while its condition held within its last `duration` seconds; the first
 rule that holds wins. The robot shows a cue's phrase, else the first rule's gesture (scripted_gesture).
@@ -41,8 +41,6 @@ CLEAR_PATIENCE = 8.0  # s: still blocked after this long, the robot asks again (
 CLEAR_REPEATS = 2  # ... this many times, then stops waiting and drives around like an operator would
 LET_PASS_PATIENCE = 20.0  # s: a `let_pass` cue without a `wait` stands at most this long for its person
 LET_PASS_AWAY = 0.5  # m: the person let pass has gone by once this much farther from the robot than its closest
-LET_PASS_STILL = 2.0  # s: ... or once standing this long out of its way (arrived beside it, or waiting for it)
-STILL_MOVE = 0.1  # m: a person who moved less than this stands still
 AT_NODE = 1.0  # m: a gesture rule `at_node` holds within this distance of its node
 SQUEEZE = ROBOT_SOCIAL_GAP + 0.15  # m: someone beside the route whom the robot passes by edging at most this far
 # aside (keeping ROBOT_SOCIAL_GAP, where walls and other people leave it room) does not hold it "until clear". Named
@@ -65,7 +63,7 @@ CUE = layout([("when", "i8"), ("who", "i8"), ("phrase", "i8"), ("say", "i8"), ("
               ("say_until", "f8"), ("wait_until", "f8"), ("clear_since", "f8"),
               # let_pass: the person (-1: none), waiting for them, they came near, their closest, the limit
               ("lets_pass", "i8"), ("letting_pass", "?"), ("pass_near", "?"), ("pass_closest", "f8"),
-              ("pass_until", "f8"), ("pass_at", "c16"), ("pass_still", "f8")])  # where and since when they stand
+              ("pass_until", "f8")])
 RULE = layout([("when", "i8"), ("gesture", "i8"), ("has_point", "?"), ("point", "c16"), ("distance", "f8"),
                ("duration", "f8"), ("last_true", "f8")])
 
@@ -272,24 +270,20 @@ def person_in_way(s, distance, swept_only):  # noqa: ANN001, ANN201
 
 
 @jit
-def gone_by(s, cue, t):  # noqa: ANN001, ANN201
+def gone_by(s, cue):  # noqa: ANN001, ANN201
     """Whether the person a `let_pass` cue waits for has gone by: they came within HELD_UP_DISTANCE of the robot
     (or were in its way), are out of its way now (the corridor its body sweeps ahead, as wait_until_clear) and
-    LET_PASS_AWAY farther from it than the closest they came (past it, across its way, or on ahead of it), or have
-    stood LET_PASS_STILL s out of its way (arrived beside it, or waiting for it to go: two waiting for each other
-    is no scene). From poses alone (the export's ROS node has no velocities)."""
+    LET_PASS_AWAY farther from it than the closest they came: past it, across its way, or on ahead of it. From
+    poses alone (the export's ROS node has no velocities)."""
     i = cue.lets_pass
     if i < 0 or i >= s.people.shape[0]:
         return True
-    q = s.people[i].pos
-    if abs(q - cue.pass_at) > STILL_MOVE:
-        cue.pass_at, cue.pass_still = q, t
-    d = abs(q - s.robot[0].pos)
+    d = abs(s.people[i].pos - s.robot[0].pos)
     way = in_way(s, i, proxemics.HELD_UP_DISTANCE, route_segment(s), -1.0)
     if d <= proxemics.HELD_UP_DISTANCE or way:
         cue.pass_near = True
     cue.pass_closest = min(cue.pass_closest, d)
-    return cue.pass_near and not way and (d >= cue.pass_closest + LET_PASS_AWAY or t - cue.pass_still >= LET_PASS_STILL)
+    return cue.pass_near and not way and d >= cue.pass_closest + LET_PASS_AWAY
 
 
 @jit
@@ -345,7 +339,6 @@ def play(s, script):  # noqa: ANN001, ANN201
             cue.wait_until = t + cue.pause
         cue.waiting_until_clear = cue.until_clear
         cue.letting_pass, cue.pass_near, cue.pass_closest = cue.lets_pass >= 0, False, math.inf
-        cue.pass_at, cue.pass_still = complex(math.inf, 0.0), t
         cue.pass_until = t + (cue.pause if cue.pause > 0 else LET_PASS_PATIENCE)
         cue.clear_since, cue.repeats = t, 0
         if not math.isnan(cue.speed):
@@ -372,7 +365,7 @@ def play(s, script):  # noqa: ANN001, ANN201
                     log(script, t, c, GAVE_UP)
             wait = wait or cue.waiting_until_clear
         if cue.letting_pass:  # stands (for no known time: pacing lets the person come) until they went by
-            went = gone_by(s, cue, t)
+            went = gone_by(s, cue)
             if went or t >= cue.pass_until:
                 cue.letting_pass = False
                 log(script, t, c, WENT_BY if went else GAVE_UP)
