@@ -19,55 +19,42 @@ ROOT = Path(__file__).resolve().parents[2]
 PATHS = fixture_paths(FIXTURES)
 
 # Where the verifier and the eyes disagree today, each with what was seen (a strict xfail: it turns red the day
-# they agree, and the pin must go). Empty means they agree on every fixture. Round 7 answers, replayed on the code of
-# 2026-11-26's fourth session (people keep PERSON_KEEP_GAP from each other and stand round a shared goal, the robot
-# keeps ROBOT_SOCIAL_GAP and goes on to the nearer free spot, people_apart judged, reactions stated by the spec) and
-# judged from GIF frames by three sessions that read no code and saw no verdict (round 9 of the eyes).
-# Causes left: the robot passing a person it could have waited for at 0.2-0.3 m (no contact, "a hair" to the eyes:
-# warehouse_01, warehouse_07), two people standing 0.10 m apart (PERSON_KEEP_GAP, "pressed together" to the eyes:
-# warehouse_05), events no criterion of the model's spec states (warehouse_04, home_04), and two strict fails where
-# the spec asks more than the eyes did (home_01, hospital_05).
+# they agree, and the pin must go). Empty means they agree on every fixture. Round 11 answers (six sessions playing a
+# capable model on the fifth session's prompts of 2026-11-26), replayed on that session's final code and judged from
+# GIF frames by three sessions that read no code and saw no verdict (round 11 of the eyes).
+# Causes left: a robot that lets someone go first (let_pass) while that person waits for IT (people do not step
+# round a robot standing on their way: home_06, home_07; the robot then goes first when she stands aside:
+# warehouse_01), a person cutting between the robot and the patient it guides (hospital_07); and three specs that ask
+# more than the eyes did (hospital_01, hospital_05, warehouse_04).
 DISAGREE: dict[str, str] = {
-    "home_01_child_blocks_vacuum": "strict FAIL: the eyes saw the child stand in the hallway opening in front of the "
-    "stopped robot ~10.5-12.5 s, EXCUSE ME ~12.8-15 s, the child step back and follow to the dining area, the robot "
-    "reach ai (~31 s); blocks_robot fails (the cue says EXCUSE ME when the child is 1.6 m ahead, she stands 1.5 m "
-    "ahead: the block ends as it begins, the verifier's hint asks the spec for `lasts`)",
-    "home_05_serving_drinks_at_party": "lenient PASS since the robot waits at its social gap instead of squeezing past "
-    "(s10): frames of that code show the robot come up between the waiting pair (~36-40 s) and stand 0.30 m from "
-    "human5 while human6 stands on its goal; human6 steps off south-west (~43-46 s) and the robot drives onto her spot "
-    "(~48 s) with her beside it, as round 9's eyes saw; they wanted it to stop at a polite distance in front of the pair",
-    "home_04_grandchild_shows_drawing": "lenient PASS: the child walks to the drawing spot and stands there; the robot "
-    "creeps from i6 to the doorway (11-18 s), the child walks away ~1.2 m as it comes in and the robot drives onto "
-    "the child's spot; the child never stops to wait for it on the way",
-    "hospital_01_elevator_door_standoff": "strict FAIL since s10 (wt-people: a goal the robot stands on gives a spot "
-    "beside it): the visitors, whose goal is the elevator the robot stands in, head for spots beside the door before "
-    "EXCUSE ME (human2 'gives way' at 1.5 s, the phrase at 4.7 s); the eyes saw the old run's face-to-face standoff",
-    "home_07_laundry_in_morning_rush": "lenient PASS since s10 (wt-people: standing gap, spots off the robot's way): "
-    "the verifier now passes the final answers; the eyes judged the old run (not yet looked at in the new GIF)",
-    "warehouse_01_blind_corner_cart": "lenient PASS: the worker stops at the corner (~33 s); the robot neither backs "
-    "off to f7 nor pulls over but swerves round him, 'within a hair' at 42-45 s (gap ~0.25 m), and he walks on only "
-    "after it passed; no criterion states the robot yielding",
-    "warehouse_04_pallet_jack_backing_out": "lenient PASS: the worker never backs out across the cross aisle in front "
-    "of the robot and the robot never stops; it drives past her still swinging the jack in the aisle mouth",
-    "warehouse_05_sweeping_at_shift_change": "lenient PASS: the encounters at ki and sh happen, but worker 2 walks into "
-    "worker 3 at the staging pallet and the two stand 'pressed together' ~45-53 s (0.10 m apart, PERSON_KEEP_GAP: "
-    "no contact by the 5 cm rule) and worker 3 meets the robot at vj, not at sw",
-    "hospital_06_night_wandering_patient": "strict FAIL of the replay, not of the run: the eyes saw the recorded end "
-    "play as written; the recording's first tree correction brought the deadlock back with the same numbers (42.4 s "
-    "from t=52.3 s, then t=52.0 s), so the loop now sends it to stage 1 (issue 25 part 3: a changed answer that "
-    "changes nothing is not asked again), which the round-7 recording never answered (its third tree did it)",
-    "warehouse_07_night_patrol_west_corridor": "lenient PASS: PROCEED at hd and the worker first down the aisle as "
-    "written; at ki after WAIT/ACKNOWLEDGED the robot pulls out right beside the second worker ('a hand's breadth', "
-    "~74-77 s) instead of following behind her",
+    "home_06_neighbour_lets_herself_in": "lenient PASS: PROCEED and her surprised pause happen (~6 s), but the robot "
+    "waits in the middle of the living room on her way (let_pass): she is held up ~9 s less than 0.5 m from it and "
+    "gets past only when it drives off (~19 s); no criterion of the spec states her going first",
+    "home_07_laundry_in_morning_rush": "lenient PASS: the first yield works (the robot waits in the bedroom doorway "
+    "for the son); at the second the daughter comes within ~0.3 m of the waiting robot, retreats and waits while the "
+    "robot goes first: 'lets her cross first' reversed",
+    "hospital_07_assisted_rehab_walk": "lenient PASS: the nurse steps aside but walks on at ~25 s before the patient "
+    "has passed, cutting between the robot and the patient ~0.1 m from her; the run ends with the patient in the "
+    "doorway, not back in her room",
+    "warehouse_01_blind_corner_cart": "lenient PASS: the worker stops and the robot pulls into the corner pocket, but "
+    "at ~38 s the robot drives north while the worker still stands beside it, and he walks on only after it left: the "
+    "order of the text reversed (the let_pass limit ran out with him standing aside)",
+    "hospital_01_elevator_door_standoff": "strict FAIL: the eyes saw the pair block the robot, step aside to two "
+    "sides after EXCUSE ME (~5 s), the robot pass without contact and the visitors board after it left; the spec's "
+    "reacts_after_phrase sees the second visitor moving aside from t=1.5 s, before the phrase (her give way began as "
+    "the robot came), and both visitors within the car's distance together never",
+    "hospital_05_elevator_at_visiting_hour": "strict FAIL: the eyes saw the robot stop ~2 m before 1g for the visitor "
+    "with the cane and back aside to let the couple out of the elevator before boarding; the spec's stl 'the robot "
+    "does not drive up to the elevator door until the first visitor has left the lobby' sees the robot 0.06 m from "
+    "q9 at 49.4 s and the visitor 0.09 m from cc only at 51.9 s",
+    "warehouse_04_pallet_jack_backing_out": "strict FAIL: the eyes saw the worker back out and block the aisle "
+    "~16-29 s, the robot wait and go on after the worker left; blocks_robot does not see it (closest 1.23 m at "
+    "18.4 s: its 1 s standoff - in the robot's way within 2 m, she still, the robot still - never held together)",
 }
 
 # Fixtures whose recorded answers a stage check added since refuses, each with why; the recording has no answer
 # that passes, so the replay stops at that stage (the eyes' judgement of the recorded end stays in the fixture).
-REFUSED: dict[str, str] = {
-    "home_03_welcome_dinner_guests": "scenario: the host stands to greet the guests (wait_then_go on robot_visible) "
-    "but only meets was asked of her, so no verifier could see the greeting stop never happen (the eyes: the guests "
-    "walk on past the host); stage 1 now asks the criterion that states the reaction (stops_near_robot)",
-}
+REFUSED: dict[str, str] = {}
 
 
 def test_the_suite_is_there_and_judged():
