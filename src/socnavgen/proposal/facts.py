@@ -336,14 +336,15 @@ def robot_limits_text(detail: bool = True) -> str:
     from socnavgen.sim.robot.script import LET_PASS_PATIENCE
 
     limits = ("- The script drives the robot's route (node to node), stands it still (wait, wait_until_clear, "
-              "let_pass) and speaks; no cue makes it back off, pull over or follow someone. \"It lets her go "
-              "first\" is a cue with \"let_pass\": \"humanN\": the robot stands where the cue fires until that "
-              "person has gone by (across its way, past it, or on ahead of it), at most `wait` s "
-              f"({LET_PASS_PATIENCE:g} without); fire it before the place they cross (at_encounter with a distance, "
-              "or human_within). A route may come back to its start after passing other nodes.")
+              "let_pass) and speaks; no cue makes it back off, pull over or follow someone. A route may come back to "
+              "its start after passing other nodes.")
+    let_pass = (" \"It lets her go first\" is a cue with \"let_pass\": \"humanN\": the robot stands where the cue "
+                "fires until that person has gone by (across its way, past it, or on ahead of it), at most `wait` s "
+                f"({LET_PASS_PATIENCE:g} without); fire it before the place they cross (at_encounter with a distance, "
+                "or human_within).")
     if not detail:
         return limits
-    return (limits + " By itself the robot passes people on one "
+    return (limits + let_pass + " By itself the robot passes people on one "
             "side where there is room, slows near them, and makes way for someone who must get past it (after "
             f"{ScriptedPolicy.patience:g} s face to face, a gap of {FACE_GAP:g} m or less, it backs off the way it "
             "came and steps aside where there is room). So \"it pulls over\": a person meets it face to face in a "

@@ -160,8 +160,8 @@ def aim(s, i):  # noqa: ANN001, ANN201
     goal = p.goal
     if not p.has_goal:  # the walk is over (the goal reached at their spot is consumed): they stay at the spot
         return p.spot if p.has_spot else goal
-    if abs(goal - p.pos) > LOOK or not occupied(s, i, goal):
-        p.has_spot = False
+    if abs(p.push) > 0.0 or abs(goal - p.pos) > LOOK or not occupied(s, i, goal):  # driven off (RunAwayFromRobot):
+        p.has_spot = False  # no spot round a goal that is no pull
         return goal
     # a spot is kept while it stays free; a group member looks again as the others of the group settle
     if p.has_spot and abs(p.spot_for - goal) < 1e-6 and free(s, i, goal, p.spot) and p.group < 0:
