@@ -38,8 +38,11 @@ def aside(s: Signals, human: str) -> np.ndarray:
 
     With a route (two or more waypoints), "in the way" is ahead along the robot's heading, or on the route (within
     the corridor its body sweeps: robot + person radius + WAY_MARGIN_VERIFY) ahead of the robot along it, round bends
-    too; where it stood is where it last stood so ON the route (a robot turning toward someone who already stepped off
-    does not undo the step). Stepping aside: gaining ASIDE_DISTANCE from the route since that stand began."""
+    too, within proxemics.HELD_UP_DISTANCE along it (the one notion of someone holding the robot up: a visitor who
+    starts on the route 5 m ahead round a bend and walks off it to wait by a door stepped aside from nothing,
+    hospital_01); where it stood is where it last stood so ON the route (a robot turning toward someone who already
+    stepped off does not undo the step). Stepping aside: gaining ASIDE_DISTANCE from the route since that stand
+    began."""
     i = s.human(human)
     way = s.in_way(i)
     p = s.pos(human)
@@ -54,7 +57,7 @@ def aside(s: Signals, human: str) -> np.ndarray:
     off = route_offset(p, points)
     ahead = route_progress(p, points)[0] - route_progress(s.pos("robot"), points)[0]
     corridor = off < half
-    way = way | (corridor & (ahead > 0.0))
+    way = way | (corridor & (ahead > 0.0) & (ahead <= proxemics.HELD_UP_DISTANCE))
     stood = way & corridor
     last = np.maximum.accumulate(np.where(stood, steps, -1))
     ref = np.maximum(last, 0)
