@@ -79,7 +79,7 @@ from socnavgen.run.spec import Blame, Criterion, ScenarioSpec
 from socnavgen.verify.blame_end import goal_taken, standing_at_end
 from socnavgen.verify.blame_timing import ended_at_once, window_closed_early
 from socnavgen.verify.criteria import Compiled
-from socnavgen.verify.evidence import deadlock_culprit, in_window, met_mask, way_cause
+from socnavgen.verify.evidence import deadlock_culprit, in_window, met_mask, stayed_off_place, way_cause
 from socnavgen.verify.people import blame_people
 from socnavgen.verify.signals import ROBOT_PHRASES, Signals, lasting, phrase_id, reaction_evidence
 from socnavgen.verify.stl import formula_signals
@@ -402,6 +402,9 @@ def _blame_meeting(cc: Compiled, s: Signals, h: str) -> Verdict:
     e, within, node = cc.encounter.id, cc.encounter.within, cc.encounter.node or cc.encounter.id
     near = (s.get(f"dist_{h}") <= d) & (s.get(f"mid_{h}_to_{e}") <= within)
     if near.any() and not met_mask(s, h, cc.encounter, d).any():
+        if off := stayed_off_place(cc, s, h, near):
+            return "paths", None, (f"{off[0]} stayed {off[1]:.1f} m from {node}, beyond the `within` ({within:g} m), never "
+                                   f"coming toward it: let it wait at {node} or come to it, or set the encounter there")
         return "paths", None, (f"the robot and {h} were together at {node} only without approaching each other (from "
                                "where they started): start them farther apart, or from other nodes")
     if s.get(f"robot_to_{e}").min() > within:

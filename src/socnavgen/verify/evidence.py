@@ -113,6 +113,23 @@ def _no_approach(cc: Compiled, s: Signals, h: str, j: int) -> str:
     return ""
 
 
+def stayed_off_place(cc: Compiled, s: Signals, h: str, near: np.ndarray) -> tuple[str, float] | None:
+    """(who, how far from the place it started) for a meeting that failed only because the robot or `h` neither
+    came toward the encounter's place nor started within its `within` (a wife cooking at the stove 2.1 m from the
+    kitchen node of a `within` 1.5 encounter, home_08), over the steps `near` (within the distance at the place);
+    None when they did not come closer to each other either, or no party is to blame so."""
+    if cc.encounter is None:
+        return None
+    e, w = cc.encounter.id, cc.encounter.within
+    approached = near & (s.get(f"closer_{h}") >= APPROACH)
+    if not approached.any():
+        return None
+    for who in ("robot", h):
+        if not came_to(s, who, e, w)[approached].any():
+            return who, float(s.get(f"{who}_to_{e}")[0])
+    return None
+
+
 def way_cause(cc: Compiled, s: Signals) -> np.ndarray:
     """(T,) bool: the cause of a gives_way criterion holds - its human, or one of those giving way together with
     it, in the robot's way within the criterion's distance, in its window (criteria._gives_way's formula)."""
