@@ -26,3 +26,36 @@ def test_standing_on_a_round_trips_goal_is_not_arriving() -> None:
     signals = Signals(trace)
     assert np.all(signals.get("robot_to_goal") < 0.1)  # at its goal the whole time ...
     assert not signals.get("route_done").any()  # ... but never past its far end: not arrived
+
+
+def _led_home(follower_stops: bool) -> object:
+    """The robot drives out to x = 10 and back along y = 5 at 1 m/s (t 0-8 s out, 8-16 s back, then stands), a
+    person walking 1 m behind it on the way back (hospital_06: the robot leading a patient home). `follower_stops`:
+    the robot instead stands at x = 6 on the way back from t = 12 s, the person 1 m AHEAD of it (west) there."""
+    from .verify_builders import build_trace
+
+    t = np.arange(0, 30.0 + 1e-9, 0.5)
+    back = [12.0, 6.0] if follower_stops else [16.0, 2.0]
+    rx = np.interp(t, [0, 8, back[0], 30], [2.0, 10.0, back[1], back[1]])
+    robot = np.stack([rx, np.full_like(t, 5.0)], 1)
+    hx = np.interp(t, [0, 8, 30], [12.0, 11.0, 11.0]) if not follower_stops else np.full_like(t, 5.0)
+    if not follower_stops:
+        hx = np.where(t >= 8.0, rx + 1.0, hx)
+    trace = build_trace(t, robot, np.stack([hx, np.full_like(t, 5.0)], 1)[:, None], goal=(2.0, 5.0))
+    trace.robot[:, 2] = np.where(t < 8.0, 0.0, np.pi)  # facing the way it drives
+    trace.robot_waypoints = list(ROUND_TRIP)
+    return trace
+
+
+def test_the_way_back_is_progress_and_a_follower_behind_is_not_in_the_way() -> None:
+    s = Signals(_led_home(False))
+    progress = s.route()[0]
+    assert progress[-1] > 15.5 and np.all(np.diff(progress) >= -1e-9)  # 8 m out, 8 m back: never backwards
+    assert s.get("deadlock").max() == 0.0
+    assert not s.holding_up()[s.t > 8.5, 0].any()  # the follower is behind it the whole way back
+
+
+def test_standing_on_the_way_back_behind_someone_is_still_a_deadlock() -> None:
+    s = Signals(_led_home(True))
+    assert s.holding_up()[s.t > 12.5, 0].all()  # the person 1 m ahead of it on the way back
+    assert s.get("deadlock").max() >= 17.0

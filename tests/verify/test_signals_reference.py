@@ -12,6 +12,7 @@ import pytest
 from socnavgen.proxemics import HELD_UP_DISTANCE, WAY_MARGIN_VERIFY
 from socnavgen.sim import contact
 from socnavgen.verify import signals as signals_module
+from socnavgen.verify.route import TIE
 from socnavgen.verify.signals import Signals
 
 from .verify_builders import build_trace
@@ -75,18 +76,24 @@ def test_shared_geometry_equals_the_formulas(steps: int, humans: int) -> None:
 
 
 def progress_loop(xy: np.ndarray, waypoints: np.ndarray) -> np.ndarray:
-    """Route progress as first written: per step, the nearest point of each segment, the first nearest wins."""
-    out = []
+    """Route progress by the rule written out: per step, the nearest point of each segment; among segments equally
+    near (within route.TIE) the one whose progress is nearest the step before's (ties: the later), the first
+    nearest at the start."""
+    out: list[float] = []
     for p in xy:
-        best, at, covered = np.inf, 0.0, 0.0
+        found = []  # (offset m, progress) per segment
+        covered = 0.0
         for a, b in zip(waypoints[:-1], waypoints[1:], strict=True):
             d = b - a
             u = min(1.0, max(0.0, float((p - a) @ d) / float(d @ d)))
-            off = float(np.sum((p - (a + u * d)) ** 2))
-            if off < best:
-                best, at = off, covered + u * float(np.sqrt(d @ d))
+            found.append((float(np.sqrt(np.sum((p - (a + u * d)) ** 2))), covered + u * float(np.sqrt(d @ d))))
             covered += float(np.sqrt(d @ d))
-        out.append(at)
+        best = min(off for off, _ in found)
+        tied = [at for off, at in found if off <= best + TIE]
+        if out and len(tied) > 1:
+            out.append(min(tied, key=lambda at: abs(at - out[-1]) - 1e-9 * at))
+        else:
+            out.append(next(at for off, at in found if off == best))
     return np.array(out)
 
 

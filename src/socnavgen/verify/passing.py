@@ -55,7 +55,7 @@ def aside(s: Signals, human: str) -> np.ndarray:
     half = float(s.trace.robot_radius) + float(np.asarray(s.trace.human_radii, dtype=float)[i]) \
         + proxemics.WAY_MARGIN_VERIFY
     off = route_offset(p, points)
-    ahead = route_progress(p, points)[0] - route_progress(s.pos("robot"), points)[0]
+    ahead = route_progress(p, points, near=s.route()[0])[0] - s.route()[0]
     corridor = off < half
     way = way | (corridor & (ahead > 0.0) & (ahead <= proxemics.HELD_UP_DISTANCE))
     stood = way & corridor
@@ -82,7 +82,7 @@ def got_past(s: Signals, human: str) -> np.ndarray:
     p = s.pos(human)
     points = list(s.trace.robot_waypoints)
     if len(points) >= 2:
-        return route_progress(p, points)[0] <= s.route()[0]
+        return route_progress(p, points, near=s.route()[0])[0] <= s.route()[0]
     rel = p - s.pos("robot")
     yaw = s.trace.robot[:, YAW]
     return rel[:, 0] * np.cos(yaw) + rel[:, 1] * np.sin(yaw) <= 0.0

@@ -10,16 +10,27 @@ import numpy as np
 
 from socnavgen.sim import contact
 
+TIE = 1e-3  # m: segments this equally near a point are the same place on a route that comes back over itself
 
-def route_progress(robot_xy: np.ndarray, waypoints: list[tuple[float, float]]) -> tuple[np.ndarray, np.ndarray]:
+
+def route_progress(robot_xy: np.ndarray, waypoints: list[tuple[float, float]],
+                   near: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """(progress (T,), tangent (T, 2)): the arc length along the waypoint polyline of the point nearest each
-    robot position (the first segment among equally near ones), and that segment's unit direction. Without a
-    polyline (fewer than two distinct waypoints) progress is the distance driven and the tangent zero."""
+    position, and that segment's unit direction. Without a polyline (fewer than two distinct waypoints) progress
+    is the distance driven and the tangent zero.
+
+    A route that comes back over itself (a patrol there and back, ef ... 8r ... ef) has two equally near
+    segments (within TIE) at every point of the shared stretch: the one whose progress is nearest a reference
+    wins (ties: the later one). The reference is `near` (T,) when given (a person's place judged against the
+    robot's progress: ahead of it on the leg it drives now), else the position's own progress at the step before
+    (the robot itself: going on along the leg it is on; at the start, the first leg). Without that, the way back
+    read as the way out driven backwards: no progress, and a follower behind the robot "in its way"
+    (hospital_06, first answer: a 36 s deadlock while it led the patient home)."""
     pts = np.asarray(waypoints, dtype=float).reshape(-1, 2)
     seg = np.diff(pts, axis=0)
     lens = contact.lengths(seg)
     keep = lens > 1e-9
-    robot_xy = np.asarray(robot_xy, dtype=float)
+    robot_xy = np.asarray(robot_xy, dtype=float).reshape(-1, 2)
     t = len(robot_xy)
     if not keep.any():
         driven = np.concatenate([[0.0], np.cumsum(contact.lengths(np.diff(robot_xy, axis=0)))]) if t else np.zeros(0)
@@ -30,10 +41,21 @@ def route_progress(robot_xy: np.ndarray, waypoints: list[tuple[float, float]]) -
     rel_x = robot_xy[:, 0:1] - start[:, 0]  # (T, S): the robot from each segment's start
     rel_y = robot_xy[:, 1:2] - start[:, 1]
     along = np.clip(rel_x * unit[:, 0] + rel_y * unit[:, 1], 0.0, lens)  # metres along each segment
-    off_x, off_y = rel_x - along * unit[:, 0], rel_y - along * unit[:, 1]
-    nearest = np.argmin(off_x * off_x + off_y * off_y, axis=1)
-    progress = before[nearest] + along[np.arange(t), nearest]
-    return progress, unit[nearest]
+    off = np.hypot(rel_x - along * unit[:, 0], rel_y - along * unit[:, 1])
+    nearest = np.argmin(off, axis=1)
+    every = before + along  # (T, S) progress on each segment
+    tied = off <= off.min(axis=1, keepdims=True) + TIE if t else np.zeros((0, len(lens)), dtype=bool)
+    rows = np.flatnonzero(tied.sum(axis=1) > 1)
+    if len(rows) and near is not None:
+        gap = np.abs(every[rows] - np.asarray(near, dtype=float)[rows, None]) - 1e-9 * every[rows]
+        nearest[rows] = np.argmin(np.where(tied[rows], gap, np.inf), axis=1)
+    elif len(rows):
+        progress = every[np.arange(t), nearest]
+        for k in rows[rows > 0]:  # in order: the step before is final when this one is judged
+            gap = np.abs(every[k] - progress[k - 1]) - 1e-9 * every[k]
+            nearest[k] = int(np.argmin(np.where(tied[k], gap, np.inf)))
+            progress[k] = every[k, nearest[k]]
+    return every[np.arange(t), nearest], unit[nearest]
 
 
 def progress_events(progress: np.ndarray, step: float) -> np.ndarray:
@@ -74,5 +96,5 @@ def ahead_on_route(progress: np.ndarray, xy: np.ndarray, waypoints: list[tuple[f
     xy = np.asarray(xy, dtype=float).reshape(-1, 2)
     if len(np.asarray(waypoints, dtype=float).reshape(-1, 2)) < 2 or not len(xy):
         return np.zeros(len(xy), dtype=bool)
-    ahead = route_progress(xy, waypoints)[0] - np.asarray(progress, dtype=float)
+    ahead = route_progress(xy, waypoints, near=progress)[0] - np.asarray(progress, dtype=float)
     return (route_offset(xy, waypoints) < half) & (ahead > front) & (ahead <= reach)
