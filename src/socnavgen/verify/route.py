@@ -58,6 +58,20 @@ def route_progress(robot_xy: np.ndarray, waypoints: list[tuple[float, float]],
     return every[np.arange(t), nearest], unit[nearest]
 
 
+def leg_left(progress: np.ndarray, waypoints: list[tuple[float, float]]) -> np.ndarray:
+    """(T,) metres from each progress to the end of the route segment it is on (at a waypoint: the segment that
+    ends there, as route_progress's tangent); inf on the last segment (no turn after it) and without a route."""
+    pts = np.asarray(waypoints, dtype=float).reshape(-1, 2)
+    lens = contact.lengths(np.diff(pts, axis=0)) if len(pts) >= 2 else np.zeros(0)
+    lens = lens[lens > 1e-9]
+    progress = np.asarray(progress, dtype=float)
+    if len(lens) < 2:
+        return np.full(len(progress), np.inf)
+    ends = np.cumsum(lens)
+    at = np.searchsorted(ends, progress - 1e-9, side="left")
+    return np.where(at < len(ends) - 1, ends[np.minimum(at, len(ends) - 1)] - progress, np.inf)
+
+
 def progress_events(progress: np.ndarray, step: float) -> np.ndarray:
     """(T,) bool: the steps on which the robot's best progress so far first exceeds the previous event's by
     `step` metres (a ratchet: going back and forth never makes new progress)."""

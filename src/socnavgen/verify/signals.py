@@ -29,7 +29,7 @@ from socnavgen.verify.passing import (  # aside: re-exported (its home is verify
     kept_aside,
     parted_for_robot,
 )
-from socnavgen.verify.route import ahead_on_route, progress_events, route_progress
+from socnavgen.verify.route import ahead_on_route, leg_left, progress_events, route_progress
 from socnavgen.verify.thresholds import (
     AHEAD_HALF_ANGLE,
     ASIDE_DISTANCE,
@@ -248,7 +248,11 @@ class Signals:
 
             tx, ty = tangent[:, 0], tangent[:, 1]
             half = float(self.trace.robot_radius) + radius + proxemics.WAY_MARGIN_VERIFY
-            out[k, i] = way(np.cos(yaw), np.sin(yaw)) | (way(tx, ty) & ((tx != 0) | (ty != 0))) | ahead_on_route(
+            # along the route's direction only up to its next turn (and a body past it): someone straight on
+            # beyond a bend is not on the way it turns to (hospital_04: a nurse beside the doorway it turns into)
+            leg = leg_left(self.route()[0], list(self.trace.robot_waypoints))[k]
+            on_leg = (px - rx) * tx + (py - ry) * ty <= leg + float(self.trace.robot_radius) + radius
+            out[k, i] = way(np.cos(yaw), np.sin(yaw)) | (way(tx, ty) & ((tx != 0) | (ty != 0)) & on_leg) | ahead_on_route(
                 self.route()[0][k], np.stack([px, py], 1), list(self.trace.robot_waypoints), half,
                 proxemics.HELD_UP_DISTANCE, float(self.trace.robot_radius))
             return out
