@@ -24,8 +24,9 @@ PATHS = fixture_paths(FIXTURES)
 # GIF frames by three sessions that read no code and saw no verdict (round 11 of the eyes).
 # Causes left: a robot that lets someone go first (let_pass) while that person waits for IT (people do not step
 # round a robot standing on their way: home_06, home_07; the robot then goes first when she stands aside:
-# warehouse_01), a person cutting between the robot and the patient it guides (hospital_07); and three specs that ask
-# more than the eyes did (hospital_01, hospital_05, warehouse_04).
+# warehouse_01), a person cutting between the robot and the patient it guides (hospital_07); a visitor who
+# never stepped aside nor boarded (hospital_01, the eyes were generous); and two specs that ask more than the eyes did
+# (hospital_05, warehouse_04).
 DISAGREE: dict[str, str] = {
     "home_06_neighbour_lets_herself_in": "lenient PASS: PROCEED and her surprised pause happen (~6 s), but the robot "
     "waits in the middle of the living room on her way (let_pass): she is held up ~9 s less than 0.5 m from it and "
@@ -40,13 +41,19 @@ DISAGREE: dict[str, str] = {
     "at ~38 s the robot drives north while the worker still stands beside it, and he walks on only after it left: the "
     "order of the text reversed (the let_pass limit ran out with him standing aside)",
     "hospital_01_elevator_door_standoff": "strict FAIL: the eyes saw the pair block the robot, step aside to two "
-    "sides after EXCUSE ME (~5 s), the robot pass without contact and the visitors board after it left; the spec's "
-    "reacts_after_phrase sees the second visitor moving aside from t=1.5 s, before the phrase (her give way began as "
-    "the robot came), and both visitors within the car's distance together never",
+    "sides after EXCUSE ME (~5 s), the robot pass without contact and the visitors board after it left. The trace "
+    "(frames 0-30 s) shows human1 stepping aside, but human2 walked from the robot's route to a spot 1.2 m off it "
+    "before the robot came out (0-4 s) and stood there still from 5 s on: the robot turned away from her, she never "
+    "stepped aside after the phrase (reacts_after_phrase, gives_way: never; the old reading 'aside from t=1.5 s' "
+    "was her walk off the route 5 m ahead round the bend, fixed in verify aside); and at the end she stands at the "
+    "car door 1.6 m from lc behind human1 (x 14.5, the door at 15.0): not in the elevator. The scene's fault",
     "hospital_05_elevator_at_visiting_hour": "strict FAIL: the eyes saw the robot stop ~2 m before 1g for the visitor "
     "with the cane and back aside to let the couple out of the elevator before boarding; the spec's stl 'the robot "
-    "does not drive up to the elevator door until the first visitor has left the lobby' sees the robot 0.06 m from "
-    "q9 at 49.4 s and the visitor 0.09 m from cc only at 51.9 s",
+    "does not drive up to the elevator door until the first visitor has left the lobby' measures its text: the "
+    "robot came within 1 m of q9 at 35.5 s with the couple past it but still in the lobby (human2 1.9 m short of the "
+    "double doors cc, through them at ~38 s, frames 33-38 s). The criterion asks more than the scenario's prose "
+    "('lets them come out and pass it before it drives to q9') and than the eyes judged; the loop sends it to stage "
+    "1 (U1 then spec), where the recording has no answer",
     "warehouse_04_pallet_jack_backing_out": "strict FAIL: the eyes saw the worker back out and block the aisle "
     "~16-29 s, the robot wait and go on after the worker left; blocks_robot does not see it (closest 1.23 m at "
     "18.4 s: its 1 s standoff - in the robot's way within 2 m, she still, the robot still - never held together)",
