@@ -52,3 +52,24 @@ def test_a_stand_straight_ahead_counts_at_any_distance() -> None:
     human = np.stack([np.full_like(T, 7.0), np.interp(T, [0, 2, 4, 20], [3.0, 3.0, 4.0, 4.0])], 1)
     out = aside(Signals(_trace(np.full_like(T, 1.0), human, straight)), "human1")
     assert not out[T < 2.0].any() and out[T >= 4.0].all()
+
+
+def _steps_aside_and_back(back_at: float) -> np.ndarray:
+    """The robot drives +x along y = 3 from x = 1 at 0.5 m/s (at x = 6 by t = 10 s, x = 11 by t = 20 s); the person
+    stands on the route at (6, 3), steps 1 m off it (y 4) at t = 2-4 s and walks back onto the route from
+    t = back_at for 2 s (to the spot it left)."""
+    straight = [(1.0, 3.0), (12.0, 3.0)]
+    hy = np.interp(T, [0, 2, 4, back_at, back_at + 2, 20], [3.0, 3.0, 4.0, 4.0, 3.0, 3.0])
+    human = np.stack([np.full_like(T, 6.0), hy], 1)
+    signals = Signals(_trace(np.interp(T, [0, 20], [1.0, 11.0]), human, straight))
+    return signals.get("aside_human1") > 0.5  # kept aside (verify/passing.kept_aside)
+
+
+def test_walking_back_behind_the_robot_once_it_is_past_undoes_no_step_aside() -> None:
+    out = _steps_aside_and_back(14.0)  # the robot passed x = 6 at t = 10 s; back on the spot at 16 s, behind it
+    assert out[(T >= 4.0)].all()
+
+
+def test_walking_back_into_the_way_before_the_robot_is_past_is_no_step_aside() -> None:
+    out = _steps_aside_and_back(6.0)  # back on the route at 8 s, the robot 1 m short of her
+    assert not out[(T >= 4.0) & (T < 6.0)].any() and not out[T >= 8.0].any()

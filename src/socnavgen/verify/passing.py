@@ -102,16 +102,25 @@ def back_in_way(s: Signals, human: str) -> np.ndarray:
 
 def kept_aside(s: Signals, human: str, stepped: np.ndarray) -> np.ndarray:
     """`stepped` (`aside`) on the steps after which the person stays out of the robot's way until it has got
-    past them (module doc)."""
+    past them (module doc); and from such a step on while the robot is past them and they are not back in its
+    way: the person let it through, walking back behind it (to the spot or the group they left) undoes nothing
+    (warehouse_08, first answer: a packer who parted for the robot and closed up with the others once it was past
+    her failed gives_way when another packer came into its way as it turned on at the corner)."""
     stepped = np.asarray(stepped, dtype=bool)
     if not stepped.any():
         return stepped
     back = back_in_way(s, human)
     n = len(stepped)
     after = np.minimum(np.arange(n) + 1, n - 1)
-    next_back, next_past = _next(back)[after], _next(got_past(s, human))[after]
+    past = got_past(s, human)
+    next_back, next_past = _next(back)[after], _next(past)[after]
     last = np.arange(n) == n - 1
-    return stepped & (last | (next_back >= n) | (next_past < next_back))
+    kept = stepped & (last | (next_back >= n) | (next_past < next_back))
+    through = (past & ~back).tolist()
+    out = kept.tolist()
+    for k in range(1, n):  # a let-through lasts while the robot stays past them and they stay out of its way
+        out[k] = out[k] or (out[k - 1] and through[k])
+    return np.asarray(out, dtype=bool)
 
 
 def undone(s: Signals, human: str, stepped: np.ndarray) -> tuple[float, float] | None:
