@@ -44,3 +44,27 @@ def test_a_member_who_leaves_after_the_robot_passed_or_a_split_without_the_robot
     assert not _together([0.0, 0.0, 0.0, 0.0], APART_N, APART_S)  # parted with the robot far away
     stays = ([0, 7, 8], [3.6, 3.6, 4.7])  # they never close up again after it has passed
     assert not _together(PASSING, stays, ([0, 7, 8], [2.4, 2.4, 1.3]))
+
+
+def _swinging(swing: tuple[float, float]) -> bool:
+    """The robot stands at (2.5, 3) facing the pair until t = 10 s, then drives between them (x 8 by 14 s); the pair
+    at x = 5 steps apart from 1.2 m to 3.8 m at t = 7-9 s, stands apart, and closes up again at t = 12.5-14.5 s. While
+    `swing` (t from, to) the robot's heading swings 1 rad off them (the gap is then not ahead of it)."""
+    robot = np.stack([np.interp(T, [0, 10, 14, 24], [2.5, 2.5, 8.0, 12.0]), np.full_like(T, 3.0)], 1)
+    ys = [np.interp(T, [0, 7, 9, 12.5, 14.5, 24], [3.0 + d * k for k in (0.6, 0.6, 1.9, 1.9, 0.6, 0.6)]) for d in (1, -1)]
+    humans = np.stack([np.stack([np.full_like(T, 5.0), y], 1) for y in ys], 1)
+    trace = build_trace(T, robot, humans, dt=0.1, groups=[0, 0])
+    start, end = swing
+    t = trace.t
+    trace.robot[:, 2] = np.where((t >= start) & (t < end), 1.0, 0.0)
+    cc = compile_criterion(Criterion(id="c", kind="group_together", humans=["human1", "human2"], distance=2.5,
+                                     text="t"), ScenarioSpec(), VerifySettings(), 0.2)
+    return monitor(cc.formula, Signals(trace)).passed
+
+
+def test_a_parting_goes_on_while_the_robots_heading_swings_off_for_a_moment():
+    assert _swinging((8.2, 8.6))  # still stepping apart (2.8 m) with the gap 0.4 s off its heading
+
+
+def test_a_pair_that_splits_while_the_robot_looks_away_is_no_parting():
+    assert not _swinging((0.0, 10.0))  # the gap never ahead of it while they split: no parting for it
