@@ -68,3 +68,32 @@ def test_a_parting_goes_on_while_the_robots_heading_swings_off_for_a_moment():
 
 def test_a_pair_that_splits_while_the_robot_looks_away_is_no_parting():
     assert not _swinging((0.0, 10.0))  # the gap never ahead of it while they split: no parting for it
+
+
+TB = np.arange(0, 24.0 + 1e-9, 0.1)
+
+
+def _beside_next_leg(closes_at: float) -> bool:
+    """warehouse_08's shape: the robot drives east along y = 3 to (5, 3) by t = 10 s, then north along x = 5 (its
+    route turns there); human1 stands at (6.3, 2.2); human2 stands on the north leg at (5, 4) and steps aside to
+    (6.5, 4.9) at t = 7-8 s, beside that leg, 2.7 m from human1, waits there until the robot has gone by her
+    (y 4.9 at t = 12 s) and closes up to (6, 3.6) from t = closes_at for 1 s."""
+    rx = np.where(TB < 10.0, 0.5 * TB, 5.0)
+    ry = np.where(TB < 10.0, 3.0, np.interp(TB, [10, 14, 24], [3.0, 6.8, 10.0]))
+    h2 = np.stack([np.interp(TB, [0, 7, 8, closes_at, closes_at + 1, 24], x) for x in
+                   ([5.0, 5.0, 6.5, 6.5, 6.0, 6.0], [4.0, 4.0, 4.9, 4.9, 3.6, 3.6])], 1)
+    humans = np.stack([np.tile([[6.3, 2.2]], (len(TB), 1)), h2], 1)
+    trace = build_trace(TB, np.stack([rx, ry], 1), humans, dt=0.1, groups=[0, 0], goal=(5.0, 10.0))
+    trace.robot[:, 2] = np.where(TB < 10.0, 0.0, np.pi / 2)
+    trace.robot_waypoints = [(0.0, 3.0), (5.0, 3.0), (5.0, 10.0)]
+    cc = compile_criterion(Criterion(id="c", kind="group_together", humans=["human1", "human2"], distance=2.5,
+                                     text="t"), ScenarioSpec(), VerifySettings(), 0.2)
+    return monitor(cc.formula, Signals(trace)).passed
+
+
+def test_a_member_waiting_beside_the_robots_next_leg_until_it_has_gone_by_is_parting():
+    assert _beside_next_leg(12.5)  # closes up 0.5 s after the robot went by her
+
+
+def test_a_member_who_stays_apart_after_the_robot_went_by_is_not():
+    assert not _beside_next_leg(16.0)  # still 2.7 m apart 4 s after it went by

@@ -138,9 +138,11 @@ def parted_for_robot(s: Signals, a: int, b: int) -> np.ndarray:
     """(T,) bool: two people (human indices a, b) are apart to let the robot through: the robot's centre is
     between them (its projection inside the segment joining them, within its radius + GIVE_WAY_CLEARANCE of
     it), or its heading crosses that segment within proxemics.HELD_UP_DISTANCE ahead (it is about to pass
-    between them), or either executes GiveWaytoRobot with the robot within HELD_UP_DISTANCE of them, and after that while they are closing up again (their distance
-    shrinking step by step, after at most REGROUP_PAUSE standing where they stepped to or still stepping apart:
-    warehouse_08's packers went on parting 0.4 s while the robot's heading swung off the gap between them). A group's cohesion (`spread`) is judged outside these steps: a group that parts for
+    between them), or either executes GiveWaytoRobot with the robot within HELD_UP_DISTANCE of them, or either
+    stands aside (`aside`) for the robot within that distance and not yet past them (warehouse_08: a packer
+    waiting beside the robot's next leg until it has gone by her); and for REGROUP_PAUSE after such a step
+    whatever they do (the robot's heading swinging off the gap, or onto the one aside, for a moment: warehouse_08),
+    and on while they are closing up again (their distance shrinking step by step). A group's cohesion (`spread`) is judged outside these steps: a group that parts for
     the robot and closes again is a group, one whose member leaves is not (hospital_08)."""
     pos = s.trace.humans[:, :, :2]
     robot = s.trace.robot[:, :2]
@@ -157,13 +159,15 @@ def parted_for_robot(s: Signals, a: int, b: int) -> np.ndarray:
     between |= (j > 0.0) & (j < 1.0) & (k >= 0.0) & (k <= proxemics.HELD_UP_DISTANCE)
     near = [contact.lengths(robot - pos[:, i]) <= proxemics.HELD_UP_DISTANCE for i in (a, b)]
     parted = between | (s.trace.executed(a, "GiveWaytoRobot") & near[0]) | (s.trace.executed(b, "GiveWaytoRobot") & near[1])
+    for i, close in zip((a, b), near, strict=True):  # one still standing aside for a robot not yet past them
+        name = s.trace.human_names[i]
+        parted |= (s.get(f"aside_{name}") > 0.5) & ~got_past(s, name) & close
     change = np.diff(contact.lengths(seg), prepend=np.inf)
     t = np.asarray(s.trace.t, dtype=float)
-    out, ended, closed = parted.copy(), -np.inf, False
+    out, ended = parted.copy(), -np.inf
     for k in range(1, len(parted)):  # the closing-up after a parting continues it
         if parted[k]:
-            ended, closed = t[k], False
+            ended = t[k]
             continue
-        closed = closed or change[k] < -CLOSING_STEP
-        out[k] = out[k - 1] and (change[k] < -CLOSING_STEP or (not closed and t[k] - ended <= REGROUP_PAUSE))
+        out[k] = out[k - 1] and (change[k] < -CLOSING_STEP or t[k] - ended <= REGROUP_PAUSE)
     return out
