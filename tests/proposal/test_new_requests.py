@@ -54,6 +54,12 @@ DISAGREE: dict[str, str] = {
     "double doors cc, through them at ~38 s, frames 33-38 s). The criterion asks more than the scenario's prose "
     "('lets them come out and pass it before it drives to q9') and than the eyes judged; the loop sends it to stage "
     "1 (U1 then spec), where the recording has no answer",
+    "warehouse_08_group_at_staging_pallet": "lenient PASS: the replay now ends at the FIRST answer (its group "
+    "parting and give-ways are judged right since the verifier's parting and let-through measures, session 11); the "
+    "eyes judged round 3's run. Frames of the first answer: the robot stops ~0.5 s about 2 m before the packers, "
+    "says EXCUSE ME and drives on at 0.3-0.45 m/s while they still step aside, passes packer 3 at a 0.45 m gap "
+    "(~31 s) and packer 2 at 0.33 m (~40.5 s), and the packers gather again round vj (~48 s): it does not wait "
+    "until the way is clear, which the prose asks and no criterion of the spec states",
     "warehouse_04_pallet_jack_backing_out": "strict FAIL: the eyes saw the worker back out and block the aisle "
     "~16-29 s, the robot wait and go on after the worker left; blocks_robot does not see it (closest 1.23 m at "
     "18.4 s: its 1 s standoff - in the robot's way within 2 m, she still, the robot still - never held together)",
