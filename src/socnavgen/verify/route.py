@@ -10,7 +10,8 @@ import numpy as np
 
 from socnavgen.sim import contact
 
-TIE = 1e-3  # m: segments this equally near a point are the same place on a route that comes back over itself
+TIE = 1e-6  # m: segments this equally near a point are the same place on a route that comes back over itself
+#              (exact overlaps only: near a joint the first nearest wins as before, to the bit)
 
 
 def route_progress(robot_xy: np.ndarray, waypoints: list[tuple[float, float]],
