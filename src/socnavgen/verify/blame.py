@@ -402,11 +402,9 @@ def _blame_meeting(cc: Compiled, s: Signals, h: str) -> Verdict:
     e, within, node = cc.encounter.id, cc.encounter.within, cc.encounter.node or cc.encounter.id
     near = (s.get(f"dist_{h}") <= d) & (s.get(f"mid_{h}_to_{e}") <= within)
     if near.any() and not met_mask(s, h, cc.encounter, d).any():
-        if off := stayed_off_place(cc, s, h, near):
-            return "paths", None, (f"{off[0]} stayed {off[1]:.1f} m from {node}, beyond the `within` ({within:g} m), never "
-                                   f"coming toward it: let it wait at {node} or come to it, or set the encounter there")
-        return "paths", None, (f"the robot and {h} were together at {node} only without approaching each other (from "
-                               "where they started): start them farther apart, or from other nodes")
+        return "paths", None, stayed_off_place(cc, s, h, near) or (
+            f"the robot and {h} were together at {node} only without approaching each other (from where they "
+            "started): start them farther apart, or from other nodes")
     if s.get(f"robot_to_{e}").min() > within:
         return "paths", None, f"the robot never came within {within:g} m of {node}"
     if s.get(f"{h}_to_{e}").min() > within:

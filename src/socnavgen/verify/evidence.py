@@ -113,20 +113,21 @@ def _no_approach(cc: Compiled, s: Signals, h: str, j: int) -> str:
     return ""
 
 
-def stayed_off_place(cc: Compiled, s: Signals, h: str, near: np.ndarray) -> tuple[str, float] | None:
-    """(who, how far from the place it started) for a meeting that failed only because the robot or `h` neither
-    came toward the encounter's place nor started within its `within` (a wife cooking at the stove 2.1 m from the
-    kitchen node of a `within` 1.5 encounter, home_08), over the steps `near` (within the distance at the place);
-    None when they did not come closer to each other either, or no party is to blame so."""
+def stayed_off_place(cc: Compiled, s: Signals, h: str, near: np.ndarray) -> str | None:
+    """The repair (blame rule N3) for a meeting that failed only because the robot or `h` neither came toward the
+    encounter's place nor started within its `within` (a wife cooking at the stove 2.1 m from the kitchen node of
+    a `within` 1.5 encounter, home_08), over the steps `near` (within the distance at the place): who, and how far
+    from the place it stayed; None when they did not come closer to each other either, or no party is to blame so."""
     if cc.encounter is None:
         return None
-    e, w = cc.encounter.id, cc.encounter.within
+    e, w, node = cc.encounter.id, cc.encounter.within, cc.encounter.node or cc.encounter.id
     approached = near & (s.get(f"closer_{h}") >= APPROACH)
     if not approached.any():
         return None
     for who in ("robot", h):
         if not came_to(s, who, e, w)[approached].any():
-            return who, float(s.get(f"{who}_to_{e}")[0])
+            return (f"{who} stayed {float(s.get(f'{who}_to_{e}')[0]):.1f} m from {node}, beyond the `within` "
+                    f"({w:g} m), never coming toward it: let it wait at {node} or come to it, or set the encounter there")
     return None
 
 

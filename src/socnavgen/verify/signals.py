@@ -248,10 +248,8 @@ class Signals:
 
             tx, ty = tangent[:, 0], tangent[:, 1]
             half = float(self.trace.robot_radius) + radius + proxemics.WAY_MARGIN_VERIFY
-            # along the route's direction only up to its next turn (and a body past it): someone straight on
-            # beyond a bend is not on the way it turns to (hospital_04: a nurse beside the doorway it turns into)
-            leg = leg_left(self.route()[0], list(self.trace.robot_waypoints))[k]
-            on_leg = (px - rx) * tx + (py - ry) * ty <= leg + float(self.trace.robot_radius) + radius
+            leg = leg_left(self.route()[0], list(self.trace.robot_waypoints))[k]  # route direction: up to its next turn
+            on_leg = (px - rx) * tx + (py - ry) * ty <= leg + float(self.trace.robot_radius) + radius  # (hospital_04)
             out[k, i] = way(np.cos(yaw), np.sin(yaw)) | (way(tx, ty) & ((tx != 0) | (ty != 0)) & on_leg) | ahead_on_route(
                 self.route()[0][k], np.stack([px, py], 1), list(self.trace.robot_waypoints), half,
                 proxemics.HELD_UP_DISTANCE, float(self.trace.robot_radius))
