@@ -138,7 +138,10 @@ NODES: list[NodeSpec] = [
                       "sight on the occupancy map, as the prompt says."),
     NodeSpec(name="IsRobotNearby", kind="condition", ports=[_AGENT, _dist("metres")], gate=True,
              detects=("robot_near",),
-             description="SUCCESS when the robot is within `distance` metres of the human, walls or not.",
+             description="SUCCESS when the robot is within `distance` metres of the human, walls or not. Each "
+                         "human measures from where they stand: in a group, those nearer the robot succeed first "
+                         "(to make people go one after the other, time them from one shared cue such as a "
+                         "robot phrase).",
              capability="Check whether the robot is near the human",
              targets={"socrates", "hunav2"}, hunav2="IsRobotClose"),
     NodeSpec(name="IsRobotBlocking", kind="condition", ports=[_AGENT, _dist("metres")], gate=True,
