@@ -45,6 +45,7 @@ from socnavgen.location.inventory import BLIND_SIGHT_M
 from socnavgen.location.places import CORNER_TURN_DEG
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.routing import project
+from socnavgen.sim.robot.lead import goes_with_robot
 from socnavgen.sim.world.queries import free_along, line_of_sight
 
 PASS_GAP = INTIMATE_SPACE  # m: the gap the robot tries to leave beside a person it passes
@@ -321,7 +322,7 @@ def coming_through(s, forward, reach, in_line):  # noqa: ANN001, ANN201
         q = people[i]
         rel = (q.pos - p) * back
         gap = abs(rel) - q.radius - robot.radius
-        if gap > reach or not q.has_goal or (in_line and (rel.real <= 0 or abs(rel.imag) > q.radius + robot.radius
+        if gap > reach or not q.has_goal or goes_with_robot(s, i) or (in_line and (rel.real <= 0 or abs(rel.imag) > q.radius + robot.radius
                                                           + PASS_GAP)):
             continue
         toward = p - q.pos
