@@ -180,9 +180,10 @@ def yield_to(s):  # noqa: ANN001, ANN201
             continue
         w = q.vel / abs(q.vel) if abs(q.vel) > CLOSING else u
         lateral = (d * w.conjugate()).imag
-        if gap > YIELD_GAP and not (abs(q.vel) > CLOSING and abs(lateral) < q.radius + robot.radius
-                                    + ROBOT_SOCIAL_GAP):
-            continue  # farther off: only someone walking at it, whose line would bring them too close
+        if gap > YIELD_GAP and (goes_with_robot(s, i) or not (abs(q.vel) > CLOSING and abs(lateral) < q.radius
+                                                              + robot.radius + ROBOT_SOCIAL_GAP)):
+            continue  # farther off: only someone walking at it, whose line would bring them too close (not someone
+            # coming to it: a follower or blocker stops short of it)
         if gap > YIELD_GAP and (q.vel * robot.vel.conjugate()).real > 0:
             continue  # farther off and walking the way it drives (catching up from behind): pass_aside's
         side = 1.0 if lateral >= 0 else -1.0
