@@ -27,6 +27,7 @@ from socnavgen.sim.jit import jit
 from socnavgen.sim.people.make_room import short_of_goal, stopped_short  # noqa: F401 - step.py's import
 from socnavgen.sim.people.physics import pair_force, wall_force
 from socnavgen.sim.records import layout
+from socnavgen.sim.robot.lead import lead_speed
 from socnavgen.sim.robot.planner import steer
 from socnavgen.sim.robot.polite import (
     corner_speed,
@@ -346,7 +347,8 @@ def scripted_act(s, now):  # noqa: ANN001, ANN201
     behind_them = follow_speed(s, direction)  # a same-way walker with no room to overtake: it follows them
     if along > behind_them:
         v -= (along - behind_them) * direction
-    top = near_speed(s, v, policy.max_speed)  # slower the nearer it passes someone (personal to intimate space)
+    top = min(near_speed(s, v, policy.max_speed),  # slower the nearer it passes someone (personal to intimate space)
+              lead_speed(s, policy.max_speed))  # and while its followers fall behind
     if abs(v) > top:
         v = v * (top / abs(v))
     away = yield_to(s)
