@@ -42,8 +42,9 @@ def lead_speed(s, cruise):  # noqa: ANN001, ANN201
     top = math.inf
     for i in range(people.shape[0]):
         q = people[i]
-        if not (q.walks and q.route == ROUTE_ROBOT and abs(q.target - robot.pos) < 1e-6):
+        behind = abs(q.pos - robot.pos)
+        if behind <= LEAD_EASE or not (q.walks and q.route == ROUTE_ROBOT and abs(q.target - robot.pos) < 1e-6):
             continue
-        share = 1.0 - (abs(q.pos - robot.pos) - LEAD_EASE) / (LEAD_LOST - LEAD_EASE)
-        top = min(top, cruise * min(1.0, max(LEAD_SLOWEST, share)))
+        share = 1.0 - (behind - LEAD_EASE) / (LEAD_LOST - LEAD_EASE)
+        top = min(top, cruise * max(LEAD_SLOWEST, share))
     return top
