@@ -47,9 +47,19 @@ DISAGREE: dict[str, str] = {
     "with the cane and back aside to let the couple out of the elevator before boarding; the spec's stl 'the robot "
     "does not drive up to the elevator door until the first visitor has left the lobby' sees the robot 0.06 m from "
     "q9 at 49.4 s and the visitor 0.09 m from cc only at 51.9 s",
-    "warehouse_04_pallet_jack_backing_out": "strict FAIL: the eyes saw the worker back out and block the aisle "
-    "~16-29 s, the robot wait and go on after the worker left; blocks_robot does not see it (closest 1.23 m at "
-    "18.4 s: its 1 s standoff - in the robot's way within 2 m, she still, the robot still - never held together)",
+    "warehouse_04_pallet_jack_backing_out": "strict FAIL: the eyes (round 11) saw the worker back out and block the "
+    "aisle ~16-29 s, the robot wait and go on after the worker left. Since s11 the robot holds in front of the worker "
+    "walking out to block it (blocks_robot passes); frames of the s11 replay: it stops ~1 m before the aisle mouth "
+    "(~15 s), stands while she blocks it on the route (~17-23 s), she goes back into the aisle mouth and stands "
+    "(~24-29 s), it drives on east past her at ~0.45 m (~25-30 s) and she walks west only after (~31 s): the stl "
+    "'the robot does not drive on east before the worker ... walked off west past it' fails, rightly for that run "
+    "(she waits for the robot on her way instead of walking past it: people side)",
+    "warehouse_03_fire_alarm_evacuation": "strict PASS since s11 (was a FAIL with the eyes): the eyes (round 11) saw "
+    "the robot and four workers deadlocked in a clump from ~25 s to the timeout. On s11 code (the robot never makes "
+    "way for its own followers, slows for one falling behind) the frames show FOLLOW ME at ~7 s, the robot going down "
+    "to vj among the three (~16-22 s), then a line along the south cross aisle - robot, workers 2, 3, 1, worker 4 "
+    "following worker 1 (~26-48 s) - and the robot at the loading door with the four behind it at 56 s: the eyes' "
+    "verdict is of the old run; to be judged again",
 }
 
 # Fixtures whose recorded answers a stage check added since refuses, each with why; the recording has no answer
