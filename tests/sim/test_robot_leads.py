@@ -159,12 +159,14 @@ def test_guide_slows_for_a_follower_falling_behind_but_never_stops_for_them():
     q, robot = s.people[0], s.robot[0]
     q.walks, q.route, q.target = True, ROUTE_ROBOT, robot.pos  # walking after it (FollowRobot)
     share = 1.0 - 0.5 / (LEAD_LOST - LEAD_EASE)
-    assert lead_speed(s, 0.6) == pytest.approx(0.6 * share)
+    assert lead_speed(s, 0.6, 1.0 + 0j) == pytest.approx(0.6 * share)
     q.pos = 8.0 - LEAD_LOST - 3.0 + 5.0j  # far behind: it creeps on, it does not wait for them for good
-    assert lead_speed(s, 0.6) == pytest.approx(0.6 * LEAD_SLOWEST)
+    assert lead_speed(s, 0.6, 1.0 + 0j) == pytest.approx(0.6 * LEAD_SLOWEST)
     q.pos = 8.0 - 2.0 + 5.0j  # keeping up
-    assert lead_speed(s, 0.6) == math.inf
+    assert lead_speed(s, 0.6, 1.0 + 0j) == math.inf
+    q.pos = 8.0 + LEAD_LOST + 5.0j  # coming to it from ahead: not falling behind
+    assert lead_speed(s, 0.6, 1.0 + 0j) == math.inf
     q.pos, q.target = 8.0 - LEAD_LOST + 5.0j, robot.pos + 1.5  # coming to block it (a point ahead of it)
-    assert lead_speed(s, 0.6) == math.inf
+    assert lead_speed(s, 0.6, 1.0 + 0j) == math.inf
     q.target, q.route = robot.pos, ROUTE_GOAL  # walking their own way
-    assert lead_speed(s, 0.6) == math.inf
+    assert lead_speed(s, 0.6, 1.0 + 0j) == math.inf

@@ -33,17 +33,19 @@ def goes_with_robot(s, i):  # noqa: ANN001, ANN201
 
 
 @jit
-def lead_speed(s, cruise):  # noqa: ANN001, ANN201
-    """The most the robot drives while it leads (inf: nobody follows it from afar): for each person walking after it
-    (their target is the robot itself: FollowRobot) farther than LEAD_EASE (centres), `cruise` scaled down with the
-    distance to LEAD_SLOWEST of it at LEAD_LOST and beyond. A guide lets its line keep up; it never stops for them:
-    a follower who cannot come (stuck behind others, a wall) does not hold it for good."""
+def lead_speed(s, cruise, direction):  # noqa: ANN001, ANN201
+    """The most the robot drives along the unit `direction` while it leads (inf: nobody follows it from afar): for
+    each person walking after it (their target is the robot itself: FollowRobot), behind it, farther than LEAD_EASE
+    (centres), `cruise` scaled down with the distance to LEAD_SLOWEST of it at LEAD_LOST and beyond. A guide lets its
+    line keep up; it never stops for them: a follower who cannot come (stuck behind others, a wall) does not hold it
+    for good. Someone coming to it from ahead is not falling behind."""
     robot, people = s.robot[0], s.people
     top = math.inf
     for i in range(people.shape[0]):
         q = people[i]
         behind = abs(q.pos - robot.pos)
-        if behind <= LEAD_EASE or not (q.walks and q.route == ROUTE_ROBOT and abs(q.target - robot.pos) < 1e-6):
+        if behind <= LEAD_EASE or ((q.pos - robot.pos) * direction.conjugate()).real >= 0.0 or not (
+                q.walks and q.route == ROUTE_ROBOT and abs(q.target - robot.pos) < 1e-6):
             continue
         share = 1.0 - (behind - LEAD_EASE) / (LEAD_LOST - LEAD_EASE)
         top = min(top, cruise * max(LEAD_SLOWEST, share))

@@ -348,7 +348,7 @@ def scripted_act(s, now):  # noqa: ANN001, ANN201
     if along > behind_them:
         v -= (along - behind_them) * direction
     top = min(near_speed(s, v, policy.max_speed),  # slower the nearer it passes someone (personal to intimate space)
-              lead_speed(s, policy.max_speed))  # and while its followers fall behind
+              lead_speed(s, policy.max_speed, direction))  # and while its followers fall behind
     if abs(v) > top:
         v = v * (top / abs(v))
     away = yield_to(s)
