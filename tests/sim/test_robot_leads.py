@@ -104,7 +104,7 @@ def test_wait_until_clear_holds_in_front_of_someone_walking_out_to_block_it_unti
     drives on once they have gone; a silent cue waits as long as one that asks (8 s block here)."""
     script = RobotScript(cues=[RobotCue(trigger=CueTrigger(when="blocked", distance=3.0), wait_until_clear=True)])
     aisle = empty_room(20.0, 10.0, walls=[(0.0, 0.0, 20.0, 3.5), (0.0, 6.5, 9.0, 10.0), (10.0, 6.5, 20.0, 10.0)])
-    worker = human(start=(9.5, 7.5), goals=[(9.5, 7.5)])  # in the side aisle; afterwards goes back there
+    worker = human(start=(9.5, 6.8), goals=[(9.5, 6.8)])  # in the side aisle; afterwards goes back there
     sim = make_sim([worker], [BLOCKS], [(2.0, 5.0), (16.0, 5.0)], ScriptedPolicy(), world=aisle, script=script,
                    timeout=80, idle_end=80)
     trace = sim.run()

@@ -5,7 +5,7 @@ robot's policy acts. What they ask now is `Cues` (obs.cues): every policy sees i
 A cue fires on the step its trigger becomes true (`once`: only the first time). Firing: `say` shows the
 phrase for `hold` s, `wait` stands still for `wait` s, `wait_until_clear` then stands until nobody is inside
 the corridor the robot's body sweeps ahead (people who stepped aside do not hold it; people walking into it do), and
-CLEAR_SETTLE s more once it opened; still blocked after CLEAR_PATIENCE s it says the cue's phrase again (a silent
+CLEAR_SETTLE s more once it opened (nobody in its way when it fired: it goes on at once); still blocked after CLEAR_PATIENCE s it says the cue's phrase again (a silent
 cue waits on as long), CLEAR_REPEATS times, then stops waiting (the robot then
 goes around where there is room: a scripted wait never becomes a deadlock); `let_pass` stands until that
 person has gone by (gone_by: came near, out of its way, moving off), at most `wait` s (LET_PASS_PATIENCE without
@@ -67,7 +67,8 @@ CUE = layout([("when", "i8"), ("who", "i8"), ("phrase", "i8"), ("say", "i8"), ("
               ("pause", "f8"), ("speed", "f8"),  # speed NaN: no change
               ("fired", "i8"), ("was_true", "?"), ("waiting_until_clear", "?"), ("repeats", "i8"),
               ("say_until", "f8"), ("wait_until", "f8"), ("clear_since", "f8"),
-              ("open_since", "f8"),  # waiting until clear: since when nobody has been in its way (inf: someone is)
+              ("open_since", "f8"),  # waiting until clear: since when nobody has been in its way (inf: someone is,
+              # -inf: nobody was since it fired)
               # let_pass: the person (-1: none), waiting for them, they came near, their closest, the limit
               ("lets_pass", "i8"), ("letting_pass", "?"), ("pass_near", "?"), ("pass_closest", "f8"),
               ("pass_until", "f8")])
@@ -352,7 +353,7 @@ def play(s, script):  # noqa: ANN001, ANN201
         cue.waiting_until_clear = cue.until_clear
         cue.letting_pass, cue.pass_near, cue.pass_closest = cue.lets_pass >= 0, False, math.inf
         cue.pass_until = t + (cue.pause if cue.pause > 0 else LET_PASS_PATIENCE)
-        cue.clear_since, cue.open_since, cue.repeats = t, math.inf, 0
+        cue.clear_since, cue.open_since, cue.repeats = t, -math.inf, 0  # open for ever: nobody in its way, it goes on
         if not math.isnan(cue.speed):
             now.speed = cue.speed
         log(script, t, c, FIRED)
