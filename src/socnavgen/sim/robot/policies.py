@@ -323,7 +323,7 @@ def scripted_act(s, now):  # noqa: ANN001, ANN201
     policy.max_speed = min(now.speed, policy.speed_cap, corner)
     if now.wait:  # out of the way of anyone closing in; in a timed wait, out of the walkway of someone coming
         policy.speed = 0.0
-        v = yield_to(s)
+        v, _ = yield_to(s)
         if v == 0 and now.timed:
             v = wait_aside(s)
         return social_clear(s, slide_along_walls(s, v))
@@ -351,8 +351,8 @@ def scripted_act(s, now):  # noqa: ANN001, ANN201
               lead_speed(s, policy.max_speed, direction))  # and while its followers fall behind
     if abs(v) > top:
         v = v * (top / abs(v))
-    away = yield_to(s)
-    if away != 0:  # someone walking at it or closing in: it stops and steps out of their way (no progress meanwhile)
+    away, stops = yield_to(s)
+    if stops:  # someone walking at it or closing in: it stops and steps out of their way (no progress meanwhile)
         v = away
     if abs(v) > corner:  # all of it (passing aside, yielding) within the blind corner's speed
         v = v * (corner / abs(v))

@@ -4,10 +4,9 @@ robot's policy acts. What they ask now is `Cues` (obs.cues): every policy sees i
 
 A cue fires on the step its trigger becomes true (`once`: only the first time). Firing: `say` shows the
 phrase for `hold` s, `wait` stands still for `wait` s, `wait_until_clear` then stands until nobody is inside
-the corridor the robot's body sweeps ahead (people who stepped aside do not hold it; people walking into it do), and
-CLEAR_SETTLE s more once it opened (nobody in its way when it fired: it goes on at once); still blocked after CLEAR_PATIENCE s it says the cue's phrase again (a silent
-cue waits on as long), CLEAR_REPEATS times, then stops waiting (the robot then
-goes around where there is room: a scripted wait never becomes a deadlock); `let_pass` stands until that
+the corridor the robot's body sweeps ahead (people who stepped aside do not hold it; people walking into it
+do); still blocked after CLEAR_PATIENCE s it says the cue's phrase again (a silent cue waits on as long),
+CLEAR_REPEATS times, then stops waiting (the robot then goes around where there is room: a scripted wait never becomes a deadlock); `let_pass` stands until that
 person has gone by (gone_by: came near, out of its way, moving off), at most `wait` s (LET_PASS_PATIENCE without
 one): "the robot lets her go first"; `speed` sets the cruise speed.
 A gesture rule holds its gesture while its condition held within its last `duration` seconds; the first
@@ -40,8 +39,6 @@ ROBOT_PHRASE_CODE = {name: code for code, name in ROBOT_GESTURES.items() if code
 HUMAN_PHRASE_CODE = {name: code for code, name in HUMAN_GESTURES.items() if code}
 CLEAR_PATIENCE = 8.0  # s: still blocked after this long, the robot asks again (its cue's phrase; silent: waits on) ...
 CLEAR_REPEATS = 2  # ... this many times, then stops waiting and drives around like an operator would
-CLEAR_SETTLE = 1.5  # s the way must have stayed open before a wait until clear ends (the people who stepped aside
-# have settled there: a robot that asked holds until then, it does not roll on while they still move)
 LET_PASS_PATIENCE = 20.0  # s: a `let_pass` cue without a `wait` stands at most this long for its person
 LET_PASS_AWAY = 0.5  # m: the person let pass has gone by once this much farther from the robot than its closest
 AT_NODE = 1.0  # m: a gesture rule `at_node` holds within this distance of its node
@@ -49,8 +46,8 @@ SQUEEZE = ROBOT_SOCIAL_GAP + 0.15  # m: someone beside the route whom the robot 
 # aside (keeping ROBOT_SOCIAL_GAP, where walls and other people leave it room) does not hold it "until clear". Named
 # from the gap: the people it passes so are those up to SQUEEZE - ROBOT_SOCIAL_GAP + proxemics.WAY_MARGIN_SCRIPT
 # (0.25 m) inside the corridor its body sweeps, whatever the gap (a SQUEEZE below gap - margin passes nobody)
-INTO_WAY = 0.1  # m/s toward the robot's route: someone walking into its way (not one who stepped aside) is not
-# squeezed past: they will stand in it (a worker coming to block it, someone crossing) ...
+INTO_WAY = proxemics.STANDING_SPEED  # m/s toward the robot's route: someone walking into its way (not one who
+# stepped aside) is not squeezed past: they will stand in it (a worker coming to block it, someone crossing) ...
 INTO_WAY_LOOK = 1.0  # s: ... and is in its way already where they will be this soon
 
 START, AFTER, AT_ENCOUNTER, BLOCKED, HUMAN_WITHIN, HUMAN_SAYS, HUMAN_FARTHER = range(7)
@@ -67,8 +64,6 @@ CUE = layout([("when", "i8"), ("who", "i8"), ("phrase", "i8"), ("say", "i8"), ("
               ("pause", "f8"), ("speed", "f8"),  # speed NaN: no change
               ("fired", "i8"), ("was_true", "?"), ("waiting_until_clear", "?"), ("repeats", "i8"),
               ("say_until", "f8"), ("wait_until", "f8"), ("clear_since", "f8"),
-              ("open_since", "f8"),  # waiting until clear: since when nobody has been in its way (inf: someone is,
-              # -inf: nobody was since it fired)
               # let_pass: the person (-1: none), waiting for them, they came near, their closest, the limit
               ("lets_pass", "i8"), ("letting_pass", "?"), ("pass_near", "?"), ("pass_closest", "f8"),
               ("pass_until", "f8")])
@@ -135,7 +130,7 @@ def lower_script(script: RobotScript | None, encounter_points: dict[str, complex
         row.speed = math.nan if cue.speed is None else cue.speed
         row.say_until = row.wait_until = -math.inf
         row.lets_pass = human_index(cue.let_pass, people) if cue.let_pass else -1
-        row.clear_since = row.open_since = math.inf
+        row.clear_since = math.inf
     rows = table(RULE, len(rules), last_true=-math.inf)
     for k, rule in enumerate(rules):
         point = node_points.get(rule.node or "")
@@ -353,7 +348,7 @@ def play(s, script):  # noqa: ANN001, ANN201
         cue.waiting_until_clear = cue.until_clear
         cue.letting_pass, cue.pass_near, cue.pass_closest = cue.lets_pass >= 0, False, math.inf
         cue.pass_until = t + (cue.pause if cue.pause > 0 else LET_PASS_PATIENCE)
-        cue.clear_since, cue.open_since, cue.repeats = t, -math.inf, 0  # open for ever: nobody in its way, it goes on
+        cue.clear_since, cue.repeats = t, 0
         if not math.isnan(cue.speed):
             now.speed = cue.speed
         log(script, t, c, FIRED)
@@ -366,11 +361,7 @@ def play(s, script):  # noqa: ANN001, ANN201
             wait = timed = True
         elif cue.waiting_until_clear:
             blocked = person_in_way(s, max(cue.distance, proxemics.HELD_UP_DISTANCE), True)
-            if blocked:
-                cue.open_since = math.inf
-            elif cue.open_since == math.inf:
-                cue.open_since = t
-            cue.waiting_until_clear = blocked or t - cue.open_since < CLEAR_SETTLE
+            cue.waiting_until_clear = blocked
             if blocked and t - cue.clear_since >= CLEAR_PATIENCE:
                 if cue.repeats < CLEAR_REPEATS:  # ask again: a person who reacts only while the robot
                     cue.repeats += 1  # speaks gets another chance (a silent cue waits on as long)
