@@ -49,11 +49,12 @@ DISAGREE: dict[str, str] = {
     "q9 at 49.4 s and the visitor 0.09 m from cc only at 51.9 s",
     "warehouse_04_pallet_jack_backing_out": "strict FAIL: the eyes (round 11) saw the worker back out and block the "
     "aisle ~16-29 s, the robot wait and go on after the worker left. Since s11 the robot holds in front of the worker "
-    "walking out to block it (blocks_robot passes); frames of the s11 replay: it stops ~1 m before the aisle mouth "
-    "(~15 s), stands while she blocks it on the route (~17-23 s), she goes back into the aisle mouth and stands "
-    "(~24-29 s), it drives on east past her at ~0.45 m (~25-30 s) and she walks west only after (~31 s): the stl "
-    "'the robot does not drive on east before the worker ... walked off west past it' fails, rightly for that run "
-    "(she waits for the robot on her way instead of walking past it: people side)",
+    "walking out to block it (blocks_robot passes); frames of the s11 replay: it stops ~1.3 m west of sh as she "
+    "backs out (16 s) and stands, not veering, while she blocks it on the route ~0.75 m ahead (~17-22 s); she steps "
+    "back into the aisle mouth (~22 s), it drives on east beneath her (23-27 s, closest gap 0.70 m in the run) and "
+    "she walks west only after (~29 s): the stl 'the robot does not drive on east before the worker ... walked off "
+    "west past it' fails, rightly for that run (she waits for the robot on her way instead of walking past it: "
+    "people side)",
     "warehouse_03_fire_alarm_evacuation": "strict PASS since s11 (was a FAIL with the eyes): the eyes (round 11) saw "
     "the robot and four workers deadlocked in a clump from ~25 s to the timeout. On s11 code (the robot never makes "
     "way for its own followers, slows for one falling behind) the frames show FOLLOW ME at ~7 s, the robot going down "
