@@ -60,9 +60,20 @@ DISAGREE: dict[str, str] = {
     "says EXCUSE ME and drives on at 0.3-0.45 m/s while they still step aside, passes packer 3 at a 0.45 m gap "
     "(~31 s) and packer 2 at 0.33 m (~40.5 s), and the packers gather again round vj (~48 s): it does not wait "
     "until the way is clear, which the prose asks and no criterion of the spec states",
-    "warehouse_04_pallet_jack_backing_out": "strict FAIL: the eyes saw the worker back out and block the aisle "
-    "~16-29 s, the robot wait and go on after the worker left; blocks_robot does not see it (closest 1.23 m at "
-    "18.4 s: its 1 s standoff - in the robot's way within 2 m, she still, the robot still - never held together)",
+    "warehouse_04_pallet_jack_backing_out": "strict FAIL: the eyes (round 11) saw the worker back out and block the "
+    "aisle ~16-29 s, the robot wait and go on after the worker left. Since s11 the robot holds in front of the worker "
+    "walking out to block it (blocks_robot passes); frames of the s11 replay: it stops ~1.3 m west of sh as she "
+    "backs out (16 s) and stands, not veering, while she blocks it on the route ~0.75 m ahead (~17-22 s); she steps "
+    "back into the aisle mouth (~22 s), it drives on east beneath her (23-27 s, closest gap 0.70 m in the run) and "
+    "she walks west only after (~29 s): the stl 'the robot does not drive on east before the worker ... walked off "
+    "west past it' fails, rightly for that run (she waits for the robot on her way instead of walking past it: "
+    "people side)",
+    "warehouse_03_fire_alarm_evacuation": "strict PASS since s11 (was a FAIL with the eyes): the eyes (round 11) saw "
+    "the robot and four workers deadlocked in a clump from ~25 s to the timeout. On s11 code (the robot never makes "
+    "way for its own followers, slows for one falling behind) the frames show FOLLOW ME at ~7 s, the robot going down "
+    "to vj among the three (~16-22 s), then a line along the south cross aisle - robot, workers 2, 3, 1, worker 4 "
+    "following worker 1 (~26-48 s) - and the robot at the loading door with the four behind it at 56 s: the eyes' "
+    "verdict is of the old run; to be judged again",
 }
 
 # Fixtures whose recorded answers a stage check added since refuses, each with why; the recording has no answer

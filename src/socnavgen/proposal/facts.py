@@ -379,7 +379,7 @@ def wait_until_clear_text() -> str:
             f"route) within {proxemics.HELD_UP_DISTANCE:g} m, or within the cue trigger's `distance` when that is "
             f"larger, whatever the trigger is (at_encounter, human_within, blocked alike; nobody ahead: it goes on "
             f"at once); still held after {CLEAR_PATIENCE:g} s it says its phrase again, {CLEAR_REPEATS} times "
-            f"{CLEAR_PATIENCE:g} s apart (a cue without a phrase does not), then drives around them")
+            f"{CLEAR_PATIENCE:g} s apart (a cue without a phrase waits as long, silently), then drives around them")
 
 
 def export_text(target: Target | None = None, spec_words: bool = False) -> str:

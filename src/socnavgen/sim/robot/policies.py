@@ -27,6 +27,7 @@ from socnavgen.sim.jit import jit
 from socnavgen.sim.people.make_room import short_of_goal, stopped_short  # noqa: F401 - step.py's import
 from socnavgen.sim.people.physics import pair_force, wall_force
 from socnavgen.sim.records import layout
+from socnavgen.sim.robot.lead import lead_speed
 from socnavgen.sim.robot.planner import steer
 from socnavgen.sim.robot.polite import (
     corner_speed,
@@ -322,7 +323,7 @@ def scripted_act(s, now):  # noqa: ANN001, ANN201
     policy.max_speed = min(now.speed, policy.speed_cap, corner)
     if now.wait:  # out of the way of anyone closing in; in a timed wait, out of the walkway of someone coming
         policy.speed = 0.0
-        v = yield_to(s)
+        v, _ = yield_to(s)
         if v == 0 and now.timed:
             v = wait_aside(s)
         return social_clear(s, slide_along_walls(s, v))
@@ -346,11 +347,12 @@ def scripted_act(s, now):  # noqa: ANN001, ANN201
     behind_them = follow_speed(s, direction)  # a same-way walker with no room to overtake: it follows them
     if along > behind_them:
         v -= (along - behind_them) * direction
-    top = near_speed(s, v, policy.max_speed)  # slower the nearer it passes someone (personal to intimate space)
+    top = min(near_speed(s, v, policy.max_speed),  # slower the nearer it passes someone (personal to intimate space)
+              lead_speed(s, policy.max_speed, direction))  # and while its followers fall behind
     if abs(v) > top:
         v = v * (top / abs(v))
-    away = yield_to(s)
-    if away != 0:  # someone walking at it or closing in: it stops and steps out of their way (no progress meanwhile)
+    away, stops = yield_to(s)
+    if stops:  # someone walking at it or closing in: it stops and steps out of their way (no progress meanwhile)
         v = away
     if abs(v) > corner:  # all of it (passing aside, yielding) within the blind corner's speed
         v = v * (corner / abs(v))

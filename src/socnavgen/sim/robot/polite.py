@@ -11,7 +11,8 @@ them, steps back from someone walking into it, and never moves closer than a mar
   away from them is not slowed (someone walking into its back or side is left behind, not waited for).
 * yield_to: a person closing in within YIELD_GAP, or walking at the robot within YIELD_LOOK on a line that would
   bring them within ROBOT_SOCIAL_GAP of it (someone coming out of a door next to which it waits): the robot
-  steps off their line and away from them (the robot gives way, before they brush it).
+  steps off their line and away from them (the robot gives way, before they brush it); for someone coming to it
+  (a follower, a blocker: robot.lead) it only stops.
 * make_way: someone who needs to get past it (their goal, or their own route through their next goals, lies
   past the robot: a person the robot's presence stopped in a doorway or a hallway), face to face within
   FACE_GAP for `patience` s (both waiting): it backs away along the way it came while they are near, and steps
@@ -45,6 +46,7 @@ from socnavgen.location.inventory import BLIND_SIGHT_M
 from socnavgen.location.places import CORNER_TURN_DEG
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.routing import project
+from socnavgen.sim.robot.lead import goes_with_robot
 from socnavgen.sim.world.queries import free_along, line_of_sight
 
 PASS_GAP = INTIMATE_SPACE  # m: the gap the robot tries to leave beside a person it passes
@@ -160,12 +162,13 @@ def near_speed(s, v, cruise):  # noqa: ANN001, ANN201
 
 @jit
 def yield_to(s):  # noqa: ANN001, ANN201
-    """Velocity out of the way of the people closing in within YIELD_GAP, or walking at the robot within YIELD_LOOK
-    on a line that passes within ROBOT_SOCIAL_GAP of its body (0 when nobody is): sideways off the line they walk
-    along, to the side the robot already is on (the other when that side has no room), and a little away from
-    them."""
+    """(velocity, stops): out of the way of the people closing in within YIELD_GAP, or walking at the robot within
+    YIELD_LOOK on a line that passes within ROBOT_SOCIAL_GAP of its body (0 when nobody is): sideways off the line
+    they walk along, to the side the robot already is on (the other when that side has no room), and a little away
+    from them. `stops`: it should stand meanwhile (it yields, or someone who goes with it - robot.lead - walks up
+    to it: it waits for them on its way, without stepping aside)."""
     robot, people = s.robot[0], s.people
-    v = 0j
+    v, stop = 0j, False
     for i in range(people.shape[0]):
         q = people[i]
         d = robot.pos - q.pos
@@ -179,11 +182,13 @@ def yield_to(s):  # noqa: ANN001, ANN201
             continue
         w = q.vel / abs(q.vel) if abs(q.vel) > CLOSING else u
         lateral = (d * w.conjugate()).imag
-        if gap > YIELD_GAP and not (abs(q.vel) > CLOSING and abs(lateral) < q.radius + robot.radius
-                                    + ROBOT_SOCIAL_GAP):
+        if gap > YIELD_GAP and not (abs(q.vel) > CLOSING and abs(lateral) < q.radius + robot.radius + ROBOT_SOCIAL_GAP):
             continue  # farther off: only someone walking at it, whose line would bring them too close
         if gap > YIELD_GAP and (q.vel * robot.vel.conjugate()).real > 0:
             continue  # farther off and walking the way it drives (catching up from behind): pass_aside's
+        if gap > YIELD_GAP and goes_with_robot(s, i):  # coming to it (a follower, a blocker): they stop short of
+            stop = True  # it; it stops for them, on its way (stepping off their line, it veered beside a blocker)
+            continue
         side = 1.0 if lateral >= 0 else -1.0
         if free_along(s.world, robot.pos, side * 1j * w, 0.3, robot.radius + WALL_ROOM) < 0.1:
             side = -side
@@ -199,7 +204,7 @@ def yield_to(s):  # noqa: ANN001, ANN201
         v += out / abs(out) * YIELD_SPEED
     if abs(v) > YIELD_SPEED:
         v = v * (YIELD_SPEED / abs(v))
-    return v
+    return v, stop or v != 0
 
 
 @jit
@@ -321,7 +326,7 @@ def coming_through(s, forward, reach, in_line):  # noqa: ANN001, ANN201
         q = people[i]
         rel = (q.pos - p) * back
         gap = abs(rel) - q.radius - robot.radius
-        if gap > reach or not q.has_goal or (in_line and (rel.real <= 0 or abs(rel.imag) > q.radius + robot.radius
+        if gap > reach or not q.has_goal or goes_with_robot(s, i) or (in_line and (rel.real <= 0 or abs(rel.imag) > q.radius + robot.radius
                                                           + PASS_GAP)):
             continue
         toward = p - q.pos

@@ -4,9 +4,9 @@ robot's policy acts. What they ask now is `Cues` (obs.cues): every policy sees i
 
 A cue fires on the step its trigger becomes true (`once`: only the first time). Firing: `say` shows the
 phrase for `hold` s, `wait` stands still for `wait` s, `wait_until_clear` then stands until nobody is inside
-the corridor the robot's body sweeps ahead (people who stepped aside do not hold it); still blocked after
-CLEAR_PATIENCE s it says the cue's phrase again, CLEAR_REPEATS times, then stops waiting (the robot then
-goes around where there is room: a scripted wait never becomes a deadlock); `let_pass` stands until that
+the corridor the robot's body sweeps ahead (people who stepped aside do not hold it; people walking into it
+do); still blocked after CLEAR_PATIENCE s it says the cue's phrase again (a silent cue waits on as long),
+CLEAR_REPEATS times, then stops waiting (the robot then goes around where there is room: a scripted wait never becomes a deadlock); `let_pass` stands until that
 person has gone by (gone_by: came near, out of its way, moving off), at most `wait` s (LET_PASS_PATIENCE without
 one): "the robot lets her go first"; `speed` sets the cruise speed.
 A gesture rule holds its gesture while its condition held within its last `duration` seconds; the first
@@ -37,7 +37,7 @@ from socnavgen.sim.world.queries import clearance_at
 
 ROBOT_PHRASE_CODE = {name: code for code, name in ROBOT_GESTURES.items() if code}
 HUMAN_PHRASE_CODE = {name: code for code, name in HUMAN_GESTURES.items() if code}
-CLEAR_PATIENCE = 8.0  # s: still blocked after this long, the robot asks again (its cue's phrase) ...
+CLEAR_PATIENCE = 8.0  # s: still blocked after this long, the robot asks again (its cue's phrase; silent: waits on) ...
 CLEAR_REPEATS = 2  # ... this many times, then stops waiting and drives around like an operator would
 LET_PASS_PATIENCE = 20.0  # s: a `let_pass` cue without a `wait` stands at most this long for its person
 LET_PASS_AWAY = 0.5  # m: the person let pass has gone by once this much farther from the robot than its closest
@@ -46,6 +46,9 @@ SQUEEZE = ROBOT_SOCIAL_GAP + 0.15  # m: someone beside the route whom the robot 
 # aside (keeping ROBOT_SOCIAL_GAP, where walls and other people leave it room) does not hold it "until clear". Named
 # from the gap: the people it passes so are those up to SQUEEZE - ROBOT_SOCIAL_GAP + proxemics.WAY_MARGIN_SCRIPT
 # (0.25 m) inside the corridor its body sweeps, whatever the gap (a SQUEEZE below gap - margin passes nobody)
+INTO_WAY = proxemics.STANDING_SPEED  # m/s toward the robot's route: someone walking into its way (not one who
+# stepped aside) is not squeezed past: they will stand in it (a worker coming to block it, someone crossing) ...
+INTO_WAY_LOOK = 1.0  # s: ... and is in its way already where they will be this soon
 
 START, AFTER, AT_ENCOUNTER, BLOCKED, HUMAN_WITHIN, HUMAN_SAYS, HUMAN_FARTHER = range(7)
 TRIGGERS = {"start": START, "after": AFTER, "at_encounter": AT_ENCOUNTER, "blocked": BLOCKED,
@@ -68,7 +71,8 @@ RULE = layout([("when", "i8"), ("gesture", "i8"), ("has_point", "?"), ("point", 
                ("duration", "f8"), ("last_true", "f8")])
 
 
-POSE = layout([("t", "f8"), ("pos", "c16"), ("heading", "c16"), ("radius", "f8"), ("gesture", "i8")])
+POSE = layout([("t", "f8"), ("pos", "c16"), ("vel", "c16"), ("heading", "c16"), ("radius", "f8"), ("gesture", "i8")])
+# (vel: 0 where only poses are heard - the export's ROS node - as if everyone stood)
 # where a policy drives (none: the robot's heading) and the waypoint it heads for (its route: Poses.waypoints)
 STEERING = layout([("heading", "c16"), ("has_heading", "?"), ("waypoint", "i8")])
 
@@ -201,10 +205,11 @@ def route_segment(s):  # noqa: ANN001, ANN201
 @jit
 def squeezes_past(s, i, foot, d):  # noqa: ANN001, ANN201
     """The robot passes person i (d from its route, `foot` the nearest route point) on the far side keeping
-    ROBOT_SOCIAL_GAP (the gap its moves keep), by edging at most SQUEEZE aside, with room from walls and everyone else there."""
+    ROBOT_SOCIAL_GAP (the gap its moves keep), by edging at most SQUEEZE aside, with room from walls and everyone
+    else there; not while they walk into its way (INTO_WAY)."""
     robot, q = s.robot[0], s.people[i]
     clear = robot.radius + q.radius + ROBOT_SOCIAL_GAP
-    if d < 1e-6 or clear - d > SQUEEZE:
+    if d < 1e-6 or clear - d > SQUEEZE or (q.vel * ((foot - q.pos) / d).conjugate()).real > INTO_WAY:
         return False
     at = q.pos - (q.pos - foot) / d * clear  # the robot's centre passing them
     if clearance_at(s.world, at) < robot.radius + WALL_ROOM:
@@ -218,8 +223,8 @@ def squeezes_past(s, i, foot, d):  # noqa: ANN001, ANN201
 @jit
 def on_route_ahead(s, seg, i, reach, distance):  # noqa: ANN001, ANN201
     """Person i stands within `reach` of the robot's route ahead of it (from the robot along the remaining
-    waypoints of segment `seg` on, the first `distance` metres of it), ahead of the robot, and the robot
-    cannot squeeze past them (squeezes_past)."""
+    waypoints of segment `seg` on, the first `distance` metres of it), or walks into that within INTO_WAY_LOOK s,
+    ahead of the robot, and the robot cannot squeeze past them (squeezes_past)."""
     wps, a, q = s.waypoints, s.robot[0].pos, s.people[i].pos
     left = distance
     for j in range(seg + 1, wps.shape[0]):
@@ -227,9 +232,12 @@ def on_route_ahead(s, seg, i, reach, distance):  # noqa: ANN001, ANN201
         length = abs(b - a)
         if length > 1e-9:
             along, d = project(q, a, b)
-            if along <= left and d < reach and (along > 0.0 or j > seg + 1):
+            foot = a + (b - a) / length * along
+            into = (s.people[i].vel * ((foot - q) / d).conjugate()).real if d > 1e-6 else 0.0
+            near = d < reach or (into > INTO_WAY and d - into * INTO_WAY_LOOK < reach)
+            if along <= left and near and (along > 0.0 or j > seg + 1):
                 beside = 1e-6 < along < length - 1e-6  # not off either end of the leg (ahead, round a corner)
-                if not (beside and squeezes_past(s, i, a + (b - a) / length * along, d)):
+                if not (beside and squeezes_past(s, i, foot, d)):
                     return True
             left -= length
             if left <= 0.0:
@@ -355,11 +363,12 @@ def play(s, script):  # noqa: ANN001, ANN201
             blocked = person_in_way(s, max(cue.distance, proxemics.HELD_UP_DISTANCE), True)
             cue.waiting_until_clear = blocked
             if blocked and t - cue.clear_since >= CLEAR_PATIENCE:
-                if cue.say != 0 and cue.repeats < CLEAR_REPEATS:  # ask again: a person who reacts only
-                    cue.repeats += 1  # while the robot speaks gets another chance
+                if cue.repeats < CLEAR_REPEATS:  # ask again: a person who reacts only while the robot
+                    cue.repeats += 1  # speaks gets another chance (a silent cue waits on as long)
                     cue.clear_since = t
-                    cue.say_until = t + cue.hold
-                    log(script, t, c, ASKED_AGAIN)
+                    if cue.say != 0:
+                        cue.say_until = t + cue.hold
+                        log(script, t, c, ASKED_AGAIN)
                 else:
                     cue.waiting_until_clear = False
                     log(script, t, c, GAVE_UP)
