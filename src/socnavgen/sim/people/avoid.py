@@ -4,7 +4,7 @@ standing or walking in their way, and never walks into it.
 `steer_around_robot` (after the trees, on the step's snapshot): when the robot is in the way of the person's
 walk - their velocity relative to the robot's would bring them within the passing gap of its body within
 HORIZON s - they head along the tangent of the robot's body widened by that gap: on the side they are
-already on, or on the other when that side leaves them no room (walls). The gap is PASS_GAP where there is
+already on, or on the other when that side leaves them ROOMIER m less room or none (walls). The gap is PASS_GAP where there is
 room (the person's own `pass_gap`: pass_gap_for their personal-space preference), down to MIN_PASS_GAP
 past a standing robot in a tight spot (MOVING_PASS_GAP past a moving one); with
 room on neither side they slow down to stand WAIT_GAP from the robot until it moves, or walk WAIT_GAP behind
@@ -12,7 +12,8 @@ it when it goes their way. A way round that would take them backwards (a robot c
 away along their side) is not taken: they stop and let it go by. A person whose walk is to the robot itself
 (following, blocking, approaching it: route ROUTE_ROBOT) does not steer around it. A goal the robot passes
 (or stands on, or next to) is no reason to walk into it: such a goal is approached to GOAL_GAP from the robot's
-body, where they wait until it has moved on, GOAL_PATIENCE s at most (a robot that waits for them in turn
+body (a goal on their way that it stands on is walked round: people.spots.passes_by), where they wait until it
+has moved on, GOAL_PATIENCE s at most (a robot that waits for them in turn
 would never move on): then they squeeze on to it. A walker who took a spot beside such a goal (people.spots: a
 goal the robot stands on is taken, as one a person stands on) walks to the spot instead.
 
@@ -33,6 +34,7 @@ import math
 
 from socnavgen.bodies import PERSON_PASS_GAP
 from socnavgen.sim.jit import jit
+from socnavgen.sim.people.spots import robot_on_way
 from socnavgen.sim.people.state import ROUTE_ROBOT
 from socnavgen.sim.world.queries import clearance_at, line_of_sight
 
@@ -44,6 +46,7 @@ BACK_ANGLE = 1.8  # rad: a way round the robot this far off the walking directio
 YIELD_ANGLE = 1.1  # rad: a way round a robot crossing (not oncoming) this far off means walking along with it
 MOVING = 0.1  # m/s: a robot faster than this is moving
 ROOM_STEP = 0.05  # m: passing gaps tried from PASS_GAP down
+ROOMIER = 0.1  # m: a side whose passing gap is this much larger is taken over the side the walk leans to
 FIT_CLEARANCE = 0.35  # m: the passing spot must keep a person's body (0.4 m, 5 cm slack) off the walls
 WAIT_GAP = 0.5  # m: with no room to pass, a person stands (or walks behind it) this far from the robot
 WAIT_TIME = 1.0  # s: ... slowing down to get there in about this time
@@ -110,7 +113,8 @@ def steer(s, i):  # noqa: ANN001, ANN201
     e = ahead / abs(ahead)
     if (rel * e.conjugate()).real < dist * math.cos(FIELD_OF_VIEW) or not sees(s, i):
         return False
-    if abs(target - robot.pos) < reach + p.pass_gap:  # the robot stands on (or passes over) their goal
+    # the robot stands on (or passes over) their goal; one standing on a point on their way is walked round
+    if abs(target - robot.pos) < reach + p.pass_gap and not (p.to_goal and robot_on_way(s, i)):
         if abs(p.push) > 0.0:  # driven off by it (RunAwayFromRobot): their goal is no pull toward it
             return False
         if abs((rel * e.conjugate()).imag) >= reach + GOAL_GAP:
@@ -143,8 +147,12 @@ def steer(s, i):  # noqa: ANN001, ANN201
     most = max(p.pass_gap, least)
     room_right = max(room_beside(s, right, reach, least, most), room_beside(s, u * -1j, reach, least, most))
     room_left = max(room_beside(s, left, reach, least, most), room_beside(s, u * 1j, reach, least, most))
-    # pass on the side the walk already leans to (the robot on the left: pass it on its right), else the roomier
+    # pass on the side the walk already leans to (the robot on the left: pass it on its right) unless the other
+    # leaves clearly more room (a squeeze between the robot and a wall with the room open on its other side), else
+    # the roomier
     clockwise = across > 0 or (across == 0 and room_right >= room_left)
+    if (room_left if clockwise else room_right) > (room_right if clockwise else room_left) + ROOMIER:
+        clockwise = not clockwise
     room = room_right if clockwise else room_left
     if room < 0:
         clockwise, room = not clockwise, room_left if clockwise else room_right
