@@ -38,6 +38,7 @@ BACK_OUT_CLEARANCE = 0.3  # m from walls along the straight walk back (a body sq
 PASSED_MARGIN = 0.3  # m beyond both radii: the robot has passed the person's spot on its path
 FOLLOWER_REACH = 4.0  # m: someone following the robot this close to it walks with it (a giver-way lets them by too)
 CROSS_LOOK = 2.0  # m: the stretch of a giver-way's walk on that must not cross between the robot and its follower
+COMING = 0.05  # m/s: a follower closing in on a giver-way faster than this has not gone by them yet
 ASIDE, WAIT, RESUME = 0, 1, 2  # give-way phases (ASIDE: by way of `aside_via` when backing out)
 SIDE_UNITS = np.array([complex(math.cos(2 * math.pi * j / SIDE_STEP_DIRECTIONS),
                                math.sin(2 * math.pi * j / SIDE_STEP_DIRECTIONS)) for j in range(SIDE_STEP_DIRECTIONS)])
@@ -280,7 +281,8 @@ def segments_apart(a, b, c, d):  # noqa: ANN001, ANN201
 def follower_to_come(s, i):  # noqa: ANN001, ANN201
     """Someone following the robot (FollowRobot: walking or standing behind it by its route), within FOLLOWER_REACH
     of it, is still where person i's walk on toward their goal (its next CROSS_LOOK metres) would take them nearer
-    the line between the follower and the robot, within the passing clearance of it, or across it. A person who stood aside for a
+    the line from a body behind the follower to the robot, within the passing clearance of it, or across it; or the
+    follower, within CROSS_LOOK of that clearance, still walks closer to them (faster than COMING). A person who stood aside for a
     robot leading someone lets both by, instead of stepping back across between them (the rehab nurse walked on
     0.1 m in front of the patient the robot guided)."""
     people, robot = s.people, s.robot[0]
@@ -293,8 +295,16 @@ def follower_to_come(s, i):  # noqa: ANN001, ANN201
         q = people[j]
         if j == i or q.behavior != 1 or q.route != ROUTE_ROBOT or abs(q.pos - robot.pos) > FOLLOWER_REACH:
             continue
-        near = segments_apart(p.pos, walk, q.pos, robot.pos)  # the walk comes nearer that line than they stand
-        if near < p.radius + q.radius + PASSED_MARGIN and near < segment_distance(p.pos, q.pos, robot.pos) - TIE:
+        way = robot.pos - q.pos
+        if abs(way) < 1e-9:
+            continue
+        back = q.pos - way / abs(way) * (p.radius + q.radius)  # the line from behind the follower's back to the robot
+        near = segments_apart(p.pos, walk, back, robot.pos)  # the walk comes nearer that line than they stand
+        clear = p.radius + q.radius + PASSED_MARGIN
+        if near < clear and near < segment_distance(p.pos, back, robot.pos) - TIE:
+            return True
+        towards = p.pos - q.pos  # still coming closer, within a walk's reach: not gone by yet
+        if abs(towards) < clear + CROSS_LOOK and (q.vel * towards.conjugate()).real > COMING * abs(towards):
             return True
     return False
 
