@@ -4,7 +4,7 @@ standing or walking in their way, and never walks into it.
 `steer_around_robot` (after the trees, on the step's snapshot): when the robot is in the way of the person's
 walk - their velocity relative to the robot's would bring them within the passing gap of its body within
 HORIZON s - they head along the tangent of the robot's body widened by that gap: on the side they are
-already on, or on the other when that side leaves them ROOMIER m less room or none (walls). The gap is PASS_GAP where there is
+already on, or on the other when that side leaves them no room (walls). The gap is PASS_GAP where there is
 room (the person's own `pass_gap`: pass_gap_for their personal-space preference), down to MIN_PASS_GAP
 past a standing robot in a tight spot (MOVING_PASS_GAP past a moving one); with
 room on neither side they slow down to stand WAIT_GAP from the robot until it moves, or walk WAIT_GAP behind
@@ -34,20 +34,17 @@ import math
 
 from socnavgen.bodies import PERSON_PASS_GAP
 from socnavgen.sim.jit import jit
-from socnavgen.sim.people.spots import robot_on_way
+from socnavgen.sim.people.spots import FIT_CLEARANCE, MIN_PASS_GAP, robot_on_way
 from socnavgen.sim.people.state import ROUTE_ROBOT
 from socnavgen.sim.world.queries import clearance_at, line_of_sight
 
 PASS_GAP = PERSON_PASS_GAP  # m: the gap a person leaves passing the robot where there is room (beyond intimate space)
 PREFERRED_SPACE = 1.0  # m: the personal-space preference PASS_GAP is for (a stranger's ~1 m, Hecht et al. 2019)
-MIN_PASS_GAP = 0.2  # m: the least gap a person squeezes past a standing robot with (0.1 looked like brushing it)
 MOVING_PASS_GAP = 0.3  # m: the least gap a person overtakes or meets a moving robot with
 BACK_ANGLE = 1.8  # rad: a way round the robot this far off the walking direction goes back the way they came
 YIELD_ANGLE = 1.1  # rad: a way round a robot crossing (not oncoming) this far off means walking along with it
 MOVING = 0.1  # m/s: a robot faster than this is moving
 ROOM_STEP = 0.05  # m: passing gaps tried from PASS_GAP down
-ROOMIER = 0.1  # m: a side whose passing gap is this much larger is taken over the side the walk leans to
-FIT_CLEARANCE = 0.35  # m: the passing spot must keep a person's body (0.4 m, 5 cm slack) off the walls
 WAIT_GAP = 0.5  # m: with no room to pass, a person stands (or walks behind it) this far from the robot
 WAIT_TIME = 1.0  # s: ... slowing down to get there in about this time
 GOAL_GAP = 0.3  # m: a person whose goal the robot stands on (or next to) stops this far from its body ...
@@ -147,12 +144,8 @@ def steer(s, i):  # noqa: ANN001, ANN201
     most = max(p.pass_gap, least)
     room_right = max(room_beside(s, right, reach, least, most), room_beside(s, u * -1j, reach, least, most))
     room_left = max(room_beside(s, left, reach, least, most), room_beside(s, u * 1j, reach, least, most))
-    # pass on the side the walk already leans to (the robot on the left: pass it on its right) unless the other
-    # leaves clearly more room (a squeeze between the robot and a wall with the room open on its other side), else
-    # the roomier
+    # pass on the side the walk already leans to (the robot on the left: pass it on its right), else the roomier
     clockwise = across > 0 or (across == 0 and room_right >= room_left)
-    if (room_left if clockwise else room_right) > (room_right if clockwise else room_left) + ROOMIER:
-        clockwise = not clockwise
     room = room_right if clockwise else room_left
     if room < 0:
         clockwise, room = not clockwise, room_left if clockwise else room_right

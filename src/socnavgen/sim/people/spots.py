@@ -40,6 +40,8 @@ NEARER = 3.0  # a spot one ring nearer the point is worth walking this many metr
 ROBOT_GAP = PERSON_PASS_GAP  # m: a spot keeps this gap from the robot's body
 ROUTE_CLEAR = PERSON_PASS_GAP  # m: a spot whose body comes within this of the robot's body on its way is by it ...
 OFF_ROUTE = 6.0  # m: ... and counts this much farther
+MIN_PASS_GAP = 0.2  # m: the least gap a person squeezes past a standing robot with (0.1 looked like brushing it)
+FIT_CLEARANCE = 0.35  # m: a body passing the robot keeps this off the walls (a person's 0.4 m, 5 cm slack)
 TOGETHER = 1.0  # a group member's spot counts this many times its distance to the farthest member there farther
 
 
@@ -80,10 +82,26 @@ def last_goal(p):  # noqa: ANN001, ANN201
 
 
 @jit
+def way_round(s, i):  # noqa: ANN001, ANN201
+    """Walker i's body fits beside the robot's, MIN_PASS_GAP off it and off the walls (FIT_CLEARANCE), on one side
+    or the other of their way on (from the robot to the goal after their current one)."""
+    p, robot = s.people[i], s.robot[0]
+    after = s.goals[i, (p.queue_start + 1) % s.goals.shape[1]]
+    way = after - robot.pos
+    if abs(way) < 1e-9:
+        return True
+    side = way / abs(way) * 1j * (p.radius + robot.radius + MIN_PASS_GAP)
+    return clearance_at(s.world, robot.pos + side) >= FIT_CLEARANCE or \
+        clearance_at(s.world, robot.pos - side) >= FIT_CLEARANCE
+
+
+@jit
 def robot_on_way(s, i):  # noqa: ANN001, ANN201
-    """The robot stands on walker i's goal, a point on their way (more goals after it): they walk round it."""
+    """The robot stands on walker i's goal, a point on their way (more goals after it), and there is room to go
+    round it (way_round): they walk round it. With no room (the robot at an elevator's mouth) the goal is taken: they
+    wait at a spot beside it, off the robot's way, as at a last goal."""
     p = s.people[i]
-    return p.has_goal and not last_goal(p) and robot_on(s, i, p.goal)
+    return p.has_goal and not last_goal(p) and robot_on(s, i, p.goal) and way_round(s, i)
 
 
 @jit
@@ -105,7 +123,7 @@ def occupied(s, i, goal):  # noqa: ANN001, ANN201
     way is passed by: passes_by)."""
     people = s.people
     p = people[i]
-    if robot_on(s, i, goal) and last_goal(p):
+    if robot_on(s, i, goal) and (last_goal(p) or not way_round(s, i)):
         return True
     away = abs(goal - p.pos)
     for j in range(people.shape[0]):
