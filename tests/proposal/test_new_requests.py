@@ -30,16 +30,29 @@ PATHS = fixture_paths(FIXTURES)
 DISAGREE: dict[str, str] = {
     "home_06_neighbour_lets_herself_in": "lenient PASS: PROCEED and her surprised pause happen (~6 s), but the robot "
     "waits in the middle of the living room on her way (let_pass): she is held up ~9 s less than 0.5 m from it and "
-    "gets past only when it drives off (~19 s); no criterion of the spec states her going first",
+    "gets past only when it drives off (~19 s); no criterion of the spec states her going first. Since s11 (people "
+    "walk round a robot standing on a point of their way) the replay verifies at its first answer, another run: "
+    "frames show the robot stopping ~1.5 m west of vh where the room narrows (no room either side of it), the "
+    "neighbour's pause after z2 (~5-7 s), her standing ~0.5 m east of it ~11-18 s, the robot moving aside south-east "
+    "(~16-18 s) and her going round its north side (~18-21 s, 0.11 m as it moves) and on west; the round-11 run "
+    "(robot parked on 41) replayed on s11 code: she goes round its north side at 0.2 m at ~11-12 s without stopping "
+    "and is at ai by 16 s: to be judged again",
     "home_07_laundry_in_morning_rush": "lenient PASS: the first yield works (the robot waits in the bedroom doorway "
     "for the son); at the second the daughter comes within ~0.3 m of the waiting robot, retreats and waits while the "
-    "robot goes first: 'lets her cross first' reversed",
+    "robot goes first: 'lets her cross first' reversed. Since s11 (a walker between two goals does not make room) "
+    "the same run's frames show her walking on from 41 past the waiting robot (~23-24 s, closest 0.29 m) through zv "
+    "into the bathroom (~25 s) and the robot driving on only then (25.5 s): to be judged again",
     "hospital_07_assisted_rehab_walk": "lenient PASS: the nurse steps aside but walks on at ~25 s before the patient "
     "has passed, cutting between the robot and the patient ~0.1 m from her; the run ends with the patient in the "
-    "doorway, not back in her room",
+    "doorway, not back in her room. Since s11 (a giver-way lets the robot's follower by) the frames show the nurse "
+    "standing aside by the zs door until the patient has come by (~30.5 s) and walking west behind her "
+    "(nurse-patient closest 0.20 m, was 0.10 m); the run's end not looked at again",
     "warehouse_01_blind_corner_cart": "lenient PASS: the worker stops and the robot pulls into the corner pocket, but "
     "at ~38 s the robot drives north while the worker still stands beside it, and he walks on only after it left: the "
-    "order of the text reversed (the let_pass limit ran out with him standing aside)",
+    "order of the text reversed (the let_pass limit ran out with him standing aside). Since s11 (people walk round "
+    "a robot standing on a point of their way) the replay's frames show him stopping (LookAtRobot ~31-35 s), the "
+    "robot tucking into the pocket (~33-36 s), him setting off at ~36 s round its north-west side (~0.5 m) and west "
+    "along the corridor to 54 while the robot leaves the pocket north (~38 s): to be judged again",
     "hospital_01_elevator_door_standoff": "strict FAIL: the eyes saw the pair block the robot, step aside to two "
     "sides after EXCUSE ME (~5 s), the robot pass without contact and the visitors board after it left. The trace "
     "(frames 0-30 s) shows human1 stepping aside, but human2 walked from the robot's route to a spot 1.2 m off it "

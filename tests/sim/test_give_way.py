@@ -162,3 +162,23 @@ def test_a_person_who_gave_way_to_a_round_trip_walks_on_once_the_robot_is_past_t
     robot, person = trace.robot[k, :2], trace.humans[k, 0, :2]
     assert robot[0] > 9.0
     assert person[1] < 6.0 and np.hypot(*(robot - person)) < 6.0  # out of the room, following
+
+
+
+@pytest.mark.parametrize(("follower_x", "follows", "held"), [(10.2, True, True), (11.8, True, False),
+                                                             (10.2, False, False)])
+def test_someone_who_gave_way_waits_for_the_robots_follower_before_crossing_its_way(follower_x: float, follows: bool,
+                                                                                  held: bool):
+    """The robot (12, 5) leads a follower east along y = 5; a person stood aside at (11, 3.8), bound north-west across
+    that way: while the follower is still to come (1.8 m behind the robot) their walk on would cut between the two,
+    so they wait (follower_to_come); once the follower has gone by them, or when the one behind the robot is not
+    following it, they walk on (the rehab nurse walked on 0.1 m in front of the patient the robot guided)."""
+    from socnavgen.sim.people.give_way import follower_to_come
+    from socnavgen.sim.people.state import ROUTE_GOAL, ROUTE_ROBOT
+
+    people = [human("human1", start=(11.0, 3.8), goals=[(6.0, 5.2)]),
+              human("human2", start=(follower_x, 5.0), goals=[(follower_x, 5.0)])]
+    sim = make_sim(people, [tree_xml(REGULAR)] * 2, [(follower_x + 1.8, 5.0), (18.0, 5.0)])
+    q = sim.state.people[1]
+    q.behavior, q.route = (1, ROUTE_ROBOT) if follows else (0, ROUTE_GOAL)
+    assert follower_to_come(sim.state, 0) is held

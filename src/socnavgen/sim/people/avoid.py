@@ -12,7 +12,8 @@ it when it goes their way. A way round that would take them backwards (a robot c
 away along their side) is not taken: they stop and let it go by. A person whose walk is to the robot itself
 (following, blocking, approaching it: route ROUTE_ROBOT) does not steer around it. A goal the robot passes
 (or stands on, or next to) is no reason to walk into it: such a goal is approached to GOAL_GAP from the robot's
-body, where they wait until it has moved on, GOAL_PATIENCE s at most (a robot that waits for them in turn
+body (a goal on their way that it stands on is walked round: people.spots.passes_by), where they wait until it
+has moved on, GOAL_PATIENCE s at most (a robot that waits for them in turn
 would never move on): then they squeeze on to it. A walker who took a spot beside such a goal (people.spots: a
 goal the robot stands on is taken, as one a person stands on) walks to the spot instead.
 
@@ -33,18 +34,17 @@ import math
 
 from socnavgen.bodies import PERSON_PASS_GAP
 from socnavgen.sim.jit import jit
+from socnavgen.sim.people.spots import FIT_CLEARANCE, MIN_PASS_GAP, robot_on_way
 from socnavgen.sim.people.state import ROUTE_ROBOT
 from socnavgen.sim.world.queries import clearance_at, line_of_sight
 
 PASS_GAP = PERSON_PASS_GAP  # m: the gap a person leaves passing the robot where there is room (beyond intimate space)
 PREFERRED_SPACE = 1.0  # m: the personal-space preference PASS_GAP is for (a stranger's ~1 m, Hecht et al. 2019)
-MIN_PASS_GAP = 0.2  # m: the least gap a person squeezes past a standing robot with (0.1 looked like brushing it)
 MOVING_PASS_GAP = 0.3  # m: the least gap a person overtakes or meets a moving robot with
 BACK_ANGLE = 1.8  # rad: a way round the robot this far off the walking direction goes back the way they came
 YIELD_ANGLE = 1.1  # rad: a way round a robot crossing (not oncoming) this far off means walking along with it
 MOVING = 0.1  # m/s: a robot faster than this is moving
 ROOM_STEP = 0.05  # m: passing gaps tried from PASS_GAP down
-FIT_CLEARANCE = 0.35  # m: the passing spot must keep a person's body (0.4 m, 5 cm slack) off the walls
 WAIT_GAP = 0.5  # m: with no room to pass, a person stands (or walks behind it) this far from the robot
 WAIT_TIME = 1.0  # s: ... slowing down to get there in about this time
 GOAL_GAP = 0.3  # m: a person whose goal the robot stands on (or next to) stops this far from its body ...
@@ -110,7 +110,8 @@ def steer(s, i):  # noqa: ANN001, ANN201
     e = ahead / abs(ahead)
     if (rel * e.conjugate()).real < dist * math.cos(FIELD_OF_VIEW) or not sees(s, i):
         return False
-    if abs(target - robot.pos) < reach + p.pass_gap:  # the robot stands on (or passes over) their goal
+    # the robot stands on (or passes over) their goal; one standing on a point on their way is walked round
+    if abs(target - robot.pos) < reach + p.pass_gap and not (p.to_goal and robot_on_way(s, i)):
         if abs(p.push) > 0.0:  # driven off by it (RunAwayFromRobot): their goal is no pull toward it
             return False
         if abs((rel * e.conjugate()).imag) >= reach + GOAL_GAP:

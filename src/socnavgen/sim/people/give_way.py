@@ -14,6 +14,7 @@ from socnavgen import proxemics
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.leaves import follow, leaf
 from socnavgen.sim.people.routing import project, robot_progress
+from socnavgen.sim.people.spots import segment_distance
 from socnavgen.sim.people.state import ROUTE_ROBOT, ROUTE_STRAIGHT, stand, turn, walk_to, walk_to_goal
 from socnavgen.sim.people.trees import SUCCESS
 from socnavgen.sim.world.queries import free_along
@@ -35,6 +36,9 @@ BACK_OUT_STEP = 0.2  # m: points of the robot's path tried every this far
 BACK_OUT_GAP = 0.2  # m: a person backs out when no spot nearby leaves the robot this gap to pass them by
 BACK_OUT_CLEARANCE = 0.3  # m from walls along the straight walk back (a body squeezes through a 0.9 m door)
 PASSED_MARGIN = 0.3  # m beyond both radii: the robot has passed the person's spot on its path
+FOLLOWER_REACH = 4.0  # m: someone following the robot this close to it walks with it (a giver-way lets them by too)
+CROSS_LOOK = 2.0  # m: the stretch of a giver-way's walk on that must not cross between the robot and its follower
+COMING = 0.05  # m/s: a follower closing in on a giver-way faster than this has not gone by them yet
 ASIDE, WAIT, RESUME = 0, 1, 2  # give-way phases (ASIDE: by way of `aside_via` when backing out)
 SIDE_UNITS = np.array([complex(math.cos(2 * math.pi * j / SIDE_STEP_DIRECTIONS),
                                math.sin(2 * math.pi * j / SIDE_STEP_DIRECTIONS)) for j in range(SIDE_STEP_DIRECTIONS)])
@@ -259,15 +263,62 @@ def plan_side_step(s, i):  # noqa: ANN001, ANN201
     p.aside = best
 
 
+@jit(inline=True)
+def segments_apart(a, b, c, d):  # noqa: ANN001, ANN201
+    """Distance between the segments a-b and c-d (0 when they cross)."""
+    ab, cd = b - a, d - c
+    den = (ab * cd.conjugate()).imag
+    if abs(den) > 1e-12:
+        t = ((c - a) * cd.conjugate()).imag / den
+        u = ((c - a) * ab.conjugate()).imag / den
+        if 0.0 <= t <= 1.0 and 0.0 <= u <= 1.0:
+            return 0.0
+    return min(min(segment_distance(a, c, d), segment_distance(b, c, d)),
+               min(segment_distance(c, a, b), segment_distance(d, a, b)))
+
+
+@jit
+def follower_to_come(s, i):  # noqa: ANN001, ANN201
+    """Someone following the robot (FollowRobot: walking or standing behind it by its route), within FOLLOWER_REACH
+    of it, is still where person i's walk on toward their goal (its next CROSS_LOOK metres) would take them nearer
+    the line from a body behind the follower to the robot, within the passing clearance of it, or across it; or the
+    follower, within CROSS_LOOK of that clearance, still walks closer to them (faster than COMING). A person who stood aside for a
+    robot leading someone lets both by, instead of stepping back across between them (the rehab nurse walked on
+    0.1 m in front of the patient the robot guided)."""
+    people, robot = s.people, s.robot[0]
+    p = people[i]
+    ahead = p.goal - p.pos
+    if not p.has_goal or abs(ahead) < 1e-9:
+        return False
+    walk = p.pos + ahead * (min(abs(ahead), CROSS_LOOK) / abs(ahead))
+    for j in range(people.shape[0]):
+        q = people[j]
+        if j == i or q.behavior != 1 or q.route != ROUTE_ROBOT or abs(q.pos - robot.pos) > FOLLOWER_REACH:
+            continue
+        way = robot.pos - q.pos
+        if abs(way) < 1e-9:
+            continue
+        back = q.pos - way / abs(way) * (p.radius + q.radius)  # the line from behind the follower's back to the robot
+        near = segments_apart(p.pos, walk, back, robot.pos)  # the walk comes nearer that line than they stand
+        clear = p.radius + q.radius + PASSED_MARGIN
+        if near < clear and near < segment_distance(p.pos, back, robot.pos) - TIE:
+            return True
+        towards = p.pos - q.pos  # still coming closer, within a walk's reach: not gone by yet
+        if abs(towards) < clear + CROSS_LOOK and (q.vel * towards.conjugate()).real > COMING * abs(towards):
+            return True
+    return False
+
+
 @jit
 def robot_has_passed(s, i):  # noqa: ANN001, ANN201
-    """The robot is beyond the point of its path person i stepped away from (or at its goal)."""
+    """The robot is beyond the point of its path person i stepped away from (or at its goal), and whoever follows it
+    has gone by too (follower_to_come)."""
     robot, p = s.robot[0], s.people[i]
     if abs(robot.pos - robot.goal) <= robot.goal_tolerance:
         return True
     progress, _ = robot_progress(s)
     clear = p.radius + robot.radius + PASSED_MARGIN
-    return progress > p.aside_at + clear and abs(robot.pos - p.pos) > clear
+    return progress > p.aside_at + clear and abs(robot.pos - p.pos) > clear and not follower_to_come(s, i)
 
 
 @jit

@@ -1,9 +1,12 @@
 """Making room: a person who stands still in the way of a robot that waits for them steps aside, as people do.
 
-A person stands still when their tree moves nobody this step: no walking leaf (they are idle at the end of
-their path, wait, look, or talk), or RegularNav at their last goal, already there. A deliberate block is not
-standing still in this sense: a person whose tree's IsRobotBlocking holds this step stands in the robot's
-way on purpose, and stays (a BlockRobot-type leaf walks, so it never counts as standing still).
+A person stands still when they stand (slower than STANDING) and their tree moves nobody this step: no walking
+leaf (they are idle at the end of their path, wait, look, or talk), or RegularNav at their last goal, already there.
+A walker whose tree takes the step between two goals (UpdateGoal) is not standing: a daughter walking past a
+waiting robot to a doorway on her way was read as standing in its way there, and backed out 3 m the way she
+came. A deliberate block is not standing still in this sense: a person whose tree's IsRobotBlocking holds this
+step stands in the robot's way on purpose, and stays (a BlockRobot-type leaf walks, so it never counts as standing
+still).
 
 When such a person is in the robot's way (give_way.in_robot_way: on its remaining path, a few metres ahead)
 and the robot has waited for ROBOT_WAITED s (the engine's clock.stalled: no progress along its route, standing
@@ -31,7 +34,7 @@ from socnavgen.sim.people.give_way import (
     plan_side_step,
     robot_has_passed,
 )
-from socnavgen.sim.people.state import ROUTE_STRAIGHT, queued_at, turn, walk_to
+from socnavgen.sim.people.state import ROUTE_STRAIGHT, STANDING, queued_at, turn, walk_to
 from socnavgen.sim.people.trees import LEAF_NAMES
 from socnavgen.sim.world.queries import line_of_sight
 from socnavgen.sim.world.spots import nearer_spot
@@ -117,7 +120,8 @@ def make_room(s):  # noqa: ANN001, ANN201
             else:  # the tree walks them elsewhere, or blocks the robot: it has the say again
                 p.makes_room = NONE
         elif (waited and not (p.gives_way and p.behavior == 2 and p.give_way_phase != RESUME)  # not giving way
-              and stands_still(s, i, p.pos) and in_robot_way(s, i)):  # already (their tree's GiveWaytoRobot)
+              and abs(p.vel) < STANDING and stands_still(s, i, p.pos)  # already (their tree's GiveWaytoRobot)
+              and in_robot_way(s, i)):
             p.makes_room, p.room_home = STEPPING, p.pos
             p.behavior, p.gives_way = 2, True
             plan_side_step(s, i)

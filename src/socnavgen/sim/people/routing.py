@@ -20,8 +20,8 @@ import numpy as np
 
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.avoid import steer_around_robot
-from socnavgen.sim.people.spots import aim
-from socnavgen.sim.people.state import ROUTE_GOAL, ROUTE_ROBOT, ROUTE_STRAIGHT
+from socnavgen.sim.people.spots import aim, passes_by
+from socnavgen.sim.people.state import ROUTE_GOAL, ROUTE_ROBOT, ROUTE_STRAIGHT, pop_goal
 from socnavgen.sim.world.routes import downhill, effort, field_of, walkable_straight
 
 STRAIGHT_CLEARANCE = 0.35  # m: a straight way is walkable when it keeps this clearance (a 0.4 m body, 5 cm slack)
@@ -131,12 +131,14 @@ def head(s, i, target, route):  # noqa: ANN001, ANN201
 @jit
 def plan(s):  # noqa: ANN001, ANN201
     """Every walker's heading point this step (unless a leaf worked it out already), then steering around the
-    robot."""
+    robot. A point on a walker's way that the robot stands on is passed by (people.spots.passes_by)."""
     step = s.clock[0].step
     for i in range(s.people.shape[0]):
         p = s.people[i]
         if not p.walks:
             continue
+        if p.to_goal and passes_by(s, i):  # a point on their way the robot stands on: on to the next goal
+            pop_goal(s.people, s.goals, i, False)
         if p.via_step != step:
             head(s, i, aim(s, i) if p.to_goal else p.target, p.route)
         steer_around_robot(s, i)

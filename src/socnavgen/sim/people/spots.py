@@ -2,7 +2,8 @@
 
 `aim` (people.routing.plan, for every walk to a goal, whatever tree node commands it): while someone else
 stands on the walker's goal point (within its goal radius), or is walking to it ahead of them, or the robot stands
-on it (within the walker's passing gap of its body: people.avoid would hold them back there), the walker takes
+on the last goal of their path (within the walker's passing gap of its body: people.avoid would hold them back
+there), the walker takes
 the nearest free spot beside it - on rings round the point, in sight of it, a body off the walls, a body and
 bodies.PERSON_STAND_GAP (+ SLACK) from everyone standing and from the spots others took, a body and ROBOT_GAP from
 the robot - and walks there instead (`p.spot`, kept while it stays free). Spots by the robot's way still to go
@@ -12,6 +13,11 @@ group gathers side by side, not across the point from each other). So a team of 
 crowd stands round the point it walked to, a person whose goal the robot stands on waits beside it. The spot
 counts as the goal reached (state.queued_at). With no free spot within the rings they walk to the point itself,
 and stop as close as the others let them (state.queued_at).
+
+A point on their way (more goals after it) that the robot stands on is no place to stand: the walker goes on toward
+it until going round the robot would bring them no nearer (`passes_by`), then on to their next goal, stepping round
+the robot (people.avoid). (A spot beside such a point sent a neighbour to a spot behind her through a doorway, and
+she dithered 0.3 m off the robot for 9 s until it drove off.)
 """
 
 from __future__ import annotations
@@ -34,6 +40,8 @@ NEARER = 3.0  # a spot one ring nearer the point is worth walking this many metr
 ROBOT_GAP = PERSON_PASS_GAP  # m: a spot keeps this gap from the robot's body
 ROUTE_CLEAR = PERSON_PASS_GAP  # m: a spot whose body comes within this of the robot's body on its way is by it ...
 OFF_ROUTE = 6.0  # m: ... and counts this much farther
+MIN_PASS_GAP = 0.2  # m: the least gap a person squeezes past a standing robot with (0.1 looked like brushing it)
+FIT_CLEARANCE = 0.35  # m: a body passing the robot keeps this off the walls (a person's 0.4 m, 5 cm slack)
 TOGETHER = 1.0  # a group member's spot counts this many times its distance to the farthest member there farther
 
 
@@ -67,14 +75,56 @@ def robot_on(s, i, goal):  # noqa: ANN001, ANN201
     return abs(robot.vel) < STANDING and abs(goal - robot.pos) < p.radius + robot.radius + p.pass_gap
 
 
+@jit(inline=True)
+def last_goal(p):  # noqa: ANN001, ANN201
+    """Person p walks to the last goal of their path (a point to stand at, not one on their way)."""
+    return p.queue_count <= 1 and not p.cyclic
+
+
+@jit
+def way_round(s, i):  # noqa: ANN001, ANN201
+    """Walker i's body fits beside the robot's, MIN_PASS_GAP off it and off the walls (FIT_CLEARANCE), on one side
+    or the other of their way on (from the robot to the goal after their current one)."""
+    p, robot = s.people[i], s.robot[0]
+    after = s.goals[i, (p.queue_start + 1) % s.goals.shape[1]]
+    way = after - robot.pos
+    if abs(way) < 1e-9:
+        return True
+    side = way / abs(way) * 1j * (p.radius + robot.radius + MIN_PASS_GAP)
+    return clearance_at(s.world, robot.pos + side) >= FIT_CLEARANCE or \
+        clearance_at(s.world, robot.pos - side) >= FIT_CLEARANCE
+
+
+@jit
+def robot_on_way(s, i):  # noqa: ANN001, ANN201
+    """The robot stands on walker i's goal, a point on their way (more goals after it), and there is room to go
+    round it (way_round): they walk round it. With no room (the robot at an elevator's mouth) the goal is taken: they
+    wait at a spot beside it, off the robot's way, as at a last goal."""
+    p = s.people[i]
+    return p.has_goal and not last_goal(p) and robot_on(s, i, p.goal) and way_round(s, i)
+
+
+@jit
+def passes_by(s, i):  # noqa: ANN001, ANN201
+    """The robot stands on walker i's goal, a point on their way (robot_on_way), and they are as near it as going
+    round the robot with their passing gap brings them, the robot in sight: they pass it by and walk on to the next
+    goal (people.routing drops it), as people walk round someone standing where their way goes."""
+    p, robot = s.people[i], s.robot[0]
+    if not robot_on_way(s, i):
+        return False
+    near = abs(p.goal - robot.pos) + p.radius + robot.radius + p.pass_gap
+    return abs(p.goal - p.pos) <= near and line_of_sight(s.world, p.pos, robot.pos)
+
+
 @jit
 def occupied(s, i, goal):  # noqa: ANN001, ANN201
     """Someone else stands on `goal` (where person i would have reached it), or walks to it ahead of person i
-    without a spot of their own, or the robot stands on it."""
+    without a spot of their own, or the robot stands on it when it is the last goal of their path (one on their
+    way is passed by: passes_by)."""
     people = s.people
-    if robot_on(s, i, goal):
-        return True
     p = people[i]
+    if robot_on(s, i, goal) and (last_goal(p) or not way_round(s, i)):
+        return True
     away = abs(goal - p.pos)
     for j in range(people.shape[0]):
         if j == i:
