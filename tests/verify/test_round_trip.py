@@ -59,3 +59,27 @@ def test_standing_on_the_way_back_behind_someone_is_still_a_deadlock() -> None:
     s = Signals(_led_home(True))
     assert s.holding_up()[s.t > 12.5, 0].all()  # the person 1 m ahead of it on the way back
     assert s.get("deadlock").max() >= 17.0
+
+
+def _turned_short(backs_off: float = 0.0) -> np.ndarray:
+    """(T, 2) a robot driving the round trip's far leg but turning 0.5 m short of x = 10 through a 0.6 m loop off
+    the line (hospital_07: it turned round 0.3 m before the nurse station's node), then back along y = 5; with
+    `backs_off` it first backs that many metres east on the way back (making way), then drives on west."""
+    out = np.stack([np.linspace(2.0, 9.5, 76), np.full(76, 5.0)], 1)
+    loop = np.array([[9.6, 5.3], [9.5, 5.6], [9.2, 5.4], [9.0, 5.0]])
+    home = np.stack([np.linspace(8.9, 2.0, 70), np.full(70, 5.0)], 1)
+    if backs_off:
+        k = 20
+        back = np.stack([np.linspace(home[k, 0], home[k, 0] + backs_off, 5), np.full(5, 5.0)], 1)
+        home = np.concatenate([home[:k + 1], back, home[k + 1:] + 0.0])
+    return np.concatenate([out, loop, home])
+
+
+def test_a_robot_turning_short_of_its_turning_point_makes_progress_on_the_way_back() -> None:
+    from socnavgen.verify.route import route_progress
+
+    progress = route_progress(_turned_short(), ROUND_TRIP)[0]
+    assert progress[-1] > 15.5  # back at its start: 16 m of route covered, not read as the way out driven back
+    assert np.all(np.diff(progress[90:]) > 0)  # every step home is progress
+    backing = route_progress(_turned_short(backs_off=0.2), ROUND_TRIP)[0]
+    assert backing[-1] > 15.5 and np.diff(backing).min() > -0.25  # backing off 0.2 m stays on its leg (no jump)

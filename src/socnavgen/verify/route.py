@@ -12,6 +12,7 @@ from socnavgen.sim import contact
 
 TIE = 1e-6  # m: segments this equally near a point are the same place on a route that comes back over itself
 #              (exact overlaps only: near a joint the first nearest wins as before, to the bit)
+HEADING_RUN = 0.3  # m: on a shared stretch the robot drives the leg it has moved along over its last this many metres
 
 
 def route_progress(robot_xy: np.ndarray, waypoints: list[tuple[float, float]],
@@ -23,10 +24,12 @@ def route_progress(robot_xy: np.ndarray, waypoints: list[tuple[float, float]],
     A route that comes back over itself (a patrol there and back, ef ... 8r ... ef) has two equally near
     segments (within TIE) at every point of the shared stretch: the one whose progress is nearest a reference
     wins (ties: the later one). The reference is `near` (T,) when given (a person's place judged against the
-    robot's progress: ahead of it on the leg it drives now), else the position's own progress at the step before
-    (the robot itself: going on along the leg it is on; at the start, the first leg). Without that, the way back
-    read as the way out driven backwards: no progress, and a follower behind the robot "in its way"
-    (hospital_06, first answer: a 36 s deadlock while it led the patient home)."""
+    robot's progress: ahead of it on the leg it drives now). For the robot itself it is the leg it moves along:
+    the one whose direction its last HEADING_RUN metres of travel follow (a robot backing off a little stays on
+    its leg); standing or crossing it, the one nearest its progress the step before (at the start, the first leg).
+    Without that, the way back read as the way out driven backwards: no progress, and a follower behind the robot
+    "in its way" (hospital_06, first answer: a 36 s deadlock while it led the patient home; hospital_07: a robot
+    turning 0.3 m short of its turning point stayed on the way out for the whole way back)."""
     pts = np.asarray(waypoints, dtype=float).reshape(-1, 2)
     seg = np.diff(pts, axis=0)
     lens = contact.lengths(seg)
@@ -52,8 +55,16 @@ def route_progress(robot_xy: np.ndarray, waypoints: list[tuple[float, float]],
         nearest[rows] = np.argmin(np.where(tied[rows], gap, np.inf), axis=1)
     elif len(rows):
         progress = every[np.arange(t), nearest]
+        driven = np.concatenate([[0.0], np.cumsum(contact.lengths(np.diff(robot_xy, axis=0)))])
+        back = np.searchsorted(driven, driven - HEADING_RUN, side="right") - 1  # where it was HEADING_RUN m ago
         for k in rows[rows > 0]:  # in order: the step before is final when this one is judged
             gap = np.abs(every[k] - progress[k - 1]) - 1e-9 * every[k]
+            if driven[k] >= HEADING_RUN:
+                moved = robot_xy[k] - robot_xy[max(back[k], 0)]
+                along = unit[:, 0] * moved[0] + unit[:, 1] * moved[1]
+                ahead = tied[k] & (along > 0.5 * HEADING_RUN)  # legs it drives forward along (not across them)
+                if ahead.any():
+                    gap = np.where(ahead, gap, np.inf)
             nearest[k] = int(np.argmin(np.where(tied[k], gap, np.inf)))
             progress[k] = every[k, nearest[k]]
     return every[np.arange(t), nearest], unit[nearest]
