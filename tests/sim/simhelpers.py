@@ -30,6 +30,12 @@ def tree_xml(body: str, fmt: int = 3) -> str:
     return f'{head}\n<include path="BTRegularNav.xml"/>\n<BehaviorTree ID="MainTree">\n{body}\n</BehaviorTree>\n</root>\n'
 
 
+def nav_tree(body: str) -> str:
+    """A main tree around `body`, which may use the RegularNavTree SubTree: its two ports are filled first."""
+    return tree_xml('<Sequence><SetBlackboard output_key="agentid" value="{id}"/>'
+                    f'<SetBlackboard output_key="timestep" value="{{dt}}"/>{body}</Sequence>')
+
+
 class Stay:
     """A robot that never moves."""
 

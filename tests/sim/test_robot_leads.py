@@ -16,18 +16,15 @@ from socnavgen.sim.people.state import ROUTE_GOAL, ROUTE_ROBOT
 from socnavgen.sim.robot.api import ScriptedPolicy
 from socnavgen.sim.robot.lead import goes_with_robot
 from socnavgen.sim.robot.polite import coming_through, yield_to
-from tests.sim.simhelpers import REGULAR, human, make_sim, tree_xml
+from tests.sim.simhelpers import REGULAR, human, make_sim, nav_tree, tree_xml
 
 WALK = tree_xml(REGULAR)
 LOOK = tree_xml('<Sequence><LookAtRobot agent_id="{id}"/></Sequence>')
 # walks out to block the robot once it is within 4 m, for 10 s; else walks to (stays at) its goal
-BLOCKS = tree_xml('<Fallback><Sequence><IsRobotNearby agent_id="{id}" distance="5.0"/>'
+BLOCKS = nav_tree('<Fallback><Sequence><IsRobotNearby agent_id="{id}" distance="5.0"/>'
                   '<Inverter><TimeExpiredCondition seconds="10.0" ts="{dt}" only_once="true"/></Inverter>'
                   '<BlockRobot agent_id="{id}" time_step="{dt}"/></Sequence>'
                   '<SubTree ID="RegularNavTree" id="agentid" dt="timestep"/></Fallback>')
-BLOCKS = BLOCKS.replace("<Fallback>", '<Sequence><SetBlackboard output_key="agentid" value="{id}"/>'
-                        '<SetBlackboard output_key="timestep" value="{dt}"/><Fallback>', 1)
-BLOCKS = BLOCKS.replace("</Fallback>\n</BehaviorTree>", "</Fallback></Sequence>\n</BehaviorTree>")
 
 
 def _state(people: list[tuple[complex, complex]], goal: complex = 2.0 + 5.0j):  # noqa: ANN202

@@ -11,7 +11,7 @@ from socnavgen.run.spec import CueTrigger, RobotCue, RobotScript
 from socnavgen.sim import BUILTIN, DEFAULT_ROBOT, PacingPlan, ThrottleConfig, load_policy
 from socnavgen.sim.contact import overlapping
 from socnavgen.sim.robot.api import ScriptedPolicy, StraightPolicy
-from tests.sim.simhelpers import REGULAR, Drive, Stay, human, make_sim, tree_xml
+from tests.sim.simhelpers import REGULAR, Drive, Stay, human, make_sim, nav_tree, tree_xml
 
 EXCUSE_ME = next(k for k, v in ROBOT_GESTURES.items() if v == "EXCUSE ME")
 FOLLOW_ME = next(k for k, v in ROBOT_GESTURES.items() if v == "FOLLOW ME")
@@ -175,13 +175,10 @@ def test_paced_human_meets_the_robot_at_the_node():
 def test_human_says_cue_and_wait_until_clear():
     """human1 says WAIT (gesture 1) at once; the robot's cue answers ACKNOWLEDGED and stands still until nobody
     is in its way; human1 stands in the way for 3 s, then walks off the robot's line."""
-    says_wait = tree_xml('<Fallback><Sequence><Inverter><TimeExpiredCondition seconds="3.0" ts="{dt}" '
+    says_wait = nav_tree('<Fallback><Sequence><Inverter><TimeExpiredCondition seconds="3.0" ts="{dt}" '
                          'only_once="true"/></Inverter><MakeGesture agent_id="{id}" message="1"/></Sequence>'
                          '<Sequence><MakeGesture agent_id="{id}" message="0"/>'
                          '<SubTree ID="RegularNavTree" id="agentid" dt="timestep"/></Sequence></Fallback>')
-    says_wait = says_wait.replace("<Fallback>", '<Sequence><SetBlackboard output_key="agentid" value="{id}"/>'
-                                  '<SetBlackboard output_key="timestep" value="{dt}"/><Fallback>', 1)
-    says_wait = says_wait.replace("</Fallback>\n</BehaviorTree>", "</Fallback></Sequence>\n</BehaviorTree>")
     script = RobotScript(cues=[RobotCue(trigger=CueTrigger(when="human_says", human="human1", phrase="WAIT"),
                                         say="ACKNOWLEDGED", hold=1.0, wait_until_clear=True)])
     person = human(start=(4.5, 5.0), goals=[(4.5, 9.0)])
