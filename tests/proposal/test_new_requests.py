@@ -23,8 +23,8 @@ PATHS = fixture_paths(FIXTURES)
 # capable model on the fifth session's prompts of 2026-11-26), replayed on the sixth session's code and judged from
 # GIF frames by three sessions that read no code and saw no verdict (round 12 of the eyes).
 # Causes left: a robot waiting for someone right on her line (she stalls before it, then squeezes past: home_06), a
-# person walking back into the robot's side as it passes (0.10 m, "touching" to the eyes: hospital_08); a block that
-# the heading-only "in the way" misses once the robot turns to go round (home_01); a visitor who never stepped aside
+# person walking back into the robot's side as it passes (0.10 m, "touching" to the eyes: hospital_08); a blocker
+# hovering at ~0.1 m/s at her block point, which breaks the 1 s standoff (home_01); a visitor who never stepped aside
 # (hospital_01: the eyes were generous twice); and two specs that ask more than the eyes did (hospital_05,
 # warehouse_04).
 DISAGREE: dict[str, str] = {
@@ -36,8 +36,9 @@ DISAGREE: dict[str, str] = {
     "at 29.1 s: no contact for the verifier, outlines meeting for the eyes; the text excludes touching)",
     "home_01_child_blocks_vacuum": "strict FAIL: the eyes saw the child run up in front of the robot (~9-11 s, ~0.1 m), "
     "back off to ~0.5 m and stand blocking while it holds, shift with it when it turns to go round, and run off only "
-    "after EXCUSE ME (~15 s); blocks_robot misses its 1 s standoff by 0.01 (in the way is read along the robot's "
-    "heading, which turned away as it tried to go round)",
+    "after EXCUSE ME (~15 s); blocks_robot misses its 1 s standoff by 0.01: standing at her block point (~12.75-14.25 "
+    "s) the child hovers at 0.04-0.11 m/s, and a sample above 0.1 m/s breaks the hold (a route-aware 'in the way' "
+    "changes nothing here)",
     "hospital_01_elevator_door_standoff": "strict FAIL: the eyes (rounds 11 and 12) saw both visitors give way after "
     "EXCUSE ME and board after the robot left. The trace: human2 walked from the robot's route to a spot 1.2 m off "
     "it before the robot came out (0-4 s) and stood there from 5 s on, never stepping aside after the phrase; at the "
