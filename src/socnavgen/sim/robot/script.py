@@ -202,6 +202,12 @@ def route_segment(s):  # noqa: ANN001, ANN201
     return seg
 
 
+@jit(inline=True)
+def into_route(q, foot, d):  # noqa: ANN001, ANN201
+    """m/s at which person q walks toward `foot`, their nearest route point d m away (0 on the route)."""
+    return (q.vel * ((foot - q.pos) / d).conjugate()).real if d > 1e-6 else 0.0
+
+
 @jit
 def squeezes_past(s, i, foot, d):  # noqa: ANN001, ANN201
     """The robot passes person i (d from its route, `foot` the nearest route point) on the far side keeping
@@ -209,7 +215,7 @@ def squeezes_past(s, i, foot, d):  # noqa: ANN001, ANN201
     else there; not while they walk into its way (INTO_WAY)."""
     robot, q = s.robot[0], s.people[i]
     clear = robot.radius + q.radius + ROBOT_SOCIAL_GAP
-    if d < 1e-6 or clear - d > SQUEEZE or (q.vel * ((foot - q.pos) / d).conjugate()).real > INTO_WAY:
+    if d < 1e-6 or clear - d > SQUEEZE or into_route(q, foot, d) > INTO_WAY:
         return False
     at = q.pos - (q.pos - foot) / d * clear  # the robot's centre passing them
     if clearance_at(s.world, at) < robot.radius + WALL_ROOM:
@@ -233,7 +239,7 @@ def on_route_ahead(s, seg, i, reach, distance):  # noqa: ANN001, ANN201
         if length > 1e-9:
             along, d = project(q, a, b)
             foot = a + (b - a) / length * along
-            into = (s.people[i].vel * ((foot - q) / d).conjugate()).real if d > 1e-6 else 0.0
+            into = into_route(s.people[i], foot, d)
             near = d < reach or (into > INTO_WAY and d - into * INTO_WAY_LOOK < reach)
             if along <= left and near and (along > 0.0 or j > seg + 1):
                 beside = 1e-6 < along < length - 1e-6  # not off either end of the leg (ahead, round a corner)
