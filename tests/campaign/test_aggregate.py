@@ -74,6 +74,18 @@ def test_checks_count_only_where_they_applied_and_ttc_sums_seconds() -> None:
     assert agg.ttc["good"] == [8.0, 0.0, 0.0, 0.0, 0.0, 72.0]
 
 
+def test_the_report_names_each_check_readably_with_its_column_name_in_the_glossary() -> None:
+    from socnavgen.campaign.report import _sections
+
+    table = _table().drop_columns(["expected_checks"]).append_column("expected_checks", pa.array(
+        [json.dumps([{"check": "slow_near_place", "value": 0.3, "passed": True}])] * _table().num_rows))
+    sections = {title: rows for title, _, rows, _ in _sections(aggregate(table, resamples=200))}
+    checks = next(rows for title, rows in sections.items() if title.startswith("Expected behaviour per check"))
+    assert checks[0][0] == "Slow on its approach to the place" and checks[0][1] == "8"  # per policy
+    glossary = [r for r in sections["Metrics"] if r[1] == "expected_checks: slow_near_place"]
+    assert glossary and glossary[0][0] == "Check: Slow on its approach to the place" and "mean speed" in glossary[0][3]
+
+
 def test_paired_differences_are_on_the_same_scenario_and_seed() -> None:
     agg = aggregate(_table(), resamples=200, baseline="good")
     paired = agg.paired["bad"]["collisions"]

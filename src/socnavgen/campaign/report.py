@@ -153,8 +153,10 @@ def _sections(agg: Aggregates) -> list[Section]:
                for p in agg.policies]
     location_rows = [[loc, p] + [cell(agg.per_location[(loc, p)][m], m) for m in agg.ranking]
                      for loc in agg.locations for p in agg.policies]
+    from socnavgen.sim.behaviour_checks import check_title
+
     checks = sorted({c for c, _ in agg.checks})
-    check_rows = [[c, _applied(agg, c)] + [cell(agg.checks[(c, p)], "check") if (c, p) in agg.checks else "–"
+    check_rows = [[check_title(c), _applied(agg, c)] + [cell(agg.checks[(c, p)], "check") if (c, p) in agg.checks else "–"
                                            for p in agg.policies] for c in checks]
     ttc_rows = [[p] + [f"{v / max(1, agg.per_policy[p]['success'].n):.2f}" for v in agg.ttc[p]]
                 for p in agg.policies if p in agg.ttc]
@@ -199,12 +201,12 @@ def _ttc_bins() -> list[str]:
 
 
 def _glossary(agg: Aggregates, checks: list[str]) -> list[list[str]]:
-    from socnavgen.sim.behaviour_checks import CHECKS
+    from socnavgen.sim.behaviour_checks import CHECKS, check_title
 
     names = [*agg.metrics, *(n for n in NAVIGATION if n not in agg.metrics)]
     definitions = metric_definitions(names)
     rows = [[label(m), m, d["unit"], d["meaning"], d.get("formula") or ""] for m, d in definitions.items()]
-    return rows + [[f"check: {c}", "expected_checks", "bool", CHECKS[c][1] if c in CHECKS else "", ""]
+    return rows + [[f"Check: {check_title(c)}", f"expected_checks: {c}", "bool", CHECKS[c][1] if c in CHECKS else "", ""]
                    for c in checks]
 
 
