@@ -155,7 +155,7 @@ def _sections(agg: Aggregates) -> list[Section]:
                      for loc in agg.locations for p in agg.policies]
     from socnavgen.sim.behaviour_checks import check_title
 
-    checks = sorted({c for c, _ in agg.checks})
+    checks = sorted({c for c, _ in agg.checks}, key=check_title)
     check_rows = [[check_title(c), _applied(agg, c)] + [cell(agg.checks[(c, p)], "check") if (c, p) in agg.checks else "–"
                                            for p in agg.policies] for c in checks]
     ttc_rows = [[p] + [f"{v / max(1, agg.per_policy[p]['success'].n):.2f}" for v in agg.ttc[p]]

@@ -300,7 +300,7 @@ CHECKS: dict[str, tuple[Callable[[Situation, ExpectedCheck], Outcome], str]] = {
 TITLES: dict[str, str] = {
     "slow_near_place": "Slow on its approach to the place", "keeps_right": "Keeps right",
     "stops_when_close": "Does not close in on a person within reach", "keeps_distance": "Keeps out of intimate space",
-    "smooth_braking": "Brakes smoothly", "keeps_line": "Keeps its line while passed",
+    "smooth_braking": "Brakes smoothly", "keeps_line": "Keeps its line, no swerve toward people",
     "lets_person_pass_first": "Lets the person through first", "goes_first": "Goes first without hesitating",
     "follow_distance": "Keeps a steady following distance",
 }
