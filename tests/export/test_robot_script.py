@@ -61,7 +61,7 @@ def replay(player: ScriptPlayer, trace) -> np.ndarray:  # noqa: ANN001 - sim.tra
 
 # steps a change may be seen apart: the engine reads its gesture rules after the step's move, its cues before
 # (one step); and a `blocked` cue looks ahead along the built-in robot's steering, the player (poses only)
-# along its yaw. Since the robot waits to the right of its way in a timed wait (robot.polite.wait_aside, 2026-11-26
+# along its yaw. Since the robot waits to the right of its way in a timed wait (robot.wait_spot.wait_aside, 2026-11-26
 # s7) it turns on the spot near x (yaw 0.16 -> -2.7 rad while standing, off its steering): human1, 1.2 m south of
 # it, enters the player's cone 14 steps (0.7 s) before the engine's EXCUSE ME at t=21.9 s and leaves it 10 steps
 # before the engine's cue ends. A cue fired elsewhere (the check below that must fail) is seconds apart.

@@ -7,9 +7,12 @@ from __future__ import annotations
 
 import pytest
 
+from socnavgen.bodies import PERSON_RADIUS, ROBOT_RADIUS
 from socnavgen.run.spec import CueTrigger, RobotCue, RobotScript, ScenarioSpec
+from socnavgen.sim.people.routing import project
 from socnavgen.sim.robot.api import ScriptedPolicy
 from socnavgen.sim.robot.script import LET_PASS_PATIENCE
+from socnavgen.sim.robot.wait_spot import CLEAR_OF_WAY
 from tests.sim.simhelpers import REGULAR, human, make_sim, tree_xml
 
 ROUTE = [(2.0, 5.0), (18.0, 5.0)]
@@ -35,17 +38,36 @@ def test_the_robot_stands_until_the_person_coming_the_other_way_has_gone_by():
     rows = _drive(_cue(let_pass="human1"), ONCOMING, tree_xml(REGULAR), 40.0)
     fired = next(k for k, (_, r, p) in enumerate(rows) if abs(r - p) <= 4.0)
     passed = next(k for k, (_, r, p) in enumerate(rows) if p.real < r.real - 1.0)  # she is behind it
-    stood = [r for _, r, _ in rows[fired + 10:passed]]
-    assert max(abs(r - stood[0]) for r in stood) < 0.3, "the robot drove on before she had gone by"
+    stood = [r for _, r, _ in rows[fired + 10:passed]]  # it may step aside, off her way, but not drive on
+    assert max(abs(r.real - stood[0].real) for r in stood) < 0.3, "the robot drove on before she had gone by"
     assert rows[-1][1].real > 17.0  # then it drove on to its goal
 
 
-def test_without_let_pass_the_robot_does_not_stand_for_her():
-    rows = _drive(_cue(), ONCOMING, tree_xml(REGULAR), 40.0)
-    fired = next(k for k, (_, r, p) in enumerate(rows) if abs(r - p) <= 4.0)
-    passed = next(k for k, (_, r, p) in enumerate(rows) if p.real < r.real - 1.0)
-    moved = [r for _, r, _ in rows[fired + 10:passed]]
-    assert max(abs(r - moved[0]) for r in moved) > 0.5
+@pytest.mark.parametrize("person", [ONCOMING,  # on its route, the other way
+                                    # out of a door north of its route, through a point by the robot, then west
+                                    {"start": (9.0, 9.0), "goals": [(4.3, 5.2), (1.0, 5.0)]}])
+def test_the_robot_letting_someone_pass_waits_beside_their_way_not_on_it(person: dict):
+    """home_06 of the new-request suite: the robot let the neighbour come through first, but stood on the open
+    floor right on her line; she stalled half a metre in front of it, then squeezed past at 0.15 m. It now waits
+    beside her way (wait_spot.CLEAR_OF_WAY between the bodies, the room allowing) and she walks on past it."""
+    script = RobotScript(cues=[RobotCue(trigger=CueTrigger(when="start"), let_pass="human1")])
+    sim = make_sim([human(**person)], [tree_xml(REGULAR)], [(4.0, 5.0), (18.0, 5.0)], policy=ScriptedPolicy(),
+                   script=script)
+    rows = []
+    while sim.t < 45.0:
+        sim.step()
+        rows.append((sim.t, complex(sim.robot.pos), complex(sim.people.pos[0])))
+    touch = PERSON_RADIUS + ROBOT_RADIUS
+    passed = next(k for k, (_, r, p) in enumerate(rows) if p.real < r.real - 1.0)  # she is past it
+    a, b = complex(*(person["goals"][-2] if len(person["goals"]) > 1 else person["start"])), complex(*person["goals"][-1])
+    beside = max(project(r, a, b)[1] for _, r, p in rows[passed - 20:passed])  # off her line west
+    assert beside >= touch + CLEAR_OF_WAY - 0.1, f"it waited {beside:.2f} m off her way"
+    gap = min(abs(r - p) - touch for _, r, p in rows[:passed + 40])
+    assert gap >= CLEAR_OF_WAY - 0.15, f"she passed it at {gap:.2f} m"
+    stalled = sum(b[0] - a[0] for a, b in zip(rows[:passed], rows[1:passed + 1], strict=True)
+                  if abs(b[2] - a[2]) < 0.1 * (b[0] - a[0]))
+    assert stalled < 1.0, f"she stood {stalled:.1f} s before passing it"  # she walked on past it
+    assert rows[-1][1].real > 17.0  # then it drove on to its goal
 
 
 STANDING = tree_xml('<Sequence><LookAtRobot agent_id="{id}"/></Sequence>')

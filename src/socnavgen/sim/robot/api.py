@@ -83,6 +83,11 @@ class Cues:
         return self._now.wait.item(0)
 
     @property
+    def letting(self) -> int:
+        """The person (agent id) a `let_pass` cue stands the robot for now, beside their way (-1: none)."""
+        return self._now.letting.item(0)
+
+    @property
     def speed(self) -> float:
         """Cruise speed (m/s) the script sets."""
         return self._now.speed.item(0)

@@ -37,9 +37,9 @@ from socnavgen.sim.robot.polite import (
     near_speed,
     pass_aside,
     social_clear,
-    wait_aside,
     yield_to,
 )
+from socnavgen.sim.robot.wait_spot import off_their_way, wait_aside
 from socnavgen.sim.world.queries import clearance_at, nearest_obstacle, path_clear
 from socnavgen.sim.world.spots import nearer_spot
 
@@ -74,6 +74,8 @@ POLICY = layout([
     # the gap it keeps now (polite.social_clear)
     ("retreat_to", "i8"),  # making way (polite.make_way): the waypoint it backs toward (-1: none)
     ("pinned", "f8"),  # s its moves have been held back by its keep_gap (polite.social_clear)
+    ("has_wait_spot", "?"), ("wait_spot", "c16"), ("wait_off", "f8"),  # letting someone pass: where it waits, how
+    # far from their way (robot.wait_spot.off_their_way)
     ("plans", "?"), ("field_scale", "i8"),  # it follows the planner's way (robot.planner) where the line to its waypoint is blocked
     ("waypoint", "i8"), ("rude_waypoint", "i8")])
 
@@ -321,12 +323,17 @@ def scripted_act(s, now):  # noqa: ANN001, ANN201
         return straight_act(s, policy.rude_max_speed, True)
     corner = corner_speed(s)
     policy.max_speed = min(now.speed, policy.speed_cap, corner)
-    if now.wait:  # out of the way of anyone closing in; in a timed wait, out of the walkway of someone coming
-        policy.speed = 0.0
+    if now.wait:  # out of the way of anyone closing in; letting someone pass, off their way; in a timed wait, out
+        policy.speed = 0.0  # of the walkway of someone coming
         v, _ = yield_to(s)
-        if v == 0 and now.timed:
+        if now.letting < 0:
+            policy.has_wait_spot = False
+        elif v == 0:
+            v = off_their_way(s, now.letting)
+        if v == 0 and now.timed and now.letting < 0:
             v = wait_aside(s)
         return social_clear(s, slide_along_walls(s, v))
+    policy.has_wait_spot = False
     forward = way_ahead(s)
     if abs(forward) > 1e-9:
         backing, v = make_way(s, forward)

@@ -21,9 +21,7 @@ them, steps back from someone walking into it, and never moves closer than a mar
   BLIND_SIGHT_M / 2 before and after the turn do not see each other on the map: the place inventory's blind
   turn), it drives at most corner_speed, approaching and leaving the turn within CORNER_REACH (braking into
   it at CORNER_DECEL): someone may come round it.
-* wait_aside: while a cue's timed wait holds it and someone near needs to get past it, it stands to the right of
-  its way (keep right), out of the walkway, ASIDE m off its route's line or as far as the walls leave WALL_ROOM:
-  not in the middle of a corridor.
+* where a waiting robot stands (wait_aside, off_their_way): robot.wait_spot.
 * keep_clear: the part of a move that would bring the robot closer than `gap` (surface to surface) to a
   person is dropped: it slides past or stops, and never pushes into anyone.
 * follow_speed: within personal space behind or abreast of someone walking its way with less than PASS_GAP beside
@@ -80,8 +78,6 @@ CORNER_SPEED = 0.3  # m/s: the suggested ScriptedPolicy(corner_speed=...) near a
 CORNER_REACH = 2.5  # m from the turn's waypoint, before and after it
 CORNER_DECEL = 0.8  # m/s2: it brakes into that speed at this rate (under the 1.5 m/s2 comfort limit)
 CORNER_COS = math.cos(math.radians(CORNER_TURN_DEG))  # a turn sharper than the inventory's corner
-ASIDE = 1.0  # m right of its route's line at most, a waiting robot stands (wait_aside)
-ASIDE_LOOK = 3.6  # m (gap, social space): someone this near who needs to get past makes a waiting robot step aside
 ROUTE_LOOK = 4  # goals of a person's queue looked along for whether their route goes through the robot
 
 
@@ -462,29 +458,3 @@ def corner_late(s, cruise, out):  # noqa: ANN001, ANN201
         lo, hi = max(here, offs[j] - CORNER_REACH), offs[j] + CORNER_REACH
         for m in range(j, n):
             out[m] += max(0.0, min(hi, offs[m]) - lo) * per_m
-
-
-@jit
-def wait_aside(s):  # noqa: ANN001, ANN201
-    """Sideways velocity (complex) that takes a waiting robot to the right of its route's current leg, ASIDE m off
-    its line or as far as the walls leave it WALL_ROOM, while someone within ASIDE_LOOK (gap) needs to get past
-    it (coming_through: their goal or route lies beyond it); 0 once there, with nobody coming, or on a leg of no
-    length."""
-    policy, robot, wps = s.policy[0], s.robot[0], s.waypoints
-    k = min(max(policy.waypoint, 1), wps.shape[0] - 1)
-    leg = wps[k] - wps[k - 1]
-    if abs(leg) < 1e-9:
-        return 0j
-    forward = leg / abs(leg)
-    who, _ = coming_through(s, forward, ASIDE_LOOK, False)
-    if who < 0:
-        return 0j
-    right = -1j * forward
-    off = -((robot.pos - wps[k - 1]) * forward.conjugate()).imag  # m right of the leg's line now
-    want = ASIDE - off
-    if want <= 0.02:
-        return 0j
-    go = min(want, free_along(s.world, robot.pos, right, want, robot.radius + WALL_ROOM))
-    if go <= 0.02:
-        return 0j
-    return right * min(LATERAL_SPEED, LATERAL_GAIN * go)

@@ -58,6 +58,7 @@ RULE_WHEN = {"always": ALWAYS, "at_node": AT_ENCOUNTER, "near_human": NEAR_HUMAN
 FIRED, ASKED_AGAIN, GAVE_UP, WENT_BY = 0, 1, 2, 3  # events of the cue log
 
 NOW = layout([("say", "i8"), ("wait", "?"), ("timed", "?"),  # timed: a cue's `wait` s hold it (not until clear)
+              ("letting", "i8"),  # the person a `let_pass` cue stands the robot for (-1: none)
               ("speed", "f8"), ("misbehave", "?"), ("logged", "i8")])
 CUE = layout([("when", "i8"), ("who", "i8"), ("phrase", "i8"), ("say", "i8"), ("once", "?"), ("until_clear", "?"),
               ("has_point", "?"), ("point", "c16"), ("seconds", "f8"), ("distance", "f8"), ("hold", "f8"),
@@ -138,7 +139,7 @@ def lower_script(script: RobotScript | None, encounter_points: dict[str, complex
         rows[k].has_point, rows[k].point = point is not None, point if point is not None else 0j
         rows[k].distance, rows[k].duration = rule.distance, rule.duration
     size = max(len(cues), 1) * 2 * (steps + 2)
-    now = table(NOW, 1, speed=script.speed if script is not None else 0.6,
+    now = table(NOW, 1, letting=-1, speed=script.speed if script is not None else 0.6,
                  misbehave=script.misbehave if script is not None else False)
     return Script(now, table_, rows, np.zeros(size), np.zeros(size, dtype=np.int64), np.zeros(size, dtype=np.int64))
 
@@ -358,7 +359,7 @@ def play(s, script):  # noqa: ANN001, ANN201
         if not math.isnan(cue.speed):
             now.speed = cue.speed
         log(script, t, c, FIRED)
-    say, wait, timed = 0, False, False
+    say, wait, timed, letting = 0, False, False, -1
     for c in range(script.cues.shape[0]):
         cue = script.cues[c]
         if cue.say != 0 and t < cue.say_until:
@@ -385,7 +386,9 @@ def play(s, script):  # noqa: ANN001, ANN201
                 cue.letting_pass = False
                 log(script, t, c, WENT_BY if went else GAVE_UP)
             wait = wait or cue.letting_pass
-    now.say, now.wait, now.timed = say, wait, timed
+            if cue.letting_pass and letting < 0:
+                letting = cue.lets_pass
+    now.say, now.wait, now.timed, now.letting = say, wait, timed, letting
 
 
 @jit
