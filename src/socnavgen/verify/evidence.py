@@ -239,7 +239,9 @@ def _human_evidence(cc: Compiled, s: Signals) -> Evidence:
 
 
 def _follow_text(cc: Compiled, s: Signals, h: str) -> str:
-    way, t = s.get(f"way_{h}"), s.t
+    """How far the follower fell behind whom it follows (the robot, or the person of follows_human)."""
+    o, t = cc.leader, s.t
+    way = s.get(f"way_{h}" if o == "robot" else f"way_{h}_{o}")
     first = 0
     if cc.phrase:
         said = _first(s.get(f"robot_says_{cc.phrase}") > 0.5)
@@ -247,14 +249,25 @@ def _follow_text(cc: Compiled, s: Signals, h: str) -> str:
             return f"; the robot never said {words(cc.phrase)}"
         first = said
     k = first + int(np.argmax(way[first:]))
-    straight = float(s.get(f"dist_{h}")[k])
+    straight = float(contact.lengths(s.pos(h)[k] - s.pos(o)[k]))
     text = (f"; the robot said {words(cc.phrase)} at t={t[first]:.1f} s" if cc.phrase else "") + \
-        f"; farthest {'after it ' if cc.phrase else ''}{way[k]:.2f} m along the walkable way at t={t[k]:.1f} s"
+        (f"; farthest {'after it ' if cc.phrase else ''}{way[k]:.2f} m from {'the robot' if o == 'robot' else o} "
+         f"along the walkable way at t={t[k]:.1f} s")
     if way[k] > straight + 0.5:
         text += f" ({straight:.2f} m straight, through a wall)"
     if not (s.get(f"speed_{h}")[first:] > WALK_SPEED).any():
         text += f"; {h} never walked after it"
+    elif o != "robot" and not ((s.get(f"speed_{h}") > WALK_SPEED) & (s.get(f"speed_{o}") > WALK_SPEED))[first:].any():
+        text += f"; {h} and {o} never walked at the same time"
     return text
+
+
+def _follower_evidence(cc: Compiled, s: Signals) -> Evidence:
+    """follows_human: about the follower and whom it follows; how close the robot came says nothing of it."""
+    h = cc.human or ""
+    way = s.get(f"way_{h}_{cc.leader}")
+    k = int(np.argmax(way))
+    return _follow_text(cc, s, h)[2:] + window_text(s, cc.window), float(s.t[k]), float(way[k])
 
 
 def _group_evidence(cc: Compiled, s: Signals) -> Evidence:
@@ -351,7 +364,7 @@ def _stl_evidence(cc: Compiled, s: Signals) -> Evidence:
 EVIDENCE: dict[str, Callable[[Compiled, Signals], Evidence]] = {
     "meets": _meets_evidence, "reacts_after_phrase": _phrase_evidence, "group_together": _group_evidence,
     "robot_reaches_goal": _goal_evidence, "no_collision": _collision_evidence, "no_deadlock": _deadlock_evidence,
-    "people_apart": _people_evidence, "stl": _stl_evidence,
+    "people_apart": _people_evidence, "stl": _stl_evidence, "follows_human": _follower_evidence,
 }  # every other kind of criteria.CRITERION_KINDS: _human_evidence
 
 
