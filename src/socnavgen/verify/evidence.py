@@ -341,7 +341,13 @@ def _deadlock_evidence(cc: Compiled, s: Signals) -> Evidence:
 
 
 def _stl_evidence(cc: Compiled, s: Signals) -> Evidence:
-    """What the formula's signals did: each distance's minimum and when, each 0/1 signal's first true step."""
+    """The step that decides the formula and its signals' values then (verify/witness.py); failing that, what
+    the formula's signals did: each distance's minimum and when, each 0/1 signal's first true step."""
+    from socnavgen.verify.witness import decisive
+
+    found = decisive(cc.formula, s)
+    if found is not None:
+        return found[1], found[0], None
     from socnavgen.verify.signals import SIGNAL_KINDS
     from socnavgen.verify.stl import formula_signals
 
