@@ -10,7 +10,7 @@ import numpy as np
 
 from socnavgen.sim import contact
 from socnavgen.verify.criteria import Compiled
-from socnavgen.verify.passing import undone
+from socnavgen.verify.passing import back_in_way, undone
 from socnavgen.verify.people import people_evidence
 from socnavgen.verify.signals import Signals, aside
 from socnavgen.verify.thresholds import APPROACH, PROGRESS_STEP, STOP_HOLD, WALK_SPEED
@@ -194,6 +194,31 @@ def _phrase_evidence(cc: Compiled, s: Signals) -> Evidence:
     return "; ".join(parts) + window_text(s, cc.window), (float(t[k]) if k is not None else None), d
 
 
+def _late_text(cc: Compiled, s: Signals, h: str, way: np.ndarray) -> str:
+    """Why a gives_way whose person did step aside fails: the first moment in the robot's way (its cause) with
+    no step aside within S s (home_10 of round 13 read "stepped aside at t=14.7 s" next to FAIL, the person back
+    in the way at 19.2 s for 5.3 s); '' when there is none."""
+    kept, t = s.get(f"aside_{h}") > 0.5, s.t
+    n = int(round((cc.seconds or 0.0) / max(s.trace.dt, 1e-9)))
+    done = np.concatenate([[0], np.cumsum(kept)])
+    steps = np.arange(len(t))
+    k = _first(way & (done[np.minimum(steps + n + 1, len(t))] - done[steps] == 0))
+    if k is None:
+        return ""
+    again = " again" if kept[:k].any() else ""
+    undone_at = ""  # a step aside within S s that did not count: back in the robot's way before it got past
+    r = _first(aside(s, h)[k:k + n + 1])
+    back = _first(back_in_way(s, h)[k + r:]) if r is not None else None
+    if r is not None and back is not None:
+        undone_at = (f" stepped aside at t={t[k + r]:.1f} s but was back in its way at t={t[k + r + back]:.1f} s "
+                     "before it got past;")
+    j = _first(kept[k:])
+    then = (f"out of it{' for good' if undone_at else ''} only at t={t[k + j]:.1f} s, {t[k + j] - t[k]:.1f} s later"
+            if j is not None else "never out of it again by itself")
+    return (f"; but in its way{again} at t={t[k]:.1f} s ({s.get(f'dist_{h}')[k]:.2f} m):{undone_at} {then} (more "
+            f"than {cc.seconds or 0:g} s): not giving way")
+
+
 def _undone_text(s: Signals, h: str, reaction: str | None) -> str:
     """' (stepped aside at t=20.0 s, back in the robot's way at t=27.1 s before it got past)' when that is why."""
     found = undone(s, h, aside(s, h)) if reaction == "give_way" else None
@@ -229,6 +254,7 @@ def _human_evidence(cc: Compiled, s: Signals) -> Evidence:
             text += (f", first at t={t[first]:.1f} s; " + (f"stepped aside at t={t[aside]:.1f} s" if aside is not None
                                                           else f"{h} never stepped out of it itself"
                                                           + _undone_text(s, h, "give_way")))
+            text += _late_text(cc, s, h, way) if aside is not None else ""
     elif kind == "says" and cc.phrase:
         first = _first(s.get(f"{h}_says_{cc.phrase}") > 0.5)
         text += f"; {h} said {words(cc.phrase)} first at t={t[first]:.1f} s" if first is not None else \
