@@ -292,7 +292,8 @@ def _follower_evidence(cc: Compiled, s: Signals) -> Evidence:
     """follows_human: about the follower and whom it follows; how close the robot came says nothing of it."""
     h = cc.human or ""
     way = s.get(f"way_{h}_{cc.leader}")
-    k = int(np.argmax(way))
+    said = _first(s.get(f"robot_says_{cc.phrase}") > 0.5) if cc.phrase else 0
+    k = (said or 0) + int(np.argmax(way[said or 0:]))  # the farthest after the cause, as the text says
     return _follow_text(cc, s, h)[2:] + window_text(s, cc.window), float(s.t[k]), float(way[k])
 
 
