@@ -62,8 +62,18 @@ def test_an_eventually_is_shown_where_it_first_held_or_came_closest() -> None:
     assert not passed and "nearest" in text and time == pytest.approx(0.0) and "dist_human1 8.00 m" in text, text
 
 
+def test_an_until_is_shown_where_its_right_side_held_or_its_left_side_stopped() -> None:
+    """Who goes first (stage 1's order example): the robot stays 3 m off human1 until it stands still."""
+    standing = _signals([(0.0, 8.0), (10.0, 8.0)])  # the robot never stops: 3 m off fails first at t=5.5 s
+    passed, text, time = _evidence("(dist_human1 > 3.0) until (speed_robot < 0.1)", standing)
+    assert not passed and time == pytest.approx(5.0) and "dist_human1 > 3.0 stopped holding before" in text, text
+    assert "dist_human1 3.00 m" in text, text
+    passed, text, time = _evidence("(speed_robot > 0.5) until (dist_human1 < 4.0)", standing)
+    assert passed and time == pytest.approx(4.5) and "the first moment dist_human1 < 4.0 held" in text, text
+
+
 def test_a_formula_with_no_moment_to_walk_to_keeps_the_per_signal_view() -> None:
-    """An until at the top has no single deciding step here: each signal's minimum / first step is shown."""
-    formula = "(dist_human1 > 3.0) until (speed_robot < 0.1)"
+    """A past operator at the top (since) has no deciding step walked here: each signal's minimum is shown."""
+    formula = "(dist_human1 > 3.0) since (speed_robot > 0.5)"
     _, text, _ = _evidence(formula, _signals([(0.0, 8.0), (10.0, 8.0)]))
     assert "dist_human1 min" in text, text

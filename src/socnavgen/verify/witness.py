@@ -9,7 +9,9 @@ walks down the formula from t = 0 to that step:
   step it came closest);
 - `a implies b` failing: a held there and b did not (then on into b); `and` failing: into the part that failed;
   `or` holding: into the part that held;
-- anything else (until, since, comparisons) ends the walk at the step reached.
+- `a until b`: holding, the first step b held; failing, the first step a stopped holding before b held (or b's
+  nearest, never holding);
+- anything else (since, timed until, comparisons) ends the walk at the step reached.
 
 The evidence names the step and the values of the signals of the part it ended at ("at t=12.3 s, where
 dist_human1 < 2.5 held (dist_human1 1.80 m) and speed_human1 > 0.3 did not (speed_human1 0.05 m/s)")."""
@@ -60,7 +62,7 @@ def decisive(formula: str, s: Signals) -> tuple[float, str] | None:
             k, why, node = _walk(spec.ast.specs[-1], 0, walker, [])
     except Exception:  # noqa: BLE001 - evidence only: the verdict itself comes from stl.monitor
         return None
-    if k is None or not why:  # no temporal operator walked (an until at the top): the per-signal view says more
+    if k is None or not why:  # no temporal operator walked (a since at the top): the per-signal view says more
         return None
     t = float(s.t[k])
     if isinstance(node, tuple):  # an implication that failed: its two sides
@@ -70,6 +72,19 @@ def decisive(formula: str, s: Signals) -> tuple[float, str] | None:
     else:
         what = _values(formula_signals(_text(node)), s, k)
     return t, f"at t={t:.1f} s ({'; '.join(why)}): {what}"
+
+
+def _until(node: Any, k: int, w: Any, why: list[str]) -> tuple[int | None, list[str], Any]:
+    """`a until b` from step k: held - the first step b held (a held up to it); failed - the first step a failed
+    before b held, or b never holding (the nearest it came)."""
+    left, right = node.children[:2]
+    a, b = w.visit(left)[k:], w.visit(right)[k:]
+    held, failed = np.flatnonzero(b > 0), np.flatnonzero(a <= 0)
+    if len(held) and (not len(failed) or held[0] <= failed[0]):
+        return k + int(held[0]), [*why, f"the first moment {_text(right)} held, {_text(left)} having held till then"], node
+    if len(failed):
+        return k + int(failed[0]), [*why, f"{_text(left)} stopped holding before {_text(right)} ever held"], node
+    return k + int(np.argmax(b)), [*why, f"{_text(right)} never held: the nearest it came"], node
 
 
 _FUTURE = {"Always": False, "Eventually": True, "TimedAlways": False, "TimedEventually": True}
@@ -103,6 +118,8 @@ def _walk(node: Any, k: int, w: Any, why: list[str]) -> tuple[int | None, list[s
                 return _walk(right, k, w, [*why, f"{_text(left)} held, so {_text(right)} was due"])
             return k, why, (left, right)
         return k, why, node
+    if kind == "Until":
+        return _until(node, k, w, why)
     if kind in ("Conjunction", "Disjunction"):
         a, b = node.children[:2]
         va, vb = w.visit(a)[k], w.visit(b)[k]
