@@ -52,7 +52,7 @@ STL_EXAMPLE = "eventually[0:60] (robot_says_excuse_me > 0.5 and dist_human1 <= 2
 # one, spec_checks.unstated_reactions): `meets` only says they came near. A reaction to a robot phrase is also stated
 # by reacts_after_phrase; a group member's by group_together with a member whose reaction is stated; any by stl.
 STATED_BY: dict[str, tuple[str, ...]] = {
-    "follow": ("follows_robot",), "follow_human": ("follows_robot",), "join": ("follows_robot", "group_together"),
+    "follow": ("follows_robot",), "follow_human": ("follows_human", "follows_robot"), "join": ("follows_robot", "group_together"),
     "give_way": ("gives_way", "keeps_away"), "avoid": ("keeps_away", "gives_way"), "block": ("blocks_robot",),
     "say": ("says",), "stop": ("stops_near_robot",), "wait_then_go": ("stops_near_robot",)}
 # Stage 1's worked example of "who goes first" (an order of places), told with the stl help (fit.py's signals cut)
@@ -136,6 +136,18 @@ def follows_distance_text() -> str:
     speed = body().robot_speed
     return (f"a follower trails about {follow_trail(speed):.1f} m behind the robot at {speed:g} m/s, so use a "
             f"`distance` of at least {follow_trail(speed) + 2:.0f} m")
+
+
+def follows_human_text() -> str:
+    """What follows_human measures (verify/criteria.leader_of: from whom the person follows, never from the
+    robot; a round-13 player was told to state follow_human with follows_robot, which then measured the robot)."""
+    from socnavgen.bodies import PERSON_MAX_SPEED
+
+    trail = follow_trail(PERSON_MAX_SPEED)
+    return (f"`human` stays within `distance` of the person their follow_human reaction follows (its `other`) "
+            f"after the trigger, both walking: measured from that person along the walkable way, never from the "
+            f"robot (a follower trails about {trail:.1f} m behind a walking person: use a `distance` of at least "
+            f"{trail + 2:.0f} m); follows_robot measures from the robot")
 
 
 def _follow_fact(robot_speed: float) -> str:

@@ -24,6 +24,7 @@ from socnavgen.proposal.facts import (
     cue_triggers_text,
     detecting_nodes,
     follows_distance_text,
+    follows_human_text,
     missing_nodes,
     physical_facts_text,
     robot_vocabulary_text,
@@ -74,7 +75,7 @@ def spec_help_text(target: Target | None = None, *, signals: bool = True, robot:
     return render("scenario_spec.md", vocabulary=robot_vocabulary_text(), facts=physical_facts_text(),
                   kinds=", ".join(get_args(CriterionKind)), target=target_text(target),
                   rules=scenario_rules_text(target, signals, robot), cue_triggers=cue_triggers_text(),
-                  follow_distance=follows_distance_text())
+                  follow_distance=follows_distance_text(), follows_human=follows_human_text())
 
 
 def target_text(target: Target | None) -> str:

@@ -25,8 +25,8 @@ from socnavgen.verify.stl import formula_problems
 from socnavgen.verify.thresholds import KIND_DISTANCE as CRITERION_DEFAULTS
 
 # Criterion kinds that are about one human and therefore need `human`.
-_PER_HUMAN = {"meets", "stops_near_robot", "reacts_after_phrase", "gives_way", "follows_robot", "hidden_until",
-              "says", "keeps_away", "blocks_robot"}
+_PER_HUMAN = {"meets", "stops_near_robot", "reacts_after_phrase", "gives_way", "follows_robot", "follows_human",
+              "hidden_until", "says", "keeps_away", "blocks_robot"}
 _GLOBAL = {"robot_reaches_goal", "no_collision", "people_apart", "no_deadlock", "stl"}
 MIN_BEHAVIOR_WORDS = 4
 HIDDEN_UNTIL_DEFAULT = CRITERION_DEFAULTS["hidden_until"]

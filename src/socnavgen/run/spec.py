@@ -209,6 +209,7 @@ CriterionKind = Literal[
     "reacts_after_phrase",  # after the robot says `phrase`, `human` does `reaction` within `seconds`, and not before
     "gives_way",  # `human` leaves the robot's corridor within `seconds` of the robot coming within `distance`
     "follows_robot",  # after the trigger, `human` stays within `distance` of the robot for the rest of the run
+    "follows_human",  # after the trigger, `human` stays within `distance` of whom it follows (follow_human `other`)
     "hidden_until",  # no line of sight between robot and `human` until they are closer than `distance`
     "group_together",  # every pair of `humans` within `distance` of each other the whole run
     "says",  # `human` makes the phrase `phrase` (when the robot is within `distance`, if given)

@@ -4,7 +4,7 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
 
   S1  the criterion contradicts its own spec (unknown encounter or human, a meeting closer than the two
       radii, a phrase other than the one its encounter waits for, a stop asked of a walk_past, a
-      reaction its encounter does not give the human (follows_robot / blocks_robot / gives_way /
+      reaction its encounter does not give the human (follows_robot / follows_human / blocks_robot / gives_way /
       keeps_away / reacts_after_phrase), keeps_away farther than a meeting it also asks for, a
       placeholder for its text, a formula that cannot be monitored; stage 1 applies the same
       `contradictions`)                                                                         -> spec
@@ -38,6 +38,7 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
   V1  hidden_until failed: the two saw each other early (the place is not blind)               -> paths
   G1  a group apart whose members walk different paths                                          -> paths
   G2  a group apart on one path                                                                -> behaviors(farthest)
+  F1  follows_human: whom h follows never walked -> behaviors(them); else (verify/blame_follow.py) -> behaviors(h)
   R1  the trigger held (the robot near / said the phrase) but the reaction never ran           -> behaviors(h)
       except: a hold (blocks_robot, stops_near_robot) whose reaction ran its whole `lasts` and was over
       before the robot was held there (the tree must keep the spec's `lasts`)                  -> spec
@@ -77,6 +78,7 @@ from socnavgen.bodies import (
 from socnavgen.run.models import PathPlan
 from socnavgen.run.spec import Blame, Criterion, ScenarioSpec
 from socnavgen.verify.blame_end import goal_taken, standing_at_end
+from socnavgen.verify.blame_follow import blame_follower
 from socnavgen.verify.blame_timing import ended_at_once, window_closed_early
 from socnavgen.verify.criteria import Compiled
 from socnavgen.verify.evidence import deadlock_culprit, in_window, met_mask, stayed_off_place, way_cause
@@ -114,7 +116,7 @@ def contradictions(c: Criterion, spec: ScenarioSpec) -> list[str]:
     parts = spec.parts_of(c.human) if c.human else []
     if c.encounter:
         parts = [(e, p) for e, p in parts if e.id == c.encounter]
-    if c.kind in ("reacts_after_phrase", "follows_robot") and c.phrase:
+    if c.kind in ("reacts_after_phrase", "follows_robot", "follows_human") and c.phrase:
         waits = {p.phrase for _, p in parts if p.trigger == "robot_says" and p.phrase}
         if waits and c.phrase not in waits:
             out.append(f"criterion {c.id} waits for the robot saying {c.phrase}, but its encounter reacts to "
@@ -143,9 +145,9 @@ def contradictions(c: Criterion, spec: ScenarioSpec) -> list[str]:
 
 
 # the encounter reactions (run.spec.Reaction) a criterion kind can be about: any other contradicts the spec (S1)
-REACTIONS_OF = {"follows_robot": {"follow", "follow_human", "join"}, "blocks_robot": {"block"},
-                "gives_way": {"give_way", "avoid"}, "keeps_away": {"avoid", "walk_past", "give_way", "stop", "look",
-                                                                   "wait_then_go", "say"}}
+REACTIONS_OF = {"follows_robot": {"follow", "follow_human", "join"}, "follows_human": {"follow_human"},
+                "blocks_robot": {"block"}, "gives_way": {"give_way", "avoid"},
+                "keeps_away": {"avoid", "walk_past", "give_way", "stop", "look", "wait_then_go", "say"}}
 _PLACEHOLDER_TEXT = re.compile(r"\s*(placeholder|todo|tbd|xxx|\.\.\.|<[^<>]*>|criterion|text)\s*[.!]?\s*", re.I)
 
 
@@ -361,7 +363,7 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
         return held or ("paths", None, _short_of_goal(s))
     if kind == "stl":
         return _blame_formula(cc, s)
-    robot_phrase = cc.phrase if kind in ("reacts_after_phrase", "follows_robot") else \
+    robot_phrase = cc.phrase if kind in ("reacts_after_phrase", "follows_robot", "follows_human") else \
         _waited_phrase(spec, h) if kind in ("meets", "says", "stops_near_robot", "gives_way", "blocks_robot") else None
     if robot_phrase and _never_said(s, robot_phrase):
         return ("robot_script", None,
@@ -382,13 +384,14 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
         return _blame_meeting(cc, s, h)
     if h:
         reach = max(cc.distance or MEET_DISTANCE, MEET_DISTANCE)
-        if s.get(f"dist_{h}").min() > reach:
+        if kind != "follows_human" and s.get(f"dist_{h}").min() > reach:  # a follower of a person: rule F1
             return "paths", None, f"the robot never came within {reach:g} m of {h}"
         cause = (window_closed_early(cc, s, h, reach) or _missing_cause(cc, s, h) or _spent(cc, s, spec, h)
                  or ended_at_once(cc, s, spec, h))
         if cause:
             return cause
-        return "behaviors", h, f"the robot came near {h} but {h} did not react as asked ({kind})"
+        return blame_follower(cc, s, h) if kind == "follows_human" else \
+            ("behaviors", h, f"the robot came near {h} but {h} did not react as asked ({kind})")
     return "paths", None, "the scenario did not unfold as asked"
 
 
@@ -426,7 +429,7 @@ def _missing_cause(cc: Compiled, s: Signals, h: str) -> Verdict | None:
         who = " or ".join((h, *cc.together))
         return "paths", None, (f"{who} was never in the robot's way within {d:g} m" + (" in this encounter"
                                if cc.window else "") + ": nothing to give way to; make their paths meet head-on")
-    if kind == "follows_robot" and cc.encounter is not None:
+    if kind in ("follows_robot", "follows_human") and cc.encounter is not None:
         there = s.get(f"{h}_to_{cc.encounter.id}") <= cc.encounter.within + (cc.distance or 0.0)
         if cc.phrase:
             there &= s.get(f"robot_says_{cc.phrase}") > 0.5

@@ -53,6 +53,7 @@ class Compiled:
     previous: Encounter | None = None  # meets: the earlier encounter of the same human, met before this one
     window: str | None = None  # during_<human>_<encounter>: judged in this encounter's window (verify/windows.py)
     together: tuple[str, ...] = ()  # gives_way: the others giving way with the human (giving_way_together)
+    leader: str = "robot"  # follows_robot / follows_human: whom the human follows (leader_of)
     notes: list[str] = field(default_factory=list)
 
 
@@ -241,12 +242,27 @@ def _gives_way(c: Criterion, ctx: Context, out: Compiled) -> None:
     out.formula = f"(eventually {cause_h}) and (always ({cause_h} implies (eventually[0:{s:g}] {react})))"
 
 
-def _follows_robot(c: Criterion, ctx: Context, out: Compiled) -> None:
+def leader_of(c: Criterion, part: HumanPart | None) -> str:
+    """Whom a follows_* criterion measures its human against: the robot (follows_robot), or the person its
+    follow_human reaction follows (follows_human: that reaction's `other`, never the robot)."""
+    if c.kind != "follows_human":
+        return "robot"
+    if part is None or part.reaction != "follow_human" or not part.other:
+        raise FormulaError(f"criterion {c.id}: follows_human needs a human whose encounter has the reaction "
+                           "follow_human, naming whom they follow in `other`")
+    return part.other
+
+
+def _follows(c: Criterion, ctx: Context, out: Compiled) -> None:
     h = _need_human(c)
     d = out.distance = c.distance or KIND_DISTANCE[c.kind]
     p = out.phrase = _phrase(c, out.part)
     s = out.seconds = c.seconds or ctx.settings.reaction_seconds
-    follow = f"((always (way_{h} <= {d:g})) and (eventually (speed_{h} > {WALK_SPEED:g})))"
+    o = out.leader = leader_of(c, out.part)
+    way = f"way_{h}" if o == "robot" else f"way_{h}_{o}"
+    # following a person: both walk at once (two standing side by side follow no one); the robot drives anyway
+    walks = f"(speed_{h} > {WALK_SPEED:g})" if o == "robot" else f"((speed_{h} > {WALK_SPEED:g}) and (speed_{o} > {WALK_SPEED:g}))"
+    follow = f"((always ({way} <= {d:g})) and (eventually {walks}))"
     enc = out.encounter
     there = f" and ({h}_to_{enc.id} <= {enc.within + d:g})" if enc is not None else ""  # h near its place then
     out.formula = (f"eventually ({_b(f'robot_says_{p}')}{there} and (eventually[0:{s:g}] {follow}))" if p
@@ -354,7 +370,12 @@ CRITERION_KINDS: dict[str, CriterionKind] = {k.name: k for k in (
                   "way_h <= D) and eventually speed_h > 0.3))  (no P: eventually (... and h_to_e <= W + D))",
                   "after the phrase, said with h near its place, within D along the walkable way to the end, "
                   "walking",
-                  _follows_robot),
+                  _follows),
+    CriterionKind("follows_human", "follows_robot's formula with way_h_o (o: whom h's follow_human reaction "
+                  "follows, its `other`) for way_h, and eventually (speed_h > 0.3 and speed_o > 0.3)",
+                  "after its cause, near its place, within D of o along the walkable way to the end, both walking "
+                  "at once (never measured against the robot)",
+                  _follows),
     CriterionKind("hidden_until", "(not los_h) until (dist_h <= D and closer_h >= A)",
                   "they must approach and come within D", _hidden_until),
     CriterionKind("group_together", "always (spread_h1_h2... <= D)", "the whole run", _group_together),

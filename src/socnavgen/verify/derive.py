@@ -20,7 +20,7 @@ from socnavgen.verify.thresholds import WAIT_MARGIN
 
 Judged = list[tuple[Criterion, Source]]
 _PEOPLE_APART = Criterion(id="people_apart", kind="people_apart", text="no two people touch each other")
-SHOWS_ENCOUNTER = {"meets", "keeps_away", "follows_robot"}  # criterion kinds that already show a human's encounter
+SHOWS_ENCOUNTER = {"meets", "keeps_away", "follows_robot", "follows_human"}  # kinds that already show an encounter
 NOT_MET = ("avoid",)  # reactions of a part that gets no implied meets (they keep away from the robot)
 
 

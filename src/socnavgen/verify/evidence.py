@@ -10,7 +10,7 @@ import numpy as np
 
 from socnavgen.sim import contact
 from socnavgen.verify.criteria import Compiled
-from socnavgen.verify.passing import undone
+from socnavgen.verify.passing import back_in_way, undone
 from socnavgen.verify.people import people_evidence
 from socnavgen.verify.signals import Signals, aside
 from socnavgen.verify.thresholds import APPROACH, PROGRESS_STEP, STOP_HOLD, WALK_SPEED
@@ -194,6 +194,31 @@ def _phrase_evidence(cc: Compiled, s: Signals) -> Evidence:
     return "; ".join(parts) + window_text(s, cc.window), (float(t[k]) if k is not None else None), d
 
 
+def _late_text(cc: Compiled, s: Signals, h: str, way: np.ndarray) -> str:
+    """Why a gives_way whose person did step aside fails: the first moment in the robot's way (its cause) with
+    no step aside within S s (home_10 of round 13 read "stepped aside at t=14.7 s" next to FAIL, the person back
+    in the way at 19.2 s for 5.3 s); '' when there is none."""
+    kept, t = s.get(f"aside_{h}") > 0.5, s.t
+    n = int(round((cc.seconds or 0.0) / max(s.trace.dt, 1e-9)))
+    done = np.concatenate([[0], np.cumsum(kept)])
+    steps = np.arange(len(t))
+    k = _first(way & (done[np.minimum(steps + n + 1, len(t))] - done[steps] == 0))
+    if k is None:
+        return ""
+    again = " again" if kept[:k].any() else ""
+    undone_at = ""  # a step aside within S s that did not count: back in the robot's way before it got past
+    r = _first(aside(s, h)[k:k + n + 1])
+    back = _first(back_in_way(s, h)[k + r:]) if r is not None else None
+    if r is not None and back is not None:
+        undone_at = (f" stepped aside at t={t[k + r]:.1f} s but was back in its way at t={t[k + r + back]:.1f} s "
+                     "before it got past;")
+    j = _first(kept[k:])
+    then = (f"out of it{' for good' if undone_at else ''} only at t={t[k + j]:.1f} s, {t[k + j] - t[k]:.1f} s later"
+            if j is not None else "never out of it again by itself")
+    return (f"; but in its way{again} at t={t[k]:.1f} s ({s.get(f'dist_{h}')[k]:.2f} m):{undone_at} {then} (more "
+            f"than {cc.seconds or 0:g} s): not giving way")
+
+
 def _undone_text(s: Signals, h: str, reaction: str | None) -> str:
     """' (stepped aside at t=20.0 s, back in the robot's way at t=27.1 s before it got past)' when that is why."""
     found = undone(s, h, aside(s, h)) if reaction == "give_way" else None
@@ -229,6 +254,7 @@ def _human_evidence(cc: Compiled, s: Signals) -> Evidence:
             text += (f", first at t={t[first]:.1f} s; " + (f"stepped aside at t={t[aside]:.1f} s" if aside is not None
                                                           else f"{h} never stepped out of it itself"
                                                           + _undone_text(s, h, "give_way")))
+            text += _late_text(cc, s, h, way) if aside is not None else ""
     elif kind == "says" and cc.phrase:
         first = _first(s.get(f"{h}_says_{cc.phrase}") > 0.5)
         text += f"; {h} said {words(cc.phrase)} first at t={t[first]:.1f} s" if first is not None else \
@@ -239,7 +265,9 @@ def _human_evidence(cc: Compiled, s: Signals) -> Evidence:
 
 
 def _follow_text(cc: Compiled, s: Signals, h: str) -> str:
-    way, t = s.get(f"way_{h}"), s.t
+    """How far the follower fell behind whom it follows (the robot, or the person of follows_human)."""
+    o, t = cc.leader, s.t
+    way = s.get(f"way_{h}" if o == "robot" else f"way_{h}_{o}")
     first = 0
     if cc.phrase:
         said = _first(s.get(f"robot_says_{cc.phrase}") > 0.5)
@@ -247,14 +275,26 @@ def _follow_text(cc: Compiled, s: Signals, h: str) -> str:
             return f"; the robot never said {words(cc.phrase)}"
         first = said
     k = first + int(np.argmax(way[first:]))
-    straight = float(s.get(f"dist_{h}")[k])
+    straight = float(contact.lengths(s.pos(h)[k] - s.pos(o)[k]))
     text = (f"; the robot said {words(cc.phrase)} at t={t[first]:.1f} s" if cc.phrase else "") + \
-        f"; farthest {'after it ' if cc.phrase else ''}{way[k]:.2f} m along the walkable way at t={t[k]:.1f} s"
+        (f"; farthest {'after it ' if cc.phrase else ''}{way[k]:.2f} m from {'the robot' if o == 'robot' else o} "
+         f"along the walkable way at t={t[k]:.1f} s")
     if way[k] > straight + 0.5:
         text += f" ({straight:.2f} m straight, through a wall)"
     if not (s.get(f"speed_{h}")[first:] > WALK_SPEED).any():
         text += f"; {h} never walked after it"
+    elif o != "robot" and not ((s.get(f"speed_{h}") > WALK_SPEED) & (s.get(f"speed_{o}") > WALK_SPEED))[first:].any():
+        text += f"; {h} and {o} never walked at the same time"
     return text
+
+
+def _follower_evidence(cc: Compiled, s: Signals) -> Evidence:
+    """follows_human: about the follower and whom it follows; how close the robot came says nothing of it."""
+    h = cc.human or ""
+    way = s.get(f"way_{h}_{cc.leader}")
+    said = _first(s.get(f"robot_says_{cc.phrase}") > 0.5) if cc.phrase else 0
+    k = (said or 0) + int(np.argmax(way[said or 0:]))  # the farthest after the cause, as the text says
+    return _follow_text(cc, s, h)[2:] + window_text(s, cc.window), float(s.t[k]), float(way[k])
 
 
 def _group_evidence(cc: Compiled, s: Signals) -> Evidence:
@@ -328,7 +368,13 @@ def _deadlock_evidence(cc: Compiled, s: Signals) -> Evidence:
 
 
 def _stl_evidence(cc: Compiled, s: Signals) -> Evidence:
-    """What the formula's signals did: each distance's minimum and when, each 0/1 signal's first true step."""
+    """The step that decides the formula and its signals' values then (verify/witness.py); failing that, what
+    the formula's signals did: each distance's minimum and when, each 0/1 signal's first true step."""
+    from socnavgen.verify.witness import decisive
+
+    found = decisive(cc.formula, s)
+    if found is not None:
+        return found[1], found[0], None
     from socnavgen.verify.signals import SIGNAL_KINDS
     from socnavgen.verify.stl import formula_signals
 
@@ -351,7 +397,7 @@ def _stl_evidence(cc: Compiled, s: Signals) -> Evidence:
 EVIDENCE: dict[str, Callable[[Compiled, Signals], Evidence]] = {
     "meets": _meets_evidence, "reacts_after_phrase": _phrase_evidence, "group_together": _group_evidence,
     "robot_reaches_goal": _goal_evidence, "no_collision": _collision_evidence, "no_deadlock": _deadlock_evidence,
-    "people_apart": _people_evidence, "stl": _stl_evidence,
+    "people_apart": _people_evidence, "stl": _stl_evidence, "follows_human": _follower_evidence,
 }  # every other kind of criteria.CRITERION_KINDS: _human_evidence
 
 

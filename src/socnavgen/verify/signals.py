@@ -261,19 +261,17 @@ class Signals:
         """1 where some human holds the robot up (holding_up)."""
         return self._keep("blocked", lambda: contact.row_any(self.holding_up()))
 
-    def walkable(self) -> np.ndarray:
-        """(T, H) walkable distances robot-human along the map's free space (sim/world/walkable.py)."""
+    def walkable(self, a: str, b: str) -> np.ndarray:
+        """(T,) walkable distance between `a` and `b` (the robot or a human) along the map's free space
+        (sim/world/walkable.py): how far a follower is from whom it follows, never through a wall."""
         def build() -> np.ndarray:
             from socnavgen.sim.world.walkable import WalkableDistance
 
-            world = self._need_world("walkable distance")
-            robot = self.trace.robot[:, 0] + 1j * self.trace.robot[:, 1]
-            humans = self.trace.humans[:, :, 0] + 1j * self.trace.humans[:, :, 1]
-            ways = WalkableDistance.of(world)
-            cols = [ways.between(robot, humans[:, i], FAR) for i in range(humans.shape[1])]
-            return np.stack(cols, axis=1) if cols else np.zeros((self.trace.steps, 0))
+            ways = WalkableDistance.of(self._need_world("walkable distance"))
+            pa, pb = self.pos(a), self.pos(b)
+            return ways.between(pa[:, 0] + 1j * pa[:, 1], pb[:, 0] + 1j * pb[:, 1], FAR)
 
-        return self._keep("walkable", build)
+        return self._keep(("walkable", a, b), build)
 
     def _need_world(self, what: str) -> object:
         if self.world is None and self._world_factory is not None:
@@ -432,7 +430,7 @@ def _aside(s: Signals, m: re.Match) -> np.ndarray:  # kept out of the way until 
 
 
 def _way(s: Signals, m: re.Match) -> np.ndarray:
-    return s.walkable()[:, s.human(m[1])]
+    return s.walkable(m[2] or "robot", m[1])
 
 
 def moved(s: Signals, human: str) -> np.ndarray:
@@ -524,8 +522,8 @@ SIGNAL_KINDS: tuple[SignalKind, ...] = (
                "how much closer than at the start: robot and human, or the robot / the human and a place", _closer),
     SignalKind(rf"aside_{_H}", "aside_<human>", "0/1", f"the human is out of the robot's way, having moved "
                f"{ASIDE_DISTANCE:g} m from where it last stood in it, and stays out until the robot got past", _aside),
-    SignalKind(rf"way_{_H}", "way_<human>", "m", "walkable robot-human distance along the map's free space, never "
-               "through a wall (straight where they see each other)", _way),
+    SignalKind(rf"way_{_H}(?:_{_H})?", "way_<human>, way_<human>_<human>", "m", "walkable robot-human (or "
+               "human-human) distance along the map's free space, never through a wall (straight in sight)", _way),
     SignalKind(rf"react_{_H}_([a-z_]+)", "react_<human>_<reaction>", "0/1",
                "evidence of a spec reaction: its library actions executing (bt.library.REACTION_NODES); stop, "
                f"wait_then_go: slower than 0.1 m/s for {STOP_HOLD:g} s after having walked; say: showing a gesture; give_way: aside_<human>; "

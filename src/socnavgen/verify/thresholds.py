@@ -32,7 +32,7 @@ MIN_RUN_SECONDS = 1.0  # s: a run shorter than this ended before anything could 
 FAR = 1.0e3  # m: the value of a distance that does not exist (no humans, unreachable)
 
 # -- per-kind default distances, when a criterion gives none (metres) --------------------------------
-KIND_DISTANCE = {"stops_near_robot": 1.5, "gives_way": 2.0, "follows_robot": 2.0, "hidden_until": 3.0,
-                 "keeps_away": 1.5, "blocks_robot": 1.5}
+KIND_DISTANCE = {"stops_near_robot": 1.5, "gives_way": 2.0, "follows_robot": 2.0, "follows_human": 2.0,
+                 "hidden_until": 3.0, "keeps_away": 1.5, "blocks_robot": 1.5}
 # The verifier's margins of "in the robot's way" are proxemics.WAY_MARGIN_VERIFY (inway_<human>) and
 # proxemics.HELD_UP_DISTANCE (someone in the way this close holds the robot up: deadlock, wait_until_clear).

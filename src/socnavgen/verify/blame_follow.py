@@ -1,0 +1,30 @@
+"""Blame rule F1 (verify/blame.py applies it; docs/verify.md's table): a follows_human criterion failed, its
+cause having held. The follower is measured against whom it follows, never against the robot (warehouse_10 of
+round 13: a worker filing behind another was blamed for not reacting to the robot).
+
+- the person followed never walked while the follower could follow: nobody to follow   -> behaviors(followed)
+- otherwise the follower fell behind (or never walked with them)                           -> behaviors(follower)"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from socnavgen.run.spec import Blame
+from socnavgen.verify.criteria import Compiled
+from socnavgen.verify.signals import Signals
+from socnavgen.verify.thresholds import WALK_SPEED
+
+Verdict = tuple[Blame, str | None, str]
+
+
+def blame_follower(cc: Compiled, s: Signals, h: str) -> Verdict:
+    """Rule F1 for h following cc.leader (a person)."""
+    o, d = cc.leader, cc.distance or 0.0
+    if not (s.get(f"speed_{o}") > WALK_SPEED).any():
+        return "behaviors", o, (f"{o} never walked, so {h} had nobody to follow (follows_human): {o}'s tree must "
+                                f"walk its path")
+    way = s.get(f"way_{h}_{o}")
+    k = int(np.argmax(way))
+    return "behaviors", h, (f"{h} did not keep within {d:g} m of {o}, whom it follows (follows_human): "
+                            f"{way[k]:.2f} m behind at t={s.t[k]:.1f} s; its tree must follow {o} (FollowHuman) "
+                            "for good once its cue held")
