@@ -97,3 +97,30 @@ def test_a_member_waiting_beside_the_robots_next_leg_until_it_has_gone_by_is_par
 
 def test_a_member_who_stays_apart_after_the_robot_went_by_is_not():
     assert not _beside_next_leg(16.0)  # still 2.7 m apart 4 s after it went by
+
+
+def _edge_of_the_aisle(resumes_at: float) -> bool:
+    """warehouse_05's shape (first answer): the robot sweeps east along y = 3 at 0.5 m/s; a pair on its way (x 5 and
+    6.5) steps north to the aisle edge (y 4.3) at t = 2-3 s. human1, gone by first, walks on west at 0.8 m/s from
+    t = 12 s; human2 stands until `resumes_at`, then walks west at 1.2 m/s after her. The simulator's giver-way
+    stands until the robot has gone by (its spot + both radii + give_way.PASSED_MARGIN: x 7.55, t 15.1 s)."""
+    def walk(x0: float, y_aside: float, start: float, speed: float) -> np.ndarray:
+        x = np.where(start > TB, x0, x0 - speed * (TB - start))
+        return np.stack([x, np.interp(TB, [0, 2, 3, 24], [3.0, 3.0, y_aside, y_aside])], 1)
+
+    humans = np.stack([walk(5.0, 4.3, 12.0, 0.8), walk(6.5, 4.3, resumes_at, 1.2)], 1)
+    trace = build_trace(TB, np.stack([0.5 * TB, np.full_like(TB, 3.0)], 1), humans, dt=0.1, groups=[0, 0],
+                        goal=(12.0, 3.0))
+    trace.robot_waypoints = [(0.0, 3.0), (12.0, 3.0)]
+    cc = compile_criterion(Criterion(id="c", kind="group_together", humans=["human1", "human2"], distance=2.5,
+                                     text="t"), ScenarioSpec(), VerifySettings(), 0.2)
+    return monitor(cc.formula, Signals(trace)).passed
+
+
+def test_a_member_standing_aside_until_the_robot_has_gone_by_her_is_parting():
+    # level with her at 13 s, gone by (a body length on) at 15.1 s: she walks after the other at 15 s, 3.5 m apart
+    assert _edge_of_the_aisle(15.0)
+
+
+def test_a_member_standing_on_after_the_robot_has_gone_by_her_is_not():
+    assert not _edge_of_the_aisle(18.0)  # still standing 3 s after it went by, the other 5 m off

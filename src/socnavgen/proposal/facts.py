@@ -56,7 +56,7 @@ STATED_BY: dict[str, tuple[str, ...]] = {
     "give_way": ("gives_way", "keeps_away"), "avoid": ("keeps_away", "gives_way"), "block": ("blocks_robot",),
     "say": ("says",), "stop": ("stops_near_robot",), "wait_then_go": ("stops_near_robot",)}
 # Stage 1's worked example of "who goes first" (an order of places), told with the stl help (fit.py's signals cut)
-ORDER_EXAMPLE = "(robot_to_node_B > 1.0) until (human1_to_node_A < 1.0)"
+ORDER_EXAMPLE = "(robot_to_node_B > 0.5) until (human1_to_node_A < 1.0)"
 
 
 @dataclass(frozen=True)
@@ -482,8 +482,11 @@ def events_text(detail: bool = True) -> str:
             "reacts_after_phrase): meets only says they came near. Who goes first is an event too: \"the robot "
             "stands aside while the visitor passes\" is {\"kind\": \"stl\", \"formula\": "
             f"\"{ORDER_EXAMPLE}\"}}, with A a node she reaches once past the robot and B the node the robot "
-            "drives on to. \"always (X implies Y)\" also holds when X never happens: when X is an event of your "
-            "text (the worker stands in the robot's way), state X itself too (eventually X).")
+            "drives on to: the robot reaching B itself, not where it waits (it stands where its cue fires, often "
+            "1-2 m short of B, wherever she is then). Unbounded always / until are judged from t = 0, everyone at "
+            "their start: a distance kept once something began is \"always ((once X) implies Y)\". \"always (X "
+            "implies Y)\" also holds when X never happens: when X is an event of your text (the worker stands in "
+            "the robot's way), state X itself too (eventually X).")
 
 
 def starts_text() -> str:

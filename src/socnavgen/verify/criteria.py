@@ -269,10 +269,21 @@ def _follows(c: Criterion, ctx: Context, out: Compiled) -> None:
                    else f"eventually ({follow}{there})")
 
 
+def notice_range(distance: float) -> float:
+    """How close a visible robot is noticed (keeps_away's cause, hidden_until's sight): NOTICE_RANGE, or 2 m
+    beyond the criterion's distance when that is larger. One notion of "seeing the robot": a robot in sight at the
+    far end of a warehouse 50 s before the approach is not the one that appears round the rack."""
+    return max(NOTICE_RANGE, distance + 2)
+
+
+def noticed(h: str, distance: float) -> str:
+    return f"({_b(f'los_{h}')} and (dist_{h} <= {notice_range(distance):g}))"
+
+
 def _hidden_until(c: Criterion, ctx: Context, out: Compiled) -> None:
     h = _need_human(c)
     d = out.distance = c.distance or KIND_DISTANCE[c.kind]
-    out.formula = f"{_not(f'los_{h}')} until ((dist_{h} <= {d:g}) and (closer_{h} >= {APPROACH:g}))"
+    out.formula = f"(not {noticed(h, d)}) until ((dist_{h} <= {d:g}) and (closer_{h} >= {APPROACH:g}))"
 
 
 def _group_together(c: Criterion, ctx: Context, out: Compiled) -> None:
@@ -298,8 +309,8 @@ def _says(c: Criterion, ctx: Context, out: Compiled) -> None:
 def _keeps_away(c: Criterion, ctx: Context, out: Compiled) -> None:
     h = _need_human(c)
     d = out.distance = c.distance or KIND_DISTANCE[c.kind]
-    noticed = f"({_b(f'los_{h}')} and (dist_{h} <= {max(NOTICE_RANGE, d + 2):g}))"
-    out.formula = f"(eventually {noticed}) and (always ((once {noticed}) implies (dist_{h} >= {d:g})))"
+    seen = noticed(h, d)
+    out.formula = f"(eventually {seen}) and (always ((once {seen}) implies (dist_{h} >= {d:g})))"
 
 
 def _blocks_robot(c: Criterion, ctx: Context, out: Compiled) -> None:
@@ -376,8 +387,9 @@ CRITERION_KINDS: dict[str, CriterionKind] = {k.name: k for k in (
                   "after its cause, near its place, within D of o along the walkable way to the end, both walking "
                   "at once (never measured against the robot)",
                   _follows),
-    CriterionKind("hidden_until", "(not los_h) until (dist_h <= D and closer_h >= A)",
-                  "they must approach and come within D", _hidden_until),
+    CriterionKind("hidden_until", "(not noticed) until (dist_h <= D and closer_h >= A), noticed = los_h and "
+                  "dist_h <= max(5, D + 2)", "they must approach and come within D, unseen within the noticing range",
+                  _hidden_until),
     CriterionKind("group_together", "always (spread_h1_h2... <= D)", "the whole run", _group_together),
     CriterionKind("says", "eventually (h_says_P and dist_h <= D)  (no D: eventually h_says_P)",
                   "the phrase shown", _says),

@@ -9,7 +9,7 @@ from collections.abc import Callable
 import numpy as np
 
 from socnavgen.sim import contact
-from socnavgen.verify.criteria import Compiled
+from socnavgen.verify.criteria import Compiled, notice_range
 from socnavgen.verify.passing import back_in_way, undone
 from socnavgen.verify.people import people_evidence
 from socnavgen.verify.signals import Signals, aside
@@ -239,11 +239,13 @@ def _human_evidence(cc: Compiled, s: Signals) -> Evidence:
         if kind == "stops_near_robot" and not (s.get(f"closer_{h}") >= APPROACH).any():
             text += "; the robot never came any closer than at the start"
     elif kind == "hidden_until":
-        seen = _first(s.get(f"los_{h}") > 0.5)
+        reach = notice_range(cc.distance or 0.0)
+        seen = _first((s.get(f"los_{h}") > 0.5) & (s.get(f"dist_{h}") <= reach))
         if seen is not None:
-            text += f"; first in sight at t={t[seen]:.1f} s, {s.get(f'dist_{h}')[seen]:.2f} m apart"
+            text += (f"; first in sight within {reach:g} m at t={t[seen]:.1f} s, "
+                     f"{s.get(f'dist_{h}')[seen]:.2f} m apart")
             return text, float(t[seen]), float(s.get(f"dist_{h}")[seen])
-        text += "; never in sight"
+        text += f"; never in sight within {reach:g} m"
     elif kind == "gives_way":
         way = way_cause(cc, s)
         text += (f"; in the robot's way within {cc.distance:g} m for {way.sum() * s.trace.dt:.1f} s"

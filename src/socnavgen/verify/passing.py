@@ -22,6 +22,7 @@ import numpy as np
 
 from socnavgen import proxemics
 from socnavgen.sim import contact
+from socnavgen.sim.people.give_way import PASSED_MARGIN
 from socnavgen.sim.trace import YAW
 from socnavgen.verify.route import ahead_on_route, route_offset, route_progress
 from socnavgen.verify.thresholds import ASIDE_DISTANCE
@@ -88,6 +89,23 @@ def got_past(s: Signals, human: str) -> np.ndarray:
     return rel[:, 0] * np.cos(yaw) + rel[:, 1] * np.sin(yaw) <= 0.0
 
 
+def gone_by(s: Signals, human: str) -> np.ndarray:
+    """(T,) bool: the robot has gone by `human` as the simulator's giver-way judges it (sim/people/give_way
+    .robot_has_passed): beyond their spot along its route (else its heading) by both radii + PASSED_MARGIN, and
+    that far from them. Until then a person standing aside is still letting it by."""
+    i = s.human(human)
+    clear = float(s.trace.robot_radius) + float(np.asarray(s.trace.human_radii, dtype=float)[i]) + PASSED_MARGIN
+    p = s.pos(human)
+    points = list(s.trace.robot_waypoints)
+    if len(points) >= 2:
+        beyond = s.route()[0] - route_progress(p, points, near=s.route()[0])[0]
+    else:
+        rel = p - s.pos("robot")
+        yaw = s.trace.robot[:, YAW]
+        beyond = -(rel[:, 0] * np.cos(yaw) + rel[:, 1] * np.sin(yaw))
+    return (beyond > clear) & (s.distances()[:, i] > clear)
+
+
 def back_in_way(s: Signals, human: str) -> np.ndarray:
     """(T,) bool: `human` is on the robot's route just ahead of it (module doc)."""
     i = s.human(human)
@@ -139,8 +157,9 @@ def parted_for_robot(s: Signals, a: int, b: int) -> np.ndarray:
     between them (its projection inside the segment joining them, within its radius + GIVE_WAY_CLEARANCE of
     it), or its heading crosses that segment within proxemics.HELD_UP_DISTANCE ahead (it is about to pass
     between them), or either executes GiveWaytoRobot with the robot within HELD_UP_DISTANCE of them, or either
-    stands aside (`aside`) for the robot within that distance and not yet past them (warehouse_08: a packer
-    waiting beside the robot's next leg until it has gone by her); and for REGROUP_PAUSE after such a step
+    stands aside (`aside`) for the robot within that distance and not yet gone by them (`gone_by`, the simulator's
+    own 'passed': warehouse_08, a packer waiting beside the robot's next leg until it has gone by her;
+    warehouse_05, a worker at the aisle edge until the sweeping robot is a body length past); and for REGROUP_PAUSE after such a step
     whatever they do (the robot's heading swinging off the gap, or onto the one aside, for a moment: warehouse_08),
     and on while they are closing up again (their distance shrinking step by step). A group's cohesion (`spread`) is judged outside these steps: a group that parts for
     the robot and closes again is a group, one whose member leaves is not (hospital_08)."""
@@ -159,9 +178,9 @@ def parted_for_robot(s: Signals, a: int, b: int) -> np.ndarray:
     between |= (j > 0.0) & (j < 1.0) & (k >= 0.0) & (k <= proxemics.HELD_UP_DISTANCE)
     near = [contact.lengths(robot - pos[:, i]) <= proxemics.HELD_UP_DISTANCE for i in (a, b)]
     parted = between | (s.trace.executed(a, "GiveWaytoRobot") & near[0]) | (s.trace.executed(b, "GiveWaytoRobot") & near[1])
-    for i, close in zip((a, b), near, strict=True):  # one still standing aside for a robot not yet past them
+    for i, close in zip((a, b), near, strict=True):  # one still standing aside for a robot not yet gone by them
         name = s.trace.human_names[i]
-        parted |= (s.get(f"aside_{name}") > 0.5) & ~got_past(s, name) & close
+        parted |= (s.get(f"aside_{name}") > 0.5) & ~gone_by(s, name) & close
     change = np.diff(contact.lengths(seg), prepend=np.inf)
     t = np.asarray(s.trace.t, dtype=float)
     out, ended = parted.copy(), -np.inf
