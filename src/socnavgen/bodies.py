@@ -35,6 +35,9 @@ PERSON_STAND_GAP = 0.3  # m: people standing or waiting side by side keep this g
 #   bodies; a 0.4 m disc is wider than a body, so 0.3 m between discs is ~0.6 m between shoulders; 0.1 m read as
 #   "pressed together" to the eyes): the spots round a shared goal (sim.people.spots), a walker coming to stand
 #   beside someone standing (sim.people.spacing) and the queue at a goal (sim.people.state.queued_at)
+PERSON_ROBOT_GAP = 0.2  # m: a person's own step never brings them closer than this to the robot's body where there
+#   is room (sim.people.avoid.keep_off), and no person squeezes past a standing robot closer (sim.people.spots): at the
+#   GIF's ~4 cm a pixel 0.1 m read as touching (a nurse walking back into the robot's side: hospital_08)
 ROBOT_SOCIAL_GAP = 0.3  # m: the gap the default robot keeps from a person where there is room: it never drives
 # closer (robot.polite.keep_clear), steps off the way of someone walking at it, and waits rather than squeezes past
 INTIMATE_SPACE, PERSONAL_SPACE, SOCIAL_SPACE = 0.45, 1.2, 3.6  # m: Hall's proxemic zone limits (gaps)

@@ -7,12 +7,13 @@ import math
 import numpy as np
 import pytest
 
-from socnavgen.bodies import INTIMATE_SPACE, TOUCH_DISTANCE
+from socnavgen.bodies import INTIMATE_SPACE, PERSON_ROBOT_GAP, TOUCH_DISTANCE
 from socnavgen.run.models import RobotGestureRule
 from socnavgen.sim import RobotBody, empty_room, load_policy
 from socnavgen.sim.people.leaves import FOLLOW_STOP
 
 from .simhelpers import REGULAR, Drive, Stay, human, make_sim, tree_xml, xy
+from .test_people_spots import robot_gaps
 
 
 def robot_xy(trace, step):  # noqa: ANN001, ANN201
@@ -127,6 +128,30 @@ def test_block_robot_ends_up_in_front_of_the_robot():
     trace = make_sim([human(start=(7.0, 8.0))], [tree], [(10.0, 5.0), (12.0, 5.0)], Stay(), timeout=25).run()
     assert abs(xy(trace, -1) - (11.5 + 5.0j)) < 0.5
     assert trace.behavior_state[-1, 0] == 1
+
+
+def test_a_blocker_at_her_block_point_stands():
+    """A person blocking a robot that stands still stands at her block point (a 1 s standoff needs her slower than
+    0.1 m/s): the robot's social force pushed her off the 0.05 m point and her walk pulled her back, so she hovered
+    round it at 0.03-0.07 m/s for good (home_01's child, 0.04-0.11 m/s)."""
+    tree = tree_xml('<BlockRobot agent_id="{id}" time_step="{dt}"/>')
+    trace = make_sim([human(start=(7.0, 8.0))], [tree], [(10.0, 5.0), (12.0, 5.0)], Stay(), timeout=25).run()
+    speed = np.hypot(trace.humans[:, 0, 3], trace.humans[:, 0, 4])
+    arrived = int(np.argmax(np.abs(trace.humans[:, 0, 0] + 1j * trace.humans[:, 0, 1] - (11.5 + 5.0j)) < 0.05))
+    assert 0 < arrived < len(speed) - int(5.0 / trace.dt), "she never got to her block point"
+    settled = arrived + int(3.0 / trace.dt)  # arriving at her walking speed, she has stopped 3 s later (was 0.074)
+    assert speed[settled:].max() < 0.01, speed[settled:].max()
+    assert abs(xy(trace, -1) - (11.5 + 5.0j)) < 0.1
+
+
+def test_a_blocker_going_round_the_robot_keeps_a_gap_that_does_not_read_as_touching():
+    """A blocker coming from behind the robot's side goes round its body to her point in front of it at
+    PERSON_ROBOT_GAP from it at the least: walking to the robot (following, blocking), a person's own step kept only
+    0.1 m from it (home_01's child 0.107 m, hospital_08's nurse 0.100 m: touching to the eyes)."""
+    tree = tree_xml('<BlockRobot agent_id="{id}" time_step="{dt}"/>')
+    trace = make_sim([human(start=(8.6, 5.9))], [tree], [(10.0, 5.0), (12.0, 5.0)], Stay(), timeout=15).run()
+    assert robot_gaps(trace).min() >= PERSON_ROBOT_GAP - 1e-3, robot_gaps(trace).min()
+    assert abs(xy(trace, -1) - (11.5 + 5.0j)) < 0.3  # and she got round to it
 
 
 def test_run_away_from_robot_moves_away_slowly():

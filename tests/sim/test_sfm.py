@@ -104,7 +104,7 @@ def test_wall_force_desired_force_and_integration_match_the_formulas():
     p.via = p.target  # where routing (people.routing) heads them: straight at it in the open
     scratch = new_scratch(1, 0)
     far = 100 + 100j  # the robot, out of the way
-    move(people, sizes, prm, 0.1, scratch, far, 0j, 0.35)
+    move(people, sizes, prm, world.map, 0.1, scratch, far, 0.35)
     assert scratch.force[0] == pytest.approx(2.0 * (1.5j - 0.5) / 0.5)  # toward the target at 1.5 m/s
     v = 0.5 + scratch.force[0] * 0.1
     v = v * min(1.0, 1.5 / abs(v))  # capped at the desired speed
@@ -112,7 +112,7 @@ def test_wall_force_desired_force_and_integration_match_the_formulas():
     assert p.yaw == pytest.approx(math.atan2(v.imag, v.real))
     q = people[0]
     q.vel, q.target = 0.5 + 0j, q.pos + 0.3  # inside the target's radius: brake -v/tau
-    move(people, sizes, prm, 0.1, scratch, far, 0j, 0.35)
+    move(people, sizes, prm, world.map, 0.1, scratch, far, 0.35)
     assert scratch.force[0] == pytest.approx(-1.0)
 
 

@@ -18,9 +18,10 @@ would never move on): then they squeeze on to it. A walker who took a spot besid
 goal the robot stands on is taken, as one a person stands on) walks to the spot instead.
 
 `keep_off` (the walking step, once the robot has moved): the part of a person's velocity that would bring
-them closer than KEEP_GAP to the robot's body (STAND_GAP to a robot standing still that they do not walk to:
-`keep_for`) is dropped, so they slide along it or stop. The contact step
-(physics.resolve_contacts) stays the last resort, for people other people push.
+them closer than KEEP_GAP to the robot's body, moving or standing, is dropped, so they slide along it or stop;
+where the walls leave them less room than that beside it (a 0.9 m door the robot stands or drives next to) they
+squeeze by down to TIGHT_GAP (`keep_gap`). The contact step (physics.resolve_contacts) stays the last resort, for
+people other people push.
 
 HuNavSim's people only meet the robot through its social force (REGULAR agents; the SocRATES fork leaves even
 that out for its trees), which does not keep them off it: the prompt tells the model that RegularNav treats
@@ -32,7 +33,7 @@ from __future__ import annotations
 import cmath
 import math
 
-from socnavgen.bodies import PERSON_PASS_GAP
+from socnavgen.bodies import PERSON_PASS_GAP, PERSON_ROBOT_GAP
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.spots import FIT_CLEARANCE, MIN_PASS_GAP, robot_on_way
 from socnavgen.sim.people.state import ROUTE_ROBOT
@@ -49,8 +50,8 @@ WAIT_GAP = 0.5  # m: with no room to pass, a person stands (or walks behind it) 
 WAIT_TIME = 1.0  # s: ... slowing down to get there in about this time
 GOAL_GAP = 0.3  # m: a person whose goal the robot stands on (or next to) stops this far from its body ...
 GOAL_PATIENCE = 5.0  # s: ... and is held back by it this long at most (all told) before squeezing on to the goal
-KEEP_GAP = 0.1  # m: a person's own step never brings them closer than this to the robot's body ...
-STAND_GAP = MIN_PASS_GAP  # m: ... nor closer than this to a robot standing still, unless they walk to the robot
+KEEP_GAP = PERSON_ROBOT_GAP  # m: a person's own step never brings them closer than this to the robot's body ...
+TIGHT_GAP = 0.1  # m: ... unless the walls leave less room beside it: then down to this (> CONTACT_MARGIN)
 HORIZON = 3.0  # s: a robot the person would come that close to within this time is in their way
 STEER_RANGE = 4.0  # m between centres: farther robots are not steered around
 FIELD_OF_VIEW = 1.75  # rad either side of the walking direction (a person's visual field spans about 200 deg)
@@ -218,8 +219,9 @@ def keep_off(v, pos, robot_pos, reach, dt, keep):  # noqa: ANN001, ANN201
 
 
 @jit(inline=True)
-def keep_for(route, robot_vel):  # noqa: ANN001, ANN201
-    """The gap keep_off keeps a walker (walking by `route`) from the robot's body: STAND_GAP from a robot standing
-    still (they stop or go round it, as they do round a person standing), KEEP_GAP from a moving one or one they
-    walk to (following, approaching it)."""
-    return STAND_GAP if abs(robot_vel) <= MOVING and route != ROUTE_ROBOT else KEEP_GAP
+def keep_gap(world, pos, radius, gap):  # noqa: ANN001, ANN201
+    """The gap keep_off keeps a person of `radius` at `pos`, `gap` from the robot's body, from it: KEEP_GAP where there
+    is room, less where their body is closer to a wall than KEEP_GAP - gap (pressed between the robot and a door's
+    jamb or an aisle's shelf, keeping KEEP_GAP would leave them no way on), TIGHT_GAP at the least."""
+    free = clearance_at(world, pos) - radius
+    return min(KEEP_GAP, max(TIGHT_GAP, gap + free))

@@ -20,7 +20,15 @@ from collections.abc import Callable
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.avoid import sees
 from socnavgen.sim.people.routing import head
-from socnavgen.sim.people.state import ROUTE_ROBOT, goal_reached, pop_goal, turn, walk_to, walk_to_goal
+from socnavgen.sim.people.state import (
+    ROUTE_ROBOT,
+    STANDING,
+    goal_reached,
+    pop_goal,
+    turn,
+    walk_to,
+    walk_to_goal,
+)
 from socnavgen.sim.people.trees import FAILURE, SUCCESS, Port
 
 LEAVES: dict[str, Callable] = {}
@@ -40,6 +48,13 @@ RUN_AWAY_SPEED = 0.6  # m/s
 RUN_AWAY_GAIN = 20 * 0.2  # 20 * sigma_obs
 RUN_AWAY_MIN_GAP = 0.05  # m: the run-away push is computed as if no closer than this to the robot
 BLOCK_AHEAD, BLOCK_RADIUS, BLOCK_SPEED, BLOCK_FACE = 1.5, 0.05, 0.5, 0.6
+# A blocker stands at her block point: she slows down as she arrives (no faster than sqrt(2 BLOCK_DECEL d) at d m
+# from it) and stands once within BLOCK_RADIUS of it, or within BLOCK_HOLD of it and (nearly) still, until the point
+# moves off farther (the robot turns or drives). Walking at BLOCK_SPEED all the way, she braked in the point's
+# 0.05 m radius, drifted out of it and walked back, the robot's social force pushing her off it: she hovered at
+# 0.04-0.14 m/s and never stood (home_01's child).
+BLOCK_DECEL = 1.0  # m/s^2
+BLOCK_HOLD = 0.25  # m
 # LookAtRobot turns 0.01*pi per manager call; Gazebo calls it every 1 ms. We keep that rate per second of
 # simulated time (10*pi rad/s, i.e. practically at once) instead of per tick, so dt does not change it.
 LOOK_TURN_RATE = 0.01 * math.pi / 0.001
@@ -229,11 +244,16 @@ def run_away_from_robot(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
 
 @jit
 def block(s, i, ahead):  # noqa: ANN001, ANN201
-    """Walk to the point `ahead` metres in front of the robot; face it once within BLOCK_FACE."""
+    """Walk to the point `ahead` metres in front of the robot and stand there (slowing down as she arrives); face it
+    once within BLOCK_FACE."""
     p = s.people[i]
     p.behavior = 1
-    walk_to(s.people, i, s.robot[0].pos + ahead * complex(math.cos(s.robot[0].yaw), math.sin(s.robot[0].yaw)),
-            BLOCK_RADIUS, BLOCK_SPEED, ROUTE_ROBOT)
+    point = s.robot[0].pos + ahead * complex(math.cos(s.robot[0].yaw), math.sin(s.robot[0].yaw))
+    away = abs(point - p.pos)
+    if away <= BLOCK_RADIUS or (away <= BLOCK_HOLD and abs(p.vel) < STANDING):
+        turn(s.people, i, p.yaw)  # stands (people.make_room: standing in its way on purpose)
+    else:
+        walk_to(s.people, i, point, BLOCK_RADIUS, min(BLOCK_SPEED, math.sqrt(2.0 * BLOCK_DECEL * away)), ROUTE_ROBOT)
     p.face_robot_within = BLOCK_FACE
 
 

@@ -5,8 +5,8 @@ leaf (they are idle at the end of their path, wait, look, or talk), or RegularNa
 A walker whose tree takes the step between two goals (UpdateGoal) is not standing: a daughter walking past a
 waiting robot to a doorway on her way was read as standing in its way there, and backed out 3 m the way she
 came. A deliberate block is not standing still in this sense: a person whose tree's IsRobotBlocking holds this
-step stands in the robot's way on purpose, and stays (a BlockRobot-type leaf walks, so it never counts as standing
-still).
+step stands in the robot's way on purpose, and stays; so does someone whose BlockRobot-type leaf (BlockRobot,
+ThreateningNav) holds them at their block point this step.
 
 When such a person is in the robot's way (give_way.in_robot_way: on its remaining path, a few metres ahead)
 and the robot has waited for ROBOT_WAITED s (the engine's clock.stalled: no progress along its route, standing
@@ -42,6 +42,7 @@ from socnavgen.sim.world.spots import nearer_spot
 ROBOT_WAITED = 2.0  # s the robot has made no progress (clock.stalled) before a person standing in its way makes room
 BACK_SPEED = 0.6  # m/s at most, walking back to their spot once the robot has passed
 DELIBERATE = 1 << LEAF_NAMES.index("IsRobotBlocking")  # a succeeded-mask bit: standing in its way on purpose
+BLOCKS = (LEAF_NAMES.index("BlockRobot"), LEAF_NAMES.index("ThreateningNav"))  # leaves that block it on purpose
 NONE, STEPPING = 0, 1  # p.makes_room
 
 
@@ -50,7 +51,7 @@ def stands_still(s, i, spot):  # noqa: ANN001, ANN201
     """Person i's tree keeps them at `spot` this step (no walk, or a walk to their last goal, at `spot`), and
     does not block the robot on purpose (at a goal others stand on: as close as they let them, state.queued_at)."""
     p = s.people[i]
-    if p.succeeded & DELIBERATE:
+    if p.succeeded & DELIBERATE or p.action == BLOCKS[0] or p.action == BLOCKS[1]:
         return False
     if not p.walks:
         return True

@@ -17,7 +17,7 @@ import numpy as np
 from socnavgen.bodies import PERSON_KEEP_GAP
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people import neighbours
-from socnavgen.sim.people.avoid import KEEP_GAP, keep_for, keep_off
+from socnavgen.sim.people.avoid import keep_gap, keep_off
 from socnavgen.sim.people.neighbours import Grid, new_grid, span
 from socnavgen.sim.people.spacing import keep_apart
 from socnavgen.sim.people.spots import REACH as SPOT_REACH
@@ -229,7 +229,7 @@ def group_forces(people, prm, direction, force, centres, counts):  # noqa: ANN00
 
 
 @jit
-def move(people, group_sizes, prm, dt, scratch, robot_pos, robot_vel, robot_radius):  # noqa: ANN001, ANN201
+def move(people, group_sizes, prm, world, dt, scratch, robot_pos, robot_radius):  # noqa: ANN001, ANN201
     """One force step for the walkers (using the environment force of the previous call), each heading for
     its point of this step (`via`: people.routing), never stepping into someone (people.spacing) nor into the
     robot (people.avoid); the
@@ -267,7 +267,9 @@ def move(people, group_sizes, prm, dt, scratch, robot_pos, robot_vel, robot_radi
             if speed > p.desired_speed:
                 v = v * (p.desired_speed / speed)
             v = keep_apart(people, i, v, dt, scratch.grid)
-            v = keep_off(v, p.pos, robot_pos, p.radius + robot_radius, dt, keep_for(p.route, robot_vel))
+            reach = p.radius + robot_radius
+            keep = keep_gap(world, p.pos, p.radius, abs(p.pos - robot_pos) - reach)
+            v = keep_off(v, p.pos, robot_pos, reach, dt, keep)
             speed = abs(v)
             if speed > 1e-9:
                 p.yaw = math.atan2(v.imag, v.real)
@@ -288,7 +290,7 @@ def move(people, group_sizes, prm, dt, scratch, robot_pos, robot_vel, robot_radi
 def advance(people, group_sizes, prm, world, robot_pos, robot_vel, robot_radius, dt, scratch, step):  # noqa: ANN001, ANN201
     """(step) move the walkers; then the environment forces of the (new) positions. Returns how many people
     reached their real goal."""
-    reached = move(people, group_sizes, prm, dt, scratch, robot_pos, robot_vel, robot_radius) if step else 0
+    reached = move(people, group_sizes, prm, world, dt, scratch, robot_pos, robot_radius) if step else 0
     if neighbours.active(scratch.grid, people.shape[0]):
         neighbours.build(scratch.grid, people, prm.cutoff)  # the contact step uses it too
         social_grid(people, prm, scratch.grid, scratch.social)
@@ -333,7 +335,7 @@ def resolve_contacts(people, robot, world, slack, before, snap, grid):  # noqa: 
     correction from someone standing, pair after pair in index order, in up to CONTACT_SWEEPS sweeps (someone
     arriving among people standing close together is pushed from one into the next) (a large crowd finds its overlapping
     pairs with the cell list of this step's positions, people.neighbours); then a person whose step (their own,
-    or others pushing them) took them within KEEP_GAP of the robot is put back that far from it (never farther
+    or others pushing them) took them within the gap they keep from the robot (avoid.keep_gap) is put back that far from it (never farther
     than the robot's own move left them: an overlap the ROBOT causes stays, and counts as a collision). Corrections that would end inside a wall
     are dropped (between people) or the person's step is not taken (into the robot). Returns whether anyone
     was moved."""
@@ -349,14 +351,15 @@ def resolve_contacts(people, robot, world, slack, before, snap, grid):  # noqa: 
         moved = moved or pushed
         if not pushed:
             break
-    keep = max(slack, KEEP_GAP)  # pushed by someone else, a person keeps what keep_off kept their own steps to
     for i in range(n):
         p = people[i]
         reach = p.radius + robot.radius
         gap = abs(p.pos - robot.pos) - reach
+        was = abs(before[i] - robot.pos) - reach
+        keep = max(slack, keep_gap(world, before[i], p.radius, was))  # what keep_off kept their own steps to
         if gap >= keep:
             continue
-        allowed = min(abs(before[i] - robot.pos) - reach, keep)
+        allowed = min(was, keep)
         if gap < allowed - 1e-9:
             away = p.pos - robot.pos
             unit = away / abs(away) if abs(away) > 1e-9 else -robot.heading

@@ -24,7 +24,13 @@ from __future__ import annotations
 
 import math
 
-from socnavgen.bodies import PERSON_GOAL_SLACK, PERSON_PASS_GAP, PERSON_RADIUS, PERSON_STAND_GAP
+from socnavgen.bodies import (
+    PERSON_GOAL_SLACK,
+    PERSON_PASS_GAP,
+    PERSON_RADIUS,
+    PERSON_ROBOT_GAP,
+    PERSON_STAND_GAP,
+)
 from socnavgen.sim.jit import jit
 from socnavgen.sim.world.queries import clearance_at, line_of_sight
 
@@ -40,7 +46,7 @@ NEARER = 3.0  # a spot one ring nearer the point is worth walking this many metr
 ROBOT_GAP = PERSON_PASS_GAP  # m: a spot keeps this gap from the robot's body
 ROUTE_CLEAR = PERSON_PASS_GAP  # m: a spot whose body comes within this of the robot's body on its way is by it ...
 OFF_ROUTE = 6.0  # m: ... and counts this much farther
-MIN_PASS_GAP = 0.2  # m: the least gap a person squeezes past a standing robot with (0.1 looked like brushing it)
+MIN_PASS_GAP = PERSON_ROBOT_GAP  # m: the least gap a person squeezes past a standing robot with
 FIT_CLEARANCE = 0.35  # m: a body passing the robot keeps this off the walls (a person's 0.4 m, 5 cm slack)
 TOGETHER = 1.0  # a group member's spot counts this many times its distance to the farthest member there farther
 
