@@ -9,7 +9,9 @@ One who walks straight into someone standing or coming toward them (little of th
 round them on their own right at SIDESTEP of the speed they mean to walk at (their desired speed: a walker slowed
 by the crowd still steps round at a walking pace, so the sidestep never dies away; two people meeting head-on both
 keep right and pass), unless that person's body is where they walk to (following someone, a goal someone stands
-on): then they stop at the gap. The social force (physics.pair_force) alone lets followers, group members held by
+on): then they stop at the gap. Someone standing ahead on their right (more than FAR_SIDE off their way) they step
+round on the left, on along their way: round the far side of them is back against it (a crew's leader, boxed in
+by the member ahead on his right, stepped back into the one behind him and the crew stood 40 s). The social force (physics.pair_force) alone lets followers, group members held by
 the group force and walkers crossing at one spot press together. The contact step (physics.resolve_contacts) stays
 the last resort, for people others push, and restores PERSON_KEEP_GAP.
 """
@@ -25,6 +27,8 @@ MOVING = 0.1  # m/s: someone walking away faster than this is followed, not step
 BLOCKED = 0.5  # of their desired speed: a walker left with less than this of their walk is blocked
 STANDING = 0.1  # m/s: someone slower than this stands
 ARRIVING = 1.0  # m: a walker this close to the end of their walk is coming to stand
+FAR_SIDE = 0.5  # a step round on the right going back against the walker's way by more than this (the one in the
+#   way stands over 30 degrees to their right) goes round on the left instead
 
 
 @jit(inline=True)
@@ -72,6 +76,8 @@ def keep_apart(people, i, v, dt, grid):  # noqa: ANN001, ANN201
                 abs(target - q.pos) > reach + keep and abs(end - q.pos) > reach + keep:
             side = unit * 1j  # along their body, to the walker's right
             if (side * (e * -1j).conjugate()).real < 0:
+                side = -side
+            if (side * e.conjugate()).real < -FAR_SIDE:  # round the far side of someone ahead on their right
                 side = -side
             v = v + side * max(SIDESTEP * pace - abs(v), 0.0)
     return v

@@ -1,0 +1,55 @@
+"""Groups stand and walk as people do: a crew setting off in single file from the circle it stood in walks off at
+once (its leader is not boxed in by the one it leads), and members standing together stay where they stand unless
+the robot or their tree moves them."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from socnavgen.bodies import PERSON_RADIUS
+from socnavgen.sim import empty_room
+from socnavgen.sim.people.leaves import FOLLOW_SLOWING, FOLLOW_STOP
+from socnavgen.sim.people.neighbours import new_grid
+from socnavgen.sim.people.spacing import keep_apart
+from socnavgen.sim.people.state import PERSON
+from socnavgen.sim.records import table
+
+from .simhelpers import REGULAR, Stay, human, make_sim, tree_xml
+
+
+def follow_human(target: int) -> str:
+    return tree_xml(f'<FollowHuman agent_id="{{id}}" target_id="{target}" time_step="{{dt}}"/>')
+
+
+def test_a_walker_with_someone_standing_ahead_on_their_right_steps_round_them_forward():
+    """keep_apart on its own: a walker heading west, slowed against someone standing ahead on their right (north-
+    west of them, body to body), steps round them on their left, on along their way - not back round the far side
+    of them (east, against their way: a crew leader boxed in at the start stepped back into the one behind him and
+    stood 40 s)."""
+    ahead_right = complex(-0.32, 0.84)  # where the one standing is, from the walker (gap 0.1 m)
+    people = table(PERSON, 2, pos=[0j, ahead_right], radius=PERSON_RADIUS, desired_speed=[0.8, 0.0],
+                   goal=[-10.0 + 0.5j, ahead_right], via=[-10.0 + 0.5j, ahead_right], walks=[True, False],
+                   to_goal=[True, False])
+    v = keep_apart(people, 0, -0.09 + 0.11j, 0.05, new_grid(2))
+    assert v.real < -0.2, v  # on along the way (west)
+    assert (v * (-ahead_right / abs(ahead_right)).conjugate()).real >= -1e-6, v  # and not into them
+
+
+def test_a_crew_setting_off_in_single_file_from_its_circle_walks_off_at_once():
+    """Four members of a group stand in a circle 0.7 m from a wall (as the spawn puts them); the one on the wall side
+    leads (RegularNav west), the others follow in a chain (FollowHuman). The leader is on their way within a few
+    seconds and the whole file gets there (on main the leader stepped round the member ahead on his right into the
+    one behind, the followers stood waiting for him, and the crew stood 40 s)."""
+    offset = complex(-8.5, 4.45)  # warehouse_10's crew at vj, shifted into a 20 x 10 room (the wall at y = 0)
+    starts = [complex(19.12, -3.02), complex(18.27, -2.87), complex(18.52, -3.72), complex(18.76, -2.16)]
+    goal = (2.0, 1.5)
+    people = [human(f"human{k + 1}", start=((s + offset).real, (s + offset).imag), goals=[goal], group_id=0)
+              for k, s in enumerate(starts)]
+    trees = [follow_human(3), follow_human(2), tree_xml(REGULAR), follow_human(1)]  # leader: human3
+    trace = make_sim(people, trees, [(18.0, 8.5), (18.5, 8.5)], Stay(), world=empty_room(20.0, 10.0),
+                     timeout=30).run()
+    leader = trace.humans[:, 2, 0]
+    assert leader[np.searchsorted(trace.t, 5.0)] < leader[0] - 2.0, leader[::20]  # walking within 5 s
+    assert abs(complex(*trace.humans[-1, 2, :2]) - complex(*goal)) < 1.0  # the leader got there ...
+    behind = trace.humans[-1, :, 0] - trace.humans[-1, 2, 0]
+    assert np.all(behind < 3 * (FOLLOW_STOP + FOLLOW_SLOWING)), behind  # ... the file right behind him
