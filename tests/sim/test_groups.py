@@ -14,7 +14,7 @@ from socnavgen.sim.people.spacing import keep_apart
 from socnavgen.sim.people.state import PERSON
 from socnavgen.sim.records import table
 
-from .simhelpers import REGULAR, Stay, human, make_sim, tree_xml
+from .simhelpers import REGULAR, Drive, Stay, human, make_sim, tree_xml
 
 
 def follow_human(target: int) -> str:
@@ -53,3 +53,22 @@ def test_a_crew_setting_off_in_single_file_from_its_circle_walks_off_at_once():
     assert abs(complex(*trace.humans[-1, 2, :2]) - complex(*goal)) < 1.0  # the leader got there ...
     behind = trace.humans[-1, :, 0] - trace.humans[-1, 2, 0]
     assert np.all(behind < 3 * (FOLLOW_STOP + FOLLOW_SLOWING)), behind  # ... the file right behind him
+
+
+def test_members_of_a_standing_group_whose_trees_only_look_stay_where_they_stand():
+    """Three members of a group stand in a circle round a point (as the spawn puts them), their trees chatting or
+    looking at the robot as it drives past beside them, out of their way: nobody moves them (no group force on
+    members who stand, no spacing push, no making room), so each stays on their spot. (home_10's friends moved only
+    when the robot stood waiting on its way through their circle: people.make_room.)"""
+    look = tree_xml('<Fallback><Sequence><IsRobotVisible agent_id="{id}" distance="2.5"/>'
+                    '<LookAtRobot agent_id="{id}"/></Sequence><MakeGesture agent_id="{id}" message="0"/></Fallback>')
+    centre = complex(10.0, 4.0)
+    starts = [centre + 0.6 * np.exp(2j * np.pi * k / 3) for k in range(3)]
+    people = [human(f"human{k + 1}", start=(s.real, s.imag), goals=[(centre.real, centre.imag)], group_id=0)
+              for k, s in enumerate(starts)]
+    trace = make_sim(people, [look] * 3, [(2.0, 6.6), (18.0, 6.6)], Drive(0.5), world=empty_room(20.0, 10.0),
+                     timeout=25).run()
+    near = np.hypot(trace.humans[:, :, 0] - trace.robot[:, None, 0], trace.humans[:, :, 1] - trace.robot[:, None, 1])
+    assert near.min() < 2.5  # the robot came by within sight (they looked)
+    moved = np.hypot(trace.humans[:, :, 0] - trace.humans[0, None, :, 0], trace.humans[:, :, 1] - trace.humans[0, None, :, 1])
+    assert moved.max() < 0.02, moved.max(axis=0)
