@@ -21,18 +21,27 @@ def follow_human(target: int) -> str:
     return tree_xml(f'<FollowHuman agent_id="{{id}}" target_id="{target}" time_step="{{dt}}"/>')
 
 
-def test_a_walker_with_someone_standing_ahead_on_their_right_steps_round_them_forward():
-    """keep_apart on its own: a walker heading west, slowed against someone standing ahead on their right (north-
-    west of them, body to body), steps round them on their left, on along their way - not back round the far side
-    of them (east, against their way: a crew leader boxed in at the start stepped back into the one behind him and
-    stood 40 s)."""
-    ahead_right = complex(-0.32, 0.84)  # where the one standing is, from the walker (gap 0.1 m)
-    people = table(PERSON, 2, pos=[0j, ahead_right], radius=PERSON_RADIUS, desired_speed=[0.8, 0.0],
-                   goal=[-10.0 + 0.5j, ahead_right], via=[-10.0 + 0.5j, ahead_right], walks=[True, False],
-                   to_goal=[True, False])
-    v = keep_apart(people, 0, -0.09 + 0.11j, 0.05, new_grid(2))
-    assert v.real < -0.2, v  # on along the way (west)
-    assert (v * (-ahead_right / abs(ahead_right)).conjugate()).real >= -1e-6, v  # and not into them
+def test_a_walker_boxed_in_on_their_right_steps_round_the_one_ahead_on_the_left():
+    """keep_apart on its own: a walker heading west is slowed against someone standing ahead on their right (north-
+    west of them, body to body). With nobody else near they step round them on the right, as walkers do; with
+    someone else standing on that side (behind them on the right, body to body: warehouse_10's crew in its circle)
+    they step round on the left, on along their way - the right-hand step ran into the one behind, again and
+    again, and the crew stood 40 s."""
+    ahead_right, behind_right = complex(-0.32, 0.84), complex(0.57, 0.69)  # from the walker, gaps 0.1 m
+
+    def step(others: list[complex]) -> complex:
+        pos = [0j, *others]
+        people = table(PERSON, len(pos), pos=pos, radius=PERSON_RADIUS, desired_speed=[0.8] + [0.0] * len(others),
+                       goal=[-10.0 + 0.5j, *others], via=[-10.0 + 0.5j, *others],
+                       walks=[True] + [False] * len(others), to_goal=[True] + [False] * len(others))
+        return keep_apart(people, 0, -0.09 + 0.11j, 0.05, new_grid(len(pos)))
+
+    away = -ahead_right / abs(ahead_right)
+    alone, boxed = step([ahead_right]), step([ahead_right, behind_right])
+    assert alone.real > 0.2, alone  # round them on the right (east of them: the walker's right-hand side)
+    assert boxed.real < -0.2, boxed  # on along the way (west), round them on the left
+    assert (boxed * away.conjugate()).real >= -1e-6, boxed  # and not into the one ahead ...
+    assert (boxed * (-behind_right / abs(behind_right)).conjugate()).real >= -1e-6, boxed  # ... nor the one behind
 
 
 def test_a_crew_setting_off_in_single_file_from_its_circle_walks_off_at_once():
