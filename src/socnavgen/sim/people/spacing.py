@@ -9,7 +9,11 @@ One who walks straight into someone standing or coming toward them (little of th
 round them on their own right at SIDESTEP of the speed they mean to walk at (their desired speed: a walker slowed
 by the crowd still steps round at a walking pace, so the sidestep never dies away; two people meeting head-on both
 keep right and pass), unless that person's body is where they walk to (following someone, a goal someone stands
-on): then they stop at the gap. The social force (physics.pair_force) alone lets followers, group members held by
+on): then they stop at the gap. One who would step round on the right back against their way (the one in the way
+stands ahead on their right, more than FAR_SIDE off their way) into someone else standing there (within SIDE_ROOM
+of their body) steps round on the left, on along their way, where that side is free (a crew's leader, boxed in
+between the member ahead on his right, the one behind him and a wall, stepped back into the one behind, again and
+again, and the crew stood 40 s). The social force (physics.pair_force) alone lets followers, group members held by
 the group force and walkers crossing at one spot press together. The contact step (physics.resolve_contacts) stays
 the last resort, for people others push, and restores PERSON_KEEP_GAP.
 """
@@ -25,6 +29,9 @@ MOVING = 0.1  # m/s: someone walking away faster than this is followed, not step
 BLOCKED = 0.5  # of their desired speed: a walker left with less than this of their walk is blocked
 STANDING = 0.1  # m/s: someone slower than this stands
 ARRIVING = 1.0  # m: a walker this close to the end of their walk is coming to stand
+SIDE_ROOM = 0.2  # m beyond the keep gap: someone else this close on the side a walker would step round to blocks it
+FAR_SIDE = 0.5  # a step round on the right going back against the walker's way by more than this (the one in the way
+#   stands over 30 degrees to their right) may go round on the left instead (when someone blocks the right)
 
 
 @jit(inline=True)
@@ -36,6 +43,21 @@ def keep_gap(p, q, end):  # noqa: ANN001, ANN201
     if abs(q.vel) < STANDING and abs(end - q.pos) < p.radius + q.radius:
         return PERSON_STAND_GAP
     return PERSON_KEEP_GAP
+
+
+@jit
+def side_taken(people, i, grid, count, skip, side, keep):  # noqa: ANN001, ANN201
+    """Someone other than `skip` stands on walker i's `side` (unit), their bodies within keep + SIDE_ROOM: a step
+    round that way runs into them (the `count` neighbours found for i this step: grid.found)."""
+    p = people[i]
+    for k in range(count):
+        j = grid.found[k]
+        if j == skip:
+            continue
+        d = people[j].pos - p.pos
+        if abs(d) - p.radius - people[j].radius < keep + SIDE_ROOM and (d * side.conjugate()).real > 0:
+            return True
+    return False
 
 
 @jit
@@ -51,7 +73,8 @@ def keep_apart(people, i, v, dt, grid):  # noqa: ANN001, ANN201
     end = p.spot if p.to_goal and p.has_spot else target
     ahead = p.via - p.pos
     e = ahead / abs(ahead) if abs(ahead) > 1e-9 else v / speed
-    for k in range(neighbours.near(grid, people, i)):
+    count = neighbours.near(grid, people, i)
+    for k in range(count):
         q = people[grid.found[k]]
         away = p.pos - q.pos
         dist = abs(away)
@@ -73,5 +96,8 @@ def keep_apart(people, i, v, dt, grid):  # noqa: ANN001, ANN201
             side = unit * 1j  # along their body, to the walker's right
             if (side * (e * -1j).conjugate()).real < 0:
                 side = -side
+            if (side * e.conjugate()).real < -FAR_SIDE and side_taken(people, i, grid, count, grid.found[k], side, keep) \
+                    and not side_taken(people, i, grid, count, grid.found[k], -side, keep):
+                side = -side  # back into someone else standing on their right: round on the left
             v = v + side * max(SIDESTEP * pace - abs(v), 0.0)
     return v
