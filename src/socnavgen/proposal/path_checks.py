@@ -3,22 +3,25 @@
 
 from __future__ import annotations
 
+import math
 from collections import defaultdict
 from typing import TypeVar
 
 import networkx as nx
 
+from socnavgen.bodies import TOUCH_DISTANCE
 from socnavgen.location import Location
 from socnavgen.location.inventory import BLIND_MARGIN, PASS_WIDTH
 from socnavgen.location.placement import Walker, node_distance, route_problems, start_problems
 from socnavgen.location.scene_graph import path_mistakes
+from socnavgen.proposal.conversation import Upstream
 from socnavgen.proposal.facts import approach_room
 from socnavgen.proposal.replies import PathsReply, human_name
 from socnavgen.proposal.spec_checks import HIDDEN_UNTIL_DEFAULT
 from socnavgen.run import HumanPlan, PathPlan
 from socnavgen.run.spec import Encounter, ScenarioSpec
 from socnavgen.verify.derive import SHOWS_ENCOUNTER
-from socnavgen.verify.thresholds import APPROACH, MOVED_DISTANCE
+from socnavgen.verify.thresholds import APPROACH, MEET_DISTANCE, MOVED_DISTANCE
 
 _V = TypeVar("_V")
 
@@ -106,8 +109,11 @@ def _met(spec: ScenarioSpec, enc: Encounter, human: str) -> bool:
 
 def _approach_mistakes(reply: PathsReply, spec: ScenarioSpec, location: Location, robot: list[str],
                        paths: dict[str, list[str]]) -> list[str]:
-    """A person waiting at an encounter's node (their path starts there) is met only after an approach: the
-    node must be approach_room() from the robot's start, or they meet before anyone moved."""
+    """A person waiting at an encounter's node (their path starts within its `within`) is met only after an
+    approach: the node must be approach_room() from the robot's start, or they meet before anyone moved. The room
+    needed is the spec's meeting distance + APPROACH, so the mistake is an Upstream one: when stage 2 cannot move
+    the node, the person or the robot's start (hospital_10: the task fixes the start, one CORRIDOR node on the way),
+    stage 1 is asked with the meeting distance that fits."""
     mistakes: list[str] = []
     if not robot or robot[0] not in location.inventory.nodes:
         return mistakes
@@ -122,11 +128,34 @@ def _approach_mistakes(reply: PathsReply, spec: ScenarioSpec, location: Location
                 continue
             need = approach_room(spec, enc, part.human)
             if node_distance(location, path[0], node) <= enc.within and gap < need:
-                mistakes.append(f"encounter {enc.id}: {part.human} waits at node {node}, only {gap:.2f} m from the "
-                                f"robot's start {robot[0]}, so they are together before anyone moved; a meeting "
-                                f"needs the two to come {APPROACH:g} m closer, so put {enc.id} at least {need:g} m "
-                                f"from the robot's start (or start the robot farther away)")
+                cause, knob = _meeting_cause(spec, enc, part.human)
+                fits = math.floor((gap - APPROACH) * 10 + 1e-6) / 10
+                text = (f"encounter {enc.id}: {part.human} waits at node {node}, only {gap:.2f} m from the robot's "
+                        f"start {robot[0]} ({part.human} starts within {enc.within:g} m of it, {enc.id}'s `within`), "
+                        f"so they are together before anyone moved; a meeting needs the two to come {APPROACH:g} m closer, so "
+                        f"put {enc.id} at least {need:g} m from the robot's start (or start the robot farther away, or "
+                        f"start {part.human} farther than {enc.within:g} m from {node} so they walk in). The {need:g} m "
+                        f"are {cause} + {APPROACH:g} m, which stage 1 set: if no answer of yours can do any of this "
+                        f"without changing what the scenario says, keep your answer and say why; stage 1 is then asked")
+                mistakes.append(Upstream(text, key=f"approach:{enc.id}:{part.human}", upstream=(
+                    f"{part.human} waits at node {node}, where stage 2 put encounter {enc.id} (a {enc.place} on the "
+                    f"robot's way), {gap:.2f} m from the robot's start {robot[0]}; a meeting counts only after the two "
+                    f"came {APPROACH:g} m closer, so with {cause} the node must be at least {need:g} m from the "
+                    f"robot's start. " + (f"With {knob} at most {fits:g} m, {node} fits; or " if fits > TOUCH_DISTANCE
+                                          else "Either ") +
+                    f"let {part.human} come to {enc.id} from farther away (walking in, not waiting there), or put "
+                    f"{enc.id} at another place, or start the robot farther away, if the task allows")))
     return mistakes
+
+
+def _meeting_cause(spec: ScenarioSpec, enc: Encounter, human: str) -> tuple[str, str]:
+    """Where the meeting distance of `human` at `enc` comes from, and what in the spec sets it, in words (as
+    verify/derive.meeting_distance finds it)."""
+    for c in spec.criteria:
+        if c.kind == "meets" and c.encounter == enc.id and human in [c.human, *c.humans] and c.distance:
+            return f"criterion {c.id}'s meets distance {c.distance:g} m", f"criterion {c.id}'s distance"
+    return (f"the verifier's default meeting distance {MEET_DISTANCE:g} m",
+            f"a meets criterion for {human} at {enc.id} whose distance is")
 
 
 STOPS = ("stop", "wait_then_go")  # reactions the verifier sees as a stop after walking (verify/signals.reaction_evidence)
