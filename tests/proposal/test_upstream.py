@@ -83,6 +83,60 @@ def test_a_wait_too_near_the_robots_start_names_the_meeting_distance_and_what_fi
     assert not check_paths(far, warehouse.graph, ["human1"], spec, warehouse)
 
 
+def _warehouse_spec(*encounters: dict, criteria: list[dict]) -> ScenarioSpec:
+    return ScenarioSpec.model_validate({"script": {"route": "through the warehouse"}, "encounters": list(encounters),
+                                        "criteria": criteria})
+
+
+def _part(reaction: str, **fields: object) -> dict:
+    return {"human": "human1", "trigger": "robot_near", "reaction": reaction, "distance": 2.0, **fields}
+
+
+MEETS = {"id": "c1", "kind": "meets", "human": "human1", "encounter": "e1"}
+# Every other stage-2 rule a paths answer may be unable to keep because of what stage 1 chose, broken on the
+# warehouse: (spec, robot, human, encounter nodes, key of the cause, what its message to stage 1 names)
+SHAPES = {
+    "give way without room": (
+        _warehouse_spec({"id": "e1", "place": "BLIND CORNER", "humans": [_part("give_way")]}, criteria=[MEETS]),
+        ["up", "co", "54", "f7", "6r"], ["6r", "f7", "54"], {"e1": "54"}, "room:e1:human1",
+        "human1 gives way in encounter e1 at a BLIND CORNER"),
+    "two encounters, one node": (
+        _warehouse_spec({"id": "e1", "place": "INTERSECTION", "humans": [_part("stop")]},
+                        {"id": "e2", "place": "INTERSECTION", "order": 2, "humans": [_part("look")]},
+                        criteria=[MEETS, {**MEETS, "id": "c2", "encounter": "e2"}]),
+        ["up", "ki", "sh", "ki", "hd"], ["sw", "sh", "ki", "hd"], {"e1": "ki", "e2": "ki"}, "two:human1:e2",
+        "put one of them at another place"),
+    "a checked stop of someone standing": (
+        _warehouse_spec({"id": "e1", "place": "INTERSECTION", "humans": [
+            {"human": "human1", "trigger": "robot_says", "phrase": "EXCUSE ME", "reaction": "wait_then_go"}]},
+            criteria=[MEETS, {"id": "c2", "kind": "reacts_after_phrase", "human": "human1", "encounter": "e1",
+                              "phrase": "EXCUSE ME", "reaction": "wait_then_go", "seconds": 5}]),
+        ["up", "ki", "sh", "qs"], ["sh", "sw"], {"e1": "sh"}, "standing_stop:c2",
+        "criterion c2 (reacts_after_phrase, wait_then_go)"),
+    "hidden until, not blind enough": (
+        _warehouse_spec({"id": "e1", "place": "BLIND CORNER", "humans": [_part("stop")]}, criteria=[
+            MEETS, {"id": "c2", "kind": "hidden_until", "human": "human1", "encounter": "e1", "distance": 3.4}]),
+        ["co", "54", "f7", "6r"], ["hd", "6r", "f7"], {"e1": "f7"}, "blind:c2",
+        "they see each other from 3.6 m: set its distance to at least 4.5 m"),
+    "a place the robot does not pass": (
+        _warehouse_spec({"id": "e1", "place": "INTERSECTION", "humans": [_part("look")]}, criteria=[MEETS]),
+        ["co", "54", "f7", "6r"], ["hd", "6r", "f7"], {"e1": "f7"}, "place:e1",
+        "encounter e1 happens at a INTERSECTION, and stage 2 put it at f7, a BLIND CORNER"),
+}
+
+
+@pytest.mark.parametrize("shape", SHAPES)
+def test_every_paths_rule_that_stage_1_causes_names_its_cause_for_stage_1(warehouse, shape):
+    spec, robot, human, nodes, key, named = SHAPES[shape]
+    answer = PathsReply.model_validate({"trajectories": {"robot": robot, "human1": human}, "group_ids": {"human1": -1},
+                                        "interaction_points": {"human1": next(iter(nodes.values()))},
+                                        "encounter_nodes": nodes})
+    mistakes = check_paths(answer, warehouse.graph, ["human1"], spec, warehouse)
+    causes = [m for m in mistakes if isinstance(m, Upstream)]
+    assert [c.key for c in causes] == [key], mistakes
+    assert named in causes[0].upstream, causes[0].upstream
+
+
 def test_stage_2_answering_a_stage_1_cause_again_sends_it_to_stage_1(tmp_path, mini_location):
     """hospital_10 replayed on the mini map: stage 2 is told of the cause once; its next answer has it again (the
     model said no path change can satisfy it), so stage 1 is asked with the cause, the value that fits and stage 2's

@@ -174,9 +174,17 @@ def _standing_stop_mistakes(reply: PathsReply, spec: ScenarioSpec, paths: dict[s
         for enc in encounters[:1]:
             node = reply.encounter_nodes.get(enc.id)
             if path and node is not None and path[0] == node:
-                mistakes.append(f"criterion {c.id} sees {c.human}'s {c.reaction} at node {node} only after they "
-                                f"walked {MOVED_DISTANCE:g} m from their start, but {c.human} starts at {node}: start "
-                                f"them at a node before it on their way (pacing holds them there until it is time)")
+                mistakes.append(Upstream(
+                    f"criterion {c.id} sees {c.human}'s {c.reaction} at node {node} only after they walked "
+                    f"{MOVED_DISTANCE:g} m from their start, but {c.human} starts at {node}: start them at a node "
+                    f"before it on their way (pacing holds them there until it is time); if the scenario has them "
+                    f"wait there, keep your answer and say so: stage 1 is then asked",
+                    key=f"standing_stop:{c.id}", upstream=(
+                        f"criterion {c.id} (reacts_after_phrase, {c.reaction}) sees {c.human}'s {c.reaction} only "
+                        f"after they walked {MOVED_DISTANCE:g} m from their start, and stage 2 kept {c.human} waiting "
+                        f"at node {node} of encounter {enc.id} from the start: someone who stands already shows no "
+                        f"{c.reaction}. Let {c.human} walk in to {enc.id}, or check what the prose says with another "
+                        f"criterion (e.g. stops_near_robot)")))
     return mistakes
 
 
@@ -205,9 +213,16 @@ def _blind_mistakes(reply: PathsReply, spec: ScenarioSpec, location: Location, r
         hint = f"; blind enough for {distance:g} m with a {BLIND_MARGIN:g} m margin: {', '.join(fitting)}" if fitting \
             else ""
         seen = f"from {min(t.sight_m for t in turns):.1f} m" if turns else "from afar"
-        mistakes.append(f"criterion {c.id} needs the robot and {c.human} hidden from each other until {distance:g} m, "
-                        f"but coming into node {node} of encounter {enc.id} the way they do, they see each other "
-                        f"{seen}{hint}")
+        fits = f"set its distance to at least {math.ceil(2 * (min(t.sight_m for t in turns) + BLIND_MARGIN)) / 2:g} " \
+            "m, or " if turns else ""
+        mistakes.append(Upstream(
+            f"criterion {c.id} needs the robot and {c.human} hidden from each other until {distance:g} m, but coming "
+            f"into node {node} of encounter {enc.id} the way they do, they see each other {seen}{hint}",
+            key=f"blind:{c.id}", upstream=(
+                f"criterion {c.id} (hidden_until) needs the robot and {c.human} hidden from each other until "
+                f"{distance:g} m at encounter {enc.id} ({enc.place}); stage 2 brought them into node {node} the way "
+                f"they walk, and there they see each other {seen}: {fits}put {enc.id} at another place, or have "
+                f"them come from other sides")))
     return mistakes
 
 
@@ -224,10 +239,17 @@ def _room_mistakes(reply: PathsReply, spec: ScenarioSpec, location: Location) ->
         for part in enc.humans:
             if part.reaction == "give_way":
                 hint = f" ({enc.place} nodes with room: {', '.join(roomy)})" if roomy else ""
-                mistakes.append(f"{part.human} gives way in encounter {enc.id} at node {facts.id}, which has only "
-                                f"{facts.free_width_m:.1f} m free: nobody can step aside there (the robot passes a "
-                                f"person only where {PASS_WIDTH:g} m is free); ground {enc.id} at a node with room"
-                                f"{hint}")
+                mistakes.append(Upstream(
+                    f"{part.human} gives way in encounter {enc.id} at node {facts.id}, which has only "
+                    f"{facts.free_width_m:.1f} m free: nobody can step aside there (the robot passes a person only "
+                    f"where {PASS_WIDTH:g} m is free); ground {enc.id} at a node with room{hint}; if none is on the "
+                    f"robot's way, keep your answer and say so: stage 1 is then asked",
+                    key=f"room:{enc.id}:{part.human}", upstream=(
+                        f"{part.human} gives way in encounter {enc.id} at a {enc.place}, and stage 2 found no "
+                        f"{enc.place} node with room to step aside ({PASS_WIDTH:g} m free{hint}) that it could put on "
+                        f"the robot's way (it chose {facts.id}, {facts.free_width_m:.1f} m free): put {enc.id} at "
+                        f"another place, or give {part.human} a reaction that needs no room (walk_past ahead of the "
+                        f"robot, stop or wait_then_go before the narrow part)")))
     return mistakes
 
 
@@ -257,9 +279,13 @@ def _encounter_mistakes(reply: PathsReply, graph: nx.Graph, spec: ScenarioSpec, 
         for enc, _ in spec.parts_of(human):
             node = reply.encounter_nodes.get(enc.id)
             if node is not None and node in at:
-                mistakes.append(f"encounters {at[node]} and {enc.id} of {human} are both at node {node}: the two "
-                                f"meetings cannot be told apart there; ground {enc.id} at another {enc.place} node of "
-                                f"the robot's and {human}'s paths (they part in between)")
+                mistakes.append(Upstream(
+                    f"encounters {at[node]} and {enc.id} of {human} are both at node {node}: the two meetings cannot "
+                    f"be told apart there; ground {enc.id} at another {enc.place} node of the robot's and {human}'s "
+                    f"paths (they part in between)", key=f"two:{human}:{enc.id}", upstream=(
+                        f"encounters {at[node]} and {enc.id} of {human} need two different nodes, and stage 2 found "
+                        f"no second {enc.place} node on the robot's and {human}'s ways (both at {node}): put one of "
+                        f"them at another place, or make them one encounter")))
             elif node is not None:
                 at[node] = enc.id
     for enc in spec.encounters:
@@ -276,8 +302,12 @@ def _encounter_mistakes(reply: PathsReply, graph: nx.Graph, spec: ScenarioSpec, 
             fitting = sorted(n for n, d in graph.nodes(data=True)
                              if str(d.get("type", "")).upper() == enc.place.strip().upper())
             hint = f" (nodes of that type: {', '.join(fitting)})" if fitting else ""
-            mistakes.append(f"encounter {enc.id} happens at a {enc.place} but node {node} is a {kind}; choose a "
-                            f"{enc.place} node{hint}")
+            mistakes.append(Upstream(
+                f"encounter {enc.id} happens at a {enc.place} but node {node} is a {kind}; choose a {enc.place} "
+                f"node{hint}", key=f"place:{enc.id}", upstream=(
+                    f"encounter {enc.id} happens at a {enc.place}, and stage 2 put it at {node}, a {kind}: no "
+                    f"{enc.place} node{hint} fitted the robot's and its people's ways; put {enc.id} at a kind of place "
+                    f"the robot passes")))
         if node not in robot:
             mistakes.append(f"the node {node} of encounter {enc.id} is not on the robot's path")
         for part in enc.humans:
