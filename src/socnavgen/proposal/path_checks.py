@@ -164,7 +164,7 @@ STOPS = ("stop", "wait_then_go")  # reactions the verifier sees as a stop after 
 def _standing_stop_mistakes(reply: PathsReply, spec: ScenarioSpec, paths: dict[str, list[str]]) -> list[str]:
     """A stop checked by reacts_after_phrase shows only AFTER the person walked MOVED_DISTANCE from their start
     (facts.stop_evidence_text): a person who starts at the node where they stop shows none."""
-    mistakes = []
+    mistakes: list[str] = []
     for c in spec.criteria:
         if c.kind != "reacts_after_phrase" or c.reaction not in STOPS or not c.human:
             continue
@@ -192,7 +192,7 @@ def _blind_mistakes(reply: PathsReply, spec: ScenarioSpec, location: Location, r
                     paths: dict[str, list[str]]) -> list[str]:
     """A hidden_until criterion needs its encounter at a node where the robot's way in and the person's way in
     hide each other on this map until they are close enough (location/inventory.py's blind turns)."""
-    mistakes = []
+    mistakes: list[str] = []
     inventory = location.inventory
     for c in spec.criteria:
         if c.kind != "hidden_until" or not c.human:
@@ -230,7 +230,7 @@ def _room_mistakes(reply: PathsReply, spec: ScenarioSpec, location: Location) ->
     """Giving way is stepping aside: the encounter's node needs the room the robot and a person need to pass
     each other (location/inventory.py: PASS_WIDTH)."""
     inventory = location.inventory
-    mistakes = []
+    mistakes: list[str] = []
     for enc in spec.encounters:
         facts = inventory.nodes.get(reply.encounter_nodes.get(enc.id) or "")
         if facts is None or facts.turnable:
