@@ -122,29 +122,34 @@ def _approach_mistakes(reply: PathsReply, spec: ScenarioSpec, location: Location
         if node is None or node not in location.inventory.nodes:
             continue
         gap = node_distance(location, robot[0], node)
+        waiting: dict[tuple[str, str], list[str]] = {}  # (cause, what sets it) -> who waits too near
         for part in enc.humans:
             path = paths.get(part.human) or []
             if not path or path[0] not in location.inventory.nodes or not _met(spec, enc, part.human):
                 continue
-            need = approach_room(spec, enc, part.human)
-            if node_distance(location, path[0], node) <= enc.within and gap < need:
-                cause, knob = _meeting_cause(spec, enc, part.human)
-                fits = math.floor((gap - APPROACH) * 10 + 1e-6) / 10
-                text = (f"encounter {enc.id}: {part.human} waits at node {node}, only {gap:.2f} m from the robot's "
-                        f"start {robot[0]} ({part.human} starts within {enc.within:g} m of it, {enc.id}'s `within`), "
-                        f"so they are together before anyone moved; a meeting needs the two to come {APPROACH:g} m closer, so "
-                        f"put {enc.id} at least {need:g} m from the robot's start (or start the robot farther away, or "
-                        f"start {part.human} farther than {enc.within:g} m from {node} so they walk in). The {need:g} m "
-                        f"are {cause} + {APPROACH:g} m, which stage 1 set: if no answer of yours can do any of this "
-                        f"without changing what the scenario says, keep your answer and say why; stage 1 is then asked")
-                mistakes.append(Upstream(text, key=f"approach:{enc.id}:{part.human}", upstream=(
-                    f"{part.human} waits at node {node}, where stage 2 put encounter {enc.id} (a {enc.place} on the "
-                    f"robot's way), {gap:.2f} m from the robot's start {robot[0]}; a meeting counts only after the two "
-                    f"came {APPROACH:g} m closer, so with {cause} the node must be at least {need:g} m from the "
-                    f"robot's start. " + (f"With {knob} at most {fits:g} m, {node} fits; or " if fits > TOUCH_DISTANCE
-                                          else "Either ") +
-                    f"let {part.human} come to {enc.id} from farther away (walking in, not waiting there), or put "
-                    f"{enc.id} at another place, or start the robot farther away, if the task allows")))
+            if node_distance(location, path[0], node) <= enc.within and gap < approach_room(spec, enc, part.human):
+                waiting.setdefault(_meeting_cause(spec, enc, part.human), []).append(part.human)
+        for (cause, knob), humans in waiting.items():
+            need = approach_room(spec, enc, humans[0])
+            fits = math.floor((gap - APPROACH) * 10 + 1e-6) / 10
+            who = ", ".join(humans)
+            upstream = (f"{who} {'waits' if len(humans) == 1 else 'wait'} at node {node}, where stage 2 put encounter "
+                        f"{enc.id} (a {enc.place} on the robot's way), {gap:.2f} m from the robot's start {robot[0]}; "
+                        f"a meeting counts only after the two came {APPROACH:g} m closer, so with {cause} the node "
+                        f"must be at least {need:g} m from the robot's start. " +
+                        (f"With {knob} at most {fits:g} m, {node} fits; or " if fits > TOUCH_DISTANCE else "Either ") +
+                        f"let {who} come to {enc.id} from farther away (walking in, not waiting there), or put "
+                        f"{enc.id} at another place, or start the robot farther away, if the task allows")
+            for human in humans:
+                mistakes.append(Upstream(
+                    f"encounter {enc.id}: {human} waits at node {node}, only {gap:.2f} m from the robot's start "
+                    f"{robot[0]} ({human} starts within {enc.within:g} m of it, {enc.id}'s `within`), so they are "
+                    f"together before anyone moved; a meeting needs the two to come {APPROACH:g} m closer, so put "
+                    f"{enc.id} at least {need:g} m from the robot's start (or start the robot farther away, or start "
+                    f"{human} farther than {enc.within:g} m from {node} so they walk in). The {need:g} m are {cause} + "
+                    f"{APPROACH:g} m, which stage 1 set: if no answer of yours can do any of this without changing what "
+                    f"the scenario says, keep your answer and say why; stage 1 is then asked",
+                    key=f"approach:{enc.id}:{human}", upstream=upstream))
     return mistakes
 
 
