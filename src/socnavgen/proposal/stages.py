@@ -52,7 +52,7 @@ SCOPE: dict[str, str] = {
                   "stay as they are. Answer with the tree, not with a scenario or paths."),
 }
 UPSTREAM_NAMES = {"paths": "Stage 2 (the paths)"}
-MAX_SAID = 800  # characters of a stage's own reasoning quoted to the stage it sends a finding to
+MAX_SAID = 1500  # characters of a stage's own reasoning quoted to the stage it sends a finding to
 
 
 def upstream_correction(failed: UpstreamFailed) -> str:

@@ -260,7 +260,7 @@ class _Repair:
             self.paths_tried |= {f.criterion for f in to_ask.get("paths", []) if f.criterion}
         asked: dict[tuple[str, str | None], list[Finding]] = {}
         for stage, found in to_ask.items():
-            for human in ({f.blame_human for f in found} if stage == "behaviors" else {None}):
+            for human in (sorted({f.blame_human for f in found}, key=str) if stage == "behaviors" else [None]):
                 asked[(stage, human)] = [f for f in found if stage != "behaviors" or f.blame_human == human]
                 self.sent[(stage, human)] = ([describe(f) for f in asked[(stage, human)]], answers.get((stage, human)))
         if to_ask.get("scenario"):
