@@ -83,6 +83,15 @@ STOP_TREE = ("<root main_tree_to_execute='Stop'><include path='BTRegularNav.xml'
              "<SubTree ID='RegularNavTree' id='agentid' dt='timestep'/></Sequence></Fallback></BehaviorTree></root>")
 
 
+LOOK_TREE = STOP_TREE.replace("distance='0.5'", "distance='1.0'")  # a changed tree for the same spec
+
+
+def moved_paths_reply(**changes: object) -> dict:
+    """A changed answer to a paths re-ask (human2 starts farther back): an unchanged one goes to stage 1."""
+    return paths_reply(trajectories={"robot": ["32", "ch", "11", "07"], "human1": ["07", "11", "ch"],
+                                     "human2": ["d9", "f7", "07", "11"]}, **changes)
+
+
 def tree_reply(tree: str = STOP_TREE) -> dict:
     return {"reasoning": "stop when blocked", "tree": tree}
 

@@ -5,7 +5,8 @@ very same findings came back, that the cause is not in that stage: the findings 
 from __future__ import annotations
 
 from gen_helpers import (
-    STOP_TREE,
+    LOOK_TREE,
+    moved_paths_reply,
     paths_reply,
     request_for,
     run_replay,
@@ -15,10 +16,8 @@ from gen_helpers import (
 )
 
 from socnavgen.proposal import Run
-from socnavgen.proposal.verify_loop import REPEATED, SCOPE, UNCHANGED, describe, escalated
+from socnavgen.proposal.verify_loop import REPEATED, SCOPE, describe, escalated
 from socnavgen.verify.models import Finding, VerifyReport
-
-LOOK_TREE = STOP_TREE.replace("distance='0.5'", "distance='1.0'")  # a changed tree for the same spec
 
 
 def _finding(blame: str, human: str | None = None, evidence: str = "closest 0.97 m at t=33.8 s") -> Finding:
@@ -42,14 +41,15 @@ def test_the_same_findings_after_a_changed_tree_go_to_the_spec():
     assert found[0].blame_reason == "did not stop"  # the report's finding is not rewritten
 
 
-def test_findings_that_changed_or_an_unchanged_answer_stay_with_their_stage():
+def test_findings_that_changed_stay_with_their_stage_and_an_unchanged_answer_goes_to_stage_1():
     found = [_finding("behaviors", "human1")]
     other = [_finding("behaviors", "human1", evidence="closest 0.60 m at t=30.1 s")]
     sent = {("behaviors", "human1"): ([describe(f) for f in found], "<old tree/>")}
     moved, _ = escalated({"behaviors": other}, sent, {("behaviors", "human1"): "<new tree/>"})
     assert list(moved) == ["behaviors"]  # different numbers: the change did something
     same, notes = escalated({"behaviors": found}, sent, {("behaviors", "human1"): "<old tree/>"})
-    assert list(same) == ["behaviors"] and notes == {("behaviors", "human1"): UNCHANGED}  # never changed: no proof
+    assert list(same) == ["scenario"] and not notes  # it kept its answer: asking it again changes nothing (round 13)
+    assert "answered with the same tree" in same["scenario"][0].blame_reason
     paths = [_finding("paths")]
     out, _ = escalated({"paths": paths}, {("paths", None): ([describe(f) for f in paths], {"a": 1})},
                        {("paths", None): {"a": 2}})
@@ -135,7 +135,7 @@ def test_an_encounter_counts_as_tried_by_stage_2_only_once_stage_2_was_asked(tmp
     stage 2 was never asked about it, so it is asked now (not sent to stage 1 as if stage 2 had failed); round 3
     the same meeting, worse: stage 2 had its try for e1, so stage 1 is asked."""
     script = write_script(tmp_path / "s.yaml", {
-        "scenario": [scenario_reply(), scenario_reply(), scenario_reply()], "paths": [paths_reply(), paths_reply()],
+        "scenario": [scenario_reply(), scenario_reply(), scenario_reply()], "paths": [paths_reply(), moved_paths_reply()],
         "behaviors": {"human1": [tree_reply()], "human2": [tree_reply()]}})
 
     def meet(evidence: str) -> Finding:

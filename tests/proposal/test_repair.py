@@ -9,7 +9,16 @@ import copy
 import json
 
 import pytest
-from gen_helpers import manifest, paths_reply, run_replay, scenario_reply, tree_reply, write_script
+from gen_helpers import (
+    LOOK_TREE,
+    manifest,
+    moved_paths_reply,
+    paths_reply,
+    run_replay,
+    scenario_reply,
+    tree_reply,
+    write_script,
+)
 
 from socnavgen.proposal import Run
 from socnavgen.run import RunFolder
@@ -75,8 +84,8 @@ def test_a_reask_keeps_the_models_own_answer_and_reasoning(tmp_path, mini_locati
     scenario = scenario_reply()
     scenario["note"] = "my own aside"  # whatever the model wrote comes back as it wrote it
     script = write_script(tmp_path / "s.yaml", {
-        "scenario": [scenario, scenario_reply()], "paths": [paths, paths_reply()],
-        "behaviors": {"human1": [tree, tree_reply()], "human2": [tree_reply()]}})
+        "scenario": [scenario, scenario_reply()], "paths": [paths, moved_paths_reply()],
+        "behaviors": {"human1": [tree, tree_reply(LOOK_TREE)], "human2": [tree_reply()]}})
     verify, _ = _verifier([_finding("paths"), _finding("behaviors", human="human1")],
                           [_finding("robot_script", evidence="the robot never slowed down")], [])
     run, llm = run_replay(script, mini_location, tmp_path / "run", verify=True, verifier=verify)

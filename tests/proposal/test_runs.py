@@ -6,8 +6,10 @@ import json
 
 import pytest
 from gen_helpers import (
+    LOOK_TREE,
     STOP_TREE,
     manifest,
+    moved_paths_reply,
     paths_reply,
     request_for,
     run_replay,
@@ -192,7 +194,7 @@ def _verifier(*reports):  # noqa: ANN002, ANN202
 
 def test_verify_requeries_the_blamed_stage(tmp_path, mini_location):
     verify, seen = _verifier(_report(False, [_finding("paths")]), _report(True, []))
-    script = full_script(tmp_path, paths=[paths_reply(), paths_reply()])
+    script = full_script(tmp_path, paths=[paths_reply(), moved_paths_reply()])
     run, llm = run_replay(script, mini_location, tmp_path / "run", verify=True, verifier=verify)
     assert isinstance(run, Run), run
     asks = [m for s, _k, m in llm.calls if s == "paths"]
@@ -222,7 +224,7 @@ def test_robot_script_failure_goes_back_to_the_spec_never_to_the_trees(tmp_path,
 
 def test_a_behaviors_failure_reasks_only_that_humans_tree(tmp_path, mini_location):
     verify, _ = _verifier(_report(False, [_finding("behaviors", human="human2")]), _report(True, []))
-    script = full_script(tmp_path, behaviors={"human1": [tree_reply()], "human2": [tree_reply(), tree_reply()]})
+    script = full_script(tmp_path, behaviors={"human1": [tree_reply()], "human2": [tree_reply(), tree_reply(LOOK_TREE)]})
     run, llm = run_replay(script, mini_location, tmp_path / "run", verify=True, verifier=verify)
     assert isinstance(run, Run), run
     assert [k for s, k in stages_called(llm) if s == "behaviors"] == ["human1", "human2", "human2"] or \
@@ -232,7 +234,8 @@ def test_a_behaviors_failure_reasks_only_that_humans_tree(tmp_path, mini_locatio
 def test_a_run_whose_verification_fails_does_not_say_done(tmp_path, mini_location):
     failing = _report(False, [_finding("paths")])
     verify, seen = _verifier(failing, failing, failing)
-    script = full_script(tmp_path, paths=[paths_reply()] * 3)
+    # each round the paths answer the same, so stage 1 is asked each time too (and answers the same)
+    script = full_script(tmp_path, paths=[paths_reply()] * 3, scenario=[scenario_reply()] * 3)
     out = tmp_path / "run"
     run, _ = run_replay(script, mini_location, out, verify=True, verifier=verify)
     assert isinstance(run, Run), run
@@ -253,8 +256,8 @@ def test_findings_without_blame_are_not_sent_to_any_stage(tmp_path, mini_locatio
 def test_paths_and_a_blamed_tree_are_reasked_in_the_same_round(tmp_path, mini_location):
     verify, seen = _verifier(_report(False, [_finding("paths"), _finding("behaviors", human="human1")]),
                              _report(True, []))
-    script = full_script(tmp_path, paths=[paths_reply(), paths_reply()],
-                         behaviors={"human1": [tree_reply(), tree_reply()], "human2": [tree_reply()]})
+    script = full_script(tmp_path, paths=[paths_reply(), moved_paths_reply()],
+                         behaviors={"human1": [tree_reply(), tree_reply(LOOK_TREE)], "human2": [tree_reply()]})
     run, llm = run_replay(script, mini_location, tmp_path / "run", verify=True, verifier=verify)
     assert isinstance(run, Run), run
     later = stages_called(llm)[4:]  # after scenario, paths, two trees

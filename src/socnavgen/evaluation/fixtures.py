@@ -108,16 +108,24 @@ def replay_fixture(path: Path, out: Path, root: Path | None = None, verify: bool
     if verify and not failed and ok("paths") and ok("behaviors"):  # (a recording may end before a run exists)
         from socnavgen.verify import verify_run
 
-        report = report or verify_run(out)
-        robustness = [f.robustness for f in report.findings if f.robustness is not None]
-        row.verified = report.passed and ended is None
-        row.failing = [f.name for f in report.failures] + ([ended] if ended else [])
-        row.min_robustness = round(min(robustness), 2) if robustness else None
+        if ended and not _complete(RunFolder(out)):  # it ended while stage 1's new answer was being planned
+            row.verified, row.failing = False, [ended]
+        else:
+            report = report or verify_run(out)
+            robustness = [f.robustness for f in report.findings if f.robustness is not None]
+            row.verified = report.passed and ended is None
+            row.failing = [f.name for f in report.failures] + ([ended] if ended else [])
+            row.min_robustness = round(min(robustness), 2) if robustness else None
         row.verified_first = _first_answers_verified(request, out.with_name(out.name + ".first")) \
             if loop and first_answers else \
             row.verified
     row.eyes, row.eyes_match = _eyes(data)
     return row
+
+
+def _complete(run: RunFolder) -> bool:
+    """The run has paths and a tree for everybody (something to simulate)."""
+    return run.paths_path.is_file() and set(run.read_scenario().human_behaviors) <= set(run.behaviors())
 
 
 def fixture_paths(folder: Path) -> list[Path]:

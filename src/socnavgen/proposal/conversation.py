@@ -10,8 +10,9 @@ itself. After `max_restarts` restarts the stage fails with the last mistakes.
 from __future__ import annotations
 
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Generic, Literal, TypeVar
 
 from pydantic import BaseModel
@@ -113,6 +114,37 @@ class Recorder:
         self.update(stage, key, apply, aggregate=key is None)
 
 
+class Upstream(str):
+    """A mistake whose cause is an earlier stage's answer (a criterion's distance, an encounter's place or reaction):
+    the text goes back to this stage as usual (it may still fix it its own way); `upstream` says what the stage that
+    can change the cause should know, `key` names the cause (the same cause in the next answer: this stage could not
+    fix it)."""
+
+    key: str
+    upstream: str
+
+    def __new__(cls, text: str, *, key: str, upstream: str) -> Upstream:
+        made = super().__new__(cls, text)
+        made.key, made.upstream = key, upstream
+        return made
+
+
+class UpstreamFailed(StageFailed):
+    """`stage` cannot satisfy a rule whose cause is an earlier stage's answer (`causes`); `said`: the reasoning of
+    its last answer (its own words on why, for the earlier stage)."""
+
+    def __init__(self, message: str, stage: str, causes: list[Upstream], said: str = "", *,
+                 file: Path | str | None = None, hint: str | None = None) -> None:
+        super().__init__(message, file=file, hint=hint)
+        self.stage, self.causes, self.said = stage, causes, said
+
+
+def upstream_causes(mistakes: list[str], told: set[str]) -> list[Upstream]:
+    """The mistakes only an earlier stage can fix now: those this stage was already told of and answered again (it
+    could not, or said it could not)."""
+    return [m for m in mistakes if isinstance(m, Upstream) and m.key in told]
+
+
 @dataclass
 class Outcome(Generic[T]):
     value: T
@@ -138,7 +170,7 @@ def accepted_reply(run: RunFolder, stage: str, key: str | None) -> str | None:
     return accepted[:MAX_ECHO_CHARS] if accepted is not None else None
 
 
-def bullet_list(items: list[str]) -> str:
+def bullet_list(items: Sequence[str]) -> str:
     return "\n".join(f"- {item}" for item in items)
 
 
@@ -149,9 +181,12 @@ def correction_message(mistakes: list[str]) -> ChatMessage:
 def converse(llm: LLM, messages: list[ChatMessage], schema: type[T], check: Callable[[T], list[str]], *,
              stage: str, key: str | None, recorder: Recorder, policy: Policy, grammar: str | None = None,
              max_tokens: int | None = None) -> Outcome[T]:
-    """Ask until a reply passes `check`, re-querying with the mistakes and restarting per `policy`."""
+    """Ask until a reply passes `check`, re-querying with the mistakes and restarting per `policy`. A mistake caused
+    by an earlier stage (`Upstream`) that comes back after this stage was told of it ends the conversation with
+    UpstreamFailed: asking this stage again does not help (hospital_10, round 13: 12 answers, 2 restarts)."""
     last: list[str] = []
     attempts = 0
+    told: set[str] = set()  # the Upstream causes this stage was told of
     if key is not None:
         recorder.set_status(stage, key, "running")
     for restart in range(policy.max_restarts + 1):
@@ -177,6 +212,13 @@ def converse(llm: LLM, messages: list[ChatMessage], schema: type[T], check: Call
                 return Outcome(reply.value, [*history, answer])
             last = mistakes
             recorder.mistakes(stage, key, mistakes)
+            causes = upstream_causes(mistakes, told)
+            if causes:
+                raise UpstreamFailed(f"stage '{stage}' cannot satisfy, within its own rules, what an earlier stage "
+                                     f"asked:\n{bullet_list(causes)}", stage, causes,
+                                     str(getattr(reply.value, "reasoning", "") or ""), file=recorder.run.root,
+                                     hint="the earlier stage is asked to change it (generate does so itself)")
+            told |= {m.key for m in mistakes if isinstance(m, Upstream)}
             recorder.progress(ProgressEvent(stage, key, "invalid", attempts, restart, "; ".join(mistakes)))
             history += [answer, correction_message(mistakes)]
     who = f"stage '{stage}'" + (f" for {key}" if key else "")

@@ -3,22 +3,25 @@
 
 from __future__ import annotations
 
+import math
 from collections import defaultdict
 from typing import TypeVar
 
 import networkx as nx
 
+from socnavgen.bodies import TOUCH_DISTANCE
 from socnavgen.location import Location
 from socnavgen.location.inventory import BLIND_MARGIN, PASS_WIDTH
 from socnavgen.location.placement import Walker, node_distance, route_problems, start_problems
 from socnavgen.location.scene_graph import path_mistakes
+from socnavgen.proposal.conversation import Upstream
 from socnavgen.proposal.facts import approach_room
 from socnavgen.proposal.replies import PathsReply, human_name
 from socnavgen.proposal.spec_checks import HIDDEN_UNTIL_DEFAULT
 from socnavgen.run import HumanPlan, PathPlan
 from socnavgen.run.spec import Encounter, ScenarioSpec
 from socnavgen.verify.derive import SHOWS_ENCOUNTER
-from socnavgen.verify.thresholds import APPROACH, MOVED_DISTANCE
+from socnavgen.verify.thresholds import APPROACH, MEET_DISTANCE, MOVED_DISTANCE
 
 _V = TypeVar("_V")
 
@@ -106,8 +109,11 @@ def _met(spec: ScenarioSpec, enc: Encounter, human: str) -> bool:
 
 def _approach_mistakes(reply: PathsReply, spec: ScenarioSpec, location: Location, robot: list[str],
                        paths: dict[str, list[str]]) -> list[str]:
-    """A person waiting at an encounter's node (their path starts there) is met only after an approach: the
-    node must be approach_room() from the robot's start, or they meet before anyone moved."""
+    """A person waiting at an encounter's node (their path starts within its `within`) is met only after an
+    approach: the node must be approach_room() from the robot's start, or they meet before anyone moved. The room
+    needed is the spec's meeting distance + APPROACH, so the mistake is an Upstream one: when stage 2 cannot move
+    the node, the person or the robot's start (hospital_10: the task fixes the start, one CORRIDOR node on the way),
+    stage 1 is asked with the meeting distance that fits."""
     mistakes: list[str] = []
     if not robot or robot[0] not in location.inventory.nodes:
         return mistakes
@@ -116,17 +122,45 @@ def _approach_mistakes(reply: PathsReply, spec: ScenarioSpec, location: Location
         if node is None or node not in location.inventory.nodes:
             continue
         gap = node_distance(location, robot[0], node)
+        waiting: dict[tuple[str, str], list[str]] = {}  # (cause, what sets it) -> who waits too near
         for part in enc.humans:
             path = paths.get(part.human) or []
             if not path or path[0] not in location.inventory.nodes or not _met(spec, enc, part.human):
                 continue
-            need = approach_room(spec, enc, part.human)
-            if node_distance(location, path[0], node) <= enc.within and gap < need:
-                mistakes.append(f"encounter {enc.id}: {part.human} waits at node {node}, only {gap:.2f} m from the "
-                                f"robot's start {robot[0]}, so they are together before anyone moved; a meeting "
-                                f"needs the two to come {APPROACH:g} m closer, so put {enc.id} at least {need:g} m "
-                                f"from the robot's start (or start the robot farther away)")
+            if node_distance(location, path[0], node) <= enc.within and gap < approach_room(spec, enc, part.human):
+                waiting.setdefault(_meeting_cause(spec, enc, part.human), []).append(part.human)
+        for (cause, knob), humans in waiting.items():
+            need = approach_room(spec, enc, humans[0])
+            fits = math.floor((gap - APPROACH) * 10 + 1e-6) / 10
+            who = ", ".join(humans)
+            upstream = (f"{who} {'waits' if len(humans) == 1 else 'wait'} at node {node}, where stage 2 put encounter "
+                        f"{enc.id} (a {enc.place} on the robot's way), {gap:.2f} m from the robot's start {robot[0]}; "
+                        f"a meeting counts only after the two came {APPROACH:g} m closer, so with {cause} the node "
+                        f"must be at least {need:g} m from the robot's start. " +
+                        (f"With {knob} at most {fits:g} m, {node} fits; or " if fits > TOUCH_DISTANCE else "Either ") +
+                        f"let {who} come to {enc.id} from farther away (walking in, not waiting there), or put "
+                        f"{enc.id} at another place, or start the robot farther away, if the task allows")
+            for human in humans:
+                mistakes.append(Upstream(
+                    f"encounter {enc.id}: {human} waits at node {node}, only {gap:.2f} m from the robot's start "
+                    f"{robot[0]} ({human} starts within {enc.within:g} m of it, {enc.id}'s `within`), so they are "
+                    f"together before anyone moved; a meeting needs the two to come {APPROACH:g} m closer, so put "
+                    f"{enc.id} at least {need:g} m from the robot's start (or start the robot farther away, or start "
+                    f"{human} farther than {enc.within:g} m from {node} so they walk in). The {need:g} m are {cause} + "
+                    f"{APPROACH:g} m, which stage 1 set: if no answer of yours can do any of this without changing what "
+                    f"the scenario says, keep your answer and say why; stage 1 is then asked",
+                    key=f"approach:{enc.id}:{human}", upstream=upstream))
     return mistakes
+
+
+def _meeting_cause(spec: ScenarioSpec, enc: Encounter, human: str) -> tuple[str, str]:
+    """Where the meeting distance of `human` at `enc` comes from, and what in the spec sets it, in words (as
+    verify/derive.meeting_distance finds it)."""
+    for c in spec.criteria:
+        if c.kind == "meets" and c.encounter == enc.id and human in [c.human, *c.humans] and c.distance:
+            return f"criterion {c.id}'s meets distance {c.distance:g} m", f"criterion {c.id}'s distance"
+    return (f"the verifier's default meeting distance {MEET_DISTANCE:g} m",
+            f"a meets criterion for {human} at {enc.id} whose distance is")
 
 
 STOPS = ("stop", "wait_then_go")  # reactions the verifier sees as a stop after walking (verify/signals.reaction_evidence)
@@ -135,7 +169,7 @@ STOPS = ("stop", "wait_then_go")  # reactions the verifier sees as a stop after 
 def _standing_stop_mistakes(reply: PathsReply, spec: ScenarioSpec, paths: dict[str, list[str]]) -> list[str]:
     """A stop checked by reacts_after_phrase shows only AFTER the person walked MOVED_DISTANCE from their start
     (facts.stop_evidence_text): a person who starts at the node where they stop shows none."""
-    mistakes = []
+    mistakes: list[str] = []
     for c in spec.criteria:
         if c.kind != "reacts_after_phrase" or c.reaction not in STOPS or not c.human:
             continue
@@ -145,9 +179,17 @@ def _standing_stop_mistakes(reply: PathsReply, spec: ScenarioSpec, paths: dict[s
         for enc in encounters[:1]:
             node = reply.encounter_nodes.get(enc.id)
             if path and node is not None and path[0] == node:
-                mistakes.append(f"criterion {c.id} sees {c.human}'s {c.reaction} at node {node} only after they "
-                                f"walked {MOVED_DISTANCE:g} m from their start, but {c.human} starts at {node}: start "
-                                f"them at a node before it on their way (pacing holds them there until it is time)")
+                mistakes.append(Upstream(
+                    f"criterion {c.id} sees {c.human}'s {c.reaction} at node {node} only after they walked "
+                    f"{MOVED_DISTANCE:g} m from their start, but {c.human} starts at {node}: start them at a node "
+                    f"before it on their way (pacing holds them there until it is time); if the scenario has them "
+                    f"wait there, keep your answer and say so: stage 1 is then asked",
+                    key=f"standing_stop:{c.id}", upstream=(
+                        f"criterion {c.id} (reacts_after_phrase, {c.reaction}) sees {c.human}'s {c.reaction} only "
+                        f"after they walked {MOVED_DISTANCE:g} m from their start, and stage 2 kept {c.human} waiting "
+                        f"at node {node} of encounter {enc.id} from the start: someone who stands already shows no "
+                        f"{c.reaction}. Let {c.human} walk in to {enc.id}, or check what the prose says with another "
+                        f"criterion (e.g. stops_near_robot)")))
     return mistakes
 
 
@@ -155,7 +197,7 @@ def _blind_mistakes(reply: PathsReply, spec: ScenarioSpec, location: Location, r
                     paths: dict[str, list[str]]) -> list[str]:
     """A hidden_until criterion needs its encounter at a node where the robot's way in and the person's way in
     hide each other on this map until they are close enough (location/inventory.py's blind turns)."""
-    mistakes = []
+    mistakes: list[str] = []
     inventory = location.inventory
     for c in spec.criteria:
         if c.kind != "hidden_until" or not c.human:
@@ -176,9 +218,16 @@ def _blind_mistakes(reply: PathsReply, spec: ScenarioSpec, location: Location, r
         hint = f"; blind enough for {distance:g} m with a {BLIND_MARGIN:g} m margin: {', '.join(fitting)}" if fitting \
             else ""
         seen = f"from {min(t.sight_m for t in turns):.1f} m" if turns else "from afar"
-        mistakes.append(f"criterion {c.id} needs the robot and {c.human} hidden from each other until {distance:g} m, "
-                        f"but coming into node {node} of encounter {enc.id} the way they do, they see each other "
-                        f"{seen}{hint}")
+        fits = f"set its distance to at least {math.ceil(2 * (min(t.sight_m for t in turns) + BLIND_MARGIN)) / 2:g} " \
+            "m, or " if turns else ""
+        mistakes.append(Upstream(
+            f"criterion {c.id} needs the robot and {c.human} hidden from each other until {distance:g} m, but coming "
+            f"into node {node} of encounter {enc.id} the way they do, they see each other {seen}{hint}",
+            key=f"blind:{c.id}", upstream=(
+                f"criterion {c.id} (hidden_until) needs the robot and {c.human} hidden from each other until "
+                f"{distance:g} m at encounter {enc.id} ({enc.place}); stage 2 brought them into node {node} the way "
+                f"they walk, and there they see each other {seen}: {fits}put {enc.id} at another place, or have "
+                f"them come from other sides")))
     return mistakes
 
 
@@ -186,7 +235,7 @@ def _room_mistakes(reply: PathsReply, spec: ScenarioSpec, location: Location) ->
     """Giving way is stepping aside: the encounter's node needs the room the robot and a person need to pass
     each other (location/inventory.py: PASS_WIDTH)."""
     inventory = location.inventory
-    mistakes = []
+    mistakes: list[str] = []
     for enc in spec.encounters:
         facts = inventory.nodes.get(reply.encounter_nodes.get(enc.id) or "")
         if facts is None or facts.turnable:
@@ -195,10 +244,17 @@ def _room_mistakes(reply: PathsReply, spec: ScenarioSpec, location: Location) ->
         for part in enc.humans:
             if part.reaction == "give_way":
                 hint = f" ({enc.place} nodes with room: {', '.join(roomy)})" if roomy else ""
-                mistakes.append(f"{part.human} gives way in encounter {enc.id} at node {facts.id}, which has only "
-                                f"{facts.free_width_m:.1f} m free: nobody can step aside there (the robot passes a "
-                                f"person only where {PASS_WIDTH:g} m is free); ground {enc.id} at a node with room"
-                                f"{hint}")
+                mistakes.append(Upstream(
+                    f"{part.human} gives way in encounter {enc.id} at node {facts.id}, which has only "
+                    f"{facts.free_width_m:.1f} m free: nobody can step aside there (the robot passes a person only "
+                    f"where {PASS_WIDTH:g} m is free); ground {enc.id} at a node with room{hint}; if none is on the "
+                    f"robot's way, keep your answer and say so: stage 1 is then asked",
+                    key=f"room:{enc.id}:{part.human}", upstream=(
+                        f"{part.human} gives way in encounter {enc.id} at a {enc.place}, and stage 2 found no "
+                        f"{enc.place} node with room to step aside ({PASS_WIDTH:g} m free{hint}) that it could put on "
+                        f"the robot's way (it chose {facts.id}, {facts.free_width_m:.1f} m free): put {enc.id} at "
+                        f"another place, or give {part.human} a reaction that needs no room (walk_past ahead of the "
+                        f"robot, stop or wait_then_go before the narrow part)")))
     return mistakes
 
 
@@ -228,9 +284,13 @@ def _encounter_mistakes(reply: PathsReply, graph: nx.Graph, spec: ScenarioSpec, 
         for enc, _ in spec.parts_of(human):
             node = reply.encounter_nodes.get(enc.id)
             if node is not None and node in at:
-                mistakes.append(f"encounters {at[node]} and {enc.id} of {human} are both at node {node}: the two "
-                                f"meetings cannot be told apart there; ground {enc.id} at another {enc.place} node of "
-                                f"the robot's and {human}'s paths (they part in between)")
+                mistakes.append(Upstream(
+                    f"encounters {at[node]} and {enc.id} of {human} are both at node {node}: the two meetings cannot "
+                    f"be told apart there; ground {enc.id} at another {enc.place} node of the robot's and {human}'s "
+                    f"paths (they part in between)", key=f"two:{human}:{enc.id}", upstream=(
+                        f"encounters {at[node]} and {enc.id} of {human} need two different nodes, and stage 2 found "
+                        f"no second {enc.place} node on the robot's and {human}'s ways (both at {node}): put one of "
+                        f"them at another place, or make them one encounter")))
             elif node is not None:
                 at[node] = enc.id
     for enc in spec.encounters:
@@ -247,8 +307,12 @@ def _encounter_mistakes(reply: PathsReply, graph: nx.Graph, spec: ScenarioSpec, 
             fitting = sorted(n for n, d in graph.nodes(data=True)
                              if str(d.get("type", "")).upper() == enc.place.strip().upper())
             hint = f" (nodes of that type: {', '.join(fitting)})" if fitting else ""
-            mistakes.append(f"encounter {enc.id} happens at a {enc.place} but node {node} is a {kind}; choose a "
-                            f"{enc.place} node{hint}")
+            mistakes.append(Upstream(
+                f"encounter {enc.id} happens at a {enc.place} but node {node} is a {kind}; choose a {enc.place} "
+                f"node{hint}", key=f"place:{enc.id}", upstream=(
+                    f"encounter {enc.id} happens at a {enc.place}, and stage 2 put it at {node}, a {kind}: no "
+                    f"{enc.place} node{hint} fitted the robot's and its people's ways; put {enc.id} at a kind of place "
+                    f"the robot passes")))
         if node not in robot:
             mistakes.append(f"the node {node} of encounter {enc.id} is not on the robot's path")
         for part in enc.humans:

@@ -136,7 +136,7 @@ def generate(request: ScenarioRequest, llm: LLM, out: Path, *, redo: set[str] | 
             scenario, paths, trees = generate_naive(stages)
         else:
             scenario, spec = stages.scenario()
-            paths, spec = stages.paths(scenario, spec)
+            scenario, _, paths, spec = stages.plan(scenario, spec)
             trees = stages.behaviors(scenario, paths, spec)
         report = None
         if verify:

@@ -13,7 +13,16 @@ from socnavgen.location import Location
 from socnavgen.proposal import behaviors as bt_stage
 from socnavgen.proposal import paths as path_stage
 from socnavgen.proposal import scenario as scenario_stage
-from socnavgen.proposal.conversation import Outcome, Policy, ProgressEvent, Recorder, accepted_reply, converse
+from socnavgen.proposal.conversation import (
+    Outcome,
+    Policy,
+    ProgressEvent,
+    Recorder,
+    UpstreamFailed,
+    accepted_reply,
+    bullet_list,
+    converse,
+)
 from socnavgen.proposal.path_checks import check_paths, ground_spec, to_path_plan
 from socnavgen.proposal.replies import PathsReply
 from socnavgen.proposal.review import ReviewHook
@@ -24,6 +33,36 @@ from socnavgen.run.spec import ScenarioSpec
 from socnavgen.safeio import atomic_write_json
 
 MAX_REVIEW_ROUNDS = 10
+
+# What each re-asked stage is and may change, at the head of its correction (a round-7 player answered a tree
+# correction with a scenario JSON: the correction alone did not say which stage asked).
+SCOPE: dict[str, str] = {
+    "scenario": ("This correction is for STAGE 1, the scenario and its spec (your JSON object with "
+                 "\"scenario_description\", \"human_behaviors\" and \"spec\"). Here you may change the robot's "
+                 "script (route, speed, cues and their triggers and distances), the encounters (their place, order, "
+                 "`within`, each person's trigger, distance, reaction, `lasts`, `until`, latch), the people and the "
+                 "criteria; the paths and trees are planned again from it where it changed who meets where."),
+    "paths": ("This correction is for STAGE 2, the paths (your JSON object with the trajectories, group ids, "
+              "interaction points and encounter nodes). Here you may change only where the robot and each person "
+              "start, walk and end, and on which node each encounter happens; what anyone does, the robot's cues "
+              "and the criteria are stage 1's and stay as they are."),
+    "behaviors": ("This correction is for STAGE 3, the behavior tree of $human (your JSON object with "
+                  "\"reasoning\" and \"tree\"). Here you may change only what $human does and when (the nodes of "
+                  "the tree); where people walk, what the robot does and the criteria belong to earlier stages and "
+                  "stay as they are. Answer with the tree, not with a scenario or paths."),
+}
+UPSTREAM_NAMES = {"paths": "Stage 2 (the paths)"}
+MAX_SAID = 1500  # characters of a stage's own reasoning quoted to the stage it sends a finding to
+
+
+def upstream_correction(failed: UpstreamFailed) -> str:
+    """Stage 1's correction when a later stage cannot satisfy what stage 1's answer causes: the causes (deduplicated:
+    a group's members share one) and that stage's own words on why."""
+    causes = list(dict.fromkeys(c.upstream for c in failed.causes))
+    said = f'Its last answer said: "{failed.said.strip()[:MAX_SAID]}"' if failed.said.strip() else ""
+    return render("upstream_correction.md", scope=SCOPE["scenario"],
+                  stage=UPSTREAM_NAMES.get(failed.stage, f"Stage '{failed.stage}'"), causes=bullet_list(causes),
+                  said=said)
 
 
 class Stages:
@@ -182,6 +221,25 @@ class Stages:
         self.recorder.set_status("paths", None, "done")
         self.emit("paths", None, "done", f"robot {' '.join(plan.robot)}")
         return plan, grounded
+
+    def plan(self, scenario: ScenarioProposal, spec: ScenarioSpec | None = None, correction: str | None = None
+             ) -> tuple[ScenarioProposal, ScenarioSpec | None, PathPlan, ScenarioSpec | None]:
+        """Stage 2 (`paths`), and stage 1 again whenever stage 2 cannot satisfy a rule whose cause is stage 1's
+        (UpstreamFailed: hospital_10's meeting distance), up to the restart budget; stage 2 then starts afresh on
+        the new spec. Returns the scenario and its spec (new when stage 1 was asked), the paths and the grounded
+        spec."""
+        for asked in range(self.policy.max_restarts + 1):
+            try:
+                plan, grounded = self.paths(scenario, spec, correction)
+                return scenario, spec, plan, grounded
+            except UpstreamFailed as failed:
+                if asked == self.policy.max_restarts:
+                    raise
+                self.emit("paths", None, "failed", "what it cannot satisfy is caused by stage 1: asking stage 1")
+                scenario, spec = self.scenario(correction=upstream_correction(failed))
+                correction = None
+                self.run.paths_path.unlink(missing_ok=True)  # planned for the old spec (a --verify re-ask's)
+        raise AssertionError("unreachable: the last UpstreamFailed is raised")
 
     # -- stage 3 -----------------------------------------------------------------------------------
     def behaviors(self, scenario: ScenarioProposal, paths: PathPlan, spec: ScenarioSpec | None = None,

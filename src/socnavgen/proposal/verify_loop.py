@@ -12,21 +12,25 @@ stage its blame names (verify/blame.py), as REASK says:
 A finding without blame, or with a blame no stage can fix (`simulator`: the robot failed on its own), is not sent
 anywhere. A finding of an encounter stage 2 was re-asked for that fails again goes to stage 1 (`routed`). Each re-ask continues
 the stage's conversation after the model's own accepted answer (its words and reasoning, from the
-transcript), and says which stage it is and what that stage may change (SCOPE). When a stage 2 or stage 3 answer
-was CHANGED for some findings and the very same findings (same numbers, `same_findings`) come back, the cause is not in that stage:
-they go to stage 1 instead, saying so (`escalated`). When stage 1 changes who takes part or where, the paths and trees that depended on it are
+transcript), and says which stage it is and what that stage may change (SCOPE). When a re-asked stage 2 or stage 3
+answers with the SAME paths or tree (its model says no answer of its stage can fix it: home_12, warehouse_10 of round
+13), its findings go to stage 1 in the same round, with its own words on why (`kept`), instead of simulating the same
+answer again; when its answer was CHANGED and the very same findings (same numbers, `same_findings`) come back, the
+cause is not in that stage either: they go to stage 1, saying so (`escalated`). A stage-2 answer that cannot satisfy a
+rule only stage 1 can change asks stage 1 itself (Stages.plan). When stage 1 changes who takes part or where, the paths and trees that depended on it are
 regenerated (also when its prose names other nodes of the map: `_named_nodes`); when it changes only what a person does (a part's trigger, distance, `lasts`, latch; their
 `otherwise`), that person's tree is asked again from its FRESH prompt (never the old tree to correct); when
 only the robot's script changed, they are kept (the grounding is carried over). Up to the restart budget."""
 
 from __future__ import annotations
 
+import json
 import re
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-from socnavgen.proposal.conversation import ProgressEvent, bullet_list
-from socnavgen.proposal.stages import Stages
+from socnavgen.proposal.conversation import ProgressEvent, accepted_reply, bullet_list
+from socnavgen.proposal.stages import MAX_SAID, SCOPE, Stages
 from socnavgen.proposal.templates import render
 from socnavgen.run import PathPlan, ScenarioProposal
 from socnavgen.run.spec import ScenarioSpec
@@ -44,26 +48,8 @@ Verifier = Callable[..., "VerifyReport"]  # verify_run(run_dir, location=Locatio
 Outcome = tuple[ScenarioProposal, ScenarioSpec | None, PathPlan, dict[str, str], "VerifyReport"]
 
 
-# What each re-asked stage is and may change, at the head of its correction (a round-7 player answered a tree
-# correction with a scenario JSON: the correction alone did not say which stage asked).
-SCOPE: dict[str, str] = {
-    "scenario": ("This correction is for STAGE 1, the scenario and its spec (your JSON object with "
-                 "\"scenario_description\", \"human_behaviors\" and \"spec\"). Here you may change the robot's "
-                 "script (route, speed, cues and their triggers and distances), the encounters (their place, order, "
-                 "`within`, each person's trigger, distance, reaction, `lasts`, `until`, latch), the people and the "
-                 "criteria; the paths and trees are planned again from it where it changed who meets where."),
-    "paths": ("This correction is for STAGE 2, the paths (your JSON object with the trajectories, group ids, "
-              "interaction points and encounter nodes). Here you may change only where the robot and each person "
-              "start, walk and end, and on which node each encounter happens; what anyone does, the robot's cues "
-              "and the criteria are stage 1's and stay as they are."),
-    "behaviors": ("This correction is for STAGE 3, the behavior tree of $human (your JSON object with "
-                  "\"reasoning\" and \"tree\"). Here you may change only what $human does and when (the nodes of "
-                  "the tree); where people walk, what the robot does and the criteria belong to earlier stages and "
-                  "stay as they are. Answer with the tree, not with a scenario or paths."),
-}
 STAGE_NAMES = {"paths": "the paths (stage 2)", "behaviors": "the behavior tree of {human} (stage 3)"}
-UNCHANGED = ("Your last answer was the same as the one before it, so the simulation was the same: change what "
-             "the findings point at.")
+ANSWER_NAMES = {"paths": "paths", "behaviors": "tree"}
 REPEATED = ("Your last change did not change what happened (the same findings with the same numbers came back): "
             "the cause is probably not in this stage; change something else than last time.")
 
@@ -85,10 +71,10 @@ Sent = dict[tuple[str, str | None], tuple[list[str], object]]  # (stage, human) 
 
 def escalated(to_ask: dict[str, list[Finding]], sent: Sent, answers: dict[tuple[str, str | None], object]
               ) -> tuple[dict[str, list[Finding]], dict[tuple[str, str | None], str]]:
-    """`to_ask` (routed) with the findings that came back unchanged after stage 2 or a tree was CHANGED for them
-    moved to stage 1 (the cause is not where they were sent), and a note per (stage, human) still asked whose
-    findings repeat (its answer unchanged: UNCHANGED; stage 1 again: REPEATED). `sent`: what each stage was last
-    sent and its answer then; `answers`: each stage's answer now."""
+    """`to_ask` (routed) with the findings that came back unchanged after stage 2 or a tree was asked for them moved
+    to stage 1 (the cause is not where they were sent: its changed answer did nothing, or it kept its answer), and a
+    note when stage 1's own findings repeat (REPEATED). `sent`: what each stage was last sent and its answer then;
+    `answers`: each stage's answer now."""
     out = {stage: list(found) for stage, found in to_ask.items()}
     notes: dict[tuple[str, str | None], str] = {}
     for stage in ("paths", "behaviors"):
@@ -98,19 +84,41 @@ def escalated(to_ask: dict[str, list[Finding]], sent: Sent, answers: dict[tuple[
             before = sent.get((stage, human))
             if before is None or not same_findings(before[0], [describe(f) for f in found]):
                 continue
-            if before[1] == answers.get((stage, human)):
-                notes[(stage, human)] = UNCHANGED
-                continue
             what = STAGE_NAMES[stage].format(human=human)
+            did = (f"was asked to fix this and answered with the same {ANSWER_NAMES[stage]}"
+                   if before[1] == answers.get((stage, human)) else
+                   "was changed for this and it came back with the same numbers")
             out[stage] = [f for f in out[stage] if f not in found]
-            out.setdefault("scenario", []).extend(f.model_copy(update={"blame_reason": (
-                f"{f.blame_reason}; {what} was changed for this and it came back with the same numbers: the cause "
-                "is probably not there but in the spec (the place, a trigger or cue distance, the timing, `lasts`, "
-                "an encounter's `within`, a criterion's distance)")}) for f in found)
+            out.setdefault("scenario", []).extend(_to_stage1(found, f"{what} {did}"))
     if "scenario" in to_ask and same_findings(sent.get(("scenario", None), ([], None))[0],
                                               [describe(f) for f in to_ask["scenario"]]):
         notes[("scenario", None)] = REPEATED
     return {stage: found for stage, found in out.items() if found}, notes
+
+
+def _to_stage1(found: list[Finding], why: str) -> list[Finding]:
+    """Copies of findings sent to stage 1 because `why` (the report's own findings are not rewritten)."""
+    return [f.model_copy(update={"blame_reason": (
+        f"{f.blame_reason}; {why}: the cause is probably not there but in the spec (the place, a trigger or cue "
+        "distance, the timing, `lasts`, an encounter's `within`, a criterion's kind or distance)")}) for f in found]
+
+
+def kept(asked: dict[tuple[str, str | None], list[Finding]], before: dict[tuple[str, str | None], object],
+         after: dict[tuple[str, str | None], object], said: Callable[[str, str | None], str]
+         ) -> tuple[list[Finding], str]:
+    """The findings of each re-asked (stage, human) that answered with the same paths or tree as before (simulating
+    it again would show the same: they go to stage 1 now), and a note quoting each such stage's own words on why."""
+    found: list[Finding] = []
+    notes: list[str] = []
+    for (stage, human), mine in asked.items():
+        if before.get((stage, human)) != after.get((stage, human)):
+            continue
+        what = STAGE_NAMES[stage].format(human=human)
+        found += _to_stage1(mine, f"{what} was asked to fix this and answered with the same {ANSWER_NAMES[stage]}")
+        words = said(stage, human).strip()
+        if words:
+            notes.append(f'{what[0].upper()}{what[1:]} kept its answer, saying: "{words[:MAX_SAID]}"')
+    return found, "\n".join(notes)
 
 
 _NUMBER = re.compile(r"-?\d+(?:\.\d+)?")
@@ -217,13 +225,105 @@ def _carry_grounding(old: ScenarioSpec | None, new: ScenarioSpec | None) -> Scen
     return grounded
 
 
+class _Repair:
+    """The state of one --verify loop: the current answers, what each stage was last sent (`sent`), the criteria the
+    paths were re-asked for (`paths_tried`)."""
+
+    def __init__(self, stages: Stages, scenario: ScenarioProposal, spec: ScenarioSpec | None, paths: PathPlan,
+                 trees: dict[str, str]) -> None:
+        self.stages, self.run = stages, stages.run
+        self.scenario, self.spec, self.paths, self.trees = scenario, spec, paths, trees
+        self.paths_tried: set[str] = set()  # criteria the paths stage was re-asked for (routed: then the spec's)
+        self.sent: Sent = {}  # what each stage was last sent (escalated: the same findings came back)
+        self.nodes = set(getattr(getattr(stages.location, "inventory", None), "nodes", None) or ())  # the map's
+
+    def answers(self) -> dict[tuple[str, str | None], object]:
+        """Each later stage's answer as the simulation sees it (the paths' reasoning and the XML's layout aside)."""
+        grounding = [(e.id, e.node) for e in self.spec.encounters] if self.spec is not None else None
+        return {("paths", None): (self.paths.model_dump(exclude={"reasoning"}), grounding),
+                **{("behaviors", h): " ".join(xml.split()) for h, xml in self.trees.items()}}
+
+    def said(self, stage: str, human: str | None) -> str:
+        """The reasoning of a stage's last accepted answer (its own words), from the transcript."""
+        raw = accepted_reply(self.run, stage, human)
+        try:
+            value = json.loads(raw) if raw else None
+        except ValueError:
+            return ""
+        return str(value.get("reasoning") or "") if isinstance(value, dict) else ""
+
+    def round(self, report: VerifyReport) -> bool:
+        """Re-ask the stages that can fix the report's findings; False when there is nobody to ask."""
+        answers = self.answers()
+        to_ask, notes = escalated(routed(report, self.spec, frozenset(self.paths_tried)), self.sent, answers)
+        if not to_ask.get("scenario"):  # stage 1 goes first and alone: stage 2 is asked only without it
+            self.paths_tried |= {f.criterion for f in to_ask.get("paths", []) if f.criterion}
+        asked: dict[tuple[str, str | None], list[Finding]] = {}
+        for stage, found in to_ask.items():
+            for human in (sorted({f.blame_human for f in found}, key=str) if stage == "behaviors" else [None]):
+                asked[(stage, human)] = [f for f in found if stage != "behaviors" or f.blame_human == human]
+                self.sent[(stage, human)] = ([describe(f) for f in asked[(stage, human)]], answers.get((stage, human)))
+        if to_ask.get("scenario"):
+            self.stage1(to_ask["scenario"], notes.get(("scenario", None), ""))
+            return True
+        trees_to_fix = {h: found for (stage, h), found in asked.items()
+                        if stage == "behaviors" and h in self.scenario.human_behaviors}
+        if not to_ask.get("paths") and not trees_to_fix:  # nothing a stage can fix: asking changes nothing
+            return False
+        if to_ask.get("paths"):
+            scenario = self.scenario
+            self.scenario, _, self.paths, self.spec = self.stages.plan(
+                self.scenario, _ungrounded(self.spec),
+                correction=_correction(to_ask["paths"], "paths", repeat=notes.get(("paths", None), "")))
+            if self.scenario is not scenario:  # stage 2 could not, stage 1 was asked: everything after it is new
+                self.sent, self.paths_tried = {k: v for k, v in self.sent.items() if k[0] == "scenario"}, set()
+                self.remake_trees()
+                return True
+        if trees_to_fix:  # the blamed trees in the same round (on the new paths, if they changed)
+            corrections = {human: _correction(found, "behaviors", human, notes.get(("behaviors", human), ""))
+                           for human, found in sorted(trees_to_fix.items(), key=lambda kv: int(str(kv[0])[5:]))}
+            self.trees = self.stages.behaviors(self.scenario, self.paths, self.spec, corrections)
+        reasked = {key: found for key, found in asked.items() if key[0] == "paths" or key[1] in trees_to_fix}
+        same, words = kept(reasked, answers, self.answers(), self.said)
+        if same:  # the same answer simulates the same: its findings go to stage 1 now, not after another run
+            self.sent[("scenario", None)] = ([describe(f) for f in same], None)
+            self.stage1(same, words)
+        return True
+
+    def stage1(self, found: list[Finding], note: str) -> None:
+        """Ask stage 1 with `found`; re-plan what depended on what it changed."""
+        stages, run = self.stages, self.run
+        old, old_nodes, paths = self.spec, _named_nodes(self.scenario, self.spec, self.nodes), self.paths
+        self.scenario, self.spec = stages.scenario(correction=_correction(found, "scenario", repeat=note))
+        self.sent = {key: value for key, value in self.sent.items() if key[0] == "scenario"}  # later stages afresh
+        if (_shape(self.spec) != _shape(old) or list(self.scenario.human_behaviors) != [h.name for h in paths.humans]
+                or _named_nodes(self.scenario, self.spec, self.nodes) != old_nodes):
+            run.paths_path.unlink(missing_ok=True)
+            self.paths_tried.clear()  # paths planned afresh on the new spec: nothing tried on them yet
+            self.scenario, _, self.paths, self.spec = stages.plan(self.scenario, self.spec)
+            self.remake_trees()
+            return
+        self.spec = _carry_grounding(old, self.spec)
+        if self.spec is not None:
+            run.write_spec(self.spec)
+        stale = [h for h in self.scenario.human_behaviors if _tree_shape(old, h) != _tree_shape(self.spec, h)]
+        for human in stale:  # asked again from the fresh prompt, on the new spec
+            run.behavior_path(human).unlink(missing_ok=True)
+        if stale:
+            self.trees = stages.behaviors(self.scenario, self.paths, self.spec)
+
+    def remake_trees(self) -> None:
+        """Every tree asked again from its fresh prompt (the scenario they were made for changed)."""
+        for xml in self.run.behaviors_dir.glob("*.xml"):
+            xml.unlink()
+        self.trees = self.stages.behaviors(self.scenario, self.paths, self.spec)
+
+
 def verify_and_repair(stages: Stages, scenario: ScenarioProposal, spec: ScenarioSpec | None, paths: PathPlan,
                       trees: dict[str, str], verify_run: Verifier) -> Outcome:
     run, recorder = stages.run, stages.recorder
     report: VerifyReport | None = None
-    paths_tried: set[str] = set()  # criteria the paths stage was re-asked for (routed: then the spec's formula)
-    sent: Sent = {}  # what each stage was last sent (escalated: the same findings after a changed answer)
-    nodes = set(getattr(getattr(stages.location, "inventory", None), "nodes", None) or ())  # the map's node ids
+    loop = _Repair(stages, scenario, spec, paths, trees)
     for round_ in range(stages.policy.max_restarts + 1):
         (run.sim_dir / "trace.npz").unlink(missing_ok=True)  # the trace of the previous answer is stale
         recorder.set_status(STAGE, None, "running")
@@ -235,60 +335,16 @@ def verify_and_repair(stages: Stages, scenario: ScenarioProposal, spec: Scenario
         if report.passed:
             recorder.set_status(STAGE, None, "done")
             recorder.progress(ProgressEvent(STAGE, None, "done"))
-            return scenario, spec, paths, trees, report
+            return loop.scenario, loop.spec, loop.paths, loop.trees, report
         if round_ == stages.policy.max_restarts:
             break
         recorder.progress(ProgressEvent(STAGE, None, "invalid", round_ + 1, message="; ".join(map(describe, failing))))
-        answers: dict[tuple[str, str | None], object] = {("paths", None): paths.model_dump(),
-                                                          **{("behaviors", h): xml for h, xml in trees.items()}}
-        stages_to_ask, notes = escalated(routed(report, spec, frozenset(paths_tried)), sent, answers)
-        if not stages_to_ask.get("scenario"):  # stage 1 goes first and alone: stage 2 is asked only without it
-            paths_tried |= {f.criterion for f in stages_to_ask.get("paths", []) if f.criterion}
-        for stage, found in stages_to_ask.items():
-            for human in ({f.blame_human for f in found} if stage == "behaviors" else {None}):
-                mine = [f for f in found if stage != "behaviors" or f.blame_human == human]
-                sent[(stage, human)] = ([describe(f) for f in mine], answers.get((stage, human)))
-        if stages_to_ask.get("scenario"):
-            old, old_nodes = spec, _named_nodes(scenario, spec, nodes)
-            scenario, spec = stages.scenario(correction=_correction(
-                stages_to_ask["scenario"], "scenario", repeat=notes.get(("scenario", None), "")))
-            sent = {key: value for key, value in sent.items() if key[0] == "scenario"}  # later stages start afresh
-            if (_shape(spec) != _shape(old) or list(scenario.human_behaviors) != [h.name for h in paths.humans]
-                    or _named_nodes(scenario, spec, nodes) != old_nodes):
-                run.paths_path.unlink(missing_ok=True)
-                paths_tried.clear()  # paths planned afresh on the new spec: nothing tried on them yet
-                for xml in run.behaviors_dir.glob("*.xml"):
-                    xml.unlink()
-                paths, spec = stages.paths(scenario, spec)
-                trees = stages.behaviors(scenario, paths, spec)
-            else:
-                spec = _carry_grounding(old, spec)
-                if spec is not None:
-                    run.write_spec(spec)
-                stale = [h for h in scenario.human_behaviors if _tree_shape(old, h) != _tree_shape(spec, h)]
-                for human in stale:  # asked again from the fresh prompt, on the new spec
-                    run.behavior_path(human).unlink(missing_ok=True)
-                if stale:
-                    trees = stages.behaviors(scenario, paths, spec)
-            continue
-        trees_to_fix: dict[str, list[Finding]] = {}
-        for finding in stages_to_ask.get("behaviors", []):
-            if finding.blame_human in scenario.human_behaviors:
-                trees_to_fix.setdefault(str(finding.blame_human), []).append(finding)
-        if not stages_to_ask.get("paths") and not trees_to_fix:  # nothing a stage can fix: asking changes nothing
+        if not loop.round(report):
             break
-        if stages_to_ask.get("paths"):
-            paths, spec = stages.paths(scenario, _ungrounded(spec), correction=_correction(
-                stages_to_ask["paths"], "paths", repeat=notes.get(("paths", None), "")))
-        if trees_to_fix:  # the blamed trees in the same round (on the new paths, if they changed)
-            corrections = {human: _correction(found, "behaviors", human, notes.get(("behaviors", human), ""))
-                           for human, found in
-                           sorted(trees_to_fix.items(), key=lambda kv: int(kv[0][5:]))}
-            trees = stages.behaviors(scenario, paths, spec, corrections)
     recorder.set_status(STAGE, None, "failed")
     recorder.progress(ProgressEvent(STAGE, None, "failed", message="the verifier still finds problems"))
     assert report is not None
-    return scenario, spec, paths, trees, report
+    return loop.scenario, loop.spec, loop.paths, loop.trees, report
 
 
 def _ungrounded(spec: ScenarioSpec | None) -> ScenarioSpec | None:
