@@ -1,6 +1,6 @@
-"""The new-request suite (tests/fixtures/new_requests/): 24 requests written by a session that never read the
-code (8 per bundled location, half without a rough scenario), answered by a separate session playing a capable
-model through the real prompts (`generate --verify` against queue_openai.py), recorded as replay fixtures. Each
+"""The new-request suite (tests/fixtures/new_requests/): 36 requests written by sessions that never read the
+code (12 per bundled location, half without a rough scenario: 24 of round 11, 12 of round 13), answered by separate
+sessions playing a capable model through the real prompts (`generate --verify` against queue_openai.py), recorded as replay fixtures. Each
 fixture carries what a person saw in the GIF frames of its final answers (`eyes`). Replayed here through the
 real pipeline: every stage's first answer valid or corrected within its stage, and the verifier's verdict on the
 end of the --verify loop the same as the person's (docs/measurements.md has the table and what was seen)."""
@@ -19,54 +19,54 @@ ROOT = Path(__file__).resolve().parents[2]
 PATHS = fixture_paths(FIXTURES)
 
 # Where the verifier and the eyes disagree today, each with what was seen (a strict xfail: it turns red the day
-# they agree, and the pin must go). Empty means they agree on every fixture. Round 11 answers (six sessions playing a
-# capable model on the fifth session's prompts of 2026-11-26), replayed on the sixth session's code and judged from
-# GIF frames by three sessions that read no code and saw no verdict (round 12 of the eyes).
-# Causes left: a robot waiting for someone right on her line (she stalls before it, then squeezes past: home_06), a
-# person walking back into the robot's side as it passes (0.10 m, "touching" to the eyes: hospital_08); a blocker
-# hovering at ~0.1 m/s at her block point, which breaks the 1 s standoff (home_01); a visitor who never stepped aside
-# (hospital_01: the eyes were generous twice); and two specs that ask more than the eyes did (hospital_05,
-# warehouse_04).
+# they agree, and the pin must go). Empty means they agree on every fixture. Round 11 answers (the fifth session's
+# prompts) and round 13 answers (the seventh session's prompts: four players' sessions, twelve new requests),
+# replayed on the seventh session's code and judged from GIF frames by four sessions that read no code and saw no
+# verdict (round 13 of the eyes). Causes left: specs looser than their prose (a follower "right behind it" allowed
+# 4.5 m, an order of followers or a "walks on behind it" the spec never states: home_09, warehouse_07), a plan whose
+# person starts elsewhere than the text says (hospital_11), and specs that ask more than the eyes did (hospital_05,
+# warehouse_10).
 DISAGREE: dict[str, str] = {
-    "home_06_neighbour_lets_herself_in": "lenient PASS: the robot says PROCEED and waits, but on the open floor west "
-    "of vh right on her line: she stands face to face ~0.4-0.5 m from it ~11-17 s until it sidles south-west, then "
-    "squeezes past its north side at ~0.15 m (~20 s); no criterion of the spec states her calm walk past",
-    "hospital_08_shift_handover_cluster": "lenient PASS: every event of the text happens, but at ~29 s the nurse "
-    "walking back to the counter comes against the robot's side as it passes between the nurses (closest gap 0.10 m "
-    "at 29.1 s: no contact for the verifier, outlines meeting for the eyes; the text excludes touching)",
-    "home_01_child_blocks_vacuum": "strict FAIL: the eyes saw the child run up in front of the robot (~9-11 s, ~0.1 m), "
-    "back off to ~0.5 m and stand blocking while it holds, shift with it when it turns to go round, and run off only "
-    "after EXCUSE ME (~15 s); blocks_robot misses its 1 s standoff by 0.01: standing at her block point (~12.75-14.25 "
-    "s) the child hovers at 0.04-0.11 m/s, and a sample above 0.1 m/s breaks the hold (a route-aware 'in the way' "
-    "changes nothing here)",
-    "hospital_01_elevator_door_standoff": "strict FAIL: the eyes (rounds 11 and 12) saw both visitors give way after "
-    "EXCUSE ME and board after the robot left. The trace: human2 walked from the robot's route to a spot 1.2 m off "
-    "it before the robot came out (0-4 s) and stood there from 5 s on, never stepping aside after the phrase; at the "
-    "end she stands at the car door 1.6 m from lc, not in the car: the verifier is right, the eyes generous",
-    "hospital_05_elevator_at_visiting_hour": "strict FAIL: the eyes saw the robot stop ~2.3 m before 1g for the "
-    "visitor with the cane, back off in the lobby while the couple left the elevator and passed, then board; the "
-    "spec's stl 'the robot does not drive up to the elevator door until the first visitor has left the lobby through "
-    "the double doors' sees the robot 0.07 m from q9 at 37.1 s and the visitor 0.12 m from cc at 39.4 s: the "
-    "criterion asks more than the prose and the eyes ('pass it before it drives to q9')",
-    "warehouse_04_pallet_jack_backing_out": "strict FAIL: the eyes saw the worker back out and block ~15-22 s and the "
-    "robot stop ~1.5 m short and wait; she cleared the way by stepping back into the aisle mouth and walked west only "
-    "after the robot passed, which the eyes called minor and the spec's stl ('does not drive on east before the "
-    "worker ... walked off west past it') does not (robot 0.02 m from sw at 32.8 s, she at ki at 32.7 s)",
+    "home_09_telepresence_grandma_kids_follow": "lenient PASS: the eyes saw the older child (FollowRobot from 0.1 s) "
+    "stand by the dining table ~3-15 s while the robot and his sibling crossed the living room, then follow second "
+    "(the text: first), and neither child inside the bedroom at the end; the spec's follows_robot allows 4.5 m and "
+    "5.5 m (farthest 3.25 m along the way) and states no order",
+    "hospital_11_disinfecting_west_corridor": "lenient PASS: the third encounter is not the text's: human3 starts in "
+    "side room nt (the corrected paths), not at ef as the description still says, and the robot drives up to ck and "
+    "waits in doorway 0a's mouth while she squeezes past ~0.2 m from it; no criterion states where she comes from",
+    "warehouse_07_night_patrol_west_corridor": "lenient PASS: the north-end WAIT / ACKNOWLEDGED happens as written, "
+    "but at ki the robot stands at the aisle mouth while the second worker passes it at ~0.4 m and walks ahead of it "
+    "to the door (the text: it drives on west clear of her, she walks on behind it); no criterion states who goes on "
+    "first",
+    "hospital_05_elevator_at_visiting_hour": "strict FAIL: the eyes saw the robot stop ~2 m before 1g for the visitor "
+    "with the cane and let the couple out of the elevator and past it before boarding; the spec's stl 'the robot does "
+    "not drive up to the elevator door until the first visitor has left the lobby through the double doors' asks more "
+    "than the prose (the robot 0.99 m from q9 at 35.6 s, the visitor 1.95 m from cc), and the new loop asks stage 1 where the "
+    "live run was not asked (the recording ends there)",
+    "warehouse_10_against_the_unloading_crew": "strict FAIL: the eyes saw the four workers file past the robot, which "
+    "slowed and kept to the south side, without stopping; the spec's stl 'always (dist < 2 implies speed > 0.2)' "
+    "for the lead worker fails at 12.9 s, 2.00 m from the robot, at 0.09 m/s as he bends round it (robustness "
+    "-0.01), and the new loop asks stage 1 where the live run was not asked (the recording ends there)",
 }
 
-# Fixtures whose recorded answers a stage check added since refuses, each with why; the recording has no answer
-# that passes, so the replay stops at that stage (the eyes' judgement of the recorded end stays in the fixture).
-REFUSED: dict[str, str] = {}
+# Fixtures whose recorded answers never pass a stage (a stage check refuses them, or the recording ends where the
+# pipeline now asks what the live run was never asked), each with why: the replay stops at that stage.
+REFUSED: dict[str, str] = {
+    "hospital_10_meal_tray_family_in_doorway": "paths: live, stage 2 was asked 12 times to put the family's meeting "
+    "3 m from the robot's start, a distance only stage 1's meets criterion decides (the run ended in error); the "
+    "pipeline now sends that cause to stage 1 after stage 2's second answer, and the recording has no stage-1 answer "
+    "for it",
+}
 
 
 def test_the_suite_is_there_and_judged():
     names = [p.stem for p in PATHS]
-    assert len(names) == 24
+    assert len(names) == 36
     for location in ("home", "hospital", "warehouse"):
         mine = [p for p in PATHS if p.stem.startswith(location)]
-        assert len(mine) == 8
+        assert len(mine) == 12
         rough = [fixture_request(p, ROOT).rough for p in mine]
-        assert sum(r is None for r in rough) == 4  # half of them without a rough scenario
+        assert sum(r is None for r in rough) == 6  # half of them without a rough scenario
     for path in PATHS:
         data = load_yaml_file(path)
         assert data.get("verify_loop") is True, path.stem

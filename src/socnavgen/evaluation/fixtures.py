@@ -86,8 +86,8 @@ def replay_fixture(path: Path, out: Path, root: Path | None = None, verify: bool
         report = generate(request, llm, out, verify=verify and loop).verify
     except StageFailed:
         failed = True
-    except LLMError as exc:  # a recorded --verify loop asked for a stage it did not ask for when recorded (the
-        if not (loop and "no reply left" in exc.message):  # verifier's verdicts changed): the recording ends here
+    except LLMError as exc:  # the pipeline asked for an answer the live run was never asked for (a stage check or
+        if "no reply left" not in exc.message:  # the verifier's verdicts changed since): the recording ends here
             raise
         ended = f"the recorded --verify loop has no answer for this verdict ({exc.message.split(',')[0]})"
     manifest = RunFolder(out).read_manifest()
