@@ -42,6 +42,10 @@ KNOWN_DIVERGENT = {
     # since people walk round a robot standing on a point of their way (s11; traced, not seen in a GIF): in the
     # socrates twin the person gives way, the 2.x twin has no side step
     "home/narrow-doorway": "2.x has no side step: the socrates person gives way, the hunav2 one does not",
+    # seventh session (people keep 0.2 m from the robot's body, a walker boxed in steps round on the left; told by the
+    # verdicts, not looked at in frames): the socrates twin verifies, the hunav2 one does not
+    "home/robot-crowding": "2.x's followers (CuriousNav closing to 1.5 m, AvoidRobot pushing off at 2 m) hold the "
+    "robot over 10 s in the living room and it never reaches ai; the socrates followers let it through",
     "hospital/robot-overtaking": _OVERTAKE,
     # since people stop short of a goal the robot is on (2026-11-26, s7): the hospital door's twins now verify alike
     # (the card fails in both: tests/cards KNOWN_FAILING) and the hospital hallway's part (finding by finding, not yet
