@@ -45,7 +45,7 @@ from socnavgen.location.places import CORNER_TURN_DEG
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.routing import project
 from socnavgen.sim.robot.lead import goes_with_robot
-from socnavgen.sim.world.queries import free_along, line_of_sight
+from socnavgen.sim.world.queries import clearance_at, free_along, line_of_sight
 
 PASS_GAP = INTIMATE_SPACE  # m: the gap the robot tries to leave beside a person it passes
 PASS_LOOK = 3.5  # m (gap) ahead: people this close ahead make the robot move aside
@@ -79,6 +79,19 @@ CORNER_REACH = 2.5  # m from the turn's waypoint, before and after it
 CORNER_DECEL = 0.8  # m/s2: it brakes into that speed at this rate (under the 1.5 m/s2 comfort limit)
 CORNER_COS = math.cos(math.radians(CORNER_TURN_DEG))  # a turn sharper than the inventory's corner
 ROUTE_LOOK = 4  # goals of a person's queue looked along for whether their route goes through the robot
+
+
+@jit
+def stands_clear(s, skip, point):  # noqa: ANN001, ANN201
+    """The robot's body at `point` keeps WALL_ROOM from the walls and its social gap from everyone but person `skip`
+    (whom it passes or lets pass): where it may stand."""
+    robot = s.robot[0]
+    if clearance_at(s.world, point) < robot.radius + WALL_ROOM:
+        return False
+    for k in range(s.people.shape[0]):
+        if k != skip and abs(s.people[k].pos - point) < robot.radius + s.people[k].radius + ROBOT_SOCIAL_GAP:
+            return False
+    return True
 
 
 @jit

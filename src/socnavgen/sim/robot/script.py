@@ -31,9 +31,8 @@ from socnavgen.run.spec import RobotCue, RobotScript
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.routing import project
 from socnavgen.sim.records import layout, table
-from socnavgen.sim.robot.polite import WALL_ROOM
+from socnavgen.sim.robot.polite import stands_clear
 from socnavgen.sim.world.grid import empty_room
-from socnavgen.sim.world.queries import clearance_at
 
 ROBOT_PHRASE_CODE = {name: code for code, name in ROBOT_GESTURES.items() if code}
 HUMAN_PHRASE_CODE = {name: code for code, name in HUMAN_GESTURES.items() if code}
@@ -218,13 +217,7 @@ def squeezes_past(s, i, foot, d):  # noqa: ANN001, ANN201
     clear = robot.radius + q.radius + ROBOT_SOCIAL_GAP
     if d < 1e-6 or clear - d > SQUEEZE or into_route(q, foot, d) > INTO_WAY:
         return False
-    at = q.pos - (q.pos - foot) / d * clear  # the robot's centre passing them
-    if clearance_at(s.world, at) < robot.radius + WALL_ROOM:
-        return False
-    for k in range(s.people.shape[0]):
-        if k != i and abs(s.people[k].pos - at) < robot.radius + s.people[k].radius + ROBOT_SOCIAL_GAP:
-            return False
-    return True
+    return stands_clear(s, i, q.pos - (q.pos - foot) / d * clear)  # the robot's centre passing them
 
 
 @jit

@@ -15,11 +15,18 @@ from __future__ import annotations
 
 import math
 
-from socnavgen.bodies import PERSON_PASS_GAP, ROBOT_SOCIAL_GAP
+from socnavgen.bodies import PERSON_PASS_GAP
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.routing import project
-from socnavgen.sim.robot.polite import LATERAL_GAIN, LATERAL_SPEED, ROUTE_LOOK, WALL_ROOM, coming_through
-from socnavgen.sim.world.queries import clearance_at, free_along
+from socnavgen.sim.robot.polite import (
+    LATERAL_GAIN,
+    LATERAL_SPEED,
+    ROUTE_LOOK,
+    WALL_ROOM,
+    coming_through,
+    stands_clear,
+)
+from socnavgen.sim.world.queries import free_along
 
 ASIDE = 1.0  # m right of its route's line at most, a waiting robot stands (wait_aside)
 ASIDE_LOOK = 3.6  # m (gap, social space): someone this near who needs to get past makes a waiting robot step aside
@@ -80,14 +87,11 @@ def free_spot(s, i, spot):  # noqa: ANN001, ANN201
     keep = robot.radius + WALL_ROOM
     to = spot - robot.pos
     far = abs(to)
-    if clearance_at(s.world, spot) < keep or (far > 1e-9 and free_along(s.world, robot.pos, to / far, far, keep) < far):
+    if far > 1e-9 and free_along(s.world, robot.pos, to / far, far, keep) < far:
         return False
     if far > 1e-9 and project(q.pos, robot.pos, spot)[1] < robot.radius + q.radius:
         return False
-    for k in range(s.people.shape[0]):
-        if k != i and abs(s.people[k].pos - spot) < robot.radius + s.people[k].radius + ROBOT_SOCIAL_GAP:
-            return False
-    return True
+    return stands_clear(s, i, spot)
 
 
 @jit
