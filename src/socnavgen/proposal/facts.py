@@ -178,20 +178,24 @@ def pacing_text(detail: bool = True) -> str:
     lower_pacing aims at the FIRST pass of a route that passes the node twice). `detail` False (stage 1's `robot`
     cut, fit.py) leaves out the round trip."""
     from socnavgen.sim import ThrottleConfig
+    from socnavgen.sim.people.state import QUEUE_REACH
 
     pace = ThrottleConfig()
     return (f"- Pacing: a person who is alone (group id -1) and has an interaction point on the robot's path "
-            f"(after the robot's start) is paced to arrive there together with the robot, by the robot's ETA "
-            f"re-estimated as it goes (its route left at its speed, plus the time it still stands for its cues' "
-            f"waits): a person standing stays where they are (at their start, out of sight if that is hidden) until "
+            f"(after the robot's start) is paced to arrive there together with the robot, wherever they start (the "
+            f"robot's goal too), by the robot's ETA re-estimated as it goes (its route left at its speed, plus what is "
+            f"left of the `wait` of cues that fired: not a cue yet to fire, a let_pass, a wait_until_clear): a person standing stays where they are (at their start, out of sight if that is hidden) until "
             f"walking to the node at their own speed gets them there with the robot, then walks there; a person "
             f"walking slows down, and stands when they would walk slower than {pace.min_pace:g} m/s. Only walking "
             f"normally (RegularNav) is paced; nobody is held in the robot's way within {pace.release_distance:g} m "
-            f"of it (they walk on to the node), and once the robot is {pace.robot_near:g} m from the node they walk "
+            f"of it, nor ahead on its way while it stands for no known time (let_pass, wait_until_clear): they walk "
+            f"on to the node. Once the robot is {pace.robot_near:g} m from the node they walk "
             f"at full speed. So put the interaction point where the encounter should happen and the person's start "
             f"where they wait (unseen, if they should appear suddenly): they come out as the robot arrives. {_narrow_pacing()} "
             f"Members of a group and people without an interaction point are never paced: they walk from the start."
-            + (" On a route that passes the interaction point twice (a round trip [A, B, C, B, A]) pacing aims at "
+            + (f" Whom a let_pass cue stands for comes at their own speed. Someone starting within "
+               f"{QUEUE_REACH:.1f} m of their interaction point while another person stands on it has reached it at "
+               f"once (beside them) and walks on unpaced. On a route that passes the interaction point twice (a round trip [A, B, C, B, A]) pacing aims at "
                "the robot's FIRST pass; once it has passed they walk at their own speed: to meet on the way back, "
                "start them where walking at their own speed brings them there then, or meet at a node passed once."
                if detail else ""))
@@ -215,7 +219,9 @@ def groups_text(detail: bool = True) -> str:
             f"their path (group forces of the social force model): give every member the same path. A member "
             f"whose tree makes them do something else (give way, follow the robot, run away, stand) leaves the "
             f"group's pull while doing it, so a group whose members react differently splits up and the others "
-            f"walk on; once that member walks their path again the pull holds them together again."
+            f"walk on; once that member walks their path again the pull holds them together again. Following "
+            f"(follow, follow_human) leaves the pull too: a file of one walker and members each following the one "
+            f"ahead is no group for the pull; make its first walker the member on the side they walk toward."
             + (_group_places() if detail else ""))
 
 
@@ -224,7 +230,7 @@ def _group_places() -> str:
     return (" On the circle, member k of n (counted from 0 in the order of their names) starts k x 360/n degrees "
             "counter-clockwise from east of the node (two: east and west of it; three: east, north-west, "
             "south-west; nearer the node where a wall is there), so which member stands in the robot's way depends "
-            "on the side it comes from.")
+            "on the side it comes from: from the east, the first named; from the west, for two, the second.")
 
 
 def encounter_within_text() -> str:
@@ -346,14 +352,18 @@ def robot_limits_text(detail: bool = True) -> str:
     from socnavgen.sim.robot.api import ScriptedPolicy
     from socnavgen.sim.robot.polite import FACE_GAP
     from socnavgen.sim.robot.script import LET_PASS_PATIENCE
+    from socnavgen.sim.robot.wait_spot import ASIDE, SPOT_REACH
 
     limits = ("- The script drives the robot's route (node to node), stands it still (wait, wait_until_clear, "
               "let_pass) and speaks; no cue makes it back off, pull over or follow someone. A route may come back to "
               "its start after passing other nodes.")
     let_pass = (" \"It lets her go first\" is a cue with \"let_pass\": \"humanN\": the robot stands where the cue "
-                "fires until that person has gone by (across its way, past it, or on ahead of it), at most `wait` s "
-                f"({LET_PASS_PATIENCE:g} without); fire it before the place they cross (at_encounter with a distance, "
-                "or human_within).")
+                f"fires (stepping up to {SPOT_REACH:g} m aside off her way where there is room) until that person has "
+                f"gone by (across its way, past it, or on ahead of it), at most `wait` s ({LET_PASS_PATIENCE:g} "
+                "without); fire it before the place they cross and before any narrow edge she needs (at_encounter "
+                "with a distance, or human_within). It may stand only a moment (she is already on ahead): a stop the "
+                f"story needs as such is a cue's plain `wait` (in which it steps up to {ASIDE:g} m to its right for "
+                "someone coming past).")
     if not detail:
         return limits
     return (limits + let_pass + " By itself the robot passes people on one "
@@ -376,7 +386,9 @@ def follower_turn_text() -> str:
             f"{FOLLOW_WAY_AHEAD:g} m (it turns round at a dead end or on a round trip), steps aside like give_way "
             f"and follows again once it has passed; where there is no room beside it (under {PASS_WIDTH:g} m free) "
             f"they first walk ahead of it along its way to the nearest place wide enough, so the robot turns round "
-            f"best where there is room. "
+            f"best where there is room. So start a follower behind or beside the robot's start, not on its route "
+            f"ahead; someone who falls in as it sets off may meet it at its start node (stated by follows_robot, "
+            f"with no meets, they need no approach). "
             f"Following does not walk the follower's own path: when it ends they walk on to the node they were "
             f"walking to when it began (back the way they came).")
 
@@ -449,7 +461,8 @@ def cue_triggers_text() -> str:
     """Each cue trigger with its meaning, read from CueTrigger's docstring (the one place that explains them)."""
     meanings = dict(re.findall(r"^\s+([a-z_]+)\s+(\S.*)$", CueTrigger.__doc__ or "", re.MULTILINE))
     return ", ".join(f"{when} ({meanings.get(when, '').strip()})"
-                     for when in get_args(CueTrigger.model_fields["when"].annotation))
+                     for when in get_args(CueTrigger.model_fields["when"].annotation)) + \
+        " (a cue trigger's `distance` is straight, walls or not)"
 
 
 def robot_vocabulary_text() -> str:
