@@ -16,9 +16,9 @@ from socnavgen.proposal.facts import (
     follower_turn_text,
     groups_text,
     pacing_text,
+    people_text,
     robot_limits_text,
 )
-from socnavgen.proposal.templates import render
 from socnavgen.run.spec import CueTrigger, RobotCue, RobotScript, ScenarioSpec
 from tests.sim.simhelpers import REGULAR, Stay, human, make_sim, tree_xml
 
@@ -127,8 +127,8 @@ def test_cue_distances_are_straight_and_people_who_never_meet_the_robot_stay_in_
     from socnavgen.proposal.spec_checks import spec_mistakes
 
     assert "(a cue trigger's `distance` is straight, walls or not)" in cue_triggers_text()
-    system = render("scenario_system.md", capabilities="", spec_help="")
-    assert "only people who meet the robot are simulated" in system
+    assert "Only people who meet the robot are simulated" in people_text()
+    assert "Only people who meet the robot are simulated" not in people_text(False)  # the small model's cut
     spec = ScenarioSpec.model_validate({"encounters": [{"id": "e1", "place": "ROOM", "humans": [
         {"human": "human1", "trigger": "robot_visible", "reaction": "look", "distance": 3.0}]}]})
     assert any("human2 of human_behaviors takes part in no encounter" in m

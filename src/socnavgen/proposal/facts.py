@@ -138,16 +138,16 @@ def follows_distance_text() -> str:
             f"`distance` of at least {follow_trail(speed) + 2:.0f} m")
 
 
-def follows_human_text() -> str:
+def follows_human_text(detail: bool = True) -> str:
     """What follows_human measures (verify/criteria.leader_of: from whom the person follows, never from the
     robot; a round-13 player was told to state follow_human with follows_robot, which then measured the robot)."""
     from socnavgen.bodies import PERSON_MAX_SPEED
 
+    if not detail:  # stage 1's `robot` cut (fit.py)
+        return "like follows_robot, measured from whom `human` follows (`other`)"
     trail = follow_trail(PERSON_MAX_SPEED)
-    return (f"`human` stays within `distance` of the person their follow_human reaction follows (its `other`) "
-            f"after the trigger, both walking: measured from that person along the walkable way, never from the "
-            f"robot (a follower trails about {trail:.1f} m behind a walking person: use a `distance` of at least "
-            f"{trail + 2:.0f} m); follows_robot measures from the robot")
+    return (f"like follows_robot, measured from whom `human`'s follow_human reaction follows (`other`), not the robot "
+            f"(they trail ~{trail:.1f} m: `distance` at least {trail + 2:.0f} m)")
 
 
 def _follow_fact(robot_speed: float) -> str:
@@ -181,15 +181,18 @@ def pacing_text(detail: bool = True) -> str:
     from socnavgen.sim.people.state import QUEUE_REACH
 
     pace = ThrottleConfig()
-    return (f"- Pacing: a person who is alone (group id -1) and has an interaction point on the robot's path "
-            f"(after the robot's start) is paced to arrive there together with the robot, wherever they start (the "
-            f"robot's goal too), by the robot's ETA re-estimated as it goes (its route left at its speed, plus what is "
-            f"left of the `wait` of cues that fired: not a cue yet to fire, a let_pass, a wait_until_clear): a person standing stays where they are (at their start, out of sight if that is hidden) until "
+    return ("- Pacing: a person who is alone (group id -1) and has an interaction point on the robot's path "
+            "(after the robot's start) is paced to arrive there together with the robot"
+            + (", wherever they start (the robot's goal too)," if detail else "")
+            + " by the robot's ETA re-estimated as it goes (its route left at its speed, plus "
+            + ("what is left of the `wait` of cues that fired: not a cue yet to fire, a let_pass, a wait_until_clear)"
+               if detail else "the time it still stands for its cues' waits)")
+            + f": a person standing stays where they are (at their start, out of sight if that is hidden) until "
             f"walking to the node at their own speed gets them there with the robot, then walks there; a person "
             f"walking slows down, and stands when they would walk slower than {pace.min_pace:g} m/s. Only walking "
-            f"normally (RegularNav) is paced; nobody is held in the robot's way within {pace.release_distance:g} m "
-            f"of it, nor ahead on its way while it stands for no known time (let_pass, wait_until_clear): they walk "
-            f"on to the node. Once the robot is {pace.robot_near:g} m from the node they walk "
+            f"normally (RegularNav) is paced; nobody is held in the robot's way within {pace.release_distance:g} m of it"
+            + (", nor ahead on its way while it stands for no known time (let_pass, wait_until_clear)" if detail else "")
+            + f": they walk on to the node. Once the robot is {pace.robot_near:g} m from the node they walk "
             f"at full speed. So put the interaction point where the encounter should happen and the person's start "
             f"where they wait (unseen, if they should appear suddenly): they come out as the robot arrives. {_narrow_pacing()} "
             f"Members of a group and people without an interaction point are never paced: they walk from the start."
@@ -219,10 +222,10 @@ def groups_text(detail: bool = True) -> str:
             f"their path (group forces of the social force model): give every member the same path. A member "
             f"whose tree makes them do something else (give way, follow the robot, run away, stand) leaves the "
             f"group's pull while doing it, so a group whose members react differently splits up and the others "
-            f"walk on; once that member walks their path again the pull holds them together again. Following "
-            f"(follow, follow_human) leaves the pull too: a file of one walker and members each following the one "
-            f"ahead is no group for the pull; make its first walker the member on the side they walk toward."
-            + (_group_places() if detail else ""))
+            f"walk on; once that member walks their path again the pull holds them together again."
+            + (" Following (follow, follow_human) leaves the pull too: a file of one walker and members each following "
+               "the one ahead is no group for the pull; make its first walker the member on the side they walk toward."
+               + _group_places() if detail else ""))
 
 
 def _group_places() -> str:
@@ -311,7 +314,9 @@ def people_text(detail: bool = True) -> str:
             f"- \"lasts\" (s) ends a reaction (then they walk on), e.g. say WAIT for at most 5 s; wait_then_go "
             f"stands {WAIT_THEN_GO_SECONDS:g} s unless set. \"seconds\" is only the time trigger's. "
             f"{_negations(detail)}\n"
-            f"- {stop_evidence_text()}")
+            f"- {stop_evidence_text()}"
+            + ("\n- Only people who meet the robot are simulated: someone the story needs who never comes onto the "
+               "robot's path is only mentioned in the description, not a human of human_behaviors." if detail else ""))
 
 
 def block_until_text() -> str:
@@ -457,12 +462,13 @@ def stl_text(signals: bool = True) -> str:
             f"effect.")
 
 
-def cue_triggers_text() -> str:
-    """Each cue trigger with its meaning, read from CueTrigger's docstring (the one place that explains them)."""
+def cue_triggers_text(detail: bool = True) -> str:
+    """Each cue trigger with its meaning, read from CueTrigger's docstring (the one place that explains them);
+    `detail` False (stage 1's `robot` cut, fit.py): without how its distance is measured."""
     meanings = dict(re.findall(r"^\s+([a-z_]+)\s+(\S.*)$", CueTrigger.__doc__ or "", re.MULTILINE))
     return ", ".join(f"{when} ({meanings.get(when, '').strip()})"
                      for when in get_args(CueTrigger.model_fields["when"].annotation)) + \
-        " (a cue trigger's `distance` is straight, walls or not)"
+        (" (a cue trigger's `distance` is straight, walls or not)" if detail else "")
 
 
 def robot_vocabulary_text() -> str:

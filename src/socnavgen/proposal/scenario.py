@@ -74,8 +74,8 @@ def spec_help_text(target: Target | None = None, *, signals: bool = True, robot:
     the robot does by itself; fit.py)."""
     return render("scenario_spec.md", vocabulary=robot_vocabulary_text(), facts=physical_facts_text(),
                   kinds=", ".join(get_args(CriterionKind)), target=target_text(target),
-                  rules=scenario_rules_text(target, signals, robot), cue_triggers=cue_triggers_text(),
-                  follow_distance=follows_distance_text(), follows_human=follows_human_text())
+                  rules=scenario_rules_text(target, signals, robot), cue_triggers=cue_triggers_text(robot),
+                  follow_distance=follows_distance_text(), follows_human=follows_human_text(robot))
 
 
 def target_text(target: Target | None) -> str:
