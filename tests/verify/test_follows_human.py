@@ -99,4 +99,5 @@ def test_stage_one_tells_how_a_follower_of_a_person_is_stated_and_measured() -> 
 
     text = spec_help_text()
     assert "follow_human: follows_human or follows_robot" in text
-    assert f"follows_human: {follows_human_text()}" in text and "never from the robot" in text
+    assert f"follows_human: {follows_human_text()}" in text and "not the robot" in follows_human_text()
+    assert "not the robot" in follows_human_text(False) or "from whom `human` follows" in follows_human_text(False)
