@@ -93,13 +93,17 @@ class Situation:
         gaps = self.each_gap()
         return gaps.min(axis=1) if gaps.shape[1] else np.full(self.trace.steps, math.inf)
 
+    def toward(self) -> np.ndarray:
+        """(T, H') the robot's own speed toward each person of the check (m/s, negative: away from them)."""
+        v = self.trace.robot[:, VX] + 1j * self.trace.robot[:, VY]
+        to = self.people() - self.robot[:, None]
+        return (v[:, None] * (to / np.maximum(np.abs(to), 1e-9)).conjugate()).real
+
     def closing(self) -> np.ndarray:
         """(T, H') how fast the robot itself closes in on each person (m/s, 0 when it does not): its velocity
         along the line to them, counted only while the gap shrinks. A person walking into a robot that stands
         or drives away, or walking away from one that follows, is no closing in by the robot."""
-        v = self.trace.robot[:, VX] + 1j * self.trace.robot[:, VY]
-        to = self.people() - self.robot[:, None]
-        own = (v[:, None] * (to / np.maximum(np.abs(to), 1e-9)).conjugate()).real
+        own = self.toward()
         if self.trace.steps < 2:
             return np.maximum(own, 0.0)
         shrinks = -np.gradient(self.each_gap(), np.asarray(self.trace.t, dtype=float), axis=0)
@@ -126,9 +130,7 @@ class Situation:
     def retreating(self) -> np.ndarray:
         """(T, H') bool: the robot stands, or moves away from that person (its speed toward them below
         -STANDING_SPEED): a gap it keeps then is the person's doing, not its own."""
-        v = self.trace.robot[:, VX] + 1j * self.trace.robot[:, VY]
-        to = self.people() - self.robot[:, None]
-        own = (v[:, None] * (to / np.maximum(np.abs(to), 1e-9)).conjugate()).real
+        own = self.toward()
         return (self.speed[:, None] <= STANDING_SPEED) | (own < -STANDING_SPEED)
 
 
