@@ -16,6 +16,7 @@ from socnavgen.location.placement import Walker, node_distance, route_problems, 
 from socnavgen.location.scene_graph import path_mistakes
 from socnavgen.proposal.conversation import Upstream
 from socnavgen.proposal.facts import approach_room
+from socnavgen.proposal.prose_checks import way_in_mistakes
 from socnavgen.proposal.replies import PathsReply, human_name
 from socnavgen.proposal.spec_checks import HIDDEN_UNTIL_DEFAULT
 from socnavgen.run import HumanPlan, PathPlan
@@ -48,9 +49,10 @@ def _by_human(mapping: dict[str, _V], what: str, humans: list[str], mistakes: li
 
 
 def check_paths(reply: PathsReply, graph: nx.Graph, humans: list[str], spec: ScenarioSpec | None = None,
-                location: Location | None = None) -> list[str]:
+                location: Location | None = None, behaviors: dict[str, str] | None = None) -> list[str]:
     """Every mistake of a stage-2 answer, given the scene graph, stage 1's human names and its spec; with the
-    location, also where everybody starts (location/placement.py: nobody on or against another body)."""
+    location, also where everybody starts (location/placement.py: nobody on or against another body); with stage 1's
+    behaviors, also that each person comes into their encounter the way their text says (prose_checks.py)."""
     mistakes: list[str] = []
     trajectories = dict(reply.trajectories)
     robot_key = next((k for k in trajectories if k.strip().lower() == "robot"), None)
@@ -93,6 +95,8 @@ def check_paths(reply: PathsReply, graph: nx.Graph, humans: list[str], spec: Sce
     if spec is not None:
         mistakes += _encounter_mistakes(reply, graph, spec, robot, paths, points)
         mistakes += _standing_stop_mistakes(reply, spec, paths)
+        if behaviors:
+            mistakes += way_in_mistakes(graph, spec, behaviors, paths, dict(reply.encounter_nodes))
         if location is not None:
             mistakes += _blind_mistakes(reply, spec, location, robot, paths)
             mistakes += _room_mistakes(reply, spec, location)

@@ -243,5 +243,6 @@ def plan_paths(messages: list[ChatMessage], location: Location, scenario: Scenar
     cramped = {n for n, facts in location.inventory.nodes.items() if not facts.turnable}
     grammar = paths_grammar(graph, humans, spec, cramped, clear_starts(location), too_near(location, spec)) \
         if getattr(llm, "supports_grammar", False) else None
-    return converse(llm, messages, PathsReply, lambda reply: check_paths(reply, graph, humans, spec, location),
+    return converse(llm, messages, PathsReply, lambda reply: check_paths(reply, graph, humans, spec, location,
+                                                                              scenario.human_behaviors),
                     stage=STAGE, key=None, recorder=recorder, policy=policy, grammar=grammar, max_tokens=MAX_TOKENS)

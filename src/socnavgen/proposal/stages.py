@@ -184,7 +184,8 @@ class Stages:
             grounded = self.read_spec(scenario, grounded=spec is not None)
             if grounded is not None:
                 answer = PathsReply.model_validate(path_stage.plan_to_answer(plan, grounded))
-                mistakes = check_paths(answer, self.location.graph, humans, grounded, self.location)
+                mistakes = check_paths(answer, self.location.graph, humans, grounded, self.location,
+                                       scenario.human_behaviors)
                 if mistakes:
                     raise InputFileError("paths.json and spec.json disagree: " + "; ".join(mistakes[:5]),
                                          file=self.run.paths_path,

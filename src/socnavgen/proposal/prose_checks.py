@@ -1,0 +1,197 @@
+"""Checks that the criteria and the paths say what the prose says (issue 25). Three round-13 runs passed the verifier
+where a person looking at the GIF saw their text not happen, each because nothing held the spec or the plan to the
+description: a child "right behind" the robot allowed 4.5 m (he stood 12 s by the table), a correction that started
+a patient in a side room while her text still has her come from the corridor's end, and a worker the text has "walk
+on behind" the robot with no criterion about who goes first. Each check is general (words and node ids of the text
+against the numbers, criteria and paths), never keyed to a scenario:
+
+- `close_follow_mistakes` (stage 1): a follower the text has right / close behind someone may be no farther from
+  them than a follower keeps (sim.people.leaves.follow_trail) plus Hall's personal space (bodies.PERSONAL_SPACE);
+- `order_mistakes` (stage 1): a person the description puts behind or ahead of the robot (who goes first) has a
+  criterion that can see an order (an stl naming them, follows_*, gives_way, blocks_robot);
+- `way_in_mistakes` (stage 2): a person whose text names where they come from into their first encounter's node
+  comes into it that way (an Upstream mistake: when the plan cannot, stage 1 changes the text).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+import networkx as nx
+
+from socnavgen.bodies import PERSON_MAX_SPEED, PERSONAL_SPACE
+from socnavgen.proposal.conversation import Upstream
+from socnavgen.proposal.replies import human_name
+from socnavgen.run.spec import Criterion, ScenarioSpec
+
+# Words that put a follower right at someone's back (criterion text or the person's behavior text).
+# `whom`: what follows "behind" ("it", "the robot", "the lead worker"; none at the end of a clause).
+CLOSE_BEHIND = re.compile(r"\b(?:right|close|closely|just|directly|immediately) behind\b(?: (?P<whom>the robot|it\b|"
+                          r"(?:the|a|an|his|her|its|their|human) ?\w+))?|\bon (?:its|his|her|their) heels\b|"
+                          r"\bfollows? (?:it |them |him |her |the robot )?closely\b", re.IGNORECASE)
+# Words that say who goes first between a person and the robot.
+ORDER_WORDS = re.compile(r"\b(?:behind (?:it|the robot)|ahead of (?:it|the robot)|go(?:es)? (?:on )?first|"
+                         r"(?:after|once|until) (?:it|the robot) (?:has )?(?:passed|gone by|gone past))\b",
+                         re.IGNORECASE)
+ORDER_KINDS = ("follows_robot", "follows_human", "gives_way", "blocks_robot")  # (and an stl naming the person)
+_NAMED = re.compile(r"\b[Hh]uman ?(\d+)\b")
+# Tokens that are words or amounts before they are node ids ("walks up the aisle", "waits 12 s").
+_NOT_NODES = {"up", "in", "on", "at", "to", "go", "do", "be", "it", "is", "as", "by", "of", "or", "an", "no", "so"}
+
+
+def close_follow_gap(leader_speed: float, own_speed: float) -> float:
+    """The farthest (m, along the walkable way) a follower right behind someone is: the trail a follower keeps behind
+    a leader at `leader_speed` (the simulator's own) and, beyond it, Hall's personal space."""
+    from socnavgen.sim.people.leaves import follow_trail
+
+    return follow_trail(leader_speed, own_speed) + PERSONAL_SPACE
+
+
+def _person_speed(spec: ScenarioSpec, human: str | None) -> float:
+    person = spec.people.get(human or "")
+    return person.speed if person is not None and person.speed else PERSON_MAX_SPEED
+
+
+def _leader(spec: ScenarioSpec, c: Criterion) -> tuple[str, float]:
+    """Whom `c` measures its follower against, and that one's speed."""
+    if c.kind == "follows_human":
+        other = next((p.other for _, p in spec.parts_of(c.human or "") if p.reaction == "follow_human" and p.other),
+                     None)
+        return (other or "whom they follow"), _person_speed(spec, other)
+    return "the robot", spec.script.speed
+
+
+def _behind_leader(kind: str, whom: str | None) -> bool:
+    """Whether "right behind <whom>" is about whom the criterion measures: the robot (it, the robot, nobody named) for
+    follows_robot, anyone but the robot for follows_human (a follows_robot whose text has them right behind a person
+    measures the wrong leader, which is another mistake)."""
+    robot = whom is None or whom.lower() in ("it", "the robot")
+    return robot if kind == "follows_robot" else whom is None or whom.lower() != "the robot"
+
+
+def close_follow_mistakes(spec: ScenarioSpec, behaviors: dict[str, str]) -> list[str]:
+    """A follows_* criterion whose text (or its person's behavior) has them right / close behind, but whose distance
+    lets them stand far behind: the verifier would pass a follower who stood still while the leader went on."""
+    texts = {human_name(k) or k: str(v) for k, v in behaviors.items()}
+    mistakes = []
+    for c in spec.criteria:
+        if c.kind not in ("follows_robot", "follows_human") or not c.human or c.distance is None:
+            continue
+        said = next((m for text in (c.text, texts.get(c.human, "")) for m in CLOSE_BEHIND.finditer(text)
+                     if _behind_leader(c.kind, m.group("whom"))), None)
+        if said is None:
+            continue
+        leader, speed = _leader(spec, c)
+        ceiling = close_follow_gap(speed, _person_speed(spec, c.human))
+        if c.distance > ceiling + 1e-9:
+            trail = ceiling - PERSONAL_SPACE
+            mistakes.append(
+                f"criterion {c.id} ({c.kind}) lets {c.human} be up to {c.distance:g} m from {leader}, but the text has "
+                f"{c.human} '{said.group(0)}': a follower keeps about {trail:.1f} m behind a leader at {speed:g} "
+                f"m/s, and right behind is within Hall's personal space ({PERSONAL_SPACE:g} m) beyond that, so with "
+                f"{c.distance:g} m someone standing still while {leader} goes on would pass; set its distance to at "
+                f"most {math.floor(ceiling * 10) / 10:g} m (a robot that must not lose them waits with a human_farther "
+                f"cue at that distance), or say in the text how far behind {c.human} walks")
+    return mistakes
+
+
+def _about(c: Criterion, human: str) -> bool:
+    if c.kind == "stl":
+        return re.search(rf"\w_{human}\b|\b{human}_\w", c.formula or "") is not None
+    return human in [c.human, *c.humans]
+
+
+def _ordered_sentences(description: str, behaviors: dict[str, str]) -> list[tuple[str, str, str]]:
+    """(person, words, sentence) for each sentence that says who goes first between a person and the robot: in a
+    person's behavior, or in the description, where the person is the one human the sentence (or the last sentence
+    naming one human, 'Human 2' or 'human2') names."""
+    found = []
+    for key, text in behaviors.items():
+        name = human_name(key) or key
+        found += [(name, m.group(0), str(text)) for m in ORDER_WORDS.finditer(str(text))][:1]
+    subject: str | None = None
+    for sentence in re.split(r"(?<=[.;!?])\s+", description):
+        named = set(_NAMED.findall(sentence)) | set(re.findall(r"\bhuman(\d+)\b", sentence))
+        if named:
+            subject = f"human{named.pop()}" if len(named) == 1 else None
+        said = ORDER_WORDS.search(sentence)
+        if said is not None and subject is not None:
+            found.append((subject, said.group(0), sentence.strip()))
+    return found
+
+
+def order_mistakes(description: str, behaviors: dict[str, str], spec: ScenarioSpec) -> list[str]:
+    """A person the text puts behind or ahead of the robot needs a criterion that can see the order: meets,
+    stops_near_robot or says pass whoever goes first."""
+    mistakes, told = [], set()
+    humans = set(spec.humans())
+    for human, words, sentence in _ordered_sentences(description, behaviors):
+        if human in told or human not in humans:
+            continue
+        if any(_about(c, human) and (c.kind == "stl" or c.kind in ORDER_KINDS) for c in spec.criteria):
+            continue
+        told.add(human)
+        quote = sentence if len(sentence) <= 160 else sentence[:157] + "..."
+        mistakes.append(
+            f"the text says who goes first between {human} and the robot ('{words}': \"{quote}\"), but no criterion "
+            f"about {human} can see that order (meets, stops_near_robot and says pass whoever goes first); add one "
+            f"that states it, e.g. an stl criterion such as \"({human}_to_node_N > 2.0) until (robot_to_node_N < "
+            f"1.0)\" (the robot reaches node N, a node id of its route, before {human} comes near it; swap the two "
+            f"for {human} first), or follows_robot / gives_way where that is what {human} does; or drop the order "
+            f"from the text if it does not matter")
+    return mistakes
+
+
+def named_nodes(text: str, nodes: set[str]) -> list[str]:
+    """The node ids a text names, in the order it first names them (words and amounts that happen to be ids left
+    out)."""
+    found = []
+    for match in re.finditer(r"[0-9A-Za-z_]+", text):
+        token = match.group(0)
+        amount = token.isdigit() and re.match(r"\s*(?:m\b|s\b|%|m/s|seconds?|metres?|meters?)", text[match.end():])
+        if token in nodes and token.lower() not in _NOT_NODES and not amount and token not in found:
+            found.append(token)
+    return found
+
+
+def way_in_mistakes(graph: nx.Graph, spec: ScenarioSpec, behaviors: dict[str, str], paths: dict[str, list[str]],
+                    encounter_nodes: dict[str, str]) -> list[str]:
+    """A person whose behavior names where they come from into their first encounter's node (the nodes it names
+    before that node) comes into that node along that way (the node their path enters it from is on a shortest way
+    from a named one): hospital_11's correction started a patient in a side room while her text has her walk in
+    from the corridor's end."""
+    mistakes: list[str] = []
+    nodes = {str(n) for n in graph.nodes}
+    for key, text in behaviors.items():
+        human = human_name(key) or key
+        parts = sorted(spec.parts_of(human), key=lambda ep: ep[0].order)
+        path = paths.get(human) or []
+        node = encounter_nodes.get(parts[0][0].id) if parts else None
+        named = named_nodes(str(text), nodes)
+        if node is None or node not in named or node not in path or path.index(node) == 0:
+            continue
+        before = named[:named.index(node)]
+        way: set[str] = set()
+        for origin in before:
+            if nx.has_path(graph, origin, node):
+                way |= set(nx.shortest_path(graph, origin, node, weight="length"))
+        came = path[path.index(node) - 1]
+        if not before or came in way:
+            continue
+        enc = parts[0][0]
+        text_way = " ".join(nx.shortest_path(graph, before[0], node, weight="length")) \
+            if nx.has_path(graph, before[0], node) else f"{before[0]} ... {node}"
+        walked = " ".join(path[:path.index(node) + 1])
+        mistakes.append(Upstream(
+            f"{human}'s behavior has {human} come to {node} (encounter {enc.id}) from {', '.join(before)}, but "
+            f"{human}'s path comes into {node} from {came} ({walked}): the encounter would not happen the way the "
+            f"text says; let {human}'s path come in along {text_way}; if that cannot work on this plan (the text's "
+            f"place is the robot's start or goal, or its pacing cannot hold {human} there), keep your answer and say "
+            f"why: stage 1 is then asked to change where {human} comes from",
+            key=f"way_in:{human}:{node}", upstream=(
+                f"{human}'s behavior has {human} come to encounter {enc.id} ({enc.place} {node}) from "
+                f"{', '.join(before)}, and stage 2 could not plan that way (it brought {human} in from {came}: "
+                f"{walked}); say in human_behaviors and the description where {human} comes from as stage 2 can plan "
+                f"it (a place off the robot's start and goal), or put {enc.id} elsewhere")))
+    return mistakes

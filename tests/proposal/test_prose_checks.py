@@ -1,0 +1,221 @@
+"""The spec and the paths must say what the prose says (issue 25, proposal/prose_checks.py): a follower the text has
+right behind someone, who goes first, where a person comes from. Each check refuses answers that say less than their
+text and accepts the ones that say it."""
+
+from __future__ import annotations
+
+import copy
+from pathlib import Path
+from typing import TypeVar
+
+import pytest
+from gen_helpers import paths_reply, scenario_reply, spec_for
+from pydantic import BaseModel, ValidationError
+
+from socnavgen.bodies import PERSONAL_SPACE
+from socnavgen.llm.jsonrepair import extract_json
+from socnavgen.location import load_location
+from socnavgen.proposal.conversation import Upstream
+from socnavgen.proposal.path_checks import check_paths
+from socnavgen.proposal.prose_checks import (
+    close_follow_gap,
+    close_follow_mistakes,
+    named_nodes,
+    order_mistakes,
+    way_in_mistakes,
+)
+from socnavgen.proposal.replies import PathsReply, ScenarioReply
+from socnavgen.proposal.scenario import scenario_checker
+from socnavgen.proposal.spec_checks import parse_spec
+from socnavgen.run.spec import ScenarioSpec
+from socnavgen.safeio import load_yaml_file
+from socnavgen.sim.people.leaves import follow_trail
+
+_M = TypeVar("_M", bound=BaseModel)
+FIXTURES = Path(__file__).resolve().parents[1] / "fixtures" / "new_requests"
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def _follow_spec(distance: float, text: str, kind: str = "follows_robot", speed: float = 0.5) -> ScenarioSpec:
+    spec = spec_for(2)
+    spec["script"].update(speed=speed, cues=[{"trigger": {"when": "start"}, "say": "FOLLOW ME"}])
+    spec["encounters"][0]["humans"][0] = {"human": "human1", "trigger": "robot_says", "phrase": "FOLLOW ME",
+                                          "reaction": "follow", "latch": True}
+    if kind == "follows_human":
+        spec["encounters"][0]["humans"][0].update(reaction="follow_human", other="human2")
+    spec["people"] = {"human1": {"speed": 1.0}}
+    spec["criteria"].append({"id": "c9", "kind": kind, "human": "human1", "encounter": "e1", "distance": distance,
+                             "text": text})
+    return ScenarioSpec.model_validate(spec)
+
+
+# -- a follower right behind someone --------------------------------------------------------------------------------
+def test_the_close_follow_gap_is_the_simulators_trail_plus_personal_space():
+    assert close_follow_gap(0.5, 1.0) == pytest.approx(follow_trail(0.5, 1.0) + PERSONAL_SPACE)
+    assert 2.5 < close_follow_gap(0.5, 1.0) < 3.0  # home_09's older child stood 3.25 m away: this catches him
+
+
+@pytest.mark.parametrize("text", ["the older child follows the robot right behind it into the bedroom",
+                                  "she walks close behind the robot", "he stays on its heels all the way"])
+def test_a_follower_right_behind_the_robot_may_not_be_allowed_far_behind(text):
+    mistakes = close_follow_mistakes(_follow_spec(4.5, text), {})
+    assert len(mistakes) == 1 and "criterion c9 (follows_robot) lets human1 be up to 4.5 m" in mistakes[0]
+    assert f"at most {int(close_follow_gap(0.5, 1.0) * 10) / 10:g} m" in mistakes[0]
+
+
+def test_the_words_may_be_in_the_persons_behavior():
+    behaviors = {"human1": "When the robot says FOLLOW ME the child follows it for good, right behind it."}
+    assert close_follow_mistakes(_follow_spec(4.5, "the child follows the robot"), behaviors)
+
+
+@pytest.mark.parametrize("distance, text", [
+    (2.5, "the older child follows the robot right behind it"),  # within the gap
+    (4.5, "the visitor follows the robot to her room"),  # no words about closeness: the prompt's 4 m holds
+    (4.5, "the worker walks in single file right behind the lead worker"),  # not about the robot (another mistake)
+])
+def test_followers_whose_distance_says_what_the_text_says_are_accepted(distance, text):
+    assert close_follow_mistakes(_follow_spec(distance, text), {}) == []
+
+
+def test_a_person_following_right_behind_a_person_is_measured_against_that_persons_pace():
+    spec = _follow_spec(4.5, "human1 walks right behind human2", kind="follows_human")
+    mistakes = close_follow_mistakes(spec, {})
+    assert len(mistakes) == 1 and "from human2" in mistakes[0]
+
+
+# -- who goes first --------------------------------------------------------------------------------------------------
+WALKS_ON_BEHIND = ("The second worker (Human 2) restocks at sh and walks west. As she passes ki the robot comes out "
+                   "of the aisle; she stops, startled. The robot drives on west to up, and she then walks on behind it.")
+
+
+def test_an_order_the_description_states_needs_a_criterion_that_can_see_it():
+    mistakes = order_mistakes(WALKS_ON_BEHIND, {}, ScenarioSpec.model_validate(spec_for(2)))
+    assert len(mistakes) == 1 and "between human2 and the robot ('behind it'" in mistakes[0]
+    assert "(human2_to_node_N > 2.0) until (robot_to_node_N < 1.0)" in mistakes[0]
+
+
+def test_an_order_in_a_persons_behavior_needs_it_too():
+    behaviors = {"human1": "Steps out of the aisle and walks ahead of the robot to the door."}
+    mistakes = order_mistakes("The robot patrols.", behaviors, ScenarioSpec.model_validate(spec_for(2)))
+    assert len(mistakes) == 1 and "between human1 and the robot ('ahead of the robot'" in mistakes[0]
+
+
+@pytest.mark.parametrize("criterion", [
+    {"id": "c9", "kind": "stl", "formula": "(human2_to_node_07 > 2.0) until (robot_to_node_07 < 1.0)",
+     "text": "the robot reaches 07 before the worker"},
+    {"id": "c9", "kind": "gives_way", "human": "human2", "encounter": "e1", "text": "she lets the robot pass"},
+])
+def test_an_order_stated_by_a_criterion_is_accepted(criterion):
+    spec = spec_for(2)
+    spec["criteria"].append(criterion)
+    assert order_mistakes(WALKS_ON_BEHIND, {}, ScenarioSpec.model_validate(spec)) == []
+
+
+def test_an_order_whose_person_the_text_does_not_name_is_left_alone():
+    text = "Both children walk right behind the robot the whole way."  # nobody named: no person to hold to it
+    assert order_mistakes(text, {}, ScenarioSpec.model_validate(spec_for(2))) == []
+
+
+# -- where a person comes from (stage 2) -----------------------------------------------------------------------------
+def test_node_ids_named_by_a_text_skip_words_and_amounts():
+    nodes = {"up", "ki", "12", "hd"}
+    assert named_nodes("She walks up the aisle from ki, waits 12 s, then goes to hd and to 12.", nodes) == \
+        ["ki", "hd", "12"]
+
+
+FROM_07 = {"human1": "Worker 1 comes from the corner 07 round the blind corner 11 to ch.",
+           "human2": "Worker 2 walks to the corner and stops when the robot blocks the way."}
+
+
+def test_a_person_who_comes_in_another_way_than_the_text_says_is_refused_upstream(mini_location):
+    location = load_location(mini_location)
+    reply = paths_reply(trajectories={"robot": ["32", "ch", "11", "07"], "human1": ["d9", "ch", "11"],
+                                      "human2": ["f7", "07", "11"]},
+                        interaction_points={"human1": "11", "human2": "11"})
+    mistakes = check_paths(PathsReply.model_validate(reply), location.graph, ["human1", "human2"],
+                           ScenarioSpec.model_validate(spec_for(2)), location, FROM_07)
+    found = [m for m in mistakes if "come to 11 (encounter e1) from 07" in m]
+    assert len(found) == 1 and isinstance(found[0], Upstream) and found[0].key == "way_in:human1:11"
+    assert "comes into 11 from ch (d9 ch 11)" in found[0] and "along 07 11" in found[0]
+    assert "stage 1 is then asked" in found[0] and "where human1 comes from" in found[0].upstream
+
+
+@pytest.mark.parametrize("path", [["07", "11", "ch"], ["f7", "07", "11"], ["11", "ch"]])
+def test_a_person_who_comes_in_the_texts_way_or_starts_there_is_accepted(mini_location, path):
+    graph = load_location(mini_location).graph
+    paths = {"human1": path, "human2": ["f7", "07", "11"]}
+    assert way_in_mistakes(graph, ScenarioSpec.model_validate(spec_for(2)), FROM_07, paths, {"e1": "11"}) == []
+
+
+def test_a_text_that_names_no_origin_is_left_alone(mini_location):
+    graph = load_location(mini_location).graph
+    behaviors = {"human1": "Worker 1 walks round the blind corner 11 and on to 07."}  # 11 first: no origin named
+    paths = {"human1": ["d9", "ch", "11", "07"], "human2": ["f7", "07", "11"]}
+    assert way_in_mistakes(graph, ScenarioSpec.model_validate(spec_for(2)), behaviors, paths, {"e1": "11"}) == []
+
+
+# -- in stage 1's own check, and on the recorded answers of the new-request suite ------------------------------------
+def test_stage_one_refuses_a_spec_that_says_less_than_its_prose(mini_location):
+    check = scenario_checker(load_location(mini_location))
+    spec = _follow_spec(4.5, "human1 follows the robot right behind it").model_dump(mode="json", exclude_none=True)
+    reply = scenario_reply(spec=spec, scenario_description=WALKS_ON_BEHIND)
+    mistakes = check(ScenarioReply.model_validate(reply))
+    assert any("lets human1 be up to 4.5 m" in m for m in mistakes)
+    assert any("between human2 and the robot" in m for m in mistakes)
+    fixed = copy.deepcopy(spec)
+    fixed["criteria"][-1]["distance"] = 2.5
+    fixed["criteria"].append({"id": "c10", "kind": "stl", "text": "the robot reaches 07 before human2",
+                              "formula": "(human2_to_node_07 > 2.0) until (robot_to_node_07 < 1.0)"})
+    mistakes = check(ScenarioReply.model_validate(scenario_reply(spec=fixed, scenario_description=WALKS_ON_BEHIND)))
+    assert not [m for m in mistakes if "lets human1 be up to" in m or "who goes first" in m], mistakes
+
+
+def _valid(model: type[_M], answer: str) -> _M | None:
+    try:
+        return model.model_validate(extract_json(answer))
+    except (ValidationError, ValueError):
+        return None
+
+
+def _findings(path: Path) -> dict[str, list[str]]:
+    """The prose checks' findings on every recorded answer of a fixture (paths answers with its last scenario)."""
+    data = load_yaml_file(path)
+    graph = load_location(ROOT / data["request"]["location"]).graph
+    found: dict[str, list[str]] = {}
+    scenarios = [_valid(ScenarioReply, a) for a in data["stages"]["scenario"]]
+    for i, scenario in enumerate(scenarios):
+        spec = parse_spec(scenario.spec)[0] if scenario is not None else None
+        if scenario is None or spec is None:  # refused as it stands (its JSON or spec): no prose to check
+            continue
+        behaviors = scenario.human_behaviors
+        found[f"scenario[{i}]"] = close_follow_mistakes(spec, behaviors) + \
+            order_mistakes(scenario.scenario_description, behaviors, spec)
+        if i == len(scenarios) - 1:
+            for j, paths in enumerate(_valid(PathsReply, a) for a in data["stages"]["paths"]):
+                found[f"paths[{j}]"] = way_in_mistakes(graph, spec, behaviors, dict(paths.trajectories),
+                                                       dict(paths.encounter_nodes)) if paths else []
+    return {k: v for k, v in found.items() if v}
+
+
+# Every recorded answer of the suite the prose checks refuse, and why that is right.
+REFUSED = {
+    ("home_09_telepresence_grandma_kids_follow", "scenario[0]"): "right behind it, allowed 4.5 m (the eyes: the older "
+    "child stood 12 s by the table, 3.25 m away)",
+    ("warehouse_07_night_patrol_west_corridor", "scenario[0]"): "she walks on behind it, no order criterion (the eyes: "
+    "she walked ahead of it to the door)",
+    ("warehouse_07_night_patrol_west_corridor", "scenario[1]"): "the same text, the same criteria",
+    ("hospital_11_disinfecting_west_corridor", "paths[1]"): "the correction starts human3 in room nt, her text has "
+    "her come from ef (the eyes: she came out of nt)",
+    ("hospital_06_night_wandering_patient", "paths[1]"): "a re-ask answer that reverses the nurse's walk (1g zs i1 "
+    "pf tw, her text: from tw through pf to i1 and on to cs); the replay never reaches it (the first answers verify)",
+}
+
+
+def test_on_the_suites_recorded_answers_the_checks_refuse_only_what_the_text_does_not_say():
+    """The answers behind the three runs the verifier passed and the eyes did not are refused; no answer of a run
+    the eyes accepted is (hospital_06's refused answer is one its run never used)."""
+    refused = {(p.stem, k) for p in sorted(FIXTURES.glob("*.yaml")) for k in _findings(p)}
+    assert refused == set(REFUSED)
+    lenient = {stem for stem, _ in refused if load_yaml_file(FIXTURES / f"{stem}.yaml")["eyes"]["matches"] is False}
+    assert lenient == {"home_09_telepresence_grandma_kids_follow", "warehouse_07_night_patrol_west_corridor",
+                       "hospital_11_disinfecting_west_corridor"}
