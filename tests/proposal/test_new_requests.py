@@ -22,22 +22,10 @@ PATHS = fixture_paths(FIXTURES)
 # they agree, and the pin must go). Empty means they agree on every fixture. Round 11 answers (the fifth session's
 # prompts) and round 13 answers (the seventh session's prompts: four players' sessions, twelve new requests),
 # replayed on the seventh session's code and judged from GIF frames by four sessions that read no code and saw no
-# verdict (round 13 of the eyes). Causes left: specs looser than their prose (a follower "right behind it" allowed
-# 4.5 m, an order of followers or a "walks on behind it" the spec never states: home_09, warehouse_07), a plan whose
-# person starts elsewhere than the text says (hospital_11), and specs that ask more than the eyes did (hospital_05,
-# warehouse_10).
+# verdict (round 13 of the eyes). Causes left: specs that ask more than the eyes did (hospital_05, warehouse_10). (The
+# lenient passes of specs and plans that said less than their prose, home_09, hospital_11 and warehouse_07, are
+# refused by proposal/prose_checks.py: see REFUSED and tests/proposal/test_prose_checks.py.)
 DISAGREE: dict[str, str] = {
-    "home_09_telepresence_grandma_kids_follow": "lenient PASS: the eyes saw the older child (FollowRobot from 0.1 s) "
-    "stand by the dining table ~3-15 s while the robot and his sibling crossed the living room, then follow second "
-    "(the text: first), and neither child inside the bedroom at the end; the spec's follows_robot allows 4.5 m and "
-    "5.5 m (farthest 3.25 m along the way) and states no order",
-    "hospital_11_disinfecting_west_corridor": "lenient PASS: the third encounter is not the text's: human3 starts in "
-    "side room nt (the corrected paths), not at ef as the description still says, and the robot drives up to ck and "
-    "waits in doorway 0a's mouth while she squeezes past ~0.2 m from it; no criterion states where she comes from",
-    "warehouse_07_night_patrol_west_corridor": "lenient PASS: the north-end WAIT / ACKNOWLEDGED happens as written, "
-    "but at ki the robot stands at the aisle mouth while the second worker passes it at ~0.4 m and walks ahead of it "
-    "to the door (the text: it drives on west clear of her, she walks on behind it); no criterion states who goes on "
-    "first",
     "hospital_05_elevator_at_visiting_hour": "strict FAIL: the eyes saw the robot stop ~2 m before 1g for the visitor "
     "with the cane and let the couple out of the elevator and past it before boarding; the spec's stl 'the robot does "
     "not drive up to the elevator door until the first visitor has left the lobby through the double doors' asks more "
@@ -52,6 +40,12 @@ DISAGREE: dict[str, str] = {
 # Fixtures whose recorded answers never pass a stage (a stage check refuses them, or the recording ends where the
 # pipeline now asks what the live run was never asked), each with why: the replay stops at that stage.
 REFUSED: dict[str, str] = {
+    "home_09_telepresence_grandma_kids_follow": "scenario: the text has the older child right behind the robot and "
+    "its follows_robot allows 4.5 m (the eyes: he stood 12 s by the table, 3.25 m away, and passed); stage 1 is asked "
+    "for at most the close-follow gap (prose_checks), and the recording has no answer for it",
+    "warehouse_07_night_patrol_west_corridor": "scenario: the text has the second worker walk on behind the robot "
+    "and no criterion about her can see who goes first (the eyes: she walked ahead of it to the door); stage 1 is "
+    "asked for one (prose_checks), and the recording has no answer for it",
     "hospital_10_meal_tray_family_in_doorway": "paths: live, stage 2 was asked 12 times to put the family's meeting "
     "3 m from the robot's start, a distance only stage 1's meets criterion decides (the run ended in error); the "
     "pipeline now sends that cause to stage 1 after stage 2's second answer, and the recording has no stage-1 answer "

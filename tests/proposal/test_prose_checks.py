@@ -219,3 +219,28 @@ def test_on_the_suites_recorded_answers_the_checks_refuse_only_what_the_text_doe
     lenient = {stem for stem, _ in refused if load_yaml_file(FIXTURES / f"{stem}.yaml")["eyes"]["matches"] is False}
     assert lenient == {"home_09_telepresence_grandma_kids_follow", "warehouse_07_night_patrol_west_corridor",
                        "hospital_11_disinfecting_west_corridor"}
+
+
+def test_a_plan_that_cannot_bring_a_person_in_the_texts_way_sends_stage_1_to_change_the_text(tmp_path, mini_location):
+    """hospital_11 on the mini map: the text has human1 come from d9 through ch, stage 2 brings her from 07 and says
+    twice that it cannot do otherwise; stage 1 is asked where she comes from, its new text has her come from 07,
+    and the same paths are then valid."""
+    from gen_helpers import run_replay, tree_reply, write_script
+
+    def scenario(behavior: str) -> dict:
+        return scenario_reply(n=1, human_behaviors={"human1": behavior}, spec=spec_for(1))
+
+    paths = paths_reply(trajectories={"robot": ["32", "ch", "11", "07"], "human1": ["07", "11", "ch"]},
+                        interaction_points={"human1": "11"}, group_ids={"human1": -1})
+    cannot = {**paths, "reasoning": "She cannot come from d9: the robot comes that way; she must come from 07."}
+    script = write_script(tmp_path / "s.yaml", {
+        "scenario": [scenario("Worker 1 comes from d9 through ch to the blind corner 11 and stops for the robot."),
+                     scenario("Worker 1 comes from the corner 07 to the blind corner 11 and stops for the robot.")],
+        "paths": [paths, cannot, paths], "behaviors": {"human1": [tree_reply()]}})
+    run, llm = run_replay(script, mini_location, tmp_path / "run")
+    assert [s for s, _, _ in llm.calls] == ["scenario", "paths", "paths", "scenario", "paths", "behaviors"]
+    told = [m for s, _, m in llm.calls if s == "paths"][1][-1].content
+    assert "come to 11 (encounter e1) from d9, ch, but human1's path comes into 11 from 07" in told
+    to_stage1 = [m for s, _, m in llm.calls if s == "scenario"][1][-1].content
+    assert "where human1 comes from" in to_stage1 and "she must come from 07" in to_stage1
+    assert "07" in run.scenario.human_behaviors["human1"]
