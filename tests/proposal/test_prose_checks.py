@@ -244,3 +244,10 @@ def test_a_plan_that_cannot_bring_a_person_in_the_texts_way_sends_stage_1_to_cha
     to_stage1 = [m for s, _, m in llm.calls if s == "scenario"][1][-1].content
     assert "where human1 comes from" in to_stage1 and "she must come from 07" in to_stage1
     assert "07" in run.scenario.human_behaviors["human1"]
+
+
+def test_the_order_example_warns_of_a_node_the_robot_passes_on_the_way_out():
+    """warehouse_07's route sk up ... ki up: "(human2_to_node_up > 2.0) until (robot_to_node_up < 1.0)" holds at
+    1.9 s, when the robot first passes up on its way out, so the example says which node N is."""
+    mistakes = order_mistakes(WALKS_ON_BEHIND, {}, ScenarioSpec.model_validate(spec_for(2)))
+    assert "reaches only once, after the encounter" in mistakes[0] and "round trip" in mistakes[0]

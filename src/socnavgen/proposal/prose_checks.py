@@ -137,9 +137,10 @@ def order_mistakes(description: str, behaviors: dict[str, str], spec: ScenarioSp
             f"the text says who goes first between {human} and the robot ('{words}': \"{quote}\"), but no criterion "
             f"about {human} can see that order (meets, stops_near_robot and says pass whoever goes first); add one "
             f"that states it, e.g. an stl criterion such as \"({human}_to_node_N > 2.0) until (robot_to_node_N < "
-            f"1.0)\" (the robot reaches node N, a node id of its route, before {human} comes near it; swap the two "
-            f"for {human} first), or follows_robot / gives_way where that is what {human} does; or drop the order "
-            f"from the text if it does not matter")
+            f"1.0)\" (the robot reaches node N before {human} comes near it; swap the two for {human} first; N: a "
+            f"node id of the robot's route that it reaches only once, after the encounter: never its start, nor a node "
+            f"a round trip passes on the way out, where it would hold at once), or follows_robot / gives_way where "
+            f"that is what {human} does; or drop the order from the text if it does not matter")
     return mistakes
 
 
