@@ -47,5 +47,6 @@ def never_near_start(cc: Compiled, s: Signals, h: str) -> Verdict | None:
     if there.any():
         return None
     node = cc.encounter.node or cc.encounter.id
-    heard = f" within {cc.seconds or 0.0:g} s after the robot said {cc.phrase.replace('_', ' ').upper()}"
-    return "paths", None, f"{h} was never near {node}{heard if cc.phrase else ''}: the following must start there"
+    heard = (f" within {cc.seconds or 0.0:g} s after the robot said {cc.phrase.replace('_', ' ').upper()}"
+             if cc.phrase else "")
+    return "paths", None, f"{h} was never near {node}{heard}: the following must start there"
