@@ -78,7 +78,7 @@ from socnavgen.bodies import (
 from socnavgen.run.models import PathPlan
 from socnavgen.run.spec import Blame, Criterion, ScenarioSpec
 from socnavgen.verify.blame_end import goal_taken, standing_at_end
-from socnavgen.verify.blame_follow import blame_follower
+from socnavgen.verify.blame_follow import blame_follower, never_near_start
 from socnavgen.verify.blame_timing import ended_at_once, window_closed_early
 from socnavgen.verify.criteria import Compiled
 from socnavgen.verify.evidence import deadlock_culprit, in_window, met_mask, stayed_off_place, way_cause
@@ -429,15 +429,8 @@ def _missing_cause(cc: Compiled, s: Signals, h: str) -> Verdict | None:
         who = " or ".join((h, *cc.together))
         return "paths", None, (f"{who} was never in the robot's way within {d:g} m" + (" in this encounter"
                                if cc.window else "") + ": nothing to give way to; make their paths meet head-on")
-    if kind in ("follows_robot", "follows_human") and cc.encounter is not None:
-        there = s.get(f"{h}_to_{cc.encounter.id}") <= cc.encounter.within + (cc.distance or 0.0)
-        if cc.phrase:
-            there &= s.get(f"robot_says_{cc.phrase}") > 0.5
-        if not there.any():
-            node = cc.encounter.node or cc.encounter.id
-            return "paths", None, (f"{h} was never near {node}"
-                                   + (f" while the robot said {cc.phrase.replace('_', ' ').upper()}" if cc.phrase
-                                      else "") + ": the following must start there")
+    if kind in ("follows_robot", "follows_human") and (never := never_near_start(cc, s, h)):
+        return never
     if kind == "stops_near_robot" and not (s.get(f"closer_{h}") >= APPROACH).any():
         return "paths", None, f"the robot never came closer to {h} than where they started"
     return _cue_never_held(cc, s, h)

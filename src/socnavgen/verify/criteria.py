@@ -262,11 +262,13 @@ def _follows(c: Criterion, ctx: Context, out: Compiled) -> None:
     way = f"way_{h}" if o == "robot" else f"way_{h}_{o}"
     # following a person: both walk at once (two standing side by side follow no one); the robot drives anyway
     walks = f"(speed_{h} > {WALK_SPEED:g})" if o == "robot" else f"((speed_{h} > {WALK_SPEED:g}) and (speed_{o} > {WALK_SPEED:g}))"
-    follow = f"((always ({way} <= {d:g})) and (eventually {walks}))"
     enc = out.encounter
-    there = f" and ({h}_to_{enc.id} <= {enc.within + d:g})" if enc is not None else ""  # h near its place then
-    out.formula = (f"eventually ({_b(f'robot_says_{p}')}{there} and (eventually[0:{s:g}] {follow}))" if p
-                   else f"eventually ({follow}{there})")
+    # following starts at its place: h is near it when it begins to follow (after the phrase: within S s of it,
+    # so a group called from across the room walks up and falls in; the robot's phrase is heard anywhere)
+    there = f"({h}_to_{enc.id} <= {enc.within + d:g}) and " if enc is not None else ""
+    follow = f"({there}(always ({way} <= {d:g})) and (eventually {walks}))"
+    out.formula = (f"eventually ({_b(f'robot_says_{p}')} and (eventually[0:{s:g}] {follow}))" if p
+                   else f"eventually {follow}")
 
 
 def notice_range(distance: float) -> float:
@@ -377,10 +379,10 @@ CRITERION_KINDS: dict[str, CriterionKind] = {k.name: k for k in (
                   "h (or one giving way together with h) was in the robot's way and h moved out of it itself"
                   + _IN_WINDOW,
                   _gives_way),
-    CriterionKind("follows_robot", "eventually (robot_says_P and h_to_e <= W + D and eventually[0:S] ((always "
-                  "way_h <= D) and eventually speed_h > 0.3))  (no P: eventually (... and h_to_e <= W + D))",
-                  "after the phrase, said with h near its place, within D along the walkable way to the end, "
-                  "walking",
+    CriterionKind("follows_robot", "eventually (robot_says_P and eventually[0:S] (h_to_e <= W + D and (always "
+                  "way_h <= D) and eventually speed_h > 0.3))  (no P: eventually (h_to_e <= W + D and ...))",
+                  "within S s after the phrase, from near its place on, within D along the walkable way to the "
+                  "end, walking",
                   _follows),
     CriterionKind("follows_human", "follows_robot's formula with way_h_o (o: whom h's follow_human reaction "
                   "follows, its `other`) for way_h, and eventually (speed_h > 0.3 and speed_o > 0.3)",
