@@ -173,3 +173,21 @@ def test_a_run_ending_with_someone_in_the_way_names_them() -> None:
     cc = compile_criterion(Criterion(id="g", kind="robot_reaches_goal", text="t"), spec, VerifySettings(), 0.3)
     blame, _, reason = blame_criterion(cc, _signals(short), spec, None, 10.0)
     assert blame == "spec" and "human1" in reason and "node b" in reason, reason
+
+
+def test_a_robot_edging_about_at_the_timeout_was_stuck_not_slow() -> None:
+    """hospital_10 (round 14): the robot edged about 0.4 m from a junction for its last 100 s, a family of four
+    round it but none in its way by the verifier's notion; told "its route takes longer than the run" (the route
+    was 19 s of a 120 s run). Stuck for its last 20 s with people beside it: the reason says so and names them."""
+    from socnavgen.run.spec import Criterion
+
+    t = np.arange(0, 30.0 + 1e-9, 0.5)
+    x = np.interp(t, [0.0, 10.0], [0.0, 3.0]) + np.where(t > 10.0, 0.1 * np.sin(t), 0.0)
+    people = np.stack([np.tile([[3.5, 4.2]], (len(t), 1)), np.tile([[4.8, 2.0]], (len(t), 1))], 1)
+    trace = build_trace(t, np.stack([x, np.full_like(t, 3.0)], 1), people, goal=(20.0, 3.0), end_reason="timeout")
+    trace.robot_waypoints = [(0.0, 3.0), (20.0, 3.0)]
+    spec = ScenarioSpec()
+    cc = compile_criterion(Criterion(id="g", kind="robot_reaches_goal", text="t"), spec, VerifySettings(), 0.3)
+    blame, _, reason = blame_criterion(cc, Signals(trace, goal_radius=0.3), spec, None, 10.0)
+    assert "no progress along its route for its last 20 s" in reason and "still on its way" not in reason, reason
+    assert "human1" in reason and "human2" in reason, reason

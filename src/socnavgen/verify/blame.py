@@ -77,7 +77,7 @@ from socnavgen.bodies import (
 )
 from socnavgen.run.models import PathPlan
 from socnavgen.run.spec import Blame, Criterion, ScenarioSpec
-from socnavgen.verify.blame_end import goal_taken, standing_at_end
+from socnavgen.verify.blame_end import goal_taken, no_progress_at_end, standing_at_end
 from socnavgen.verify.blame_follow import blame_follower, never_near_start
 from socnavgen.verify.blame_timing import ended_at_once, window_closed_early
 from socnavgen.verify.criteria import Compiled
@@ -319,6 +319,9 @@ def _short_of_goal(s: Signals) -> str:
     left = max(total - float(s.route()[0][-1]), 0.0) if total else float(s.get("robot_to_goal")[-1])
     stalled = float(s.get("stalled")[-1])
     where = f"{left:.1f} m of its route left{_where_robot(s)}"
+    stuck = no_progress_at_end(s, where)
+    if stuck:
+        return stuck
     if stalled < 1.0 and s.trace.end_reason == "timeout":
         return (f"the robot was still on its way when the simulation ended at t={s.t[-1]:.0f} s ({where}), nobody "
                 "holding it up: its route takes longer than the run; make it shorter (or the robot faster)")

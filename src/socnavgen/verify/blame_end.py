@@ -8,6 +8,9 @@ docs/verify.md's table):
   and none that set it going again): the trace's cue log (meta `script_cues_fired`) says which  -> robot_script
 - R5 ... with no cue holding it (the log says so): the robot failed to progress on its own, the simulator's
   navigation; no stage can fix it (report it)                                                       -> simulator
+- R2's reason when the run timed out with the robot moving but getting nowhere (no_progress_at_end): it was not
+  "still on its way" (hospital_10 of round 14: 100 s edging about 0.4 m from a junction with a family of four
+  round it was told "its route takes longer than the run")
 """
 
 from __future__ import annotations
@@ -20,7 +23,7 @@ from socnavgen.run.spec import Blame, RobotCue, ScenarioSpec
 from socnavgen.sim.people.spots import REACH, RING_STEP, RINGS
 from socnavgen.sim.robot.script import describe
 from socnavgen.verify.signals import Signals
-from socnavgen.verify.thresholds import STILL_SPEED
+from socnavgen.verify.thresholds import PROGRESS_STEP, STILL_SPEED
 
 Verdict = tuple[Blame, str | None, str]
 
@@ -143,3 +146,27 @@ def _where(s: Signals) -> str:
              if n.startswith("node_")]
     parts = [f"{left:.1f} m from its goal" if left is not None else "", f"nearest node {min(nodes)[1]}" if nodes else ""]
     return ", ".join(p for p in parts if p) or "short of its goal"
+
+
+STUCK_AT_END = 10.0  # s without PROGRESS_STEP of progress along its route: a robot at the timeout was stuck, not slow
+
+
+def no_progress_at_end(s: Signals, where: str) -> str | None:
+    """Rule R2's reason for a robot that timed out getting nowhere for its last STUCK_AT_END s or more: how long,
+    and who stood within proxemics.HELD_UP_DISTANCE of it then (not in its way by the verifier's notion: round it,
+    where it must pass)."""
+    progress = s.get("progress")
+    if s.trace.end_reason != "timeout" or progress.size == 0:
+        return None
+    since = int(np.argmax(progress >= progress[-1] - PROGRESS_STEP))
+    idle = float(s.t[-1] - s.t[since])
+    if idle < STUCK_AT_END:
+        return None
+    gaps = s.gaps()[-1]
+    near = [s.trace.human_names[i] for i in np.argsort(gaps) if s.distances()[-1, i] <= proxemics.HELD_UP_DISTANCE]
+    fact = f"the robot made no progress along its route for its last {idle:.0f} s ({where})"
+    if near:
+        return (f"{fact}, with {', '.join(near)} within {proxemics.HELD_UP_DISTANCE:g} m of it, beside its way: "
+                "people stand where it must pass; have them step aside to a wider place, or end their reaction "
+                "farther from the robot's route, or route the robot round them")
+    return f"{fact}, nobody near it: its route does not get it through there (check the route's nodes)"
