@@ -126,3 +126,12 @@ def test_the_robot_standing_still_is_seen_and_a_stutter_is_not() -> None:
     assert still[(T > 4.3) & (T < 11.9)].all() and not still[T < 3.9].any()
     assert s.get("stalled")[-1] == pytest.approx(12.0 - 4.0, abs=PERCEIVED_SECONDS / 2)  # stood the last 8 s
     assert np.linalg.norm(s.trace.robot[(T > 2.0) & (T < 2.15), 3:5], axis=1).max() < 0.05  # the hitch is in the trace
+
+
+def test_a_robot_pausing_half_a_second_is_seen_standing() -> None:
+    """warehouse_08: the robot brakes from 0.4 m/s in 0.15 s, stands 0.45 s saying EXCUSE ME, and creeps on; the
+    eyes saw it stop before the group. A rule that drops every change shorter than the window would not see it."""
+    v = np.interp(T, [0.0, 3.0, 3.15, 3.6, 4.0, 12.0], [0.4, 0.4, 0.0, 0.0, 0.4, 0.4])
+    s = _trace(np.zeros(len(T)), np.concatenate([[0.0], np.cumsum(v[:-1] * DT)]))
+    still = s.get("robot_still") > 0.5
+    assert still.any() and not still[(T < 2.8) | (T > 4.2)].any()
