@@ -5,8 +5,8 @@ walking reactions, the stop and standoff criteria, blame's "who was moving").
 A person watching sees how far a body gets over about a step, not its speed at one 0.05 s sample: the speed seen
 at a step is the mean speed over the thresholds.PERCEIVED_SECONDS centred on it (the ends of the trace: over the
 part of that window inside it). So a slow step while bending round someone is no stop (warehouse_10 of the
-new-request suite: slowing from 0.75 m/s to 0.09 m/s and back, under 0.2 m/s for 0.25 s, is seen at 0.27 m/s at least; "the file walks past without
-stopping"), a robot edging forward in short bursts between pauses is seen creeping, nearly standing, as the eyes
+new-request suite: slowing from 0.75 m/s to 0.09 m/s and back, under 0.2 m/s for 0.25 s, is seen at 0.27 m/s at
+least; "the file walks past without stopping"), a robot edging forward in short bursts between pauses is seen creeping, nearly standing, as the eyes
 saw it (warehouse_09), and a robot that stops for half a second is seen standing (warehouse_08). A standstill of
 a second is seen as one: it fails "keeps walking" whatever the speed around it, and it is seen standing for its
 length less the window (the walk before and after it shows at its ends): `seen_hold`, what the stop criteria and
