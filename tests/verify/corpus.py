@@ -304,6 +304,13 @@ def _crit(spec: ScenarioSpec, cid: str, **update) -> ScenarioSpec:  # noqa: ANN0
     return spec.model_copy(update={"criteria": crits})
 
 
+def _walks_on(spec: ScenarioSpec) -> ScenarioSpec:
+    """c12: human1 walks down the north leg without stopping (until the robot asks it to make way)."""
+    walks = Criterion(id="c12", kind="stl", formula="always (((robot_said_excuse_me < 0.5) and (human1_to_node_north > "
+                      "1.0) and (human1_to_node_north < 3.5)) implies (speed_human1 > 0.3))")
+    return spec.model_copy(update={"criteria": [*spec.criteria, walks]})
+
+
 def _robot(scene: Scene, keys: list[Key], says=None) -> Scene:  # noqa: ANN001
     return replace(scene, robot=keys, robot_says=scene.robot_says if says is None else says)
 
@@ -428,6 +435,14 @@ CASES: list[Case] = [
     Case("people_start_on_one_spot", passes=False, failing="people_apart", blame="paths",
          scene=lambda s: replace(s, follow={"human2": s.follow["human2"], "human3": (1.2, 1.2)},
                                  humans={**s.humans, "human3": [(0.0, 0.775, 1.2)]})),
+    # a person who "walks on" and slows for one step (0.1 m/s for 0.3 s, bending round something: warehouse_10 of the
+    # new-request suite) walked on: a change of speed shorter than PERCEIVED_SECONDS is not seen ...
+    Case("slow_step_is_no_stop", passes=True, spec=lambda sp: _walks_on(sp),
+         scene=lambda s: _h1(s, [(0.0, 6.3, 5.2), (2.0, 6.3, 4.0), (2.3, 6.3, 3.97), *s.humans["human1"][1:]])),
+    # ... a standstill of a second on the way is a stop
+    Case("stops_for_a_second", passes=False, failing="c12", blame="paths",  # rule U1: a formula of speeds and places
+         spec=lambda sp: _walks_on(sp),
+         scene=lambda s: _h1(s, [(0.0, 6.3, 5.2), (2.0, 6.3, 4.0), (3.0, 6.3, 4.0), *s.humans["human1"][1:]])),
     Case("legacy_met_too_far", passes=False, failing="robot meets human1", blame="paths", spec=None,
          scene=lambda s: _robot(s, [(0.0, *DOCK), (3.0, 3.775, 1.525), (8.5, 3.775, 1.525), (18.1, *EAST),
                                     (20.0, *EAST)])),

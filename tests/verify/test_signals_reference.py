@@ -14,6 +14,7 @@ from socnavgen.sim import contact
 from socnavgen.verify import signals as signals_module
 from socnavgen.verify.route import TIE
 from socnavgen.verify.signals import Signals
+from socnavgen.verify.thresholds import PERCEIVED_SECONDS
 
 from .verify_builders import build_trace
 
@@ -38,6 +39,13 @@ def test_runlength_equals_the_loop(dt: float) -> None:
     assert signals_module._runlength(np.ones(2000, bool), 0.05)[-1] != 2000 * 0.05  # a running sum drifts from n * dt
 
 
+def perceived_loop(speed: np.ndarray, dt: float) -> np.ndarray:
+    """verify/perceived.py's rule written out: the mean over the steps within PERCEIVED_SECONDS / 2 of each step
+    (as many whole steps of dt as fit on each side), the window cut at the ends of the trace."""
+    half = int(np.floor(PERCEIVED_SECONDS / dt / 2 + 1e-9))
+    return np.array([np.mean(speed[max(k - half, 0):k + half + 1]) for k in range(len(speed))])
+
+
 def wandering(steps: int, humans: int, seed: int):  # noqa: ANN201 - a Trace
     rng = np.random.default_rng(seed)
     t = np.arange(steps) * 0.1
@@ -56,11 +64,14 @@ def test_shared_geometry_equals_the_formulas(steps: int, humans: int) -> None:
     assert np.array_equal(contact.centre_distances(pr, pa), distances)
     assert np.array_equal(s.distances(), distances)
     assert np.array_equal(s.gaps(), distances - (trace.robot_radius + trace.human_radii.reshape(1, -1)))
-    assert np.array_equal(s.speed("robot"), np.linalg.norm(trace.robot[:, 3:5], axis=1))
+    assert np.allclose(s.speed("robot"), perceived_loop(np.linalg.norm(trace.robot[:, 3:5], axis=1), 0.1), rtol=0,
+                       atol=1e-12)
     yaw = trace.robot[:, 2]
     blocked = np.zeros(steps, bool)
     for i, name in enumerate(trace.human_names):
-        assert np.array_equal(s.speed(name), np.linalg.norm(trace.humans[:, i, 3:5], axis=1))
+        raw = np.linalg.norm(trace.humans[:, i, 3:5], axis=1)
+        assert np.allclose(s.speed(name), perceived_loop(raw, 0.1), rtol=0, atol=1e-12)
+        assert steps < 10 or not np.array_equal(s.speed(name), raw)  # the rule changes something
         rel = trace.humans[:, i, :2] - trace.robot[:, :2]
         along = rel[:, 0] * np.cos(yaw) + rel[:, 1] * np.sin(yaw)
         lateral = np.abs(-rel[:, 0] * np.sin(yaw) + rel[:, 1] * np.cos(yaw))
@@ -115,14 +126,14 @@ def test_stalled_and_deadlock_signals_match_the_loop() -> None:
     trace.robot[100:180, 3:5] = 0.0  # the robot stands still for 8 s
     trace.robot_waypoints = [tuple(trace.robot[k, :2] + 0.3) for k in (0, 60, 150, 299)]  # roughly where it wanders
     s = Signals(trace)
-    still = np.linalg.norm(trace.robot[:, 3:5], axis=1) < signals_module.STILL_SPEED
+    still = perceived_loop(np.linalg.norm(trace.robot[:, 3:5], axis=1), 0.1) < signals_module.STILL_SPEED
     assert np.array_equal(s.get("stalled"), runlength_loop(still, 0.1))
     progress = progress_loop(trace.robot[:, :2], np.asarray(trace.robot_waypoints))
     assert np.allclose(s.route()[0], progress, rtol=0, atol=1e-12)
     stuck = no_progress_loop(progress, signals_module.PROGRESS_STEP)
     assert stuck.any() and not stuck.all()
     assert np.array_equal(s.get("deadlock"), runlength_loop(stuck & s.blocked(), 0.1))
-    assert s.get("stalled").max() == pytest.approx(8.0)
+    assert s.get("stalled").max() == pytest.approx(8.0 - 0.4)  # seen standing: less the window (2 steps each side)
 
 
 def test_a_robot_jittering_in_place_is_deadlocked_and_one_driving_on_is_not() -> None:

@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 from socnavgen.bodies import CONTACT_MARGIN
 from socnavgen.run.spec import Criterion, Encounter, HumanPart, ScenarioSpec
 from socnavgen.verify.models import VerifySettings
+from socnavgen.verify.perceived import seen_hold
 from socnavgen.verify.signals import phrase_id
 from socnavgen.verify.stl import FormulaError
 from socnavgen.verify.thresholds import (
@@ -64,6 +65,7 @@ class Context:
     spec: ScenarioSpec
     settings: VerifySettings
     goal_radius: float
+    dt: float | None = None  # the trace's step: how long a stop is seen standing on it (perceived.seen_hold)
 
 
 def _b(name: str) -> str:
@@ -156,7 +158,7 @@ def _stops_near_robot(c: Criterion, ctx: Context, out: Compiled) -> None:
     front = f"({_b(f'ahead_{h}')} or {_b(f'inway_{h}')})"
     out.formula = (f"eventually ({_in_window(out)}(dist_{h} <= {notice:g}) and (closer_{h} >= {APPROACH:g}) and "
                    f"(eventually[0:{s:g}] "
-                   f"(always[0:{STOP_HOLD:g}] ((dist_{h} <= {d:g}) and {front} and "
+                   f"(always[0:{seen_hold(STOP_HOLD, ctx.dt):g}] ((dist_{h} <= {d:g}) and {front} and "
                    f"(speed_{h} <= {STOP_SPEED:g})))))")
 
 
@@ -318,7 +320,7 @@ def _keeps_away(c: Criterion, ctx: Context, out: Compiled) -> None:
 def _blocks_robot(c: Criterion, ctx: Context, out: Compiled) -> None:
     h = _need_human(c)
     d = out.distance = c.distance or KIND_DISTANCE[c.kind]
-    out.formula = (f"eventually (always[0:{STOP_HOLD:g}] ({_b(f'inway_{h}')} and (dist_{h} <= {d:g}) and "
+    out.formula = (f"eventually (always[0:{seen_hold(STOP_HOLD, ctx.dt):g}] ({_b(f'inway_{h}')} and (dist_{h} <= {d:g}) and "
                    f"(speed_{h} <= {STOP_SPEED:g}) and {_b('robot_still')}))")
 
 
@@ -365,8 +367,9 @@ CRITERION_KINDS: dict[str, CriterionKind] = {k.name: k for k in (
                   "((dist_h > D) and once met(h, e_before))))", "an approach at the place, its own meeting",
                   _meets),
     CriterionKind("stops_near_robot", "eventually ((dist_h <= max(D + 1, 3)) and (closer_h >= A) and "
-                  "eventually[0:S] always[0:1] (dist_h <= D and (ahead_h or inway_h) and speed_h <= 0.1))",
-                  "the robot came near (they approached), then h stood still 1 s in front of it (facing it, or in "
+                  "eventually[0:S] always[0:0.5] (dist_h <= D and (ahead_h or inway_h) and speed_h <= 0.1))",
+                  "the robot came near (they approached), then h stood still 1 s in front of it (seen standing 0.5 s: "
+                  "speeds are as seen, verify/perceived.py; facing it, or in "
                   "its way)" + _IN_WINDOW,
                   _stops_near_robot),
     CriterionKind("reacts_after_phrase", "eventually (not robot_says_P and always[0:H] not react_h_R and "
@@ -397,7 +400,7 @@ CRITERION_KINDS: dict[str, CriterionKind] = {k.name: k for k in (
                   "the phrase shown", _says),
     CriterionKind("keeps_away", "eventually noticed and always (once noticed implies dist_h >= D), noticed = "
                   "los_h and dist_h <= max(5, D + 2)", "h must have seen the robot first", _keeps_away),
-    CriterionKind("blocks_robot", "eventually always[0:1] (inway_h and dist_h <= D and speed_h <= 0.1 and "
+    CriterionKind("blocks_robot", "eventually always[0:0.5] (inway_h and dist_h <= D and speed_h <= 0.1 and "
                   "robot_still)", "a real 1 s standoff", _blocks_robot),
     CriterionKind("robot_reaches_goal", "eventually ((robot_to_goal <= D or short_of_goal) and route_done)",
                   "always judged; a round trip's goal counts on the way back", _robot_reaches_goal),
@@ -412,13 +415,13 @@ CRITERION_KINDS: dict[str, CriterionKind] = {k.name: k for k in (
 
 
 def compile_criterion(c: Criterion, spec: ScenarioSpec, settings: VerifySettings,
-                      goal_radius: float) -> Compiled:
-    """The STL formula of one criterion (FormulaError when the criterion is incomplete)."""
+                      goal_radius: float, dt: float | None = None) -> Compiled:
+    """The STL formula of one criterion (FormulaError when the criterion is incomplete), for a trace of step `dt`."""
     enc, part = encounter_of(c, spec)
     out = Compiled(criterion=c, formula="", human=c.human, encounter=enc, part=part,
                    window=window_name(spec, c.human, enc) if c.kind in WINDOWED else None)
     kind = CRITERION_KINDS.get(c.kind)
     if kind is None:  # pragma: no cover - the Literal of spec.py lists every kind (tested against the registry)
         raise FormulaError(f"criterion {c.id}: unknown kind {c.kind!r}")
-    kind.build(c, Context(spec=spec, settings=settings, goal_radius=goal_radius), out)
+    kind.build(c, Context(spec=spec, settings=settings, goal_radius=goal_radius, dt=dt), out)
     return out

@@ -48,16 +48,17 @@ class Prepared:
     plan: PathPlan
     location: Any
     derived: bool = False  # no spec.json: criteria derived from the paths and the card
-    _compiled: dict[tuple[int, float], Compiled | FormulaError] = field(default_factory=dict)
+    _compiled: dict[tuple[int, float, float | None], Compiled | FormulaError] = field(default_factory=dict)
     _problems: dict[int, str | None] = field(default_factory=dict)
     _goal: tuple[float, float] | None = None
 
-    def compiled(self, k: int, settings: VerifySettings, goal_radius: float) -> Compiled:
-        """compile_criterion of the k-th judged criterion (FormulaError when it cannot be compiled)."""
-        key = (k, goal_radius)
+    def compiled(self, k: int, settings: VerifySettings, goal_radius: float, dt: float | None = None) -> Compiled:
+        """compile_criterion of the k-th judged criterion for a trace of step `dt` (FormulaError when it cannot be
+        compiled)."""
+        key = (k, goal_radius, dt)
         if key not in self._compiled:
             try:
-                self._compiled[key] = compile_criterion(self.judged[k][0], self.used, settings, goal_radius)
+                self._compiled[key] = compile_criterion(self.judged[k][0], self.used, settings, goal_radius, dt)
             except FormulaError as exc:
                 self._compiled[key] = exc
         found = self._compiled[key]
@@ -103,8 +104,9 @@ def judge_criterion(c: Criterion, source: Source, spec: ScenarioSpec, plan: Path
     base = Finding(name=_title(c), kind=c.kind, passed=False, evidence="", human=c.human, source=source,
                    criterion=c.id, required=not (c.kind == "no_collision" and not settings.collisions_fail))
     try:
-        cc: Compiled = prepared.compiled(index, settings, goal_radius) if prepared is not None else \
-            compile_criterion(c, spec, settings, goal_radius)
+        dt = signals.trace.dt
+        cc: Compiled = prepared.compiled(index, settings, goal_radius, dt) if prepared is not None else \
+            compile_criterion(c, spec, settings, goal_radius, dt)
         base.formula = cc.formula
         verdict = monitor(cc.formula, signals)
     except FormulaError as exc:

@@ -29,6 +29,7 @@ from socnavgen.verify.passing import (  # aside: re-exported (its home is verify
     kept_aside,
     parted_for_robot,
 )
+from socnavgen.verify.perceived import perceived, seen_hold
 from socnavgen.verify.route import ahead_on_route, leg_left, progress_events, route_progress
 from socnavgen.verify.thresholds import (
     AHEAD_HALF_ANGLE,
@@ -44,7 +45,7 @@ from socnavgen.verify.thresholds import (
 
 # Reactions judged by what the human physically does rather than by the nodes that implement them
 # (bt.library.REACTION_NODES is the one home of those): stopping is standing still STOP_HOLD s after having walked
-# (a one-step dip in speed while turning is no stop),
+# (seen standing that long less the window speeds are seen over: verify/perceived.py; a slow step is no stop),
 # saying is showing a gesture, giving way is being out of the robot's way having moved off its route (`aside`: a
 # GiveWaytoRobot node that ran while the body stayed in the way is no giving way). Every other reaction counts
 # on the steps one of its nodes executes.
@@ -161,10 +162,11 @@ class Signals:
         return self.trace.humans[:, self.human(who), :2]
 
     def speed(self, who: str) -> np.ndarray:
+        """(T,) speed as a person watching sees it (verify/perceived.py): every moving / stopping judgement reads it."""
         def build() -> np.ndarray:
             state = self.trace.robot if who == "robot" else self.trace.humans[:, self.human(who)]
             vx, vy = state[:, VX], state[:, VY]
-            return np.sqrt(vx * vx + vy * vy)  # np.linalg.norm(state[:, VX:VY + 1], axis=1), bit for bit
+            return perceived(np.sqrt(vx * vx + vy * vy), self.trace.dt)  # np.linalg.norm(state[:, VX:VY + 1], axis=1)
 
         return self._keep(("speed", who), build)
 
@@ -448,7 +450,8 @@ def reaction_evidence(s: Signals, human: str, reaction: str, says: str | None = 
     else executing one of its bt.library.REACTION_NODES actions."""
     i = s.human(human)
     if reaction in ("stop", "wait_then_go"):
-        return lasting((s.speed(human) < STOP_SPEED) & (moved(s, human) > 0.5), STOP_HOLD, s.trace.dt)
+        hold = seen_hold(STOP_HOLD, s.trace.dt)
+        return lasting((s.speed(human) < STOP_SPEED) & (moved(s, human) > 0.5), hold, s.trace.dt)
     if reaction == "give_way":
         return s.get(f"aside_{human}") > 0.5
     if reaction == "say":

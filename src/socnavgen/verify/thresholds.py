@@ -26,6 +26,8 @@ PROGRESS_STEP = 0.25  # m of new progress along its route that restarts the robo
 NOTICE_RANGE = 5.0  # m: a person notices a visible robot this close (keeps_away)
 STOP_NOTICE_RANGE = 3.0  # m: stops_near_robot's cause: the person walked while the robot was this close (at least)
 STOP_HOLD = 1.0  # s: a stop lasts at least this long
+PERCEIVED_SECONDS = 0.5  # s: a person sees the mean speed over this window (about a step): verify/perceived.py; a
+#                          standstill of STOP_HOLD is seen standing STOP_HOLD less the window (perceived.seen_hold)
 WAIT_MARGIN = 5.0  # s a scripted wait may overrun before it counts as a deadlock
 DEFAULT_GOAL_RADIUS = 0.5  # m, when neither the settings nor the trace give one
 MIN_RUN_SECONDS = 1.0  # s: a run shorter than this ended before anything could happen
