@@ -4,10 +4,12 @@ acceptance campaign's episodes, against 60 % for the deliberately rude robot).""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
+import pytest
 
 from socnavgen.bodies import COMFORT_DECELERATION, CONTACT_MARGIN
-from socnavgen.sim import empty_room
 from socnavgen.sim.behaviour_checks import ExpectedCheck, Situation, smooth_braking
 from socnavgen.sim.robot.api import ScriptedPolicy
 from tests.sim.simhelpers import REGULAR, human, make_sim, tree_xml
@@ -39,11 +41,24 @@ def test_robot_meeting_a_walker_head_on_or_a_person_standing_brakes_comfortably(
         assert smooth and top <= COMFORT_DECELERATION + 1e-6, (name, top)
 
 
-def test_robot_brakes_hard_when_someone_steps_out_right_in_front_of_it():
-    # a person steps out of a door in a wall 0.5 m beside the robot's line just as it comes by: a comfortable stop
-    # would take it into them; it brakes harder and touches nobody
-    world = empty_room(20.0, 10.0, walls=[(0.0, 5.9, 9.5, 6.1), (10.5, 5.9, 20.0, 6.1)])
-    person = human(start=(10.0, 7.0), goals=[(10.0, 2.0)], start_delay=10.0)
-    trace = make_sim([person], [WALK], [(2.0, 5.0), (18.0, 5.0)], ScriptedPolicy(), world=world, timeout=90).run()
-    assert _gaps(trace).min() > CONTACT_MARGIN
-    assert _braking(trace)[1] > COMFORT_DECELERATION  # it had to brake harder than comfortable
+@pytest.mark.parametrize(("gap", "speed", "toward", "hard"), [
+    (1.0, 0.6, True, False),  # a comfortable stop (0.12 m) ends well short of its 0.3 m field
+    (0.4, 0.6, True, True),  # it would end inside the field (0.4 - 0.3 - 0.03 m left, 0.12 m needed): imminent
+    (0.4, 0.6, False, False),  # driving away from them
+    (0.35, 0.2, True, False),  # slow: 1.3 cm to stop
+])
+def test_robot_brakes_harder_than_comfortable_only_when_a_comfortable_stop_would_take_it_into_someones_space(
+        gap: float, speed: float, toward: bool, hard: bool):
+    from socnavgen.bodies import PERSON_RADIUS, ROBOT_RADIUS
+    from socnavgen.sim.robot.brake import brake_limit
+
+    person = human(start=(10.0, 5.0), goals=[(10.0, 5.0)])
+    sim = make_sim([person], [STAND], [(2.0, 5.0), (18.0, 5.0)], ScriptedPolicy())
+    robot = sim.state.robot[0]
+    robot.pos = complex(10.0 - PERSON_RADIUS - ROBOT_RADIUS - gap, 5.0)
+    robot.vel = complex(speed if toward else -speed, 0.0)
+    sim.state.policy[0].guard = 0.3
+    limit = brake_limit(sim.state)
+    assert math.isnan(limit) if hard else limit == COMFORT_DECELERATION
+
+
