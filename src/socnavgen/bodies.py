@@ -26,6 +26,11 @@ PERSON_GOAL_RADIUS = 0.5  # m: a person's goal is reached within this (HuNavSim 
 PERSON_GOAL_SLACK = 0.1  # m: IsGoalReached accepts goal_radius + this
 ROBOT_GOAL_TOLERANCE = 0.2  # m: hunav_evaluator's "completed"
 ROBOT_MAX_SPEED = 2.0  # m/s: the simulated robot never moves faster, whatever its policy asks
+# A comfortable deceleration for people near or on a moving vehicle: 0.11-0.15 g is the limit ground-transport
+# comfort studies find acceptable (Hoberock 1977, "A survey of longitudinal acceleration comfort studies in
+# ground transportation vehicles", J. Dyn. Sys. Meas. Control 99(2)); 0.15 g = 1.5 m/s^2. The default robot brakes
+# no harder unless a collision is imminent (robot.brake), and the smooth_braking check holds every robot to it.
+COMFORT_DECELERATION = 1.5  # m/s^2
 
 # -- contact and proxemics (gaps are surface to surface: centre distance minus both radii) ---------
 CONTACT_MARGIN = 0.05  # m: a robot-person (or person-person) gap at or under this is contact (bodies touching)

@@ -49,7 +49,9 @@ def test_a_planned_way_leading_away_from_the_waypoint_is_driven_not_crept():
     trace = make_sim([], [], [(4.0, 5.0), (8.0, 2.0)], load_policy("scripted"), world=world, timeout=90).run()
     assert trace.end_reason == "robot_goal"
     assert trace.t[-1] < 40.0  # ~12 m of way
-    assert _creeping_seconds(trace) < 3.0
+    # the creep was metres along the wall at 0.03 m/s; what is left is its turns' slow-downs and starts, each through
+    # the 0.01-0.15 m/s band (2.95 s braking at 2 m/s2, 3.05 s at the comfort limit: robot.brake)
+    assert _creeping_seconds(trace) < 3.5
 
 
 FOLLOWING = tree_xml(REGULAR)

@@ -20,13 +20,9 @@ from typing import Any, Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
-from socnavgen.bodies import INTIMATE_SPACE, SOCIAL_SPACE
+from socnavgen.bodies import COMFORT_DECELERATION, INTIMATE_SPACE, SOCIAL_SPACE
 from socnavgen.sim.trace import VX, VY, Trace, X, Y
 
-# A comfortable deceleration for people near or on a moving vehicle: 0.11-0.15 g is the limit ground-transport
-# comfort studies find acceptable (Hoberock 1977, "A survey of longitudinal acceleration comfort studies in
-# ground transportation vehicles", J. Dyn. Sys. Meas. Control 99(2)); 0.15 g = 1.5 m/s^2.
-COMFORT_DECELERATION = 1.5  # m/s^2
 DECELERATION_WINDOW = 0.25  # s: speed changes are measured over this window (one step alone is noise)
 STANDING_SPEED = 0.1  # m/s: slower than this the robot stands
 # "Approaches slowly" / "slows down": over its approach to the place, a mean speed of at most two thirds of the
@@ -39,6 +35,8 @@ SLOW_SPEED = 0.3  # m/s
 HESITATION = 1.0  # s
 HESITATION_REACH = 3.0  # m
 SPEED_NOISE = 0.01  # m/s: speeds this close to a limit are at it (a robot driving at exactly 0.3 m/s reads 0.3 + 1e-9)
+DECEL_NOISE = 1e-6  # m/s2: a deceleration this close to the comfort limit is at it (braking at exactly 1.5 m/s2 reads
+# 1.5000000000000004 over a window)
 
 
 CheckName = Literal["slow_near_place", "keeps_right", "stops_when_close", "keeps_distance", "smooth_braking",
@@ -202,7 +200,7 @@ def smooth_braking(s: Situation, c: ExpectedCheck) -> Outcome:  # noqa: ARG001 -
         return NOT_APPLIED
     drop = (s.speed[:-lag] - s.speed[lag:]) / (t[lag:] - t[:-lag])
     top = float(max(0.0, drop.max()))
-    return Outcome(top, top <= COMFORT_DECELERATION)
+    return Outcome(top, top <= COMFORT_DECELERATION + DECEL_NOISE)
 
 
 def keeps_line(s: Situation, c: ExpectedCheck) -> Outcome:

@@ -161,12 +161,12 @@ def move_robot(s, script):  # noqa: ANN001, ANN201
     if s.clock[0].python_policy:
         action = s.action[0]
         drive(s, complex(action.vx, action.vy), action.heading, action.has_heading, action.unicycle, action.forward,
-              action.turn, math.nan)
+              action.turn, math.nan, math.nan)
         return action.gesture
     policy = s.policy[0]
     v = act(s, script.now[0])
     guard = math.nan if script.now[0].misbehave else policy.guard  # a scripted misbehaving robot is rude on purpose
-    drive(s, v, policy.heading, policy.has_heading, policy.unicycle, policy.forward, policy.turn, guard)
+    drive(s, v, policy.heading, policy.has_heading, policy.unicycle, policy.forward, policy.turn, guard, policy.decel)
     return -1
 
 

@@ -20,7 +20,7 @@ from typing import Any, ClassVar, Protocol, runtime_checkable
 
 import numpy as np
 
-from socnavgen.bodies import ROBOT_RADIUS, ROBOT_SOCIAL_GAP
+from socnavgen.bodies import COMFORT_DECELERATION, ROBOT_RADIUS, ROBOT_SOCIAL_GAP
 from socnavgen.bt.library import ROBOT_GESTURES
 from socnavgen.errors import InputFileError, ValidationFailed
 from socnavgen.sim.records import Columns, table
@@ -190,7 +190,8 @@ class BuiltinPolicy:
     def parameters(self) -> np.recarray:
         """Its parameters and a fresh state as the compiled step reads them (a one-row table)."""
         p = {"accel": 0.8, "brake": 3.0, "slow_gap": 2.0, "stop_gap": 0.5, "patience": 2.0, "detour_speed": 0.3,
-             "waypoint_tolerance": 0.4, "line_clearance": math.nan, "corner_speed": math.inf, **vars(self)}
+             "waypoint_tolerance": 0.4, "line_clearance": math.nan, "corner_speed": math.inf, "decel": math.nan,
+             **vars(self)}
         return table(policies.POLICY, 1, kind=self.kind, plans=self.plans, guard=self.guard,
                      speed_cap=self.max_speed, rude_max_speed=StraightPolicy.max_speed,
                       rude_tolerance=StraightPolicy.waypoint_tolerance, waypoint=1, rude_waypoint=1, retreat_to=-1, pass_who=-1,
@@ -222,6 +223,7 @@ class ScriptedPolicy(WaypointsPolicy):
     plans: ClassVar[bool] = True
     guard: ClassVar[float] = POLITE_GAP
     max_speed: float = math.inf
+    brake: float = COMFORT_DECELERATION  # m/s2: its speed profile brakes within the comfort limit (robot.brake)
     keep_gap: float = ROBOT_SOCIAL_GAP  # m its own moves never close to anyone (bodies; robot.polite.keep_clear)
     corner_speed: float = math.inf  # m/s at most near a blind turn of its route (robot.polite.corner_speed;
     # inf: off). Pacing's ETA counts the time lost there (polite.corner_late), but ON by default 5 cards still

@@ -92,11 +92,13 @@ def intrudes(s, old, new, guard):  # noqa: ANN001, ANN201
 
 
 @jit(inline=True)
-def drive(s, v, heading, has_heading, unicycle, forward, turn, guard):  # noqa: ANN001, ANN201
+def drive(s, v, heading, has_heading, unicycle, forward, turn, guard, decel):  # noqa: ANN001, ANN201
     """Move the robot for one step: a world velocity `v` (facing `heading` when given), or with `unicycle` a
-    forward speed and a turn rate; within the body's limits, never across or into a wall, and (a
-    differential-drive body) never closer than `guard` to someone it approaches (NaN: no protective field)."""
+    forward speed and a turn rate; within the body's limits, braking at most `decel` (m/s2; NaN: the body's
+    max_decel; robot.brake), never across or into a wall, and (a differential-drive body) never closer than
+    `guard` to someone it approaches (NaN: no protective field)."""
     robot, dt = s.robot[0], s.clock[0].dt
+    brake = decel if decel < robot.max_decel else robot.max_decel  # NaN: the body's own limit
     if not (math.isfinite(v.real) and math.isfinite(v.imag)):
         v = 0j
     if not (math.isfinite(forward) and math.isfinite(turn)):
@@ -121,7 +123,7 @@ def drive(s, v, heading, has_heading, unicycle, forward, turn, guard):  # noqa: 
         want_u = min(max(want_u, -robot.max_speed), robot.max_speed)
         want_w = min(max(want_w, -robot.max_omega), robot.max_omega)
         u = robot.speed
-        rate = robot.max_accel if abs(want_u) > abs(u) and want_u * u >= 0 else robot.max_decel
+        rate = robot.max_accel if abs(want_u) > abs(u) and want_u * u >= 0 else brake
         u = _toward(u, want_u, rate * dt)
         w = _toward(robot.omega, want_w, robot.max_alpha * dt)
         yaw = _wrap(robot.yaw + w * dt)
@@ -142,7 +144,7 @@ def drive(s, v, heading, has_heading, unicycle, forward, turn, guard):  # noqa: 
     if abs(v) > robot.max_speed:
         v = v * (robot.max_speed / abs(v))
     change = v - robot.vel
-    rate = robot.max_accel if abs(v) > abs(robot.vel) else robot.max_decel
+    rate = robot.max_accel if abs(v) > abs(robot.vel) else brake
     if abs(change) > rate * dt:
         v = robot.vel + change * (rate * dt / abs(change))
     new = robot.pos + v * dt

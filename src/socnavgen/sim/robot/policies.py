@@ -27,6 +27,7 @@ from socnavgen.sim.jit import jit
 from socnavgen.sim.people.make_room import short_of_goal, stopped_short  # noqa: F401 - step.py's import
 from socnavgen.sim.people.physics import pair_force, wall_force
 from socnavgen.sim.records import layout
+from socnavgen.sim.robot.brake import brake_limit
 from socnavgen.sim.robot.lead import lead_speed
 from socnavgen.sim.robot.planner import steer
 from socnavgen.sim.robot.polite import (
@@ -70,6 +71,7 @@ POLICY = layout([
     ("unicycle", "?"), ("forward", "f8"), ("turn", "f8"),  # a unicycle command (DWA) instead of a velocity
     ("speed_cap", "f8"),  # m/s: the scripted robot's cruise speed is the script's, at most this (inf: no cap)
     ("corner_speed", "f8"),  # m/s near blind turns of its route (robot.polite.corner_speed; inf: not slowed)
+    ("decel", "f8"),  # m/s2: the most the body brakes this step (NaN: its own max_decel); robot.brake
     ("guard", "f8"),  # m: the body's protective field (robot.body.drive; NaN: none); the scripted robot's follows
     # the gap it keeps now (polite.social_clear)
     ("retreat_to", "i8"),  # making way (polite.make_way): the waypoint it backs toward (-1: none)
@@ -411,4 +413,6 @@ def act(s, now):  # noqa: ANN001, ANN201
     if kind == WAYPOINTS:
         v = waypoints_act(s)
         return kept_clear(s, v, v)
-    return scripted_act(s, now)
+    v = scripted_act(s, now)
+    policy.decel = math.nan if now.misbehave else brake_limit(s)  # comfortable unless a collision is imminent
+    return v
