@@ -63,6 +63,11 @@ def test_a_follower_right_behind_the_robot_may_not_be_allowed_far_behind(text):
     assert f"at most {int(close_follow_gap(0.5, 1.0) * 10) / 10:g} m" in mistakes[0]
 
 
+def test_a_distance_the_text_states_holds_the_criterion_to_it():
+    """'right behind it, about 2 m back' with 4.5 m allows more than the text says: still refused."""
+    assert close_follow_mistakes(_follow_spec(4.5, "the child follows right behind it, about 2 m back"), {})
+
+
 def test_the_words_may_be_in_the_persons_behavior():
     behaviors = {"human1": "When the robot says FOLLOW ME the child follows it for good, right behind it."}
     assert close_follow_mistakes(_follow_spec(4.5, "the child follows the robot"), behaviors)
@@ -72,6 +77,8 @@ def test_the_words_may_be_in_the_persons_behavior():
     (2.5, "the older child follows the robot right behind it"),  # within the gap
     (4.5, "the visitor follows the robot to her room"),  # no words about closeness: the prompt's 4 m holds
     (4.5, "the worker walks in single file right behind the lead worker"),  # not about the robot (another mistake)
+    (3.5, "Mia follows right behind it, about 1.5-3 m back"),  # the text says how far (round 14's home_09 player)
+    (4.0, "she walks close behind the robot, within 4 m"),
 ])
 def test_followers_whose_distance_says_what_the_text_says_are_accepted(distance, text):
     assert close_follow_mistakes(_follow_spec(distance, text), {}) == []

@@ -132,10 +132,14 @@ def follow_trail(robot_speed: float) -> float:
 
 
 def follows_distance_text() -> str:
-    """The least follows_robot `distance` that a follower behind the default robot can keep (stage 1's criteria)."""
+    """The follows_robot `distance` a follower behind the default robot keeps (stage 1's criteria), and the most one
+    the text has right behind it may be allowed (prose_checks holds stage 1 to it: one fact, said where it is used)."""
+    from socnavgen.bodies import PERSON_MAX_SPEED
+    from socnavgen.proposal.prose_checks import close_follow_gap  # the ceiling for "right behind"
+
     speed = body().robot_speed
-    return (f"a follower trails about {follow_trail(speed):.1f} m behind the robot at {speed:g} m/s, so use a "
-            f"`distance` of at least {follow_trail(speed) + 2:.0f} m")
+    return (f"a follower trails {follow_trail(speed):.1f} m behind the robot at {speed:g} m/s: use a `distance` of "
+            f"{follow_trail(speed) + 2:.0f} m ({close_follow_gap(speed, PERSON_MAX_SPEED):.1f} right behind)")
 
 
 def follows_human_text(detail: bool = True) -> str:

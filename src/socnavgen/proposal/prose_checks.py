@@ -35,6 +35,7 @@ ORDER_WORDS = re.compile(r"\b(?:behind (?:it|the robot)|ahead of (?:it|the robot
                          r"(?:after|once|until) (?:it|the robot) (?:has )?(?:passed|gone by|gone past))\b",
                          re.IGNORECASE)
 ORDER_KINDS = ("follows_robot", "follows_human", "gives_way", "blocks_robot")  # (and an stl naming the person)
+METRES = re.compile(r"(\d+(?:\.\d+)?)\s*(?:m|metres|meters)\b")  # a distance the text states
 _NAMED = re.compile(r"\b[Hh]uman ?(\d+)\b")
 # Tokens that are words or amounts before they are node ids ("walks up the aisle", "waits 12 s").
 _NOT_NODES = {"up", "in", "on", "at", "to", "go", "do", "be", "it", "is", "as", "by", "of", "or", "an", "no", "so"}
@@ -70,6 +71,16 @@ def _behind_leader(kind: str, whom: str | None) -> bool:
     return robot if kind == "follows_robot" else whom is None or whom.lower() != "the robot"
 
 
+STATED_SLACK = 0.5  # m: a criterion may allow this much beyond the farthest distance its text states
+
+
+def _says_how_far(text: str, distance: float) -> bool:
+    """The text that has them close behind also says how far, in metres, and the criterion allows no more than the
+    farthest it states (+ STATED_SLACK): "right behind it, about 1.5-3 m back" with 3.5 m says what it checks."""
+    stated = [float(v) for v in METRES.findall(text)]
+    return bool(stated) and distance <= max(stated) + STATED_SLACK + 1e-9
+
+
 def close_follow_mistakes(spec: ScenarioSpec, behaviors: dict[str, str]) -> list[str]:
     """A follows_* criterion whose text (or its person's behavior) has them right / close behind, but whose distance
     lets them stand far behind: the verifier would pass a follower who stood still while the leader went on."""
@@ -78,10 +89,11 @@ def close_follow_mistakes(spec: ScenarioSpec, behaviors: dict[str, str]) -> list
     for c in spec.criteria:
         if c.kind not in ("follows_robot", "follows_human") or not c.human or c.distance is None:
             continue
-        said = next((m for text in (c.text, texts.get(c.human, "")) for m in CLOSE_BEHIND.finditer(text)
-                     if _behind_leader(c.kind, m.group("whom"))), None)
-        if said is None:
+        found = next(((m, text) for text in (c.text, texts.get(c.human, "")) for m in CLOSE_BEHIND.finditer(text)
+                      if _behind_leader(c.kind, m.group("whom"))), None)
+        if found is None or _says_how_far(found[1], c.distance):
             continue
+        said = found[0]
         leader, speed = _leader(spec, c)
         ceiling = close_follow_gap(speed, _person_speed(spec, c.human))
         if c.distance > ceiling + 1e-9:
