@@ -74,3 +74,23 @@ def test_a_give_way_begun_before_follow_me_does_not_hold_a_follower_the_robot_dr
     assert walks.size and trace.t[walks[0]] - trace.t[said[0]] < 1.5, (trace.t[said[0]], trace.t[walks[:1]])
     robot_moved = np.flatnonzero(np.hypot(trace.robot[:, 0] - 6.0, trace.robot[:, 1] - 5.0) > 0.3)
     assert walks[0] < robot_moved[0]  # she came while the robot still waited
+
+
+def test_followers_of_the_robot_line_up_behind_each_other_at_the_standing_gap():
+    """A follower walking up behind another follower of the robot (walking or standing behind it) keeps the standing
+    gap and is not sent round them (home_03's second guest walked back and forth 4 s in the doorway behind the
+    first); someone standing who does not follow the robot is passed at the walking gap, as before."""
+    from socnavgen.bodies import PERSON_KEEP_GAP, PERSON_STAND_GAP
+    from socnavgen.sim.people.spacing import fellow_followers, keep_gap
+    from socnavgen.sim.people.state import ROUTE_GOAL, ROUTE_ROBOT
+
+    sim = make_sim([human("human1", start=(2.0, 5.0)), human("human2", start=(3.2, 5.0))], [FOLLOWS] * 2,
+                   [(6.0, 5.0), (16.0, 5.0)])
+    p, q = sim.state.people[0], sim.state.people[1]
+    p.route, p.behavior, q.route, q.behavior = ROUTE_ROBOT, 1, ROUTE_ROBOT, 1
+    end = 6.0 + 5.0j  # p walks to the robot, 4 m ahead
+    assert fellow_followers.py_func(p, q)
+    assert keep_gap.py_func(p, q, end) == PERSON_STAND_GAP
+    q.route, q.behavior = ROUTE_GOAL, 0  # q stands there on their own way
+    assert not fellow_followers.py_func(p, q)
+    assert keep_gap.py_func(p, q, end) == PERSON_KEEP_GAP
