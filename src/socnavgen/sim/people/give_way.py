@@ -322,6 +322,17 @@ def robot_has_passed(s, i):  # noqa: ANN001, ANN201
 
 
 @jit
+def robot_level(s, i):  # noqa: ANN001, ANN201
+    """The robot has come level with the point of its path person i stepped away from (or is at its goal): from
+    there on it drives away from them, so a follower who stood aside can fall in behind it."""
+    robot, p = s.robot[0], s.people[i]
+    if abs(robot.pos - robot.goal) <= robot.goal_tolerance:
+        return True
+    progress, _ = robot_progress(s)
+    return progress >= p.aside_at
+
+
+@jit
 def give_way(s, i):  # noqa: ANN001, ANN201
     """Step off the robot's upcoming path, wait there facing the robot until it has passed, then walk on to
     the goal. A new side step is planned whenever the previous action was something else."""
@@ -379,8 +390,14 @@ def give_way_to_robot(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
 @leaf("FollowRobot")
 def follow_robot(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     """Follow the robot; a follower standing in the robot's way (ahead of it, on its remaining path) first
-    steps aside and lets it pass, as a person told FOLLOW ME by a robot coming up behind does."""
+    steps aside and lets it pass, as a person told FOLLOW ME by a robot coming up behind does. Once it has come
+    level with them they fall in behind it at once: they do not wait for its other followers to go by (they are
+    one of them; people.spacing lines them up), nor for a robot that a give-way begun before they were told
+    (GiveWaytoRobot) waits for but that drives away from them (home_09's older child stood 12 s aside, home_03's
+    second guest 8 s at the door)."""
     p = s.people[i]
+    if giving_way(p) and robot_level(s, i) and not in_robot_way(s, i):
+        p.give_way_phase = RESUME
     if giving_way(p) or in_robot_way(s, i):
         give_way(s, i)
         if p.give_way_phase != RESUME:

@@ -9,9 +9,10 @@ One who walks straight into someone standing or coming toward them (little of th
 round them on their own right at SIDESTEP of the speed they mean to walk at (their desired speed: a walker slowed
 by the crowd still steps round at a walking pace, so the sidestep never dies away; two people meeting head-on both
 keep right and pass), unless that person's body is where they walk to (following someone, a goal someone stands
-on): then they stop at the gap. One who would step round on the right back against their way (the one in the way
-stands ahead on their right, more than FAR_SIDE off their way) into someone else standing there (within SIDE_ROOM
-of their body) steps round on the left, on along their way, where that side is free (a crew's leader, boxed in
+on) or both follow the robot (they line up behind each other at PERSON_STAND_GAP): then they stop at the gap.
+One who would step round on the right back against their way (the one in the way stands ahead on their right,
+more than FAR_SIDE off their way) into someone else standing there (within SIDE_ROOM of their body) steps round
+on the left, on along their way, where that side is free (a crew's leader, boxed in
 between the member ahead on his right, the one behind him and a wall, stepped back into the one behind, again and
 again, and the crew stood 40 s). The social force (physics.pair_force) alone lets followers, group members held by
 the group force and walkers crossing at one spot press together. The contact step (physics.resolve_contacts) stays
@@ -23,6 +24,7 @@ from __future__ import annotations
 from socnavgen.bodies import PERSON_KEEP_GAP, PERSON_STAND_GAP
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people import neighbours
+from socnavgen.sim.people.state import ROUTE_ROBOT
 
 SIDESTEP = 0.5  # of their desired speed: a walker blocked head-on by someone steps round them on the right this fast
 MOVING = 0.1  # m/s: someone walking away faster than this is followed, not stepped round
@@ -35,10 +37,20 @@ FAR_SIDE = 0.5  # a step round on the right going back against the walker's way 
 
 
 @jit(inline=True)
+def fellow_followers(p, q):  # noqa: ANN001, ANN201
+    """Walker p walks to the robot (following it) and q follows it too (walking or standing behind it): p lines up
+    behind q at the standing gap instead of stepping round them (home_03's second guest, told FOLLOW ME, walked
+    back and forth for 4 s in the doorway behind the first one, who stood 1.3 m behind the robot; followers in
+    file read as touching at 0.1 m)."""
+    return p.route == ROUTE_ROBOT and q.route == ROUTE_ROBOT and q.behavior == 1
+
+
+@jit(inline=True)
 def keep_gap(p, q, end):  # noqa: ANN001, ANN201
     """The gap walker p keeps from q's body: PERSON_STAND_GAP when p comes to stand (within ARRIVING of the end of
-    their walk, `end`) or q stands where p's walk ends (on their goal), else PERSON_KEEP_GAP (walking past)."""
-    if abs(end - p.pos) < ARRIVING:
+    their walk, `end`), q stands where p's walk ends (on their goal) or both follow the robot, else PERSON_KEEP_GAP
+    (walking past)."""
+    if abs(end - p.pos) < ARRIVING or fellow_followers(p, q):
         return PERSON_STAND_GAP
     if abs(q.vel) < STANDING and abs(end - q.pos) < p.radius + q.radius:
         return PERSON_STAND_GAP
@@ -92,7 +104,8 @@ def keep_apart(people, i, v, dt, grid):  # noqa: ANN001, ANN201
             continue
         v = v + (lowest - radial) * unit
         if abs(v) < BLOCKED * pace and (q.vel * unit.conjugate()).real >= -MOVING and \
-                abs(target - q.pos) > reach + keep and abs(end - q.pos) > reach + keep:
+                abs(target - q.pos) > reach + keep and abs(end - q.pos) > reach + keep and \
+                not fellow_followers(p, q):
             side = unit * 1j  # along their body, to the walker's right
             if (side * (e * -1j).conjugate()).real < 0:
                 side = -side
