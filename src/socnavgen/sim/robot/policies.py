@@ -209,13 +209,16 @@ def goal_holder(s):  # noqa: ANN001, ANN201
 
 
 @jit
-def skip_occupied_waypoint(s):  # noqa: ANN001, ANN201
-    """Someone standing on an intermediate waypoint: head for the next one if it is in a clear line."""
+def skip_occupied_waypoint(s, standing):  # noqa: ANN001, ANN201
+    """Someone (`standing`: someone standing still) on an intermediate waypoint: head for the next one if it is in
+    a clear line."""
     policy, robot, wps = s.policy[0], s.robot[0], s.waypoints
     k = policy.waypoint
     if k >= wps.shape[0] - 1 or abs(wps[k] - robot.pos) > OCCUPIED_REACH:
         return False
     for i in range(s.people.shape[0]):
+        if standing and abs(s.people[i].vel) >= proxemics.STANDING_SPEED:
+            continue
         if abs(s.people[i].pos - wps[k]) < s.people[i].radius + robot.radius + SWEPT_MARGIN:
             if path_clear(s.world, robot.pos, wps[k + 1], 0.5 * robot.radius + 0.05):
                 policy.waypoint = k + 1
@@ -266,7 +269,7 @@ def waypoints_act(s):  # noqa: ANN001, ANN201
     if not blocked:
         policy.around_side = 0.0
     if blocked and policy.waited >= policy.patience:
-        if skip_occupied_waypoint(s):
+        if skip_occupied_waypoint(s, False):
             policy.waited = 0.0  # next step heads for the following waypoint
         else:
             if policy.around_side == 0.0:  # the side with more room (right on a tie): breaks the symmetry
@@ -334,6 +337,10 @@ def scripted_act(s, now):  # noqa: ANN001, ANN201
             v = wait_aside(s)
         return social_clear(s, slide_along_walls(s, v))
     policy.has_wait_spot = False
+    # a waypoint people stand on (a group chatting round it) is skipped within OCCUPIED_REACH, as the Python
+    # robots' Route does: it goes round them to the next instead of creeping up on them to wait
+    while skip_occupied_waypoint(s, True):
+        pass
     forward = way_ahead(s)
     if abs(forward) > 1e-9:
         backing, v = make_way(s, forward)
