@@ -28,7 +28,7 @@ from socnavgen.sim.people.make_room import short_of_goal, stopped_short  # noqa:
 from socnavgen.sim.people.physics import pair_force, wall_force
 from socnavgen.sim.records import layout
 from socnavgen.sim.robot.lead import lead_speed
-from socnavgen.sim.robot.planner import steer
+from socnavgen.sim.robot.planner import field_value, steer
 from socnavgen.sim.robot.polite import (
     corner_speed,
     follow_speed,
@@ -56,6 +56,7 @@ AROUND_LOOK = 1.0  # m: room looked for on either side before going around someo
 AROUND_BIAS = 0.1  # m/s sideways while going around (a person dead ahead pushes straight back otherwise)
 GOAL_DECEL = 0.8  # m/s2: the social-force and the straight robots slow down for their goal at this rate
 OCCUPIED_REACH = proxemics.OCCUPIED_REACH  # m: an intermediate waypoint someone stands on is skipped this close
+SKIP_DETOUR = 0.5  # m: ... by a planning robot also off a straight line, when its planned way on is no longer
 KEEP_CLEAR = 0.03  # m: the scripted and sfm robots never move closer than this gap to anyone (keep_gap)
 CROWD_LOOK = 32  # with more people than this, only those within reach are looked at
 ARRIVED = ROBOT_GOAL_TOLERANCE * 0.5  # m: the built-in robots stop this close to their goal
@@ -209,6 +210,20 @@ def goal_holder(s):  # noqa: ANN001, ANN201
 
 
 @jit
+def planned_past(s, k):  # noqa: ANN001, ANN201
+    """A planning robot's way to waypoint k + 1 (its cost-to-go field) is no longer than by way of waypoint k, within
+    SKIP_DETOUR: skipping k, it goes round what stands there, not another way (home_10's next waypoint was a door
+    off the straight line)."""
+    policy, p, wps = s.policy[0], s.robot[0].pos, s.waypoints
+    if not policy.plans:
+        return False
+    scale = policy.field_scale
+    on = field_value(s.fields, k + 1, scale, s.world, p)
+    via = abs(wps[k] - p) + field_value(s.fields, k + 1, scale, s.world, wps[k])
+    return on <= via + SKIP_DETOUR
+
+
+@jit
 def skip_occupied_waypoint(s, standing):  # noqa: ANN001, ANN201
     """Someone (`standing`: someone standing still) on an intermediate waypoint: head for the next one if it is in
     a clear line."""
@@ -220,7 +235,7 @@ def skip_occupied_waypoint(s, standing):  # noqa: ANN001, ANN201
         if standing and abs(s.people[i].vel) >= proxemics.STANDING_SPEED:
             continue
         if abs(s.people[i].pos - wps[k]) < s.people[i].radius + robot.radius + SWEPT_MARGIN:
-            if path_clear(s.world, robot.pos, wps[k + 1], 0.5 * robot.radius + 0.05):
+            if path_clear(s.world, robot.pos, wps[k + 1], 0.5 * robot.radius + 0.05) or planned_past(s, k):
                 policy.waypoint = k + 1
                 return True
             return False
