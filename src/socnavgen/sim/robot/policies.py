@@ -57,6 +57,9 @@ AROUND_BIAS = 0.1  # m/s sideways while going around (a person dead ahead pushes
 GOAL_DECEL = 0.8  # m/s2: the social-force and the straight robots slow down for their goal at this rate
 OCCUPIED_REACH = proxemics.OCCUPIED_REACH  # m: an intermediate waypoint someone stands on is skipped this close
 SKIP_DETOUR = 0.5  # m: ... by a planning robot also off a straight line, when its planned way on is no longer
+APPROACH_SPEED = 0.1  # m/s: the least it drives toward someone standing in its path, until its stop gap (the linear
+# slow-down alone nears it exponentially: home_10's robot crept 8 s 1 m short of a circle, never counted as waiting)
+STOPPED_SHORT = 0.1  # m beyond its stop gap: the robot there is blocked by the person ahead (it waits, then acts)
 KEEP_CLEAR = 0.03  # m: the scripted and sfm robots never move closer than this gap to anyone (keep_gap)
 CROWD_LOOK = 32  # with more people than this, only those within reach are looked at
 ARRIVED = ROBOT_GOAL_TOLERANCE * 0.5  # m: the built-in robots stop this close to their goal
@@ -153,12 +156,12 @@ def sfm_toward(s, target, max_speed, last, planned):  # noqa: ANN001, ANN201
 @jit
 def look_ahead(s, direction, reach):  # noqa: ANN001, ANN201
     """(free distance to the nearest person in the swept path ahead, sideways nudge -1/0/+1 away from the
-    nearest person standing close beside it). `reach`: where the robot will stop (its goal); someone beyond
-    it is in the way only if they stand too close to that point."""
+    nearest person standing close beside it, that person in the path: -1 for nobody). `reach`: where the robot
+    will stop (its goal); someone beyond it is in the way only if they stand too close to that point."""
     policy, robot, people = s.policy[0], s.robot[0], s.people
     p, rr, back = robot.pos, robot.radius, direction.conjugate()
     n = people.shape[0]
-    gap, nudge_at, nudge = np.inf, np.inf, 0.0
+    gap, nudge_at, nudge, who = np.inf, np.inf, 0.0, -1
     for i in range(n):
         q, r = people[i].pos, people[i].radius
         if n > CROWD_LOOK and not abs(q - p) < policy.slow_gap + 2.0:
@@ -170,10 +173,10 @@ def look_ahead(s, direction, reach):  # noqa: ANN001, ANN201
         margin = SWEPT_MARGIN if ahead > 0 else 0.0  # someone already beside it blocks only if bodies touch
         across = abs(rel.imag) if rel.real <= reach else abs(rel - reach)
         if across < r + rr + margin and ahead < gap:
-            gap = ahead
+            gap, who = ahead, i
         if r + rr + margin <= abs(rel.imag) < r + rr + NUDGE_BAND and ahead < policy.slow_gap and ahead < nudge_at:
             nudge_at, nudge = ahead, (-1.0 if rel.imag > 0 else 1.0)
-    return gap, nudge
+    return gap, nudge, who
 
 
 @jit
@@ -275,11 +278,13 @@ def waypoints_act(s):  # noqa: ANN001, ANN201
         to = target - p
     direction = to / abs(to) if abs(to) > 1e-9 else complex(math.cos(robot.yaw), math.sin(robot.yaw))
     policy.has_heading, policy.heading = True, direction
-    gap, nudge = look_ahead(s, direction, dist if last else np.inf)
+    gap, nudge, who = look_ahead(s, direction, dist if last else np.inf)
     want = policy.max_speed * min(1.0, max(0.0, (gap - policy.stop_gap) / (policy.slow_gap - policy.stop_gap)))
+    if who >= 0 and abs(s.people[who].vel) < proxemics.STANDING_SPEED:  # up to its stop gap, then it waits there
+        want = max(want, min(APPROACH_SPEED, policy.max_speed)) if gap - policy.stop_gap >= STOPPED_SHORT else 0.0
     if last:
         want = min(want, math.sqrt(2 * policy.accel * dist))
-    blocked = gap - policy.stop_gap < 0.1 and (not last or dist > gap + 0.5)
+    blocked = gap - policy.stop_gap < STOPPED_SHORT and (not last or dist > gap + 0.5)
     policy.waited = policy.waited + dt if blocked else 0.0
     if not blocked:
         policy.around_side = 0.0
