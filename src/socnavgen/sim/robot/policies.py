@@ -228,14 +228,15 @@ def planned_past(s, k):  # noqa: ANN001, ANN201
 
 @jit
 def skip_occupied_waypoint(s, standing):  # noqa: ANN001, ANN201
-    """Someone (`standing`: someone standing still) on an intermediate waypoint: head for the next one if it is in
-    a clear line."""
+    """Someone (`standing`: a member of a group standing still there) on an intermediate waypoint: head for the next
+    one if it is in a clear line (or planned_past). A lone person standing on its way is asked to pass first (the
+    pedestrian-obstruction card); a group chatting there is gone round, not broken up (home_10)."""
     policy, robot, wps = s.policy[0], s.robot[0], s.waypoints
     k = policy.waypoint
     if k >= wps.shape[0] - 1 or abs(wps[k] - robot.pos) > OCCUPIED_REACH:
         return False
     for i in range(s.people.shape[0]):
-        if standing and abs(s.people[i].vel) >= proxemics.STANDING_SPEED:
+        if standing and (s.people[i].group < 0 or abs(s.people[i].vel) >= proxemics.STANDING_SPEED):
             continue
         if abs(s.people[i].pos - wps[k]) < s.people[i].radius + robot.radius + SWEPT_MARGIN:
             if path_clear(s.world, robot.pos, wps[k + 1], 0.5 * robot.radius + 0.05) or planned_past(s, k):
@@ -357,8 +358,8 @@ def scripted_act(s, now):  # noqa: ANN001, ANN201
             v = wait_aside(s)
         return social_clear(s, slide_along_walls(s, v))
     policy.has_wait_spot = False
-    # a waypoint people stand on (a group chatting round it) is skipped within OCCUPIED_REACH, as the Python
-    # robots' Route does: it goes round them to the next instead of creeping up on them to wait
+    # a waypoint a group stands on (chatting round it) is skipped within OCCUPIED_REACH, as the Python robots'
+    # Route does: it goes round them to the next instead of driving up to them to wait
     while skip_occupied_waypoint(s, True):
         pass
     forward = way_ahead(s)
