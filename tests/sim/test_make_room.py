@@ -7,11 +7,14 @@ right one; a person stands just behind the door on the robot's route, where the 
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from socnavgen.bodies import CONTACT_MARGIN
+from socnavgen.run.spec import CueTrigger, RobotCue, RobotScript
 from socnavgen.sim import empty_room, load_policy
 from socnavgen.sim.contact import trace_gaps
 from socnavgen.sim.people.give_way import GIVE_WAY_MARGIN
+from socnavgen.sim.robot.api import ScriptedPolicy
 from tests.sim.simhelpers import REGULAR, human, make_sim, tree_xml
 
 DOOR = (7.0, 3.0)  # centre of the 0.9 m door in the wall x = 7
@@ -65,3 +68,24 @@ def test_a_person_who_blocks_the_robot_on_purpose_stays():
     assert np.hypot(*(robot[-1] - person[-1])) < 2.0
     assert off_route(person).max() < 0.3
     assert not (trace.behavior_state[:, 0] == 2).any()
+
+
+@pytest.mark.parametrize("cue", [{"let_pass": "human1", "wait": 12.0}, {"wait": 12.0}])
+def test_nobody_makes_room_for_a_robot_its_script_stands(cue: dict):
+    """A robot whose script stands it (letting this very person go first, or a timed wait) is not waiting to get
+    past them: the person standing on its way stays where they are while the script holds it, and makes room only
+    once it has then waited ROBOT_WAITED s to get by (hospital_04: the nurse the robot let go first was made to step
+    aside for it, walked off along the corridor, and the robot then waited for her to pass until its wait ran out)."""
+    script = RobotScript(cues=[RobotCue(trigger=CueTrigger(when="human_within", human="human1", distance=1.9), **cue)])
+    sim = make_sim([human("human1", start=SPOT, goals=[SPOT], yaw=np.pi)], [tree_xml(REGULAR)], ROUTE,
+                   policy=ScriptedPolicy(), world=empty_room(14.0, 6.0, walls=WALLS), script=script, timeout=45,
+                   idle_end=60.0)  # the robot standing by its wait is not the end of the run
+    trace = sim.run()
+    person = trace.humans[:, 0, :2]
+    robot = trace.robot[:, :2]
+    fired = int(np.argmax(np.hypot(*(robot - person).T) <= 1.9))
+    held = trace.t < trace.t[fired] + cue["wait"] - 0.1
+    assert np.hypot(*(person[held] - SPOT).T).max() < 0.05  # she stood while the script held the robot
+    assert not (trace.behavior_state[held, 0] == 2).any()
+    assert (trace.behavior_state[:, 0] == 2).any()  # and made room once it waited to get by
+    assert trace.end_reason == "robot_goal"

@@ -68,7 +68,8 @@ def think(s, trees, pacing, script, scratch):  # noqa: ANN001, ANN201
             continue
         if tick(s, nodes, ports, slots, texts, kids, stack, args, dt, i) == ERROR:
             return ERROR
-    make_room(s)  # someone standing in the way of a robot that waits steps aside (after their tree)
+    now = script.now[0]  # someone standing in the way of a robot that waits steps aside (after their tree), not
+    make_room(s, now.timed or now.letting >= 0)  # while its script stands it (last step's cues: script.play)
     plan(s)
     play(s, script)
     return 0

@@ -106,9 +106,14 @@ def stopped_short(s):  # noqa: ANN001, ANN201
 
 
 @jit
-def make_room(s):  # noqa: ANN001, ANN201
-    """After the trees: who starts making room for the waiting robot, and the motion of everyone who does."""
+def make_room(s, held):  # noqa: ANN001, ANN201
+    """After the trees: who starts making room for the waiting robot, and the motion of everyone who does.
+    `held`: the robot's script stands it now (a timed wait, letting someone go first): it waits by choice, not to
+    get past anyone, so its ROBOT_WAITED s count only from when the script lets it go (hospital_04's nurse, whom
+    the robot let go first, was made to step aside for it and walked off along the corridor)."""
     people, clock = s.people, s.clock[0]
+    if held:
+        clock.stalled = 0.0
     # a robot that stopped short of someone standing at its goal has arrived: it is not waiting to get past
     waited = clock.stalled >= ROBOT_WAITED and not stopped_short(s)
     for i in range(people.shape[0]):

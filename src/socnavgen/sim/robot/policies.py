@@ -29,7 +29,7 @@ from socnavgen.sim.people.physics import pair_force, wall_force
 from socnavgen.sim.records import layout
 from socnavgen.sim.robot.brake import brake_limit
 from socnavgen.sim.robot.lead import lead_speed
-from socnavgen.sim.robot.planner import steer
+from socnavgen.sim.robot.planner import field_value, steer
 from socnavgen.sim.robot.polite import (
     corner_speed,
     follow_speed,
@@ -57,6 +57,10 @@ AROUND_LOOK = 1.0  # m: room looked for on either side before going around someo
 AROUND_BIAS = 0.1  # m/s sideways while going around (a person dead ahead pushes straight back otherwise)
 GOAL_DECEL = 0.8  # m/s2: the social-force and the straight robots slow down for their goal at this rate
 OCCUPIED_REACH = proxemics.OCCUPIED_REACH  # m: an intermediate waypoint someone stands on is skipped this close
+SKIP_DETOUR = 0.5  # m: ... by a planning robot also off a straight line, when its planned way on is no longer
+APPROACH_SPEED = 0.1  # m/s: the least it drives toward someone standing in its path, until its stop gap (the linear
+# slow-down alone nears it exponentially: home_10's robot crept 8 s 1 m short of a circle, never counted as waiting)
+STOPPED_SHORT = 0.1  # m beyond its stop gap: the robot there is blocked by the person ahead (it waits, then acts)
 KEEP_CLEAR = 0.03  # m: the scripted and sfm robots never move closer than this gap to anyone (keep_gap)
 CROWD_LOOK = 32  # with more people than this, only those within reach are looked at
 ARRIVED = ROBOT_GOAL_TOLERANCE * 0.5  # m: the built-in robots stop this close to their goal
@@ -154,12 +158,12 @@ def sfm_toward(s, target, max_speed, last, planned):  # noqa: ANN001, ANN201
 @jit
 def look_ahead(s, direction, reach):  # noqa: ANN001, ANN201
     """(free distance to the nearest person in the swept path ahead, sideways nudge -1/0/+1 away from the
-    nearest person standing close beside it). `reach`: where the robot will stop (its goal); someone beyond
-    it is in the way only if they stand too close to that point."""
+    nearest person standing close beside it, that person in the path: -1 for nobody). `reach`: where the robot
+    will stop (its goal); someone beyond it is in the way only if they stand too close to that point."""
     policy, robot, people = s.policy[0], s.robot[0], s.people
     p, rr, back = robot.pos, robot.radius, direction.conjugate()
     n = people.shape[0]
-    gap, nudge_at, nudge = np.inf, np.inf, 0.0
+    gap, nudge_at, nudge, who = np.inf, np.inf, 0.0, -1
     for i in range(n):
         q, r = people[i].pos, people[i].radius
         if n > CROWD_LOOK and not abs(q - p) < policy.slow_gap + 2.0:
@@ -171,10 +175,10 @@ def look_ahead(s, direction, reach):  # noqa: ANN001, ANN201
         margin = SWEPT_MARGIN if ahead > 0 else 0.0  # someone already beside it blocks only if bodies touch
         across = abs(rel.imag) if rel.real <= reach else abs(rel - reach)
         if across < r + rr + margin and ahead < gap:
-            gap = ahead
+            gap, who = ahead, i
         if r + rr + margin <= abs(rel.imag) < r + rr + NUDGE_BAND and ahead < policy.slow_gap and ahead < nudge_at:
             nudge_at, nudge = ahead, (-1.0 if rel.imag > 0 else 1.0)
-    return gap, nudge
+    return gap, nudge, who
 
 
 @jit
@@ -211,15 +215,33 @@ def goal_holder(s):  # noqa: ANN001, ANN201
 
 
 @jit
-def skip_occupied_waypoint(s):  # noqa: ANN001, ANN201
-    """Someone standing on an intermediate waypoint: head for the next one if it is in a clear line."""
+def planned_past(s, k):  # noqa: ANN001, ANN201
+    """A planning robot's way to waypoint k + 1 (its cost-to-go field) is no longer than by way of waypoint k, within
+    SKIP_DETOUR: skipping k, it goes round what stands there, not another way (home_10's next waypoint was a door
+    off the straight line)."""
+    policy, p, wps = s.policy[0], s.robot[0].pos, s.waypoints
+    if not policy.plans:
+        return False
+    scale = policy.field_scale
+    on = field_value(s.fields, k + 1, scale, s.world, p)
+    via = abs(wps[k] - p) + field_value(s.fields, k + 1, scale, s.world, wps[k])
+    return on <= via + SKIP_DETOUR
+
+
+@jit
+def skip_occupied_waypoint(s, standing):  # noqa: ANN001, ANN201
+    """Someone (`standing`: a member of a group standing still there) on an intermediate waypoint: head for the next
+    one if it is in a clear line (or planned_past). A lone person standing on its way is asked to pass first (the
+    pedestrian-obstruction card); a group chatting there is gone round, not broken up (home_10)."""
     policy, robot, wps = s.policy[0], s.robot[0], s.waypoints
     k = policy.waypoint
     if k >= wps.shape[0] - 1 or abs(wps[k] - robot.pos) > OCCUPIED_REACH:
         return False
     for i in range(s.people.shape[0]):
+        if standing and (s.people[i].group < 0 or abs(s.people[i].vel) >= proxemics.STANDING_SPEED):
+            continue
         if abs(s.people[i].pos - wps[k]) < s.people[i].radius + robot.radius + SWEPT_MARGIN:
-            if path_clear(s.world, robot.pos, wps[k + 1], 0.5 * robot.radius + 0.05):
+            if path_clear(s.world, robot.pos, wps[k + 1], 0.5 * robot.radius + 0.05) or planned_past(s, k):
                 policy.waypoint = k + 1
                 return True
             return False
@@ -259,16 +281,18 @@ def waypoints_act(s):  # noqa: ANN001, ANN201
         to = target - p
     direction = to / abs(to) if abs(to) > 1e-9 else complex(math.cos(robot.yaw), math.sin(robot.yaw))
     policy.has_heading, policy.heading = True, direction
-    gap, nudge = look_ahead(s, direction, dist if last else np.inf)
+    gap, nudge, who = look_ahead(s, direction, dist if last else np.inf)
     want = policy.max_speed * min(1.0, max(0.0, (gap - policy.stop_gap) / (policy.slow_gap - policy.stop_gap)))
+    if who >= 0 and abs(s.people[who].vel) < proxemics.STANDING_SPEED:  # up to its stop gap, then it waits there
+        want = max(want, min(APPROACH_SPEED, policy.max_speed)) if gap - policy.stop_gap >= STOPPED_SHORT else 0.0
     if last:
         want = min(want, math.sqrt(2 * policy.accel * dist))
-    blocked = gap - policy.stop_gap < 0.1 and (not last or dist > gap + 0.5)
+    blocked = gap - policy.stop_gap < STOPPED_SHORT and (not last or dist > gap + 0.5)
     policy.waited = policy.waited + dt if blocked else 0.0
     if not blocked:
         policy.around_side = 0.0
     if blocked and policy.waited >= policy.patience:
-        if skip_occupied_waypoint(s):
+        if skip_occupied_waypoint(s, False):
             policy.waited = 0.0  # next step heads for the following waypoint
         else:
             if policy.around_side == 0.0:  # the side with more room (right on a tie): breaks the symmetry
@@ -336,6 +360,10 @@ def scripted_act(s, now):  # noqa: ANN001, ANN201
             v = wait_aside(s)
         return social_clear(s, slide_along_walls(s, v))
     policy.has_wait_spot = False
+    # a waypoint a group stands on (chatting round it) is skipped within OCCUPIED_REACH, as the Python robots'
+    # Route does: it goes round them to the next instead of driving up to them to wait
+    while skip_occupied_waypoint(s, True):
+        pass
     forward = way_ahead(s)
     if abs(forward) > 1e-9:
         backing, v = make_way(s, forward)
