@@ -62,6 +62,9 @@ def runs(work: Path, location: str | None, card: str | None, fixtures: bool,
     if fixtures and not card:
         for path in (p for folder in FIXTURES for p in fixture_paths(folder)):
             replay_fixture(path, work / path.stem, root=ROOT, verify=True)
+            if not (work / path.stem / "paths.json").is_file():  # its recording ends before the paths
+                print(f"  ({path.stem}: the replay ends before a run with paths; not counted)")
+                continue
             out.append(("fixtures", path.stem, work / path.stem))
     return out
 

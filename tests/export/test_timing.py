@@ -17,6 +17,7 @@ from socnavgen.export.timing import (
     GOAL_REACHED,
     HOLD_BEFORE,
     RELEASE_MARGIN,
+    ROBOT_SPEEDS,
     WALK_SPEED,
     _Line,
     held_up_from,
@@ -65,7 +66,13 @@ def test_the_person_waits_before_the_node_and_is_released_by_the_robots_distance
     behind = scene.robot_speed * (HOLD_BEFORE / WALK_SPEED + PERSON_START_LAG)
     robot_at = node - behind  # the robot comes from the west along y = const
     assert abs(complex(*hold.robot_at) - robot_at) < 1e-3
-    assert hold.release_distance == pytest.approx(abs(robot_at - spot) + RELEASE_MARGIN, abs=0.01)
+    nominal = {factor: distance for factor, distance, _ in hold.faster}[1.0]  # a robot at its cruise speed
+    assert nominal == pytest.approx(abs(robot_at - spot) + RELEASE_MARGIN, abs=0.01)
+    # the latest release, for the slowest robot, lets it come as close as its half-length last stretch needs
+    slow_at = node - behind * min(ROBOT_SPEEDS)
+    assert hold.release_distance == pytest.approx(abs(slow_at - spot) + RELEASE_MARGIN, abs=0.01)
+    assert [f for f, _, _ in hold.faster] == sorted(set(ROBOT_SPEEDS) - {min(ROBOT_SPEEDS)}, reverse=True)
+    assert [d for _, d, _ in hold.faster] == sorted(d for _, d, _ in hold.faster)[::-1]  # faster: let go farther
     assert hold.early_by < 0.3 and hold.timeout > 20  # the margin lets it go a few centimetres early
     timed, found = with_waiting_goals(scene)
     assert [g.node for g in timed.humans[0].goals] == ["human1_wait", "x", "n"] and found == holds(scene)
@@ -110,6 +117,50 @@ def test_the_encounter_happens_at_its_place_at_any_robot_speed_and_not_without_t
     untimed = simulate_run(run, robot=waypoint_robot("careful", 0.6 * speed), throttle=False, save=False)
     report = verify_trace(run, untimed)
     assert not report.passed and any("meets human1" in f.name for f in report.failures)
+
+
+def test_the_person_sets_off_as_early_as_the_robots_own_speed_needs(tmp_path: Path, hall: Path) -> None:
+    """A robot at half or 1.5x its cruise speed covers the person's last 2 m of walking in a shorter or longer
+    stretch of its path: the release tells its speed from how long it took to come near (a clock from
+    measure_distance), so the robot is as far from the node when the person sets off as that walk takes at ITS
+    speed - a release by one distance let the person go 4 s early for a slow robot and late for a fast one."""
+    run = crossing(tmp_path / "run", hall)
+    scene, location = build_scene(run)
+    node = np.array(location.node_world("x"))
+    walk = HOLD_BEFORE / WALK_SPEED + PERSON_START_LAG
+    left = {}
+    for speed in (0.5, 1.0, 1.5):
+        twin = target_twin(run, "hunav2", tmp_path / f"twin{speed:g}")
+        trace = simulate_run(twin.run, robot=waypoint_robot("careful", scene.robot_speed * speed),
+                             location=twin.location, throttle=False, save=False)
+        waited = np.flatnonzero(trace.action[1:, 0] == -1)
+        released = waited[-1] + 2
+        left[speed] = float(np.hypot(*(trace.robot[released, :2] - node)))  # the robot comes straight along y
+        ideal = scene.robot_speed * speed * walk
+        assert abs(left[speed] - ideal) < 0.5, (speed, left[speed], ideal)
+    assert left[1.5] - left[0.5] > 0.5 * scene.robot_speed * walk, left  # ideal: 1 x robot_speed x walk
+
+
+def test_the_speed_is_told_only_where_the_robot_keeps_coming_closer(tmp_path: Path, hall: Path) -> None:
+    """The robot's distance tells how far along its path it is only while it keeps coming closer to the spot: a
+    robot that passes near the spot first (its path bending round it) or starts too near to be timed gets the one
+    release by distance, for its cruise speed."""
+    from socnavgen.export.models import WorldPoint
+
+    scene, _ = build_scene(crossing(tmp_path / "run", hall))
+    straight = hold_for(scene.humans[0], scene)
+    assert straight is not None and len(straight.faster) == len(ROBOT_SPEEDS) - 1
+    nominal = {factor: distance for factor, distance, _ in straight.faster}[1.0]
+    robot = scene.robot
+    detour = robot.model_copy(update={  # from 4 m south of the waiting spot, west to (3, 10), then east through x
+        "start": WorldPoint(node="q", x=15.0, y=4.0, yaw=0.0), "path": ["q", *robot.path],
+        "waypoints": [WorldPoint(node="w", x=3.0, y=10.0, yaw=0.0), *robot.waypoints]})
+    near = robot.model_copy(update={"start": WorldPoint(node="q", x=13.8, y=10.0, yaw=0.0)})  # 1.2 m before x
+    for variant in (detour, near):
+        hold = hold_for(scene.humans[0], scene.model_copy(update={"robot": variant}))
+        assert hold is not None and hold.faster == ()
+        if variant is detour:  # the same approach to x as the straight path: the cruise speed's distance
+            assert hold.release_distance == pytest.approx(nominal, abs=0.01)
 
 
 def test_the_release_is_latched_and_happens_at_the_release_distance(tmp_path: Path, hall: Path) -> None:

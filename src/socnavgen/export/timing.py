@@ -7,21 +7,26 @@ the export puts the timing into the person's own tree, as conditions the target 
 1. walk the path until the goal HOLD_BEFORE metres before the interaction node is reached (a goal of the
    path there, or one the export adds to the person's goals), counting goals with IsGoalReached - so the
    spot does not depend on how fast the target's people walk -, then stand there;
-2. set off - and from then on run the person's own tree - once the robot is within `release_distance`
-   (IsRobotNearby / HuNavSim 2.x IsRobotClose): the distance between the hold point and the point of the
-   robot's path that is as far (in time, at the robot's nominal speed) from the node as the person is
-   (bodies.walk_time of HOLD_BEFORE at walking speed: the time by which the simulator's pacing lets a
-   standing person set off, sim.people.pacing; at a door on the robot's way, as far again as the robot's lead
-   there, scene.leads, pacing's door_lead: the person goes through the door first); and where the waiting spot is in the robot's way (ahead of it, inside the
-   corridor its body sweeps) at least the distance at which the robot first has them there within
-   proxemics.HELD_UP_DISTANCE (where someone in its way holds the robot up; the simulator's pacing never holds
-   a person that close either), so robot and person never wait for each other; or at the latest after `timeout` seconds (a robot that never comes). The release is latched: the
-   person never waits again.
+2. set off - and from then on run the person's own tree - once the robot is as far along its path from the node
+   as the person's last HOLD_BEFORE metres take at the robot's OWN speed (bodies.walk_time at walking speed: the
+   time by which the simulator's pacing lets a standing person set off, sim.people.pacing; at a door on the
+   robot's way, as far again as the robot's lead there, scene.leads, pacing's door_lead: the person goes through
+   the door first). The target has only the robot's distance (IsRobotNearby / HuNavSim 2.x IsRobotClose) and a
+   clock (TimeExpiredCondition), so the speed is told from the time the robot takes to come near: a clock runs
+   from when it comes within `measure_distance`; for each speed of ROBOT_SPEEDS but the slowest, the person sets
+   off at that speed's distance if the robot came there within the time a robot a little slower than it takes
+   (`faster`); at `release_distance`, the slowest's, in any case. Where the waiting spot is in the robot's way
+   (ahead of it, inside the corridor its body sweeps) every such distance is at least the one at which the robot
+   first has them there within proxemics.HELD_UP_DISTANCE (where someone in its way holds the robot up; the
+   simulator's pacing never holds a person that close either), so robot and person never wait for each other;
+   at the latest after `timeout` seconds (a robot that never comes). The release is latched: the person never
+   waits again.
 
-Because the release is a robot POSITION, not a time, a robot at half or 1.5 times the nominal speed still
-meets the person at the node: only the last HOLD_BEFORE metres are walked without the robot, and those
-take ~2 s. Who is timed is the simulator's rule: a person without a group whose interaction node is on
-the robot's path after its start. `holds()` computes the numbers, `hold_root()` builds the typed tree."""
+Because the release reads the robot's position and its speed, not a time, a robot at half or 1.5 times the
+nominal speed still meets the person at the node: only the last HOLD_BEFORE metres are walked without the robot,
+and they end when the robot gets there (a release by one distance, for the cruise speed, let the person go ~4 s
+early for a robot at half speed). Who is timed is the simulator's rule: a person without a group whose
+interaction node is on the robot's path after its start. `holds()` computes the numbers, `hold_root()` builds the typed tree."""
 
 from __future__ import annotations
 
@@ -51,6 +56,11 @@ TIMEOUT_FACTOR, TIMEOUT_SLACK = 3.0, 10.0  # released at the latest after 3x the
 SAMPLE = 0.05  # m: the robot's path is sampled this finely to find where the release really happens
 WAIT_KEY = "socnavgen_wait"  # the blackboard entry the waiting step writes (standing still does nothing else)
 RELEASE_NODE, TIMEOUT_NODE, COUNT_NODE = "socnavgen_robot_close", "socnavgen_timeout", "socnavgen_goal_count"
+# the robot's speeds (x its cruise speed) the release adapts to: a robot this fast or faster is let come only as close
+# as its speed needs (the person's last HOLD_BEFORE take it that far); the slowest is the unconditional release
+ROBOT_SPEEDS = (1.5, 1.25, 1.0, 0.75, 0.5)
+TRUE_AT = 0.5  # m: the clock's distance must first hold no farther than this before where it is meant to
+MEASURE = 2.0  # m of the robot's path before its earliest release over which its speed is told (a clock from there)
 
 
 @dataclass(frozen=True)
@@ -67,6 +77,11 @@ class Hold:
     wait_at: tuple[float, float]  # where the person waits
     robot_at: tuple[float, float]  # where the robot is when it comes within release_distance (nominal)
     early_by: float  # m of its path by which the robot comes that close before the intended point (0: never)
+    # the same release for a faster robot: (speed factor, distance, seconds) - set off once the robot is within
+    # `distance` if it came there within `seconds` of first coming within `measure_distance` (it drives at least
+    # about `factor` x its cruise speed); release_distance is the latest, for the slowest robot (min ROBOT_SPEEDS)
+    faster: tuple[tuple[float, float, float], ...] = ()
+    measure_distance: float = 0.0
 
 
 class _Line:
@@ -172,20 +187,54 @@ def hold_for(h: HumanExport, scene: ExportScene) -> Hold | None:
     setting_off = walk_time(to_node - wait_s, WALK_SPEED)  # from the waiting spot to the node: pacing's own rule
     robot = _Line([complex(scene.robot.start.x, scene.robot.start.y)] + [complex(w.x, w.y) for w in scene.robot.waypoints])
     node_s = float(robot.arc[scene.robot.path.index(h.interaction_point, 1)])
-    release_s = max(0.0, node_s - scene.leads.get(h.interaction_point, 0.0) - scene.robot_speed * setting_off)
-    robot_at = robot.at(release_s)
-    distance = abs(robot_at - wait_at) + RELEASE_MARGIN
+    lead = scene.leads.get(h.interaction_point, 0.0)
     held_up = held_up_from(robot, wait_at, node_s)
-    if held_up is not None:  # the person waits in the robot's way: released before it would wait for them
-        distance = max(distance, held_up + RELEASE_MARGIN)
-    samples, gaps = robot.gaps(wait_at, release_s)
-    reach = gaps <= distance + 1e-9
-    first = float(samples[int(np.argmax(reach))]) if reach.any() else release_s
+
+    def release_at(factor: float) -> float:  # the robot's arc where a robot at factor x cruise lets the person go
+        return max(0.0, node_s - lead - scene.robot_speed * factor * setting_off)
+
+    def distance_at(s: float) -> float:
+        distance = abs(robot.at(s) - wait_at) + RELEASE_MARGIN
+        if held_up is not None:  # the person waits in the robot's way: released before it would wait for them
+            distance = max(distance, held_up + RELEASE_MARGIN)
+        return distance
+
+    def first_within(distance: float, upto: float) -> float:  # where on its path the robot first comes that close
+        samples, gaps = robot.gaps(wait_at, upto)
+        reach = gaps <= distance + 1e-9
+        return float(samples[int(np.argmax(reach))]) if reach.any() else upto
+
+    release_s = release_at(1.0)
+    robot_at = robot.at(release_s)
+    first = first_within(distance_at(release_s), release_s)
     nominal = release_s / scene.robot_speed + start_wait(scene)
+    factors = sorted(ROBOT_SPEEDS, reverse=True)
+    measure_s = max(0.0, release_at(factors[0]) - MEASURE)
+    measure = max(abs(robot.at(measure_s) - wait_at) + RELEASE_MARGIN, *(distance_at(release_at(f)) for f in factors))
+    measure_first = first_within(measure, node_s)
+    faster = []
+    latest = distance_at(release_at(factors[-1]))
+    for factor, slower in zip(factors, factors[1:], strict=False):
+        distance = distance_at(release_at(factor))
+        boundary = scene.robot_speed * float(np.sqrt(factor * slower))  # faster than this: the earlier release
+        seconds = (first_within(distance, node_s) - measure_first) / boundary
+        seconds += start_wait(scene) if measure_first <= SAMPLE else 0.0  # the clock runs from the start
+        if seconds > SAMPLE / boundary:
+            faster.append((factor, round(distance, 2), round(seconds, 2)))
+    # the robot's distance tells its place on its path only where it keeps coming closer: where it comes within a
+    # release's or the clock's distance elsewhere first (a path bending round the spot), or drives less than
+    # MEASURE / 2 before the fastest release (no time to tell its speed), one release, the cruise speed's, as a
+    # distance alone
+    samples, gaps = robot.gaps(wait_at, release_at(factors[-1]))
+    approach = gaps[samples >= measure_first - 1e-9]
+    if release_at(factors[0]) < MEASURE / 2 or measure_first < measure_s - TRUE_AT or (np.diff(approach) > 1e-3).any():
+        faster, latest = [], distance_at(release_s)
     return Hold(human=h.name, node=h.interaction_point or "", goals_first=count, wait_goal=goal, wait_index=index,
-                release_distance=round(distance, 2), timeout=round(TIMEOUT_FACTOR * nominal + TIMEOUT_SLACK, 1),
+                release_distance=round(latest, 2),
+                timeout=round(TIMEOUT_FACTOR * nominal + TIMEOUT_SLACK, 1),
                 wait_at=(round(wait_at.real, 3), round(wait_at.imag, 3)),
-                robot_at=(round(robot_at.real, 3), round(robot_at.imag, 3)), early_by=round(max(0.0, release_s - first), 2))
+                robot_at=(round(robot_at.real, 3), round(robot_at.imag, 3)), early_by=round(max(0.0, release_s - first), 2),
+                faster=tuple(faster), measure_distance=round(measure, 2))
 
 
 def holds(scene: ExportScene) -> dict[str, Hold]:
@@ -247,8 +296,15 @@ def hold_root(root: Node, hold: Hold, keep: set[Node]) -> Node:
     The goals are counted with a TimeExpiredCondition ticked only when IsGoalReached succeeds, with ts=1: it
     adds one per goal reached (the tick before UpdateGoal moves on) and latches at `goals_first`. The nodes
     the export adds are named socnavgen_* (Groot2 shows the names)."""
+    faster = [node("Sequence", node("IsRobotNearby", agent_id="{id}", distance=hold.measure_distance),
+                   node("Inverter", node("TimeExpiredCondition", seconds=seconds, ts="{dt}", only_once=True,
+                                         label=f"socnavgen_clock_{k}")),
+                   node("IsRobotNearby", agent_id="{id}", distance=distance, label=f"socnavgen_robot_near_{k}"),
+                   label=f"socnavgen_faster_{k}")
+              for k, (_, distance, seconds) in enumerate(hold.faster)]
     release = node("Fallback",
                    node("IsRobotNearby", agent_id="{id}", distance=hold.release_distance, label=RELEASE_NODE),
+                   *faster,
                    node("TimeExpiredCondition", seconds=hold.timeout, ts="{dt}", only_once=True, label=TIMEOUT_NODE),
                    label="socnavgen_release")
     wait = stand_node()
@@ -267,9 +323,12 @@ def describe(hold: Hold) -> str:
     approach = f"walks to its goal {hold.goals_first}{added}" if hold.goals_first else ""
     early = (f" (the robot's path passes that close {hold.early_by:g} m earlier: it may set off early)"
              if hold.early_by > 0.5 else "")
+    sooner = "".join(f", {d:g} m if it came there within {t:g} s (a robot at {f:g}x its speed or faster)"
+                     for f, d, t in hold.faster)
+    clock = f" (the clock runs from when it is within {hold.measure_distance:g} m)" if hold.faster else ""
     return (f"{hold.human}: {approach + ', ' if approach else ''}waits at ({hold.wait_at[0]:.2f}, "
-            f"{hold.wait_at[1]:.2f}) until the robot is within {hold.release_distance:g} m (at the latest "
-            f"{hold.timeout:g} s), then meets it at {hold.node}{early}")
+            f"{hold.wait_at[1]:.2f}) until the robot is within {hold.release_distance:g} m{sooner}{clock} (at the "
+            f"latest {hold.timeout:g} s), then meets it at {hold.node}{early}")
 
 
 __all__ = ["HOLD_BEFORE", "Hold", "held_up_from", "hold_for", "hold_root", "holds", "latch"]
