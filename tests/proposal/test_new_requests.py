@@ -20,37 +20,38 @@ PATHS = fixture_paths(FIXTURES)
 
 # Where the verifier and the eyes disagree today, each with what was seen (a strict xfail: it turns red the day
 # they agree, and the pin must go). Empty means they agree on every fixture. Round 11 answers (the fifth session's
-# prompts) and round 13 answers (the seventh session's prompts: four players' sessions, twelve new requests),
-# replayed on the seventh session's code and judged from GIF frames by four sessions that read no code and saw no
-# verdict (round 13 of the eyes). Causes left: a spec that asks more than the eyes did (hospital_05). (The
-# lenient passes of specs and plans that said less than their prose, home_09, hospital_11 and warehouse_07, are
-# refused by proposal/prose_checks.py: see REFUSED and tests/proposal/test_prose_checks.py.) warehouse_10 agrees
-# since speeds are judged as a person sees them (verify/perceived.py: the lead worker's 0.25 s slow step to
-# 0.09 m/s while bending round the robot is no stop).
+# prompts), round 13 answers (the seventh session's) and round 14 re-recordings (the eighth session's: eight requests
+# whose recordings ended under the current pipeline, answered again live), replayed on the eighth session's code and
+# judged from GIF frames by six sessions that read no code and saw no verdict (round 14 of the eyes). Six lenient
+# passes (a spec that says less than the prose: an order of followers, where a person comes from, a wait at a
+# distance; two people passing 0.19 m apart that the eyes saw as touching) and one strict fail the eyes accepted.
 DISAGREE: dict[str, str] = {
-    "hospital_05_elevator_at_visiting_hour": "strict FAIL: the eyes saw the robot stop ~2 m before 1g for the visitor "
-    "with the cane and let the couple out of the elevator and past it before boarding; the spec's stl 'the robot does "
-    "not drive up to the elevator door until the first visitor has left the lobby through the double doors' asks more "
-    "than the prose (the robot 0.99 m from q9 at 35.6 s, the visitor 1.95 m from cc; no speed in it); frames of the "
-    "replay show the robot at q9 at ~36.5-37.2 s with both visitors still in the lobby at the double doors, through "
-    "them at ~38 s (the eyes' 'only then, ~40 s' misread the time), and the new loop asks stage 1 where the live run "
-    "was not asked (the recording ends there)",
+    "home_09_telepresence_grandma_kids_follow": "lenient PASS: both children follow in single file, close, but in the "
+    "reverse of the text's order (the younger right behind the robot), and the run ends at the robot's goal with "
+    "neither child inside the bedroom; no criterion states the order or that they go in",
+    "hospital_06_night_wandering_patient": "lenient PASS: the patient stands at 8z until the robot calls her at ~40 s; "
+    "she never wanders toward the south elevator, so the interception the text is about does not happen (no "
+    "criterion says she walks toward it first)",
+    "hospital_07_assisted_rehab_walk": "lenient PASS: the nurse steps aside into the opening the pair is heading for "
+    "and walks on past the patient at ~30-31 s (people_apart measured 0.19 m between the bodies: the eyes saw the "
+    "discs overlap), and the patient ends in the doorway, not inside her room",
+    "hospital_10_meal_tray_family_in_doorway": "lenient PASS: the robot does not wait at the counter 2-2.5 m back "
+    "until the way is clear; it moves into the family still standing round zs, passing at ~0.3 m, and the doorway "
+    "visitor backs into the room (no criterion holds the robot back until they have stepped aside)",
+    "warehouse_03_fire_alarm_evacuation": "lenient PASS: the line of three forms behind the robot as written, but the "
+    "fourth worker leaves his aisle to the north and walks ~15 m round via mq and 9z to join the back, instead of "
+    "stepping out at sw as the robot passes (follows_human judges only that he ends up following)",
+    "warehouse_07_night_patrol_west_corridor": "strict FAIL the eyes accepted: the robot stopped at ~32 s 1.5 m from "
+    "the worker at f7 and said EXCUSE ME (again at ~49 s); he stepped aside at ~66 s, 35 s after the phrase, while the "
+    "text has him step aside when it says it (the judge saw the times and the second EXCUSE ME and called it a match)",
+    "warehouse_12_carrying_toolbox_for_technician": "lenient PASS: the picker never walks up the aisle from yh; she "
+    "stands at its north end ~30 s and waits in its mouth, so the robot holding back for someone coming through a "
+    "blind aisle becomes a standoff she breaks (no criterion states that she comes up the aisle)",
 }
 
 # Fixtures whose recorded answers never pass a stage (a stage check refuses them, or the recording ends where the
 # pipeline now asks what the live run was never asked), each with why: the replay stops at that stage.
-REFUSED: dict[str, str] = {
-    "home_09_telepresence_grandma_kids_follow": "scenario: the text has the older child right behind the robot and "
-    "its follows_robot allows 4.5 m (the eyes: he stood 12 s by the table, 3.25 m away, and passed); stage 1 is asked "
-    "for at most the close-follow gap (prose_checks), and the recording has no answer for it",
-    "warehouse_07_night_patrol_west_corridor": "scenario: the text has the second worker walk on behind the robot "
-    "and no criterion about her can see who goes first (the eyes: she walked ahead of it to the door); stage 1 is "
-    "asked for one (prose_checks), and the recording has no answer for it",
-    "hospital_10_meal_tray_family_in_doorway": "paths: live, stage 2 was asked 12 times to put the family's meeting "
-    "3 m from the robot's start, a distance only stage 1's meets criterion decides (the run ended in error); the "
-    "pipeline now sends that cause to stage 1 after stage 2's second answer, and the recording has no stage-1 answer "
-    "for it",
-}
+REFUSED: dict[str, str] = {}
 
 
 def test_the_suite_is_there_and_judged():
