@@ -65,6 +65,13 @@ KNOWN_LOST = {
     # let people coming out of a door pass a robot beside its exit at 0.22 m: tests/sim/test_robot_margin.py)
     ("socrates", "hospital/entering-elevator", 0.5): _ELEVATOR_FLIP,
     ("hunav2", "hospital/entering-elevator", 0.5): _ELEVATOR_FLIP,
+    # lost with the eighth session's people and robot (2026-11-27: followers queue 0.3 m apart, a follower falls in
+    # once the robot is level, the default robot brakes within 1.5 m/s2), told by the verdicts, not yet looked at in
+    # frames: the crowd pressing round the plain waypoint robot touches it (socrates 1x), and 2.x's give-way comes
+    # after the criterion's window at 0.5x (hunav2)
+    ("socrates", "home/robot-crowding", 1.0): "the robot never touches a person; no two people touch each other: the "
+    "crowd pressing round the plain waypoint robot touches it",
+    ("hunav2", "home/pedestrian-obstruction", 0.5): _PHRASE_LATE,
 }
 
 

@@ -38,7 +38,7 @@ KNOWN_DIVERGENT = {
     # (home/robot-crowding's twins verify alike since people walk round a robot standing on a point of their way, s11)
     "home/robot-overtaking": _HALLWAY,
     "home/accompanying-peer": _HALLWAY,
-    "home/pedestrian-obstruction": _PHRASE_LATE,
+    # home/pedestrian-obstruction's twins verify alike again since the eighth session (2026-11-27)
     # since people walk round a robot standing on a point of their way (s11; traced, not seen in a GIF): in the
     # socrates twin the person gives way, the 2.x twin has no side step
     "home/narrow-doorway": "2.x has no side step: the socrates person gives way, the hunav2 one does not",
@@ -54,6 +54,11 @@ KNOWN_DIVERGENT = {
     "hospital/narrow-hallway": "2.x has no side step: the hunav2 person stays in the robot's way in the hallway",
     "hospital/accompanying-peer": _FOLLOW_AHEAD,
     "warehouse/accompanying-peer": _FOLLOW_AHEAD,
+    # eighth session (2026-11-27: the default robot brakes within 1.5 m/s2, goes round a group standing on its
+    # waypoint, stops short of someone standing; followers queue; told by the verdicts, not looked at in frames)
+    "warehouse/pedestrian-obstruction": _PHRASE_LATE,
+    "warehouse/robot-crowding": "the socrates and the 2.x crowds round the robot end differently (2.x's CuriousNav / "
+    "AvoidRobot followers against FollowRobot); not analysed finding by finding",
 }
 
 
@@ -109,11 +114,10 @@ REACTIONS = {
 # (node, finding) -> why it differs (the test fails if it stops differing). Measured 2026-11-26 on the merged simulator:
 # paced from the robot's live ETA, human1 now walks to `up` at its own speed to arrive WITH the robot, so the 3 m
 # trigger fires with both ~1.5 m from the node
-REACTIONS_DIVERGENT = {
-    ("GiveWaytoRobot", "robot meets human1 at up (e1)"):
-        "2.x has no side step: the socrates person steps aside 2.3 m before up (t=26 s) and waits there until the "
-        "robot has passed, so the two are closest 2.08 m from the node (and human1 reaches it 7 s after the robot); "
-        "the hunav2 person (AvoidRobot) keeps walking to its goal at 0.6 m/s and meets the robot 0.53 m from up",
+REACTIONS_DIVERGENT: dict[tuple[str, str], str] = {
+    # GiveWaytoRobot's twins meet the robot alike again since the eighth session (2026-11-27; the robot brakes within
+    # 1.5 m/s2 and stops short of someone standing in its way): before, the socrates person stepped aside 2.3 m before
+    # up and the two were closest 2.08 m from the node while the hunav2 one met the robot 0.53 m from it
 }
 
 

@@ -204,28 +204,26 @@ def _findings(path: Path) -> dict[str, list[str]]:
     return {k: v for k, v in found.items() if v}
 
 
-# Every recorded answer of the suite the prose checks refuse, and why that is right.
+# Every recorded answer of the suite the prose checks refuse, and why that is right (round 14 re-answered home_09,
+# warehouse_07 and hospital_11 live with these checks: the answers refused there are the model's before it fixed them).
 REFUSED = {
-    ("home_09_telepresence_grandma_kids_follow", "scenario[0]"): "right behind it, allowed 4.5 m (the eyes: the older "
-    "child stood 12 s by the table, 3.25 m away)",
-    ("warehouse_07_night_patrol_west_corridor", "scenario[0]"): "she walks on behind it, no order criterion (the eyes: "
-    "she walked ahead of it to the door)",
-    ("warehouse_07_night_patrol_west_corridor", "scenario[1]"): "the same text, the same criteria",
-    ("hospital_11_disinfecting_west_corridor", "paths[1]"): "the correction starts human3 in room nt, her text has "
-    "her come from ef (the eyes: she came out of nt)",
+    ("home_09_telepresence_grandma_kids_follow", "scenario[0]"): "right behind it, allowed 5 m (the live model then "
+    "stated how far behind each child walks)",
+    ("warehouse_03_fire_alarm_evacuation", "scenario[0]"): "follows the robot closely, allowed 4 m (the live model then "
+    "wrote 'about 1.5-2 m behind it')",
+    ("warehouse_07_night_patrol_west_corridor", "paths[1]"): "a correction that brings the second worker to hd from zg "
+    "where her text has her come up the aisle from ki (the live model then changed her trigger distance instead)",
+    ("warehouse_07_night_patrol_west_corridor", "paths[2]"): "the same path again",
     ("hospital_06_night_wandering_patient", "paths[1]"): "a re-ask answer that reverses the nurse's walk (1g zs i1 "
     "pf tw, her text: from tw through pf to i1 and on to cs); the replay never reaches it (the first answers verify)",
 }
 
 
 def test_on_the_suites_recorded_answers_the_checks_refuse_only_what_the_text_does_not_say():
-    """The answers behind the three runs the verifier passed and the eyes did not are refused; no answer of a run
-    the eyes accepted is (hospital_06's refused answer is one its run never used)."""
+    """Exactly the answers above are refused, each an answer whose spec or plan says less than (or other than) its
+    prose; every other recorded answer of the 36 passes the checks."""
     refused = {(p.stem, k) for p in sorted(FIXTURES.glob("*.yaml")) for k in _findings(p)}
     assert refused == set(REFUSED)
-    lenient = {stem for stem, _ in refused if load_yaml_file(FIXTURES / f"{stem}.yaml")["eyes"]["matches"] is False}
-    assert lenient == {"home_09_telepresence_grandma_kids_follow", "warehouse_07_night_patrol_west_corridor",
-                       "hospital_11_disinfecting_west_corridor"}
 
 
 def test_a_plan_that_cannot_bring_a_person_in_the_texts_way_sends_stage_1_to_change_the_text(tmp_path, mini_location):
