@@ -154,3 +154,15 @@ def test_a_later_trigger_before_a_latched_part_began_opens_no_window() -> None:
         near.encounters[0].humans[0].model_copy(update={"latch": False})]}), near.encounters[1]]})
     s = _signals(_aisle(steps_aside_at=22.5), loose)
     assert s.t[opening_steps(s, loose, "human1", VerifySettings())[1]] < 5.0
+
+
+def test_held_within_looks_back_or_ahead_by_its_steps_only():
+    """One window helper for "said within S s before" and "out of the way within S s after"."""
+    import numpy as np
+
+    from socnavgen.verify.windows import held_within
+
+    flags = np.array([0, 0, 1, 0, 0, 0, 0, 0], dtype=bool)
+    assert held_within(flags, 2).tolist() == [False, False, True, True, True, False, False, False]
+    assert held_within(flags, 2, ahead=True).tolist() == [True, True, True, False, False, False, False, False]
+    assert held_within(flags, 0).tolist() == flags.tolist()

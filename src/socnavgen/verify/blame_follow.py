@@ -16,6 +16,7 @@ from socnavgen.run.spec import Blame
 from socnavgen.verify.criteria import Compiled
 from socnavgen.verify.signals import Signals
 from socnavgen.verify.thresholds import WALK_SPEED
+from socnavgen.verify.windows import held_within
 
 Verdict = tuple[Blame, str | None, str]
 
@@ -42,8 +43,7 @@ def never_near_start(cc: Compiled, s: Signals, h: str) -> Verdict | None:
     there = s.get(f"{h}_to_{cc.encounter.id}") <= cc.encounter.within + (cc.distance or 0.0)
     if cc.phrase:
         said = s.get(f"robot_says_{cc.phrase}") > 0.5
-        steps = int(round((cc.seconds or 0.0) / s.trace.dt))
-        there &= np.convolve(said, np.ones(steps + 1), mode="full")[: said.size] > 0  # said in the last S s
+        there &= held_within(said, int(round((cc.seconds or 0.0) / s.trace.dt)))  # said in the last S s
     if there.any():
         return None
     node = cc.encounter.node or cc.encounter.id

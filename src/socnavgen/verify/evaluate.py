@@ -14,6 +14,7 @@ from socnavgen.sim.trace import Trace
 from socnavgen.text import count
 from socnavgen.verify.models import Expectation, Finding, VerifySettings
 from socnavgen.verify.signals import Signals, aside
+from socnavgen.verify.windows import held_within
 
 
 def _finding(exp: Expectation, passed: bool, evidence: str, *, time: float | None = None,
@@ -81,7 +82,7 @@ def _one(exp: Expectation, trace: Trace, i: int, settings: VerifySettings) -> tu
         if steps.any():  # the node ran: the body must be out of the robot's way within the reaction time after
             out = aside(Signals(trace), name)
             soon = max(1, int(round(settings.reaction_seconds / trace.dt)))
-            later = np.convolve(out[::-1].astype(float), np.ones(soon + 1), "full")[:len(out)][::-1] > 0
+            later = held_within(out, soon, ahead=True)
             if not (steps & later).any():
                 k = int(np.argmax(steps))
                 return _finding(exp, False, f"{name}: {label} from t={trace.t[k]:.2f} s, but its body never got "

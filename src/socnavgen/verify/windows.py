@@ -37,6 +37,15 @@ if TYPE_CHECKING:  # pragma: no cover - signals imports nothing from here at run
 WINDOWED = ("gives_way", "stops_near_robot", "reacts_after_phrase")  # criterion kinds judged in their window
 
 
+def held_within(flags: np.ndarray, steps: int, *, ahead: bool = False) -> np.ndarray:
+    """(T,) bool: `flags` held at some step of the last `steps` steps (this one included), or of the next ones with
+    `ahead`: "said within S s before" (a follower's cue) and "out of the way within S s after" (a give-way)."""
+    flags = np.asarray(flags, dtype=float)
+    if ahead:
+        return held_within(flags[::-1], steps)[::-1]
+    return np.convolve(flags, np.ones(max(steps, 0) + 1), mode="full")[: flags.size] > 0
+
+
 def encounters_of(spec: ScenarioSpec, human: str) -> list[Encounter]:
     """The encounters `human` is met in (not those it avoids), in the order they happen."""
     mine = [e for e in spec.encounters if any(p.human == human and p.reaction != "avoid" for p in e.humans)]
