@@ -32,3 +32,14 @@ def warehouse_dir() -> Path:
 def _isolated_llm_cache(tmp_path_factory: pytest.TempPathFactory, monkeypatch: pytest.MonkeyPatch) -> None:
     """Every test gets an empty LLM cache: a reply cached by an earlier run must never answer a test."""
     monkeypatch.setenv("SOCNAVGEN_CACHE_DIR", str(tmp_path_factory.mktemp("llm_cache")))
+
+
+def pytest_sessionstart(session: pytest.Session) -> None:
+    """Compile the simulator (or load numba's cache) once, before pytest-xdist starts its workers: workers
+    that compile the same cold cache at the same time can read each other's half-written entries ("no
+    compiled object yet"), and each would spend the same minute compiling."""
+    if hasattr(session.config, "workerinput"):  # an xdist worker: the controller has warmed the cache
+        return
+    from socnavgen.sim import warm_up
+
+    warm_up()
