@@ -15,7 +15,7 @@ from socnavgen.run.spec import Criterion, Encounter, HumanPart, Person, RobotScr
 from socnavgen.sim.trace import Trace
 from socnavgen.verify import verify_trace
 from socnavgen.verify.models import VerifySettings
-from socnavgen.verify.way_in import WayIn, judge_way_in, way_reach, ways_in
+from socnavgen.verify.way_in import WALKS_REQUIRED, WayIn, judge_way_in, way_reach, ways_in
 
 from .corpus import Scene, build, make_corner_location, write_case_run
 
@@ -65,7 +65,7 @@ def test_one_whose_reaction_takes_them_round_another_way_fails_on_their_tree() -
     assert not found.passed
     assert "never came within 1.2 m of b (closest 5.2 m, at 18.5 s)" in found.evidence, found.evidence
     assert "their tree turned to the robot at 5.0 s, before they had walked it" in found.evidence
-    assert (found.blame, found.blame_human, found.stage) == ("behaviors", "human1", "behaviors")
+    assert (found.blame, found.blame_human, found.stage) == ("behaviors", "human1", "behaviors") and found.required
 
 
 def test_one_who_comes_another_way_without_reacting_fails_on_the_paths() -> None:
@@ -80,6 +80,7 @@ def test_a_walker_who_stood_at_their_start_until_the_robot_called_fails() -> Non
     found = judge_way_in(_way(), _trace(keys, turns=20.0), SETTINGS)
     assert not found.passed and found.blame == "paths", found
     assert "stood at their start a (walked 0.00 m) until their tree turned to the robot at 20.0 s" in found.evidence
+    assert found.required == WALKS_REQUIRED  # a warning until the replayed suite is re-recorded (module doc)
 
 
 def test_a_follower_called_at_the_start_comes_in_with_the_reaction() -> None:
@@ -128,7 +129,8 @@ def test_every_run_is_judged_on_it(tmp_path: Path) -> None:
     run = write_case_run(tmp_path / "run", make_corner_location(tmp_path / "loc"), spec, plan)
     report = verify_trace(run, trace)
     found = [f for f in report.findings if f.kind == "way_in"]
-    assert len(found) == 1 and not found[0].passed and not report.passed, found
+    assert len(found) == 1 and not found[0].passed, found
+    assert (found[0] in report.failures) == WALKS_REQUIRED and (found[0] in report.warnings) != WALKS_REQUIRED
     assert found[0].name == "human1 comes to east (e1) along their way north -> corner -> east"
     assert "stood at their start north" in found[0].evidence
 
