@@ -85,6 +85,7 @@ def test_a_follower_inside_or_in_the_doorway_passes_and_one_left_in_the_hall_fai
     f = found["human2"]
     assert "human2, who follows it, was at h2 (4.4 m from the robot), outside the room of r" in f.evidence, f.evidence
     assert f.blame == "robot_script" and "wait for its followers" in f.blame_reason
+    assert f.name == "human2 ends with the robot in the room of r (or a doorway of it: d)"
 
 
 def test_nothing_is_judged_when_the_robot_never_reached_its_goal() -> None:

@@ -93,8 +93,8 @@ def room_ends(plan: PathPlan, spec: ScenarioSpec, graph: nx.Graph, node_type: An
 def judge_room_end(end: RoomEnd, trace: Trace, node_points: dict[str, tuple[float, float]],
                    goal_reached: bool) -> Finding:
     """The verdict on one follower's end place: in the robot's goal room or one of its doorways."""
-    where = "its doorway " + "/".join(sorted(end.doors)) if end.doors else "it"
-    base = Finding(name=f"{end.human} ends with the robot in the room of {end.goal} (or {where})", kind=KIND,
+    doors = "/".join(sorted(end.doors))
+    base = Finding(name=f"{end.human} ends with the robot in the room of {end.goal} (or a doorway of it: {doors})", kind=KIND,
                    passed=True, evidence="", human=end.human, node=end.goal, source=end.source)
     if end.human not in trace.human_names or not trace.steps:
         return base.model_copy(update={"passed": False, "evidence": f"{end.human} is not in the trace",
