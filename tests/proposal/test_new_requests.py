@@ -22,25 +22,20 @@ PATHS = fixture_paths(FIXTURES)
 # they agree, and the pin must go). Empty means they agree on every fixture. Round 11 answers (the fifth session's
 # prompts), round 13 answers (the seventh session's) and round 14 re-recordings (the eighth session's: eight requests
 # whose recordings ended under the current pipeline, answered again live), replayed on the eighth session's code and
-# judged from GIF frames by six sessions that read no code and saw no verdict (round 14 of the eyes). Six lenient
-# passes (a spec that says less than the prose: an order of followers, where a person comes from, a wait at a
-# distance; two people passing 0.19 m apart that the eyes saw as touching) and one strict fail the eyes accepted.
+# judged from GIF frames by six sessions that read no code and saw no verdict (round 14 of the eyes). Four lenient
+# passes (a spec that says less than the prose: where a person comes from, a wait at a distance; two people passing
+# 0.19 m apart that the eyes saw as touching) and one strict fail the eyes accepted. warehouse_03 (the fourth worker
+# came round another way) and home_09 (a child left in the hallway) agree since verify/way_in.py and way_end.py.
 DISAGREE: dict[str, str] = {
-    "home_09_telepresence_grandma_kids_follow": "lenient PASS: both children follow in single file, close, but in the "
-    "reverse of the text's order (the younger right behind the robot), and the run ends at the robot's goal with "
-    "neither child inside the bedroom; no criterion states the order or that they go in",
     "hospital_06_night_wandering_patient": "lenient PASS: the patient stands at 8z until the robot calls her at ~40 s; "
-    "she never wanders toward the south elevator, so the interception the text is about does not happen (no "
-    "criterion says she walks toward it first)",
+    "she never wanders toward the south elevator, so the interception the text is about does not happen "
+    "(verify/way_in.py's `walks` sees it, a warning while WALKS_REQUIRED is off: required, home_05's recording ends)",
     "hospital_07_assisted_rehab_walk": "lenient PASS: the nurse steps aside into the opening the pair is heading for "
     "and walks on past the patient at ~30-31 s (people_apart measured 0.19 m between the bodies: the eyes saw the "
     "discs overlap), and the patient ends in the doorway, not inside her room",
     "hospital_10_meal_tray_family_in_doorway": "lenient PASS: the robot does not wait at the counter 2-2.5 m back "
     "until the way is clear; it moves into the family still standing round zs, passing at ~0.3 m, and the doorway "
     "visitor backs into the room (no criterion holds the robot back until they have stepped aside)",
-    "warehouse_03_fire_alarm_evacuation": "lenient PASS: the line of three forms behind the robot as written, but the "
-    "fourth worker leaves his aisle to the north and walks ~15 m round via mq and 9z to join the back, instead of "
-    "stepping out at sw as the robot passes (follows_human judges only that he ends up following)",
     "warehouse_07_night_patrol_west_corridor": "strict FAIL the eyes accepted: the robot stopped at ~32 s 1.5 m from "
     "the worker at f7 and said EXCUSE ME (again at ~49 s); he stepped aside at ~66 s, 35 s after the phrase, while the "
     "text has him step aside when it says it (the judge saw the times and the second EXCUSE ME and called it a match)",

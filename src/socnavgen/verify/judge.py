@@ -7,6 +7,8 @@ from dataclasses import dataclass, field
 from functools import partial
 from typing import Any
 
+import numpy as np
+
 from socnavgen.run.models import PathPlan
 from socnavgen.run.spec import Criterion, ScenarioSpec
 from socnavgen.sim.trace import Trace
@@ -20,6 +22,8 @@ from socnavgen.verify.models import Expectation, Finding, Source, VerifyReport, 
 from socnavgen.verify.signals import Signals
 from socnavgen.verify.stl import FormulaError, monitor
 from socnavgen.verify.thresholds import DEFAULT_GOAL_RADIUS, MIN_RUN_SECONDS
+from socnavgen.verify.way_end import RoomEnd, room_end_findings, room_ends
+from socnavgen.verify.way_in import WayIn, way_in_findings, ways_in
 from socnavgen.verify.windows import encounter_window
 
 
@@ -48,6 +52,8 @@ class Prepared:
     plan: PathPlan
     location: Any
     derived: bool = False  # no spec.json: criteria derived from the paths and the card
+    ways: list[WayIn] = field(default_factory=list)  # each person's planned way into their encounter (verify/way_in.py)
+    ends: list[RoomEnd] = field(default_factory=list)  # followers of a robot whose goal is in a room (verify/way_end.py)
     _compiled: dict[tuple[int, float, float | None], Compiled | FormulaError] = field(default_factory=dict)
     _problems: dict[int, str | None] = field(default_factory=dict)
     _goal: tuple[float, float] | None = None
@@ -89,11 +95,20 @@ def prepare(plan: PathPlan, location: Any, spec: ScenarioSpec | None, trees: dic
     else:
         used, judged = spec, with_implied(spec, settings, len(plan.humans))
     node_points: dict[str, tuple[float, float]] = {}
+    ways: list[WayIn] = []
+    ends: list[RoomEnd] = []
     if location is not None:
+        from socnavgen.location.places import PlaceFinder
+
         node_points = {n: tuple(location.node_world(n)) for n in location.scene_graph.node_ids()}
+        finder = PlaceFinder(location)
+        clearance = {n: finder.clearance_m(n) for n in {n for h in plan.humans for n in h.path if n in node_points}}
+        ways = ways_in(plan, used, node_points, clearance, authored=spec is not None)
+        graph = location.graph
+        ends = room_ends(plan, used, graph, lambda n: str(graph.nodes[n].get("type", "")))
     return Prepared(used=used, judged=judged, places=encounter_places(used, plan, location), node_points=node_points,
                     expectations=tree_checks(plan, trees, card_criteria), plan=plan, location=location,
-                    derived=spec is None)
+                    derived=spec is None, ways=ways, ends=ends)
 
 
 def judge_criterion(c: Criterion, source: Source, spec: ScenarioSpec, plan: PathPlan | None, signals: Signals,
@@ -184,6 +199,11 @@ def judge(trace: Trace, *, plan: PathPlan, location: Any, spec: ScenarioSpec | N
     else:
         findings = [judge_criterion(c, src, used, plan, signals, settings, goal_radius, prepared=prepared, index=k)
                     for k, (c, src) in enumerate(judged)]
+        findings += way_in_findings(prepared.ways, trace, settings)
+        goal = signals.places.get("goal")
+        there = trace.end_reason == "robot_goal" or (goal is not None and float(
+            np.hypot(trace.robot[-1, 0] - goal[0], trace.robot[-1, 1] - goal[1])) <= goal_radius)
+        findings += room_end_findings(prepared.ends, trace, prepared.node_points, there)
     for exp, (finding, before_cause) in zip(expectations, evaluate(expectations, trace, settings), strict=True):
         finding.required = spec is None
         if not finding.passed:

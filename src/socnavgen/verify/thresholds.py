@@ -18,6 +18,8 @@ STILL_SPEED = 0.05  # m/s: the robot stands still below this
 STOP_SPEED = 0.1  # m/s: a person has stopped below this
 WALK_SPEED = 0.3  # m/s: a person walks above this (following, walking before a stop)
 MOVED_DISTANCE = 0.5  # m: a person "has walked" once this far from where it started
+WAY_REACH = 1.2  # m: a person passes a node of their planned way within this (a step to either side of it: walking
+#                  abreast of another, or round someone standing on it); verify/way_in.py
 AHEAD_HALF_ANGLE = 45.0  # degrees: the robot is "ahead of" a person inside this cone around the person's heading
 APPROACH = 0.5  # m: a meeting needs the two to be this much closer than at the start, each having come this
 #                 much closer to the place (or being at it)
