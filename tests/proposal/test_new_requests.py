@@ -22,13 +22,11 @@ PATHS = fixture_paths(FIXTURES)
 # they agree, and the pin must go). Empty means they agree on every fixture. Round 11 answers (the fifth session's
 # prompts), round 13 answers (the seventh session's) and round 14 re-recordings (the eighth session's: eight requests
 # whose recordings ended under the current pipeline, answered again live), replayed on the eighth session's code and
-# judged from GIF frames by six sessions that read no code and saw no verdict (round 14 of the eyes). Six lenient
-# passes (a spec that says less than the prose: an order of followers, where a person comes from, a wait at a
-# distance; two people passing 0.19 m apart that the eyes saw as touching) and one strict fail the eyes accepted.
+# judged from GIF frames by six sessions that read no code and saw no verdict (round 14 of the eyes). Five lenient
+# passes (a spec that says less than the prose: where a person comes from, a wait at a distance; two people passing
+# 0.19 m apart that the eyes saw as touching) and one strict fail the eyes accepted; the sixth, home_09's order of
+# followers, is now refused at stage 1 (REFUSED) until it is answered again live.
 DISAGREE: dict[str, str] = {
-    "home_09_telepresence_grandma_kids_follow": "lenient PASS: both children follow in single file, close, but in the "
-    "reverse of the text's order (the younger right behind the robot), and the run ends at the robot's goal with "
-    "neither child inside the bedroom; no criterion states the order or that they go in",
     "hospital_06_night_wandering_patient": "lenient PASS: the patient stands at 8z until the robot calls her at ~40 s; "
     "she never wanders toward the south elevator, so the interception the text is about does not happen (no "
     "criterion says she walks toward it first)",
@@ -51,7 +49,16 @@ DISAGREE: dict[str, str] = {
 
 # Fixtures whose recorded answers never pass a stage (a stage check refuses them, or the recording ends where the
 # pipeline now asks what the live run was never asked), each with why: the replay stops at that stage.
-REFUSED: dict[str, str] = {}
+REFUSED: dict[str, str] = {
+    "home_03_welcome_dinner_guests": "scenario: both recorded answers put the second guest behind Human 1 with a "
+    "follows_robot only, which measures each follower from the robot (prose_checks.person_order_mistakes); the eyes "
+    "saw the guests come down the hallway in the reverse order",
+    "home_09_telepresence_grandma_kids_follow": "scenario: every recorded answer has Leo 'behind his sister' with a "
+    "follows_robot only (person_order_mistakes): round 14's run passed with the two children in the reverse order",
+    "warehouse_10_against_the_unloading_crew": "loop: its first answer measures each worker filing behind another "
+    "from the robot (person_order_mistakes refuses it), so the recorded correction is taken as the re-ask's answer "
+    "and the --verify loop then asks the behaviors stage what the live run was never asked",
+}
 
 
 def test_the_suite_is_there_and_judged():
@@ -76,6 +83,10 @@ def test_the_verifier_and_the_eyes_agree(path, tmp_path):
     row = replay_fixture(path, tmp_path / path.stem, root=ROOT)
     if path.stem in REFUSED:
         stage = REFUSED[path.stem].split(":")[0]
+        if stage == "loop":  # every stage valid, the recorded --verify loop has no answer for what it asks now
+            assert row.scenario_valid and row.verified is False and row.eyes_match is not None
+            assert any("no reply left" in f for f in row.failing), row.failing
+            return
         assert not getattr(row, f"{stage}_valid") and row.verified is None and row.eyes_match is not None
         return
     assert row.scenario_valid and row.paths_valid and row.trees_valid
