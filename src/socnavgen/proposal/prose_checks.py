@@ -212,7 +212,7 @@ def _person_orders(description: str, behaviors: dict[str, str], spec: ScenarioSp
     of another person: in a behavior (its person, unless the sentence names another before the words), a
     criterion's text (its human) or the description (the person the sentence names last before the words)."""
     names = people_names(description, behaviors)
-    texts = [(human_name(k) or k, str(v)) for k, v in behaviors.items()]
+    texts: list[tuple[str | None, str]] = [(human_name(k) or k, str(v)) for k, v in behaviors.items()]
     texts += [(c.human, c.text) for c in spec.criteria if c.human and c.text]
     texts.append((None, description))
     found = []
