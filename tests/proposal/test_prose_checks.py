@@ -269,3 +269,23 @@ def test_the_order_example_warns_of_a_node_the_robot_passes_on_the_way_out():
     1.9 s, when the robot first passes up on its way out, so the example says which node N is."""
     mistakes = order_mistakes(WALKS_ON_BEHIND, {}, ScenarioSpec.model_validate(spec_for(2)))
     assert "reaches only once, after the encounter" in mistakes[0] and "round trip" in mistakes[0]
+
+
+# -- a robot that waits until someone has passed (who goes first, said of the robot) --------------------------------
+@pytest.mark.parametrize("text", [
+    "The robot stops before the doorway and waits until the nurse (Human 2) has come through.",
+    "At the junction the robot stays put until Human 2 has walked past, then drives on.",
+    "The robot pulls over at the wide spot and lets Human 2 go first.",
+])
+def test_a_robot_that_waits_for_someone_to_pass_states_who_goes_first(text):
+    mistakes = order_mistakes(text, {}, ScenarioSpec.model_validate(spec_for(2)))
+    assert len(mistakes) == 1 and "between human2 and the robot" in mistakes[0], mistakes
+
+
+@pytest.mark.parametrize("text", [
+    "The robot waits until they have stepped aside.",  # a step aside, not an order: gives_way's business
+    "The robot stops and waits until the nurse (Human 2) has finished her call.",
+    "Human 2 stands at the counter and lets it go on.",
+])
+def test_other_waits_are_not_an_order_of_passing(text):
+    assert order_mistakes(text, {}, ScenarioSpec.model_validate(spec_for(2))) == []

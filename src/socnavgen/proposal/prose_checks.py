@@ -34,8 +34,13 @@ CLOSE_BEHIND = re.compile(r"\b(?:right|close|closely|just|directly|immediately) 
                           r"(?:the|a|an|his|her|its|their|human) ?\w+))?|\bon (?:its|his|her|their) heels\b|"
                           r"\bfollows? (?:it |them |him |her |the robot )?closely\b", re.IGNORECASE)
 # Words that say who goes first between a person and the robot.
+_PASSER = r"(?:he|she|they|him|her|them|the \w+|human ?\d+|(?-i:[A-Z]\w+))(?: \([^)]*\))?"  # who passes the robot
 ORDER_WORDS = re.compile(r"\b(?:behind (?:it|the robot)|ahead of (?:it|the robot)|go(?:es)? (?:on )?first|"
-                         r"(?:after|once|until) (?:it|the robot) (?:has )?(?:passed|gone by|gone past))\b",
+                         r"(?:after|once|until) (?:it|the robot) (?:has )?(?:passed|gone by|gone past)|"
+                         # the robot waits for someone to pass (a ROBOT WAIT: they go first)
+                         rf"(?:waits?|stays?|stands?|stops?)\b[^.;]{{0,50}}?\buntil {_PASSER} (?:has|have) (?:passed|"
+                         r"gone by|gone past|walked (?:past|by)|come (?:through|out|past)|run past|rushed past|crossed)|"
+                         rf"lets {_PASSER} (?:pass|go first|go by|go past|come through|come out|cross))\b",
                          re.IGNORECASE)
 ORDER_KINDS = ("follows_robot", "follows_human", "gives_way", "blocks_robot")  # (and an stl naming the person)
 # Words that put a person behind or ahead of someone; `whom` is a person (person_whom) or a place ("the counter").
