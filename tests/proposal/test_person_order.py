@@ -58,6 +58,8 @@ def test_a_person_named_in_the_text_is_put_in_the_example():
 @pytest.mark.parametrize("criterion", [
     {"id": "c9", "kind": "stl", "formula": "eventually (always (way_human2 >= way_human1 + 0.4))",
      "text": "Leo walks behind his sister"},
+    {"id": "c9", "kind": "stl", "formula": "(human2_to_node_i6 > 1.0) until (human1_to_node_i6 < 1.0)",
+     "text": "Mia reaches the hallway before Leo"},
     {"id": "c9", "kind": "follows_human", "human": "human2", "encounter": "e1", "distance": 2.5,
      "text": "Leo walks right behind his sister"},
 ])
@@ -65,6 +67,11 @@ def test_a_criterion_that_relates_the_two_is_accepted(criterion):
     leo = {"human": "human2", "trigger": "robot_says", "phrase": "FOLLOW ME", "reaction": "follow_human",
            "other": "human1", "latch": True}
     assert person_order_mistakes(KIDS, {}, _followers(criterion, leo=leo)) == []
+
+
+def test_a_distance_between_the_two_that_is_the_same_either_way_round_does_not_state_the_order():
+    spread = {"id": "c9", "kind": "stl", "formula": "always (spread_human1_human2 < 3.5)", "text": "in single file"}
+    assert person_order_mistakes(KIDS, {}, _followers(spread))
 
 
 @pytest.mark.parametrize("text", [

@@ -225,8 +225,9 @@ REFUSED = {
     "follows_robot only (the eyes saw the two come down the hallway in the reverse order)",
     ("home_03_welcome_dinner_guests", "scenario[1]"): "the same order, still unrelated",
     ("warehouse_10_against_the_unloading_crew", "scenario[0]"): "workers 'behind the lead worker (human1)', 'behind "
-    "human2', 'behind human3' each with a follows_robot measuring them from the robot (the live model's correction "
-    "relates each pair with an stl naming both)",
+    "human2', 'behind human3' each with a follows_robot measuring them from the robot",
+    ("warehouse_10_against_the_unloading_crew", "scenario[1]"): "the live correction relates each pair only by "
+    "'always (spread_human3_human2 < 3.5)', the same whichever of the two walks first",
     ("hospital_06_night_wandering_patient", "paths[1]"): "a re-ask answer that reverses the nurse's walk (1g zs i1 "
     "pf tw, her text: from tw through pf to i1 and on to cs); the replay never reaches it (the first answers verify)",
 }

@@ -232,11 +232,16 @@ def _person_orders(description: str, behaviors: dict[str, str], spec: ScenarioSp
     return found
 
 
+# Signals of an stl that tell who is ahead: a distance from the robot (dist_, way_), to a place (_to_) or between
+# two people along the way (way_h_o); spread_ and pgap_ are the same whichever of the two goes first.
+_PLACED = re.compile(r"\b(?:(?:dist|way)_(human\d+)(?:_(human\d+))?|(human\d+)_to_\w+)")
+
+
 def _relates(c: Criterion, human: str) -> bool:
-    """`c` can see where `human` walks relative to another person: follows_human, or an stl naming both."""
+    """`c` can see where `human` walks relative to another person: follows_human, or an stl placing both."""
     if c.kind == "follows_human":
         return c.human == human
-    named = set(re.findall(r"human\d+", c.formula or "")) if c.kind == "stl" else set()
+    named = {h for m in _PLACED.finditer(c.formula or "") for h in m.groups() if h} if c.kind == "stl" else set()
     return human in named and len(named) >= 2
 
 
