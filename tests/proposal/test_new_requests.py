@@ -25,7 +25,8 @@ PATHS = fixture_paths(FIXTURES)
 # judged from GIF frames by six sessions that read no code and saw no verdict (round 14 of the eyes). Four lenient
 # passes (a spec that says less than the prose: where a person comes from, a wait at a distance; two people passing
 # 0.19 m apart that the eyes saw as touching) and one strict fail the eyes accepted. warehouse_03 (the fourth worker
-# came round another way) and home_09 (a child left in the hallway) agree since verify/way_in.py and way_end.py.
+# came round another way) and home_09 (a child left in the hallway) agree since verify/way_in.py and way_end.py;
+# home_09's order of followers is also refused at stage 1 now (REFUSED) until it is answered again live.
 DISAGREE: dict[str, str] = {
     "hospital_06_night_wandering_patient": "lenient PASS: the patient stands at 8z until the robot calls her at ~40 s; "
     "she never wanders toward the south elevator, so the interception the text is about does not happen "
@@ -46,7 +47,16 @@ DISAGREE: dict[str, str] = {
 
 # Fixtures whose recorded answers never pass a stage (a stage check refuses them, or the recording ends where the
 # pipeline now asks what the live run was never asked), each with why: the replay stops at that stage.
-REFUSED: dict[str, str] = {}
+REFUSED: dict[str, str] = {
+    "home_03_welcome_dinner_guests": "scenario: both recorded answers put the second guest behind Human 1 with a "
+    "follows_robot only, which measures each follower from the robot (prose_checks.person_order_mistakes); the eyes "
+    "saw the guests come down the hallway in the reverse order",
+    "home_09_telepresence_grandma_kids_follow": "scenario: every recorded answer has Leo 'behind his sister' with a "
+    "follows_robot only (person_order_mistakes): round 14's run passed with the two children in the reverse order",
+    "warehouse_10_against_the_unloading_crew": "scenario: its first answer measures each worker filing behind another "
+    "from the robot, its correction relates each pair only by a spread (the same whichever walks first): "
+    "person_order_mistakes refuses both (the eyes saw the file in the text's order)",
+}
 
 
 def test_the_suite_is_there_and_judged():

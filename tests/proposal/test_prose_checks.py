@@ -22,6 +22,7 @@ from socnavgen.proposal.prose_checks import (
     close_follow_mistakes,
     named_nodes,
     order_mistakes,
+    person_order_mistakes,
     way_in_mistakes,
 )
 from socnavgen.proposal.replies import PathsReply, ScenarioReply
@@ -196,7 +197,8 @@ def _findings(path: Path) -> dict[str, list[str]]:
             continue
         behaviors = scenario.human_behaviors
         found[f"scenario[{i}]"] = close_follow_mistakes(spec, behaviors) + \
-            order_mistakes(scenario.scenario_description, behaviors, spec)
+            order_mistakes(scenario.scenario_description, behaviors, spec) + \
+            person_order_mistakes(scenario.scenario_description, behaviors, spec)
         if i == len(scenarios) - 1:
             for j, paths in enumerate(_valid(PathsReply, a) for a in data["stages"]["paths"]):
                 found[f"paths[{j}]"] = way_in_mistakes(graph, spec, behaviors, dict(paths.trajectories),
@@ -214,6 +216,18 @@ REFUSED = {
     ("warehouse_07_night_patrol_west_corridor", "paths[1]"): "a correction that brings the second worker to hd from zg "
     "where her text has her come up the aisle from ki (the live model then changed her trigger distance instead)",
     ("warehouse_07_night_patrol_west_corridor", "paths[2]"): "the same path again",
+    ("home_09_telepresence_grandma_kids_follow", "scenario[1]"): "Leo 'behind his sister' with a follows_robot only "
+    "(each child measured from the robot: round 14's run passed with the two in the reverse order)",
+    ("home_09_telepresence_grandma_kids_follow", "scenario[2]"): "the same order, still unrelated",
+    ("home_09_telepresence_grandma_kids_follow", "scenario[3]"): "the same order, still unrelated",
+    ("home_09_telepresence_grandma_kids_follow", "scenario[4]"): "the same order, still unrelated",
+    ("home_03_welcome_dinner_guests", "scenario[0]"): "the second guest 'behind Human 1' in the hallway with a "
+    "follows_robot only (the eyes saw the two come down the hallway in the reverse order)",
+    ("home_03_welcome_dinner_guests", "scenario[1]"): "the same order, still unrelated",
+    ("warehouse_10_against_the_unloading_crew", "scenario[0]"): "workers 'behind the lead worker (human1)', 'behind "
+    "human2', 'behind human3' each with a follows_robot measuring them from the robot",
+    ("warehouse_10_against_the_unloading_crew", "scenario[1]"): "the live correction relates each pair only by "
+    "'always (spread_human3_human2 < 3.5)', the same whichever of the two walks first",
     ("hospital_06_night_wandering_patient", "paths[1]"): "a re-ask answer that reverses the nurse's walk (1g zs i1 "
     "pf tw, her text: from tw through pf to i1 and on to cs); the replay never reaches it (the first answers verify)",
 }
@@ -256,3 +270,23 @@ def test_the_order_example_warns_of_a_node_the_robot_passes_on_the_way_out():
     1.9 s, when the robot first passes up on its way out, so the example says which node N is."""
     mistakes = order_mistakes(WALKS_ON_BEHIND, {}, ScenarioSpec.model_validate(spec_for(2)))
     assert "reaches only once, after the encounter" in mistakes[0] and "round trip" in mistakes[0]
+
+
+# -- a robot that waits until someone has passed (who goes first, said of the robot) --------------------------------
+@pytest.mark.parametrize("text", [
+    "The robot stops before the doorway and waits until the nurse (Human 2) has come through.",
+    "At the junction the robot stays put until Human 2 has walked past, then drives on.",
+    "The robot pulls over at the wide spot and lets Human 2 go first.",
+])
+def test_a_robot_that_waits_for_someone_to_pass_states_who_goes_first(text):
+    mistakes = order_mistakes(text, {}, ScenarioSpec.model_validate(spec_for(2)))
+    assert len(mistakes) == 1 and "between human2 and the robot" in mistakes[0], mistakes
+
+
+@pytest.mark.parametrize("text", [
+    "The robot waits until they have stepped aside.",  # a step aside, not an order: gives_way's business
+    "The robot stops and waits until the nurse (Human 2) has finished her call.",
+    "Human 2 stands at the counter and lets it go on.",
+])
+def test_other_waits_are_not_an_order_of_passing(text):
+    assert order_mistakes(text, {}, ScenarioSpec.model_validate(spec_for(2))) == []

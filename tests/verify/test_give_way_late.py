@@ -53,3 +53,25 @@ def test_a_step_aside_too_late_says_how_late() -> None:
 def test_a_step_aside_in_time_that_is_kept_passes_without_a_why() -> None:
     passed, text = _judged([(0.0, 3.0), (4.0, 3.0), (5.0, 4.2), (40.0, 4.2)])
     assert passed and "stepped aside at t=4." in text and "not giving way" not in text, text
+
+
+def test_a_step_aside_too_short_says_where_it_stopped() -> None:
+    """warehouse_07 of round 14: the worker stepped off at once, 0.46 m, to 0.77 m from the robot's route, inside
+    the 0.85 m its body sweeps; the robot waited 24 s and went round him. The verdict read "stepped aside at t=66.2
+    s, 35.7 s later", as if he had dawdled: it says the step was short, and where it ended."""
+    passed, text = _judged([(0.0, 3.0), (4.0, 3.0), (5.0, 3.6), (40.0, 3.6)])
+    assert not passed
+    assert "moved 0.60 m off its route by t=5.0 s but stood 0.60 m from it, inside the 0.85 m its body" in text, text
+
+
+def test_a_reaction_to_the_phrase_too_short_to_count_says_where_it_stopped() -> None:
+    trace = _trace([(0.0, 3.0), (4.0, 3.0), (5.0, 3.6), (40.0, 3.6)])
+    trace.robot_gesture[(trace.t >= 3.0) & (trace.t <= 6.0)] = 4  # EXCUSE ME
+    c = Criterion(id="c", kind="reacts_after_phrase", human="human1", phrase="EXCUSE ME", reaction="give_way",
+                  seconds=5.0, text="t")
+    cc = compile_criterion(c, ScenarioSpec(), VerifySettings(), 0.5)
+    s = Signals(trace, goal_radius=0.5)
+    text = evidence(cc, s)[0]
+    assert not monitor(cc.formula, s).passed
+    assert "first showed give_way at t=24.0 s, not within 5 s of the phrase (it moved 0.60 m off the robot's " \
+        "route by t=5.0 s, but to 0.60 m from it, inside the 0.85 m" in text, text

@@ -9,6 +9,9 @@ against the numbers, criteria and paths), never keyed to a scenario:
   them than a follower keeps (sim.people.leaves.follow_trail) plus Hall's personal space (bodies.PERSONAL_SPACE);
 - `order_mistakes` (stage 1): a person the description puts behind or ahead of the robot (who goes first) has a
   criterion that can see an order (an stl naming them, follows_*, gives_way, blocks_robot);
+- `person_order_mistakes` (stage 1): a person the text puts behind or ahead of another PERSON has a criterion that
+  relates the two (follows_human, or an stl naming both): follows_robot measures each follower from the robot only,
+  so round 14's home_09 passed with the two children in the reverse of the text's order;
 - `way_in_mistakes` (stage 2): a person whose text names where they come from into their first encounter's node
   comes into it that way (an Upstream mistake: when the plan cannot, stage 1 changes the text).
 """
@@ -20,7 +23,7 @@ import re
 
 import networkx as nx
 
-from socnavgen.bodies import PERSON_MAX_SPEED, PERSONAL_SPACE
+from socnavgen.bodies import PERSON_MAX_SPEED, PERSON_RADIUS, PERSONAL_SPACE
 from socnavgen.proposal.conversation import Upstream
 from socnavgen.proposal.replies import human_name
 from socnavgen.run.spec import Criterion, ScenarioSpec
@@ -31,10 +34,24 @@ CLOSE_BEHIND = re.compile(r"\b(?:right|close|closely|just|directly|immediately) 
                           r"(?:the|a|an|his|her|its|their|human) ?\w+))?|\bon (?:its|his|her|their) heels\b|"
                           r"\bfollows? (?:it |them |him |her |the robot )?closely\b", re.IGNORECASE)
 # Words that say who goes first between a person and the robot.
+_PASSER = r"(?:he|she|they|him|her|them|the \w+|human ?\d+|(?-i:[A-Z]\w+))(?: \([^)]*\))?"  # who passes the robot
 ORDER_WORDS = re.compile(r"\b(?:behind (?:it|the robot)|ahead of (?:it|the robot)|go(?:es)? (?:on )?first|"
-                         r"(?:after|once|until) (?:it|the robot) (?:has )?(?:passed|gone by|gone past))\b",
+                         r"(?:after|once|until) (?:it|the robot) (?:has )?(?:passed|gone by|gone past)|"
+                         # the robot waits for someone to pass (a ROBOT WAIT: they go first)
+                         rf"(?:waits?|stays?|stands?|stops?)\b[^.;]{{0,50}}?\buntil {_PASSER} (?:has|have) (?:passed|"
+                         r"gone by|gone past|walked (?:past|by)|come (?:through|out|past)|run past|rushed past|crossed)|"
+                         rf"lets {_PASSER} (?:pass|go first|go by|go past|come through|come out|cross))\b",
                          re.IGNORECASE)
 ORDER_KINDS = ("follows_robot", "follows_human", "gives_way", "blocks_robot")  # (and an stl naming the person)
+# Words that put a person behind or ahead of someone; `whom` is a person (person_whom) or a place ("the counter").
+PERSON_ORDER = re.compile(r"\b(?P<how>behind|ahead of) (?P<whom>[Hh]uman ?\d+|(?:his|her|their|the|a) (?:\w+ )?\w+|"
+                          r"[A-Z][a-z]+)\b")
+# Nouns that name a person (after his / her / their / the): "behind his sister", "behind the lead worker".
+PEOPLE_WORDS = {"sister", "brother", "sibling", "mother", "father", "mum", "mom", "dad", "parent", "son", "daughter",
+                "child", "kid", "grandchild", "grandmother", "grandfather", "grandma", "grandpa", "friend", "colleague",
+                "partner", "husband", "wife", "companion", "leader", "guide", "supervisor", "boss", "nurse", "doctor",
+                "patient", "visitor", "guest", "host", "worker", "picker", "porter", "resident", "teenager", "man",
+                "woman", "boy", "girl", "person", "auditor", "technician", "driver", "cleaner", "manager", "relative"}
 METRES = re.compile(r"(\d+(?:\.\d+)?)\s*(?:m|metres|meters)\b")  # a distance the text states
 _NAMED = re.compile(r"\b[Hh]uman ?(\d+)\b")
 # Tokens that are words or amounts before they are node ids ("walks up the aisle", "waits 12 s").
@@ -153,6 +170,99 @@ def order_mistakes(description: str, behaviors: dict[str, str], spec: ScenarioSp
             f"node id of the robot's route that it reaches only once, after the encounter: never its start, nor a node "
             f"a round trip passes on the way out, where it would hold at once), or follows_robot / gives_way where "
             f"that is what {human} does; or drop the order from the text if it does not matter")
+    return mistakes
+
+
+def people_names(description: str, behaviors: dict[str, str]) -> dict[str, str]:
+    """{word: humanN} for the names and roles the text gives its people: "Mia (Human 1)", "the nurse (human2)", and a
+    behavior that opens with a name ("Mia, the older grandchild, ...")."""
+    names = {m.group(1).lower(): f"human{m.group(2)}"
+             for m in re.finditer(r"\b(\w+) \((?:[Hh]uman ?)(\d+)\b", description)}
+    for key, text in behaviors.items():
+        opening = re.match(r"\s*([A-Z][a-z]+),", str(text))
+        if opening and (name := human_name(key)):
+            names.setdefault(opening.group(1).lower(), name)
+    return names
+
+
+def _person(words: str, names: dict[str, str]) -> tuple[bool, str | None]:
+    """(is a person, which human when the text says) for the words after "behind" / "ahead of" ("the lead worker",
+    "the nurse and": the first word after the determiner that says what it is decides)."""
+    named = human_name(words)
+    if named:
+        return True, named
+    tokens = words.split()
+    for token in tokens[1:] if len(tokens) > 1 else tokens:
+        low = token.lower()
+        if low in ("robot", "it"):
+            return False, None
+        if low in names:
+            return True, names[low]
+        if low in PEOPLE_WORDS:
+            return True, None
+    return False, None
+
+
+def _mentions(text: str, names: dict[str, str]) -> list[tuple[int, str]]:
+    """(position, humanN) of every person the text names: humanN, Human N, or a name of `names`."""
+    found = [(m.start(), f"human{m.group(1)}") for m in re.finditer(r"\b[Hh]uman ?(\d+)\b", text)]
+    found += [(m.start(), names[m.group(0).lower()]) for m in re.finditer(r"\b\w+\b", text)
+              if m.group(0)[0].isupper() and m.group(0).lower() in names]
+    return sorted(found)
+
+
+def _person_orders(description: str, behaviors: dict[str, str], spec: ScenarioSpec
+                   ) -> list[tuple[str, str, str | None, str, str]]:
+    """(person, how, whom as humanN or None, words, sentence) for each sentence that puts a person behind or ahead
+    of another person: in a behavior (its person, unless the sentence names another before the words), a
+    criterion's text (its human) or the description (the person the sentence names last before the words)."""
+    names = people_names(description, behaviors)
+    texts: list[tuple[str | None, str]] = [(human_name(k) or k, str(v)) for k, v in behaviors.items()]
+    texts += [(c.human, c.text) for c in spec.criteria if c.human and c.text]
+    texts.append((None, description))
+    found = []
+    for owner, text in texts:
+        for sentence in re.split(r"(?<=[.;!?])\s+", text):
+            for m in PERSON_ORDER.finditer(sentence):
+                person, whom = _person(m.group("whom"), names)
+                before = [h for at, h in _mentions(sentence, names) if at < m.start() and h != whom]
+                who = before[-1] if before else owner
+                if person and who and who != whom:
+                    found.append((who, m.group("how"), whom, m.group(0), sentence.strip()))
+    return found
+
+
+# Signals of an stl that tell who is ahead: a distance from the robot (dist_, way_), to a place (_to_) or between
+# two people along the way (way_h_o); spread_ and pgap_ are the same whichever of the two goes first.
+_PLACED = re.compile(r"\b(?:(?:dist|way)_(human\d+)(?:_(human\d+))?|(human\d+)_to_\w+)")
+
+
+def _relates(c: Criterion, human: str) -> bool:
+    """`c` can see where `human` walks relative to another person: follows_human, or an stl placing both."""
+    if c.kind == "follows_human":
+        return c.human == human
+    named = {h for m in _PLACED.finditer(c.formula or "") for h in m.groups() if h} if c.kind == "stl" else set()
+    return human in named and len(named) >= 2
+
+
+def person_order_mistakes(description: str, behaviors: dict[str, str], spec: ScenarioSpec) -> list[str]:
+    """A person the text puts behind or ahead of another person needs a criterion that relates the two."""
+    mistakes, told = [], set()
+    humans = set(spec.humans())
+    for human, how, whom, words, sentence in _person_orders(description, behaviors, spec):
+        if human in told or human not in humans or any(_relates(c, human) for c in spec.criteria):
+            continue
+        told.add(human)
+        other = whom if whom in humans else "humanX"
+        back, front = (human, other) if how == "behind" else (other, human)
+        quote = sentence if len(sentence) <= 160 else sentence[:157] + "..."
+        mistakes.append(
+            f"the text puts {human} {how} another person ('{words}': \"{quote}\"), but no criterion relates "
+            f"{human} to that person (follows_robot measures each follower from the robot only, so the reverse order "
+            f"passes); let {back} follow {front} (reaction follow_human with `other`, criterion follows_human), or add "
+            f"an stl criterion such as \"eventually (always (way_{back} >= way_{front} + {PERSON_RADIUS:g}))\" "
+            f"(two followers of the robot: {back} the farther from it along the way, from some moment to the end"
+            f"{'; humanX: the person ' + human + ' walks ' + how if other == 'humanX' else ''})")
     return mistakes
 
 

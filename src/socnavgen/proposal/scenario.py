@@ -32,7 +32,7 @@ from socnavgen.proposal.facts import (
 )
 from socnavgen.proposal.fit import NOTHING, Cut, Note, examples_kept, fit_prompt
 from socnavgen.proposal.gbnf import Grammar, Lit, Ref, Symbol, text_rules
-from socnavgen.proposal.prose_checks import close_follow_mistakes, order_mistakes
+from socnavgen.proposal.prose_checks import close_follow_mistakes, order_mistakes, person_order_mistakes
 from socnavgen.proposal.replies import ScenarioReply, human_name
 from socnavgen.proposal.spec_checks import (
     MIN_BEHAVIOR_WORDS,
@@ -148,6 +148,7 @@ def scenario_checker(location: Location | None, target: Target | None = None,
             mistakes += prose_spec_mistakes(reply.human_behaviors, spec)
             mistakes += close_follow_mistakes(spec, reply.human_behaviors)
             mistakes += order_mistakes(reply.scenario_description, reply.human_behaviors, spec)
+            mistakes += person_order_mistakes(reply.scenario_description, reply.human_behaviors, spec)
         return mistakes
     return check
 

@@ -10,7 +10,7 @@ import numpy as np
 
 from socnavgen.sim import contact
 from socnavgen.verify.criteria import Compiled, notice_range
-from socnavgen.verify.passing import back_in_way, undone
+from socnavgen.verify.passing import back_in_way, short_step, undone
 from socnavgen.verify.people import people_evidence
 from socnavgen.verify.signals import Signals, aside
 from socnavgen.verify.thresholds import APPROACH, PROGRESS_STEP, STOP_HOLD, WALK_SPEED
@@ -186,8 +186,13 @@ def _phrase_evidence(cc: Compiled, s: Signals) -> Evidence:
             parts.append(f"{h} was showing {cc.reaction} within {STOP_HOLD:g} s of every moment the phrase started "
                          f"(first at t={t[first_react]:.1f} s, BEFORE it): no reaction to it")
         else:
+            short = short_step(s, h, first_say, min(first_say + hold + window, n - 1)) \
+                if cc.reaction == "give_way" and first_say is not None else None
             parts.append(f"{h} first showed {cc.reaction} at t={t[first_react]:.1f} s, not within "
-                         f"{cc.seconds or 0:g} s of the phrase")
+                         f"{cc.seconds or 0:g} s of the phrase" + (
+                             f" (it moved {short[1]:.2f} m off the robot's route by t={short[0]:.1f} s, but to "
+                             f"{short[2]:.2f} m from it, inside the {short[3]:.2f} m its body sweeps: a step too short "
+                             "to let it pass)" if short else ""))
         first_react = after if after is not None else first_react
     k = first_react if first_react is not None else first_say
     d = float(s.get(f"dist_{h}")[k]) if k is not None and h else None
@@ -212,10 +217,15 @@ def _late_text(cc: Compiled, s: Signals, h: str, way: np.ndarray) -> str:
     if r is not None and back is not None:
         undone_at = (f" stepped aside at t={t[k + r]:.1f} s but was back in its way at t={t[k + r + back]:.1f} s "
                      "before it got past;")
+    short = short_step(s, h, k, k + n) if r is None else None
+    why = undone_at
+    if short is not None:
+        why = (f" moved {short[1]:.2f} m off its route by t={short[0]:.1f} s but stood {short[2]:.2f} m from it, "
+               f"inside the {short[3]:.2f} m its body sweeps (a step too short to let it pass);")
     j = _first(kept[k:])
     then = (f"out of it{' for good' if undone_at else ''} only at t={t[k + j]:.1f} s, {t[k + j] - t[k]:.1f} s later"
             if j is not None else "never out of it again by itself")
-    return (f"; but in its way{again} at t={t[k]:.1f} s ({s.get(f'dist_{h}')[k]:.2f} m):{undone_at} {then} (more "
+    return (f"; but in its way{again} at t={t[k]:.1f} s ({s.get(f'dist_{h}')[k]:.2f} m):{why} {then} (more "
             f"than {cc.seconds or 0:g} s): not giving way")
 
 

@@ -1,6 +1,10 @@
 """GIF animation of a simulated run: the map and scene graph, agents as discs with a heading line, gestures
 as speech bubbles (words from the node library's gesture tables), the action each human's tree executes,
-and the time. The static picture is drawn once with matplotlib; agents are painted on a copy per frame with
+and the time. Contact is drawn, not left to the eye: an agent in contact (sim.contact's one definition: a gap
+of at most bodies.CONTACT_MARGIN with the robot or another person) at any step since the previous frame gets a
+thick CONTACT_COLOR outline, and every disc has a white rim of RIM_PX so that bodies apart show a gap (round 14's
+hospital_07: 0.19 m between two people is 5 px at 27 px/m; with trail lines through it and the GIF scaled down in a
+montage, the eyes saw the discs overlap). The static picture is drawn once with matplotlib; agents are painted on a copy per frame with
 Pillow (redrawing the figure per frame was ~10x slower). The trace is subsampled to at most `max_frames`
 frames so the file size and the render time stay bounded.
 """
@@ -17,6 +21,7 @@ from PIL import Image, ImageDraw, ImageFont
 
 from socnavgen.bt.library import HUMAN_GESTURES, ROBOT_GESTURES
 from socnavgen.safeio import atomic_write_bytes
+from socnavgen.sim import contact
 from socnavgen.sim.outputs.labels import LabelPlacer
 from socnavgen.sim.outputs.plot import (
     INTERACTION_COLOR,
@@ -37,6 +42,30 @@ from socnavgen.sim.trace import YAW, Trace, X, Y
 
 FONT_PX = 11  # caption / bubble font size in pixels
 HEADER_PX = 26  # white strip above the map for the clock (never clipped, never over the data)
+RIM_PX = 2  # white rim round every disc: two bodies apart never share a pixel of outline
+CONTACT_COLOR = (255, 0, 255)  # outline of an agent in contact (no agent or map colour is magenta)
+CONTACT_PX = 3  # its width
+
+
+def contact_marks(trace: Trace, idx: np.ndarray) -> np.ndarray:
+    """(frames, humans + 1) bool: which agents (the humans, then the robot) were in contact with the robot or
+    another person (sim.contact) at any step since the previous drawn frame, so a touch between two frames of a
+    subsampled GIF is still shown."""
+    steps, n = trace.steps, len(trace.human_names)
+    touch = np.zeros((steps, n + 1), dtype=bool)
+    if n:
+        robot = contact.in_contact(contact.trace_gaps(trace))
+        touch[:, :n] |= robot
+        touch[:, n] = contact.row_any(robot)
+        gaps, pairs = contact.people_gaps(trace)
+        for c, (i, j) in enumerate(pairs):
+            hit = contact.in_contact(gaps[:, c])
+            touch[:, i] |= hit
+            touch[:, j] |= hit
+    seen = np.concatenate([np.zeros((1, n + 1), dtype=int), np.cumsum(touch, axis=0)])  # contacts in steps [0, k)
+    idx = np.asarray(idx, dtype=int)
+    start = np.concatenate([[0], idx[:-1] + 1]) if len(idx) else idx
+    return (seen[idx + 1] - seen[np.minimum(start, idx)]) > 0
 
 
 def scale_length(view_width_m: float) -> float:
@@ -135,11 +164,21 @@ class _Canvas:
         dx, dy = self.to_display.transform((x, y))
         return float(dx), float(self.height - dy) + self.offset  # display y grows up, image rows down
 
-    def agent(self, draw: ImageDraw.ImageDraw, x: float, y: float, yaw: float, radius: float, color: str) -> None:
+    def rim(self, draw: ImageDraw.ImageDraw, x: float, y: float, radius: float) -> None:
+        """The white rim under a disc (drawn for every agent before any disc: a rim never covers a body)."""
+        cx, cy = self.pixel(x, y)
+        r = max(2.0, radius * self.px_per_m) + RIM_PX
+        draw.ellipse((cx - r, cy - r, cx + r, cy + r), fill=(255, 255, 255))
+
+    def agent(self, draw: ImageDraw.ImageDraw, x: float, y: float, yaw: float, radius: float, color: str,
+              touching: bool = False) -> None:
         cx, cy = self.pixel(x, y)
         r = max(2.0, radius * self.px_per_m)
-        draw.ellipse((cx - r, cy - r, cx + r, cy + r), fill=_rgb(color), outline=(0, 0, 0), width=1)
-        hx, hy = self.pixel(x + 1.4 * radius * math.cos(yaw), y + 1.4 * radius * math.sin(yaw))
+        outline, width = (CONTACT_COLOR, CONTACT_PX) if touching else ((0, 0, 0), 1)
+        draw.ellipse((cx - r, cy - r, cx + r, cy + r), fill=_rgb(color), outline=outline, width=width)
+        # the heading line ends at the disc's edge: one sticking out of the body (it reached 1.4 radii) drew into the
+        # gap to the next body and read as the two touching
+        hx, hy = self.pixel(x + radius * math.cos(yaw), y + radius * math.sin(yaw))
         draw.line((cx, cy, hx, hy), fill=(0, 0, 0), width=2)
 
     def caption(self, draw: ImageDraw.ImageDraw, placer: LabelPlacer, x: float, y: float, radius: float,
@@ -177,8 +216,9 @@ class _Canvas:
 def _render_frames(trace: Trace, location: Any, idx: np.ndarray, plan: Any, width_in: float,
                    dpi: int) -> list[Image.Image]:
     canvas = _Canvas(trace, location, plan, width_in, dpi)
+    touching = contact_marks(trace, idx)
     frames = []
-    for k in idx:
+    for f, k in enumerate(idx):
         img = canvas.background.copy()
         draw = ImageDraw.Draw(img)
         placer = LabelPlacer(bounds=(0, HEADER_PX, img.width, img.height))
@@ -188,8 +228,10 @@ def _render_frames(trace: Trace, location: Any, idx: np.ndarray, plan: Any, widt
              float(trace.human_radii[i]), human_color(i)) for i, name in enumerate(trace.human_names)]
         agents.append(("robot", float(trace.robot[k, X]), float(trace.robot[k, Y]), float(trace.robot[k, YAW]),
                        float(trace.robot_radius), ROBOT_COLOR))
-        for _name, x, y, yaw, radius, color in agents:  # discs first: captions keep off every agent
-            canvas.agent(draw, x, y, yaw, radius, color)
+        for _name, x, y, _yaw, radius, _color in agents:
+            canvas.rim(draw, x, y, radius)
+        for a, (_name, x, y, yaw, radius, color) in enumerate(agents):  # discs first: captions keep off every agent
+            canvas.agent(draw, x, y, yaw, radius, color, bool(touching[f, a]))
             placer.reserve_point(*canvas.pixel(x, y), radius * canvas.px_per_m)
         for i, name in enumerate(trace.human_names):
             _, x, y, _yaw, radius, _ = agents[i]
@@ -218,8 +260,11 @@ def write_gif(trace: Trace, location: Any, out_gif: Path | str, *, fps: float = 
     if len(idx) == 0:
         raise ValueError("the trace has no steps to animate")
     frames = _render_frames(trace, location, idx, plan, width_in, dpi)
-    # One shared palette (from the first frame) keeps colours stable between frames and the file small.
-    palette_source = frames[0].quantize(colors=255, method=Image.Quantize.MEDIANCUT)
+    # One shared palette (from the first frame) keeps colours stable between frames and the file small; the contact
+    # outline's colour is added to it (a first frame without contact would map it onto a neighbour's colour).
+    palette_source = frames[0].quantize(colors=254, method=Image.Quantize.MEDIANCUT)
+    palette = (palette_source.getpalette() or [])[:254 * 3]
+    palette_source.putpalette(palette + [0] * (254 * 3 - len(palette)) + list(CONTACT_COLOR))
     paletted = [f.quantize(palette=palette_source, dither=Image.Dither.NONE) for f in frames]
     buf = io.BytesIO()
     paletted[0].save(buf, format="GIF", save_all=True, append_images=paletted[1:], duration=int(round(1000 / fps)),
