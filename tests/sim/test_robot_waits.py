@@ -67,7 +67,9 @@ def test_robot_pressed_by_people_settles_for_the_polite_gap_after_its_patience(g
 
 @pytest.mark.parametrize("where, vel, top", [
     (9.5 + 5.2j, 0.3 + 0j, 0.3),  # ahead, a little aside, walking its way: no faster than them
-    (8.2 + 5.9j, 0.3 + 0j, FALL_BACK * 0.3),  # abreast, less than PASS_GAP aside: it falls back
+    (8.7 + 6.1j, 0.3 + 0j, FALL_BACK * 0.3),  # abreast, less than PASS_GAP aside (0.55 m away): it falls back
+    (8.2 + 5.9j, 0.3 + 0j, 0.0),  # abreast within intimate space (0.17 m): it stops and lets them ahead
+    (8.2 + 5.9j, 0.1 + 0j, 0.0),  # ... at any pace (two crawling abreast each held back for the other)
     (9.5 + 6.4j, 0.3 + 0j, float("inf")),  # far enough aside to pass them with room
     (11.0 + 5.0j, 0.3 + 0j, float("inf")),  # beyond personal space ahead: look-ahead's business
     (9.5 + 5.0j, -0.3 + 0j, float("inf")),  # walking toward it

@@ -2,7 +2,8 @@
 them, steps back from someone walking into it, and never moves closer than a margin to anyone.
 
 * pass_aside: someone ahead in (or near) its lane - coming, standing or slower - or someone faster catching
-  up from behind: the robot moves sideways, to its right unless the person is clearly on its right or the
+  up from behind, or walking its way close behind it (tails: held behind it, they are never seen catching up,
+  and the two walked a corridor's length 0.5 m apart, neither passing): the robot moves sideways, to its right unless the person is clearly on its right or the
   right has no room, until the lateral distance between the two centres leaves PASS_GAP between the bodies
   (or as far as the walls allow). A head-on walker's social force has no sideways part when the two are
   exactly in line (lightsfm's angular term vanishes at theta = 0), so without this the two meet nose to nose.
@@ -26,7 +27,10 @@ them, steps back from someone walking into it, and never moves closer than a mar
   person is dropped: it slides past or stops, and never pushes into anyone.
 * follow_speed: within personal space behind or abreast of someone walking its way with less than PASS_GAP beside
   them (no room to overtake with that gap), it drives along its way no faster than they walk it (it follows), and
-  slower while not yet behind them: it falls in behind rather than drive abreast of them.
+  slower while not yet behind them: it falls in behind rather than drive abreast of them. It stops (lets them
+  ahead) for someone walking its way beside it within intimate space at any pace (the two crawled abreast at
+  0.1 m for 45 s: each held back for the other), and for someone who tails it (close behind, walking its way) where
+  the walls leave them room past it standing but not moving (people.avoid: MIN_PASS_GAP vs MOVING_PASS_GAP).
 * social_clear: keep_clear with the policy's keep_gap (bodies.ROBOT_SOCIAL_GAP for the default robot): it never
   drives closer than that to anyone, waiting behind them instead (where the way beside someone is narrower, it does
   not pass); held back so for PINNED_PATIENCE s while people press on it (pressed: someone came within that gap, or
@@ -45,6 +49,7 @@ from socnavgen.location.places import CORNER_TURN_DEG
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.routing import project
 from socnavgen.sim.robot.lead import goes_with_robot
+from socnavgen.sim.robot.let_by import ABREAST_WALKING, SAME_WAY, WALKING, let_by, tails
 from socnavgen.sim.world.queries import clearance_at, free_along, line_of_sight
 
 PASS_GAP = INTIMATE_SPACE  # m: the gap the robot tries to leave beside a person it passes
@@ -67,8 +72,6 @@ POLITE_GAP = 3 * CONTACT_MARGIN  # m: the default robot never moves closer than 
 PINNED_PATIENCE = 4.0  # s held back by its keep_gap, pressed, before the robot settles for POLITE_GAP (social_clear)
 PRESSED = 0.02  # m inside its keep_gap: someone this far in came there themselves (its moves keep out of it)
 FALL_BACK = 0.5  # share of a same-way walker's speed the robot keeps while not yet behind them (follow_speed)
-WALKING = 0.2  # m/s along the robot's way: a person walks its way (follow_speed)
-SAME_WAY = math.cos(math.radians(30))  # their heading within 30 degrees of its way
 MAKE_WAY_GAP = 1.5  # m: someone walking toward the robot this close, face to face, may make it give way
 MAKE_WAY_KEEP = 1.0  # m beyond MAKE_WAY_GAP: making way goes on while they are this near, wherever they are
 FACE_GAP = 0.8  # m: standing face to face this close for `patience` s also makes it give way
@@ -113,7 +116,7 @@ def pass_aside(s, direction):  # noqa: ANN001, ANN201
         if rel.real > 0:
             if gap > PASS_LOOK:
                 continue
-        elif gap > BEHIND_LOOK or (q.vel * back).real - vr < CATCHING_UP:
+        elif gap > BEHIND_LOOK or ((q.vel * back).real - vr < CATCHING_UP and not tails(s, i, back, gap)):
             continue
         if gap < best:
             best, across, need, who = gap, rel.imag, want, i
@@ -249,20 +252,27 @@ def keep_clear(s, v, gap):  # noqa: ANN001, ANN201
 @jit
 def follow_speed(s, direction):  # noqa: ANN001, ANN201
     """The most the robot drives along the unit `direction` (inf: no limit): for each person walking that way (faster
-    than WALKING along it, within SAME_WAY of it: not someone milling about or crossing) within EASE_GAP (personal space) of it with less than PASS_GAP between the two sideways, not
-    behind it: their speed along it while they are ahead of it, FALL_BACK of that while they are abreast (it falls
-    in behind them). Farther off, look-ahead's slowing for people in its path is all (a robot following a guide)."""
+    than WALKING along it, within SAME_WAY of it: not someone milling about or crossing) within EASE_GAP (personal
+    space) of it with less than PASS_GAP between the two sideways, not behind it: their speed along it while they
+    are ahead of it, FALL_BACK of that while they are abreast (it falls in behind them). Farther off, look-ahead's
+    slowing for people in its path is all (a robot following a guide). 0 (it stops, lets them ahead) for someone
+    beside it within intimate space walking its way faster than ABREAST_WALKING, and for someone who tails it
+    (tails) with room past it standing but not moving."""
     robot, people = s.robot[0], s.people
     back = direction.conjugate()
     top = math.inf
     for i in range(people.shape[0]):
         q = people[i]
         along = (q.vel * back).real
-        if along <= WALKING or along < SAME_WAY * abs(q.vel):
+        if along <= ABREAST_WALKING or along < SAME_WAY * abs(q.vel):
             continue
         rel = (q.pos - robot.pos) * back
         touch = q.radius + robot.radius
-        if abs(rel.imag) - touch >= PASS_GAP or rel.real < -touch or abs(rel) - touch >= EASE_GAP:
+        gap = abs(rel) - touch
+        if rel.real <= touch and not goes_with_robot(s, i) and (
+                (rel.real >= -touch and gap < PASS_GAP) or (tails(s, i, back, gap) and let_by(s, i, direction))):
+            return 0.0
+        if along <= WALKING or abs(rel.imag) - touch >= PASS_GAP or rel.real < -touch or gap >= EASE_GAP:
             continue
         top = min(top, along if rel.real > touch else FALL_BACK * along)
     return top
