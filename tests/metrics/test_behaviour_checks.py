@@ -14,8 +14,9 @@ DT = 0.1
 
 
 def _trace(robot: np.ndarray, person: np.ndarray | None = None, waypoints: list[tuple[float, float]] | None = None):  # noqa: ANN202
+    """`person`: (T, 2) one person, or (T, H, 2) several."""
     t = np.arange(len(robot)) * DT
-    humans = np.zeros((len(t), 0, 2)) if person is None else person[:, None, :]
+    humans = np.zeros((len(t), 0, 2)) if person is None else person if person.ndim == 3 else person[:, None, :]
     trace = build_trace(t, robot, humans, dt=DT, goal=tuple(robot[-1]))
     trace.robot_waypoints = waypoints or [tuple(robot[0]), tuple(robot[-1])]
     return trace
@@ -136,6 +137,22 @@ def test_smooth_braking_and_keeping_its_line() -> None:
     assert _one("keeps_line", _trace(aside, person))["passed"] is True
 
 
+def test_keeps_line_judges_a_swerve_toward_someone_within_reach_not_making_room_for_an_overtaker() -> None:
+    # parallel traffic: someone overtakes 0.2 m off its left shoulder while another walks 2.8 m ahead, 0.75 m right
+    # of its route; it moves 0.6 m right to let the overtaker by: making room, though toward the side of the one ahead
+    robot = _line(0, 8, 1.0)
+    n = len(robot)
+    robot[30:60, 1] = -0.6
+    overtaker = np.stack([np.linspace(-2, 12, n), np.full(n, 0.95)], 1)  # left of +x travel is +y
+    ahead = np.stack([robot[:, 0] + 3.55, np.full(n, -0.75)], 1)  # a 2.8 m gap ahead, 0.75 m right
+    both = np.stack([overtaker, ahead], 1)
+    assert _one("keeps_line", _trace(robot, both))["passed"] is True
+    # a cut-in: it moves 0.6 m right into the lane of someone 1.2 m ahead (a 0.45 m gap) - rude
+    close = np.stack([robot[:, 0] + 1.2, np.full(n, -0.75)], 1)
+    cut = _one("keeps_line", _trace(robot, np.stack([overtaker, close], 1)))
+    assert cut["passed"] is False and cut["value"] == pytest.approx(0.6, abs=0.01)
+
+
 def test_who_reaches_the_place_first() -> None:
     robot = _line(0, 10, 1.0)  # at x = 5 after 5 s
     early = np.stack([np.full(len(robot), 5.0), np.linspace(-3, 7, len(robot))], 1)  # at y 0 after 3 s
@@ -166,6 +183,18 @@ def test_goes_first_without_hesitation_and_never_arriving_is_not_going_first() -
     assert _one("lets_person_pass_first", _trace(timid, crosses), 5 + 0j)["passed"] is True
     nobody = np.stack([np.full(101, 5.0), np.full(101, -6.0)], 1)
     assert _one("goes_first", _trace(timid, nobody), 5 + 0j)["passed"] is None  # neither got there
+
+
+def test_going_first_by_driving_into_the_person_who_waved_it_on_is_not_going_first() -> None:
+    # home/intersection-proceed: she stops beside the crossing and waves it on; the rude robot goes first at
+    # full speed brushing her (a 0.05 m gap), the polite one goes first as promptly with room
+    drive = _drive((10, 1.0))
+    n = len(drive)
+    brushed = np.stack([np.full(n, 5.7), np.full(n, -0.8)], 1)  # 1.06 m from the crossing; a 0.05 m gap
+    rude = _one("goes_first", _trace(drive, brushed), 5 + 0j, within=1.0)
+    assert rude["passed"] is False  # though it did pass the place first, promptly
+    room = np.stack([np.full(n, 5.7), np.full(n, -1.3)], 1)  # a 0.55 m gap
+    assert _one("goes_first", _trace(drive, room), 5 + 0j, within=1.0)["passed"] is True
 
 
 def test_follow_distance_fails_tailgating_and_losing_the_person() -> None:

@@ -46,6 +46,16 @@ def test_baseline_reaches_its_goal_without_contact(scene: str, robot: str) -> No
     assert gaps.min() < 1.0  # they did meet: the scene tests avoidance
 
 
+@pytest.mark.parametrize("robot", ["orca", "dwa"])
+def test_baseline_drives_a_passage_barely_wider_than_the_robot(robot: str) -> None:
+    """The SocRATES small warehouse as `location extract` draws it has 0.8 m passages for the 0.7 m robot: ORCA
+    kept its whole safety margin (0.05 m) from both walls at once and stood at the mouth (narrow-hallway)."""
+    walls = [(3.0, 0.0, 17.0, 4.55), (3.0, 5.45, 17.0, 10.0)]  # 0.8 m of free cells (a 0.4 m clearance on its axis)
+    trace = make_sim([], [], [(2.0, 5.0), (18.0, 5.0)], load_policy(robot), world=empty_room(20.0, 10.0, walls=walls),
+                     timeout=60).run()
+    assert trace.end_reason == "robot_goal", (robot, trace.robot[-1, :2])
+
+
 @pytest.mark.parametrize("scene", ["head_on", "overtaking", "standing"])
 def test_a_robot_ignoring_people_touches_someone_in_the_same_scenes(scene: str) -> None:
     assert trace_gaps(_run(scene, "straight")).min() < 0.05

@@ -20,7 +20,7 @@ from typing import Any, Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
-from socnavgen.bodies import COMFORT_DECELERATION, INTIMATE_SPACE, SOCIAL_SPACE
+from socnavgen.bodies import COMFORT_DECELERATION, INTIMATE_SPACE, PERSONAL_SPACE, SOCIAL_SPACE
 from socnavgen.sim.trace import VX, VY, Trace, X, Y
 
 DECELERATION_WINDOW = 0.25  # s: speed changes are measured over this window (one step alone is noise)
@@ -204,8 +204,10 @@ def smooth_braking(s: Situation, c: ExpectedCheck) -> Outcome:  # noqa: ARG001 -
 
 
 def keeps_line(s: Situation, c: ExpectedCheck) -> Outcome:
+    """No swerve toward anyone within reach: judged only toward people within `within` (personal space, 1.2 m),
+    so moving aside for an overtaker on one side is no swerve toward someone walking 3 m ahead on the other."""
     gaps = s.each_gap()
-    near = gaps < (c.within or 3.0)
+    near = gaps < (c.within or PERSONAL_SPACE)
     if not near.any():
         return NOT_APPLIED
     robot, people = s.lateral(), s.lateral(s.people())
@@ -242,14 +244,18 @@ def lets_person_pass_first(s: Situation, c: ExpectedCheck) -> Outcome:
 
 
 def goes_first(s: Situation, c: ExpectedCheck) -> Outcome:
-    """Crosses first without hesitation: it reaches the place before the person and stood on its approach to it
-    (within HESITATION_REACH m) at most HESITATION s."""
+    """Crosses first without hesitation: it reaches the place before the person, stood on its approach to it
+    (within HESITATION_REACH m) at most HESITATION s, and did not force its way: its own driving never took it
+    within `gap` (intimate space) of them - brushing past the person who waved it on is no going first."""
     lead = _order_at_place(s, c)
     if lead is None:
         return NOT_APPLIED
     window = approach(s, HESITATION_REACH)
     stood = float(np.sum(window & (s.speed < STANDING_SPEED)) * s.trace.dt) if window is not None else 0.0
-    return Outcome(-lead, lead < 0 and stood <= HESITATION)
+    gaps = s.each_gap()
+    forced = bool(gaps.shape[1]) and float(np.where(s.retreating(), math.inf, gaps).min()) < (
+        c.gap if c.gap is not None else INTIMATE_SPACE)
+    return Outcome(-lead, lead < 0 and stood <= HESITATION and not forced)
 
 
 def follow_distance(s: Situation, c: ExpectedCheck) -> Outcome:
@@ -281,15 +287,16 @@ CHECKS: dict[str, tuple[Callable[[Situation, ExpectedCheck], Outcome], str]] = {
                        "stands or backs off is not its doing; value: that gap (m)"),
     "smooth_braking": (smooth_braking, f"no deceleration above {COMFORT_DECELERATION} m/s^2 (0.15 g, the comfort "
                        f"limit of Hoberock 1977) over {DECELERATION_WINDOW} s; value: the strongest"),
-    "keeps_line": (keeps_line, "while the person is within `within` m (3) the robot keeps within `offset` (0.3 m) "
-                   "of its route on the person's side: it does not swerve toward them (making room on the other "
-                   "side is allowed); value: its largest offset toward them (m)"),
+    "keeps_line": (keeps_line, "while a person is within `within` m (1.2, personal space) the robot keeps within "
+                   "`offset` (0.3 m) of its route on that person's side: it does not swerve toward anyone within "
+                   "reach (making room on the other side is allowed); value: its largest offset toward them (m)"),
     "lets_person_pass_first": (lets_person_pass_first, "the person passes the place (their closest approach to it, "
                                "within `within` m, 1) before the robot does; value: the robot's passing minus the "
                                "person's (s)"),
     "goes_first": (goes_first, f"the robot passes the place (its closest approach, within `within` m, 1) before the "
-                   f"person and stands at most {HESITATION:g} s on its approach to it (within {HESITATION_REACH:g} m): "
-                   "without hesitation; value: the person's passing minus the robot's (s)"),
+                   f"person, stands at most {HESITATION:g} s on its approach to it (within {HESITATION_REACH:g} m): "
+                   "without hesitation, and its own driving never takes it within `gap` (0.45 m, intimate space) of "
+                   "them: it does not force its way; value: the person's passing minus the robot's (s)"),
     "follow_distance": (follow_distance, "from the first time within `high` m (3.6, social space) the gap stays "
                         "within it at least 80 % of the time (not losing the person), and the robot never drives "
                         "within `low` (0.45 m, intimate space: no tailgating); value: that share"),

@@ -34,6 +34,7 @@ from socnavgen.sim.robot.api import RobotAction
 from socnavgen.sim.robot.route import Route, RouteFollower
 
 EPS = 1e-9
+WALL_SLACK = 0.01  # m: already within the safety margin of a wall point, it keeps this much of the gap it has
 BIAS = complex(math.cos(0.1), -math.sin(0.1))  # the preferred velocity turned 0.1 rad clockwise: symmetric
 # head-on meetings (a person standing dead ahead) otherwise leave ORCA stuck, the paper's examples perturb it
 
@@ -186,7 +187,10 @@ class ORCAPolicy(RouteFollower):
         points = route.walls_near(p, self.wall_reach + obs.radius)
         lines = []
         for q in sorted(points, key=lambda q: abs(q - p)):
-            u, d = half_plane(q - p, v, obs.radius + 0.5 * self.safety, self.tau_obst, obs.dt)
+            # the safety margin shrinks to what is left where the robot is already nearer the wall than it (a
+            # passage barely wider than the robot): it may drive along or away from the wall, not closer
+            reach = max(obs.radius, min(obs.radius + 0.5 * self.safety, abs(q - p) - WALL_SLACK))
+            u, d = half_plane(q - p, v, reach, self.tau_obst, obs.dt)
             lines.append((v + u, d))
         return lines, len(lines)
 
