@@ -251,7 +251,11 @@ NODES: list[NodeSpec] = [
     NodeSpec(name="GiveWaytoRobot", kind="action", ports=[_AGENT, _STEP], moves=True, interaction=True,
              realizes=("give_way",),
              description="One step of giving way: the human steps to the side of the robot's path, waits there "
-                         "while the robot passes, then resumes toward its goal.",
+                         "while the robot passes, then walks toward its current goal (not on to the next ones). A "
+                         "give-way once begun goes on inside RegularNav (the walking subtree, while it walks them to a "
+                         "goal) until the robot has passed, then they walk their path: when its gate stops holding (a "
+                         "phrase is shown only a few seconds), fall through to walking; a standing branch (MakeGesture, "
+                         "LookAtRobot) stops them where they are, maybe still in the robot's way.",
              capability="Give way to the robot (step aside, let it pass)",
              targets={"socrates"},
              sim_note="The fork computes the side step and then discards it (a plain walking step); we "
