@@ -356,7 +356,7 @@ def _negations(detail: bool = True) -> str:
                     f"`distance`{start})." for neg, base in NEGATED_TRIGGERS.items())
 
 
-def robot_limits_text(detail: bool = True) -> str:
+def robot_limits_text(detail: bool = True, target: Target = "socrates") -> str:
     """What the robot's script can and cannot do, and (`detail`) what the default robot does by itself
     (sim/robot/polite.py, its make_way after `patience` s face to face) and where it stops, so that the model
     plans around it (fit.py leaves the detail out for a small context: the "robot" cut)."""
@@ -379,6 +379,7 @@ def robot_limits_text(detail: bool = True) -> str:
                 "someone coming past).")
     if not detail:
         return limits
+    seen = [t for t in ("robot_near", "robot_visible", "robot_blocking") if _detected(t, target)]  # target offers
     return (limits + let_pass + " By itself the robot passes people on one "
             "side where there is room, slows near them, and makes way for someone who must get past it (after "
             f"{ScriptedPolicy.patience:g} s face to face, a gap of {FACE_GAP:g} m or less, it backs off the way it "
@@ -387,11 +388,12 @@ def robot_limits_text(detail: bool = True) -> str:
             "(robot_far to wait).\n"
             f"- It stops about {round(ScriptedPolicy.stop_gap + TOUCH_DISTANCE, 2):g} m (centres) from a person in "
             f"its way; {wait_until_clear_text()}, so a cue needing it closer to them never fires meanwhile.\n"
-            "- A person's robot_near / robot_visible / robot_blocking must hold where the robot really comes: one its cue "
+            f"- A person's {' / '.join(seen)} must hold where the robot really comes: one its cue "
             f"stands stays where the cue fired, so give the trigger the distance between them then plus {NEAR_MISS:g} m "
-            "(a distance reached only by a hair fails on any change of its approach); robot_blocking needs the robot "
-            f"in sight within {BLOCKING_DEGREES} degrees of the way they face, never so while it stands aside to let "
-            "them pass: to stop as it waits there, use robot_visible or robot_near.")
+            "(a distance reached only by a hair fails on any change of its approach)" + (
+                f"; robot_blocking needs the robot in sight within {BLOCKING_DEGREES} degrees of the way they face, "
+                "never so while it stands aside to let them pass: to stop as it waits there, use robot_visible or "
+                "robot_near." if "robot_blocking" in seen else "."))
 
 
 def follower_turn_text() -> str:
@@ -497,7 +499,7 @@ def scenario_rules_text(target: Target | None = None, signals: bool = True, robo
     the robot cannot do, export, stl); `signals` False names the STL signals without their meanings."""
     lines = ["HOW THE SPEC PLAYS OUT:", starts_text() if robot else "", pacing_text(robot), encounter_within_text(),
              implied_meets_text() if robot else "", cue_once_text(robot), groups_text(robot), people_text(detail=robot),
-             latch_text(target or "socrates"), robot_limits_text(robot), follower_turn_text() if robot else "",
+             latch_text(target or "socrates"), robot_limits_text(robot, target or "socrates"), follower_turn_text() if robot else "",
              export_text(target, spec_words=True), stl_text(signals), events_text(signals)]
     return "\n".join(line for line in lines if line)
 
