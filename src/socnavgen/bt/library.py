@@ -8,6 +8,7 @@ Where the fork's code and the paper disagree, the simulator does what the paper 
 
 from __future__ import annotations
 
+import math
 import re
 from enum import StrEnum
 from typing import Any, Literal, cast, get_args
@@ -110,6 +111,10 @@ _AGENT = Port(name="agent_id", type=PortType.INT, description="the agent's own i
 _STEP = Port(name="time_step", type=PortType.DOUBLE, description="simulation step; always write {dt}",
              reads_root="dt")
 MAX_REPEAT = 1000  # attempts of Repeat / RetryUntilSuccessful: all happen within one tick
+# IsRobotBlocking's cone (the SocRATES fork's 0.5 rad): the robot is "in front of" a person this near their heading.
+# One home: the simulator's leaf, the verifier's robot_blocking trigger and the prompts read it from here.
+BLOCKING_CONE = 0.5  # rad
+BLOCKING_DEGREES = round(math.degrees(BLOCKING_CONE))  # 29
 
 
 def _dist(meaning: str) -> Port:
@@ -147,7 +152,8 @@ NODES: list[NodeSpec] = [
     NodeSpec(name="IsRobotBlocking", kind="condition", ports=[_AGENT, _dist("metres")], gate=True,
              detects=("robot_blocking",),
              description="SUCCESS when the robot is within `distance` metres, in line of sight, and in front of "
-                         "the human (within about 30 degrees of its heading), i.e. in its way.",
+                         f"the human (within {BLOCKING_DEGREES} degrees of the way it faces), i.e. in its way. A robot "
+                         "standing beside the human's way (waiting for them to pass) is not in front of them.",
              capability="Check whether the robot is blocking the human's path",
              targets={"socrates"},
              sim_note="The fork checks distance and a 0.5 rad cone only; we also require line of sight."),
@@ -245,7 +251,11 @@ NODES: list[NodeSpec] = [
     NodeSpec(name="GiveWaytoRobot", kind="action", ports=[_AGENT, _STEP], moves=True, interaction=True,
              realizes=("give_way",),
              description="One step of giving way: the human steps to the side of the robot's path, waits there "
-                         "while the robot passes, then resumes toward its goal.",
+                         "while the robot passes, then walks toward its current goal (not on to the next ones). A "
+                         "give-way once begun goes on inside RegularNav (the walking subtree, while it walks them to a "
+                         "goal) until the robot has passed, then they walk their path: when its gate stops holding (a "
+                         "phrase is shown only a few seconds), fall through to walking; a standing branch (MakeGesture, "
+                         "LookAtRobot) stops them where they are, maybe still in the robot's way.",
              capability="Give way to the robot (step aside, let it pass)",
              targets={"socrates"},
              sim_note="The fork computes the side step and then discards it (a plain walking step); we "

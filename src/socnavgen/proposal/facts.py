@@ -13,6 +13,7 @@ from functools import cache
 from typing import get_args
 
 from socnavgen.bt.library import (
+    BLOCKING_DEGREES,
     HUMAN_GESTURES,
     LIBRARY,
     ROBOT_GESTURES,
@@ -271,7 +272,9 @@ def cue_once_text(detail: bool = True) -> str:
     example = {"trigger": {"when": "human_farther", "human": "human1", "distance": 5}, "wait": 3, "once": not once}
     edge = (" A cue fires on the step its trigger becomes true (at t = 0 when it holds from the start); with "
             "\"once\": false again each time it becomes true again after it stopped holding, never twice while it "
-            "keeps holding (the example drives on after its 3 s, whether the follower caught up or not).")
+            "keeps holding (the example drives on after its 3 s, whether the follower caught up or not). A follower "
+            "hovering about its distance (it waits, they close in, it drives on, they drop back) re-fires it every few s: "
+            "where they cannot close in (a doorway, a small room at its goal) it holds the robot to the run's end.")
     return (f"- A cue fires {'once, the first time its trigger holds' if once else 'each time its trigger holds'}, "
             f"unless it says \"once\": {str(not once).lower()}, a field of the cue beside \"trigger\" (not inside "
             f"it): {json.dumps(example)} waits 3 s each time the follower falls 5 m behind.{edge if detail else ''}")
@@ -353,7 +356,7 @@ def _negations(detail: bool = True) -> str:
                     f"`distance`{start})." for neg, base in NEGATED_TRIGGERS.items())
 
 
-def robot_limits_text(detail: bool = True) -> str:
+def robot_limits_text(detail: bool = True, target: Target = "socrates") -> str:
     """What the robot's script can and cannot do, and (`detail`) what the default robot does by itself
     (sim/robot/polite.py, its make_way after `patience` s face to face) and where it stops, so that the model
     plans around it (fit.py leaves the detail out for a small context: the "robot" cut)."""
@@ -362,6 +365,7 @@ def robot_limits_text(detail: bool = True) -> str:
     from socnavgen.sim.robot.polite import FACE_GAP
     from socnavgen.sim.robot.script import LET_PASS_PATIENCE
     from socnavgen.sim.robot.wait_spot import ASIDE, SPOT_REACH
+    from socnavgen.verify.blame_cue import NEAR_MISS
 
     limits = ("- The script drives the robot's route (node to node), stands it still (wait, wait_until_clear, "
               "let_pass) and speaks; no cue makes it back off, pull over or follow someone. A route may come back to "
@@ -375,6 +379,7 @@ def robot_limits_text(detail: bool = True) -> str:
                 "someone coming past).")
     if not detail:
         return limits
+    seen = [t for t in ("robot_near", "robot_visible", "robot_blocking") if _detected(t, target)]  # target offers
     return (limits + let_pass + " By itself the robot passes people on one "
             "side where there is room, slows near them, and makes way for someone who must get past it (after "
             f"{ScriptedPolicy.patience:g} s face to face, a gap of {FACE_GAP:g} m or less, it backs off the way it "
@@ -382,7 +387,13 @@ def robot_limits_text(detail: bool = True) -> str:
             "passage, or a wait_until_clear cue at a wider node; \"it follows someone\": they lead along its route "
             "(robot_far to wait).\n"
             f"- It stops about {round(ScriptedPolicy.stop_gap + TOUCH_DISTANCE, 2):g} m (centres) from a person in "
-            f"its way; {wait_until_clear_text()}, so a cue needing it closer to them never fires meanwhile.")
+            f"its way; {wait_until_clear_text()}, so a cue needing it closer to them never fires meanwhile.\n"
+            f"- A person's {' / '.join(seen)} must hold where the robot really comes: one its cue "
+            f"stands stays where the cue fired, so give the trigger the distance between them then plus {NEAR_MISS:g} m "
+            "(a distance reached only by a hair fails on any change of its approach)" + (
+                f"; robot_blocking needs the robot in sight within {BLOCKING_DEGREES} degrees of the way they face, "
+                "never so while it stands aside to let them pass: to stop as it waits there, use robot_visible or "
+                "robot_near." if "robot_blocking" in seen else "."))
 
 
 def follower_turn_text() -> str:
@@ -488,7 +499,7 @@ def scenario_rules_text(target: Target | None = None, signals: bool = True, robo
     the robot cannot do, export, stl); `signals` False names the STL signals without their meanings."""
     lines = ["HOW THE SPEC PLAYS OUT:", starts_text() if robot else "", pacing_text(robot), encounter_within_text(),
              implied_meets_text() if robot else "", cue_once_text(robot), groups_text(robot), people_text(detail=robot),
-             latch_text(target or "socrates"), robot_limits_text(robot), follower_turn_text() if robot else "",
+             latch_text(target or "socrates"), robot_limits_text(robot, target or "socrates"), follower_turn_text() if robot else "",
              export_text(target, spec_words=True), stl_text(signals), events_text(signals)]
     return "\n".join(line for line in lines if line)
 

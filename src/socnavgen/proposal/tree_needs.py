@@ -251,7 +251,7 @@ def script_text(spec: ScenarioSpec) -> str:
         elif cue.wait and not cue.let_pass:
             acts.append(f"stands still {cue.wait:g} s")
         if cue.let_pass:
-            acts.append(f"stands still until {cue.let_pass} has gone by"
+            acts.append(f"stands still beside {cue.let_pass}'s way (not in front of them) until {cue.let_pass} has gone by"
                         + (f" (at most {cue.wait:g} s)" if cue.wait else ""))
         if cue.speed is not None:
             acts.append(f"goes on at {cue.speed:g} m/s")

@@ -35,6 +35,8 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
   N3  the robot never came near the human, or the human was never in its way (a reaction's cause
       never held: also its encounter's robot_visible / robot_near / robot_blocking cue, e.g. a wall
       between them), or a meeting had no approach / shares the earlier encounter's meeting       -> paths
+      except (verify/blame_cue.py): that cue missed by a hair (its distance by 1 m or less, or
+      robot_blocking's cone with the robot in sight within its distance)                       -> spec
   V1  hidden_until failed: the two saw each other early (the place is not blind)               -> paths
   G1  a group apart whose members walk different paths                                          -> paths
   G2  a group apart on one path                                                                -> behaviors(farthest)
@@ -77,6 +79,7 @@ from socnavgen.bodies import (
 )
 from socnavgen.run.models import PathPlan
 from socnavgen.run.spec import Blame, Criterion, ScenarioSpec
+from socnavgen.verify.blame_cue import cue_never_held
 from socnavgen.verify.blame_end import goal_taken, no_progress_at_end, standing_at_end
 from socnavgen.verify.blame_follow import blame_follower, never_near_start
 from socnavgen.verify.blame_timing import ended_at_once, window_closed_early
@@ -86,7 +89,6 @@ from socnavgen.verify.people import blame_people
 from socnavgen.verify.signals import ROBOT_PHRASES, Signals, lasting, phrase_id, reaction_evidence
 from socnavgen.verify.stl import formula_signals
 from socnavgen.verify.thresholds import APPROACH, KIND_DISTANCE, MEET_DISTANCE, STILL_SPEED, STOP_HOLD
-from socnavgen.verify.windows import triggered
 
 Verdict = tuple[Blame, str | None, str]  # blame, human (for behaviors), reason
 
@@ -389,7 +391,7 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
         reach = max(cc.distance or MEET_DISTANCE, MEET_DISTANCE)
         if kind != "follows_human" and s.get(f"dist_{h}").min() > reach:  # a follower of a person: rule F1
             return "paths", None, f"the robot never came within {reach:g} m of {h}"
-        cause = (window_closed_early(cc, s, h, reach) or _missing_cause(cc, s, h) or _spent(cc, s, spec, h)
+        cause = (window_closed_early(cc, s, h, reach) or _missing_cause(cc, s, h, spec) or _spent(cc, s, spec, h)
                  or ended_at_once(cc, s, spec, h))
         if cause:
             return cause
@@ -421,7 +423,7 @@ def _blame_meeting(cc: Compiled, s: Signals, h: str) -> Verdict:
     return "paths", None, f"the robot and {h} were not at {node} at the same time"
 
 
-def _missing_cause(cc: Compiled, s: Signals, h: str) -> Verdict | None:
+def _missing_cause(cc: Compiled, s: Signals, h: str, spec: ScenarioSpec) -> Verdict | None:
     """Rule N3 for reactions: the cause never held (h never in the robot's way, never walking near it)."""
     kind, d = cc.criterion.kind, cc.distance or KIND_DISTANCE.get(cc.criterion.kind, MEET_DISTANCE)
     if cc.window and not in_window(cc, s).any():
@@ -436,32 +438,7 @@ def _missing_cause(cc: Compiled, s: Signals, h: str) -> Verdict | None:
         return never
     if kind == "stops_near_robot" and not (s.get(f"closer_{h}") >= APPROACH).any():
         return "paths", None, f"the robot never came closer to {h} than where they started"
-    return _cue_never_held(cc, s, h)
-
-
-_SEEN_CUES = {"robot_visible": "in sight of", "robot_near": "near", "robot_blocking": "in front of"}
-
-
-def _cue_never_held(cc: Compiled, s: Signals, h: str) -> Verdict | None:
-    """Rule N3, the encounter's cue: h's part reacts to where the robot is (robot_visible / robot_near /
-    robot_blocking) and that never held, so h's tree had nothing to react to (a wall between them, the robot
-    stopping out of sight): where the robot goes and h stands is the paths' to change, not h's tree."""
-    part = cc.part
-    if part is None or part.trigger not in _SEEN_CUES or part.distance is None:
-        return None
-    held = triggered(s, h, part)
-    if held is None or held.any():
-        return None
-    dist = s.get(f"dist_{h}")
-    k = int(np.argmin(dist))
-    fact = f"closest {dist[k]:.2f} m at t={s.t[k]:.1f} s"
-    if part.trigger == "robot_visible" and dist[k] <= part.distance:
-        near = dist <= part.distance
-        fact += (", always with a wall between them while within it" if not (s.get(f"los_{h}")[near] > 0.5).any()
-                 else "")
-    node = cc.encounter.node or cc.encounter.id if cc.encounter is not None else "its place"
-    return "paths", None, (f"the robot was never {_SEEN_CUES[part.trigger]} {h} within {part.distance:g} m ({fact}): "
-                           f"{h}'s cue never held; make the robot's path end or pass where {h} at {node} sees it")
+    return cue_never_held(cc, s, h, spec)
 
 
 HOLDS = ("blocks_robot", "stops_near_robot")  # criteria that need the person to hold still while the robot is there

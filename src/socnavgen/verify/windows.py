@@ -28,7 +28,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from socnavgen.bt.library import BLOCKING_CONE
 from socnavgen.run.spec import Encounter, HumanPart, ScenarioSpec
+from socnavgen.sim.trace import YAW
 from socnavgen.verify.models import VerifySettings
 
 if TYPE_CHECKING:  # pragma: no cover - signals imports nothing from here at run time
@@ -84,6 +86,16 @@ def _first(mask: np.ndarray, start: int) -> int | None:
     return start + int(idx[0]) if len(idx) else None
 
 
+def off_heading(s: Signals, human: str) -> np.ndarray:
+    """(T,) radians between the way `human` faces and the robot, seen from them: IsRobotBlocking's test (the
+    simulator's leaf) holds within bt.library.BLOCKING_CONE, so the verifier's robot_blocking is the same cone (its
+    looser ahead_<human> of stops_near_robot said "triggered" where the tree's condition never held: warehouse_04)."""
+    i = s.human(human)
+    rel = s.trace.robot[:, :2] - s.trace.humans[:, i, :2]
+    bearing = np.arctan2(rel[:, 1], rel[:, 0]) - s.trace.humans[:, i, YAW]
+    return np.abs((bearing + np.pi) % (2 * np.pi) - np.pi)
+
+
 def triggered(s: Signals, human: str, part: HumanPart) -> np.ndarray | None:
     """(T,) bool: the steps on which the person's part is triggered (run.spec.HumanPart.trigger, as the verifier's
     signals see it), None when the trigger cannot be told from the trace (a distance it does not give)."""
@@ -103,11 +115,14 @@ def triggered(s: Signals, human: str, part: HumanPart) -> np.ndarray | None:
             return s.t >= part.seconds
         if d is None:
             return None
-        near = {"robot_near": dist <= d, "robot_far": dist > d,
-                "robot_blocking": (dist <= d) & (s.get(f"ahead_{human}") > 0.5)}.get(part.trigger)
-        if near is None and part.trigger == "robot_visible":
-            near = (dist <= d) & (s.get(f"los_{human}") > 0.5)
-        return near
+        if part.trigger == "robot_near":
+            return dist <= d
+        if part.trigger == "robot_far":
+            return dist > d
+        if part.trigger not in ("robot_visible", "robot_blocking"):
+            return None
+        near = (dist <= d) & (s.get(f"los_{human}") > 0.5)
+        return near & (off_heading(s, human) <= BLOCKING_CONE) if part.trigger == "robot_blocking" else near
     except UnknownSignal:
         return None
 

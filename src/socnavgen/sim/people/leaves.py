@@ -17,6 +17,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 
+from socnavgen.bt.library import BLOCKING_CONE
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.avoid import sees
 from socnavgen.sim.people.routing import head
@@ -35,7 +36,6 @@ LEAVES: dict[str, Callable] = {}
 BAD_PORT = -10  # a leaf's status BAD_PORT - column: the port in that column holds an unusable value
 
 # Constants of the SocRATES fork (reference §1.3, §3)
-BLOCKING_CONE = 0.5  # rad
 ROBOT_MOVED_SPEED = 0.1  # m/s
 # A follower walks at their own pace to close a gap and slows only over the last FOLLOW_SLOWING metres before
 # FOLLOW_STOP (along the walkable way, centre to centre), where they stand: people keep 1-1.5 m behind whom they
