@@ -72,17 +72,3 @@ def test_waiting_robot_stands_beside_the_walkway_not_in_a_corridors_middle():
 def test_waiting_robot_with_nobody_coming_stays_on_its_route():
     trace, waiting = _waiting([])
     assert np.abs(trace.robot[waiting, 1] - 5.0).max() < 0.05
-
-
-def test_robot_does_not_move_aside_for_someone_beyond_the_turn_it_takes():
-    """Someone standing past the waypoint where the robot's route turns is not in its lane: it does not move aside
-    (away from its turn) to pass them before it turns. hospital_10: the family stood beyond the corridor node 1g
-    where the route turns north through a doorway; moving aside for them took the robot toward the mouth of the
-    doorway opposite, where another stood, and it stood there for 100 s."""
-    beyond = human(start=(9.3, 5.4), goals=[(9.3, 5.4)])  # 1.3 m past the turn, a little to its left
-    trace = make_sim([beyond], [STAND], [(3.0, 5.0), (8.0, 5.0), (8.0, 9.5)], ScriptedPolicy(), timeout=40).run()
-    assert trace.end_reason == "robot_goal"
-    before_turn = trace.robot[:, 0] < 7.6
-    assert trace.robot[before_turn, 1].min() > 4.9  # no sidestep to the right, away from its left turn
-    gap, _ = _gap_and_speed(trace)
-    assert gap.min() >= INTIMATE_SPACE  # it passes them at a social distance round its turn

@@ -6,7 +6,6 @@ them, steps back from someone walking into it, and never moves closer than a mar
   right has no room, until the lateral distance between the two centres leaves PASS_GAP between the bodies
   (or as far as the walls allow). A head-on walker's social force has no sideways part when the two are
   exactly in line (lightsfm's angular term vanishes at theta = 0), so without this the two meet nose to nose.
-  Someone past the turn of its route it heads for (turns_in) is not in its lane until it has turned.
 * near_speed: toward anyone within EASE_GAP (personal space) it slows with the gap, down to CLOSE_SPEED at PASS_GAP
   (intimate space, Hall's 0.45 m) and nearer: where it cannot pass at a social distance it passes slowly; moving
   away from them is not slowed (someone walking into its back or side is left behind, not waited for).
@@ -96,19 +95,6 @@ def stands_clear(s, skip, point):  # noqa: ANN001, ANN201
 
 
 @jit
-def turns_in(s):  # noqa: ANN001, ANN201
-    """How far the robot is from the waypoint it heads for when its route turns there by more than a corner
-    (CORNER_COS), inf otherwise: people past that turn are not in its lane (pass_aside)."""
-    wps, k = s.waypoints, s.policy[0].waypoint
-    if k <= 0 or k >= wps.shape[0] - 1:
-        return math.inf
-    into, out = wps[k] - s.robot[0].pos, wps[k + 1] - wps[k]
-    if abs(into) < 1e-9 or abs(out) < 1e-9 or (out * into.conjugate()).real > CORNER_COS * abs(into) * abs(out):
-        return math.inf
-    return abs(into)
-
-
-@jit
 def pass_aside(s, direction):  # noqa: ANN001, ANN201
     """Sideways velocity (complex, perpendicular to the unit `direction` of travel) that makes room to pass
     the nearest person ahead in the robot's lane, or one catching up from behind; 0 when nobody is."""
@@ -116,14 +102,13 @@ def pass_aside(s, direction):  # noqa: ANN001, ANN201
     p, rr = robot.pos, robot.radius
     back = direction.conjugate()
     vr = (robot.vel * back).real
-    turn_in = turns_in(s)  # how far ahead its route turns (inf: it does not turn before its goal)
     best, across, need, who = math.inf, 0.0, 0.0, -1
     for i in range(people.shape[0]):
         q = people[i]
         rel = (q.pos - p) * back  # real: ahead, imag: to the left
         want = rr + q.radius + PASS_GAP
-        if abs(rel.imag) >= want or rel.real - q.radius > turn_in + rr:
-            continue  # not beside its lane, or past the turn (judged on the leg after it, once it has turned)
+        if abs(rel.imag) >= want:
+            continue
         gap = abs(rel) - rr - q.radius
         if rel.real > 0:
             if gap > PASS_LOOK:
