@@ -281,3 +281,23 @@ def test_waiting_until_clear_squeezes_past_someone_just_beside_its_route_where_t
     sim = make_sim([beside], [STANDING], route, policy=ScriptedPolicy(), script=script, world=narrow, timeout=40)
     rows = _run(sim, 100)
     assert abs(rows[-1][2] - (2.0 + 2.0j)) < 0.05  # still waiting at 5 s
+
+
+def test_waiting_until_clear_rounds_a_turn_past_someone_who_stepped_into_its_outer_corner():
+    """Someone who stepped aside into the outer corner of the robot's turn (0.8 m from the turn's waypoint, beyond
+    it and behind the next leg) does not hold the robot "until clear" when it can round the turn on the inner side
+    keeping its polite gap (warehouse_07: the worker stepped into the corner pocket, the robot stood 2 m off for 25
+    s, asked twice more, then squeezed past); someone standing on the turn itself still does."""
+    script = RobotScript(cues=[RobotCue(trigger=CueTrigger(when="start"), say="EXCUSE ME", hold=1.0,
+                                        wait_until_clear=True)])
+    route = [(6.0, 5.0), (8.0, 5.0), (8.0, 9.5)]  # east, then a left turn north (both within 3 m: held up)
+    pocket = human(start=(8.49, 4.4), goals=[(8.49, 4.4)], radius=0.4)  # 0.77 m from the turn, outside it
+    sim = make_sim([pocket], [STANDING], route, policy=ScriptedPolicy(), script=script, timeout=40, idle_end=40)
+    trace = sim.run()
+    assert trace.end_reason == "robot_goal" and trace.t[-1] < 20.0  # not held up (giving up takes 24 s)
+    assert [text for _, text in sim.cues.fired] == ["start: say EXCUSE ME, wait until clear"]
+    assert _gaps(trace).min() >= 0.2  # it rounds them at its polite gap, no squeezing
+    on_turn = human(start=(8.2, 4.9), goals=[(8.2, 4.9)], radius=0.4)  # on the turn itself: in its way
+    sim = make_sim([on_turn], [STANDING], route, policy=ScriptedPolicy(), script=script, timeout=40, idle_end=40)
+    rows = _run(sim, 100)
+    assert abs(rows[-1][2] - (6.0 + 5.0j)) < 0.05  # still waiting at 5 s

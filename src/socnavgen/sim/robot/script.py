@@ -236,8 +236,9 @@ def on_route_ahead(s, seg, i, reach, distance):  # noqa: ANN001, ANN201
             into = into_route(s.people[i], foot, d)
             near = d < reach or (into > INTO_WAY and d - into * INTO_WAY_LOOK < reach)
             if along <= left and near and (along > 0.0 or j > seg + 1):
-                beside = 1e-6 < along < length - 1e-6  # not off either end of the leg (ahead, round a corner)
-                if not (beside and squeezes_past(s, i, foot, d)):
+                # beside the leg, or off its end by a turn (stepped into the corner: it rounds the turn on the far
+                past = j < wps.shape[0] - 1 or along < length - 1e-6  # side), not past its goal (it stops there)
+                if not (past and squeezes_past(s, i, foot, d)):
                     return True
             left -= length
             if left <= 0.0:
