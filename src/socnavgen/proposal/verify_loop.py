@@ -191,18 +191,14 @@ def _shape(spec: ScenarioSpec | None) -> object:
 
 
 _TOKEN = re.compile(r"[A-Za-z0-9_]+")
-_SENTENCE = re.compile(r"(?<=[.;!?])\s+")
 
 
 def _named_nodes(scenario: ScenarioProposal, spec: ScenarioSpec | None, nodes: set[str]) -> object:
-    """The sentences of each part of the prose that name the map's nodes (where the scenario says people start,
-    meet and go; stage 2 plans the paths from them): a stage-1 answer that moves a person's start in its words
-    re-plans the paths (warehouse_04, round 10: the old start was simulated again), also when it only swaps who
-    starts where among the same places (round 15: the robot moved to the open area its followers had stood in,
-    and the old paths were simulated again); rewording sentences that name no node keeps them."""
-    def named(text: str) -> tuple[str, ...]:
-        return tuple(" ".join(s.split()).lower() for s in _SENTENCE.split(text)
-                     if any(w in nodes for w in _TOKEN.findall(s)))
+    """The map's nodes each part of the prose names (where the scenario says people start, meet and go; stage 2
+    plans the paths from it): a stage-1 answer that moves a person's start in its words re-plans the paths
+    (warehouse_04, round 10: the old start was simulated again)."""
+    def named(text: str) -> frozenset[str]:
+        return frozenset(w for w in _TOKEN.findall(text) if w in nodes)
 
     said = {"description": named(scenario.scenario_description),
             **{h: named(text) for h, text in scenario.human_behaviors.items()}}
