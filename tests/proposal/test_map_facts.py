@@ -212,7 +212,7 @@ def test_a_says_criterion_for_someone_who_never_speaks_is_refused(home):
                for m in mistakes), mistakes
     assert any("criterion c2: text contains the placeholder 'placeholder'" in m for m in mistakes)
     speaks = _reply("LIVING ROOM", part={"reaction": "say", "says": "WAIT"},
-                    behavior="A resident sees the robot coming and says WAIT so that it lets her pass first.",
+                    behavior="A resident sees the robot coming and says WAIT to it.",
                     criteria=[{"id": "c1", "kind": "meets", "human": "human1", "encounter": "e1"},
                               {"id": "c2", "kind": "says", "human": "human1", "phrase": "WAIT",
                                "text": "the resident says WAIT"}])
@@ -221,7 +221,7 @@ def test_a_says_criterion_for_someone_who_never_speaks_is_refused(home):
     silent_prose.human_behaviors["human1"] = "A resident walks across the room without a word."
     assert any("never mentions it" in m for m in check(silent_prose))
     mute = _reply("LIVING ROOM", part={"reaction": "stop"},  # her text says WAIT; her encounter never has her speak
-                  behavior="A resident sees the robot coming and says WAIT so that it lets her pass first.",
+                  behavior="A resident sees the robot coming and says WAIT to it.",
                   criteria=[{"id": "c1", "kind": "meets", "human": "human1", "encounter": "e1"},
                             {"id": "c2", "kind": "says", "human": "human1", "phrase": "WAIT",
                              "text": "the resident says WAIT"}])

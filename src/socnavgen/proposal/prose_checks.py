@@ -34,7 +34,8 @@ CLOSE_BEHIND = re.compile(r"\b(?:right|close|closely|just|directly|immediately) 
                           r"(?:the|a|an|his|her|its|their|human) ?\w+))?|\bon (?:its|his|her|their) heels\b|"
                           r"\bfollows? (?:it |them |him |her |the robot )?closely\b", re.IGNORECASE)
 # Words that say who goes first between a person and the robot.
-_PASSER = r"(?:he|she|they|him|her|them|the \w+|human ?\d+|(?-i:[A-Z]\w+))(?: \([^)]*\))?"  # who passes the robot
+_PASSER = r"(?!(?:the robot|it)\b)(?:he|she|they|him|her|them|the \w+|human ?\d+|(?-i:[A-Z]\w+))(?: \([^)]*\))?"  # who passes the
+# robot (a person: "lets the robot pass" is a person giving way, the order the robot-first words above already say)
 ORDER_WORDS = re.compile(r"\b(?:behind (?:it|the robot)|ahead of (?:it|the robot)|go(?:es)? (?:on )?first|"
                          r"(?:after|once|until) (?:it|the robot) (?:has )?(?:passed|gone by|gone past)|"
                          # the robot waits for someone to pass (a ROBOT WAIT: they go first)
