@@ -59,6 +59,20 @@ def test_a_person_who_walks_their_way_in_passes() -> None:
     assert "came along a -> b -> c and reached e1 at 13." in found.evidence
 
 
+def test_a_node_inside_the_encounters_place_is_not_asked_for_before_it() -> None:
+    """round 16, warehouse_04: the aisle end qs lies 1.9 m before the intersection sh of a 3.5 m encounter; the
+    worker walking down the aisle reached the encounter 1.6 m before qs and was failed for 'coming another way'.
+    Here d lies 1 m before c, inside c's 1.5 m place; a node outside it is still asked for."""
+    def way(within: float) -> WayIn:
+        return WayIn(human="human1", encounter="e1", node="c", within=within, nodes=("a", "b", "d", "c"),
+                     points=(A, B, (4.0, -10.0), C), reach=(0.3, 0.3, 0.3, 0.3), walker=False, source="spec")
+
+    assert judge_way_in(way(1.5), _trace(ALONG, turns=14.0), SETTINGS).passed
+    missed = judge_way_in(way(0.5), _trace([(0.0, *A), (10.0, *B), (12.0, 4.0, -11.0), (15.0, *C), (40.0, *C)]),
+                          SETTINGS)
+    assert not missed.passed and "never came within 0.3 m of d" in missed.evidence, missed.evidence
+
+
 def test_one_whose_reaction_takes_them_round_another_way_fails_on_their_tree() -> None:
     """warehouse_03: the trigger held at his start; following, he went round instead of down the aisle."""
     found = judge_way_in(_way(walker=False), _trace(AROUND, turns=5.0), SETTINGS)

@@ -17,6 +17,8 @@ their encounter's node from somewhere else:
 
 from __future__ import annotations
 
+import math
+
 from dataclasses import dataclass
 
 import numpy as np
@@ -93,6 +95,8 @@ def _missed(way: WayIn, trace: Trace, i: int, arrival: int) -> tuple[str, float,
     pos = trace.humans[: arrival + 1, i, :2]
     start = 0
     for node, point, reach in zip(way.nodes[1:-1], way.points[1:-1], way.reach[1:-1], strict=True):
+        if math.dist(point, way.points[-1]) < way.within:  # inside the encounter's place: reached with it, or after
+            continue
         d = np.hypot(*(pos[start:] - np.asarray(point)).T)
         hit = np.flatnonzero(d <= reach)
         if not len(hit):
