@@ -18,7 +18,6 @@ their encounter's node from somewhere else:
 from __future__ import annotations
 
 import math
-
 from dataclasses import dataclass
 
 import numpy as np
