@@ -1,5 +1,5 @@
-"""The new-request suite (tests/fixtures/new_requests/): 36 requests written by sessions that never read the
-code (12 per bundled location, half without a rough scenario: 24 of round 11, 12 of round 13), answered by separate
+"""The new-request suite (tests/fixtures/new_requests/): 42 requests written by sessions that never read the
+code (14 per bundled location, half without a rough scenario: 24 of round 11, 12 of round 13, 6 of round 15), answered by separate
 sessions playing a capable model through the real prompts (`generate --verify` against queue_openai.py), recorded as replay fixtures. Each
 fixture carries what a person saw in the GIF frames of its final answers (`eyes`). Replayed here through the
 real pipeline: every stage's first answer valid or corrected within its stage, and the verifier's verdict on the
@@ -20,53 +20,45 @@ PATHS = fixture_paths(FIXTURES)
 
 # Where the verifier and the eyes disagree today, each with what was seen (a strict xfail: it turns red the day
 # they agree, and the pin must go). Empty means they agree on every fixture. Round 11 answers (the fifth session's
-# prompts), round 13 answers (the seventh session's) and round 14 re-recordings (the eighth session's: eight requests
-# whose recordings ended under the current pipeline, answered again live), replayed on the eighth session's code and
-# judged from GIF frames by six sessions that read no code and saw no verdict (round 14 of the eyes). Four lenient
-# passes (a spec that says less than the prose: where a person comes from, a wait at a distance; two people passing
-# 0.19 m apart that the eyes saw as touching) and one strict fail the eyes accepted. warehouse_03 (the fourth worker
-# came round another way) and home_09 (a child left in the hallway) agree since verify/way_in.py and way_end.py;
-# home_09's order of followers is also refused at stage 1 now (REFUSED) until it is answered again live.
+# prompts), round 13 (the seventh session's), round 14 re-recordings (the eighth session's), round 15 (six new
+# requests) and round 16 re-recordings (six requests whose recordings the ninth session's checks refused or ended),
+# replayed on the ninth session's code; the eyes of rounds 15-16 and of hospital_07 / hospital_10 are round 15's
+# (sessions that read no code and saw no verdict), the others round 14's. Five lenient passes, each a spec that
+# says less than its prose (a greeting stop, where a person comes from, a robot's wait at a distance).
 DISAGREE: dict[str, str] = {
+    "home_03_welcome_dinner_guests": "lenient PASS: the robot never stops at vh, it only slows to ~0.25 m/s; the host "
+    "stands ~2 m off while both guests are still in the hallway behind the robot and turns back as the first comes "
+    "out: the guests never stop to greet her (no criterion has the guests stop beside the host)",
     "hospital_06_night_wandering_patient": "lenient PASS: the patient stands at 8z until the robot calls her at ~40 s; "
     "she never wanders toward the south elevator, so the interception the text is about does not happen "
     "(verify/way_in.py's `walks` sees it, a warning while WALKS_REQUIRED is off: required, home_05's recording ends)",
-    "hospital_07_assisted_rehab_walk": "lenient PASS: the nurse steps aside into the opening the pair is heading for "
-    "and walks on past the patient at ~30-31 s (people_apart measured 0.19 m between the bodies: the eyes saw the "
-    "discs overlap), and the patient ends in the doorway, not inside her room",
-    "hospital_10_meal_tray_family_in_doorway": "lenient PASS: the robot does not wait at the counter 2-2.5 m back "
-    "until the way is clear; it moves into the family still standing round zs, passing at ~0.3 m, and the doorway "
-    "visitor backs into the room (no criterion holds the robot back until they have stepped aside)",
-    "warehouse_07_night_patrol_west_corridor": "strict FAIL the eyes accepted: the robot stopped at ~32 s 1.5 m from "
-    "the worker at f7 and said EXCUSE ME (again at ~49 s); he stepped aside at ~66 s, 35 s after the phrase, while the "
-    "text has him step aside when it says it (the judge saw the times and the second EXCUSE ME and called it a match)",
+    "hospital_10_meal_tray_family_in_doorway": "lenient PASS: the robot does not wait at the counter 2-2.5 m back; "
+    "3-5 s after EXCUSE ME it drives into the standing family and stays wedged 0.1-0.3 m from them until ~16 s, and "
+    "the doorway visitor goes into the patient's room instead of stepping aside (no criterion holds the robot back "
+    "until they have stepped aside, nor says where they step)",
+    "warehouse_04_pallet_jack_backing_out": "lenient PASS: the robot does not stop ~3 m short; it drives up to the "
+    "aisle mouth at sh within ~2 m of the worker backing out, then dodges north between the racks, and the worker's "
+    "stop to swing the jack happens inside the aisle end, not across the cross aisle (no criterion says where the "
+    "robot stands or where the worker stops)",
     "warehouse_12_carrying_toolbox_for_technician": "lenient PASS: the picker never walks up the aisle from yh; she "
     "stands at its north end ~30 s and waits in its mouth, so the robot holding back for someone coming through a "
-    "blind aisle becomes a standoff she breaks (no criterion states that she comes up the aisle)",
+    "blind aisle becomes a standoff she breaks (its final paths start her at xq: the plan, not the trace, left the "
+    "aisle out)",
 }
 
 # Fixtures whose recorded answers never pass a stage (a stage check refuses them, or the recording ends where the
 # pipeline now asks what the live run was never asked), each with why: the replay stops at that stage.
-REFUSED: dict[str, str] = {
-    "home_03_welcome_dinner_guests": "scenario: both recorded answers put the second guest behind Human 1 with a "
-    "follows_robot only, which measures each follower from the robot (prose_checks.person_order_mistakes); the eyes "
-    "saw the guests come down the hallway in the reverse order",
-    "home_09_telepresence_grandma_kids_follow": "scenario: every recorded answer has Leo 'behind his sister' with a "
-    "follows_robot only (person_order_mistakes): round 14's run passed with the two children in the reverse order",
-    "warehouse_10_against_the_unloading_crew": "scenario: its first answer measures each worker filing behind another "
-    "from the robot, its correction relates each pair only by a spread (the same whichever walks first): "
-    "person_order_mistakes refuses both (the eyes saw the file in the text's order)",
-}
+REFUSED: dict[str, str] = {}
 
 
 def test_the_suite_is_there_and_judged():
     names = [p.stem for p in PATHS]
-    assert len(names) == 36
+    assert len(names) == 42
     for location in ("home", "hospital", "warehouse"):
         mine = [p for p in PATHS if p.stem.startswith(location)]
-        assert len(mine) == 12
+        assert len(mine) == 14
         rough = [fixture_request(p, ROOT).rough for p in mine]
-        assert sum(r is None for r in rough) == 6  # half of them without a rough scenario
+        assert sum(r is None for r in rough) == 7  # half of them without a rough scenario
     for path in PATHS:
         data = load_yaml_file(path)
         assert data.get("verify_loop") is True, path.stem
