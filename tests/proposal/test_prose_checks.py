@@ -206,28 +206,17 @@ def _findings(path: Path) -> dict[str, list[str]]:
     return {k: v for k, v in found.items() if v}
 
 
-# Every recorded answer of the suite the prose checks refuse, and why that is right (round 14 re-answered home_09,
-# warehouse_07 and hospital_11 live with these checks: the answers refused there are the model's before it fixed them).
+# Every recorded answer of the suite the prose checks refuse, and why that is right (round 16 re-answered home_03,
+# home_09 and warehouse_10 live with these checks: the answers refused there are the model's before it fixed them).
 REFUSED = {
-    ("home_09_telepresence_grandma_kids_follow", "scenario[0]"): "right behind it, allowed 5 m (the live model then "
-    "stated how far behind each child walks)",
-    ("warehouse_03_fire_alarm_evacuation", "scenario[0]"): "follows the robot closely, allowed 4 m (the live model then "
-    "wrote 'about 1.5-2 m behind it')",
-    ("warehouse_07_night_patrol_west_corridor", "paths[1]"): "a correction that brings the second worker to hd from zg "
-    "where her text has her come up the aisle from ki (the live model then changed her trigger distance instead)",
-    ("warehouse_07_night_patrol_west_corridor", "paths[2]"): "the same path again",
-    ("home_09_telepresence_grandma_kids_follow", "scenario[1]"): "Leo 'behind his sister' with a follows_robot only "
-    "(each child measured from the robot: round 14's run passed with the two in the reverse order)",
-    ("home_09_telepresence_grandma_kids_follow", "scenario[2]"): "the same order, still unrelated",
-    ("home_09_telepresence_grandma_kids_follow", "scenario[3]"): "the same order, still unrelated",
-    ("home_09_telepresence_grandma_kids_follow", "scenario[4]"): "the same order, still unrelated",
-    ("home_03_welcome_dinner_guests", "scenario[0]"): "the second guest 'behind Human 1' in the hallway with a "
-    "follows_robot only (the eyes saw the two come down the hallway in the reverse order)",
-    ("home_03_welcome_dinner_guests", "scenario[1]"): "the same order, still unrelated",
-    ("warehouse_10_against_the_unloading_crew", "scenario[0]"): "workers 'behind the lead worker (human1)', 'behind "
-    "human2', 'behind human3' each with a follows_robot measuring them from the robot",
-    ("warehouse_10_against_the_unloading_crew", "scenario[1]"): "the live correction relates each pair only by "
-    "'always (spread_human3_human2 < 3.5)', the same whichever of the two walks first",
+    ("home_03_welcome_dinner_guests", "scenario[0]"): "the host's text says who goes first ('behind it') with no "
+    "criterion about her that can see it (the live model of round 16 then dropped the order words)",
+    ("home_09_telepresence_grandma_kids_follow", "scenario[0]"): "right behind the robot, allowed 4 m (the live model "
+    "then stated how far behind each child walks)",
+    ("home_09_telepresence_grandma_kids_follow", "scenario[2]"): "the younger child right behind the older, a "
+    "follows_human allowing 4 m",
+    ("warehouse_10_against_the_unloading_crew", "scenario[0]"): "right behind the crew, a follows_human allowing 4 m "
+    "(the live model then allowed 3.1 m)",
     ("hospital_06_night_wandering_patient", "paths[1]"): "a re-ask answer that reverses the nurse's walk (1g zs i1 "
     "pf tw, her text: from tw through pf to i1 and on to cs); the replay never reaches it (the first answers verify)",
 }
@@ -235,7 +224,7 @@ REFUSED = {
 
 def test_on_the_suites_recorded_answers_the_checks_refuse_only_what_the_text_does_not_say():
     """Exactly the answers above are refused, each an answer whose spec or plan says less than (or other than) its
-    prose; every other recorded answer of the 36 passes the checks."""
+    prose; every other recorded answer of the 42 passes the checks."""
     refused = {(p.stem, k) for p in sorted(FIXTURES.glob("*.yaml")) for k in _findings(p)}
     assert refused == set(REFUSED)
 
