@@ -185,16 +185,24 @@ def test_the_specs_own_formula_failing_again_after_the_paths_changed_goes_to_the
 def test_a_scenario_answer_that_moves_a_person_in_its_words_plans_the_paths_again(tmp_path, mini_location):
     """warehouse_04, round 10: stage 1 moved the worker's start in its prose (the same encounters), the paths were
     kept and the old start was simulated again. Prose naming other nodes of the map re-plans the paths; prose that
-    names the same nodes (or none) keeps them."""
+    names the same nodes (or none) keeps them. warehouse_13, round 15: the robot's route moved its start from sk to
+    up, both named in the description before and after; the old robot path was simulated again."""
+    before = scenario_reply(scenario_description="The robot starts at 32 and meets workers at the corner near 07.")
+    before["spec"]["script"]["route"] = "from 32 along the loop to 07"
     moved = scenario_reply()
     moved["human_behaviors"]["human1"] = "Worker 1 starts at d9, walks to the corner and stops when blocked."
     reworded = scenario_reply()
     reworded["scenario_description"] = "The robot brings a box round the loop; workers meet it at the corner."
-    for reply, paths_asked in ((moved, 2), (reworded, 1)):
-        out = tmp_path / str(paths_asked)
+    route_moved = scenario_reply(scenario_description=before["scenario_description"])
+    route_moved["spec"]["script"]["route"] = "from ch along the loop to 07"
+    route_reworded = scenario_reply(scenario_description=before["scenario_description"])
+    route_reworded["spec"]["script"]["route"] = "starting at 32, round the loop, ending at 07"
+    for first, reply, paths_asked in ((scenario_reply(), moved, 2), (scenario_reply(), reworded, 1),
+                                      (before, route_moved, 2), (before, route_reworded, 1)):
+        out = tmp_path / f"{len(list(tmp_path.iterdir()))}"
         out.mkdir()
         script = write_script(out / "s.yaml", {
-            "scenario": [scenario_reply(), reply], "paths": [paths_reply(), paths_reply()],
+            "scenario": [first, reply], "paths": [paths_reply(), paths_reply()],
             "behaviors": {"human1": [tree_reply(), tree_reply()], "human2": [tree_reply(), tree_reply()]}})
         verify, _ = _verifier([_finding("spec", evidence="the worker starts in the wrong place")], [])
         run, llm = run_replay(script, mini_location, out / "run", verify=True, verifier=verify)

@@ -196,7 +196,8 @@ _TOKEN = re.compile(r"[A-Za-z0-9_]+")
 def _named_nodes(scenario: ScenarioProposal, spec: ScenarioSpec | None, nodes: set[str]) -> object:
     """The map's nodes each part of the prose names (where the scenario says people start, meet and go; stage 2
     plans the paths from it): a stage-1 answer that moves a person's start in its words re-plans the paths
-    (warehouse_04, round 10: the old start was simulated again)."""
+    (warehouse_04, round 10: the old start was simulated again), and so does one that moves the robot's route
+    (warehouse_13, round 15: the robot's start moved from sk to up, the same places named elsewhere)."""
     def named(text: str) -> frozenset[str]:
         return frozenset(w for w in _TOKEN.findall(text) if w in nodes)
 
@@ -204,6 +205,7 @@ def _named_nodes(scenario: ScenarioProposal, spec: ScenarioSpec | None, nodes: s
             **{h: named(text) for h, text in scenario.human_behaviors.items()}}
     if spec is not None:
         said |= {e.id: named(e.robot_does or "") for e in spec.encounters}
+        said["robot route"] = named(spec.script.route)
     return said
 
 
