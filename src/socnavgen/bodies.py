@@ -8,6 +8,8 @@ Values are HuNavSim's and the SocRATES Gazebo wrapper's (see ../shared/reference
 
 from __future__ import annotations
 
+import math
+
 # -- bodies ---------------------------------------------------------------------------------------
 PERSON_RADIUS = 0.4  # m: a simulated person's disc (HuNavSim agent radius)
 PERSON_HEIGHT = 1.8  # m: what a walking person's body fills above the floor: a shelf lower than this blocks
@@ -15,6 +17,7 @@ ROBOT_RADIUS = 0.35  # m: the robot's disc (SocRATES Gazebo wrapper)
 TOUCH_DISTANCE = PERSON_RADIUS + ROBOT_RADIUS  # m centre to centre: robot and person touch (0.75)
 PERSON_TOUCH_DISTANCE = 2 * PERSON_RADIUS  # m centre to centre: two people touch (0.8)
 GROUP_SPAWN_RADIUS = 0.6  # m: the members of a group start evenly on a circle this far from their first node
+#   (wider for four or more: group_ring)
 
 # -- motion ---------------------------------------------------------------------------------------
 PERSON_MAX_SPEED = 1.5  # m/s: HuNavSim's max_vel default
@@ -52,3 +55,13 @@ def walk_time(distance: float, speed: float) -> float:
     """Seconds a person standing still needs to walk `distance` m at `speed` m/s (its own speed): THE time by
     which pacing (sim.people.pacing) and the export's timing (export.timing) let a waiting person set off."""
     return distance / max(speed, 1e-3) + PERSON_START_LAG
+
+
+def group_ring(members: int) -> float:
+    """The circle a group of `members` starts on: GROUP_SPAWN_RADIUS, or wider where neighbours on it would be
+    closer than PERSON_KEEP_GAP (four and more; a group of four on 0.6 m stood 0.05 m apart, touching by the
+    contact rule, so the spawn moved three of them elsewhere and the prompt's placement was wrong)."""
+    if members < 2:
+        return GROUP_SPAWN_RADIUS
+    apart = (PERSON_TOUCH_DISTANCE + PERSON_KEEP_GAP) / (2 * math.sin(math.pi / members))
+    return max(GROUP_SPAWN_RADIUS, math.ceil(apart * 100 - 1e-9) / 100)

@@ -151,16 +151,23 @@ def test_pacing_aims_at_a_round_trips_first_pass():
 
 
 def test_group_members_stand_where_the_prompt_says():
-    from socnavgen.bodies import GROUP_SPAWN_RADIUS, PERSON_RADIUS
+    """Round 17's ward round: a group of four on the 0.6 m circle stood 0.05 m apart, so the spawn moved three of
+    them elsewhere and the player read the prompt's placement as mirrored; four and more get a wider circle."""
+    from socnavgen.bodies import GROUP_SPAWN_RADIUS, PERSON_KEEP_GAP, PERSON_RADIUS, group_ring
     from socnavgen.sim import empty_room, spawn_points
 
     node = 6 + 4j
-    for n in (2, 3):
+    for n in (2, 3, 4, 5, 6):
         spots = spawn_points(empty_room(12.0, 8.0), [node] * n, [0] * n, PERSON_RADIUS, np.random.default_rng(0))
+        ring = group_ring(n)
+        assert ring == GROUP_SPAWN_RADIUS if n <= 3 else ring > GROUP_SPAWN_RADIUS
         for k, spot in enumerate(spots):  # member k at k x 360/n degrees counter-clockwise from east (x east, y north)
-            want = node + GROUP_SPAWN_RADIUS * complex(math.cos(2 * math.pi * k / n), math.sin(2 * math.pi * k / n))
-            assert abs(spot - want) < 1e-9
+            want = node + ring * complex(math.cos(2 * math.pi * k / n), math.sin(2 * math.pi * k / n))
+            assert abs(spot - want) < 1e-9, (n, k)
+        gaps = [abs(a - b) - 2 * PERSON_RADIUS for a, b in zip(spots, spots[1:] + spots[:1])]
+        assert min(gaps) >= PERSON_KEEP_GAP - 1e-9
     assert "two: east and west of it; three: east, north-west, south-west" in groups_text()
+    assert f"{group_ring(4):g} m for four" in groups_text()
 
 
 def test_an_unbounded_eventually_passes_stage_1s_check():

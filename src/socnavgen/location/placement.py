@@ -18,7 +18,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from socnavgen.bodies import GROUP_SPAWN_RADIUS, INTIMATE_SPACE, PERSON_RADIUS, ROBOT_RADIUS
+from socnavgen.bodies import GROUP_SPAWN_RADIUS, INTIMATE_SPACE, PERSON_RADIUS, ROBOT_RADIUS, group_ring
 from socnavgen.location.location import Location
 
 START_GAP = INTIMATE_SPACE  # m: smallest gap between two bodies where they start
@@ -64,7 +64,7 @@ def start_rule_text() -> str:
     return (f"Where everybody starts: the robot's route ends at another node than its start, or comes back to its "
             f"start only after passing other nodes (a round trip: [A, B, C, B, A]); a person starts at least {alone:.1f} m "
             f"from the robot's start ({alone + GROUP_SPAWN_RADIUS:.1f} m for a group, whose members stand on a "
-            f"{GROUP_SPAWN_RADIUS:g} m circle around their shared first node) and at least {people:.2f} m from "
+            f"{GROUP_SPAWN_RADIUS:g} m circle around their shared first node, {group_ring(4):g} m for four) and at least {people:.2f} m from "
             f"any other person who is not in their group, so two people not in one group never start at one node "
             f"(measured between the xy_m of the two start nodes, as shown; \"at least\" includes the number itself: "
             f"a person exactly {alone:.1f} m from the robot's start passes); nobody starts on the robot's goal unless their path walks "
@@ -101,7 +101,7 @@ def start_problems(location: Location, robot: list[str], walkers: list[Walker]) 
             members[w.group] = members.get(w.group, 0) + 1
 
     def ring(w: Walker) -> float:
-        return GROUP_SPAWN_RADIUS if w.group >= 0 and members[w.group] > 1 else 0.0
+        return group_ring(members[w.group]) if w.group >= 0 and members[w.group] > 1 else 0.0
 
     def dist(a: str, b: str) -> float:
         return node_distance(location, a, b)

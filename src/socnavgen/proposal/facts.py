@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from functools import cache
 from typing import get_args
 
+from socnavgen.bodies import GROUP_SPAWN_RADIUS, group_ring
 from socnavgen.bt.library import (
     BLOCKING_DEGREES,
     HUMAN_GESTURES,
@@ -220,8 +221,6 @@ def groups_text(detail: bool = True) -> str:
     """How groups are simulated (sim.spawn_points spawns them, sim/people/physics.group_forces holds together the
     members walking the group's walk; a member whose tree does something else leaves the group meanwhile);
     `detail` False (stage 1's `robot` cut) leaves out where on the circle each member stands."""
-    from socnavgen.bodies import GROUP_SPAWN_RADIUS
-
     return (f"- Groups: humans who share a group id (at least two) start evenly on a circle of "
             f"{GROUP_SPAWN_RADIUS:g} m around their first node and are pulled toward each other while they walk "
             f"their path (group forces of the social force model): give every member the same path. A member "
@@ -235,7 +234,8 @@ def groups_text(detail: bool = True) -> str:
 
 def _group_places() -> str:
     """Where each member of a group starts (sim/engine/scenario.spawn_points, its one home)."""
-    return (" On the circle, member k of n (counted from 0 in the order of their names) starts k x 360/n degrees "
+    return (f" The circle is {group_ring(4):g} m for four, {group_ring(5):g} m for five, so that neighbours do not "
+            "touch. On it, member k of n (counted from 0 in the order of their names) starts k x 360/n degrees "
             "counter-clockwise from east of the node (two: east and west of it; three: east, north-west, "
             "south-west; nearer the node where a wall is there), so which member stands in the robot's way depends "
             "on the side it comes from: from the east, the first named; from the west, for two, the second.")

@@ -14,11 +14,11 @@ import numpy as np
 
 from socnavgen.bodies import (
     CONTACT_MARGIN,
-    GROUP_SPAWN_RADIUS,
     INTIMATE_SPACE,
     PERSON_MAX_SPEED,
     PERSON_RADIUS,
     ROBOT_RADIUS,
+    group_ring,
 )
 from socnavgen.bt.library import regular_walker_xml
 from socnavgen.errors import ValidationFailed
@@ -42,7 +42,7 @@ DEFAULT_TREE = regular_walker_xml()
 def spawn_points(world: World, first_nodes: list[complex], group_ids: list[int], radius: float,
                  rng: np.random.Generator, robot_start: complex | None = None) -> list[complex]:
     """SocRATES spawn: a random point within 1.5 m of the first node (groups spread evenly on a circle of
-    bodies.GROUP_SPAWN_RADIUS); a point inside a wall, or less than bodies.INTIMATE_SPACE from the robot at
+    bodies.group_ring); a point inside a wall, or less than bodies.INTIMATE_SPACE from the robot at
     `robot_start` or from a body placed before (a group's own members: not touching), is redrawn closer to
     the node each time, falling back to the node itself (placement keeps nodes clear of each other)."""
     members: dict[int, list[int]] = {}
@@ -68,7 +68,7 @@ def spawn_points(world: World, first_nodes: list[complex], group_ids: list[int],
     for k, (node, g) in enumerate(zip(first_nodes, group_ids, strict=True)):
         if g != -1 and len(members[g]) > 1:  # a group stands together, evenly on a small circle
             angle = members[g].index(k) * 2 * math.pi / len(members[g])
-            rho = GROUP_SPAWN_RADIUS
+            rho = group_ring(len(members[g]))
         else:
             angle = float(rng.uniform(0, 2 * math.pi))
             rho = float(rng.uniform(0, SPAWN_SPREAD))
