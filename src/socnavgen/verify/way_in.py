@@ -12,7 +12,7 @@ their encounter's node from somewhere else:
   tree turns to the robot (the trace's behavior state leaves "regular"), unless it turns at once (within STOP_HOLD
   of the start: called at the start, the reaction itself brings them in). A follower, a give-way or a blocker
   whose reaction takes them in from the start is that exception; a person standing (`otherwise: stand`) has no
-  walk of their own before the reaction. A `walks` failure is a warning while WALKS_REQUIRED is False (below).
+  walk of their own before the reaction.
 """
 
 from __future__ import annotations
@@ -31,11 +31,11 @@ from socnavgen.verify.thresholds import MOVED_DISTANCE, STOP_HOLD, WAY_REACH
 from socnavgen.verify.windows import encounters_of
 
 KIND = "way_in"
-# `walks` is a warning for now: on the replayed new-request suite it finds hospital_06's patient held at the bench
-# (eyes: no), and also the first answer of home_05 (a guest held in the bathroom until the robot came into view), whose
-# recorded --verify loop never saw it: required, it re-asks the paths in round 1 and the recording ends, failing a
-# fixture the eyes accepted. Make it required once home_05 is re-recorded (report_route.md).
-WALKS_REQUIRED = False
+# `walks` is required: it fails hospital_06's patient held at the bench (eyes: no). A person meant to wait until the
+# reaction brings them in says so (`people.otherwise: stand`: the cards' crowding and following people, cards/spec.py).
+# home_05's recorded first answer has the same fault (a guest held in the bathroom 31 s, walked 0.23 m): its recorded
+# --verify loop never answered this finding, so its replay ends there (re-record it live).
+WALKS_REQUIRED = True
 
 
 @dataclass(frozen=True)
