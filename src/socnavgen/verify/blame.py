@@ -371,8 +371,8 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
     if kind == "robot_stops":
         return "robot_script", None, "the robot did not stand still at the place: a cue there must stop it (wait)"
     if kind == "stop_together":
-        first = (cc.criterion.humans or [h or ""])[0] or None
-        return "behaviors", first, "they did not stand still together: stop each one beside the others"
+        who = (cc.criterion.humans or [h or ""])[0] or None
+        return "behaviors", who, "they did not stand still together: stop each one beside the others"
     robot_phrase = cc.phrase if kind in ("reacts_after_phrase", "follows_robot", "follows_human") else \
         _waited_phrase(spec, h) if kind in ("meets", "says", "stops_near_robot", "gives_way", "blocks_robot") else None
     if robot_phrase and _never_said(s, robot_phrase):
