@@ -106,13 +106,3 @@ def test_robot_starts_later_when_its_person_cannot_be_there_in_time(tmp_path: Pa
     near = write_card_run("pedestrian-obstruction", hospital, tmp_path / "o").read_spec()
     assert not [c for c in near.script.cues if c.trigger.when == "start"]  # the person is already there
 
-
-def test_a_card_says_who_waits_until_their_reaction_brings_them_in(tmp_path: Path, repo_root: Path) -> None:
-    """robot-crowding's people stand (held by pacing) until the robot is in sight, then walk up and follow it: the
-    spec says `otherwise: stand`, so way_in's `walks` (required) does not fail them for not walking first; a walker
-    who comes through a doorway on their own walks (`otherwise` left at walk)."""
-    hospital = repo_root / "examples/locations/hospital"
-    crowd = write_card_run("robot-crowding", hospital, tmp_path / "c").read_spec()
-    assert crowd.humans() and all(crowd.person(h).otherwise == "stand" for h in crowd.humans())
-    doorway = write_card_run("narrow-doorway", hospital, tmp_path / "d").read_spec()
-    assert doorway.humans() and all(doorway.person(h).otherwise == "walk" for h in doorway.humans())

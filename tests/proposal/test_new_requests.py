@@ -23,15 +23,14 @@ PATHS = fixture_paths(FIXTURES)
 # prompts), round 13 (the seventh session's), round 14 re-recordings (the eighth session's), round 15 (six new
 # requests) and round 16 re-recordings (six requests whose recordings the ninth session's checks refused or ended),
 # replayed on the ninth session's code; the eyes of rounds 15-16 and of hospital_07 / hospital_10 are round 15's
-# (sessions that read no code and saw no verdict), the others round 14's. Two lenient passes, each a spec that
-# says less than its prose (a robot's wait at a distance), and one recording that ends where a tenth-session check
-# asks what the live run never was (home_05). home_03 (greeting stop), hospital_06 (a walker held at the start) and
+# (sessions that read no code and saw no verdict), the others round 14's. Three lenient passes, each a spec that
+# says less than its prose (a walker held at the start, a robot's wait at a distance); home_03 (greeting stop) and
 # warehouse_12 (a plan that leaves the text's way out) agree since the tenth session.
 DISAGREE: dict[str, str] = {
-    "home_05_serving_drinks_at_party": "recording ends: its first answer holds a guest in the bathroom h9 for 31 s "
-    "(walked 0.23 m) until the robot came into view; verify/way_in.py's `walks` (required since the tenth session) "
-    "asks stage 2 again in round 1, which the live run never was, and the recording has no answer (eyes: yes; "
-    "re-record it live)",
+    "hospital_06_night_wandering_patient": "lenient PASS: the patient stands at 8z until the robot calls her at ~40 s; "
+    "she never wanders toward the south elevator, so the interception the text is about does not happen "
+    "(verify/way_in.py's `walks` sees it, a warning while WALKS_REQUIRED is off: required, home_05's recording ends "
+    "and the cards' crowding people, walkers held by pacing, fail)",
     "hospital_10_meal_tray_family_in_doorway": "lenient PASS: the robot does not wait at the counter 2-2.5 m back; "
     "3-5 s after EXCUSE ME it drives into the standing family and stays wedged 0.1-0.3 m from them until ~16 s, and "
     "the doorway visitor goes into the patient's room instead of stepping aside (no criterion holds the robot back "

@@ -16,7 +16,6 @@ from socnavgen.run.spec import (
     CueTrigger,
     Encounter,
     HumanPart,
-    Person,
     RobotCue,
     RobotScript,
     ScenarioSpec,
@@ -38,10 +37,6 @@ TEMPLATE_PARTS: dict[str, tuple[str, str, str | None, float | None]] = {
     "follow_robot": ("robot_visible", "follow", None, 6.0),
     "crowd_robot": ("robot_visible", "follow", None, 5.0),
 }
-# Templates whose person does not walk in on their own: they wait (held where they start, pacing holds them until the
-# robot is near) until the reaction brings them in (walks up to the robot and follows it) or sets them going. The
-# spec says so (`people.otherwise: stand`), so that verify/way_in's `walks` does not ask them to have walked first.
-TEMPLATE_STANDS = frozenset({"crowd_robot", "follow_robot", "stand_until_excuse_me"})
 # Templates whose reaction ends after this many seconds (an inverted TimeExpiredCondition): the part's `lasts`.
 TEMPLATE_LASTS: dict[str, float] = {"crowd_robot": 15.0}
 ROBOT_CRUISE = 0.6  # m/s
@@ -124,9 +119,7 @@ def card_spec(placement: Placement, plan: PathPlan, location: Location) -> Scena
     if late > 1.0:  # the person cannot be there in time: the robot starts later (pacing only slows people)
         cues.insert(0, RobotCue(trigger=CueTrigger(when="start"), wait=round(late, 1)))
     script = RobotScript(route=f"{card.task} ({' -> '.join(plan.robot)})", speed=0.6, cues=cues)
-    people = {h.name: Person(otherwise="stand") for h, route in zip(plan.humans, placement.humans, strict=True)
-              if route.role.tree in TEMPLATE_STANDS and any(h.name == p.human for e in encounters for p in e.humans)}
-    return ScenarioSpec(script=script, encounters=encounters, criteria=criteria, people=people)
+    return ScenarioSpec(script=script, encounters=encounters, criteria=criteria)
 
 
 def _path_length(nodes: list[str], location: Location) -> float:
