@@ -105,3 +105,4 @@ def test_robot_starts_later_when_its_person_cannot_be_there_in_time(tmp_path: Pa
     assert waits and waits[0].wait >= 1.0
     near = write_card_run("pedestrian-obstruction", hospital, tmp_path / "o").read_spec()
     assert not [c for c in near.script.cues if c.trigger.when == "start"]  # the person is already there
+

@@ -23,15 +23,14 @@ PATHS = fixture_paths(FIXTURES)
 # prompts), round 13 (the seventh session's), round 14 re-recordings (the eighth session's), round 15 (six new
 # requests) and round 16 re-recordings (six requests whose recordings the ninth session's checks refused or ended),
 # replayed on the ninth session's code; the eyes of rounds 15-16 and of hospital_07 / hospital_10 are round 15's
-# (sessions that read no code and saw no verdict), the others round 14's. Five lenient passes, each a spec that
-# says less than its prose (a greeting stop, where a person comes from, a robot's wait at a distance).
+# (sessions that read no code and saw no verdict), the others round 14's. Three lenient passes, each a spec that
+# says less than its prose (a walker held at the start, a robot's wait at a distance); home_03 (greeting stop) and
+# warehouse_12 (a plan that leaves the text's way out) agree since the tenth session.
 DISAGREE: dict[str, str] = {
-    "home_03_welcome_dinner_guests": "lenient PASS: the robot never stops at vh, it only slows to ~0.25 m/s; the host "
-    "stands ~2 m off while both guests are still in the hallway behind the robot and turns back as the first comes "
-    "out: the guests never stop to greet her (no criterion has the guests stop beside the host)",
     "hospital_06_night_wandering_patient": "lenient PASS: the patient stands at 8z until the robot calls her at ~40 s; "
     "she never wanders toward the south elevator, so the interception the text is about does not happen "
-    "(verify/way_in.py's `walks` sees it, a warning while WALKS_REQUIRED is off: required, home_05's recording ends)",
+    "(verify/way_in.py's `walks` sees it, a warning while WALKS_REQUIRED is off: required, home_05's recording ends "
+    "and the cards' crowding people, walkers held by pacing, fail)",
     "hospital_10_meal_tray_family_in_doorway": "lenient PASS: the robot does not wait at the counter 2-2.5 m back; "
     "3-5 s after EXCUSE ME it drives into the standing family and stays wedged 0.1-0.3 m from them until ~16 s, and "
     "the doorway visitor goes into the patient's room instead of stepping aside (no criterion holds the robot back "
@@ -40,15 +39,15 @@ DISAGREE: dict[str, str] = {
     "aisle mouth at sh within ~2 m of the worker backing out, then dodges north between the racks, and the worker's "
     "stop to swing the jack happens inside the aisle end, not across the cross aisle (no criterion says where the "
     "robot stands or where the worker stops)",
-    "warehouse_12_carrying_toolbox_for_technician": "lenient PASS: the picker never walks up the aisle from yh; she "
-    "stands at its north end ~30 s and waits in its mouth, so the robot holding back for someone coming through a "
-    "blind aisle becomes a standoff she breaks (its final paths start her at xq: the plan, not the trace, left the "
-    "aisle out)",
 }
 
 # Fixtures whose recorded answers never pass a stage (a stage check refuses them, or the recording ends where the
 # pipeline now asks what the live run was never asked), each with why: the replay stops at that stage.
-REFUSED: dict[str, str] = {}
+REFUSED: dict[str, str] = {
+    "home_03_welcome_dinner_guests": "scenario: both recorded answers have the robot and the guests stop for the "
+    "greeting with no criterion that sees either stop (proposal/stop_checks.py); its run: the robot only slowed to "
+    "~0.25 m/s and nobody stopped to greet (eyes: no)",
+}
 
 
 def test_the_suite_is_there_and_judged():

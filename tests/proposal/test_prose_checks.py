@@ -28,6 +28,7 @@ from socnavgen.proposal.prose_checks import (
 from socnavgen.proposal.replies import PathsReply, ScenarioReply
 from socnavgen.proposal.scenario import scenario_checker
 from socnavgen.proposal.spec_checks import parse_spec
+from socnavgen.proposal.stop_checks import stop_mistakes
 from socnavgen.run.spec import ScenarioSpec
 from socnavgen.safeio import load_yaml_file
 from socnavgen.sim.people.leaves import follow_trail
@@ -155,6 +156,26 @@ def test_a_person_who_comes_in_the_texts_way_or_starts_there_is_accepted(mini_lo
     assert way_in_mistakes(graph, ScenarioSpec.model_validate(spec_for(2)), FROM_07, paths, {"e1": "11"}) == []
 
 
+FROM_0E = {"human1": "Worker 1 comes from the corner 0e along the passageway through 32 and ch to the blind corner 11."}
+
+
+@pytest.mark.parametrize(("path", "refused"), [(["ch", "11", "07"], True), (["32", "ch", "11"], False),
+                                               (["0e", "32", "ch", "11"], False)])
+def test_a_plan_that_starts_nearer_the_encounter_than_the_texts_origin_leaves_the_way_out(mini_location, path,
+                                                                                          refused):
+    """warehouse_12: the picker's text has her come up the aisle from yh; the final plan starts her at the aisle's
+    far end xq, nearer to the encounter than to yh: she comes in along the text's way, but never walks it. A start
+    nearer to the text's place than to the encounter (home_08's husband at vh, just out of the kitchen) is seen
+    coming from it."""
+    graph = load_location(mini_location).graph
+    spec = ScenarioSpec.model_validate(spec_for(1))
+    mistakes = way_in_mistakes(graph, spec, FROM_0E, {"human1": path}, {"e1": "11"})
+    assert bool(mistakes) is refused
+    if refused:
+        assert "starts at ch, nearer to 11 than to 0e, leaving the way from 0e out" in mistakes[0]
+        assert isinstance(mistakes[0], Upstream) and "along 0e 32 ch 11" in mistakes[0]
+
+
 def test_a_text_that_names_no_origin_is_left_alone(mini_location):
     graph = load_location(mini_location).graph
     behaviors = {"human1": "Worker 1 walks round the blind corner 11 and on to 07."}  # 11 first: no origin named
@@ -198,7 +219,8 @@ def _findings(path: Path) -> dict[str, list[str]]:
         behaviors = scenario.human_behaviors
         found[f"scenario[{i}]"] = close_follow_mistakes(spec, behaviors) + \
             order_mistakes(scenario.scenario_description, behaviors, spec) + \
-            person_order_mistakes(scenario.scenario_description, behaviors, spec)
+            person_order_mistakes(scenario.scenario_description, behaviors, spec) + \
+            stop_mistakes(scenario.scenario_description, behaviors, spec)
         if i == len(scenarios) - 1:
             for j, paths in enumerate(_valid(PathsReply, a) for a in data["stages"]["paths"]):
                 found[f"paths[{j}]"] = way_in_mistakes(graph, spec, behaviors, dict(paths.trajectories),
@@ -210,13 +232,18 @@ def _findings(path: Path) -> dict[str, list[str]]:
 # home_09 and warehouse_10 live with these checks: the answers refused there are the model's before it fixed them).
 REFUSED = {
     ("home_03_welcome_dinner_guests", "scenario[0]"): "the host's text says who goes first ('behind it') with no "
-    "criterion about her that can see it (the live model of round 16 then dropped the order words)",
+    "criterion about her that can see it (the live model of round 16 then dropped the order words), and the greeting "
+    "stops as scenario[1]",
     ("home_09_telepresence_grandma_kids_follow", "scenario[0]"): "right behind the robot, allowed 4 m (the live model "
     "then stated how far behind each child walks)",
     ("home_09_telepresence_grandma_kids_follow", "scenario[2]"): "the younger child right behind the older, a "
     "follows_human allowing 4 m",
     ("warehouse_10_against_the_unloading_crew", "scenario[0]"): "right behind the crew, a follows_human allowing 4 m "
     "(the live model then allowed 3.1 m)",
+    ("home_03_welcome_dinner_guests", "scenario[1]"): "the robot's and the guests' greeting stop with no criterion "
+    "that sees either (its run: the robot only slowed to 0.25 m/s, nobody stopped to greet; eyes: no)",
+    ("warehouse_12_carrying_toolbox_for_technician", "paths[1]"): "the --verify correction starts the picker at the "
+    "aisle's north end xq (2.4 m from p0, 7.2 m from yh), while her text has her walk up the aisle from yh (eyes: no)",
     ("hospital_06_night_wandering_patient", "paths[1]"): "a re-ask answer that reverses the nurse's walk (1g zs i1 "
     "pf tw, her text: from tw through pf to i1 and on to cs); the replay never reaches it (the first answers verify)",
 }

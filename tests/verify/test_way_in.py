@@ -94,7 +94,7 @@ def test_a_walker_who_stood_at_their_start_until_the_robot_called_fails() -> Non
     found = judge_way_in(_way(), _trace(keys, turns=20.0), SETTINGS)
     assert not found.passed and found.blame == "paths", found
     assert "stood at their start a (walked 0.00 m) until their tree turned to the robot at 20.0 s" in found.evidence
-    assert found.required == WALKS_REQUIRED  # a warning until the replayed suite is re-recorded (module doc)
+    assert found.required == WALKS_REQUIRED  # a warning until the cards' walkers walk (module doc)
 
 
 def test_a_follower_called_at_the_start_comes_in_with_the_reaction() -> None:

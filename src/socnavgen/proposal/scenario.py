@@ -41,6 +41,7 @@ from socnavgen.proposal.spec_checks import (
     prose_spec_mistakes,
     spec_mistakes,
 )
+from socnavgen.proposal.stop_checks import stop_mistakes
 from socnavgen.proposal.templates import render, template_data
 from socnavgen.run import ScenarioProposal, ScenarioRequest
 from socnavgen.run.spec import CriterionKind, HumanTrigger, Reaction, ScenarioSpec
@@ -74,9 +75,18 @@ def spec_help_text(target: Target | None = None, *, signals: bool = True, robot:
     simulator, and the physical facts (`signals` False: the STL signals by name only; `robot` False: not what
     the robot does by itself; fit.py)."""
     return render("scenario_spec.md", vocabulary=robot_vocabulary_text(), facts=physical_facts_text(),
-                  kinds=", ".join(get_args(CriterionKind)), target=target_text(target),
+                  kinds=", ".join(k for k in get_args(CriterionKind) if robot or k not in STOP_KINDS),
+                  stop_kinds=STOP_KINDS_TEXT if robot else "", target=target_text(target),
                   rules=scenario_rules_text(target, signals, robot), cue_triggers=cue_triggers_text(robot),
                   follow_distance=follows_distance_text(), follows_human=follows_human_text(robot))
+
+
+# Kinds told behind fit.py's robot cut (the small model's stage-1 prompt is full); the stop check of stop_checks.py
+# names them in its finding when a text states such a stop.
+STOP_KINDS = ("robot_stops", "stop_together")
+STOP_KINDS_TEXT = ("; robot_stops: the robot stands still `seconds` at the `encounter`'s place (slowing down is no stop); "
+                   "stop_together: the `humans`, having walked, stand still at once within `distance` of each other "
+                   "(people who stop to greet each other)")
 
 
 def target_text(target: Target | None) -> str:
@@ -149,6 +159,7 @@ def scenario_checker(location: Location | None, target: Target | None = None,
             mistakes += close_follow_mistakes(spec, reply.human_behaviors)
             mistakes += order_mistakes(reply.scenario_description, reply.human_behaviors, spec)
             mistakes += person_order_mistakes(reply.scenario_description, reply.human_behaviors, spec)
+            mistakes += stop_mistakes(reply.scenario_description, reply.human_behaviors, spec)
         return mistakes
     return check
 

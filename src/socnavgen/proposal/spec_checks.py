@@ -27,7 +27,7 @@ from socnavgen.verify.thresholds import KIND_DISTANCE as CRITERION_DEFAULTS
 # Criterion kinds that are about one human and therefore need `human`.
 _PER_HUMAN = {"meets", "stops_near_robot", "reacts_after_phrase", "gives_way", "follows_robot", "follows_human",
               "hidden_until", "says", "keeps_away", "blocks_robot"}
-_GLOBAL = {"robot_reaches_goal", "no_collision", "people_apart", "no_deadlock", "stl"}
+_GLOBAL = {"robot_reaches_goal", "no_collision", "people_apart", "no_deadlock", "stl", "robot_stops"}
 MIN_BEHAVIOR_WORDS = 4
 HIDDEN_UNTIL_DEFAULT = CRITERION_DEFAULTS["hidden_until"]
 _PLACEHOLDER = re.compile(r"<[^<>]{0,80}>|^\s*\.\.\.\s*$|\[[A-Z _]{3,40}\]|(?i:\b(?:placeholder|todo|tbd|lorem ipsum)\b)")
@@ -250,8 +250,10 @@ def _criteria_mistakes(spec: ScenarioSpec, humans: list[str], ids: list[str], ro
         if c.kind in _PER_HUMAN and not c.human and not (c.kind == "meets" and len(c.humans) >= 2):
             mistakes.append(f"criterion {c.id}: kind {c.kind} names the `human` it is about"
                             + (" (or the `humans` of a group)" if c.kind == "meets" else ""))
-        if c.kind == "group_together" and len(c.humans) < 2:
-            mistakes.append(f"criterion {c.id}: group_together lists at least two `humans`")
+        if c.kind in ("group_together", "stop_together") and len(c.humans) < 2:
+            mistakes.append(f"criterion {c.id}: {c.kind} lists at least two `humans`")
+        if c.kind == "robot_stops" and not c.encounter:
+            mistakes.append(f"criterion {c.id}: robot_stops names the `encounter` at whose place the robot stands")
         if c.kind == "reacts_after_phrase":
             if not c.phrase:
                 mistakes.append(f"criterion {c.id}: reacts_after_phrase names the robot's `phrase`")

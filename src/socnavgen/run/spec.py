@@ -215,6 +215,8 @@ CriterionKind = Literal[
     "says",  # `human` makes the phrase `phrase` (when the robot is within `distance`, if given)
     "keeps_away",  # `human` keeps at least `distance` from the robot after first noticing it
     "blocks_robot",  # `human` stands in front of the robot within `distance` while the robot stands still
+    "robot_stops",  # the robot stands still `seconds` within `distance` (else its within) of the `encounter`'s node
+    "stop_together",  # the `humans`, having walked, stand still at once within `distance` of each other (a greeting)
     "robot_reaches_goal",  # the robot reaches its last waypoint
     "no_collision",  # robot and humans never touch (sim.contact defines contact)
     "people_apart",  # no two humans touch each other (the same contact; `human`: that one with anybody)

@@ -368,6 +368,11 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
         return held or ("paths", None, _short_of_goal(s))
     if kind == "stl":
         return _blame_formula(cc, s)
+    if kind == "robot_stops":
+        return "robot_script", None, "the robot did not stand still at the place: a cue there must stop it (wait)"
+    if kind == "stop_together":
+        who = (cc.criterion.humans or [h or ""])[0] or None
+        return "behaviors", who, "they did not stand still together: stop each one beside the others"
     robot_phrase = cc.phrase if kind in ("reacts_after_phrase", "follows_robot", "follows_human") else \
         _waited_phrase(spec, h) if kind in ("meets", "says", "stops_near_robot", "gives_way", "blocks_robot") else None
     if robot_phrase and _never_said(s, robot_phrase):

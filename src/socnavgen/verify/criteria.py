@@ -30,6 +30,7 @@ from socnavgen.verify.thresholds import (
     KIND_DISTANCE,
     NOTICE_RANGE,
     REACTION_SLACK,
+    ROBOT_STOP_SECONDS,
     STOP_HOLD,
     STOP_NOTICE_RANGE,
     STOP_SPEED,
@@ -324,6 +325,38 @@ def _blocks_robot(c: Criterion, ctx: Context, out: Compiled) -> None:
                    f"(speed_{h} <= {STOP_SPEED:g}) and {_b('robot_still')}))")
 
 
+def _robot_stops(c: Criterion, ctx: Context, out: Compiled) -> None:
+    enc = out.encounter
+    if enc is None:
+        raise FormulaError(f"criterion {c.id}: robot_stops names the `encounter` at whose place the robot stands")
+    w = out.distance = c.distance or enc.within
+    s = out.seconds = c.seconds or ROBOT_STOP_SECONDS
+    # a robot that only slows down there (home_03: 0.25 m/s through the greeting) or stands elsewhere does not
+    out.formula = (f"eventually ({came_to('robot', enc.id, w)} and (always[0:{s:g}] ({_b('robot_still')} and "
+                   f"(robot_to_{enc.id} <= {w:g}))))")
+
+
+def stop_pairs(names: list[str]) -> list[tuple[str, str]]:
+    """The pairs of a stop_together whose walkable distance is judged (each with each)."""
+    return [(a, b) for k, a in enumerate(names) for b in names[k + 1:]]
+
+
+def _stop_together(c: Criterion, ctx: Context, out: Compiled) -> None:
+    names = list(dict.fromkeys(c.humans or ([c.human] if c.human else [])))
+    if len(names) < 2:
+        raise FormulaError(f"criterion {c.id}: stop_together needs at least two `humans`")
+    d = out.distance = c.distance or KIND_DISTANCE[c.kind]
+    out.seconds = c.seconds or STOP_HOLD
+    # each has walked (a stop, not two who stood there from the start), all stand at once, each within D of each
+    # along the walkable way (never through a wall), for S s as seen; at the encounter's place when it names one
+    parts = [f"{_b(f'moved_{h}')} and (speed_{h} <= {STOP_SPEED:g})" for h in names]
+    parts += [f"(way_{a}_{b} <= {d:g})" for a, b in stop_pairs(names)]
+    enc = out.encounter if c.encounter else None
+    if enc is not None:
+        parts += [f"({h}_to_{enc.id} <= {enc.within + d:g})" for h in names]
+    out.formula = f"eventually (always[0:{seen_hold(out.seconds, ctx.dt):g}] ({' and '.join(parts)}))"
+
+
 def _robot_reaches_goal(c: Criterion, ctx: Context, out: Compiled) -> None:
     d = out.distance = c.distance or ctx.goal_radius
     out.formula = f"eventually (((robot_to_goal <= {d:g}) or {_b('short_of_goal')}) and {_b('route_done')})"
@@ -402,6 +435,13 @@ CRITERION_KINDS: dict[str, CriterionKind] = {k.name: k for k in (
                   "los_h and dist_h <= max(5, D + 2)", "h must have seen the robot first", _keeps_away),
     CriterionKind("blocks_robot", "eventually always[0:0.5] (inway_h and dist_h <= D and speed_h <= 0.1 and "
                   "robot_still)", "a real 1 s standoff", _blocks_robot),
+    CriterionKind("robot_stops", "eventually (came(robot, e) and always[0:S] (robot_still and robot_to_e <= W))  "
+                  "(W: its distance, else e's within; S: 2 s unless given)", "the robot came to the place and stood "
+                  "still there S s (slowing down is no stop)", _robot_stops),
+    CriterionKind("stop_together", "eventually always[0:S] (each h: moved_h and speed_h <= 0.1; each pair: way_a_b "
+                  "<= D; with an encounter: each h_to_e <= W + D)", "people who had walked stand still at once, "
+                  "within D of each other along the walkable way, S s as seen (a greeting: nobody stands alone)",
+                  _stop_together),
     CriterionKind("robot_reaches_goal", "eventually ((robot_to_goal <= D or short_of_goal) and route_done)",
                   "always judged; a round trip's goal counts on the way back", _robot_reaches_goal),
     CriterionKind("no_collision", "always (gap_min > 0.05)  (gap_h with a human)", "contact = gap <= 0.05 m",

@@ -9,11 +9,11 @@ from collections.abc import Callable
 import numpy as np
 
 from socnavgen.sim import contact
-from socnavgen.verify.criteria import Compiled, notice_range
+from socnavgen.verify.criteria import Compiled, notice_range, stop_pairs
 from socnavgen.verify.passing import back_in_way, short_step, undone
 from socnavgen.verify.people import people_evidence
 from socnavgen.verify.signals import Signals, aside
-from socnavgen.verify.thresholds import APPROACH, PROGRESS_STEP, STOP_HOLD, WALK_SPEED
+from socnavgen.verify.thresholds import APPROACH, PROGRESS_STEP, STOP_HOLD, STOP_SPEED, WALK_SPEED
 from socnavgen.verify.windows import window_text
 
 Evidence = tuple[str, float | None, float | None]  # text, time, distance
@@ -406,7 +406,36 @@ def _stl_evidence(cc: Compiled, s: Signals) -> Evidence:
     return "; ".join(parts) or "formula", None, None
 
 
+def _robot_stop_evidence(cc: Compiled, s: Signals) -> Evidence:
+    """How slow the robot was at the place: home_03's robot crept through its greeting stop at 0.25 m/s."""
+    enc = cc.encounter
+    near = s.get(f"robot_to_{enc.id}") <= (cc.distance or 0) if enc is not None else np.ones(len(s.t), bool)
+    if not near.any():
+        return f"the robot never came within {cc.distance:g} m of {enc.id if enc else 'the place'}", None, None
+    speed = s.get("speed_robot")
+    k = int(np.flatnonzero(near)[np.argmin(speed[near])])
+    still = (s.get("robot_still") > 0.5) & near
+    return (f"slowest within {cc.distance:g} m of {enc.node if enc else 'the place'}: {speed[k]:.2f} m/s at "
+            f"t={s.t[k]:.1f} s; stood still there {still.sum() * s.trace.dt:.1f} s in all (needs {cc.seconds:g} s at "
+            f"once)"), float(s.t[k]), None
+
+
+def _stop_together_evidence(cc: Compiled, s: Signals) -> Evidence:
+    """The closest the named people came while all of them stood still."""
+    names = list(dict.fromkeys(cc.criterion.humans or [cc.human or ""]))
+    still = np.all([s.get(f"speed_{h}") <= STOP_SPEED for h in names], axis=0)
+    widest = np.max([s.get(f"way_{a}_{b}") for a, b in stop_pairs(names)], axis=0)
+    if not still.any():
+        k = int(np.argmin(widest))
+        return (f"{' and '.join(names)} never stood still at the same time (closest together {widest[k]:.2f} m at "
+                f"t={s.t[k]:.1f} s)"), float(s.t[k]), float(widest[k])
+    k = int(np.flatnonzero(still)[np.argmin(widest[still])])
+    return (f"while all stood still, closest together {widest[k]:.2f} m at t={s.t[k]:.1f} s (needs <= "
+            f"{cc.distance:g} m for {cc.seconds:g} s)"), float(s.t[k]), float(widest[k])
+
+
 EVIDENCE: dict[str, Callable[[Compiled, Signals], Evidence]] = {
+    "robot_stops": _robot_stop_evidence, "stop_together": _stop_together_evidence,
     "meets": _meets_evidence, "reacts_after_phrase": _phrase_evidence, "group_together": _group_evidence,
     "robot_reaches_goal": _goal_evidence, "no_collision": _collision_evidence, "no_deadlock": _deadlock_evidence,
     "people_apart": _people_evidence, "stl": _stl_evidence, "follows_human": _follower_evidence,

@@ -28,6 +28,7 @@ PROGRESS_STEP = 0.25  # m of new progress along its route that restarts the robo
 NOTICE_RANGE = 5.0  # m: a person notices a visible robot this close (keeps_away)
 STOP_NOTICE_RANGE = 3.0  # m: stops_near_robot's cause: the person walked while the robot was this close (at least)
 STOP_HOLD = 1.0  # s: a stop lasts at least this long
+ROBOT_STOP_SECONDS = 2.0  # s: robot_stops, unless it says: the robot stands still this long (a stop people see as one)
 PERCEIVED_SECONDS = 0.5  # s: a person sees the mean speed over this window (about a step): verify/perceived.py; a
 #                          standstill of STOP_HOLD is seen standing STOP_HOLD less the window (perceived.seen_hold)
 WAIT_MARGIN = 5.0  # s a scripted wait may overrun before it counts as a deadlock
@@ -37,6 +38,7 @@ FAR = 1.0e3  # m: the value of a distance that does not exist (no humans, unreac
 
 # -- per-kind default distances, when a criterion gives none (metres) --------------------------------
 KIND_DISTANCE = {"stops_near_robot": 1.5, "gives_way": 2.0, "follows_robot": 2.0, "follows_human": 2.0,
-                 "hidden_until": 3.0, "keeps_away": 1.5, "blocks_robot": 1.5}
+                 "hidden_until": 3.0, "keeps_away": 1.5, "blocks_robot": 1.5,
+                 "stop_together": 3.0}  # stop_together: a greeting "a couple of metres" apart, inside social space
 # The verifier's margins of "in the robot's way" are proxemics.WAY_MARGIN_VERIFY (inway_<human>) and
 # proxemics.HELD_UP_DISTANCE (someone in the way this close holds the robot up: deadlock, wait_until_clear).
