@@ -71,6 +71,8 @@ def think(s, trees, pacing, script, scratch):  # noqa: ANN001, ANN201
     now = script.now[0]  # someone standing in the way of a robot that waits steps aside (after their tree), not
     make_room(s, now.timed or now.letting >= 0)  # while its script stands it (last step's cues: script.play)
     plan(s)
+    for i in range(min(people.shape[0], script.finished.shape[0])):  # whom a let_pass need not wait for (script.gone_by)
+        script.finished[i] = done(people, s.goals, i)
     play(s, script)
     return 0
 

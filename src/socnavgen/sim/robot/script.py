@@ -7,7 +7,7 @@ phrase for `hold` s, `wait` stands still for `wait` s, `wait_until_clear` then s
 the corridor the robot's body sweeps ahead (people who stepped aside do not hold it; people walking into it
 do); still blocked after CLEAR_PATIENCE s it says the cue's phrase again (a silent cue waits on as long),
 CLEAR_REPEATS times, then stops waiting (the robot then goes around where there is room: a scripted wait never becomes a deadlock); `let_pass` stands until that
-person has gone by (gone_by: came near, out of its way, moving off), at most `wait` s (LET_PASS_PATIENCE without
+person has gone by (gone_by: came near, out of its way, moving off; or at the end of their walk), at most `wait` s (LET_PASS_PATIENCE without
 one): "the robot lets her go first"; `speed` sets the cruise speed.
 A gesture rule holds its gesture while its condition held within its last `duration` seconds; the first
 rule that holds wins. The robot shows a cue's phrase, else the first rule's gesture (scripted_gesture).
@@ -103,6 +103,7 @@ class Script(NamedTuple):
     log_t: np.ndarray  # (E,) time of each logged event
     log_cue: np.ndarray  # (E,) cue of each logged event
     log_event: np.ndarray  # (E,) FIRED, ASKED_AGAIN or GAVE_UP
+    finished: np.ndarray  # (N,) bool: person N has finished its walk (the simulator says; the ROS node: never)
 
 
 def human_index(name: str | None, n: int) -> int:
@@ -140,7 +141,8 @@ def lower_script(script: RobotScript | None, encounter_points: dict[str, complex
     size = max(len(cues), 1) * 2 * (steps + 2)
     now = table(NOW, 1, letting=-1, speed=script.speed if script is not None else 0.6,
                  misbehave=script.misbehave if script is not None else False)
-    return Script(now, table_, rows, np.zeros(size), np.zeros(size, dtype=np.int64), np.zeros(size, dtype=np.int64))
+    return Script(now, table_, rows, np.zeros(size), np.zeros(size, dtype=np.int64), np.zeros(size, dtype=np.int64),
+                  np.zeros(people, dtype=np.bool_))
 
 
 def describe(cue: RobotCue) -> str:
@@ -279,11 +281,14 @@ def person_in_way(s, distance, swept_only):  # noqa: ANN001, ANN201
 
 
 @jit
-def gone_by(s, cue):  # noqa: ANN001, ANN201
+def gone_by(s, cue, finished):  # noqa: ANN001, ANN201
     """Whether the person a `let_pass` cue waits for has gone by: they came within HELD_UP_DISTANCE of the robot
     (or were in its way), are out of its way now (the corridor its body sweeps ahead, as wait_until_clear) and
-    LET_PASS_AWAY farther from it than the closest they came: past it, across its way, or on ahead of it. From
-    poses alone (the export's ROS node has no velocities)."""
+    LET_PASS_AWAY farther from it than the closest they came: past it, across its way, or on ahead of it; or they
+    stand at the end of their walk (`finished`): no longer coming, the robot would wait for them for ever (home_14
+    of the new-request suite: she stopped at the front door 1.7 m from it and the run ended with the robot still
+    waiting). From poses alone (the export's ROS node has no velocities, nor knows where anyone's walk ends:
+    `finished` is False there)."""
     i = cue.lets_pass
     if i < 0 or i >= s.people.shape[0]:
         return True
@@ -292,7 +297,7 @@ def gone_by(s, cue):  # noqa: ANN001, ANN201
     if d <= proxemics.HELD_UP_DISTANCE or way:
         cue.pass_near = True
     cue.pass_closest = min(cue.pass_closest, d)
-    return cue.pass_near and not way and d >= cue.pass_closest + LET_PASS_AWAY
+    return cue.pass_near and not way and (d >= cue.pass_closest + LET_PASS_AWAY or finished)
 
 
 @jit
@@ -375,7 +380,8 @@ def play(s, script):  # noqa: ANN001, ANN201
                     log(script, t, c, GAVE_UP)
             wait = wait or cue.waiting_until_clear
         if cue.letting_pass:  # stands (for no known time: pacing lets the person come) until they went by
-            went = gone_by(s, cue)
+            i = cue.lets_pass
+            went = gone_by(s, cue, script.finished[i] if 0 <= i < script.finished.shape[0] else False)
             if went or t >= cue.pass_until:
                 cue.letting_pass = False
                 log(script, t, c, WENT_BY if went else GAVE_UP)
