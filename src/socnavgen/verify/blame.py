@@ -435,7 +435,7 @@ def _missing_cause(cc: Compiled, s: Signals, h: str, spec: ScenarioSpec) -> Verd
         node = cc.encounter.node or cc.encounter.id if cc.encounter is not None else "its place"
         return "paths", None, (f"the robot and {h} were never together at {node} after their encounter before it "
                                "ended: make their paths meet there again")
-    if kind == "gives_way" and not way_cause(cc, s).any():
+    if kind == "gives_way" and not way_cause(cc, s, asked=False).any():
         who = " or ".join((h, *cc.together))
         return "paths", None, (f"{who} was never in the robot's way within {d:g} m" + (" in this encounter"
                                if cc.window else "") + ": nothing to give way to; make their paths meet head-on")

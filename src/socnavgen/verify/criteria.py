@@ -55,6 +55,7 @@ class Compiled:
     previous: Encounter | None = None  # meets: the earlier encounter of the same human, met before this one
     window: str | None = None  # during_<human>_<encounter>: judged in this encounter's window (verify/windows.py)
     together: tuple[str, ...] = ()  # gives_way: the others giving way with the human (giving_way_together)
+    asked: bool = False  # gives_way: its clock starts once the human's own trigger held (_trigger_formula)
     leader: str = "robot"  # follows_robot / follows_human: whom the human follows (leader_of)
     notes: list[str] = field(default_factory=list)
 
@@ -236,8 +237,11 @@ def _gives_way(c: Criterion, ctx: Context, out: Compiled) -> None:
         return f"((dist_{who} <= {d:g}) and {_b(f'inway_{who}')})"
 
     anyone = " or ".join(cause(who) for who in (h, *out.together))
-    # with others: h's clock starts once h's own trigger held too (another in the way is not h's cue to move)
-    asked = _trigger_formula(out.part, h) if out.together else None
+    # h's clock starts once h's own trigger held (the phrase that asks them, the robot come near): in the way
+    # before it, nobody had asked h to move yet (hospital_13's family, in the trailing robot's way from 2 s, asked
+    # at 37 s); with others, another in the way is not h's cue to move either
+    asked = _trigger_formula(out.part, h)
+    out.asked = asked is not None
     cause_h = f"({_in_window(out)}({anyone}){f' and (once {asked})' if asked else ''})"
     react = _b(f"aside_{h}")
     if out.together:  # a member never in the way itself has made way by standing aside

@@ -14,7 +14,7 @@ from socnavgen.verify.passing import back_in_way, short_step, undone
 from socnavgen.verify.people import people_evidence
 from socnavgen.verify.signals import Signals, aside
 from socnavgen.verify.thresholds import APPROACH, PROGRESS_STEP, STOP_HOLD, STOP_SPEED, WALK_SPEED
-from socnavgen.verify.windows import window_text
+from socnavgen.verify.windows import triggered, window_text
 
 Evidence = tuple[str, float | None, float | None]  # text, time, distance
 
@@ -131,13 +131,18 @@ def stayed_off_place(cc: Compiled, s: Signals, h: str, near: np.ndarray) -> str 
     return None
 
 
-def way_cause(cc: Compiled, s: Signals) -> np.ndarray:
+def way_cause(cc: Compiled, s: Signals, asked: bool = True) -> np.ndarray:
     """(T,) bool: the cause of a gives_way criterion holds - its human, or one of those giving way together with
-    it, in the robot's way within the criterion's distance, in its window (criteria._gives_way's formula)."""
+    it, in the robot's way within the criterion's distance, in its window, and (`asked`) once the human's own
+    trigger held: the clock of criteria._gives_way's formula starts there, not at the first moment in the way."""
     d = cc.distance or 0.0
     out = np.zeros(s.trace.steps, dtype=bool)
     for who in (cc.human, *cc.together):
         out |= (s.get(f"inway_{who}") > 0.5) & (s.get(f"dist_{who}") <= d)
+    if asked and cc.asked and cc.part is not None and cc.human:
+        trig = triggered(s, cc.human, cc.part)
+        if trig is not None:
+            out &= np.maximum.accumulate(trig)
     return out & in_window(cc, s)
 
 
@@ -267,6 +272,8 @@ def _human_evidence(cc: Compiled, s: Signals) -> Evidence:
                                                           else f"{h} never stepped out of it itself"
                                                           + _undone_text(s, h, "give_way")))
             text += _late_text(cc, s, h, way) if aside is not None else ""
+        elif way_cause(cc, s, asked=False).any():
+            text += f"; in its way only before {h} was asked to move (its trigger never held while in the way)"
     elif kind == "says" and cc.phrase:
         first = _first(s.get(f"{h}_says_{cc.phrase}") > 0.5)
         text += f"; {h} said {words(cc.phrase)} first at t={t[first]:.1f} s" if first is not None else \
