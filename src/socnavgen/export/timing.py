@@ -12,9 +12,10 @@ the export puts the timing into the person's own tree, as conditions the target 
    time by which the simulator's pacing lets a standing person set off, sim.people.pacing; at a door on the
    robot's way, as far again as the robot's lead there, scene.leads, pacing's door_lead: the person goes through
    the door first; the same lead where the door lies just past the node on the robot's next leg and the person
-   comes through it, scene.doors_after: out of the elevator the robot enters). The target has only the robot's distance (IsRobotNearby / HuNavSim 2.x IsRobotClose) and a
-   clock (TimeExpiredCondition), so the speed is told from the time the robot takes to come near: a clock runs
-   from when it comes within `measure_distance`; for each speed of ROBOT_SPEEDS but the slowest, the person sets
+   comes through it, scene.doors_after: out of the elevator the robot enters). The target has only the robot's
+   distance (IsRobotNearby / HuNavSim 2.x IsRobotClose) and a clock (TimeExpiredCondition), so the speed is told
+   from the time the robot takes to come near: a clock runs from when it comes within `measure_distance` (from the
+   start, for a robot within it there that never leaves it); for each speed of ROBOT_SPEEDS but the slowest, the person sets
    off at that speed's distance if the robot came there within the time a robot a little slower than it takes
    (`faster`); at `release_distance`, the slowest's, in any case. Where the waiting spot is in the robot's way
    (ahead of it, inside the corridor its body sweeps) every such distance is at least the one at which the robot
