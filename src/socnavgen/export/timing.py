@@ -15,8 +15,8 @@ the export puts the timing into the person's own tree, as conditions the target 
    comes through it, scene.doors_after: out of the elevator the robot enters). The target has only the robot's
    distance (IsRobotNearby / HuNavSim 2.x IsRobotClose) and a clock (TimeExpiredCondition), so the speed is told
    from the time the robot takes to come near: a clock runs from when it comes within `measure_distance` (from the
-   start, for a robot within it there that never leaves it); for each speed of ROBOT_SPEEDS but the slowest, the person sets
-   off at that speed's distance if the robot came there within the time a robot a little slower than it takes
+   start, for a robot within it there that never leaves it); for each speed of ROBOT_SPEEDS but the slowest, the
+   person sets off at that speed's distance if the robot came there within the time a robot a little slower than it takes
    (`faster`); at `release_distance`, the slowest's, in any case. Where the waiting spot is in the robot's way
    (ahead of it, inside the corridor its body sweeps) every such distance is at least the one at which the robot
    first has them there within proxemics.HELD_UP_DISTANCE (where someone in its way holds the robot up; the
