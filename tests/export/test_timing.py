@@ -204,3 +204,50 @@ def test_the_bundled_homes_bedroom_door_is_a_door_on_the_robots_way(tmp_path: Pa
     run = write_card_run("entering-room", repo_root / "examples" / "locations" / "home", tmp_path / "run")
     scene, _ = build_scene(run.root)
     assert scene.humans[0].interaction_point == "2n" and scene.leads == {"2n": CLEAR_LEAD}
+
+
+def test_a_door_just_past_the_node_leads_a_person_who_comes_through_it(tmp_path: Path, repo_root: Path) -> None:
+    """entering-elevator on the hospital: the person comes out of the elevator jb to the lobby q9 the robot goes
+    through into it. q9 is no door, but the leg q9 -> jb goes through the elevator's door: the person is to be
+    through it before the robot gets there (the lead), not face to face in it; a person meeting the robot at q9
+    from elsewhere is not led."""
+    from socnavgen.cards.generate import write_card_run
+
+    run = write_card_run("entering-elevator", repo_root / "examples" / "locations" / "hospital", tmp_path / "run")
+    scene, _ = build_scene(run.root)
+    person = scene.humans[0]
+    assert person.path[:2] == ["jb", "q9"] and scene.leads == {} and scene.doors_after == {"q9": "jb"}
+    led = hold_for(person, scene)
+    plain = hold_for(person, scene.model_copy(update={"doors_after": {}}))
+    assert led is not None and plain is not None
+    assert led.release_distance > plain.release_distance + 0.5  # set off while the robot is farther away
+    elsewhere = person.model_copy(update={"path": ["8z", *person.path[1:]]})  # comes to q9 another way
+    assert hold_for(elsewhere, scene).robot_at == plain.robot_at  # type: ignore[union-attr]
+
+
+def test_a_robot_within_the_clocks_distance_from_its_start_is_timed_from_the_start(
+        tmp_path: Path, repo_root: Path) -> None:
+    """entering-elevator again: the robot starts 4.8 m from the waiting spot, turns away along the corridor (5.2 m)
+    and comes back; it never leaves the clock's distance and comes steadily closer within the releases', so its
+    speed is told from the start (the release for a half-speed robot was the cruise speed's: the person walked
+    out 1.4 m early past it)."""
+    from socnavgen.cards.generate import write_card_run
+
+    run = write_card_run("entering-elevator", repo_root / "examples" / "locations" / "hospital", tmp_path / "run")
+    scene, _ = build_scene(run.root)
+    hold = hold_for(scene.humans[0], scene)
+    assert hold is not None and len(hold.faster) == len(ROBOT_SPEEDS) - 1
+    start = complex(scene.robot.start.x, scene.robot.start.y)
+    assert abs(start - complex(*hold.wait_at)) < hold.measure_distance  # the clock runs from the start
+
+
+def test_the_elevator_is_left_before_the_robot_enters_it(tmp_path: Path, repo_root: Path) -> None:
+    """As the fork runs it (its trees' timing, a careful waypoint robot at its cruise speed): the person leaves
+    the elevator before the robot gets to its door. Met face to face in the lobby before the door lead, they stood
+    there for the rest of the run (the robot held up 10 s and more)."""
+    from socnavgen.cards.generate import write_card_run
+
+    run = write_card_run("entering-elevator", repo_root / "examples" / "locations" / "hospital", tmp_path / "run")
+    twin = target_twin(run.root, "socrates", tmp_path / "twin")
+    report = run_as_target(twin, 1.0)
+    assert report.passed, [f.name for f in report.failures]

@@ -61,6 +61,9 @@ class ExportScene(BaseModel):
     # node of the robot's path -> m before the robot reaches it that a person meeting it there is at it (a door on
     # the robot's way: sim.people.pacing.door_lead; nodes without a lead are left out)
     leads: dict[str, float] = Field(default_factory=dict)
+    # node of the robot's path -> its next node, where the leg between them goes through a door within the lead of
+    # the node (an elevator's door past its lobby): a person coming from there meets the robot face to face in it
+    doors_after: dict[str, str] = Field(default_factory=dict)
 
     @property
     def robot_speed(self) -> float:

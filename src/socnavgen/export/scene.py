@@ -105,8 +105,12 @@ def build_scene(run_dir: Path | str, location_dir: Path | str | None = None, *,
     scene = ExportScene(run_name=run.root.resolve().name, location_name=location.name, humans=humans,
                         robot=robot, plan=plan, spec=run.read_spec(),
                         nodes={n: location.node_world(n) for n in location.scene_graph.node_ids()},
-                        leads=door_leads(location, plan.robot, robot_points))
+                        leads=door_leads(location, plan.robot, robot_points),
+                        doors_after=doors_after(location, plan.robot, robot_points))
     return scene, location
+
+
+DOOR_SAMPLE = 0.1  # m: a leg is looked at this finely for a door on it
 
 
 def door_leads(location: Location, path: list[str], points: list[WorldPoint]) -> dict[str, float]:
@@ -122,4 +126,27 @@ def door_leads(location: Location, path: list[str], points: list[WorldPoint]) ->
             lead = door_lead(world, route, k)
             if lead > 0:
                 out[path[k]] = lead
+    return out
+
+
+def doors_after(location: Location, path: list[str], points: list[WorldPoint]) -> dict[str, str]:
+    """Nodes of the robot's path (not doors themselves) whose next leg goes through a door - less than
+    bodies.TOUCH_DISTANCE from it to a wall - within bodies.CLEAR_LEAD of the node: node -> the next node. A person
+    who comes to the node along that leg (out of the elevator the robot enters) meets it face to face in that
+    door unless they are through it first, as at a door on the node itself (timing: the same lead)."""
+    from socnavgen.bodies import CLEAR_LEAD, TOUCH_DISTANCE
+    from socnavgen.sim.world.grid import World
+
+    world = World.from_location(location)
+    route = [complex(p.x, p.y) for p in points]
+    out: dict[str, str] = {}
+    for k in range(1, len(path) - 1):
+        here, there = route[k], route[k + 1]
+        if path[k] in path[1:k] or world.clearance_at_point(here) < TOUCH_DISTANCE or abs(there - here) < 1e-9:
+            continue
+        reach = min(CLEAR_LEAD, abs(there - here))
+        steps = max(2, int(reach / DOOR_SAMPLE) + 1)
+        unit = (there - here) / abs(there - here)
+        if any(world.clearance_at_point(here + unit * reach * j / (steps - 1)) < TOUCH_DISTANCE for j in range(steps)):
+            out[path[k]] = path[k + 1]
     return out

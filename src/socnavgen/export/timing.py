@@ -11,10 +11,12 @@ the export puts the timing into the person's own tree, as conditions the target 
    as the person's last HOLD_BEFORE metres take at the robot's OWN speed (bodies.walk_time at walking speed: the
    time by which the simulator's pacing lets a standing person set off, sim.people.pacing; at a door on the
    robot's way, as far again as the robot's lead there, scene.leads, pacing's door_lead: the person goes through
-   the door first). The target has only the robot's distance (IsRobotNearby / HuNavSim 2.x IsRobotClose) and a
-   clock (TimeExpiredCondition), so the speed is told from the time the robot takes to come near: a clock runs
-   from when it comes within `measure_distance`; for each speed of ROBOT_SPEEDS but the slowest, the person sets
-   off at that speed's distance if the robot came there within the time a robot a little slower than it takes
+   the door first; the same lead where the door lies just past the node on the robot's next leg and the person
+   comes through it, scene.doors_after: out of the elevator the robot enters). The target has only the robot's
+   distance (IsRobotNearby / HuNavSim 2.x IsRobotClose) and a clock (TimeExpiredCondition), so the speed is told
+   from the time the robot takes to come near: a clock runs from when it comes within `measure_distance` (from the
+   start, for a robot within it there that never leaves it); for each speed of ROBOT_SPEEDS but the slowest, the
+   person sets off at that speed's distance if the robot came there within the time a robot a little slower than it takes
    (`faster`); at `release_distance`, the slowest's, in any case. Where the waiting spot is in the robot's way
    (ahead of it, inside the corridor its body sweeps) every such distance is at least the one at which the robot
    first has them there within proxemics.HELD_UP_DISTANCE (where someone in its way holds the robot up; the
@@ -36,6 +38,7 @@ import numpy as np
 
 from socnavgen import proxemics
 from socnavgen.bodies import (
+    CLEAR_LEAD,
     PERSON_GOAL_RADIUS,
     PERSON_GOAL_SLACK,
     PERSON_MAX_SPEED,
@@ -188,6 +191,9 @@ def hold_for(h: HumanExport, scene: ExportScene) -> Hold | None:
     robot = _Line([complex(scene.robot.start.x, scene.robot.start.y)] + [complex(w.x, w.y) for w in scene.robot.waypoints])
     node_s = float(robot.arc[scene.robot.path.index(h.interaction_point, 1)])
     lead = scene.leads.get(h.interaction_point, 0.0)
+    k = h.path.index(h.interaction_point)
+    if k > 0 and scene.doors_after.get(h.interaction_point) == h.path[k - 1]:  # through the robot's door first
+        lead = CLEAR_LEAD
     held_up = held_up_from(robot, wait_at, node_s)
 
     def release_at(factor: float) -> float:  # the robot's arc where a robot at factor x cruise lets the person go
@@ -222,12 +228,19 @@ def hold_for(h: HumanExport, scene: ExportScene) -> Hold | None:
         if seconds > SAMPLE / boundary:
             faster.append((factor, round(distance, 2), round(seconds, 2)))
     # the robot's distance tells its place on its path only where it keeps coming closer: where it comes within a
-    # release's or the clock's distance elsewhere first (a path bending round the spot), or drives less than
-    # MEASURE / 2 before the fastest release (no time to tell its speed), one release, the cruise speed's, as a
-    # distance alone
+    # release's distance elsewhere first (a path bending round the spot), leaves the clock's distance once in it
+    # (the clock would stop meanwhile), or drives less than MEASURE / 2 before the fastest release (no time to tell
+    # its speed), one release, the cruise speed's, as a distance alone. A robot within the clock's distance from
+    # its start (a lobby it turns away from first) is timed from the start: only its approach within the farthest
+    # release must keep coming closer
     samples, gaps = robot.gaps(wait_at, release_at(factors[-1]))
     approach = gaps[samples >= measure_first - 1e-9]
-    if release_at(factors[0]) < MEASURE / 2 or measure_first < measure_s - TRUE_AT or (np.diff(approach) > 1e-3).any():
+    farthest = max([latest, *(d for _, d, _ in faster)])
+    inside = np.flatnonzero(approach <= farthest + 1e-9)
+    closing = approach[inside[0]:] if len(inside) else approach
+    late_clock = measure_first < measure_s - TRUE_AT and measure_first > SAMPLE
+    if (release_at(factors[0]) < MEASURE / 2 or late_clock or (approach > measure + 1e-9).any()
+            or (np.diff(closing) > 1e-3).any()):
         faster, latest = [], distance_at(release_s)
     return Hold(human=h.name, node=h.interaction_point or "", goals_first=count, wait_goal=goal, wait_index=index,
                 release_distance=round(latest, 2),
