@@ -164,7 +164,7 @@ def test_group_members_stand_where_the_prompt_says():
         for k, spot in enumerate(spots):  # member k at k x 360/n degrees counter-clockwise from east (x east, y north)
             want = node + ring * complex(math.cos(2 * math.pi * k / n), math.sin(2 * math.pi * k / n))
             assert abs(spot - want) < 1e-9, (n, k)
-        gaps = [abs(a - b) - 2 * PERSON_RADIUS for a, b in zip(spots, spots[1:] + spots[:1])]
+        gaps = [abs(a - b) - 2 * PERSON_RADIUS for a, b in zip(spots, spots[1:] + spots[:1], strict=True)]
         assert min(gaps) >= PERSON_KEEP_GAP - 1e-9
     assert "two: east and west of it; three: east, north-west, south-west" in groups_text()
     assert f"{group_ring(4):g} m for four" in groups_text()
