@@ -91,19 +91,3 @@ def test_a_follower_inside_or_in_the_doorway_passes_and_one_left_in_the_hall_fai
 def test_nothing_is_judged_when_the_robot_never_reached_its_goal() -> None:
     found = _verdicts({"human1": (0.0, 0.0), "human2": (0.0, 0.0)}, reached=False)
     assert all(f.passed and "did not reach its goal" in f.evidence for f in found.values())
-
-
-def test_a_follower_whose_path_ends_in_the_room_must_be_in_it_not_in_its_doorway() -> None:
-    """The run goes on while followers walk in (sim.people.grace): one the plan ends in the room is judged there
-    (hospital_07's patient stood in her doorway and "walks back into her room" passed)."""
-    plan = PathPlan(robot=["h1", "h2", "d", "r"], humans=[HumanPlan(name="human1", path=["h1", "h2", "d", "r"]),
-                                                          HumanPlan(name="human2", path=["h1", "h2", "d"])])
-    found = {e.human: e for e in room_ends(plan, _spec(), _graph(), lambda n: TYPES[n])}
-    assert found["human1"].inside and not found["human2"].inside
-    trace = _trace({"human1": (6.2, 0.0), "human2": (6.1, 0.0)})  # both in the doorway
-    one, two = (judge_room_end(found[h], trace, POINTS, True) for h in ("human1", "human2"))
-    assert not one.passed and two.passed
-    assert "human1, who follows it, was at d" in one.evidence and "where their path ends" in one.evidence
-    assert one.name == "human1 ends with the robot in the room of r (their path ends there)"
-    inside = judge_room_end(found["human1"], _trace({"human1": (7.6, 0.2), "human2": (6.1, 0.0)}), POINTS, True)
-    assert inside.passed, inside.evidence

@@ -1,13 +1,11 @@
 """Where a follower ends (issue 25): a person who follows the robot for good (a latched follow, or one a follows_*
 criterion judges to the end; following someone who follows the robot counts the same) ends where the robot ends.
 When the robot's goal is inside a room (the part of the scene graph its doorways close off), the follower must end
-in that room: the run goes on after the robot arrives while its followers walk the last leg of their paths in
-(sim.people.grace), so one whose planned path ends in the room must be in it, not in its doorway (hospital_07's
-patient stood in her doorway as the robot arrived, and "she walks back into her room" passed). One whose path ends
-elsewhere (in a doorway, or not planned into the room) must end in the room or one of its doorways, as before
-(home_09: the robot reached the bedroom with one child in its doorway and the other still at the hallway's far end,
-and "both follow it into the bedroom" passed). A goal in a space no doorway closes off (a warehouse floor) leaves
-nothing to judge.
+in that room or in one of its doorways: the run goes on after the robot arrives while its followers come in to a spot
+round its goal (sim.people.grace), but in a small room the spots in sight of the goal may lie through the doorway, so
+a follower in the doorway counts as come in, and one still out in the hallway does not (home_09: the robot reached the
+bedroom with one child in its doorway and the other still at the hallway's far end, and "both follow it into the
+bedroom" passed). A goal in a space no doorway closes off (a warehouse floor) leaves nothing to judge.
 
 Where a person is: at the scene-graph node nearest them (the graph's nodes stand for the places of the map)."""
 
@@ -37,7 +35,6 @@ class RoomEnd:
     room: frozenset[str]  # the room's nodes (doorways excluded)
     doors: frozenset[str]  # its doorways
     source: Source
-    inside: bool = False  # their planned path ends in the room: the doorway is not enough (sim.people.grace)
 
 
 def room_of(graph: nx.Graph, node: str, is_door: Any) -> tuple[frozenset[str], frozenset[str]] | None:
@@ -90,18 +87,15 @@ def room_ends(plan: PathPlan, spec: ScenarioSpec, graph: nx.Graph, node_type: An
     if found is None:
         return []
     room, doors = found
-    return [RoomEnd(human=h.name, goal=plan.robot[-1], room=room, doors=doors, source=source,
-                    inside=bool(h.path) and h.path[-1] in room)
+    return [RoomEnd(human=h.name, goal=plan.robot[-1], room=room, doors=doors, source=source)
             for h in plan.humans if follows_robot_to_the_end(spec, h.name)]
 
 
 def judge_room_end(end: RoomEnd, trace: Trace, node_points: dict[str, tuple[float, float]],
                    goal_reached: bool) -> Finding:
-    """The verdict on one follower's end place: in the robot's goal room (or one of its doorways, when their path
-    does not end in the room)."""
+    """The verdict on one follower's end place: in the robot's goal room or one of its doorways."""
     doors = "/".join(sorted(end.doors))
-    where = "(their path ends there)" if end.inside else f"(or a doorway of it: {doors})"
-    base = Finding(name=f"{end.human} ends with the robot in the room of {end.goal} {where}", kind=KIND,
+    base = Finding(name=f"{end.human} ends with the robot in the room of {end.goal} (or a doorway of it: {doors})", kind=KIND,
                    passed=True, evidence="", human=end.human, node=end.goal, source=end.source)
     if end.human not in trace.human_names or not trace.steps:
         return base.model_copy(update={"passed": False, "evidence": f"{end.human} is not in the trace",
@@ -114,16 +108,14 @@ def judge_room_end(end: RoomEnd, trace: Trace, node_points: dict[str, tuple[floa
     at = names[int(np.argmin(dist))]
     t = float(trace.t[-1])
     gap = float(np.hypot(*(trace.robot[-1, :2] - p)))
-    allowed = end.room if end.inside else end.room | end.doors
-    if at in allowed:
+    if at in end.room or at in end.doors:
         return base.model_copy(update={"evidence": f"{end.human} ended at {at} when the run ended ({t:.1f} s), "
                                                    f"{gap:.1f} m from the robot", "time": round(t, 3)})
     return base.model_copy(update={
         "passed": False, "time": round(t, 3), "distance": round(gap, 2),
         "evidence": f"when the run ended ({t:.1f} s, the robot at its goal {end.goal}) {end.human}, who follows it, "
-                    f"was at {at} ({gap:.1f} m from the robot), outside the room of {end.goal}"
-                    + (f" ({', '.join(sorted(end.room))}), where their path ends" if end.inside else
-                       f" and its doorways ({', '.join(sorted(end.room | end.doors))})"),
+                    f"was at {at} ({gap:.1f} m from the robot), outside the room of {end.goal} and its doorways "
+                    f"({', '.join(sorted(end.room | end.doors))})",
         "blame": "robot_script", "stage": None,
         "blame_reason": f"the robot drove into the room of {end.goal} leaving {end.human} behind outside: let it wait "
                         f"for its followers before the room's doorway (a human_farther cue for {end.human}), so "
