@@ -56,6 +56,16 @@ def arrival_step(trace: Trace, world: Any = None) -> int | None:
     return int(np.argmax(near)) if near.any() else None
 
 
+def arrival_row(trace: Trace) -> int:
+    """The row the simulator saw the robot arrive at in a run that went on for its followers (meta robot_arrived,
+    s; people.grace); the trace's length when it did not go on."""
+    arrived = trace.meta.get("robot_arrived") if isinstance(trace.meta, dict) else None
+    if not isinstance(arrived, int | float) or trace.steps == 0:
+        return trace.steps
+    return min(int(np.searchsorted(np.asarray(trace.t, dtype=float) - float(trace.t[0]), float(arrived) - 1e-6)),
+               trace.steps)
+
+
 def closest_gaps(trace: Trace) -> np.ndarray:
     """(T,) smallest robot-person surface gap per step (inf without people)."""
     h = trace.humans.shape[1]
@@ -87,12 +97,13 @@ def ttc_histogram(ttc: np.ndarray, durations: np.ndarray) -> list[float]:
     return [float(v) for v in np.bincount(bins, weights=durations, minlength=len(edges))]
 
 
-def mean_jerk(trace: Trace) -> float | None:
-    """Mean magnitude of the robot's jerk (m/s^3): the velocity vector differentiated twice per step."""
-    if trace.steps < 3:
+def mean_jerk(trace: Trace, end: int | None = None) -> float | None:
+    """Mean magnitude of the robot's jerk (m/s^3): the velocity vector differentiated twice per step (steps before
+    `end`; None: all)."""
+    t = np.asarray(trace.t, dtype=float)[:end]
+    if len(t) < 3:
         return None
-    t = np.asarray(trace.t, dtype=float)
-    v = trace.robot[:, VX] + 1j * trace.robot[:, VY]
+    v = (trace.robot[:, VX] + 1j * trace.robot[:, VY])[:end]
     dt = np.diff(t)
     ok = dt > 0
     acc = np.diff(v)[ok] / dt[ok]
@@ -130,6 +141,8 @@ def social_metrics(trace: Trace, world: Any = None, *, success: bool | None = No
         return out
     durations = step_durations(trace.t)
     arrived = arrival_step(trace, world)
+    cut = arrival_row(trace)  # the robot's episode ends as it arrives: after it, its followers come in (people.grace)
+    durations[cut:] = 0.0
     out["reached_goal"] = arrived is not None
     if arrived is not None and success is not False:
         out["time_to_goal"] = float(trace.t[arrived] - trace.t[0])
@@ -140,7 +153,7 @@ def social_metrics(trace: Trace, world: Any = None, *, success: bool | None = No
     out["route_length_walkable"] = reference
     if arrived is not None and reference is not None and length > 1e-9:
         out["walkable_path_efficiency"] = min(1.0, reference / length)
-    out["mean_jerk"] = mean_jerk(trace)
+    out["mean_jerk"] = mean_jerk(trace, cut + 1 if cut < trace.steps else None)
     gaps = closest_gaps(trace)
     out["intimate_space_seconds"] = float(durations[gaps < INTIMATE_SPACE].sum())
     out["personal_space_seconds"] = float(durations[(gaps >= INTIMATE_SPACE) & (gaps < PERSONAL_SPACE)].sum())

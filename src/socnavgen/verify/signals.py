@@ -23,6 +23,7 @@ from socnavgen import proxemics
 from socnavgen.bt.library import HUMAN_GESTURES, LIBRARY, REACTION_NODES, ROBOT_GESTURES
 from socnavgen.sim import contact
 from socnavgen.sim.arrival import short_of_goal_steps
+from socnavgen.sim.social_metrics import arrival_row
 from socnavgen.sim.trace import VX, VY, YAW, Trace
 from socnavgen.verify.passing import (  # aside: re-exported (its home is verify/passing.py)
     aside,
@@ -326,6 +327,7 @@ def _deadlock(s: Signals, m: re.Match) -> np.ndarray:
     at_goal = np.zeros(s.trace.steps, dtype=bool)
     if "goal" in s.places:
         at_goal = contact.lengths(s.pos("robot") - s.place("goal")) <= s.goal_radius
+    at_goal[arrival_row(s.trace):] = True  # arrived: it stands while its followers come in (sim.people.grace)
     stuck = ~progress_events(s.route()[0], PROGRESS_STEP)
     return _runlength(stuck & blocked & ~at_goal, s.trace.dt)
 

@@ -1,8 +1,9 @@
 """Where a follower ends (issue 25): a person who follows the robot for good (a latched follow, or one a follows_*
 criterion judges to the end; following someone who follows the robot counts the same) ends where the robot ends.
 When the robot's goal is inside a room (the part of the scene graph its doorways close off), the follower must end
-in that room or in one of its doorways: the run ends as the robot arrives, with its followers a step behind it, so a
-follower in the doorway is following in, and one still out in the hallway is not (home_09: the robot reached the
+in that room or in one of its doorways: the run goes on after the robot arrives while its followers come in to a spot
+round its goal (sim.people.grace), but in a small room the spots in sight of the goal may lie through the doorway, so
+a follower in the doorway counts as come in, and one still out in the hallway does not (home_09: the robot reached the
 bedroom with one child in its doorway and the other still at the hallway's far end, and "both follow it into the
 bedroom" passed). A goal in a space no doorway closes off (a warehouse floor) leaves nothing to judge.
 

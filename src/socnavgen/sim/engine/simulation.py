@@ -150,7 +150,8 @@ class Simulation:
                                      max_omega=config.body.max_omega, max_alpha=config.body.max_alpha)
         python_policy = not isinstance(policy, BuiltinPolicy)
         clock = singleton(CLOCK, dt=dt, max_steps=self.max_steps, idle_end=config.idle_end,
-                          contact_slack=CONTACT_SLACK, python_policy=python_policy, error_node=-1)
+                          contact_slack=CONTACT_SLACK, python_policy=python_policy, error_node=-1,
+                          arrived=-1.0)
         pacing_state, self.pacing_notes = lower_pacing(pacing, [[complex(*g) for g in h.goals] for h in humans],
                                                         world, list(waypoints))
         landmarks, waypoint_marks = landmarks_of([[complex(*g) for g in h.goals] for h in humans], list(waypoints))
@@ -293,6 +294,8 @@ class Simulation:
                     robot_goal_radius=config.goal_tolerance,
                     kernels="numba" if AVAILABLE else "python", robot_body=config.body.meta(),
                     human_goals={h.name: [list(g) for g in h.goals] for h in self.humans})
+        if s.clock[0].arrived >= 0 and steps > 0 and s.clock[0].arrived < (steps - 1) * self.dt - 1e-9:
+            meta["robot_arrived"] = round(float(s.clock[0].arrived), 6)  # s: it went on for followers (people.grace)
         if self.cue_list:
             meta["script_cues_fired"] = [list(f) for f in fired(self.episode.script, self.cue_list)]
         if self.paced:

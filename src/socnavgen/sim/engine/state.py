@@ -25,6 +25,7 @@ CLOCK = layout([
     ("end", "i8"), ("contact_slack", "f8"),
     # s the robot has made no progress along its route, near stalled_at (engine.step.STALL_PROGRESS, STALL_REACH)
     ("stalled", "f8"), ("best_progress", "f8"), ("stalled_at", "c16"),
+    ("arrived", "f8"),  # s: when the robot arrived at its goal in a run (-1: not yet; engine.step.ending, people.grace)
     # how the episode hands control back to Python (engine.step's events)
     ("python_policy", "?"), ("each_step", "?"), ("progress_every", "i8"), ("stop_at_end", "?"),
     # a tree that could not go on: its node, what went wrong, the port column and the value it held

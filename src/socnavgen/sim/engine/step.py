@@ -29,6 +29,7 @@ import math
 from socnavgen import proxemics
 from socnavgen.sim.engine.state import ALL_DONE, ROBOT_GOAL, RUNNING, TIMEOUT
 from socnavgen.sim.jit import generator, jit
+from socnavgen.sim.people.grace import ARRIVAL_GRACE, coming
 from socnavgen.sim.people.make_room import make_room
 from socnavgen.sim.people.pacing import pace
 from socnavgen.sim.people.physics import advance, resolve_contacts
@@ -55,7 +56,7 @@ def think(s, trees, pacing, script, scratch):  # noqa: ANN001, ANN201
         p = people[i]
         p.sees_robot = -1
         p.walks, p.turns, p.face_robot_within = False, False, 0.0
-        p.action, p.action_moves, p.succeeded = -1, False, 0
+        p.action, p.action_moves, p.succeeded, p.coming = -1, False, 0, False
         scratch.before[i] = p.pos  # the contact step compares with where everyone stood
     if people.shape[0]:
         cruising = cruise(s, script.now[0])
@@ -133,7 +134,13 @@ def ending(s):  # noqa: ANN001, ANN201
         clock.stalled += clock.dt
     if robot.passed >= wps.shape[0] - 2 and (abs(robot.goal - robot.pos) <= robot.goal_tolerance or (
             clock.idle >= proxemics.GOAL_STOP_DWELL and stopped_short(s))):  # stood short of someone at its goal
-        return ROBOT_GOAL
+        if not clock.stop_at_end:  # single steps: the caller decides what happens next
+            return ROBOT_GOAL
+        if clock.arrived < 0:
+            clock.arrived = clock.t
+    if clock.arrived >= 0:  # a run: it goes on while a follower still walks in (people.grace), within the grace
+        late = clock.t - clock.arrived >= ARRIVAL_GRACE - 1e-9 or clock.step >= clock.max_steps
+        return ROBOT_GOAL if late or not coming(s) else RUNNING
     if clock.idle >= clock.idle_end:
         finished = True
         for i in range(s.people.shape[0]):
@@ -161,6 +168,9 @@ def after(s):  # noqa: ANN001, ANN201
 def move_robot(s, script):  # noqa: ANN001, ANN201
     """The robot's move: a Python policy's answer (left in s.action), else the built-in policy's; returns the
     gesture the policy makes (-1: none, the script's)."""
+    if s.clock[0].arrived >= 0:  # arrived: it stands at its goal while its followers come in (people.grace)
+        drive(s, 0j, 0j, False, False, 0.0, 0.0, math.nan, math.nan)
+        return -1
     if s.clock[0].python_policy:
         action = s.action[0]
         drive(s, complex(action.vx, action.vy), action.heading, action.has_heading, action.unicycle, action.forward,
@@ -206,7 +216,7 @@ def steps(e, acted):  # noqa: ANN001, ANN201
                 return ROUTES
             if think(s, trees, pacing, script, scratch) == ERROR:
                 return FAILED
-            if s.clock[0].python_policy:
+            if s.clock[0].python_policy and s.clock[0].arrived < 0:
                 return ACT
         acted = False
         gesture = move_robot(s, script)

@@ -12,6 +12,7 @@ import numpy as np
 
 from socnavgen import proxemics
 from socnavgen.sim.jit import jit
+from socnavgen.sim.people.grace import follow_in
 from socnavgen.sim.people.leaves import follow, leaf
 from socnavgen.sim.people.routing import project, robot_progress
 from socnavgen.sim.people.spots import segment_distance
@@ -394,7 +395,10 @@ def follow_robot(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     level with them they fall in behind it at once: they do not wait for its other followers to go by (they are
     one of them; people.spacing lines them up), nor for a robot that a give-way begun before they were told
     (GiveWaytoRobot) waits for but that drives away from them (home_09's older child stood 12 s aside, home_03's
-    second guest 8 s at the door)."""
+    second guest 8 s at the door). Once the robot has arrived, someone whose path ends by its goal walks in there
+    (people.grace)."""
+    if follow_in(s, i, -1):
+        return SUCCESS
     p = s.people[i]
     if giving_way(p) and robot_level(s, i) and not in_robot_way(s, i):
         p.give_way_phase = RESUME

@@ -20,6 +20,7 @@ from collections.abc import Callable
 from socnavgen.bt.library import BLOCKING_CONE
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.avoid import sees
+from socnavgen.sim.people.grace import follow_in
 from socnavgen.sim.people.routing import head
 from socnavgen.sim.people.state import (
     ROUTE_ROBOT,
@@ -219,7 +220,7 @@ def follow_human(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     h = human(s, a, Port.target_id, 0)
     if h < 0:
         return bad_port(Port.target_id)
-    if h != i:
+    if h != i and not follow_in(s, i, h):
         follow(s, i, s.people[h].pos, s.people[h].radius, h)
     return SUCCESS
 

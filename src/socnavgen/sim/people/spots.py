@@ -64,8 +64,11 @@ def segment_distance(p, a, b):  # noqa: ANN001, ANN201
 
 @jit
 def by_route(s, spot, clear):  # noqa: ANN001, ANN201
-    """`spot` is within `clear` of the robot's way still to go (from where it is along its waypoints to its goal)."""
+    """`spot` is within `clear` of the robot's way still to go (from where it is along its waypoints to its goal);
+    none once it has arrived (people.grace: its followers come in round it)."""
     robot, wps = s.robot[0], s.waypoints
+    if s.clock[0].arrived >= 0:
+        return False
     a = robot.pos
     for j in range(robot.search_from + 1, wps.shape[0]):
         if segment_distance(spot, a, wps[j]) < clear:

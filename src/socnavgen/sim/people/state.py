@@ -84,6 +84,9 @@ PERSON = layout([
     ("makes_room", "i8"), ("room_home", "c16"),
     # a goal point someone else stands on (people.spots): the spot round it this person walks to instead
     ("has_spot", "?"), ("spot", "c16"), ("spot_for", "c16"),
+    # after the robot's arrival (people.grace): still walking in to their path's end by its goal (this step), and
+    # came in (for good: they walk their last leg, then stand facing the robot)
+    ("coming", "?"), ("came_in", "?"),
 ])
 
 
