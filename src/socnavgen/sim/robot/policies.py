@@ -13,7 +13,7 @@ robot.api carry their parameters). Their parameters and state are one POLICY rec
 
 Every built-in robot stands still for its first `start_delay` s (when its operator starts it); `keep_gap`
 (m, NaN: none) is the surface gap its own moves never close to a person (keep_clear): the scripted and sfm
-robots keep KEEP_CLEAR by default, the waypoints robot keeps none unless given one.
+robots keep bodies.ROBOT_SOCIAL_GAP and PERSON_KEEP_GAP by default (robot.api), the waypoints robot none unless given one.
 """
 
 from __future__ import annotations
@@ -61,7 +61,7 @@ SKIP_DETOUR = 0.5  # m: ... by a planning robot also off a straight line, when i
 APPROACH_SPEED = 0.1  # m/s: the least it drives toward someone standing in its path, until its stop gap (the linear
 # slow-down alone nears it exponentially: home_10's robot crept 8 s 1 m short of a circle, never counted as waiting)
 STOPPED_SHORT = 0.1  # m beyond its stop gap: the robot there is blocked by the person ahead (it waits, then acts)
-KEEP_CLEAR = 0.03  # m: the scripted and sfm robots never move closer than this gap to anyone (keep_gap)
+KEEP_CLEAR = 0.03  # m: the sfm robot's protective field (its body's guard; robot.api.SFMPolicy)
 CROWD_LOOK = 32  # with more people than this, only those within reach are looked at
 ARRIVED = ROBOT_GOAL_TOLERANCE * 0.5  # m: the built-in robots stop this close to their goal
 
