@@ -20,7 +20,7 @@ from typing import Any, ClassVar, Protocol, runtime_checkable
 
 import numpy as np
 
-from socnavgen.bodies import COMFORT_DECELERATION, ROBOT_RADIUS, ROBOT_SOCIAL_GAP
+from socnavgen.bodies import COMFORT_DECELERATION, PERSON_KEEP_GAP, ROBOT_RADIUS, ROBOT_SOCIAL_GAP
 from socnavgen.bt.library import ROBOT_GESTURES
 from socnavgen.errors import InputFileError, ValidationFailed
 from socnavgen.sim.records import Columns, table
@@ -238,7 +238,9 @@ class SFMPolicy(BuiltinPolicy):
     plans: ClassVar[bool] = True
     guard: ClassVar[float] = policies.KEEP_CLEAR
     waypoint_tolerance: float = 0.5
-    keep_gap: float = policies.KEEP_CLEAR
+    keep_gap: float = PERSON_KEEP_GAP  # m, as one more walker keeps from people (above the 5 cm contact margin: with
+    # policies.KEEP_CLEAR's 3 cm it met people in doors and round corners in contact; 3 seeds x 62 cards: contact-free
+    # success 0.78 -> 0.97, no episode lost)
 
 
 @dataclass

@@ -7,12 +7,13 @@ robot.api carry their parameters). Their parameters and state are one POLICY rec
   around them slowly where there is room (a social-force walker), skipping a waypoint someone stands on.
 * scripted (default): plays the script (obs.cues: speed, waits, misbehave) and drives like waypoints, never
   moving into a person (keep_clear) and never backing away from its waypoint.
-* sfm: one more social-force walker heading for its waypoints, with the same keep_clear safety layer.
+* sfm: a social-force robot (Helbing & Molnar 1995) following the planner's way to its waypoints, the walls
+  pushing it only across that way (robot.social_force), with the same keep_clear safety layer.
 * straight: deliberately rude, straight at each waypoint through people (slides along walls only).
 
 Every built-in robot stands still for its first `start_delay` s (when its operator starts it); `keep_gap`
 (m, NaN: none) is the surface gap its own moves never close to a person (keep_clear): the scripted and sfm
-robots keep KEEP_CLEAR by default, the waypoints robot keeps none unless given one.
+robots keep bodies.ROBOT_SOCIAL_GAP and PERSON_KEEP_GAP by default (robot.api), the waypoints robot none unless given one.
 """
 
 from __future__ import annotations
@@ -25,7 +26,6 @@ from socnavgen import proxemics
 from socnavgen.bodies import ROBOT_GOAL_TOLERANCE
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.make_room import short_of_goal, stopped_short  # noqa: F401 - step.py's import
-from socnavgen.sim.people.physics import pair_force, wall_force
 from socnavgen.sim.records import layout
 from socnavgen.sim.robot.brake import brake_limit
 from socnavgen.sim.robot.lead import lead_speed
@@ -40,6 +40,7 @@ from socnavgen.sim.robot.polite import (
     social_clear,
     yield_to,
 )
+from socnavgen.sim.robot.social_force import GOAL_DECEL, sfm_toward
 from socnavgen.sim.robot.wait_spot import off_their_way, wait_aside
 from socnavgen.sim.world.queries import clearance_at, nearest_obstacle, path_clear
 from socnavgen.sim.world.spots import nearer_spot
@@ -55,13 +56,12 @@ LOOK_WALL = 0.3  # s of motion looked ahead for walls
 WALL_PUSH = 0.15  # m/s at most, back out of a wall the robot grazes
 AROUND_LOOK = 1.0  # m: room looked for on either side before going around someone
 AROUND_BIAS = 0.1  # m/s sideways while going around (a person dead ahead pushes straight back otherwise)
-GOAL_DECEL = 0.8  # m/s2: the social-force and the straight robots slow down for their goal at this rate
 OCCUPIED_REACH = proxemics.OCCUPIED_REACH  # m: an intermediate waypoint someone stands on is skipped this close
 SKIP_DETOUR = 0.5  # m: ... by a planning robot also off a straight line, when its planned way on is no longer
 APPROACH_SPEED = 0.1  # m/s: the least it drives toward someone standing in its path, until its stop gap (the linear
 # slow-down alone nears it exponentially: home_10's robot crept 8 s 1 m short of a circle, never counted as waiting)
 STOPPED_SHORT = 0.1  # m beyond its stop gap: the robot there is blocked by the person ahead (it waits, then acts)
-KEEP_CLEAR = 0.03  # m: the scripted and sfm robots never move closer than this gap to anyone (keep_gap)
+KEEP_CLEAR = 0.03  # m: the sfm robot's protective field (its body's guard; robot.api.SFMPolicy)
 CROWD_LOOK = 32  # with more people than this, only those within reach are looked at
 ARRIVED = ROBOT_GOAL_TOLERANCE * 0.5  # m: the built-in robots stop this close to their goal
 
@@ -127,30 +127,6 @@ def slide_along_walls(s, v):  # noqa: ANN001, ANN201
     clearance = clearance_at(s.world, p)
     if clearance < r:
         v += n * min(WALL_PUSH, (r - clearance) * 2.0)
-    return v
-
-
-@jit
-def sfm_toward(s, target, max_speed, last, planned):  # noqa: ANN001, ANN201
-    """One social-force step of the robot toward `target` (slowing down for it when it is the last). `planned`:
-    the target is the planner's carrot (a way its disc fits), so the wall force only steers it sideways."""
-    robot, prm = s.robot[0], s.forces
-    to = target - robot.pos
-    dist = abs(to)
-    if last and dist <= ARRIVED:
-        return 0j
-    v0 = min(max_speed, math.sqrt(2 * GOAL_DECEL * dist)) if last else max_speed
-    force = prm.k_des * (v0 * to / max(dist, 1e-9) - robot.vel) / prm.tau
-    for i in range(s.people.shape[0]):
-        force += pair_force(s.people[i].pos - robot.pos, robot.vel - s.people[i].vel, prm)
-    wall = wall_force(robot.pos, robot.radius, s.world, prm)
-    back = (wall * (to / max(dist, 1e-9)).conjugate()).real
-    if planned and back < 0:  # the way fits its disc: walls steer it sideways, never hold it back (doorways)
-        wall -= back * to / max(dist, 1e-9)
-    force += wall
-    v = robot.vel + force * s.clock[0].dt
-    if abs(v) > v0:
-        v = v * (v0 / abs(v))
     return v
 
 
@@ -299,7 +275,7 @@ def waypoints_act(s):  # noqa: ANN001, ANN201
                 left = clearance_at(s.world, p + direction * 1j * AROUND_LOOK)
                 right = clearance_at(s.world, p - direction * 1j * AROUND_LOOK)
                 policy.around_side = 1.0 if left > right + 0.05 else -1.0
-            v = sfm_toward(s, target, policy.detour_speed, False, False)
+            v = sfm_toward(s, target, policy.detour_speed, False, False, ARRIVED)
             if abs(v) < AROUND_BIAS:  # pushed straight back by someone dead ahead: sidestep
                 v += direction * 1j * policy.around_side * AROUND_BIAS
             v = slide_along_walls(s, v)
@@ -437,7 +413,7 @@ def act(s, now):  # noqa: ANN001, ANN201
         target, last = track(s, False)
         if policy.plans:
             target = steer(s, s.fields, policy.waypoint, target)
-        return keep_clear(s, sfm_toward(s, target, policy.max_speed, last, policy.plans), policy.keep_gap)
+        return keep_clear(s, sfm_toward(s, target, policy.max_speed, last, policy.plans, ARRIVED), policy.keep_gap)
     if kind == WAYPOINTS:
         v = waypoints_act(s)
         return kept_clear(s, v, v)
