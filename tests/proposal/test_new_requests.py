@@ -23,18 +23,26 @@ PATHS = fixture_paths(FIXTURES)
 # prompts), round 13 (the seventh session's), round 14 re-recordings (the eighth session's), round 15 (six new
 # requests) and round 16 re-recordings (six requests whose recordings the ninth session's checks refused or ended),
 # replayed on the ninth session's code; the eyes of rounds 15-16 and of hospital_07 / hospital_10 are round 15's
-# (sessions that read no code and saw no verdict), the others round 14's. Three lenient passes, each a spec that
-# says less than its prose (a walker held at the start, a robot's wait at a distance); home_03 (greeting stop) and
-# warehouse_12 (a plan that leaves the text's way out) agree since the tenth session.
+# (sessions that read no code and saw no verdict), the others round 14's; home_03 and warehouse_12 were re-answered
+# live in round 18 and judged, with hospital_04 and hospital_10 (whose runs the tenth session's group circle
+# changed), in round 16 of the eyes. Three lenient passes (a walker held at the start, a robot's wait at a distance,
+# a robot that stops short of a doorway someone stands in) and one strict fail (a step aside too short for the
+# robot, called a weak point by eye).
 DISAGREE: dict[str, str] = {
+    "hospital_04_telepresence_ward_round": "lenient PASS: the robot waits ~1.7 m behind the cluster and the doctor goes "
+    "in first, but the nurse goes through before the second resident (the text: last of the team), and the robot "
+    "never goes through the doorway: it stops in the corridor ~1.2 m south of the door with the second resident "
+    "standing just inside, where its goal x5 counts as reached 'at a social distance from someone standing there'; "
+    "the doctor's 'goes first' formula held at t=0, his spawn spot on the group's circle within 0.8 m of the door",
+    "hospital_10_meal_tray_family_in_doorway": "strict FAIL: the robot stops ~2.3 m short and says EXCUSE ME, the "
+    "family shuffles aside and the robot threads through a ~0.9 m gap into the room without touching anyone (eyes: "
+    "yes); the verifier fails the first visitor's give-way, she moved 0.43 m off the robot's route within 6 s, still "
+    "inside the 0.85 m its body sweeps, and the robot waited till 20.5 s (the eyes saw the same short step and "
+    "called it a weak point)",
     "hospital_06_night_wandering_patient": "lenient PASS: the patient stands at 8z until the robot calls her at ~40 s; "
     "she never wanders toward the south elevator, so the interception the text is about does not happen "
     "(verify/way_in.py's `walks` sees it, a warning while WALKS_REQUIRED is off: required, home_05's recording ends "
     "and the cards' crowding people, walkers held by pacing, fail)",
-    "hospital_10_meal_tray_family_in_doorway": "lenient PASS: the robot does not wait at the counter 2-2.5 m back; "
-    "3-5 s after EXCUSE ME it drives into the standing family and stays wedged 0.1-0.3 m from them until ~16 s, and "
-    "the doorway visitor goes into the patient's room instead of stepping aside (no criterion holds the robot back "
-    "until they have stepped aside, nor says where they step)",
     "warehouse_04_pallet_jack_backing_out": "lenient PASS: the robot does not stop ~3 m short; it drives up to the "
     "aisle mouth at sh within ~2 m of the worker backing out, then dodges north between the racks, and the worker's "
     "stop to swing the jack happens inside the aisle end, not across the cross aisle (no criterion says where the "
@@ -43,11 +51,7 @@ DISAGREE: dict[str, str] = {
 
 # Fixtures whose recorded answers never pass a stage (a stage check refuses them, or the recording ends where the
 # pipeline now asks what the live run was never asked), each with why: the replay stops at that stage.
-REFUSED: dict[str, str] = {
-    "home_03_welcome_dinner_guests": "scenario: both recorded answers have the robot and the guests stop for the "
-    "greeting with no criterion that sees either stop (proposal/stop_checks.py); its run: the robot only slowed to "
-    "~0.25 m/s and nobody stopped to greet (eyes: no)",
-}
+REFUSED: dict[str, str] = {}
 
 
 def test_the_suite_is_there_and_judged():

@@ -228,22 +228,18 @@ def _findings(path: Path) -> dict[str, list[str]]:
     return {k: v for k, v in found.items() if v}
 
 
-# Every recorded answer of the suite the prose checks refuse, and why that is right (round 16 re-answered home_03,
-# home_09 and warehouse_10 live with these checks: the answers refused there are the model's before it fixed them).
+# Every recorded answer of the suite the prose checks refuse, and why that is right (rounds 16 and 18 re-answered
+# home_03, home_09, warehouse_10 and warehouse_12 live with these checks: the answers refused there are the model's
+# before it fixed them).
 REFUSED = {
-    ("home_03_welcome_dinner_guests", "scenario[0]"): "the host's text says who goes first ('behind it') with no "
-    "criterion about her that can see it (the live model of round 16 then dropped the order words), and the greeting "
-    "stops as scenario[1]",
+    ("home_03_welcome_dinner_guests", "scenario[0]"): "human2 'behind Human 1' in the hallway with no criterion "
+    "relating the two guests (the live model of round 18 then dropped the order: the rough says only 'single file')",
     ("home_09_telepresence_grandma_kids_follow", "scenario[0]"): "right behind the robot, allowed 4 m (the live model "
     "then stated how far behind each child walks)",
     ("home_09_telepresence_grandma_kids_follow", "scenario[2]"): "the younger child right behind the older, a "
     "follows_human allowing 4 m",
     ("warehouse_10_against_the_unloading_crew", "scenario[0]"): "right behind the crew, a follows_human allowing 4 m "
     "(the live model then allowed 3.1 m)",
-    ("home_03_welcome_dinner_guests", "scenario[1]"): "the robot's and the guests' greeting stop with no criterion "
-    "that sees either (its run: the robot only slowed to 0.25 m/s, nobody stopped to greet; eyes: no)",
-    ("warehouse_12_carrying_toolbox_for_technician", "paths[1]"): "the --verify correction starts the picker at the "
-    "aisle's north end xq (2.4 m from p0, 7.2 m from yh), while her text has her walk up the aisle from yh (eyes: no)",
     ("hospital_06_night_wandering_patient", "paths[1]"): "a re-ask answer that reverses the nurse's walk (1g zs i1 "
     "pf tw, her text: from tw through pf to i1 and on to cs); the replay never reaches it (the first answers verify)",
 }

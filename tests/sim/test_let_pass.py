@@ -119,3 +119,21 @@ def test_a_paced_person_the_robot_lets_pass_goes_first():
     her, robot, _ = run(None)  # without the cue, pacing brings them there together: the robot is not behind her
     assert her > robot - 1.0
 
+
+
+def test_someone_who_stopped_at_the_end_of_their_walk_no_longer_holds_the_robot():
+    """home_14 of the new-request suite: the robot let the homeowner go by first; she came up the hallway and
+    stopped at the front door, her walk's end, off its way and never farther from it than the closest she came:
+    she never "went by", and the robot stood until the run ended. Someone standing at the end of their walk out of
+    its way is no longer coming (script.gone_by): it drives on long before the cue's limit."""
+    # she comes the other way 2.2 m beside its route and stops near it (her walk's end is the closest she comes:
+    # she never gets farther from it, so she never "went by")
+    rows = _drive(_cue(let_pass="human1"), {"start": (12.0, 7.2), "goals": [(5.0, 7.2)]}, tree_xml(REGULAR), 40.0)
+    fired = next(k for k, (_, r, p) in enumerate(rows) if abs(r - p) <= 4.0)
+    arrived = next(k for k in range(fired, len(rows) - 10) if abs(rows[k + 10][2] - rows[k][2]) < 0.02)
+    assert abs(rows[arrived][2] - (5.0 + 7.2j)) < 0.7 and abs(rows[arrived][2] - rows[arrived][1]) < 3.0  # came near
+    moved = next(k for k in range(arrived, len(rows)) if rows[k][1].real > rows[arrived][1].real + 0.5)
+    assert rows[moved][0] - rows[arrived][0] < 5.0, (
+        f"the robot stood {rows[moved][0] - rows[arrived][0]:.1f} s after she stopped at the end of her walk")
+    assert rows[moved][0] - rows[fired][0] < LET_PASS_PATIENCE - 5.0
+    assert min(abs(r - p) for _, r, p in rows) > PERSON_RADIUS + ROBOT_RADIUS  # no contact
