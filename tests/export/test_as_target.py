@@ -46,8 +46,6 @@ _PHRASE_LATE = ("hunav2 has no phrase input and no side step: the person backs a
 # the crowd in the hospital's lobby and the followers in the home hallway lost to contact with the plain waypoint
 # robot for one session; since people keep PERSON_KEEP_GAP from each other and stand round a shared goal (2026-11-26,
 # fourth session) both verify as the targets run them again (they left the list)
-_ELEVATOR_FLIP = ("the robot never stands 10 s behind someone in its way: she turns north and south by turns in the "
-                  "elevator door")
 KNOWN_LOST = {
     # socrates hospital/narrow-hallway at 1.5x verifies again since the release adapts to the robot's own speed
     # (2026-11-27, s13: a 1.5x robot lets the person go from farther; it used to give way too late after EXCUSE ME)
@@ -63,8 +61,9 @@ KNOWN_LOST = {
     # her way round it (the tangent past its body) runs into the jambs, so she turns north and south by turns ~0.5 m
     # from it and the waiting robot stands over 10 s (keeping her side and a way round her body can walk fixed it, but
     # let people coming out of a door pass a robot beside its exit at 0.22 m: tests/sim/test_robot_margin.py)
-    ("socrates", "hospital/entering-elevator", 0.5): _ELEVATOR_FLIP,
-    ("hunav2", "hospital/entering-elevator", 0.5): _ELEVATOR_FLIP,
+    # hospital/entering-elevator at 0.5x (both targets) verifies again since the elevator's door, just past q9 on the
+    # robot's next leg, gives her the door lead and the robot is timed from its start (2026-11-27, s15: she is out
+    # of the elevator before the robot gets to its door; it left the list)
     # lost with the eighth session's people and robot (2026-11-27: followers queue 0.3 m apart, a follower falls in
     # once the robot is level, the default robot brakes within 1.5 m/s2), told by the verdicts, not yet looked at in
     # frames: the crowd pressing round the plain waypoint robot touches it (socrates 1x), and 2.x's give-way comes
