@@ -26,11 +26,11 @@ T = np.arange(0, 45.0 + 1e-9, DT)
 SOUTH, NORTH = (4.0, 3.0), (12.0, 3.0)
 
 
-def _aisle(steps_aside_at: float | None, robot_follows: bool = True) -> object:
+def _aisle(steps_aside_at: float | None, robot_follows: bool = True, looks_back_from: float = 20.5) -> object:
     """human1 stands at SOUTH until 6 s, then walks ahead (+x, 0.5 m/s) to NORTH (there at 22 s) and steps aside
     (+y, 0.6 m/s) from `steps_aside_at` (None: stays in the way). The robot drives +x at 0.5 m/s, stops 1.8 m
     behind the person and follows 1.8 m behind, then drives on to x = 20 once the person is aside
-    (`robot_follows` False: it stays at the south end)."""
+    (`robot_follows` False: it stays at the south end). She faces the robot from `looks_back_from` on."""
     hx = np.clip(4.0 + 0.5 * (T - 6.0), 4.0, 12.0)
     hy = np.full_like(T, 3.0)
     if steps_aside_at is not None:
@@ -46,6 +46,8 @@ def _aisle(steps_aside_at: float | None, robot_follows: bool = True) -> object:
                         np.stack([hx, hy], 1)[:, None], dt=DT, goal=(20.0, 3.0),
                         robot_gesture=np.where((T >= 5.0) & (T <= 6.0), 4, 0))
     trace.robot[:, 2] = 0.0  # facing +x, also while standing
+    trace.humans[looks_back_from <= T, 0, 2] = np.pi  # at the north end she turns round and sees the robot in her
+    # way (her give-way's cause: robot_blocking is judged in her view cone, and a reaction needs its cause first)
     trace.robot_waypoints = [(0.0, 3.0), (20.0, 3.0)]
     return trace
 
@@ -105,8 +107,10 @@ def test_a_person_met_once_is_judged_over_the_whole_run() -> None:
     one = ScenarioSpec(encounters=[SPEC.encounters[1].model_copy(update={"order": 1})], criteria=SPEC.criteria)
     cc = compile_criterion(one.criteria[0], one, VerifySettings(), 0.5)
     assert cc.window is None and "during_" not in cc.formula
-    passed, text, _ = _gives_way(_aisle(steps_aside_at=22.5), one)
-    assert not passed and "window" not in text  # in the robot's way all through the aisle, 16 s before stepping aside
+    # she looks back at the robot all the way (it blocks her from the start): in its way all through the aisle, 16 s
+    # before stepping aside
+    passed, text, _ = _gives_way(_aisle(steps_aside_at=22.5, looks_back_from=0.0), one)
+    assert not passed and "window" not in text
 
 
 def _door(aside_from: float) -> object:
