@@ -141,3 +141,22 @@ def test_no_key_in_any_form_reaches_the_terminal_or_the_run_folder(tmp_path, cli
     for secret in ("sk-terminal-KEY-0123456789", "pw-Secret9", "AZ-777"):
         assert secret not in shown
     assert not out.exists()  # no reply ever came: the run folder it created is gone (issue 30)
+
+
+def test_an_interrupt_that_left_the_manifest_lock_held_still_writes_the_manifest(tmp_path):
+    """Ctrl+C or SIGTERM landing between a `with lock` acquiring and entering its block leaves the lock held by the
+    interrupted thread itself; the interrupted run's last save must not wait for it for ever (CI saw a generate hang
+    past 30 s after Ctrl+C), and still writes `failed`."""
+    from socnavgen.proposal.conversation import INTERRUPTED_WAIT, Recorder
+    from socnavgen.run import Manifest
+
+    run = RunFolder(tmp_path / "run")
+    run.root.mkdir()
+    manifest = Manifest(socnavgen_version="0", created="now", llm="replay:x", status="running")
+    recorder = Recorder(run, manifest)
+    assert recorder._lock.acquire()  # what the interrupted `with` left behind
+    manifest.status = "failed"
+    started = time.monotonic()
+    recorder.save(interrupted=True)
+    assert time.monotonic() - started < INTERRUPTED_WAIT + 1.0
+    assert json.loads(run.manifest_path.read_text())["status"] == "failed"

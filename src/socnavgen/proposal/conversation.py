@@ -26,6 +26,7 @@ from socnavgen.run import Manifest, RunFolder, StageRecord
 
 T = TypeVar("T", bound=BaseModel)
 MAX_ECHO_CHARS = 12_000  # a runaway reply is cut before it goes back into the chat history
+INTERRUPTED_WAIT = 2.0  # s: the most an interrupted run waits for the manifest lock (Recorder.save)
 
 
 @dataclass
@@ -80,9 +81,18 @@ class Recorder:
         names = [stage] if key is None else [stage, f"{stage}:{key}"] if aggregate else [f"{stage}:{key}"]
         return [self.manifest.stages.setdefault(name, StageRecord()) for name in names]
 
-    def save(self) -> None:
-        with self._lock:
+    def save(self, interrupted: bool = False) -> None:
+        """Write manifest.json. After an interrupt, never wait for ever: Ctrl+C or SIGTERM can land between a
+        `with self._lock` acquiring the lock and entering its block, leaving it held by this very thread (one
+        way a generate interrupted mid-request could hang, as one did once in CI past the 30 s its test allows;
+        not reproduced since); the manifest is then written anyway after INTERRUPTED_WAIT s, so the run says
+        `failed`, never `running`."""
+        got = self._lock.acquire(timeout=INTERRUPTED_WAIT if interrupted else -1)
+        try:
             self.run.write_manifest(self.manifest)
+        finally:
+            if got:
+                self._lock.release()
 
     def update(self, stage: str, key: str | None, fn: Callable[[StageRecord], None], aggregate: bool = True) -> None:
         with self._lock:

@@ -148,7 +148,7 @@ def generate(request: ScenarioRequest, llm: LLM, out: Path, *, redo: set[str] | 
         raise
     except BaseException as exc:  # interrupted: the files written so far are complete; resume later
         _mark_failed(manifest, f"interrupted ({type(exc).__name__}: {exc})")
-        recorder.save()
+        recorder.save(interrupted=True)
         raise
     if report is not None and not report.passed:
         manifest.status = "failed"
