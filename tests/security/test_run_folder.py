@@ -42,10 +42,12 @@ def test_generate_on_a_locked_folder_exits_2_without_touching_it(tmp_path, cli, 
     assert not out.exists() or list(out.iterdir()) == []
 
 
-def _slow_server() -> subprocess.Popen:
-    code = ("import http.server, time\n"
+def _slow_server(flag: Path) -> subprocess.Popen:
+    """A chat server that never answers; it touches `flag` when a request arrives (then the request is in flight)."""
+    code = ("import http.server, pathlib, time\n"
             "class H(http.server.BaseHTTPRequestHandler):\n"
             "    def do_POST(self):\n"
+            f"        pathlib.Path({str(flag)!r}).touch()\n"
             "        time.sleep(60)\n"
             "    def log_message(self, *a): pass\n"
             "s = http.server.HTTPServer(('127.0.0.1', 0), H)\n"
@@ -56,7 +58,8 @@ def _slow_server() -> subprocess.Popen:
 
 @pytest.mark.parametrize("sig, code", [(signal.SIGTERM, 143), (signal.SIGINT, 130)])
 def test_sigterm_or_ctrl_c_mid_generate_leaves_the_manifest_failed_not_running(tmp_path, location, sig, code):
-    server = _slow_server()
+    flag = tmp_path / "request-in-flight"
+    server = _slow_server(flag)
     try:
         port = server.stdout.readline().strip()
         out = tmp_path / "run"
@@ -65,11 +68,11 @@ def test_sigterm_or_ctrl_c_mid_generate_leaves_the_manifest_failed_not_running(t
             [sys.executable, "-c", "from socnavgen.cli import main; main()", "generate", "--location", str(location),
              "--context", "c", "--task", "t", "--llm", f"openai:m@http://127.0.0.1:{port}/v1", "--out", str(out),
              "--no-image"], env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-        for _ in range(300):  # wait until the request is in flight (manifest written as running)
-            manifest = out / "manifest.json"
-            if manifest.is_file() and json.loads(manifest.read_text())["status"] == "running":
+        for _ in range(1200):  # wait until the request is in flight: the server has it (the process may first
+            if flag.exists():  # compile the simulator's kernels on a cold cache, which no signal interrupts)
                 break
             time.sleep(0.05)
+        assert json.loads((out / "manifest.json").read_text())["status"] == "running"
         time.sleep(0.3)
         proc.send_signal(sig)
         _, err = proc.communicate(timeout=30)
