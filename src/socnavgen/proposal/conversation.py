@@ -83,10 +83,8 @@ class Recorder:
 
     def save(self, interrupted: bool = False) -> None:
         """Write manifest.json. After an interrupt, never wait for ever: Ctrl+C or SIGTERM can land between a
-        `with self._lock` acquiring the lock and entering its block, leaving it held by this very thread (one
-        way a generate interrupted mid-request could hang, as one did once in CI past the 30 s its test allows;
-        not reproduced since); the manifest is then written anyway after INTERRUPTED_WAIT s, so the run says
-        `failed`, never `running`."""
+        `with self._lock` acquiring the lock and entering its block, leaving it held by this very thread; the
+        manifest is then written anyway after INTERRUPTED_WAIT s, so the run says `failed`, never `running`."""
         got = self._lock.acquire(timeout=INTERRUPTED_WAIT if interrupted else -1)
         try:
             self.run.write_manifest(self.manifest)
