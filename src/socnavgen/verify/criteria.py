@@ -18,6 +18,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from itertools import combinations
 
 from socnavgen.bodies import CONTACT_MARGIN
 from socnavgen.run.spec import Criterion, Encounter, HumanPart, ScenarioSpec
@@ -340,11 +341,6 @@ def _robot_stops(c: Criterion, ctx: Context, out: Compiled) -> None:
                    f"(robot_to_{enc.id} <= {w:g}))))")
 
 
-def stop_pairs(names: list[str]) -> list[tuple[str, str]]:
-    """The pairs of a stop_together whose walkable distance is judged (each with each)."""
-    return [(a, b) for k, a in enumerate(names) for b in names[k + 1:]]
-
-
 def _stop_together(c: Criterion, ctx: Context, out: Compiled) -> None:
     names = list(dict.fromkeys(c.humans or ([c.human] if c.human else [])))
     if len(names) < 2:
@@ -354,7 +350,7 @@ def _stop_together(c: Criterion, ctx: Context, out: Compiled) -> None:
     # each has walked (a stop, not two who stood there from the start), all stand at once, each within D of each
     # along the walkable way (never through a wall), for S s as seen; at the encounter's place when it names one
     parts = [f"{_b(f'moved_{h}')} and (speed_{h} <= {STOP_SPEED:g})" for h in names]
-    parts += [f"(way_{a}_{b} <= {d:g})" for a, b in stop_pairs(names)]
+    parts += [f"(way_{a}_{b} <= {d:g})" for a, b in combinations(names, 2)]
     enc = out.encounter if c.encounter else None
     if enc is not None:
         parts += [f"({h}_to_{enc.id} <= {enc.within + d:g})" for h in names]

@@ -5,11 +5,12 @@ from __future__ import annotations
 
 import re
 from collections.abc import Callable
+from itertools import combinations
 
 import numpy as np
 
 from socnavgen.sim import contact
-from socnavgen.verify.criteria import Compiled, notice_range, stop_pairs
+from socnavgen.verify.criteria import Compiled, notice_range
 from socnavgen.verify.passing import back_in_way, short_step, undone
 from socnavgen.verify.people import people_evidence
 from socnavgen.verify.signals import Signals, aside
@@ -431,7 +432,7 @@ def _stop_together_evidence(cc: Compiled, s: Signals) -> Evidence:
     """The closest the named people came while all of them stood still."""
     names = list(dict.fromkeys(cc.criterion.humans or [cc.human or ""]))
     still = np.all([s.get(f"speed_{h}") <= STOP_SPEED for h in names], axis=0)
-    widest = np.max([s.get(f"way_{a}_{b}") for a, b in stop_pairs(names)], axis=0)
+    widest = np.max([s.get(f"way_{a}_{b}") for a, b in combinations(names, 2)], axis=0)
     if not still.any():
         k = int(np.argmin(widest))
         return (f"{' and '.join(names)} never stood still at the same time (closest together {widest[k]:.2f} m at "
