@@ -25,7 +25,8 @@ PATHS = fixture_paths(FIXTURES)
 # replayed on the ninth session's code; the eyes of rounds 15-16 and of hospital_07 / hospital_10 are round 15's
 # (sessions that read no code and saw no verdict), the others round 14's; home_03 and warehouse_12 were re-answered
 # live in round 18 and judged, with hospital_04 and hospital_10 (whose runs the tenth session's group circle
-# changed), in round 16 of the eyes. Three lenient passes (a walker held at the start, a robot's wait at a distance,
+# changed), in round 16 of the eyes; home_09 and warehouse_13 re-answered live in round 19 (their recordings ended under
+# the tenth session's simulator) and judged in round 17 of the eyes. Three lenient passes (a walker held at the start, a robot's wait at a distance,
 # a robot that stops short of a doorway someone stands in) and one strict fail (a step aside too short for the
 # robot, called a weak point by eye).
 DISAGREE: dict[str, str] = {

@@ -228,16 +228,14 @@ def _findings(path: Path) -> dict[str, list[str]]:
     return {k: v for k, v in found.items() if v}
 
 
-# Every recorded answer of the suite the prose checks refuse, and why that is right (rounds 16 and 18 re-answered
+# Every recorded answer of the suite the prose checks refuse, and why that is right (rounds 16, 18 and 19 re-answered
 # home_03, home_09, warehouse_10 and warehouse_12 live with these checks: the answers refused there are the model's
 # before it fixed them).
 REFUSED = {
     ("home_03_welcome_dinner_guests", "scenario[0]"): "human2 'behind Human 1' in the hallway with no criterion "
     "relating the two guests (the live model of round 18 then dropped the order: the rough says only 'single file')",
     ("home_09_telepresence_grandma_kids_follow", "scenario[0]"): "right behind the robot, allowed 4 m (the live model "
-    "then stated how far behind each child walks)",
-    ("home_09_telepresence_grandma_kids_follow", "scenario[2]"): "the younger child right behind the older, a "
-    "follows_human allowing 4 m",
+    "of round 19 then allowed at most 2.8 m)",
     ("warehouse_10_against_the_unloading_crew", "scenario[0]"): "right behind the crew, a follows_human allowing 4 m "
     "(the live model then allowed 3.1 m)",
     ("hospital_06_night_wandering_patient", "paths[1]"): "a re-ask answer that reverses the nurse's walk (1g zs i1 "
