@@ -35,9 +35,12 @@ def short_of_goal_steps(trace: Trace, goal: tuple[float, float] | None = None, w
         person = trace.humans[:, k, X] + 1j * trace.humans[:, k, Y]
         gap = np.abs(person - robot) - radii[k] - float(trace.robot_radius)
         speed = np.hypot(trace.humans[:, k, VX], trace.humans[:, k, VY])
-        seen = world.segments_clear(robot, person) if world is not None else np.ones(trace.steps, dtype=bool)
-        out |= proxemics.short_of_goal(robot_to_goal, np.abs(person - target), gap, speed, robot_speed,
-                                       float(trace.robot_radius), float(radii[k]), seen.astype(float))
+        short = proxemics.short_of_goal(robot_to_goal, np.abs(person - target), gap, speed, robot_speed,
+                                        float(trace.robot_radius), float(radii[k]), 1.0)
+        ks = np.flatnonzero(short)  # `seen` only ANDs: the line of sight asked only where all else holds
+        if world is not None and len(ks):
+            short[ks] = world.segments_clear(robot[ks], person[ks])
+        out |= short
     return _stood(out & no_nearer_spot(trace, target, out, world), trace)
 
 
