@@ -238,6 +238,9 @@ REFUSED = {
     "of round 19 then allowed at most 2.8 m)",
     ("warehouse_10_against_the_unloading_crew", "scenario[0]"): "right behind the crew, a follows_human allowing 4 m "
     "(the live model then allowed 3.1 m)",
+    ("home_16_hide_and_seek_laundry", "paths[0]"): "the children come to 41 from vh in the text, their paths from "
+    "iq out of the main bedroom (round 20's live model then moved them to the living room's east end, as stage 1 was "
+    "asked)",
     ("hospital_06_night_wandering_patient", "paths[1]"): "a re-ask answer that reverses the nurse's walk (1g zs i1 "
     "pf tw, her text: from tw through pf to i1 and on to cs); the replay never reaches it (the first answers verify)",
 }
@@ -245,7 +248,7 @@ REFUSED = {
 
 def test_on_the_suites_recorded_answers_the_checks_refuse_only_what_the_text_does_not_say():
     """Exactly the answers above are refused, each an answer whose spec or plan says less than (or other than) its
-    prose; every other recorded answer of the 42 passes the checks."""
+    prose; every other recorded answer of the 48 passes the checks."""
     refused = {(p.stem, k) for p in sorted(FIXTURES.glob("*.yaml")) for k in _findings(p)}
     assert refused == set(REFUSED)
 
