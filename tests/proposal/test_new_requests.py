@@ -25,15 +25,11 @@ PATHS = fixture_paths(FIXTURES)
 # replayed on the ninth session's code; the eyes of rounds 15-16 and of hospital_07 / hospital_10 are round 15's
 # (sessions that read no code and saw no verdict), the others round 14's; home_03 and warehouse_12 were re-answered
 # live in round 18 and judged, with hospital_04 and hospital_10 (whose runs the tenth session's group circle
-# changed), in round 16 of the eyes. Three lenient passes (a walker held at the start, a robot's wait at a distance,
-# a robot that stops short of a doorway someone stands in) and one strict fail (a step aside too short for the
-# robot, called a weak point by eye).
+# changed), in round 16 of the eyes. Two lenient passes (a walker held at the start, a robot's wait at a distance)
+# and one strict fail (a step aside too short for the robot, called a weak point by eye). hospital_04 agrees since
+# the eleventh session: its "doctor goes first" held at t = 0 (verify/witness.held_at_the_start), a spec failure
+# whose re-ask ends the recording (it stops the robot 1.2 m short of the doorway someone stands in: still an arrival).
 DISAGREE: dict[str, str] = {
-    "hospital_04_telepresence_ward_round": "lenient PASS: the robot waits ~1.7 m behind the cluster and the doctor goes "
-    "in first, but the nurse goes through before the second resident (the text: last of the team), and the robot "
-    "never goes through the doorway: it stops in the corridor ~1.2 m south of the door with the second resident "
-    "standing just inside, where its goal x5 counts as reached 'at a social distance from someone standing there'; "
-    "the doctor's 'goes first' formula held at t=0, his spawn spot on the group's circle within 0.8 m of the door",
     "hospital_10_meal_tray_family_in_doorway": "strict FAIL: the robot stops ~2.3 m short and says EXCUSE ME, the "
     "family shuffles aside and the robot threads through a ~0.9 m gap into the room without touching anyone (eyes: "
     "yes); the verifier fails the first visitor's give-way, she moved 0.43 m off the robot's route within 6 s, still "
