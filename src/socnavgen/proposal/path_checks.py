@@ -65,7 +65,7 @@ def check_paths(reply: PathsReply, graph: nx.Graph, humans: list[str], spec: Sce
         mistakes.append(f"the robot path needs at least two nodes (a start and a goal), it has {len(robot)}")
     mistakes += check_path(graph, "robot path", robot)
     mistakes += route_problems(robot)
-    mistakes += _doorway_goal(graph, robot)
+    mistakes += doorway_goal(graph, robot)
 
     paths = _by_human(trajectories, "trajectories", humans, mistakes)
     groups = _by_human(reply.group_ids, "group_ids", humans, mistakes)
@@ -106,7 +106,7 @@ def check_paths(reply: PathsReply, graph: nx.Graph, humans: list[str], spec: Sce
     return mistakes
 
 
-def _doorway_goal(graph: nx.Graph, robot: list[str]) -> list[str]:
+def doorway_goal(graph: nx.Graph, robot: list[str]) -> list[str]:
     """A robot route may not end in a doorway between two spaces (a doorway-family node with two or more
     neighbours; an outer door, one neighbour, is a place to go to): a doorway is a passage, and a robot stopping in it
     blocks it, or is held back in the hall by whoever stops just past it and counts as arrived there (hospital_04:
