@@ -27,24 +27,23 @@ PATHS = fixture_paths(FIXTURES)
 # (sessions that read no code and saw no verdict), the others round 14's; home_03 and warehouse_12 were re-answered
 # live in round 18 and judged, with hospital_04 and hospital_10 (whose runs the tenth session's group circle
 # changed), in round 16 of the eyes; home_09 and warehouse_13 re-answered live in round 19 (their recordings ended under
-# the tenth session's simulator) and judged in round 17 of the eyes. Three lenient passes (a walker held at the start, a robot's wait at a distance,
-# a robot that stops short of a doorway someone stands in) and one strict fail (a step aside too short for the
-# robot, called a weak point by eye).
+# the tenth session's simulator) and judged in round 17 of the eyes; six new requests of round 20 answered live on the
+# tenth session's final code and judged in round 18. One lenient pass (a robot's wait at a distance), one strict fail
+# (a step aside too short for the robot, called a weak point by eye) and one recording that ends (home_05). Agreeing
+# since the eleventh session: hospital_06 (its patient held at the bench is a required `walks` failure, way_in.py) and
+# hospital_04 (its "doctor goes first" held at t = 0, verify/witness.held_at_the_start: a spec failure whose re-ask
+# ends the recording; its robot stopping 1.2 m short of the doorway someone stands in is still an arrival).
 DISAGREE: dict[str, str] = {
-    "hospital_04_telepresence_ward_round": "lenient PASS: the robot waits ~1.7 m behind the cluster and the doctor goes "
-    "in first, but the nurse goes through before the second resident (the text: last of the team), and the robot "
-    "never goes through the doorway: it stops in the corridor ~1.2 m south of the door with the second resident "
-    "standing just inside, where its goal x5 counts as reached 'at a social distance from someone standing there'; "
-    "the doctor's 'goes first' formula held at t=0, his spawn spot on the group's circle within 0.8 m of the door",
     "hospital_10_meal_tray_family_in_doorway": "strict FAIL: the robot stops ~2.3 m short and says EXCUSE ME, the "
     "family shuffles aside and the robot threads through a ~0.9 m gap into the room without touching anyone (eyes: "
     "yes); the verifier fails the first visitor's give-way, she moved 0.43 m off the robot's route within 6 s, still "
     "inside the 0.85 m its body sweeps, and the robot waited till 20.5 s (the eyes saw the same short step and "
     "called it a weak point)",
-    "hospital_06_night_wandering_patient": "lenient PASS: the patient stands at 8z until the robot calls her at ~40 s; "
-    "she never wanders toward the south elevator, so the interception the text is about does not happen "
-    "(verify/way_in.py's `walks` sees it, a warning while WALKS_REQUIRED is off: required, home_05's recording ends "
-    "and the cards' crowding people, walkers held by pacing, fail)",
+    "home_05_serving_drinks_at_party": "recording ends (eyes: yes on the final run): the first answer's guest "
+    "human3 stands in the bathroom h9 for 31 s (walked 0.23 m) until the robot comes into view, while her text has "
+    "her come out on her way to the dining area; verify/way_in.py's `walks` decides where the spec states the walk "
+    "(since the eleventh session), so the loop re-asks the paths in round 1, which the live run never was: "
+    "re-record it live",
     "warehouse_04_pallet_jack_backing_out": "lenient PASS: the robot does not stop ~3 m short; it drives up to the "
     "aisle mouth at sh within ~2 m of the worker backing out, then dodges north between the racks, and the worker's "
     "stop to swing the jack happens inside the aisle end, not across the cross aisle (no criterion says where the "

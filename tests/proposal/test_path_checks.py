@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 from gen_helpers import paths_reply
 
@@ -10,6 +12,7 @@ from socnavgen.proposal.path_checks import check_paths, to_path_plan
 from socnavgen.proposal.replies import PathsReply
 
 HUMANS = ["human1", "human2"]
+ROOT = Path(__file__).resolve().parents[2]
 
 # (changes to a valid reply, the exact message expected among the mistakes)
 MISTAKES = {
@@ -118,3 +121,24 @@ def test_numeric_node_ids_are_read_as_text(graph):
     reply = paths_reply(trajectories={"robot": [32, "ch"], "human1": ["ch"], "human2": ["ch"]},
                         interaction_points={"human1": "ch", "human2": "ch"})
     assert check_paths(PathsReply.model_validate(reply), graph, HUMANS) == []
+
+
+def test_a_robot_route_ending_in_a_doorway_between_two_spaces_is_refused():
+    """hospital_04: the robot's route ended in the doorway x5 (the text: "stops just inside the room zx"); the resident
+    who stopped just past the door then held it 1.2 m back in the corridor, and that counted as arrived. A doorway is a
+    passage, not a place to stop: the route ends in the room beyond it or before it. An outer door (an ENTRANCE with
+    one neighbour, the home's front door g9) is a place to go to."""
+    hospital = load_location(ROOT / "examples/locations/hospital")
+
+    def doorway(robot: list[str], where=hospital) -> list[str]:  # noqa: ANN001
+        reply = PathsReply.model_validate({"reasoning": "r", "trajectories": {"robot": robot}, "group_ids": {},
+                                           "interaction_points": {}})
+        return [m for m in check_paths(reply, where.graph, []) if "doorway" in m]
+
+    refused = doorway(["cs", "zs", "i1", "x5"])
+    assert len(refused) == 1 and "ends in the doorway x5" in refused[0], refused
+    assert "zx" in refused[0] and "i1" in refused[0], refused  # the nodes on either side, to end at instead
+    assert doorway(["cs", "zs", "i1", "x5", "zx"]) == []  # through it into the room
+    assert doorway(["cs", "zs", "i1"]) == []  # before it
+    home = load_location(ROOT / "examples/locations/home")
+    assert doorway(["41", "vh", "z2", "i6", "g9"], home) == []  # the front door: an outer door, one neighbour

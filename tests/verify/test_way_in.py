@@ -15,7 +15,7 @@ from socnavgen.run.spec import Criterion, Encounter, HumanPart, Person, RobotScr
 from socnavgen.sim.trace import Trace
 from socnavgen.verify import verify_trace
 from socnavgen.verify.models import VerifySettings
-from socnavgen.verify.way_in import WALKS_REQUIRED, WayIn, judge_way_in, way_reach, ways_in
+from socnavgen.verify.way_in import WayIn, judge_way_in, way_reach, ways_in
 
 from .corpus import Scene, build, make_corner_location, write_case_run
 
@@ -23,9 +23,9 @@ A, B, C = (0.0, 0.0), (0.0, -10.0), (5.0, -10.0)
 SETTINGS = VerifySettings()
 
 
-def _way(walker: bool = True) -> WayIn:
+def _way(walker: bool = True, stated: bool = True) -> WayIn:
     return WayIn(human="human1", encounter="e1", node="c", within=1.5, nodes=("a", "b", "c"), points=(A, B, C),
-                 reach=(1.2, 1.2, 1.2), walker=walker, source="spec")
+                 reach=(1.2, 1.2, 1.2), walker=walker, source="spec", stated=walker and stated)
 
 
 def _trace(keys: list[tuple[float, float, float]], turns: float | None = None, duration: float = 40.0) -> Trace:
@@ -94,7 +94,16 @@ def test_a_walker_who_stood_at_their_start_until_the_robot_called_fails() -> Non
     found = judge_way_in(_way(), _trace(keys, turns=20.0), SETTINGS)
     assert not found.passed and found.blame == "paths", found
     assert "stood at their start a (walked 0.00 m) until their tree turned to the robot at 20.0 s" in found.evidence
-    assert found.required == WALKS_REQUIRED  # a warning until the cards' walkers walk (module doc)
+    assert found.required  # the spec states her walk (people.human1.otherwise: walk): it decides
+
+
+def test_a_walker_by_default_only_held_at_their_start_is_a_warning() -> None:
+    """A spec that states nothing of the person (a card's: its crowding people walk up to the robot once they see
+    it, held at their start by pacing till then) walks by default only: the same standing is shown, not decided."""
+    keys = [(0.0, *A), (20.0, *A), (30.0, *B), (35.0, *C), (40.0, *C)]
+    found = judge_way_in(_way(stated=False), _trace(keys, turns=20.0), SETTINGS)
+    assert not found.passed and not found.required, found
+    assert "stood at their start a" in found.evidence
 
 
 def test_a_follower_called_at_the_start_comes_in_with_the_reaction() -> None:
@@ -144,7 +153,12 @@ def test_every_run_is_judged_on_it(tmp_path: Path) -> None:
     report = verify_trace(run, trace)
     found = [f for f in report.findings if f.kind == "way_in"]
     assert len(found) == 1 and not found[0].passed, found
-    assert (found[0] in report.failures) == WALKS_REQUIRED and (found[0] in report.warnings) != WALKS_REQUIRED
+    assert found[0] in report.failures and found[0] not in report.warnings and not report.passed  # people states it
+    unstated = spec.model_copy(update={"people": {}})  # the walk only by default: shown as a warning
+    run = write_case_run(tmp_path / "run2", make_corner_location(tmp_path / "loc2"), unstated, plan)
+    report = verify_trace(run, trace)
+    found2 = [f for f in report.findings if f.kind == "way_in"]
+    assert len(found2) == 1 and found2[0] in report.warnings and found2[0] not in report.failures, found2
     assert found[0].name == "human1 comes to east (e1) along their way north -> corner -> east"
     assert "stood at their start north" in found[0].evidence
 
@@ -160,3 +174,8 @@ def test_no_way_in_for_a_person_who_starts_at_their_encounter() -> None:
     assert [(w.nodes, w.walker) for w in found] == [(("a", "b", "c"), True)]
     assert found[0].reach == (1.2, way_reach(1.4), 1.2)
     assert not ways_in(plan, spec, points, {}, authored=False)[0].walker  # a derived spec says nobody walks
+    assert not found[0].stated  # walks by default only: `people` does not list human1
+    spec.people = {"human1": Person(speed=0.8)}  # listed (spec.json writes its `otherwise: walk` out)
+    assert ways_in(plan, spec, points, {})[0].stated
+    spec.people = {"human1": Person(otherwise="stand")}
+    assert not ways_in(plan, spec, points, {})[0].walker

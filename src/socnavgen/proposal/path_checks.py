@@ -13,6 +13,7 @@ from socnavgen.bodies import TOUCH_DISTANCE
 from socnavgen.location import Location
 from socnavgen.location.inventory import BLIND_MARGIN, PASS_WIDTH
 from socnavgen.location.placement import Walker, node_distance, route_problems, start_problems
+from socnavgen.location.places import type_matches
 from socnavgen.location.scene_graph import path_mistakes
 from socnavgen.proposal.conversation import Upstream
 from socnavgen.proposal.facts import approach_room
@@ -64,6 +65,7 @@ def check_paths(reply: PathsReply, graph: nx.Graph, humans: list[str], spec: Sce
         mistakes.append(f"the robot path needs at least two nodes (a start and a goal), it has {len(robot)}")
     mistakes += check_path(graph, "robot path", robot)
     mistakes += route_problems(robot)
+    mistakes += doorway_goal(graph, robot)
 
     paths = _by_human(trajectories, "trajectories", humans, mistakes)
     groups = _by_human(reply.group_ids, "group_ids", humans, mistakes)
@@ -102,6 +104,26 @@ def check_paths(reply: PathsReply, graph: nx.Graph, humans: list[str], spec: Sce
             mistakes += _room_mistakes(reply, spec, location)
             mistakes += _approach_mistakes(reply, spec, location, robot, paths)
     return mistakes
+
+
+def doorway_goal(graph: nx.Graph, robot: list[str]) -> list[str]:
+    """A robot route may not end in a doorway between two spaces (a doorway-family node with two or more
+    neighbours; an outer door, one neighbour, is a place to go to): a doorway is a passage, and a robot stopping in it
+    blocks it, or is held back in the hall by whoever stops just past it and counts as arrived there (hospital_04:
+    the route ended in the door x5 while its text has the robot stop just inside the room)."""
+    goal = robot[-1] if robot else None
+    if goal is None or goal not in graph or graph.degree(goal) < 2 or \
+            not type_matches(str(graph.nodes[goal].get("type", "")), "doorway"):
+        return []
+    sides = " or ".join(sorted(str(n) for n in graph.neighbors(goal)))
+    return [Upstream(
+        f"the robot's path ends in the doorway {goal}: a doorway is a passage, not a place to stop (the robot would "
+        f"block it, or be held back by anyone who stops just past it); end the robot's path on either side of it "
+        f"({sides}): in the room, or before the door; if the text has the robot stop in the doorway itself, keep "
+        f"your answer and say so: stage 1 is then asked",
+        key=f"doorway_goal:{goal}", upstream=(
+            f"the text has the robot stop in the doorway {goal}, a passage (it would block it, or be held back by "
+            f"anyone who stops just past it): have it stop in the room beyond ({sides}) or before the door"))]
 
 
 def _met(spec: ScenarioSpec, enc: Encounter, human: str) -> bool:

@@ -38,7 +38,7 @@ from socnavgen.proposal.facts import (
     stop_evidence_text,
 )
 from socnavgen.proposal.fit import NOTHING, Cut, Note, examples_kept, fit_prompt
-from socnavgen.proposal.path_checks import check_paths
+from socnavgen.proposal.path_checks import check_paths, doorway_goal
 from socnavgen.proposal.path_grammar import paths_grammar
 from socnavgen.proposal.replies import PathsReply
 from socnavgen.proposal.templates import render
@@ -144,8 +144,8 @@ def map_examples(graph: nx.Graph, seed: int = 0, location: Location | None = Non
     rng = random.Random(seed + 1)
     examples: list[tuple[str, list[str], dict]] = []
 
-    def clear(robot: list[str], walkers: list[Walker]) -> bool:
-        return location is None or not start_problems(location, robot, walkers)
+    def clear(robot: list[str], walkers: list[Walker]) -> bool:  # the examples keep stage 2's own rules
+        return not doorway_goal(graph, robot) and (location is None or not start_problems(location, robot, walkers))
 
     routes = [p for a, targets in sorted(nx.all_pairs_shortest_path(graph)) for b, p in sorted(targets.items())
               if a < b and len(p) >= 3]

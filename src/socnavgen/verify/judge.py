@@ -25,6 +25,7 @@ from socnavgen.verify.thresholds import DEFAULT_GOAL_RADIUS, MIN_RUN_SECONDS
 from socnavgen.verify.way_end import RoomEnd, room_end_findings, room_ends
 from socnavgen.verify.way_in import WayIn, way_in_findings, ways_in
 from socnavgen.verify.windows import encounter_window
+from socnavgen.verify.witness import held_at_the_start
 
 
 def _title(c: Criterion) -> str:
@@ -139,6 +140,13 @@ def judge_criterion(c: Criterion, source: Source, spec: ScenarioSpec, plan: Path
         "passed": passed, "evidence": shown, "robustness": robustness,
         "time": None if time is None else round(float(time), 3),
         "distance": None if distance is None else round(float(distance), 2)})
+    started = held_at_the_start(cc.formula, signals) if passed and c.kind == "stl" and source == "spec" else None
+    if started:  # an authored order witnessed by the start positions alone (verify/witness.py)
+        return _with_blame(finding.model_copy(update={"passed": False, "evidence": f"{text}; {started}",
+                                                      "robustness": None}),
+                           "spec", None, "write the order so that it happens during the run: its later event must "
+                                         "not already hold where people start (a tighter distance, or a person "
+                                         "first away from the place and then at it)")
     if passed:
         return finding
     if problem:

@@ -12,7 +12,11 @@ their encounter's node from somewhere else:
   tree turns to the robot (the trace's behavior state leaves "regular"), unless it turns at once (within STOP_HOLD
   of the start: called at the start, the reaction itself brings them in). A follower, a give-way or a blocker
   whose reaction takes them in from the start is that exception; a person standing (`otherwise: stand`) has no
-  walk of their own before the reaction.
+  walk of their own before the reaction. Required where the spec states the walk (the person listed in
+  `people`, `otherwise: walk`, as stage 1 writes it from the text: hospital_06's patient "gets up and heads across the lobby");
+  a warning where the walk is only the default (the cards' specs state no people: their crowding and following
+  people are walkers by the tree contract, every card template ending in REGULAR, held at their start by pacing
+  until the robot comes into sight, and their card's text has them walk up to the robot only then).
 """
 
 from __future__ import annotations
@@ -31,14 +35,6 @@ from socnavgen.verify.thresholds import MOVED_DISTANCE, STOP_HOLD, WAY_REACH
 from socnavgen.verify.windows import encounters_of
 
 KIND = "way_in"
-# `walks` is a warning for now: on the replayed new-request suite it finds hospital_06's patient held at the bench
-# (eyes: no), and also the first answer of home_05 (a guest held in the bathroom until the robot came into view), whose
-# recorded --verify loop never saw it: required, it re-asks the paths in round 1 and the recording ends. The cards'
-# people meant to "walk up to the robot" (robot-crowding, following) are walkers by the tree contract (every card
-# template ends in REGULAR; `otherwise: stand` asks for a standing last branch, proposal/tree_needs._stand_mistakes),
-# held at their start by pacing like hospital_06's patient: required, 4 scripted crowding episodes fail (report_route.md,
-# report_lenient.md). Make it required with a card change that starts them walking, or trees that stand.
-WALKS_REQUIRED = False
 
 
 @dataclass(frozen=True)
@@ -54,6 +50,7 @@ class WayIn:
     reach: tuple[float, ...]  # m: each node is passed this close (way_reach)
     walker: bool  # the spec has them walk when not reacting
     source: Source
+    stated: bool = False  # the spec states that walk (they are listed in its `people`): `walks` is then required
 
 
 def way_reach(clearance: float) -> float:
@@ -78,9 +75,11 @@ def ways_in(plan: PathPlan, spec: ScenarioSpec, node_points: dict[str, tuple[flo
         if any(n not in node_points for n in nodes):
             continue
         walker = authored and spec.person(h.name).otherwise == "walk"
+        stated = walker and h.name in spec.people  # spec.json writes every listed person's `otherwise` out
         out.append(WayIn(human=h.name, encounter=enc.id, node=node, within=enc.within, nodes=nodes,
                          points=tuple(node_points[n] for n in nodes),
-                         reach=tuple(way_reach(clearance.get(n, 0.0)) for n in nodes), walker=walker, source=source))
+                         reach=tuple(way_reach(clearance.get(n, 0.0)) for n in nodes), walker=walker, source=source,
+                         stated=stated))
     return out
 
 
@@ -157,7 +156,7 @@ def judge_way_in(way: WayIn, trace: Trace, settings: VerifySettings) -> Finding:
                    f"{way.encounter}, and they had not walked it when it began")
             return base.model_copy(update={
                 "passed": False, "evidence": why, "time": round(float(t[react]), 3), "distance": round(walked, 2),
-                "blame": "paths", "stage": "paths", "required": WALKS_REQUIRED,
+                "blame": "paths", "stage": "paths", "required": way.stated,
                 "blame_reason": f"{way.human} was held at the start (paced to reach {way.node} with the robot) until "
                                 f"the robot was already there: start {way.human} farther back along the way, so that "
                                 f"they are walking it when the robot comes"})
@@ -166,5 +165,5 @@ def judge_way_in(way: WayIn, trace: Trace, settings: VerifySettings) -> Finding:
 
 
 def way_in_findings(ways: list[WayIn], trace: Trace, settings: VerifySettings) -> list[Finding]:
-    """One finding per planned way in (a `walks` failure only warns unless WALKS_REQUIRED)."""
+    """One finding per planned way in (a `walks` failure only warns where the spec does not state the walk)."""
     return [judge_way_in(way, trace, settings) for way in ways]

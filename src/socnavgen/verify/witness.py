@@ -47,19 +47,24 @@ def _text(node: Any) -> str:
     return re.sub(r"\s*(<=|>=|==|!=|<|>|->)\s*", r" \1 ", bare)
 
 
+def _walker(formula: str, s: Signals) -> tuple[Any, Any]:
+    """The formula's top node as rtamt parsed it, and the walker that evaluates its parts on this trace."""
+    names = formula_signals(formula)
+    spec = _parsed(formula, tuple(names), _period(s))
+    if not spec.set_ast_flag:
+        spec.offline_interpreter.set_ast(spec.ast)
+        spec.set_ast_flag = True
+    return spec.ast.specs[-1], stl_numpy._Walker({n: s.get(n) for n in names}, len(s.t),
+                                                 spec.offline_interpreter.time_unit_transformer)
+
+
 def decisive(formula: str, s: Signals) -> tuple[float, str] | None:
     """(time, text) of the step that decides `formula` on this trace and what its signals were then; None when
     the formula cannot be walked (it is then shown per signal)."""
-    names = formula_signals(formula)
     try:
-        spec = _parsed(formula, tuple(names), _period(s))
-        if not spec.set_ast_flag:
-            spec.offline_interpreter.set_ast(spec.ast)
-            spec.set_ast_flag = True
-        walker = stl_numpy._Walker({n: s.get(n) for n in names}, len(s.t),
-                                   spec.offline_interpreter.time_unit_transformer)
+        root, walker = _walker(formula, s)
         with np.errstate(invalid="ignore", over="ignore"):
-            k, why, node = _walk(spec.ast.specs[-1], 0, walker, [])
+            k, why, node = _walk(root, 0, walker, [])
     except Exception:  # noqa: BLE001 - evidence only: the verdict itself comes from stl.monitor
         return None
     if k is None or not why:  # no temporal operator walked (a since at the top): the per-signal view says more
@@ -72,6 +77,33 @@ def decisive(formula: str, s: Signals) -> tuple[float, str] | None:
     else:
         what = _values(formula_signals(_text(node)), s, k)
     return t, f"at t={t:.1f} s ({'; '.join(why)}): {what}"
+
+
+def held_at_the_start(formula: str, s: Signals) -> str | None:
+    """Why an order the formula claims was witnessed only by where people start, else None: an `a until b` (the
+    whole formula, or a part of a top-level `and`) whose b already held at t = 0 orders nothing that happened in
+    the run (hospital_04: "the doctor goes through the door first" held at t = 0, his spawn spot within the
+    formula's 0.8 m of the door). Only authored claims are asked (judge.py): an implied "e1 before e2" may start
+    met, a guide beside the person it guides."""
+    try:
+        root, walker = _walker(formula, s)
+        parts, found = [root], []
+        with np.errstate(invalid="ignore", over="ignore"):
+            while parts:
+                node = parts.pop()
+                kind = type(node).__name__
+                if kind == "Conjunction":
+                    parts.extend(node.children[:2])
+                elif kind == "Until" and len(s.t) and walker.visit(node.children[1])[0] > 0:
+                    found.append(node.children[1])
+    except Exception:  # noqa: BLE001 - a formula the walker cannot read is judged by its verdict alone
+        return None
+    if not found:
+        return None
+    right = found[-1]
+    return (f"held only where people start: {_text(right)} already held at t=0.0 s "
+            f"({_values(formula_signals(_text(right)), s, 0)}), so nothing in the run came first: an order is "
+            "witnessed by something that happens during the run")
 
 
 def _until(node: Any, k: int, w: Any, why: list[str]) -> tuple[int | None, list[str], Any]:
