@@ -30,7 +30,8 @@ PATHS = fixture_paths(FIXTURES)
 # the tenth session's simulator) and judged in round 17 of the eyes; six new requests of round 20 answered live on the
 # tenth session's final code and judged in round 18. One lenient pass (a robot's wait at a distance), one strict fail
 # (a step aside too short for the robot, called a weak point by eye) and one recording that ends (home_05). Agreeing
-# since the eleventh session: hospital_06 (its patient held at the bench is a required `walks` failure, way_in.py) and
+# since the eleventh session: hospital_06 (its old first answer's patient held at the bench is a required `walks`
+# failure, way_in.py; re-answered live in round 21: verified at its first answers, as written by eye in round 19) and
 # hospital_04 (its "doctor goes first" held at t = 0, verify/witness.held_at_the_start: a spec failure whose re-ask
 # ends the recording; its robot stopping 1.2 m short of the doorway someone stands in is still an arrival).
 DISAGREE: dict[str, str] = {

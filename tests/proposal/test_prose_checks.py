@@ -241,8 +241,6 @@ REFUSED = {
     ("home_16_hide_and_seek_laundry", "paths[0]"): "the children come to 41 from vh in the text, their paths from "
     "iq out of the main bedroom (round 20's live model then moved them to the living room's east end, as stage 1 was "
     "asked)",
-    ("hospital_06_night_wandering_patient", "paths[1]"): "a re-ask answer that reverses the nurse's walk (1g zs i1 "
-    "pf tw, her text: from tw through pf to i1 and on to cs); the replay never reaches it (the first answers verify)",
 }
 
 
