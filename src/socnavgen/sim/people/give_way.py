@@ -407,8 +407,10 @@ def stays_aside(s, i):  # noqa: ANN001, ANN201
 
 @leaf("RunAwayFromRobot")
 def run_away_from_robot(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
-    """Scared walking toward the goal, pushed away from the robot; someone who stepped aside stays aside."""
-    if stays_aside(s, i):
+    """Scared walking toward the goal, pushed away from the robot; someone standing aside at their side-step spot
+    stays there (stays_aside). On the way to it the scared walk moves them: a spot they cannot reach (across their
+    group, home_10's friend) would otherwise hold them in the robot's way for good."""
+    if s.people[i].give_way_phase == WAIT and stays_aside(s, i):
         return SUCCESS
     s.people[i].behavior = 1
     walk_to_goal(s.people, i, RUN_AWAY_SPEED, push_away(s, i, math.inf))
