@@ -253,7 +253,7 @@ NODES: list[NodeSpec] = [
              description="One step of giving way: the human steps to the side of the robot's path and stays there "
                          "until the robot has gone by (past them, and where they go back to is out of its way), then "
                          "walks toward its current goal (not on to the next ones), whatever the path's length. A "
-                         "give-way once begun goes on inside RegularNav and RunAwayFromRobot "
+                         "give-way once begun goes on inside RegularNav (RunAwayFromRobot: once they stand aside) "
                          "until then: when its gate stops holding (a phrase is shown only a few seconds), fall through "
                          "to walking; a standing branch (MakeGesture, LookAtRobot) stops them where they are, maybe "
                          "still in the robot's way.",
