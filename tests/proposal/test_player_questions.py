@@ -182,3 +182,32 @@ def test_a_follower_on_the_robots_way_ahead_of_it_gives_way_first():
     from socnavgen.sim.people.give_way import FOLLOW_WAY_AHEAD
 
     assert f"within {FOLLOW_WAY_AHEAD:g} m (it turns round" in follower_turn_text()
+
+
+@pytest.mark.parametrize("name", ["home", "hospital", "warehouse"])
+def test_a_groups_circle_turns_counter_clockwise_in_the_picture_the_model_sees(name: str):
+    """Round 17's player read the ward round's spawn as mirrored (north and south swapped). The prompt's "k x 360/n
+    degrees counter-clockwise from east" is meant in the attached picture (the map image, north up, pixel rows
+    down): member k of four stands k quarter turns counter-clockwise from the
+    picture's right (member 1 above the node in the picture, member 3 below), at the first node with room for the
+    whole circle."""
+    from socnavgen.bodies import PERSON_RADIUS
+    from socnavgen.sim import World, spawn_points
+
+    location = load_location(EXAMPLES / name)
+    world, transform = World.from_location(location), location.transform
+    assert "north is up" in "".join(m.content for m in scenario_messages(
+        ScenarioRequest(location=str(EXAMPLES / name), context="c", task="t"), location, images=True)[-1:])
+    n = 4
+    for node in location.scene_graph.nodes:
+        centre = complex(*transform.pixel_to_world(*node.pos))
+        spots = spawn_points(world, [centre] * n, [0] * n, PERSON_RADIUS, np.random.default_rng(0))
+        if any(abs(abs(s - centre) - abs(spots[0] - centre)) > 1e-9 for s in spots):
+            continue  # a wall pulls someone nearer the node: the ring is not whole there
+        for k, spot in enumerate(spots):  # in pixels: x right, y down, so counter-clockwise is -y
+            px, py = transform.world_to_pixel(spot.real, spot.imag)
+            want = math.radians(90 * k)
+            got = math.atan2(-(py - node.pos[1]), px - node.pos[0])
+            assert abs(math.remainder(got - want, 2 * math.pi)) < 1e-6, (name, node.id, k, math.degrees(got))
+        return
+    pytest.fail(f"no node of {name} has room for a whole circle of {n}")

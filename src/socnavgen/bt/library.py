@@ -250,12 +250,13 @@ NODES: list[NodeSpec] = [
              targets={"socrates", "hunav1"}, hunav1="ScaredNav"),
     NodeSpec(name="GiveWaytoRobot", kind="action", ports=[_AGENT, _STEP], moves=True, interaction=True,
              realizes=("give_way",),
-             description="One step of giving way: the human steps to the side of the robot's path, waits there "
-                         "while the robot passes, then walks toward its current goal (not on to the next ones). A "
-                         "give-way once begun goes on inside RegularNav (the walking subtree, while it walks them to a "
-                         "goal) until the robot has passed, then they walk their path: when its gate stops holding (a "
-                         "phrase is shown only a few seconds), fall through to walking; a standing branch (MakeGesture, "
-                         "LookAtRobot) stops them where they are, maybe still in the robot's way.",
+             description="One step of giving way: the human steps to the side of the robot's path and stays there "
+                         "until the robot has gone by (past them, and where they go back to is out of its way), then "
+                         "walks toward its current goal (not on to the next ones), whatever the path's length. A "
+                         "give-way once begun goes on inside RegularNav (RunAwayFromRobot: once they stand aside) "
+                         "until then: when its gate stops holding (a phrase is shown only a few seconds), fall through "
+                         "to walking; a standing branch (MakeGesture, LookAtRobot) stops them where they are, maybe "
+                         "still in the robot's way.",
              capability="Give way to the robot (step aside, let it pass)",
              targets={"socrates"},
              sim_note="The fork computes the side step and then discards it (a plain walking step); we "

@@ -1,5 +1,6 @@
 """Getting out of the robot's way: where the robot is along its path, whether a person stands on the path
-ahead of it, where to stand aside, and the leaves built on that (GiveWaytoRobot, FollowRobot).
+ahead of it, where to stand aside, and the leaves built on that (GiveWaytoRobot, FollowRobot; RegularNav and
+RunAwayFromRobot keep someone who stepped aside there until the robot has gone by).
 
 The robot's upcoming path is its position followed by its waypoints after the segment it is on
 (`path_point`): a turn of the robot is taken into account, not only its current heading."""
@@ -13,7 +14,7 @@ import numpy as np
 from socnavgen import proxemics
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.grace import follow_in
-from socnavgen.sim.people.leaves import follow, leaf
+from socnavgen.sim.people.leaves import RUN_AWAY_SPEED, follow, leaf, push_away
 from socnavgen.sim.people.routing import project, robot_progress
 from socnavgen.sim.people.spots import segment_distance
 from socnavgen.sim.people.state import ROUTE_ROBOT, ROUTE_STRAIGHT, stand, turn, walk_to, walk_to_goal
@@ -104,8 +105,14 @@ def arc_before(s, seg, k, fallback):  # noqa: ANN001, ANN201
 def in_robot_way(s, i):  # noqa: ANN001, ANN201
     """Person i stands on the robot's remaining path within its next FOLLOW_WAY_AHEAD metres (a follower the
     robot will pass only on its way back, at the end of a round trip, is not in its way now)."""
+    return in_way_at(s, i, s.people[i].pos)
+
+
+@jit
+def in_way_at(s, i, point):  # noqa: ANN001, ANN201
+    """Person i's body at `point` would be on the robot's remaining path within its next FOLLOW_WAY_AHEAD metres."""
     p, robot = s.people[i], s.robot[0]
-    if abs(p.pos - robot.pos) > FOLLOW_WAY_AHEAD or abs(robot.pos - robot.goal) <= robot.goal_tolerance:
+    if abs(point - robot.pos) > FOLLOW_WAY_AHEAD or abs(robot.pos - robot.goal) <= robot.goal_tolerance:
         return False
     _, seg = robot_progress(s)
     if path_size(s, seg, False) < 2:
@@ -113,7 +120,7 @@ def in_robot_way(s, i):  # noqa: ANN001, ANN201
     reach, arc = p.radius + robot.radius + FOLLOW_WAY_MARGIN, 0.0
     for j in range(path_size(s, seg, False) - 1):
         a, b = path_point(s, seg, j, False), path_point(s, seg, j + 1, False)
-        along, dist = project(p.pos, a, b)
+        along, dist = project(point, a, b)
         if dist < reach and 0.0 < arc + along <= FOLLOW_WAY_AHEAD:
             return True
         arc += abs(b - a)
@@ -311,15 +318,20 @@ def follower_to_come(s, i):  # noqa: ANN001, ANN201
 
 
 @jit
-def robot_has_passed(s, i):  # noqa: ANN001, ANN201
-    """The robot is beyond the point of its path person i stepped away from (or at its goal), and whoever follows it
-    has gone by too (follower_to_come)."""
+def robot_has_passed(s, i, back):  # noqa: ANN001, ANN201
+    """The robot has gone by person i, who stepped aside for it and goes back to `back` (their goal, or where they
+    stood) next: it is beyond the point of its path they stepped away from (or at its goal), whoever follows it has
+    gone by too (follower_to_come), and `back` is out of its way: not on its path ahead (in_way_at) and as far from
+    its body as a side step leaves it (GIVE_WAY_MARGIN). One rule for everyone who stepped aside, whatever their
+    path: a friend at a standing group's node walked back there 0.9 m behind a robot that had just turned there."""
     robot, p = s.robot[0], s.people[i]
     if abs(robot.pos - robot.goal) <= robot.goal_tolerance:
         return True
     progress, _ = robot_progress(s)
     clear = p.radius + robot.radius + PASSED_MARGIN
-    return progress > p.aside_at + clear and abs(robot.pos - p.pos) > clear and not follower_to_come(s, i)
+    if progress <= p.aside_at + clear or abs(robot.pos - p.pos) <= clear or follower_to_come(s, i):
+        return False
+    return abs(back - robot.pos) >= p.radius + robot.radius + GIVE_WAY_MARGIN and not in_way_at(s, i, back)
 
 
 @jit
@@ -342,7 +354,7 @@ def give_way(s, i):  # noqa: ANN001, ANN201
         p.behavior = 2
         p.gives_way = True
         plan_side_step(s, i)
-    if p.give_way_phase != RESUME and robot_has_passed(s, i):
+    if p.give_way_phase != RESUME and robot_has_passed(s, i, p.goal if p.has_goal else p.pos):
         p.give_way_phase = RESUME
     if p.give_way_phase == ASIDE and abs(p.aside_via - p.pos) <= GIVE_WAY_ARRIVED:
         p.aside_via = p.aside  # backed out to where there is room: now to the side
@@ -370,15 +382,38 @@ def regular_nav(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     no longer in front or near - it is passing them, or they turned to back out - would otherwise walk them back
     into its way, or close a group up again around it)."""
     p = s.people[i]
-    if giving_way(p):
-        give_way(s, i)
-        if p.give_way_phase != RESUME:
-            return SUCCESS
+    if stays_aside(s, i):
+        return SUCCESS
     p.behavior = 0
     if p.held:
         stand(s.people, i)
     else:
         walk_to_goal(s.people, i, p.pace, 0j)
+    return SUCCESS
+
+
+@jit
+def stays_aside(s, i):  # noqa: ANN001, ANN201
+    """Person i stepped aside for the robot and it has not gone by yet (robot_has_passed): this step goes on with
+    the give-way (to their spot, or waiting there facing it) instead of the walk their tree ticks now. A walking leaf
+    heads for their goal, which for someone who stood in the robot's way is in its way again (home_10, round 17:
+    the scared walk after a give-way took a friend back to his node, 1.2 m in front of the waiting robot)."""
+    p = s.people[i]
+    if not giving_way(p):
+        return False
+    give_way(s, i)
+    return p.give_way_phase != RESUME
+
+
+@leaf("RunAwayFromRobot")
+def run_away_from_robot(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
+    """Scared walking toward the goal, pushed away from the robot; someone standing aside at their side-step spot
+    stays there (stays_aside). On the way to it the scared walk moves them: a spot they cannot reach (across their
+    group, home_10's friend) would otherwise hold them in the robot's way for good."""
+    if s.people[i].give_way_phase == WAIT and stays_aside(s, i):
+        return SUCCESS
+    s.people[i].behavior = 1
+    walk_to_goal(s.people, i, RUN_AWAY_SPEED, push_away(s, i, math.inf))
     return SUCCESS
 
 

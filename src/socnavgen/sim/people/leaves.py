@@ -1,7 +1,8 @@
 """The library's leaves, one function each (semantics: reference §3 plus each NodeSpec.sim_note).
 
 Adding a leaf is one row in the node library (bt/library.py) and one function here (or in people.give_way
-for the leaves that may give way: RegularNav, GiveWaytoRobot, FollowRobot), decorated with
+for the leaves that may give way or keep someone aside: RegularNav, GiveWaytoRobot, FollowRobot,
+RunAwayFromRobot), decorated with
 `@leaf("Name")`: the interpreter dispatches to it by the row's position. A leaf gets the simulation state
 `s`, its node's record (`node.memory` is its own number to keep), the person `i` it acts for (its agent_id
 port) and its ports by name, `a[Port.distance]`; it returns SUCCESS, FAILURE or RUNNING, or
@@ -29,7 +30,6 @@ from socnavgen.sim.people.state import (
     pop_goal,
     turn,
     walk_to,
-    walk_to_goal,
 )
 from socnavgen.sim.people.trees import FAILURE, SUCCESS, Port
 
@@ -234,13 +234,6 @@ def push_away(s, i, within):  # noqa: ANN001, ANN201
     if 1e-9 < r < within:
         return RUN_AWAY_GAIN / max(r - s.people[i].radius, RUN_AWAY_MIN_GAP) * away / r
     return 0j
-
-
-@leaf("RunAwayFromRobot")
-def run_away_from_robot(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
-    s.people[i].behavior = 1
-    walk_to_goal(s.people, i, RUN_AWAY_SPEED, push_away(s, i, math.inf))
-    return SUCCESS
 
 
 @jit

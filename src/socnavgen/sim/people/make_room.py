@@ -64,7 +64,7 @@ def step_aside(s, i):  # noqa: ANN001, ANN201
     """This step's motion of person i making room: to the side-step spot, wait there facing the robot, then
     back to where they stood; the rule ends once they are back."""
     p, robot = s.people[i], s.robot[0]
-    if p.give_way_phase != RESUME and robot_has_passed(s, i):
+    if p.give_way_phase != RESUME and robot_has_passed(s, i, p.room_home):
         p.give_way_phase = RESUME
     if p.give_way_phase == ASIDE and abs(p.aside_via - p.pos) <= GIVE_WAY_ARRIVED:
         p.aside_via = p.aside  # backed out to where there is room (or never had to): now to the side
