@@ -17,7 +17,7 @@ replaces its motion command while it lasts (engine.step calls `make_room` after 
 as the tree makes them walk somewhere else or blocks the robot on purpose.
 
 A walker held up by the robot makes room too: one whose tree walks them but who stands (slower than STANDING)
-face to face with the waiting robot (within HELD_GAP of its body) on its path - each waits for the other, as at a
+face to face with the waiting robot (within HELD_GAP of its body, ahead on their way) on its path - each waits for the other, as at a
 0.9 m door where the robot comes out as they go in (HuNavSim's social-force people are pushed aside by its
 body). They step aside as above and, once it has passed, walk on where their tree walks them (no walk back).
 """
@@ -48,7 +48,8 @@ ROBOT_WAITED = 2.0  # s the robot has made no progress (clock.stalled) before a 
 BACK_SPEED = 0.6  # m/s at most, walking back to their spot once the robot has passed
 DELIBERATE = 1 << LEAF_NAMES.index("IsRobotBlocking")  # a succeeded-mask bit: standing in its way on purpose
 BLOCKS = (LEAF_NAMES.index("BlockRobot"), LEAF_NAMES.index("ThreateningNav"))  # leaves that block it on purpose
-HELD_GAP = 1.0  # m between bodies: a walker standing this close in front of the waiting robot is held up by it
+HELD_GAP = 1.0  # m between bodies: a walker standing this close in front of the waiting robot is held up by it ...
+HELD_ANGLE = 1.0  # rad: ... when it is no farther than this off the way they walk
 NONE, STEPPING, HELD = 0, 1, 2  # p.makes_room: not, a person standing in its way, a walker held up by it
 
 
@@ -68,12 +69,16 @@ def stands_still(s, i, spot):  # noqa: ANN001, ANN201
 @jit
 def held_up(s, i):  # noqa: ANN001, ANN201
     """Person i's tree walks them (not to the robot, not blocking it on purpose), yet they stand within HELD_GAP of
-    the robot's body: held up by it."""
+    the robot's body, which is ahead of them on their way (within HELD_ANGLE of it): held up by it. One who only
+    slows for the step between two goals beside it (home_07's daughter crossing 1.5 m in front of it) is not."""
     p, robot = s.people[i], s.robot[0]
     if not p.walks or p.route == ROUTE_ROBOT or p.succeeded & DELIBERATE or p.action == BLOCKS[0] \
             or p.action == BLOCKS[1]:
         return False
-    return abs(p.vel) < STANDING and abs(robot.pos - p.pos) - p.radius - robot.radius < HELD_GAP
+    rel, ahead = robot.pos - p.pos, p.via - p.pos
+    if abs(p.vel) >= STANDING or abs(rel) - p.radius - robot.radius >= HELD_GAP or abs(ahead) < 1e-9:
+        return False
+    return (rel * ahead.conjugate()).real >= abs(rel) * abs(ahead) * math.cos(HELD_ANGLE)
 
 
 @jit
