@@ -50,10 +50,9 @@ KNOWN_LOST = {
     # socrates hospital/narrow-hallway at 1.5x verifies again since the release adapts to the robot's own speed
     # (2026-11-27, s13: a 1.5x robot lets the person go from farther; it used to give way too late after EXCUSE ME)
     ("hunav2", "hospital/narrow-hallway", 1.5): _PHRASE_LATE,
-    # since the release adapts to the robot's speed (2026-11-27, s13), a half-speed robot lets the person go from closer
-    # (later): 2.x's AvoidRobot give-way then comes late after EXCUSE ME again (the hunav2 trees miss it with our
-    # pacing too, the benchmark says: the translation's, no side step)
-    ("hunav2", "warehouse/narrow-hallway", 0.5): _PHRASE_LATE,
+    # hunav2 warehouse/narrow-hallway at 0.5x verifies again since a walker held up face to face by the waiting robot
+    # makes room (2026-11-27, s16, sim/people/make_room.py; told by the verdicts, not looked at in frames; it left
+    # the list)
     # since people coming to stand keep PERSON_STAND_GAP and a goal the robot stands on is taken, and the robot waits
     # behind people (2026-11-26, s10): warehouse/narrow-hallway verifies as hunav2 runs it at 0.5x again
     # since people walk round a robot standing on a point of their way (s11): traced, not yet seen in a GIF of this

@@ -10,8 +10,9 @@ import numpy as np
 import pytest
 
 from socnavgen.bodies import CONTACT_MARGIN
+from socnavgen.export.as_target import KEEP_GAP
 from socnavgen.run.spec import CueTrigger, RobotCue, RobotScript
-from socnavgen.sim import empty_room, load_policy
+from socnavgen.sim import BUILTIN, empty_room, load_policy
 from socnavgen.sim.contact import trace_gaps
 from socnavgen.sim.people.give_way import GIVE_WAY_MARGIN
 from socnavgen.sim.robot.api import ScriptedPolicy
@@ -89,3 +90,28 @@ def test_nobody_makes_room_for_a_robot_its_script_stands(cue: dict):
     assert not (trace.behavior_state[held, 0] == 2).any()
     assert (trace.behavior_state[:, 0] == 2).any()  # and made room once it waited to get by
     assert trace.end_reason == "robot_goal"
+
+
+
+def test_a_walker_the_robot_meets_in_the_door_steps_aside_and_walks_on():
+    """A walker coming along a 2 m hallway to the 0.9 m door the robot drives out of, into the room behind it
+    (issue 27: home exiting-room as HuNavSim runs it, with a waypoint robot that stops short of people): the two
+    meet at the door and each waits for the other - without the rule neither moves until the run ends. The walker
+    is held up by the robot: they step aside, let it out and by, then walk on through the door to their goal."""
+    goal = (3.0, 1.5)  # in the left room, beyond the door
+    hallway = [(9.1, 0.0, 9.3, 6.0)]  # east of the door: a 2 m hallway x 7.1-9.1
+    robot = BUILTIN["waypoints"](max_speed=0.6, keep_gap=KEEP_GAP)  # the careful robot of the proof
+    sim = make_sim([human("human1", start=(8.3, 5.4), goals=[DOOR, goal], start_delay=1.5)], [tree_xml(REGULAR)],
+                   [(4.5, 3.0), DOOR, (8.1, 3.0), (8.1, 5.6)], policy=robot,
+                   world=empty_room(14.0, 6.0, walls=WALLS + hallway), timeout=60)
+    trace = sim.run()
+    person = trace.humans[:, 0, :2]
+    assert trace.end_reason == "robot_goal", trace.end_reason
+    assert trace.t[-1] < 30.0
+    assert trace_gaps(trace).min() > CONTACT_MARGIN
+    assert (trace.behavior_state[:, 0] == 2).any()  # gave way
+    aside = int(np.argmax(trace.behavior_state[:, 0] == 2))
+    assert trace.t[aside] > 2.0  # not before the robot had waited
+    # once it was by, they walk on to the door (the run ends as the robot arrives): no longer aside, at the door
+    assert trace.behavior_state[-1, 0] != 2
+    assert np.hypot(*(person[-1] - DOOR)) < 0.6 < np.hypot(*(person[aside:] - DOOR).T).max()

@@ -15,6 +15,11 @@ passed (give_way.robot_has_passed), and walk back to where they stood. They give
 side-step spot marked as theirs for others who look for one). Their tree keeps running every step; this rule
 replaces its motion command while it lasts (engine.step calls `make_room` after the trees), and ends as soon
 as the tree makes them walk somewhere else or blocks the robot on purpose.
+
+A walker held up by the robot makes room too: one whose tree walks them but who stands (slower than STANDING)
+face to face with the waiting robot (within HELD_GAP of its body, ahead on their way) on its path - each waits for the other, as at a
+0.9 m door where the robot comes out as they go in (HuNavSim's social-force people are pushed aside by its
+body). They step aside as above and, once it has passed, walk on where their tree walks them (no walk back).
 """
 
 from __future__ import annotations
@@ -34,7 +39,7 @@ from socnavgen.sim.people.give_way import (
     plan_side_step,
     robot_has_passed,
 )
-from socnavgen.sim.people.state import ROUTE_STRAIGHT, STANDING, queued_at, turn, walk_to
+from socnavgen.sim.people.state import ROUTE_ROBOT, ROUTE_STRAIGHT, STANDING, queued_at, turn, walk_to
 from socnavgen.sim.people.trees import LEAF_NAMES
 from socnavgen.sim.world.queries import line_of_sight
 from socnavgen.sim.world.spots import nearer_spot
@@ -43,7 +48,9 @@ ROBOT_WAITED = 2.0  # s the robot has made no progress (clock.stalled) before a 
 BACK_SPEED = 0.6  # m/s at most, walking back to their spot once the robot has passed
 DELIBERATE = 1 << LEAF_NAMES.index("IsRobotBlocking")  # a succeeded-mask bit: standing in its way on purpose
 BLOCKS = (LEAF_NAMES.index("BlockRobot"), LEAF_NAMES.index("ThreateningNav"))  # leaves that block it on purpose
-NONE, STEPPING = 0, 1  # p.makes_room
+HELD_GAP = 1.0  # m between bodies: a walker standing this close in front of the waiting robot is held up by it ...
+HELD_ANGLE = 1.0  # rad: ... when it is no farther than this off the way they walk
+NONE, STEPPING, HELD = 0, 1, 2  # p.makes_room: not, a person standing in its way, a walker held up by it
 
 
 @jit
@@ -60,6 +67,31 @@ def stands_still(s, i, spot):  # noqa: ANN001, ANN201
 
 
 @jit
+def held_up(s, i):  # noqa: ANN001, ANN201
+    """Person i's tree walks them (not to the robot, not blocking it on purpose), yet they stand within HELD_GAP of
+    the robot's body, which is ahead of them on their way (within HELD_ANGLE of it): held up by it. One who only
+    slows for the step between two goals beside it (home_07's daughter crossing 1.5 m in front of it) is not."""
+    p, robot = s.people[i], s.robot[0]
+    if not p.walks or p.route == ROUTE_ROBOT or p.succeeded & DELIBERATE or p.action == BLOCKS[0] \
+            or p.action == BLOCKS[1]:
+        return False
+    rel, ahead = robot.pos - p.pos, p.via - p.pos
+    if abs(p.vel) >= STANDING or abs(rel) - p.radius - robot.radius >= HELD_GAP or abs(ahead) < 1e-9:
+        return False
+    return (rel * ahead.conjugate()).real >= abs(rel) * abs(ahead) * math.cos(HELD_ANGLE)
+
+
+@jit
+def goes_on(s, i):  # noqa: ANN001, ANN201
+    """Person i making room goes on with it: a walker held up while their tree still walks them (not blocking on
+    purpose), someone standing in the way while their tree keeps them at their spot."""
+    p = s.people[i]
+    if p.makes_room == HELD:
+        return p.walks and not (p.succeeded & DELIBERATE)
+    return stands_still(s, i, p.room_home)
+
+
+@jit
 def step_aside(s, i):  # noqa: ANN001, ANN201
     """This step's motion of person i making room: to the side-step spot, wait there facing the robot, then
     back to where they stood; the rule ends once they are back."""
@@ -71,7 +103,7 @@ def step_aside(s, i):  # noqa: ANN001, ANN201
     if p.give_way_phase == ASIDE and abs(p.aside - p.pos) <= GIVE_WAY_ARRIVED:
         p.give_way_phase = WAIT
     if p.give_way_phase == RESUME:
-        if abs(p.room_home - p.pos) <= GIVE_WAY_ARRIVED:
+        if p.makes_room == HELD or abs(p.room_home - p.pos) <= GIVE_WAY_ARRIVED:  # a walker walks on from there
             p.makes_room, p.gives_way = NONE, False
             return
         p.behavior = 1
@@ -121,7 +153,7 @@ def make_room(s, held):  # noqa: ANN001, ANN201
         if clock.t < p.start_delay:
             continue
         if p.makes_room != NONE:
-            if stands_still(s, i, p.room_home):
+            if goes_on(s, i):
                 step_aside(s, i)
             else:  # the tree walks them elsewhere, or blocks the robot: it has the say again
                 p.makes_room = NONE
@@ -129,6 +161,11 @@ def make_room(s, held):  # noqa: ANN001, ANN201
               and abs(p.vel) < STANDING and stands_still(s, i, p.pos)  # already (their tree's GiveWaytoRobot)
               and in_robot_way(s, i)):
             p.makes_room, p.room_home = STEPPING, p.pos
+            p.behavior, p.gives_way = 2, True
+            plan_side_step(s, i)
+            step_aside(s, i)
+        elif waited and not p.gives_way and held_up(s, i) and in_robot_way(s, i):
+            p.makes_room, p.room_home = HELD, p.pos
             p.behavior, p.gives_way = 2, True
             plan_side_step(s, i)
             step_aside(s, i)
