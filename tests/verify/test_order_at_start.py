@@ -54,3 +54,27 @@ def test_an_implied_order_of_encounters_may_start_met():
     # the start is the text's own first encounter, not a claim about who moves first
     found = _judge(ORDER, _signals([0.5, 6.0, 6.0], [8.0, 8.0, 0.5]), source="implied")
     assert found.passed, found.evidence
+
+
+def test_a_kind_naming_a_whole_team_is_monitored_however_long_its_formula():
+    """hospital_04 round 21: a `meets` naming the four staff compiled to 1001 characters, over the limit for an
+    authored formula, and could not be checked at all. A kind's own formula grows with the people it names; an
+    authored one of the same length is still refused."""
+    from socnavgen.verify.stl import MAX_FORMULA_CHARS
+
+    n = 20
+    walk = [np.stack([np.interp(T, [0.0, 10.0], [6.0 + k, 0.6 + 0.1 * k]), np.full_like(T, 0.5 * k)], 1)
+            for k in range(n)]
+    s = Signals(build_trace(T, np.zeros((len(T), 2)), np.stack(walk, 1)))
+    team = [f"human{k + 1}" for k in range(n)]
+    c = Criterion(id="c1", kind="meets", humans=team, text="the team meets the robot")
+    found = judge_criterion(c, "spec", ScenarioSpec(criteria=[c]), None, s, VerifySettings(), 0.2)  # type: ignore[arg-type]
+    assert len(found.formula or "") > MAX_FORMULA_CHARS, found.formula
+    assert found.passed, found.evidence
+    far = Signals(build_trace(T, np.zeros((len(T), 2)), np.stack([w + 20.0 for w in walk], 1)))
+    found = judge_criterion(c, "spec", ScenarioSpec(criteria=[c]), None, far, VerifySettings(), 0.2)  # type: ignore[arg-type]
+    assert not found.passed and "cannot be monitored" not in found.evidence, found.evidence
+    authored = Criterion(id="c2", kind="stl", formula=" or ".join(f"(dist_{h} < 1.0)" for h in team * 3),
+                         text="the same claim written out")
+    refused = judge_criterion(authored, "spec", ScenarioSpec(criteria=[authored]), None, s, VerifySettings(), 0.2)  # type: ignore[arg-type]
+    assert not refused.passed and "characters (at most 1000)" in refused.evidence, refused.evidence

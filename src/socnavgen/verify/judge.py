@@ -124,7 +124,7 @@ def judge_criterion(c: Criterion, source: Source, spec: ScenarioSpec, plan: Path
         cc: Compiled = prepared.compiled(index, settings, goal_radius, dt) if prepared is not None else \
             compile_criterion(c, spec, settings, goal_radius, dt)
         base.formula = cc.formula
-        verdict = monitor(cc.formula, signals)
+        verdict = monitor(cc.formula, signals, authored=c.kind == "stl")
     except FormulaError as exc:
         text = f"cannot be monitored: {exc}"
         failed = base.model_copy(update={"evidence": text})

@@ -28,8 +28,12 @@ from socnavgen.limits import MAX_SIM_SECONDS
 from socnavgen.verify import stl_numpy
 from socnavgen.verify.signals import Signals, UnknownSignal
 
-MAX_FORMULA_CHARS = 1000
+MAX_FORMULA_CHARS = 1000  # an authored (`stl`) formula
 MAX_NESTING = 24  # parentheses or temporal operators: rtamt's parser recurses on each level
+# a criterion kind's formula, written here, grows with the people it names (a `meets` of a team of four came to
+# 1001 characters and 12 temporal operators): its length is bounded by the spec's people, its nesting by the kind,
+# so only the parentheses' depth and MAX_STL_CELLS guard it
+MAX_COMPILED_CHARS = 20_000
 MAX_STL_CELLS = 40_000_000  # operators x trace steps: one float series per operator (at most ~320 MB)
 _TEMPORAL = re.compile(r"\b(?:always|eventually|historically|once|until|since|unless|next|prev|not)\b")
 OPERATORS = frozenset({
@@ -76,10 +80,10 @@ def _nesting(formula: str) -> int:
     return deepest
 
 
-def check_formula(formula: str, signals: Signals) -> list[str]:
+def check_formula(formula: str, signals: Signals, *, authored: bool = True) -> list[str]:
     """Raise FormulaError unless the formula is short, a single expression and names only known signals;
-    return the signal names it uses."""
-    names = list(_checked_text(formula))
+    return the signal names it uses. `authored` False: a criterion kind's own formula (MAX_COMPILED_CHARS)."""
+    names = list(_checked_text(formula, authored))
     for name in names:
         try:
             signals.get(name)
@@ -89,15 +93,16 @@ def check_formula(formula: str, signals: Signals) -> list[str]:
 
 
 @lru_cache(maxsize=1024)
-def _checked_text(formula: str) -> tuple[str, ...]:
+def _checked_text(formula: str, authored: bool = True) -> tuple[str, ...]:
     """The checks of check_formula that read the text alone, kept per formula (a campaign checks the same
     few on every episode; a refused formula is not kept and is refused again, with the same message)."""
     if not formula or not formula.strip():
         raise FormulaError("the formula is empty")
-    if len(formula) > MAX_FORMULA_CHARS:
-        raise FormulaError(f"the formula has {len(formula)} characters (at most {MAX_FORMULA_CHARS}); split it into "
+    most = MAX_FORMULA_CHARS if authored else MAX_COMPILED_CHARS
+    if len(formula) > most:
+        raise FormulaError(f"the formula has {len(formula)} characters (at most {most}); split it into "
                            "several criteria")
-    depth = max(_nesting(formula), len(_TEMPORAL.findall(formula)))
+    depth = max(_nesting(formula), len(_TEMPORAL.findall(formula)) if authored else 0)
     if depth > MAX_NESTING:
         raise FormulaError(f"the formula nests {depth} levels deep or has as many temporal operators (at most "
                            f"{MAX_NESTING}); split it into several "
@@ -132,12 +137,12 @@ def _quiet_root_logger() -> Iterator[None]:
         root.setLevel(level)
 
 
-def monitor(formula: str, signals: Signals) -> Verdict:
+def monitor(formula: str, signals: Signals, *, authored: bool = True) -> Verdict:
     """Robustness of `formula` over the whole trace (FormulaError for bad formulas). Work and memory are linear
     in the trace whatever the formula's bounds (verify/stl_numpy.py); a formula too large for the trace is
-    refused before any work (MAX_STL_CELLS)."""
+    refused before any work (MAX_STL_CELLS). `authored` False: a criterion kind's own formula."""
     rtamt = _rtamt()
-    names = check_formula(formula, signals)
+    names = check_formula(formula, signals, authored=authored)
     t = signals.t
     if len(t) == 0:
         raise FormulaError("the trace is empty")
