@@ -28,23 +28,34 @@ PATHS = fixture_paths(FIXTURES)
 # live in round 18 and judged, with hospital_04 and hospital_10 (whose runs the tenth session's group circle
 # changed), in round 16 of the eyes; home_09 and warehouse_13 re-answered live in round 19 (their recordings ended under
 # the tenth session's simulator) and judged in round 17 of the eyes; six new requests of round 20 answered live on the
-# tenth session's final code and judged in round 18. One lenient pass (a robot's wait at a distance), one strict fail
-# (a step aside too short for the robot, called a weak point by eye) and one recording that ends (home_05). Agreeing
-# since the eleventh session: hospital_06 (its old first answer's patient held at the bench is a required `walks`
-# failure, way_in.py; re-answered live in round 21: verified at its first answers, as written by eye in round 19) and
-# hospital_04 (its "doctor goes first" held at t = 0, verify/witness.held_at_the_start: a spec failure whose re-ask
-# ends the recording; its robot stopping 1.2 m short of the doorway someone stands in is still an arrival).
+# tenth session's final code and judged in round 18; home_05, home_10, hospital_04 and hospital_06 re-answered live in
+# round 21 on the eleventh session's code (their recordings ended: a walker held at the start is a required `walks`
+# failure, an order held at t = 0 fails, people who gave way stay aside) and judged in round 19. Three lenient passes
+# (a robot's wait at a distance; who stays put in a circle the robot goes round; an order among staff going in) and
+# two strict fails (a step aside too short for the robot, called a weak point by eye; a pair that gave way together
+# while the robot idled). hospital_06 agrees since the eleventh session.
 DISAGREE: dict[str, str] = {
     "hospital_10_meal_tray_family_in_doorway": "strict FAIL: the robot stops ~2.3 m short and says EXCUSE ME, the "
     "family shuffles aside and the robot threads through a ~0.9 m gap into the room without touching anyone (eyes: "
     "yes); the verifier fails the first visitor's give-way, she moved 0.43 m off the robot's route within 6 s, still "
     "inside the 0.85 m its body sweeps, and the robot waited till 20.5 s (the eyes saw the same short step and "
     "called it a weak point)",
-    "home_05_serving_drinks_at_party": "recording ends (eyes: yes on the final run): the first answer's guest "
-    "human3 stands in the bathroom h9 for 31 s (walked 0.23 m) until the robot comes into view, while her text has "
-    "her come out on her way to the dining area; verify/way_in.py's `walks` decides where the spec states the walk "
-    "(since the eleventh session), so the loop re-asks the paths in round 1, which the live run never was: "
-    "re-record it live",
+    "home_05_serving_drinks_at_party": "strict FAIL (re-answered live in round 21, eyes: yes): the pair at vh "
+    "step aside by themselves at ~3-7 s before the robot reaches them, the robot stops ~2 m short of the pair at 41, "
+    "says EXCUSE ME, they step aside and it passes without contact; the verifier fails the first guest's step out "
+    "of the way (in the robot's way within 3.5 m from 5.2 s, aside only at 27 s: the pair gave way together, the "
+    "robot idled at vh ~17 s with its way clear) and 'never stuck' (10.6 s back and forth at vh, 0.57 m from her); "
+    "the eyes saw the idling and called it a flaw, not a failure",
+    "home_10_medication_past_chatting_friends": "lenient PASS (re-answered live in round 21): the text has the circle "
+    "stay and only the friend on the door side step back while the robot skirts its north edge; at ~15-17 s human1 "
+    "(to stay put) walks ~1.2 m north into the zv doorway, human2 moves south beside human3, and the robot drives "
+    "through the middle of the broken circle, within ~0.1 m of human1 at ~32 s; no criterion says who stays put or "
+    "how wide the robot goes round",
+    "hospital_04_telepresence_ward_round": "lenient PASS (re-answered live in round 21): the text has the nurse go in "
+    "last and the robot hold ~3 m back until all four are in; the nurse goes through third, ahead of the second "
+    "resident, and the robot drives on at ~18 s and waits ~0.5 m behind that resident while she stands in the "
+    "doorway until ~30 s; the spec checks only that each came within 0.7 m of the door before the robot did (no "
+    "order among the staff, no distance while it waits)",
     "warehouse_04_pallet_jack_backing_out": "lenient PASS: the robot does not stop ~3 m short; it drives up to the "
     "aisle mouth at sh within ~2 m of the worker backing out, then dodges north between the racks, and the worker's "
     "stop to swing the jack happens inside the aisle end, not across the cross aisle (no criterion says where the "
