@@ -19,7 +19,8 @@ as the tree makes them walk somewhere else or blocks the robot on purpose.
 A walker held up by the robot makes room too: one whose tree walks them but who stands (slower than STANDING)
 face to face with the waiting robot (within HELD_GAP of its body, ahead on their way) on its path - each waits for the other, as at a
 0.9 m door where the robot comes out as they go in (HuNavSim's social-force people are pushed aside by its
-body). They step aside as above and, once it has passed, walk on where their tree walks them (no walk back).
+body). They step aside as above (within SIDE_STEP_MAX: a walker never backs out far - in a corridor too narrow for
+both, the robot backs out) and, once it has passed, walk on where their tree walks them (no walk back).
 """
 
 from __future__ import annotations
@@ -34,6 +35,7 @@ from socnavgen.sim.people.give_way import (
     ASIDE_RADIUS,
     GIVE_WAY_ARRIVED,
     RESUME,
+    SIDE_STEP_MAX,
     WAIT,
     in_robot_way,
     plan_side_step,
@@ -165,7 +167,9 @@ def make_room(s, held):  # noqa: ANN001, ANN201
             plan_side_step(s, i)
             step_aside(s, i)
         elif waited and not p.gives_way and held_up(s, i) and in_robot_way(s, i):
+            plan_side_step(s, i)
+            if abs(p.aside_via - p.pos) + abs(p.aside - p.aside_via) > SIDE_STEP_MAX:
+                continue  # no side step near: a walker does not back out far (in a corridor the robot backs out)
             p.makes_room, p.room_home = HELD, p.pos
             p.behavior, p.gives_way = 2, True
-            plan_side_step(s, i)
             step_aside(s, i)
