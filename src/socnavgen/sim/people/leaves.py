@@ -238,14 +238,16 @@ def push_away(s, i, within):  # noqa: ANN001, ANN201
 
 @jit
 def block(s, i, ahead):  # noqa: ANN001, ANN201
-    """Walk to the point `ahead` metres in front of the robot and stand there (slowing down as she arrives); face it
-    once within BLOCK_FACE."""
+    """Walk to the point `ahead` metres in front of the robot and stand there facing it (slowing down as she
+    arrives; she faces it walking once within BLOCK_FACE). Standing, she kept the heading she walked up with: the
+    physiotherapist who came from the side to take the towel stood at 50 degrees to the robot (home_18, round 22)."""
     p = s.people[i]
     p.behavior = 1
     point = s.robot[0].pos + ahead * complex(math.cos(s.robot[0].yaw), math.sin(s.robot[0].yaw))
     away = abs(point - p.pos)
     if away <= BLOCK_RADIUS or (away <= BLOCK_HOLD and abs(p.vel) < STANDING):
-        turn(s.people, i, p.yaw)  # stands (people.make_room: standing in its way on purpose)
+        d = s.robot[0].pos - p.pos  # stands facing it (people.make_room: standing in its way on purpose)
+        turn(s.people, i, math.atan2(d.imag, d.real))
     else:
         walk_to(s.people, i, point, BLOCK_RADIUS, min(BLOCK_SPEED, math.sqrt(2.0 * BLOCK_DECEL * away)), ROUTE_ROBOT)
     p.face_robot_within = BLOCK_FACE
