@@ -80,6 +80,7 @@ PERSON = layout([
     # giving way (people.give_way): where it stands aside and from which arc position of the robot's path, and
     # the point of the robot's path it backs out to first where there is no room beside it
     ("gives_way", "?"), ("give_way_phase", "i8"), ("aside", "c16"), ("aside_at", "f8"), ("aside_via", "c16"),
+    ("came_up", "?"),  # following the robot: walked up into its way (give_way.lets_robot_by): waits for it to drive on
     # making room for a robot that waits (people.make_room): stepping aside, and the spot to go back to
     ("makes_room", "i8"), ("room_home", "c16"),
     # a goal point someone else stands on (people.spots): the spot round it this person walks to instead
