@@ -50,3 +50,17 @@ def test_a_handover_is_stated_by_stops_near_robot_and_seen_by_it():
 def test_standing_off_to_the_side_or_turned_away_is_no_handover():
     assert _stops_near_robot(_handover(6.3 + 2.0j)) < 0  # 2.3 m off to the side: too far
     assert _stops_near_robot(_handover(5.3 + 1.3j, face=math.pi / 2)) < 0  # beside it, turned away
+
+
+def _blocks_robot(s: Signals) -> float:
+    spec = ScenarioSpec(criteria=[Criterion(id="c1", kind="blocks_robot", human="human1")])
+    return monitor(compile_criterion(spec.criteria[0], spec, VerifySettings(), 0.5, DT).formula, s).robustness
+
+
+def test_a_blocker_standing_at_her_point_in_front_of_the_robot_blocks_it():
+    """BlockRobot stands at its point 1.5 m ahead of the robot, still within BLOCK_HOLD of it: 1.53 m is a block
+    (home_18's physiotherapist failed the old 1.5 m); 2.3 m off to the side is none."""
+    from socnavgen.sim.people.leaves import BLOCK_AHEAD
+
+    assert _blocks_robot(_handover(ROBOT + BLOCK_AHEAD + 0.03)) > 0
+    assert _blocks_robot(_handover(6.3 + 2.0j)) < 0

@@ -4,6 +4,8 @@
 zones come from socnavgen.bodies, the "in the robot's way" margins from socnavgen.proxemics.
 """
 
+from socnavgen.sim.people.leaves import BLOCK_AHEAD, BLOCK_HOLD
+
 # -- user-settable (VerifySettings defaults) --------------------------------------------------------
 MEET_DISTANCE = 2.0  # m centre to centre: robot and person "meet" this close
 NEAR_NODE = 1.0  # m: how close to its encounter node a meeting must happen (runs without spec.json)
@@ -37,8 +39,10 @@ MIN_RUN_SECONDS = 1.0  # s: a run shorter than this ended before anything could 
 FAR = 1.0e3  # m: the value of a distance that does not exist (no humans, unreachable)
 
 # -- per-kind default distances, when a criterion gives none (metres) --------------------------------
+# blocks_robot: where BlockRobot stands, its point ahead of the robot, as far off as she stands still there (a
+# blocker standing 1.53 m in front of the robot, facing it, failed 1.5 m: home_18 of round 22)
 KIND_DISTANCE = {"stops_near_robot": 1.5, "gives_way": 2.0, "follows_robot": 2.0, "follows_human": 2.0,
-                 "hidden_until": 3.0, "keeps_away": 1.5, "blocks_robot": 1.5,
+                 "hidden_until": 3.0, "keeps_away": 1.5, "blocks_robot": BLOCK_AHEAD + BLOCK_HOLD,
                  "stop_together": 3.0}  # stop_together: a greeting "a couple of metres" apart, inside social space
 # The verifier's margins of "in the robot's way" are proxemics.WAY_MARGIN_VERIFY (inway_<human>) and
 # proxemics.HELD_UP_DISTANCE (someone in the way this close holds the robot up: deadlock, wait_until_clear).
