@@ -40,7 +40,8 @@ ROBOT = layout([
     ("scripted", "i8"),  # the gesture the script and the gesture rules make now
     # its progress along its waypoints (people.routing.robot_progress), computed once per step
     ("progress", "f8"), ("progress_segment", "i8"), ("progress_step", "i8"), ("search_from", "i8"),
-    ("passed", "i8")])  # how many of its intermediate waypoints it has come near, in turn (engine.step.ending)
+    ("passed", "i8"),  # how many of its intermediate waypoints it has come near, in turn (engine.step.ending)
+    ("held", "?")])  # its script stands it this step (a cue's wait: engine.step.think; people.give_way.lets_robot_by)
 ACTION = layout([("vx", "f8"), ("vy", "f8"), ("gesture", "i8"), ("has_heading", "?"), ("heading", "c16"),
                  ("unicycle", "?"), ("forward", "f8"), ("turn", "f8")])  # unicycle: forward m/s, turn rad/s
 

@@ -75,6 +75,7 @@ def think(s, trees, pacing, script, scratch):  # noqa: ANN001, ANN201
     for i in range(min(people.shape[0], script.finished.shape[0])):  # whom a let_pass need not wait for (script.gone_by)
         script.finished[i] = done(people, s.goals, i)
     play(s, script)
+    s.robot[0].held = script.now[0].wait
     return 0
 
 

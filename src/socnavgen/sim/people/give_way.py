@@ -434,8 +434,9 @@ def give_way_to_robot(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
 def lets_robot_by(s, i):  # noqa: ANN001, ANN201
     """Person i, following the robot, starts stepping aside for it: they stand in its way (in_robot_way), not walking
     up to it (faster than FOLLOW_MIN_SPEED toward it), and either were there already (told FOLLOW ME by a robot
-    right behind them) or walked up into its way (came_up: to take something from it, a handover) and it now drives
-    on toward them (faster than ROBOT_MOVED_SPEED). Someone coming to a robot that stands walks up and stands facing
+    right behind them) or walked up into its way (came_up: to take something from it, a handover) and either its
+    script no longer holds it (robot.held: crowding curious people stood in front of a robot that drove on for good)
+    or it drives on toward them (faster than ROBOT_MOVED_SPEED). Someone coming to a robot that stands walks up and stands facing
     it; the robot waits for them (robot.polite.yield_to). Stepping aside at 2 m, the colleague who came for the
     first-aid kit stood 2.3 m off to the side (warehouse_17, round 22)."""
     p, robot = s.people[i], s.robot[0]
@@ -447,7 +448,7 @@ def lets_robot_by(s, i):  # noqa: ANN001, ANN201
     if -(p.vel * u.conjugate()).real > FOLLOW_MIN_SPEED:  # walking up to it
         p.came_up = True
         return False
-    return not p.came_up or (robot.vel * u.conjugate()).real > ROBOT_MOVED_SPEED
+    return not (p.came_up and robot.held) or (robot.vel * u.conjugate()).real > ROBOT_MOVED_SPEED
 
 
 @leaf("FollowRobot")
