@@ -1,6 +1,6 @@
-"""The new-request suite (tests/fixtures/new_requests/): 48 requests written by sessions that never read the
-code (16 per bundled location, half without a rough scenario: 24 of round 11, 12 of round 13, 6 of round 15, 6 of round
-20), answered by separate
+"""The new-request suite (tests/fixtures/new_requests/): 54 requests written by sessions that never read the
+code (18 per bundled location, half without a rough scenario: 24 of round 11, 12 of round 13, 6 of round 15, 6 of round
+20, 6 of round 22), answered by separate
 sessions playing a capable model through the real prompts (`generate --verify` against queue_openai.py), recorded as replay fixtures. Each
 fixture carries what a person saw in the GIF frames of its final answers (`eyes`). Replayed here through the
 real pipeline: every stage's first answer valid or corrected within its stage, and the verifier's verdict on the
@@ -30,7 +30,8 @@ PATHS = fixture_paths(FIXTURES)
 # the tenth session's simulator) and judged in round 17 of the eyes; six new requests of round 20 answered live on the
 # tenth session's final code and judged in round 18; home_05, home_10, hospital_04 and hospital_06 re-answered live in
 # round 21 on the eleventh session's code (their recordings ended: a walker held at the start is a required `walks`
-# failure, an order held at t = 0 fails, people who gave way stay aside) and judged in round 19. Three lenient passes
+# failure, an order held at t = 0 fails, people who gave way stay aside) and judged in round 19; six new requests of
+# round 22 answered live on the eleventh session's final code and judged in round 20. Three lenient passes
 # (a robot's wait at a distance; who stays put in a circle the robot goes round; an order among staff going in) and
 # two strict fails (a step aside too short for the robot, called a weak point by eye; a pair that gave way together
 # while the robot idled). hospital_06 agrees since the eleventh session.
@@ -69,12 +70,12 @@ REFUSED: dict[str, str] = {}
 
 def test_the_suite_is_there_and_judged():
     names = [p.stem for p in PATHS]
-    assert len(names) == 48
+    assert len(names) == 54
     for location in ("home", "hospital", "warehouse"):
         mine = [p for p in PATHS if p.stem.startswith(location)]
-        assert len(mine) == 16
+        assert len(mine) == 18
         rough = [fixture_request(p, ROOT).rough for p in mine]
-        assert sum(r is None for r in rough) == 8  # half of them without a rough scenario
+        assert sum(r is None for r in rough) == 9  # half of them without a rough scenario
     for path in PATHS:
         data = load_yaml_file(path)
         assert data.get("verify_loop") is True, path.stem
