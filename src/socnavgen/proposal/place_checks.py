@@ -55,6 +55,20 @@ _UNTIL = re.compile(r"^[^,.;:]*?\b(?:until|till|unless)\b", re.IGNORECASE)
 _PERSON = re.compile(r"\b[Hh]uman ?(\d+)\b")
 
 
+def place_events_text(detail: bool = True) -> str:
+    """Stage 1's rule for what these checks (and prose_checks.file_place_mistakes) ask, told with the stl help (after
+    facts.events_text; `detail` False: fit.py's signals cut drops it, the checks still name what is missing)."""
+    if not detail:
+        return ""
+    return ("\n- STATE WHERE THE ROBOT WAITS AND WHO STAYS PUT: a robot your text has wait N m short of (before) a place "
+            "is held there by an stl \"(robot_to_node_X >= M) until (what ends its wait)\" (X: that place, M at "
+            f"least N - {WAIT_SLACK:g}; a distance from a person, or robot_to_node_X < d, lets it drive right up to "
+            "X); a person your text has stay where they are (stay put, not move away) by \"always (moved_human1 < "
+            "0.5)\"; a person your text puts second, third or last in a file of people by an stl relating them to the "
+            "one before, measured at a node inside where they go (\"(human3_to_node_R > 1.0) until (human2_to_node_R "
+            "< 0.5)\"), not at a doorway both crowd round.")
+
+
 def _sentences(text: str) -> list[str]:
     return [s.strip() for s in re.split(r"(?<=[.;!?])\s+", text) if s.strip()]
 

@@ -32,7 +32,7 @@ from socnavgen.proposal.facts import (
 )
 from socnavgen.proposal.fit import NOTHING, Cut, Note, examples_kept, fit_prompt
 from socnavgen.proposal.gbnf import Grammar, Lit, Ref, Symbol, text_rules
-from socnavgen.proposal.place_checks import robot_wait_mistakes, stay_mistakes
+from socnavgen.proposal.place_checks import place_events_text, robot_wait_mistakes, stay_mistakes
 from socnavgen.proposal.prose_checks import close_follow_mistakes, order_mistakes, person_order_mistakes
 from socnavgen.proposal.replies import ScenarioReply, human_name
 from socnavgen.proposal.spec_checks import (
@@ -78,7 +78,8 @@ def spec_help_text(target: Target | None = None, *, signals: bool = True, robot:
     return render("scenario_spec.md", vocabulary=robot_vocabulary_text(), facts=physical_facts_text(),
                   kinds=", ".join(k for k in get_args(CriterionKind) if robot or k not in STOP_KINDS),
                   stop_kinds=STOP_KINDS_TEXT if robot else "", target=target_text(target),
-                  rules=scenario_rules_text(target, signals, robot), cue_triggers=cue_triggers_text(robot),
+                  rules=scenario_rules_text(target, signals, robot) + place_events_text(signals),
+                  cue_triggers=cue_triggers_text(robot),
                   follow_distance=follows_distance_text(), follows_human=follows_human_text(robot))
 
 
