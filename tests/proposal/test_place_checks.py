@@ -49,6 +49,15 @@ def test_a_robot_waiting_short_of_a_place_needs_a_criterion_that_keeps_it_back_f
     assert "no criterion keeps the robot back from" in mistakes[0] and "robot_to_node_" in mistakes[0]
 
 
+@pytest.mark.parametrize("description", [
+    "The robot keeps about 3 m back from i1 until the team has gone in.",
+    "It pulls up 3 m short of i1 and lets them pass.",
+    "The robot stays some 3 m away from INTERSECTION sh while the worker swings the jack.",
+])
+def test_other_words_for_the_wait_are_seen_too(description):
+    assert robot_wait_mistakes(description, "", {}, _spec("always (speed_robot < 1.0)"), NODES)
+
+
 def test_the_advice_names_the_node_and_the_texts_distance_less_the_slack():
     mistakes = robot_wait_mistakes(WARD, "", {}, _spec("always (speed_robot < 1.0)"), NODES)
     assert f"(robot_to_node_i1 >= {4 - WAIT_SLACK:g}) until" in mistakes[0]
@@ -93,6 +102,13 @@ def test_people_the_text_has_stay_where_they_are_need_a_criterion_that_sees_them
     mistakes = stay_mistakes(CIRCLE, {}, _spec(n=3))
     assert [m.split(" stay where")[0] for m in mistakes] == ["the text has human1", "the text has human3"]
     assert "always (moved_human1 < 0.5)" in mistakes[0]
+
+
+@pytest.mark.parametrize("words", ["stays right where she stands", "holds her ground", "keeps her place",
+                                   "remains in place", "stays put"])
+def test_other_words_for_staying_put_are_seen_too(words):
+    assert len(stay_mistakes("", {"human1": f"A friend in the circle; she {words} while the robot goes by."},
+                             _spec())) == 1
 
 
 def test_the_words_may_be_in_a_behavior():

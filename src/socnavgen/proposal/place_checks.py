@@ -37,7 +37,8 @@ _SHORT = re.compile(rf"(?:\b{_AMOUNT} (?:short of|before|back from|away from|in 
                     r"(?P<place>(?:(?!(?:and|while|until|when|as|so|then|but|where|which|who|because)\b)[^,.;:()])+)",
                     re.IGNORECASE)
 _WAIT = re.compile(r"\b(?:stops?|stopping|waits?|waiting|holds?|holding|halts?|pauses?|pausing|stands?|standing|"
-                   r"parks?|comes? to a (?:halt|stop)|keeps? back|hangs? back|stays? back)\b", re.IGNORECASE)
+                   r"parks?|comes? to a (?:halt|stop)|keeps?|keeping|hangs? back|stays?|staying|remains?|"
+                   r"(?:pulls?|draws?) up|idles?)\b", re.IGNORECASE)
 _ROBOT = re.compile(r"\b(?:the robot|it)\b", re.IGNORECASE)
 _GROUP_WORDS = {"group", "team", "cluster", "circle", "pair", "family", "crowd", "couple", "queue", "them", "him", "her",
                 "everyone", "others", "robot", "it", "crew", "children", "kids", "people", "friends", "guests",
@@ -45,8 +46,11 @@ _GROUP_WORDS = {"group", "team", "cluster", "circle", "pair", "family", "crowd",
 _SUBJECTS = PEOPLE_WORDS | {"he", "she", "they"}  # a person who may be the one that stops
 _WAIT_REACH = 80  # characters: a wait verb this near the amount (same clause) is the robot's wait there
 # Staying put: not for good when "until" follows in the clause (a wait), nor of the robot.
-STAY = re.compile(r"\b(?:stay(?:s|ing)? (?:where (?:he|she|they) (?:is|are)|put|in (?:his|her|their) place|in place)|"
-                  r"remain(?:s|ing)? (?:where (?:he|she|they) (?:is|are)|in place|in (?:his|her|their) place|put)|"
+_WHERE = r"(?:right )?where (?:he|she|they) (?:is|are|stands?|stood)"
+STAY = re.compile(rf"\b(?:stay(?:s|ing)? (?:{_WHERE}|put|in (?:his|her|their) place|in place)|"
+                  rf"remain(?:s|ing)? (?:{_WHERE}|in place|in (?:his|her|their) place|put)|"
+                  r"(?:holds?|holding|stands?|standing) (?:his|her|their) ground|"
+                  r"keeps? (?:his|her|their) (?:place|spot|position)|"
                   r"(?:do|does|did) not (?:move|step away|walk away|move away)|doesn'?t move|don'?t move|"
                   r"never moves?)\b", re.IGNORECASE)
 _CLAUSE_END = re.compile(r"[,;:]|\b(?:but|then|while|until|and then|after|before)\b", re.IGNORECASE)
