@@ -155,9 +155,10 @@ def robot_wait_mistakes(description: str, expected: str, behaviors: dict[str, st
             f"the text has the robot wait {'about ' + format(amount, 'g') + ' m ' if amount else ''}short of "
             f"{place} (\"{quote}\"), but no criterion keeps the robot back from {node or 'that place'} (a distance "
             f"from a person, or only an upper bound such as robot_to_... < d, passes a robot that drives right up to "
-            f"it); add an stl criterion such as \"({signal} >= {bound}) until (<what ends the wait, e.g. "
-            f"human1_to_node_M < 1.0>)\"{' (N: the node of ' + place + ')' if not node else ''}"
-            f"{'' if need else ' (D: how far back it waits, in metres)'}, or drop the place from the text")
+            f"it); add an stl criterion such as \"({signal} >= {bound}) until (humanK_to_node_M < 1.0)\" (humanK at node "
+            f"M: what ends the wait in your text, e.g. the last of them at a node past the robot or inside where they go"
+            f"{'; N: the node of ' + place if not node else ''}{'' if need else '; D: how far back it waits, in metres'}"
+            f"), or drop the place from the text")
     return mistakes
 
 
