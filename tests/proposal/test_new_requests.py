@@ -47,25 +47,25 @@ DISAGREE: dict[str, str] = {
     "of the way (in the robot's way within 3.5 m from 5.2 s, aside only at 27 s: the pair gave way together, the "
     "robot idled at vh ~17 s with its way clear) and 'never stuck' (10.6 s back and forth at vh, 0.57 m from her); "
     "the eyes saw the idling and called it a flaw, not a failure",
-    "home_10_medication_past_chatting_friends": "lenient PASS (re-answered live in round 21): the text has the circle "
-    "stay and only the friend on the door side step back while the robot skirts its north edge; at ~15-17 s human1 "
-    "(to stay put) walks ~1.2 m north into the zv doorway, human2 moves south beside human3, and the robot drives "
-    "through the middle of the broken circle, within ~0.1 m of human1 at ~32 s; no criterion says who stays put or "
-    "how wide the robot goes round",
-    "hospital_04_telepresence_ward_round": "lenient PASS (re-answered live in round 21): the text has the nurse go in "
-    "last and the robot hold ~3 m back until all four are in; the nurse goes through third, ahead of the second "
-    "resident, and the robot drives on at ~18 s and waits ~0.5 m behind that resident while she stands in the "
-    "doorway until ~30 s; the spec checks only that each came within 0.7 m of the door before the robot did (no "
-    "order among the staff, no distance while it waits)",
-    "warehouse_04_pallet_jack_backing_out": "lenient PASS: the robot does not stop ~3 m short; it drives up to the "
-    "aisle mouth at sh within ~2 m of the worker backing out, then dodges north between the racks, and the worker's "
-    "stop to swing the jack happens inside the aisle end, not across the cross aisle (no criterion says where the "
-    "robot stands or where the worker stops)",
 }
 
 # Fixtures whose recorded answers never pass a stage (a stage check refuses them, or the recording ends where the
 # pipeline now asks what the live run was never asked), each with why: the replay stops at that stage.
-REFUSED: dict[str, str] = {}
+REFUSED: dict[str, str] = {
+    # the twelfth session's place checks (proposal/place_checks.py): the three lenient passes of round 21 and one
+    # answer whose eyes said yes; each to be re-answered live
+    "home_10_medication_past_chatting_friends": "scenario: human1 and human3 'do not move away' while the robot goes "
+    "round the circle, no criterion sees them stay (eyes no: human1 walked 1.2 m off into the zv doorway and the robot "
+    "drove through the broken circle ~0.1 m from him)",
+    "hospital_04_telepresence_ward_round": "scenario: the robot stops about 4 m short of i1 and waits until the team "
+    "is in, no criterion keeps it back from i1 (eyes no: it drove on at ~18 s and waited ~0.5 m behind the last "
+    "resident, the nurse went in third)",
+    "warehouse_04_pallet_jack_backing_out": "scenario: the robot stops about 3 m before INTERSECTION sh (the mouth of "
+    "the middle aisle), measured from the worker only (eyes no: it drove up to the aisle mouth)",
+    "warehouse_14_lunch_break_tote_return": "scenario: the robot stops about 3 m before up, only robot_to_node_co > 0.5 "
+    "keeps it back (eyes yes: it held ~2-2.5 m short of up, which its text allows; a robot driving into the passage "
+    "would pass too)",
+}
 
 
 def test_the_suite_is_there_and_judged():

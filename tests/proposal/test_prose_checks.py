@@ -17,6 +17,7 @@ from socnavgen.llm.jsonrepair import extract_json
 from socnavgen.location import load_location
 from socnavgen.proposal.conversation import Upstream
 from socnavgen.proposal.path_checks import check_paths
+from socnavgen.proposal.place_checks import robot_wait_mistakes, stay_mistakes
 from socnavgen.proposal.prose_checks import (
     close_follow_gap,
     close_follow_mistakes,
@@ -220,7 +221,10 @@ def _findings(path: Path) -> dict[str, list[str]]:
         found[f"scenario[{i}]"] = close_follow_mistakes(spec, behaviors) + \
             order_mistakes(scenario.scenario_description, behaviors, spec) + \
             person_order_mistakes(scenario.scenario_description, behaviors, spec) + \
-            stop_mistakes(scenario.scenario_description, behaviors, spec)
+            stop_mistakes(scenario.scenario_description, behaviors, spec) + \
+            robot_wait_mistakes(scenario.scenario_description, scenario.expected_robot_behavior, behaviors, spec,
+                                {str(n) for n in graph.nodes}) + \
+            stay_mistakes(scenario.scenario_description, behaviors, spec)
         if i == len(scenarios) - 1:
             for j, paths in enumerate(_valid(PathsReply, a) for a in data["stages"]["paths"]):
                 found[f"paths[{j}]"] = way_in_mistakes(graph, spec, behaviors, dict(paths.trajectories),
@@ -241,6 +245,20 @@ REFUSED = {
     ("home_16_hide_and_seek_laundry", "paths[0]"): "the children come to 41 from vh in the text, their paths from "
     "iq out of the main bedroom (round 20's live model then moved them to the living room's east end, as stage 1 was "
     "asked)",
+    # place_checks (session 12): the three lenient passes of round 21, and warehouse_14, whose text has the robot stop
+    # "about 3 m before up" with only robot_to_node_co > 0.5 (the node past the passage): the robot that held ~2-2.5 m
+    # short of up (eyes: yes) and one that drove into the passage would both pass
+    **{("home_10_medication_past_chatting_friends", f"scenario[{i}]"): "human1 and human3 'do not move away' while "
+       "the robot goes round the circle, no criterion sees them stay (human1 walked 1.2 m off into a doorway and the "
+       "robot drove through the circle: eyes no)" for i in (0, 1)},
+    **{("hospital_04_telepresence_ward_round", f"scenario[{i}]"): "the robot stops about 2.8 / 4 m short of i1 and "
+       "waits until the team is in, no criterion keeps it back from i1 (only robot_to_node_i1 < 4.5 and 0.8 m from "
+       "the door x5: it drove on at 18 s and waited 0.5 m behind the last resident, eyes no)" for i in (1, 2, 3, 4)},
+    **{("warehouse_04_pallet_jack_backing_out", f"scenario[{i}]"): "the robot stops about 3 m before INTERSECTION sh "
+       "/ the mouth of the middle aisle, measured from the worker only and robot_to_node_sw > 0.5 (it drove up to the "
+       "aisle mouth: eyes no)" for i in (0, 1, 2)},
+    **{("warehouse_14_lunch_break_tote_return", f"scenario[{i}]"): "the robot stops about 3 m before up, only "
+       "robot_to_node_co > 0.5" for i in (0, 1)},
 }
 
 

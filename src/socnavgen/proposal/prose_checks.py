@@ -246,6 +246,64 @@ def _relates(c: Criterion, human: str) -> bool:
     return human in named and len(named) >= 2
 
 
+# Words that give a person a place in a file of people ("walks third through the doorway", "as the fourth and last
+# of the team", "after both of them"); "first" is left to ORDER_WORDS (who goes first is most often said of the robot).
+FILE_PLACE = re.compile(r"\b(?:(?:go(?:es)?|walks?|steps?|comes?|pass(?:es)?|enters?|files?|gets?|moves?)(?: \w+){0,4}? "
+                        r"(?:second|third|fourth|fifth|last)|as the (?:second|third|fourth|fifth|last)|"
+                        r"(?:the )?last of (?:them|the \w+|all)|after (?:all|both)(?: of)? (?:them|the \w+)|"
+                        r"after the others|after everyone(?: else)?)\b", re.IGNORECASE)
+_ROBOT_SAID = re.compile(r"\b(?:the robot|it)\b", re.IGNORECASE)
+
+
+def _file_places(description: str, behaviors: dict[str, str]) -> list[tuple[str, str, str]]:
+    """(person, words, sentence) for each sentence that gives a person a place in a file of people: a behavior's
+    person, or in the description the person named last before the words (none where the robot is named after them:
+    "the robot goes in last")."""
+    names = people_names(description, behaviors)
+    texts: list[tuple[str | None, str]] = [(human_name(k) or k, str(v)) for k, v in behaviors.items()]
+    texts.append((None, description))
+    found = []
+    for owner, text in texts:
+        for sentence in re.split(r"(?<=[.;!?])\s+", text):
+            for m in FILE_PLACE.finditer(sentence):
+                before = sentence[:m.start()]
+                people = [(at, h) for at, h in _mentions(before, names)]
+                robot = [r.start() for r in _ROBOT_SAID.finditer(before)]
+                last_person = people[-1][0] if people else -1
+                if robot and max(robot) > last_person and (owner is None or re.search(
+                        r"\b(?:the robot|it) (?:\w+ ){0,3}$", before[max(robot):] + " ")):
+                    continue  # the robot is the one the words are about
+                who = people[-1][1] if people and owner is None else owner
+                if who:
+                    found.append((who, m.group(0), sentence.strip()))
+    return found
+
+
+def file_place_mistakes(description: str, behaviors: dict[str, str], spec: ScenarioSpec,
+                        told: set[str] | None = None) -> list[str]:
+    """A person the text gives a place in a file of people (second, last, after all of them) needs a criterion that
+    relates them to another person of the file: follows_robot or meets measure each from the robot only (`told`:
+    people already told of an order)."""
+    mistakes: list[str] = []
+    told = set() if told is None else told
+    humans = set(spec.humans())
+    if len(humans) < 2:
+        return []
+    for human, words, sentence in _file_places(description, behaviors):
+        if human in told or human not in humans or any(_relates(c, human) or (
+                c.kind == "follows_human" and _leader(spec, c)[0] == human) for c in spec.criteria):
+            continue
+        told.add(human)
+        quote = sentence if len(sentence) <= 160 else sentence[:157] + "..."
+        mistakes.append(
+            f"the text gives {human} a place in a file of people ('{words}': \"{quote}\"), but no criterion relates "
+            f"{human} to the others (each measured from the robot or a place alone passes them in any order); add an "
+            f"stl criterion over {human} and the one before them, such as \"(({human}_to_node_N > 1.0) until "
+            f"(humanX_to_node_N < 0.5))\" (humanX at node N, a node inside where they go, before {human} comes "
+            f"near it), or drop the order from the text if it does not matter")
+    return mistakes
+
+
 def person_order_mistakes(description: str, behaviors: dict[str, str], spec: ScenarioSpec) -> list[str]:
     """A person the text puts behind or ahead of another person needs a criterion that relates the two."""
     mistakes, told = [], set()
@@ -264,7 +322,7 @@ def person_order_mistakes(description: str, behaviors: dict[str, str], spec: Sce
             f"an stl criterion such as \"eventually (always (way_{back} >= way_{front} + {PERSON_RADIUS:g}))\" "
             f"(two followers of the robot: {back} the farther from it along the way, from some moment to the end"
             f"{'; humanX: the person ' + human + ' walks ' + how if other == 'humanX' else ''})")
-    return mistakes
+    return mistakes + file_place_mistakes(description, behaviors, spec, told)
 
 
 def named_nodes(text: str, nodes: set[str]) -> list[str]:
