@@ -148,6 +148,15 @@ def test_a_person_the_text_puts_last_of_a_file_needs_a_criterion_that_relates_th
     assert person_order_mistakes("", NURSE, related) == []
 
 
+def test_an_ordinal_naming_a_thing_is_no_place_in_the_file():
+    """Round 22's home_17: "the son comes out of the second bedroom" refused the answer as if he came second."""
+    son = {"human1": "The nurse follows the robot.",
+           "human2": "The son comes out of the second BEDROOM through its doorway, carrying a box."}
+    assert person_order_mistakes("", son, _spec()) == []
+    second = {**son, "human2": "The son comes out of the bedroom and walks second through the doorway."}
+    assert len(person_order_mistakes("", second, _spec())) == 1
+
+
 def test_the_robot_going_in_last_is_no_persons_place_in_the_file():
     text = "Human 1 and Human 2 walk into the room; only then does the robot go in last, after both of them."
     assert person_order_mistakes(text, {}, _spec()) == []

@@ -248,7 +248,9 @@ def _relates(c: Criterion, human: str) -> bool:
 
 # Words that give a person a place in a file of people ("walks third through the doorway", "as the fourth and last
 # of the team", "after both of them"); "first" is left to ORDER_WORDS (who goes first is most often said of the robot).
+# An ordinal after a determiner names a thing, not a place in the file ("comes out of the second bedroom").
 FILE_PLACE = re.compile(r"\b(?:(?:go(?:es)?|walks?|steps?|comes?|pass(?:es)?|enters?|files?|gets?|moves?)(?: \w+){0,4}? "
+                        r"(?<!\bthe )(?<!\ba )(?<!\bhis )(?<!\bher )(?<!\bits )(?<!\btheir )(?<!\bthis )"
                         r"(?:second|third|fourth|fifth|last)|as the (?:second|third|fourth|fifth|last)|"
                         r"(?:the )?last of (?:them|the \w+|all)|after (?:all|both)(?: of)? (?:them|the \w+)|"
                         r"after the others|after everyone(?: else)?)\b", re.IGNORECASE)
