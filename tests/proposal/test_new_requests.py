@@ -52,19 +52,9 @@ DISAGREE: dict[str, str] = {
 # Fixtures whose recorded answers never pass a stage (a stage check refuses them, or the recording ends where the
 # pipeline now asks what the live run was never asked), each with why: the replay stops at that stage.
 REFUSED: dict[str, str] = {
-    # the twelfth session's place checks (proposal/place_checks.py): the three lenient passes of round 21 and one
-    # answer whose eyes said yes; each to be re-answered live
-    "home_10_medication_past_chatting_friends": "scenario: human1 and human3 'do not move away' while the robot goes "
-    "round the circle, no criterion sees them stay (eyes no: human1 walked 1.2 m off into the zv doorway and the robot "
-    "drove through the broken circle ~0.1 m from him)",
-    "hospital_04_telepresence_ward_round": "scenario: the robot stops about 4 m short of i1 and waits until the team "
-    "is in, no criterion keeps it back from i1 (eyes no: it drove on at ~18 s and waited ~0.5 m behind the last "
-    "resident, the nurse went in third)",
-    "warehouse_04_pallet_jack_backing_out": "scenario: the robot stops about 3 m before INTERSECTION sh (the mouth of "
-    "the middle aisle), measured from the worker only (eyes no: it drove up to the aisle mouth)",
-    "warehouse_14_lunch_break_tote_return": "scenario: the robot stops about 3 m before up, only robot_to_node_co > 0.5 "
-    "keeps it back (eyes yes: it held ~2-2.5 m short of up, which its text allows; a robot driving into the passage "
-    "would pass too)",
+    "warehouse_17_first_aid_kit_to_staging": "scenario: answered in round 22 before the twelfth session's place "
+    "checks; every answer has the robot stop about 1.5 m short of sw at the group's edge with no criterion keeping "
+    "it back from sw (eyes no on its live run: the run ended 5 s into the handover wait)",
 }
 
 

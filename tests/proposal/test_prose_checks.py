@@ -245,20 +245,16 @@ REFUSED = {
     ("home_16_hide_and_seek_laundry", "paths[0]"): "the children come to 41 from vh in the text, their paths from "
     "iq out of the main bedroom (round 20's live model then moved them to the living room's east end, as stage 1 was "
     "asked)",
-    # place_checks (session 12): the three lenient passes of round 21, and warehouse_14, whose text has the robot stop
-    # "about 3 m before up" with only robot_to_node_co > 0.5 (the node past the passage): the robot that held ~2-2.5 m
-    # short of up (eyes: yes) and one that drove into the passage would both pass
-    **{("home_10_medication_past_chatting_friends", f"scenario[{i}]"): "human1 and human3 'do not move away' while "
-       "the robot goes round the circle, no criterion sees them stay (human1 walked 1.2 m off into a doorway and the "
-       "robot drove through the circle: eyes no)" for i in (0, 1)},
-    **{("hospital_04_telepresence_ward_round", f"scenario[{i}]"): "the robot stops about 2.8 / 4 m short of i1 and "
-       "waits until the team is in, no criterion keeps it back from i1 (only robot_to_node_i1 < 4.5 and 0.8 m from "
-       "the door x5: it drove on at 18 s and waited 0.5 m behind the last resident, eyes no)" for i in (1, 2, 3, 4)},
-    **{("warehouse_04_pallet_jack_backing_out", f"scenario[{i}]"): "the robot stops about 3 m before INTERSECTION sh "
-       "/ the mouth of the middle aisle, measured from the worker only and robot_to_node_sw > 0.5 (it drove up to the "
-       "aisle mouth: eyes no)" for i in (0, 1, 2)},
-    **{("warehouse_14_lunch_break_tote_return", f"scenario[{i}]"): "the robot stops about 3 m before up, only "
-       "robot_to_node_co > 0.5" for i in (0, 1)},
+    # place_checks (session 12): the three lenient passes of round 21 and warehouse_14 were re-answered live on them in
+    # round 23 (each live model fixed what its first answer was refused for); round 22's warehouse_17, answered before
+    # them, is refused whole
+    ("home_10_medication_past_chatting_friends", "scenario[0]"): "human3 'staying where she is' while the robot "
+    "passes, no criterion sees her stay (the round-23 live model then bounded her)",
+    ("warehouse_14_lunch_break_tote_return", "scenario[0]"): "the robot stops about 3 m before up, no criterion keeps "
+    "it back from up (the round-23 live model then added one)",
+    **{("warehouse_17_first_aid_kit_to_staging", f"scenario[{i}]"): "the robot stops about 1.5 m short of sw at the "
+       "group's edge, no criterion keeps it back from sw (and, in the first, the shift leader behind the robot with "
+       "no criterion that sees the order)" for i in (0, 1, 2)},
 }
 
 
