@@ -10,14 +10,21 @@ wall (sim/world/walkable.py is the one implementation).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from collections.abc import Callable
+from typing import Any, Protocol
 
 import numpy as np
 
 from socnavgen.verify.thresholds import FAR
 
-if TYPE_CHECKING:
-    from socnavgen.verify.signals import Signals
+
+class Signals(Protocol):
+    """What of verify.signals.Signals this module reads (signals imports this module: no import back)."""
+
+    def keep(self, key: object, build: Callable[[], Any]) -> Any: ...
+    def need_world(self, what: str) -> Any: ...
+    def pos(self, who: str) -> np.ndarray: ...
+    def get(self, name: str) -> np.ndarray: ...
 
 
 def _between(s: Signals, a: str, b: str, steps: slice) -> np.ndarray:
@@ -36,11 +43,9 @@ def walkable(s: Signals, a: str, b: str) -> np.ndarray:
 def start_apart(s: Signals, human: str) -> float:
     """How far apart the robot and `human` start: the walkable distance at the first step (one geodesic field,
     not the run's), or the straight one without a map or where no way joins them."""
-    from socnavgen.verify.signals import UnknownSignal
-
     straight = float(s.get(f"dist_{human}")[0])
     try:
         way = float(s.keep(("walkable_start", human), lambda: _between(s, "robot", human, slice(0, 1))[0]))
-    except UnknownSignal:
+    except ValueError:  # signals.UnknownSignal: no map for this run (imported there, not here: no cycle)
         return straight
     return way if way < FAR else straight
