@@ -46,3 +46,19 @@ def test_a_condition_that_never_held_near_the_robot_is_not_claimed() -> None:
     text = tree_activity(s, "human1", near, 3.0)
     assert "conditions that held then: none" in text, text
     assert tree_activity(s, "human1", np.zeros(len(T), dtype=bool), 3.0) == ""
+
+
+def test_the_loop_compares_findings_without_the_tree_facts() -> None:
+    """A changed tree changes what its tree did, not what happened: the --verify loop's "the same findings came
+    back" (which sends them on to stage 1) must not see the facts, and must still see a changed outcome."""
+    from socnavgen.proposal.verify_loop import same_findings
+    from socnavgen.verify.blame_tree import FACTS_CLOSE, FACTS_OPEN
+
+    def finding(closest: float, facts: str) -> str:
+        return (f"gives way (human2): closest {closest} m at t=11.9 s - fix: the robot came near human2 but human2 did "
+                f"not react as asked (gives_way){FACTS_OPEN}{facts}{FACTS_CLOSE}")
+
+    one = finding(1.18, "while the robot was within 2 m (t=7.0-15.9 s) its tree ran GiveWaytoRobot 9.0 s")
+    other = finding(1.18, "while the robot was within 2 m (t=6.1-12.0 s) its tree ran RegularNav 5.9 s, LookAtRobot 1 s")
+    assert same_findings([one], [other])
+    assert not same_findings([one], [finding(2.6, "while the robot was within 2 m its tree ran RegularNav 5.9 s")])

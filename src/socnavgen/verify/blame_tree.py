@@ -10,6 +10,8 @@ conditions held only together with another (a gate vetoed by its partner).
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 
 from socnavgen.bt.library import LIBRARY
@@ -17,6 +19,16 @@ from socnavgen.verify.signals import Signals
 
 # Conditions that say nothing about the robot: a tree's bookkeeping, not a cause.
 _BOOKKEEPING = frozenset({"IsGoalReached"})
+# The facts travel in a finding's blame reason between these marks: diagnostics of the tree that ran, not the
+# outcome, so the --verify loop's "the same findings came back" compares the reason without them (a changed tree
+# changes them even when what happened did not).
+FACTS_OPEN, FACTS_CLOSE = " [what its tree did: ", "]"
+_FACTS = re.compile(re.escape(FACTS_OPEN) + r"[^\]]*" + re.escape(FACTS_CLOSE))
+
+
+def without_tree_facts(text: str) -> str:
+    """`text` with the tree facts this module wrote taken out (what the --verify loop compares round to round)."""
+    return _FACTS.sub("", text)
 
 
 def _seconds(mask: np.ndarray, dt: float) -> str:
