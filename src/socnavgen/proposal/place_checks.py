@@ -24,8 +24,7 @@ from __future__ import annotations
 
 import re
 
-from socnavgen.proposal.prose_checks import PEOPLE_WORDS, named_nodes, people_names
-from socnavgen.proposal.replies import human_name
+from socnavgen.proposal.prose_checks import PEOPLE_WORDS, named_nodes, owned_sentences, people_names, quoted
 from socnavgen.run.spec import Criterion, ScenarioSpec
 from socnavgen.verify.thresholds import MOVED_DISTANCE
 
@@ -148,7 +147,7 @@ def robot_wait_mistakes(description: str, expected: str, behaviors: dict[str, st
         if (node or place) in told or _keeps_back(spec, near, need):
             continue
         told.add(node or place)
-        quote = sentence if len(sentence) <= 160 else sentence[:157] + "..."
+        quote = quoted(sentence)
         signal = f"robot_to_node_{node}" if node else "robot_to_node_N"
         bound = f"{need:g}" if need else "D"
         mistakes.append(
@@ -166,23 +165,21 @@ def _stayers(description: str, behaviors: dict[str, str]) -> list[tuple[str, str
     """(humanN, words, sentence) of each person the text has stay put for good: in a behavior its person (unless the
     clause names the robot or another person first), in the description the people the clause names before it."""
     names = people_names(description, behaviors)
-    texts: list[tuple[str | None, str]] = [(human_name(k) or k, str(v)) for k, v in behaviors.items()]
-    texts.append((None, description))
     found = []
-    for owner, text in texts:
-        for sentence in _sentences(text):
-            for m in STAY.finditer(sentence):
-                if _UNTIL.match(sentence[m.end():]) or _IF.search(sentence):
-                    continue
-                head = sentence[:m.start()]
-                ends = [e.end() for e in _CLAUSE_END.finditer(head)]
-                clause = head[max(ends) if ends else 0:]
-                named = [f"human{n}" for n in _PERSON.findall(clause)]
-                named += [names[w.lower()] for w in re.findall(r"\b[A-Z][a-z]+\b", clause) if w.lower() in names]
-                if named:
-                    found += [(h, m.group(0), sentence) for h in dict.fromkeys(named)]
-                elif owner and not _ROBOT.search(clause):
-                    found.append((owner, m.group(0), sentence))
+    for owner, raw in owned_sentences(description, behaviors):
+        sentence = raw.strip()
+        for m in STAY.finditer(sentence):
+            if _UNTIL.match(sentence[m.end():]) or _IF.search(sentence):
+                continue
+            head = sentence[:m.start()]
+            ends = [e.end() for e in _CLAUSE_END.finditer(head)]
+            clause = head[max(ends) if ends else 0:]
+            named = [f"human{n}" for n in _PERSON.findall(clause)]
+            named += [names[w.lower()] for w in re.findall(r"\b[A-Z][a-z]+\b", clause) if w.lower() in names]
+            if named:
+                found += [(h, m.group(0), sentence) for h in dict.fromkeys(named)]
+            elif owner and not _ROBOT.search(clause):
+                found.append((owner, m.group(0), sentence))
     return found
 
 
@@ -200,7 +197,7 @@ def stay_mistakes(description: str, behaviors: dict[str, str], spec: ScenarioSpe
         if human in told or human not in humans or any(_sees_stay(c, human) for c in spec.criteria):
             continue
         told.add(human)
-        quote = sentence if len(sentence) <= 160 else sentence[:157] + "..."
+        quote = quoted(sentence)
         mistakes.append(
             f"the text has {human} stay where they are ('{words}': \"{quote}\"), but no criterion sees {human} stay "
             f"(meets, look, stops_near_robot and group_together all pass a person who walks off); add an stl "

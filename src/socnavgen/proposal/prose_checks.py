@@ -28,6 +28,22 @@ from socnavgen.proposal.conversation import Upstream
 from socnavgen.proposal.replies import human_name
 from socnavgen.run.spec import Criterion, ScenarioSpec
 
+
+def owned_sentences(description: str, behaviors: dict[str, str],
+                    more: list[tuple[str | None, str]] | None = None) -> list[tuple[str | None, str]]:
+    """(owner, sentence) of every sentence the checks read: each behavior's (its person), any `more` texts (with
+    their owner), then the description's (owner None)."""
+    texts: list[tuple[str | None, str]] = [(human_name(k) or k, str(v)) for k, v in behaviors.items()]
+    texts += more or []
+    texts.append((None, description))
+    return [(owner, sentence) for owner, text in texts for sentence in re.split(r"(?<=[.;!?])\s+", text)]
+
+
+def quoted(sentence: str, limit: int = 160) -> str:
+    """A sentence short enough to quote back to the model."""
+    return sentence if len(sentence) <= limit else sentence[:limit - 3] + "..."
+
+
 # Words that put a follower right at someone's back (criterion text or the person's behavior text).
 # `whom`: what follows "behind" ("it", "the robot", "the lead worker"; none at the end of a clause).
 CLOSE_BEHIND = re.compile(r"\b(?:right|close|closely|just|directly|immediately) behind\b(?: (?P<whom>the robot|it\b|"
@@ -162,7 +178,7 @@ def order_mistakes(description: str, behaviors: dict[str, str], spec: ScenarioSp
         if any(_about(c, human) and (c.kind == "stl" or c.kind in ORDER_KINDS) for c in spec.criteria):
             continue
         told.add(human)
-        quote = sentence if len(sentence) <= 160 else sentence[:157] + "..."
+        quote = quoted(sentence)
         mistakes.append(
             f"the text says who goes first between {human} and the robot ('{words}': \"{quote}\"), but no criterion "
             f"about {human} can see that order (meets, stops_near_robot and says pass whoever goes first); add one "
@@ -218,18 +234,15 @@ def _person_orders(description: str, behaviors: dict[str, str], spec: ScenarioSp
     of another person: in a behavior (its person, unless the sentence names another before the words), a
     criterion's text (its human) or the description (the person the sentence names last before the words)."""
     names = people_names(description, behaviors)
-    texts: list[tuple[str | None, str]] = [(human_name(k) or k, str(v)) for k, v in behaviors.items()]
-    texts += [(c.human, c.text) for c in spec.criteria if c.human and c.text]
-    texts.append((None, description))
     found = []
-    for owner, text in texts:
-        for sentence in re.split(r"(?<=[.;!?])\s+", text):
-            for m in PERSON_ORDER.finditer(sentence):
-                person, whom = _person(m.group("whom"), names)
-                before = [h for at, h in _mentions(sentence, names) if at < m.start() and h != whom]
-                who = before[-1] if before else owner
-                if person and who and who != whom:
-                    found.append((who, m.group("how"), whom, m.group(0), sentence.strip()))
+    for owner, sentence in owned_sentences(description, behaviors,
+                                           [(c.human, c.text) for c in spec.criteria if c.human and c.text]):
+        for m in PERSON_ORDER.finditer(sentence):
+            person, whom = _person(m.group("whom"), names)
+            before = [h for at, h in _mentions(sentence, names) if at < m.start() and h != whom]
+            who = before[-1] if before else owner
+            if person and who and who != whom:
+                found.append((who, m.group("how"), whom, m.group(0), sentence.strip()))
     return found
 
 
@@ -262,22 +275,19 @@ def _file_places(description: str, behaviors: dict[str, str]) -> list[tuple[str,
     person, or in the description the person named last before the words (none where the robot is named after them:
     "the robot goes in last")."""
     names = people_names(description, behaviors)
-    texts: list[tuple[str | None, str]] = [(human_name(k) or k, str(v)) for k, v in behaviors.items()]
-    texts.append((None, description))
     found = []
-    for owner, text in texts:
-        for sentence in re.split(r"(?<=[.;!?])\s+", text):
-            for m in FILE_PLACE.finditer(sentence):
-                before = sentence[:m.start()]
-                people = [(at, h) for at, h in _mentions(before, names)]
-                robot = [r.start() for r in _ROBOT_SAID.finditer(before)]
-                last_person = people[-1][0] if people else -1
-                if robot and max(robot) > last_person and (owner is None or re.search(
-                        r"\b(?:the robot|it) (?:\w+ ){0,3}$", before[max(robot):] + " ")):
-                    continue  # the robot is the one the words are about
-                who = people[-1][1] if people and owner is None else owner
-                if who:
-                    found.append((who, m.group(0), sentence.strip()))
+    for owner, sentence in owned_sentences(description, behaviors):
+        for m in FILE_PLACE.finditer(sentence):
+            before = sentence[:m.start()]
+            people = [(at, h) for at, h in _mentions(before, names)]
+            robot = [r.start() for r in _ROBOT_SAID.finditer(before)]
+            last_person = people[-1][0] if people else -1
+            if robot and max(robot) > last_person and (owner is None or re.search(
+                    r"\b(?:the robot|it) (?:\w+ ){0,3}$", before[max(robot):] + " ")):
+                continue  # the robot is the one the words are about
+            who = people[-1][1] if people and owner is None else owner
+            if who:
+                found.append((who, m.group(0), sentence.strip()))
     return found
 
 
@@ -296,7 +306,7 @@ def file_place_mistakes(description: str, behaviors: dict[str, str], spec: Scena
                 c.kind == "follows_human" and _leader(spec, c)[0] == human) for c in spec.criteria):
             continue
         told.add(human)
-        quote = sentence if len(sentence) <= 160 else sentence[:157] + "..."
+        quote = quoted(sentence)
         mistakes.append(
             f"the text gives {human} a place in a file of people ('{words}': \"{quote}\"), but no criterion relates "
             f"{human} to the others (each measured from the robot or a place alone passes them in any order); add an "
@@ -316,7 +326,7 @@ def person_order_mistakes(description: str, behaviors: dict[str, str], spec: Sce
         told.add(human)
         other = whom if whom in humans else "humanX"
         back, front = (human, other) if how == "behind" else (other, human)
-        quote = sentence if len(sentence) <= 160 else sentence[:157] + "..."
+        quote = quoted(sentence)
         mistakes.append(
             f"the text puts {human} {how} another person ('{words}': \"{quote}\"), but no criterion relates "
             f"{human} to that person (follows_robot measures each follower from the robot only, so the reverse order "
