@@ -24,7 +24,14 @@ from __future__ import annotations
 
 import re
 
-from socnavgen.proposal.prose_checks import PEOPLE_WORDS, named_nodes, owned_sentences, people_names, quoted
+from socnavgen.proposal.prose_checks import (
+    PEOPLE_WORDS,
+    named_nodes,
+    owned_sentences,
+    people_names,
+    quoted,
+    sentences,
+)
 from socnavgen.run.spec import Criterion, ScenarioSpec
 from socnavgen.verify.thresholds import MOVED_DISTANCE
 
@@ -70,10 +77,6 @@ def place_events_text(detail: bool = True) -> str:
             "0.5)\"; a person your text puts second, third or last in a file of people by an stl relating them to the "
             "one before, measured at a node inside where they go (\"(human3_to_node_R > 1.0) until (human2_to_node_R "
             "< 0.5)\"), not at a doorway both crowd round.")
-
-
-def _sentences(text: str) -> list[str]:
-    return [s.strip() for s in re.split(r"(?<=[.;!?])\s+", text) if s.strip()]
 
 
 def _a_person(place: str, names: dict[str, str]) -> bool:
@@ -137,7 +140,7 @@ def robot_wait_mistakes(description: str, expected: str, behaviors: dict[str, st
                         nodes: set[str] | None = None) -> list[str]:
     """Each place the text has the robot wait N m short of without a criterion that keeps it that far back."""
     names = people_names(description, behaviors)
-    said = [(n, place, s) for text, mine in ((description, False), (expected, True)) for s in _sentences(text)
+    said = [(n, place, s) for text, mine in ((description, False), (expected, True)) for s in sentences(text)
             for n, place in _robot_waits(s, names, mine)]
     mistakes, told = [], set()
     for amount, place, sentence in said:
@@ -166,8 +169,7 @@ def _stayers(description: str, behaviors: dict[str, str]) -> list[tuple[str, str
     clause names the robot or another person first), in the description the people the clause names before it."""
     names = people_names(description, behaviors)
     found = []
-    for owner, raw in owned_sentences(description, behaviors):
-        sentence = raw.strip()
+    for owner, sentence in owned_sentences(description, behaviors):
         for m in STAY.finditer(sentence):
             if _UNTIL.match(sentence[m.end():]) or _IF.search(sentence):
                 continue

@@ -36,7 +36,12 @@ def owned_sentences(description: str, behaviors: dict[str, str],
     texts: list[tuple[str | None, str]] = [(human_name(k) or k, str(v)) for k, v in behaviors.items()]
     texts += more or []
     texts.append((None, description))
-    return [(owner, sentence) for owner, text in texts for sentence in re.split(r"(?<=[.;!?])\s+", text)]
+    return [(owner, sentence) for owner, text in texts for sentence in sentences(text)]
+
+
+def sentences(text: str) -> list[str]:
+    """The sentences of a text, stripped (the one split every prose check reads)."""
+    return [s.strip() for s in re.split(r"(?<=[.;!?])\s+", text) if s.strip()]
 
 
 def quoted(sentence: str, limit: int = 160) -> str:
@@ -157,7 +162,7 @@ def _ordered_sentences(description: str, behaviors: dict[str, str]) -> list[tupl
         name = human_name(key) or key
         found += [(name, m.group(0), str(text)) for m in ORDER_WORDS.finditer(str(text))][:1]
     subject: str | None = None
-    for sentence in re.split(r"(?<=[.;!?])\s+", description):
+    for sentence in sentences(description):
         named = set(_NAMED.findall(sentence)) | set(re.findall(r"\bhuman(\d+)\b", sentence))
         if named:
             subject = f"human{named.pop()}" if len(named) == 1 else None

@@ -37,9 +37,9 @@ def _seconds(mask: np.ndarray, dt: float) -> str:
 
 def tree_activity(s: Signals, human: str, near: np.ndarray, reach: float) -> str:
     """One sentence on what `human`'s tree did on the steps `near` (the robot within `reach` m); "" when there
-    are no such steps or the trace has no tree record."""
+    are no such steps."""
     trace = s.trace
-    if not near.any() or trace.action is None or not trace.node_names:
+    if not near.any() or not trace.node_names:
         return ""
     i, dt = s.human(human), float(trace.dt)
     t = s.t[near]
