@@ -75,7 +75,6 @@ def think(s, trees, pacing, script, scratch):  # noqa: ANN001, ANN201
     for i in range(min(people.shape[0], script.finished.shape[0])):  # whom a let_pass need not wait for (script.gone_by)
         script.finished[i] = done(people, s.goals, i)
     play(s, script)
-    s.robot[0].held = script.now[0].wait
     return 0
 
 
@@ -97,6 +96,7 @@ def settle(s, script, scratch, reached, gesture):  # noqa: ANN001, ANN201
     clock.t += clock.dt
     clock.step += 1
     robot.scripted = scripted_gesture(s, script)
+    robot.held = script.now[0].timed or script.now[0].letting >= 0
     robot.gesture = gesture if gesture >= 0 else robot.scripted
     if robot.gesture != 0:
         robot.said |= 1 << robot.gesture
@@ -119,11 +119,8 @@ def record(s, trace):  # noqa: ANN001, ANN201
 
 
 @jit(inline=True)
-def ending(s, held):  # noqa: ANN001, ANN201
-    """Why the run ends after this step (RUNNING: it goes on). `held`: the robot's script stands it now (a cue's
-    wait): it waits by choice, it has not stopped short of someone at its goal (home_18 of round 22: the run ended
-    as an arrival while the robot still waited 1.3 m before its goal, the physiotherapist who came to take the towel
-    standing in front of it, on the goal)."""
+def ending(s):  # noqa: ANN001, ANN201
+    """Why the run ends after this step (RUNNING: it goes on)."""
     robot, clock = s.robot[0], s.clock[0]
     # at its goal after coming near each other waypoint in turn (as close as the robots skip an occupied one):
     # a round trip [A, B, A] starts on its goal and must not end at t = 0
@@ -137,7 +134,9 @@ def ending(s, held):  # noqa: ANN001, ANN201
     else:
         clock.stalled += clock.dt
     if robot.passed >= wps.shape[0] - 2 and (abs(robot.goal - robot.pos) <= robot.goal_tolerance or (
-            clock.idle >= proxemics.GOAL_STOP_DWELL and not held and stopped_short(s))):  # short of someone there
+            clock.idle >= proxemics.GOAL_STOP_DWELL and not robot.held and stopped_short(s))):  # stood short of
+        # someone at its goal, not standing for its script (a handover: round 22's first-aid kit run ended 5 s into
+        # the robot's 10 s wait when the colleague taking the kit came up between it and its goal)
         if not clock.stop_at_end:  # single steps: the caller decides what happens next
             return ROBOT_GOAL
         if clock.arrived < 0:
@@ -155,10 +154,10 @@ def ending(s, held):  # noqa: ANN001, ANN201
 
 
 @jit(inline=True)
-def after(s, held):  # noqa: ANN001, ANN201
-    """The event to hand to Python after this step (-1: none, go on); `held`: the script stands the robot now."""
+def after(s):  # noqa: ANN001, ANN201
+    """The event to hand to Python after this step (-1: none, go on)."""
     clock = s.clock[0]
-    clock.end = ending(s, held)
+    clock.end = ending(s)
     if clock.stop_at_end and clock.end != RUNNING:
         return ENDED
     if clock.each_step:
@@ -227,7 +226,7 @@ def steps(e, acted):  # noqa: ANN001, ANN201
         reached = walk(s, scratch)
         settle(s, script, scratch, reached, gesture)
         record(s, trace)
-        event = after(s, script.now[0].wait)
+        event = after(s)
         if event >= 0:
             return event
 
