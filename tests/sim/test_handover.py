@@ -46,18 +46,20 @@ def test_a_follower_ahead_of_a_waiting_robot_comes_up_and_stands_in_front_then_l
     assert trace.end_reason == "robot_goal"  # it drove on: they let it by
 
 
-def test_a_moving_robot_does_not_swerve_for_someone_coming_to_it():
-    """Driving on, with a colleague walking out to it from ahead: it stops for them (they stop short of it) and
-    keeps its line instead of moving aside as for someone it passes."""
+def test_a_driving_robot_passes_someone_walking_up_to_it_and_they_step_aside():
+    """Driving on (no cue holds it), with a colleague walking out to it from ahead: it moves aside to pass them and
+    they step aside (give way) as before a handover was a thing. Kept on its line for people walking up, with them
+    waiting for it to drive on toward them, card robot-crowding [home] stood its three curious people in front of
+    the robot, which rocked in place 73 s until the time limit."""
     script = RobotScript(speed=0.6)
     sim = make_sim([human(start=(12.0, 5.3), goals=[(12.0, 5.3)])], [FOLLOW], [(2.0, 5.0), (18.0, 5.0)],
                    ScriptedPolicy(), script=script, timeout=80)
     trace = sim.run()
+    assert np.abs(trace.robot[:, 1] - 5.0).max() > 0.45  # it moved aside to pass them (0.30 m kept on its line)
+    aside = trace.behavior_state[:, 0] == 2
     gap = np.hypot(trace.humans[:, 0, 0] - trace.robot[:, 0], trace.humans[:, 0, 1] - trace.robot[:, 1])
-    came = int(np.argmax(gap < FOLLOW_STOP + 0.3))
-    assert came > 0, gap.min()  # they came up to it
-    assert np.abs(trace.robot[: came + 1, 1] - 5.0).max() < 0.05  # on its line until then
-    assert trace.end_reason == "robot_goal"
+    assert aside.any() and gap[int(np.argmax(aside))] > FOLLOW_STOP + 0.3  # stepping aside on the way, not once
+    assert trace.end_reason == "robot_goal"  # standing in front of it (1.35 m)
 
 
 def test_a_blocker_stands_in_front_of_a_robot_waiting_short_of_its_goal_and_the_run_goes_on():

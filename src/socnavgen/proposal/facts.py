@@ -402,9 +402,9 @@ def follower_turn_text() -> str:
     from socnavgen.sim.people.leaves import FOLLOW_STOP
 
     return (f"- A follower (follow, FollowRobot) on the robot's way ahead of it, within {FOLLOW_WAY_AHEAD:g} m (it turns "
-            f"round at a dead end or on a round trip), steps aside like give_way once it drives on toward them and "
+            f"round at a dead end or on a round trip), steps aside like give_way as it drives (not while a cue holds it) and "
             f"follows again once it has passed; with no room beside it (under {PASS_WIDTH:g} m free) they first walk "
-            f"ahead of it to the nearest place wide enough. While it stands they come up and stand {FOLLOW_STOP:g} m "
+            f"ahead of it to the nearest place wide enough. While a cue holds it they come up and stand {FOLLOW_STOP:g} m "
             f"in front of it, facing it. BRING X TO SOMEONE: their node is not the robot's goal (the run ends there): "
             f"a `wait` cue stops it a few metres before them, they `follow` (\"lasts\", then they walk back), stated by "
             f"stops_near_robot. So start a follower behind or beside the robot's start, not on its route ahead; "

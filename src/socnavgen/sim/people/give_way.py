@@ -432,30 +432,33 @@ def give_way_to_robot(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
 
 @jit
 def lets_robot_by(s, i):  # noqa: ANN001, ANN201
-    """Person i, following the robot, starts stepping aside for it: they stand in its way (in_robot_way), not walking
-    up to it (faster than FOLLOW_MIN_SPEED toward it), and either were there already (told FOLLOW ME by a robot
-    right behind them) or walked up into its way (came_up: to take something from it, a handover) and either its
-    script no longer holds it (robot.held: crowding curious people stood in front of a robot that drove on for good)
-    or it drives on toward them (faster than ROBOT_MOVED_SPEED). Someone coming to a robot that stands walks up and stands facing
-    it; the robot waits for them (robot.polite.yield_to). Stepping aside at 2 m, the colleague who came for the
-    first-aid kit stood 2.3 m off to the side (warehouse_17, round 22)."""
+    """Person i, following the robot, starts stepping aside for it: they stand in its way (in_robot_way) and its
+    script does not hold it (robot.held: it drives, or may: curious people walking up to a driving robot step aside
+    on their way, as it moves aside to pass them; waiting for it to drive on toward them, card robot-crowding [home]
+    stood three in front of it, rocking in place 73 s). While a cue holds it, someone walking up to it (faster than
+    FOLLOW_MIN_SPEED toward it: came_up, to take something from it, a handover) comes up, stands facing it and steps
+    aside only once it drives on toward them (faster than ROBOT_MOVED_SPEED); someone already standing there when it
+    stopped (told FOLLOW ME) steps aside as before. Stepping aside at 2 m, the colleague who came for the first-aid
+    kit stood 2.3 m off to the side (warehouse_17, round 22)."""
     p, robot = s.people[i], s.robot[0]
     d = p.pos - robot.pos
     if abs(d) < 1e-9 or not in_robot_way(s, i):
         p.came_up = False
         return False
+    if not robot.held:
+        return True
     u = d / abs(d)
     if -(p.vel * u.conjugate()).real > FOLLOW_MIN_SPEED:  # walking up to it
         p.came_up = True
         return False
-    return not (p.came_up and robot.held) or (robot.vel * u.conjugate()).real > ROBOT_MOVED_SPEED
+    return not p.came_up or (robot.vel * u.conjugate()).real > ROBOT_MOVED_SPEED
 
 
 @leaf("FollowRobot")
 def follow_robot(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
-    """Follow the robot; a follower standing in the robot's way (ahead of it, on its remaining path) steps aside
-    and lets it pass once it drives on toward them (lets_robot_by), as a person told FOLLOW ME by a robot coming up
-    behind does; while it stands they come up to it (a handover) and stand facing it. Once it has come
+    """Follow the robot; a follower in the robot's way (ahead of it, on its remaining path) steps aside and lets
+    it pass (lets_robot_by), as a person told FOLLOW ME by a robot coming up behind does; while a cue of its script
+    holds it they come up to it (a handover), stand facing it and step aside once it drives on. Once it has come
     level with them they fall in behind it at once: they do not wait for its other followers to go by (they are
     one of them; people.spacing lines them up), nor for a robot that a give-way begun before they were told
     (GiveWaytoRobot) waits for but that drives away from them (home_09's older child stood 12 s aside, home_03's

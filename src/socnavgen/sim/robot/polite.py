@@ -1,10 +1,9 @@
 """Manners of the default robot (compiled): it keeps to one side to pass people with room, slows down near
 them, steps back from someone walking into it, and never moves closer than a margin to anyone.
 
-* pass_aside: someone ahead in (or near) its lane - coming (not up to it: coming_to), standing or slower - or
-  someone faster catching up from behind, or walking its way close behind it (tails: held behind it, they are
-  never seen catching up, and the two walked a corridor's length 0.5 m apart, neither passing): the robot moves
-  sideways, to its right unless the person is clearly on its right or the
+* pass_aside: someone ahead in (or near) its lane - coming, standing or slower - or someone faster catching
+  up from behind, or walking its way close behind it (tails: held behind it, they are never seen catching up,
+  and the two walked a corridor's length 0.5 m apart, neither passing): the robot moves sideways, to its right unless the person is clearly on its right or the
   right has no room, until the lateral distance between the two centres leaves PASS_GAP between the bodies
   (or as far as the walls allow). A head-on walker's social force has no sideways part when the two are
   exactly in line (lightsfm's angular term vanishes at theta = 0), so without this the two meet nose to nose.
@@ -99,14 +98,6 @@ def stands_clear(s, skip, point):  # noqa: ANN001, ANN201
 
 
 @jit
-def coming_to(s, i):  # noqa: ANN001, ANN201
-    """Person i walks up to the robot (goes_with_robot: following it, coming to block it; faster than CLOSING toward
-    it): they stop short of it, so it does not move aside to pass them (it stops for them: yield_to)."""
-    d = s.robot[0].pos - s.people[i].pos
-    return goes_with_robot(s, i) and (s.people[i].vel * d.conjugate()).real > CLOSING * abs(d)
-
-
-@jit
 def pass_aside(s, direction):  # noqa: ANN001, ANN201
     """Sideways velocity (complex, perpendicular to the unit `direction` of travel) that makes room to pass
     the nearest person ahead in the robot's lane, or one catching up from behind; 0 when nobody is."""
@@ -119,7 +110,7 @@ def pass_aside(s, direction):  # noqa: ANN001, ANN201
         q = people[i]
         rel = (q.pos - p) * back  # real: ahead, imag: to the left
         want = rr + q.radius + PASS_GAP
-        if abs(rel.imag) >= want or coming_to(s, i):
+        if abs(rel.imag) >= want:
             continue
         gap = abs(rel) - rr - q.radius
         if rel.real > 0:
