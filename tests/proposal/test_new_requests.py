@@ -34,9 +34,10 @@ PATHS = fixture_paths(FIXTURES)
 # round 22 answered live on the eleventh session's final code and judged in round 20 (home_18 and hospital_17 judged
 # again on the twelfth session's replay, round 22 of the eyes, with home_08, home_13, home_16 and hospital_11, which
 # verify at their first answers since); home_10, hospital_04, warehouse_04 and warehouse_14 re-answered live in round
-# 23 on the twelfth session's place checks and judged in round 21. Four lenient passes (a robot's wait spot and a
-# worker's stop place no criterion states; a handover that ends with the receiver on the robot's goal; a file of
-# students and a pass the spec does not state; a robot idling and wandering with its way clear) and two strict fails
+# 23 on the twelfth session's place checks and judged in round 21. Three lenient passes (a robot's wait spot and a
+# worker's stop place no criterion states; a file of students and a pass the spec does not state; a robot idling and
+# wandering with its way clear; home_18's handover, the receiver left on the robot's goal, is refused since the
+# thirteenth session: no criterion has him go back) and two strict fails
 # (a step aside too short for the robot, called a weak point by eye; a pair that gave way together while the robot
 # idled).
 DISAGREE: dict[str, str] = {
@@ -56,11 +57,6 @@ DISAGREE: dict[str, str] = {
     "inside the middle aisle, not across the cross aisle, and the robot does not wait on its side ~3 m before sh: "
     "it pulls ~1.3 m into the mouth of the next rack aisle and is still moving while he stands (the spec bounds "
     "the robot's distance from sh, not where it stands, nor where the worker stops)",
-    "home_18_towel_to_living_room_exercise": "lenient PASS (round 22, replayed on the twelfth session's code): the "
-    "robot waits in the bathroom for the wife, stops in the doorway ~1.1 m from 41, and the physio comes and stands "
-    "at 41 ~1.3 m from it, facing it, from ~14.5 s; he never goes back to the resident and the robot never drives "
-    "the last metre to 41, which he stands on: the run ends at 24.4 s with the two facing each other (arrival short "
-    "of someone at the goal; no criterion has him go back)",
     "hospital_17_lead_students_to_nurse_station": "lenient PASS (round 22): the patient stands ~1 m west of zs "
     "from ~20 to 28 s while the robot swerves, the robot turns into the nurse station ahead of him instead of "
     "passing him in the corridor, the students crowd round him (a touch at ~40 s by eye) instead of passing in file, "
@@ -78,6 +74,10 @@ REFUSED: dict[str, str] = {
     "warehouse_17_first_aid_kit_to_staging": "scenario: answered in round 22 before the twelfth session's place "
     "checks; every answer has the robot stop about 1.5 m short of sw at the group's edge with no criterion keeping "
     "it back from sw (eyes no on its live run: the run ended 5 s into the handover wait)",
+    "home_18_towel_to_living_room_exercise": "scenario: answered in round 22 before the thirteenth session's check of "
+    "who goes back after coming to the robot (place_checks.back_mistakes); both answers have the physio 'walk back to "
+    "the resident on the mat' after taking the towel and no criterion sees where he ends up (eyes no: replayed on the "
+    "twelfth session's code he stood on the robot's goal 41, facing it, to the end; a lenient pass until then)",
 }
 
 
