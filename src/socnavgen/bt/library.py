@@ -240,7 +240,7 @@ NODES: list[NodeSpec] = [
                                  other_human=True),
                     _STEP],
              description="One step following human `target_id` at the follower's own pace, stopping about 1.3 m "
-                         "from them.",
+                         "from them; once they stand at the end of their walk, the follower stands beside them.",
              capability="Follow another human",
              targets={"socrates", "hunav2"}, hunav2="FollowAgent"),
     NodeSpec(name="RunAwayFromRobot", kind="action", ports=[_AGENT, _STEP], moves=True, interaction=True,

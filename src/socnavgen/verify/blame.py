@@ -79,7 +79,7 @@ from socnavgen.bodies import (
 )
 from socnavgen.run.models import PathPlan
 from socnavgen.run.spec import Blame, Criterion, ScenarioSpec
-from socnavgen.verify.blame_cue import cue_never_held
+from socnavgen.verify.blame_cue import cue_never_held, stop_not_held
 from socnavgen.verify.blame_end import goal_taken, no_progress_at_end, standing_at_end
 from socnavgen.verify.blame_follow import blame_follower, never_near_start
 from socnavgen.verify.blame_timing import ended_at_once, window_closed_early
@@ -370,7 +370,7 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
     if kind == "stl":
         return _blame_formula(cc, s)
     if kind == "robot_stops":
-        return "robot_script", None, "the robot did not stand still at the place: a cue there must stop it (wait)"
+        return stop_not_held(cc, s)
     if kind == "stop_together":
         who = (cc.criterion.humans or [h or ""])[0] or None
         return "behaviors", who, "they did not stand still together: stop each one beside the others"
