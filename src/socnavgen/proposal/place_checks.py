@@ -198,6 +198,14 @@ def _sees_stay(c: Criterion, human: str) -> bool:
     return re.search(rf"\bmoved_{human}\b|\b{human}_to_\w+\s*<|>=?\s*{human}_to_\w+", formula) is not None
 
 
+def _sees_back(c: Criterion, human: str) -> bool:
+    """An stl with an upper bound on `human`'s distance to a place. Not moved_<human>: it latches once they have
+    walked, so "moved_h < 1.0" after the walk up never holds again and "eventually (dist_h < 2.0 and eventually
+    (moved_h < 1.0))" held at once for a person who started within 2 m of the robot (round 25's player)."""
+    formula = (c.formula or "") if c.kind == "stl" else ""
+    return re.search(rf"\b{human}_to_\w+\s*<|>=?\s*{human}_to_\w+", formula) is not None
+
+
 def stay_mistakes(description: str, behaviors: dict[str, str], spec: ScenarioSpec) -> list[str]:
     """Each person the text has stay put without a criterion that sees them stay."""
     mistakes, told = [], set()
@@ -233,13 +241,13 @@ def back_mistakes(description: str, behaviors: dict[str, str], spec: ScenarioSpe
     mistakes, told = [], set()
     humans = {h for h in spec.humans() if any(p.reaction in COMING for _, p in spec.parts_of(h))}
     for human, words, sentence in _stayers(description, behaviors, BACK, until=False):
-        if human in told or human not in humans or any(_sees_stay(c, human) for c in spec.criteria):
+        if human in told or human not in humans or any(_sees_back(c, human) for c in spec.criteria):
             continue
         told.add(human)
         mistakes.append(
             f"the text has {human} go back ('{words}': \"{quoted(sentence)}\"), but no criterion sees where {human} "
             f"ends up (meets, blocks_robot, stops_near_robot and follows_robot all pass a person who stays by the "
-            f"robot); add an stl criterion such as \"eventually (dist_{human} < 2.0 and eventually (moved_{human} < "
-            f"1.0))\" (they came to the robot, then back within 1 m of where they started) or \"eventually "
-            f"({human}_to_node_N < 1.0)\" after their reaction (N: the node they go back to), or drop it from the text")
+            f"robot); add an stl criterion such as \"eventually (dist_{human} < 2.0 and eventually ({human}_to_node_N "
+            f"< 1.0))\" (they came to the robot, then back within 1 m of node N, the node they go back to), or drop it "
+            f"from the text")
     return mistakes
