@@ -1,4 +1,4 @@
-"""The robot idling: standing, creeping or wandering about with no progress along its route while its way is clear
+"""The robot idling: standing, creeping or edging about (within IDLE_REACH) with no progress along its route while its way is clear
 (nobody holds it up: Signals.holding_up) and no cue of its script asks it to stand (a timed `wait`, `let_pass`
 until its person went by as a viewer sees it, `wait_until_clear`, a speed of 0), short of its goal. Nobody watching can see why it
 does not go on (issue 25: home_16's robot stood 12 s in a doorway after both children had run by, then looped back
@@ -33,6 +33,9 @@ from socnavgen.sim.trace import Trace
 from socnavgen.verify.route import progress_events
 from socnavgen.verify.thresholds import IDLE_SECONDS, PROGRESS_STEP, STILL_SPEED
 
+IDLE_REACH = 1.0  # m: idling is staying this near where it began (standing, creeping, edging about); a robot driving
+# farther is going somewhere: on a route that comes back over itself its progress is not always followed (hospital_18's
+# trip into a room and back read as 8 s without progress)
 CLEAR_LONGEST = CLEAR_PATIENCE * (CLEAR_REPEATS + 1)  # s: the longest a wait_until_clear cue stands the robot
 _WAIT = re.compile(r"(?:^|: |, )wait ([0-9.]+) s(?:,|$)")
 _LET = re.compile(r"(?:^|: |, )let (\S+) pass(?:,|$)")
@@ -133,7 +136,7 @@ def cue_waits(s: _Signals) -> np.ndarray:
 
 def idle_seconds(s: _Signals) -> np.ndarray:
     """(T,) s: how long the robot has made no progress along its route (less than PROGRESS_STEP, a ratchet: going
-    back and forth is none), continuously, with its way clear, no cue asking it to stand and short of its goal
+    back and forth is none) within IDLE_REACH of where that began, continuously, with its way clear, no cue asking it to stand and short of its goal
     (arrived: within its goal radius, stopped short of someone at it, or going on for its followers)."""
     steps = s.trace.steps
     if steps == 0 or not len(s.trace.robot_waypoints):
@@ -144,10 +147,12 @@ def idle_seconds(s: _Signals) -> np.ndarray:
     done = np.maximum.accumulate(done | (s.get("short_of_goal") > 0.5))
     done[arrival_row(s.trace):] = True
     idle = ~progress_events(s.route()[0], PROGRESS_STEP) & ~s.blocked() & ~cue_waits(s) & ~done
-    dt = s.trace.dt
+    dt, xy = s.trace.dt, s.pos("robot")
     out = np.zeros(steps)
-    run = 0.0
+    run, began = 0.0, xy[0]
     for k in range(steps):
+        if not idle[k] or float(np.hypot(*(xy[k] - began))) > IDLE_REACH:
+            run, began = 0.0, xy[k]  # on its way, or driving somewhere: a leg the route's progress may not follow
         run = run + dt if idle[k] else 0.0
         out[k] = run
     return out
