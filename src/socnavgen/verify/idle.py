@@ -17,8 +17,8 @@ from typing import Protocol
 
 import numpy as np
 
-from socnavgen.sim import contact
 from socnavgen import proxemics
+from socnavgen.sim import contact
 from socnavgen.sim.robot.script import (
     CLEAR_PATIENCE,
     CLEAR_REPEATS,
