@@ -466,7 +466,7 @@ def stl_text(signals: bool = True) -> str:
 
     if not signals:
         return "- A criterion of kind stl holds a raw signal temporal logic formula: use the other kinds."
-    listed = "; ".join(f"{k.shown} ({k.unit}): {k.meaning}" for k in SIGNAL_KINDS)
+    listed = "; ".join(f"{k.shown} ({k.unit}): {k.meaning}" for k in SIGNAL_KINDS if k.listed)
     return (f"- A criterion of kind stl holds a signal temporal logic \"formula\": one expression of at most "
             f"{MAX_FORMULA_CHARS} characters and {MAX_NESTING} nested levels, with the operators always, "
             f"eventually, historically, once, until, since (bounds in seconds, e.g. eventually[0:5]; an operator "

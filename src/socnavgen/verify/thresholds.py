@@ -27,6 +27,8 @@ APPROACH = 0.5  # m: a meeting needs the two to be this much closer than at the 
 #                 much closer to the place (or being at it)
 ASIDE_DISTANCE = 0.25  # m: a person giving way moves at least this far from where it last stood in the way
 PROGRESS_STEP = 0.25  # m of new progress along its route that restarts the robot's deadlock clock
+IDLE_SECONDS = 8.0  # s: longest the robot may get nowhere along its route with its way clear and no cue asking it to
+#                     stand (verify/idle.py): an idle robot nobody can see a cause for (no_deadlock holds it too)
 NOTICE_RANGE = 5.0  # m: a person notices a visible robot this close (keeps_away)
 STOP_NOTICE_RANGE = 3.0  # m: stops_near_robot's cause: the person walked while the robot was this close (at least)
 STOP_HOLD = 1.0  # s: a stop lasts at least this long
