@@ -13,9 +13,7 @@ by the robot's package every step: its blind corners, robot.polite.corner_late).
   (`min_pace`), so it waits for a delayed robot, out of sight if it was. Never held where the robot would wait
   for them: in its way (ahead, in the corridor its body sweeps) within `release_distance`, or while it stands
   for no known time (`robot_waits` s or more without a timed wait: it waits for someone); there it walks on to
-  the node at `min_pace`; nor, once they have set off, in the robot's sight within `in_sight` (a person frozen in
-  full view of the robot is seen waiting for it: they walk on slowly instead; held only out of its sight or far
-  off). Full speed once the robot is close to the node. So both arrive together and meet AT
+  the node at `min_pace`. Full speed once the robot is close to the node. So both arrive together and meet AT
   the node, whatever delays the robot had; at a narrow node (a door) the person is there while the robot is
   still `clear_lead` m before it, and clears it first.
 * `socrates`: the fork's rule - hold on the leg before the node until the robot's current waypoint is the
@@ -34,7 +32,6 @@ from socnavgen import bodies, proxemics
 from socnavgen.sim.jit import jit
 from socnavgen.sim.records import layout, table
 from socnavgen.sim.world.grid import World
-from socnavgen.sim.world.queries import line_of_sight
 
 ETA, SOCRATES = 0, 1
 RULES = {"eta": ETA, "socrates": SOCRATES}
@@ -55,10 +52,6 @@ class ThrottleConfig:
     # a standing person sets off when walking at this share of its top speed gets it there with the robot (the
     # rest is its slack for corners and people on its way)
     set_off_pace: float = 0.8
-    # m: a person who has set off is never held again in the robot's sight this close (line of sight on the map):
-    # frozen in full view, waiting for a robot that dithers 3 m away, is no one's way of walking (hospital_17: the
-    # patient stood 8 s 1 m from the nurse station facing the robot); they walk on to the node at `min_pace`
-    in_sight: float = 6.0
     # m: at an interaction node that is a door on the robot's way (door_lead: narrower than `narrow_clearance`
     # from its centre to a wall, and not so `clear_lead` m before it on the robot's route) the person aims to be
     # at the node while the robot is still `clear_lead` m before it: they clear the door first
@@ -78,11 +71,10 @@ class PacingPlan:
 
 SETTINGS = layout([("enabled", "?"), ("rule", "i8"), ("next_waypoint", "i8"), ("waypoint_radius", "f8"),
                    ("release_distance", "f8"), ("robot_speed", "f8"), ("min_pace", "f8"), ("robot_near", "f8"),
-                   ("robot_waits", "f8"), ("set_off_pace", "f8"), ("in_sight", "f8"),
+                   ("robot_waits", "f8"), ("set_off_pace", "f8"),
 ])
 HELD = layout([("agent", "i8"), ("goals", "i8"), ("node_at", "i8"), ("spawn_is_node", "?"), ("robot_index", "i8"),
-               ("lead", "f8"),  # lead: m before the robot reaches the node the person aims to be there (door_lead)
-               ("set_off", "?")])  # walked (faster than min_pace) since the start: never held in the robot's sight
+               ("lead", "f8")])  # lead: m before the robot reaches the node the person aims to be there (door_lead)
 
 
 class Pacing(NamedTuple):
@@ -148,7 +140,7 @@ def lower_pacing(plan: PacingPlan | None, goals: list[list[complex]], world: Wor
     settings = table(SETTINGS, 1, enabled=config.enabled and bool(held), rule=RULES[config.rule],
                       waypoint_radius=config.waypoint_radius, release_distance=config.release_distance,
                       robot_speed=config.robot_speed, min_pace=config.min_pace, robot_near=config.robot_near,
-                      robot_waits=config.robot_waits, set_off_pace=config.set_off_pace, in_sight=config.in_sight)
+                      robot_waits=config.robot_waits, set_off_pace=config.set_off_pace)
     late = np.zeros(max(len(route), len(robot_goals) + 1, 1))
     return Pacing(settings, rows[:len(held)], points, goal_is_node, robot_goal_is_node, late), skipped
 
@@ -212,10 +204,6 @@ def pace(s, pacing, cruise, waits, let_pass=-1):  # noqa: ANN001, ANN201, C901
                 blocks = in_way(rp.real, rp.imag, heading.real, heading.imag, p.pos.real, p.pos.imag, robot.radius,
                                 p.radius, proxemics.WAY_MARGIN_SCRIPT)
                 may_hold = not blocks or (p.robot_distance > settings.release_distance and not untimed)
-                if abs(p.vel) >= settings.min_pace:
-                    paced.set_off = True
-                if paced.set_off and p.robot_distance <= settings.in_sight and line_of_sight(s.world, rp, p.pos):
-                    may_hold = False  # in the robot's view: walks on slowly rather than stand frozen before it
                 want = human_left / max(eta, 1e-3)
                 if p.held or abs(p.vel) < settings.min_pace:  # standing: set off at its own speed when that
                     hold = may_hold and eta > walk_time(human_left, p.max_speed * settings.set_off_pace)  # arrives with the robot
