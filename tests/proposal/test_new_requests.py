@@ -34,12 +34,12 @@ PATHS = fixture_paths(FIXTURES)
 # round 22 answered live on the eleventh session's final code and judged in round 20 (home_18 and hospital_17 judged
 # again on the twelfth session's replay, round 22 of the eyes, with home_08, home_13, home_16 and hospital_11, which
 # verify at their first answers since); home_10, hospital_04, warehouse_04 and warehouse_14 re-answered live in round
-# 23 on the twelfth session's place checks and judged in round 21. Three lenient passes (a robot's wait spot and a
-# worker's stop place no criterion states; a file of students and a pass the spec does not state; a robot idling and
-# wandering with its way clear; home_18's handover, the receiver left on the robot's goal, is refused since the
-# thirteenth session: no criterion has him go back) and two strict fails
-# (a step aside too short for the robot, called a weak point by eye; a pair that gave way together while the robot
-# idled).
+# 23 on the twelfth session's place checks and judged in round 21; warehouse_17 re-answered live in round 24 on the
+# twelfth session's final code (judged in round 23) and home_18 in round 25 on the thirteenth session's handover code
+# (judged in round 24). Four lenient passes (a robot's wait spot and a worker's stop place no criterion states; a
+# file of students and a pass the spec does not state; a robot idling and wandering with its way clear; a resident
+# who leaves her mat as the robot passes, no criterion seeing her stay) and two strict fails (a step aside too short
+# for the robot, called a weak point by eye; a pair that gave way together while the robot idled).
 DISAGREE: dict[str, str] = {
     "hospital_10_meal_tray_family_in_doorway": "strict FAIL: the robot stops ~2.3 m short and says EXCUSE ME, the "
     "family shuffles aside and the robot threads through a ~0.9 m gap into the room without touching anyone (eyes: "
@@ -66,18 +66,22 @@ DISAGREE: dict[str, str] = {
     "until ~20 s though both were past by ~8 s, loops back south-east away from its goal, inches ~25 s below iq, "
     "passes the seeker at ~0.2 m and reaches lu at ~72 s (no criterion sees a robot idling or wandering with its "
     "way clear; the text has it drive on and pass the children at a distance)",
+    "home_18_towel_to_living_room_exercise": "lenient PASS (re-answered live in round 25, eyes round 24): the robot "
+    "stops inside the bathroom ~2 m from the mat and says EXCUSE ME, the resident comes ~1.2 m in front of it for "
+    "~4 s and walks back to the mat, the robot waits till she is back; but then it stalls in the doorway ~0.9 m from "
+    "her while she exercises and she leaves her mat ~1.2 m until it has gone by (the text: she stays on the mat while "
+    "the robot drives past, not interrupted; the criterion that sees her back at the mat is satisfied before the "
+    "robot passes, none sees her stay while it passes)",
 }
 
 # Fixtures whose recorded answers never pass a stage (a stage check refuses them, or the recording ends where the
 # pipeline now asks what the live run was never asked), each with why: the replay stops at that stage.
 REFUSED: dict[str, str] = {
-    "warehouse_17_first_aid_kit_to_staging": "scenario: answered in round 22 before the twelfth session's place "
-    "checks; every answer has the robot stop about 1.5 m short of sw at the group's edge with no criterion keeping "
-    "it back from sw (eyes no on its live run: the run ended 5 s into the handover wait)",
-    "home_18_towel_to_living_room_exercise": "scenario: answered in round 22 before the thirteenth session's check of "
-    "who goes back after coming to the robot (place_checks.back_mistakes); both answers have the physio 'walk back to "
-    "the resident on the mat' after taking the towel and no criterion sees where he ends up (eyes no: replayed on the "
-    "twelfth session's code he stood on the robot's goal 41, facing it, to the end; a lenient pass until then)",
+    "warehouse_17_first_aid_kit_to_staging": "scenario: re-answered live in round 24 (its round-22 answers were "
+    "refused by the twelfth session's place checks) before the thirteenth session's check of who goes back after "
+    "coming to the robot (place_checks.back_mistakes): every answer has the colleague 'walk back to the injured "
+    "worker at vj' with no criterion on where he ends up (eyes round 23, on the live run that verified: he never "
+    "came within ~2 m of the robot and never went back, standing ~3 m from the group to the end)",
 }
 
 
