@@ -37,9 +37,10 @@ PATHS = fixture_paths(FIXTURES)
 # 23 on the twelfth session's place checks and judged in round 21; warehouse_17 re-answered live in round 24 on the
 # twelfth session's final code (judged in round 23) and home_18 in round 25 on the thirteenth session's handover code
 # (judged in round 24). Four lenient passes (a robot's wait spot and a worker's stop place no criterion states; a
-# file of students and a pass the spec does not state; a robot idling and wandering with its way clear; a resident
-# who leaves her mat as the robot passes, no criterion seeing her stay) and two strict fails (a step aside too short
-# for the robot, called a weak point by eye; a pair that gave way together while the robot idled).
+# file of students and a pass the spec does not state; a robot passing a child at 0.3 m where the text says at a
+# distance; a resident who leaves her mat as the robot passes, no criterion seeing her stay) and three strict fails
+# (a step aside too short for the robot, called a weak point by eye; a pair that gave way together while the robot
+# idled; a crawl 0.35 m/s against a bound of 0.35).
 DISAGREE: dict[str, str] = {
     "hospital_10_meal_tray_family_in_doorway": "strict FAIL: the robot stops ~2.3 m short and says EXCUSE ME, the "
     "family shuffles aside and the robot threads through a ~0.9 m gap into the room without touching anyone (eyes: "
@@ -62,10 +63,17 @@ DISAGREE: dict[str, str] = {
     "passing him in the corridor, the students crowd round him (a touch at ~40 s by eye) instead of passing in file, "
     "and they end ~2 m north of the robot, not round it (no criterion for the file, the pass or the gathering)",
     "home_16_hide_and_seek_laundry": "lenient PASS (verified at its first answers since the twelfth session's "
-    "walkable approach): the robot stops in the zv doorway at ~3 s and both children run by, but it stays there "
-    "until ~20 s though both were past by ~8 s, loops back south-east away from its goal, inches ~25 s below iq, "
-    "passes the seeker at ~0.2 m and reaches lu at ~72 s (no criterion sees a robot idling or wandering with its "
-    "way clear; the text has it drive on and pass the children at a distance)",
+    "walkable approach; the thirteenth session's replay looked at by the lead, who reads the code): the robot stops "
+    "in the zv doorway at ~3 s while both children run by and drives on at ~11 s (before: ~20 s, then a loop away "
+    "from its goal), but the seeker stands beside the hider right by its way to iq: it creeps beside her ~14-25 s "
+    "and passes ~0.3 m from her as she steps back (5 s within intimate space), reaching lu at 31.5 s (the text has "
+    "it pass the children at a distance; no criterion bounds how close it passes them)",
+    "hospital_11_disinfecting_west_corridor": "strict FAIL (thirteenth session's replay; eyes round 20 on the "
+    "twelfth session's run: yes): the first answers' run fails 'the robot drives slowly whenever it is within 2 m "
+    "of the second patient' by a hair (0.35 m/s at 0.99 m, the bound < 0.35; its cue's 0.25 m/s holds 3 s): the "
+    "robot let the first patient go by 1.25 s earlier (a let_pass person who walked on and stopped off its way has "
+    "gone by) and the second patient meets it with the same pass at ck; the recording has no answer for the paths "
+    "stage the --verify loop then asks",
     "home_18_towel_to_living_room_exercise": "lenient PASS (re-answered live in round 25, eyes round 24): the robot "
     "stops inside the bathroom ~2 m from the mat and says EXCUSE ME, the resident comes ~1.2 m in front of it for "
     "~4 s and walks back to the mat, the robot waits till she is back; but then it stalls in the doorway ~0.9 m from "
