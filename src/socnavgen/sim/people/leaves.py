@@ -27,6 +27,7 @@ from socnavgen.sim.people.spots import LOOK, REACH, pick
 from socnavgen.sim.people.state import (
     ROUTE_ROBOT,
     STANDING,
+    done,
     goal_reached,
     pop_goal,
     turn,
@@ -224,8 +225,7 @@ def beside(s, i, h):  # noqa: ANN001, ANN201
     in file (warehouse_14: a follower stood 30 s in the passage the robot had to take). True when person i does
     that this step; False (no such spot, the leader walks on): they follow as before."""
     p, q = s.people[i], s.people[h]
-    done = not q.has_goal or (q.queue_count == 1 and not q.cyclic and goal_reached(s.people, s.goals, h))
-    if not done or abs(q.vel) >= STANDING or abs(q.pos - p.pos) > LOOK:
+    if not done(s.people, s.goals, h) or abs(q.pos - p.pos) > LOOK:
         p.has_spot = False
         return False
     # the spot is kept while the leader stands there: a robot coming by does not send them off to another spot
