@@ -19,15 +19,15 @@ FIXTURES = Path(__file__).resolve().parents[1] / "fixtures" / "new_requests"
 ROOT = Path(__file__).resolve().parents[2]
 PATHS = fixture_paths(FIXTURES)
 
-# Where the verifier and the eyes disagree today, each with what was seen (a strict xfail: it turns red the day
-# they agree, and the pin must go). Empty means they agree on every fixture. Round 11 answers (the fifth session's
+# Where the verifier and the eyes disagree today, each with what was seen (a strict xfail: it turns red the day they
+# agree, and the pin must go). Empty means they agree on every fixture. Round 11 answers (the fifth session's
 # prompts), round 13 (the seventh session's), round 14 re-recordings (the eighth session's), round 15 (six new
 # requests) and round 16 re-recordings (six requests whose recordings the ninth session's checks refused or ended),
 # replayed on the ninth session's code; the eyes of rounds 15-16 and of hospital_07 / hospital_10 are round 15's
 # (sessions that read no code and saw no verdict), the others round 14's; home_03 and warehouse_12 were re-answered
-# live in round 18 and judged, with hospital_04 and hospital_10 (whose runs the tenth session's group circle
-# changed), in round 16 of the eyes; home_09 and warehouse_13 re-answered live in round 19 (their recordings ended under
-# the tenth session's simulator) and judged in round 17 of the eyes; six new requests of round 20 answered live on the
+# live in round 18 and judged, with hospital_04 and hospital_10 (whose runs the tenth session's group circle changed),
+# in round 16 of the eyes; home_09 and warehouse_13 re-answered live in round 19 (their recordings ended under the
+# tenth session's simulator) and judged in round 17 of the eyes; six new requests of round 20 answered live on the
 # tenth session's final code and judged in round 18; home_05, home_10, hospital_04 and hospital_06 re-answered live in
 # round 21 on the eleventh session's code (their recordings ended: a walker held at the start is a required `walks`
 # failure, an order held at t = 0 fails, people who gave way stay aside) and judged in round 19; six new requests of
@@ -36,11 +36,14 @@ PATHS = fixture_paths(FIXTURES)
 # verify at their first answers since); home_10, hospital_04, warehouse_04 and warehouse_14 re-answered live in round
 # 23 on the twelfth session's place checks and judged in round 21; warehouse_17 re-answered live in round 24 on the
 # twelfth session's final code (judged in round 23) and home_18 in round 25 on the thirteenth session's handover code
-# (judged in round 24). Four lenient passes (a robot's wait spot and a worker's stop place no criterion states; a
-# file of students and a pass the spec does not state; a robot passing a child at 0.3 m where the text says at a
-# distance; a resident who leaves her mat as the robot passes, no criterion seeing her stay) and three strict fails
-# (a step aside too short for the robot, called a weak point by eye; a pair that gave way together while the robot
-# idled; a robot backing beside a patient it passes, judged by eye on an earlier run where it did not).
+# (judged in round 24); home_10, hospital_13, warehouse_14 and warehouse_17 re-answered live in round 26 on the
+# thirteenth session's final code (their recordings ended unverified) and judged in round 25. Four lenient passes (a
+# robot's wait spot and a worker's stop place no criterion states; a file of students and a pass the spec does not
+# state; a robot passing a child at 0.3 m where the text says at a distance; a resident who leaves her mat as the
+# robot passes, no criterion seeing her stay) and three strict fails (a step aside too short for the robot, called a
+# weak point by eye; a pair that gave way together while the robot idled; a robot backing beside a patient it passes,
+# judged by eye on an earlier run where it did not; a robot whose stop for a hand-over a side-step for a passer-by
+# broke, which the eyes let pass).
 DISAGREE: dict[str, str] = {
     "hospital_10_meal_tray_family_in_doorway": "strict FAIL: the robot stops ~2.3 m short and says EXCUSE ME, the "
     "family shuffles aside and the robot threads through a ~0.9 m gap into the room without touching anyone (eyes: "
@@ -74,6 +77,12 @@ DISAGREE: dict[str, str] = {
     "backs ~1.7 m east beside her at up to 0.35 m/s before driving on west (the twelfth session's robot went on west "
     "throughout); the verifier fails 'the robot drives slowly whenever it is within 2 m of the second patient' "
     "(0.35 m/s at 0.99 m, the bound < 0.35); the recording has no answer for the paths stage the loop then asks",
+    "warehouse_17_first_aid_kit_to_staging": "strict FAIL (re-answered live in round 26 on the thirteenth session's "
+    "final code, eyes round 25: yes): the robot stops past sw at the group's edge and says EXCUSE ME, a colleague "
+    "comes ~1.3 m in front of it for ~4 s and goes back, the shift leader waits ~5 s behind it and walks round; the "
+    "verifier fails the robot's stop (7.6 s at once, 8 s asked: it slides ~1 m south off the aisle for the leader, "
+    "which the eyes saw and called a minor deviation) and 'never closer than 2 m to vj' (1.99 m as it turns, "
+    "'>2 m' by eye)",
     "home_18_towel_to_living_room_exercise": "lenient PASS (re-answered live in round 25, eyes round 24): the robot "
     "stops inside the bathroom ~2 m from the mat and says EXCUSE ME, the resident comes ~1.2 m in front of it for "
     "~4 s and walks back to the mat, the robot waits till she is back; but then it stalls in the doorway ~0.9 m from "
@@ -84,13 +93,7 @@ DISAGREE: dict[str, str] = {
 
 # Fixtures whose recorded answers never pass a stage (a stage check refuses them, or the recording ends where the
 # pipeline now asks what the live run was never asked), each with why: the replay stops at that stage.
-REFUSED: dict[str, str] = {
-    "warehouse_17_first_aid_kit_to_staging": "scenario: re-answered live in round 24 (its round-22 answers were "
-    "refused by the twelfth session's place checks) before the thirteenth session's check of who goes back after "
-    "coming to the robot (place_checks.back_mistakes): every answer has the colleague 'walk back to the injured "
-    "worker at vj' with no criterion on where he ends up (eyes round 23, on the live run that verified: he never "
-    "came within ~2 m of the robot and never went back, standing ~3 m from the group to the end)",
-}
+REFUSED: dict[str, str] = {}
 
 
 def test_the_suite_is_there_and_judged():
