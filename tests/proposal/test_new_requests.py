@@ -41,9 +41,10 @@ PATHS = fixture_paths(FIXTURES)
 # robot's wait spot and a worker's stop place no criterion states; a file of students and a pass the spec does not
 # state; a robot passing a child at 0.3 m where the text says at a distance; a resident who leaves her mat as the
 # robot passes, no criterion seeing her stay) and three strict fails (a step aside too short for the robot, called a
-# weak point by eye; a pair that gave way together while the robot idled; a robot backing beside a patient it passes,
-# judged by eye on an earlier run where it did not; a robot whose stop for a hand-over a side-step for a passer-by
-# broke, which the eyes let pass).
+# weak point by eye; a pair that gave way together while the robot idled; a robot whose stop for a hand-over a
+# side-step for a passer-by broke, which the eyes let pass). hospital_11 agrees again: pacing reads how long the
+# robot stands, not the run end's creep idle, and its run is the one its eyes judged (the second patient stands at
+# ef till ~58 s; the robot crawls past her at ck).
 DISAGREE: dict[str, str] = {
     "hospital_10_meal_tray_family_in_doorway": "strict FAIL: the robot stops ~2.3 m short and says EXCUSE ME, the "
     "family shuffles aside and the robot threads through a ~0.9 m gap into the room without touching anyone (eyes: "
@@ -71,12 +72,6 @@ DISAGREE: dict[str, str] = {
     "from its goal), but the seeker stands beside the hider right by its way to iq: it creeps beside her ~14-25 s "
     "and passes ~0.3 m from her as she steps back (5 s within intimate space), reaching lu at 31.5 s (the text has "
     "it pass the children at a distance; no criterion bounds how close it passes them)",
-    "hospital_11_disinfecting_west_corridor": "FAIL where the recorded eyes (round 20, on the twelfth session's "
-    "run) said yes - the run changed and the lead, who reads the code, saw a new robot flaw in it: the robot pulls "
-    "over for the first patient and goes on as before, but as the second patient passes it at ck (~61 s, ~1 m) it "
-    "backs ~1.7 m east beside her at up to 0.35 m/s before driving on west (the twelfth session's robot went on west "
-    "throughout); the verifier fails 'the robot drives slowly whenever it is within 2 m of the second patient' "
-    "(0.35 m/s at 0.99 m, the bound < 0.35); the recording has no answer for the paths stage the loop then asks",
     "warehouse_17_first_aid_kit_to_staging": "strict FAIL (re-answered live in round 26 on the thirteenth session's "
     "final code, eyes round 25: yes): the robot stops past sw at the group's edge and says EXCUSE ME, a colleague "
     "comes ~1.3 m in front of it for ~4 s and goes back, the shift leader waits ~5 s behind it and walks round; the "
