@@ -37,58 +37,40 @@ PATHS = fixture_paths(FIXTURES)
 # 23 on the twelfth session's place checks and judged in round 21; warehouse_17 re-answered live in round 24 on the
 # twelfth session's final code (judged in round 23) and home_18 in round 25 on the thirteenth session's handover code
 # (judged in round 24); home_10, hospital_13, warehouse_14 and warehouse_17 re-answered live in round 26 on the
-# thirteenth session's final code (their recordings ended unverified) and judged in round 25. Four lenient passes (a
-# robot's wait spot and a worker's stop place no criterion states; a file of students and a pass the spec does not
-# state; a robot passing a child at 0.3 m where the text says at a distance; a resident who leaves her mat as the
-# robot passes, no criterion seeing her stay) and three strict fails (a step aside too short for the robot, called a
-# weak point by eye; a pair that gave way together while the robot idled; a robot whose stop for a hand-over a
-# side-step for a passer-by broke, which the eyes let pass). hospital_11 agrees again: pacing reads how long the
-# robot stands, not the run end's creep idle, and its run is the one its eyes judged (the second patient stands at
-# ef till ~58 s; the robot crawls past her at ck).
+# thirteenth session's final code (their recordings ended unverified) and judged in round 25; six new requests of
+# round 27 answered live on the fourteenth session's code (home_19 and warehouse_20 again in round 28 on its back
+# check) and judged in round 27; the seven fixtures pinned before and five drawn at random (warehouse_01, home_02,
+# warehouse_07, warehouse_11, hospital_11) judged again on the fourteenth session's replay in round 26, where all five
+# drawn agreed and hospital_10, home_16 and warehouse_04 now agree (eyes no, yes, yes). Left: one lenient pass
+# (students that crowd round a patient instead of passing in file) and two strict fails (a guest who left a doorway
+# for a spot on the robot's line, which the eyes let pass; a robot whose stop for a hand-over a side-step for a
+# passer-by broke, and which came 1.99 m from a place it must keep 2 m from).
 DISAGREE: dict[str, str] = {
-    "hospital_10_meal_tray_family_in_doorway": "strict FAIL: the robot stops ~2.3 m short and says EXCUSE ME, the "
-    "family shuffles aside and the robot threads through a ~0.9 m gap into the room without touching anyone (eyes: "
-    "yes); the verifier fails the first visitor's give-way, she moved 0.43 m off the robot's route within 6 s, still "
-    "inside the 0.85 m its body sweeps, and the robot waited till 20.5 s (the eyes saw the same short step and "
-    "called it a weak point)",
-    "home_05_serving_drinks_at_party": "strict FAIL (re-answered live in round 21, eyes: yes): the pair at vh "
-    "step aside by themselves at ~3-7 s before the robot reaches them, the robot stops ~2 m short of the pair at 41, "
-    "says EXCUSE ME, they step aside and it passes without contact; the verifier fails the first guest's step out "
-    "of the way (in the robot's way within 3.5 m from 5.2 s, aside only at 27 s: the pair gave way together, the "
-    "robot idled at vh ~17 s with its way clear) and 'never stuck' (10.6 s back and forth at vh, 0.57 m from her); "
-    "the eyes saw the idling and called it a flaw, not a failure",
-    "warehouse_04_pallet_jack_backing_out": "lenient PASS (re-answered live in round 23 on the place checks): the "
-    "robot lets the worker go first and drives on only after he passed (closest ~1 m), but his ~5 s stop happens "
-    "inside the middle aisle, not across the cross aisle, and the robot does not wait on its side ~3 m before sh: "
-    "it pulls ~1.3 m into the mouth of the next rack aisle and is still moving while he stands (the spec bounds "
-    "the robot's distance from sh, not where it stands, nor where the worker stops)",
-    "hospital_17_lead_students_to_nurse_station": "lenient PASS (round 22): the patient stands ~1 m west of zs "
-    "from ~20 to 28 s while the robot swerves, the robot turns into the nurse station ahead of him instead of "
-    "passing him in the corridor, the students crowd round him (a touch at ~40 s by eye) instead of passing in file, "
-    "and they end ~2 m north of the robot, not round it (no criterion for the file, the pass or the gathering)",
-    "home_16_hide_and_seek_laundry": "lenient PASS (verified at its first answers since the twelfth session's "
-    "walkable approach; the thirteenth session's replay looked at by the lead, who reads the code): the robot stops "
-    "in the zv doorway at ~3 s while both children run by and drives on at ~11 s (before: ~20 s, then a loop away "
-    "from its goal), but the seeker stands beside the hider right by its way to iq: it creeps beside her ~14-25 s "
-    "and passes ~0.3 m from her as she steps back (5 s within intimate space), reaching lu at 31.5 s (the text has "
-    "it pass the children at a distance; no criterion bounds how close it passes them)",
+    "home_05_serving_drinks_at_party": "strict FAIL (re-answered live in round 21; eyes round 26, on this run: yes): "
+    "the first pair steps aside by themselves before the robot reaches vh, the robot nearly stops ~2.4 m short of "
+    "the pair at 41 and says EXCUSE ME, they step aside only then and it passes (~0.3 m from one of them); the "
+    "verifier fails the first guest's step out of the way: in the robot's way within 3.5 m from 5.2 s, out of it "
+    "only at 19.6 s (she left the doorway for a spot south-west of vh, on the robot's line, and it went round her)",
+    "hospital_17_lead_students_to_nurse_station": "lenient PASS (round 22; eyes round 26: no): the patient waits "
+    "facing the robot near zs ~8 s, then is boxed in by the bunched students ~15 s; the students never pass him one "
+    "by one and only one of them ends with the robot at the nurse station (no criterion for the file, the pass or "
+    "the gathering)",
     "warehouse_17_first_aid_kit_to_staging": "strict FAIL (re-answered live in round 26 on the thirteenth session's "
-    "final code, eyes round 25: yes): the robot stops past sw at the group's edge and says EXCUSE ME, a colleague "
+    "final code, eyes rounds 25-26: yes): the robot stops past sw at the group's edge and says EXCUSE ME, a colleague "
     "comes ~1.3 m in front of it for ~4 s and goes back, the shift leader waits ~5 s behind it and walks round; the "
     "verifier fails the robot's stop (7.6 s at once, 8 s asked: it slides ~1 m south off the aisle for the leader, "
     "which the eyes saw and called a minor deviation) and 'never closer than 2 m to vj' (1.99 m as it turns, "
     "'>2 m' by eye)",
-    "home_18_towel_to_living_room_exercise": "lenient PASS (re-answered live in round 25, eyes round 24): the robot "
-    "stops inside the bathroom ~2 m from the mat and says EXCUSE ME, the resident comes ~1.2 m in front of it for "
-    "~4 s and walks back to the mat, the robot waits till she is back; but then it stalls in the doorway ~0.9 m from "
-    "her while she exercises and she leaves her mat ~1.2 m until it has gone by (the text: she stays on the mat while "
-    "the robot drives past, not interrupted; the criterion that sees her back at the mat is satisfied before the "
-    "robot passes, none sees her stay while it passes)",
 }
 
 # Fixtures whose recorded answers never pass a stage (a stage check refuses them, or the recording ends where the
 # pipeline now asks what the live run was never asked), each with why: the replay stops at that stage.
-REFUSED: dict[str, str] = {}
+REFUSED: dict[str, str] = {
+    "home_18_towel_to_living_room_exercise": "scenario: re-answered live in round 25; the fourteenth session's back "
+    "check refuses its answer: 'back on her mat' is stated only by an upper bound on her distance to 41, which held "
+    "before she left it (eyes round 26, on the run it verified before: no - she leaves her mat as the robot comes "
+    "through the doorway and returns only after it passed)",
+}
 
 
 def test_the_suite_is_there_and_judged():
