@@ -41,11 +41,17 @@ PATHS = fixture_paths(FIXTURES)
 # round 27 answered live on the fourteenth session's code (home_19 and warehouse_20 again in round 28 on its back
 # check) and judged in round 27; the seven fixtures pinned before and five drawn at random (warehouse_01, home_02,
 # warehouse_07, warehouse_11, hospital_11) judged again on the fourteenth session's replay in round 26, where all five
-# drawn agreed and hospital_10, home_16 and warehouse_04 now agree (eyes no, yes, yes). Left: one lenient pass
-# (students that crowd round a patient instead of passing in file) and two strict fails (a guest who left a doorway
+# drawn agreed and hospital_10, home_16 and warehouse_04 now agree (eyes no, yes, yes). Left: two lenient passes
+# (students that crowd round a patient instead of passing in file; toddlers said to trail the robot who come to it
+# from ahead) and two strict fails (a guest who left a doorway
 # for a spot on the robot's line, which the eyes let pass; a robot whose stop for a hand-over a side-step for a
 # passer-by broke, and which came 1.99 m from a place it must keep 2 m from).
 DISAGREE: dict[str, str] = {
+    "home_19_toddlers_trail_milk_delivery": "lenient PASS (a new request of round 27, answered live in round 28; "
+    "eyes round 27: no): the toddlers walk toward the robot but never fall in behind it and trail it - they stay "
+    "ahead of it and to its side, 1-2 m away, while it stands ~1 m east of 41, then walk back to the sofa; the spec "
+    "states their coming with stops_near_robot (the player swapped follows_robot for it because the verifier's "
+    "follower end check wanted them in the robot's goal room), which passes a person who walks up from ahead",
     "home_05_serving_drinks_at_party": "strict FAIL (re-answered live in round 21; eyes round 26, on this run: yes): "
     "the first pair steps aside by themselves before the robot reaches vh, the robot nearly stops ~2.4 m short of "
     "the pair at 41 and says EXCUSE ME, they step aside only then and it passes (~0.3 m from one of them); the "
