@@ -11,7 +11,7 @@ from socnavgen.bodies import PERSON_RADIUS, ROBOT_RADIUS
 from socnavgen.run.spec import CueTrigger, RobotCue, RobotScript, ScenarioSpec
 from socnavgen.sim.people.routing import project
 from socnavgen.sim.robot.api import ScriptedPolicy
-from socnavgen.sim.robot.script import LET_PASS_PATIENCE, LET_PASS_STILL, LET_PASS_WALKED, gone_by
+from socnavgen.sim.robot.script import LET_PASS_PATIENCE, LET_PASS_STILL
 from socnavgen.sim.robot.wait_spot import CLEAR_OF_WAY
 from tests.sim.simhelpers import REGULAR, human, make_sim, tree_xml
 
@@ -158,22 +158,3 @@ def test_someone_who_went_by_and_stopped_off_its_way_has_gone_by():
     drove = next(t for t, r, _, _ in rows if t > fired and r.real > rows[0][1].real + 0.3 and
                  r.real > next(r2 for t2, r2, _, _ in rows if t2 >= fired).real + 0.5)
     assert drove < stood + LET_PASS_STILL + 3.0 < fired + 20.0, (fired, stood, drove)
-
-
-@pytest.mark.parametrize("paced", [False, True])
-def test_someone_pacing_holds_off_its_way_has_not_gone_by(paced: bool):
-    """A person let pass who walked LET_PASS_WALKED and then stood LET_PASS_STILL s off the robot's way has
-    gone by (they stopped there) - unless they stand because pacing holds them for their meeting with the robot
-    (a second `let_pass` standing at once: pacing lets only the first cue's person go first): they have not
-    stopped, they wait to come, and the robot must not drive on into them."""
-    script = RobotScript(cues=[RobotCue(trigger=CueTrigger(when="start"), let_pass="human1")])
-    sim = make_sim([human(start=(9.0, 8.0), goals=[(2.0, 8.0)])], [tree_xml(REGULAR)], ROUTE,
-                   policy=ScriptedPolicy(), script=script)
-    sim.step()  # the cue fires
-    s, cue = sim.state, sim.episode.script.cues[0]
-    person = complex(s.people[0].pos)  # 3 m off its route, 7 m ahead: near, out of its way
-    cue.pass_near, cue.pass_closest = True, abs(person - complex(s.robot[0].pos))  # never farther than that
-    cue.pass_from = person + LET_PASS_WALKED + 0.5  # walked here since the cue fired
-    cue.pass_still_at, cue.pass_still_since = person, float(s.clock[0].t) - LET_PASS_STILL - 1.0  # and stood
-    s.people[0].held = paced
-    assert bool(gone_by(s, cue, False)) is not paced

@@ -295,8 +295,7 @@ def gone_by(s, cue, finished):  # noqa: ANN001, ANN201
     of the new-request suite: she stopped at the front door 1.7 m from it and the run ended with the robot still
     waiting); or, having walked LET_PASS_WALKED since the cue fired, they have stood LET_PASS_STILL s (moving less
     than LET_PASS_STILL_REACH): they stopped there, off its way (home_16: the seeker stopped by the hider 2.7 m from
-    it, never LET_PASS_AWAY farther than her closest, and the robot stood its whole 15 s with its way clear) -
-    not while pacing holds them (they stand to meet the robot, still to come: their standing starts when let go).
+    it, never LET_PASS_AWAY farther than her closest, and the robot stood its whole 15 s with its way clear).
     From poses alone (the export's ROS node has no velocities, nor knows where anyone's walk ends: `finished` is
     False there)."""
     i = cue.lets_pass
@@ -308,7 +307,7 @@ def gone_by(s, cue, finished):  # noqa: ANN001, ANN201
     if d <= proxemics.HELD_UP_DISTANCE or way:
         cue.pass_near = True
     cue.pass_closest = min(cue.pass_closest, d)
-    if s.people[i].held or abs(pos - cue.pass_still_at) > LET_PASS_STILL_REACH:
+    if abs(pos - cue.pass_still_at) > LET_PASS_STILL_REACH:
         cue.pass_still_at, cue.pass_still_since = pos, t
     stopped = abs(pos - cue.pass_from) >= LET_PASS_WALKED and t - cue.pass_still_since >= LET_PASS_STILL
     return cue.pass_near and not way and (d >= cue.pass_closest + LET_PASS_AWAY or finished or stopped)
