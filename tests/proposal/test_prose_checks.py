@@ -250,6 +250,11 @@ REFUSED = {
     # check refused (the live model then dropped 'short of sw': the stop was meant at the group's edge)
     ("home_10_medication_past_chatting_friends", "scenario[1]"): "human3 'stays where she is' while the robot goes "
     "round her, no criterion sees her stay (the round-26 live model then bounded her)",
+    # round 27-28's new requests: each first answer below was refused live and the model then fixed it
+    ("home_19_toddlers_trail_milk_delivery", "scenario[0]"): "toddlers 'right behind the robot', a follows_robot "
+    "allowing 4.5 m (the round-28 live model then allowed 3 m)",
+    ("home_20_slippers_past_walker_practice", "scenario[0]"): "the robot waits ~1.6 m short of the hallway junction, "
+    "its criterion keeps it back only 0.5 m (the round-27 live model then asked 0.6 m)",
     ("warehouse_17_first_aid_kit_to_staging", "scenario[0]"): "the robot 'stops just short of sw' with no criterion "
     "keeping it back from sw (the round-26 live model then reworded the stop as at the group's edge, which an stl "
     "on robot_to_node_vj states)",
