@@ -15,7 +15,8 @@ import numpy as np
 
 from socnavgen.run.models import HumanPlan, PathPlan
 from socnavgen.run.spec import Criterion, CueTrigger, RobotCue, RobotScript, ScenarioSpec
-from socnavgen.verify.blame import blame_criterion, blame_tree_check
+from socnavgen.verify.blame import blame_criterion
+from socnavgen.verify.blame_tree import blame_tree_check
 from socnavgen.verify.criteria import compile_criterion
 from socnavgen.verify.models import VerifySettings
 from socnavgen.verify.signals import Signals

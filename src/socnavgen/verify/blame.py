@@ -59,6 +59,8 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
   T2  tree checks: IsRobotVisible / IsRobotNearby never succeeded                               -> paths
   T3  tree checks: any other node never ran, or ran before its cause, or (GiveWaytoRobot) ran without the
       body getting out of the robot's way                                                       -> behaviors(h)
+  R7  (before R1 and T3) GiveWaytoRobot ran its reaction seconds at once with the robot near and the body never
+      got out of the robot's way: the place leaves no room (blame_tree.gave_way_in_vain)         -> paths
   U1  a user `stl` formula: robot phrases it names never said -> robot_script; it names a human's
       actions, phrases or reactions -> behaviors(h); otherwise                                 -> paths
       (proposal/verify_loop.py: the spec's own formula failing again after the paths changed -> spec)
@@ -79,21 +81,29 @@ from socnavgen.bodies import (
     TOUCH_DISTANCE,
 )
 from socnavgen.run.models import PathPlan
-from socnavgen.run.spec import Blame, Criterion, ScenarioSpec
+from socnavgen.run.spec import Criterion, ScenarioSpec
 from socnavgen.verify.blame_cue import cue_never_held, stop_not_held
 from socnavgen.verify.blame_end import SIMULATOR_NOTE, goal_taken, no_progress_at_end, standing_at_end
 from socnavgen.verify.blame_follow import blame_follower, never_near_start
 from socnavgen.verify.blame_timing import ended_at_once, window_closed_early
-from socnavgen.verify.blame_tree import FACTS_CLOSE, FACTS_OPEN, tree_activity
+from socnavgen.verify.blame_tree import FACTS_CLOSE, FACTS_OPEN, gave_way_in_vain, tree_activity
 from socnavgen.verify.criteria import Compiled
 from socnavgen.verify.evidence import deadlock_culprit, in_window, met_mask, stayed_off_place, way_cause
 from socnavgen.verify.idle import idle_fact
+from socnavgen.verify.models import Verdict
 from socnavgen.verify.people import blame_people
-from socnavgen.verify.signals import ROBOT_PHRASES, Signals, lasting, phrase_id, reaction_evidence
+from socnavgen.verify.runs import lasting
+from socnavgen.verify.signals import ROBOT_PHRASES, Signals, phrase_id, reaction_evidence
 from socnavgen.verify.stl import formula_signals
-from socnavgen.verify.thresholds import APPROACH, KIND_DISTANCE, MEET_DISTANCE, STILL_SPEED, STOP_HOLD
-
-Verdict = tuple[Blame, str | None, str]  # blame, human (for behaviors), reason
+from socnavgen.verify.thresholds import (
+    APPROACH,
+    KIND_DISTANCE,
+    MEET_DISTANCE,
+    PASSING_DISTANCE,
+    REACTION_SECONDS,
+    STILL_SPEED,
+    STOP_HOLD,
+)
 
 
 def spec_problem(c: Criterion, spec: ScenarioSpec, roster: set[str] | None = None) -> str | None:
@@ -408,7 +418,13 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
             return cause
         if kind == "follows_human":
             return blame_follower(cc, s, h)
-        facts = tree_activity(s, h, s.get(f"dist_{h}") <= reach, reach)
+        near = s.get(f"dist_{h}") <= reach
+        reaction = "give_way" if kind == "gives_way" else cc.reaction
+        vain = gave_way_in_vain(s, h, s.get(f"dist_{h}") <= max(reach, PASSING_DISTANCE), cc.seconds or REACTION_SECONDS) \
+            if reaction == "give_way" else None
+        if vain:
+            return vain
+        facts = tree_activity(s, h, near, reach, reaction)
         return "behaviors", h, f"the robot came near {h} but {h} did not react as asked ({kind})" + \
             (f"{FACTS_OPEN}{facts}{FACTS_CLOSE}" if facts else "")
     return "paths", None, "the scenario did not unfold as asked"
@@ -517,21 +533,3 @@ def _blame_formula(cc: Compiled, s: Signals) -> Verdict:
     what = cc.criterion.text or "the formula's geometry"
     return "paths", None, f"{what}: not so in the simulation; check where and when the paths meet"
 
-
-def blame_tree_check(node: str | None, message: int | None, human: str | None, s: Signals | None,
-                     before_cause: bool, ran_at: float | None = None) -> Verdict:
-    """Rules T1-T3 for a failing tree expectation. `ran_at`: when the node ran, for a check that failed although
-    it ran (its effect never showed)."""
-    if before_cause:
-        return "behaviors", human, f"{human}'s {node} ran before its cause"
-    if node == "RobotSays" and s is not None:
-        said = message is not None and (np.asarray(s.trace.robot_gesture) == message).any()
-        if not said:
-            return "robot_script", None, "the robot never made the gesture this tree waits for: script it"
-    if node in ("IsRobotVisible", "IsRobotNearby"):
-        return "paths", None, f"the robot never came where {human} could see it"
-    if ran_at is not None:  # the node ran, its effect did not show (evaluate.py: GiveWaytoRobot without stepping aside)
-        return "behaviors", human, (f"{human}'s tree ran {node} (from t={ran_at:.1f} s) but its body did not get out "
-                                    f"of the robot's way: keep {node} running until {human} stands aside (do not cut "
-                                    "it short with another node), or start it earlier, where there is room to step aside")
-    return "behaviors", human, f"{human}'s tree never ran {node}"

@@ -20,12 +20,12 @@ import math
 import numpy as np
 
 from socnavgen.bt.library import BLOCKING_CONE
-from socnavgen.run.spec import Blame, ScenarioSpec
+from socnavgen.run.spec import ScenarioSpec
 from socnavgen.verify.criteria import Compiled
-from socnavgen.verify.signals import Signals, runlength
+from socnavgen.verify.models import Verdict
+from socnavgen.verify.runs import runlength
+from socnavgen.verify.signals import Signals
 from socnavgen.verify.windows import off_heading, triggered
-
-Verdict = tuple[Blame, str | None, str]
 
 NEAR_MISS = 1.0  # m: a trigger distance the robot missed by this much or less is the trigger's (spec), not the place's
 MARGIN = 0.5  # m: a trigger distance advised is the closest the robot came plus this, rounded up to STEP
@@ -86,17 +86,18 @@ def _let_pass(spec: ScenarioSpec | None, h: str) -> str:
 
 
 def stop_not_held(cc: Compiled, s: Signals) -> Verdict:
-    """robot_stops failed. A robot that stood at the place long enough in all, but never the criterion's seconds at
-    once, had its stand broken (it steps aside for someone who must get past it while it waits): saying "a cue
-    there must stop it" then misleads the model, whose wait cue is already there (round 24's player)."""
+    """robot_stops failed. A robot that held the place long enough in all, but never the criterion's seconds at
+    once, had its stand broken (it drove on, or made way for someone who must get past it, while it waits): saying
+    "a cue there must stop it" then misleads the model, whose wait cue is already there (round 24's player)."""
     enc = cc.encounter
     near = s.get(f"robot_to_{enc.id}") <= (cc.distance or 0) if enc is not None else np.ones(len(s.t), bool)
-    still = (s.get("robot_still") > 0.5) & near
+    still = (s.get("robot_holds") > 0.5) & near
     runs = runlength(still, s.trace.dt)
     total, longest, needs = float(still.sum() * s.trace.dt), float(runs.max(initial=0.0)), cc.seconds or 0.0
     if needs > 0 and total >= needs:
         return ("robot_script", None,
-                f"the robot stood still at the place {total:.1f} s in all but at most {longest:.1f} s at once (needs "
-                f"{needs:g} s at once): something moved it during its wait (it steps aside for someone who must get "
-                f"past it); ask for no longer a stop than it holds at once, or keep the others' ways off its spot")
+                f"the robot held the place {total:.1f} s in all but at most {longest:.1f} s at once (needs "
+                f"{needs:g} s at once): it drove on during its wait (a cue that ended it, or it made way for someone "
+                f"who had to get past it); ask for no longer a stop than it holds at once, or keep the others' ways "
+                f"off its spot")
     return "robot_script", None, "the robot did not stand still at the place: a cue there must stop it (wait)"

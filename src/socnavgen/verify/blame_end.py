@@ -19,13 +19,12 @@ import numpy as np
 
 from socnavgen import proxemics
 from socnavgen.run.models import PathPlan
-from socnavgen.run.spec import Blame, RobotCue, ScenarioSpec
+from socnavgen.run.spec import RobotCue, ScenarioSpec
 from socnavgen.sim.people.spots import REACH, RING_STEP, RINGS
 from socnavgen.sim.robot.script import describe
+from socnavgen.verify.models import Verdict
 from socnavgen.verify.signals import Signals
 from socnavgen.verify.thresholds import PROGRESS_STEP, STILL_SPEED
-
-Verdict = tuple[Blame, str | None, str]
 
 GOAL_AREA = RINGS * RING_STEP + REACH  # m: how far round its goal point a person who walked there stands (sim spots)
 WALKING_NODES = ("RegularNav", "UpdateGoal", "IsGoalReached")  # the tree just walks the person its path (to its goal)

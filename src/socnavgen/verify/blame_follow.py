@@ -12,13 +12,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from socnavgen.run.spec import Blame
 from socnavgen.verify.criteria import Compiled
+from socnavgen.verify.models import Verdict
 from socnavgen.verify.signals import Signals
 from socnavgen.verify.thresholds import WALK_SPEED
 from socnavgen.verify.windows import held_within
-
-Verdict = tuple[Blame, str | None, str]
 
 
 def blame_follower(cc: Compiled, s: Signals, h: str) -> Verdict:

@@ -10,13 +10,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from socnavgen.run.spec import Blame, ScenarioSpec
+from socnavgen.run.spec import ScenarioSpec
 from socnavgen.sim.people.leaves import BLOCK_AHEAD
 from socnavgen.verify.criteria import Compiled
 from socnavgen.verify.evidence import in_window
+from socnavgen.verify.models import Verdict
 from socnavgen.verify.signals import Signals, phrase_id
-
-Verdict = tuple[Blame, str | None, str]
 
 
 def ended_at_once(cc: Compiled, s: Signals, spec: ScenarioSpec, h: str) -> Verdict | None:

@@ -28,6 +28,8 @@ from socnavgen.verify.signals import phrase_id
 from socnavgen.verify.stl import FormulaError
 from socnavgen.verify.thresholds import (
     APPROACH,
+    FOLLOW_AHEAD,
+    FOLLOW_SEEN,
     IDLE_SECONDS,
     KIND_DISTANCE,
     NOTICE_RANGE,
@@ -262,6 +264,17 @@ def leader_of(c: Criterion, part: HumanPart | None) -> str:
     return part.other
 
 
+def follow_span(part: HumanPart | None, reaction_seconds: float) -> float | None:
+    """How long a follow that ends by itself (its part has `lasts`: a toddler trails the robot 16 s, then goes back to
+    the sofa) is judged: its `lasts` less the reaction's seconds to fall in (at least half of it). None: a follow to
+    the end of the run (latched, or while its trigger holds), judged to the end (home_19's player swapped
+    follows_robot for stops_near_robot because the follow was judged to the end of the run, where the toddlers had
+    gone back as the text says, and stops_near_robot passed toddlers who never trailed the robot)."""
+    if part is None or part.reaction not in ("follow", "follow_human") or part.lasts is None:
+        return None
+    return max(part.lasts - reaction_seconds, part.lasts / 2)
+
+
 def _follows(c: Criterion, ctx: Context, out: Compiled) -> None:
     h = _need_human(c)
     d = out.distance = c.distance or KIND_DISTANCE[c.kind]
@@ -275,7 +288,13 @@ def _follows(c: Criterion, ctx: Context, out: Compiled) -> None:
     # following starts at its place: h is near it when it begins to follow (after the phrase: within S s of it,
     # so a group called from across the room walks up and falls in; the robot's phrase is heard anywhere)
     there = f"({h}_to_{enc.id} <= {enc.within + d:g}) and " if enc is not None else ""
-    follow = f"({there}(always ({way} <= {d:g})) and (eventually {walks}))"
+    span = follow_span(out.part, s)
+    keep, walk = (f"always[0:{span:g}]", f"eventually[0:{span:g}]") if span is not None else ("always", "eventually")
+    # following the robot: walking after it while it drives, not ahead of it along its way, FOLLOW_SEEN s at least (one
+    # who only walks up to it from in front, or stays ahead of it, never trails it: home_19's toddlers)
+    if o == "robot":
+        walks = f"always[0:{FOLLOW_SEEN:g}] ({walks} and (not {_b('robot_still')}) and (lag_{h} >= {-FOLLOW_AHEAD:g}))"
+    follow = f"({there}({keep} ({way} <= {d:g})) and ({walk} {walks}))"
     out.formula = (f"eventually ({_b(f'robot_says_{p}')} and (eventually[0:{s:g}] {follow}))" if p
                    else f"eventually {follow}")
 
@@ -338,7 +357,8 @@ def _robot_stops(c: Criterion, ctx: Context, out: Compiled) -> None:
     w = out.distance = c.distance or enc.within
     s = out.seconds = c.seconds or ROBOT_STOP_SECONDS
     # a robot that only slows down there (home_03: 0.25 m/s through the greeting) or stands elsewhere does not
-    out.formula = (f"eventually ({came_to('robot', enc.id, w)} and (always[0:{s:g}] ({_b('robot_still')} and "
+    # holding its place: standing, or stepping aside for someone coming past in the wait (not advancing)
+    out.formula = (f"eventually ({came_to('robot', enc.id, w)} and (always[0:{s:g}] ({_b('robot_holds')} and "
                    f"(robot_to_{enc.id} <= {w:g}))))")
 
 
@@ -419,7 +439,8 @@ CRITERION_KINDS: dict[str, CriterionKind] = {k.name: k for k in (
     CriterionKind("follows_robot", "eventually (robot_says_P and eventually[0:S] (h_to_e <= W + D and (always "
                   "way_h <= D) and eventually speed_h > 0.3))  (no P: eventually (h_to_e <= W + D and ...))",
                   "within S s after the phrase, from near its place on, within D along the walkable way to the "
-                  "end, walking",
+                  f"end, walking after the driving robot {FOLLOW_SEEN:g} s at least, not ahead of it (lag_h >= "
+                  f"-{FOLLOW_AHEAD:g}) (a follow whose part `lasts` L s: for max(L - S, L/2) s, not to the end)",
                   _follows),
     CriterionKind("follows_human", "follows_robot's formula with way_h_o (o: whom h's follow_human reaction "
                   "follows, its `other`) for way_h, and eventually (speed_h > 0.3 and speed_o > 0.3)",
@@ -436,9 +457,10 @@ CRITERION_KINDS: dict[str, CriterionKind] = {k.name: k for k in (
                   "los_h and dist_h <= max(5, D + 2)", "h must have seen the robot first", _keeps_away),
     CriterionKind("blocks_robot", "eventually always[0:0.5] (inway_h and dist_h <= D and speed_h <= 0.1 and "
                   "robot_still)", "a real 1 s standoff", _blocks_robot),
-    CriterionKind("robot_stops", "eventually (came(robot, e) and always[0:S] (robot_still and robot_to_e <= W))  "
-                  "(W: its distance, else e's within; S: 2 s unless given)", "the robot came to the place and stood "
-                  "still there S s (slowing down is no stop)", _robot_stops),
+    CriterionKind("robot_stops", "eventually (came(robot, e) and always[0:S] (robot_holds and robot_to_e <= W))  "
+                  "(W: its distance, else e's within; S: 2 s unless given)", "the robot came to the place and held it "
+                  "S s: stood, or stepped aside for someone in its wait, never advancing (slowing down is no stop)",
+                  _robot_stops),
     CriterionKind("stop_together", "eventually always[0:S] (each h: moved_h and speed_h <= 0.1; each pair: way_a_b "
                   "<= D; with an encounter: each h_to_e <= W + D)", "people who had walked stand still at once, "
                   "within D of each other along the walkable way, S s as seen (a greeting: nobody stands alone)",

@@ -12,7 +12,8 @@ import numpy as np
 from socnavgen.run.models import PathPlan
 from socnavgen.run.spec import Criterion, ScenarioSpec
 from socnavgen.sim.trace import Trace
-from socnavgen.verify.blame import blame_criterion, blame_tree_check, spec_problem
+from socnavgen.verify.blame import blame_criterion, spec_problem
+from socnavgen.verify.blame_tree import blame_tree_check
 from socnavgen.verify.criteria import Compiled, compile_criterion
 from socnavgen.verify.derive import derive_spec, encounter_places, with_implied
 from socnavgen.verify.evaluate import evaluate, node_steps

@@ -9,6 +9,8 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError
 from socnavgen.run.spec import Blame
 from socnavgen.verify import thresholds as T
 
+Verdict = tuple[Blame, str | None, str]  # a failure's blame, the human (for behaviors) and the reason
+
 ExpectationKind = Literal["executes", "gives_way_while_passing"]
 Source = Literal["spec", "implied", "paths", "tree", "card"]
 Stage = Literal["paths", "behaviors"]

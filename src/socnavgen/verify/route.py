@@ -124,3 +124,12 @@ def ahead_on_route(progress: np.ndarray, xy: np.ndarray, waypoints: list[tuple[f
         return np.zeros(len(xy), dtype=bool)
     ahead = route_progress(xy, waypoints, near=progress)[0] - np.asarray(progress, dtype=float)
     return (route_offset(xy, waypoints) < half) & (ahead > front) & (ahead <= reach)
+
+
+
+def lag_along(robot_xy: np.ndarray, xy: np.ndarray, tangent: np.ndarray) -> np.ndarray:
+    """(T,) metres each point is behind the robot along the way it drives (its route's direction there, `tangent`
+    from route_progress; negative: ahead of it); zeros without a route. Local, so a point past the route's end or
+    round its last bend is not read as level with the robot."""
+    rel = np.asarray(robot_xy, dtype=float).reshape(-1, 2) - np.asarray(xy, dtype=float).reshape(-1, 2)
+    return (rel * np.asarray(tangent, dtype=float).reshape(-1, 2)).sum(axis=1)

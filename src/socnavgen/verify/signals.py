@@ -32,7 +32,8 @@ from socnavgen.verify.passing import (  # aside: re-exported (its home is verify
     parted_for_robot,
 )
 from socnavgen.verify.perceived import perceived, seen_hold
-from socnavgen.verify.route import ahead_on_route, leg_left, progress_events, route_progress
+from socnavgen.verify.route import ahead_on_route, lag_along, leg_left, progress_events, route_progress
+from socnavgen.verify.runs import lasting, latched, runlength
 from socnavgen.verify.thresholds import (
     AHEAD_HALF_ANGLE,
     ASIDE_DISTANCE,
@@ -79,29 +80,6 @@ class SignalKind:
     meaning: str
     build: Callable[[Signals, re.Match], np.ndarray]
     listed: bool = True  # in the prompts' list of signals (False: the verifier's own, no_deadlock's `idle`)
-
-
-def runlength(flags: np.ndarray, dt: float) -> np.ndarray:
-    """Seconds each step has been inside a continuous run of True (0 where False): dt added once per step of the
-    run, the j-th step of every run reading the j-th partial sum of one cumsum."""
-    flags = np.asarray(flags, dtype=bool)
-    n = len(flags)
-    if not n:
-        return np.zeros(0)
-    sums = np.cumsum(np.full(n, float(dt)))  # sequential: sums[j] = sums[j - 1] + dt, as a running total
-    steps = np.arange(n)
-    run_start = np.maximum.accumulate(np.where(flags, -1, steps))  # last False at or before each step
-    return np.where(flags, sums[np.maximum(steps - run_start - 1, 0)], 0.0)
-
-
-def lasting(flags: np.ndarray, seconds: float, dt: float) -> np.ndarray:
-    """(T,) bool: the steps from which `flags` stays true for at least `seconds` (this step included, dt each)."""
-    flags = np.asarray(flags, dtype=bool)
-    return runlength(flags[::-1], dt)[::-1] >= seconds - 1e-9
-
-
-def _latched(flags: np.ndarray) -> np.ndarray:
-    return np.maximum.accumulate(np.asarray(flags, dtype=float)) if len(flags) else np.zeros(0)
 
 
 class Signals:
@@ -307,6 +285,15 @@ def _robot_still(s: Signals, m: re.Match) -> np.ndarray:
     return s.speed("robot") < STILL_SPEED
 
 
+def robot_holds(s: Signals) -> np.ndarray:
+    """(T,) bool: the robot does not advance along its route, as seen (its progress along it grows slower than
+    STILL_SPEED): standing, or stepping aside or back for someone during a wait (sim.robot.wait_spot: a plain wait
+    steps aside for someone coming past; round 29's warehouse_21 and warehouse_17: stops broken by that step)."""
+    progress = s.route()[0]
+    rate = np.gradient(progress, s.t) if len(progress) > 1 else np.zeros(len(progress))
+    return (s.speed("robot") < STILL_SPEED) | (perceived(rate, s.trace.dt) < STILL_SPEED)
+
+
 def _stalled(s: Signals, m: re.Match) -> np.ndarray:
     return runlength(s.speed("robot") < STILL_SPEED, s.trace.dt)
 
@@ -361,12 +348,12 @@ def _phrase(table: dict[str, int], word: str, who: str) -> int:
 
 def _robot_says(s: Signals, m: re.Match) -> np.ndarray:
     says = np.asarray(s.trace.robot_gesture) == _phrase(ROBOT_PHRASES, m[2], "the robot")
-    return _latched(says) if m[1] == "said" else says
+    return latched(says) if m[1] == "said" else says
 
 
 def _human_says(s: Signals, m: re.Match) -> np.ndarray:
     says = np.asarray(s.trace.human_gesture[:, s.human(m[1])]) == _phrase(HUMAN_PHRASES, m[3], m[1])
-    return _latched(says) if m[2] == "said" else says
+    return latched(says) if m[2] == "said" else says
 
 
 def _los(s: Signals, m: re.Match) -> np.ndarray:
@@ -434,11 +421,7 @@ def _way(s: Signals, m: re.Match) -> np.ndarray:
 def moved(s: Signals, human: str) -> np.ndarray:
     """1 from the first step the human is MOVED_DISTANCE from where it started."""
     p = s.pos(human)
-    return _latched(contact.lengths(p - p[:1]) >= MOVED_DISTANCE)
-
-
-def _moved(s: Signals, m: re.Match) -> np.ndarray:
-    return moved(s, m[1])
+    return latched(contact.lengths(p - p[:1]) >= MOVED_DISTANCE)
 
 
 def reaction_evidence(s: Signals, human: str, reaction: str, says: str | None = None) -> np.ndarray:
@@ -482,6 +465,8 @@ SIGNAL_KINDS: tuple[SignalKind, ...] = (
     SignalKind(rf"pgap_(?:min|{_H})", "pgap_min, pgap_<human>", "m", "smallest person-person gap (of that human)", _pgap),
     SignalKind(rf"speed_(robot|{_H[1:-1]})", "speed_robot, speed_<human>", "m/s", "speed", _speed),
     SignalKind(r"robot_still", "robot_still", "0/1", f"robot speed below {STILL_SPEED} m/s", _robot_still),
+    SignalKind(r"robot_holds", "robot_holds", "0/1", "the robot does not advance along its route (standing, or "
+               "stepping aside for someone during a wait)", lambda s, m: robot_holds(s)),
     SignalKind(r"stalled", "stalled", "s", "how long the robot has been standing still, continuously", _stalled),
     SignalKind(r"progress", "progress", "m", "how far along its route the robot has come (best so far)", _progress),
     SignalKind(r"route_done", "route_done", "0/1", "the robot has come near every waypoint of its route but the last, "
@@ -517,7 +502,7 @@ SIGNAL_KINDS: tuple[SignalKind, ...] = (
                "largest distance between any two of these humans (group spread), "
                "not counting two who part to let the robot through (it is between them, or one gives way)", _spread),
     SignalKind(rf"moved_{_H}", "moved_<human>", "0/1", f"the human has walked {MOVED_DISTANCE} m from its start",
-               _moved),
+               lambda s, m: moved(s, m[1])),
     SignalKind(rf"closer_(?:{_H}|(robot|{_H[1:-1]})_to_([a-z][a-z0-9_]*))",
                "closer_<human>, closer_robot_to_<place>, closer_<human>_to_<place>", "m",
                "how much closer than at the start: robot and human (apart at the start along the walkable way), or "
@@ -526,6 +511,8 @@ SIGNAL_KINDS: tuple[SignalKind, ...] = (
                f"{ASIDE_DISTANCE:g} m from where it last stood in it, and stays out until the robot got past", _aside),
     SignalKind(rf"way_{_H}(?:_{_H})?", "way_<human>, way_<human>_<human>", "m", "walkable robot-human (or "
                "human-human) distance along the map's free space, never through a wall (straight in sight)", _way),
+    SignalKind(rf"lag_{_H}", "lag_<human>", "m", "how far the human is behind the robot along the way it drives "
+               "(its route's direction there; negative: ahead of it)", lambda s, m: lag_along(s.pos("robot"), s.pos(m[1]), s.route()[1])),
     SignalKind(rf"react_{_H}_([a-z_]+)", "react_<human>_<reaction>", "0/1",
                "evidence of a spec reaction: its library actions executing (bt.library.REACTION_NODES); stop, "
                f"wait_then_go: slower than 0.1 m/s for {STOP_HOLD:g} s after having walked; say: showing a gesture; give_way: aside_<human>; "

@@ -4,6 +4,7 @@
 zones come from socnavgen.bodies, the "in the robot's way" margins from socnavgen.proxemics.
 """
 
+from socnavgen.bodies import TOUCH_DISTANCE
 from socnavgen.sim.people.leaves import BLOCK_AHEAD, BLOCK_HOLD
 
 # -- user-settable (VerifySettings defaults) --------------------------------------------------------
@@ -19,6 +20,9 @@ REACTION_SLACK = 0.5  # m: the robot comes this much closer while a reaction ask
 STILL_SPEED = 0.05  # m/s: the robot stands still below this
 STOP_SPEED = 0.1  # m/s: a person has stopped below this
 WALK_SPEED = 0.3  # m/s: a person walks above this (following, walking before a stop)
+FOLLOW_AHEAD = TOUCH_DISTANCE  # m: a follower of the robot is never farther ahead of it along its route while it drives
+#                                (level with it, beside it: a body's length; one walking in front of it leads, not follows)
+FOLLOW_SEEN = 2.0  # s: a follower is seen walking after the driving robot this long at least (trailing it)
 MOVED_DISTANCE = 0.5  # m: a person "has walked" once this far from where it started
 WAY_REACH = 1.2  # m: a person passes a node of their planned way within this (a step to either side of it: walking
 #                  abreast of another, or round someone standing on it); verify/way_in.py

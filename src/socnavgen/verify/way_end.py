@@ -51,12 +51,12 @@ def room_of(graph: nx.Graph, node: str, is_door: Any) -> tuple[frozenset[str], f
 
 def _leaders(spec: ScenarioSpec) -> dict[str, str]:
     """Whom each person follows for good: 'robot' or another person (a latched follow / follow_human, or one a
-    follows_* criterion judges to the end)."""
+    follows_* criterion judges to the end); a follow that `lasts` a while ends, and the person goes on elsewhere."""
     judged = {c.human for c in spec.criteria if c.kind in FOLLOWS and c.human}
     out: dict[str, str] = {}
     for enc in spec.encounters:
         for p in enc.humans:
-            if p.reaction not in ("follow", "follow_human") or not (p.latch or p.human in judged):
+            if p.reaction not in ("follow", "follow_human") or not (p.latch or p.human in judged) or p.lasts is not None:
                 continue
             leader = "robot" if p.reaction == "follow" else p.other
             if leader:
