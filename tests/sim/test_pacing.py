@@ -173,3 +173,18 @@ def test_a_robot_edging_about_without_progress_has_an_eta_one_that_stands_has_no
         assert walked > 1.5, f"she walked {walked:.2f} m while the robot stood for no known time"
     else:
         assert walked < 0.2, f"she walked {walked:.2f} m towards the node while the robot was edging about"
+
+
+def test_a_robot_that_stands_just_before_the_node_is_met_during_its_wait() -> None:
+    """The robot stops 2 m before the node for 8 s (a cue's plain wait there: "it stops at the crossing and waits"):
+    that wait is the meeting, so the paced person comes during it, not when it drives on (round 29, warehouse_21:
+    the picker stepped out after the robot's stop at the crossing, as it drove on)."""
+    plain = _crossing(None)
+    stop = float(plain.t[np.flatnonzero(_tracks(plain)[0].real >= NODE.real - 2.0)[0]])  # the robot 2 m before it
+    wait = RobotScript(cues=[RobotCue(trigger=CueTrigger(when="after", seconds=stop), wait=8.0)])
+    trace = _crossing(wait)
+    robot, person = _tracks(trace)
+    k = int(round(stop / trace.dt))
+    assert abs(robot[k + int(6.0 / trace.dt)] - robot[k]) < 1.0  # it stood there (stepping aside for the person)
+    when, off = _meeting(trace, NODE)
+    assert stop <= when <= stop + 8.0 and off <= 2.0, (stop, when, off)  # they met while it stood

@@ -4,7 +4,8 @@
 A person without a group whose path has an interaction node that is also on the robot's path is paced by
 the robot's ETA at that node, re-estimated every step from what the robot does: its route left from where it
 is, at its cruise speed now (the script's, changed by its cues), plus the time it will still stand for its
-timed waits (a cue's `wait`, a late start) and the time it loses at slow spots on the way (`robot_late`, filled
+timed waits (a cue's `wait`, a late start; not a wait it stands within `release_distance` of the node: that wait
+is the meeting, the person comes during it) and the time it loses at slow spots on the way (`robot_late`, filled
 by the robot's package every step: its blind corners, robot.polite.corner_late). Only RegularNav honours it, as `pause_nav` in the fork. Two rules:
 * `eta` (default): a person standing (at the start, or held) stays where it is until walking to the node
   takes as long as the robot's ETA (bodies.walk_time, the time by which the export's timing sets people off
@@ -200,8 +201,12 @@ def pace(s, pacing, cruise, waits, let_pass=-1):  # noqa: ANN001, ANN201, C901
                     human_left = abs(pacing.points[h, at] - p.pos)
                     for j in range(at, paced.node_at):
                         human_left += abs(pacing.points[h, j + 1] - pacing.points[h, j])
+                # a timed wait the robot stands this near the node is the meeting itself: the person comes during
+                # it, not after it (warehouse_21, round 29: a picker paced to the end of the robot's stop at the
+                # crossing stepped out as it drove on; the export's release by the robot's distance does the same)
+                there = stands if robot_left > settings.release_distance else 0.0
                 robot_left = max(robot_left - paced.lead, 0.0)  # at a door: through it first (door_lead)
-                eta = robot_left / max(drive, 1e-3) + stands + pacing.robot_late[node + 1]  # + its slow corners
+                eta = robot_left / max(drive, 1e-3) + there + pacing.robot_late[node + 1]  # + its slow corners
                 # never held where the robot would wait for them: in its way, near it or while it stands for someone
                 blocks = in_way(rp.real, rp.imag, heading.real, heading.imag, p.pos.real, p.pos.imag, robot.radius,
                                 p.radius, proxemics.WAY_MARGIN_SCRIPT)
