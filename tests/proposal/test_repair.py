@@ -239,3 +239,36 @@ def test_a_reask_with_nothing_else_failing_has_no_also_list(tmp_path, mini_locat
     assert "never closer than 6 m" in alone and ALSO not in alone
     both = _correction([_finding("paths")], "paths", also=[_finding("behaviors", human="human1", evidence="x y z")])
     assert ALSO in both and "x y z" in both
+
+
+def test_a_tree_fault_reaches_every_person_with_the_same_tree_for_the_same_part() -> None:
+    """Round 29, warehouse_22: three workers of a briefing got the same give-way tree; the fix was asked of one a
+    round, and the supervisor with the very same tree was never asked. Twins (same tree, same part, names aside)
+    are asked with the blamed one's fault; a person with another tree, or the same tree for another part, is not."""
+    from socnavgen.proposal.verify_loop import twins
+    from socnavgen.run.spec import Encounter, HumanPart, ScenarioSpec
+
+    tree = '<root><BehaviorTree ID="t"><GiveWaytoRobot agent_id="{id}" time_step="{dt}"/></BehaviorTree></root>'
+    other = '<root><BehaviorTree ID="t"><LookAtRobot agent_id="{id}"/></BehaviorTree></root>'
+    parts = [HumanPart(human=h, trigger="robot_says", phrase="EXCUSE ME", reaction="give_way")
+             for h in ("human1", "human2", "human3")]
+    parts.append(HumanPart(human="human4", trigger="robot_near", distance=3.0, reaction="give_way"))
+    spec = ScenarioSpec(encounters=[Encounter(id="e1", place="STAGING", humans=parts)])
+    trees = {"human1": tree, "human2": "  " + tree.replace("><", ">\n<"), "human3": other, "human4": tree}
+    assert twins(trees, spec, {"human1"}) == {"human2": "human1"}  # human3: another tree; human4: another part
+    assert twins(trees, spec, {"human1", "human2"}) == {}
+
+
+def test_a_twin_takes_the_corrected_tree_without_being_asked(tmp_path, mini_location):
+    """Two people with the same tree for the same part: only human1 is blamed and re-asked; human2 takes its fix
+    (no second question: its tree file is human1's new one)."""
+    script = write_script(tmp_path / "s.yaml", {
+        "scenario": [scenario_reply()], "paths": [paths_reply()],
+        "behaviors": {"human1": [tree_reply(), tree_reply(LOOK_TREE)], "human2": [tree_reply()]}})
+    verify, _ = _verifier([_finding("behaviors", human="human1")], [])
+    run, llm = run_replay(script, mini_location, tmp_path / "run", verify=True, verifier=verify)
+    assert isinstance(run, Run), run
+    assert len(_asked(llm, "behaviors", "human2")) == 1 and len(_asked(llm, "behaviors", "human1")) == 2
+    folder = RunFolder(tmp_path / "run")
+    assert "LookAtRobot" in folder.behavior_path("human2").read_text()
+    assert folder.behavior_path("human2").read_text() == folder.behavior_path("human1").read_text()

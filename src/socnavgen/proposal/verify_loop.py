@@ -232,6 +232,26 @@ def _tree_shape(spec: ScenarioSpec | None, human: str) -> object:
     return ([(e.order, p.model_dump()) for e, p in spec.parts_of(human)], spec.person(human).otherwise)
 
 
+def twins(trees: dict[str, str], spec: ScenarioSpec | None, blamed: set[str]) -> dict[str, str]:
+    """{human: the blamed human whose tree they share}: people not blamed whose tree is the same as a blamed one's
+    (whitespace aside) for the same part in the spec (names aside). A fault of one is theirs too: they take its fix
+    (_Repair.share_fixes; round 29, warehouse_22: the fix reached two workers of a group one round after the other,
+    and the supervisor with the very same tree never, before the rounds ran out)."""
+    def part(h: str) -> object:
+        shape = _tree_shape(spec, h)
+        return None if shape is None else repr(shape).replace(repr(h), "'self'")
+
+    def xml(h: str) -> str:
+        return re.sub(r">\s+<", "><", " ".join(trees[h].split()))
+
+    out: dict[str, str] = {}
+    for h in sorted(set(trees) - blamed, key=str):
+        same = [b for b in sorted(blamed, key=str) if b in trees and xml(b) == xml(h) and part(b) == part(h)]
+        if same:
+            out[h] = same[0]
+    return out
+
+
 def _carry_grounding(old: ScenarioSpec | None, new: ScenarioSpec | None) -> ScenarioSpec | None:
     if old is None or new is None:
         return new
@@ -300,7 +320,10 @@ class _Repair:
         if trees_to_fix:  # the blamed trees in the same round (on the new paths, if they changed)
             corrections = {human: _correction(found, "behaviors", human, notes.get(("behaviors", human), ""))
                            for human, found in sorted(trees_to_fix.items(), key=lambda kv: int(str(kv[0])[5:]))}
+            same = twins(self.trees, self.spec, set(trees_to_fix))
+            before = dict(self.trees)
             self.trees = self.stages.behaviors(self.scenario, self.paths, self.spec, corrections)
+            self.share_fixes(same, before)
         reasked = {key: found for key, found in asked.items() if key[0] == "paths" or key[1] in trees_to_fix}
         same, words = kept(reasked, answers, self.answers(), self.said)
         if same:  # the same answer simulates the same: its findings go to stage 1 now, not after another run
@@ -330,6 +353,17 @@ class _Repair:
             run.behavior_path(human).unlink(missing_ok=True)
         if stale:
             self.trees = stages.behaviors(self.scenario, self.paths, self.spec)
+
+    def share_fixes(self, same: dict[str, str], before: dict[str, str]) -> None:
+        """Each twin (verify_loop.twins) takes the corrected tree of the person whose fault it shared: the same tree
+        for the same part gets the same fix (the trees name no one: the agent is the {id} of the blackboard)."""
+        for human, blamed in same.items():
+            fixed = self.trees.get(blamed)
+            if fixed is None or fixed == before.get(blamed) or human not in self.trees:
+                continue
+            self.run.write_behavior(human, fixed)
+            self.trees[human] = fixed
+            self.stages.emit("behaviors", human, "done", f"takes {blamed}'s corrected tree (the same tree, same part)")
 
     def remake_trees(self) -> None:
         """Every tree asked again from its fresh prompt (the scenario they were made for changed)."""
