@@ -1,4 +1,4 @@
-"""A give-way that ran its time without effect is the place's fault, not the tree's (rule R7; round 29, home_21: a
+"""A give-way that ran its time without effect is the place's fault (stage 1's), not the tree's (rule R7; round 29, home_21: a
 father met where the robot turned off, in a 1.7 m passage; his tree ran GiveWaytoRobot 10 s and three re-asks of the
 tree were told its gate "never ran its reaction"). A give-way the tree cut short is still the tree's."""
 
@@ -47,11 +47,11 @@ def _blame(trace: object) -> tuple[str, str | None, str]:
 
 def test_a_give_way_that_ran_its_time_without_getting_aside_is_the_places() -> None:
     blame, who, reason = _blame(_trace((4.0, 30.0)))  # GiveWaytoRobot from 4 s on, still in the way (near: within 3.5 m)
-    assert (blame, who) == ("paths", None), reason
+    assert (blame, who) == ("spec", None), reason
     assert "ran GiveWaytoRobot 25.5 s at once from t=4.5 s" in reason and "no room to step aside" in reason
     blame, who, reason = blame_tree_check("GiveWaytoRobot", None, "human1", Signals(_trace((4.0, 30.0))), False,
                                           ran_at=4.0)
-    assert (blame, who) == ("paths", None) and "no room to step aside" in reason
+    assert (blame, who) == ("spec", None) and "no room to step aside" in reason
 
 
 def test_a_give_way_cut_short_is_still_the_trees() -> None:

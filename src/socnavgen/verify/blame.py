@@ -60,7 +60,7 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
   T3  tree checks: any other node never ran, or ran before its cause, or (GiveWaytoRobot) ran without the
       body getting out of the robot's way                                                       -> behaviors(h)
   R7  (before R1 and T3) GiveWaytoRobot ran its reaction seconds at once with the robot near and the body never
-      got out of the robot's way: the place leaves no room (blame_tree.gave_way_in_vain)         -> paths
+      got out of the robot's way: the place leaves no room (blame_tree.gave_way_in_vain)         -> spec
   U1  a user `stl` formula: robot phrases it names never said -> robot_script; it names a human's
       actions, phrases or reactions -> behaviors(h); otherwise                                 -> paths
       (proposal/verify_loop.py: the spec's own formula failing again after the paths changed -> spec)

@@ -87,10 +87,11 @@ def gave_way_in_vain(s: Signals, human: str, near: np.ndarray, seconds: float) -
         return None
     k = int(np.argmax(run >= seconds))
     start = float(s.t[k] - run[k]) + float(trace.dt)  # the run's first step
-    return "paths", None, (f"{human}'s tree ran {GIVE_WAY_NODE} {float(run.max()):.1f} s at once from t={start:.1f} s "
-                           f"with the robot near, but {human} never got out of its way: where they meet leaves no room "
-                           f"to step aside (or the robot turns there); meet on a stretch with room beside the robot's "
-                           f"way, where it drives on straight, or have the robot wait for {human} (wait_until_clear)")
+    return "spec", None, (f"{human}'s tree ran {GIVE_WAY_NODE} {float(run.max()):.1f} s at once from t={start:.1f} s "
+                          f"with the robot near, but {human} never got out of its way: where they meet leaves no room "
+                          f"to step aside (or the robot turns there); put the encounter on a stretch with room beside "
+                          f"the robot's way, where it drives on straight, or have the robot wait for {human} "
+                          f"(wait_until_clear) - no tree of {human}'s can make the room")
 
 
 def blame_tree_check(node: str | None, message: int | None, human: str | None, s: Signals | None,

@@ -20,6 +20,7 @@ from typing import Any, TypeVar
 import numpy as np
 
 from socnavgen import proxemics
+from socnavgen.bodies import PERSON_GOAL_RADIUS
 from socnavgen.bt.library import HUMAN_GESTURES, LIBRARY, REACTION_NODES, ROBOT_GESTURES
 from socnavgen.sim import contact
 from socnavgen.sim.arrival import short_of_goal_steps
@@ -497,7 +498,8 @@ SIGNAL_KINDS: tuple[SignalKind, ...] = (
     SignalKind(rf"(robot|{_H[1:-1]}|mid_{_H[1:-1]})_to_([a-z][a-z0-9_]*)",
                "robot_to_<place>, <human>_to_<place>, mid_<human>_to_<place>", "m",
                "distance of the robot / the human / the robot-human midpoint to a place: an encounter id (its "
-               "node), goal, or node_<scene-graph id>", _to_place),
+               f"node), goal, or node_<scene-graph id> (a person walking to a node stops up to {PERSON_GOAL_RADIUS:g} m "
+               "short of it)", _to_place),
     SignalKind(rf"spread_({_H[1:-1]}(?:_{_H[1:-1]})+)", "spread_<human>_<human>[_...]", "m",
                "largest distance between any two of these humans (group spread), "
                "not counting two who part to let the robot through (it is between them, or one gives way)", _spread),
