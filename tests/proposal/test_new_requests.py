@@ -64,9 +64,18 @@ DISAGREE: dict[str, str] = {
     "warehouse_17_first_aid_kit_to_staging": "strict FAIL (re-answered live in round 26 on the thirteenth session's "
     "final code, eyes rounds 25-26: yes): the robot stops past sw at the group's edge and says EXCUSE ME, a colleague "
     "comes ~1.3 m in front of it for ~4 s and goes back, the shift leader waits ~5 s behind it and walks round; the "
-    "verifier fails the robot's stop (7.6 s at once, 8 s asked: it slides ~1 m south off the aisle for the leader, "
-    "which the eyes saw and called a minor deviation) and 'never closer than 2 m to vj' (1.99 m as it turns, "
-    "'>2 m' by eye)",
+    "verifier fails 'never closer than 2 m to vj' (1.99 m as it turns, '>2 m' by eye); its stop passes since the "
+    "fifteenth session (the robot's slide ~1 m south off the aisle for the leader during its wait holds the place)",
+    "home_22_folding_chair_past_arriving_friends": "strict FAIL (a new request of round 29; eyes round 28: yes): the "
+    "robot stops ~1.9 m short of vh saying PROCEED, the three friends come through the doorway z2 one after the other "
+    "and turn east, but linger just east of vh; after its 12 s wait the robot drives on before they reach the kitchen "
+    "(the judge saw it and called it a flaw); the spec's own criterion that it waits until all three are within 1 m of "
+    "the kitchen's 3y fails (1.8-2.6 m short)",
+    "warehouse_22_parcel_run_past_safety_briefing": "strict FAIL (a new request of round 29; eyes round 28: yes): the "
+    "robot stops ~3.9 m before vj and says EXCUSE ME, the supervisor steps into the corner and the two workers step "
+    "west, opening a gap; the robot hovers ~0.3 m from the second worker ~18 s and slips through at ~40-48 s (no "
+    "contact); the verifier fails the second worker's giving way: stepped aside at 14 s but back in the robot's way "
+    "at 43.8 s before it got past - she stepped west, onto the robot's next leg after its turn at vj",
 }
 
 # Fixtures whose recorded answers never pass a stage (a stage check refuses them, or the recording ends where the
@@ -81,12 +90,12 @@ REFUSED: dict[str, str] = {
 
 def test_the_suite_is_there_and_judged():
     names = [p.stem for p in PATHS]
-    assert len(names) == 60
+    assert len(names) == 66
     for location in ("home", "hospital", "warehouse"):
         mine = [p for p in PATHS if p.stem.startswith(location)]
-        assert len(mine) == 20
+        assert len(mine) == 22
         rough = [fixture_request(p, ROOT).rough for p in mine]
-        assert sum(r is None for r in rough) == 10  # half of them without a rough scenario
+        assert sum(r is None for r in rough) == 11  # half of them without a rough scenario
     for path in PATHS:
         data = load_yaml_file(path)
         assert data.get("verify_loop") is True, path.stem

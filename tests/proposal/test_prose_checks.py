@@ -258,12 +258,20 @@ REFUSED = {
     ("warehouse_17_first_aid_kit_to_staging", "scenario[0]"): "the robot 'stops just short of sw' with no criterion "
     "keeping it back from sw (the round-26 live model then reworded the stop as at the group's edge, which an stl "
     "on robot_to_node_vj states)",
+    # round 29's new requests (the fifteenth session): refused live, then fixed by the model
+    ("warehouse_22_parcel_run_past_safety_briefing", "scenario[0]"): "each of the briefing steps aside and rejoins 'once "
+    "it has passed', no criterion sees that order (the round-29 live model then added gives_way criteria)",
+    ("hospital_21_water_jugs_past_mopping_cleaner", "scenario[0]"): "the cleaner 'stays where she is' while she signals "
+    "WAIT, no criterion sees her stay (the round-29 live model then bounded her moving while she says it; its player "
+    "noted that the same sentence goes on to say when she moves)",
+    ("home_22_folding_chair_past_arriving_friends", "scenario[1]"): "the robot waits 'short of' the doorway z2, no "
+    "criterion keeps it back from z2 (the round-29 live model then added robot_to_node_z2)",
 }
 
 
 def test_on_the_suites_recorded_answers_the_checks_refuse_only_what_the_text_does_not_say():
     """Exactly the answers above are refused, each an answer whose spec or plan says less than (or other than) its
-    prose; every other recorded answer of the 54 passes the checks."""
+    prose; every other recorded answer of the suite passes the checks."""
     refused = {(p.stem, k) for p in sorted(FIXTURES.glob("*.yaml")) for k in _findings(p)}
     assert refused == set(REFUSED)
 

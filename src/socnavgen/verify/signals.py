@@ -467,7 +467,7 @@ SIGNAL_KINDS: tuple[SignalKind, ...] = (
     SignalKind(rf"speed_(robot|{_H[1:-1]})", "speed_robot, speed_<human>", "m/s", "speed", _speed),
     SignalKind(r"robot_still", "robot_still", "0/1", f"robot speed below {STILL_SPEED} m/s", _robot_still),
     SignalKind(r"robot_holds", "robot_holds", "0/1", "the robot does not advance along its route (standing, or "
-               "stepping aside for someone during a wait)", lambda s, m: robot_holds(s)),
+               "stepping aside for someone during a wait)", lambda s, m: robot_holds(s), listed=False),
     SignalKind(r"stalled", "stalled", "s", "how long the robot has been standing still, continuously", _stalled),
     SignalKind(r"progress", "progress", "m", "how far along its route the robot has come (best so far)", _progress),
     SignalKind(r"route_done", "route_done", "0/1", "the robot has come near every waypoint of its route but the last, "
@@ -514,7 +514,8 @@ SIGNAL_KINDS: tuple[SignalKind, ...] = (
     SignalKind(rf"way_{_H}(?:_{_H})?", "way_<human>, way_<human>_<human>", "m", "walkable robot-human (or "
                "human-human) distance along the map's free space, never through a wall (straight in sight)", _way),
     SignalKind(rf"lag_{_H}", "lag_<human>", "m", "how far the human is behind the robot along the way it drives "
-               "(its route's direction there; negative: ahead of it)", lambda s, m: lag_along(s.pos("robot"), s.pos(m[1]), s.route()[1])),
+               "(its route's direction there; negative: ahead of it)", lambda s, m: lag_along(s.pos("robot"), s.pos(m[1]), s.route()[1]),
+               listed=False),
     SignalKind(rf"react_{_H}_([a-z_]+)", "react_<human>_<reaction>", "0/1",
                "evidence of a spec reaction: its library actions executing (bt.library.REACTION_NODES); stop, "
                f"wait_then_go: slower than 0.1 m/s for {STOP_HOLD:g} s after having walked; say: showing a gesture; give_way: aside_<human>; "
