@@ -400,7 +400,7 @@ def follower_turn_text() -> str:
     """What a follower does when the robot turns round toward them (sim/people/give_way.follow_robot: in its way
     within FOLLOW_WAY_AHEAD on its remaining path, they give way first, backing out along its path where there is
     no room beside it: plan_side_step; following never walks their own path)."""
-    from socnavgen.sim.people.give_way import FOLLOW_WAY_AHEAD
+    from socnavgen.sim.people.side_step import FOLLOW_WAY_AHEAD
 
     return (f"- A follower (follow, FollowRobot) who finds themself on the robot's way ahead of it, within "
             f"{FOLLOW_WAY_AHEAD:g} m (it turns round at a dead end or on a round trip), steps aside like give_way "

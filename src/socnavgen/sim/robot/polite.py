@@ -98,6 +98,25 @@ def stands_clear(s, skip, point):  # noqa: ANN001, ANN201
 
 
 @jit
+def lane_there(s, direction, side, shift, room):  # noqa: ANN001, ANN201
+    """Moving `shift` sideways to `side` (walls leave `room`) gives the robot a lane past everyone ahead within
+    PASS_LOOK: the walls let it go to within PASS_GAP - ROBOT_SOCIAL_GAP of that, and nobody ahead stands within
+    its social gap of the line it would drive along from there."""
+    robot = s.robot[0]
+    if room < shift - (PASS_GAP - ROBOT_SOCIAL_GAP):
+        return False
+    there, back = robot.pos + side * 1j * direction * min(shift, room), direction.conjugate()
+    for i in range(s.people.shape[0]):
+        q = s.people[i]
+        rel = (q.pos - robot.pos) * back
+        if rel.real <= 0 or abs(rel) - robot.radius - q.radius > PASS_LOOK:
+            continue
+        if abs(((q.pos - there) * back).imag) < robot.radius + q.radius + ROBOT_SOCIAL_GAP:
+            return False
+    return True
+
+
+@jit
 def pass_aside(s, direction):  # noqa: ANN001, ANN201
     """Sideways velocity (complex, perpendicular to the unit `direction` of travel) that makes room to pass
     the nearest person ahead in the robot's lane, or one catching up from behind; 0 when nobody is."""
@@ -129,17 +148,19 @@ def pass_aside(s, direction):  # noqa: ANN001, ANN201
     policy = s.policy[0]
     away = -1.0 if across > -0.2 else 1.0
     first = policy.pass_side if policy.pass_side != 0.0 else away
-    if who != policy.pass_who and first * across > KEPT_SIDE and best <= PASS_CROSS:  # the side kept from passing
-        first = away  # someone else would cross in front of this nearer person, clearly on that side (in a crowd it
-    policy.pass_who = who  # sent the robot metres sideways, back and forth)
+    if first * across > KEPT_SIDE and best <= PASS_CROSS:  # the side kept from passing someone else would cross in
+        first = away  # front of this nearer person, clearly on that side (in a crowd it sent the robot metres
+    policy.pass_who = who  # sideways, back and forth); or they stepped aside to it (home_05's first guest)
     shift = need + first * across  # sideways distance that leaves `need` between the centres, across
     room = free_along(s.world, p, first * 1j * direction, shift, rr + WALL_ROOM)
+    other = need - first * across
+    other_room = free_along(s.world, p, -first * 1j * direction, other, rr + WALL_ROOM)
+    if not lane_there(s, direction, first, shift, room) and not lane_there(s, direction, -first, other, other_room):
+        policy.pass_side = 0.0  # no side has room to pass them (a family across a corridor): it follows on its way
+        return 0j  # instead of swinging from wall to wall as the nearest of them changes (hospital_13: 36 s)
     side = first
-    if room < min(shift, 0.1) and best > PASS_CROSS:
-        other = need - first * across
-        other_room = free_along(s.world, p, -first * 1j * direction, other, rr + WALL_ROOM)
-        if other_room > room:
-            side, shift, room = -first, other, other_room
+    if room < min(shift, 0.1) and best > PASS_CROSS and other_room > room:
+        side, shift, room = -first, other, other_room
     policy.pass_side = side
     go = min(shift, room)
     if go <= 0.02:

@@ -1,0 +1,222 @@
+"""A group makes way together: one plan for its members (people sharing a group: a group node, or a group declared
+in the scenario), all on one side of the robot's upcoming path, in file along it in the order they stand along it.
+
+Planned alone, each member took the nearest free spot on its own side: hospital_13's family split to both walls of a
+2.6 m corridor and left the robot no lane; home_05's pair planned 6 s apart and the second's spot made the first's
+unreachable (he stood 0.03 m inside the robot's lane for 20 s while it waited); hospital_10's west visitor walked
+for a spot 2.7 m away across her family and stood short of it, in the lane. So the first member to step aside plans
+for every member in the robot's way (`plan_group`): the group's side (`group_side`), then member after member along
+the path, the nearest the robot first, the first place beside the path (`slot_spot`) no nearer the robot than they
+stand and a body's width past the previous mate's, that leaves the robot room, and that they reach straight with
+walls and other people out of the way. A mate keeps their slot until their own give-way begins (`has_slot`)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from socnavgen.bodies import CONTACT_MARGIN, PERSON_KEEP_GAP, PERSON_STAND_GAP, ROBOT_SOCIAL_GAP
+from socnavgen.sim.jit import jit
+from socnavgen.sim.people.routing import robot_progress
+from socnavgen.sim.people.side_step import (
+    ASIDE,
+    BACK_OUT_GAP,
+    GIVE_WAY_MARGIN,
+    RESUME,
+    SIDE_STEP_MAX,
+    SIDE_STEP_SPACING,
+    TIE,
+    arc_before,
+    nearest_segment,
+    path_distance,
+    path_point,
+    path_size,
+    plan_side_step,
+    short_of_robot,
+    taken,
+)
+from socnavgen.sim.people.spots import segment_distance
+from socnavgen.sim.world.queries import free_along
+
+SLOT_STEP = 0.1  # m along the path between the slots tried for a member
+SLOT_GAP = PERSON_STAND_GAP  # m between the bodies of two mates standing in file beside the path
+SLOT_REACH = SIDE_STEP_MAX  # m along the path beyond where a member stands: the farthest slot tried for them
+
+
+@jit
+def arc_of(s, seg, fallback, point):  # noqa: ANN001, ANN201
+    """How far along the robot's upcoming path `point` lies (its nearest place on it)."""
+    j, along, _ = nearest_segment(s, point, seg, fallback, np.inf)
+    return arc_before(s, seg, j, fallback) + along
+
+
+@jit
+def at_arc(s, seg, fallback, arc):  # noqa: ANN001, ANN201
+    """(point, unit direction) of the robot's upcoming path `arc` metres along it (its end beyond it)."""
+    n = path_size(s, seg, fallback)
+    e, left, end = s.robot[0].heading, arc, s.robot[0].pos
+    for j in range(n - 1):
+        a, b = path_point(s, seg, j, fallback), path_point(s, seg, j + 1, fallback)
+        length = abs(b - a)
+        if length < 1e-9:
+            continue
+        e, end = (b - a) / length, b
+        if left <= length:
+            return a + e * max(left, 0.0), e
+        left -= length
+    return end, e
+
+
+@jit
+def group_side(s, i, seg, fallback, want):  # noqa: ANN001, ANN201
+    """The side of the robot's path (1: left of its way, -1: right) person i's group makes way to: a mate's who
+    is stepping aside already; else the side the group stands on (its members' centre) when a body has `want` of
+    room from the path there, else the side with more room."""
+    people, p = s.people, s.people[i]
+    centre, count = 0j, 0
+    for j in range(people.shape[0]):
+        q = people[j]
+        if q.group != p.group:
+            continue
+        if j != i and q.gives_way and q.behavior == 2 and q.give_way_phase != RESUME and abs(q.aside - q.pos) > TIE:
+            foot, e = at_arc(s, seg, fallback, arc_of(s, seg, fallback, q.aside))
+            return 1.0 if ((q.aside - foot) * e.conjugate()).imag >= 0 else -1.0
+        centre += q.pos
+        count += 1
+    centre /= max(count, 1)
+    foot, e = at_arc(s, seg, fallback, arc_of(s, seg, fallback, centre))
+    on = 1.0 if ((centre - foot) * e.conjugate()).imag >= 0 else -1.0
+    room_on = free_along(s.world, foot, e * 1j * on, SIDE_STEP_MAX, p.radius)
+    if room_on >= want:
+        return on
+    return on if room_on >= free_along(s.world, foot, -e * 1j * on, SIDE_STEP_MAX, p.radius) else -on
+
+
+@jit
+def walk_clear(s, i, a, b, mates):  # noqa: ANN001, ANN201
+    """Person i walks straight from a to b: the walls leave their body room, the robot's body is not on the way, nor
+    is anyone else's (their group's mates only with `mates`: planned together, mates make way at the same time)."""
+    people, p = s.people, s.people[i]
+    d = b - a
+    length = abs(d)
+    if length < 1e-9:
+        return True
+    u = d / length
+    if free_along(s.world, a, u, length, p.radius) < length - 1e-6 or short_of_robot(s, i, a, u) < length:
+        return False
+    for j in range(people.shape[0]):
+        q = people[j]
+        if j == i or (not mates and p.group >= 0 and q.group == p.group):
+            continue
+        if segment_distance(q.pos, a, b) < p.radius + q.radius + PERSON_KEEP_GAP:
+            return False
+    return True
+
+
+@jit
+def lane_beside(s, i, spot, away):  # noqa: ANN001, ANN201
+    """Person i standing at `spot` leaves the robot a lane beside them on the far side from `away` (a unit): its
+    body passes them keeping bodies.ROBOT_SOCIAL_GAP, clear of the walls."""
+    robot = s.robot[0]
+    reach = s.people[i].radius + robot.radius + ROBOT_SOCIAL_GAP
+    return free_along(s.world, spot, -away, reach, robot.radius + CONTACT_MARGIN) >= reach - 1e-6
+
+
+@jit
+def slot_spot(s, i, seg, fallback, arc, side, want, mates):  # noqa: ANN001, ANN201
+    """(rank, spot) beside the robot's path `arc` metres along it, on `side`, for person i: rank 0 the nearest
+    leaving `want` from the path, rank 1 (none that far) the farthest the walls allow, if it leaves the robot
+    BACK_OUT_GAP to pass on its line or a lane beside them (lane_beside: a 2.6 m corridor's wall, the robot passing
+    on the other side); rank 2: no such spot, or it is taken, or i cannot walk there straight (walk_clear)."""
+    p, robot = s.people[i], s.robot[0]
+    c, e = at_arc(s, seg, fallback, arc)
+    u = e * 1j * side
+    room = free_along(s.world, c, u, SIDE_STEP_MAX + want, p.radius)
+    rank, best, farthest, t = 2, c, -1.0, 0.0
+    while t <= room + 1e-9:
+        spot = c + u * t
+        d = path_distance(s, seg, fallback, spot)
+        if d >= want:
+            rank, best = 0, spot
+            break
+        if d > farthest and (d >= p.radius + robot.radius + BACK_OUT_GAP or lane_beside(s, i, spot, u)):
+            rank, best, farthest = 1, spot, d
+        t += SIDE_STEP_SPACING
+    if rank == 2 or taken(s, i, best) or not walk_clear(s, i, p.pos, best, mates):
+        return 2, c
+    return rank, best
+
+
+@jit
+def next_member(s, i, seg, fallback, want, done, done_j):  # noqa: ANN001, ANN201
+    """(index, arc) of the member of i's group in the robot's way who comes next along its path after (done, done_j)
+    (arc, then index): someone stepping aside already keeps their spot (it is taken), and so does anyone whose
+    behaviour is the robot's already (making room); (-1, inf) when nobody is left."""
+    people, p = s.people, s.people[i]
+    best, best_arc = -1, np.inf
+    for j in range(people.shape[0]):
+        q = people[j]
+        if q.group != p.group or (j != i and q.behavior == 2):
+            continue
+        if path_distance(s, seg, fallback, q.pos) >= want:
+            continue
+        a = arc_of(s, seg, fallback, q.pos)
+        later = a > done + TIE or (abs(a - done) <= TIE and j > done_j)
+        sooner = a < best_arc - TIE or (abs(a - best_arc) <= TIE and j < best)
+        if later and sooner:
+            best, best_arc = j, a
+    return best, best_arc
+
+
+@jit
+def plan_group(s, i, want, progress, seg, fallback, stuck):  # noqa: ANN001, ANN201
+    """Person i's side step as their group's one plan (see the module): True when it gave i a spot (aside,
+    aside_via, aside_at set). A slot the plan left i earlier is kept while the robot has not passed it, nobody else
+    stands there and i still walks there straight. `stuck`: i could not reach their spot, mates' bodies count."""
+    people, p = s.people, s.people[i]
+    if p.has_slot:
+        p.has_slot = False
+        if not stuck and progress < p.aside_at and not taken(s, i, p.aside) and walk_clear(s, i, p.pos, p.aside, False):
+            p.aside_via = p.aside
+            return True
+    side = group_side(s, i, seg, fallback, want)
+    last, done, done_j, planned = -np.inf, -np.inf, -1, False
+    for _ in range(people.shape[0]):
+        j, own = next_member(s, i, seg, fallback, want, done, done_j)
+        if j < 0:
+            break
+        done, done_j = own, j
+        mates = stuck and j == i
+        first_rank, first_spot, first_arc = 2, 0j, 0.0
+        a = max(own, last)
+        while a <= own + SLOT_REACH:
+            rank, spot = slot_spot(s, j, seg, fallback, a, side, want, mates)
+            if rank < first_rank:
+                first_rank, first_spot, first_arc = rank, spot, a
+            if rank == 0:
+                break
+            a += SLOT_STEP
+        if first_rank == 2:
+            continue  # no slot: they plan alone when their give-way begins
+        q = people[j]
+        q.aside, q.aside_via, q.has_slot = first_spot, first_spot, j != i
+        q.aside_at = progress + first_arc  # where the robot passes them
+        last = first_arc + 2 * q.radius + SLOT_GAP
+        planned = planned or j == i
+    return planned
+
+
+@jit
+def plan_aside(s, i, stuck):  # noqa: ANN001, ANN201
+    """Where person i steps aside for the robot now: their group's one plan (plan_group) for a member in its way,
+    else their own (side_step.plan_side_step). `stuck`: they could not reach the spot planned before."""
+    p, robot = s.people[i], s.robot[0]
+    p.aside_near, p.aside_stall = np.inf, 0.0
+    if p.group >= 0:
+        want = p.radius + robot.radius + GIVE_WAY_MARGIN
+        progress, seg = robot_progress(s)
+        fallback = path_size(s, seg, False) < 2
+        if path_distance(s, seg, fallback, p.pos) < want and plan_group(s, i, want, progress, seg, fallback, stuck):
+            p.give_way_phase = ASIDE
+            return
+    p.has_slot = False
+    plan_side_step(s, i)
