@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from socnavgen.bodies import CONTACT_MARGIN, PERSON_KEEP_GAP, PERSON_STAND_GAP, ROBOT_SOCIAL_GAP
+from socnavgen.bodies import PERSON_KEEP_GAP, PERSON_STAND_GAP, ROBOT_SOCIAL_GAP, ROBOT_WALL_ROOM
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.routing import robot_progress
 from socnavgen.sim.people.side_step import (
@@ -32,6 +32,7 @@ from socnavgen.sim.people.side_step import (
     path_size,
     plan_side_step,
     short_of_robot,
+    side_spot,
     taken,
 )
 from socnavgen.sim.people.spots import segment_distance
@@ -115,10 +116,10 @@ def walk_clear(s, i, a, b, mates):  # noqa: ANN001, ANN201
 @jit
 def lane_beside(s, i, spot, away):  # noqa: ANN001, ANN201
     """Person i standing at `spot` leaves the robot a lane beside them on the far side from `away` (a unit): its
-    body passes them keeping bodies.ROBOT_SOCIAL_GAP, clear of the walls."""
+    body passes them keeping bodies.ROBOT_SOCIAL_GAP, with the room from walls it moves aside within (bodies.ROBOT_WALL_ROOM)."""
     robot = s.robot[0]
     reach = s.people[i].radius + robot.radius + ROBOT_SOCIAL_GAP
-    return free_along(s.world, spot, -away, reach, robot.radius + CONTACT_MARGIN) >= reach - 1e-6
+    return free_along(s.world, spot, -away, reach, robot.radius + ROBOT_WALL_ROOM) >= reach - 1e-6
 
 
 @jit
@@ -141,8 +142,8 @@ def slot_spot(s, i, seg, fallback, arc, side, want, mates):  # noqa: ANN001, ANN
         if d > farthest and (d >= p.radius + robot.radius + BACK_OUT_GAP or lane_beside(s, i, spot, u)):
             rank, best, farthest = 1, spot, d
         t += SIDE_STEP_SPACING
-    if rank == 2 or taken(s, i, best) or not walk_clear(s, i, p.pos, best, mates):
-        return 2, c
+    if rank == 2 or abs(best - p.pos) > SIDE_STEP_MAX or taken(s, i, best) or not walk_clear(s, i, p.pos, best, mates):
+        return 2, c  # (a slot along the robot's next leg, round its turn, is no side step: warehouse_08)
     return rank, best
 
 
@@ -198,6 +199,11 @@ def plan_group(s, i, want, progress, seg, fallback, stuck):  # noqa: ANN001, ANN
         if first_rank == 2:
             continue  # no slot: they plan alone when their give-way begins
         q = people[j]
+        if first_rank == 1:  # no slot leaves the robot its margin: a spot of their own that does, if there is one
+            c, e = at_arc(s, seg, fallback, own)  # (home_05's second guest, a table beside the path past her)
+            rank, _, spot = side_spot(s, j, q.pos, e * 1j * side, want, seg, fallback)
+            if rank == 0 and walk_clear(s, j, q.pos, spot, mates):
+                first_spot, first_arc = spot, max(own, arc_of(s, seg, fallback, spot))
         q.aside, q.aside_via, q.has_slot = first_spot, first_spot, j != i
         q.aside_at = progress + first_arc  # where the robot passes them
         last = first_arc + 2 * q.radius + SLOT_GAP

@@ -43,7 +43,7 @@ from __future__ import annotations
 
 import math
 
-from socnavgen.bodies import CONTACT_MARGIN, INTIMATE_SPACE, PERSONAL_SPACE, ROBOT_SOCIAL_GAP
+from socnavgen.bodies import CONTACT_MARGIN, INTIMATE_SPACE, PERSONAL_SPACE, ROBOT_SOCIAL_GAP, ROBOT_WALL_ROOM
 from socnavgen.location.inventory import BLIND_SIGHT_M
 from socnavgen.location.places import CORNER_TURN_DEG
 from socnavgen.sim.jit import jit
@@ -60,7 +60,7 @@ KEPT_SIDE = 0.25  # m: a pass's side is kept unless the nearer person ahead stan
 CATCHING_UP = 0.3  # m/s faster than the robot along its way: a person behind is overtaking
 LATERAL_SPEED = 0.3  # m/s at most sideways
 LATERAL_GAIN = 1.5  # 1/s: sideways speed per metre still to go
-WALL_ROOM = 0.08  # m beyond its radius: the robot moves aside only where this much room from walls is left
+WALL_ROOM = ROBOT_WALL_ROOM  # m beyond its radius: the robot moves aside only where this much room from walls is left
 CLOSE_SPEED = 0.3  # m/s at most while someone is within PASS_GAP
 EASE_GAP = PERSONAL_SPACE  # m: nearer than this to someone it drives toward, the robot slows (near_speed)
 YIELD_GAP = 0.3  # m: someone closing in this close makes the robot back away
