@@ -256,6 +256,7 @@ def plan_side_step(s, i):  # noqa: ANN001, ANN201
         found, via, spot, arc = back_out(s, i, want, seg, fallback, k)
         if found:
             p.aside_via, best, p.aside_at = via, spot, progress + arc
-    j, along_best, _ = nearest_segment(s, best, seg, fallback, np.inf)  # a spot ahead of where they stood: the robot
-    p.aside_at = max(p.aside_at, progress + arc_before(s, seg, j, fallback) + along_best)  # passes them there
+    # a spot ahead of where they stood: the robot passes them there (where it comes to it first: a round trip's way
+    j, along_best, _ = nearest_segment(s, best, seg, fallback, abs(best - robot.pos) + want)  # back is not it)
+    p.aside_at = max(p.aside_at, progress + arc_before(s, seg, j, fallback) + along_best)
     p.aside = best
