@@ -148,16 +148,17 @@ def pass_aside(s, direction):  # noqa: ANN001, ANN201
     policy = s.policy[0]
     away = -1.0 if across > -0.2 else 1.0
     first = policy.pass_side if policy.pass_side != 0.0 else away
-    if first * across > KEPT_SIDE and best <= PASS_CROSS:  # the side kept from passing someone else would cross in
+    if who != policy.pass_who and first * across > KEPT_SIDE and best <= PASS_CROSS:  # the side kept from passing someone else would cross in
         first = away  # front of this nearer person, clearly on that side (in a crowd it sent the robot metres
     policy.pass_who = who  # sideways, back and forth); or they stepped aside to it (home_05's first guest)
     shift = need + first * across  # sideways distance that leaves `need` between the centres, across
     room = free_along(s.world, p, first * 1j * direction, shift, rr + WALL_ROOM)
     other = need - first * across
     other_room = free_along(s.world, p, -first * 1j * direction, other, rr + WALL_ROOM)
-    if not lane_there(s, direction, first, shift, room) and not lane_there(s, direction, -first, other, other_room):
-        policy.pass_side = 0.0  # no side has room to pass them (a family across a corridor): it follows on its way
-        return 0j  # instead of swinging from wall to wall as the nearest of them changes (hospital_13: 36 s)
+    if people[who].group >= 0 and not lane_there(s, direction, first, shift, room) \
+            and not lane_there(s, direction, -first, other, other_room):  # no side has room to pass a group (a
+        policy.pass_side = 0.0  # family across a corridor): it follows on its way instead of swinging from wall to
+        return 0j  # wall as the nearest of them changes (hospital_13: 36 s)
     side = first
     if room < min(shift, 0.1) and best > PASS_CROSS and other_room > room:
         side, shift, room = -first, other, other_room
