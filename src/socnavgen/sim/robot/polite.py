@@ -155,10 +155,11 @@ def pass_aside(s, direction):  # noqa: ANN001, ANN201
     room = free_along(s.world, p, first * 1j * direction, shift, rr + WALL_ROOM)
     other = need - first * across
     other_room = free_along(s.world, p, -first * 1j * direction, other, rr + WALL_ROOM)
-    if people[who].group >= 0 and not lane_there(s, direction, first, shift, room) \
-            and not lane_there(s, direction, -first, other, other_room):  # no side has room to pass a group (a
-        policy.pass_side = 0.0  # family across a corridor): it follows on its way instead of swinging from wall to
-        return 0j  # wall as the nearest of them changes (hospital_13: 36 s)
+    walking = people[who].group >= 0 and (people[who].vel * back).real > CLOSING  # a group walking its way
+    if walking and not lane_there(s, direction, first, shift, room) \
+            and not lane_there(s, direction, -first, other, other_room):  # no side has room to pass them (a family
+        policy.pass_side = 0.0  # across a corridor): it follows on its way instead of swinging from wall to wall as
+        return 0j  # the nearest of them changes (hospital_13: 36 s); round a group standing it still goes
     side = first
     if room < min(shift, 0.1) and best > PASS_CROSS and other_room > room:
         side, shift, room = -first, other, other_room
