@@ -1,6 +1,6 @@
-"""The new-request suite (tests/fixtures/new_requests/): 48 requests written by sessions that never read the
-code (16 per bundled location, half without a rough scenario: 24 of round 11, 12 of round 13, 6 of round 15, 6 of round
-20), answered by separate
+"""The new-request suite (tests/fixtures/new_requests/): 54 requests written by sessions that never read the
+code (18 per bundled location, half without a rough scenario: 24 of round 11, 12 of round 13, 6 of round 15, 6 of round
+20, 6 of round 22), answered by separate
 sessions playing a capable model through the real prompts (`generate --verify` against queue_openai.py), recorded as replay fixtures. Each
 fixture carries what a person saw in the GIF frames of its final answers (`eyes`). Replayed here through the
 real pipeline: every stage's first answer valid or corrected within its stage, and the verifier's verdict on the
@@ -30,10 +30,15 @@ PATHS = fixture_paths(FIXTURES)
 # the tenth session's simulator) and judged in round 17 of the eyes; six new requests of round 20 answered live on the
 # tenth session's final code and judged in round 18; home_05, home_10, hospital_04 and hospital_06 re-answered live in
 # round 21 on the eleventh session's code (their recordings ended: a walker held at the start is a required `walks`
-# failure, an order held at t = 0 fails, people who gave way stay aside) and judged in round 19. Three lenient passes
-# (a robot's wait at a distance; who stays put in a circle the robot goes round; an order among staff going in) and
-# two strict fails (a step aside too short for the robot, called a weak point by eye; a pair that gave way together
-# while the robot idled). hospital_06 agrees since the eleventh session.
+# failure, an order held at t = 0 fails, people who gave way stay aside) and judged in round 19; six new requests of
+# round 22 answered live on the eleventh session's final code and judged in round 20 (home_18 and hospital_17 judged
+# again on the twelfth session's replay, round 22 of the eyes, with home_08, home_13, home_16 and hospital_11, which
+# verify at their first answers since); home_10, hospital_04, warehouse_04 and warehouse_14 re-answered live in round
+# 23 on the twelfth session's place checks and judged in round 21. Four lenient passes (a robot's wait spot and a
+# worker's stop place no criterion states; a handover that ends with the receiver on the robot's goal; a file of
+# students and a pass the spec does not state; a robot idling and wandering with its way clear) and two strict fails
+# (a step aside too short for the robot, called a weak point by eye; a pair that gave way together while the robot
+# idled).
 DISAGREE: dict[str, str] = {
     "hospital_10_meal_tray_family_in_doorway": "strict FAIL: the robot stops ~2.3 m short and says EXCUSE ME, the "
     "family shuffles aside and the robot threads through a ~0.9 m gap into the room without touching anyone (eyes: "
@@ -46,35 +51,44 @@ DISAGREE: dict[str, str] = {
     "of the way (in the robot's way within 3.5 m from 5.2 s, aside only at 27 s: the pair gave way together, the "
     "robot idled at vh ~17 s with its way clear) and 'never stuck' (10.6 s back and forth at vh, 0.57 m from her); "
     "the eyes saw the idling and called it a flaw, not a failure",
-    "home_10_medication_past_chatting_friends": "lenient PASS (re-answered live in round 21): the text has the circle "
-    "stay and only the friend on the door side step back while the robot skirts its north edge; at ~15-17 s human1 "
-    "(to stay put) walks ~1.2 m north into the zv doorway, human2 moves south beside human3, and the robot drives "
-    "through the middle of the broken circle, within ~0.1 m of human1 at ~32 s; no criterion says who stays put or "
-    "how wide the robot goes round",
-    "hospital_04_telepresence_ward_round": "lenient PASS (re-answered live in round 21): the text has the nurse go in "
-    "last and the robot hold ~3 m back until all four are in; the nurse goes through third, ahead of the second "
-    "resident, and the robot drives on at ~18 s and waits ~0.5 m behind that resident while she stands in the "
-    "doorway until ~30 s; the spec checks only that each came within 0.7 m of the door before the robot did (no "
-    "order among the staff, no distance while it waits)",
-    "warehouse_04_pallet_jack_backing_out": "lenient PASS: the robot does not stop ~3 m short; it drives up to the "
-    "aisle mouth at sh within ~2 m of the worker backing out, then dodges north between the racks, and the worker's "
-    "stop to swing the jack happens inside the aisle end, not across the cross aisle (no criterion says where the "
-    "robot stands or where the worker stops)",
+    "warehouse_04_pallet_jack_backing_out": "lenient PASS (re-answered live in round 23 on the place checks): the "
+    "robot lets the worker go first and drives on only after he passed (closest ~1 m), but his ~5 s stop happens "
+    "inside the middle aisle, not across the cross aisle, and the robot does not wait on its side ~3 m before sh: "
+    "it pulls ~1.3 m into the mouth of the next rack aisle and is still moving while he stands (the spec bounds "
+    "the robot's distance from sh, not where it stands, nor where the worker stops)",
+    "home_18_towel_to_living_room_exercise": "lenient PASS (round 22, replayed on the twelfth session's code): the "
+    "robot waits in the bathroom for the wife, stops in the doorway ~1.1 m from 41, and the physio comes and stands "
+    "at 41 ~1.3 m from it, facing it, from ~14.5 s; he never goes back to the resident and the robot never drives "
+    "the last metre to 41, which he stands on: the run ends at 24.4 s with the two facing each other (arrival short "
+    "of someone at the goal; no criterion has him go back)",
+    "hospital_17_lead_students_to_nurse_station": "lenient PASS (round 22): the patient stands ~1 m west of zs "
+    "from ~20 to 28 s while the robot swerves, the robot turns into the nurse station ahead of him instead of "
+    "passing him in the corridor, the students crowd round him (a touch at ~40 s by eye) instead of passing in file, "
+    "and they end ~2 m north of the robot, not round it (no criterion for the file, the pass or the gathering)",
+    "home_16_hide_and_seek_laundry": "lenient PASS (verified at its first answers since the twelfth session's "
+    "walkable approach): the robot stops in the zv doorway at ~3 s and both children run by, but it stays there "
+    "until ~20 s though both were past by ~8 s, loops back south-east away from its goal, inches ~25 s below iq, "
+    "passes the seeker at ~0.2 m and reaches lu at ~72 s (no criterion sees a robot idling or wandering with its "
+    "way clear; the text has it drive on and pass the children at a distance)",
 }
 
 # Fixtures whose recorded answers never pass a stage (a stage check refuses them, or the recording ends where the
 # pipeline now asks what the live run was never asked), each with why: the replay stops at that stage.
-REFUSED: dict[str, str] = {}
+REFUSED: dict[str, str] = {
+    "warehouse_17_first_aid_kit_to_staging": "scenario: answered in round 22 before the twelfth session's place "
+    "checks; every answer has the robot stop about 1.5 m short of sw at the group's edge with no criterion keeping "
+    "it back from sw (eyes no on its live run: the run ended 5 s into the handover wait)",
+}
 
 
 def test_the_suite_is_there_and_judged():
     names = [p.stem for p in PATHS]
-    assert len(names) == 48
+    assert len(names) == 54
     for location in ("home", "hospital", "warehouse"):
         mine = [p for p in PATHS if p.stem.startswith(location)]
-        assert len(mine) == 16
+        assert len(mine) == 18
         rough = [fixture_request(p, ROOT).rough for p in mine]
-        assert sum(r is None for r in rough) == 8  # half of them without a rough scenario
+        assert sum(r is None for r in rough) == 9  # half of them without a rough scenario
     for path in PATHS:
         data = load_yaml_file(path)
         assert data.get("verify_loop") is True, path.stem

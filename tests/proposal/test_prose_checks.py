@@ -17,6 +17,7 @@ from socnavgen.llm.jsonrepair import extract_json
 from socnavgen.location import load_location
 from socnavgen.proposal.conversation import Upstream
 from socnavgen.proposal.path_checks import check_paths
+from socnavgen.proposal.place_checks import robot_wait_mistakes, stay_mistakes
 from socnavgen.proposal.prose_checks import (
     close_follow_gap,
     close_follow_mistakes,
@@ -220,7 +221,10 @@ def _findings(path: Path) -> dict[str, list[str]]:
         found[f"scenario[{i}]"] = close_follow_mistakes(spec, behaviors) + \
             order_mistakes(scenario.scenario_description, behaviors, spec) + \
             person_order_mistakes(scenario.scenario_description, behaviors, spec) + \
-            stop_mistakes(scenario.scenario_description, behaviors, spec)
+            stop_mistakes(scenario.scenario_description, behaviors, spec) + \
+            robot_wait_mistakes(scenario.scenario_description, scenario.expected_robot_behavior, behaviors, spec,
+                                {str(n) for n in graph.nodes}) + \
+            stay_mistakes(scenario.scenario_description, behaviors, spec)
         if i == len(scenarios) - 1:
             for j, paths in enumerate(_valid(PathsReply, a) for a in data["stages"]["paths"]):
                 found[f"paths[{j}]"] = way_in_mistakes(graph, spec, behaviors, dict(paths.trajectories),
@@ -241,12 +245,22 @@ REFUSED = {
     ("home_16_hide_and_seek_laundry", "paths[0]"): "the children come to 41 from vh in the text, their paths from "
     "iq out of the main bedroom (round 20's live model then moved them to the living room's east end, as stage 1 was "
     "asked)",
+    # place_checks (session 12): the three lenient passes of round 21 and warehouse_14 were re-answered live on them in
+    # round 23 (each live model fixed what its first answer was refused for); round 22's warehouse_17, answered before
+    # them, is refused whole
+    ("home_10_medication_past_chatting_friends", "scenario[0]"): "human3 'staying where she is' while the robot "
+    "passes, no criterion sees her stay (the round-23 live model then bounded her)",
+    ("warehouse_14_lunch_break_tote_return", "scenario[0]"): "the robot stops about 3 m before up, no criterion keeps "
+    "it back from up (the round-23 live model then added one)",
+    **{("warehouse_17_first_aid_kit_to_staging", f"scenario[{i}]"): "the robot stops about 1.5 m short of sw at the "
+       "group's edge, no criterion keeps it back from sw (and, in the first, the shift leader behind the robot with "
+       "no criterion that sees the order)" for i in (0, 1, 2)},
 }
 
 
 def test_on_the_suites_recorded_answers_the_checks_refuse_only_what_the_text_does_not_say():
     """Exactly the answers above are refused, each an answer whose spec or plan says less than (or other than) its
-    prose; every other recorded answer of the 48 passes the checks."""
+    prose; every other recorded answer of the 54 passes the checks."""
     refused = {(p.stem, k) for p in sorted(FIXTURES.glob("*.yaml")) for k in _findings(p)}
     assert refused == set(REFUSED)
 

@@ -59,7 +59,9 @@ def _first_goal_after_a_step(someone_on_it: bool) -> complex:
 
 def test_a_node_someone_stands_on_is_reached_from_beside_them():
     """Player C's patient started 1.5 m from her interaction point, where another patient stood: she was past it at
-    once and never paced (hospital_11; the prompt had told her nothing, she guessed 'the robot's goal')."""
+    once and never paced (hospital_11; the prompt had told her nothing, she guessed 'the robot's goal'). Unpaced she
+    still reaches it from beside them at once; paced, she is held there until she walks (people.state.goal_reached,
+    tests/sim/test_pacing.py), as the prompt says."""
     from socnavgen.sim.people.state import QUEUE_REACH
 
     assert _first_goal_after_a_step(someone_on_it=False) == complex(10.0, 5.0)  # nobody there: still to walk to
@@ -67,7 +69,7 @@ def test_a_node_someone_stands_on_is_reached_from_beside_them():
     assert QUEUE_REACH > 1.4  # the start 1.4 m from the node above
     text = pacing_text()
     assert f"Someone starting within {QUEUE_REACH:.1f} m of their interaction point while another person stands on " \
-           "it has reached it at once" in text
+           "it is paced there beside them (reached once they walk)" in text  # held: tests/sim/test_pacing.py
     assert "wherever they start (the robot's goal too)" in text
     assert "Someone starting within" not in pacing_text(False)  # detail: the small models' cut leaves it out
 

@@ -120,3 +120,21 @@ def test_a_person_coming_out_through_a_door_clears_it_before_the_robot_gets_ther
     _, off = _meeting(trace, door, within=3.0)
     assert off <= 1.5  # still met at the door
     assert trace.end_reason == "robot_goal"
+
+
+def test_a_paced_person_next_to_someone_standing_on_their_node_waits_for_the_robot_there():
+    """A patient starts 1 m from her meeting node, where another patient stands (issue 25, hospital_11 of the
+    new-request suite): standing beside someone on a node counts as being at it (people.state.queued_at, a team at
+    one bed), but not while pacing holds her: she did not walk there. She is held for the robot and meets it at
+    the node, instead of counting it reached at once, walking on unpaced and standing 5 m down the corridor."""
+    walker = human(start=(11.0, 5.4), goals=[(10.0, 5.4), (2.0, 5.4)])
+    stander = human(name="human2", start=(10.0, 5.4), goals=[(10.0, 5.4)])
+    pacing = PacingPlan(ThrottleConfig(), ROBOT_NODES, [(0, ["h0", "n", "h3"], "n", -1)])
+    trace = make_sim([walker, stander], [tree_xml(REGULAR)] * 2, ROBOT, policy=ScriptedPolicy(), pacing=pacing,
+                     timeout=40).run()
+    robot, person = _tracks(trace)
+    early = int(6.0 / trace.dt)  # the robot is still 5 m or more from the node
+    assert abs(robot[early] - NODE) >= 4.5
+    assert person[:early].real.min() > 10.3  # she stayed by the node, not walked on towards the robot
+    when, off = _meeting(trace, NODE, within=3.0)  # she passes round the other patient, the robot round both
+    assert off <= 1.0 and when >= 12.0  # they meet at the node, as the robot gets there

@@ -161,7 +161,7 @@ def _looks_when_it_sees(spec: ScenarioSpec) -> ScenarioSpec:
 
 @pytest.mark.parametrize(("x0", "x1", "blame", "words"), [
     (9.4, 11.2, "paths", "always with a wall between them"),  # in the room, behind its wall (y 3.0-3.1, x >= 9)
-    (7.0, 8.8, "behaviors", "did not react as asked"),  # in the open: the robot in sight, no stop
+    (7.0, 8.8, "behaviors", "did not react as asked (stops_near_robot) [what its tree did: while the robot was within"),  # in the open: the robot in sight, no stop
 ])
 def test_a_look_whose_cue_never_held_is_the_paths(tmp_path: Path, corner: Path, x0: float, x1: float, blame: str,
                                                   words: str) -> None:

@@ -115,3 +115,18 @@ def test_implied_order_and_scripted_waits() -> None:
     assert order.kind == "stl" and order.formula.startswith("(not ((dist_human2 <= 2)")
     assert order.formula.endswith("until ((dist_human1 <= 2) and (mid_human1_to_e1 <= 1))")
     assert judged["no_deadlock"].seconds == 35.0  # a scripted 30 s wait (+5 s) is no deadlock
+
+
+def test_a_groups_encounter_happens_when_the_robot_meets_any_of_them() -> None:
+    """The implied order of a group's encounter waits for the first member the robot meets, not for member 0 (who
+    may stand behind the others), and a later group's encounter must not happen early through any member."""
+    spec = ScenarioSpec(encounters=[
+        Encounter(id="e1", place="LOBBY", node="b2", order=1,
+                  humans=[HumanPart(human="human1"), HumanPart(human="human2")]),
+        Encounter(id="e2", place="DOOR", node="d4", order=2,
+                  humans=[HumanPart(human="human3"), HumanPart(human="human4")])])
+    order = {c.id: c for c, _ in with_implied(spec, VerifySettings())}["order_e1_e2"]
+    early, late = order.formula.split(" until ")
+    assert "dist_human3" in early and "dist_human4" in early and " or " in early
+    assert "dist_human1" in late and "dist_human2" in late and " or " in late
+    assert "human1, human2" in order.text

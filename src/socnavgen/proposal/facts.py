@@ -203,8 +203,8 @@ def pacing_text(detail: bool = True) -> str:
             f"where they wait (unseen, if they should appear suddenly): they come out as the robot arrives. {_narrow_pacing()} "
             f"Members of a group and people without an interaction point are never paced: they walk from the start."
             + (f" Whom a let_pass cue stands for comes at their own speed. Someone starting within "
-               f"{QUEUE_REACH:.1f} m of their interaction point while another person stands on it has reached it at "
-               f"once (beside them) and walks on unpaced. On a route that passes the interaction point twice (a round trip [A, B, C, B, A]) pacing aims at "
+               f"{QUEUE_REACH:.1f} m of their interaction point while another person stands on it is paced there "
+               f"beside them (reached once they walk). On a route that passes the interaction point twice (a round trip [A, B, C, B, A]) pacing aims at "
                "the robot's FIRST pass; once it has passed they walk at their own speed: to meet on the way back, "
                "start them where walking at their own speed brings them there then, or meet at a node passed once."
                if detail else ""))

@@ -97,6 +97,8 @@ def check_paths(reply: PathsReply, graph: nx.Graph, humans: list[str], spec: Sce
     if spec is not None:
         mistakes += _encounter_mistakes(reply, graph, spec, robot, paths, points)
         mistakes += _standing_stop_mistakes(reply, spec, paths)
+        if location is not None:
+            mistakes += _stands_away_mistakes(reply, spec, location, paths)
         if behaviors:
             mistakes += way_in_mistakes(graph, spec, behaviors, paths, dict(reply.encounter_nodes))
         if location is not None:
@@ -216,6 +218,44 @@ def _standing_stop_mistakes(reply: PathsReply, spec: ScenarioSpec, paths: dict[s
                         f"at node {node} of encounter {enc.id} from the start: someone who stands already shows no "
                         f"{c.reaction}. Let {c.human} walk in to {enc.id}, or check what the prose says with another "
                         f"criterion (e.g. stops_near_robot)")))
+    return mistakes
+
+
+STANDING_REACTIONS = ("stop", "look", "say")  # reactions that keep a person where they stand (none walks them)
+
+
+def _stands_away_mistakes(reply: PathsReply, spec: ScenarioSpec, location: Location,
+                          paths: dict[str, list[str]]) -> list[str]:
+    """A person who stands all the run ("otherwise": "stand", and only STANDING_REACTIONS) is met where they
+    stand: their start must be within the `within` of each encounter's node where they are met, or they never
+    come to the place (home_08: the wife stood at the stove 2.1 m from the kitchen node the robot stopped at,
+    `within` 1.5 m)."""
+    mistakes: list[str] = []
+    nodes = location.inventory.nodes
+    for enc in spec.encounters:
+        node = reply.encounter_nodes.get(enc.id)
+        for part in enc.humans:
+            who, path = part.human, paths.get(part.human) or []
+            person = spec.people.get(who)
+            if person is None or person.otherwise != "stand" or node not in nodes or not path or path[0] not in \
+                    nodes or path[0] == node or not _met(spec, enc, who) or \
+                    any(p.reaction not in STANDING_REACTIONS for _, p in spec.parts_of(who)):
+                continue
+            gap = node_distance(location, path[0], node)
+            if gap <= enc.within:
+                continue
+            mistakes.append(Upstream(
+                f"encounter {enc.id}: {who} stands all the run (\"otherwise\": \"stand\", and only "
+                f"{'/'.join(STANDING_REACTIONS)} reactions) at their start {path[0]}, {gap:.2f} m from node {node} of "
+                f"{enc.id}, farther than its `within` ({enc.within:g} m): they never come to the place where the robot "
+                f"meets them. Start {who} at {node} (or within {enc.within:g} m of it), or put {enc.id} at {path[0]} "
+                f"if it is of the encounter's place; if the scenario has them stand elsewhere, keep your answer and "
+                f"say so: stage 1 is then asked",
+                key=f"stands_away:{enc.id}:{who}", upstream=(
+                    f"{who} stands all the run (\"otherwise\": \"stand\", only {'/'.join(STANDING_REACTIONS)}), and "
+                    f"stage 2 has them stand at {path[0]}, {gap:.2f} m from node {node} of encounter {enc.id} "
+                    f"(`within` {enc.within:g} m): let them walk to the robot, or give {enc.id} a `within` of at "
+                    f"least {math.ceil(gap * 10) / 10:g} m")))
     return mistakes
 
 

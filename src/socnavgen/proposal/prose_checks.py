@@ -28,6 +28,27 @@ from socnavgen.proposal.conversation import Upstream
 from socnavgen.proposal.replies import human_name
 from socnavgen.run.spec import Criterion, ScenarioSpec
 
+
+def owned_sentences(description: str, behaviors: dict[str, str],
+                    more: list[tuple[str | None, str]] | None = None) -> list[tuple[str | None, str]]:
+    """(owner, sentence) of every sentence the checks read: each behavior's (its person), any `more` texts (with
+    their owner), then the description's (owner None)."""
+    texts: list[tuple[str | None, str]] = [(human_name(k) or k, str(v)) for k, v in behaviors.items()]
+    texts += more or []
+    texts.append((None, description))
+    return [(owner, sentence) for owner, text in texts for sentence in sentences(text)]
+
+
+def sentences(text: str) -> list[str]:
+    """The sentences of a text, stripped (the one split every prose check reads)."""
+    return [s.strip() for s in re.split(r"(?<=[.;!?])\s+", text) if s.strip()]
+
+
+def quoted(sentence: str, limit: int = 160) -> str:
+    """A sentence short enough to quote back to the model."""
+    return sentence if len(sentence) <= limit else sentence[:limit - 3] + "..."
+
+
 # Words that put a follower right at someone's back (criterion text or the person's behavior text).
 # `whom`: what follows "behind" ("it", "the robot", "the lead worker"; none at the end of a clause).
 CLOSE_BEHIND = re.compile(r"\b(?:right|close|closely|just|directly|immediately) behind\b(?: (?P<whom>the robot|it\b|"
@@ -141,7 +162,7 @@ def _ordered_sentences(description: str, behaviors: dict[str, str]) -> list[tupl
         name = human_name(key) or key
         found += [(name, m.group(0), str(text)) for m in ORDER_WORDS.finditer(str(text))][:1]
     subject: str | None = None
-    for sentence in re.split(r"(?<=[.;!?])\s+", description):
+    for sentence in sentences(description):
         named = set(_NAMED.findall(sentence)) | set(re.findall(r"\bhuman(\d+)\b", sentence))
         if named:
             subject = f"human{named.pop()}" if len(named) == 1 else None
@@ -162,7 +183,7 @@ def order_mistakes(description: str, behaviors: dict[str, str], spec: ScenarioSp
         if any(_about(c, human) and (c.kind == "stl" or c.kind in ORDER_KINDS) for c in spec.criteria):
             continue
         told.add(human)
-        quote = sentence if len(sentence) <= 160 else sentence[:157] + "..."
+        quote = quoted(sentence)
         mistakes.append(
             f"the text says who goes first between {human} and the robot ('{words}': \"{quote}\"), but no criterion "
             f"about {human} can see that order (meets, stops_near_robot and says pass whoever goes first); add one "
@@ -218,18 +239,15 @@ def _person_orders(description: str, behaviors: dict[str, str], spec: ScenarioSp
     of another person: in a behavior (its person, unless the sentence names another before the words), a
     criterion's text (its human) or the description (the person the sentence names last before the words)."""
     names = people_names(description, behaviors)
-    texts: list[tuple[str | None, str]] = [(human_name(k) or k, str(v)) for k, v in behaviors.items()]
-    texts += [(c.human, c.text) for c in spec.criteria if c.human and c.text]
-    texts.append((None, description))
     found = []
-    for owner, text in texts:
-        for sentence in re.split(r"(?<=[.;!?])\s+", text):
-            for m in PERSON_ORDER.finditer(sentence):
-                person, whom = _person(m.group("whom"), names)
-                before = [h for at, h in _mentions(sentence, names) if at < m.start() and h != whom]
-                who = before[-1] if before else owner
-                if person and who and who != whom:
-                    found.append((who, m.group("how"), whom, m.group(0), sentence.strip()))
+    for owner, sentence in owned_sentences(description, behaviors,
+                                           [(c.human, c.text) for c in spec.criteria if c.human and c.text]):
+        for m in PERSON_ORDER.finditer(sentence):
+            person, whom = _person(m.group("whom"), names)
+            before = [h for at, h in _mentions(sentence, names) if at < m.start() and h != whom]
+            who = before[-1] if before else owner
+            if person and who and who != whom:
+                found.append((who, m.group("how"), whom, m.group(0), sentence.strip()))
     return found
 
 
@@ -246,6 +264,63 @@ def _relates(c: Criterion, human: str) -> bool:
     return human in named and len(named) >= 2
 
 
+# Words that give a person a place in a file of people ("walks third through the doorway", "as the fourth and last
+# of the team", "after both of them"); "first" is left to ORDER_WORDS (who goes first is most often said of the robot).
+# An ordinal after a determiner names a thing, not a place in the file ("comes out of the second bedroom").
+FILE_PLACE = re.compile(r"\b(?:(?:go(?:es)?|walks?|steps?|comes?|pass(?:es)?|enters?|files?|gets?|moves?)(?: \w+){0,4}? "
+                        r"(?<!\bthe )(?<!\ba )(?<!\bhis )(?<!\bher )(?<!\bits )(?<!\btheir )(?<!\bthis )"
+                        r"(?:second|third|fourth|fifth|last)|as the (?:second|third|fourth|fifth|last)|"
+                        r"(?:the )?last of (?:them|the \w+|all)|after (?:all|both)(?: of)? (?:them|the \w+)|"
+                        r"after the others|after everyone(?: else)?)\b", re.IGNORECASE)
+_ROBOT_SAID = re.compile(r"\b(?:the robot|it)\b", re.IGNORECASE)
+
+
+def _file_places(description: str, behaviors: dict[str, str]) -> list[tuple[str, str, str]]:
+    """(person, words, sentence) for each sentence that gives a person a place in a file of people: a behavior's
+    person, or in the description the person named last before the words (none where the robot is named after them:
+    "the robot goes in last")."""
+    names = people_names(description, behaviors)
+    found = []
+    for owner, sentence in owned_sentences(description, behaviors):
+        for m in FILE_PLACE.finditer(sentence):
+            before = sentence[:m.start()]
+            people = [(at, h) for at, h in _mentions(before, names)]
+            robot = [r.start() for r in _ROBOT_SAID.finditer(before)]
+            last_person = people[-1][0] if people else -1
+            if robot and max(robot) > last_person and (owner is None or re.search(
+                    r"\b(?:the robot|it) (?:\w+ ){0,3}$", before[max(robot):] + " ")):
+                continue  # the robot is the one the words are about
+            who = people[-1][1] if people and owner is None else owner
+            if who:
+                found.append((who, m.group(0), sentence.strip()))
+    return found
+
+
+def file_place_mistakes(description: str, behaviors: dict[str, str], spec: ScenarioSpec,
+                        told: set[str] | None = None) -> list[str]:
+    """A person the text gives a place in a file of people (second, last, after all of them) needs a criterion that
+    relates them to another person of the file: follows_robot or meets measure each from the robot only (`told`:
+    people already told of an order)."""
+    mistakes: list[str] = []
+    told = set() if told is None else told
+    humans = set(spec.humans())
+    if len(humans) < 2:
+        return []
+    for human, words, sentence in _file_places(description, behaviors):
+        if human in told or human not in humans or any(_relates(c, human) or (
+                c.kind == "follows_human" and _leader(spec, c)[0] == human) for c in spec.criteria):
+            continue
+        told.add(human)
+        quote = quoted(sentence)
+        mistakes.append(
+            f"the text gives {human} a place in a file of people ('{words}': \"{quote}\"), but no criterion relates "
+            f"{human} to the others (each measured from the robot or a place alone passes them in any order); add an "
+            f"stl criterion over {human} and the one before them, such as \"(({human}_to_node_N > 1.0) until "
+            f"(humanX_to_node_N < 0.5))\" (humanX at node N, a node inside where they go, before {human} comes "
+            f"near it), or drop the order from the text if it does not matter")
+    return mistakes
+
+
 def person_order_mistakes(description: str, behaviors: dict[str, str], spec: ScenarioSpec) -> list[str]:
     """A person the text puts behind or ahead of another person needs a criterion that relates the two."""
     mistakes, told = [], set()
@@ -256,7 +331,7 @@ def person_order_mistakes(description: str, behaviors: dict[str, str], spec: Sce
         told.add(human)
         other = whom if whom in humans else "humanX"
         back, front = (human, other) if how == "behind" else (other, human)
-        quote = sentence if len(sentence) <= 160 else sentence[:157] + "..."
+        quote = quoted(sentence)
         mistakes.append(
             f"the text puts {human} {how} another person ('{words}': \"{quote}\"), but no criterion relates "
             f"{human} to that person (follows_robot measures each follower from the robot only, so the reverse order "
@@ -264,7 +339,7 @@ def person_order_mistakes(description: str, behaviors: dict[str, str], spec: Sce
             f"an stl criterion such as \"eventually (always (way_{back} >= way_{front} + {PERSON_RADIUS:g}))\" "
             f"(two followers of the robot: {back} the farther from it along the way, from some moment to the end"
             f"{'; humanX: the person ' + human + ' walks ' + how if other == 'humanX' else ''})")
-    return mistakes
+    return mistakes + file_place_mistakes(description, behaviors, spec, told)
 
 
 def named_nodes(text: str, nodes: set[str]) -> list[str]:

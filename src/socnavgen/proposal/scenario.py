@@ -32,6 +32,7 @@ from socnavgen.proposal.facts import (
 )
 from socnavgen.proposal.fit import NOTHING, Cut, Note, examples_kept, fit_prompt
 from socnavgen.proposal.gbnf import Grammar, Lit, Ref, Symbol, text_rules
+from socnavgen.proposal.place_checks import place_events_text, robot_wait_mistakes, stay_mistakes
 from socnavgen.proposal.prose_checks import close_follow_mistakes, order_mistakes, person_order_mistakes
 from socnavgen.proposal.replies import ScenarioReply, human_name
 from socnavgen.proposal.spec_checks import (
@@ -77,7 +78,8 @@ def spec_help_text(target: Target | None = None, *, signals: bool = True, robot:
     return render("scenario_spec.md", vocabulary=robot_vocabulary_text(), facts=physical_facts_text(),
                   kinds=", ".join(k for k in get_args(CriterionKind) if robot or k not in STOP_KINDS),
                   stop_kinds=STOP_KINDS_TEXT if robot else "", target=target_text(target),
-                  rules=scenario_rules_text(target, signals, robot), cue_triggers=cue_triggers_text(robot),
+                  rules=scenario_rules_text(target, signals, robot) + place_events_text(signals),
+                  cue_triggers=cue_triggers_text(robot),
                   follow_distance=follows_distance_text(), follows_human=follows_human_text(robot))
 
 
@@ -145,6 +147,7 @@ def scenario_checker(location: Location | None, target: Target | None = None,
                      require_spec: bool = True) -> Callable[[ScenarioReply], list[str]]:
     """The stage-1 check: the prose (no placeholders, echoes, empty behaviors) and the spec."""
     node_types = list(location.schema.node_types) if location is not None else None
+    nodes = {str(n) for n in location.graph.nodes} if location is not None else set()
 
     def check(reply: ScenarioReply) -> list[str]:
         mistakes = check_scenario(reply)
@@ -160,6 +163,9 @@ def scenario_checker(location: Location | None, target: Target | None = None,
             mistakes += order_mistakes(reply.scenario_description, reply.human_behaviors, spec)
             mistakes += person_order_mistakes(reply.scenario_description, reply.human_behaviors, spec)
             mistakes += stop_mistakes(reply.scenario_description, reply.human_behaviors, spec)
+            mistakes += robot_wait_mistakes(reply.scenario_description, reply.expected_robot_behavior,
+                                            reply.human_behaviors, spec, nodes)
+            mistakes += stay_mistakes(reply.scenario_description, reply.human_behaviors, spec)
         return mistakes
     return check
 

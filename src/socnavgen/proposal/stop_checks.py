@@ -16,8 +16,7 @@ from __future__ import annotations
 
 import re
 
-from socnavgen.proposal.prose_checks import people_names
-from socnavgen.proposal.replies import human_name
+from socnavgen.proposal.prose_checks import owned_sentences, people_names, quoted
 from socnavgen.run.spec import Criterion, ScenarioSpec
 
 STOP_WORDS = re.compile(r"\b(?:stops?|stopping|stands? still|pauses?|halts?)\b", re.IGNORECASE)
@@ -33,23 +32,20 @@ _TOGETHER = re.compile(r"\b(?:way|spread|pgap)_((?:human\d+_?)+)")
 def _stops(description: str, behaviors: dict[str, str]) -> list[tuple[str, str, str]]:
     """(who: 'robot' or humanN, words, sentence) of every stop for a greeting the text states."""
     names = people_names(description, behaviors)
-    texts: list[tuple[str | None, str]] = [(human_name(k) or k, str(v)) for k, v in behaviors.items()]
-    texts.append((None, description))
     found = []
-    for owner, text in texts:
-        for sentence in re.split(r"(?<=[.;!?])\s+", text):
-            if not GREETING.search(sentence):
+    for owner, sentence in owned_sentences(description, behaviors):
+        if not GREETING.search(sentence):
+            continue
+        for m in STOP_WORDS.finditer(sentence):
+            before = sentence[:m.start()]
+            if _ROBOT_SUBJECT.search(before.rstrip(" ")):  # "the robot (then) stops", not "follows the robot, stops"
+                found.append(("robot", m.group(0), sentence.strip()))
                 continue
-            for m in STOP_WORDS.finditer(sentence):
-                before = sentence[:m.start()]
-                if _ROBOT_SUBJECT.search(before.rstrip(" ")):  # "the robot (then) stops", not "follows the robot, stops"
-                    found.append(("robot", m.group(0), sentence.strip()))
-                    continue
-                named = [f"human{n}" for n in _PERSON.findall(before)]
-                named += [names[w.lower()] for w in re.findall(r"\b[A-Z][a-z]+\b", before) if w.lower() in names]
-                who = owner or (named[-1] if named else None)  # a behavior's sentences are about its person
-                if who:
-                    found.append((who, m.group(0), sentence.strip()))
+            named = [f"human{n}" for n in _PERSON.findall(before)]
+            named += [names[w.lower()] for w in re.findall(r"\b[A-Z][a-z]+\b", before) if w.lower() in names]
+            who = owner or (named[-1] if named else None)  # a behavior's sentences are about its person
+            if who:
+                found.append((who, m.group(0), sentence.strip()))
     return found
 
 
@@ -76,7 +72,7 @@ def stop_mistakes(description: str, behaviors: dict[str, str], spec: ScenarioSpe
     for who, words, sentence in _stops(description, behaviors):
         if who in told or (who != "robot" and who not in humans):
             continue
-        quote = sentence if len(sentence) <= 160 else sentence[:157] + "..."
+        quote = quoted(sentence)
         if who == "robot" and not any(_sees_robot_stop(c) for c in spec.criteria):
             mistakes.append(
                 f"the text has the robot stop for a greeting ('{words}': \"{quote}\"), but no criterion sees the robot "

@@ -34,6 +34,7 @@ from socnavgen.proposal.stages import MAX_SAID, SCOPE, Stages
 from socnavgen.proposal.templates import render
 from socnavgen.run import PathPlan, ScenarioProposal
 from socnavgen.run.spec import ScenarioSpec
+from socnavgen.verify.blame_tree import without_tree_facts
 from socnavgen.verify.derive import with_implied
 from socnavgen.verify.models import VerifySettings
 
@@ -130,7 +131,7 @@ def same_findings(before: list[str], now: list[str]) -> bool:
     before (a changed answer that moves a deadlock's start from t=55.0 to t=54.9 s changed nothing that matters)."""
     if len(before) != len(now) or not now:
         return False
-    for a, b in zip(before, now, strict=True):
+    for a, b in zip(map(without_tree_facts, before), map(without_tree_facts, now), strict=True):
         if _NUMBER.split(a) != _NUMBER.split(b):
             return False
         for x, y in zip(map(float, _NUMBER.findall(a)), map(float, _NUMBER.findall(b)), strict=True):

@@ -83,6 +83,7 @@ from socnavgen.verify.blame_cue import cue_never_held
 from socnavgen.verify.blame_end import goal_taken, no_progress_at_end, standing_at_end
 from socnavgen.verify.blame_follow import blame_follower, never_near_start
 from socnavgen.verify.blame_timing import ended_at_once, window_closed_early
+from socnavgen.verify.blame_tree import FACTS_CLOSE, FACTS_OPEN, tree_activity
 from socnavgen.verify.criteria import Compiled
 from socnavgen.verify.evidence import deadlock_culprit, in_window, met_mask, stayed_off_place, way_cause
 from socnavgen.verify.people import blame_people
@@ -400,8 +401,11 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
                  or ended_at_once(cc, s, spec, h))
         if cause:
             return cause
-        return blame_follower(cc, s, h) if kind == "follows_human" else \
-            ("behaviors", h, f"the robot came near {h} but {h} did not react as asked ({kind})")
+        if kind == "follows_human":
+            return blame_follower(cc, s, h)
+        facts = tree_activity(s, h, s.get(f"dist_{h}") <= reach, reach)
+        return "behaviors", h, f"the robot came near {h} but {h} did not react as asked ({kind})" + \
+            (f"{FACTS_OPEN}{facts}{FACTS_CLOSE}" if facts else "")
     return "paths", None, "the scenario did not unfold as asked"
 
 

@@ -101,7 +101,7 @@ def _meets_evidence_of(cc: Compiled, s: Signals, h: str) -> Evidence:
 def _no_approach(cc: Compiled, s: Signals, h: str, j: int) -> str:
     """Why the first step within the distance at the place is no meeting ('' when it is one)."""
     if s.get(f"closer_{h}")[j] < APPROACH:
-        start = float(s.get(f"dist_{h}")[0])
+        start = float(s.get(f"closer_{h}")[j] + s.get(f"dist_{h}")[j])  # apart at the start (verify/ways.py)
         return (f"at t={s.t[j]:.1f} s they were no closer than at the start ({start:.2f} m apart)" if j == 0 else
                 f"at t={s.t[j]:.1f} s they were less than {APPROACH:g} m closer than at the start ({start:.2f} m)")
     if cc.encounter is None:

@@ -43,6 +43,7 @@ from socnavgen.verify.thresholds import (
     STOP_SPEED,
     WALK_SPEED,
 )
+from socnavgen.verify.ways import start_apart, walkable
 
 # Reactions judged by what the human physically does rather than by the nodes that implement them
 # (bt.library.REACTION_NODES is the one home of those): stopping is standing still STOP_HOLD s after having walked
@@ -122,7 +123,7 @@ class Signals:
         self._los: np.ndarray | None = None
         self._kept: dict[object, Any] = {}  # geometry several signals, evidence and blame share
 
-    def _keep(self, key: object, build: Callable[[], _T]) -> _T:
+    def keep(self, key: object, build: Callable[[], _T]) -> _T:
         if key not in self._kept:
             self._kept[key] = build()
         return self._kept[key]
@@ -169,30 +170,30 @@ class Signals:
             vx, vy = state[:, VX], state[:, VY]
             return perceived(np.sqrt(vx * vx + vy * vy), self.trace.dt)  # np.linalg.norm(state[:, VX:VY + 1], axis=1)
 
-        return self._keep(("speed", who), build)
+        return self.keep(("speed", who), build)
 
     def distances(self) -> np.ndarray:
         """(T, H) robot-human centre distances (contact.trace_distances), computed once."""
-        return self._keep("distances", lambda: contact.trace_distances(self.trace))
+        return self.keep("distances", lambda: contact.trace_distances(self.trace))
 
     def gaps(self) -> np.ndarray:
         """(T, H) robot-human surface gaps (contact.trace_gaps: the centre distances minus both radii)."""
         radii = float(self.trace.robot_radius) + np.asarray(self.trace.human_radii, dtype=float).reshape(1, -1)
-        return self._keep("gaps", lambda: self.distances() - radii)
+        return self.keep("gaps", lambda: self.distances() - radii)
 
     def people_gaps(self) -> tuple[np.ndarray, list[tuple[int, int]]]:
         """contact.people_gaps of the trace ((T, P) person-person gaps and their pairs), computed once."""
-        return self._keep("people_gaps", lambda: contact.people_gaps(self.trace))
+        return self.keep("people_gaps", lambda: contact.people_gaps(self.trace))
 
     def contacts(self) -> contact.ContactSummary:
         """contact.summarize of the trace, computed once."""
-        return self._keep("contacts", lambda: contact.summarize(self.trace, gaps=self.gaps()
+        return self.keep("contacts", lambda: contact.summarize(self.trace, gaps=self.gaps()
                                                                 if self.trace.humans.ndim == 3 else None))
 
     def line_of_sight(self) -> np.ndarray:
         """(T, H) 1 where the robot and each human see each other (walls of the occupancy map)."""
         if self._los is None:
-            self._need_world("line of sight")
+            self.need_world("line of sight")
             robot = self.trace.robot[:, 0] + 1j * self.trace.robot[:, 1]
             humans = self.trace.humans[:, :, 0] + 1j * self.trace.humans[:, :, 1]
             self._los = self.world.segments_clear(robot[:, None], humans) \
@@ -214,7 +215,7 @@ class Signals:
                                    proxemics.WAY_MARGIN_VERIFY)
             return way if along == "heading" else way & ((hx != 0) | (hy != 0))[:, None]
 
-        return self._keep(("ways", along), build)
+        return self.keep(("ways", along), build)
 
     def in_way(self, i: int) -> np.ndarray:
         """1 where human i is ahead of the robot (along its heading) inside its swept corridor."""
@@ -228,7 +229,7 @@ class Signals:
                 self.trace.steps else [])
             return route_progress(self.trace.robot[:, :2], points)
 
-        return self._keep("route", build)
+        return self.keep("route", build)
 
     def holding_up(self) -> np.ndarray:
         """(T, H) 1 where a human stands in the robot's way (heading, route direction, or on the route just ahead
@@ -258,25 +259,13 @@ class Signals:
                 proxemics.HELD_UP_DISTANCE, float(self.trace.robot_radius))
             return out
 
-        return self._keep("holding_up", build)
+        return self.keep("holding_up", build)
 
     def blocked(self) -> np.ndarray:
         """1 where some human holds the robot up (holding_up)."""
-        return self._keep("blocked", lambda: contact.row_any(self.holding_up()))
+        return self.keep("blocked", lambda: contact.row_any(self.holding_up()))
 
-    def walkable(self, a: str, b: str) -> np.ndarray:
-        """(T,) walkable distance between `a` and `b` (the robot or a human) along the map's free space
-        (sim/world/walkable.py): how far a follower is from whom it follows, never through a wall."""
-        def build() -> np.ndarray:
-            from socnavgen.sim.world.walkable import WalkableDistance
-
-            ways = WalkableDistance.of(self._need_world("walkable distance"))
-            pa, pb = self.pos(a), self.pos(b)
-            return ways.between(pa[:, 0] + 1j * pa[:, 1], pb[:, 0] + 1j * pb[:, 1], FAR)
-
-        return self._keep(("walkable", a, b), build)
-
-    def _need_world(self, what: str) -> object:
+    def need_world(self, what: str) -> object:
         if self.world is None and self._world_factory is not None:
             self.world = self._world_factory()
         if self.world is None:
@@ -337,7 +326,7 @@ def _short_of_goal(s: Signals, m: re.Match) -> np.ndarray:
     (proxemics.short_of_goal, the simulator's rule: sim.arrival)."""
     if "goal" not in s.places:
         return np.zeros(s.trace.steps)
-    world = s.world if s.world is not None or s._world_factory is None else s._need_world("line of sight")
+    world = s.world if s.world is not None or s._world_factory is None else s.need_world("line of sight")
     return short_of_goal_steps(s.trace, s.places["goal"], world).astype(float)
 
 
@@ -424,9 +413,12 @@ def _spread(s: Signals, m: re.Match) -> np.ndarray:
 
 
 def _closer(s: Signals, m: re.Match) -> np.ndarray:
-    """How much closer than at the start: robot-human distance, or the robot's / a human's distance to a place."""
+    """How much closer than at the start: robot-human distance (from how far apart they start along the way one
+    would walk to the other: verify/ways.start_apart), or the robot's / a human's distance to a place."""
     values = s.get(f"dist_{m[1]}" if m[1] else f"{m[2]}_to_{m[3]}")
-    return values[:1] - values if len(values) else values
+    if not len(values):
+        return values
+    return (start_apart(s, m[1]) if m[1] else values[0]) - values
 
 
 def _aside(s: Signals, m: re.Match) -> np.ndarray:  # kept out of the way until the robot got past (verify/passing.py)
@@ -434,7 +426,7 @@ def _aside(s: Signals, m: re.Match) -> np.ndarray:  # kept out of the way until 
 
 
 def _way(s: Signals, m: re.Match) -> np.ndarray:
-    return s.walkable(m[2] or "robot", m[1])
+    return walkable(s, m[2] or "robot", m[1])
 
 
 def moved(s: Signals, human: str) -> np.ndarray:
@@ -524,7 +516,8 @@ SIGNAL_KINDS: tuple[SignalKind, ...] = (
                _moved),
     SignalKind(rf"closer_(?:{_H}|(robot|{_H[1:-1]})_to_([a-z][a-z0-9_]*))",
                "closer_<human>, closer_robot_to_<place>, closer_<human>_to_<place>", "m",
-               "how much closer than at the start: robot and human, or the robot / the human and a place", _closer),
+               "how much closer than at the start: robot and human (apart at the start along the walkable way), or "
+               "the robot / the human and a place", _closer),
     SignalKind(rf"aside_{_H}", "aside_<human>", "0/1", f"the human is out of the robot's way, having moved "
                f"{ASIDE_DISTANCE:g} m from where it last stood in it, and stays out until the robot got past", _aside),
     SignalKind(rf"way_{_H}(?:_{_H})?", "way_<human>, way_<human>_<human>", "m", "walkable robot-human (or "

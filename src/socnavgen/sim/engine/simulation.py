@@ -279,7 +279,8 @@ class Simulation:
         """At its goal (or stopped short of someone standing there: proxemics.short_of_goal), having come near
         its route's other waypoints in turn (engine.step.ending's rule)."""
         robot = self.state.robot[0]
-        return (abs(robot.goal - robot.pos) <= robot.goal_tolerance or bool(policies.stopped_short(self.state))) \
+        return (abs(robot.goal - robot.pos) <= robot.goal_tolerance
+                or (not robot.held and bool(policies.stopped_short(self.state)))) \
             and int(robot.passed) >= self.state.waypoints.shape[0] - 2
 
     def trace(self) -> Trace:

@@ -96,6 +96,7 @@ def settle(s, script, scratch, reached, gesture):  # noqa: ANN001, ANN201
     clock.t += clock.dt
     clock.step += 1
     robot.scripted = scripted_gesture(s, script)
+    robot.held = script.now[0].timed or script.now[0].letting >= 0
     robot.gesture = gesture if gesture >= 0 else robot.scripted
     if robot.gesture != 0:
         robot.said |= 1 << robot.gesture
@@ -133,7 +134,9 @@ def ending(s):  # noqa: ANN001, ANN201
     else:
         clock.stalled += clock.dt
     if robot.passed >= wps.shape[0] - 2 and (abs(robot.goal - robot.pos) <= robot.goal_tolerance or (
-            clock.idle >= proxemics.GOAL_STOP_DWELL and stopped_short(s))):  # stood short of someone at its goal
+            clock.idle >= proxemics.GOAL_STOP_DWELL and not robot.held and stopped_short(s))):  # stood short of
+        # someone at its goal, not standing for its script (a handover: round 22's first-aid kit run ended 5 s into
+        # the robot's 10 s wait when the colleague taking the kit came up between it and its goal)
         if not clock.stop_at_end:  # single steps: the caller decides what happens next
             return ROBOT_GOAL
         if clock.arrived < 0:

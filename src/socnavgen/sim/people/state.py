@@ -157,12 +157,14 @@ def pop_goal(people, goals, i, keep_last):  # noqa: ANN001, ANN201
 @jit
 def goal_reached(people, goals, i):  # noqa: ANN001, ANN201
     """IsGoalReached: a goal is left and the person is within its goal radius (+ slack) of the front one, or as
-    close as the people standing at it let them (queued_at)."""
+    close as the people standing at it let them (queued_at) - not while pacing holds them where they stand: they
+    did not walk there (a patient starting 1 m from her meeting node, where another stood, counted it reached at
+    once, walked on unpaced and stood 5 m down the corridor: hospital_11 of the new-request suite)."""
     p = people[i]
     if p.queue_count == 0:
         return False
     goal = goals[i, p.queue_start]
-    return abs(goal - p.pos) <= p.goal_radius + PERSON_GOAL_SLACK or queued_at(people, i, goal)
+    return abs(goal - p.pos) <= p.goal_radius + PERSON_GOAL_SLACK or (not p.held and queued_at(people, i, goal))
 
 
 @jit
