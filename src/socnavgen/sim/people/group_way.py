@@ -6,9 +6,11 @@ Planned alone, each member took the nearest free spot on its own side: hospital_
 unreachable (he stood 0.03 m inside the robot's lane for 20 s while it waited); hospital_10's west visitor walked
 for a spot 2.7 m away across her family and stood short of it, in the lane. So the first member to step aside plans
 for every member in the robot's way (`plan_group`): the group's side (`group_side`), then member after member along
-the path, the nearest the robot first, the first place beside the path (`slot_spot`) no nearer the robot than they
-stand and a body's width past the previous mate's, that leaves the robot room, and that they reach straight with
-walls and other people out of the way. A mate keeps their slot until their own give-way begins (`has_slot`)."""
+the path, the nearest the robot first, the first place beside the path (`slot_spot`) in a file centred on the
+group (`lay_out`: at most SLOT_BACK nearer the robot than they stand, a body's width and SLOT_GAP past the
+previous mate's), that leaves the robot room, and that they reach straight with walls, other people and the mates'
+slots out of the way; a member left only a slot short of that margin takes a spot of their own that leaves it, if
+they reach one. A mate keeps their slot until their own give-way begins (`has_slot`)."""
 
 from __future__ import annotations
 
@@ -39,7 +41,10 @@ from socnavgen.sim.people.spots import segment_distance
 from socnavgen.sim.world.queries import free_along
 
 SLOT_STEP = 0.1  # m along the path between the slots tried for a member
-SLOT_GAP = PERSON_STAND_GAP  # m between the bodies of two mates standing in file beside the path
+SLOT_GAP = PERSON_STAND_GAP  # m between the bodies of two mates standing in file beside the path (closer, the people's
+# own forces hold the second 0.18 m short of their slot: test_group_gives_way's pair)
+SLOT_BACK = 0.2  # m: a member's slot lies at most this much nearer the robot along its path than they stand (the file is
+# centred on the group, not strung out ahead of it; a walking family does not walk back toward the robot)
 SLOT_REACH = SIDE_STEP_MAX  # m along the path beyond where a member stands: the farthest slot tried for them
 
 
@@ -169,46 +174,99 @@ def next_member(s, i, seg, fallback, want, done, done_j):  # noqa: ANN001, ANN20
 
 
 @jit
-def plan_group(s, i, want, progress, seg, fallback, stuck):  # noqa: ANN001, ANN201
-    """Person i's side step as their group's one plan (see the module): True when it gave i a spot (aside,
-    aside_via, aside_at set). A slot the plan left i earlier is kept while the robot has not passed it, nobody else
-    stands there and i still walks there straight. `stuck`: i could not reach their spot, mates' bodies count."""
-    people, p = s.people, s.people[i]
-    if p.has_slot:
-        p.has_slot = False
-        if not stuck and progress < p.aside_at and not taken(s, i, p.aside) and walk_clear(s, i, p.pos, p.aside, False):
-            p.aside_via = p.aside
-            return True
-    side = group_side(s, i, seg, fallback, want)
-    last, done, done_j, planned = -np.inf, -np.inf, -1, False
-    for _ in range(people.shape[0]):
+def beside(s, seg, fallback, point, side):  # noqa: ANN001, ANN201
+    """How far `point` lies from the robot's upcoming path toward `side` (negative: on the other side)."""
+    foot, e = at_arc(s, seg, fallback, arc_of(s, seg, fallback, point))
+    return ((point - foot) * e.conjugate()).imag * side
+
+
+@jit
+def clear_of_slots(a, b, radius, spots, radii, count):  # noqa: ANN001, ANN201
+    """A body of `radius` walking straight from a to b keeps PERSON_KEEP_GAP from the first `count` slots planned
+    for mates, or comes no nearer them than it starts (they will stand there: test_give_way_narrow's third chatter
+    walked round a mate already at her slot, 1.7 m, and came late)."""
+    for k in range(count):  # (nearer than where they start, or within the gap: one standing by it moves off)
+        if segment_distance(spots[k], a, b) < min(abs(spots[k] - a), radius + radii[k] + PERSON_KEEP_GAP) - TIE:
+            return False
+    return True
+
+
+@jit(alloc=True)
+def lay_out(s, i, want, progress, seg, fallback, stuck, side):  # noqa: ANN001, ANN201
+    """The group's file on `side` (see plan_group): give the members in the robot's way their slots; True when
+    person i got one."""
+    people = s.people
+    n = people.shape[0]
+    order, arcs = np.empty(n, np.int64), np.empty(n, np.float64)
+    count, done, done_j = 0, -np.inf, -1
+    for _ in range(n):  # the members in the robot's way, in order along its path
         j, own = next_member(s, i, seg, fallback, want, done, done_j)
         if j < 0:
             break
+        order[count], arcs[count] = j, own
         done, done_j = own, j
+        count += 1
+    if count == 0:
+        return False
+    for _ in range(count):  # mates abreast on the path: the one on the group's side first (the other walks behind)
+        for k in range(count - 1):
+            if arcs[k + 1] - arcs[k] < people[order[k]].radius and (
+                    beside(s, seg, fallback, people[order[k + 1]].pos, side)
+                    > beside(s, seg, fallback, people[order[k]].pos, side) + TIE):
+                order[k], order[k + 1] = order[k + 1], order[k]
+                arcs[k], arcs[k + 1] = arcs[k + 1], arcs[k]
+    centre, length = 0.0, 0.0
+    for k in range(count):
+        centre += arcs[k] / count
+        if k + 1 < count:
+            length += 2 * people[order[k]].radius + SLOT_GAP
+    spots, radii = np.empty(n, np.complex128), np.empty(n, np.float64)
+    placed, last, planned = 0, centre - length / 2, False
+    for k in range(count):
+        j, own = order[k], arcs[k]
+        q = people[j]
         mates = stuck and j == i
         first_rank, first_spot, first_arc = 2, 0j, 0.0
-        a = max(own, last)
+        a = max(last, own - SLOT_BACK)
         while a <= own + SLOT_REACH:
             rank, spot = slot_spot(s, j, seg, fallback, a, side, want, mates)
+            if rank < 2 and not clear_of_slots(q.pos, spot, q.radius, spots, radii, placed):
+                rank = 2
             if rank < first_rank:
                 first_rank, first_spot, first_arc = rank, spot, a
             if rank == 0:
                 break
             a += SLOT_STEP
-        if first_rank == 2:
-            continue  # no slot: they plan alone when their give-way begins
-        q = people[j]
         if first_rank == 1:  # no slot leaves the robot its margin: a spot of their own that does, if there is one
             c, e = at_arc(s, seg, fallback, own)  # (home_05's second guest, a table beside the path past her)
             rank, _, spot = side_spot(s, j, q.pos, e * 1j * side, want, seg, fallback)
-            if rank == 0 and walk_clear(s, j, q.pos, spot, mates):
-                first_spot, first_arc = spot, max(own, arc_of(s, seg, fallback, spot))
-        q.aside, q.aside_via, q.has_slot = first_spot, first_spot, j != i
-        q.aside_at = progress + first_arc  # where the robot passes them
+            if (rank == 0 and walk_clear(s, j, q.pos, spot, mates)
+                    and clear_of_slots(q.pos, spot, q.radius, spots, radii, placed)):
+                first_rank, first_spot, first_arc = 0, spot, max(own, arc_of(s, seg, fallback, spot))
+        if first_rank == 2:
+            continue  # no slot: they plan alone when their give-way begins
+        spots[placed] = first_spot
+        radii[placed] = q.radius
+        placed += 1
         last = first_arc + 2 * q.radius + SLOT_GAP
         planned = planned or j == i
+        q.aside, q.aside_via, q.has_slot = first_spot, first_spot, j != i
+        q.aside_at = progress + first_arc  # where the robot passes them
     return planned
+
+
+@jit
+def plan_group(s, i, want, progress, seg, fallback, stuck):  # noqa: ANN001, ANN201
+    """Person i's side step as their group's one plan (see the module): True when it gave i a spot (aside,
+    aside_via, aside_at set). A slot the plan left i earlier is kept while the robot has not passed it, nobody else
+    stands there and i still walks there straight. `stuck`: i could not reach their spot, mates' bodies count."""
+    p = s.people[i]
+    if p.has_slot:
+        p.has_slot = False
+        if not stuck and progress < p.aside_at and not taken(s, i, p.aside) and walk_clear(s, i, p.pos, p.aside, False):
+            p.aside_via = p.aside
+            return True
+    return lay_out(s, i, want, progress, seg, fallback, stuck, group_side(s, i, seg, fallback, want))
 
 
 @jit
