@@ -19,8 +19,6 @@ from socnavgen.sim.people.side_step import (
     WAIT,
     in_robot_way,
     in_way_at,
-    path_distance,
-    path_size,
 )
 from socnavgen.sim.people.spots import segment_distance
 from socnavgen.sim.people.state import ROUTE_ROBOT, ROUTE_STRAIGHT, stand, turn, walk_to, walk_to_goal
@@ -111,23 +109,11 @@ def robot_level(s, i):  # noqa: ANN001, ANN201
 
 
 @jit
-def clear_of_path(s, i):  # noqa: ANN001, ANN201
-    """Person i stands GIVE_WAY_MARGIN clear of the robot's body all along its upcoming path. One kept short of
-    their spot by a mate's body (a file pressed close) stands there: planned again, test_group_gives_way's second
-    guest, 0.18 m short and already clear, crossed into the lane the robot was passing them by."""
-    p, robot = s.people[i], s.robot[0]
-    _, seg = robot_progress(s)
-    fallback = path_size(s, seg, False) < 2
-    return path_distance(s, seg, fallback, p.pos) >= p.radius + robot.radius + GIVE_WAY_MARGIN
-
-
-@jit
 def give_way(s, i):  # noqa: ANN001, ANN201
     """Step off the robot's upcoming path, wait there facing the robot until it has passed, then walk on to
     the goal. A new side step is planned whenever the previous action was something else (a group member's with
     their group: people.group_way), and when they have come no nearer their spot for ASIDE_PATIENCE s (someone
-    stands in the way: home_05's guest stood short of his spot, inside the robot's lane, for 20 s), unless they
-    already stand clear of its way (clear_of_path): then they wait there."""
+    stands in the way: home_05's guest stood short of his spot, inside the robot's lane, for 20 s)."""
     p = s.people[i]
     if p.behavior != 2 or not p.gives_way:
         p.behavior = 2
@@ -142,9 +128,7 @@ def give_way(s, i):  # noqa: ANN001, ANN201
             p.aside_near, p.aside_stall = near, 0.0
         else:
             p.aside_stall += s.clock[0].dt
-        if p.aside_stall >= ASIDE_PATIENCE and clear_of_path(s, i):  # pushed short of it, already out of the
-            p.aside, p.aside_via = p.pos, p.pos  # robot's way: they stand there (a mate pressed close in file)
-        elif p.aside_stall >= ASIDE_PATIENCE:
+        if p.aside_stall >= ASIDE_PATIENCE:
             plan_aside(s, i, True)
     if p.give_way_phase == ASIDE and abs(p.aside_via - p.pos) <= GIVE_WAY_ARRIVED:
         p.aside_via = p.aside  # backed out to where there is room: now to the side
