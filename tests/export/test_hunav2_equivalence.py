@@ -28,32 +28,24 @@ _PHRASE_LATE = ("2.x has no side step: the translated person backs away along th
 _OVERTAKE = ("2.x has no side step: the overtaken hunav2 person (AvoidRobot) walks on ahead of the robot along the "
              "hospital corridor, out of its way only at its goal (the robot stops short of them at 44 s, 29 s with the "
              "socrates twin, who steps aside at once)")
-_FOLLOW_AHEAD = ("2.x's follower (CuriousNav closing to 1.5 m, AvoidRobot pushing off at 2 m) walks ahead of the robot "
-                 "to its goal and hovers there at 0.05-0.3 m/s, so the robot waits 17-23 s before it counts as arrived "
-                 "short of them (proxemics.short_of_goal wants them standing); ours follows 1.3 m behind "
-                 "(people.leaves.follow) and the robot reaches its goal")
 KNOWN_DIVERGENT = {
     # since side steps are never planned through the robot's body (2026-11-26): the socrates and the 2.x runs of the
     # three followers swarming the robot in the 1.2 m hallway no longer end the same; not analysed finding by finding
     # (home/robot-crowding's twins verify alike since people walk round a robot standing on a point of their way, s11)
     "home/robot-overtaking": _HALLWAY,
-    "home/accompanying-peer": _HALLWAY,
     # home/pedestrian-obstruction's twins verify alike again since the eighth session (2026-11-27)
     # since people walk round a robot standing on a point of their way (s11; traced, not seen in a GIF): in the
     # socrates twin the person gives way, the 2.x twin has no side step
     "home/narrow-doorway": "2.x has no side step: the socrates person gives way, the hunav2 one does not",
-    # seventh session (people keep 0.2 m from the robot's body, a walker boxed in steps round on the left; told by the
-    # verdicts, not looked at in frames): the socrates twin verifies, the hunav2 one does not
-    "home/robot-crowding": "2.x's followers (CuriousNav closing to 1.5 m, AvoidRobot pushing off at 2 m) hold the "
-    "robot over 10 s in the living room and it never reaches ai; the socrates followers let it through",
+    # thirteenth session: home/robot-crowding and the three accompanying-peer twins verify alike (told by the
+    # verdicts, not traced to one change: a robot getting nowhere for 2 s now counts as idle, so it can arrive short
+    # of a 2.x follower hovering at its goal; a follower walking up to a driving robot steps aside again)
     "hospital/robot-overtaking": _OVERTAKE,
     # since people stop short of a goal the robot is on (2026-11-26, s7): the hospital door's twins now verify alike
     # (the card fails in both: tests/cards KNOWN_FAILING) and the hospital hallway's part (finding by finding, not yet
     # looked at in frames): the hunav2 person (AvoidRobot) never leaves the robot's way, the robot stands behind them
     # over 10 s and never reaches 0g; the socrates person gives way after EXCUSE ME and the robot passes
     "hospital/narrow-hallway": "2.x has no side step: the hunav2 person stays in the robot's way in the hallway",
-    "hospital/accompanying-peer": _FOLLOW_AHEAD,
-    "warehouse/accompanying-peer": _FOLLOW_AHEAD,
     # eighth session (2026-11-27: the default robot brakes within 1.5 m/s2, goes round a group standing on its
     # waypoint, stops short of someone standing; followers queue; told by the verdicts, not looked at in frames)
     "warehouse/pedestrian-obstruction": _PHRASE_LATE,

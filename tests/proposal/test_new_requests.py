@@ -34,11 +34,13 @@ PATHS = fixture_paths(FIXTURES)
 # round 22 answered live on the eleventh session's final code and judged in round 20 (home_18 and hospital_17 judged
 # again on the twelfth session's replay, round 22 of the eyes, with home_08, home_13, home_16 and hospital_11, which
 # verify at their first answers since); home_10, hospital_04, warehouse_04 and warehouse_14 re-answered live in round
-# 23 on the twelfth session's place checks and judged in round 21. Four lenient passes (a robot's wait spot and a
-# worker's stop place no criterion states; a handover that ends with the receiver on the robot's goal; a file of
-# students and a pass the spec does not state; a robot idling and wandering with its way clear) and two strict fails
+# 23 on the twelfth session's place checks and judged in round 21; warehouse_17 re-answered live in round 24 on the
+# twelfth session's final code (judged in round 23) and home_18 in round 25 on the thirteenth session's handover code
+# (judged in round 24). Four lenient passes (a robot's wait spot and a worker's stop place no criterion states; a
+# file of students and a pass the spec does not state; a robot passing a child at 0.3 m where the text says at a
+# distance; a resident who leaves her mat as the robot passes, no criterion seeing her stay) and three strict fails
 # (a step aside too short for the robot, called a weak point by eye; a pair that gave way together while the robot
-# idled).
+# idled; a robot backing beside a patient it passes, judged by eye on an earlier run where it did not).
 DISAGREE: dict[str, str] = {
     "hospital_10_meal_tray_family_in_doorway": "strict FAIL: the robot stops ~2.3 m short and says EXCUSE ME, the "
     "family shuffles aside and the robot threads through a ~0.9 m gap into the room without touching anyone (eyes: "
@@ -56,28 +58,38 @@ DISAGREE: dict[str, str] = {
     "inside the middle aisle, not across the cross aisle, and the robot does not wait on its side ~3 m before sh: "
     "it pulls ~1.3 m into the mouth of the next rack aisle and is still moving while he stands (the spec bounds "
     "the robot's distance from sh, not where it stands, nor where the worker stops)",
-    "home_18_towel_to_living_room_exercise": "lenient PASS (round 22, replayed on the twelfth session's code): the "
-    "robot waits in the bathroom for the wife, stops in the doorway ~1.1 m from 41, and the physio comes and stands "
-    "at 41 ~1.3 m from it, facing it, from ~14.5 s; he never goes back to the resident and the robot never drives "
-    "the last metre to 41, which he stands on: the run ends at 24.4 s with the two facing each other (arrival short "
-    "of someone at the goal; no criterion has him go back)",
     "hospital_17_lead_students_to_nurse_station": "lenient PASS (round 22): the patient stands ~1 m west of zs "
     "from ~20 to 28 s while the robot swerves, the robot turns into the nurse station ahead of him instead of "
     "passing him in the corridor, the students crowd round him (a touch at ~40 s by eye) instead of passing in file, "
     "and they end ~2 m north of the robot, not round it (no criterion for the file, the pass or the gathering)",
     "home_16_hide_and_seek_laundry": "lenient PASS (verified at its first answers since the twelfth session's "
-    "walkable approach): the robot stops in the zv doorway at ~3 s and both children run by, but it stays there "
-    "until ~20 s though both were past by ~8 s, loops back south-east away from its goal, inches ~25 s below iq, "
-    "passes the seeker at ~0.2 m and reaches lu at ~72 s (no criterion sees a robot idling or wandering with its "
-    "way clear; the text has it drive on and pass the children at a distance)",
+    "walkable approach; the thirteenth session's replay looked at by the lead, who reads the code): the robot stops "
+    "in the zv doorway at ~3 s while both children run by and drives on at ~11 s (before: ~20 s, then a loop away "
+    "from its goal), but the seeker stands beside the hider right by its way to iq: it creeps beside her ~14-25 s "
+    "and passes ~0.3 m from her as she steps back (5 s within intimate space), reaching lu at 31.5 s (the text has "
+    "it pass the children at a distance; no criterion bounds how close it passes them)",
+    "hospital_11_disinfecting_west_corridor": "FAIL where the recorded eyes (round 20, on the twelfth session's "
+    "run) said yes - the run changed and the lead, who reads the code, saw a new robot flaw in it: the robot pulls "
+    "over for the first patient and goes on as before, but as the second patient passes it at ck (~61 s, ~1 m) it "
+    "backs ~1.7 m east beside her at up to 0.35 m/s before driving on west (the twelfth session's robot went on west "
+    "throughout); the verifier fails 'the robot drives slowly whenever it is within 2 m of the second patient' "
+    "(0.35 m/s at 0.99 m, the bound < 0.35); the recording has no answer for the paths stage the loop then asks",
+    "home_18_towel_to_living_room_exercise": "lenient PASS (re-answered live in round 25, eyes round 24): the robot "
+    "stops inside the bathroom ~2 m from the mat and says EXCUSE ME, the resident comes ~1.2 m in front of it for "
+    "~4 s and walks back to the mat, the robot waits till she is back; but then it stalls in the doorway ~0.9 m from "
+    "her while she exercises and she leaves her mat ~1.2 m until it has gone by (the text: she stays on the mat while "
+    "the robot drives past, not interrupted; the criterion that sees her back at the mat is satisfied before the "
+    "robot passes, none sees her stay while it passes)",
 }
 
 # Fixtures whose recorded answers never pass a stage (a stage check refuses them, or the recording ends where the
 # pipeline now asks what the live run was never asked), each with why: the replay stops at that stage.
 REFUSED: dict[str, str] = {
-    "warehouse_17_first_aid_kit_to_staging": "scenario: answered in round 22 before the twelfth session's place "
-    "checks; every answer has the robot stop about 1.5 m short of sw at the group's edge with no criterion keeping "
-    "it back from sw (eyes no on its live run: the run ended 5 s into the handover wait)",
+    "warehouse_17_first_aid_kit_to_staging": "scenario: re-answered live in round 24 (its round-22 answers were "
+    "refused by the twelfth session's place checks) before the thirteenth session's check of who goes back after "
+    "coming to the robot (place_checks.back_mistakes): every answer has the colleague 'walk back to the injured "
+    "worker at vj' with no criterion on where he ends up (eyes round 23, on the live run that verified: he never "
+    "came within ~2 m of the robot and never went back, standing ~3 m from the group to the end)",
 }
 
 

@@ -13,7 +13,7 @@ import pytest
 from gen_helpers import scenario_reply, spec_for
 
 from socnavgen.location import load_location
-from socnavgen.proposal.place_checks import WAIT_SLACK, robot_wait_mistakes, stay_mistakes
+from socnavgen.proposal.place_checks import WAIT_SLACK, back_mistakes, robot_wait_mistakes, stay_mistakes
 from socnavgen.proposal.prose_checks import person_order_mistakes
 from socnavgen.proposal.replies import ScenarioReply
 from socnavgen.proposal.scenario import scenario_checker
@@ -174,3 +174,43 @@ def test_stage_one_refuses_an_answer_whose_robot_waits_short_of_a_node_it_never_
                               "formula": "(robot_to_node_11 >= 2.0) until (human2_to_node_07 < 1.0)"})
     reply = scenario_reply(spec=fixed, scenario_description=description)
     assert not [m for m in check(ScenarioReply.model_validate(reply)) if "keeps the robot back" in m]
+
+
+# -- who goes back after coming to the robot (a handover) ------------------------------------------------------------
+PHYSIO = {"human1": "When he sees the robot come out of the bathroom doorway, he steps over to it and stands right in "
+                    "front of it, facing it, for about 10 s to take the towel, then walks back to the resident on the "
+                    "mat and stays there."}
+
+
+def _coming(reaction: str, *criteria: str) -> ScenarioSpec:
+    spec = _spec(*criteria)
+    spec.encounters[0].humans[0].reaction = reaction
+    return spec
+
+
+@pytest.mark.parametrize("reaction", ["block", "follow"])
+def test_someone_who_comes_to_the_robot_and_goes_back_needs_a_criterion_that_sees_where_they_end_up(reaction):
+    """home_18 (round 22): blocks_robot and stops_near_robot passed a physiotherapist who never went back."""
+    mistakes = back_mistakes("", PHYSIO, _coming(reaction))
+    assert len(mistakes) == 1 and "human1 go back ('walks back to'" in mistakes[0], mistakes
+    assert "eventually (dist_human1 < 2.0 and eventually (human1_to_node_N < 1.0))" in mistakes[0], mistakes
+
+
+@pytest.mark.parametrize("formula", ["eventually (dist_human1 < 2.0 and eventually (human1_to_node_ai < 1.0))",
+                                     "eventually (human1_to_node_ai < 1.0)"])
+def test_a_criterion_that_sees_them_back_is_accepted(formula):
+    assert back_mistakes("", PHYSIO, _coming("block", formula)) == []
+
+
+def test_moved_cannot_see_anyone_go_back():
+    """moved_<human> latches once they have walked: "moved_human1 < 1.0" after the walk up never holds again, and the
+    formula held at once for a resident who started within 2 m of the robot (round 25). It does not count."""
+    formula = "eventually (dist_human1 < 2.0 and eventually (moved_human1 < 1.0))"
+    assert len(back_mistakes("", PHYSIO, _coming("block", formula))) == 1
+
+
+def test_going_back_after_stepping_aside_is_not_asked():
+    """Giving way walks a person back by itself (warehouse_08's workers 'step aside, then return to the group')."""
+    assert back_mistakes("", {"human1": "When the robot says EXCUSE ME she steps aside, then returns to the group."},
+                         _coming("give_way")) == []
+    assert back_mistakes("The robot returns to its dock.", {}, _coming("block")) == []

@@ -104,6 +104,15 @@ def test_behavior_prompt_holds_library_tutorial_examples_and_context():
     assert "human2 walks in a group with human1" in user and "meets the robot at node 11" in user
 
 
+def test_behavior_prompt_names_the_goals_the_simulator_walks():
+    """The start is no goal (as in HuNavSim): told "goals in order: ai, 41", home_18's model walked its
+    physiotherapist with RegularNav "back to his current goal ai" after a handover; he stood on 41 for good."""
+    walker = behavior_messages("human1", PROPOSAL, PLAN)[-1].content
+    assert PLAN.humans[0].goals == ["11", "ch"]
+    assert "human1 starts at 07; its goals in order: 11, ch" in walker and "07, 11, ch" not in walker
+    assert "human2 starts at 11, its only goal" in behavior_messages("human2", PROPOSAL, PLAN)[-1].content
+
+
 def test_every_tree_shown_to_the_model_is_valid():
     trees = re.findall(r"^<root .*</root>$", render("bt_tutorial_qa.md"), flags=re.M)
     trees += [json.loads(block)["tree"] for block in re.findall(r"^\{.*\}$", examples_text(), flags=re.M)]

@@ -246,15 +246,14 @@ REFUSED = {
     "iq out of the main bedroom (round 20's live model then moved them to the living room's east end, as stage 1 was "
     "asked)",
     # place_checks (session 12): the three lenient passes of round 21 and warehouse_14 were re-answered live on them in
-    # round 23 (each live model fixed what its first answer was refused for); round 22's warehouse_17, answered before
-    # them, is refused whole
+    # round 23, and warehouse_17 (round 22, answered before them and refused whole) in round 24 (each live model fixed
+    # what its first answer was refused for)
     ("home_10_medication_past_chatting_friends", "scenario[0]"): "human3 'staying where she is' while the robot "
     "passes, no criterion sees her stay (the round-23 live model then bounded her)",
     ("warehouse_14_lunch_break_tote_return", "scenario[0]"): "the robot stops about 3 m before up, no criterion keeps "
     "it back from up (the round-23 live model then added one)",
-    **{("warehouse_17_first_aid_kit_to_staging", f"scenario[{i}]"): "the robot stops about 1.5 m short of sw at the "
-       "group's edge, no criterion keeps it back from sw (and, in the first, the shift leader behind the robot with "
-       "no criterion that sees the order)" for i in (0, 1, 2)},
+    ("warehouse_17_first_aid_kit_to_staging", "scenario[0]"): "the shift leader walks 'behind the robot', no "
+    "criterion sees the order (the round-24 live model then added one)",
 }
 
 

@@ -11,10 +11,11 @@ from socnavgen.sim import empty_room
 from socnavgen.sim.people.leaves import FOLLOW_SLOWING, FOLLOW_STOP
 from socnavgen.sim.people.neighbours import new_grid
 from socnavgen.sim.people.spacing import keep_apart
+from socnavgen.sim.people.spots import REACH, RING_STEP
 from socnavgen.sim.people.state import PERSON
 from socnavgen.sim.records import table
 
-from .simhelpers import REGULAR, Drive, Stay, human, make_sim, tree_xml
+from .simhelpers import REGULAR, Drive, Stay, human, make_sim, tree_xml, xy
 
 
 def follow_human(target: int) -> str:
@@ -81,3 +82,21 @@ def test_members_of_a_standing_group_whose_trees_only_look_stay_where_they_stand
     assert near.min() < 2.5  # the robot came by within sight (they looked)
     moved = np.hypot(trace.humans[:, :, 0] - trace.humans[0, None, :, 0], trace.humans[:, :, 1] - trace.humans[0, None, :, 1])
     assert moved.max() < 0.02, moved.max(axis=0)
+
+
+def test_a_follower_whose_leader_stopped_for_good_comes_up_beside_them_off_the_robots_way():
+    """Two people walk in single file (FollowHuman behind a RegularNav walker) to the leader's goal, which lies on the
+    robot's way still to go, and the leader stands there for good (their walk is over). The follower comes up and
+    stands beside the leader, off the robot's way, as two people who walked somewhere together do - not a trail's
+    length behind them in file (warehouse_14: the follower stood 30 s in a 1.4 m passage the robot had to take,
+    1.3 m behind the worker who had stopped at the loading door)."""
+    leader_goal = (8.0, 5.0)
+    people = [human("human1", start=(15.0, 5.0), goals=[leader_goal]),
+              human("human2", start=(16.5, 5.0), goals=[(18.0, 5.0)])]
+    trace = make_sim(people, [tree_xml(REGULAR), follow_human(0)], [(2.0, 5.0), (19.0, 5.0)], Stay(),
+                     world=empty_room(20.0, 10.0), timeout=30).run()
+    leader, follower = xy(trace, -1, 0), xy(trace, -1, 1)
+    assert abs(leader - complex(*leader_goal)) < 0.8, leader  # the leader got there and stands
+    assert abs(follower - leader) < 2 * RING_STEP + REACH, (follower, leader)  # beside them (a ring or two) ...
+    assert abs(follower.imag - 5.0) > 2 * PERSON_RADIUS + 0.2, follower  # ... off the robot's way (y = 5) ...
+    assert abs(follower - xy(trace, np.searchsorted(trace.t, trace.t[-1] - 3.0), 1)) < 0.1  # ... and stands there

@@ -11,7 +11,7 @@ from socnavgen.bodies import PERSON_RADIUS, ROBOT_RADIUS
 from socnavgen.run.spec import CueTrigger, RobotCue, RobotScript, ScenarioSpec
 from socnavgen.sim.people.routing import project
 from socnavgen.sim.robot.api import ScriptedPolicy
-from socnavgen.sim.robot.script import LET_PASS_PATIENCE
+from socnavgen.sim.robot.script import LET_PASS_PATIENCE, LET_PASS_STILL
 from socnavgen.sim.robot.wait_spot import CLEAR_OF_WAY
 from tests.sim.simhelpers import REGULAR, human, make_sim, tree_xml
 
@@ -137,3 +137,24 @@ def test_someone_who_stopped_at_the_end_of_their_walk_no_longer_holds_the_robot(
         f"the robot stood {rows[moved][0] - rows[arrived][0]:.1f} s after she stopped at the end of her walk")
     assert rows[moved][0] - rows[fired][0] < LET_PASS_PATIENCE - 5.0
     assert min(abs(r - p) for _, r, p in rows) > PERSON_RADIUS + ROBOT_RADIUS  # no contact
+
+
+def test_someone_who_went_by_and_stopped_off_its_way_has_gone_by():
+    """home_16 of the new-request suite: the seeker ran past the robot after the hider and stopped by her 2.7 m
+    from it, never LET_PASS_AWAY farther than her closest; the robot stood its whole 15 s with its way clear. A
+    person let pass who walked LET_PASS_WALKED and then stood LET_PASS_STILL s off its way has gone by."""
+    hider = human("human1", start=(12.0, 2.5), goals=[(3.5, 2.5)])  # along the robot's route, 2.5 m south of it
+    seeker = human("human2", start=(13.3, 2.5), goals=[(3.5, 2.5)])
+    script = RobotScript(cues=[RobotCue(trigger=CueTrigger(when="human_within", human="human2", distance=4.0),
+                                        let_pass="human2", wait=20.0)])
+    trees = [tree_xml(REGULAR), tree_xml('<FollowHuman agent_id="{id}" target_id="0" time_step="{dt}"/>')]
+    sim = make_sim([hider, seeker], trees, ROUTE, policy=ScriptedPolicy(), script=script)
+    rows = []
+    while sim.t < 30.0:
+        sim.step()
+        rows.append((sim.t, complex(sim.robot.pos), complex(sim.people.pos[1]), abs(sim.people.vel[1])))
+    fired = next(t for t, r, p, _ in rows if abs(r - p) <= 4.0)
+    stood = next(t for t, _, p, v in rows if t > fired + 2.0 and v < 0.05)  # the seeker stopped by the hider
+    drove = next(t for t, r, _, _ in rows if t > fired and r.real > rows[0][1].real + 0.3 and
+                 r.real > next(r2 for t2, r2, _, _ in rows if t2 >= fired).real + 0.5)
+    assert drove < stood + LET_PASS_STILL + 3.0 < fired + 20.0, (fired, stood, drove)

@@ -44,12 +44,25 @@ def examples_text(left_out: Cut = NOTHING) -> str:
                        for ex in examples_kept(left_out, template_data("bt_examples.yaml")))
 
 
+def path_line(plan: HumanPlan) -> str:
+    """Where a human starts and its goal list as the simulator (and HuNavSim) walks it (HumanPlan.goals: the start
+    is no goal), so RegularNav without UpdateGoal walks to the first node after it. Told "goals in order: ai, 41",
+    home_18's model walked the physiotherapist "back to his current goal ai" after the handover, and he stood on
+    the robot's goal 41 for good."""
+    name, goals = plan.name, plan.goals
+    if len(plan.path) < 2:
+        return f"{name} starts at {', '.join(goals) or '?'}, its only goal."
+    return (f"{name} starts at {plan.path[0]}; its goals in order: {', '.join(goals)} (the start is not one of "
+            f"them: RegularNav walks to the current goal, {goals[0]} from the start on, and UpdateGoal moves on to "
+            f"the next; to come back to a node, the path must end there again).")
+
+
 def human_context(name: str, scenario: ScenarioProposal, paths: PathPlan | None) -> str:
     """Where this human walks, its group and its meeting point: what the tree has to fit."""
     lines = [f"Scenario: {scenario.scenario_description}"]
     if paths is not None:
         plan = paths.human(name)
-        lines.append(f"Path of {name} (goals in order): {', '.join(plan.path)}.")
+        lines.append(path_line(plan))
         mates = [h.name for h in paths.humans if h.group_id >= 0 and h.group_id == plan.group_id and h.name != name]
         lines.append(f"{name} walks in a group with {', '.join(mates)}." if mates else f"{name} is not in a group.")
         if plan.interaction_point:

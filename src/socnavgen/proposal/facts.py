@@ -54,7 +54,7 @@ STL_EXAMPLE = "eventually[0:60] (robot_says_excuse_me > 0.5 and dist_human1 <= 2
 # one, spec_checks.unstated_reactions): `meets` only says they came near. A reaction to a robot phrase is also stated
 # by reacts_after_phrase; a group member's by group_together with a member whose reaction is stated; any by stl.
 STATED_BY: dict[str, tuple[str, ...]] = {
-    "follow": ("follows_robot",), "follow_human": ("follows_human", "follows_robot"), "join": ("follows_robot", "group_together"),
+    "follow": ("follows_robot", "stops_near_robot"), "follow_human": ("follows_human", "follows_robot"), "join": ("follows_robot", "group_together"),
     "give_way": ("gives_way", "keeps_away"), "avoid": ("keeps_away", "gives_way"), "block": ("blocks_robot",),
     "say": ("says",), "stop": ("stops_near_robot",), "wait_then_go": ("stops_near_robot",)}
 # Stage 1's worked example of "who goes first" (an order of places), told with the stl help (fit.py's signals cut)
@@ -397,20 +397,20 @@ def robot_limits_text(detail: bool = True, target: Target = "socrates") -> str:
 
 
 def follower_turn_text() -> str:
-    """What a follower does when the robot turns round toward them (sim/people/give_way.follow_robot: in its way
-    within FOLLOW_WAY_AHEAD on its remaining path, they give way first, backing out along its path where there is
-    no room beside it: plan_side_step; following never walks their own path)."""
+    """A follower in the robot's way (sim/people/give_way.lets_robot_by), so how to bring something to someone."""
+    from socnavgen.sim.people.leaves import FOLLOW_STOP
     from socnavgen.sim.people.side_step import FOLLOW_WAY_AHEAD
 
-    return (f"- A follower (follow, FollowRobot) who finds themself on the robot's way ahead of it, within "
-            f"{FOLLOW_WAY_AHEAD:g} m (it turns round at a dead end or on a round trip), steps aside like give_way "
-            f"and follows again once it has passed; where there is no room beside it (under {PASS_WIDTH:g} m free) "
-            f"they first walk ahead of it along its way to the nearest place wide enough, so the robot turns round "
-            f"best where there is room. So start a follower behind or beside the robot's start, not on its route "
-            f"ahead; someone who falls in as it sets off may meet it at its start node (stated by follows_robot, "
-            f"with no meets, they need no approach). "
-            f"Following does not walk the follower's own path: when it ends they walk on to the node they were "
-            f"walking to when it began (back the way they came).")
+    return (f"- A follower (follow, FollowRobot) on the robot's way ahead of it, within {FOLLOW_WAY_AHEAD:g} m (it turns "
+            f"round at a dead end or on a round trip), steps aside like give_way as it drives (not while a cue holds it) and "
+            f"follows again once it has passed; with no room beside it (under {PASS_WIDTH:g} m free) they first walk "
+            f"ahead of it to the nearest place wide enough. While a cue holds it they come up and stand {FOLLOW_STOP:g} m "
+            f"in front of it, facing it. BRING X TO SOMEONE: their node is not the robot's goal (the run ends there): "
+            f"a `wait` cue stops it a few metres before them, they `follow` (\"lasts\", then they walk back), stated by "
+            f"stops_near_robot. So start a follower behind or beside the robot's start, not on its route ahead; "
+            f"someone who falls in as it sets off may meet it at its start node (stated by follows_robot, with no "
+            f"meets, they need no approach). Following does not walk their own path: when it ends they walk on to "
+            f"the node they were walking to when it began (back the way they came).")
 
 
 def wait_until_clear_text() -> str:
@@ -466,7 +466,7 @@ def stl_text(signals: bool = True) -> str:
 
     if not signals:
         return "- A criterion of kind stl holds a raw signal temporal logic formula: use the other kinds."
-    listed = "; ".join(f"{k.shown} ({k.unit}): {k.meaning}" for k in SIGNAL_KINDS)
+    listed = "; ".join(f"{k.shown} ({k.unit}): {k.meaning}" for k in SIGNAL_KINDS if k.listed)
     return (f"- A criterion of kind stl holds a signal temporal logic \"formula\": one expression of at most "
             f"{MAX_FORMULA_CHARS} characters and {MAX_NESTING} nested levels, with the operators always, "
             f"eventually, historically, once, until, since (bounds in seconds, e.g. eventually[0:5]; an operator "

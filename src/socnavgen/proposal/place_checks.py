@@ -17,7 +17,11 @@ Like prose_checks and stop_checks, general checks of the words against the crite
   lower bound;
 - `stay_mistakes` (stage 1): a person the text has stay where they are / stay put / not move (not "until" something:
   that is a wait; nor "if" / "otherwise": a stay on a condition) needs a criterion that fails when they walk off: an stl on `moved_<human>` or an upper bound on
-  their distance to a place (`<human>_to_node_X < r`).
+  their distance to a place (`<human>_to_node_X < r`);
+- `back_mistakes` (stage 1): a person who comes to the robot (follow, block) and whom the text has go back (walk / go
+  / head back to a place, return to it) needs a criterion that sees where they end up: an stl on `moved_<human>` or an upper bound on their distance to a place.
+  home_18 (round 22): the physiotherapist was to take the towel "then walk back to the resident on the mat"; he stood
+  on the robot's goal to the end and the run verified (no criterion said where he goes after the handover).
 """
 
 from __future__ import annotations
@@ -76,7 +80,8 @@ def place_events_text(detail: bool = True) -> str:
             "X); a person your text has stay where they are (stay put, not move away) by \"always (moved_human1 < "
             "0.5)\"; a person your text puts second, third or last in a file of people by an stl relating them to the "
             "one before, measured at a node inside where they go (\"(human3_to_node_R > 1.0) until (human2_to_node_R "
-            "< 0.5)\"), not at a doorway both crowd round.")
+            "< 0.5)\"), not at a doorway both crowd round; a person your text has come to the robot (follow, block) "
+            "and then go back by \"eventually (dist_human1 < 2.0 and eventually (moved_human1 < 1.0))\".")
 
 
 def _a_person(place: str, names: dict[str, str]) -> bool:
@@ -164,14 +169,16 @@ def robot_wait_mistakes(description: str, expected: str, behaviors: dict[str, st
     return mistakes
 
 
-def _stayers(description: str, behaviors: dict[str, str]) -> list[tuple[str, str, str]]:
-    """(humanN, words, sentence) of each person the text has stay put for good: in a behavior its person (unless the
-    clause names the robot or another person first), in the description the people the clause names before it."""
+def _stayers(description: str, behaviors: dict[str, str], words: re.Pattern[str] = STAY,
+             until: bool = True) -> list[tuple[str, str, str]]:
+    """(humanN, words, sentence) of each person the text has stay put for good (or do what `words` say; `until`:
+    not "until" something after them): in a behavior its person (unless the clause names the robot or another
+    person first), in the description the people the clause names before it."""
     names = people_names(description, behaviors)
     found = []
     for owner, sentence in owned_sentences(description, behaviors):
-        for m in STAY.finditer(sentence):
-            if _UNTIL.match(sentence[m.end():]) or _IF.search(sentence):
+        for m in words.finditer(sentence):
+            if (until and _UNTIL.match(sentence[m.end():])) or _IF.search(sentence):
                 continue
             head = sentence[:m.start()]
             ends = [e.end() for e in _CLAUSE_END.finditer(head)]
@@ -191,6 +198,14 @@ def _sees_stay(c: Criterion, human: str) -> bool:
     return re.search(rf"\bmoved_{human}\b|\b{human}_to_\w+\s*<|>=?\s*{human}_to_\w+", formula) is not None
 
 
+def _sees_back(c: Criterion, human: str) -> bool:
+    """An stl with an upper bound on `human`'s distance to a place. Not moved_<human>: it latches once they have
+    walked, so "moved_h < 1.0" after the walk up never holds again and "eventually (dist_h < 2.0 and eventually
+    (moved_h < 1.0))" held at once for a person who started within 2 m of the robot (round 25's player)."""
+    formula = (c.formula or "") if c.kind == "stl" else ""
+    return re.search(rf"\b{human}_to_\w+\s*<|>=?\s*{human}_to_\w+", formula) is not None
+
+
 def stay_mistakes(description: str, behaviors: dict[str, str], spec: ScenarioSpec) -> list[str]:
     """Each person the text has stay put without a criterion that sees them stay."""
     mistakes, told = [], set()
@@ -206,4 +221,33 @@ def stay_mistakes(description: str, behaviors: dict[str, str], spec: ScenarioSpe
             f"criterion such as \"always (moved_{human} < 0.5)\" ({human} never gets {MOVED_DISTANCE:g} m from where "
             f"they started) or \"always ({human}_to_node_N < 1.0)\" (N: the node they stand at), or say in the text "
             f"when they move")
+    return mistakes
+
+
+# Going back to a place: "walks back to the mat", "heads back toward her desk", "returns to the group".
+BACK = re.compile(r"\b(?:(?:walks?|walking|goes|going|go|heads?|heading|comes?|coming|wanders?|wandering|strolls?|"
+                  r"hurries|hurrying|moves?|moving) back (?:to|toward|towards|into|onto)|"
+                  r"returns? to|returning to)\b", re.IGNORECASE)
+
+
+COMING = ("follow", "block")  # reactions that take a person to the robot (sim/robot/lead.goes_with_robot)
+
+
+def back_mistakes(description: str, behaviors: dict[str, str], spec: ScenarioSpec) -> list[str]:
+    """Each person whom a reaction takes to the robot (COMING: a handover) and the text has go back to a place,
+    without a criterion that sees where they end up (_sees_stay's signals: meets, blocks_robot, stops_near_robot
+    and the like pass a person who never goes back). Someone who steps aside and goes back is not asked: giving
+    way walks them back (people.give_way), and a give-way is judged by its own criteria."""
+    mistakes, told = [], set()
+    humans = {h for h in spec.humans() if any(p.reaction in COMING for _, p in spec.parts_of(h))}
+    for human, words, sentence in _stayers(description, behaviors, BACK, until=False):
+        if human in told or human not in humans or any(_sees_back(c, human) for c in spec.criteria):
+            continue
+        told.add(human)
+        mistakes.append(
+            f"the text has {human} go back ('{words}': \"{quoted(sentence)}\"), but no criterion sees where {human} "
+            f"ends up (meets, blocks_robot, stops_near_robot and follows_robot all pass a person who stays by the "
+            f"robot); add an stl criterion such as \"eventually (dist_{human} < 2.0 and eventually ({human}_to_node_N "
+            f"< 1.0))\" (they came to the robot, then back within 1 m of node N, the node they go back to), or drop it "
+            f"from the text")
     return mistakes

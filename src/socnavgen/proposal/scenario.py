@@ -32,7 +32,12 @@ from socnavgen.proposal.facts import (
 )
 from socnavgen.proposal.fit import NOTHING, Cut, Note, examples_kept, fit_prompt
 from socnavgen.proposal.gbnf import Grammar, Lit, Ref, Symbol, text_rules
-from socnavgen.proposal.place_checks import place_events_text, robot_wait_mistakes, stay_mistakes
+from socnavgen.proposal.place_checks import (
+    back_mistakes,
+    place_events_text,
+    robot_wait_mistakes,
+    stay_mistakes,
+)
 from socnavgen.proposal.prose_checks import close_follow_mistakes, order_mistakes, person_order_mistakes
 from socnavgen.proposal.replies import ScenarioReply, human_name
 from socnavgen.proposal.spec_checks import (
@@ -166,6 +171,7 @@ def scenario_checker(location: Location | None, target: Target | None = None,
             mistakes += robot_wait_mistakes(reply.scenario_description, reply.expected_robot_behavior,
                                             reply.human_behaviors, spec, nodes)
             mistakes += stay_mistakes(reply.scenario_description, reply.human_behaviors, spec)
+            mistakes += back_mistakes(reply.scenario_description, reply.human_behaviors, spec)
         return mistakes
     return check
 

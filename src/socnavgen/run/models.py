@@ -77,6 +77,12 @@ class HumanPlan(BaseModel):
     def agent_id(self) -> int:
         return int(self.name.removeprefix("human")) - 1
 
+    @property
+    def goals(self) -> list[str]:
+        """The goal list the simulator walks (as HuNavSim's agents: the start is no goal), or the start alone
+        for a path of one node. The stage-3 prompt names these (proposal.behaviors.path_line)."""
+        return self.path[1:] if len(self.path) > 1 else self.path[:1]
+
 
 class RobotGestureRule(BaseModel):
     """Scripted robot speech for the simulator, e.g. say EXCUSE ME (4) when blocked."""

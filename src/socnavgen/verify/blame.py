@@ -49,6 +49,7 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
   R3  robot_reaches_goal failed, the robot ending still with nobody in its way, a cue of its script holding
       it then (the trace's cue log; without one: the script has cues that can make it stand)  -> robot_script
   R5  ... and the cue log shows no cue holding it: the robot's own navigation (blame_end.py)  -> simulator
+  R6  no_deadlock failed on `idle` (no deadlock): no progress with its way clear, no cue (idle.py) -> simulator
   R4  (checked before R2) robot_reaches_goal failed with someone holding the robot up at the end of the run (a
       wait shorter than the deadlock limit): rule D4's standoff                                 -> spec
       else                                                                                      -> behaviors(h)
@@ -79,13 +80,14 @@ from socnavgen.bodies import (
 )
 from socnavgen.run.models import PathPlan
 from socnavgen.run.spec import Blame, Criterion, ScenarioSpec
-from socnavgen.verify.blame_cue import cue_never_held
-from socnavgen.verify.blame_end import goal_taken, no_progress_at_end, standing_at_end
+from socnavgen.verify.blame_cue import cue_never_held, stop_not_held
+from socnavgen.verify.blame_end import SIMULATOR_NOTE, goal_taken, no_progress_at_end, standing_at_end
 from socnavgen.verify.blame_follow import blame_follower, never_near_start
 from socnavgen.verify.blame_timing import ended_at_once, window_closed_early
 from socnavgen.verify.blame_tree import FACTS_CLOSE, FACTS_OPEN, tree_activity
 from socnavgen.verify.criteria import Compiled
 from socnavgen.verify.evidence import deadlock_culprit, in_window, met_mask, stayed_off_place, way_cause
+from socnavgen.verify.idle import idle_fact
 from socnavgen.verify.people import blame_people
 from socnavgen.verify.signals import ROBOT_PHRASES, Signals, lasting, phrase_id, reaction_evidence
 from socnavgen.verify.stl import formula_signals
@@ -361,6 +363,9 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
         if stuck:
             return stuck
         if kind == "no_deadlock":
+            idle = idle_fact(s)  # its way clear, no cue asking it to stand: the robot's own navigation (R6)
+            if idle:
+                return "simulator", None, f"{idle}: {SIMULATOR_NOTE}"
             return "robot_script", None, "the robot stood still too long: its script's waits are too long"
         waiting = standing_at_end(s, spec, settings_deadlock)
         if waiting:
@@ -370,7 +375,7 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
     if kind == "stl":
         return _blame_formula(cc, s)
     if kind == "robot_stops":
-        return "robot_script", None, "the robot did not stand still at the place: a cue there must stop it (wait)"
+        return stop_not_held(cc, s)
     if kind == "stop_together":
         who = (cc.criterion.humans or [h or ""])[0] or None
         return "behaviors", who, "they did not stand still together: stop each one beside the others"

@@ -83,3 +83,21 @@ def _let_pass(spec: ScenarioSpec | None, h: str) -> str:
     if spec is not None and any(cue.let_pass == h for cue in spec.script.cues):
         return f"; a robot letting {h} pass waits beside {h}'s way, never in front of {h}"
     return ""
+
+
+def stop_not_held(cc: Compiled, s: Signals) -> Verdict:
+    """robot_stops failed. A robot that stood at the place long enough in all, but never the criterion's seconds at
+    once, had its stand broken (it steps aside for someone who must get past it while it waits): saying "a cue
+    there must stop it" then misleads the model, whose wait cue is already there (round 24's player)."""
+    enc = cc.encounter
+    near = s.get(f"robot_to_{enc.id}") <= (cc.distance or 0) if enc is not None else np.ones(len(s.t), bool)
+    still = np.concatenate([[False], (s.get("robot_still") > 0.5) & near, [False]]).astype(int)
+    edges = np.flatnonzero(np.diff(still))
+    runs = (edges[1::2] - edges[::2]) * s.trace.dt
+    total, longest, needs = float(runs.sum()), float(runs.max(initial=0.0)), cc.seconds or 0.0
+    if needs > 0 and total >= needs:
+        return ("robot_script", None,
+                f"the robot stood still at the place {total:.1f} s in all but at most {longest:.1f} s at once (needs "
+                f"{needs:g} s at once): something moved it during its wait (it steps aside for someone who must get "
+                f"past it); ask for no longer a stop than it holds at once, or keep the others' ways off its spot")
+    return "robot_script", None, "the robot did not stand still at the place: a cue there must stop it (wait)"

@@ -28,6 +28,7 @@ from socnavgen.verify.signals import phrase_id
 from socnavgen.verify.stl import FormulaError
 from socnavgen.verify.thresholds import (
     APPROACH,
+    IDLE_SECONDS,
     KIND_DISTANCE,
     NOTICE_RANGE,
     REACTION_SLACK,
@@ -374,7 +375,7 @@ def _people_apart(c: Criterion, ctx: Context, out: Compiled) -> None:
 
 def _no_deadlock(c: Criterion, ctx: Context, out: Compiled) -> None:
     s = out.seconds = c.seconds or ctx.settings.deadlock_seconds
-    out.formula = f"always (deadlock < {s:g})"
+    out.formula = f"always (deadlock < {s:g}) and always (idle < {IDLE_SECONDS:g})"  # nor idle with its way clear
 
 
 def _stl(c: Criterion, ctx: Context, out: Compiled) -> None:
@@ -448,7 +449,8 @@ CRITERION_KINDS: dict[str, CriterionKind] = {k.name: k for k in (
                   _no_collision),
     CriterionKind("people_apart", "always (pgap_min > 0.05)  (pgap_h with a human)", "two people touching = their "
                   "gap <= 0.05 m (the robot's contact), from t = 0", _people_apart),
-    CriterionKind("no_deadlock", "always (deadlock < S)", "no progress along the route counts, not standing",
+    CriterionKind("no_deadlock", f"always (deadlock < S) and always (idle < {IDLE_SECONDS:g})", "no progress along "
+                  "the route counts, not standing; idle: none with its way clear and no cue asking it to wait",
                   _no_deadlock),
     CriterionKind("stl", "the criterion's own formula", "up to the author", _stl),
 )}

@@ -11,10 +11,18 @@ import numpy as np
 
 from socnavgen.sim import contact
 from socnavgen.verify.criteria import Compiled, notice_range
+from socnavgen.verify.idle import idle_fact
 from socnavgen.verify.passing import back_in_way, short_step, undone
 from socnavgen.verify.people import people_evidence
 from socnavgen.verify.signals import Signals, aside
-from socnavgen.verify.thresholds import APPROACH, PROGRESS_STEP, STOP_HOLD, STOP_SPEED, WALK_SPEED
+from socnavgen.verify.thresholds import (
+    APPROACH,
+    DEADLOCK_SECONDS,
+    PROGRESS_STEP,
+    STOP_HOLD,
+    STOP_SPEED,
+    WALK_SPEED,
+)
 from socnavgen.verify.windows import triggered, window_text
 
 Evidence = tuple[str, float | None, float | None]  # text, time, distance
@@ -373,6 +381,9 @@ def deadlock_culprit(s: Signals) -> tuple[int, str | None]:
 def _deadlock_evidence(cc: Compiled, s: Signals) -> Evidence:
     dead = s.get("deadlock")
     k, who = deadlock_culprit(s)
+    idle = idle_fact(s) if dead[k] < (cc.seconds or DEADLOCK_SECONDS) else None
+    if idle:  # no_deadlock's other half: idle with its way clear (verify/idle.py)
+        return idle, float(s.t[int(np.argmax(s.get("idle")))] - float(np.max(s.get("idle"))) + s.trace.dt), None
     if dead[k] <= 0:
         return "the robot was never stuck behind someone", None, None
     start = s.t[k] - dead[k] + s.trace.dt

@@ -25,6 +25,7 @@ from socnavgen.sim import contact
 from socnavgen.sim.arrival import short_of_goal_steps
 from socnavgen.sim.social_metrics import arrival_row
 from socnavgen.sim.trace import VX, VY, YAW, Trace
+from socnavgen.verify.idle import idle_seconds
 from socnavgen.verify.passing import (  # aside: re-exported (its home is verify/passing.py)
     aside,
     kept_aside,
@@ -77,6 +78,7 @@ class SignalKind:
     unit: str
     meaning: str
     build: Callable[[Signals, re.Match], np.ndarray]
+    listed: bool = True  # in the prompts' list of signals (False: the verifier's own, no_deadlock's `idle`)
 
 
 def _runlength(flags: np.ndarray, dt: float) -> np.ndarray:
@@ -491,6 +493,8 @@ SIGNAL_KINDS: tuple[SignalKind, ...] = (
     SignalKind(r"deadlock", "deadlock", "s", f"how long the robot has made no progress along its route (less than "
                f"{PROGRESS_STEP:g} m) with someone in its way within {proxemics.HELD_UP_DISTANCE:g} m (not at its "
                f"goal), continuously: standing still or jittering in place", _deadlock),
+    SignalKind(r"idle", "idle", "s", "how long the robot has got nowhere along its route, its way clear, no cue asking it to "
+               "wait, short of its goal (verify/idle.py)", lambda s, m: idle_seconds(s), listed=False),
     SignalKind(r"robot_(says|said)_([a-z_]+)", "robot_says_<phrase>, robot_said_<phrase>", "0/1",
                "the robot makes the phrase now / has made it at some time so far (excuse_me, follow_me, wait, "
                "proceed, acknowledged)", _robot_says),

@@ -4,6 +4,8 @@
 zones come from socnavgen.bodies, the "in the robot's way" margins from socnavgen.proxemics.
 """
 
+from socnavgen.sim.people.leaves import BLOCK_AHEAD, BLOCK_HOLD
+
 # -- user-settable (VerifySettings defaults) --------------------------------------------------------
 MEET_DISTANCE = 2.0  # m centre to centre: robot and person "meet" this close
 NEAR_NODE = 1.0  # m: how close to its encounter node a meeting must happen (runs without spec.json)
@@ -25,6 +27,8 @@ APPROACH = 0.5  # m: a meeting needs the two to be this much closer than at the 
 #                 much closer to the place (or being at it)
 ASIDE_DISTANCE = 0.25  # m: a person giving way moves at least this far from where it last stood in the way
 PROGRESS_STEP = 0.25  # m of new progress along its route that restarts the robot's deadlock clock
+IDLE_SECONDS = 8.0  # s: longest the robot may get nowhere along its route with its way clear and no cue asking it to
+#                     stand (verify/idle.py): an idle robot nobody can see a cause for (no_deadlock holds it too)
 NOTICE_RANGE = 5.0  # m: a person notices a visible robot this close (keeps_away)
 STOP_NOTICE_RANGE = 3.0  # m: stops_near_robot's cause: the person walked while the robot was this close (at least)
 STOP_HOLD = 1.0  # s: a stop lasts at least this long
@@ -37,8 +41,10 @@ MIN_RUN_SECONDS = 1.0  # s: a run shorter than this ended before anything could 
 FAR = 1.0e3  # m: the value of a distance that does not exist (no humans, unreachable)
 
 # -- per-kind default distances, when a criterion gives none (metres) --------------------------------
+# blocks_robot: where BlockRobot stands, its point ahead of the robot, as far off as she stands still there (a
+# blocker standing 1.53 m in front of the robot, facing it, failed 1.5 m: home_18 of round 22)
 KIND_DISTANCE = {"stops_near_robot": 1.5, "gives_way": 2.0, "follows_robot": 2.0, "follows_human": 2.0,
-                 "hidden_until": 3.0, "keeps_away": 1.5, "blocks_robot": 1.5,
+                 "hidden_until": 3.0, "keeps_away": 1.5, "blocks_robot": BLOCK_AHEAD + BLOCK_HOLD,
                  "stop_together": 3.0}  # stop_together: a greeting "a couple of metres" apart, inside social space
 # The verifier's margins of "in the robot's way" are proxemics.WAY_MARGIN_VERIFY (inway_<human>) and
 # proxemics.HELD_UP_DISTANCE (someone in the way this close holds the robot up: deadlock, wait_until_clear).

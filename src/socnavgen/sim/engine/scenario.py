@@ -130,7 +130,7 @@ def load_simulation(run_dir: Path | str | LoadedRun, policy: Any, config: SimCon
     for h, start in zip(humans, starts, strict=True):
         person = traits.get(h.name)
         speed = person.speed if person is not None and person.speed is not None else PERSON_MAX_SPEED
-        goals = [at[n] for n in (h.path[1:] if len(h.path) > 1 else h.path[:1])]
+        goals = [at[n] for n in h.goals]
         first = complex(*goals[0]) - start
         specs.append(HumanSpec(name=h.name, start=(start.real, start.imag), goals=goals,
                                yaw=math.atan2(first.imag, first.real) if abs(first) > 1e-9 else 0.0,

@@ -38,7 +38,8 @@ ROBOT = layout([
     ("max_alpha", "f8"), ("speed", "f8"),
     ("gesture", "i8"), ("said", "i8"),  # said: bit g set once it has shown gesture g (RobotSaid)
     ("scripted", "i8"),  # the gesture the script and the gesture rules make now
-    ("held", "?"),  # its script stands it now (a timed `wait`, a `let_pass`): not arrived short of its goal
+    ("held", "?"),  # its script stands it now (a timed `wait`, a `let_pass`): not arrived short of its goal;
+    # a follower who walked up into its way waits for it only then (people.give_way.lets_robot_by)
     # its progress along its waypoints (people.routing.robot_progress), computed once per step
     ("progress", "f8"), ("progress_segment", "i8"), ("progress_step", "i8"), ("search_from", "i8"),
     ("passed", "i8")])  # how many of its intermediate waypoints it has come near, in turn (engine.step.ending)

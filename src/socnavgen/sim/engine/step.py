@@ -46,6 +46,7 @@ IDLE_SPEED = 1e-3  # m/s: a robot slower than this is idle (the run ends once ev
 STALL_PROGRESS = 0.1  # m along its route: a robot that has not got this much farther than its best, and has
 STALL_REACH = 0.5  # m: ... stayed this close to where it began to, waits (clock.stalled), however it edges about
 #   there (the polite robot's small moves reset clock.idle every second or so); one driving round someone does not
+CREEP_IDLE = 2.0  # s without STALL_PROGRESS: a robot creeping about is idle as if it stood (clock.idle)
 
 
 @jit(inline=True)
@@ -127,12 +128,15 @@ def ending(s):  # noqa: ANN001, ANN201
     wps = s.waypoints
     while robot.passed < wps.shape[0] - 2 and abs(wps[1 + robot.passed] - robot.pos) <= proxemics.OCCUPIED_REACH:
         robot.passed += 1
-    clock.idle = clock.idle + clock.dt if abs(robot.vel) < IDLE_SPEED else 0.0
     progress, _ = robot_progress(s)
     if progress > clock.best_progress + STALL_PROGRESS or abs(robot.pos - clock.stalled_at) > STALL_REACH:
         clock.best_progress, clock.stalled_at, clock.stalled = max(progress, clock.best_progress), robot.pos, 0.0
     else:
         clock.stalled += clock.dt
+    # idle: standing, or getting nowhere for CREEP_IDLE s however it creeps (progress along its route counts, not
+    # speed > 0: a robot inching at 5 mm/s 1.07 m from someone beyond its goal never arrived nor ended the run)
+    idle = abs(robot.vel) < IDLE_SPEED or clock.stalled >= CREEP_IDLE
+    clock.idle = max(clock.idle + clock.dt, clock.stalled) if idle else 0.0
     if robot.passed >= wps.shape[0] - 2 and (abs(robot.goal - robot.pos) <= robot.goal_tolerance or (
             clock.idle >= proxemics.GOAL_STOP_DWELL and not robot.held and stopped_short(s))):  # stood short of
         # someone at its goal, not standing for its script (a handover: round 22's first-aid kit run ended 5 s into

@@ -23,9 +23,11 @@ from socnavgen.sim.jit import jit
 from socnavgen.sim.people.avoid import sees
 from socnavgen.sim.people.grace import follow_in
 from socnavgen.sim.people.routing import head
+from socnavgen.sim.people.spots import LOOK, REACH, pick
 from socnavgen.sim.people.state import (
     ROUTE_ROBOT,
     STANDING,
+    done,
     goal_reached,
     pop_goal,
     turn,
@@ -215,12 +217,40 @@ def follow(s, i, target, target_radius, route):  # noqa: ANN001, ANN201
         walk_to(s.people, i, target, target_radius, speed, route)
 
 
+@jit
+def beside(s, i, h):  # noqa: ANN001, ANN201
+    """A follower's part once whom they follow stands for good (at the last goal of their walk) within LOOK m:
+    they come up to the free spot round them nearest to them, off the robot's way (people.spots.pick), and stand
+    there facing them, as two people who walked somewhere together stand side by side, not a trail's length behind
+    in file (warehouse_14: a follower stood 30 s in the passage the robot had to take). True when person i does
+    that this step; False (no such spot, the leader walks on): they follow as before."""
+    p, q = s.people[i], s.people[h]
+    if not done(s.people, s.goals, h) or abs(q.pos - p.pos) > LOOK:
+        p.has_spot = False
+        return False
+    # the spot is kept while the leader stands there: a robot coming by does not send them off to another spot
+    # (home_16: the seeker re-picked as the robot came near and stepped in front of it)
+    if not (p.has_spot and abs(p.spot_for - q.pos) <= REACH):
+        found, spot = pick(s, i, q.pos)
+        if not found:
+            p.has_spot = False
+            return False
+        p.has_spot, p.spot, p.spot_for = True, spot, q.pos
+    p.behavior = 1
+    if abs(p.spot - p.pos) <= REACH:
+        d = q.pos - p.pos
+        turn(s.people, i, math.atan2(d.imag, d.real))
+    else:
+        walk_to(s.people, i, p.spot, REACH, p.max_speed, h)
+    return True
+
+
 @leaf("FollowHuman")
 def follow_human(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     h = human(s, a, Port.target_id, 0)
     if h < 0:
         return bad_port(Port.target_id)
-    if h != i and not follow_in(s, i, h):
+    if h != i and not follow_in(s, i, h) and not beside(s, i, h):
         follow(s, i, s.people[h].pos, s.people[h].radius, h)
     return SUCCESS
 
@@ -238,14 +268,16 @@ def push_away(s, i, within):  # noqa: ANN001, ANN201
 
 @jit
 def block(s, i, ahead):  # noqa: ANN001, ANN201
-    """Walk to the point `ahead` metres in front of the robot and stand there (slowing down as she arrives); face it
-    once within BLOCK_FACE."""
+    """Walk to the point `ahead` metres in front of the robot and stand there facing it (slowing down as she
+    arrives; she faces it walking once within BLOCK_FACE). Standing, she kept the heading she walked up with: the
+    physiotherapist who came from the side to take the towel stood at 50 degrees to the robot (home_18, round 22)."""
     p = s.people[i]
     p.behavior = 1
     point = s.robot[0].pos + ahead * complex(math.cos(s.robot[0].yaw), math.sin(s.robot[0].yaw))
     away = abs(point - p.pos)
     if away <= BLOCK_RADIUS or (away <= BLOCK_HOLD and abs(p.vel) < STANDING):
-        turn(s.people, i, p.yaw)  # stands (people.make_room: standing in its way on purpose)
+        d = s.robot[0].pos - p.pos  # stands facing it (people.make_room: standing in its way on purpose)
+        turn(s.people, i, math.atan2(d.imag, d.real))
     else:
         walk_to(s.people, i, point, BLOCK_RADIUS, min(BLOCK_SPEED, math.sqrt(2.0 * BLOCK_DECEL * away)), ROUTE_ROBOT)
     p.face_robot_within = BLOCK_FACE

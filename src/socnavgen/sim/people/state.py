@@ -83,6 +83,7 @@ PERSON = layout([
     # ... the spot their group's one plan left them (people.group_way: has_slot), and how near they came to their
     # side-step target (aside_near) and for how long no nearer (aside_stall: a body in the way makes them re-plan)
     ("has_slot", "?"), ("aside_near", "f8"), ("aside_stall", "f8"),
+    ("came_up", "?"),  # following the robot: walked up into its way (give_way.lets_robot_by): waits for it to drive on
     # making room for a robot that waits (people.make_room): stepping aside, and the spot to go back to
     ("makes_room", "i8"), ("room_home", "c16"),
     # a goal point someone else stands on (people.spots): the spot round it this person walks to instead

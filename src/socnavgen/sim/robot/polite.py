@@ -47,6 +47,7 @@ from socnavgen.bodies import CONTACT_MARGIN, INTIMATE_SPACE, PERSONAL_SPACE, ROB
 from socnavgen.location.inventory import BLIND_SIGHT_M
 from socnavgen.location.places import CORNER_TURN_DEG
 from socnavgen.sim.jit import jit
+from socnavgen.sim.people.give_way import giving_way
 from socnavgen.sim.people.routing import project
 from socnavgen.sim.robot.lead import goes_with_robot
 from socnavgen.sim.robot.let_by import ABREAST_WALKING, SAME_WAY, WALKING, let_by, tails
@@ -359,7 +360,8 @@ def route_through(s, i, point, clear):  # noqa: ANN001, ANN201
 def coming_through(s, forward, reach, in_line):  # noqa: ANN001, ANN201
     """(who, walking): the nearest person within `reach` (gap) of the robot (`in_line`: ahead along the unit
     `forward`, its way on, in line with it) whose goal lies beyond the robot or whose route goes through it
-    (route_through: they need to get past it); -1 when nobody is.
+    (route_through: they need to get past it), or who follows someone beyond it; -1 when nobody is. Not someone
+    stepping aside for it (giving_way): they make room for the robot, it does not back off from them.
     `walking`: they walk toward the robot now (not standing, waiting)."""
     robot, people = s.robot[0], s.people
     p, back = robot.pos, forward.conjugate()
@@ -368,12 +370,15 @@ def coming_through(s, forward, reach, in_line):  # noqa: ANN001, ANN201
         q = people[i]
         rel = (q.pos - p) * back
         gap = abs(rel) - q.radius - robot.radius
-        if gap > reach or not q.has_goal or goes_with_robot(s, i) or (in_line and (rel.real <= 0 or abs(rel.imag) > q.radius + robot.radius
+        if gap > reach or not q.has_goal or goes_with_robot(s, i) or giving_way(q) or (in_line and (rel.real <= 0 or abs(rel.imag) > q.radius + robot.radius
                                                           + PASS_GAP)):
             continue
         toward = p - q.pos
         u = toward / max(abs(toward), 1e-9)
-        if ((q.goal - q.pos) * u.conjugate()).real <= abs(toward) and not route_through(
+        if 0 <= q.route < people.shape[0]:  # following someone: their goal queue is not where they go (home_16: the
+            if ((people[q.route].pos - q.pos) * u.conjugate()).real <= abs(toward):  # seeker by the hider; the robot
+                continue  # backed away from her stale route for 8 s); they go past only after someone past it
+        elif ((q.goal - q.pos) * u.conjugate()).real <= abs(toward) and not route_through(
                 s, i, p, q.radius + robot.radius + PASS_GAP):  # their goal is short of the robot, their route too
             continue
         if gap < best:

@@ -8,7 +8,8 @@ the corridor the robot's body sweeps ahead (people who stepped aside do not hold
 do); still blocked after CLEAR_PATIENCE s it says the cue's phrase again (a silent cue waits on as long),
 CLEAR_REPEATS times, then stops waiting (the robot then goes around where there is room: a scripted wait never becomes a deadlock); `let_pass` stands until that
 person has gone by (gone_by: came near, out of its way, moving off; or at the end of their walk), at most `wait` s (LET_PASS_PATIENCE without
-one): "the robot lets her go first"; `speed` sets the cruise speed.
+one): "the robot lets her go first" (having walked by, they may stop out of its way: gone by too); `speed` sets
+the cruise speed.
 A gesture rule holds its gesture while its condition held within its last `duration` seconds; the first
 rule that holds wins. The robot shows a cue's phrase, else the first rule's gesture (scripted_gesture).
 
@@ -40,6 +41,9 @@ CLEAR_PATIENCE = 8.0  # s: still blocked after this long, the robot asks again (
 CLEAR_REPEATS = 2  # ... this many times, then stops waiting and drives around like an operator would
 LET_PASS_PATIENCE = 20.0  # s: a `let_pass` cue without a `wait` stands at most this long for its person
 LET_PASS_AWAY = 0.5  # m: the person let pass has gone by once this much farther from the robot than its closest
+LET_PASS_WALKED = 1.0  # m: ... or, having walked this far since the cue fired, once they stand (within LET_PASS_STILL_REACH)
+LET_PASS_STILL = 2.0  # s out of its way: they stopped there (a child at her hiding place 2.7 m off): not coming
+LET_PASS_STILL_REACH = 0.3  # m: moving less than this is standing (people jitter in place)
 AT_NODE = 1.0  # m: a gesture rule `at_node` holds within this distance of its node
 SQUEEZE = ROBOT_SOCIAL_GAP + 0.15  # m: someone beside the route whom the robot passes by edging at most this far
 # aside (keeping ROBOT_SOCIAL_GAP, where walls and other people leave it room) does not hold it "until clear". Named
@@ -66,7 +70,9 @@ CUE = layout([("when", "i8"), ("who", "i8"), ("phrase", "i8"), ("say", "i8"), ("
               ("say_until", "f8"), ("wait_until", "f8"), ("clear_since", "f8"),
               # let_pass: the person (-1: none), waiting for them, they came near, their closest, the limit
               ("lets_pass", "i8"), ("letting_pass", "?"), ("pass_near", "?"), ("pass_closest", "f8"),
-              ("pass_until", "f8")])
+              ("pass_until", "f8"),
+              # where they were when it fired, where they last stood still since when (gone_by: stopped off its way)
+              ("pass_from", "c16"), ("pass_still_at", "c16"), ("pass_still_since", "f8")])
 RULE = layout([("when", "i8"), ("gesture", "i8"), ("has_point", "?"), ("point", "c16"), ("distance", "f8"),
                ("duration", "f8"), ("last_true", "f8")])
 
@@ -287,17 +293,24 @@ def gone_by(s, cue, finished):  # noqa: ANN001, ANN201
     LET_PASS_AWAY farther from it than the closest they came: past it, across its way, or on ahead of it; or they
     stand at the end of their walk (`finished`): no longer coming, the robot would wait for them for ever (home_14
     of the new-request suite: she stopped at the front door 1.7 m from it and the run ended with the robot still
-    waiting). From poses alone (the export's ROS node has no velocities, nor knows where anyone's walk ends:
-    `finished` is False there)."""
+    waiting); or, having walked LET_PASS_WALKED since the cue fired, they have stood LET_PASS_STILL s (moving less
+    than LET_PASS_STILL_REACH): they stopped there, off its way (home_16: the seeker stopped by the hider 2.7 m from
+    it, never LET_PASS_AWAY farther than her closest, and the robot stood its whole 15 s with its way clear).
+    From poses alone (the export's ROS node has no velocities, nor knows where anyone's walk ends: `finished` is
+    False there)."""
     i = cue.lets_pass
     if i < 0 or i >= s.people.shape[0]:
         return True
-    d = abs(s.people[i].pos - s.robot[0].pos)
+    pos, t = s.people[i].pos, s.clock[0].t
+    d = abs(pos - s.robot[0].pos)
     way = in_way(s, i, proxemics.HELD_UP_DISTANCE, route_segment(s), -1.0)
     if d <= proxemics.HELD_UP_DISTANCE or way:
         cue.pass_near = True
     cue.pass_closest = min(cue.pass_closest, d)
-    return cue.pass_near and not way and (d >= cue.pass_closest + LET_PASS_AWAY or finished)
+    if abs(pos - cue.pass_still_at) > LET_PASS_STILL_REACH:
+        cue.pass_still_at, cue.pass_still_since = pos, t
+    stopped = abs(pos - cue.pass_from) >= LET_PASS_WALKED and t - cue.pass_still_since >= LET_PASS_STILL
+    return cue.pass_near and not way and (d >= cue.pass_closest + LET_PASS_AWAY or finished or stopped)
 
 
 @jit
@@ -353,6 +366,9 @@ def play(s, script):  # noqa: ANN001, ANN201
             cue.wait_until = t + cue.pause
         cue.waiting_until_clear = cue.until_clear
         cue.letting_pass, cue.pass_near, cue.pass_closest = cue.lets_pass >= 0, False, math.inf
+        if 0 <= cue.lets_pass < s.people.shape[0]:
+            cue.pass_from, cue.pass_still_at = s.people[cue.lets_pass].pos, s.people[cue.lets_pass].pos
+            cue.pass_still_since = t
         cue.pass_until = t + (cue.pause if cue.pause > 0 else LET_PASS_PATIENCE)
         cue.clear_since, cue.repeats = t, 0
         if not math.isnan(cue.speed):
