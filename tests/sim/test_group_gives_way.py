@@ -6,18 +6,29 @@
   could not be reached: the first stood short of it, 0.03 m inside the robot's lane, for 20 s, and the robot idled.
 - hospital_10: a family of four in a doorway: the west visitor planned a spot 2.7 m away, across her mates, and
   stood 0.43 m from the robot's line, short of it, until the robot squeezed by.
+- hospital_08: two nurses standing on the corridor's line: which wall they went to was a rounding error's (numba
+  north, plain Python south); north, by a door that has room for one, the second stood 0.56 m off the robot's line.
 """
 
 from __future__ import annotations
+
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from socnavgen.bodies import PERSON_RADIUS, ROBOT_RADIUS
+from socnavgen.location import load_location
 from socnavgen.run.spec import CueTrigger, RobotCue, RobotScript
 from socnavgen.sim import empty_room, load_policy
 from socnavgen.sim.contact import trace_gaps
+from socnavgen.sim.people.group_way import plan_aside
+from socnavgen.sim.people.routing import robot_progress
+from socnavgen.sim.people.side_step import GIVE_WAY_MARGIN, path_distance
+from socnavgen.sim.world.grid import World
 from tests.sim.simhelpers import human, make_sim, tree_xml
+
+HOSPITAL = Path(__file__).resolve().parents[2] / "examples" / "locations" / "hospital"
 
 SAID_TREE = tree_xml('<Fallback><Sequence><RobotSaid agent_id="{id}" message="4"/>'
                      '<Inverter><TimeExpiredCondition seconds="12" ts="{dt}" only_once="true"/></Inverter>'
@@ -93,3 +104,24 @@ def test_a_pair_giving_way_one_after_the_other_both_clear_the_robots_lane_and_it
         assert abs(hy[abreast, k] - line) >= LANE + 0.1, (k, trace.t[abreast], hy[abreast, k])
     assert trace.t[-1] < 30.0, trace.t[-1]  # 10.5 m at 0.5 m/s with a pass: not idling behind them
     assert trace_gaps(trace).min() > 0.05
+
+
+@pytest.mark.parametrize("off", [0.01, -0.01])
+def test_a_group_standing_on_the_robots_line_makes_way_to_the_side_where_all_get_clear(off: float):
+    """hospital_08's corridor (the hospital map): two nurses 1.2 m apart on the robot's line at the nurse station,
+    1 cm to one side or the other; north a door beside them has room for one, south the station's open space for
+    both. Whichever side they stand on by a hair, the group's one plan gives both a spot that leaves the robot its
+    margin (on the north side the second got a spot 0.7 m off its path: a step too short)."""
+    line = 3.275
+    people = [human("human1", start=(2.725, line + off), goals=[(2.725, line + off)], group_id=0),
+              human("human2", start=(1.525, line + off), goals=[(1.525, line + off)], group_id=0)]
+    sim = make_sim(people, [SAID_TREE] * 2, [(-3.125, line), (2.125, line), (7.375, line)],
+                   policy=load_policy("scripted"), world=World.from_location(load_location(HOSPITAL)))
+    s = sim.state
+    s.robot[0].pos = -0.378 + 2.713j  # coming up the corridor, 2.5 m short of them, as it said EXCUSE ME
+    s.people[0].gives_way, s.people[0].behavior = True, 2
+    plan_aside(s, 0, False)
+    want = s.people[0].radius + s.robot[0].radius + GIVE_WAY_MARGIN
+    _, seg = robot_progress(s)
+    for k in range(2):
+        assert path_distance(s, seg, False, s.people[k].aside) >= want - 1e-6, (k, s.people[k].aside)

@@ -74,9 +74,11 @@ def at_arc(s, seg, fallback, arc):  # noqa: ANN001, ANN201
 
 @jit
 def group_side(s, i, seg, fallback, want):  # noqa: ANN001, ANN201
-    """The side of the robot's path (1: left of its way, -1: right) person i's group makes way to: a mate's who
-    is stepping aside already; else the side the group stands on (its members' centre) when a body has `want` of
-    room from the path there, else the side with more room."""
+    """(side, its own): the side of the robot's path (1: left of its way, -1: right) person i's group makes way to:
+    a mate's who is stepping aside already; else the side the group stands on (its members' centre) when a body has
+    `want` of room from the path there, else the side with more room. `its own` is False when the centre stands
+    within a body's radius of the path: the side is then a rounding error's (hospital_08's nurses stood on the
+    corridor's line, and numba and plain Python sent them to opposite walls), and plan_group weighs both."""
     people, p = s.people, s.people[i]
     centre, count = 0j, 0
     for j in range(people.shape[0]):
@@ -85,16 +87,18 @@ def group_side(s, i, seg, fallback, want):  # noqa: ANN001, ANN201
             continue
         if j != i and q.gives_way and q.behavior == 2 and q.give_way_phase != RESUME and abs(q.aside - q.pos) > TIE:
             foot, e = at_arc(s, seg, fallback, arc_of(s, seg, fallback, q.aside))
-            return 1.0 if ((q.aside - foot) * e.conjugate()).imag >= 0 else -1.0
+            return (1.0 if ((q.aside - foot) * e.conjugate()).imag >= 0 else -1.0), True
         centre += q.pos
         count += 1
     centre /= max(count, 1)
     foot, e = at_arc(s, seg, fallback, arc_of(s, seg, fallback, centre))
-    on = 1.0 if ((centre - foot) * e.conjugate()).imag >= 0 else -1.0
+    off = ((centre - foot) * e.conjugate()).imag
+    on = 1.0 if off >= 0 else -1.0
+    own = abs(off) >= p.radius
     room_on = free_along(s.world, foot, e * 1j * on, SIDE_STEP_MAX, p.radius)
     if room_on >= want:
-        return on
-    return on if room_on >= free_along(s.world, foot, -e * 1j * on, SIDE_STEP_MAX, p.radius) else -on
+        return on, own
+    return (on if room_on >= free_along(s.world, foot, -e * 1j * on, SIDE_STEP_MAX, p.radius) else -on), own
 
 
 @jit
@@ -192,9 +196,10 @@ def clear_of_slots(a, b, radius, spots, radii, count):  # noqa: ANN001, ANN201
 
 
 @jit(alloc=True)
-def lay_out(s, i, want, progress, seg, fallback, stuck, side):  # noqa: ANN001, ANN201
-    """The group's file on `side` (see plan_group): give the members in the robot's way their slots; True when
-    person i got one."""
+def lay_out(s, i, want, progress, seg, fallback, stuck, side, commit):  # noqa: ANN001, ANN201
+    """The group's file on `side` (see plan_group): give the members in the robot's way their slots (only with
+    `commit`; without, every mate's body counts on their way, as it stands now). (person i got one, how many
+    members got none that leaves `want`)."""
     people = s.people
     n = people.shape[0]
     order, arcs = np.empty(n, np.int64), np.empty(n, np.float64)
@@ -207,7 +212,7 @@ def lay_out(s, i, want, progress, seg, fallback, stuck, side):  # noqa: ANN001, 
         done, done_j = own, j
         count += 1
     if count == 0:
-        return False
+        return False, 0
     for _ in range(count):  # mates abreast on the path: the one on the group's side first (the other walks behind)
         for k in range(count - 1):
             if arcs[k + 1] - arcs[k] < people[order[k]].radius and (
@@ -221,11 +226,11 @@ def lay_out(s, i, want, progress, seg, fallback, stuck, side):  # noqa: ANN001, 
         if k + 1 < count:
             length += 2 * people[order[k]].radius + SLOT_GAP
     spots, radii = np.empty(n, np.complex128), np.empty(n, np.float64)
-    placed, last, planned = 0, centre - length / 2, False
+    placed, last, planned, short = 0, centre - length / 2, False, 0
     for k in range(count):
         j, own = order[k], arcs[k]
         q = people[j]
-        mates = stuck and j == i
+        mates = (stuck and j == i) or not commit
         first_rank, first_spot, first_arc = 2, 0j, 0.0
         a = max(last, own - SLOT_BACK)
         while a <= own + SLOT_REACH:
@@ -243,6 +248,8 @@ def lay_out(s, i, want, progress, seg, fallback, stuck, side):  # noqa: ANN001, 
             if (rank == 0 and walk_clear(s, j, q.pos, spot, mates)
                     and clear_of_slots(q.pos, spot, q.radius, spots, radii, placed)):
                 first_rank, first_spot, first_arc = 0, spot, max(own, arc_of(s, seg, fallback, spot))
+        if first_rank != 0:
+            short += 1
         if first_rank == 2:
             continue  # no slot: they plan alone when their give-way begins
         spots[placed] = first_spot
@@ -250,9 +257,10 @@ def lay_out(s, i, want, progress, seg, fallback, stuck, side):  # noqa: ANN001, 
         placed += 1
         last = first_arc + 2 * q.radius + SLOT_GAP
         planned = planned or j == i
-        q.aside, q.aside_via, q.has_slot = first_spot, first_spot, j != i
-        q.aside_at = progress + first_arc  # where the robot passes them
-    return planned
+        if commit:
+            q.aside, q.aside_via, q.has_slot = first_spot, first_spot, j != i
+            q.aside_at = progress + first_arc  # where the robot passes them
+    return planned, short
 
 
 @jit
@@ -266,7 +274,11 @@ def plan_group(s, i, want, progress, seg, fallback, stuck):  # noqa: ANN001, ANN
         if not stuck and progress < p.aside_at and not taken(s, i, p.aside) and walk_clear(s, i, p.pos, p.aside, False):
             p.aside_via = p.aside
             return True
-    return lay_out(s, i, want, progress, seg, fallback, stuck, group_side(s, i, seg, fallback, want))
+    side, own = group_side(s, i, seg, fallback, want)
+    if not own and lay_out(s, i, want, progress, seg, fallback, stuck, -side, False)[1] < \
+            lay_out(s, i, want, progress, seg, fallback, stuck, side, False)[1]:
+        side = -side  # standing on its path: the side where more of them get clear of the robot's way (hospital_08)
+    return lay_out(s, i, want, progress, seg, fallback, stuck, side, True)[0]
 
 
 @jit
