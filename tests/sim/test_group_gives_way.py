@@ -125,3 +125,25 @@ def test_a_group_standing_on_the_robots_line_makes_way_to_the_side_where_all_get
     _, seg = robot_progress(s)
     for k in range(2):
         assert path_distance(s, seg, False, s.people[k].aside) >= want - 1e-6, (k, s.people[k].aside)
+
+
+def test_no_member_of_a_group_round_a_doorway_is_planned_a_spot_on_the_robots_way_through_it():
+    """hospital_10's family of four round the corridor node in front of a 1.3 m patient's door, the robot's way
+    turning north through it: the member in the door's mouth was planned a spot just inside the room 0.10 m off the
+    robot's way (a lane beside it there, but none in the door), stood short of it in the door, and the robot waited
+    100 s. Every member's planned spot leaves at least the robot's lane (their bodies apart with it on its way)."""
+    line = 3.275
+    starts = [(8.02, line), (7.38, 3.92), (6.74, line), (7.38, 2.64)]
+    people = [human(f"human{k + 1}", start=p, goals=[p], group_id=0) for k, p in enumerate(starts)]
+    sim = make_sim(people, [SAID_TREE] * 4, [(2.125, 0.675), (2.125, line), (7.375, line), (7.375, 4.475),
+                                             (8.225, 6.475)],
+                   policy=load_policy("scripted"), world=World.from_location(load_location(HOSPITAL)))
+    s = sim.state
+    s.robot[0].pos = 4.36 + 2.60j  # coming east along the corridor as it said EXCUSE ME
+    s.people[0].gives_way, s.people[0].behavior = True, 2
+    plan_aside(s, 0, False)
+    _, seg = robot_progress(s)
+    for k in range(4):
+        if s.people[k].has_slot or k == 0:
+            lane = s.people[k].radius + s.robot[0].radius
+            assert path_distance(s, seg, False, s.people[k].aside) >= lane, (k, s.people[k].aside)

@@ -136,7 +136,9 @@ def slot_spot(s, i, seg, fallback, arc, side, want, mates):  # noqa: ANN001, ANN
     """(rank, spot) beside the robot's path `arc` metres along it, on `side`, for person i: rank 0 the nearest
     leaving `want` from the path, rank 1 (none that far) the farthest the walls allow, if it leaves the robot
     BACK_OUT_GAP to pass on its line or a lane beside them (lane_beside: a 2.6 m corridor's wall, the robot passing
-    on the other side); rank 2: no such spot, or it is taken, or i cannot walk there straight (walk_clear)."""
+    on the other side), and never in its lane (hospital_10: a spot 0.10 m off its way just inside a 1.3 m door, a
+    lane beside it in the room but none in the door); rank 2: no such spot, or it is taken, or i cannot walk there
+    straight (walk_clear)."""
     p, robot = s.people[i], s.robot[0]
     c, e = at_arc(s, seg, fallback, arc)
     u = e * 1j * side
@@ -148,7 +150,8 @@ def slot_spot(s, i, seg, fallback, arc, side, want, mates):  # noqa: ANN001, ANN
         if d >= want:
             rank, best = 0, spot
             break
-        if d > farthest and (d >= p.radius + robot.radius + BACK_OUT_GAP or lane_beside(s, i, spot, u)):
+        if d > farthest and d >= p.radius + robot.radius and (d >= p.radius + robot.radius + BACK_OUT_GAP
+                                                              or lane_beside(s, i, spot, u)):
             rank, best, farthest = 1, spot, d
         t += SIDE_STEP_SPACING
     if rank == 2 or abs(best - p.pos) > SIDE_STEP_MAX or taken(s, i, best) or not walk_clear(s, i, p.pos, best, mates):
