@@ -29,6 +29,7 @@ PERSON_GOAL_RADIUS = 0.5  # m: a person's goal is reached within this (HuNavSim 
 PERSON_GOAL_SLACK = 0.1  # m: IsGoalReached accepts goal_radius + this
 ROBOT_GOAL_TOLERANCE = 0.2  # m: hunav_evaluator's "completed"
 ROBOT_MAX_SPEED = 2.0  # m/s: the simulated robot never moves faster, whatever its policy asks
+STANDING = 0.1  # m/s: a person or the robot slower than this stands (people jitter in place below it)
 # A comfortable deceleration for people near or on a moving vehicle: 0.11-0.15 g is the limit ground-transport
 # comfort studies find acceptable (Hoberock 1977, "A survey of longitudinal acceleration comfort studies in
 # ground transportation vehicles", J. Dyn. Sys. Meas. Control 99(2)); 0.15 g = 1.5 m/s^2. The default robot brakes

@@ -95,6 +95,29 @@ def test_seconds_in_intimate_and_personal_space_and_the_ttc_distribution() -> No
     assert m["ttc_seconds"][-1] == pytest.approx(10.0) and sum(m["ttc_seconds"]) == pytest.approx(10.0)
 
 
+def test_closing_in_counts_the_robot_walking_into_intimate_space_not_a_person_walking_up_to_it() -> None:
+    """dt 0.1, 10 s each. (a) The robot stands at (0, 0); a person walks from x = 3 to x = 1.05 (gap 0.3) at
+    0.5 m/s and stands there: intimate time, none of it the robot's. (b) The mirror: the person stands at x = 3,
+    the robot drives from 0 to 1.95 and stops: the robot closed in for the steps inside 0.45 m while it still
+    moved (gap 0.45 -> 0.3 at 0.5 m/s: ~0.3 s), then stood beside them (intimate, not closing). (c) The robot
+    backs away from a person at gap 0.3: intimate time, not closing in."""
+    t = np.arange(101) * 0.1
+    walk = np.maximum(3.0 - 0.5 * t, 1.05)
+    up = build_trace(t, np.zeros((101, 2)), np.stack([walk, np.zeros(101)], 1)[:, None, :], dt=0.1, goal=(-5.0, 0.0))
+    m = social_metrics(up)
+    assert m["intimate_space_seconds"] > 6.0 and m["intimate_approach_seconds"] == 0.0
+    drive = np.minimum(0.5 * t, 1.95)
+    robot_in = build_trace(t, np.stack([drive, np.zeros(101)], 1), np.tile([3.0, 0.0], (101, 1))[:, None, :],
+                           dt=0.1, goal=(9.0, 9.0))
+    m = social_metrics(robot_in)
+    assert m["intimate_space_seconds"] > 6.0
+    assert 0.2 <= m["intimate_approach_seconds"] <= 0.5
+    back = np.stack([-0.05 * t, np.zeros(101)], 1)
+    away = build_trace(t, back, np.tile([1.05, 0.0], (101, 1))[:, None, :], dt=0.1, goal=(-5.0, 0.0))
+    m = social_metrics(away)
+    assert m["intimate_space_seconds"] > 1.0 and m["intimate_approach_seconds"] == 0.0
+
+
 def test_a_head_on_approach_fills_the_short_ttc_bins() -> None:
     """Robot at 1 m/s toward a person walking at 1 m/s the other way: closing 2 m/s, contact at centre distance
     0.75; starting 8.75 m apart, TTC falls from 4 s to 0 over 4 s: 0.5 s in [0, 0.5), 0.5 s in [0.5, 1), 1 s in

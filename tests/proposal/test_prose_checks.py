@@ -245,15 +245,19 @@ REFUSED = {
     ("home_16_hide_and_seek_laundry", "paths[0]"): "the children come to 41 from vh in the text, their paths from "
     "iq out of the main bedroom (round 20's live model then moved them to the living room's east end, as stage 1 was "
     "asked)",
-    # place_checks (session 12): the three lenient passes of round 21 and warehouse_14 were re-answered live on them in
-    # round 23, and warehouse_17 (round 22, answered before them and refused whole) in round 24 (each live model fixed
-    # what its first answer was refused for)
-    ("home_10_medication_past_chatting_friends", "scenario[0]"): "human3 'staying where she is' while the robot "
-    "passes, no criterion sees her stay (the round-23 live model then bounded her)",
-    ("warehouse_14_lunch_break_tote_return", "scenario[0]"): "the robot stops about 3 m before up, no criterion keeps "
-    "it back from up (the round-23 live model then added one)",
-    ("warehouse_17_first_aid_kit_to_staging", "scenario[0]"): "the shift leader walks 'behind the robot', no "
-    "criterion sees the order (the round-24 live model then added one)",
+    # place_checks (session 12); home_10 re-answered live again in round 26 (the fourteenth session), whose second
+    # answer the stay check refused and the live model then fixed, and warehouse_17, whose first answer the robot-wait
+    # check refused (the live model then dropped 'short of sw': the stop was meant at the group's edge)
+    ("home_10_medication_past_chatting_friends", "scenario[1]"): "human3 'stays where she is' while the robot goes "
+    "round her, no criterion sees her stay (the round-26 live model then bounded her)",
+    # round 27-28's new requests: each first answer below was refused live and the model then fixed it
+    ("home_19_toddlers_trail_milk_delivery", "scenario[0]"): "toddlers 'right behind the robot', a follows_robot "
+    "allowing 4.5 m (the round-28 live model then allowed 3 m)",
+    ("home_20_slippers_past_walker_practice", "scenario[0]"): "the robot waits ~1.6 m short of the hallway junction, "
+    "its criterion keeps it back only 0.5 m (the round-27 live model then asked 0.6 m)",
+    ("warehouse_17_first_aid_kit_to_staging", "scenario[0]"): "the robot 'stops just short of sw' with no criterion "
+    "keeping it back from sw (the round-26 live model then reworded the stop as at the group's edge, which an stl "
+    "on robot_to_node_vj states)",
 }
 
 

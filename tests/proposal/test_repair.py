@@ -208,3 +208,34 @@ def test_a_scenario_answer_that_moves_a_person_in_its_words_plans_the_paths_agai
         run, llm = run_replay(script, mini_location, out / "run", verify=True, verifier=verify)
         assert isinstance(run, Run), run
         assert [(s, k) for s, k, _ in llm.calls].count(("paths", None)) == paths_asked
+
+
+def test_a_reask_shows_what_failed_for_the_later_stages_too(tmp_path, mini_location):
+    """Stage 1 goes first and alone, but its re-ask lists what failed for the trees in the same run (under
+    ALSO), so the model can fix all it causes in one round; the trees' re-ask does not repeat stage 1's finding.
+    Round 26's player got one failure a round and spent all three rounds on failures visible in the first run."""
+    from socnavgen.proposal.verify_loop import ALSO
+
+    changed = scenario_reply()
+    changed["spec"]["encounters"][0]["humans"][0]["distance"] = 1.0
+    script = write_script(tmp_path / "s.yaml", {
+        "scenario": [scenario_reply(), changed], "paths": [paths_reply()],
+        "behaviors": {"human1": [tree_reply(), tree_reply()], "human2": [tree_reply()]}})
+    tree_fault = _finding("behaviors", human="human2", evidence="human2 never looked at the robot")
+    verify, _ = _verifier([_finding("spec", evidence="human1 stops too late"), tree_fault], [])
+    run, llm = run_replay(script, mini_location, tmp_path / "run", verify=True, verifier=verify)
+    assert isinstance(run, Run), run
+    reask = _asked(llm, "scenario")[1][-1].content
+    assert "human1 stops too late" in reask and ALSO in reask
+    assert reask.index("human1 stops too late") < reask.index(ALSO) < reask.index("human2 never looked at the robot")
+    first = _asked(llm, "scenario")[0][-1].content
+    assert ALSO not in first  # nothing failed before the first answer
+
+
+def test_a_reask_with_nothing_else_failing_has_no_also_list(tmp_path, mini_location):
+    from socnavgen.proposal.verify_loop import ALSO, _correction
+
+    alone = _correction([_finding("paths", evidence="never closer than 6 m")], "paths")
+    assert "never closer than 6 m" in alone and ALSO not in alone
+    both = _correction([_finding("paths")], "paths", also=[_finding("behaviors", human="human1", evidence="x y z")])
+    assert ALSO in both and "x y z" in both

@@ -4,14 +4,15 @@ way: it stands for its cues, it drives slowly, or the person waits out of sight 
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from socnavgen.bodies import CLEAR_LEAD
 from socnavgen.run.spec import CueTrigger, RobotCue, RobotScript
-from socnavgen.sim import PacingPlan, ThrottleConfig
+from socnavgen.sim import PacingPlan, RobotAction, ThrottleConfig
 from socnavgen.sim.people.pacing import door_lead
 from socnavgen.sim.robot.api import ScriptedPolicy
 from socnavgen.sim.world.grid import empty_room
-from tests.sim.simhelpers import REGULAR, human, make_sim, tree_xml
+from tests.sim.simhelpers import INSTANT, REGULAR, human, make_sim, tree_xml
 
 NODE = complex(10.0, 4.6)
 ROBOT = [(1.0, 4.6), (5.0, 4.6), (10.0, 4.6), (18.0, 4.6)]
@@ -138,3 +139,37 @@ def test_a_paced_person_next_to_someone_standing_on_their_node_waits_for_the_rob
     assert person[:early].real.min() > 10.3  # she stayed by the node, not walked on towards the robot
     when, off = _meeting(trace, NODE, within=3.0)  # she passes round the other patient, the robot round both
     assert off <= 1.0 and when >= 12.0  # they meet at the node, as the robot gets there
+
+
+class Edging:
+    """A robot that edges back and forth by its start for `until` s (0.3 m/s, 0.3 m each way: no progress along
+    its route, yet never standing), or stands there (`stand`), then drives on east."""
+
+    def __init__(self, until: float, stand: bool = False) -> None:
+        self.until, self.stand = until, stand
+
+    def act(self, obs):  # noqa: ANN001, ANN201
+        if obs.t >= self.until:
+            return RobotAction(0.6, 0.0)
+        return RobotAction(0.0 if self.stand else (0.3 if int(obs.t) % 2 == 0 else -0.3), 0.0)
+
+
+@pytest.mark.parametrize("stand", [False, True])
+def test_a_robot_edging_about_without_progress_has_an_eta_one_that_stands_has_none(stand: bool):
+    """hospital_11 of the new-request suite: after letting the nurse pass, the robot drove 0.9 m back east and
+    turned, getting nowhere along its route; pacing read the run end's idle clock (no progress for 2 s counts as
+    idle) as 'the robot stands for no known time' and let both patients, held in its way down the corridor, walk
+    on towards their nodes while it drove at 0.4 m/s. A robot that moves has an ETA: the person stays held. One
+    that stands (1 s or more, no timed wait) waits for someone: then the person walks on to the node."""
+    walker = human(start=(16.0, 5.4), goals=[(13.0, 5.4), (10.0, 5.4), (2.0, 5.4)])  # in its way, 15 m ahead
+    pacing = PacingPlan(ThrottleConfig(), ROBOT_NODES, [(0, ["h0", "h1", "n", "h3"], "n", -1)])
+    sim = make_sim([walker], [tree_xml(REGULAR)], ROBOT, policy=Edging(10.0, stand), pacing=pacing, body=INSTANT)
+    start = complex(sim.people.pos[0])
+    while sim.t < 9.5:
+        sim.step()
+    walked = abs(complex(sim.people.pos[0]) - start)
+    assert abs(complex(sim.robot.pos) - complex(*ROBOT[0])) < 0.5  # the robot got nowhere
+    if stand:
+        assert walked > 1.5, f"she walked {walked:.2f} m while the robot stood for no known time"
+    else:
+        assert walked < 0.2, f"she walked {walked:.2f} m towards the node while the robot was edging about"

@@ -34,9 +34,9 @@ def test_runlength_equals_the_loop(dt: float) -> None:
     rng = np.random.default_rng(int(dt * 1000))
     for flags in (rng.uniform(size=3000) < 0.97, rng.uniform(size=500) < 0.5, np.ones(2000, bool),
                   np.zeros(10, bool), np.array([True]), np.array([], bool)):
-        got, want = signals_module._runlength(flags, dt), runlength_loop(flags, dt)
+        got, want = signals_module.runlength(flags, dt), runlength_loop(flags, dt)
         assert got.dtype == want.dtype and np.array_equal(got, want)
-    assert signals_module._runlength(np.ones(2000, bool), 0.05)[-1] != 2000 * 0.05  # a running sum drifts from n * dt
+    assert signals_module.runlength(np.ones(2000, bool), 0.05)[-1] != 2000 * 0.05  # a running sum drifts from n * dt
 
 
 def perceived_loop(speed: np.ndarray, dt: float) -> np.ndarray:

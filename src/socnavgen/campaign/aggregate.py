@@ -15,9 +15,10 @@ from socnavgen.campaign.stats import Estimate, Paired, bootstrap_mean, paired_di
 from socnavgen.sim.metric_definitions import better_direction
 
 # The ranking (the README's table): success, contact-free success, time to goal over successes, path efficiency
-# against the shortest walkable path, seconds in intimate space, the card's expected behaviour
+# against the shortest walkable path, seconds in intimate space (all, and those the robot made by closing in), the
+# card's expected behaviour
 RANKING = ("reached_goal", "success", "time_to_goal", "walkable_path_efficiency", "intimate_space_seconds",
-           "expected_behaviour")
+           "intimate_approach_seconds", "expected_behaviour")
 # What else a reader compares: comfort, safety margins, the evaluator's classics
 SECONDARY = ("timeout", "personal_space_seconds", "ttc_under_1s", "mean_jerk", "minimum_distance_to_people",
              "collisions", "path_irregularity", "static_obstacle_collisions")

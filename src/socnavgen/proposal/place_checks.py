@@ -81,7 +81,9 @@ def place_events_text(detail: bool = True) -> str:
             "0.5)\"; a person your text puts second, third or last in a file of people by an stl relating them to the "
             "one before, measured at a node inside where they go (\"(human3_to_node_R > 1.0) until (human2_to_node_R "
             "< 0.5)\"), not at a doorway both crowd round; a person your text has come to the robot (follow, block) "
-            "and then go back by \"eventually (dist_human1 < 2.0 and eventually (moved_human1 < 1.0))\".")
+            "and then go back to node N by \"eventually (dist_human1 < 2.0 and human1_to_node_N > 1.0 and eventually "
+            "(human1_to_node_N < 0.8))\" (away from N by the robot, then back: an upper bound alone holds at the "
+            "start).")
 
 
 def _a_person(place: str, names: dict[str, str]) -> bool:
@@ -199,11 +201,17 @@ def _sees_stay(c: Criterion, human: str) -> bool:
 
 
 def _sees_back(c: Criterion, human: str) -> bool:
-    """An stl with an upper bound on `human`'s distance to a place. Not moved_<human>: it latches once they have
-    walked, so "moved_h < 1.0" after the walk up never holds again and "eventually (dist_h < 2.0 and eventually
-    (moved_h < 1.0))" held at once for a person who started within 2 m of the robot (round 25's player)."""
+    """An stl that bounds `human`'s distance to one place from above AND from below: they were away from it (came
+    to the robot) and then back. An upper bound alone holds at the start for someone who starts there and meets
+    the robot nearby ("eventually (dist_h < 2.0 and eventually (h_to_node_N < 1.0))" held as round 27's driver set
+    off; home_18's resident was 'back on her mat' before she left it). Not moved_<human>: it latches once they
+    have walked, so "moved_h < 1.0" after the walk up never holds again (round 25)."""
     formula = (c.formula or "") if c.kind == "stl" else ""
-    return re.search(rf"\b{human}_to_\w+\s*<|>=?\s*{human}_to_\w+", formula) is not None
+    below = set(re.findall(rf"\b{human}_to_(\w+)\s*<", formula)) | \
+        set(re.findall(rf">=?\s*{human}_to_(\w+)", formula))
+    above = set(re.findall(rf"\b{human}_to_(\w+)\s*>", formula)) | \
+        set(re.findall(rf"<=?\s*{human}_to_(\w+)", formula))
+    return bool(below & above)
 
 
 def stay_mistakes(description: str, behaviors: dict[str, str], spec: ScenarioSpec) -> list[str]:
@@ -247,7 +255,8 @@ def back_mistakes(description: str, behaviors: dict[str, str], spec: ScenarioSpe
         mistakes.append(
             f"the text has {human} go back ('{words}': \"{quoted(sentence)}\"), but no criterion sees where {human} "
             f"ends up (meets, blocks_robot, stops_near_robot and follows_robot all pass a person who stays by the "
-            f"robot); add an stl criterion such as \"eventually (dist_{human} < 2.0 and eventually ({human}_to_node_N "
-            f"< 1.0))\" (they came to the robot, then back within 1 m of node N, the node they go back to), or drop it "
-            f"from the text")
+            f"robot); add an stl criterion such as \"eventually (dist_{human} < 2.0 and {human}_to_node_N > 1.0 and "
+            f"eventually ({human}_to_node_N < 0.8))\" (at the robot, over 1 m from node N, the node they go back to, "
+            f"then back within 0.8 m of it; an upper bound alone holds at the start for someone who starts at N), or "
+            f"drop it from the text")
     return mistakes

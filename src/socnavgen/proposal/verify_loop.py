@@ -61,10 +61,24 @@ def describe(finding: Finding) -> str:
     return f"{finding.name}{who}: {finding.evidence}{fix}"
 
 
-def _correction(findings: list[Finding], stage: str, human: str | None = None, repeat: str = "") -> str:
+ALSO = ("Also failing in that simulation (another stage is asked about these if they still fail after your "
+        "answer; they are shown so that you can fix what your stage causes in one go and not work against them):")
+
+
+def _correction(findings: list[Finding], stage: str, human: str | None = None, repeat: str = "",
+                also: list[Finding] | None = None) -> str:
+    """The re-ask of `stage`: its own findings, and (`also`) what else failed in the same run for later stages, so
+    the model sees every failure at once, not one a round (round 26's player spent its three rounds so)."""
     scope = SCOPE[stage].replace("$human", human or "this human")
+    others = f"{ALSO}\n{bullet_list([describe(f) for f in also])}\n" if also else ""
     return render("verify_correction.md", scope=scope, findings=bullet_list([describe(f) for f in findings]),
-                  repeat=repeat)
+                  repeat=others + repeat)
+
+
+def _later(to_ask: dict[str, list[Finding]], stage: str) -> list[Finding]:
+    """The findings routed to the stages after `stage` (stage 1 and 2 are asked before the trees)."""
+    order = ("scenario", "paths", "behaviors")
+    return [f for later in order[order.index(stage) + 1:] for f in to_ask.get(later, [])]
 
 
 Sent = dict[tuple[str, str | None], tuple[list[str], object]]  # (stage, human) -> (findings sent, answer then)
@@ -267,7 +281,7 @@ class _Repair:
                 asked[(stage, human)] = [f for f in found if stage != "behaviors" or f.blame_human == human]
                 self.sent[(stage, human)] = ([describe(f) for f in asked[(stage, human)]], answers.get((stage, human)))
         if to_ask.get("scenario"):
-            self.stage1(to_ask["scenario"], notes.get(("scenario", None), ""))
+            self.stage1(to_ask["scenario"], notes.get(("scenario", None), ""), _later(to_ask, "scenario"))
             return True
         trees_to_fix = {h: found for (stage, h), found in asked.items()
                         if stage == "behaviors" and h in self.scenario.human_behaviors}
@@ -277,7 +291,8 @@ class _Repair:
             scenario = self.scenario
             self.scenario, _, self.paths, self.spec = self.stages.plan(
                 self.scenario, _ungrounded(self.spec),
-                correction=_correction(to_ask["paths"], "paths", repeat=notes.get(("paths", None), "")))
+                correction=_correction(to_ask["paths"], "paths", repeat=notes.get(("paths", None), ""),
+                                       also=_later(to_ask, "paths")))
             if self.scenario is not scenario:  # stage 2 could not, stage 1 was asked: everything after it is new
                 self.sent, self.paths_tried = {k: v for k, v in self.sent.items() if k[0] == "scenario"}, set()
                 self.remake_trees()
@@ -293,11 +308,12 @@ class _Repair:
             self.stage1(same, words)
         return True
 
-    def stage1(self, found: list[Finding], note: str) -> None:
-        """Ask stage 1 with `found`; re-plan what depended on what it changed."""
+    def stage1(self, found: list[Finding], note: str, also: list[Finding] | None = None) -> None:
+        """Ask stage 1 with `found` (and `also`: what failed for the later stages); re-plan what depended on what
+        it changed."""
         stages, run = self.stages, self.run
         old, old_nodes, paths = self.spec, _named_nodes(self.scenario, self.spec, self.nodes), self.paths
-        self.scenario, self.spec = stages.scenario(correction=_correction(found, "scenario", repeat=note))
+        self.scenario, self.spec = stages.scenario(correction=_correction(found, "scenario", repeat=note, also=also))
         self.sent = {key: value for key, value in self.sent.items() if key[0] == "scenario"}  # later stages afresh
         if (_shape(self.spec) != _shape(old) or list(self.scenario.human_behaviors) != [h.name for h in paths.humans]
                 or _named_nodes(self.scenario, self.spec, self.nodes) != old_nodes):

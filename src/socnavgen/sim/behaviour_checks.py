@@ -21,10 +21,10 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
 from socnavgen.bodies import COMFORT_DECELERATION, INTIMATE_SPACE, PERSONAL_SPACE, SOCIAL_SPACE
+from socnavgen.bodies import STANDING as STANDING_SPEED  # slower than this the robot stands
 from socnavgen.sim.trace import VX, VY, Trace, X, Y
 
 DECELERATION_WINDOW = 0.25  # s: speed changes are measured over this window (one step alone is noise)
-STANDING_SPEED = 0.1  # m/s: slower than this the robot stands
 # "Approaches slowly" / "slows down": over its approach to the place, a mean speed of at most two thirds of the
 # robot's own cruise speed (its top speed away from the place), or a crawl whatever its cruise: SLOW_SPEED is the corner speed the default robot is suggested
 # (robot.polite.CORNER_SPEED), from which a comfortable brake (COMFORT_DECELERATION) stops it within 3 cm.

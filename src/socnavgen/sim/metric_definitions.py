@@ -68,6 +68,11 @@ _SOCIAL: dict[str, tuple[str, str, str | None, str]] = {
                   "mean_t |(a_{t+1} - a_t) / dt|, a_t = (v_{t+1} - v_t) / dt, v = the robot's velocity vector"),
     "intimate_space_seconds": ("s", "time the robot spent within a person's intimate space (gap < 0.45 m)",
                                "lower", "sum_t dt [min_i gap_i(t) < 0.45]"),
+    "intimate_approach_seconds": (
+        "s", "time the robot itself closed in on someone within their intimate space (gap < 0.45 m, its own "
+        "velocity toward them > 0.05 m/s): the robot's share of intimate-space time, without people walking up to "
+        "a robot that stands", "lower",
+        "sum_t dt [exists i: gap_i(t) < 0.45 and v_robot(t) . u_i(t) > 0.05], u_i = unit vector robot -> person i"),
     "personal_space_seconds": ("s", "time the robot spent in a person's personal space (gap 0.45-1.2 m)", "lower",
                                "sum_t dt [0.45 <= min_i gap_i(t) < 1.2]"),
     "ttc_under_1s": ("s", "time with a robot-person contact less than 1 s ahead at constant velocities", "lower",
@@ -108,7 +113,8 @@ LABELS: dict[str, str] = {
     "path_irregularity": "Path irregularity", "path_efficiency": "Path efficiency (straight line)",
     "static_obstacle_collisions": "Wall contacts", "min_obstacle_clearance": "Min wall clearance",
     "walkable_path_efficiency": "Path efficiency", "route_length_walkable": "Shortest walkable route",
-    "mean_jerk": "Jerk", "intimate_space_seconds": "Intimate-space time", "personal_space_seconds": "Personal-space time",
+    "mean_jerk": "Jerk", "intimate_space_seconds": "Intimate-space time",
+    "intimate_approach_seconds": "Closing in (intimate)", "personal_space_seconds": "Personal-space time",
     "ttc_under_1s": "Time with TTC < 1 s", "ttc_seconds": "TTC distribution", "expected_behaviour": "Expected behaviour",
     "timeout": "Timeouts",
 }

@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from socnavgen.bodies import INTIMATE_SPACE, PERSONAL_SPACE
+from socnavgen.sim.contact import trace_gaps
 from socnavgen.sim.trace import VX, VY, Trace, X, Y
 
 # Time-to-collision bins (s): the time the robot spends with its smallest TTC in [edge_k, edge_k+1); the last
@@ -24,8 +25,12 @@ from socnavgen.sim.trace import VX, VY, Trace, X, Y
 TTC_EDGES = (0.0, 0.5, 1.0, 2.0, 3.0, 5.0, math.inf)
 WAYPOINT_SLACK = 0.4  # m: an intermediate waypoint counts as passed this close (the waypoints robot's tolerance)
 TTC_CRITICAL = 1.0  # s: `ttc_under_1s` counts the time with a contact less than this far ahead
+# m/s: the robot's own speed toward someone above which it is closing in on them (below: standing, creeping
+# sideways, or edging off; a person walking up to a robot that stands is not the robot intruding)
+CLOSING_SPEED = 0.05
 SOCIAL_METRICS = ("reached_goal", "time_to_goal", "walkable_path_efficiency", "route_length_walkable",
-                  "mean_jerk", "intimate_space_seconds", "personal_space_seconds", "ttc_under_1s", "ttc_seconds")
+                  "mean_jerk", "intimate_space_seconds", "intimate_approach_seconds", "personal_space_seconds",
+                  "ttc_under_1s", "ttc_seconds")
 
 
 def step_durations(t: np.ndarray) -> np.ndarray:
@@ -66,15 +71,23 @@ def arrival_row(trace: Trace) -> int:
                trace.steps)
 
 
-def closest_gaps(trace: Trace) -> np.ndarray:
-    """(T,) smallest robot-person surface gap per step (inf without people)."""
-    h = trace.humans.shape[1]
-    if not h:
-        return np.full(trace.steps, math.inf)
+def closest_gaps(gaps: np.ndarray) -> np.ndarray:
+    """(T,) smallest robot-person surface gap per step from contact.trace_gaps' (T, H) (inf without people)."""
+    return gaps.min(axis=1) if gaps.shape[1] else np.full(gaps.shape[0], math.inf)
+
+
+def robot_closing_in(trace: Trace, gaps: np.ndarray, gap: float = INTIMATE_SPACE) -> np.ndarray:
+    """(T,) True where the robot itself moves toward someone whose gap to it (`gaps`: contact.trace_gaps) is under
+    `gap`: its own velocity's component along the line to them exceeds CLOSING_SPEED. The robot's share of an
+    intrusion: time in someone's intimate space that people made by walking up to a robot that stood (a handover,
+    a crowd round it) is not."""
+    if not trace.humans.shape[1]:
+        return np.zeros(trace.steps, dtype=bool)
     dx = trace.humans[:, :, X] - trace.robot[:, None, X]
     dy = trace.humans[:, :, Y] - trace.robot[:, None, Y]
-    radii = float(trace.robot_radius) + np.asarray(trace.human_radii, dtype=float).reshape(1, -1)
-    return (np.hypot(dx, dy) - radii).min(axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        toward = (trace.robot[:, None, VX] * dx + trace.robot[:, None, VY] * dy) / np.hypot(dx, dy)
+    return ((gaps < gap) & (np.nan_to_num(toward, nan=0.0) > CLOSING_SPEED)).any(axis=1)
 
 
 def smallest_ttc(trace: Trace) -> np.ndarray:
@@ -154,8 +167,10 @@ def social_metrics(trace: Trace, world: Any = None, *, success: bool | None = No
     if arrived is not None and reference is not None and length > 1e-9:
         out["walkable_path_efficiency"] = min(1.0, reference / length)
     out["mean_jerk"] = mean_jerk(trace, cut + 1 if cut < trace.steps else None)
-    gaps = closest_gaps(trace)
+    pair_gaps = trace_gaps(trace)
+    gaps = closest_gaps(pair_gaps)
     out["intimate_space_seconds"] = float(durations[gaps < INTIMATE_SPACE].sum())
+    out["intimate_approach_seconds"] = float(durations[robot_closing_in(trace, pair_gaps)].sum())
     out["personal_space_seconds"] = float(durations[(gaps >= INTIMATE_SPACE) & (gaps < PERSONAL_SPACE)].sum())
     ttc = smallest_ttc(trace)
     out["ttc_under_1s"] = float(durations[ttc < TTC_CRITICAL].sum())

@@ -22,7 +22,7 @@ import numpy as np
 from socnavgen.bt.library import BLOCKING_CONE
 from socnavgen.run.spec import Blame, ScenarioSpec
 from socnavgen.verify.criteria import Compiled
-from socnavgen.verify.signals import Signals
+from socnavgen.verify.signals import Signals, runlength
 from socnavgen.verify.windows import off_heading, triggered
 
 Verdict = tuple[Blame, str | None, str]
@@ -91,10 +91,9 @@ def stop_not_held(cc: Compiled, s: Signals) -> Verdict:
     there must stop it" then misleads the model, whose wait cue is already there (round 24's player)."""
     enc = cc.encounter
     near = s.get(f"robot_to_{enc.id}") <= (cc.distance or 0) if enc is not None else np.ones(len(s.t), bool)
-    still = np.concatenate([[False], (s.get("robot_still") > 0.5) & near, [False]]).astype(int)
-    edges = np.flatnonzero(np.diff(still))
-    runs = (edges[1::2] - edges[::2]) * s.trace.dt
-    total, longest, needs = float(runs.sum()), float(runs.max(initial=0.0)), cc.seconds or 0.0
+    still = (s.get("robot_still") > 0.5) & near
+    runs = runlength(still, s.trace.dt)
+    total, longest, needs = float(still.sum() * s.trace.dt), float(runs.max(initial=0.0)), cc.seconds or 0.0
     if needs > 0 and total >= needs:
         return ("robot_script", None,
                 f"the robot stood still at the place {total:.1f} s in all but at most {longest:.1f} s at once (needs "

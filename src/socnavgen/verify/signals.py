@@ -81,7 +81,7 @@ class SignalKind:
     listed: bool = True  # in the prompts' list of signals (False: the verifier's own, no_deadlock's `idle`)
 
 
-def _runlength(flags: np.ndarray, dt: float) -> np.ndarray:
+def runlength(flags: np.ndarray, dt: float) -> np.ndarray:
     """Seconds each step has been inside a continuous run of True (0 where False): dt added once per step of the
     run, the j-th step of every run reading the j-th partial sum of one cumsum."""
     flags = np.asarray(flags, dtype=bool)
@@ -97,7 +97,7 @@ def _runlength(flags: np.ndarray, dt: float) -> np.ndarray:
 def lasting(flags: np.ndarray, seconds: float, dt: float) -> np.ndarray:
     """(T,) bool: the steps from which `flags` stays true for at least `seconds` (this step included, dt each)."""
     flags = np.asarray(flags, dtype=bool)
-    return _runlength(flags[::-1], dt)[::-1] >= seconds - 1e-9
+    return runlength(flags[::-1], dt)[::-1] >= seconds - 1e-9
 
 
 def _latched(flags: np.ndarray) -> np.ndarray:
@@ -308,7 +308,7 @@ def _robot_still(s: Signals, m: re.Match) -> np.ndarray:
 
 
 def _stalled(s: Signals, m: re.Match) -> np.ndarray:
-    return _runlength(s.speed("robot") < STILL_SPEED, s.trace.dt)
+    return runlength(s.speed("robot") < STILL_SPEED, s.trace.dt)
 
 
 def _deadlock(s: Signals, m: re.Match) -> np.ndarray:
@@ -320,7 +320,7 @@ def _deadlock(s: Signals, m: re.Match) -> np.ndarray:
         at_goal = contact.lengths(s.pos("robot") - s.place("goal")) <= s.goal_radius
     at_goal[arrival_row(s.trace):] = True  # arrived: it stands while its followers come in (sim.people.grace)
     stuck = ~progress_events(s.route()[0], PROGRESS_STEP)
-    return _runlength(stuck & blocked & ~at_goal, s.trace.dt)
+    return runlength(stuck & blocked & ~at_goal, s.trace.dt)
 
 
 def _short_of_goal(s: Signals, m: re.Match) -> np.ndarray:

@@ -25,6 +25,9 @@ CLOCK = layout([
     ("end", "i8"), ("contact_slack", "f8"),
     # s the robot has made no progress along its route, near stalled_at (engine.step.STALL_PROGRESS, STALL_REACH)
     ("stalled", "f8"), ("best_progress", "f8"), ("stalled_at", "c16"),
+    # s the robot has stood (slower than bodies.STANDING) without a break: pacing's "it stands for someone"; not
+    # `idle`, which also counts creeping about without progress (the run's end: engine.step.ending)
+    ("standing", "f8"),
     ("arrived", "f8"),  # s: when the robot arrived at its goal in a run (-1: not yet; engine.step.ending, people.grace)
     # how the episode hands control back to Python (engine.step's events)
     ("python_policy", "?"), ("each_step", "?"), ("progress_every", "i8"), ("stop_at_end", "?"),

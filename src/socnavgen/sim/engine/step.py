@@ -27,6 +27,7 @@ from __future__ import annotations
 import math
 
 from socnavgen import proxemics
+from socnavgen.bodies import STANDING
 from socnavgen.sim.engine.state import ALL_DONE, ROBOT_GOAL, RUNNING, TIMEOUT
 from socnavgen.sim.jit import generator, jit
 from socnavgen.sim.people.grace import ARRIVAL_GRACE, coming
@@ -137,6 +138,7 @@ def ending(s):  # noqa: ANN001, ANN201
     # speed > 0: a robot inching at 5 mm/s 1.07 m from someone beyond its goal never arrived nor ended the run)
     idle = abs(robot.vel) < IDLE_SPEED or clock.stalled >= CREEP_IDLE
     clock.idle = max(clock.idle + clock.dt, clock.stalled) if idle else 0.0
+    clock.standing = clock.standing + clock.dt if abs(robot.vel) < STANDING else 0.0  # pacing reads it
     if robot.passed >= wps.shape[0] - 2 and (abs(robot.goal - robot.pos) <= robot.goal_tolerance or (
             clock.idle >= proxemics.GOAL_STOP_DWELL and not robot.held and stopped_short(s))):  # stood short of
         # someone at its goal, not standing for its script (a handover: round 22's first-aid kit run ended 5 s into

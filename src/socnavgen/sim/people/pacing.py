@@ -48,7 +48,7 @@ class ThrottleConfig:
     robot_speed: float = 0.6  # m/s: nominal robot speed for the eta rule (the script's cruise speed)
     min_pace: float = 0.3  # m/s: a person who would walk slower than this stands instead (holds)
     robot_near: float = 0.5  # m: once the robot is this close to the node (along its path), full speed
-    robot_waits: float = 1.0  # s: a robot standing this long with no timed wait stands for someone: no ETA
+    robot_waits: float = 1.0  # s: the robot standing this long (clock.standing), no timed wait: no ETA
     # a standing person sets off when walking at this share of its top speed gets it there with the robot (the
     # rest is its slack for corners and people on its way)
     set_off_pace: float = 0.8
@@ -166,10 +166,12 @@ def pace(s, pacing, cruise, waits, let_pass=-1):  # noqa: ANN001, ANN201, C901
         k += 1
     settings.next_waypoint = k
     # the robot's ETA: its route left at its cruise speed, plus the time it will still stand (timed waits, a
-    # late start); standing for no known time (for someone: wait until clear, its own manners) is not counted
+    # late start); standing for no known time (for someone: wait until clear, its own manners) is not counted.
+    # Standing, not idle: a robot edging about without progress is idle for the run's end (engine.step.ending)
+    # but has an ETA (hospital_11: the robot edging back after a let_pass released the second patient early)
     drive = cruise if cruise > 0 else settings.robot_speed
     stands = waits + max(0.0, s.policy[0].start_delay - s.clock[0].t)
-    untimed = stands <= 0.0 and s.clock[0].idle >= settings.robot_waits
+    untimed = stands <= 0.0 and s.clock[0].standing >= settings.robot_waits
     way = wps[k + 1] - rp
     heading = way / abs(way) if abs(way) > 1e-9 else robot.heading
     for h in range(pacing.held.shape[0]):

@@ -21,7 +21,7 @@ the last resort, for people others push, and restores PERSON_KEEP_GAP.
 
 from __future__ import annotations
 
-from socnavgen.bodies import PERSON_KEEP_GAP, PERSON_STAND_GAP
+from socnavgen.bodies import PERSON_KEEP_GAP, PERSON_STAND_GAP, STANDING
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people import neighbours
 from socnavgen.sim.people.state import ROUTE_ROBOT
@@ -29,7 +29,6 @@ from socnavgen.sim.people.state import ROUTE_ROBOT
 SIDESTEP = 0.5  # of their desired speed: a walker blocked head-on by someone steps round them on the right this fast
 MOVING = 0.1  # m/s: someone walking away faster than this is followed, not stepped round
 BLOCKED = 0.5  # of their desired speed: a walker left with less than this of their walk is blocked
-STANDING = 0.1  # m/s: someone slower than this stands
 ARRIVING = 1.0  # m: a walker this close to the end of their walk is coming to stand
 SIDE_ROOM = 0.2  # m beyond the keep gap: someone else this close on the side a walker would step round to blocks it
 FAR_SIDE = 0.5  # a step round on the right going back against the walker's way by more than this (the one in the way

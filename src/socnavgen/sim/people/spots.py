@@ -30,6 +30,7 @@ from socnavgen.bodies import (
     PERSON_RADIUS,
     PERSON_ROBOT_GAP,
     PERSON_STAND_GAP,
+    STANDING,
 )
 from socnavgen.sim.jit import jit
 from socnavgen.sim.world.queries import clearance_at, line_of_sight
@@ -41,7 +42,6 @@ SLACK = 0.05  # m: a spot is free with this much more than the standing gap to e
 WALL_CLEARANCE = PERSON_RADIUS + 0.05  # m: a spot keeps a body off the walls
 LOOK = 5.0  # m: a walker farther than this from the point does not look for a spot yet
 REACH = 0.3  # m: a walker this close to their spot has reached it
-STANDING = 0.1  # m/s: someone (or the robot) slower than this stands
 NEARER = 3.0  # a spot one ring nearer the point is worth walking this many metres farther round it
 ROBOT_GAP = PERSON_PASS_GAP  # m: a spot keeps this gap from the robot's body
 ROUTE_CLEAR = PERSON_PASS_GAP  # m: a spot whose body comes within this of the robot's body on its way is by it ...

@@ -15,6 +15,7 @@ from socnavgen.bodies import (
     PERSON_PASS_GAP,
     PERSON_RADIUS,
     PERSON_STAND_GAP,
+    STANDING,
 )
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.spots import at_spot, spot_taken
@@ -25,7 +26,6 @@ from socnavgen.sim.records import layout, table
 # QUEUE_REACH of it, within the gap + QUEUE_SLACK of someone standing nearer to it
 QUEUE_REACH = PERSON_GOAL_RADIUS + 2 * PERSON_RADIUS + PERSON_STAND_GAP + 0.1  # m: one ring of people round it
 QUEUE_SLACK = 0.5  # m: the social force alone holds a walker about this far off someone standing on their goal
-STANDING = 0.1  # m/s: someone slower than this stands
 DONE_SPEED = 0.05  # m/s: a person slower than this at its last goal has finished its walk
 # how a walk finds its way (PERSON.route; people.routing): straight at the target, or around walls toward the
 # person's goal, the robot, or person j (route = j >= 0)
