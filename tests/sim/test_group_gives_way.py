@@ -8,6 +8,8 @@
   stood 0.43 m from the robot's line, short of it, until the robot squeezed by.
 - hospital_08: two nurses standing on the corridor's line: which wall they went to was a rounding error's (numba
   north, plain Python south); north, by a door that has room for one, the second stood 0.56 m off the robot's line.
+- hospital_01: a visitor of a pair going to the elevator the robot came out of drifted back from it as it came (0.2
+  m/s its way): taken for a group walking its way with no lane beside, the robot stopped moving aside for the pair.
 """
 
 from __future__ import annotations
@@ -25,6 +27,7 @@ from socnavgen.sim.contact import trace_gaps
 from socnavgen.sim.people.group_way import plan_aside
 from socnavgen.sim.people.routing import robot_progress
 from socnavgen.sim.people.side_step import GIVE_WAY_MARGIN, path_distance
+from socnavgen.sim.robot.polite import pass_aside
 from socnavgen.sim.world.grid import World
 from tests.sim.simhelpers import human, make_sim, tree_xml
 
@@ -84,6 +87,24 @@ def test_a_robot_behind_a_group_it_cannot_pass_follows_on_its_line_instead_of_we
     ry = trace.robot[late, 1]
     assert ry.max() - ry.min() < 0.4, (ry.min(), ry.max())
     assert trace_gaps(trace).min() > 0.05
+
+
+@pytest.mark.parametrize(("goal_x", "follows"), [(0.5, True), (11.5, False)])
+def test_the_robot_follows_a_group_walking_its_way_but_moves_aside_for_one_backing_off_from_it(goal_x: float,
+                                                                                            follows: bool):
+    """A pair across a 2.6 m corridor 2 m ahead of the robot, drifting its way at 0.3 m/s; no side leaves a lane
+    past both. Walking to a goal ahead of it (hospital_13's family), they are followed on the robot's line (no
+    sideways move); backing off from it, their goal behind it (hospital_01's visitors, on their way to the elevator
+    it came out of), they are not walking its way: it moves aside, which lets them by (it followed them instead)."""
+    people = [human(f"human{k + 1}", start=(6.0, y), goals=[(goal_x, y)], group_id=0) for k, y in enumerate((0.7, 1.9))]
+    sim = make_sim(people, [SAID_TREE] * 2, [(8.0, 1.3), (0.5, 1.3)], policy=load_policy("scripted"),
+                   world=empty_room(12.0, 2.6))
+    s = sim.state
+    s.robot[0].pos = 8.0 + 1.3j
+    for k in range(2):
+        s.people[k].vel = -0.3 + 0j
+    aside = pass_aside(s, -1.0 + 0j)
+    assert (abs(aside) == 0.0) == follows, aside
 
 
 @pytest.mark.parametrize("apart", [1.0, 1.2])

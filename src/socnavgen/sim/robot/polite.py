@@ -117,6 +117,14 @@ def lane_there(s, direction, side, shift, room):  # noqa: ANN001, ANN201
     return True
 
 
+@jit(inline=True)
+def walks_its_way(q, back):  # noqa: ANN001, ANN201
+    """Person q of a group walks the robot's way (`back`: its unit direction, conjugated): faster than CLOSING
+    along it, to a goal ahead along it. Drifting back from the robot as it comes is no walk its way (hospital_01:
+    a visitor going to the elevator it came out of, pushed back 0.2 m/s, stopped its moving aside for the pair)."""
+    return q.group >= 0 and (q.vel * back).real > CLOSING and q.has_goal and ((q.goal - q.pos) * back).real > 0.0
+
+
 @jit
 def pass_aside(s, direction):  # noqa: ANN001, ANN201
     """Sideways velocity (complex, perpendicular to the unit `direction` of travel) that makes room to pass
@@ -156,7 +164,7 @@ def pass_aside(s, direction):  # noqa: ANN001, ANN201
     room = free_along(s.world, p, first * 1j * direction, shift, rr + WALL_ROOM)
     other = need - first * across
     other_room = free_along(s.world, p, -first * 1j * direction, other, rr + WALL_ROOM)
-    walking = people[who].group >= 0 and (people[who].vel * back).real > CLOSING  # a group walking its way
+    walking = walks_its_way(people[who], back)
     if walking and not lane_there(s, direction, first, shift, room) \
             and not lane_there(s, direction, -first, other, other_room):  # no side has room to pass them (a family
         policy.pass_side = 0.0  # across a corridor): it follows on its way instead of swinging from wall to wall as
