@@ -49,6 +49,7 @@ PERSON_ROBOT_GAP = 0.2  # m: a person's own step never brings them closer than t
 #   GIF's ~4 cm a pixel 0.1 m read as touching (a nurse walking back into the robot's side: hospital_08)
 ROBOT_SOCIAL_GAP = 0.3  # m: the gap the default robot keeps from a person where there is room: it never drives
 # closer (robot.polite.keep_clear), steps off the way of someone walking at it, and waits rather than squeezes past
+ROBOT_WALL_ROOM = 0.08  # m beyond its radius: the default robot moves aside only where this much room from walls is left
 INTIMATE_SPACE, PERSONAL_SPACE, SOCIAL_SPACE = 0.45, 1.2, 3.6  # m: Hall's proxemic zone limits (gaps)
 
 

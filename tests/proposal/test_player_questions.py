@@ -179,7 +179,7 @@ def test_an_unbounded_eventually_passes_stage_1s_check():
 
 def test_a_follower_on_the_robots_way_ahead_of_it_gives_way_first():
     """follower_turn_text's distance is FollowRobot's (sim/people/give_way)."""
-    from socnavgen.sim.people.give_way import FOLLOW_WAY_AHEAD
+    from socnavgen.sim.people.side_step import FOLLOW_WAY_AHEAD
 
     assert f"within {FOLLOW_WAY_AHEAD:g} m (it turns round" in follower_turn_text()
 

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from socnavgen.sim import empty_room, load_policy
-from socnavgen.sim.people.give_way import GIVE_WAY_MARGIN, SIDE_STEP_MAX, SPOT_ROOM, plan_side_step
+from socnavgen.sim.people.side_step import GIVE_WAY_MARGIN, SIDE_STEP_MAX, SPOT_ROOM, plan_side_step
 from tests.sim.simhelpers import REGULAR, human, make_sim, tree_xml
 
 ROOMS = {  # (width, height, walls, robot path): a room with walls, and a corridor too narrow to leave the path

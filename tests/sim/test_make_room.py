@@ -15,7 +15,7 @@ from socnavgen.run.spec import CueTrigger, RobotCue, RobotScript
 from socnavgen.sim import BUILTIN, empty_room, load_policy
 from socnavgen.sim.contact import trace_gaps
 from socnavgen.sim.engine.step import STALL_REACH
-from socnavgen.sim.people.give_way import GIVE_WAY_MARGIN
+from socnavgen.sim.people.side_step import GIVE_WAY_MARGIN
 from socnavgen.sim.robot.api import ScriptedPolicy
 from tests.sim.simhelpers import REGULAR, human, make_sim, tree_xml
 

@@ -399,8 +399,8 @@ def robot_limits_text(detail: bool = True, target: Target = "socrates") -> str:
 
 def follower_turn_text() -> str:
     """A follower in the robot's way (sim/people/give_way.lets_robot_by), so how to bring something to someone."""
-    from socnavgen.sim.people.give_way import FOLLOW_WAY_AHEAD
     from socnavgen.sim.people.leaves import FOLLOW_STOP
+    from socnavgen.sim.people.side_step import FOLLOW_WAY_AHEAD
 
     return (f"- A follower (follow, FollowRobot) on the robot's way ahead of it, within {FOLLOW_WAY_AHEAD:g} m (it turns "
             f"round at a dead end or on a round trip), steps aside like give_way as it drives (not while a cue holds it) and "

@@ -1,19 +1,14 @@
-"""Getting out of the robot's way: where the robot is along its path, whether a person stands on the path
-ahead of it, where to stand aside, and the leaves built on that (GiveWaytoRobot, FollowRobot; RegularNav and
-RunAwayFromRobot keep someone who stepped aside there until the robot has gone by).
-
-The robot's upcoming path is its position followed by its waypoints after the segment it is on
-(`path_point`): a turn of the robot is taken into account, not only its current heading."""
+"""Getting out of the robot's way: stepping aside to the spot people.side_step (alone) or people.group_way (a
+group, together) plans, waiting there until the robot has gone by, and the leaves built on that (GiveWaytoRobot,
+FollowRobot; RegularNav and RunAwayFromRobot keep someone who stepped aside there until the robot has gone by)."""
 
 from __future__ import annotations
 
 import math
 
-import numpy as np
-
-from socnavgen import proxemics
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.grace import follow_in
+from socnavgen.sim.people.group_way import plan_aside
 from socnavgen.sim.people.leaves import (
     FOLLOW_MIN_SPEED,
     ROBOT_MOVED_SPEED,
@@ -22,260 +17,28 @@ from socnavgen.sim.people.leaves import (
     leaf,
     push_away,
 )
-from socnavgen.sim.people.routing import project, robot_progress
+from socnavgen.sim.people.routing import robot_progress
+from socnavgen.sim.people.side_step import (
+    ASIDE,
+    GIVE_WAY_MARGIN,
+    RESUME,
+    TIE,
+    WAIT,
+    in_robot_way,
+    in_way_at,
+)
 from socnavgen.sim.people.spots import segment_distance
 from socnavgen.sim.people.state import ROUTE_ROBOT, ROUTE_STRAIGHT, stand, turn, walk_to, walk_to_goal
 from socnavgen.sim.people.trees import SUCCESS
-from socnavgen.sim.world.queries import free_along
 
-FOLLOW_WAY_AHEAD = 2.0  # m: a follower this close ahead of the robot, on its path, steps aside first
-FOLLOW_WAY_MARGIN = proxemics.WAY_MARGIN_FOLLOW  # m beside the robot's path that still counts as in its way
-GIVE_WAY_MARGIN = proxemics.GIVE_WAY_CLEARANCE  # m of free space between the person and the robot when aside
 GIVE_WAY_ARRIVED = 0.15  # m
-SIDE_STEP_DIRECTIONS = 16  # directions tried for the side step
-SIDE_STEP_MAX = 3.0  # m: the farthest a person walks to get out of the robot's way
-SIDE_STEP_SPACING = 0.1  # m: candidate spots every 0.1 m along each direction, from 0.1 m on
-SIDE_STEP_TURN_COST = 0.3  # m of walk a radian away from straight sideways is worth
-SIDE_STEP_FAR_COST = 0.05  # per m of walk, against clearance, when no spot is far enough
-TIE = 1e-9  # m: spots and directions this close count as equally good; the first is taken
-SPOT_ROOM = 0.05  # m between two bodies: a side-step spot this close to another person (or their spot) is taken
 ASIDE_RADIUS = 0.05  # m: the side-step target is reached within this
-BACK_OUT_MAX = 12.0  # m along the robot's path: the farthest a person backs out to find room to stand aside
-BACK_OUT_STEP = 0.2  # m: points of the robot's path tried every this far
-BACK_OUT_GAP = 0.2  # m: a person backs out when no spot nearby leaves the robot this gap to pass them by
-BACK_OUT_CLEARANCE = 0.3  # m from walls along the straight walk back (a body squeezes through a 0.9 m door)
+ASIDE_GAIN = 0.05  # m nearer their side-step target: a person on the way there is getting on
+ASIDE_PATIENCE = 1.5  # s without getting on: they plan their side step again from where they stand
 PASSED_MARGIN = 0.3  # m beyond both radii: the robot has passed the person's spot on its path
 FOLLOWER_REACH = 4.0  # m: someone following the robot this close to it walks with it (a giver-way lets them by too)
 CROSS_LOOK = 2.0  # m: the stretch of a giver-way's walk on that must not cross between the robot and its follower
 COMING = 0.05  # m/s: a follower closing in on a giver-way faster than this has not gone by them yet
-ASIDE, WAIT, RESUME = 0, 1, 2  # give-way phases (ASIDE: by way of `aside_via` when backing out)
-SIDE_UNITS = np.array([complex(math.cos(2 * math.pi * j / SIDE_STEP_DIRECTIONS),
-                               math.sin(2 * math.pi * j / SIDE_STEP_DIRECTIONS)) for j in range(SIDE_STEP_DIRECTIONS)])
-SIDE_TURNS = np.array([abs(math.remainder(2 * math.pi * j / SIDE_STEP_DIRECTIONS, 2 * math.pi))
-                       for j in range(SIDE_STEP_DIRECTIONS)])
-
-
-@jit
-def path_size(s, seg, fallback):  # noqa: ANN001, ANN201
-    """Points of the upcoming path (`fallback`: the robot and a point 1 cm ahead, when it has no path)."""
-    return 2 if fallback else max(s.waypoints.shape[0] - seg, 1)
-
-
-@jit
-def path_point(s, seg, j, fallback):  # noqa: ANN001, ANN201
-    if j == 0:
-        return s.robot[0].pos
-    return s.robot[0].pos + s.robot[0].heading * 0.01 if fallback else s.waypoints[seg + j]
-
-
-@jit
-def nearest_segment(s, p, seg, fallback, horizon):  # noqa: ANN001, ANN201
-    """(index, along, distance) of the segment of the upcoming path's next `horizon` metres nearest to p: the first
-    within TIE of the nearest (at a corner both segments are as near). A round trip passes a person twice: where
-    the robot comes at them now is within the horizon, its way back at the end is not."""
-    nearest, arc = np.inf, 0.0
-    for j in range(path_size(s, seg, fallback) - 1):
-        a, b = path_point(s, seg, j, fallback), path_point(s, seg, j + 1, fallback)
-        if arc > horizon:
-            break
-        nearest = min(nearest, project(p, a, within(a, b, horizon - arc))[1])
-        arc += abs(b - a)
-    arc = 0.0
-    for j in range(path_size(s, seg, fallback) - 1):
-        a, b = path_point(s, seg, j, fallback), path_point(s, seg, j + 1, fallback)
-        if arc > horizon:
-            break
-        along, dist = project(p, a, within(a, b, horizon - arc))
-        if dist <= nearest + TIE:
-            return j, along, dist
-        arc += abs(b - a)
-    return 0, 0.0, np.inf
-
-
-@jit(inline=True)
-def within(a, b, length):  # noqa: ANN001, ANN201
-    """The segment a->b cut to its first `length` metres."""
-    ab = b - a
-    return b if abs(ab) <= length else a + ab * (max(length, 0.0) / abs(ab))
-
-
-@jit
-def arc_before(s, seg, k, fallback):  # noqa: ANN001, ANN201
-    """Length of the upcoming path's first k segments."""
-    total = 0.0
-    for j in range(k):
-        total += abs(path_point(s, seg, j + 1, fallback) - path_point(s, seg, j, fallback))
-    return total
-
-
-@jit
-def in_robot_way(s, i):  # noqa: ANN001, ANN201
-    """Person i stands on the robot's remaining path within its next FOLLOW_WAY_AHEAD metres (a follower the
-    robot will pass only on its way back, at the end of a round trip, is not in its way now)."""
-    return in_way_at(s, i, s.people[i].pos)
-
-
-@jit
-def in_way_at(s, i, point):  # noqa: ANN001, ANN201
-    """Person i's body at `point` would be on the robot's remaining path within its next FOLLOW_WAY_AHEAD metres."""
-    p, robot = s.people[i], s.robot[0]
-    if abs(point - robot.pos) > FOLLOW_WAY_AHEAD or abs(robot.pos - robot.goal) <= robot.goal_tolerance:
-        return False
-    _, seg = robot_progress(s)
-    if path_size(s, seg, False) < 2:
-        return False
-    reach, arc = p.radius + robot.radius + FOLLOW_WAY_MARGIN, 0.0
-    for j in range(path_size(s, seg, False) - 1):
-        a, b = path_point(s, seg, j, False), path_point(s, seg, j + 1, False)
-        along, dist = project(point, a, b)
-        if dist < reach and 0.0 < arc + along <= FOLLOW_WAY_AHEAD:
-            return True
-        arc += abs(b - a)
-        if arc > FOLLOW_WAY_AHEAD:
-            break
-    return False
-
-
-@jit
-def taken(s, i, spot):  # noqa: ANN001, ANN201
-    """Another person stands at `spot` (bodies SPOT_ROOM apart at least), or is stepping aside to it: people
-    who give way together (a group in a corridor) each find a place of their own instead of walking into
-    each other's and standing in the robot's way."""
-    people = s.people
-    for j in range(people.shape[0]):
-        if j == i:
-            continue
-        q = people[j]
-        where = q.aside if q.gives_way and q.behavior == 2 and q.give_way_phase != RESUME else q.pos
-        if abs(where - spot) < people[i].radius + q.radius + SPOT_ROOM:
-            return True
-    return False
-
-
-@jit
-def path_distance(s, seg, fallback, spot):  # noqa: ANN001, ANN201
-    """Distance from `spot` to the robot's upcoming path, and to the leg of its route it is on (a robot that
-    swerved comes back to its line)."""
-    d = np.inf
-    for q in range(path_size(s, seg, fallback) - 1):
-        d = min(d, project(spot, path_point(s, seg, q, fallback), path_point(s, seg, q + 1, fallback))[1])
-    if not fallback and seg + 1 < s.waypoints.shape[0]:  # the leg from abreast of the robot on
-        a, b = s.waypoints[seg], s.waypoints[seg + 1]
-        along = project(s.robot[0].pos, a, b)[0]
-        d = min(d, project(spot, a + (b - a) * (along / max(abs(b - a), 1e-9)), b)[1])
-    return d
-
-
-@jit
-def short_of_robot(s, i, origin, u):  # noqa: ANN001, ANN201
-    """How far person i walks straight from `origin` along the unit `u` before their body meets the robot's
-    (inf: it never does): a side-step spot beyond the robot is not reached through it."""
-    robot = s.robot[0]
-    rel = robot.pos - origin
-    along = (rel * u.conjugate()).real
-    reach = s.people[i].radius + robot.radius
-    across = abs((rel * u.conjugate()).imag)
-    if along <= 0 or across >= reach:
-        return np.inf
-    return max(0.0, along - math.sqrt(reach * reach - across * across))
-
-
-@jit
-def side_spot(s, i, origin, prefer, want, seg, fallback):  # noqa: ANN001, ANN201
-    """(rank, cost, spot) of the best spot a body walks to straight from `origin` within SIDE_STEP_MAX, not taken
-    by someone else: rank 0 the nearest leaving `want` from the robot's upcoming path (straight toward `prefer`
-    preferred), rank 1 (none is that far) the one farthest from it (shorter walks preferred); rank 2: none."""
-    p = s.people[i]
-    distances = s.work[0]
-    found, best_rank, best_cost, best = False, 2, 0.0, origin
-    for j in range(SIDE_STEP_DIRECTIONS):
-        u = prefer * SIDE_UNITS[j]
-        room = min(free_along(s.world, origin, u, SIDE_STEP_MAX, p.radius), short_of_robot(s, i, origin, u))
-        count = int(math.ceil((room + 1e-9 - SIDE_STEP_SPACING) / SIDE_STEP_SPACING)) if room > 0 else 0
-        if count <= 0:
-            continue
-        first_ok, farthest = -1, -np.inf
-        for m in range(count):  # spots every SIDE_STEP_SPACING along u, from SIDE_STEP_SPACING on
-            spot = origin + u * (SIDE_STEP_SPACING * (m + 1))
-            d = path_distance(s, seg, fallback, spot)
-            free = not taken(s, i, spot)
-            if d >= want and free:
-                first_ok = m
-                break
-            distances[m] = d if free else -np.inf
-            farthest = max(farthest, distances[m])
-        if first_ok < 0 and farthest == -np.inf:  # every spot that way is taken
-            continue
-        if first_ok >= 0:
-            walk = SIDE_STEP_SPACING * (first_ok + 1)
-            rank, cost = 0, walk + SIDE_STEP_TURN_COST * SIDE_TURNS[j]
-        else:
-            m = 0
-            while distances[m] < farthest - TIE:  # the first of the farthest spots
-                m += 1
-            walk = SIDE_STEP_SPACING * (m + 1)
-            rank, cost = 1, -distances[m] + SIDE_STEP_FAR_COST * walk
-        if not found or rank < best_rank or (rank == best_rank and cost < best_cost - TIE):
-            found, best_rank, best_cost, best = True, rank, cost, origin + u * walk
-    return best_rank, best_cost, best
-
-
-@jit
-def back_out(s, i, want, seg, fallback, k):  # noqa: ANN001, ANN201
-    """With no room beside the robot's path (a 1 m aisle, a doorway): the nearest point straight ahead of the
-    person along the robot's path (away from the robot: back the way they came when they meet it, on ahead when it
-    comes up behind), at most BACK_OUT_MAX away and walkable keeping BACK_OUT_CLEARANCE from walls, from which a
-    spot leaving `want` beside the path is reached: (found, that point, the spot, its arc along the upcoming
-    path)."""
-    p = s.people[i]
-    a, b = path_point(s, seg, k, fallback), path_point(s, seg, k + 1, fallback)
-    if abs(b - a) < 1e-9:
-        return False, p.pos, p.pos, 0.0
-    u = (b - a) / abs(b - a)
-    room = free_along(s.world, p.pos, u, BACK_OUT_MAX, BACK_OUT_CLEARANCE)
-    t = BACK_OUT_STEP
-    while t <= room:
-        q = p.pos + u * t
-        t += BACK_OUT_STEP
-        if taken(s, i, q):
-            continue
-        rank, _, spot = side_spot(s, i, q, u * 1j, want, seg, fallback)
-        if rank == 0:
-            j, along, _ = nearest_segment(s, q, seg, fallback, np.inf)
-            return True, q, spot, arc_before(s, seg, j, fallback) + along
-    return False, p.pos, p.pos, 0.0
-
-
-@jit
-def plan_side_step(s, i):  # noqa: ANN001, ANN201
-    """Where to stand: the nearest reachable spot (walls respected, not taken by someone else) that leaves
-    GIVE_WAY_MARGIN between the person and the robot all along the robot's upcoming path, preferring straight
-    sideways on the side the person is on; with no such spot within SIDE_STEP_MAX, the spot farthest from the path
-    (shorter walks preferred), unless that leaves the robot less than BACK_OUT_GAP to pass them: then the person
-    backs out along the robot's path to the nearest place wide enough (`back_out`), if there is one."""
-    p, robot = s.people[i], s.robot[0]
-    want = p.radius + robot.radius + GIVE_WAY_MARGIN
-    progress, seg = robot_progress(s)
-    fallback = path_size(s, seg, False) < 2
-    k, along, dist = nearest_segment(s, p.pos, seg, fallback, np.inf)
-    # where the robot passes them: the place of its path it comes to first, not its way back at a round trip's end
-    soon, along_soon, _ = nearest_segment(s, p.pos, seg, fallback, abs(p.pos - robot.pos) + want)
-    p.aside_at = progress + arc_before(s, seg, soon, fallback) + along_soon
-    p.give_way_phase = ASIDE
-    p.aside = p.pos
-    p.aside_via = p.pos
-    if dist >= want:
-        return
-    a, b = path_point(s, seg, k, fallback), path_point(s, seg, k + 1, fallback)
-    along_path = (b - a) / abs(b - a) if abs(b - a) > 1e-9 else robot.heading
-    side = 1.0 if ((p.pos - a) * along_path.conjugate()).imag >= 0 else -1.0
-    prefer = along_path * 1j * side  # away from the path on the person's side
-    rank, _, best = side_spot(s, i, p.pos, prefer, want, seg, fallback)
-    if rank != 0 and path_distance(s, seg, fallback, best) < p.radius + robot.radius + BACK_OUT_GAP:
-        found, via, spot, arc = back_out(s, i, want, seg, fallback, k)
-        if found:
-            p.aside_via, best, p.aside_at = via, spot, progress + arc
-    p.aside = best
 
 
 @jit(inline=True)
@@ -355,14 +118,25 @@ def robot_level(s, i):  # noqa: ANN001, ANN201
 @jit
 def give_way(s, i):  # noqa: ANN001, ANN201
     """Step off the robot's upcoming path, wait there facing the robot until it has passed, then walk on to
-    the goal. A new side step is planned whenever the previous action was something else."""
+    the goal. A new side step is planned whenever the previous action was something else (a group member's with
+    their group: people.group_way), and when they have come no nearer their spot for ASIDE_PATIENCE s (someone
+    stands in the way: home_05's guest stood short of his spot, inside the robot's lane, for 20 s)."""
     p = s.people[i]
     if p.behavior != 2 or not p.gives_way:
         p.behavior = 2
         p.gives_way = True
-        plan_side_step(s, i)
+        plan_aside(s, i, False)
     if p.give_way_phase != RESUME and robot_has_passed(s, i, p.goal if p.has_goal else p.pos):
         p.give_way_phase = RESUME
+        p.has_slot = False
+    if p.give_way_phase == ASIDE:
+        near = abs(p.aside_via - p.pos)
+        if near < p.aside_near - ASIDE_GAIN:
+            p.aside_near, p.aside_stall = near, 0.0
+        else:
+            p.aside_stall += s.clock[0].dt
+        if p.aside_stall >= ASIDE_PATIENCE:
+            plan_aside(s, i, True)
     if p.give_way_phase == ASIDE and abs(p.aside_via - p.pos) <= GIVE_WAY_ARRIVED:
         p.aside_via = p.aside  # backed out to where there is room: now to the side
     if p.give_way_phase == ASIDE and abs(p.aside - p.pos) <= GIVE_WAY_ARRIVED:

@@ -8,9 +8,9 @@ came. A deliberate block is not standing still in this sense: a person whose tre
 step stands in the robot's way on purpose, and stays; so does someone whose BlockRobot-type leaf (BlockRobot,
 ThreateningNav) holds them at their block point this step.
 
-When such a person is in the robot's way (give_way.in_robot_way: on its remaining path, a few metres ahead)
+When such a person is in the robot's way (side_step.in_robot_way: on its remaining path, a few metres ahead)
 and the robot has waited for ROBOT_WAITED s (the engine's clock.stalled: no progress along its route, standing
-or edging about where it stopped), they step aside to the nearest spot that lets the robot by (give_way.plan_side_step), wait there facing it until it has
+or edging about where it stopped), they step aside to the nearest spot that lets the robot by (side_step.plan_side_step), wait there facing it until it has
 passed (give_way.robot_has_passed), and walk back to where they stood. They give way meanwhile (behaviour 2, the
 side-step spot marked as theirs for others who look for one). Their tree keeps running every step; this rule
 replaces its motion command while it lasts (engine.step calls `make_room` after the trees), and ends as soon
@@ -30,17 +30,8 @@ import math
 from socnavgen import proxemics
 from socnavgen.bodies import PERSON_GOAL_SLACK
 from socnavgen.sim.jit import jit
-from socnavgen.sim.people.give_way import (
-    ASIDE,
-    ASIDE_RADIUS,
-    GIVE_WAY_ARRIVED,
-    RESUME,
-    SIDE_STEP_MAX,
-    WAIT,
-    in_robot_way,
-    plan_side_step,
-    robot_has_passed,
-)
+from socnavgen.sim.people.give_way import ASIDE_RADIUS, GIVE_WAY_ARRIVED, robot_has_passed
+from socnavgen.sim.people.side_step import ASIDE, RESUME, SIDE_STEP_MAX, WAIT, in_robot_way, plan_side_step
 from socnavgen.sim.people.state import ROUTE_ROBOT, ROUTE_STRAIGHT, STANDING, queued_at, turn, walk_to
 from socnavgen.sim.people.trees import LEAF_NAMES
 from socnavgen.sim.world.queries import line_of_sight

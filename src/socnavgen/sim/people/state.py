@@ -80,6 +80,9 @@ PERSON = layout([
     # giving way (people.give_way): where it stands aside and from which arc position of the robot's path, and
     # the point of the robot's path it backs out to first where there is no room beside it
     ("gives_way", "?"), ("give_way_phase", "i8"), ("aside", "c16"), ("aside_at", "f8"), ("aside_via", "c16"),
+    # ... the spot their group's one plan left them (people.group_way: has_slot), and how near they came to their
+    # side-step target (aside_near) and for how long no nearer (aside_stall: a body in the way makes them re-plan)
+    ("has_slot", "?"), ("aside_near", "f8"), ("aside_stall", "f8"),
     ("came_up", "?"),  # following the robot: walked up into its way (give_way.lets_robot_by): waits for it to drive on
     # making room for a robot that waits (people.make_room): stepping aside, and the spot to go back to
     ("makes_room", "i8"), ("room_home", "c16"),

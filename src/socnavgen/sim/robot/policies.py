@@ -51,6 +51,7 @@ NUDGE_BAND = 0.35  # m beyond the radii: the robot edges sideways away from a pe
 NUDGE_SPEED = 0.25  # m/s
 NUDGE_ROOM = 0.3  # m: edging sideways only where this much room is left beside the robot (not into a jamb)
 CLOSE_REACH = 0.15  # m: a waypoint this close is reached whatever the walls
+PASSED_REACH = 1.0  # m: an intermediate waypoint the robot has gone past this close counts as reached (track)
 WALL_MARGIN = 0.05  # m: closer than radius + this to a wall, the robot slides along it instead of into it
 LOOK_WALL = 0.3  # s of motion looked ahead for walls
 WALL_PUSH = 0.15  # m/s at most, back out of a wall the robot grazes
@@ -87,11 +88,24 @@ POLICY = layout([
 
 
 # ---- shared pieces ----------------------------------------------------------------------------------------
+@jit(inline=True)
+def gone_past(wps, k, p):  # noqa: ANN001, ANN201
+    """The robot at `p` has gone past intermediate waypoint k (0 < k < last) without coming within its tolerance:
+    within PASSED_REACH of it, beyond it along both the leg in from waypoint k - 1 and the leg on to k + 1 (so
+    never at a turn back). Driving round someone 0.45 m off it, the robot turned back to it toward the peer who
+    had just fallen in beside it and stood facing them (card accompanying-peer [warehouse], 100 s)."""
+    w = wps[k]
+    if abs(p - w) > PASSED_REACH:
+        return False
+    return ((p - w) * (w - wps[k - 1]).conjugate()).real > 0 and ((p - w) * (wps[k + 1] - w).conjugate()).real > 0
+
+
 @jit
 def track(s, rude):  # noqa: ANN001, ANN201
     """(current waypoint, is it the last), advancing past waypoints reached. A waypoint counts as reached
-    within the tolerance, and with a line clearance only when the straight line on to the next one keeps that
-    clearance from walls (else within CLOSE_REACH): cutting a doorway's corner would hit the jamb."""
+    within the tolerance or once gone past (gone_past), and with a line clearance only when the straight line on
+    to the next one keeps that clearance from walls (else within CLOSE_REACH): cutting a doorway's corner would
+    hit the jamb."""
     policy, wps, p = s.policy[0], s.waypoints, s.robot[0].pos
     last = wps.shape[0] - 1
     index = min(policy.rude_waypoint if rude else policy.waypoint, last)
@@ -99,7 +113,8 @@ def track(s, rude):  # noqa: ANN001, ANN201
     line = math.nan if rude or policy.plans else policy.line_clearance
     while index < last:
         d = abs(wps[index] - p)
-        if d > tolerance or not (math.isnan(line) or d <= CLOSE_REACH or path_clear(s.world, p, wps[index + 1], line)):
+        if (d > tolerance and not (index > 0 and gone_past(wps, index, p))) or not (
+                math.isnan(line) or d <= CLOSE_REACH or path_clear(s.world, p, wps[index + 1], line)):
             break
         index += 1
     if rude:

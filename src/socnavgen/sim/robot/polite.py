@@ -43,7 +43,7 @@ from __future__ import annotations
 
 import math
 
-from socnavgen.bodies import CONTACT_MARGIN, INTIMATE_SPACE, PERSONAL_SPACE, ROBOT_SOCIAL_GAP
+from socnavgen.bodies import CONTACT_MARGIN, INTIMATE_SPACE, PERSONAL_SPACE, ROBOT_SOCIAL_GAP, ROBOT_WALL_ROOM
 from socnavgen.location.inventory import BLIND_SIGHT_M
 from socnavgen.location.places import CORNER_TURN_DEG
 from socnavgen.sim.jit import jit
@@ -61,7 +61,7 @@ KEPT_SIDE = 0.25  # m: a pass's side is kept unless the nearer person ahead stan
 CATCHING_UP = 0.3  # m/s faster than the robot along its way: a person behind is overtaking
 LATERAL_SPEED = 0.3  # m/s at most sideways
 LATERAL_GAIN = 1.5  # 1/s: sideways speed per metre still to go
-WALL_ROOM = 0.08  # m beyond its radius: the robot moves aside only where this much room from walls is left
+WALL_ROOM = ROBOT_WALL_ROOM  # m beyond its radius: the robot moves aside only where this much room from walls is left
 CLOSE_SPEED = 0.3  # m/s at most while someone is within PASS_GAP
 EASE_GAP = PERSONAL_SPACE  # m: nearer than this to someone it drives toward, the robot slows (near_speed)
 YIELD_GAP = 0.3  # m: someone closing in this close makes the robot back away
@@ -99,6 +99,33 @@ def stands_clear(s, skip, point):  # noqa: ANN001, ANN201
 
 
 @jit
+def lane_there(s, direction, side, shift, room):  # noqa: ANN001, ANN201
+    """Moving `shift` sideways to `side` (walls leave `room`) gives the robot a lane past everyone ahead within
+    PASS_LOOK: the walls let it go to within PASS_GAP - ROBOT_SOCIAL_GAP of that, and nobody ahead stands within
+    its social gap of the line it would drive along from there."""
+    robot = s.robot[0]
+    if room < shift - (PASS_GAP - ROBOT_SOCIAL_GAP):
+        return False
+    there, back = robot.pos + side * 1j * direction * min(shift, room), direction.conjugate()
+    for i in range(s.people.shape[0]):
+        q = s.people[i]
+        rel = (q.pos - robot.pos) * back
+        if rel.real <= 0 or abs(rel) - robot.radius - q.radius > PASS_LOOK:
+            continue
+        if abs(((q.pos - there) * back).imag) < robot.radius + q.radius + ROBOT_SOCIAL_GAP:
+            return False
+    return True
+
+
+@jit(inline=True)
+def walks_its_way(q, back):  # noqa: ANN001, ANN201
+    """Person q of a group walks the robot's way (`back`: its unit direction, conjugated): faster than CLOSING
+    along it, to a goal ahead along it. Drifting back from the robot as it comes is no walk its way (hospital_01:
+    a visitor going to the elevator it came out of, pushed back 0.2 m/s, stopped its moving aside for the pair)."""
+    return q.group >= 0 and (q.vel * back).real > CLOSING and q.has_goal and ((q.goal - q.pos) * back).real > 0.0
+
+
+@jit
 def pass_aside(s, direction):  # noqa: ANN001, ANN201
     """Sideways velocity (complex, perpendicular to the unit `direction` of travel) that makes room to pass
     the nearest person ahead in the robot's lane, or one catching up from behind; 0 when nobody is."""
@@ -130,17 +157,21 @@ def pass_aside(s, direction):  # noqa: ANN001, ANN201
     policy = s.policy[0]
     away = -1.0 if across > -0.2 else 1.0
     first = policy.pass_side if policy.pass_side != 0.0 else away
-    if who != policy.pass_who and first * across > KEPT_SIDE and best <= PASS_CROSS:  # the side kept from passing
-        first = away  # someone else would cross in front of this nearer person, clearly on that side (in a crowd it
-    policy.pass_who = who  # sent the robot metres sideways, back and forth)
+    if who != policy.pass_who and first * across > KEPT_SIDE and best <= PASS_CROSS:  # the side kept from passing someone else would cross in
+        first = away  # front of this nearer person, clearly on that side (in a crowd it sent the robot metres
+    policy.pass_who = who  # sideways, back and forth); or they stepped aside to it (home_05's first guest)
     shift = need + first * across  # sideways distance that leaves `need` between the centres, across
     room = free_along(s.world, p, first * 1j * direction, shift, rr + WALL_ROOM)
+    other = need - first * across
+    other_room = free_along(s.world, p, -first * 1j * direction, other, rr + WALL_ROOM)
+    walking = walks_its_way(people[who], back)
+    if walking and not lane_there(s, direction, first, shift, room) \
+            and not lane_there(s, direction, -first, other, other_room):  # no side has room to pass them (a family
+        policy.pass_side = 0.0  # across a corridor): it follows on its way instead of swinging from wall to wall as
+        return 0j  # the nearest of them changes (hospital_13: 36 s); round a group standing it still goes
     side = first
-    if room < min(shift, 0.1) and best > PASS_CROSS:
-        other = need - first * across
-        other_room = free_along(s.world, p, -first * 1j * direction, other, rr + WALL_ROOM)
-        if other_room > room:
-            side, shift, room = -first, other, other_room
+    if room < min(shift, 0.1) and best > PASS_CROSS and other_room > room:
+        side, shift, room = -first, other, other_room
     policy.pass_side = side
     go = min(shift, room)
     if go <= 0.02:
