@@ -339,7 +339,7 @@ def test_stage1_teaches_the_new_fields_and_what_the_robot_cannot_do():
            "distance) in between" in system
     assert "takes over while its trigger holds (latch it, or the earlier part comes back" in system
     assert "where 1.6-2.3 m is free they pass only if the person keeps to one side" in system
-    assert "only for a human whose encounter has the reaction block" in system  # blocks_robot needs block
+    assert "(only with the reaction block)" in system  # blocks_robot needs block
     assert "A route may come back to its start after passing other nodes" in system
     assert "hunav2 lacks" in system and "robot_blocking" in system.split("hunav2 lacks")[1][:200]
 

@@ -91,7 +91,7 @@ def spec_help_text(target: Target | None = None, *, signals: bool = True, robot:
 # Kinds told behind fit.py's robot cut (the small model's stage-1 prompt is full); the stop check of stop_checks.py
 # names them in its finding when a text states such a stop.
 STOP_KINDS = ("robot_stops", "stop_together")
-STOP_KINDS_TEXT = ("; robot_stops: the robot stands `seconds` at the `encounter`'s place (its wait's step aside counts, slowing down not); "
+STOP_KINDS_TEXT = ("; robot_stops: the robot stands `seconds` at the `encounter`'s place (slowing down is no stop); "
                    "stop_together: the `humans`, having walked, stand still at once within `distance` of each other "
                    "(people who stop to greet each other)")
 
