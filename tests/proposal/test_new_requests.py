@@ -47,16 +47,16 @@ PATHS = fixture_paths(FIXTURES)
 # for a spot on the robot's line, which the eyes let pass; a robot whose stop for a hand-over a side-step for a
 # passer-by broke, and which came 1.99 m from a place it must keep 2 m from).
 DISAGREE: dict[str, str] = {
-    "home_19_toddlers_trail_milk_delivery": "lenient PASS (a new request of round 27, answered live in round 28; "
-    "eyes round 27: no): the toddlers walk toward the robot but never fall in behind it and trail it - they stay "
-    "ahead of it and to its side, 1-2 m away, while it stands ~1 m east of 41, then walk back to the sofa; the spec "
-    "states their coming with stops_near_robot (the player swapped follows_robot for it because the verifier's "
-    "follower end check wanted them in the robot's goal room), which passes a person who walks up from ahead",
-    "home_05_serving_drinks_at_party": "strict FAIL (re-answered live in round 21; eyes round 26, on this run: yes): "
-    "the first pair steps aside by themselves before the robot reaches vh, the robot nearly stops ~2.4 m short of "
-    "the pair at 41 and says EXCUSE ME, they step aside only then and it passes (~0.3 m from one of them); the "
-    "verifier fails the first guest's step out of the way: in the robot's way within 3.5 m from 5.2 s, out of it "
-    "only at 19.6 s (she left the doorway for a spot south-west of vh, on the robot's line, and it went round her)",
+    "home_05_serving_drinks_at_party": "strict FAIL (re-answered live in round 21; eyes round 29, on the fifteenth "
+    "session's run: yes): the first pair at vh steps aside by itself as the robot comes out of the kitchen, the second "
+    "pair at 41 moves only after the robot stops and says EXCUSE ME (~20 s) and stays aside; the robot delivers at ai "
+    "(~1.5 m short of where the text stops it, one guest passed at ~0.2-0.3 m); the verifier fails both guests at vh "
+    "stepping out of the robot's way (the replay's --verify loop then has no answer: its recording asked stage 2)",
+    "home_10_medication_past_chatting_friends": "lenient PASS (re-answered live in round 26; eyes round 29, on the "
+    "fifteenth session's run: no): the friend on the robot's side steps back into the doorway zv, the robot creeps "
+    "~1-1.5 m east of 41 for ~10 s, then the two friends who should stay put step 1-1.5 m away (~25 s: people standing "
+    "in the way of a robot that waits make room) and it drives through where the group stood; stops_near_robot sees "
+    "each of them stand 1 s, not stay while it goes round",
     "hospital_17_lead_students_to_nurse_station": "lenient PASS (round 22; eyes round 26: no): the patient waits "
     "facing the robot near zs ~8 s, then is boxed in by the bunched students ~15 s; the students never pass him one "
     "by one and only one of them ends with the robot at the nurse station (no criterion for the file, the pass or "
@@ -71,11 +71,11 @@ DISAGREE: dict[str, str] = {
     "and turn east, but linger just east of vh; after its 12 s wait the robot drives on before they reach the kitchen "
     "(the judge saw it and called it a flaw); the spec's own criterion that it waits until all three are within 1 m of "
     "the kitchen's 3y fails (1.8-2.6 m short)",
-    "warehouse_22_parcel_run_past_safety_briefing": "strict FAIL (a new request of round 29; eyes round 28: yes): the "
-    "robot stops ~3.9 m before vj and says EXCUSE ME, the supervisor steps into the corner and the two workers step "
-    "west, opening a gap; the robot hovers ~0.3 m from the second worker ~18 s and slips through at ~40-48 s (no "
-    "contact); the verifier fails the second worker's giving way: stepped aside at 14 s but back in the robot's way "
-    "at 43.8 s before it got past - she stepped west, onto the robot's next leg after its turn at vj",
+    "warehouse_22_parcel_run_past_safety_briefing": "strict FAIL (a new request of round 29; eyes round 29 on the "
+    "fifteenth session's run: yes): the robot stops ~3.5 m before vj and says EXCUSE ME, the three make room, it "
+    "passes at ~0.3 m/s and turns west to the loading door (a ~0.25 m pass by the third, who moved into the cross "
+    "aisle); the verifier fails the second worker's giving way (in the robot's way again before it got past: she "
+    "stepped onto its next leg after its turn at vj)",
 }
 
 # Fixtures whose recorded answers never pass a stage (a stage check refuses them, or the recording ends where the
