@@ -16,8 +16,11 @@ from .corpus import DOCK, EAST, Scene, build, make_corner_location, write_case_r
 
 STOPS = [(0.0, *DOCK), (4.0, 5.2, 1.525), (7.0, 5.2, 1.525), (12.0, *EAST), (20.0, *EAST)]  # 3 s at the corner
 CREEPS = [(0.0, *DOCK), (3.0, 4.2, 1.525), (11.0, 6.2, 1.525), (16.0, *EAST), (20.0, *EAST)]  # 0.25 m/s past it
-# stands 1.5 s, steps 0.3 m aside, stands 1.5 s more: 3 s still at the corner in all, never 2 s at once
-BROKEN = [(0.0, *DOCK), (4.0, 5.2, 1.525), (5.5, 5.2, 1.525), (5.8, 5.2, 1.825), (7.3, 5.2, 1.825),
+# stands 1.5 s, steps 0.3 m aside, stands 1.5 s more: a stand through its wait's step aside (it never advances)
+SIDE_STEP = [(0.0, *DOCK), (4.0, 5.2, 1.525), (5.5, 5.2, 1.525), (5.8, 5.2, 1.825), (7.3, 5.2, 1.825),
+             (12.0, *EAST), (20.0, *EAST)]
+# stands 1.5 s, drives on 0.4 m, stands 1.5 s more: 3 s at the corner in all, never 2 s at once
+BROKEN = [(0.0, *DOCK), (4.0, 5.2, 1.525), (5.5, 5.2, 1.525), (6.3, 5.6, 1.525), (7.8, 5.6, 1.525),
           (12.0, *EAST), (20.0, *EAST)]
 STOPS_AT_START = [(0.0, *DOCK), (3.0, *DOCK), (8.0, *EAST), (20.0, *EAST)]  # stands 3 s, but at its start
 HOST = [(0.0, 6.3, 6.0), (5.0, 6.3, 3.0), (10.0, 6.3, 3.0), (14.0, 6.3, 6.0), (20.0, 6.3, 6.0)]  # stands 5-10 s
@@ -64,13 +67,20 @@ def test_a_robot_that_only_slows_down_there_fails(tmp_path: Path) -> None:
     assert found.blame == "robot_script"
 
 
+def test_a_robot_that_steps_aside_in_its_stop_still_stops(tmp_path: Path) -> None:
+    """A plain wait steps aside for someone coming past (sim.robot.wait_spot): the robot holds the place through it,
+    never advancing (warehouse_17 and round 29's warehouse_21: their stops were failed for that step)."""
+    found = _finding(tmp_path, ROBOT_STOPS, SIDE_STEP, HOST, GUEST)
+    assert found.passed, found.evidence
+
+
 def test_a_robot_whose_stop_is_broken_fails_and_is_told_so(tmp_path: Path) -> None:
-    """Standing long enough in all but never the seconds at once: the hint says the stand was broken, not that a cue
-    must stop it (round 24's player had the wait cue already, and the robot stepped aside for a passer-by)."""
+    """Holding the place long enough in all but never the seconds at once (it drove on in between): the hint says the
+    stand was broken, not that a cue must stop it (round 24's player had the wait cue already)."""
     found = _finding(tmp_path, ROBOT_STOPS, BROKEN, HOST, GUEST)
     assert not found.passed, found.evidence
     assert found.blame == "robot_script"
-    total, once = re.search(r"still at the place ([\d.]+) s in all but at most ([\d.]+) s at once \(needs 2 s at once\)",
+    total, once = re.search(r"held the place ([\d.]+) s in all but at most ([\d.]+) s at once \(needs 2 s at once\)",
                             found.blame_reason).groups()
     assert float(total) >= 2.0 > float(once), found.blame_reason
     creeps = _finding(tmp_path / "creeps", ROBOT_STOPS, CREEPS, HOST, GUEST)
