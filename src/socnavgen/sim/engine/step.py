@@ -40,7 +40,7 @@ from socnavgen.sim.people.vm import ERROR, tick
 from socnavgen.sim.robot.body import drive
 from socnavgen.sim.robot.policies import act, cruise, stopped_short
 from socnavgen.sim.robot.polite import corner_late
-from socnavgen.sim.robot.script import play, scripted_gesture, still_waits, waiting_for
+from socnavgen.sim.robot.script import play, scripted_gesture, start_waits, still_waits, waiting_for
 
 STEPPED, ACT, PROGRESS, ENDED, FAILED, ROUTES = 0, 1, 2, 3, 4, 5
 IDLE_SPEED = 1e-3  # m/s: a robot slower than this is idle (the run ends once everything stopped)
@@ -63,7 +63,7 @@ def think(s, trees, pacing, script, scratch):  # noqa: ANN001, ANN201
     if people.shape[0]:
         cruising = cruise(s, script.now[0])
         corner_late(s, cruising, pacing.robot_late)  # the robot's ETA knows its slower blind corners
-        pace(s, pacing, cruising, still_waits(script, s.clock[0].t), waiting_for(script))
+        pace(s, pacing, cruising, still_waits(script, s.clock[0].t), waiting_for(script), start_waits(script, s.clock[0].t))
     nodes, ports, slots, texts, kids, stack, args = trees
     dt = s.clock[0].dt
     for i in range(people.shape[0]):

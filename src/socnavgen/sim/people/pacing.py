@@ -4,8 +4,8 @@
 A person without a group whose path has an interaction node that is also on the robot's path is paced by
 the robot's ETA at that node, re-estimated every step from what the robot does: its route left from where it
 is, at its cruise speed now (the script's, changed by its cues), plus the time it will still stand for its
-timed waits (a cue's `wait`, a late start; not a wait it stands within `release_distance` of the node: that wait
-is the meeting, the person comes during it) and the time it loses at slow spots on the way (`robot_late`, filled
+timed waits (a cue's `wait`, a late start; not a wait it stands on its way within `release_distance` of the node:
+that wait is the meeting, the person comes during it) and the time it loses at slow spots on the way (`robot_late`, filled
 by the robot's package every step: its blind corners, robot.polite.corner_late). Only RegularNav honours it, as `pause_nav` in the fork. Two rules:
 * `eta` (default): a person standing (at the start, or held) stays where it is until walking to the node
   takes as long as the robot's ETA (bodies.walk_time, the time by which the export's timing sets people off
@@ -151,12 +151,13 @@ in_way = jit(proxemics.in_way)  # the one "in the robot's way" (socnavgen.proxem
 
 
 @jit
-def pace(s, pacing, cruise, waits, let_pass=-1):  # noqa: ANN001, ANN201, C901
+def pace(s, pacing, cruise, waits, let_pass=-1, at_start=0.0):  # noqa: ANN001, ANN201, C901
     """Advance the robot's waypoint index; set `held` (and `pace`, the speed RegularNav walks at) of every
     paced person for this step. `cruise`: the robot's speed where nothing slows it (robot.policies.cruise; < 0:
     unknown, the config's robot_speed); `waits`: seconds it will still stand for its script's timed waits
     (robot.script.still_waits); `let_pass`: the person the robot stands for to let them go first
-    (robot.script.waiting_for; -1: none), never held nor slowed: they go first at their own speed."""
+    (robot.script.waiting_for; -1: none), never held nor slowed: they go first at their own speed; `at_start`: the
+    part of `waits` its start cues stand it (robot.script.start_waits)."""
     settings = pacing.settings[0]
     if not settings.enabled:
         return
@@ -204,7 +205,9 @@ def pace(s, pacing, cruise, waits, let_pass=-1):  # noqa: ANN001, ANN201, C901
                 # a timed wait the robot stands this near the node is the meeting itself: the person comes during
                 # it, not after it (warehouse_21, round 29: a picker paced to the end of the robot's stop at the
                 # crossing stepped out as it drove on; the export's release by the robot's distance does the same)
-                there = stands if robot_left > settings.release_distance else 0.0
+                # (a start wait is no meeting: exiting-elevator's robot stands in the car 2 m from the node)
+                starting = max(0.0, s.policy[0].start_delay - s.clock[0].t) + at_start
+                there = stands if robot_left > settings.release_distance else min(starting, stands)
                 robot_left = max(robot_left - paced.lead, 0.0)  # at a door: through it first (door_lead)
                 eta = robot_left / max(drive, 1e-3) + there + pacing.robot_late[node + 1]  # + its slow corners
                 # never held where the robot would wait for them: in its way, near it or while it stands for someone

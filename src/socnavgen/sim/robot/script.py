@@ -185,6 +185,17 @@ def still_waits(script, t):  # noqa: ANN001, ANN201
     return left
 
 
+@jit
+def start_waits(script, t):  # noqa: ANN001, ANN201
+    """Seconds from `t` the robot will still stand for its start cues' timed waits (a late start: pacing counts it
+    even where the robot starts near a person's node - it has not come there to meet them)."""
+    left = 0.0
+    for c in range(script.cues.shape[0]):
+        if script.cues[c].when == START:
+            left = max(left, script.cues[c].wait_until - t)
+    return left
+
+
 @jit(inline=True)
 def waiting_for(script):  # noqa: ANN001, ANN201
     """The person a `let_pass` cue stands the robot for now (-1: none): pacing lets them go first."""
