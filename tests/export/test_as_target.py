@@ -67,8 +67,7 @@ KNOWN_LOST = {
     # once the robot is level, the default robot brakes within 1.5 m/s2), told by the verdicts, not yet looked at in
     # frames: the crowd pressing round the plain waypoint robot touches it (socrates 1x), and 2.x's give-way comes
     # after the criterion's window at 0.5x (hunav2)
-    ("socrates", "home/robot-crowding", 1.0): "the robot never touches a person; no two people touch each other: the "
-    "crowd pressing round the plain waypoint robot touches it",
+    # (socrates home/robot-crowding 1x verifies again since the fifteenth session: told by the verdicts, not traced)
     ("hunav2", "home/pedestrian-obstruction", 0.5): _PHRASE_LATE,
 }
 

@@ -19,9 +19,6 @@ from .equivalence_helpers import outcomes
 # home hallway (1.2 m, a dead end at 3y), where AvoidRobot keeps 2 m and the robot has no room to pass.
 _HALLWAY = ("2.x has no side step: the hunav2 person (AvoidRobot) retreats along the 1.2 m home hallway ahead of the "
             "robot, which never reaches its goal 3y; the socrates person steps aside (GiveWaytoRobot)")
-_PHRASE_LATE = ("2.x has no side step: the translated person backs away along the passage after EXCUSE ME and leaves "
-                "the robot's way 10-20 s after the phrase began (the criterion measures from its start); the socrates "
-                "person steps aside within the window")
 # Measured 2026-11-26 on the merged simulator (people give way with no room, the robot makes way backwards, pacing
 # from the robot's live ETA, a robot stopped short of someone at its goal has arrived). The robot-crowding twins no
 # longer diverge (both twins of each verify alike) and left this list.
@@ -48,7 +45,7 @@ KNOWN_DIVERGENT = {
     "hospital/narrow-hallway": "2.x has no side step: the hunav2 person stays in the robot's way in the hallway",
     # eighth session (2026-11-27: the default robot brakes within 1.5 m/s2, goes round a group standing on its
     # waypoint, stops short of someone standing; followers queue; told by the verdicts, not looked at in frames)
-    "warehouse/pedestrian-obstruction": _PHRASE_LATE,
+    # (warehouse/pedestrian-obstruction's twins verify alike again since the fifteenth session: told by the verdicts)
     "warehouse/robot-crowding": "the socrates and the 2.x crowds round the robot end differently (2.x's CuriousNav / "
     "AvoidRobot followers against FollowRobot); not analysed finding by finding",
 }
