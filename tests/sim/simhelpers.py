@@ -30,6 +30,13 @@ def tree_xml(body: str, fmt: int = 3) -> str:
     return f'{head}\n<include path="BTRegularNav.xml"/>\n<BehaviorTree ID="MainTree">\n{body}\n</BehaviorTree>\n</root>\n'
 
 
+def give_way_tree(gate: str) -> str:
+    """A tree that gives way while `gate` (conditions, in order) holds, else walks its path (RegularNav): the shape
+    the model most often writes."""
+    return tree_xml(f'<Fallback><Sequence>{gate}<GiveWaytoRobot agent_id="{{id}}" time_step="{{dt}}"/></Sequence>'
+                    f'{REGULAR}</Fallback>')
+
+
 def nav_tree(body: str) -> str:
     """A main tree around `body`, which may use the RegularNavTree SubTree: its two ports are filled first."""
     return tree_xml('<Sequence><SetBlackboard output_key="agentid" value="{id}"/>'

@@ -10,14 +10,10 @@ import pytest
 from socnavgen.run.spec import CueTrigger, RobotCue, RobotScript
 from socnavgen.sim import empty_room, load_policy
 from socnavgen.sim.contact import trace_gaps
-from tests.sim.simhelpers import human, make_sim, tree_xml
+from tests.sim.simhelpers import give_way_tree, human, make_sim, tree_xml
 
 # gives way while the robot is near, else walks its path (the model's usual shape: nothing keeps it giving way)
-GIVES_WAY_NEAR = tree_xml('<Fallback><Sequence><IsRobotNearby agent_id="{id}" distance="2.5"/>'
-                          '<GiveWaytoRobot agent_id="{id}" time_step="{dt}"/></Sequence>'
-                          '<Sequence><SetBlackboard output_key="agentid" value="{id}"/>'
-                          '<SetBlackboard output_key="timestep" value="{dt}"/>'
-                          '<SubTree ID="RegularNavTree" id="agentid" dt="timestep"/></Sequence></Fallback>')
+GIVES_WAY_NEAR = give_way_tree('<IsRobotNearby agent_id="{id}" distance="2.5"/>')
 EXCUSE_ME = RobotScript(cues=[RobotCue(trigger=CueTrigger(when="blocked", distance=2.5), say="EXCUSE ME", hold=1.0,
                                        wait_until_clear=True)])
 

@@ -29,16 +29,12 @@ from socnavgen.sim.people.routing import robot_progress
 from socnavgen.sim.people.side_step import GIVE_WAY_MARGIN, path_distance
 from socnavgen.sim.robot.polite import pass_aside
 from socnavgen.sim.world.grid import World
-from tests.sim.simhelpers import human, make_sim, tree_xml
+from tests.sim.simhelpers import give_way_tree, human, make_sim, tree_xml
 
 HOSPITAL = Path(__file__).resolve().parents[2] / "examples" / "locations" / "hospital"
 
-SAID_TREE = tree_xml('<Fallback><Sequence><RobotSaid agent_id="{id}" message="4"/>'
-                     '<Inverter><TimeExpiredCondition seconds="12" ts="{dt}" only_once="true"/></Inverter>'
-                     '<GiveWaytoRobot agent_id="{id}" time_step="{dt}"/></Sequence>'
-                     '<Sequence><SetBlackboard output_key="agentid" value="{id}"/>'
-                     '<SetBlackboard output_key="timestep" value="{dt}"/>'
-                     '<SubTree ID="RegularNavTree" id="agentid" dt="timestep"/></Sequence></Fallback>')
+SAID_TREE = give_way_tree('<RobotSaid agent_id="{id}" message="4"/>'
+                          '<Inverter><TimeExpiredCondition seconds="12" ts="{dt}" only_once="true"/></Inverter>')
 EXCUSE_ME = RobotScript(cues=[RobotCue(trigger=CueTrigger(when="blocked", distance=3.0), say="EXCUSE ME", hold=2.0,
                                        wait_until_clear=True)])
 LANE = PERSON_RADIUS + ROBOT_RADIUS  # a body centre nearer the robot's line than this is in its lane
