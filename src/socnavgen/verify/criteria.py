@@ -437,7 +437,8 @@ CRITERION_KINDS: dict[str, CriterionKind] = {k.name: k for k in (
                   + _IN_WINDOW,
                   _gives_way),
     CriterionKind("follows_robot", "eventually (robot_says_P and eventually[0:S] (h_to_e <= W + D and (always "
-                  "way_h <= D) and eventually speed_h > 0.3))  (no P: eventually (h_to_e <= W + D and ...))",
+                  "way_h <= D) and eventually always[0:2] (speed_h > 0.3 and not robot_still and lag_h >= -0.75)))  "
+                  "(no P: eventually (h_to_e <= W + D and ...))",
                   "within S s after the phrase, from near its place on, within D along the walkable way to the "
                   f"end, walking after the driving robot {FOLLOW_SEEN:g} s at least, not ahead of it (lag_h >= "
                   f"-{FOLLOW_AHEAD:g}) (a follow whose part `lasts` L s: for max(L - S, L/2) s, not to the end)",
