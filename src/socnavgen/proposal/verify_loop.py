@@ -320,10 +320,10 @@ class _Repair:
         if trees_to_fix:  # the blamed trees in the same round (on the new paths, if they changed)
             corrections = {human: _correction(found, "behaviors", human, notes.get(("behaviors", human), ""))
                            for human, found in sorted(trees_to_fix.items(), key=lambda kv: int(str(kv[0])[5:]))}
-            same = twins(self.trees, self.spec, set(trees_to_fix))
+            sharing = twins(self.trees, self.spec, set(trees_to_fix))
             before = dict(self.trees)
             self.trees = self.stages.behaviors(self.scenario, self.paths, self.spec, corrections)
-            self.share_fixes(same, before)
+            self.share_fixes(sharing, before)
         reasked = {key: found for key, found in asked.items() if key[0] == "paths" or key[1] in trees_to_fix}
         same, words = kept(reasked, answers, self.answers(), self.said)
         if same:  # the same answer simulates the same: its findings go to stage 1 now, not after another run
