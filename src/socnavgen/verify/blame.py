@@ -418,13 +418,13 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
             return cause
         if kind == "follows_human":
             return blame_follower(cc, s, h)
-        near = s.get(f"dist_{h}") <= reach
+        dist = s.get(f"dist_{h}")
         reaction = "give_way" if kind == "gives_way" else cc.reaction
-        vain = gave_way_in_vain(s, h, s.get(f"dist_{h}") <= max(reach, PASSING_DISTANCE), cc.seconds or REACTION_SECONDS) \
+        vain = gave_way_in_vain(s, h, dist <= max(reach, PASSING_DISTANCE), cc.seconds or REACTION_SECONDS) \
             if reaction == "give_way" else None
         if vain:
             return vain
-        facts = tree_activity(s, h, near, reach, reaction)
+        facts = tree_activity(s, h, dist <= reach, reach, reaction)
         return "behaviors", h, f"the robot came near {h} but {h} did not react as asked ({kind})" + \
             (f"{FACTS_OPEN}{facts}{FACTS_CLOSE}" if facts else "")
     return "paths", None, "the scenario did not unfold as asked"

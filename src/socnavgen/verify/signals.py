@@ -292,7 +292,7 @@ def robot_holds(s: Signals) -> np.ndarray:
     steps aside for someone coming past; round 29's warehouse_21 and warehouse_17: stops broken by that step)."""
     progress = s.route()[0]
     rate = np.gradient(progress, s.t) if len(progress) > 1 else np.zeros(len(progress))
-    return (s.speed("robot") < STILL_SPEED) | (perceived(rate, s.trace.dt) < STILL_SPEED)
+    return (s.get("robot_still") > 0.5) | (perceived(rate, s.trace.dt) < STILL_SPEED)  # still, or not advancing
 
 
 def _stalled(s: Signals, m: re.Match) -> np.ndarray:
