@@ -127,13 +127,17 @@ def passes_by(s, i):  # noqa: ANN001, ANN201
 
 @jit
 def occupied(s, i, goal):  # noqa: ANN001, ANN201
-    """Someone else stands on `goal` (where person i would have reached it), or walks to it ahead of person i
-    without a spot of their own, or the robot stands on it when it is the last goal of their path (one on their
-    way is passed by: passes_by)."""
+    """The last goal of person i's path: someone else stands on it (where person i would have reached it), or walks
+    to it ahead of person i without a spot of their own; any goal: the robot stands on it when it is the last goal
+    of their path or leaves no way round (one on their way is passed by: passes_by). A point on their way that
+    another person reaches first is no place to queue round: a group walking in file took spots round each
+    point on its way and stood in a knot short of it, the first waiting for the others behind."""
     people = s.people
     p = people[i]
     if robot_on(s, i, goal) and (last_goal(p) or not way_round(s, i)):
         return True
+    if not last_goal(p):  # a point on their way: people walk through it one after another, nobody stands there
+        return False
     away = abs(goal - p.pos)
     for j in range(people.shape[0]):
         if j == i:
