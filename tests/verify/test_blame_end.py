@@ -124,3 +124,14 @@ def test_a_person_held_up_on_the_way_to_a_goal_behind_the_robot_is_not_at_its_go
         del NODES["g2"]
     assert (blame, who) == ("behaviors", "human1"), reason
     assert "its own goal" not in reason
+
+
+def test_a_robot_standing_short_of_its_goal_beside_someone_says_who_stands_there() -> None:
+    """Round 30 (home_24): the robot froze short of a doorway 1.1 m from a child standing beside its approach, and the
+    correction said 'nobody in its way ... check the route's last nodes', so the player re-planned the wrong thing.
+    Someone within the held-up distance beside its way is named, with what to change; with nobody near, the route."""
+    beside, reason = _blame(_held_short((6.2, 4.0)), _plan("far"), kind="robot_reaches_goal")[::2]
+    assert beside == "paths" and "with human1 within 3 m of it, beside its way" in reason, reason
+    assert "nobody" not in reason and "check the route's last nodes" not in reason
+    alone, reason = _blame(_held_short((6.0, 9.0)), _plan("far"), kind="robot_reaches_goal")[::2]
+    assert alone == "paths" and "nobody near it" in reason and "human1" not in reason, reason

@@ -83,7 +83,13 @@ from socnavgen.bodies import (
 from socnavgen.run.models import PathPlan
 from socnavgen.run.spec import Criterion, ScenarioSpec
 from socnavgen.verify.blame_cue import cue_never_held, stop_not_held
-from socnavgen.verify.blame_end import SIMULATOR_NOTE, goal_taken, no_progress_at_end, standing_at_end
+from socnavgen.verify.blame_end import (
+    SIMULATOR_NOTE,
+    goal_taken,
+    near_at_end,
+    no_progress_at_end,
+    standing_at_end,
+)
 from socnavgen.verify.blame_follow import blame_follower, never_near_start
 from socnavgen.verify.blame_timing import ended_at_once, window_closed_early
 from socnavgen.verify.blame_tree import FACTS_CLOSE, FACTS_OPEN, gave_way_in_vain, tree_activity
@@ -340,7 +346,10 @@ def _short_of_goal(s: Signals) -> str:
     if stalled < 1.0 and s.trace.end_reason == "timeout":
         return (f"the robot was still on its way when the simulation ended at t={s.t[-1]:.0f} s ({where}), nobody "
                 "holding it up: its route takes longer than the run; make it shorter (or the robot faster)")
-    return (f"the robot ended standing still for its last {stalled:.0f} s with {where} and nobody in its way: its "
+    near = near_at_end(s)
+    if near:  # not in its way by the swept-width rule, yet where it must pass (round 30: a child 1.1 m off it)
+        return f"the robot ended standing still for its last {stalled:.0f} s with {where}, {near}"
+    return (f"the robot ended standing still for its last {stalled:.0f} s with {where} and nobody near it: its "
             "route does not bring it to its goal (check the route's last nodes)")
 
 

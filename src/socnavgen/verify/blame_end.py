@@ -161,11 +161,21 @@ def no_progress_at_end(s: Signals, where: str) -> str | None:
     idle = float(s.t[-1] - s.t[since])
     if idle < STUCK_AT_END:
         return None
-    gaps = s.gaps()[-1]
-    near = [s.trace.human_names[i] for i in np.argsort(gaps) if s.distances()[-1, i] <= proxemics.HELD_UP_DISTANCE]
+    near = near_at_end(s)
     fact = f"the robot made no progress along its route for its last {idle:.0f} s ({where})"
     if near:
-        return (f"{fact}, with {', '.join(near)} within {proxemics.HELD_UP_DISTANCE:g} m of it, beside its way: "
-                "people stand where it must pass; have them step aside to a wider place, or end their reaction "
-                "farther from the robot's route, or route the robot round them")
+        return f"{fact}, {near}"
     return f"{fact}, nobody near it: its route does not get it through there (check the route's nodes)"
+
+
+def near_at_end(s: Signals) -> str:
+    """'' or what to say of the people within proxemics.HELD_UP_DISTANCE of the robot at the run's end (nearest
+    first): not in its way by the swept-width rule, yet where it must pass."""
+    gaps = s.gaps()[-1]
+    near = [s.trace.human_names[i] for i in np.argsort(gaps) if s.distances()[-1, i] <= proxemics.HELD_UP_DISTANCE]
+    if not near:
+        return ""
+    return (f"with {', '.join(near)} within {proxemics.HELD_UP_DISTANCE:g} m of it, beside its way: people stand "
+            "where it must pass (it keeps a margin from people and does not squeeze past them); have them step "
+            "aside to a wider place, or end their reaction or their path farther from the robot's route, or route "
+            "the robot round them")
