@@ -117,20 +117,3 @@ def test_a_walker_the_robot_meets_in_the_door_steps_aside_and_walks_on():
     # once it was by, they walk on to the door (the run ends as the robot arrives): no longer aside, at the door
     assert trace.behavior_state[-1, 0] != 2
     assert np.hypot(*(person[-1] - DOOR)) < 0.6 < np.hypot(*(person[aside:] - DOOR).T).max()
-
-
-@pytest.mark.parametrize("stand", ['<LookAtRobot agent_id="{id}"/>', '<MakeGesture agent_id="{id}" message="0"/>'])
-def test_a_person_whose_tree_stands_them_for_the_robot_stays(stand: str):
-    """The same person whose tree answers the robot's coming near by standing there (IsRobotNearby, then watch it
-    or just stand) has said what they do about the robot: stay. The rule does not overrule it (home_10: two
-    friends whose trees "stay where they are" while the robot is near were walked 1-1.5 m away, and the robot
-    drove through where the group stood): they stay on the route, never making room, and the robot does not get
-    through (a deadlock the verifier judges) - unlike the idle person of the first test, who makes room."""
-    stays = tree_xml(f'<Fallback><Sequence><IsRobotNearby agent_id="{{id}}" distance="3.0"/>{stand}</Sequence>'
-                     f'{REGULAR}</Fallback>')
-    trace = run([stays, tree_xml(REGULAR)])
-    person = trace.humans[:, 0, :2]
-    assert trace.fired(0, "IsRobotNearby").any()  # the robot came near: their tree's answer ran
-    assert not (trace.behavior_state[:, 0] == 2).any()
-    assert off_route(person).max() < 0.3
-    assert trace.end_reason != "robot_goal"

@@ -6,13 +6,7 @@ A walker whose tree takes the step between two goals (UpdateGoal) is not standin
 waiting robot to a doorway on her way was read as standing in its way there, and backed out 3 m the way she
 came. A deliberate block is not standing still in this sense: a person whose tree's IsRobotBlocking holds this
 step stands in the robot's way on purpose, and stays; so does someone whose BlockRobot-type leaf (BlockRobot,
-ThreateningNav) holds them at their block point this step. Nor is a stand that answers the robot: a tree that,
-this step, stands them because the robot is there (LookAtRobot, or a standing leaf after IsRobotNearby /
-IsRobotClose / IsRobotVisible held) has said what they do about the robot - stay - and the rule does not overrule
-it (home_10: two friends whose trees watch the robot "and stay where they are" were walked 1-1.5 m away, and the
-robot drove through where the group stood while their stop criteria passed). This rule is for people whose tree
-does not react to the robot (idle, waiting, talking); if a stand the tree chose leaves the robot no way, the run
-shows the deadlock and the verifier judges it.
+ThreateningNav) holds them at their block point this step.
 
 When such a person is in the robot's way (side_step.in_robot_way: on its remaining path, a few metres ahead)
 and the robot has waited for ROBOT_WAITED s (the engine's clock.stalled: no progress along its route, standing
@@ -47,18 +41,9 @@ ROBOT_WAITED = 2.0  # s the robot has made no progress (clock.stalled) before a 
 BACK_SPEED = 0.6  # m/s at most, walking back to their spot once the robot has passed
 DELIBERATE = 1 << LEAF_NAMES.index("IsRobotBlocking")  # a succeeded-mask bit: standing in its way on purpose
 BLOCKS = (LEAF_NAMES.index("BlockRobot"), LEAF_NAMES.index("ThreateningNav"))  # leaves that block it on purpose
-LOOKS = LEAF_NAMES.index("LookAtRobot")  # a stand that attends to the robot
-SEES_ROBOT = sum(1 << LEAF_NAMES.index(n) for n in ("IsRobotNearby", "IsRobotClose", "IsRobotVisible"))  # mask bits
 HELD_GAP = 1.0  # m between bodies: a walker standing this close in front of the waiting robot is held up by it ...
 HELD_ANGLE = 1.0  # rad: ... when it is no farther than this off the way they walk
 NONE, STEPPING, HELD = 0, 1, 2  # p.makes_room: not, a person standing in its way, a walker held up by it
-
-
-@jit
-def stands_for_robot(p):  # noqa: ANN001, ANN201
-    """Person p's tree stands them this step because the robot is there: LookAtRobot, or a leaf that does not
-    walk them after a condition on the robot's presence held (their answer to the robot is to stay)."""
-    return p.action == LOOKS or ((p.succeeded & SEES_ROBOT) != 0 and p.action >= 0 and not p.action_moves)
 
 
 @jit
@@ -66,7 +51,7 @@ def stands_still(s, i, spot):  # noqa: ANN001, ANN201
     """Person i's tree keeps them at `spot` this step (no walk, or a walk to their last goal, at `spot`), and
     does not block the robot on purpose (at a goal others stand on: as close as they let them, state.queued_at)."""
     p = s.people[i]
-    if p.succeeded & DELIBERATE or p.action == BLOCKS[0] or p.action == BLOCKS[1] or stands_for_robot(p):
+    if p.succeeded & DELIBERATE or p.action == BLOCKS[0] or p.action == BLOCKS[1]:
         return False
     if not p.walks:
         return True
