@@ -46,17 +46,17 @@ PATHS = fixture_paths(FIXTURES)
 # from ahead) and two strict fails (a guest who left a doorway
 # for a spot on the robot's line, which the eyes let pass; a robot whose stop for a hand-over a side-step for a
 # passer-by broke, and which came 1.99 m from a place it must keep 2 m from).
+# home_10 agrees since the sixteenth session (lenient pass moved away): stops_near_robot of a stop that lasts while
+# the robot is near needs the person not to walk off while it still is (verify/stay.py); the two friends who were to
+# stay made room for the robot waiting in front of them at ~24.6 s, so round 1 fails; round 2 (the recorded second
+# answer: two friends give way, the third stays) fails as seen in its frames (the third backs ~1 m south-west at
+# ~24-26 s and the robot drives through 41) and the replay's loop then has no answer (its recording ended there).
 DISAGREE: dict[str, str] = {
     "home_05_serving_drinks_at_party": "strict FAIL (re-answered live in round 21; eyes round 29, on the fifteenth "
     "session's run: yes): the first pair at vh steps aside by itself as the robot comes out of the kitchen, the second "
     "pair at 41 moves only after the robot stops and says EXCUSE ME (~20 s) and stays aside; the robot delivers at ai "
     "(~1.5 m short of where the text stops it, one guest passed at ~0.2-0.3 m); the verifier fails both guests at vh "
     "stepping out of the robot's way (the replay's --verify loop then has no answer: its recording asked stage 2)",
-    "home_10_medication_past_chatting_friends": "lenient PASS (re-answered live in round 26; eyes round 29, on the "
-    "fifteenth session's run: no): the friend on the robot's side steps back into the doorway zv, the robot creeps "
-    "~1-1.5 m east of 41 for ~10 s, then the two friends who should stay put step 1-1.5 m away (~25 s: people standing "
-    "in the way of a robot that waits make room) and it drives through where the group stood; stops_near_robot sees "
-    "each of them stand 1 s, not stay while it goes round",
     "hospital_17_lead_students_to_nurse_station": "lenient PASS (round 22; eyes round 26: no): the patient waits "
     "facing the robot near zs ~8 s, then is boxed in by the bunched students ~15 s; the students never pass him one "
     "by one and only one of them ends with the robot at the nurse station (no criterion for the file, the pass or "

@@ -44,6 +44,8 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
   R1  the trigger held (the robot near / said the phrase) but the reaction never ran           -> behaviors(h)
       except: a hold (blocks_robot, stops_near_robot) whose reaction ran its whole `lasts` and was over
       before the robot was held there (the tree must keep the spec's `lasts`)                  -> spec
+  S1  (after R1's exceptions) a stop lasting while the robot is near: h stood, then walked off with it still near
+      (verify/stay.py): making room for the robot waiting in front of them -> spec; else       -> behaviors(h)
       except: a block whose `until` phrase a `blocked` cue says where the blocker stands, or
       (checked first) the robot within reach only after the encounter's window closed         -> spec
   R3  robot_reaches_goal failed, the robot ending still with nobody in its way, a cue of its script holding
@@ -100,6 +102,7 @@ from socnavgen.verify.models import Verdict
 from socnavgen.verify.people import blame_people
 from socnavgen.verify.runs import lasting
 from socnavgen.verify.signals import ROBOT_PHRASES, Signals, phrase_id, reaction_evidence
+from socnavgen.verify.stay import stay_broken
 from socnavgen.verify.stl import formula_signals
 from socnavgen.verify.thresholds import (
     APPROACH,
@@ -422,7 +425,7 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
         if kind != "follows_human" and s.get(f"dist_{h}").min() > reach:  # a follower of a person: rule F1
             return "paths", None, f"the robot never came within {reach:g} m of {h}"
         cause = (window_closed_early(cc, s, h, reach) or _missing_cause(cc, s, h, spec) or _spent(cc, s, spec, h)
-                 or ended_at_once(cc, s, spec, h))
+                 or stay_broken(cc, s) or ended_at_once(cc, s, spec, h))
         if cause:
             return cause
         if kind == "follows_human":

@@ -162,10 +162,26 @@ def _stops_near_robot(c: Criterion, ctx: Context, out: Compiled) -> None:
     # picker with its back to the robot that drove up behind it and stopped: warehouse_02). Beside or behind the
     # robot with h facing away is neither.
     front = f"({_b(f'ahead_{h}')} or {_b(f'inway_{h}')})"
+    stand = (f"(always[0:{seen_hold(STOP_HOLD, ctx.dt):g}] ((dist_{h} <= {d:g}) and {front} and "
+             f"(speed_{h} <= {STOP_SPEED:g})))")
     out.formula = (f"eventually ({_in_window(out)}(dist_{h} <= {notice:g}) and (closer_{h} >= {APPROACH:g}) and "
-                   f"(eventually[0:{s:g}] "
-                   f"(always[0:{seen_hold(STOP_HOLD, ctx.dt):g}] ((dist_{h} <= {d:g}) and {front} and "
-                   f"(speed_{h} <= {STOP_SPEED:g})))))")
+                   f"(eventually[0:{s:g}] {stand}))")
+    near = stays_while_near(out.part)
+    if near is not None:  # ... and once they stood, they do not walk off while the robot is still there (a later
+        # stand somewhere else, where they went, is no stay)
+        out.formula = (f"({out.formula}) and (always ((once ({_in_window(out)}{stand})) implies "
+                       f"((speed_{h} <= {WALK_SPEED:g}) or (dist_{h} > {min(d, near):g}))))")
+
+
+def stays_while_near(part: HumanPart | None) -> float | None:
+    """The distance within which a stop part keeps the person standing while the robot is there (a stop on
+    robot_near with no `lasts`: it lasts while the robot is near), else None (a timed stop, one on another
+    trigger, or no such part). stops_near_robot then also needs them not to walk off after their stand while the
+    robot is still within it (home_10: two friends who 'stay where they are' stood 1 s, then walked 1-1.5 m away
+    from the robot waiting in front of them, and the robot drove through where the group stood)."""
+    if part is None or part.reaction != "stop" or part.trigger != "robot_near" or part.lasts is not None:
+        return None
+    return part.distance if part.distance is not None else float("inf")
 
 
 def _reacts_after_phrase(c: Criterion, ctx: Context, out: Compiled) -> None:
@@ -421,10 +437,13 @@ CRITERION_KINDS: dict[str, CriterionKind] = {k.name: k for k in (
                   "((dist_h > D) and once met(h, e_before))))", "an approach at the place, its own meeting",
                   _meets),
     CriterionKind("stops_near_robot", "eventually ((dist_h <= max(D + 1, 3)) and (closer_h >= A) and "
-                  "eventually[0:S] always[0:0.5] (dist_h <= D and (ahead_h or inway_h) and speed_h <= 0.1))",
+                  "eventually[0:S] always[0:0.5] (dist_h <= D and (ahead_h or inway_h) and speed_h <= 0.1))  (a "
+                  "stop on robot_near without `lasts`, within N of its trigger: and always ((once stood) implies "
+                  "(speed_h <= 0.3 or dist_h > min(D, N))))",
                   "the robot came near (they approached), then h stood still 1 s in front of it (seen standing 0.5 s: "
                   "speeds are as seen, verify/perceived.py; facing it, or in "
-                  "its way)" + _IN_WINDOW,
+                  "its way); a stop lasting while the robot is near: from that stand on, h does not walk off while "
+                  "it is still within the stop's distance (verify/stay.py)" + _IN_WINDOW,
                   _stops_near_robot),
     CriterionKind("reacts_after_phrase", "eventually (not robot_says_P and always[0:H] not react_h_R and "
                   "eventually[0:H] robot_says_P and eventually[0:H+S] react_h_R)", "h shows no reaction for H s "

@@ -15,6 +15,7 @@ from socnavgen.verify.idle import idle_fact
 from socnavgen.verify.passing import back_in_way, short_step, undone
 from socnavgen.verify.people import people_evidence
 from socnavgen.verify.signals import Signals, aside
+from socnavgen.verify.stay import walk_off_text
 from socnavgen.verify.thresholds import (
     APPROACH,
     DEADLOCK_SECONDS,
@@ -262,6 +263,7 @@ def _human_evidence(cc: Compiled, s: Signals) -> Evidence:
             f"; never within {cc.distance:g} m"
         if kind == "stops_near_robot" and not (s.get(f"closer_{h}") >= APPROACH).any():
             text += "; the robot never came any closer than at the start"
+        text += walk_off_text(cc, s)
     elif kind == "hidden_until":
         reach = notice_range(cc.distance or 0.0)
         seen = _first((s.get(f"los_{h}") > 0.5) & (s.get(f"dist_{h}") <= reach))
