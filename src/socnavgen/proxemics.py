@@ -26,7 +26,9 @@ from typing import Any
 # -- margins of the corridor, metres beyond the two radii, one per use ----------------------------------
 WAY_MARGIN_DRIVE = 0.05  # the robot's own driving (waypoints, scripted, sfm): slows and stops for such a person
 WAY_MARGIN_SCRIPT = 0.1  # script cues and gesture rules `blocked`, `wait_until_clear` (sim.robot.script)
-WAY_MARGIN_VERIFY = 0.1  # the verifier's inway_<human>: gives_way, blocks_robot, deadlock
+WAY_MARGIN_VERIFY = 0.1  # the verifier's inway_<human>: gives_way, blocks_robot, deadlock; and so where someone who
+#   gives way walks: a person standing out of this corridor never walks into it on the way to their side-step spot
+#   (sim.people.side_step.OUT_OF_WAY)
 WAY_MARGIN_FOLLOW = 0.2  # a FollowRobot follower this close to the robot's remaining path steps aside first
 FRONT_CONE_SCRIPT = 0.6  # rad: "in front of the robot" for the script's `blocked` (noticing people coming)
 HELD_UP_DISTANCE = 3.0  # m centre to centre: someone in the robot's way this close holds it up, the ONE notion of

@@ -17,6 +17,9 @@ from socnavgen.sim.world.queries import free_along
 FOLLOW_WAY_AHEAD = 2.0  # m: a follower this close ahead of the robot, on its path, steps aside first
 FOLLOW_WAY_MARGIN = proxemics.WAY_MARGIN_FOLLOW  # m beside the robot's path that still counts as in its way
 GIVE_WAY_MARGIN = proxemics.GIVE_WAY_CLEARANCE  # m of free space between the person and the robot when aside
+OUT_OF_WAY = proxemics.WAY_MARGIN_VERIFY  # m beyond both radii from the robot's path: out of its way (the verifier's
+# corridor, inway/aside): a person standing outside it does not walk into it to get to a side-step spot (warehouse_22: a worker standing aside 0.87 m off the robot's next leg, made to make room as it turned at the
+# corner, crossed in front of it to the far side of that leg and stood in its way again)
 SIDE_STEP_DIRECTIONS = 16  # directions tried for the side step
 SIDE_STEP_MAX = 3.0  # m: the farthest a person walks to get out of the robot's way
 SIDE_STEP_SPACING = 0.1  # m: candidate spots every 0.1 m along each direction, from 0.1 m on
@@ -164,10 +167,13 @@ def short_of_robot(s, i, origin, u):  # noqa: ANN001, ANN201
 def side_spot(s, i, origin, prefer, want, seg, fallback):  # noqa: ANN001, ANN201
     """(rank, cost, spot) of the best spot a body walks to straight from `origin` within SIDE_STEP_MAX, not taken
     by someone else: rank 0 the nearest leaving `want` from the robot's upcoming path (straight toward `prefer`
-    preferred), rank 1 (none is that far) the one farthest from it (shorter walks preferred); rank 2: none."""
+    preferred), rank 1 (none is that far) the one farthest from it (shorter walks preferred); rank 2: none. From an
+    `origin` out of the robot's way (OUT_OF_WAY) only spots reached without walking into it count."""
     p = s.people[i]
     distances = s.work[0]
     found, best_rank, best_cost, best = False, 2, 0.0, origin
+    corridor = p.radius + s.robot[0].radius + OUT_OF_WAY
+    outside = path_distance(s, seg, fallback, origin) >= corridor  # standing out of its way: no walk back into it
     for j in range(SIDE_STEP_DIRECTIONS):
         u = prefer * SIDE_UNITS[j]
         room = min(free_along(s.world, origin, u, SIDE_STEP_MAX, p.radius), short_of_robot(s, i, origin, u))
@@ -178,6 +184,8 @@ def side_spot(s, i, origin, prefer, want, seg, fallback):  # noqa: ANN001, ANN20
         for m in range(count):  # spots every SIDE_STEP_SPACING along u, from SIDE_STEP_SPACING on
             spot = origin + u * (SIDE_STEP_SPACING * (m + 1))
             d = path_distance(s, seg, fallback, spot)
+            if outside and d < corridor:
+                break  # this spot and those beyond it are reached through the robot's way
             free = not taken(s, i, spot)
             if d >= want and free:
                 first_ok = m
