@@ -1,7 +1,7 @@
 """One goal point, several people: the first one there stands on it, the others stand round them.
 
 `aim` (people.routing.plan, for every walk to a goal, whatever tree node commands it): while someone else
-stands on the walker's goal point (within its goal radius), or is walking to it ahead of them, or the robot stands
+stands on the walker's last goal point (within its goal radius), or is walking to it ahead of them, or the robot stands
 on the last goal of their path (within the walker's passing gap of its body: people.avoid would hold them back
 there), the walker takes
 the nearest free spot beside it - on rings round the point, in sight of it, a body off the walls, a body and
