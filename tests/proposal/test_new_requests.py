@@ -41,16 +41,10 @@ PATHS = fixture_paths(FIXTURES)
 # round 27 answered live on the fourteenth session's code (home_19 and warehouse_20 again in round 28 on its back
 # check) and judged in round 27; the seven fixtures pinned before and five drawn at random (warehouse_01, home_02,
 # warehouse_07, warehouse_11, hospital_11) judged again on the fourteenth session's replay in round 26, where all five
-# drawn agreed and hospital_10, home_16 and warehouse_04 now agree (eyes no, yes, yes). Left: two lenient passes
-# (students that crowd round a patient instead of passing in file; toddlers said to trail the robot who come to it
-# from ahead) and two strict fails (a guest who left a doorway
-# for a spot on the robot's line, which the eyes let pass; a robot whose stop for a hand-over a side-step for a
-# passer-by broke, and which came 1.99 m from a place it must keep 2 m from).
-# home_10 agrees since the sixteenth session (lenient pass moved away): stops_near_robot of a stop that lasts while
-# the robot is near needs the person not to walk off while it still is (verify/stay.py); the two friends who were to
-# stay made room for the robot waiting in front of them at ~24.6 s, so round 1 fails; round 2 (the recorded second
-# answer: two friends give way, the third stays) fails as seen in its frames (the third backs ~1 m south-west at
-# ~24-26 s and the robot drives through 41) and the replay's loop then has no answer (its recording ended there).
+# drawn agreed and hospital_10, home_16 and warehouse_04 now agree (eyes no, yes, yes); six new requests of round 30
+# answered live on the sixteenth session's starting code and judged in round 30, and the eighteen fixtures whose final
+# run the sixteenth session's code changed by more than 0.6 m judged again in round 31 (home_22 and hospital_13 now
+# agree). Left: five lenient passes and four strict fails, each below with what was seen.
 DISAGREE: dict[str, str] = {
     "home_05_serving_drinks_at_party": "strict FAIL (re-answered live in round 21; eyes round 29, on the fifteenth "
     "session's run: yes): the first pair at vh steps aside by itself as the robot comes out of the kitchen, the second "
@@ -66,16 +60,34 @@ DISAGREE: dict[str, str] = {
     "comes ~1.3 m in front of it for ~4 s and goes back, the shift leader waits ~5 s behind it and walks round; the "
     "verifier fails 'never closer than 2 m to vj' (1.99 m as it turns, '>2 m' by eye); its stop passes since the "
     "fifteenth session (the robot's slide ~1 m south off the aisle for the leader during its wait holds the place)",
-    "home_22_folding_chair_past_arriving_friends": "strict FAIL (a new request of round 29; eyes round 28: yes): the "
-    "robot stops ~1.9 m short of vh saying PROCEED, the three friends come through the doorway z2 one after the other "
-    "and turn east, but linger just east of vh; after its 12 s wait the robot drives on before they reach the kitchen "
-    "(the judge saw it and called it a flaw); the spec's own criterion that it waits until all three are within 1 m of "
-    "the kitchen's 3y fails (1.8-2.6 m short)",
-    "warehouse_22_parcel_run_past_safety_briefing": "strict FAIL (a new request of round 29; eyes round 29 on the "
-    "fifteenth session's run: yes): the robot stops ~3.5 m before vj and says EXCUSE ME, the three make room, it "
-    "passes at ~0.3 m/s and turns west to the loading door (a ~0.25 m pass by the third, who moved into the cross "
-    "aisle); the verifier fails the second worker's giving way (in the robot's way again before it got past: she "
-    "stepped onto its next leg after its turn at vj)",
+    "warehouse_22_parcel_run_past_safety_briefing": "strict FAIL (a new request of round 29; eyes round 31, on the "
+    "sixteenth session's run: yes, 'with a flaw'): the robot stops ~3.5 m before vj and says EXCUSE ME, the three "
+    "step aside, it creeps through the gap ~1.3 m from two of them and turns west to the loading door; since the "
+    "sixteenth session the worker no longer crosses its next leg, but from ~55 s, after it has gone, two listeners "
+    "walk 3-4 m west along the cross aisle for no reason the text gives (the judge weighed it as after the central "
+    "events); the verifier fails the spec's group_together (5.65 m > 4 m)",
+    "home_10_medication_past_chatting_friends": "strict FAIL (re-answered live in round 26; eyes round 31, on the "
+    "sixteenth session's run: yes): the robot slows before the group, two friends step back, it passes ~1 m from the "
+    "third and reaches the bedroom; the judge saw the third 'mostly stay put (she shuffles about 0.5 m once)'; the "
+    "verifier sees her walk off at 24.2 s (0.36 m/s) with the robot 1.6 m away, and the spec's own 'always "
+    "moved_human3 < 0.5' fails",
+    "home_09_telepresence_grandma_kids_follow": "lenient PASS (re-answered live in round 19; eyes round 31, on the "
+    "sixteenth session's run: no): the two children stop on the hallway side of the bedroom doorway 2n from ~25 s "
+    "to the end, ~2 m from the robot, the brother right behind the robot and the girl behind him (the text has the "
+    "order the other way); the spec's follows and stops pass on the hallway",
+    "home_24_water_past_children_chasing": "lenient PASS (a new request of round 30; eyes rounds 30 and 31: no): the "
+    "robot waits ~2.8 m before 41 while the children run to the sofa corner, then sets off as they run back through "
+    "the room towards it and creeps ~8 s past a child standing by the dining table with ~0.3 m between the bodies; "
+    "its 'until' criterion held once both children were near ai (13.6 s) and no criterion bounds how close it "
+    "passes ('keeping well clear')",
+    "hospital_01_elevator_door_standoff": "lenient PASS (recorded in round 14; eyes round 31, on the sixteenth session's run: "
+    "no): the visitors stop facing the robot at the elevator door, give way on EXCUSE ME - both to the same side - "
+    "and the robot goes to the nurse station; the first visitor goes into the car, the second stops outside it at "
+    "8z to the end (her walk ends by the queue rule beside the one inside); no criterion sees the second get in",
+    "hospital_15_running_child_in_corridor": "lenient PASS (a new request of round 20; eyes round 31, on the sixteenth session's run: "
+    "no, 'borderline'): the robot stops at the south wall, waits for the child (passing ~1.05 m from it) and then "
+    "the parents and delivers to g3; the child brakes from ~1.8 to ~1 m/s passing the robot instead of running past "
+    "without slowing, and the parents walk one behind the other",
 }
 
 # Fixtures whose recorded answers never pass a stage (a stage check refuses them, or the recording ends where the
