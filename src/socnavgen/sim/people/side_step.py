@@ -17,8 +17,9 @@ from socnavgen.sim.world.queries import free_along
 FOLLOW_WAY_AHEAD = 2.0  # m: a follower this close ahead of the robot, on its path, steps aside first
 FOLLOW_WAY_MARGIN = proxemics.WAY_MARGIN_FOLLOW  # m beside the robot's path that still counts as in its way
 GIVE_WAY_MARGIN = proxemics.GIVE_WAY_CLEARANCE  # m of free space between the person and the robot when aside
-OUT_OF_WAY = proxemics.WAY_MARGIN_VERIFY  # m beyond both radii from the robot's path: out of its way (the verifier's
-# corridor, inway/aside): a person standing outside it does not walk into it to get to a side-step spot (warehouse_22: a worker standing aside 0.87 m off the robot's next leg, made to make room as it turned at the
+OUT_OF_WAY = proxemics.WAY_MARGIN_VERIFY  # m beyond both radii from the robot's path: out of its way (the
+# verifier's corridor, inway/aside): a person standing outside it does not walk into it to get to a side-step spot
+# (warehouse_22: a worker standing aside 0.87 m off the robot's next leg, made to make room as it turned at the
 # corner, crossed in front of it to the far side of that leg and stood in its way again)
 SIDE_STEP_DIRECTIONS = 16  # directions tried for the side step
 SIDE_STEP_MAX = 3.0  # m: the farthest a person walks to get out of the robot's way
