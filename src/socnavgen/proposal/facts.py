@@ -203,14 +203,12 @@ def pacing_text(detail: bool = True) -> str:
             f"at full speed. So put the interaction point where the encounter should happen and the person's start "
             f"where they wait (unseen, if they should appear suddenly): they come out as the robot arrives. {_narrow_pacing()} "
             f"Members of a group and people without an interaction point are never paced: they walk from the start."
-            + (f" Whom a let_pass cue stands for comes at their own speed. Someone who starts ON their interaction "
-               f"point stands there until the robot is about to arrive (a second or two before), then walks on along "
-               f"their path. Someone starting within "
-               f"{QUEUE_REACH:.1f} m of their interaction point while another person stands on it is paced there "
+            + (" Whom a let_pass cue stands for comes at their own speed. Someone who starts ON their interaction point "
+               "stands there until the robot is about to arrive (a second or two before), then walks on along their path. "
+               f"Someone starting within {QUEUE_REACH:.1f} m of their interaction point while another person stands on it is paced there "
                f"beside them (reached once they walk). On a route that passes the interaction point twice (a round trip [A, B, C, B, A]) pacing aims at "
-               "the robot's FIRST pass; once it has passed they walk at their own speed: to meet on the way back, "
-               "start them where walking at their own speed brings them there then, or meet at a node passed once."
-               if detail else ""))
+               "the robot's FIRST pass; once it has passed they walk at their own speed: to meet on the way back, start them "
+               "where walking at their own speed brings them there then, or meet at a node passed once." if detail else ""))
 
 
 def _narrow_pacing() -> str:
