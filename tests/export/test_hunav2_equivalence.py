@@ -46,8 +46,11 @@ KNOWN_DIVERGENT = {
     # eighth session (2026-11-27: the default robot brakes within 1.5 m/s2, goes round a group standing on its
     # waypoint, stops short of someone standing; followers queue; told by the verdicts, not looked at in frames)
     # (warehouse/pedestrian-obstruction's twins verify alike again since the fifteenth session: told by the verdicts)
-    "warehouse/robot-crowding": "the socrates and the 2.x crowds round the robot end differently (2.x's CuriousNav / "
-    "AvoidRobot followers against FollowRobot); not analysed finding by finding",
+    # (warehouse/robot-crowding's twins verify alike since the sixteenth session, and home/robot-crowding's do not:
+    # a point on a person's way that another reached first is walked through, not stood round; told by the verdicts)
+    "home/robot-crowding": "the socrates and the 2.x crowds of followers round the robot in the 1.2 m hallway end "
+    "differently (the socrates twin touches the plain waypoint robot: test_as_target KNOWN_LOST); not analysed "
+    "finding by finding",
 }
 
 
