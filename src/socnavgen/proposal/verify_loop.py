@@ -170,8 +170,9 @@ def routed(report: VerifyReport, spec: ScenarioSpec | None = None,
            paths_tried: frozenset[str] = frozenset()) -> dict[str, list[Finding]]:
     """The failing findings per stage to re-ask (REASK); findings no stage can fix are left out. The spec's own
     formula that fails by a hair (_near_miss: players' corrections went to stage 2, which cannot change a bound,
-    and came back unchanged) goes to stage 1 at once, and one that still fails after the paths were re-asked for it (`paths_tried`: criterion ids) goes to stage 1:
-    a re-asked stage 2 can only move people, the formula's thresholds are the spec's. So does any finding of an
+    and came back unchanged) goes to stage 1 at once, and one that still fails after the paths were re-asked for it
+    (`paths_tried`: criterion ids) goes to stage 1: a re-asked stage 2 can only move people, the formula's
+    thresholds are the spec's. So does any finding of an
     encounter stage 2 was re-asked for before (a criterion of it in `paths_tried`) that fails again: within its own
     rules stage 2 could not make that encounter happen (a guide who must meet the robot at its start), stage 1 can."""
     out: dict[str, list[Finding]] = {}

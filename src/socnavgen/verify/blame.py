@@ -44,10 +44,10 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
   R1  the trigger held (the robot near / said the phrase) but the reaction never ran           -> behaviors(h)
       except: a hold (blocks_robot, stops_near_robot) whose reaction ran its whole `lasts` and was over
       before the robot was held there (the tree must keep the spec's `lasts`)                  -> spec
-  S1  (after R1's exceptions) a stop lasting while the robot is near: h stood, then walked off with it still near
-      (verify/stay.py): making room for the robot waiting in front of them -> spec; else       -> behaviors(h)
       except: a block whose `until` phrase a `blocked` cue says where the blocker stands, or
       (checked first) the robot within reach only after the encounter's window closed         -> spec
+  R8  (after R1's exceptions) a stop lasting while the robot is near: h stood, then walked off with it still near
+      (verify/stay.py): making room for the robot waiting in front of them -> spec; else       -> behaviors(h)
   R3  robot_reaches_goal failed, the robot ending still with nobody in its way, a cue of its script holding
       it then (the trace's cue log; without one: the script has cues that can make it stand)  -> robot_script
   R5  ... and the cue log shows no cue holding it: the robot's own navigation (blame_end.py)  -> simulator

@@ -52,7 +52,7 @@ def walk_off_text(cc: Compiled, s: Signals) -> str:
 
 
 def stay_broken(cc: Compiled, s: Signals) -> Verdict | None:
-    """Rule S1: the person stood, then walked off while the robot was still near. Made room for the robot waiting
+    """Rule R8: the person stood, then walked off while the robot was still near. Made room for the robot waiting
     in front of them (the simulator's make-room, their tree still standing them) -> spec; their own tree walked
     them -> behaviors(h)."""
     found = walked_off(cc, s)
