@@ -20,6 +20,11 @@ X, Y, YAW, VX, VY, OMEGA = range(6)
 STATE_COLUMNS = ("x", "y", "yaw", "vx", "vy", "omega")
 
 
+# A person's behavior code, as the simulator keeps it (people's `behavior`) and the trace records it (behavior_state)
+REGULAR_BEHAVIOR = 0  # walking their own way (RegularNav) or standing
+ROBOT_BEHAVIOR = 1  # doing something about the robot (following, looking at, blocking, avoiding it)
+GIVE_WAY_BEHAVIOR = 2  # stepping aside for it (a tree's GiveWaytoRobot, or making room)
+
 @dataclass
 class Trace:
     dt: float
@@ -35,7 +40,7 @@ class Trace:
     succeeded: np.ndarray  # (T, H) int64 bitmask over node_names: leaves that returned SUCCESS this step
     human_gesture: np.ndarray  # (T, H) int8
     robot_gesture: np.ndarray  # (T,) int8
-    behavior_state: np.ndarray  # (T, H) int8 (0 regular, 1 robot-related, 2 give way)
+    behavior_state: np.ndarray  # (T, H) int8: REGULAR_BEHAVIOR, ROBOT_BEHAVIOR or GIVE_WAY_BEHAVIOR
     robot_goal: tuple[float, float] | None = None
     robot_waypoints: list[tuple[float, float]] = field(default_factory=list)
     end_reason: str = ""

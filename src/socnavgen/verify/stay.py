@@ -12,14 +12,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from socnavgen.sim.trace import GIVE_WAY_BEHAVIOR
 from socnavgen.verify.criteria import Compiled, stays_while_near
 from socnavgen.verify.models import Verdict
 from socnavgen.verify.perceived import seen_hold
 from socnavgen.verify.runs import lasting
 from socnavgen.verify.signals import Signals
 from socnavgen.verify.thresholds import STOP_HOLD, STOP_SPEED, WALK_SPEED
-
-MAKING_ROOM = 2  # the trace's behavior_state of someone giving way (a tree's GiveWaytoRobot, or making room)
 
 
 def walked_off(cc: Compiled, s: Signals) -> tuple[int, int, float] | None:
@@ -63,7 +62,7 @@ def stay_broken(cc: Compiled, s: Signals) -> Verdict | None:
     i = s.trace.human_names.index(h)
     when = f"stood from t={s.t[first]:.1f} s and walked off at t={s.t[k]:.1f} s with the robot {s.get(f'dist_{h}')[k]:.1f} m away"
     soon = k + int(round(STOP_HOLD / s.trace.dt)) + 1  # the walk is seen from speeds averaged round each step
-    if (s.trace.behavior_state[k:soon, i] == MAKING_ROOM).any():
+    if (s.trace.behavior_state[k:soon, i] == GIVE_WAY_BEHAVIOR).any():
         return ("spec", None,
                 f"{h} {when}, making room for the robot that waited in front of them (people standing in the way of "
                 f"a waiting robot step aside): the robot found no way round {h}, who is to stay while it passes; "

@@ -29,7 +29,7 @@ import numpy as np
 from socnavgen.bodies import PERSON_RADIUS
 from socnavgen.run.models import PathPlan
 from socnavgen.run.spec import ScenarioSpec
-from socnavgen.sim.trace import Trace
+from socnavgen.sim.trace import REGULAR_BEHAVIOR, Trace
 from socnavgen.verify.models import Finding, Source, VerifySettings
 from socnavgen.verify.thresholds import MOVED_DISTANCE, STOP_HOLD, WAY_REACH
 from socnavgen.verify.windows import encounters_of
@@ -124,7 +124,7 @@ def judge_way_in(way: WayIn, trace: Trace, settings: VerifySettings) -> Finding:
     arrival = _arrival(way, trace, i)
     came = f"reached {way.encounter} at {t[arrival]:.1f} s" if arrival < trace.steps - 1 else \
         f"never reached {way.encounter}"
-    turned = np.flatnonzero(trace.behavior_state[:, i] != 0)
+    turned = np.flatnonzero(trace.behavior_state[:, i] != REGULAR_BEHAVIOR)
     react = int(turned[0]) if len(turned) else None
     missed = _missed(way, trace, i, arrival)
     if missed is not None:

@@ -30,6 +30,7 @@ from socnavgen.sim.people.side_step import (
 from socnavgen.sim.people.spots import segment_distance
 from socnavgen.sim.people.state import ROUTE_ROBOT, ROUTE_STRAIGHT, stand, turn, walk_to, walk_to_goal
 from socnavgen.sim.people.trees import SUCCESS
+from socnavgen.sim.trace import GIVE_WAY_BEHAVIOR, REGULAR_BEHAVIOR, ROBOT_BEHAVIOR
 
 GIVE_WAY_ARRIVED = 0.15  # m
 ASIDE_RADIUS = 0.05  # m: the side-step target is reached within this
@@ -71,7 +72,7 @@ def follower_to_come(s, i):  # noqa: ANN001, ANN201
     walk = p.pos + ahead * (min(abs(ahead), CROSS_LOOK) / abs(ahead))
     for j in range(people.shape[0]):
         q = people[j]
-        if j == i or q.behavior != 1 or q.route != ROUTE_ROBOT or abs(q.pos - robot.pos) > FOLLOWER_REACH:
+        if j == i or q.behavior != ROBOT_BEHAVIOR or q.route != ROUTE_ROBOT or abs(q.pos - robot.pos) > FOLLOWER_REACH:
             continue
         way = robot.pos - q.pos
         if abs(way) < 1e-9:
@@ -122,8 +123,8 @@ def give_way(s, i):  # noqa: ANN001, ANN201
     their group: people.group_way), and when they have come no nearer their spot for ASIDE_PATIENCE s (someone
     stands in the way: home_05's guest stood short of his spot, inside the robot's lane, for 20 s)."""
     p = s.people[i]
-    if p.behavior != 2 or not p.gives_way:
-        p.behavior = 2
+    if p.behavior != GIVE_WAY_BEHAVIOR or not p.gives_way:
+        p.behavior = GIVE_WAY_BEHAVIOR
         p.gives_way = True
         plan_aside(s, i, False)
     if p.give_way_phase != RESUME and robot_has_passed(s, i, p.goal if p.has_goal else p.pos):
@@ -153,7 +154,7 @@ def give_way(s, i):  # noqa: ANN001, ANN201
 @jit
 def giving_way(p):  # noqa: ANN001, ANN201
     """Person p stepped aside (or is stepping aside) for the robot at the last step and it has not passed yet."""
-    return p.gives_way and p.behavior == 2 and p.give_way_phase != RESUME
+    return p.gives_way and p.behavior == GIVE_WAY_BEHAVIOR and p.give_way_phase != RESUME
 
 
 @leaf("RegularNav")
@@ -165,7 +166,7 @@ def regular_nav(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     p = s.people[i]
     if stays_aside(s, i):
         return SUCCESS
-    p.behavior = 0
+    p.behavior = REGULAR_BEHAVIOR
     if p.held:
         stand(s.people, i)
     else:
@@ -193,7 +194,7 @@ def run_away_from_robot(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
     group, home_10's friend) would otherwise hold them in the robot's way for good."""
     if s.people[i].give_way_phase == WAIT and stays_aside(s, i):
         return SUCCESS
-    s.people[i].behavior = 1
+    s.people[i].behavior = ROBOT_BEHAVIOR
     walk_to_goal(s.people, i, RUN_AWAY_SPEED, push_away(s, i, math.inf))
     return SUCCESS
 

@@ -17,6 +17,7 @@ import math
 
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.state import ROUTE_ROBOT, goal_reached, refresh_goal, turn, walk_to_goal
+from socnavgen.sim.trace import ROBOT_BEHAVIOR
 
 # m: the farthest a follower has to come in - the trail distance behind the robot (people.leaves.follow_trail, up to
 # 2 m) and a second follower in file behind the first (a body and the standing gap, ~1.1 m), with room to go round
@@ -42,7 +43,7 @@ def follow_in(s, i, leader):  # noqa: ANN001, ANN201
         p.queue_count, p.cyclic = 1, False
         s.goals[i, p.queue_start] = s.robot[0].goal
         refresh_goal(s.people, s.goals, i)
-    p.behavior = 1
+    p.behavior = ROBOT_BEHAVIOR
     if p.queue_count > 0 and not goal_reached(s.people, s.goals, i):
         p.coming = True
         walk_to_goal(s.people, i, p.max_speed, 0j)

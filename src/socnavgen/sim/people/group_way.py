@@ -38,6 +38,7 @@ from socnavgen.sim.people.side_step import (
     taken,
 )
 from socnavgen.sim.people.spots import segment_distance
+from socnavgen.sim.trace import GIVE_WAY_BEHAVIOR
 from socnavgen.sim.world.queries import free_along
 
 SLOT_STEP = 0.1  # m along the path between the slots tried for a member
@@ -85,7 +86,7 @@ def group_side(s, i, seg, fallback, want):  # noqa: ANN001, ANN201
         q = people[j]
         if q.group != p.group:
             continue
-        if j != i and q.gives_way and q.behavior == 2 and q.give_way_phase != RESUME and abs(q.aside - q.pos) > TIE:
+        if j != i and q.gives_way and q.behavior == GIVE_WAY_BEHAVIOR and q.give_way_phase != RESUME and abs(q.aside - q.pos) > TIE:
             foot, e = at_arc(s, seg, fallback, arc_of(s, seg, fallback, q.aside))
             return (1.0 if ((q.aside - foot) * e.conjugate()).imag >= 0 else -1.0), True
         centre += q.pos
@@ -168,7 +169,7 @@ def next_member(s, i, seg, fallback, want, done, done_j):  # noqa: ANN001, ANN20
     best, best_arc = -1, np.inf
     for j in range(people.shape[0]):
         q = people[j]
-        if q.group != p.group or (j != i and q.behavior == 2):
+        if q.group != p.group or (j != i and q.behavior == GIVE_WAY_BEHAVIOR):
             continue
         if path_distance(s, seg, fallback, q.pos) >= want:
             continue

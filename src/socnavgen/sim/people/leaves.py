@@ -34,6 +34,7 @@ from socnavgen.sim.people.state import (
     walk_to,
 )
 from socnavgen.sim.people.trees import FAILURE, SUCCESS, Port
+from socnavgen.sim.trace import ROBOT_BEHAVIOR
 
 LEAVES: dict[str, Callable] = {}
 BAD_PORT = -10  # a leaf's status BAD_PORT - column: the port in that column holds an unusable value
@@ -176,7 +177,7 @@ def make_gesture(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
 @jit
 def look_at_robot_step(s, i):  # noqa: ANN001, ANN201
     """Stand and turn toward the robot at LOOK_TURN_RATE."""
-    s.people[i].behavior = 1
+    s.people[i].behavior = ROBOT_BEHAVIOR
     beta = robot_bearing(s, i)
     limit = LOOK_TURN_RATE * s.clock[0].dt
     step = min(beta, limit) if beta > 0 else (max(beta, -limit) if beta < 0 else 0.0)
@@ -207,7 +208,7 @@ def follow(s, i, target, target_radius, route):  # noqa: ANN001, ANN201
     FOLLOW_SLOWING metres before FOLLOW_STOP (along the walkable way); stand facing it once that is slower than
     FOLLOW_MIN_SPEED."""
     p = s.people[i]
-    p.behavior = 1
+    p.behavior = ROBOT_BEHAVIOR
     _, r = head(s, i, target, route)
     speed = follow_speed(r, p.max_speed)
     if speed < FOLLOW_MIN_SPEED:
@@ -236,7 +237,7 @@ def beside(s, i, h):  # noqa: ANN001, ANN201
             p.has_spot = False
             return False
         p.has_spot, p.spot, p.spot_for = True, spot, q.pos
-    p.behavior = 1
+    p.behavior = ROBOT_BEHAVIOR
     if abs(p.spot - p.pos) <= REACH:
         d = q.pos - p.pos
         turn(s.people, i, math.atan2(d.imag, d.real))
@@ -272,7 +273,7 @@ def block(s, i, ahead):  # noqa: ANN001, ANN201
     arrives; she faces it walking once within BLOCK_FACE). Standing, she kept the heading she walked up with: the
     physiotherapist who came from the side to take the towel stood at 50 degrees to the robot (home_18, round 22)."""
     p = s.people[i]
-    p.behavior = 1
+    p.behavior = ROBOT_BEHAVIOR
     point = s.robot[0].pos + ahead * complex(math.cos(s.robot[0].yaw), math.sin(s.robot[0].yaw))
     away = abs(point - p.pos)
     if away <= BLOCK_RADIUS or (away <= BLOCK_HOLD and abs(p.vel) < STANDING):

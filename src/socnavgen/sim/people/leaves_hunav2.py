@@ -25,6 +25,7 @@ from socnavgen.sim.people.leaves import bad_port, block, human, leaf, look_at_ro
 from socnavgen.sim.people.routing import head
 from socnavgen.sim.people.state import ROUTE_ROBOT, turn, walk_to, walk_to_goal
 from socnavgen.sim.people.trees import FAILURE, RUNNING, SUCCESS, Port
+from socnavgen.sim.trace import ROBOT_BEHAVIOR
 
 
 @leaf("IsRobotClose")
@@ -51,7 +52,7 @@ def surprised_nav(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
 
 @jit
 def approach(s, i, target, radius, stop, max_speed, route):  # noqa: ANN001, ANN201
-    s.people[i].behavior = 1
+    s.people[i].behavior = ROBOT_BEHAVIOR
     _, r = head(s, i, target, route)
     if r <= stop:
         d = target - s.people[i].pos
@@ -95,6 +96,6 @@ def follow_agent(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
 
 @leaf("AvoidRobot")
 def avoid_robot(s, node, i, a):  # noqa: ANN001, ANN201, ARG001
-    s.people[i].behavior = 1
+    s.people[i].behavior = ROBOT_BEHAVIOR
     walk_to_goal(s.people, i, a[Port.runaway_vel], push_away(s, i, a[Port.safe_distance]))
     return timed(s, node, a[Port.duration])

@@ -34,6 +34,7 @@ from socnavgen.sim.people.give_way import ASIDE_RADIUS, GIVE_WAY_ARRIVED, robot_
 from socnavgen.sim.people.side_step import ASIDE, RESUME, SIDE_STEP_MAX, WAIT, in_robot_way, plan_side_step
 from socnavgen.sim.people.state import ROUTE_ROBOT, ROUTE_STRAIGHT, STANDING, queued_at, turn, walk_to
 from socnavgen.sim.people.trees import LEAF_NAMES
+from socnavgen.sim.trace import GIVE_WAY_BEHAVIOR, ROBOT_BEHAVIOR
 from socnavgen.sim.world.queries import line_of_sight
 from socnavgen.sim.world.spots import nearer_spot
 
@@ -99,10 +100,10 @@ def step_aside(s, i):  # noqa: ANN001, ANN201
         if p.makes_room == HELD or abs(p.room_home - p.pos) <= GIVE_WAY_ARRIVED:  # a walker walks on from there
             p.makes_room, p.gives_way = NONE, False
             return
-        p.behavior = 1
+        p.behavior = ROBOT_BEHAVIOR
         walk_to(s.people, i, p.room_home, ASIDE_RADIUS, min(p.max_speed, BACK_SPEED), ROUTE_STRAIGHT)
         return
-    p.behavior = 2
+    p.behavior = GIVE_WAY_BEHAVIOR
     if p.give_way_phase == ASIDE:
         # via aside_via as give_way.give_way walks: a tree that takes over this side step (RegularNav keeps
         # someone giving way aside) must not find aside_via still at the spot they left, and walk them back
@@ -150,11 +151,11 @@ def make_room(s, held):  # noqa: ANN001, ANN201
                 step_aside(s, i)
             else:  # the tree walks them elsewhere, or blocks the robot: it has the say again
                 p.makes_room = NONE
-        elif (waited and not (p.gives_way and p.behavior == 2 and p.give_way_phase != RESUME)  # not giving way
+        elif (waited and not (p.gives_way and p.behavior == GIVE_WAY_BEHAVIOR and p.give_way_phase != RESUME)  # not giving way
               and abs(p.vel) < STANDING and stands_still(s, i, p.pos)  # already (their tree's GiveWaytoRobot)
               and in_robot_way(s, i)):
             p.makes_room, p.room_home = STEPPING, p.pos
-            p.behavior, p.gives_way = 2, True
+            p.behavior, p.gives_way = GIVE_WAY_BEHAVIOR, True
             plan_side_step(s, i)
             step_aside(s, i)
         elif waited and not p.gives_way and held_up(s, i) and in_robot_way(s, i):
@@ -162,5 +163,5 @@ def make_room(s, held):  # noqa: ANN001, ANN201
             if abs(p.aside_via - p.pos) + abs(p.aside - p.aside_via) > SIDE_STEP_MAX:
                 continue  # no side step near: a walker does not back out far (in a corridor the robot backs out)
             p.makes_room, p.room_home = HELD, p.pos
-            p.behavior, p.gives_way = 2, True
+            p.behavior, p.gives_way = GIVE_WAY_BEHAVIOR, True
             step_aside(s, i)

@@ -32,6 +32,7 @@ import numpy as np
 from socnavgen import bodies, proxemics
 from socnavgen.sim.jit import jit
 from socnavgen.sim.records import layout, table
+from socnavgen.sim.trace import REGULAR_BEHAVIOR
 from socnavgen.sim.world.grid import World
 
 ETA, SOCRATES = 0, 1
@@ -189,12 +190,12 @@ def pace(s, pacing, cruise, waits, let_pass=-1, at_start=0.0):  # noqa: ANN001, 
             if p.queue_count == 0 or (p.queue_count == 1 and abs(p.goal - p.pos) <= p.goal_radius):
                 continue  # SocRATES sends no entry: the previous value stays
             next_is_node = pacing.goal_is_node[h, at] if 0 <= at < paced.goals else False
-            hold = (p.behavior == 0 and p.robot_distance > settings.release_distance
+            hold = (p.behavior == REGULAR_BEHAVIOR and p.robot_distance > settings.release_distance
                     and (next_is_node or paced.spawn_is_node) and k < node and not pacing.robot_goal_is_node[h, k])
         else:
             hold, speed = False, p.max_speed
             robot_left = 0.0 if k > node else abs(wps[k + 1] - rp) + s.offsets[node + 1] - s.offsets[k + 1]
-            if (p.behavior == 0 and p.queue_count > 0 and at >= 0 and (at <= paced.node_at or paced.spawn_is_node)
+            if (p.behavior == REGULAR_BEHAVIOR and p.queue_count > 0 and at >= 0 and (at <= paced.node_at or paced.spawn_is_node)
                     and robot_left > settings.robot_near):
                 if paced.spawn_is_node or at > paced.node_at:
                     human_left = abs(wps[node + 1] - p.pos)

@@ -22,6 +22,7 @@ from socnavgen.sim.people.neighbours import Grid, new_grid, span
 from socnavgen.sim.people.spacing import keep_apart
 from socnavgen.sim.people.spots import REACH as SPOT_REACH
 from socnavgen.sim.people.state import queued_at
+from socnavgen.sim.trace import REGULAR_BEHAVIOR
 from socnavgen.sim.world.queries import clearance_at, nearest_obstacle
 
 CONTACT_SWEEPS = 4  # passes of the contact step over the overlapping pairs, while one still moved someone
@@ -174,7 +175,7 @@ def environment(people, prm, world, robot_pos, robot_vel, social):  # noqa: ANN0
 def in_group_walk(p):  # noqa: ANN001, ANN201
     """A member takes part in its group's forces while it walks the group's walk (RegularNav to its goal); a
     member its tree makes do something else (run away, follow, give way, stand) leaves the group meanwhile."""
-    return p.group >= 0 and p.walks and p.to_goal and p.behavior == 0
+    return p.group >= 0 and p.walks and p.to_goal and p.behavior == REGULAR_BEHAVIOR
 
 
 @jit(inline=True)

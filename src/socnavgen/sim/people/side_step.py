@@ -12,6 +12,7 @@ import numpy as np
 from socnavgen import proxemics
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.routing import project, robot_progress
+from socnavgen.sim.trace import GIVE_WAY_BEHAVIOR
 from socnavgen.sim.world.queries import free_along
 
 FOLLOW_WAY_AHEAD = 2.0  # m: a follower this close ahead of the robot, on its path, steps aside first
@@ -130,7 +131,7 @@ def taken(s, i, spot):  # noqa: ANN001, ANN201
         if j == i:
             continue
         q = people[j]
-        where = q.aside if q.gives_way and q.behavior == 2 and q.give_way_phase != RESUME else q.pos
+        where = q.aside if q.gives_way and q.behavior == GIVE_WAY_BEHAVIOR and q.give_way_phase != RESUME else q.pos
         if abs(where - spot) < people[i].radius + q.radius + SPOT_ROOM:
             return True
     return False

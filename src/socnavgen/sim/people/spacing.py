@@ -25,6 +25,7 @@ from socnavgen.bodies import PERSON_KEEP_GAP, PERSON_STAND_GAP, STANDING
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people import neighbours
 from socnavgen.sim.people.state import ROUTE_ROBOT
+from socnavgen.sim.trace import ROBOT_BEHAVIOR
 
 SIDESTEP = 0.5  # of their desired speed: a walker blocked head-on by someone steps round them on the right this fast
 MOVING = 0.1  # m/s: someone walking away faster than this is followed, not stepped round
@@ -41,7 +42,7 @@ def fellow_followers(p, q):  # noqa: ANN001, ANN201
     behind q at the standing gap instead of stepping round them (home_03's second guest, told FOLLOW ME, walked
     back and forth for 4 s in the doorway behind the first one, who stood 1.3 m behind the robot; followers in
     file read as touching at 0.1 m)."""
-    return p.route == ROUTE_ROBOT and q.route == ROUTE_ROBOT and q.behavior == 1
+    return p.route == ROUTE_ROBOT and q.route == ROUTE_ROBOT and q.behavior == ROBOT_BEHAVIOR
 
 
 @jit(inline=True)
