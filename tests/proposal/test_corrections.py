@@ -153,3 +153,25 @@ def test_an_encounter_counts_as_tried_by_stage_2_only_once_stage_2_was_asked(tmp
     assert asked == [("scenario", None), ("paths", None), ("scenario", None), ("paths", None), ("scenario", None)]
     last = [m for s, k, m in llm.calls if s == "scenario"][-1][-1].content
     assert "the paths were changed for encounter e1 already" in last
+
+
+def test_each_correction_says_how_many_simulations_are_left(tmp_path, mini_location):
+    """Round 30's players asked which round they were in: the first correction (after simulation 1 of 3) says more
+    can follow, the second (after simulation 2) that the answer gets the last simulation."""
+    script = write_script(tmp_path / "s.yaml", {
+        "scenario": [scenario_reply(), scenario_reply()], "paths": [paths_reply()],
+        "behaviors": {"human1": [tree_reply(), tree_reply(LOOK_TREE)], "human2": [tree_reply()]}})
+    same = [_finding("behaviors", "human1")]
+    run, llm = run_replay(script, mini_location, tmp_path / "run", verify=True,
+                          verifier=_verifier(same, same, []))
+    assert isinstance(run, Run), run
+    tree_fix = [m for s, k, m in llm.calls if (s, k) == ("behaviors", "human1")][1][-1].content
+    spec_fix = [m for s, k, m in llm.calls if s == "scenario"][1][-1].content
+    assert "This was simulation 1 of at most 3. 2 more can follow" in tree_fix and "LAST" not in tree_fix
+    assert "This was simulation 2 of at most 3. Your answer gets the LAST simulation" in spec_fix
+
+
+def test_a_later_stage_is_told_it_may_keep_its_answer_for_stage_1():
+    """The keep-and-say-why escape (verify_loop.kept) is offered where a stage-2 or stage-3 correction is made."""
+    for stage in ("paths", "behaviors"):
+        assert "say why in your reasoning: stage 1 is then asked" in SCOPE[stage]

@@ -45,11 +45,15 @@ SCOPE: dict[str, str] = {
     "paths": ("This correction is for STAGE 2, the paths (your JSON object with the trajectories, group ids, "
               "interaction points and encounter nodes). Here you may change only where the robot and each person "
               "start, walk and end, and on which node each encounter happens; what anyone does, the robot's cues "
-              "and the criteria are stage 1's and stay as they are."),
+              "and the criteria are stage 1's and stay as they are. If only stage 1 can fix a finding (a speed, a "
+              "cue's trigger or distance, a reaction, a criterion's bound), answer with the same paths and say why "
+              "in your reasoning: stage 1 is then asked, with your words."),
     "behaviors": ("This correction is for STAGE 3, the behavior tree of $human (your JSON object with "
                   "\"reasoning\" and \"tree\"). Here you may change only what $human does and when (the nodes of "
                   "the tree); where people walk, what the robot does and the criteria belong to earlier stages and "
-                  "stay as they are. Answer with the tree, not with a scenario or paths."),
+                  "stay as they are. Answer with the tree, not with a scenario or paths. If no tree of $human can "
+                  "fix a finding, answer with the same tree and say why in your reasoning: stage 1 is then asked, "
+                  "with your words."),
 }
 UPSTREAM_NAMES = {"paths": "Stage 2 (the paths)"}
 MAX_SAID = 1500  # characters of a stage's own reasoning quoted to the stage it sends a finding to

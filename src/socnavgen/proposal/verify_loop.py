@@ -66,14 +66,29 @@ ALSO = ("Also failing in that simulation (another stage is asked about these if 
         "answer; they are shown so that you can fix what your stage causes in one go and not work against them):")
 
 
+def budget_text(simulated: int, total: int) -> str:
+    """How many simulations the loop has left after this answer (round 30's players asked which round they were in:
+    on the last one an answer should change what the findings name and nothing that passed)."""
+    left = total - simulated
+    if left <= 0:
+        return ""
+    head = f"This was simulation {simulated} of at most {total}. "
+    if left == 1:
+        return head + ("Your answer gets the LAST simulation: change what the findings above name, keep what passed "
+                       "(a change elsewhere can break it), and prefer the change that certainly fixes them.")
+    return head + f"{left} more can follow; each correction names what still fails."
+
+
 def _correction(findings: list[Finding], stage: str, human: str | None = None, repeat: str = "",
-                also: list[Finding] | None = None) -> str:
+                also: list[Finding] | None = None, budget: str = "") -> str:
     """The re-ask of `stage`: its own findings, and (`also`) what else failed in the same run for later stages, so
-    the model sees every failure at once, not one a round (round 26's player spent its three rounds so)."""
+    the model sees every failure at once, not one a round (round 26's player spent its three rounds so); `budget`:
+    how many simulations are left (budget_text)."""
     scope = SCOPE[stage].replace("$human", human or "this human")
     others = f"{ALSO}\n{bullet_list([describe(f) for f in also])}\n" if also else ""
+    tail = "\n".join(part for part in (repeat, budget) if part)
     return render("verify_correction.md", scope=scope, findings=bullet_list([describe(f) for f in findings]),
-                  repeat=others + repeat)
+                  repeat=others + tail)
 
 
 def _later(to_ask: dict[str, list[Finding]], stage: str) -> list[Finding]:
@@ -289,6 +304,7 @@ class _Repair:
         self.paths_tried: set[str] = set()  # criteria the paths stage was re-asked for (routed: then the spec's)
         self.sent: Sent = {}  # what each stage was last sent (escalated: the same findings came back)
         self.nodes = set(getattr(getattr(stages.location, "inventory", None), "nodes", None) or ())  # the map's
+        self.budget = ""  # budget_text of the round being repaired
 
     def answers(self) -> dict[tuple[str, str | None], object]:
         """Each later stage's answer as the simulation sees it (the paths' reasoning and the XML's layout aside)."""
@@ -328,13 +344,14 @@ class _Repair:
             self.scenario, _, self.paths, self.spec = self.stages.plan(
                 self.scenario, _ungrounded(self.spec),
                 correction=_correction(to_ask["paths"], "paths", repeat=notes.get(("paths", None), ""),
-                                       also=_later(to_ask, "paths")))
+                                       also=_later(to_ask, "paths"), budget=self.budget))
             if self.scenario is not scenario:  # stage 2 could not, stage 1 was asked: everything after it is new
                 self.sent, self.paths_tried = {k: v for k, v in self.sent.items() if k[0] == "scenario"}, set()
                 self.remake_trees()
                 return True
         if trees_to_fix:  # the blamed trees in the same round (on the new paths, if they changed)
-            corrections = {human: _correction(found, "behaviors", human, notes.get(("behaviors", human), ""))
+            corrections = {human: _correction(found, "behaviors", human, notes.get(("behaviors", human), ""),
+                                              budget=self.budget)
                            for human, found in sorted(trees_to_fix.items(), key=lambda kv: int(str(kv[0])[5:]))}
             sharing = twins(self.trees, self.spec, set(trees_to_fix))
             before = dict(self.trees)
@@ -352,7 +369,8 @@ class _Repair:
         it changed."""
         stages, run = self.stages, self.run
         old, old_nodes, paths = self.spec, _named_nodes(self.scenario, self.spec, self.nodes), self.paths
-        self.scenario, self.spec = stages.scenario(correction=_correction(found, "scenario", repeat=note, also=also))
+        self.scenario, self.spec = stages.scenario(correction=_correction(found, "scenario", repeat=note, also=also,
+                                                                             budget=self.budget))
         self.sent = {key: value for key, value in self.sent.items() if key[0] == "scenario"}  # later stages afresh
         if (_shape(self.spec) != _shape(old) or list(self.scenario.human_behaviors) != [h.name for h in paths.humans]
                 or _named_nodes(self.scenario, self.spec, self.nodes) != old_nodes):
@@ -408,6 +426,7 @@ def verify_and_repair(stages: Stages, scenario: ScenarioProposal, spec: Scenario
         if round_ == stages.policy.max_restarts:
             break
         recorder.progress(ProgressEvent(STAGE, None, "invalid", round_ + 1, message="; ".join(map(describe, failing))))
+        loop.budget = budget_text(round_ + 1, stages.policy.max_restarts + 1)
         if not loop.round(report):
             break
     recorder.set_status(STAGE, None, "failed")
