@@ -22,9 +22,10 @@ from socnavgen.bt.validate import validate_bt_text
 from socnavgen.errors import StageFailed
 from socnavgen.llm.base import LLM, ChatMessage
 from socnavgen.proposal.conversation import Outcome, Policy, Recorder, converse
-from socnavgen.proposal.facts import export_text, physical_facts_text
+from socnavgen.proposal.facts import physical_facts_text
 from socnavgen.proposal.fit import NOTHING, Cut, Note, examples_kept, fit_prompt
 from socnavgen.proposal.replies import BehaviorReply
+from socnavgen.proposal.target_facts import export_text
 from socnavgen.proposal.templates import render, template_data
 from socnavgen.proposal.tree_grammar import spec_tree_grammar
 from socnavgen.proposal.tree_needs import needs_text, tree_need_mistakes

@@ -16,32 +16,22 @@ from socnavgen.bodies import GROUP_SPAWN_RADIUS, group_ring
 from socnavgen.bt.library import (
     BLOCKING_DEGREES,
     HUMAN_GESTURES,
-    LIBRARY,
     ROBOT_GESTURES,
-    TARGETS,
     Target,
-    nodes_for_reaction,
-    nodes_for_trigger,
-    prompt_nodes,
 )
 from socnavgen.location.inventory import BLOCKING_WIDTH, PASS_WIDTH
+from socnavgen.proposal.target_facts import detected, export_text, latch_text
 from socnavgen.run.spec import (
     NEGATED_TRIGGERS,
     WAIT_THEN_GO_SECONDS,
     CueTrigger,
     Encounter,
-    HumanTrigger,
     Person,
-    Reaction,
     RobotCue,
     RobotScript,
     ScenarioSpec,
 )
 
-# Conditions of the library whose SUCCESS stays once reached (bt/library.py's "latching conditions"), by the
-# trigger they latch; any other trigger latches with LATCH_NODE (where the target keeps a RUNNING child).
-LATCHING_CONDITIONS: dict[str, str] = {"robot_says": "RobotSaid"}
-LATCH_NODE = "KeepRunningUntilFailure"
 # The rule for one person in several encounters, stated in stage 1 and stage 2 and checked by stage 2 (path_checks):
 # the verifier tells two meetings of one person apart by where they happen and the parting between them.
 TWO_ENCOUNTERS = ("One person in two encounters meets the robot twice, at two DIFFERENT nodes, and the two move apart "
@@ -281,29 +271,6 @@ def cue_once_text(detail: bool = True) -> str:
             f"it): {json.dumps(example)} waits 3 s each time the follower falls 5 m behind.{edge if detail else ''}")
 
 
-def latches_by_running(target: Target) -> bool:
-    """Whether `target` keeps a Sequence at its RUNNING child (BT.CPP's Sequence; a reactive one re-checks the
-    conditions before it every tick), so that LATCH_NODE after a condition keeps the reaction for good."""
-    keep, sequence = LIBRARY.get(LATCH_NODE), LIBRARY["Sequence"]
-    name = sequence.name if target == "socrates" else getattr(sequence, target, None)
-    row = LIBRARY.get(name or "")
-    return keep is not None and target in keep.targets and row is not None and not row.reactive
-
-
-def can_latch(trigger: str, target: Target = "socrates") -> bool:
-    return latching_node(trigger, target) is not None or latches_by_running(target)
-
-
-def latch_text(target: Target = "socrates") -> str:
-    if not any(can_latch(t, target) for t in get_args(HumanTrigger)):
-        return (f"- \"latch\" cannot be used: {target} re-checks every condition at each tick, so a reaction lasts "
-                f"while its trigger holds, or `lasts` seconds.")
-    return ("- \"latch\": true keeps a reaction going for good once its trigger fired (seen the robot once, it "
-            "said FOLLOW ME once): the trigger is not checked again. Without a latch a reaction lasts while its "
-            "trigger holds, or `lasts` seconds if set. With both, `lasts` wins: the reaction runs its `lasts` s once triggered, "
-            "whatever the trigger does, then they walk on for good.")
-
-
 def people_text(detail: bool = True) -> str:
     """Per-person facts of the spec (run/spec.py Person) and how one person's several parts combine; `detail` False
     (fit.py's `robot` cut) leaves out why a block can end at once (block_until_text)."""
@@ -380,7 +347,7 @@ def robot_limits_text(detail: bool = True, target: Target = "socrates") -> str:
                 "someone coming past).")
     if not detail:
         return limits
-    seen = [t for t in ("robot_near", "robot_visible", "robot_blocking") if _detected(t, target)]  # target offers
+    seen = [t for t in ("robot_near", "robot_visible", "robot_blocking") if detected(t, target)]  # target offers
     return (limits + let_pass + " By itself the robot passes people on one "
             "side where there is room, slows near them, and makes way for someone who must get past it (after "
             f"{ScriptedPolicy.patience:g} s face to face, a gap of {FACE_GAP:g} m or less, it backs off the way it "
@@ -425,38 +392,6 @@ def wait_until_clear_text() -> str:
             f"larger, whatever the trigger is (at_encounter, human_within, blocked alike; nobody ahead: it goes on "
             f"at once); still held after {CLEAR_PATIENCE:g} s it says its phrase again, {CLEAR_REPEATS} times "
             f"{CLEAR_PATIENCE:g} s apart (a cue without a phrase waits as long, silently), then drives around them")
-
-
-def export_text(target: Target | None = None, spec_words: bool = False) -> str:
-    """Which nodes each export target lacks (bt.library), or with `spec_words` which triggers and reactions
-    cannot run there, so that a model knows what will not export (with a `target` the prompts offer only
-    what it runs and say so themselves: nothing to add)."""
-    if target is not None:
-        return ""
-    lines = []
-    for t in TARGETS:
-        if spec_words:
-            lacks = [w for w in get_args(HumanTrigger) if w != "always" and not _detected(w, t)] + \
-                [r for r in get_args(Reaction) if not nodes_for_reaction(r, t)]
-        else:
-            lacks = missing_nodes(t)
-        if t != "socrates" and lacks:
-            lines.append(f"{t} lacks {', '.join(lacks)}")
-    if not lines:
-        return ""
-    return ("- Export: everything runs in the simulator and the SocRATES fork (--format socrates); "
-            + "; ".join(lines) + " (a scenario using them cannot be exported there).")
-
-
-def detecting_nodes(trigger: str, target: Target = "socrates") -> tuple[list[str], bool]:
-    """The library nodes that detect a spec trigger on `target`, and whether a tree inverts them (a negated
-    trigger of run/spec.py: robot_far is robot_near's condition inverted)."""
-    base = NEGATED_TRIGGERS.get(trigger)
-    return nodes_for_trigger(base or trigger, target), base is not None
-
-
-def _detected(trigger: str, target: Target) -> bool:
-    return bool(detecting_nodes(trigger, target)[0])
 
 
 def stl_text(signals: bool = True) -> str:
@@ -534,17 +469,3 @@ def starts_text() -> str:
             f"robot at an encounter's node stands at least {approach_room():g} m (straight) from where it starts "
             f"(a meeting counts only after an approach; more with a larger meets `distance`): \"right in front "
             f"of\" the robot's start means a node that far away, or the robot starts a node farther back.")
-
-
-def target_nodes(target: Target) -> list[str]:
-    return [name for name, spec in LIBRARY.items() if target in spec.targets]
-
-
-def missing_nodes(target: Target) -> list[str]:
-    """Nodes the prompts offer for the simulator that `target` cannot run."""
-    return [n.name for n in prompt_nodes() if target not in n.targets]
-
-
-def latching_node(trigger: str, target: Target = "socrates") -> str | None:
-    node = LATCHING_CONDITIONS.get(trigger)
-    return node if node is not None and node in nodes_for_trigger(trigger, target) else None

@@ -22,10 +22,8 @@ from socnavgen.proposal.conversation import Outcome, Policy, Recorder, converse
 from socnavgen.proposal.facts import (
     STATED_BY,
     cue_triggers_text,
-    detecting_nodes,
     follows_distance_text,
     follows_human_text,
-    missing_nodes,
     physical_facts_text,
     robot_vocabulary_text,
     scenario_rules_text,
@@ -48,6 +46,7 @@ from socnavgen.proposal.spec_checks import (
     spec_mistakes,
 )
 from socnavgen.proposal.stop_checks import stop_mistakes
+from socnavgen.proposal.target_facts import detecting_nodes, missing_nodes
 from socnavgen.proposal.templates import render, template_data
 from socnavgen.run import ScenarioProposal, ScenarioRequest
 from socnavgen.run.spec import CriterionKind, HumanTrigger, Reaction, ScenarioSpec

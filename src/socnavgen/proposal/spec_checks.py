@@ -17,8 +17,9 @@ from pydantic import BaseModel, ValidationError
 from socnavgen.bt.library import Target, nodes_for_reaction
 from socnavgen.location import Location
 from socnavgen.location.inventory import BLIND_MARGIN
-from socnavgen.proposal.facts import STATED_BY, can_latch, detecting_nodes, latching_node
+from socnavgen.proposal.facts import STATED_BY
 from socnavgen.proposal.replies import human_name
+from socnavgen.proposal.target_facts import can_latch, detecting_nodes, latching_node
 from socnavgen.run.spec import Criterion, Encounter, HumanPart, ScenarioSpec
 from socnavgen.verify.blame import contradictions, spec_problem
 from socnavgen.verify.stl import formula_problems

@@ -12,8 +12,8 @@ None and the generic grammar is used."""
 from __future__ import annotations
 
 from socnavgen.bt.library import LIBRARY, REGULAR_NAV_CALL, Target, nodes_for_reaction
-from socnavgen.proposal.facts import LATCH_NODE, detecting_nodes
 from socnavgen.proposal.gbnf import Chars, Grammar, Lit, Ref, Symbol, text_rules
+from socnavgen.proposal.target_facts import LATCH_NODE, detecting_nodes
 from socnavgen.proposal.tree_needs import TIMER, until_need, until_xml
 from socnavgen.run.spec import ScenarioSpec
 

@@ -37,13 +37,8 @@ from socnavgen.bt.library import (
 )
 from socnavgen.bt.model import Node, literal_text
 from socnavgen.errors import ValidationFailed
-from socnavgen.proposal.facts import (
-    LATCH_NODE,
-    detecting_nodes,
-    follower_turn_text,
-    latches_by_running,
-    latching_node,
-)
+from socnavgen.proposal.facts import follower_turn_text
+from socnavgen.proposal.target_facts import LATCH_NODE, detecting_nodes, latches_by_running, latching_node
 from socnavgen.run.spec import NEGATED_TRIGGERS, Encounter, HumanPart, ScenarioSpec
 
 TIMER = "TimeExpiredCondition"

@@ -111,8 +111,8 @@ class HumanPart(BaseModel):
 
     trigger: always | robot_visible (in line of sight within `distance`) | robot_near (within `distance`,
     walls or not) | robot_far (farther than `distance`: not robot_near) | robot_blocking (in its way within
-    `distance`) | robot_says `phrase` | robot_moving | human_says (`other` says `phrase`) | time (after
-    `seconds`).
+    `distance`) | robot_says `phrase` | robot_moving | human_says (`other` says `phrase`) | time (`seconds`
+    after the run starts, whatever happened before).
     reaction: walk_past | stop | look | give_way | follow (the robot) | block | avoid | say `says` |
     follow_human (`other`) | wait_then_go (stands `lasts` s, WAIT_THEN_GO_SECONDS unless set, then walks
     on) | join (a group).
