@@ -179,3 +179,24 @@ def test_no_way_in_for_a_person_who_starts_at_their_encounter() -> None:
     assert ways_in(plan, spec, points, {})[0].stated
     spec.people = {"human1": Person(otherwise="stand")}
     assert not ways_in(plan, spec, points, {})[0].walker
+
+
+def test_a_group_member_walking_beside_the_others_passes_a_corner_farther_off() -> None:
+    """Round 30 (warehouse_23): two carriers turning a corner as a group, one 1.6 m off its node, were failed for
+    'coming another way' at a lone walker's reach. A member's reach is wider by the group's circle; a lone walker
+    1.6 m off still misses it, and so does a member who went round the other way."""
+    spec = ScenarioSpec(encounters=[Encounter(id="e1", place="ROOM", node="c", humans=[
+        HumanPart(human="human1", trigger="robot_near", reaction="stop"),
+        HumanPart(human="human2", trigger="robot_near", reaction="stop")])])
+    points = {"a": A, "b": B, "c": C}
+
+    def plan(group: int) -> PathPlan:
+        return PathPlan(robot=["a", "c"], humans=[
+            HumanPlan(name=f"human{k}", path=["a", "b", "c"], group_id=group, interaction_point="c") for k in (1, 2)])
+
+    alone, pair = ways_in(plan(-1), spec, points, {}), ways_in(plan(0), spec, points, {})
+    assert pair[0].reach[1] > alone[0].reach[1] + 0.5, (pair[0].reach, alone[0].reach)
+    cut = [(0.0, *A), (8.0, 1.13, -8.87), (15.0, *C), (40.0, *C)]  # 1.6 m inside the corner at B
+    assert not judge_way_in(alone[0], _trace(cut, turns=14.0), SETTINGS).passed
+    assert judge_way_in(pair[0], _trace(cut, turns=14.0), SETTINGS).passed
+    assert not judge_way_in(pair[0], _trace(AROUND, turns=14.0), SETTINGS).passed  # round the other way

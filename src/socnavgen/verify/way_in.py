@@ -22,11 +22,12 @@ their encounter's node from somewhere else:
 from __future__ import annotations
 
 import math
+from collections import Counter
 from dataclasses import dataclass
 
 import numpy as np
 
-from socnavgen.bodies import PERSON_RADIUS
+from socnavgen.bodies import PERSON_RADIUS, group_ring
 from socnavgen.run.models import PathPlan
 from socnavgen.run.spec import ScenarioSpec
 from socnavgen.sim.trace import REGULAR_BEHAVIOR, Trace
@@ -53,10 +54,12 @@ class WayIn:
     stated: bool = False  # the spec states that walk (they are listed in its `people`): `walks` is then required
 
 
-def way_reach(clearance: float) -> float:
+def way_reach(clearance: float, members: int = 1) -> float:
     """How close a person passes a node of their way: anywhere in its free disc (its clearance, the free radius
-    round it: across an aisle, over an open area) with a body at its edge, and at least WAY_REACH."""
-    return max(WAY_REACH, clearance + PERSON_RADIUS)
+    round it: across an aisle, over an open area) with a body at its edge, and at least WAY_REACH; a member of a
+    group of `members` walks beside the others, up to the group's circle (bodies.group_ring) farther off (round 30:
+    a pair turning a corner cut it 1.6 m from the node, 0.2 m beyond a lone walker's reach, "another way")."""
+    return max(WAY_REACH, clearance + PERSON_RADIUS) + (group_ring(members) if members > 1 else 0.0)
 
 
 def ways_in(plan: PathPlan, spec: ScenarioSpec, node_points: dict[str, tuple[float, float]],
@@ -65,6 +68,7 @@ def ways_in(plan: PathPlan, spec: ScenarioSpec, node_points: dict[str, tuple[flo
     the paths) from another node (a person who starts at it has no way in to judge). `clearance`: each node's free
     radius (m); `authored`: the spec is spec.json, whose `people` say who walks (a derived one says nothing)."""
     out: list[WayIn] = []
+    groups = Counter(h.group_id for h in plan.humans if h.group_id >= 0)
     for h in plan.humans:
         found = encounters_of(spec, h.name)
         enc = found[0] if found else None
@@ -78,7 +82,7 @@ def ways_in(plan: PathPlan, spec: ScenarioSpec, node_points: dict[str, tuple[flo
         stated = walker and h.name in spec.people  # spec.json writes every listed person's `otherwise` out
         out.append(WayIn(human=h.name, encounter=enc.id, node=node, within=enc.within, nodes=nodes,
                          points=tuple(node_points[n] for n in nodes),
-                         reach=tuple(way_reach(clearance.get(n, 0.0)) for n in nodes), walker=walker, source=source,
+                         reach=tuple(way_reach(clearance.get(n, 0.0), groups.get(h.group_id, 1)) for n in nodes), walker=walker, source=source,
                          stated=stated))
     return out
 
