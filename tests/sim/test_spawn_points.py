@@ -53,3 +53,26 @@ def test_a_group_of_four_in_a_corridor_never_starts_on_one_spot(seed: int) -> No
     points = spawn_points(corridor, [node] * 4, [0] * 4, PERSON_RADIUS, np.random.default_rng(seed), 2.0 + 4j)
     assert min(abs(a - b) for a, b in itertools.combinations(points, 2)) - 2 * PERSON_RADIUS >= CONTACT_MARGIN - 1e-9
     assert all(corridor.is_free(p, PERSON_RADIUS) and abs(p - node) <= 1.5 + 1e-9 for p in points)
+
+
+@pytest.mark.parametrize("seed", range(20))
+def test_a_lone_person_starts_in_their_nodes_place_not_beside_the_next_node(seed: int) -> None:
+    """Round 30's visitor, told to stand in the hospital's 1.2 m doorway x5, was drawn 1.4 m off into the corridor
+    beside its node i1 (1.2 m away): a lone person's spot is no nearer another node of the scene graph than their
+    own (its cell); in an open room far from other nodes the spread stays 1.5 m."""
+    from pathlib import Path
+
+    from socnavgen.location import load_location
+    from socnavgen.sim import World
+
+    hospital = load_location(Path(__file__).resolve().parents[2] / "examples" / "locations" / "hospital")
+    nodes = {n: complex(*hospital.node_world(n)) for n in hospital.scene_graph.node_ids()}
+    world = World.from_location(hospital)
+    starts = spawn_points(world, [nodes["x5"], nodes["pf"]], [-1, -1], PERSON_RADIUS, np.random.default_rng(seed),
+                          landmarks=list(nodes.values()))
+    for node, spot in zip(("x5", "pf"), starts, strict=True):
+        own = abs(spot - nodes[node])
+        assert all(abs(spot - other) >= own - 1e-9 for other in nodes.values()), (node, spot)
+    room = empty_room(12.0, 8.0)  # one landmark 5 m off: the draw is the one without landmarks
+    assert spawn_points(room, [6 + 4j], [-1], PERSON_RADIUS, np.random.default_rng(seed), landmarks=[1 + 4j]) == \
+        spawn_points(room, [6 + 4j], [-1], PERSON_RADIUS, np.random.default_rng(seed))

@@ -64,7 +64,8 @@ def spawn_starts(location: Location, plan: PathPlan, seed: int) -> dict[str, tup
     nodes = [complex(*location.node_world(h.path[0])) for h in humans]
     robot = complex(*location.node_world(plan.robot[0])) if plan.robot else None
     points = spawn_points(World.from_location(location), nodes, [h.group_id for h in humans], PERSON_RADIUS,
-                          np.random.default_rng(seed), robot)
+                          np.random.default_rng(seed), robot,
+                          landmarks=[complex(*location.node_world(n)) for n in location.scene_graph.node_ids()])
     starts = {}
     for human, point in zip(humans, points, strict=True):
         goal = complex(*location.node_world(human.path[1] if len(human.path) > 1 else human.path[0])) - point

@@ -5,7 +5,7 @@ world coordinates via Location.node_world, people spawned around their first nod
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -40,11 +40,15 @@ DEFAULT_TREE = regular_walker_xml()
 
 
 def spawn_points(world: World, first_nodes: list[complex], group_ids: list[int], radius: float,
-                 rng: np.random.Generator, robot_start: complex | None = None) -> list[complex]:
+                 rng: np.random.Generator, robot_start: complex | None = None,
+                 landmarks: Sequence[complex] = ()) -> list[complex]:
     """SocRATES spawn: a random point within 1.5 m of the first node (groups spread evenly on a circle of
     bodies.group_ring); a point inside a wall, or less than bodies.INTIMATE_SPACE from the robot at
-    `robot_start` or from a body placed before (a group's own members: not touching), is redrawn closer to
-    the node each time, falling back to the node itself (placement keeps nodes clear of each other)."""
+    `robot_start` or from a body placed before (a group's own members: not touching), or (`landmarks`: every
+    node of the scene graph) nearer another node than its own, is redrawn closer to the node each time, falling
+    back to the node itself (placement keeps nodes clear of each other). A person starts at their node's place:
+    round 30's visitor on the phone, told to stand in a 1.2 m doorway, was drawn 1.4 m off into the corridor,
+    beside the next node."""
     members: dict[int, list[int]] = {}
     for k, g in enumerate(group_ids):
         if g != -1:
@@ -73,15 +77,23 @@ def spawn_points(world: World, first_nodes: list[complex], group_ids: list[int],
             angle = float(rng.uniform(0, 2 * math.pi))
             rho = float(rng.uniform(0, SPAWN_SPREAD))
         point = None
+        alone = g == -1 or len(members[g]) == 1
         for attempt in range(12):
             spot = node + rho * (0.7 ** attempt) * complex(math.cos(angle), math.sin(angle))
-            if world.is_free(spot, radius) and world.line_of_sight(node, spot)[0] and clear(spot, g):
+            if (world.is_free(spot, radius) and world.line_of_sight(node, spot)[0] and clear(spot, g)
+                    and (not alone or _in_cell(spot, node, landmarks))):
                 point = spot
                 break
         if point is None:  # no room where it was drawn (a group of four in a corridor): the nearest clear spot
             point = nearest_clear(world, node, radius, partial(free_of_others, node=node, g=g))
         out.append(point)
     return out
+
+
+def _in_cell(spot: complex, node: complex, landmarks: Sequence[complex]) -> bool:
+    """`spot` is no nearer any of `landmarks` than `node` (it lies in the node's Voronoi cell of the scene graph)."""
+    own = abs(spot - node)
+    return all(abs(spot - other) >= own for other in landmarks)
 
 
 SPAWN_SEARCH = (np.arange(0.0, SPAWN_SPREAD + 1e-9, 0.1), 24)  # radii (m) and directions tried for a free spot
@@ -123,7 +135,8 @@ def load_simulation(run_dir: Path | str | LoadedRun, policy: Any, config: SimCon
         raise ValidationFailed("cannot simulate this run:\n  " + "\n  ".join(problems), file=run.folder.paths_path)
     rng = np.random.default_rng(config.seed)
     starts = spawn_points(world, [complex(*at[h.path[0]]) for h in humans], [h.group_id for h in humans],
-                          PERSON_RADIUS, rng, complex(*at[plan.robot[0]]) if plan.robot else None)
+                          PERSON_RADIUS, rng, complex(*at[plan.robot[0]]) if plan.robot else None,
+                          landmarks=[complex(*xy) for xy in at.values()])
     spec = run.spec()
     traits = spec.people if spec is not None else {}
     specs = []
