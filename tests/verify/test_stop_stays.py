@@ -85,3 +85,25 @@ def test_blame_making_room_is_the_spec_and_a_tree_walk_the_tree() -> None:
     assert own is not None and own[:2] == ("behaviors", "human1")
     assert stay_broken(cc, _signals(None)) is None
     assert stay_broken(cc, _signals(11.0, robot_leaves=9.0)) is None
+
+
+def _spec_at(distance: float) -> ScenarioSpec:
+    """The stop gated at the criterion's own distance (round 32's home_26: both 2.5 m)."""
+    part = HumanPart(human="human1", trigger="robot_near", distance=distance, reaction="stop")
+    return ScenarioSpec(encounters=[Encounter(id="e1", place="CORRIDOR", humans=[part])],
+                        criteria=[Criterion(id="c1", kind="stops_near_robot", human="human1", encounter="e1",
+                                            distance=distance)])
+
+
+def test_setting_off_as_the_leaving_robot_crosses_the_stops_distance_passes() -> None:
+    """The robot (1.7 m off) drives away from t = 9 s at 1 m/s and is 2.5 m off at t = 9.9 s; a person whose stop is
+    gated at 2.5 m and sets off as it crosses (t = 9.8 s, 2.42 m: the tree's tick and the verifier's sample differ)
+    has stayed while it was near; one who walks at t = 9.3 s (1.97 m) has not."""
+    spec = _spec_at(2.5)
+
+    def robustness(walk_off: float) -> float:
+        return monitor(compile_criterion(spec.criteria[0], spec, VerifySettings(), 0.5, DT).formula,
+                       _signals(walk_off, robot_leaves=9.0)).robustness
+
+    assert robustness(9.8) > 0
+    assert robustness(9.3) < 0

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from socnavgen.sim.trace import GIVE_WAY_BEHAVIOR
-from socnavgen.verify.criteria import Compiled, stays_while_near
+from socnavgen.verify.criteria import Compiled, stay_reach, stays_while_near
 from socnavgen.verify.models import Verdict
 from socnavgen.verify.perceived import seen_hold
 from socnavgen.verify.runs import lasting
@@ -33,7 +33,7 @@ def walked_off(cc: Compiled, s: Signals) -> tuple[int, int, float] | None:
     stood = lasting((dist <= cc.distance) & (speed <= STOP_SPEED), seen_hold(STOP_HOLD, dt), dt)
     if not stood.any():
         return None
-    first, stay = int(np.argmax(stood)), min(cc.distance, near)
+    first, stay = int(np.argmax(stood)), stay_reach(cc.distance, near)
     walks = (speed > WALK_SPEED) & (dist <= stay) & (np.arange(len(dist)) > first)
     return (first, int(np.argmax(walks)), stay) if walks.any() else None
 
