@@ -160,3 +160,24 @@ def test_the_fork_node_publishes_each_change_of_gesture(scripted_run: Path, tmp_
     assert published == changes and len(published) >= 4
     with pytest.raises(SystemExit, match="usage"):
         node.main([])
+
+
+def test_an_at_node_cue_travels_with_its_node_and_plays_where_it_fired(scripted_run: Path, tmp_path: Path) -> None:
+    """A cue on a node of the robot's route (no encounter there): robot_script.yaml carries the node's world point,
+    and the player says it where the simulated robot did."""
+    import shutil
+
+    shutil.copytree(scripted_run.parent, tmp_path / "copy")  # the run and its location beside it
+    run = tmp_path / "copy" / scripted_run.name
+    at_node = RobotCue(trigger=CueTrigger(when="at_node", node="e", distance=4.0), say="ACKNOWLEDGED", hold=1.0)
+    RunFolder(run).write_spec(ScenarioSpec(script=RobotScript(speed=0.6, cues=[at_node]), encounters=[Encounter(
+        id="e1", place="NODE", node="x", humans=[HumanPart(human="human1"), HumanPart(human="human2")])]))
+    scene, _ = build_scene(run)
+    path = tmp_path / "robot_script.yaml"
+    path.write_text(script_yaml(scene))
+    data = yaml.safe_load(path.read_text())
+    assert data["cues"][0]["trigger"]["node"] == "e" and data["nodes"]["e"]["node"] == "e"
+    trace = simulate_run(run, save=False)
+    want = np.asarray(trace.robot_gesture)
+    assert 3 in set(want.tolist())  # said on the way to e
+    assert same_within_a_step(replay(ScriptPlayer(load_script(path)), trace), want)

@@ -1,6 +1,6 @@
-"""The new-request suite (tests/fixtures/new_requests/): 72 requests written by sessions that never read the
-code (24 per bundled location, half without a rough scenario: 24 of round 11, 12 of round 13, 6 of round 15, 6 of round
-20, 6 of round 22, 6 of round 27, 6 of round 29, 6 of round 30), answered by separate
+"""The new-request suite (tests/fixtures/new_requests/): 78 requests written by sessions that never read the
+code (26 per bundled location, half without a rough scenario: 24 of round 11, 12 of round 13, 6 of round 15, 6 of round
+20, 6 of round 22, 6 of round 27, 6 of round 29, 6 of round 30, 6 of round 32), answered by separate
 sessions playing a capable model through the real prompts (`generate --verify` against queue_openai.py), recorded as replay fixtures. Each
 fixture carries what a person saw in the GIF frames of its final answers (`eyes`). Replayed here through the
 real pipeline: every stage's first answer valid or corrected within its stage, and the verifier's verdict on the
@@ -102,12 +102,12 @@ REFUSED: dict[str, str] = {
 
 def test_the_suite_is_there_and_judged():
     names = [p.stem for p in PATHS]
-    assert len(names) == 72
+    assert len(names) == 78
     for location in ("home", "hospital", "warehouse"):
         mine = [p for p in PATHS if p.stem.startswith(location)]
-        assert len(mine) == 24
+        assert len(mine) == 26
         rough = [fixture_request(p, ROOT).rough for p in mine]
-        assert sum(r is None for r in rough) == 12  # half of them without a rough scenario
+        assert sum(r is None for r in rough) == 13  # half of them without a rough scenario
     for path in PATHS:
         data = load_yaml_file(path)
         assert data.get("verify_loop") is True, path.stem

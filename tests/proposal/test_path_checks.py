@@ -142,3 +142,19 @@ def test_a_robot_route_ending_in_a_doorway_between_two_spaces_is_refused():
     assert doorway(["cs", "zs", "i1"]) == []  # before it
     home = load_location(ROOT / "examples/locations/home")
     assert doorway(["41", "vh", "z2", "i6", "g9"], home) == []  # the front door: an outer door, one neighbour
+
+
+def test_an_at_node_cue_must_name_a_node_of_the_robots_route(graph):
+    """The robot waits at an `at_node` cue's node only if its route passes it: a node off the route, or none of the
+    map, is named, with the way out to stage 1."""
+    from socnavgen.run.spec import CueTrigger, RobotCue, RobotScript, ScenarioSpec
+
+    def spec(node: str) -> ScenarioSpec:
+        return ScenarioSpec(script=RobotScript(cues=[RobotCue(trigger=CueTrigger(when="at_node", node=node,
+                                                                                   distance=0.5), wait=5.0)]))
+
+    reply = PathsReply.model_validate(paths_reply())  # the robot 32 -> ch -> 11 -> 07
+    assert not [m for m in check_paths(reply, graph, HUMANS, spec("ch")) if "at node" in m]
+    off = [m for m in check_paths(reply, graph, HUMANS, spec("f7")) if "fires at node f7" in m]
+    assert off and "is not on the robot's path: route the robot through f7" in off[0]
+    assert any("which is not a node of the scene graph" in m for m in check_paths(reply, graph, HUMANS, spec("qq")))

@@ -65,8 +65,9 @@ def human(name: str = "human1", start=(2.0, 5.0), goals=((18.0, 5.0),), **kw) ->
 
 
 def make_sim(humans: list[HumanSpec], trees: list[str], robot_path, policy=None, world: World | None = None,  # noqa: ANN001
-             rules=None, script=None, pacing=None, encounters=None, **config) -> Simulation:  # noqa: ANN001
-    speech = RobotSpeech(script=script, rules=list(rules or []), encounter_points=dict(encounters or {}))
+             rules=None, script=None, pacing=None, encounters=None, nodes=None, **config) -> Simulation:  # noqa: ANN001
+    speech = RobotSpeech(script=script, rules=list(rules or []), encounter_points=dict(encounters or {}),
+                         node_points=dict(nodes or {}))
     return Simulation(world or empty_room(20.0, 10.0), humans, trees, list(robot_path), policy or Stay(),
                       SimConfig(**config), speech=speech, pacing=pacing)
 

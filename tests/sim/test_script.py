@@ -211,6 +211,25 @@ def test_at_encounter_and_blocked_cues_fire_where_they_say():
     assert [g for _, g, p in rows if 5.0 < p.real < 7.0] == [0] * len([1 for _, _, p in rows if 5.0 < p.real < 7.0])
 
 
+def test_an_at_node_cue_stands_the_robot_at_a_node_of_its_route_with_nobody_there():
+    """Round 30's and 32's players: a robot that pulls in at a node of its route to wait (a pickup) had no trigger
+    but a guessed time. `at_node` fires within `distance` of the node; its `wait` stands the robot there."""
+    script = RobotScript(cues=[RobotCue(trigger=CueTrigger(when="at_node", node="pick", distance=0.3), wait=3.0)])
+    sim = make_sim([human(start=(16.0, 8.0), goals=[(16.0, 8.0)])], [STANDING], [(2.0, 5.0), (8.0, 5.0), (14.0, 5.0)],
+                   policy=ScriptedPolicy(), script=script, nodes={"pick": 8.0 + 5.0j}, timeout=40)
+    rows = _run(sim, 500)
+    fired = [t for t, text in sim.cues.fired if text.startswith("at_node")]
+    assert len(fired) == 1
+    still = [t for t, _, p in rows if abs(p - (8.0 + 5.0j)) <= 0.35]
+    assert still[-1] - still[0] >= 3.0  # it stood at the node for the wait
+    assert rows[-1][2].real > 12.0  # then drove on
+
+
+def test_an_at_node_cue_names_its_node():
+    with pytest.raises(ValueError, match="names the `node`"):
+        CueTrigger(when="at_node", distance=0.5)
+
+
 def test_waiting_until_clear_asks_again_then_gives_up():
     """Someone who never moves out of the way: the robot waits, says its phrase again twice (every 8 s), then
     stops waiting and goes around - the script never becomes a deadlock."""

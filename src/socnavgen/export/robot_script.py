@@ -53,7 +53,7 @@ class ScriptFile(BaseModel):
     encounters: dict[str, Place] = Field(default_factory=dict)  # encounter id -> where (at_encounter cues)
     cues: list[RobotCue] = Field(default_factory=list, max_length=32)
     rules: list[RobotGestureRule] = Field(default_factory=list, max_length=32)
-    nodes: dict[str, Place] = Field(default_factory=dict)  # the nodes the rules name (at_node)
+    nodes: dict[str, Place] = Field(default_factory=dict)  # the nodes the rules and cues name (at_node)
 
     def script(self) -> RobotScript:
         return RobotScript(route=" -> ".join(p.node for p in self.route), speed=self.speed, cues=self.cues,
@@ -71,7 +71,8 @@ def script_file(scene: ExportScene) -> ScriptFile:
 
     encounters = {e.id: place(e.node) for e in (spec.encounters if spec else []) if e.node in scene.nodes}
     rules = list(scene.plan.robot_gestures)
-    nodes = {r.node: place(r.node) for r in rules if r.node in scene.nodes}
+    nodes = {n: place(n) for n in [r.node for r in rules] + [c.trigger.node for c in script.cues if c.trigger.node]
+             if n in scene.nodes}
     route = [scene.robot.start, *scene.robot.waypoints]
     return ScriptFile(scenario=scene.run_name, speed=script.speed, misbehave=script.misbehave, people=len(scene.humans),
                       route=[Place(node=p.node, x=metres(p.x), y=metres(p.y)) for p in route],

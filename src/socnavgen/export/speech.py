@@ -5,8 +5,8 @@ phrase, as seen from the person - an approximation, listed per node in the expor
 
     RobotSays(m)   -> the condition of every cue (spec.json) and gesture rule (paths.json) that says m, OR-ed:
                         blocked / rule blocked     the robot within the cue's distance, in view (IsRobotVisible)
-                        at_encounter               the same, for a person whose path goes through the
-                                                   encounter's node (else not heard: said elsewhere)
+                        at_encounter / at_node     the same, for a person whose path goes through the
+                                                   encounter's node or that node (else not heard: said elsewhere)
                         human_within (this person, anyone, or the person's group) / rule near_human
                                                    the robot within the distance (IsRobotNearby); said to
                                                    another person: not heard
@@ -111,13 +111,14 @@ class _Speech:
             return _window(start, cue.hold, latched), f"{trig.when} {start:g} s, held {cue.hold:g} s: the same time window"
         if trig.when == "blocked":
             return _visible(trig.distance), f"blocked within {trig.distance:g} m: the robot within {trig.distance:g} m, in view"
-        if trig.when == "at_encounter":
+        if trig.when in ("at_encounter", "at_node"):
             enc = self.scene.spec.encounter(trig.encounter or "") if self.scene.spec else None
-            if enc is None or enc.node not in self.human.path:
-                return None, (f"not heard when said at encounter {trig.encounter} ({enc.node if enc else '?'}), which "
-                              f"{self.human.name}'s path does not pass")
-            return _visible(trig.distance), (f"at encounter {trig.encounter} ({enc.node}) within {trig.distance:g} m: "
-                                             f"the robot within {trig.distance:g} m of {self.human.name}, in view")
+            node = trig.node if trig.when == "at_node" else enc.node if enc is not None else None
+            where = f"node {node}" if trig.when == "at_node" else f"encounter {trig.encounter} ({node or '?'})"
+            if node is None or node not in self.human.path:
+                return None, f"not heard when said at {where}, which {self.human.name}'s path does not pass"
+            return _visible(trig.distance), (f"at {where} within {trig.distance:g} m: the robot within "
+                                             f"{trig.distance:g} m of {self.human.name}, in view")
         if trig.when == "human_within":
             if trig.human in (None, self.human.name) or trig.human in self.group:
                 who = "anyone" if trig.human is None else trig.human

@@ -102,9 +102,11 @@ def physical_facts_text(scene_graph: bool = False) -> str:
         f"- How an encounter is checked: the robot and the human 'meet' when their centres are within "
         f"{meet.distance:g} m (or the criterion's `distance`) while the point halfway between them is within "
         f"the encounter's `within` ({meet.near:g} m by default) of the encounter's node, and only after an "
-        f"approach: both came {APPROACH:g} m closer to each other than at the start (a person waiting at the "
-        f"node: at least {approach_room():g} m from the robot's start, more with a larger meets `distance`: that "
-        f"+ {APPROACH:g} m). A group (humans listed "
+        f"approach: they are {APPROACH:g} m closer to each other than at the start, and EACH of them, the robot "
+        f"too, came {APPROACH:g} m closer to the node than where they started or started within `within` of it "
+        f"(a robot still standing at its start, a `wait` at `start`, meets nobody who walks up to it there; a person "
+        f"waiting at the node: at least {approach_room():g} m from the robot's start, more with a larger meets "
+        f"`distance`: that + {APPROACH:g} m). A group (humans listed "
         "together in a group_together criterion) is met where the robot meets any member: members stepping "
         "aside is their reaction; a `meets` criterion may name the group's `humans`.",
         _follow_fact(b.robot_speed),
@@ -333,8 +335,11 @@ def _negations(detail: bool = True) -> str:
     the first step: a round-10 player's guide stood at her start while the robot was far away)."""
     start = (", from t = 0 when the robot starts farther away: a guide whose stop is on it stands at their start "
              "until the robot comes within `distance`") if detail else ""
+    near = (" Alike, robot_near and robot_visible hold from t = 0 for someone who starts within their `distance` "
+            "of the robot's start: the reaction begins at once, before anyone moved (start them farther, or gate it "
+            "on something that happens later)." if detail else "")
     return " ".join(f"{neg} holds exactly when {base} does not (a guide waits while the robot is farther than "
-                    f"`distance`{start})." for neg, base in NEGATED_TRIGGERS.items())
+                    f"`distance`{start})." for neg, base in NEGATED_TRIGGERS.items()) + near
 
 
 def robot_limits_text(detail: bool = True, target: Target = "socrates") -> str:

@@ -97,6 +97,7 @@ def check_paths(reply: PathsReply, graph: nx.Graph, humans: list[str], spec: Sce
     if spec is not None:
         mistakes += _encounter_mistakes(reply, graph, spec, robot, paths, points)
         mistakes += _standing_stop_mistakes(reply, spec, paths)
+        mistakes += _cue_node_mistakes(spec, graph, robot)
         if location is not None:
             mistakes += _stands_away_mistakes(reply, spec, location, paths)
         if behaviors:
@@ -218,6 +219,23 @@ def _standing_stop_mistakes(reply: PathsReply, spec: ScenarioSpec, paths: dict[s
                         f"at node {node} of encounter {enc.id} from the start: someone who stands already shows no "
                         f"{c.reaction}. Let {c.human} walk in to {enc.id}, or check what the prose says with another "
                         f"criterion (e.g. stops_near_robot)")))
+    return mistakes
+
+
+def _cue_node_mistakes(spec: ScenarioSpec, graph: nx.Graph, robot: list[str]) -> list[str]:
+    """An `at_node` cue fires where the robot comes near that node: it must be a node of the robot's route."""
+    mistakes: list[str] = []
+    for k, cue in enumerate(spec.script.cues, 1):
+        node = cue.trigger.node if cue.trigger.when == "at_node" else None
+        if node is None or node in robot:
+            continue
+        where = "is not a node of the scene graph" if node not in graph else "is not on the robot's path"
+        mistakes.append(Upstream(
+            f"cue {k} of the robot's script fires at node {node}, which {where}: route the robot through {node}; if "
+            f"the scenario has it wait elsewhere, keep your answer and say so: stage 1 is then asked",
+            key=f"cue_node:{k}:{node}", upstream=(
+                f"cue {k} of the robot's script (at_node {node}) names a node that {where}: name a node of the "
+                f"robot's route (the route is stage 2's, and it goes where the scenario says)")))
     return mistakes
 
 

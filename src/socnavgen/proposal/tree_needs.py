@@ -231,6 +231,7 @@ def script_text(spec: ScenarioSpec) -> str:
     for cue in spec.script.cues:
         t = cue.trigger
         when = {"start": "at the start", "at_encounter": f"within {t.distance:g} m of encounter {t.encounter}",
+                "at_node": f"within {t.distance:g} m of node {t.node} of its route",
                 "blocked": f"when someone is in its way within {t.distance:g} m",
                 "human_within": f"when {t.human or 'anyone'} is within {t.distance:g} m",
                 "human_farther": f"when {t.human or 'anyone'} is farther than {t.distance:g} m",

@@ -38,6 +38,8 @@ class CueTrigger(BaseModel):
 
     start         at t = 0
     at_encounter  the robot is within `distance` of the node of encounter `encounter`
+    at_node       the robot is within `distance` of `node`, a node of its own route (it pulls in and waits there,
+                  with nobody to meet: a pickup, a look round a corner)
     blocked       a person, standing or walking, is within `distance` ahead of the robot, in its way
     human_within  `human` (any human when not given) is within `distance` of the robot
     human_farther `human` (any human when not given) is farther than `distance` from the robot (a guide waits for a slow follower)
@@ -46,8 +48,10 @@ class CueTrigger(BaseModel):
     """
 
     model_config = ConfigDict(extra="forbid")
-    when: Literal["start", "at_encounter", "blocked", "human_within", "human_farther", "human_says", "after"]
+    when: Literal["start", "at_encounter", "at_node", "blocked", "human_within", "human_farther", "human_says",
+                  "after"]
     encounter: str | None = None
+    node: str | None = Field(default=None, pattern=r"^[A-Za-z0-9_]{1,32}$")  # for at_node: a node of the robot's route
     human: str | None = None
     phrase: HumanPhrase | None = None
     distance: float = Field(default=1.5, gt=0, le=50)
@@ -62,6 +66,8 @@ class CueTrigger(BaseModel):
     def _needs(self) -> CueTrigger:
         if self.when == "at_encounter" and not self.encounter:
             raise ValueError("a cue `at_encounter` names its `encounter` (e1, e2, ...)")
+        if self.when == "at_node" and not self.node:
+            raise ValueError("a cue `at_node` names the `node` of the robot's route it is at")
         if self.when == "human_says" and not self.phrase:
             raise ValueError("a cue `human_says` names the `phrase` it waits for")
         return self

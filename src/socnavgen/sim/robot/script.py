@@ -54,8 +54,8 @@ INTO_WAY = proxemics.STANDING_SPEED  # m/s toward the robot's route: someone wal
 INTO_WAY_LOOK = 1.0  # s: ... and is in its way already where they will be this soon
 
 START, AFTER, AT_ENCOUNTER, BLOCKED, HUMAN_WITHIN, HUMAN_SAYS, HUMAN_FARTHER = range(7)
-TRIGGERS = {"start": START, "after": AFTER, "at_encounter": AT_ENCOUNTER, "blocked": BLOCKED,
-            "human_within": HUMAN_WITHIN, "human_farther": HUMAN_FARTHER, "human_says": HUMAN_SAYS}
+TRIGGERS = {"start": START, "after": AFTER, "at_encounter": AT_ENCOUNTER, "at_node": AT_ENCOUNTER,  # both: near a point
+            "blocked": BLOCKED, "human_within": HUMAN_WITHIN, "human_farther": HUMAN_FARTHER, "human_says": HUMAN_SAYS}
 ALWAYS, NEAR_HUMAN = 7, 8  # gesture rules' own conditions (`blocked` and `at_node` are shared)
 RULE_WHEN = {"always": ALWAYS, "at_node": AT_ENCOUNTER, "near_human": NEAR_HUMAN, "blocked": BLOCKED}
 FIRED, ASKED_AGAIN, GAVE_UP, WENT_BY = 0, 1, 2, 3  # events of the cue log
@@ -127,7 +127,7 @@ def lower_script(script: RobotScript | None, encounter_points: dict[str, complex
     table_ = table(CUE, len(cues))
     for k, cue in enumerate(cues):
         trig, row = cue.trigger, table_[k]
-        point = encounter_points.get(trig.encounter or "")
+        point = node_points.get(trig.node or "") if trig.when == "at_node" else encounter_points.get(trig.encounter or "")
         row.when, row.who = TRIGGERS[trig.when], human_index(trig.human, people)
         row.phrase = HUMAN_PHRASE_CODE.get(trig.phrase or "", -1)
         row.say = ROBOT_PHRASE_CODE[cue.say] if cue.say else 0
