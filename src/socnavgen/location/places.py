@@ -10,11 +10,14 @@ import math
 import re
 from dataclasses import dataclass
 from functools import cached_property
+from typing import TYPE_CHECKING
 
-import networkx as nx
 import numpy as np
 
 from socnavgen.location import Location
+
+if TYPE_CHECKING:
+    import networkx as nx
 
 # Word families (whole words of a type name, lower case).
 KEYWORDS: dict[str, tuple[str, ...]] = {
