@@ -10,14 +10,10 @@ import math
 import re
 from dataclasses import dataclass
 from functools import cached_property
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from socnavgen.location import Location
-
-if TYPE_CHECKING:
-    import networkx as nx
 
 # Word families (whole words of a type name, lower case).
 KEYWORDS: dict[str, tuple[str, ...]] = {
@@ -63,7 +59,7 @@ class PlaceFinder:
 
     def __init__(self, location: Location) -> None:
         self.location = location
-        self.graph: nx.Graph = location.graph
+        self.graph = location.graph
         self.mpp = location.transform.meters_per_pixel
 
     @cached_property
