@@ -536,10 +536,6 @@ def starts_text() -> str:
             f"of\" the robot's start means a node that far away, or the robot starts a node farther back.")
 
 
-def target_nodes(target: Target) -> list[str]:
-    return [name for name, spec in LIBRARY.items() if target in spec.targets]
-
-
 def missing_nodes(target: Target) -> list[str]:
     """Nodes the prompts offer for the simulator that `target` cannot run."""
     return [n.name for n in prompt_nodes() if target not in n.targets]
