@@ -126,3 +126,23 @@ def test_metrics_json_carries_units_and_definitions(tmp_path: Path) -> None:
     assert definitions["minimum_distance_to_people"]["unit"] == "m"
     assert definitions["collisions"]["unit"] and definitions["path_efficiency"]["formula"]
     assert "path_irregularity" in data and "static_obstacle_collisions" in data
+
+
+def test_the_trajectory_figure_is_drawn_once_when_written(crowd_run: Path, tmp_path: Path,
+                                                          monkeypatch: pytest.MonkeyPatch) -> None:
+    """Writing the figure renders it once: tight_layout's leftover layout engine made savefig draw everything
+    (map resampling, every text's layout) a second time first, a third of the plot's time."""
+    from matplotlib.figure import Figure
+
+    from socnavgen.run import RunFolder
+    from socnavgen.sim.outputs.plot import plot_trajectories
+    from socnavgen.sim.trace import Trace
+
+    draws = []
+    draw = Figure.draw
+    monkeypatch.setattr(Figure, "draw", lambda fig, renderer: (draws.append(fig), draw(fig, renderer))[1])
+    run = RunFolder(crowd_run)
+    for fmt in ("png", "svg"):
+        draws.clear()
+        out = plot_trajectories(Trace.load(run.sim_dir / "trace.npz"), run.location(), tmp_path / f"t.{fmt}")
+        assert out.stat().st_size > 1000 and len(draws) == 1, (fmt, len(draws))

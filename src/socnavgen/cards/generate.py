@@ -85,7 +85,7 @@ def _plan(placement: Placement, location: Location) -> PathPlan:
     plan = PathPlan(reasoning=f"scenario card {placement.card.name} placed at {placement.place.node}: "
                               f"{placement.place.evidence}",
                     robot=placement.robot, humans=humans, robot_gestures=placement.card.robot_gestures)
-    mistakes = plan_mistakes(plan, location.graph)
+    mistakes = plan_mistakes(plan, location.scene_graph)
     if mistakes:  # a generator bug: say so loudly rather than write a broken run
         raise ValidationFailed("card generator produced invalid paths: " + "; ".join(mistakes))
     return plan

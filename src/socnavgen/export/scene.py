@@ -46,7 +46,7 @@ def skin_for(agent_id: int) -> int:
 
 
 def _check_nodes(plan: PathPlan, location: Location, run: RunFolder) -> None:
-    bad = plan_mistakes(plan, location.graph, interaction_points=False)
+    bad = plan_mistakes(plan, location.scene_graph, interaction_points=False)
     if bad:
         raise ValidationFailed("paths.json does not fit the location's scene graph: " + "; ".join(bad),
                                file=run.paths_path, hint="was the run generated on another location?")

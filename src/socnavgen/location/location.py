@@ -8,7 +8,6 @@ from functools import cached_property
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-import networkx as nx
 import numpy as np
 from pydantic import ValidationError
 
@@ -21,6 +20,8 @@ from socnavgen.location.transform import Transform
 from socnavgen.safeio import contained_path, load_yaml_file
 
 if TYPE_CHECKING:
+    import networkx as nx
+
     from socnavgen.location.inventory import PlaceInventory
 
 LOCATION_FILE = "location.yaml"

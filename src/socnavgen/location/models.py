@@ -109,3 +109,9 @@ class SceneGraph(BaseModel):
 
     def node_ids(self) -> list[str]:
         return [n.id for n in self.nodes]
+
+    def __contains__(self, node_id: object) -> bool:  # what path_mistakes asks, without building networkx's view
+        return any(n.id == node_id for n in self.nodes)
+
+    def has_edge(self, a: str, b: str) -> bool:
+        return any({e.source, e.target} == {a, b} for e in self.links)

@@ -11,7 +11,6 @@ import re
 from dataclasses import dataclass
 from functools import cached_property
 
-import networkx as nx
 import numpy as np
 
 from socnavgen.location import Location
@@ -60,7 +59,7 @@ class PlaceFinder:
 
     def __init__(self, location: Location) -> None:
         self.location = location
-        self.graph: nx.Graph = location.graph
+        self.graph = location.graph
         self.mpp = location.transform.meters_per_pixel
 
     @cached_property

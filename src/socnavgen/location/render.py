@@ -142,17 +142,12 @@ def place_labels(centres: dict[str, tuple[float, float]], sizes: dict[str, tuple
     return boxes, thinned
 
 
-def render_scene_graph(gray: np.ndarray, graph: SceneGraph, schema: Schema, *, title: str = "",
-                       metres_per_pixel: float | None = None) -> Image.Image:
-    """The map (grey levels kept, cropped to its mapped part), edges as coloured lines, nodes as
-    labelled boxes that never overlap, a legend on the right."""
-    return render_with_layout(gray, graph, schema, title=title, metres_per_pixel=metres_per_pixel)[0]
-
-
 def render_with_layout(gray: np.ndarray, graph: SceneGraph, schema: Schema, *, title: str = "",
                        metres_per_pixel: float | None = None,
                        picture: np.ndarray | None = None) -> tuple[Image.Image, Layout]:
-    """`picture`: the map in colour (an overhead view, same size as `gray`), drawn instead of the grey levels."""
+    """The map (grey levels kept, cropped to its mapped part), edges as coloured lines, nodes as labelled boxes
+    that never overlap, a legend on the right; `picture`: the map in colour (an overhead view, same size as
+    `gray`), drawn instead of the grey levels."""
     crop = known_crop(gray, graph)
     x0, y0, x1, y1 = crop
     view = gray[y0:y1, x0:x1]

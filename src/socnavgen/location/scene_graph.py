@@ -8,13 +8,16 @@ import secrets
 import string
 from collections.abc import Iterable
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-import networkx as nx
 from pydantic import ValidationError
 
 from socnavgen.errors import InputFileError
 from socnavgen.location.models import SceneGraph
 from socnavgen.safeio import atomic_write_text, load_json_file
+
+if TYPE_CHECKING:
+    import networkx as nx
 
 ID_ALPHABET = string.ascii_lowercase + string.digits
 
@@ -60,6 +63,8 @@ def write_scene_graph(graph: SceneGraph, path: Path) -> None:
 
 def to_networkx(graph: SceneGraph) -> nx.Graph:
     """Undirected graph with node attrs type/pos and edge attrs type/length (pixels)."""
+    import networkx as nx  # ~0.1 s: not imported by what only simulates
+
     g = nx.Graph()
     for n in graph.nodes:
         g.add_node(n.id, type=n.type, pos=tuple(n.pos))
@@ -74,7 +79,7 @@ def _num(value: float) -> float | int:
     return int(value) if float(value).is_integer() else float(value)
 
 
-def path_mistakes(graph: nx.Graph, who: str, path: list[str]) -> list[str]:
+def path_mistakes(graph: nx.Graph | SceneGraph, who: str, path: list[str]) -> list[str]:
     """THE check of a walk on the scene graph: unknown nodes, and consecutive nodes without an edge, each
     named exactly (the text goes back to a model as its correction, and to users as an error)."""
     mistakes = [f"{who}: node '{n}' is not in the scene graph" for n in dict.fromkeys(path) if n not in graph]

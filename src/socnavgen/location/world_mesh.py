@@ -10,7 +10,6 @@ ignores it too). Results are cached per file, so a mesh placed 500 times is read
 from __future__ import annotations
 
 import io
-import math
 import struct
 from dataclasses import dataclass
 from pathlib import Path
@@ -200,8 +199,3 @@ class MeshLibrary:
 
 def extent(tris: Triangles) -> float:
     return float(np.ptp(tris.vertices, axis=0).max()) if len(tris.vertices) else 0.0
-
-
-def finite_pose(pose: np.ndarray) -> bool:
-    return bool(np.isfinite(pose).all() and np.abs(pose[:3, 3]).max() <= MAX_METRES and
-                math.isclose(abs(np.linalg.det(pose[:3, :3])), 1.0, abs_tol=1e-6))

@@ -32,11 +32,6 @@ def _names(humans: list[str]) -> str:
     return f"the scenario has {len(humans)} human(s): {', '.join(humans)}"
 
 
-def check_path(graph: nx.Graph, who: str, path: list[str]) -> list[str]:
-    """Unknown nodes and consecutive nodes without an edge along one path (the scene graph's own check)."""
-    return path_mistakes(graph, who, path)
-
-
 def _by_human(mapping: dict[str, _V], what: str, humans: list[str], mistakes: list[str]) -> dict[str, _V]:
     """Normalise 'Human 1' style keys; report keys that are not humans of the scenario."""
     out: dict[str, _V] = {}
@@ -63,7 +58,7 @@ def check_paths(reply: PathsReply, graph: nx.Graph, humans: list[str], spec: Sce
         robot = []
     elif len(robot) < 2:
         mistakes.append(f"the robot path needs at least two nodes (a start and a goal), it has {len(robot)}")
-    mistakes += check_path(graph, "robot path", robot)
+    mistakes += path_mistakes(graph, "robot path", robot)
     mistakes += route_problems(robot)
     mistakes += doorway_goal(graph, robot)
 
@@ -77,7 +72,7 @@ def check_paths(reply: PathsReply, graph: nx.Graph, humans: list[str], spec: Sce
             continue
         if not path:
             mistakes.append(f"{name}'s path is empty; give at least one node (where {name} starts)")
-        mistakes += check_path(graph, f"{name}'s path", path)
+        mistakes += path_mistakes(graph, f"{name}'s path", path)
         if name not in groups:
             mistakes.append(f"group_ids: {name} has no group id (use -1 for a human who is not in a group)")
         point = points.get(name)

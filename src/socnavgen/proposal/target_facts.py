@@ -70,10 +70,6 @@ def detected(trigger: str, target: Target) -> bool:
     return bool(detecting_nodes(trigger, target)[0])
 
 
-def target_nodes(target: Target) -> list[str]:
-    return [name for name, spec in LIBRARY.items() if target in spec.targets]
-
-
 def missing_nodes(target: Target) -> list[str]:
     """Nodes the prompts offer for the simulator that `target` cannot run."""
     return [n.name for n in prompt_nodes() if target not in n.targets]

@@ -3,13 +3,12 @@ paths.json (cards, simulator, exporters): one wording of each mistake."""
 
 from __future__ import annotations
 
-import networkx as nx
-
+from socnavgen.location.models import SceneGraph
 from socnavgen.location.scene_graph import path_mistakes
 from socnavgen.run.models import PathPlan
 
 
-def plan_mistakes(plan: PathPlan, graph: nx.Graph, *, interaction_points: bool = True) -> list[str]:
+def plan_mistakes(plan: PathPlan, graph: SceneGraph, *, interaction_points: bool = True) -> list[str]:
     """Every way `plan` does not fit `graph`: unknown nodes, missing edges, empty paths, humans not named
     human1..humanN without gaps, and (unless `interaction_points` is False: a run can still be simulated
     and exported without its meeting place) interaction points that are not on both paths."""

@@ -95,7 +95,7 @@ class LoadedRun:
         from socnavgen.run.checks import plan_mistakes
 
         return self.for_location(("plan_mistakes", interaction_points), location,
-                                 lambda: plan_mistakes(self.paths(), location.graph,
+                                 lambda: plan_mistakes(self.paths(), location.scene_graph,
                                                        interaction_points=interaction_points))
 
 

@@ -196,7 +196,7 @@ def import_socrates_run(source: Path | str, location_dir: Path | str, out: Path 
 
     sc = read_socrates(source)
     location = load_location(Path(location_dir))
-    plan, notes = to_plan(sc, location.graph)
+    plan, notes = to_plan(sc, location.scene_graph)
     ids = {h.agent_id for h in plan.humans}
     problems = []
     for human in plan.humans:

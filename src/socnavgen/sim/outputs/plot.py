@@ -231,6 +231,7 @@ def trajectory_figure(trace: Trace, location: Any, *, plan: Any = None, tick_eve
         duration = float(trace.t[-1] - trace.t[0]) if trace.steps else 0.0
         ax.set_title(f"{location.name}: {duration:.1f} s{reason}; ticks every {tick_every:g} s", fontsize=9)
         fig.tight_layout(rect=(0, legend_below(fig, ax), 1, 1))
+        fig.set_layout_engine(None)  # laid out once: with tight_layout's placeholder, savefig draws all twice
         # labels last, with the layout final: markers first, then names, time labels, node ids
         placer = axes_placer(ax)
 
