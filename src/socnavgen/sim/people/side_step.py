@@ -13,7 +13,7 @@ from socnavgen import proxemics
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.routing import project, robot_progress
 from socnavgen.sim.trace import GIVE_WAY_BEHAVIOR
-from socnavgen.sim.world.queries import free_along
+from socnavgen.sim.world.queries import clearance_at, free_along, free_opening
 
 FOLLOW_WAY_AHEAD = 2.0  # m: a follower this close ahead of the robot, on its path, steps aside first
 FOLLOW_WAY_MARGIN = proxemics.WAY_MARGIN_FOLLOW  # m beside the robot's path that still counts as in its way
@@ -170,15 +170,20 @@ def side_spot(s, i, origin, prefer, want, seg, fallback):  # noqa: ANN001, ANN20
     """(rank, cost, spot) of the best spot a body walks to straight from `origin` within SIDE_STEP_MAX, not taken
     by someone else: rank 0 the nearest leaving `want` from the robot's upcoming path (straight toward `prefer`
     preferred), rank 1 (none is that far) the one farthest from it (shorter walks preferred); rank 2: none. From an
-    `origin` out of the robot's way (OUT_OF_WAY) only spots reached without walking into it count."""
+    `origin` out of the robot's way (OUT_OF_WAY) only spots reached without walking into it count. From an `origin`
+    nearer a wall than the body's radius (squeezed there by others) the walk may start that near, in the directions
+    that open up (free_opening), and only spots where the body has its room count: before, every direction was
+    blocked at the start, no spot was found and they waited in the robot's way (home_05: a guest pushed into a
+    corner 0.35 m from the wall, 0.72 m off the robot's route, waited there until it had crept past)."""
     p = s.people[i]
     distances = s.work[0]
     found, best_rank, best_cost, best = False, 2, 0.0, origin
     corridor = p.radius + s.robot[0].radius + OUT_OF_WAY
     outside = path_distance(s, seg, fallback, origin) >= corridor  # standing out of its way: no walk back into it
+    squeezed = clearance_at(s.world, origin) < p.radius  # pressed nearer a wall than their body: they walk out first
     for j in range(SIDE_STEP_DIRECTIONS):
         u = prefer * SIDE_UNITS[j]
-        room = min(free_along(s.world, origin, u, SIDE_STEP_MAX, p.radius), short_of_robot(s, i, origin, u))
+        room = min(free_opening(s.world, origin, u, SIDE_STEP_MAX, p.radius), short_of_robot(s, i, origin, u))
         count = int(math.ceil((room + 1e-9 - SIDE_STEP_SPACING) / SIDE_STEP_SPACING)) if room > 0 else 0
         if count <= 0:
             continue
@@ -188,7 +193,7 @@ def side_spot(s, i, origin, prefer, want, seg, fallback):  # noqa: ANN001, ANN20
             d = path_distance(s, seg, fallback, spot)
             if outside and d < corridor:
                 break  # this spot and those beyond it are reached through the robot's way
-            free = not taken(s, i, spot)
+            free = not taken(s, i, spot) and (not squeezed or clearance_at(s.world, spot) >= p.radius)
             if d >= want and free:
                 first_ok = m
                 break
