@@ -10,6 +10,7 @@ import math
 import numpy as np
 
 from socnavgen import proxemics
+from socnavgen.bodies import STANDING
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.routing import project, robot_progress
 from socnavgen.sim.trace import GIVE_WAY_BEHAVIOR
@@ -151,18 +152,36 @@ def path_distance(s, seg, fallback, spot):  # noqa: ANN001, ANN201
     return d
 
 
-@jit
-def short_of_robot(s, i, origin, u):  # noqa: ANN001, ANN201
-    """How far person i walks straight from `origin` along the unit `u` before their body meets the robot's
-    (inf: it never does): a side-step spot beyond the robot is not reached through it."""
-    robot = s.robot[0]
-    rel = robot.pos - origin
+@jit(inline=True)
+def short_of(origin, u, centre, reach):  # noqa: ANN001, ANN201
+    """How far a body walks straight from `origin` along the unit `u` before its centre comes within `reach` of
+    `centre` (inf: it never does)."""
+    rel = centre - origin
     along = (rel * u.conjugate()).real
-    reach = s.people[i].radius + robot.radius
     across = abs((rel * u.conjugate()).imag)
     if along <= 0 or across >= reach:
         return np.inf
     return max(0.0, along - math.sqrt(reach * reach - across * across))
+
+
+@jit
+def short_of_robot(s, i, origin, u):  # noqa: ANN001, ANN201
+    """How far person i walks straight from `origin` along the unit `u` before their body meets the robot's
+    (inf: it never does): a side-step spot beyond the robot is not reached through it."""
+    return short_of(origin, u, s.robot[0].pos, s.people[i].radius + s.robot[0].radius)
+
+
+@jit
+def short_of_standing(s, i, origin, u):  # noqa: ANN001, ANN201
+    """How far person i walks straight from `origin` along `u` before their body meets someone standing (inf:
+    nobody). Asked for a squeezed start only: a walker steps round someone in their way (people.spacing), but one
+    pressed between a wall and the people beside them has no room to (home_05: a guest squeezed into a corner
+    planned a spot on the far side of the guest beside her, walked into her and back toward the robot's way)."""
+    people, least = s.people, np.inf
+    for j in range(people.shape[0]):
+        if j != i and abs(people[j].vel) < STANDING:
+            least = min(least, short_of(origin, u, people[j].pos, people[i].radius + people[j].radius))
+    return least
 
 
 @jit
@@ -184,6 +203,8 @@ def side_spot(s, i, origin, prefer, want, seg, fallback):  # noqa: ANN001, ANN20
     for j in range(SIDE_STEP_DIRECTIONS):
         u = prefer * SIDE_UNITS[j]
         room = min(free_opening(s.world, origin, u, SIDE_STEP_MAX, p.radius), short_of_robot(s, i, origin, u))
+        if squeezed:
+            room = min(room, short_of_standing(s, i, origin, u))
         count = int(math.ceil((room + 1e-9 - SIDE_STEP_SPACING) / SIDE_STEP_SPACING)) if room > 0 else 0
         if count <= 0:
             continue
