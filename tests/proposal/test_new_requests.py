@@ -65,7 +65,11 @@ DISAGREE: dict[str, str] = {
     "step aside, it creeps through the gap ~1.3 m from two of them and turns west to the loading door; since the "
     "sixteenth session the worker no longer crosses its next leg, but from ~55 s, after it has gone, two listeners "
     "walk 3-4 m west along the cross aisle for no reason the text gives (the judge weighed it as after the central "
-    "events); the verifier fails the spec's group_together (5.65 m > 4 m)",
+    "events); the verifier failed the spec's group_together (5.65 m > 4 m). Seventeenth session: that walk west is "
+    "gone (a sidestep made out of a standing listener's drift, people.spacing); the replay now fails "
+    "reacts_after_phrase (a listener's 0.1 m/s drift on the social force reads as stepping aside 4 s before EXCUSE "
+    "ME) and group_together (4.45 m at 15.8 s: a worker's give-way spot 2 m north-west), and its loop asks stage "
+    "'scenario', which the recording never answered",
     "home_10_medication_past_chatting_friends": "strict FAIL (re-answered live in round 26; eyes round 31, on the "
     "sixteenth session's run: yes): the robot slows before the group, two friends step back, it passes ~1 m from the "
     "third and reaches the bedroom; the judge saw the third 'mostly stay put (she shuffles about 0.5 m once)'; the "

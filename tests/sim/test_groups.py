@@ -29,13 +29,14 @@ def test_a_walker_boxed_in_on_their_right_steps_round_the_one_ahead_on_the_left(
     they step round on the left, on along their way - the right-hand step ran into the one behind, again and
     again, and the crew stood 40 s."""
     ahead_right, behind_right = complex(-0.32, 0.84), complex(0.57, 0.69)  # from the walker, gaps 0.1 m
+    way = (-10.0 + 0.5j) / abs(-10.0 + 0.5j)  # the way they walk (toward their via)
 
     def step(others: list[complex]) -> complex:
         pos = [0j, *others]
         people = table(PERSON, len(pos), pos=pos, radius=PERSON_RADIUS, desired_speed=[0.8] + [0.0] * len(others),
                        goal=[-10.0 + 0.5j, *others], via=[-10.0 + 0.5j, *others],
                        walks=[True] + [False] * len(others), to_goal=[True] + [False] * len(others))
-        return keep_apart(people, 0, -0.09 + 0.11j, 0.05, new_grid(len(pos)))
+        return keep_apart(people, 0, -0.09 + 0.11j, way, 0.05, new_grid(len(pos)))
 
     away = -ahead_right / abs(ahead_right)
     alone, boxed = step([ahead_right]), step([ahead_right, behind_right])

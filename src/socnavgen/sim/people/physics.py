@@ -267,7 +267,7 @@ def move(people, group_sizes, prm, world, dt, scratch, robot_pos, robot_radius):
             speed = abs(v)
             if speed > p.desired_speed:
                 v = v * (p.desired_speed / speed)
-            v = keep_apart(people, i, v, dt, scratch.grid)
+            v = keep_apart(people, i, v, direction[i], dt, scratch.grid)
             reach = p.radius + robot_radius
             keep = keep_gap(world, p.pos, p.radius, abs(p.pos - robot_pos) - reach)
             v = keep_off(v, p.pos, robot_pos, reach, dt, keep)

@@ -10,10 +10,11 @@ import math
 import numpy as np
 
 from socnavgen import proxemics
+from socnavgen.bodies import STANDING
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.routing import project, robot_progress
 from socnavgen.sim.trace import GIVE_WAY_BEHAVIOR
-from socnavgen.sim.world.queries import free_along
+from socnavgen.sim.world.queries import clearance_at, free_along, free_opening
 
 FOLLOW_WAY_AHEAD = 2.0  # m: a follower this close ahead of the robot, on its path, steps aside first
 FOLLOW_WAY_MARGIN = proxemics.WAY_MARGIN_FOLLOW  # m beside the robot's path that still counts as in its way
@@ -151,14 +152,12 @@ def path_distance(s, seg, fallback, spot):  # noqa: ANN001, ANN201
     return d
 
 
-@jit
-def short_of_robot(s, i, origin, u):  # noqa: ANN001, ANN201
-    """How far person i walks straight from `origin` along the unit `u` before their body meets the robot's
-    (inf: it never does): a side-step spot beyond the robot is not reached through it."""
-    robot = s.robot[0]
-    rel = robot.pos - origin
+@jit(inline=True)
+def short_of(origin, u, centre, reach):  # noqa: ANN001, ANN201
+    """How far a body walks straight from `origin` along the unit `u` before its centre comes within `reach` of
+    `centre` (inf: it never does)."""
+    rel = centre - origin
     along = (rel * u.conjugate()).real
-    reach = s.people[i].radius + robot.radius
     across = abs((rel * u.conjugate()).imag)
     if along <= 0 or across >= reach:
         return np.inf
@@ -166,19 +165,46 @@ def short_of_robot(s, i, origin, u):  # noqa: ANN001, ANN201
 
 
 @jit
+def short_of_robot(s, i, origin, u):  # noqa: ANN001, ANN201
+    """How far person i walks straight from `origin` along the unit `u` before their body meets the robot's
+    (inf: it never does): a side-step spot beyond the robot is not reached through it."""
+    return short_of(origin, u, s.robot[0].pos, s.people[i].radius + s.robot[0].radius)
+
+
+@jit
+def short_of_standing(s, i, origin, u):  # noqa: ANN001, ANN201
+    """How far person i walks straight from `origin` along `u` before their body meets someone standing (inf:
+    nobody). Asked for a squeezed start only: a walker steps round someone in their way (people.spacing), but one
+    pressed between a wall and the people beside them has no room to (home_05: a guest squeezed into a corner
+    planned a spot on the far side of the guest beside her, walked into her and back toward the robot's way)."""
+    people, least = s.people, np.inf
+    for j in range(people.shape[0]):
+        if j != i and abs(people[j].vel) < STANDING:
+            least = min(least, short_of(origin, u, people[j].pos, people[i].radius + people[j].radius))
+    return least
+
+
+@jit
 def side_spot(s, i, origin, prefer, want, seg, fallback):  # noqa: ANN001, ANN201
     """(rank, cost, spot) of the best spot a body walks to straight from `origin` within SIDE_STEP_MAX, not taken
     by someone else: rank 0 the nearest leaving `want` from the robot's upcoming path (straight toward `prefer`
     preferred), rank 1 (none is that far) the one farthest from it (shorter walks preferred); rank 2: none. From an
-    `origin` out of the robot's way (OUT_OF_WAY) only spots reached without walking into it count."""
+    `origin` out of the robot's way (OUT_OF_WAY) only spots reached without walking into it count. From an `origin`
+    nearer a wall than the body's radius (squeezed there by others) the walk may start that near, in the directions
+    that open up (free_opening), and only spots where the body has its room count: before, every direction was
+    blocked at the start, no spot was found and they waited in the robot's way (home_05: a guest pushed into a
+    corner 0.35 m from the wall, 0.72 m off the robot's route, waited there until it had crept past)."""
     p = s.people[i]
     distances = s.work[0]
     found, best_rank, best_cost, best = False, 2, 0.0, origin
     corridor = p.radius + s.robot[0].radius + OUT_OF_WAY
     outside = path_distance(s, seg, fallback, origin) >= corridor  # standing out of its way: no walk back into it
+    squeezed = clearance_at(s.world, origin) < p.radius  # pressed nearer a wall than their body: they walk out first
     for j in range(SIDE_STEP_DIRECTIONS):
         u = prefer * SIDE_UNITS[j]
-        room = min(free_along(s.world, origin, u, SIDE_STEP_MAX, p.radius), short_of_robot(s, i, origin, u))
+        room = min(free_opening(s.world, origin, u, SIDE_STEP_MAX, p.radius), short_of_robot(s, i, origin, u))
+        if squeezed:
+            room = min(room, short_of_standing(s, i, origin, u))
         count = int(math.ceil((room + 1e-9 - SIDE_STEP_SPACING) / SIDE_STEP_SPACING)) if room > 0 else 0
         if count <= 0:
             continue
@@ -188,7 +214,7 @@ def side_spot(s, i, origin, prefer, want, seg, fallback):  # noqa: ANN001, ANN20
             d = path_distance(s, seg, fallback, spot)
             if outside and d < corridor:
                 break  # this spot and those beyond it are reached through the robot's way
-            free = not taken(s, i, spot)
+            free = not taken(s, i, spot) and (not squeezed or clearance_at(s.world, spot) >= p.radius)
             if d >= want and free:
                 first_ok = m
                 break

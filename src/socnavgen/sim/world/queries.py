@@ -93,6 +93,23 @@ def free_along(world, start, direction, max_distance, radius):  # noqa: ANN001, 
 
 
 @jit
+def free_opening(world, start, direction, max_distance, radius):  # noqa: ANN001, ANN201
+    """free_along for a start that may itself be closer than `radius` to a wall (a body squeezed into a corner by
+    others): how far one moves from `start` along the unit `direction` never coming closer to walls than they have
+    been on the way, up to `radius` (the same as free_along from a start with that much room; from a squeezed
+    one, the directions that open up are free, those that squeeze them further are not)."""
+    steps = max(2, int(max_distance / (0.5 * world.mpp)) + 1)
+    step = max_distance / (steps - 1)
+    floor = min(radius, clearance_at(world, start))
+    for k in range(steps):
+        room = clearance_at(world, start + direction * (k * step))
+        if room < floor:
+            return (k - 1) * step if k > 0 else 0.0
+        floor = max(floor, min(room, radius))
+    return max_distance
+
+
+@jit
 def path_clear(world, a, b, clearance):  # noqa: ANN001, ANN201
     """Every point of the segment a-b (checked every <= 0.1 m) keeps `clearance` from walls."""
     n = max(2, int(abs(b - a) / 0.1) + 1)
