@@ -102,11 +102,9 @@ def physical_facts_text(scene_graph: bool = False) -> str:
         f"- How an encounter is checked: the robot and the human 'meet' when their centres are within "
         f"{meet.distance:g} m (or the criterion's `distance`) while the point halfway between them is within "
         f"the encounter's `within` ({meet.near:g} m by default) of the encounter's node, and only after an "
-        f"approach: they are {APPROACH:g} m closer to each other than at the start, and EACH of them, the robot "
-        f"too, came {APPROACH:g} m closer to the node than where they started or started within `within` of it "
-        f"(a robot still standing at its start, a `wait` at `start`, meets nobody who walks up to it there; a person "
-        f"waiting at the node: at least {approach_room():g} m from the robot's start, more with a larger meets "
-        f"`distance`: that + {APPROACH:g} m). A group (humans listed "
+        f"approach: both came {APPROACH:g} m closer to each other and to the node than at the start (a robot "
+        f"standing at its start meets nobody; a person waiting at the node: at least {approach_room():g} m from the robot's start, more with a larger meets `distance`: that "
+        f"+ {APPROACH:g} m). A group (humans listed "
         "together in a group_together criterion) is met where the robot meets any member: members stepping "
         "aside is their reaction; a `meets` criterion may name the group's `humans`.",
         _follow_fact(b.robot_speed),
@@ -435,6 +433,8 @@ def cue_triggers_text(detail: bool = True) -> str:
     """Each cue trigger with its meaning, read from CueTrigger's docstring (the one place that explains them);
     `detail` False (stage 1's `robot` cut, fit.py): without how its distance is measured."""
     meanings = dict(re.findall(r"^\s+([a-z_]+)\s+(\S.*)$", CueTrigger.__doc__ or "", re.MULTILINE))
+    if not detail:  # without the asides in parentheses (the small model's context, fit.py)
+        meanings = {when: re.sub(r"\s*\([^()]*\)", "", text) for when, text in meanings.items()}
     return ", ".join(f"{when} ({meanings.get(when, '').strip()})"
                      for when in get_args(CueTrigger.model_fields["when"].annotation)) + \
         (" (a cue trigger's `distance` is straight, walls or not)" if detail else "")

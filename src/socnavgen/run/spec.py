@@ -37,13 +37,12 @@ class CueTrigger(BaseModel):
     """When a cue of the robot's script fires.
 
     start         at t = 0
-    at_encounter  the robot is within `distance` of the node of encounter `encounter`
-    at_node       the robot is within `distance` of `node`, a node of its own route (it pulls in and waits there,
-                  with nobody to meet: a pickup, a look round a corner)
-    blocked       a person, standing or walking, is within `distance` ahead of the robot, in its way
-    human_within  `human` (any human when not given) is within `distance` of the robot
-    human_farther `human` (any human when not given) is farther than `distance` from the robot (a guide waits for a slow follower)
-    human_says    `human` (any when not given) makes the phrase `phrase`
+    at_encounter  the robot is within `distance` of encounter `encounter`'s node
+    at_node       the robot is within `distance` of `node` (a node of its route)
+    blocked       someone is within `distance` ahead of the robot, in its way (standing or walking)
+    human_within  `human` (anyone if not given) is within `distance` of the robot
+    human_farther `human` (anyone if not given) is farther than `distance` from it (a guide waits for a slow follower)
+    human_says    `human` (anyone if not given) makes the phrase `phrase`
     after         `seconds` after the start
     """
 
