@@ -59,9 +59,9 @@ def test_findings_that_changed_stay_with_their_stage_and_an_unchanged_answer_goe
     assert list(again) == ["scenario"] and notes == {("scenario", None): REPEATED}
 
 
-def test_a_tree_correction_says_its_stage_and_a_repeat_goes_to_stage_1(tmp_path, mini_location):
-    """Live through the loop: the tree of human1 is corrected, its changed tree gives the same findings, and the
-    next correction goes to the scenario stage (its answer re-plans nothing here: the same shape)."""
+def _tree_then_spec_loop(tmp_path, mini_location):  # noqa: ANN001, ANN202
+    """The loop of a tree of human1 corrected, its changed tree giving the same findings, then stage 1 asked: the
+    replayed model's calls."""
     script = write_script(tmp_path / "s.yaml", {
         "scenario": [scenario_reply(), scenario_reply()], "paths": [paths_reply()],
         "behaviors": {"human1": [tree_reply(), tree_reply(LOOK_TREE)], "human2": [tree_reply()]}})
@@ -69,6 +69,13 @@ def test_a_tree_correction_says_its_stage_and_a_repeat_goes_to_stage_1(tmp_path,
     run, llm = run_replay(script, mini_location, tmp_path / "run", verify=True,
                           verifier=_verifier(same, same, []))
     assert isinstance(run, Run), run
+    return llm
+
+
+def test_a_tree_correction_says_its_stage_and_a_repeat_goes_to_stage_1(tmp_path, mini_location):
+    """Live through the loop: the tree of human1 is corrected, its changed tree gives the same findings, and the
+    next correction goes to the scenario stage (its answer re-plans nothing here: the same shape)."""
+    llm = _tree_then_spec_loop(tmp_path, mini_location)
     asked = [(s, k) for s, k, _ in llm.calls]
     assert asked.count(("behaviors", "human1")) == 2 and asked.count(("scenario", None)) == 2
     tree_fix = [m for s, k, m in llm.calls if (s, k) == ("behaviors", "human1")][1][-1].content
@@ -158,13 +165,7 @@ def test_an_encounter_counts_as_tried_by_stage_2_only_once_stage_2_was_asked(tmp
 def test_each_correction_says_how_many_simulations_are_left(tmp_path, mini_location):
     """Round 30's players asked which round they were in: the first correction (after simulation 1 of 3) says more
     can follow, the second (after simulation 2) that the answer gets the last simulation."""
-    script = write_script(tmp_path / "s.yaml", {
-        "scenario": [scenario_reply(), scenario_reply()], "paths": [paths_reply()],
-        "behaviors": {"human1": [tree_reply(), tree_reply(LOOK_TREE)], "human2": [tree_reply()]}})
-    same = [_finding("behaviors", "human1")]
-    run, llm = run_replay(script, mini_location, tmp_path / "run", verify=True,
-                          verifier=_verifier(same, same, []))
-    assert isinstance(run, Run), run
+    llm = _tree_then_spec_loop(tmp_path, mini_location)
     tree_fix = [m for s, k, m in llm.calls if (s, k) == ("behaviors", "human1")][1][-1].content
     spec_fix = [m for s, k, m in llm.calls if s == "scenario"][1][-1].content
     assert "This was simulation 1 of at most 3. 2 more can follow" in tree_fix and "LAST" not in tree_fix

@@ -44,7 +44,9 @@ PATHS = fixture_paths(FIXTURES)
 # drawn agreed and hospital_10, home_16 and warehouse_04 now agree (eyes no, yes, yes); six new requests of round 30
 # answered live on the sixteenth session's starting code and judged in round 30, and the eighteen fixtures whose final
 # run the sixteenth session's code changed by more than 0.6 m judged again in round 31 (home_22 and hospital_13 now
-# agree). Left: five lenient passes and four strict fails, each below with what was seen.
+# agree); six new requests of round 32 answered live on the seventeenth session's starting code and judged in round
+# 32 (all six verified live and judged as written), and the four fixtures whose final run that session's code moved by
+# more than 0.6 m judged again in round 33. Left: the lenient passes and strict fails below, each with what was seen.
 DISAGREE: dict[str, str] = {
     "home_05_serving_drinks_at_party": "strict FAIL (re-answered live in round 21; eyes round 29, on the fifteenth "
     "session's run: yes): the first pair at vh steps aside by itself as the robot comes out of the kitchen, the second "
@@ -61,7 +63,7 @@ DISAGREE: dict[str, str] = {
     "verifier fails 'never closer than 2 m to vj' (1.99 m as it turns, '>2 m' by eye); its stop passes since the "
     "fifteenth session (the robot's slide ~1 m south off the aisle for the leader during its wait holds the place)",
     "warehouse_22_parcel_run_past_safety_briefing": "strict FAIL (a new request of round 29; eyes round 31, on the "
-    "sixteenth session's run: yes, 'with a flaw'): the robot stops ~3.5 m before vj and says EXCUSE ME, the three "
+    "sixteenth session's run: yes, 'with a flaw'; round 33, on the seventeenth session's run: yes): the robot stops ~3.5 m before vj and says EXCUSE ME, the three "
     "step aside, it creeps through the gap ~1.3 m from two of them and turns west to the loading door; since the "
     "sixteenth session the worker no longer crosses its next leg, but from ~55 s, after it has gone, two listeners "
     "walk 3-4 m west along the cross aisle for no reason the text gives (the judge weighed it as after the central "
@@ -88,6 +90,19 @@ DISAGREE: dict[str, str] = {
     "no): the visitors stop facing the robot at the elevator door, give way on EXCUSE ME - both to the same side - "
     "and the robot goes to the nurse station; the first visitor goes into the car, the second stops outside it at "
     "8z to the end (her walk ends by the queue rule beside the one inside); no criterion sees the second get in",
+    "warehouse_26_through_coffee_van_queue": "strict FAIL (a new request of round 32, verified live on the "
+    "seventeenth session's starting code; eyes round 32: yes): the robot says EXCUSE ME to the chatting queue on its "
+    "way to the loading door and again on the way back, the workers step aside both times, the aisle worker lets it "
+    "pass and the staging-area worker steps aside east of sw; no contact. The seventeenth session's walkers (a "
+    "drifting standing person no longer sidesteps; a lone person starts in their node's place) move its first run: "
+    "the queue spreads 4.39 m at 7.1 s, and human7 is 'in the robot's way for 0.0 s', so gives_way goes to the "
+    "paths, where the recording (whose live loop asked stage 1) has no answer: the replay ends there",
+    "hospital_24_follow_nurse_to_west_room": "lenient PASS (a new request of round 30, failed live; eyes rounds 30-31 "
+    "and round 33, on the seventeenth session's run: no): since that session the visitor starts in her doorway x5 "
+    "(before: drawn into the corridor beside i1) and the run verifies, but the robot sits at i1 ~16 s (14-30 s) and "
+    "the patient squeezes through between it and the visitor ~0.6-0.7 m from it instead of the robot passing her; in "
+    "the room the robot drives round the nurse within ~1 m and ends beyond her, not behind her; no criterion sees "
+    "who passes whom at i1 nor where the robot stops behind the nurse",
     "hospital_15_running_child_in_corridor": "lenient PASS (a new request of round 20; eyes round 31, on the sixteenth session's run: "
     "no, 'borderline'): the robot stops at the south wall, waits for the child (passing ~1.05 m from it) and then "
     "the parents and delivers to g3; the child brakes from ~1.8 to ~1 m/s passing the robot instead of running past "
