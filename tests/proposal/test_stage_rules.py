@@ -157,8 +157,9 @@ def test_an_encounter_where_a_person_waits_too_near_the_robots_start_is_refused(
     assert f"at least {MEET_DISTANCE + APPROACH:g} m (between xy_m) from the robot's start" in encounter_rule()
     from socnavgen.proposal.facts import physical_facts_text
     for stage2 in (True, False):  # stage 1 places its encounters with it too (a round-6 player missed it there)
-        assert f"both came {APPROACH:g} m closer to each other than at the start (a person waiting at the node: at " \
-               f"least {MEET_DISTANCE + APPROACH:g} m from the robot's start" in physical_facts_text(scene_graph=stage2)
+        assert f"both came {APPROACH:g} m closer to each other and to the node than at the start (a robot standing " \
+               f"at its start meets nobody; a person waiting at the node: at least {MEET_DISTANCE + APPROACH:g} m " \
+               "from the robot's start" in physical_facts_text(scene_graph=stage2)
     spec = to_spec(_reply(_encounter("e1", "INTERSECTION", reaction="look")))
     waits_near = _answer(["qs", "sh", "ki", "up"], ["sh"], "sh", {"e1": "sh"})  # qs-sh: 1.9 m
     refused = check_paths(waits_near, warehouse.graph, ["human1"], spec, warehouse)
