@@ -46,37 +46,15 @@ PATHS = fixture_paths(FIXTURES)
 # run the sixteenth session's code changed by more than 0.6 m judged again in round 31 (home_22 and hospital_13 now
 # agree); six new requests of round 32 answered live on the seventeenth session's starting code and judged in round
 # 32 (all six verified live and judged as written), and the four fixtures whose final run that session's code moved by
-# more than 0.6 m judged again in round 33. Left: the lenient passes and strict fails below, each with what was seen.
+# more than 0.6 m judged again in round 33; home_05, home_10, warehouse_17, warehouse_22 and warehouse_26, whose
+# recordings no longer replayed to the end (the --verify loop asked a stage the live run never answered), re-answered
+# live in round 34 on that session's final code and judged in round 34. Left: the lenient passes and strict fails
+# below, each with what was seen.
 DISAGREE: dict[str, str] = {
-    "home_05_serving_drinks_at_party": "strict FAIL (re-answered live in round 21; eyes round 29, on the fifteenth "
-    "session's run: yes): the first pair at vh steps aside by itself as the robot comes out of the kitchen, the second "
-    "pair at 41 moves only after the robot stops and says EXCUSE ME (~20 s) and stays aside; the robot delivers at ai "
-    "(~1.5 m short of where the text stops it, one guest passed at ~0.2-0.3 m); the verifier fails both guests at vh "
-    "stepping out of the robot's way (the replay's --verify loop then has no answer: its recording asked stage 2)",
     "hospital_17_lead_students_to_nurse_station": "lenient PASS (round 22; eyes round 26: no): the patient waits "
     "facing the robot near zs ~8 s, then is boxed in by the bunched students ~15 s; the students never pass him one "
     "by one and only one of them ends with the robot at the nurse station (no criterion for the file, the pass or "
     "the gathering)",
-    "warehouse_17_first_aid_kit_to_staging": "strict FAIL (re-answered live in round 26 on the thirteenth session's "
-    "final code, eyes rounds 25-26: yes): the robot stops past sw at the group's edge and says EXCUSE ME, a colleague "
-    "comes ~1.3 m in front of it for ~4 s and goes back, the shift leader waits ~5 s behind it and walks round; the "
-    "verifier fails 'never closer than 2 m to vj' (1.99 m as it turns, '>2 m' by eye); its stop passes since the "
-    "fifteenth session (the robot's slide ~1 m south off the aisle for the leader during its wait holds the place)",
-    "warehouse_22_parcel_run_past_safety_briefing": "strict FAIL (a new request of round 29; eyes round 31, on the "
-    "sixteenth session's run: yes, 'with a flaw'; round 33, on the seventeenth session's run: yes): the robot stops ~3.5 m before vj and says EXCUSE ME, the three "
-    "step aside, it creeps through the gap ~1.3 m from two of them and turns west to the loading door; since the "
-    "sixteenth session the worker no longer crosses its next leg, but from ~55 s, after it has gone, two listeners "
-    "walk 3-4 m west along the cross aisle for no reason the text gives (the judge weighed it as after the central "
-    "events); the verifier failed the spec's group_together (5.65 m > 4 m). Seventeenth session: that walk west is "
-    "gone (a sidestep made out of a standing listener's drift, people.spacing); the replay now fails "
-    "reacts_after_phrase (a listener's 0.1 m/s drift on the social force reads as stepping aside 4 s before EXCUSE "
-    "ME) and group_together (4.45 m at 15.8 s: a worker's give-way spot 2 m north-west), and its loop asks stage "
-    "'scenario', which the recording never answered",
-    "home_10_medication_past_chatting_friends": "strict FAIL (re-answered live in round 26; eyes round 31, on the "
-    "sixteenth session's run: yes): the robot slows before the group, two friends step back, it passes ~1 m from the "
-    "third and reaches the bedroom; the judge saw the third 'mostly stay put (she shuffles about 0.5 m once)'; the "
-    "verifier sees her walk off at 24.2 s (0.36 m/s) with the robot 1.6 m away, and the spec's own 'always "
-    "moved_human3 < 0.5' fails",
     "home_09_telepresence_grandma_kids_follow": "lenient PASS (re-answered live in round 19; eyes round 31, on the "
     "sixteenth session's run: no): the two children stop on the hallway side of the bedroom doorway 2n from ~25 s "
     "to the end, ~2 m from the robot, the brother right behind the robot and the girl behind him (the text has the "
@@ -90,19 +68,21 @@ DISAGREE: dict[str, str] = {
     "no): the visitors stop facing the robot at the elevator door, give way on EXCUSE ME - both to the same side - "
     "and the robot goes to the nurse station; the first visitor goes into the car, the second stops outside it at "
     "8z to the end (her walk ends by the queue rule beside the one inside); no criterion sees the second get in",
-    "warehouse_26_through_coffee_van_queue": "strict FAIL (a new request of round 32, verified live on the "
-    "seventeenth session's starting code; eyes round 32: yes): the robot says EXCUSE ME to the chatting queue on its "
-    "way to the loading door and again on the way back, the workers step aside both times, the aisle worker lets it "
-    "pass and the staging-area worker steps aside east of sw; no contact. The seventeenth session's walkers (a "
-    "drifting standing person no longer sidesteps; a lone person starts in their node's place) move its first run: "
-    "the queue spreads 4.39 m at 7.1 s, and human7 is 'in the robot's way for 0.0 s', so gives_way goes to the "
-    "paths, where the recording (whose live loop asked stage 1) has no answer: the replay ends there",
     "hospital_24_follow_nurse_to_west_room": "lenient PASS (a new request of round 30, failed live; eyes rounds 30-31 "
     "and round 33, on the seventeenth session's run: no): since that session the visitor starts in her doorway x5 "
     "(before: drawn into the corridor beside i1) and the run verifies, but the robot sits at i1 ~16 s (14-30 s) and "
     "the patient squeezes through between it and the visitor ~0.6-0.7 m from it instead of the robot passing her; in "
     "the room the robot drives round the nurse within ~1 m and ends beyond her, not behind her; no criterion sees "
     "who passes whom at i1 nor where the robot stops behind the nurse",
+    "warehouse_22_parcel_run_past_safety_briefing": "lenient PASS (a new request of round 29, re-answered live in round "
+    "34 on the seventeenth session's final code; eyes round 34: no): the robot stops ~2 m north of the briefing and "
+    "says EXCUSE ME; one listener 'gives way' by walking north past its side ~0.1 m from it, the robot then crawls "
+    "into the group's own spot at vj and stands ~0.05-0.1 m from another listener for ~5 s, and a worker passes it "
+    "head-on at sh ~0.1 m clear; no contact by the 5 cm rule, and its spec loosened the group's spread to 5 m",
+    "warehouse_26_through_coffee_van_queue": "lenient PASS (a new request of round 32, re-answered live in round 34 on "
+    "the seventeenth session's final code; eyes round 34: no): the queue gives way on EXCUSE ME both ways and the "
+    "robot passes the packer at sh without contact, but the picker stops at the aisle end yh and still stands there "
+    "18 s after the robot went by: she never joins the queue, and no criterion sees her walk on",
     "hospital_15_running_child_in_corridor": "lenient PASS (a new request of round 20; eyes round 31, on the sixteenth session's run: "
     "no, 'borderline'): the robot stops at the south wall, waits for the child (passing ~1.05 m from it) and then "
     "the parents and delivers to g3; the child brakes from ~1.8 to ~1 m/s passing the robot instead of running past "
