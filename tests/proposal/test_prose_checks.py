@@ -245,11 +245,8 @@ REFUSED = {
     ("home_16_hide_and_seek_laundry", "paths[0]"): "the children come to 41 from vh in the text, their paths from "
     "iq out of the main bedroom (round 20's live model then moved them to the living room's east end, as stage 1 was "
     "asked)",
-    # place_checks (session 12); home_10 re-answered live again in round 26 (the fourteenth session), whose second
-    # answer the stay check refused and the live model then fixed, and warehouse_17, whose first answer the robot-wait
-    # check refused (the live model then dropped 'short of sw': the stop was meant at the group's edge)
-    ("home_10_medication_past_chatting_friends", "scenario[1]"): "human3 'stays where she is' while the robot goes "
-    "round her, no criterion sees her stay (the round-26 live model then bounded her)",
+    # place_checks (session 12); warehouse_17, whose first answer of round 26 the robot-wait check refused (the live
+    # model then dropped 'short of sw': the stop was meant at the group's edge; its round-34 answer kept that fix)
     # round 27-28's new requests: each first answer below was refused live and the model then fixed it
     ("home_19_toddlers_trail_milk_delivery", "scenario[0]"): "toddlers 'right behind the robot', a follows_robot "
     "allowing 4.5 m (the round-28 live model then allowed 3 m)",
@@ -259,8 +256,6 @@ REFUSED = {
     "keeping it back from sw (the round-26 live model then reworded the stop as at the group's edge, which an stl "
     "on robot_to_node_vj states)",
     # round 29's new requests (the fifteenth session): refused live, then fixed by the model
-    ("warehouse_22_parcel_run_past_safety_briefing", "scenario[0]"): "each of the briefing steps aside and rejoins 'once "
-    "it has passed', no criterion sees that order (the round-29 live model then added gives_way criteria)",
     ("hospital_21_water_jugs_past_mopping_cleaner", "scenario[0]"): "the cleaner 'stays where she is' while she signals "
     "WAIT, no criterion sees her stay (the round-29 live model then bounded her moving while she says it; its player "
     "noted that the same sentence goes on to say when she moves)",
@@ -275,6 +270,9 @@ REFUSED = {
     "sees her stay (the round-30 live model then bounded her moving)",
     ("hospital_24_follow_nurse_to_west_room", "paths[0]"): "the patient's text brings her to i1 from her doorway pf, "
     "her path from ck (the round-30 live model then changed it)",
+    # round 34's re-answers (the seventeenth session's final code): refused live, then fixed by the model
+    ("home_05_serving_drinks_at_party", "scenario[0]"): "the guests stay put until the robot says EXCUSE ME, no "
+    "criterion sees them stay (the round-34 live model then added one)",
 }
 
 
