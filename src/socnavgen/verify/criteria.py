@@ -447,7 +447,7 @@ CRITERION_KINDS: dict[str, CriterionKind] = {k.name: k for k in (
     CriterionKind("stops_near_robot", "eventually ((dist_h <= max(D + 1, 3)) and (closer_h >= A) and "
                   "eventually[0:S] always[0:0.5] (dist_h <= D and (ahead_h or inway_h) and speed_h <= 0.1))  (a "
                   "stop on robot_near without `lasts`, within N of its trigger: and always ((once stood) implies "
-                  "(speed_h <= 0.3 or dist_h > min(D, N))))",
+                  "(speed_h <= 0.3 or dist_h > min(D, N - 0.5))))",
                   "the robot came near (they approached), then h stood still 1 s in front of it (seen standing 0.5 s: "
                   "speeds are as seen, verify/perceived.py; facing it, or in "
                   "its way); a stop lasting while the robot is near: from that stand on, h does not walk off while "
