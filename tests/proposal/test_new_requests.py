@@ -79,10 +79,6 @@ DISAGREE: dict[str, str] = {
     "says EXCUSE ME; one listener 'gives way' by walking north past its side ~0.1 m from it, the robot then crawls "
     "into the group's own spot at vj and stands ~0.05-0.1 m from another listener for ~5 s, and a worker passes it "
     "head-on at sh ~0.1 m clear; no contact by the 5 cm rule, and its spec loosened the group's spread to 5 m",
-    "warehouse_26_through_coffee_van_queue": "lenient PASS (a new request of round 32, re-answered live in round 34 on "
-    "the seventeenth session's final code; eyes round 34: no): the queue gives way on EXCUSE ME both ways and the "
-    "robot passes the packer at sh without contact, but the picker stops at the aisle end yh and still stands there "
-    "18 s after the robot went by: she never joins the queue, and no criterion sees her walk on",
     "hospital_15_running_child_in_corridor": "lenient PASS (a new request of round 20; eyes round 31, on the sixteenth session's run: "
     "no, 'borderline'): the robot stops at the south wall, waits for the child (passing ~1.05 m from it) and then "
     "the parents and delivers to g3; the child brakes from ~1.8 to ~1 m/s passing the robot instead of running past "

@@ -66,6 +66,8 @@ The rule table (first matching rule wins; docs/verify.md shows the same):
   U1  a user `stl` formula: robot phrases it names never said -> robot_script; it names a human's
       actions, phrases or reactions -> behaviors(h); otherwise                                 -> paths
       (proposal/verify_loop.py: the spec's own formula failing again after the paths changed -> spec)
+  W1  the implied walks_on (derive.walks_on): a stop lasting while the robot is near still held for the run's last
+      HELD_ON s, the person's path going on: the stop's distance reaches where the robot ends   -> paths
 """
 
 from __future__ import annotations
@@ -96,6 +98,7 @@ from socnavgen.verify.blame_follow import blame_follower, never_near_start
 from socnavgen.verify.blame_timing import ended_at_once, window_closed_early
 from socnavgen.verify.blame_tree import FACTS_CLOSE, FACTS_OPEN, gave_way_in_vain, tree_activity
 from socnavgen.verify.criteria import Compiled
+from socnavgen.verify.derive import WALKS_ON
 from socnavgen.verify.evidence import deadlock_culprit, in_window, met_mask, stayed_off_place, way_cause
 from socnavgen.verify.idle import idle_fact
 from socnavgen.verify.models import Verdict
@@ -106,6 +109,7 @@ from socnavgen.verify.stay import stay_broken
 from socnavgen.verify.stl import formula_signals
 from socnavgen.verify.thresholds import (
     APPROACH,
+    HELD_ON,
     KIND_DISTANCE,
     MEET_DISTANCE,
     PASSING_DISTANCE,
@@ -394,6 +398,8 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
             return waiting
         held = _held_at_end(s, spec, plan)
         return held or ("paths", None, _short_of_goal(s))
+    if kind == "stl" and cc.criterion.id.startswith(WALKS_ON) and cc.part is not None:
+        return _never_released(cc, s)
     if kind == "stl":
         return _blame_formula(cc, s)
     if kind == "robot_stops":
@@ -527,6 +533,17 @@ def _blame_group(cc: Compiled, s: Signals, plan: PathPlan | None) -> Verdict:
     when = f"{float(spread[k]):.2f} m apart at t={float(s.t[k]):.1f} s"
     where = "lags behind the others" if goal is not None else "is farthest from the others"
     return "behaviors", who, f"{who} {where} ({when}): its tree must keep it with the others"
+
+
+def _never_released(cc: Compiled, s: Signals) -> Verdict:
+    """Rule W1: the stop's distance still covered the robot where the run ended: where the two end is stage 2's
+    (the --verify loop sends it to stage 1, the stop's distance, when it fails again after the paths changed)."""
+    part, h = cc.part, cc.part.human if cc.part is not None else ""
+    gap = float(s.get(f"dist_{h}")[-1])
+    return ("paths", None, f"{h} still stood at the end of the run with the robot {gap:.1f} m away, inside the "
+                           f"{part.distance:g} m its stop lasts for (robot_near, no `lasts`), for the run's last "
+                           f"{HELD_ON:g} s: it never walks on along its path; the robot must end farther from where "
+                           f"{h} stops than that (or the stop needs a shorter distance, or `lasts` seconds)")
 
 
 def _blame_formula(cc: Compiled, s: Signals) -> Verdict:

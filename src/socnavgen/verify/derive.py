@@ -15,13 +15,15 @@ from typing import Any
 
 from socnavgen.run.models import PathPlan
 from socnavgen.run.spec import Criterion, Encounter, HumanPart, ScenarioSpec
+from socnavgen.verify.criteria import stays_while_near
 from socnavgen.verify.models import Source, VerifySettings
-from socnavgen.verify.thresholds import WAIT_MARGIN
+from socnavgen.verify.thresholds import HELD_ON, STOP_SPEED, WAIT_MARGIN
 
 Judged = list[tuple[Criterion, Source]]
 _PEOPLE_APART = Criterion(id="people_apart", kind="people_apart", text="no two people touch each other")
 SHOWS_ENCOUNTER = {"meets", "keeps_away", "follows_robot", "follows_human"}  # kinds that already show an encounter
 NOT_MET = ("avoid",)  # reactions of a part that gets no implied meets (they keep away from the robot)
+WALKS_ON = "walks_on_"  # id prefix of the implied criterion that a stop lasting while the robot is near ends
 
 
 def _together_at(human: str, enc: Encounter, distance: float) -> str:
@@ -120,9 +122,40 @@ def derive_spec(plan: PathPlan, location: Any, card_criteria: list[dict] | None,
     return spec, judged
 
 
-def with_implied(spec: ScenarioSpec, settings: VerifySettings, people: int | None = None) -> Judged:
+def walks_on(spec: ScenarioSpec, plan: PathPlan | None) -> Judged:
+    """A stop on robot_near without `lasts` lasts while the robot is within its distance; where the person's path
+    goes on beyond the encounter, the run must not end with them still standing there with the robot that near
+    for its last HELD_ON s: they would never walk on (round 34's warehouse_26: a picker told to stop while the robot is within 4 m and
+    then join the queue stood to the end, the robot's goal 3.3 m from her; every criterion passed)."""
+    if plan is None:
+        return []
+    out: Judged = []
+    for enc in spec.encounters:
+        for part in enc.humans:
+            near = stays_while_near(part)
+            human = next((h for h in plan.humans if h.name == part.human), None)
+            if near is None or near == float("inf") or human is None:
+                continue
+            at = enc.node if enc.node in human.path else human.interaction_point
+            if at not in human.path or human.path[-1] == at:
+                continue  # their path ends where they stop: standing there to the end breaks no promise
+            h = part.human
+            held = f"((speed_{h} <= {STOP_SPEED:g}) and (dist_{h} <= {near:g}))"
+            out.append((Criterion(
+                id=f"{WALKS_ON}{h}_{enc.id}", kind="stl", human=h, encounter=enc.id,
+                formula=f"not (eventually ((historically[0:{HELD_ON:g}] {held}) and (always {held})))",
+                text=f"{h} walks on along its path after its stop at {at} ({enc.id}), which lasts while the robot "
+                     f"is within {near:g} m of {h}: the run must not end with {h} standing there, the robot that "
+                     f"near, for its last {HELD_ON:g} s"),
+                "implied"))
+    return out
+
+
+def with_implied(spec: ScenarioSpec, settings: VerifySettings, people: int | None = None,
+                 plan: PathPlan | None = None) -> Judged:
     """The spec's criteria and those its encounters imply, and those every run is judged on (source `implied`).
-    `people`: how many humans the run has (paths.json; default: those the encounters name)."""
+    `people`: how many humans the run has (paths.json; default: those the encounters name); `plan`: the paths
+    (for walks_on)."""
     judged: Judged = [(c, "spec") for c in spec.criteria]
     kinds_of: dict[str | None, set[str]] = {}
     for c in spec.criteria:
@@ -147,6 +180,7 @@ def with_implied(spec: ScenarioSpec, settings: VerifySettings, people: int | Non
                                      encounter=enc.id, text=f"robot meets {part.human} at {enc.node or enc.place} "
                                                             f"({enc.id})"), "implied"))
     judged.extend(_order_criteria(spec, settings))
+    judged.extend(walks_on(spec, plan))
     present = {c.kind for c in spec.criteria}
     blocking = any(p.reaction == "block" for e in spec.encounters for p in e.humans)
     if "robot_reaches_goal" not in present:  # always judged, whether or not the spec names it

@@ -95,7 +95,7 @@ def prepare(plan: PathPlan, location: Any, spec: ScenarioSpec | None, trees: dic
     if spec is None:
         used, judged = derive_spec(plan, location, card_criteria, settings)
     else:
-        used, judged = spec, with_implied(spec, settings, len(plan.humans))
+        used, judged = spec, with_implied(spec, settings, len(plan.humans), plan)
     node_points: dict[str, tuple[float, float]] = {}
     ways: list[WayIn] = []
     ends: list[RoomEnd] = []

@@ -36,6 +36,9 @@ IDLE_SECONDS = 8.0  # s: longest the robot may get nowhere along its route with 
 NOTICE_RANGE = 5.0  # m: a person notices a visible robot this close (keeps_away)
 STOP_NOTICE_RANGE = 3.0  # m: stops_near_robot's cause: the person walked while the robot was this close (at least)
 STOP_HOLD = 1.0  # s: a stop lasts at least this long
+HELD_ON = 10.0  # s: a stop lasting while the robot is near, still held this long when the run ends, reads as one that
+#   never ends (round 34's warehouse_26: a picker stood 22 s to the end; round 32's home_25: a parent waiting 7 s
+#   for the robot and a follower to pass as the run ended read as waiting, as its text says)
 ROBOT_STOP_SECONDS = 2.0  # s: robot_stops, unless it says: the robot stands still this long (a stop people see as one)
 PERCEIVED_SECONDS = 0.5  # s: a person sees the mean speed over this window (about a step): verify/perceived.py; a
 #                          standstill of STOP_HOLD is seen standing STOP_HOLD less the window (perceived.seen_hold)
