@@ -538,10 +538,10 @@ def _blame_group(cc: Compiled, s: Signals, plan: PathPlan | None) -> Verdict:
 def _never_released(cc: Compiled, s: Signals) -> Verdict:
     """Rule W1: the stop's distance still covered the robot where the run ended: where the two end is stage 2's
     (the --verify loop sends it to stage 1, the stop's distance, when it fails again after the paths changed)."""
-    part, h = cc.part, cc.part.human if cc.part is not None else ""
+    h, near = (cc.part.human, cc.part.distance) if cc.part is not None else ("", None)
     gap = float(s.get(f"dist_{h}")[-1])
     return ("paths", None, f"{h} still stood at the end of the run with the robot {gap:.1f} m away, inside the "
-                           f"{part.distance:g} m its stop lasts for (robot_near, no `lasts`), for the run's last "
+                           f"{near:g} m its stop lasts for (robot_near, no `lasts`), for the run's last "
                            f"{HELD_ON:g} s: it never walks on along its path; the robot must end farther from where "
                            f"{h} stops than that (or the stop needs a shorter distance, or `lasts` seconds)")
 
