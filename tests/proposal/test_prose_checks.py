@@ -333,3 +333,15 @@ def test_a_robot_that_waits_for_someone_to_pass_states_who_goes_first(text):
 ])
 def test_other_waits_are_not_an_order_of_passing(text):
     assert order_mistakes(text, {}, ScenarioSpec.model_validate(spec_for(2))) == []
+
+
+def test_behind_a_piece_of_furniture_is_no_order_between_people() -> None:
+    """Round 35's hospital_28: "a nurse working at a computer behind the nurse station counter" was read as the nurse
+    walking behind another person (the word nurse in 'the nurse station'); the phrase's head noun decides."""
+    from socnavgen.proposal.prose_checks import _person
+
+    assert _person("the nurse station", {}) == (False, None)
+    assert _person("the lead worker", {}) == (True, None)
+    assert _person("the nurse and", {}) == (True, None)
+    assert _person("his sister", {}) == (True, None)
+    assert _person("the robot", {}) == (False, None)

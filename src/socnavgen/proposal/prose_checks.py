@@ -207,22 +207,29 @@ def people_names(description: str, behaviors: dict[str, str]) -> dict[str, str]:
     return names
 
 
+_FUNCTION_WORDS = {"and", "or", "with", "to", "in", "at", "on", "as", "while", "who", "when", "then", "into", "from"}
+
+
 def _person(words: str, names: dict[str, str]) -> tuple[bool, str | None]:
-    """(is a person, which human when the text says) for the words after "behind" / "ahead of" ("the lead worker",
-    "the nurse and": the first word after the determiner that says what it is decides)."""
+    """(is a person, which human when the text says) for the words after "behind" / "ahead of": the head noun of the
+    phrase decides, its last word before a function word ("the lead worker" and "the nurse and ..." are people; "the
+    nurse station" behind which someone works is furniture - round 35's hospital_28 was told to order a nurse
+    'behind the nurse station counter' after another person)."""
     named = human_name(words)
     if named:
         return True, named
     tokens = words.split()
-    for token in tokens[1:] if len(tokens) > 1 else tokens:
+    body = tokens[1:] if len(tokens) > 1 else tokens
+    while len(body) > 1 and body[-1].lower() in _FUNCTION_WORDS:
+        body = body[:-1]
+    for token in body:
         low = token.lower()
         if low in ("robot", "it"):
             return False, None
         if low in names:
             return True, names[low]
-        if low in PEOPLE_WORDS:
-            return True, None
-    return False, None
+    head = body[-1].lower() if body else ""
+    return head in PEOPLE_WORDS, None
 
 
 def _mentions(text: str, names: dict[str, str]) -> list[tuple[int, str]]:

@@ -94,7 +94,7 @@ from socnavgen.verify.blame_end import (
     no_progress_at_end,
     standing_at_end,
 )
-from socnavgen.verify.blame_follow import blame_follower, never_near_start
+from socnavgen.verify.blame_follow import ahead_of_robot, blame_follower, never_near_start
 from socnavgen.verify.blame_timing import ended_at_once, window_closed_early
 from socnavgen.verify.blame_tree import FACTS_CLOSE, FACTS_OPEN, gave_way_in_vain, tree_activity
 from socnavgen.verify.criteria import Compiled
@@ -436,6 +436,8 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
             return cause
         if kind == "follows_human":
             return blame_follower(cc, s, h)
+        if kind == "follows_robot" and (ahead := ahead_of_robot(cc, s, h)):
+            return ahead
         dist = s.get(f"dist_{h}")
         reaction = "give_way" if kind == "gives_way" else cc.reaction
         vain = gave_way_in_vain(s, h, dist <= max(reach, PASSING_DISTANCE), cc.seconds or REACTION_SECONDS) \

@@ -5,6 +5,9 @@ round 13: a worker filing behind another was blamed for not reacting to the robo
 - the person followed never walked while the follower could follow: nobody to follow   -> behaviors(followed)
 - otherwise the follower fell behind (or never walked with them)                           -> behaviors(follower)
 
+Rule F2 for follows_robot (ahead_of_robot): when the robot set off after the follow's cause, the follower stood ahead
+of it along its way (where it was going): there was nothing to follow from there                   -> paths
+
 Rule N3 for any follower (never_near_start): it was never near its encounter's place within S s after the phrase
 (or at all, with no phrase), so the following could not start there                      -> paths"""
 
@@ -15,7 +18,7 @@ import numpy as np
 from socnavgen.verify.criteria import Compiled
 from socnavgen.verify.models import Verdict
 from socnavgen.verify.signals import Signals
-from socnavgen.verify.thresholds import WALK_SPEED
+from socnavgen.verify.thresholds import FOLLOW_AHEAD, WALK_SPEED
 from socnavgen.verify.windows import held_within
 
 
@@ -48,3 +51,26 @@ def never_near_start(cc: Compiled, s: Signals, h: str) -> Verdict | None:
     heard = (f" within {cc.seconds or 0.0:g} s after the robot said {cc.phrase.replace('_', ' ').upper()}"
              if cc.phrase else "")
     return "paths", None, f"{h} was never near {node}{heard}: the following must start there"
+
+
+def ahead_of_robot(cc: Compiled, s: Signals, h: str) -> Verdict | None:
+    """Rule F2: when the robot set off after its cause (the phrase, else from the start), h stood ahead of it along
+    the way it drives (lag below -FOLLOW_AHEAD): a follower placed on the robot's route ahead of it, with nothing to
+    follow from there (round 35's home_27: the guest started at the robot's goal; the player read "did not react as
+    asked" and loosened the criteria instead of moving her)."""
+    lag = s.get(f"lag_{h}")
+    start = 0
+    if cc.phrase:
+        said = np.flatnonzero(s.get(f"robot_says_{cc.phrase}") > 0.5)
+        if not said.size:
+            return None
+        start = int(said[0])
+    driving = np.flatnonzero(s.get("speed_robot")[start:] > WALK_SPEED)
+    if not driving.size:
+        return None
+    k = start + int(driving[0])
+    if lag[k] >= -FOLLOW_AHEAD:
+        return None
+    return "paths", None, (f"{h} stood {-lag[k]:.1f} m ahead of the robot along its way when it set off at "
+                           f"t={s.t[k]:.1f} s after its cause: a follower on the robot's route ahead of it has "
+                           "nothing to follow; start them behind or beside the robot's start, not on its route ahead")

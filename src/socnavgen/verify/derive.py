@@ -17,13 +17,15 @@ from socnavgen.run.models import PathPlan
 from socnavgen.run.spec import Criterion, Encounter, HumanPart, ScenarioSpec
 from socnavgen.verify.criteria import stays_while_near
 from socnavgen.verify.models import Source, VerifySettings
-from socnavgen.verify.thresholds import HELD_ON, STOP_SPEED, WAIT_MARGIN
+from socnavgen.verify.thresholds import HELD_ON, KIND_DISTANCE, STOP_SPEED, WAIT_MARGIN
 
 Judged = list[tuple[Criterion, Source]]
 _PEOPLE_APART = Criterion(id="people_apart", kind="people_apart", text="no two people touch each other")
 SHOWS_ENCOUNTER = {"meets", "keeps_away", "follows_robot", "follows_human"}  # kinds that already show an encounter
 NOT_MET = ("avoid",)  # reactions of a part that gets no implied meets (they keep away from the robot)
 WALKS_ON = "walks_on_"  # id prefix of the implied criterion that a stop lasting while the robot is near ends
+FOLLOW_KIND = {"follow": "follows_robot", "follow_human": "follows_human"}  # the criterion that sees a follow reaction
+FILE_STEP = 1.2  # m: each further follower of the robot walks about a body and a gap farther back (a file)
 
 
 def _together_at(human: str, enc: Encounter, distance: float) -> str:
@@ -122,6 +124,32 @@ def derive_spec(plan: PathPlan, location: Any, card_criteria: list[dict] | None,
     return spec, judged
 
 
+def implied_follows(spec: ScenarioSpec, kinds_of: dict[str | None, set[str]]) -> Judged:
+    """A follow to the end (a `follow` / `follow_human` part without `lasts`) is judged by follows_robot /
+    follows_human even when the spec names none: round 35's home_27 had the guest follow the robot for good after
+    FOLLOW ME, and its criteria (she stood near it, stayed within 3.5 m, was within 3 m at its goal, where she had
+    started) passed a guest who stepped back and stood still while the robot drove to her. A timed follow (`lasts`:
+    come to the robot for a handover) is left to the spec's own criteria. The distance allows a file of followers
+    (KIND_DISTANCE, FILE_STEP more per other follower of the robot)."""
+    followers = sum(1 for e in spec.encounters for p in e.humans if p.reaction == "follow" and p.lasts is None)
+    out: Judged = []
+    for enc in spec.encounters:
+        for part in enc.humans:
+            kind = FOLLOW_KIND.get(part.reaction)
+            if kind is None or part.lasts is not None or kind in kinds_of.get(part.human, set()):
+                continue
+            if part.reaction == "follow_human" and not part.other:
+                continue
+            distance = KIND_DISTANCE[kind] + FILE_STEP * max(followers - 1, 0)
+            whom = "the robot" if kind == "follows_robot" else part.other
+            out.append((Criterion(id=f"follow_{part.human}_{enc.id}", kind=kind, human=part.human, encounter=enc.id,
+                                  distance=distance,
+                                  text=f"{part.human} follows {whom} from {enc.node or enc.place} ({enc.id}), within "
+                                       f"{distance:g} m along the way"), "implied"))
+            kinds_of.setdefault(part.human, set()).add(kind)
+    return out
+
+
 def walks_on(spec: ScenarioSpec, plan: PathPlan | None) -> Judged:
     """A stop on robot_near without `lasts` lasts while the robot is within its distance; where the person's path
     goes on beyond the encounter, the run must not end with them still standing there with the robot that near
@@ -162,6 +190,7 @@ def with_implied(spec: ScenarioSpec, settings: VerifySettings, people: int | Non
         for name in [c.human, *c.humans]:
             kinds_of.setdefault(name, set()).add(c.kind)
     groups = [set(c.humans) for c in spec.criteria if c.kind == "group_together" and len(c.humans) >= 2]
+    judged.extend(implied_follows(spec, kinds_of))
     for enc in spec.encounters:
         for group in groups:  # a group is met where the robot meets any member (one stepping aside is the
             members = [p.human for p in enc.humans if p.human in group]  # reaction); group_together keeps

@@ -4,7 +4,8 @@
 stands on the walker's last goal point (within its goal radius), or is walking to it ahead of them, or the robot stands
 on the last goal of their path (within the walker's passing gap of its body: people.avoid would hold them back
 there), the walker takes
-the nearest free spot beside it - on rings round the point, in sight of it, a body off the walls, a body and
+the nearest free spot beside it - on rings round the point, in sight of it and on its side of any doorway
+(through_door), a body off the walls, a body and
 bodies.PERSON_STAND_GAP (+ SLACK) from everyone standing and from the spots others took, a body and ROBOT_GAP from
 the robot - and walks there instead (`p.spot`, kept while it stays free). Spots by the robot's way still to go
 (within ROUTE_CLEAR of it) count OFF_ROUTE m farther: people stand round a shared goal beside the robot's route,
@@ -49,6 +50,8 @@ OFF_ROUTE = 6.0  # m: ... and counts this much farther
 MIN_PASS_GAP = PERSON_ROBOT_GAP  # m: the least gap a person squeezes past a standing robot with
 FIT_CLEARANCE = 0.35  # m: a body passing the robot keeps this off the walls (a person's 0.4 m, 5 cm slack)
 TOGETHER = 1.0  # a group member's spot counts this many times its distance to the farthest member there farther
+PINCH = 0.1  # m: the way from a spot to its point narrows this much below both ends' clearance ...
+DOOR_HALF_WIDTH = 0.75  # m: ... to less than half a wide door's 1.5 m: a doorway lies between them (another room)
 
 
 @jit(inline=True)
@@ -188,6 +191,23 @@ def group_spread(people, i, goal, spot):  # noqa: ANN001, ANN201
 
 
 @jit
+def through_door(world, spot, point):  # noqa: ANN001, ANN201
+    """The straight way from `spot` to `point` narrows between them to a doorway (its clearance dips PINCH below both
+    ends' and below DOOR_HALF_WIDTH): the spot is in another room, however well it sees the point. A follower coming
+    in to the robot standing in a small bedroom took a spot out in the hallway, in sight through the door (home_09)."""
+    ends = min(clearance_at(world, spot), clearance_at(world, point)) - PINCH
+    if ends <= 0.0:
+        return False
+    d = point - spot
+    count = max(2, int(math.ceil(abs(d) / (0.5 * world.mpp))) + 1)
+    for k in range(1, count - 1):
+        c = clearance_at(world, spot + d * (k / (count - 1)))
+        if c < ends and c < DOOR_HALF_WIDTH:
+            return True
+    return False
+
+
+@jit
 def pick(s, i, goal):  # noqa: ANN001, ANN201
     """The free spot round `goal` nearest to person i, the inner rings first (a walk NEARER m longer round the point
     beats a spot a ring farther out), off the robot's way (a spot by it counts OFF_ROUTE m farther) and never on its
@@ -210,7 +230,7 @@ def pick(s, i, goal):  # noqa: ANN001, ANN201
                 value += TOGETHER * group_spread(s.people, i, goal, spot)
             if value >= score:
                 continue
-            if not free(s, i, goal, spot) or not line_of_sight(s.world, spot, goal):
+            if not free(s, i, goal, spot) or not line_of_sight(s.world, spot, goal) or through_door(s.world, spot, goal):
                 continue
             best, found, score = spot, True, value
     return found, best
