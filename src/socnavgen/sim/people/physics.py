@@ -21,6 +21,7 @@ from socnavgen.sim.people.avoid import keep_gap, keep_off
 from socnavgen.sim.people.neighbours import Grid, new_grid, span
 from socnavgen.sim.people.spacing import keep_apart
 from socnavgen.sim.people.spots import REACH as SPOT_REACH
+from socnavgen.sim.people.spots import RING_STEP, TIGHT_STEP, spot_taken
 from socnavgen.sim.people.state import queued_at
 from socnavgen.sim.trace import REGULAR_BEHAVIOR
 from socnavgen.sim.world.queries import clearance_at, nearest_obstacle
@@ -174,7 +175,11 @@ def environment(people, prm, world, robot_pos, robot_vel, social):  # noqa: ANN0
 @jit(inline=True)
 def in_group_walk(p):  # noqa: ANN001, ANN201
     """A member takes part in its group's forces while it walks the group's walk (RegularNav to its goal); a
-    member its tree makes do something else (run away, follow, give way, stand) leaves the group meanwhile."""
+    member its tree makes do something else (run away, follow, give way, stand) leaves the group meanwhile, and so does
+    one whose walk ended on a tight place's spot (people.spots.pick_tight, nearer the point than the first ring): the
+    first of a group into an elevator car was drawn back out to the one still in its door."""
+    if not p.has_goal and p.has_spot and abs(p.spot - p.spot_for) < RING_STEP - TIGHT_STEP / 2:
+        return False
     return p.group >= 0 and p.walks and p.to_goal and p.behavior == REGULAR_BEHAVIOR
 
 
@@ -276,7 +281,8 @@ def move(people, group_sizes, prm, world, dt, scratch, robot_pos, robot_radius):
                 p.yaw = math.atan2(v.imag, v.real)
             p.pos = p.pos + v * dt
             p.vel = v
-            if p.to_goal and p.has_goal and (abs(p.goal - p.pos) <= p.goal_radius or queued_at(people, i, p.goal)):
+            if p.to_goal and p.has_goal and ((abs(p.goal - p.pos) <= p.goal_radius and not spot_taken(people, i, p.goal))
+                                             or queued_at(people, i, p.goal)):  # with a spot: reached there
                 p.reached = True
                 reached += 1
         else:

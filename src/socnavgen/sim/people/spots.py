@@ -4,8 +4,7 @@
 stands on the walker's last goal point (within its goal radius), or is walking to it ahead of them, or the robot stands
 on the last goal of their path (within the walker's passing gap of its body: people.avoid would hold them back
 there), the walker takes
-the nearest free spot beside it - on rings round the point, in sight of it and on its side of any doorway
-(through_door), a body off the walls, a body and
+the nearest free spot beside it - on rings round the point, in sight of it, a body off the walls, a body and
 bodies.PERSON_STAND_GAP (+ SLACK) from everyone standing and from the spots others took, a body and ROBOT_GAP from
 the robot - and walks there instead (`p.spot`, kept while it stays free). Spots by the robot's way still to go
 (within ROUTE_CLEAR of it) count OFF_ROUTE m farther: people stand round a shared goal beside the robot's route,
@@ -27,6 +26,7 @@ import math
 
 from socnavgen.bodies import (
     PERSON_GOAL_SLACK,
+    PERSON_KEEP_GAP,
     PERSON_PASS_GAP,
     PERSON_RADIUS,
     PERSON_ROBOT_GAP,
@@ -50,6 +50,12 @@ OFF_ROUTE = 6.0  # m: ... and counts this much farther
 MIN_PASS_GAP = PERSON_ROBOT_GAP  # m: the least gap a person squeezes past a standing robot with
 FIT_CLEARANCE = 0.35  # m: a body passing the robot keeps this off the walls (a person's 0.4 m, 5 cm slack)
 TOGETHER = 1.0  # a group member's spot counts this many times its distance to the farthest member there farther
+# A tight place (an elevator car, a small bedroom the robot stands in): no spot of the first ring fits, so the people
+# sharing it stand as people do in a lift - a body off the walls, the keeping gap apart, the first in going deepest.
+TIGHT_STEP = 0.3  # m: the rings of a tight place's spots are this far apart (the first on the point itself) ...
+TIGHT_RINGS = 4  # ... out to this many steps
+TIGHT_WALL = PERSON_RADIUS + 0.02  # m: a tight spot's clearance from walls
+TIGHT_GAP = PERSON_KEEP_GAP  # m: between bodies on tight spots
 PINCH = 0.1  # m: the way from a spot to its point narrows this much below both ends' clearance ...
 DOOR_HALF_WIDTH = 0.75  # m: ... to less than half a wide door's 1.5 m: a doorway lies between them (another room)
 
@@ -192,15 +198,20 @@ def group_spread(people, i, goal, spot):  # noqa: ANN001, ANN201
 
 @jit
 def through_door(world, spot, point):  # noqa: ANN001, ANN201
-    """The straight way from `spot` to `point` narrows between them to a doorway (its clearance dips PINCH below both
-    ends' and below DOOR_HALF_WIDTH): the spot is in another room, however well it sees the point. A follower coming
-    in to the robot standing in a small bedroom took a spot out in the hallway, in sight through the door (home_09)."""
+    """The straight way from `spot` to `point` narrows between them to a doorway: away from both ends (a body's
+    radius), its clearance dips PINCH below both ends' and below DOOR_HALF_WIDTH: the spot is in another room, however
+    well it sees the point (visitors going into an elevator car, its 1.2 m door between the lobby and the car, stood
+    in the lobby: hospital_01, hospital_27)."""
     ends = min(clearance_at(world, spot), clearance_at(world, point)) - PINCH
-    if ends <= 0.0:
-        return False
     d = point - spot
-    count = max(2, int(math.ceil(abs(d) / (0.5 * world.mpp))) + 1)
+    length = abs(d)
+    if length <= 2 * PERSON_RADIUS:
+        return False
+    count = max(2, int(math.ceil(length / (0.5 * world.mpp))) + 1)
     for k in range(1, count - 1):
+        along = length * k / (count - 1)
+        if along < PERSON_RADIUS or along > length - PERSON_RADIUS:
+            continue
         c = clearance_at(world, spot + d * (k / (count - 1)))
         if c < ends and c < DOOR_HALF_WIDTH:
             return True
@@ -230,10 +241,103 @@ def pick(s, i, goal):  # noqa: ANN001, ANN201
                 value += TOGETHER * group_spread(s.people, i, goal, spot)
             if value >= score:
                 continue
-            if not free(s, i, goal, spot) or not line_of_sight(s.world, spot, goal) or through_door(s.world, spot, goal):
+            if not free(s, i, goal, spot) or not line_of_sight(s.world, spot, goal):
                 continue
             best, found, score = spot, True, value
     return found, best
+
+
+@jit
+def narrows(world, spot, point):  # noqa: ANN001, ANN201
+    """The straight way from `spot` to `point` passes somewhere narrower than DOOR_HALF_WIDTH, PINCH below the point's
+    clearance and no wider than the spot's own: the spot is not in the point's own open space."""
+    room = clearance_at(world, point) - PINCH
+    near = clearance_at(world, spot) + SLACK
+    d = point - spot
+    count = max(2, int(math.ceil(abs(d) / (0.5 * world.mpp))) + 1)
+    for k in range(1, count - 1):
+        c = clearance_at(world, spot + d * (k / (count - 1)))
+        if c < room and c < DOOR_HALF_WIDTH and c < near:
+            return True
+    return False
+
+
+@jit
+def tight(s, goal):  # noqa: ANN001, ANN201
+    """No spot of the first ring round `goal` keeps a body WALL_CLEARANCE off the walls in the point's own open space
+    (narrows): a place too small for people to stand round the point at the standing gap (a car, a nook)."""
+    for k in range(ANGLES):
+        spot = goal + RING_STEP * complex(math.cos(2 * math.pi * k / ANGLES), math.sin(2 * math.pi * k / ANGLES))
+        if clearance_at(s.world, spot) >= WALL_CLEARANCE and line_of_sight(s.world, spot, goal) and \
+                not narrows(s.world, spot, goal):
+            return False
+    return True
+
+
+@jit
+def tight_free(s, i, goal, spot):  # noqa: ANN001, ANN201
+    """`spot` keeps person i's body TIGHT_GAP (+ SLACK) from everyone else standing or holding a spot round `goal`,
+    and PERSON_ROBOT_GAP from the robot's."""
+    people, robot = s.people, s.robot[0]
+    p = people[i]
+    if abs(robot.pos - spot) < p.radius + robot.radius + PERSON_ROBOT_GAP:
+        return False
+    for j in range(people.shape[0]):
+        if j == i:
+            continue
+        q = people[j]
+        reach = p.radius + q.radius + TIGHT_GAP + SLACK
+        if abs(q.vel) < STANDING and abs(q.pos - spot) < reach:
+            return False
+        if q.has_spot and abs(q.spot_for - goal) < 1e-6 and abs(q.spot - spot) < reach:
+            return False
+    return True
+
+
+@jit
+def pick_tight(s, i, goal):  # noqa: ANN001, ANN201
+    """(found, spot): the free tight spot round `goal` farthest from person i (the first in goes deepest, leaving the
+    room by the door to those after them), a body off the walls, in sight of the point on its side of any door."""
+    best, found, score = goal, False, -math.inf
+    p = s.people[i]
+    for ring in range(TIGHT_RINGS + 1):
+        for k in range(ANGLES if ring else 1):
+            spot = goal + ring * TIGHT_STEP * complex(math.cos(2 * math.pi * k / ANGLES),
+                                                      math.sin(2 * math.pi * k / ANGLES))
+            value = abs(spot - p.pos)
+            if value <= score or clearance_at(s.world, spot) < TIGHT_WALL:
+                continue
+            if ring and (not line_of_sight(s.world, spot, goal) or through_door(s.world, spot, goal)):
+                continue
+            if not tight_free(s, i, goal, spot):
+                continue
+            best, found, score = spot, True, value
+    return found, best
+
+
+@jit
+def shared(s, i, goal):  # noqa: ANN001, ANN201
+    """Someone else's last goal is `goal` too, and they have not come to stand there yet."""
+    people = s.people
+    for j in range(people.shape[0]):
+        q = people[j]
+        if j != i and q.has_goal and last_goal(q) and abs(q.goal - goal) < 1e-6 and abs(q.vel) >= STANDING:
+            return True
+    return False
+
+
+@jit
+def crowded(s, i, goal):  # noqa: ANN001, ANN201
+    """Someone else holds a spot round `goal` or stands within the tight rings of it (TIGHT_RINGS x TIGHT_STEP)."""
+    people = s.people
+    for j in range(people.shape[0]):
+        q = people[j]
+        if j == i:
+            continue
+        if (q.has_spot and abs(q.spot_for - goal) < 1e-6) or \
+                (abs(q.vel) < STANDING and abs(q.pos - goal) <= TIGHT_RINGS * TIGHT_STEP):
+            return True
+    return False
 
 
 @jit
@@ -243,13 +347,27 @@ def aim(s, i):  # noqa: ANN001, ANN201
     goal = p.goal
     if not p.has_goal:  # the walk is over (the goal reached at their spot is consumed): they stay at the spot
         return p.spot if p.has_spot else goal
-    if abs(p.push) > 0.0 or abs(goal - p.pos) > LOOK or not occupied(s, i, goal):  # driven off (RunAwayFromRobot):
-        p.has_spot = False  # no spot round a goal that is no pull
+    if abs(p.push) > 0.0 or abs(goal - p.pos) > LOOK:  # driven off (RunAwayFromRobot): no spot round a goal that
+        p.has_spot = False  # is no pull
         return goal
+    if not occupied(s, i, goal):
+        if not (last_goal(p) and (shared(s, i, goal) or crowded(s, i, goal)) and tight(s, goal)):
+            p.has_spot = False
+            return goal
+        # the first of several into a tight place goes deep, not onto the point (a lift's first passenger)
+        if p.has_spot and abs(p.spot_for - goal) < 1e-6 and tight_free(s, i, goal, p.spot):
+            return p.spot
+        found, spot = pick_tight(s, i, goal)
+        p.has_spot, p.spot, p.spot_for = found, spot, goal
+        return spot if found else goal
     # a spot is kept while it stays free; a group member looks again as the others of the group settle
-    if p.has_spot and abs(p.spot_for - goal) < 1e-6 and free(s, i, goal, p.spot) and p.group < 0:
+    if p.has_spot and abs(p.spot_for - goal) < 1e-6 and (free(s, i, goal, p.spot) or
+                                                         (tight(s, goal) and tight_free(s, i, goal, p.spot))) \
+            and p.group < 0:
         return p.spot
     found, spot = pick(s, i, goal)
+    if not found and tight(s, goal):  # no room at the standing gap: as in a lift, at the keeping gap
+        found, spot = pick_tight(s, i, goal)
     p.has_spot = found
     p.spot = spot
     p.spot_for = goal

@@ -165,6 +165,8 @@ def goal_reached(people, goals, i):  # noqa: ANN001, ANN201
     if p.queue_count == 0:
         return False
     goal = goals[i, p.queue_start]
+    if spot_taken(people, i, goal) and not p.held:  # a spot round it (people.spots): reached there, not on the way
+        return at_spot(people, i)  # past the point (the first into a lift walks on to its back)
     return abs(goal - p.pos) <= p.goal_radius + PERSON_GOAL_SLACK or (not p.held and queued_at(people, i, goal))
 
 
