@@ -216,22 +216,25 @@ def target_twin(run_dir: Path | str, target: str, work: Path | str, *, timing: b
     return twin
 
 
-def run_as_target(twin: Twin, speed: float, robot: str = "careful", seed: int = 0,  # noqa: ANN201 - VerifyReport
-                  pacing: bool = False):
-    """Simulate the twin with the robot at `speed` x its cruise speed; the verdict on the ORIGINAL run.
-    `pacing`: our simulator's pacing on (a reference, with a twin made with timing=False)."""
+def trace_as_target(twin: Twin, speed: float, robot: str = "careful", seed: int = 0, pacing: bool = False) -> Trace:
+    """The twin simulated with the robot at `speed` x its cruise speed (`pacing`: our simulator's pacing on, a
+    reference, with a twin made with timing=False); a hunav2 trace relabelled to the library's nodes."""
     assert twin.run is not None, twin.refused
     if pacing:
         throttle = ThrottleConfig()
     else:
         throttle = ThrottleConfig(rule="socrates") if twin.target == "socrates" else ThrottleConfig(enabled=False)
     policy = waypoint_robot(robot, twin.robot_speed * speed, twin.start_wait)
-    trace = simulate_run(at_speed(twin.run, robot, speed), robot=policy, location=twin.location, timeout=timeout_for(speed),
-                         seed=seed, throttle=throttle, save=False)
-    if twin.stands_for:
-        trace = relabel(trace, twin.stands_for)
-    return verify_trace(twin.original, trace)
+    trace = simulate_run(at_speed(twin.run, robot, speed), robot=policy, location=twin.location,
+                         timeout=timeout_for(speed), seed=seed, throttle=throttle, save=False)
+    return relabel(trace, twin.stands_for) if twin.stands_for else trace
+
+
+def run_as_target(twin: Twin, speed: float, robot: str = "careful", seed: int = 0,  # noqa: ANN201 - VerifyReport
+                  pacing: bool = False):
+    """trace_as_target's verdict on the ORIGINAL run."""
+    return verify_trace(twin.original, trace_as_target(twin, speed, robot, seed, pacing))
 
 
 __all__ = ["AS_TARGETS", "PLAYS_SCRIPT", "ROBOTS", "at_speed", "scaled_script", "SPEEDS", "TIMED_TARGETS", "Twin", "waypoint_robot", "relabel", "run_as_target",
-           "stands_for", "target_twin", "timeout_for"]
+           "stands_for", "target_twin", "timeout_for", "trace_as_target"]
