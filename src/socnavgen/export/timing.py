@@ -131,11 +131,12 @@ def held_up_from(robot: _Line, spot: complex, upto: float) -> float | None:
     return float(gap[int(np.argmax(held))]) if held.any() else None
 
 
-def script_stops(h: HumanExport, scene: ExportScene, robot: _Line, upto: float) -> list[complex]:
-    """Where the robot's script stands it for this person on its way to their node (arc up to `upto`): a cue near a
-    point (at_encounter, at_node) that stands it (a wait, wait_until_clear, let_pass) and is about them (lets them
-    pass, is at their encounter or their interaction node) - where the robot first comes that close to the point.
-    The robot waits there for them (sim.people.pacing: that wait is the meeting), so they are released by then."""
+def script_stops(h: HumanExport, scene: ExportScene, robot: _Line, upto: float, wait_at: complex) -> list[complex]:
+    """Where the robot's script stands it for this person on its way to their node (arc up to `upto`): a cue that
+    stands it (a wait, wait_until_clear, let_pass) and is about them - near a point (at_encounter, at_node) of their
+    encounter or node, or lets them pass, or fires when they (waiting at `wait_at`) are within its distance
+    (human_within them) - where the robot first comes that close to the point (to `wait_at`). The robot waits there
+    for them (sim.people.pacing: that wait is the meeting), so they are released by then."""
     if scene.spec is None:
         return []
     encounters = {e.id: e for e in scene.spec.encounters}
@@ -146,11 +147,14 @@ def script_stops(h: HumanExport, scene: ExportScene, robot: _Line, upto: float) 
             continue
         encounter = encounters.get(trig.encounter or "") if trig.when == "at_encounter" else None
         node = trig.node if trig.when == "at_node" else encounter.node if encounter is not None else None
-        about = (cue.let_pass == h.name or node == h.interaction_point
-                 or (encounter is not None and h.name in {p.human for p in encounter.humans}))
-        if node is None or node not in scene.nodes or not about:
+        if trig.when == "human_within" and trig.human == h.name:
+            point = wait_at
+        elif node in scene.nodes and (cue.let_pass == h.name or node == h.interaction_point
+                                      or (encounter is not None and h.name in {p.human for p in encounter.humans})):
+            point = complex(*scene.nodes[node])
+        else:
             continue
-        samples, gaps = robot.gaps(complex(*scene.nodes[node]), upto)
+        samples, gaps = robot.gaps(point, upto)
         reach = gaps <= trig.distance + 1e-9
         if reach.any():
             out.append(robot.at(float(samples[int(np.argmax(reach))])))
@@ -221,7 +225,7 @@ def hold_for(h: HumanExport, scene: ExportScene) -> Hold | None:
     if k > 0 and scene.doors_after.get(h.interaction_point) == h.path[k - 1]:  # through the robot's door first
         lead = CLEAR_LEAD
     held_up = held_up_from(robot, wait_at, node_s)
-    stops = [abs(p - wait_at) + RELEASE_MARGIN for p in script_stops(h, scene, robot, node_s)]
+    stops = [abs(p - wait_at) + RELEASE_MARGIN for p in script_stops(h, scene, robot, node_s, wait_at)]
 
     def release_at(factor: float) -> float:  # the robot's arc where a robot at factor x cruise lets the person go
         return max(0.0, node_s - lead - scene.robot_speed * factor * setting_off)
