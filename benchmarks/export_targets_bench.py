@@ -9,6 +9,7 @@ translation (what the translation alone does).
 
     python benchmarks/export_targets_bench.py                      # the full matrix (~3 min on 2 cores)
     python benchmarks/export_targets_bench.py --robot waypoints    # the plain waypoints robot (pushes into people)
+    python benchmarks/export_targets_bench.py --robot script       # the robot plays its part (robot_script.yaml)
     python benchmarks/export_targets_bench.py --location warehouse --card blind-corner
     python benchmarks/export_targets_bench.py --no-cards               # the replay fixtures only
 """
