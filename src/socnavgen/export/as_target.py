@@ -12,7 +12,9 @@ script's cruise speed, the robot's script speaking (the fork's people hear it th
 The robot is the simulator's built-in waypoints robot, started when the script's start wait is over, at the
 speed asked, and (`robot="careful"`) never moving closer than KEEP_GAP to a person (its keep_gap: what nav2's
 costmap or a teleoperator does; the plain waypoints robot, `robot="waypoints"`, pushes into people after its
-patience runs out, with our own pacing and trees too)."""
+patience runs out, with our own pacing and trees too). `robot="script"` also plays the robot's part, as the operator
+plays the exported robot_script.yaml: the scripted robot with the careful gap, its script's speeds scaled
+(`at_speed`): the criteria on what the robot itself does need it."""
 
 from __future__ import annotations
 
