@@ -9,6 +9,7 @@ translation (what the translation alone does).
 
     python benchmarks/export_targets_bench.py                      # the full matrix (~3 min on 2 cores)
     python benchmarks/export_targets_bench.py --robot waypoints    # the plain waypoints robot (pushes into people)
+    python benchmarks/export_targets_bench.py --robot script       # the robot plays its part (robot_script.yaml)
     python benchmarks/export_targets_bench.py --location warehouse --card blind-corner
     python benchmarks/export_targets_bench.py --no-cards               # the replay fixtures only
 """
@@ -28,6 +29,7 @@ from socnavgen.export.as_target import (
     ROBOTS,
     SPEEDS,
     TIMED_TARGETS,
+    at_speed,
     run_as_target,
     target_twin,
     timeout_for,
@@ -36,6 +38,7 @@ from socnavgen.export.as_target import (
 from socnavgen.export.scene import build_scene
 from socnavgen.export.timing import start_wait
 from socnavgen.location import load_location
+from socnavgen.run import load_run
 from socnavgen.sim import simulate_run
 from socnavgen.verify import verify_trace
 
@@ -103,7 +106,8 @@ def main() -> None:
             scene, _ = build_scene(run)
             for speed in SPEEDS:  # the robot itself: our pacing, the run's own trees
                 robot = waypoint_robot(args.robot, scene.robot_speed * speed, start_wait(scene))
-                trace = simulate_run(run, robot=robot, timeout=timeout_for(speed), save=False)
+                trace = simulate_run(at_speed(load_run(run), args.robot, speed), robot=robot,
+                                     timeout=timeout_for(speed), save=False)
                 ok = passed[(label, OWN, speed)] = verify_trace(run, trace).passed
                 count = tally[(kind, OWN, speed)]
                 count[0], count[2] = count[0] + ok, count[2] + 1

@@ -251,3 +251,40 @@ def test_the_elevator_is_left_before_the_robot_enters_it(tmp_path: Path, repo_ro
     twin = target_twin(run.root, "socrates", tmp_path / "twin")
     report = run_as_target(twin, 1.0)
     assert report.passed, [f.name for f in report.failures]
+
+
+@pytest.mark.parametrize("trigger", ["at_encounter", "human_within"])
+def test_a_person_the_robot_stands_for_is_released_by_the_time_it_stands(tmp_path: Path, hall: Path,
+                                                                         trigger: str) -> None:
+    """The robot's script stands it to let human1 cross x first (let_pass, at most 20 s), 4 m before x
+    (at_encounter) or once she is within 4 m of it (human_within): the person, waiting 2 m before x, is released
+    once the robot stands there - not once it comes closer, which it never does while it waits for them (both stood
+    the cue's whole wait: hospital_18's doctor, home_11's resident, 2026-11-28)."""
+    from socnavgen.export.as_target import SPEEDS, trace_as_target
+    from socnavgen.run import RunFolder
+    from socnavgen.run.spec import CueTrigger, Encounter, HumanPart, RobotCue, RobotScript, ScenarioSpec
+
+    run = crossing(tmp_path / "run", hall)
+    when = CueTrigger(when="at_encounter", encounter="e1", distance=4.0) if trigger == "at_encounter" else \
+        CueTrigger(when="human_within", human="human1", distance=4.0)
+    cue = RobotCue(trigger=when, let_pass="human1", wait=20.0)
+    meet = Encounter(id="e1", place="NODE", node="x", humans=[HumanPart(human="human1")])
+    RunFolder(run).write_spec(ScenarioSpec(script=RobotScript(cues=[cue]), encounters=[meet]))
+    scene, location = build_scene(run)
+    hold = hold_for(scene.humans[0], scene)
+    assert hold is not None
+    node, wait = complex(*location.node_world("x")), complex(*hold.wait_at)
+    # the robot drives east along y to x: it stands 4 m before x, or 4 m from her waiting spot 2 m south of x
+    stop = node - 4.0 if trigger == "at_encounter" else node - math.sqrt(4.0 ** 2 - abs(node - wait) ** 2)
+    assert hold.release_distance >= abs(stop - wait) + RELEASE_MARGIN - 0.06
+    twin = target_twin(run, "socrates", tmp_path / "twin")
+    for speed in SPEEDS:
+        trace = trace_as_target(twin, speed, "script")
+        robot = trace.robot[:, 0] + 1j * trace.robot[:, 1]
+        person = trace.humans[:, 0, 0] + 1j * trace.humans[:, 0, 1]
+        crossed = np.flatnonzero(np.abs(person - node) < 0.5)
+        assert crossed.size, speed
+        k = int(crossed[0])  # she crosses x while the robot still stands back for her, early in its wait
+        assert abs(robot[k] - node) > 2.5, speed
+        stood = np.flatnonzero(np.abs(robot - stop) < 0.6)
+        assert trace.t[k] - trace.t[stood[0]] < 10.0, (speed, trace.t[k], trace.t[stood[0]])

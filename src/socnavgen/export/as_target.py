@@ -12,7 +12,9 @@ script's cruise speed, the robot's script speaking (the fork's people hear it th
 The robot is the simulator's built-in waypoints robot, started when the script's start wait is over, at the
 speed asked, and (`robot="careful"`) never moving closer than KEEP_GAP to a person (its keep_gap: what nav2's
 costmap or a teleoperator does; the plain waypoints robot, `robot="waypoints"`, pushes into people after its
-patience runs out, with our own pacing and trees too)."""
+patience runs out, with our own pacing and trees too). `robot="script"` also plays the robot's part, as the operator
+plays the exported robot_script.yaml: the scripted robot with the careful gap, its script's speeds scaled
+(`at_speed`): the criteria on what the robot itself does need it."""
 
 from __future__ import annotations
 
@@ -40,6 +42,7 @@ from socnavgen.location.models import Edge
 from socnavgen.location.models import Node as GraphNode
 from socnavgen.location.scene_graph import to_networkx
 from socnavgen.run import LoadedRun, load_run
+from socnavgen.run.spec import RobotScript
 from socnavgen.sim import BUILTIN, ThrottleConfig, Trace, simulate_run
 from socnavgen.sim.engine.budget import FLOOR
 from socnavgen.verify.runner import verify_trace
@@ -51,7 +54,9 @@ AS_TARGETS = ("socrates", "hunav1", "hunav2")  # hunav1 runs its built-in behavi
 WAIT_NODE_TYPE = "WAITING SPOT"
 
 
-ROBOTS = {"careful": KEEP_GAP, "waypoints": math.nan}  # the proof's robots: the gap each keeps from people
+ROBOTS = {"careful": KEEP_GAP, "waypoints": math.nan, "script": KEEP_GAP}  # the proof's robots: the gap each keeps
+PLAYS_SCRIPT = {"script"}  # the robots that play the robot's part (robot_script.yaml), as their operator does
+MAX_SCRIPT_SPEED = 2.0  # m/s: the highest cruise speed a script may ask (run.spec.RobotScript.speed)
 TIMEOUT = FLOOR  # s: a run at the nominal speed or faster ends after this long (the simulator's shortest limit)
 
 
@@ -62,9 +67,36 @@ def timeout_for(speed: float) -> float:
 
 
 def waypoint_robot(robot: str, max_speed: float, delay: float = 0.0) -> Any:
-    """The built-in waypoints robot of the proof: `robot` one of ROBOTS, at `max_speed` m/s, started `delay` s late
-    (its script's start wait: when its operator starts it)."""
+    """The built-in robot of the proof: `robot` one of ROBOTS, at `max_speed` m/s, started `delay` s late
+    (its script's start wait: when its operator starts it). A robot of PLAYS_SCRIPT is the scripted robot (its
+    speeds are the script's: run it on `at_speed`'s copy of the run)."""
+    if robot in PLAYS_SCRIPT:
+        return BUILTIN["scripted"](start_delay=delay, keep_gap=ROBOTS[robot])
     return BUILTIN["waypoints"](max_speed=max_speed, start_delay=delay, keep_gap=ROBOTS[robot])
+
+
+def scaled_script(script: RobotScript, factor: float) -> RobotScript:
+    """The robot's script as an operator plays it `factor` x faster: its cruise speed and every speed a cue asks
+    scaled (at most MAX_SCRIPT_SPEED); its waits, phrases and places as they are."""
+    cues = [c if c.speed is None else c.model_copy(update={"speed": min(c.speed * factor, MAX_SCRIPT_SPEED)})
+            for c in script.cues]
+    return script.model_copy(update={"speed": min(script.speed * factor, MAX_SCRIPT_SPEED), "cues": cues})
+
+
+def at_speed(run: LoadedRun, robot: str, factor: float) -> LoadedRun:
+    """The run a robot of `robot` drives at `factor` x its script's speed: for a robot that plays the script, a
+    copy beside it (`<folder>@<factor>x`) whose spec.json has the script scaled (scaled_script); else the run."""
+    spec = run.spec()
+    if robot not in PLAYS_SCRIPT or spec is None or factor == 1.0:
+        return run
+    out = run.root.with_name(f"{run.root.name}@{factor:g}x")
+    if out.exists():
+        shutil.rmtree(out)
+    shutil.copytree(run.root, out, ignore=shutil.ignore_patterns("sim"))
+    scaled = spec.model_copy(update={"script": scaled_script(spec.script, factor)})
+    copy = load_run(out)
+    copy.folder.write_spec(scaled)
+    return copy
 
 
 @dataclass
@@ -186,22 +218,25 @@ def target_twin(run_dir: Path | str, target: str, work: Path | str, *, timing: b
     return twin
 
 
-def run_as_target(twin: Twin, speed: float, robot: str = "careful", seed: int = 0,  # noqa: ANN201 - VerifyReport
-                  pacing: bool = False):
-    """Simulate the twin with the robot at `speed` x its cruise speed; the verdict on the ORIGINAL run.
-    `pacing`: our simulator's pacing on (a reference, with a twin made with timing=False)."""
+def trace_as_target(twin: Twin, speed: float, robot: str = "careful", seed: int = 0, pacing: bool = False) -> Trace:
+    """The twin simulated with the robot at `speed` x its cruise speed (`pacing`: our simulator's pacing on, a
+    reference, with a twin made with timing=False); a hunav2 trace relabelled to the library's nodes."""
     assert twin.run is not None, twin.refused
     if pacing:
         throttle = ThrottleConfig()
     else:
         throttle = ThrottleConfig(rule="socrates") if twin.target == "socrates" else ThrottleConfig(enabled=False)
     policy = waypoint_robot(robot, twin.robot_speed * speed, twin.start_wait)
-    trace = simulate_run(twin.run, robot=policy, location=twin.location, timeout=timeout_for(speed),
-                         seed=seed, throttle=throttle, save=False)
-    if twin.stands_for:
-        trace = relabel(trace, twin.stands_for)
-    return verify_trace(twin.original, trace)
+    trace = simulate_run(at_speed(twin.run, robot, speed), robot=policy, location=twin.location,
+                         timeout=timeout_for(speed), seed=seed, throttle=throttle, save=False)
+    return relabel(trace, twin.stands_for) if twin.stands_for else trace
 
 
-__all__ = ["AS_TARGETS", "ROBOTS", "SPEEDS", "TIMED_TARGETS", "Twin", "waypoint_robot", "relabel", "run_as_target",
-           "stands_for", "target_twin", "timeout_for"]
+def run_as_target(twin: Twin, speed: float, robot: str = "careful", seed: int = 0,  # noqa: ANN201 - VerifyReport
+                  pacing: bool = False):
+    """trace_as_target's verdict on the ORIGINAL run."""
+    return verify_trace(twin.original, trace_as_target(twin, speed, robot, seed, pacing))
+
+
+__all__ = ["AS_TARGETS", "PLAYS_SCRIPT", "ROBOTS", "at_speed", "scaled_script", "SPEEDS", "TIMED_TARGETS", "Twin", "waypoint_robot", "relabel", "run_as_target",
+           "stands_for", "target_twin", "timeout_for", "trace_as_target"]

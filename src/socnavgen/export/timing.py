@@ -131,6 +131,36 @@ def held_up_from(robot: _Line, spot: complex, upto: float) -> float | None:
     return float(gap[int(np.argmax(held))]) if held.any() else None
 
 
+def script_stops(h: HumanExport, scene: ExportScene, robot: _Line, upto: float, wait_at: complex) -> list[complex]:
+    """Where the robot's script stands it for this person on its way to their node (arc up to `upto`): a cue that
+    stands it (a wait, wait_until_clear, let_pass) and is about them - near a point (at_encounter, at_node) of their
+    encounter or node, or lets them pass, or fires when they (waiting at `wait_at`) are within its distance
+    (human_within them) - where the robot first comes that close to the point (to `wait_at`). The robot waits there
+    for them (sim.people.pacing: that wait is the meeting), so they are released by then."""
+    if scene.spec is None:
+        return []
+    encounters = {e.id: e for e in scene.spec.encounters}
+    out = []
+    for cue in scene.spec.script.cues:
+        trig = cue.trigger
+        if not (cue.wait > 0 or cue.wait_until_clear or cue.let_pass):
+            continue
+        encounter = encounters.get(trig.encounter or "") if trig.when == "at_encounter" else None
+        node = trig.node if trig.when == "at_node" else encounter.node if encounter is not None else None
+        if trig.when == "human_within" and trig.human == h.name:
+            point = wait_at
+        elif node in scene.nodes and (cue.let_pass == h.name or node == h.interaction_point
+                                      or (encounter is not None and h.name in {p.human for p in encounter.humans})):
+            point = complex(*scene.nodes[node])
+        else:
+            continue
+        samples, gaps = robot.gaps(point, upto)
+        reach = gaps <= trig.distance + 1e-9
+        if reach.any():
+            out.append(robot.at(float(samples[int(np.argmax(reach))])))
+    return out
+
+
 def _route(h: HumanExport, scene: ExportScene) -> tuple[_Line, float] | None:
     """The person's route from where it starts through its goals, and how far along it the interaction node
     is; None when the node is not on the route."""
@@ -195,6 +225,7 @@ def hold_for(h: HumanExport, scene: ExportScene) -> Hold | None:
     if k > 0 and scene.doors_after.get(h.interaction_point) == h.path[k - 1]:  # through the robot's door first
         lead = CLEAR_LEAD
     held_up = held_up_from(robot, wait_at, node_s)
+    stops = [abs(p - wait_at) + RELEASE_MARGIN for p in script_stops(h, scene, robot, node_s, wait_at)]
 
     def release_at(factor: float) -> float:  # the robot's arc where a robot at factor x cruise lets the person go
         return max(0.0, node_s - lead - scene.robot_speed * factor * setting_off)
@@ -203,7 +234,7 @@ def hold_for(h: HumanExport, scene: ExportScene) -> Hold | None:
         distance = abs(robot.at(s) - wait_at) + RELEASE_MARGIN
         if held_up is not None:  # the person waits in the robot's way: released before it would wait for them
             distance = max(distance, held_up + RELEASE_MARGIN)
-        return distance
+        return max([distance, *stops])  # released once the robot stands for them
 
     def first_within(distance: float, upto: float) -> float:  # where on its path the robot first comes that close
         samples, gaps = robot.gaps(wait_at, upto)
@@ -344,4 +375,4 @@ def describe(hold: Hold) -> str:
             f"latest {hold.timeout:g} s), then meets it at {hold.node}{early}")
 
 
-__all__ = ["HOLD_BEFORE", "Hold", "held_up_from", "hold_for", "hold_root", "holds", "latch"]
+__all__ = ["HOLD_BEFORE", "Hold", "held_up_from", "hold_for", "hold_root", "holds", "latch", "script_stops"]
