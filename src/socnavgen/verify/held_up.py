@@ -49,24 +49,43 @@ def heading_to(waypoints: list[tuple[float, float]], progress: np.ndarray) -> np
 def planned_directions(world: object, robot_xy: np.ndarray, waypoints: list[tuple[float, float]],
                        progress: np.ndarray, radius: float) -> np.ndarray:
     """(N, 2) unit direction from each robot position toward the point a planning robot of `radius` steers for
-    on its way to the waypoint it heads for (heading_to); zeros at the waypoint itself."""
-    from socnavgen.sim.robot.fields import field_scale, route_fields
-    from socnavgen.sim.robot.planner import carrot_at
+    on its way to the waypoint it heads for (heading_to); zeros at the waypoint itself. Where the straight line to
+    that waypoint keeps the planner's clearance it is that line (planner.carrot_at's own first test), so the
+    cost-to-go field (a search over the whole map) is worked out only for waypoints the robot cannot see clear, once
+    per World (memo.kept)."""
+    from socnavgen.memo import kept
+    from socnavgen.sim.robot.fields import cost_to_go, field_scale
+    from socnavgen.sim.robot.planner import LINE_CLEAR, carrot_at
+    from socnavgen.sim.world.queries import clearance_at, path_clear
 
     pts = np.asarray(waypoints, dtype=float).reshape(-1, 2)
     out = np.zeros((len(robot_xy), 2))
     if len(pts) < 2 or not len(robot_xy):
         return out
     wps = pts[:, 0] + 1j * pts[:, 1]
-    fields = route_fields(world, wps, radius)  # type: ignore[arg-type]
-    scale = field_scale(world)  # type: ignore[arg-type]
+    grid = world.map  # type: ignore[attr-defined]
+    here = robot_xy[:, 0] + 1j * robot_xy[:, 1]
     target = heading_to(waypoints, progress)
-    for n, (xy, k) in enumerate(zip(robot_xy, target, strict=True)):
-        p = complex(xy[0], xy[1])
-        carrot = carrot_at(world.map, fields, int(k), wps[k], p, radius, scale)  # type: ignore[attr-defined]
-        to = carrot - p
-        if abs(to) > 1e-9:
-            out[n] = to.real / abs(to), to.imag / abs(to)
+    carrots = wps[target].copy()
+    bent = [n for n in range(len(here))
+            if not path_clear(grid, here[n], wps[target[n]], min(LINE_CLEAR * radius, clearance_at(grid, here[n])))]
+    if bent:
+        needed = sorted({int(target[n]) for n in bent})
+        first = kept(world, "verify_field", lambda: cost_to_go(world, wps[needed[0]], radius),  # type: ignore[arg-type]
+                     (complex(wps[needed[0]]), round(radius, 4)))
+        fields = np.full((len(wps), *first.shape), np.inf, np.float32)
+        for k in needed:
+            fields[k] = kept(world, "verify_field", lambda k=k: cost_to_go(world, wps[k], radius),  # type: ignore[arg-type,misc]
+                             (complex(wps[k]), round(radius, 4)))
+        scale = field_scale(world)  # type: ignore[arg-type]
+        for n in bent:
+            k = int(target[n])
+            carrots[n] = carrot_at(grid, fields, k, wps[k], here[n], radius, scale)
+    to = carrots - here
+    length = np.abs(to)
+    moving = length > 1e-9
+    out[moving, 0] = to[moving].real / length[moving]
+    out[moving, 1] = to[moving].imag / length[moving]
     return out
 
 
