@@ -26,6 +26,7 @@ from socnavgen.sim import contact
 from socnavgen.sim.arrival import short_of_goal_steps
 from socnavgen.sim.social_metrics import arrival_row
 from socnavgen.sim.trace import VX, VY, YAW, Trace
+from socnavgen.verify.held_up import holding_up
 from socnavgen.verify.idle import idle_seconds
 from socnavgen.verify.passing import (  # aside: re-exported (its home is verify/passing.py)
     aside,
@@ -33,7 +34,7 @@ from socnavgen.verify.passing import (  # aside: re-exported (its home is verify
     parted_for_robot,
 )
 from socnavgen.verify.perceived import perceived, seen_hold
-from socnavgen.verify.route import ahead_on_route, lag_along, leg_left, progress_events, route_progress
+from socnavgen.verify.route import lag_along, progress_events, route_progress
 from socnavgen.verify.runs import lasting, latched, runlength
 from socnavgen.verify.thresholds import (
     AHEAD_HALF_ANGLE,
@@ -213,34 +214,9 @@ class Signals:
         return self.keep("route", build)
 
     def holding_up(self) -> np.ndarray:
-        """(T, H) 1 where a human stands in the robot's way (heading, route direction, or on the route just ahead
-        round a bend: route.ahead_on_route) within proxemics.HELD_UP_DISTANCE (centres; the distance the script's
-        wait_until_clear waits for). The way is only worked out for the (step, human) pairs that close."""
-        def build() -> np.ndarray:
-            close = self.distances() <= proxemics.HELD_UP_DISTANCE
-            out = np.zeros(close.shape, dtype=bool)
-            if not close.any():
-                return out
-            k, i = np.nonzero(close)
-            rx, ry, yaw = self.trace.robot[k, 0], self.trace.robot[k, 1], self.trace.robot[k, YAW]
-            px, py = self.trace.humans[k, i, 0], self.trace.humans[k, i, 1]
-            radius = np.asarray(self.trace.human_radii, dtype=float)[i]
-            tangent = self.route()[1][k]
-
-            def way(hx: np.ndarray, hy: np.ndarray) -> np.ndarray:
-                return proxemics.in_way(rx, ry, hx, hy, px, py, float(self.trace.robot_radius), radius,
-                                        proxemics.WAY_MARGIN_VERIFY)
-
-            tx, ty = tangent[:, 0], tangent[:, 1]
-            half = float(self.trace.robot_radius) + radius + proxemics.WAY_MARGIN_VERIFY
-            leg = leg_left(self.route()[0], list(self.trace.robot_waypoints))[k]  # route direction: up to its next turn
-            on_leg = (px - rx) * tx + (py - ry) * ty <= leg + float(self.trace.robot_radius) + radius  # (hospital_04)
-            out[k, i] = way(np.cos(yaw), np.sin(yaw)) | (way(tx, ty) & ((tx != 0) | (ty != 0)) & on_leg) | ahead_on_route(
-                self.route()[0][k], np.stack([px, py], 1), list(self.trace.robot_waypoints), half,
-                proxemics.HELD_UP_DISTANCE, float(self.trace.robot_radius))
-            return out
-
-        return self.keep("holding_up", build)
+        """(T, H) 1 where a human holds the robot up: in its way (heading, route leg, route ahead round a bend, or
+        its planned way round walls) within proxemics.HELD_UP_DISTANCE (verify/held_up.py), computed once."""
+        return self.keep("holding_up", lambda: holding_up(self))
 
     def blocked(self) -> np.ndarray:
         """1 where some human holds the robot up (holding_up)."""
