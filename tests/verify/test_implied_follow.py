@@ -22,9 +22,11 @@ BEHIND = [(0.0, 4.8, 1.6), (6.5, 4.8, 1.6), (15.5, 9.8, 1.6), (25.0, 9.8, 1.6)] 
 AT_ITS_GOAL = [(0.0, 9.0, 1.6), (25.0, 9.0, 1.6)]  # stands on its way 3.2 m past the corner the whole run
 
 
-def _spec(lasts: float | None = None, criteria: list[Criterion] | None = None, followers: int = 1) -> ScenarioSpec:
-    parts = [HumanPart(human=f"human{k}", trigger="robot_says", phrase="FOLLOW ME", reaction="follow", latch=True,
-                       lasts=lasts) for k in range(1, followers + 1)]
+def _spec(lasts: float | None = None, criteria: list[Criterion] | None = None, followers: int = 1,
+          phrase: bool = True) -> ScenarioSpec:
+    cause = {"trigger": "robot_says", "phrase": "FOLLOW ME"} if phrase else {"trigger": "robot_near", "distance": 5.0}
+    parts = [HumanPart(human=f"human{k}", reaction="follow", latch=True, lasts=lasts, **cause)
+             for k in range(1, followers + 1)]
     return ScenarioSpec(script=RobotScript(route="corner to east"), encounters=[
         Encounter(id="e1", place="BLIND CORNER", node="corner", within=1.5, humans=parts)],
         criteria=criteria or [Criterion(id="c1", kind="stl", formula="eventually (dist_human1 < 3.0)",
@@ -47,12 +49,12 @@ def test_no_implied_follow_for_a_timed_follow_or_one_the_spec_judges() -> None:
     assert _implied(_spec(criteria=[own])) == []
 
 
-def _finding(tmp_path: Path, walk: list[tuple[float, float, float]]):  # noqa: ANN202
+def _finding(tmp_path: Path, walk: list[tuple[float, float, float]], phrase: bool = True):  # noqa: ANN202
     plan = PathPlan(robot=["corner", "east"], humans=[HumanPlan(name="human1", path=["corner", "east"],
                                                                  interaction_point="corner")])
     scene = Scene(robot=ROBOT, humans={"human1": walk}, robot_says=[(0.2, 3.0, 5)], human_says={},
                   actions={"human1": [(0.0, 25.0, "FollowRobot")]}, goal=(11.0, 1.5), duration=25.0)
-    run = write_case_run(tmp_path / "run", make_corner_location(tmp_path / "loc"), _spec(), plan)
+    run = write_case_run(tmp_path / "run", make_corner_location(tmp_path / "loc"), _spec(phrase=phrase), plan)
     return next(f for f in verify_trace(run, build(scene)).findings if f.criterion == "follow_human1_e1")
 
 
@@ -65,3 +67,11 @@ def test_one_standing_where_the_robot_goes_fails_and_the_paths_are_blamed(tmp_pa
     found = _finding(tmp_path, AT_ITS_GOAL)
     assert not found.passed
     assert found.blame == "paths" and "ahead of the robot along its way when it set off" in (found.blame_reason or ""), found.blame_reason
+
+
+def test_one_waiting_on_its_route_for_the_robot_to_come_is_no_follower_placed_ahead(tmp_path: Path) -> None:
+    """A follow the robot's coming starts (robot_near): someone waiting on its route who is to fall in behind once it
+    has passed (round 29's hospital_19, a lost visitor tailing the robot) is not told to start behind it."""
+    found = _finding(tmp_path, AT_ITS_GOAL, phrase=False)
+    assert not found.passed
+    assert "ahead of the robot along its way when it set off" not in (found.blame_reason or ""), found.blame_reason

@@ -54,17 +54,16 @@ def never_near_start(cc: Compiled, s: Signals, h: str) -> Verdict | None:
 
 
 def ahead_of_robot(cc: Compiled, s: Signals, h: str) -> Verdict | None:
-    """Rule F2: when the robot set off after its cause (the phrase, else from the start), h stood ahead of it along
+    """Rule F2: when the robot set off after the phrase that starts the follow, h stood ahead of it along
     the way it drives (lag below -FOLLOW_AHEAD): a follower placed on the robot's route ahead of it, with nothing to
     follow from there (round 35's home_27: the guest started at the robot's goal; the player read "did not react as
     asked" and loosened the criteria instead of moving her)."""
-    lag = s.get(f"lag_{h}")
-    start = 0
-    if cc.phrase:
-        said = np.flatnonzero(s.get(f"robot_says_{cc.phrase}") > 0.5)
-        if not said.size:
-            return None
-        start = int(said[0])
+    if not cc.phrase:  # a follow the robot's coming starts (robot_near, robot_visible): someone waiting on its route
+        return None  # who falls in behind once it has passed is no follower placed ahead (round 29's hospital_19)
+    said = np.flatnonzero(s.get(f"robot_says_{cc.phrase}") > 0.5)
+    if not said.size:
+        return None
+    lag, start = s.get(f"lag_{h}"), int(said[0])
     driving = np.flatnonzero(s.get("speed_robot")[start:] > WALK_SPEED)
     if not driving.size:
         return None
