@@ -161,23 +161,30 @@ def occupied(s, i, goal):  # noqa: ANN001, ANN201
 
 
 @jit
-def free(s, i, goal, spot):  # noqa: ANN001, ANN201
-    """`spot` keeps person i's body the standing gap (+ SLACK) from everyone standing and from the spots others took
-    round the same goal, and ROBOT_GAP from the robot standing."""
+def clear_for(s, i, goal, spot, gap, robot_gap, robot_moving):  # noqa: ANN001, ANN201
+    """`spot` keeps person i's body `gap` (+ SLACK) from everyone standing and from the spots others took round the
+    same goal, and `robot_gap` from the robot's (only while it stands unless `robot_moving`)."""
     people, robot = s.people, s.robot[0]
     p = people[i]
-    if abs(robot.vel) < STANDING and abs(robot.pos - spot) < p.radius + robot.radius + ROBOT_GAP:
+    if (robot_moving or abs(robot.vel) < STANDING) and abs(robot.pos - spot) < p.radius + robot.radius + robot_gap:
         return False
     for j in range(people.shape[0]):
         if j == i:
             continue
         q = people[j]
-        reach = p.radius + q.radius + PERSON_STAND_GAP + SLACK
+        reach = p.radius + q.radius + gap + SLACK
         if abs(q.vel) < STANDING and abs(q.pos - spot) < reach:
             return False
         if q.has_spot and abs(q.spot_for - goal) < 1e-6 and abs(q.spot - spot) < reach:
             return False
     return True
+
+
+@jit
+def free(s, i, goal, spot):  # noqa: ANN001, ANN201
+    """`spot` keeps person i's body the standing gap (+ SLACK) from everyone standing and from the spots others took
+    round the same goal, and ROBOT_GAP from the robot standing."""
+    return clear_for(s, i, goal, spot, PERSON_STAND_GAP, ROBOT_GAP, False)
 
 
 @jit
@@ -278,20 +285,7 @@ def tight(s, goal):  # noqa: ANN001, ANN201
 def tight_free(s, i, goal, spot):  # noqa: ANN001, ANN201
     """`spot` keeps person i's body TIGHT_GAP (+ SLACK) from everyone else standing or holding a spot round `goal`,
     and PERSON_ROBOT_GAP from the robot's."""
-    people, robot = s.people, s.robot[0]
-    p = people[i]
-    if abs(robot.pos - spot) < p.radius + robot.radius + PERSON_ROBOT_GAP:
-        return False
-    for j in range(people.shape[0]):
-        if j == i:
-            continue
-        q = people[j]
-        reach = p.radius + q.radius + TIGHT_GAP + SLACK
-        if abs(q.vel) < STANDING and abs(q.pos - spot) < reach:
-            return False
-        if q.has_spot and abs(q.spot_for - goal) < 1e-6 and abs(q.spot - spot) < reach:
-            return False
-    return True
+    return clear_for(s, i, goal, spot, TIGHT_GAP, PERSON_ROBOT_GAP, True)
 
 
 @jit
