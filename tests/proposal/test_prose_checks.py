@@ -273,6 +273,14 @@ REFUSED = {
     # round 34's re-answers (the seventeenth session's final code): refused live, then fixed by the model
     ("home_05_serving_drinks_at_party", "scenario[0]"): "the guests stay put until the robot says EXCUSE ME, no "
     "criterion sees them stay (the round-34 live model then added one)",
+    # round 35's new requests (the eighteenth session): refused live, then fixed by the model
+    ("warehouse_27_crates_with_follower_around_blind_corners", "scenario[0]"): "the worker steadying the crates walks "
+    "'right behind' the robot with a follow distance beyond the trail (the live model then allowed 2.8 m; its player "
+    "found the wording casual)",
+    ("warehouse_28_labels_past_pallet_wrapping", "scenario[0]"): "the scanner worker 'stays where he is', no criterion "
+    "sees him stay (the live model then bounded his moving)",
+    ("hospital_28_pharmacy_bag_handover_at_nurse_station", "paths[0]"): "the orderly's path does not come to his "
+    "encounter the way his text says (the live model then re-planned where he comes from, through stage 1)",
 }
 
 

@@ -90,8 +90,8 @@ from socnavgen.verify.blame_cue import cue_never_held, stop_not_held
 from socnavgen.verify.blame_end import (
     SIMULATOR_NOTE,
     goal_taken,
-    near_at_end,
-    no_progress_at_end,
+    never_released,
+    short_of_goal,
     standing_at_end,
 )
 from socnavgen.verify.blame_follow import ahead_of_robot, blame_follower, never_near_start
@@ -109,7 +109,6 @@ from socnavgen.verify.stay import stay_broken
 from socnavgen.verify.stl import formula_signals
 from socnavgen.verify.thresholds import (
     APPROACH,
-    HELD_ON,
     KIND_DISTANCE,
     MEET_DISTANCE,
     PASSING_DISTANCE,
@@ -340,32 +339,6 @@ def _held_at_end(s: Signals, spec: ScenarioSpec, plan: PathPlan | None) -> Verdi
                               f"({_held_up_fact(s, who, k)}): its tree must let the robot through")
 
 
-def _short_of_goal(s: Signals) -> str:
-    """Rule R2's reason, with what the robot did: still on its way when the run ended, or standing short of it."""
-    points = np.asarray(s.trace.robot_waypoints, dtype=float).reshape(-1, 2)
-    total = float(np.hypot(*np.diff(points, axis=0).T).sum()) if len(points) > 1 else 0.0
-    left = max(total - float(s.route()[0][-1]), 0.0) if total else float(s.get("robot_to_goal")[-1])
-    stalled = float(s.get("stalled")[-1])
-    where = f"{left:.1f} m of its route left{_where_robot(s)}"
-    stuck = no_progress_at_end(s, where)
-    if stuck:
-        return stuck
-    if stalled < 1.0 and s.trace.end_reason == "timeout":
-        return (f"the robot was still on its way when the simulation ended at t={s.t[-1]:.0f} s ({where}), nobody "
-                "holding it up: its route takes longer than the run; make it shorter (or the robot faster)")
-    near = near_at_end(s)
-    if near:  # not in its way by the swept-width rule, yet where it must pass (round 30: a child 1.1 m off it)
-        return f"the robot ended standing still for its last {stalled:.0f} s with {where}, {near}"
-    return (f"the robot ended standing still for its last {stalled:.0f} s with {where} and nobody near it: its "
-            "route does not bring it to its goal (check the route's last nodes)")
-
-
-def _where_robot(s: Signals) -> str:
-    nodes = [(float(np.hypot(*(s.pos("robot")[-1] - np.asarray(p)))), n[5:]) for n, p in s.places.items()
-             if n.startswith("node_")]
-    return f", nearest node {min(nodes)[1]}" if nodes else ""
-
-
 def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan | None,
                     settings_deadlock: float, location: Any = None, authored: bool = True) -> Verdict:
     """Apply the rule table to one failing, monitored criterion that does not contradict its spec (rule S1 is
@@ -397,9 +370,9 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
         if waiting:
             return waiting
         held = _held_at_end(s, spec, plan)
-        return held or ("paths", None, _short_of_goal(s))
+        return held or ("paths", None, short_of_goal(s))
     if kind == "stl" and cc.criterion.id.startswith(WALKS_ON) and cc.part is not None:
-        return _never_released(cc, s)
+        return never_released(cc, s)
     if kind == "stl":
         return _blame_formula(cc, s)
     if kind == "robot_stops":
@@ -535,17 +508,6 @@ def _blame_group(cc: Compiled, s: Signals, plan: PathPlan | None) -> Verdict:
     when = f"{float(spread[k]):.2f} m apart at t={float(s.t[k]):.1f} s"
     where = "lags behind the others" if goal is not None else "is farthest from the others"
     return "behaviors", who, f"{who} {where} ({when}): its tree must keep it with the others"
-
-
-def _never_released(cc: Compiled, s: Signals) -> Verdict:
-    """Rule W1: the stop's distance still covered the robot where the run ended: where the two end is stage 2's
-    (the --verify loop sends it to stage 1, the stop's distance, when it fails again after the paths changed)."""
-    h, near = (cc.part.human, cc.part.distance) if cc.part is not None else ("", None)
-    gap = float(s.get(f"dist_{h}")[-1])
-    return ("paths", None, f"{h} still stood at the end of the run with the robot {gap:.1f} m away, inside the "
-                           f"{near:g} m its stop lasts for (robot_near, no `lasts`), for the run's last "
-                           f"{HELD_ON:g} s: it never walks on along its path; the robot must end farther from where "
-                           f"{h} stops than that (or the stop needs a shorter distance, or `lasts` seconds)")
 
 
 def _blame_formula(cc: Compiled, s: Signals) -> Verdict:

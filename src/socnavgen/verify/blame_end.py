@@ -22,9 +22,10 @@ from socnavgen.run.models import PathPlan
 from socnavgen.run.spec import RobotCue, ScenarioSpec
 from socnavgen.sim.people.spots import REACH, RING_STEP, RINGS
 from socnavgen.sim.robot.script import describe
+from socnavgen.verify.criteria import Compiled
 from socnavgen.verify.models import Verdict
 from socnavgen.verify.signals import Signals
-from socnavgen.verify.thresholds import PROGRESS_STEP, STILL_SPEED
+from socnavgen.verify.thresholds import HELD_ON, PROGRESS_STEP, STILL_SPEED
 
 GOAL_AREA = RINGS * RING_STEP + REACH  # m: how far round its goal point a person who walked there stands (sim spots)
 WALKING_NODES = ("RegularNav", "UpdateGoal", "IsGoalReached")  # the tree just walks the person its path (to its goal)
@@ -179,3 +180,42 @@ def near_at_end(s: Signals) -> str:
             "where it must pass (it keeps a margin from people and does not squeeze past them); have them step "
             "aside to a wider place, or end their reaction or their path farther from the robot's route, or route "
             "the robot round them")
+
+
+def never_released(cc: Compiled, s: Signals) -> Verdict:
+    """Rule W1: the stop's distance still covered the robot where the run ended (the implied walks_on failed): where
+    the two end is stage 2's (the --verify loop sends it to stage 1, the stop's distance, when it fails again after
+    the paths changed)."""
+    h, near = (cc.part.human, cc.part.distance) if cc.part is not None else ("", None)
+    gap = float(s.get(f"dist_{h}")[-1])
+    return ("paths", None, f"{h} still stood at the end of the run with the robot {gap:.1f} m away, inside the "
+                           f"{near:g} m its stop lasts for (robot_near, no `lasts`), for the run's last "
+                           f"{HELD_ON:g} s: it never walks on along its path; the robot must end farther from where "
+                           f"{h} stops than that (or the stop needs a shorter distance, or `lasts` seconds)")
+
+
+def short_of_goal(s: Signals) -> str:
+    """Rule R2's reason, with what the robot did: still on its way when the run ended, or standing short of it."""
+    points = np.asarray(s.trace.robot_waypoints, dtype=float).reshape(-1, 2)
+    total = float(np.hypot(*np.diff(points, axis=0).T).sum()) if len(points) > 1 else 0.0
+    left = max(total - float(s.route()[0][-1]), 0.0) if total else float(s.get("robot_to_goal")[-1])
+    stalled = float(s.get("stalled")[-1])
+    where = f"{left:.1f} m of its route left{where_robot(s)}"
+    stuck = no_progress_at_end(s, where)
+    if stuck:
+        return stuck
+    if stalled < 1.0 and s.trace.end_reason == "timeout":
+        return (f"the robot was still on its way when the simulation ended at t={s.t[-1]:.0f} s ({where}), nobody "
+                "holding it up: its route takes longer than the run; make it shorter (or the robot faster)")
+    near = near_at_end(s)
+    if near:  # not in its way by the swept-width rule, yet where it must pass (round 30: a child 1.1 m off it)
+        return f"the robot ended standing still for its last {stalled:.0f} s with {where}, {near}"
+    return (f"the robot ended standing still for its last {stalled:.0f} s with {where} and nobody near it: its "
+            "route does not bring it to its goal (check the route's last nodes)")
+
+
+def where_robot(s: Signals) -> str:
+    """', nearest node N' of where the robot ended (or '' without node places), for the reasons above."""
+    nodes = [(float(np.hypot(*(s.pos("robot")[-1] - np.asarray(p)))), n[5:]) for n, p in s.places.items()
+             if n.startswith("node_")]
+    return f", nearest node {min(nodes)[1]}" if nodes else ""
