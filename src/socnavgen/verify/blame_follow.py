@@ -5,8 +5,8 @@ round 13: a worker filing behind another was blamed for not reacting to the robo
 - the person followed never walked while the follower could follow: nobody to follow   -> behaviors(followed)
 - otherwise the follower fell behind (or never walked with them)                           -> behaviors(follower)
 
-Rule F2 for follows_robot (ahead_of_robot): when the robot set off after the follow's cause, the follower stood ahead
-of it along its way (where it was going): there was nothing to follow from there                   -> paths
+Rule F2 for follows_robot (ahead_of_robot): when the robot set off after the phrase that starts the follow, the
+follower stood ahead of it along its way (where it was going): there was nothing to follow from there -> paths
 
 Rule N3 for any follower (never_near_start): it was never near its encounter's place within S s after the phrase
 (or at all, with no phrase), so the following could not start there                      -> paths"""

@@ -204,25 +204,30 @@ def group_spread(people, i, goal, spot):  # noqa: ANN001, ANN201
 
 
 @jit
-def through_door(world, spot, point):  # noqa: ANN001, ANN201
-    """The straight way from `spot` to `point` narrows between them to a doorway: away from both ends (a body's
-    radius), its clearance dips PINCH below both ends' and below DOOR_HALF_WIDTH: the spot is in another room, however
-    well it sees the point (visitors going into an elevator car, its 1.2 m door between the lobby and the car, stood
-    in the lobby: hospital_01, hospital_27)."""
-    ends = min(clearance_at(world, spot), clearance_at(world, point)) - PINCH
+def narrows(world, spot, point, skip, spot_slack):  # noqa: ANN001, ANN201
+    """The straight way from `spot` to `point`, `skip` m off either end, passes somewhere narrower than
+    DOOR_HALF_WIDTH, PINCH below the point's clearance and below the spot's own + `spot_slack`: a doorway lies between
+    them, the spot is not in the point's own room (visitors going into an elevator car, its 1.2 m door between the
+    lobby and the car, stood in the lobby: hospital_01, hospital_27)."""
+    room = clearance_at(world, point) - PINCH
+    near = clearance_at(world, spot) + spot_slack
     d = point - spot
     length = abs(d)
-    if length <= 2 * PERSON_RADIUS:
-        return False
     count = max(2, int(math.ceil(length / (0.5 * world.mpp))) + 1)
     for k in range(1, count - 1):
         along = length * k / (count - 1)
-        if along < PERSON_RADIUS or along > length - PERSON_RADIUS:
+        if along < skip or along > length - skip:
             continue
         c = clearance_at(world, spot + d * (k / (count - 1)))
-        if c < ends and c < DOOR_HALF_WIDTH:
+        if c < room and c < DOOR_HALF_WIDTH and c < near:
             return True
     return False
+
+
+@jit
+def through_door(world, spot, point):  # noqa: ANN001, ANN201
+    """A doorway between `spot` and `point`, a body's radius off both: narrower than both ends by PINCH."""
+    return narrows(world, spot, point, PERSON_RADIUS, -PINCH)
 
 
 @jit
@@ -255,28 +260,13 @@ def pick(s, i, goal):  # noqa: ANN001, ANN201
 
 
 @jit
-def narrows(world, spot, point):  # noqa: ANN001, ANN201
-    """The straight way from `spot` to `point` passes somewhere narrower than DOOR_HALF_WIDTH, PINCH below the point's
-    clearance and no wider than the spot's own: the spot is not in the point's own open space."""
-    room = clearance_at(world, point) - PINCH
-    near = clearance_at(world, spot) + SLACK
-    d = point - spot
-    count = max(2, int(math.ceil(abs(d) / (0.5 * world.mpp))) + 1)
-    for k in range(1, count - 1):
-        c = clearance_at(world, spot + d * (k / (count - 1)))
-        if c < room and c < DOOR_HALF_WIDTH and c < near:
-            return True
-    return False
-
-
-@jit
 def tight(s, goal):  # noqa: ANN001, ANN201
     """No spot of the first ring round `goal` keeps a body WALL_CLEARANCE off the walls in the point's own open space
     (narrows): a place too small for people to stand round the point at the standing gap (a car, a nook)."""
     for k in range(ANGLES):
         spot = goal + RING_STEP * complex(math.cos(2 * math.pi * k / ANGLES), math.sin(2 * math.pi * k / ANGLES))
         if clearance_at(s.world, spot) >= WALL_CLEARANCE and line_of_sight(s.world, spot, goal) and \
-                not narrows(s.world, spot, goal):
+                not narrows(s.world, spot, goal, 0.0, SLACK):
             return False
     return True
 
@@ -355,12 +345,14 @@ def aim(s, i):  # noqa: ANN001, ANN201
         p.has_spot, p.spot, p.spot_for = found, spot, goal
         return spot if found else goal
     # a spot is kept while it stays free; a group member looks again as the others of the group settle
-    if p.has_spot and abs(p.spot_for - goal) < 1e-6 and (free(s, i, goal, p.spot) or
-                                                         (tight(s, goal) and tight_free(s, i, goal, p.spot))) \
-            and p.group < 0:
+    kept = p.has_spot and abs(p.spot_for - goal) < 1e-6 and p.group < 0
+    if kept and free(s, i, goal, p.spot):
+        return p.spot
+    small = tight(s, goal)  # no room at the standing gap: as in a lift, at the keeping gap
+    if kept and small and tight_free(s, i, goal, p.spot):
         return p.spot
     found, spot = pick(s, i, goal)
-    if not found and tight(s, goal):  # no room at the standing gap: as in a lift, at the keeping gap
+    if not found and small:
         found, spot = pick_tight(s, i, goal)
     p.has_spot = found
     p.spot = spot
