@@ -262,7 +262,8 @@ def inventory_text(location: Location, *, positions: bool = True, detail: bool =
     narrow = inv.narrow_passages()
     if narrow:  # all of them (the edges stage 2's scene graph marks narrow), the doorways' edges included
         lines.append(f"Narrow passages (every edge narrower than {BLOCKING_WIDTH:g} m, doorways' edges included: one "
-                     "standing person closes them to the robot): "
+                     "standing person closes them to the robot, and to a walker whose path goes through them: "
+                     "plan walkers' paths round a node where someone stands): "
                      + ", ".join(f"{p.a}-{p.b} {p.width_m:.1f} m" for p in narrow) + ".")
     squeezes = [p for p in inv.passages.values() if p.squeeze]
     if squeezes:

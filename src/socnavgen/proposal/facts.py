@@ -403,11 +403,12 @@ def wait_until_clear_text() -> str:
     from socnavgen import proxemics
     from socnavgen.sim.robot.script import CLEAR_PATIENCE, CLEAR_REPEATS
 
-    return (f"a wait_until_clear cue holds it where the cue fired while anyone is in its way (ahead of it, on its "
+    return (f"a wait_until_clear cue (after the cue's `wait`, if it has one) holds it where the cue fired while anyone is in its way (ahead of it, on its "
             f"route) within {proxemics.HELD_UP_DISTANCE:g} m, or within the cue trigger's `distance` when that is "
             f"larger, whatever the trigger is (at_encounter, human_within, blocked alike; nobody ahead: it goes on "
             f"at once); still held after {CLEAR_PATIENCE:g} s it says its phrase again, {CLEAR_REPEATS} times "
-            f"{CLEAR_PATIENCE:g} s apart (a cue without a phrase waits as long, silently), then drives around them")
+            f"{CLEAR_PATIENCE:g} s apart (a cue without a phrase waits as long, silently), then drives around them; "
+            f"with nobody in its way it ends at once, so a stop the story needs for N s is a `wait` of N s")
 
 
 def stl_text(signals: bool = True) -> str:

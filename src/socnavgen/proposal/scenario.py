@@ -90,7 +90,8 @@ def spec_help_text(target: Target | None = None, *, signals: bool = True, robot:
 # Kinds told behind fit.py's robot cut (the small model's stage-1 prompt is full); the stop check of stop_checks.py
 # names them in its finding when a text states such a stop.
 STOP_KINDS = ("robot_stops", "stop_together")
-STOP_KINDS_TEXT = ("; robot_stops: the robot stands `seconds` at the `encounter`'s place (slowing down is no stop); "
+STOP_KINDS_TEXT = ("; robot_stops: the robot stands `seconds` within `distance` (else the encounter's `within`) of the "
+                   "`encounter`'s node (slowing down is no stop: size `within` for where its cue stops it); "
                    "stop_together: the `humans`, having walked, stand still at once within `distance` of each other "
                    "(people who stop to greet each other)")
 
