@@ -189,3 +189,22 @@ def test_verify_that_gives_up_prints_the_failing_findings(tmp_path, warehouse, m
     assert result.exit_code == 1, result.output
     assert "the verifier still finds problems" in result.output and "1 failing" in result.output
     assert "FAIL c1 meets (human1): human1 never came within 2 m of the robot (closest 6.37 m)" in result.output
+
+
+def test_verify_that_passes_says_so(tmp_path, warehouse, monkeypatch):
+    """A passing `generate --verify` ends with a line that says it verified (round-37 players read sim/verify.json
+    to learn it), and a failing one does not print it."""
+    from socnavgen.proposal import pipeline
+    from socnavgen.verify.models import Finding, VerifyReport
+
+    held = [Finding(name=f"c{i} meets", kind="meets", passed=True, human="human1", blame=None, evidence="ok")
+            for i in (1, 2)]
+    monkeypatch.setattr(pipeline, "default_verifier", lambda: lambda run_dir, location=None: VerifyReport(
+        run=str(run_dir), passed=True, findings=held))
+    out = tmp_path / "run"
+    result = CliRunner().invoke(app, ["generate", "--location", str(warehouse), *ARGS, "--llm",
+                                      f"replay:{FIXTURES / 'warehouse_blind_corner.yaml'}", "--out", str(out),
+                                      "--verify", "--max-restarts", "0"])
+    assert result.exit_code == 0, result.output
+    assert "verified: every required criterion held (2 checked after 1 simulation(s)" in result.output
+    assert "still finds problems" not in result.output

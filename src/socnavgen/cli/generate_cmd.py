@@ -275,6 +275,12 @@ def register(app: typer.Typer) -> None:
             raise
         _summary(result, folder)
         _export_check(folder, request.target)
+        if verify and result.verify is not None and result.verify.passed:
+            record = result.manifest.stages.get("verify")
+            simulations = f" after {record.attempts} simulation(s)" if record is not None else ""
+            required = [f for f in result.verify.findings if f.required]
+            console.print(f"[green]verified[/]: every required criterion held ({len(required)} checked{simulations}; "
+                          f"sim/verify.json, `socnavgen verify {folder.root}` shows each)", highlight=False)
         if verify and result.verify is not None and not result.verify.passed:
             failing = result.verify.failures
             err_console.print(f"[red]the verifier still finds problems[/] (manifest status: failed): {len(failing)} "
