@@ -191,7 +191,7 @@ def pacing_text(detail: bool = True) -> str:
             + (", wherever they start (the robot's goal too)," if detail else "")
             + " by the robot's ETA re-estimated as it goes (its route left at its speed, plus "
             + ("what is left of the `wait` of cues that fired: not a cue yet to fire, a let_pass, a wait_until_clear,"
-               f" nor a wait it stands on its way within {pace.release_distance:g} m of the node: they come during that wait)"
+               f" nor a wait it stands on its way within {pace.release_distance:g} m of the node along its route: they come during that wait)"
                if detail else "the time it still stands for its cues' waits)")
             + f": a person standing stays where they are (at their start, out of sight if that is hidden) until "
             f"walking to the node at their own speed gets them there with the robot, then walks there; a person "

@@ -52,7 +52,7 @@ MAX_TOKENS = 1536
 POINT_RULE = ("6. The interaction point of a human is the node where pacing brings that human together with the "
               "robot: it must be on that human's path AND on the robot's path.")
 POINT_RULE_ENCOUNTERS = ("6. The interaction point of a human is the node of that human's FIRST encounter (lowest "
-                         "order; its node in encounter_nodes): pacing brings the human there together with the robot. "
+                         "order; its node in encounter_nodes; a null is read as that node): pacing brings the human there together with the robot. "
                          "It must be on that human's path AND on the robot's path. " + TWO_ENCOUNTERS + ": each later "
                          "encounter of a human on a node of its own.")
 
