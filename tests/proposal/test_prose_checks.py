@@ -279,8 +279,6 @@ REFUSED = {
     "found the wording casual)",
     ("warehouse_28_labels_past_pallet_wrapping", "scenario[0]"): "the scanner worker 'stays where he is', no criterion "
     "sees him stay (the live model then bounded his moving)",
-    ("hospital_28_pharmacy_bag_handover_at_nurse_station", "paths[0]"): "the orderly's path does not come to his "
-    "encounter the way his text says (the live model then re-planned where he comes from, through stage 1)",
     ("home_30_phone_past_blanket_fort_builders", "paths[0]"): "the child's text has her come to vh from the robot's "
     "side (g9, i6, z2), her path comes in from 41 (the live model kept it twice and said why; stage 1 then re-wrote "
     "where she comes from)",
