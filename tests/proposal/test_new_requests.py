@@ -85,6 +85,12 @@ DISAGREE: dict[str, str] = {
     "and the relative who are to walk into the elevator car only one got in, the others stood ~1.5 m outside it to the "
     "end; on this session's final code people sharing a goal in a car go in as into a lift (sim.people.spots.tight) "
     "and the third one's walk still ends in its door (not re-judged); no criterion sees them inside the car",
+    "hospital_23_ward_round_group_oncoming": "lenient PASS (re-answered live in round 37 on the nineteenth session's "
+    "starting code; eyes round 37: no): the doctor and two students walk east as a line along the corridor, never "
+    "abreast; on EXCUSE ME the doctor (avoid) veers into the nurse-station opening ~1.2 m beyond the wall line and "
+    "nearly stalls, the students trail after him, and the robot passes only once they came back out walking normally "
+    "(1.3-1.9 m, no contact); no criterion sees the group abreast, nor the doctor walking on, and the player widened a "
+    "student's reaction window to 9 s",
     "hospital_15_running_child_in_corridor": "lenient PASS (a new request of round 20; eyes round 31, on the sixteenth session's run: "
     "no, 'borderline'): the robot stops at the south wall, waits for the child (passing ~1.05 m from it) and then "
     "the parents and delivers to g3; the child brakes from ~1.8 to ~1 m/s passing the robot instead of running past "

@@ -225,6 +225,18 @@ def test_an_at_node_cue_stands_the_robot_at_a_node_of_its_route_with_nobody_ther
     assert rows[-1][2].real > 12.0  # then drove on
 
 
+def test_a_timed_wait_longer_than_the_idle_end_does_not_end_the_run():
+    """Round 37's home_19: everybody had finished their walk and the robot stood for its 16 s wait at a bedroom door;
+    the run ended "all_done" 10 s into the wait (nothing would change, it said), before the robot drove in."""
+    script = RobotScript(cues=[RobotCue(trigger=CueTrigger(when="at_node", node="door", distance=0.3), wait=16.0)])
+    sim = make_sim([human(start=(16.0, 8.0), goals=[(16.0, 8.0)])], [STANDING], [(2.0, 5.0), (8.0, 5.0), (14.0, 5.0)],
+                   policy=ScriptedPolicy(), script=script, nodes={"door": 8.0 + 5.0j}, timeout=60)
+    trace = sim.run()
+    assert [text for _, text in sim.cues.fired if text.startswith("at_node")]
+    assert trace.end_reason == "robot_goal"
+    assert trace.t[-1] > 16.0 + 12.0 / 0.6 * 0.5  # the whole wait, then the drive on
+
+
 def test_an_at_node_cue_names_its_node():
     with pytest.raises(ValueError, match="names the `node`"):
         CueTrigger(when="at_node", distance=0.5)

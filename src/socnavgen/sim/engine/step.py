@@ -150,8 +150,8 @@ def ending(s):  # noqa: ANN001, ANN201
     if clock.arrived >= 0:  # a run: it goes on while a follower still walks in (people.grace), within the grace
         late = clock.t - clock.arrived >= ARRIVAL_GRACE - 1e-9 or clock.step >= clock.max_steps
         return ROBOT_GOAL if late or not coming(s) else RUNNING
-    if clock.idle >= clock.idle_end:
-        finished = True
+    if clock.idle >= clock.idle_end and not robot.held:  # a robot its script stands (a timed wait, a let_pass)
+        finished = True  # goes on when the wait ends: home_19's 16 s wait at a bedroom door ended the run 10 s in
         for i in range(s.people.shape[0]):
             finished = finished and done(s.people, s.goals, i)
         if finished:
