@@ -151,8 +151,10 @@ def follows_human_text(detail: bool = True) -> str:
     if not detail:  # stage 1's `robot` cut (fit.py)
         return "like follows_robot, measured from whom `human` follows (`other`)"
     trail = follow_trail(PERSON_MAX_SPEED)
-    return (f"like follows_robot, measured from whom `human`'s follow_human reaction follows (`other`), not the robot "
-            f"(they trail ~{trail:.1f} m: `distance` at least {trail + 2:.0f} m)")
+    return (f"like follows_robot, measured from whom `human`'s follow_human reaction follows (the encounter part's "
+            f"`other`; the criterion itself has no `other`), not the robot (they trail ~{trail:.1f} m: `distance` at "
+            f"least {trail + 2:.0f} m; a follower of someone who stands or barely moves stands too, and no follow is "
+            f"seen: whom they follow must walk on)")
 
 
 def _follow_fact(robot_speed: float) -> str:
