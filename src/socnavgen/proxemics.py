@@ -93,27 +93,17 @@ def blocking(rx: Num, ry: Num, hx: Num, hy: Num, px: Num, py: Num, robot_radius:
     return (centre <= distance) & (swept | front)
 
 
-def closes_in(person_to_goal: Num, robot_to_goal: Num, robot_to_person: Num) -> Num:
-    """Driving on to its goal brings the robot nearer a person (centre distances): they are nearer the goal than
-    it is, or the goal is nearer them than it is (it lies between them, or beside them: a person waiting 1 m past
-    the goal, whom only the first half missed, so the robot drove on to 0.25 m of them or stood short for good)."""
-    return (person_to_goal < robot_to_goal) | (person_to_goal < robot_to_person)
-
-
 def short_of_goal(robot_to_goal: Num, person_to_goal: Num, gap: Num, person_speed: Num, robot_speed: Num,
                   robot_radius: Num, person_radius: Num, seen: Num) -> Num:
     """The robot has arrived short of its goal: a person stands on or next to the goal (a robot at the goal
     would be inside their personal space: their centre within reach = robot_radius + person_radius +
-    GOAL_STOP_GAP of it, and driving on to the goal would close in on them: `closes_in`, written out here so
-    that this function compiles alone), and the robot stands at most GOAL_STOP_GAP (+ GOAL_STOP_SLACK) from them (`gap`,
+    GOAL_STOP_GAP of it, and nearer it than the robot: it stops short of them), and the robot stands at most GOAL_STOP_GAP (+ GOAL_STOP_SLACK) from them (`gap`,
     surface to surface) and within reach (+ slack) of its goal (not in another room beyond them), and sees them
     (`seen`: no wall between the two centres; a robot parked in a corridor corner beside a doorway goal, the
     person behind the wall in the room, is not at the goal's place). The ONE
     arrival rule besides the goal tolerance: the simulator's end of run, the polite robot's stopping point and
     the verifier's robot_reaches_goal all use it."""
     reach = robot_radius + person_radius + GOAL_STOP_GAP
-    robot_to_person = gap + robot_radius + person_radius
-    held = (person_to_goal < reach) & (person_speed < STANDING_SPEED) & (
-        (person_to_goal < robot_to_goal) | (person_to_goal < robot_to_person))  # closes_in
+    held = (person_to_goal < reach) & (person_speed < STANDING_SPEED) & (person_to_goal < robot_to_goal)
     near = (gap <= GOAL_STOP_GAP + GOAL_STOP_SLACK) & (robot_to_goal <= reach + GOAL_STOP_SLACK) & (seen > 0)
     return held & near & (robot_speed < STANDING_SPEED)

@@ -102,26 +102,3 @@ def test_stopping_short_where_a_nearer_spot_keeps_as_far_from_everyone_is_not_ar
     assert not _reaches_goal(0.0, person_xy=(11.0, 4.0), robot_moves=beside, world=empty_room(20.0, 10.0))
     walled = empty_room(20.0, 10.0, walls=[(9.9, 0.0, 20.0, 2.6)])  # everything south of y 2.6 east of the robot
     assert _reaches_goal(0.0, person_xy=(11.0, 4.0), robot_moves=beside, world=walled)
-
-
-def test_someone_standing_just_past_the_goal_holds_the_robot_short_of_it_and_it_has_arrived():
-    """The goal lies between the robot and a person standing 1 m past it (socrates_hospital's exiting-elevator:
-    the person waiting to go in stood 1 m beyond the robot's goal): driving on to it would close in on them
-    (the goal is nearer them than the robot is). The robot that stops at a social distance from them, 0.85 m
-    short of its goal, has arrived; nearer its goal than they are, but with the goal between it and them."""
-    assert _reaches_goal(12.0 - 0.75 - 1.1, person_xy=(12.0, 3.0))  # gap 1.1 m, 0.85 m short of the goal
-    assert not _reaches_goal(12.0 - 0.75 - 1.6, person_xy=(12.0, 3.0))  # gap 1.6 m: could go on
-    assert not _reaches_goal(12.0 - 0.75 - 1.1, person_xy=(12.0, 3.0), person_walks=True)  # they walk off
-
-
-def test_the_scripted_robot_with_someone_standing_just_past_its_goal_arrives():
-    from socnavgen.sim import load_policy
-    from tests.sim.simhelpers import human, make_sim, tree_xml
-
-    stand = tree_xml('<LookAtRobot agent_id="{id}"/>')
-    person = human(start=(13.0, 5.0), goals=[(13.0, 5.0)])
-    trace = make_sim([person], [stand], [(2.0, 5.0), (12.0, 5.0)], load_policy("scripted")).run()
-    assert trace.end_reason == "robot_goal", (trace.end_reason, trace.robot[-1, :2])
-    gap = np.hypot(*(trace.humans[-1, 0, :2] - trace.robot[-1, :2])) - 0.75
-    assert gap >= 0.9  # it kept out of their personal space
-    assert Signals(trace, goal_radius=0.2).get("short_of_goal")[-1] == 1.0

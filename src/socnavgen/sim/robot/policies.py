@@ -45,8 +45,6 @@ from socnavgen.sim.robot.wait_spot import off_their_way, wait_aside
 from socnavgen.sim.world.queries import clearance_at, nearest_obstacle, path_clear
 from socnavgen.sim.world.spots import nearer_spot
 
-closes_in = jit(proxemics.closes_in)  # the one "driving on to its goal closes in on them" (socnavgen.proxemics)
-
 PYTHON, SCRIPTED, WAYPOINTS, SFM, STRAIGHT = range(5)  # PYTHON: a policy object of the user's, called per step
 SWEPT_MARGIN = proxemics.WAY_MARGIN_DRIVE  # m beyond the two radii: a person this close to its path blocks it
 NUDGE_BAND = 0.35  # m beyond the radii: the robot edges sideways away from a person this close to its path
@@ -259,9 +257,8 @@ def waypoints_act(s):  # noqa: ANN001, ANN201
             away = p - q.pos
             reach = q.radius + robot.radius + proxemics.GOAL_STOP_GAP
             stop = q.pos + away / max(abs(away), 1e-9) * reach
-        if holder >= 0 and closes_in(abs(s.people[holder].pos - target), abs(target - p),
-                                     abs(s.people[holder].pos - p)) and abs(stop - target) <= reach:  # there it
-            # has arrived (proxemics.short_of_goal: driving on to its goal would close in on them; near enough)
+        if holder >= 0 and abs(s.people[holder].pos - target) < abs(stop - target) <= reach:  # there it has
+            # arrived (proxemics.short_of_goal: short of them, they nearer the goal, it near enough to it)
             target = stop
         else:
             target, arrive = reachable_goal(s, target)
