@@ -34,7 +34,7 @@ class EpisodeTimeout(BaseException):
 @dataclass(frozen=True)
 class EpisodeSettings:
     dt: float = 0.05
-    timeout: float = 60.0
+    timeout: float | None = None  # s; None: the scenario's route decides (WorkerCache.time_limit)
     throttle: bool = True
     wall_timeout: float = 30.0
     verify: bool = True
@@ -71,6 +71,7 @@ class WorkerCache:
     worlds: dict[str, Any] = field(default_factory=dict)
     runs: dict[str, Any] = field(default_factory=dict)
     default_verified: dict[tuple[str, int, str], bool] = field(default_factory=dict)  # (run, seed, settings)
+    limits: dict[tuple[str, float], Any] = field(default_factory=dict)  # (run, dt) -> TimeLimit
     loads: int = 0  # how many locations this worker loaded (tests check it stays at one per location)
 
     def run(self, run_dir: str) -> Any:
@@ -80,6 +81,16 @@ class WorkerCache:
 
             self.runs[run_dir] = LoadedRun(Path(run_dir))
         return self.runs[run_dir]
+
+    def time_limit(self, scenario: Scenario, dt: float) -> Any:
+        """The scenario's TimeLimit: what `simulate` gives the default robot on its route (the same for every
+        policy; sim.engine.scenario.route_time_limit)."""
+        if (scenario.run_dir, dt) not in self.limits:
+            from socnavgen.sim.engine.scenario import route_time_limit
+
+            location, _ = self.location(scenario.location_dir)
+            self.limits[scenario.run_dir, dt] = route_time_limit(self.run(scenario.run_dir), location, dt)
+        return self.limits[scenario.run_dir, dt]
 
     def location(self, location_dir: str) -> tuple[Any, Any]:
         if location_dir not in self.locations:
@@ -166,8 +177,12 @@ def simulate_episode(ep: Episode, settings: EpisodeSettings, cache: WorkerCache 
     location, world = cache.location(ep.scenario.location_dir)
     policy, body = robot_from(ep.robot, dict(ep.params))
     run = cache.run(ep.scenario.run_dir)
-    sim = load_simulation(run, policy, SimConfig(dt=settings.dt, timeout=settings.timeout, seed=ep.seed, body=body),
+    limit = cache.time_limit(ep.scenario, settings.dt) if settings.timeout is None else None
+    timeout = limit.seconds if limit is not None else settings.timeout
+    sim = load_simulation(run, policy, SimConfig(dt=settings.dt, timeout=timeout, seed=ep.seed, body=body),
                           ThrottleConfig(enabled=settings.throttle), location=location, world=world)
+    if limit is not None:
+        sim.timeout_why = f"the scenario's route: {limit.why}"
     sim.meta["robot_plugin"] = ep.robot
     if settings.vary_people:
         from socnavgen.campaign.variation import apply_traits, draw_people, people_of

@@ -142,7 +142,10 @@ def _expand_sweep(entry: dict[str, Any]) -> list[dict[str, Any]]:
 class SimulationSettings(BaseModel):
     model_config = ConfigDict(extra="forbid")
     dt: float = Field(0.05, gt=0.0, le=0.5)
-    timeout: float = Field(60.0, gt=0.0, le=3600.0, description="simulated seconds per episode")
+    timeout: Annotated[float, Field(gt=0.0, le=3600.0)] | Literal["route"] = Field(
+        "route", description="simulated seconds per episode, or `route` (the default): the limit `socnavgen "
+        "simulate` gives the default robot on each scenario (twice its route at cruise speed plus its script's "
+        "waits plus 30 s, at least 120 s; sim/engine/budget.py), the same for every policy")
     throttle: bool = True
     wall_timeout: float = Field(30.0, gt=0.0, le=3600.0,
                                 description="wall-clock seconds an episode may take before it counts as failed")
@@ -152,6 +155,8 @@ class SimulationSettings(BaseModel):
     @model_validator(mode="after")
     def _step_cap(self) -> SimulationSettings:
         """The same cap on steps as `socnavgen simulate` (dt 0.0001 x 3600 s would be 36 million steps)."""
+        if self.timeout == "route":
+            return self  # budget.time_limit keeps to the cap itself
         steps = self.timeout / self.dt
         if steps > MAX_SIM_STEPS:
             raise ValueError(f"timeout {self.timeout:g} s at dt {self.dt:g} s is {steps:,.0f} steps an episode, more "

@@ -24,7 +24,7 @@ policies:
   - waypoints
   # - {{name: mine, robot: my_robot.py:MyPolicy}}   # your own: file.py:Class or package.module:Class
 seeds: 3                            # 0..2, or a list [1, 5, 7]
-simulation: {{dt: 0.05, timeout: 60, throttle: true, wall_timeout: 30}}
+simulation: {{dt: 0.05, timeout: route, throttle: true, wall_timeout: 30}}
 # metrics: [success, collisions, path_efficiency]   # default: every metric (`socnavgen campaign metrics`)
 """
 

@@ -23,6 +23,7 @@ from socnavgen.bodies import (
 from socnavgen.bt.library import regular_walker_xml
 from socnavgen.errors import ValidationFailed
 from socnavgen.run import LoadedRun, load_run
+from socnavgen.sim.engine.budget import TimeLimit, time_limit
 from socnavgen.sim.engine.simulation import RobotSpeech, SimConfig, Simulation
 from socnavgen.sim.people.pacing import PacingPlan, ThrottleConfig
 from socnavgen.sim.people.routing import project
@@ -115,6 +116,17 @@ def node_worlds(run: LoadedRun, location: Location) -> dict[str, tuple[float, fl
     """Location.node_world of every scene-graph node, worked out once per run and location (read only)."""
     return run.for_location("sim.node_worlds", location,
                             lambda: {n: location.node_world(n) for n in location.scene_graph.node_ids()})
+
+
+def route_time_limit(run_dir: Path | str | LoadedRun, location: Any = None, dt: float = 0.05) -> TimeLimit:
+    """The time limit `simulate` gives the default robot on this run (engine/budget.time_limit on the robot's
+    route at its script's cruise speed, with the script's waits). A campaign gives every policy this one limit,
+    so a scenario whose route is long gets the time it needs and no policy gets more than another."""
+    run = load_run(run_dir)
+    location = run.location(location)
+    at = node_worlds(run, location)
+    spec = run.spec()
+    return time_limit([at[n] for n in run.paths().robot], None, spec.script if spec is not None else None, dt=dt)
 
 
 def load_simulation(run_dir: Path | str | LoadedRun, policy: Any, config: SimConfig | None = None,
