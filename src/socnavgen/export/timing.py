@@ -28,7 +28,9 @@ Because the release reads the robot's position and its speed, not a time, a robo
 nominal speed still meets the person at the node: only the last HOLD_BEFORE metres are walked without the robot,
 and they end when the robot gets there (a release by one distance, for the cruise speed, let the person go ~4 s
 early for a robot at half speed). Who is timed is the simulator's rule: a person without a group whose
-interaction node is on the robot's path after its start. `holds()` computes the numbers, `hold_root()` builds the typed tree."""
+interaction node is on the robot's path after its start and whose tree walks at the start (export.first_move:
+pacing holds RegularNav only; the hold replaces the whole tree, so a follower held would leave the one it follows
+for a waiting spot of its own). `holds()` computes the numbers, `hold_root()` builds the typed tree."""
 
 from __future__ import annotations
 
@@ -48,6 +50,7 @@ from socnavgen.bodies import (
 )
 from socnavgen.bt.model import Node
 from socnavgen.bt.write import node
+from socnavgen.export.first_move import WALK, first_move
 from socnavgen.export.models import ExportScene, HumanExport, WorldPoint
 
 HOLD_BEFORE = 2.0  # m along the person's path before the interaction node: where they wait for the robot
@@ -184,8 +187,10 @@ def start_wait(scene: ExportScene) -> float:
 
 
 def timed(h: HumanExport, scene: ExportScene) -> bool:
-    """The simulator's rule of whom to pace: no group, and an interaction node the robot heads to."""
-    return bool(h.interaction_point) and h.group_id == -1 and h.interaction_point in scene.robot.path[1:]
+    """The simulator's rule of whom to pace: no group, an interaction node the robot heads to, and a tree that
+    walks at the start (pacing holds RegularNav only: not a person who first follows someone or stands)."""
+    return (bool(h.interaction_point) and h.group_id == -1 and h.interaction_point in scene.robot.path[1:]
+            and first_move(h.tree_xml) == WALK)
 
 
 def _waiting_goal(h: HumanExport, route: _Line, to_node: float) -> tuple[int, WorldPoint | None, int, float]:
