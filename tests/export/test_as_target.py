@@ -73,8 +73,9 @@ KNOWN_LOST = {
     # first is walked through, not stood round): the hallway followers pressing round the plain waypoint robot touch
     # it and it stands over 10 s behind them; told by the verdicts, not looked at in frames (the card verifies with
     # our own robot and pacing: tests/cards)
-    ("socrates", "home/robot-crowding", 1.0): "the crowd of followers in the 1.2 m hallway touches the plain "
-    "waypoint robot and holds it up over 10 s",
+    # socrates home/robot-crowding at 1x verifies again since a person who walks to its waiting spot asks the robot's
+    # distance only there (2026-11-28, s24, timing.hold_root; seen: the three gather at their spots, two follow round
+    # the careful robot as it creeps west through them, the third stands aside; it reaches its goal at 27 s untouched)
 }
 
 

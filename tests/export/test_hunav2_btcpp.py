@@ -153,12 +153,14 @@ def scripted_factory(answers: dict[str, list[bool]], ticks: list[str]):  # noqa:
     return factory, bt
 
 
-def timed_ticks(text: str) -> list[list[str]]:
-    """The leaves each of 10 ticks reaches: the waiting goal is reached on tick 3, the robot close on tick 6."""
+def timed_ticks(text: str, close: list[bool] | None = None) -> list[list[str]]:
+    """The leaves each of 10 ticks reaches: the waiting goal is reached on tick 3 (the person stands at it from
+    then on), the robot close on tick 6 (the release's distance is asked from tick 3: `close` answers from there)."""
     ticks: list[str] = []
     factory, bt = scripted_factory({"socnavgen_goal_reached": [False, True, False, True],
                                     "socnavgen_goal_count": [False, True],
-                                    "socnavgen_robot_close": [False] * 6 + [True, False]}, ticks)
+                                    "socnavgen_at_spot": [False, False, False, True],
+                                    "socnavgen_robot_close": close or [False] * 3 + [True, False]}, ticks)
     board = bt.Blackboard.create()
     board.set_int("id", 1)
     board.set_double("dt", 0.05)
@@ -183,6 +185,9 @@ def test_the_timing_latches_in_real_btcpp() -> None:
     assert per_tick[3][-2:] == ["socnavgen_goal_reached", "socnavgen_goal_count"]  # 2nd goal reached: stops
     assert all("RegularNav" not in t for t in per_tick[4:6])  # waiting: nothing moves
     assert "socnavgen_robot_close" in per_tick[6] and "RegularNav" in per_tick[6]  # released, walks on its own
+    assert all("socnavgen_robot_close" not in t for t in per_tick[:3])  # on its way to the spot: not asked
+    near = timed_ticks(text, close=[True])  # the robot near all along: released once at the spot, not on its way
+    assert "RegularNav" in near[2] and "socnavgen_robot_close" in near[3] and "RegularNav" in near[4]
     for t in per_tick[7:]:  # latched: the hold's conditions are never ticked again, the tree runs every tick
         assert not any(name.startswith("socnavgen_") for name in t) and "RegularNav" in t, t
     # the check can fail: with a reactive latch the release is asked again and the person waits again

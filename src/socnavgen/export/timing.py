@@ -28,7 +28,9 @@ Because the release reads the robot's position and its speed, not a time, a robo
 nominal speed still meets the person at the node: only the last HOLD_BEFORE metres are walked without the robot,
 and they end when the robot gets there (a release by one distance, for the cruise speed, let the person go ~4 s
 early for a robot at half speed). Who is timed is the simulator's rule: a person without a group whose
-interaction node is on the robot's path after its start. `holds()` computes the numbers, `hold_root()` builds the typed tree."""
+interaction node is on the robot's path after its start and whose tree walks at the start (export.first_move:
+pacing holds RegularNav only; the hold replaces the whole tree, so a follower held would leave the one it follows
+for a waiting spot of its own). `holds()` computes the numbers, `hold_root()` builds the typed tree."""
 
 from __future__ import annotations
 
@@ -48,6 +50,7 @@ from socnavgen.bodies import (
 )
 from socnavgen.bt.model import Node
 from socnavgen.bt.write import node
+from socnavgen.export.first_move import WALK, first_move
 from socnavgen.export.models import ExportScene, HumanExport, WorldPoint
 
 HOLD_BEFORE = 2.0  # m along the person's path before the interaction node: where they wait for the robot
@@ -59,6 +62,7 @@ TIMEOUT_FACTOR, TIMEOUT_SLACK = 3.0, 10.0  # released at the latest after 3x the
 SAMPLE = 0.05  # m: the robot's path is sampled this finely to find where the release really happens
 WAIT_KEY = "socnavgen_wait"  # the blackboard entry the waiting step writes (standing still does nothing else)
 RELEASE_NODE, TIMEOUT_NODE, COUNT_NODE = "socnavgen_robot_close", "socnavgen_timeout", "socnavgen_goal_count"
+AT_SPOT_NODE = "socnavgen_at_spot"  # the IsGoalReached a distance release of a person who walks to its spot asks first
 # the robot's speeds (x its cruise speed) the release adapts to: a robot this fast or faster is let come only as close
 # as its speed needs (the person's last HOLD_BEFORE take it that far); the slowest is the unconditional release
 ROBOT_SPEEDS = (1.5, 1.25, 1.0, 0.75, 0.5)
@@ -184,8 +188,10 @@ def start_wait(scene: ExportScene) -> float:
 
 
 def timed(h: HumanExport, scene: ExportScene) -> bool:
-    """The simulator's rule of whom to pace: no group, and an interaction node the robot heads to."""
-    return bool(h.interaction_point) and h.group_id == -1 and h.interaction_point in scene.robot.path[1:]
+    """The simulator's rule of whom to pace: no group, an interaction node the robot heads to, and a tree that
+    walks at the start (pacing holds RegularNav only: not a person who first follows someone or stands)."""
+    return (bool(h.interaction_point) and h.group_id == -1 and h.interaction_point in scene.robot.path[1:]
+            and first_move(h.tree_xml) == WALK)
 
 
 def _waiting_goal(h: HumanExport, route: _Line, to_node: float) -> tuple[int, WorldPoint | None, int, float]:
@@ -338,16 +344,27 @@ def hold_root(root: Node, hold: Hold, keep: set[Node]) -> Node:
     """`root` (the person's tree) run only once the hold of `hold` is over; until then walk, then wait.
 
     The goals are counted with a TimeExpiredCondition ticked only when IsGoalReached succeeds, with ts=1: it
-    adds one per goal reached (the tick before UpdateGoal moves on) and latches at `goals_first`. The nodes
-    the export adds are named socnavgen_* (Groot2 shows the names)."""
-    faster = [node("Sequence", node("IsRobotNearby", agent_id="{id}", distance=hold.measure_distance),
+    adds one per goal reached (the tick before UpdateGoal moves on) and latches at `goals_first`. The robot's
+    distance is the target's from where the person IS: a person who walks to its waiting spot asks it only at a
+    goal (IsGoalReached: standing at the spot), so a robot near where it starts neither lets it go on its way there
+    nor starts the clocks of the faster releases (the distances are the spot's). The nodes the export adds are named socnavgen_*
+    (Groot2 shows the names)."""
+
+    def at_spot(label: str) -> list[Node]:
+        return [node("IsGoalReached", agent_id="{id}", label=label)] if hold.goals_first else []
+
+    faster = [node("Sequence", *at_spot(f"socnavgen_at_spot_{k}"),
+                   node("IsRobotNearby", agent_id="{id}", distance=hold.measure_distance),
                    node("Inverter", node("TimeExpiredCondition", seconds=seconds, ts="{dt}", only_once=True,
                                          label=f"socnavgen_clock_{k}")),
                    node("IsRobotNearby", agent_id="{id}", distance=distance, label=f"socnavgen_robot_near_{k}"),
                    label=f"socnavgen_faster_{k}")
               for k, (_, distance, seconds) in enumerate(hold.faster)]
+    close = node("IsRobotNearby", agent_id="{id}", distance=hold.release_distance, label=RELEASE_NODE)
+    if hold.goals_first:
+        close = node("Sequence", *at_spot(AT_SPOT_NODE), close, label="socnavgen_close_at_spot")
     release = node("Fallback",
-                   node("IsRobotNearby", agent_id="{id}", distance=hold.release_distance, label=RELEASE_NODE),
+                   close,
                    *faster,
                    node("TimeExpiredCondition", seconds=hold.timeout, ts="{dt}", only_once=True, label=TIMEOUT_NODE),
                    label="socnavgen_release")
