@@ -14,7 +14,13 @@ from socnavgen.run.models import HumanPlan, PathPlan
 from socnavgen.run.spec import Criterion, Encounter, HumanPart, Person, ScenarioSpec
 from socnavgen.sim import empty_room
 from socnavgen.sim.trace import Trace
-from socnavgen.verify.way_end import follows_robot_to_the_end, judge_room_end, room_ends, room_of, walks_to_the_end
+from socnavgen.verify.way_end import (
+    follows_robot_to_the_end,
+    judge_room_end,
+    room_ends,
+    room_of,
+    walks_to_the_end,
+)
 
 POINTS = {"h1": (0.0, 0.0), "h2": (4.0, 0.0), "d": (6.0, 0.0), "r": (8.0, 0.0)}
 TYPES = {"h1": "HALLWAY", "h2": "HALLWAY", "d": "DOORWAY", "r": "BEDROOM"}
