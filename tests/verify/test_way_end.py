@@ -87,11 +87,13 @@ def _verdicts(ends: dict[str, tuple[float, float]], reached: bool = True) -> dic
     return {e.human: judge_room_end(e, trace, POINTS, reached) for e in found}
 
 
-def test_a_follower_inside_passes_and_one_in_the_doorway_or_left_in_the_hall_fails() -> None:
-    found = _verdicts({"human1": (7.5, 0.3), "human2": (8.4, -0.2)})
+def test_a_follower_inside_or_in_the_doorway_passes_and_one_left_in_the_hall_fails() -> None:
+    """A follower at the doorway of the room the robot stands in is with it (the robot may fill a car: hospital_09's
+    patient at the elevator's door); one out in the hall is not (home_09)."""
+    found = _verdicts({"human1": (7.5, 0.3), "human2": (6.2, 0.0)})
     assert all(f.passed for f in found.values()), found
-    found = _verdicts({"human1": (6.2, 0.0), "human2": (3.6, 0.2)})  # in the doorway; out in the hall
-    assert not found["human1"].passed and not found["human2"].passed
+    found = _verdicts({"human1": (8.4, -0.2), "human2": (3.6, 0.2)})
+    assert found["human1"].passed and not found["human2"].passed
     f = found["human2"]
     assert "human2 was at (3.60, 0.20), nearest node h2, 4.4 m from the robot: not inside the room of r" in f.evidence, \
         f.evidence

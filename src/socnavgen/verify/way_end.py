@@ -12,9 +12,11 @@ in its door, another outside in the lobby, and nothing judged it).
 
 A room: a node's part of the scene graph with the doorways taken out - doorway nodes and door edges (type words of
 the doorway family, location.places) - when that is not the whole graph (a goal in a space no doorway closes off,
-a warehouse floor, leaves nothing to judge). Inside: on the map, in sight of a node of the room with no doorway
-between them (sim.people.spots.through_door: the one test of "behind a doorway", the one that keeps the simulated
-people's spots in the room); without a map, at a node of the room (the nearest one)."""
+a warehouse floor, leaves nothing to judge). Inside: on the map, the centre in sight of a node of the room with no
+doorway between them (sim.people.spots.through_door: the one test of "behind a doorway", the one that keeps the
+simulated people's spots in the room; the centre past the door's narrowest point); without a map, at a node of the
+room (the nearest one). A follower whose nearest node is a doorway of the room also ends with the robot: a guide
+leading a patient to an elevator stands in the car, which it fills, and she at its door (hospital_09)."""
 
 from __future__ import annotations
 
@@ -25,6 +27,7 @@ from typing import Any
 import networkx as nx
 import numpy as np
 
+from socnavgen.bodies import PERSON_RADIUS
 from socnavgen.run.models import PathPlan
 from socnavgen.run.spec import HumanPart, ScenarioSpec
 from socnavgen.sim.trace import Trace
@@ -143,17 +146,30 @@ def room_ends(plan: PathPlan, spec: ScenarioSpec, graph: nx.Graph, node_type: An
 
 
 def inside(end: RoomEnd, p: np.ndarray, node_points: dict[str, tuple[float, float]], world: Any = None) -> bool:
-    """Whether the point `p` is in the room: on the map, in sight of a node of the room with no doorway between them
-    (sim.people.spots.through_door); without one, at a node of the room (the nearest one)."""
+    """Whether the centre `p` is in the room: on the map, in sight of a node of the room with no doorway between them
+    (sim.people.spots.through_door, asked of a body a radius nearer the node, whose far side is the centre: the centre
+    is past the door's narrowest point); without one, at a node of the room (the nearest one)."""
     if world is not None:
         from socnavgen.sim.people.spots import through_door
 
         here = complex(p[0], p[1])
-        return any(n in node_points and bool(world.line_of_sight(complex(*node_points[n]), here)[0])
-                   and not through_door(world.map, here, complex(*node_points[n])) for n in sorted(end.room))
+        for n in sorted(end.room):
+            if n not in node_points:
+                continue
+            node = complex(*node_points[n])
+            away = abs(node - here)
+            body = here + (node - here) / away * PERSON_RADIUS / 2 if away > PERSON_RADIUS else node
+            if bool(world.line_of_sight(node, here)[0]) and not through_door(world.map, body, node):
+                return True
+        return False
+    return _nearest(p, node_points) in end.room
+
+
+def _nearest(p: np.ndarray, node_points: dict[str, tuple[float, float]]) -> str:
     names = list(node_points)
-    dist = np.hypot(*(np.asarray([node_points[n] for n in names]) - p).T)
-    return names[int(np.argmin(dist))] in end.room
+    if not names:
+        return "?"
+    return names[int(np.argmin(np.hypot(*(np.asarray([node_points[n] for n in names]) - p).T)))]
 
 
 def judge_room_end(end: RoomEnd, trace: Trace, node_points: dict[str, tuple[float, float]],
@@ -170,12 +186,12 @@ def judge_room_end(end: RoomEnd, trace: Trace, node_points: dict[str, tuple[floa
         return base.model_copy(update={"evidence": "the robot did not reach its goal: nothing to judge here"})
     i = trace.human_names.index(end.human)
     p = trace.humans[-1, i, :2]
-    names = list(node_points)
-    at = names[int(np.argmin(np.hypot(*(np.asarray([node_points[n] for n in names]) - p).T)))] if names else "?"
+    at = _nearest(p, node_points)
     t = float(trace.t[-1])
     gap = float(np.hypot(*(trace.robot[-1, :2] - p)))
     where = f"({p[0]:.2f}, {p[1]:.2f}), nearest node {at}, {gap:.1f} m from the robot"
-    if inside(end, p, node_points, world):
+    if inside(end, p, node_points, world) or (end.follows and at in end.doors):  # a follower in the doorway of the
+        # room the robot stands in (a guide's patient at the elevator car's door, the robot filling the car) is with it
         return base.model_copy(update={"evidence": f"{end.human} was inside when the run ended ({t:.1f} s) at "
                                                    f"{where}", "time": round(t, 3)})
     failed = base.model_copy(update={
