@@ -15,8 +15,9 @@ the doorway family, location.places) - when that is not the whole graph (a goal 
 a warehouse floor, leaves nothing to judge). Inside: on the map, the centre in sight of a node of the room with no
 doorway between them (sim.people.spots.through_door: the one test of "behind a doorway", the one that keeps the
 simulated people's spots in the room; the centre past the door's narrowest point); without a map, at a node of the
-room (the nearest one). A follower whose nearest node is a doorway of the room also ends with the robot: a guide
-leading a patient to an elevator stands in the car, which it fills, and she at its door (hospital_09)."""
+room (the nearest one). A follower whose nearest node is one of the room or of its doorways also ends with the
+robot: a guide leading a patient to an elevator stands in the car, which it fills, and she at its door (hospital_09);
+home_09's children stood nearest the hallway's node i6, and fail."""
 
 from __future__ import annotations
 
@@ -190,8 +191,8 @@ def judge_room_end(end: RoomEnd, trace: Trace, node_points: dict[str, tuple[floa
     t = float(trace.t[-1])
     gap = float(np.hypot(*(trace.robot[-1, :2] - p)))
     where = f"({p[0]:.2f}, {p[1]:.2f}), nearest node {at}, {gap:.1f} m from the robot"
-    if inside(end, p, node_points, world) or (end.follows and at in end.doors):  # a follower in the doorway of the
-        # room the robot stands in (a guide's patient at the elevator car's door, the robot filling the car) is with it
+    if inside(end, p, node_points, world) or (end.follows and at in end.room | end.doors):  # a follower at a node of
+        # the room the robot stands in or of its doorway (a guide's patient at the car's door, the robot filling it)
         return base.model_copy(update={"evidence": f"{end.human} was inside when the run ended ({t:.1f} s) at "
                                                    f"{where}", "time": round(t, 3)})
     failed = base.model_copy(update={
