@@ -191,10 +191,13 @@ def judge_room_end(end: RoomEnd, trace: Trace, node_points: dict[str, tuple[floa
     t = float(trace.t[-1])
     gap = float(np.hypot(*(trace.robot[-1, :2] - p)))
     where = f"({p[0]:.2f}, {p[1]:.2f}), nearest node {at}, {gap:.1f} m from the robot"
-    if inside(end, p, node_points, world) or (end.follows and at in end.room | end.doors):  # a follower at a node of
-        # the room the robot stands in or of its doorway (a guide's patient at the car's door, the robot filling it)
+    if inside(end, p, node_points, world):
         return base.model_copy(update={"evidence": f"{end.human} was inside when the run ended ({t:.1f} s) at "
                                                    f"{where}", "time": round(t, 3)})
+    if end.follows and at in end.room | end.doors:  # a follower nearest a node of the robot's room or of its doorway
+        # (a guide's patient at the car's door, the robot filling the car)
+        return base.model_copy(update={"evidence": f"{end.human} was at the room or its doorway when the run ended "
+                                                   f"({t:.1f} s) at {where}", "time": round(t, 3)})
     failed = base.model_copy(update={
         "passed": False, "time": round(t, 3), "distance": round(gap, 2),
         "evidence": f"when the run ended ({t:.1f} s) {end.human} was at {where}: not inside the room of {end.goal} "

@@ -281,8 +281,7 @@ def pick(s, i, goal):  # noqa: ANN001, ANN201
                 value += TOGETHER * group_spread(s.people, i, goal, spot)
             if value >= score:
                 continue
-            if not free(s, i, goal, spot) or not line_of_sight(s.world, spot, goal) or \
-                    through_door(s.world, spot, goal):
+            if not free(s, i, goal, spot) or not line_of_sight(s.world, spot, goal):
                 continue
             best, found, score = spot, True, value
     return found, best
@@ -380,9 +379,11 @@ def aim(s, i):  # noqa: ANN001, ANN201
     small = tight(s, goal)  # no room at the standing gap: as in a lift, at the keeping gap
     if kept and small and tight_free(s, i, goal, p.spot):
         return p.spot
-    found, spot = pick(s, i, goal)
+    # a tight place: a spot in it first; the rings round it lie outside it (through its door), where one waits when
+    # it is full (hospital_01's second visitor took a ring spot in the car's door's mouth)
+    found, spot = pick_tight(s, i, goal) if small else pick(s, i, goal)
     if not found and small:
-        found, spot = pick_tight(s, i, goal)
+        found, spot = pick(s, i, goal)
     p.has_spot = found
     p.spot = spot
     p.spot_for = goal
