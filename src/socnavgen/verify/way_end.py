@@ -194,8 +194,9 @@ def judge_room_end(end: RoomEnd, trace: Trace, node_points: dict[str, tuple[floa
     if inside(end, p, node_points, world):
         return base.model_copy(update={"evidence": f"{end.human} was inside when the run ended ({t:.1f} s) at "
                                                    f"{where}", "time": round(t, 3)})
-    if not end.follows and at not in end.room | end.doors:  # a walker the run ended before they came to the room
-        # (a card's run ends as the robot arrives): nothing to see; one at its door must be inside, not in it
+    if not end.follows and at not in end.room:  # a walker the run ended before they came to the room (a card's run
+        # ends as the robot arrives; cards' crowds stand in front of the cars): nothing to see; one nearest the room's
+        # node must be inside, not in its door
         return base.model_copy(update={"evidence": f"{end.human} never came to the room's door ({where}, "
                                                    f"{t:.1f} s): nothing to judge", "time": round(t, 3)})
     if end.follows and at in end.room | end.doors:  # a follower nearest a node of the robot's room or of its doorway
