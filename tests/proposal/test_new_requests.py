@@ -58,7 +58,9 @@ DISAGREE: dict[str, str] = {
     "home_09_telepresence_grandma_kids_follow": "lenient PASS (re-answered live in round 19; eyes round 31, on the "
     "sixteenth session's run: no): the two children stop on the hallway side of the bedroom doorway 2n from ~25 s "
     "to the end, ~2 m from the robot, the brother right behind the robot and the girl behind him (the text has the "
-    "order the other way); the spec's follows and stops pass on the hallway",
+    "order the other way); the spec's follows and stops pass on the hallway; verify/way_end.py lets a follower "
+    "nearest the doorway node 2n pass (a guide fills an elevator car its patient stands at the door of: "
+    "hospital_09), and the children's centres (x 7.44-7.46) are nearest 2n",
     "home_24_water_past_children_chasing": "lenient PASS (a new request of round 30; eyes rounds 30 and 31: no): the "
     "robot waits ~2.8 m before 41 while the children run to the sofa corner, then sets off as they run back through "
     "the room towards it and creeps ~8 s past a child standing by the dining table with ~0.3 m between the bodies; "
@@ -67,7 +69,7 @@ DISAGREE: dict[str, str] = {
     "hospital_01_elevator_door_standoff": "lenient PASS (recorded in round 14; eyes round 31, on the sixteenth session's run: "
     "no): the visitors stop facing the robot at the elevator door, give way on EXCUSE ME - both to the same side - "
     "and the robot goes to the nurse station; the first visitor goes into the car, the second stops outside it at "
-    "8z to the end (her walk ends by the queue rule beside the one inside); on the eighteenth session's final code the first goes to the back of the car (sim.people.spots.tight) and the second ends in its door (not re-judged); no criterion sees the second get in",
+    "8z to the end (her walk ends by the queue rule beside the one inside); on the eighteenth session's final code the first goes to the back of the car (sim.people.spots.tight) and the second ends in its door (not re-judged); since the nineteenth session's lift helper (verify/way_end.py judges walkers into a room) she ends at x 15.25 (before: 15.04, in the door's mouth), half her body in the car's 0.4 m door, which way_end reads as inside (its centre past the door's narrowest point; frames at 23-35.8 s: she stands in the door)",
     "hospital_24_follow_nurse_to_west_room": "lenient PASS (a new request of round 30, failed live; eyes rounds 30-31 "
     "and round 33, on the seventeenth session's run: no): since that session the visitor starts in her doorway x5 "
     "(before: drawn into the corridor beside i1) and the run verifies, but the robot sits at i1 ~16 s (14-30 s) and "
@@ -79,12 +81,6 @@ DISAGREE: dict[str, str] = {
     "says EXCUSE ME; one listener 'gives way' by walking north past its side ~0.1 m from it, the robot then crawls "
     "into the group's own spot at vj and stands ~0.05-0.1 m from another listener for ~5 s, and a worker passes it "
     "head-on at sh ~0.1 m clear; no contact by the 5 cm rule, and its spec loosened the group's spread to 5 m",
-    "hospital_27_admission_kit_past_bed_transport": "lenient PASS (a new request of round 35, verified live at its "
-    "first answers; eyes round 35, on the eighteenth session's starting code: no): the robot's part happens as written "
-    "(round the bed party at ~1.2 m, PROCEED at the double doors, waits for the nurse at 1g), but of the two porters "
-    "and the relative who are to walk into the elevator car only one got in, the others stood ~1.5 m outside it to the "
-    "end; on this session's final code people sharing a goal in a car go in as into a lift (sim.people.spots.tight) "
-    "and the third one's walk still ends in its door (not re-judged); no criterion sees them inside the car",
     "hospital_23_ward_round_group_oncoming": "lenient PASS (re-answered live in round 37 on the nineteenth session's "
     "starting code; eyes round 37: no): the doctor and two students walk east as a line along the corridor, never "
     "abreast; on EXCUSE ME the doctor (avoid) veers into the nurse-station opening ~1.2 m beyond the wall line and "

@@ -1,6 +1,9 @@
-"""A follower of the robot ends in the room the robot's goal is in, or in its doorway (verify/way_end.py, issue 25):
+"""A person whose way ends in a room ends inside it (verify/way_end.py, issue 25): a follower of the robot in the
+room the robot's goal is in, a walker in the room (or elevator car) their path ends in; the doorway is not inside.
 home_09 of round 14 passed "both children follow it into the bedroom" with one child still at the far end of the
-hallway when the robot reached the bedroom. Small graphs and traces: hall h1 - h2, doorway d, room r."""
+hallway when the robot reached the bedroom, and round 31 with both in the doorway; hospital_01 and hospital_27 passed
+visitors and porters sent into the elevator car who ended in its door or in the lobby. Small graphs and traces: hall
+h1 - h2, doorway d, room r; and a lobby and a car behind a door edge, on a map."""
 
 from __future__ import annotations
 
@@ -8,9 +11,16 @@ import networkx as nx
 import numpy as np
 
 from socnavgen.run.models import HumanPlan, PathPlan
-from socnavgen.run.spec import Criterion, Encounter, HumanPart, ScenarioSpec
+from socnavgen.run.spec import Criterion, Encounter, HumanPart, Person, ScenarioSpec
+from socnavgen.sim import empty_room
 from socnavgen.sim.trace import Trace
-from socnavgen.verify.way_end import follows_robot_to_the_end, judge_room_end, room_ends, room_of
+from socnavgen.verify.way_end import (
+    follows_robot_to_the_end,
+    judge_room_end,
+    room_ends,
+    room_of,
+    walks_to_the_end,
+)
 
 POINTS = {"h1": (0.0, 0.0), "h2": (4.0, 0.0), "d": (6.0, 0.0), "r": (8.0, 0.0)}
 TYPES = {"h1": "HALLWAY", "h2": "HALLWAY", "d": "DOORWAY", "r": "BEDROOM"}
@@ -78,14 +88,89 @@ def _verdicts(ends: dict[str, tuple[float, float]], reached: bool = True) -> dic
 
 
 def test_a_follower_inside_or_in_the_doorway_passes_and_one_left_in_the_hall_fails() -> None:
+    """A follower at the doorway of the room the robot stands in is with it (the robot may fill a car: hospital_09's
+    patient at the elevator's door); one out in the hall is not (home_09)."""
     found = _verdicts({"human1": (7.5, 0.3), "human2": (6.2, 0.0)})
     assert all(f.passed for f in found.values()), found
-    found = _verdicts({"human1": (7.0, 0.0), "human2": (3.6, 0.2)})
+    found = _verdicts({"human1": (8.4, -0.2), "human2": (3.6, 0.2)})
     assert found["human1"].passed and not found["human2"].passed
     f = found["human2"]
-    assert "human2, who follows it, was at h2 (4.4 m from the robot), outside the room of r" in f.evidence, f.evidence
+    assert "human2 was at (3.60, 0.20), nearest node h2, 4.4 m from the robot: not inside the room of r" in f.evidence, \
+        f.evidence
     assert f.blame == "robot_script" and "wait for its followers" in f.blame_reason
-    assert f.name == "human2 ends with the robot in the room of r (or a doorway of it: d)"
+    assert f.name == "human2 ends with the robot in the room of r (behind d)"
+
+
+# A lobby (x < 14.9) and an elevator car 1.8 m x 2.2 m (x 15.3-17.1, y 4.4-6.6) behind a 1.2 m door through a 0.4 m
+# wall: the bundled hospital's north elevator; its scene graph: lobby nodes a - l, the car c behind a door edge.
+CAR_WALLS = [(14.9, 0.0, 20.0, 4.4), (14.9, 6.6, 20.0, 9.0), (14.9, 4.4, 15.3, 4.9), (14.9, 6.1, 15.3, 6.6),
+             (17.1, 4.4, 20.0, 6.6)]
+CAR_POINTS = {"a": (11.0, 5.5), "l": (13.8, 5.5), "c": (16.2, 5.5), "x": (2.0, 1.0), "y": (2.0, 8.0)}
+
+
+def _car_graph() -> nx.Graph:
+    g = nx.Graph()
+    for n in CAR_POINTS:
+        g.add_node(n, type="ELEVATOR" if n == "c" else "ELEVATOR LOBBY")
+    g.add_edge("a", "l", type="OPEN SPACE")
+    g.add_edge("l", "c", type="THROUGH DOOR")
+    g.add_edge("x", "a", type="OPEN SPACE")
+    g.add_edge("x", "y", type="OPEN SPACE")
+    return g
+
+
+def _car_ends(parts: list[HumanPart], people: dict[str, Person] | None = None) -> list:
+    spec = ScenarioSpec(encounters=[Encounter(id="e1", place="ELEVATOR LOBBY", node="l", humans=parts)],
+                        people=people or {})
+    plan = PathPlan(robot=["c", "l", "a", "x", "y"],
+                    humans=[HumanPlan(name=p.human, path=["a", "l", "c"]) for p in parts])
+    g = _car_graph()
+    return room_ends(plan, spec, g, lambda n: g.nodes[n]["type"], edge_type=lambda u, v: g.edges[u, v]["type"])
+
+
+def _car_trace(ends: dict[str, tuple[float, float]], still_at: dict[str, tuple[float, float]] | None = None) -> Trace:
+    trace = _trace(ends)
+    trace.robot[:, :2] = CAR_POINTS["y"]
+    for i, n in enumerate(trace.human_names):  # where they were 3 s before the end (default: where they end)
+        trace.humans[: len(trace.t) - 30, i, :2] = (still_at or {}).get(n, ends[n])
+    return trace
+
+
+def test_a_room_behind_a_door_edge_is_a_room_and_its_doorway_the_node_across_the_door() -> None:
+    g = _car_graph()
+    assert room_of(g, "c", lambda n: False, lambda u, v: g.edges[u, v]["type"] == "THROUGH DOOR") == \
+        (frozenset({"c"}), frozenset({"l"}))
+    assert room_of(g, "c", lambda n: False) is None  # without its door edge the car is part of one open floor
+
+
+def test_who_walks_into_the_room_to_the_end_is_judged_and_who_the_text_keeps_outside_is_not() -> None:
+    give_way = HumanPart(human="human1", trigger="robot_says", phrase="EXCUSE ME", reaction="give_way", lasts=8.0)
+    stands = HumanPart(human="human2", trigger="always", reaction="stop")  # the text keeps her at the door for good
+    walks_on = HumanPart(human="human3", trigger="robot_says", phrase="PROCEED", reaction="walk_past", latch=True)
+    waits = HumanPart(human="human4", trigger="robot_near", reaction="look")
+    spec = ScenarioSpec(encounters=[Encounter(id="e1", place="X", humans=[give_way, stands, walks_on, waits])],
+                        people={"human3": Person(otherwise="stand"), "human4": Person(otherwise="stand")})
+    assert walks_to_the_end(spec, "human1") and not walks_to_the_end(spec, "human2")
+    assert walks_to_the_end(spec, "human3")  # held at the start until PROCEED, then walks for good
+    assert not walks_to_the_end(spec, "human4")  # stands by plan; nothing sets her going
+    ends = _car_ends([give_way, stands, walks_on])
+    assert [(e.human, e.goal, e.follows) for e in ends] == [("human1", "c", False), ("human3", "c", False)]
+
+
+def test_a_walker_inside_the_car_passes_one_in_its_door_or_in_the_lobby_fails() -> None:
+    parts = [HumanPart(human=f"human{k}", trigger="robot_says", phrase="EXCUSE ME", reaction="give_way", lasts=8.0)
+             for k in (1, 2, 3)]
+    ends = _car_ends(parts)
+    world = empty_room(20.0, 9.0, walls=CAR_WALLS)
+    trace = _car_trace({"human1": (16.6, 4.9), "human2": (15.1, 5.5), "human3": (13.9, 5.3)},
+                       still_at={"human3": (11.0, 5.5)})
+    found = {e.human: judge_room_end(e, trace, CAR_POINTS, True, world) for e in ends}
+    assert found["human1"].passed, found["human1"]  # in a corner at the back of the car
+    assert not found["human2"].passed and found["human2"].blame == "behaviors"  # in its door, standing
+    assert found["human2"].blame_human == "human2" and "walk on to the end of their path" in \
+        found["human2"].blame_reason
+    assert found["human3"].passed and "never came" in found["human3"].evidence  # the run ended before they came
+    assert found["human1"].name == "human1 ends inside the room of c, where their path ends (behind l)"
 
 
 def test_nothing_is_judged_when_the_robot_never_reached_its_goal() -> None:

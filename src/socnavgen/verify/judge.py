@@ -55,7 +55,7 @@ class Prepared:
     location: Any
     derived: bool = False  # no spec.json: criteria derived from the paths and the card
     ways: list[WayIn] = field(default_factory=list)  # each person's planned way into their encounter (verify/way_in.py)
-    ends: list[RoomEnd] = field(default_factory=list)  # followers of a robot whose goal is in a room (verify/way_end.py)
+    ends: list[RoomEnd] = field(default_factory=list)  # people whose way ends in a room (verify/way_end.py)
     _compiled: dict[tuple[int, float, float | None], Compiled | FormulaError] = field(default_factory=dict)
     _problems: dict[int, str | None] = field(default_factory=dict)
     _goal: tuple[float, float] | None = None
@@ -107,7 +107,8 @@ def prepare(plan: PathPlan, location: Any, spec: ScenarioSpec | None, trees: dic
         clearance = {n: finder.clearance_m(n) for n in {n for h in plan.humans for n in h.path if n in node_points}}
         ways = ways_in(plan, used, node_points, clearance, authored=spec is not None)
         graph = location.graph
-        ends = room_ends(plan, used, graph, lambda n: str(graph.nodes[n].get("type", "")))
+        ends = room_ends(plan, used, graph, lambda n: str(graph.nodes[n].get("type", "")),
+                         edge_type=lambda u, v: str(graph.edges[u, v].get("type", "")))
     return Prepared(used=used, judged=judged, places=encounter_places(used, plan, location), node_points=node_points,
                     expectations=tree_checks(plan, trees, card_criteria), plan=plan, location=location,
                     derived=spec is None, ways=ways, ends=ends)
@@ -212,7 +213,8 @@ def judge(trace: Trace, *, plan: PathPlan, location: Any, spec: ScenarioSpec | N
         goal = signals.places.get("goal")
         there = trace.end_reason == "robot_goal" or (goal is not None and float(
             np.hypot(trace.robot[-1, 0] - goal[0], trace.robot[-1, 1] - goal[1])) <= goal_radius)
-        findings += room_end_findings(prepared.ends, trace, prepared.node_points, there)
+        findings += room_end_findings(prepared.ends, trace, prepared.node_points, there,
+                                      world_factory() if prepared.ends and world_factory is not None else None)
     for exp, (finding, before_cause) in zip(expectations, evaluate(expectations, trace, settings), strict=True):
         finding.required = spec is None
         if not finding.passed:

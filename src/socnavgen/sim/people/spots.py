@@ -58,6 +58,7 @@ TIGHT_WALL = PERSON_RADIUS + 0.02  # m: a tight spot's clearance from walls
 TIGHT_GAP = PERSON_KEEP_GAP  # m: between bodies on tight spots
 PINCH = 0.1  # m: the way from a spot to its point narrows this much below both ends' clearance ...
 DOOR_HALF_WIDTH = 0.75  # m: ... to less than half a wide door's 1.5 m: a doorway lies between them (another room)
+BEYOND = 1.0  # m: past a spot, the floor it opens into (a spot in a door's mouth opens into the room behind it)
 
 
 @jit(inline=True)
@@ -226,8 +227,35 @@ def narrows(world, spot, point, skip, spot_slack):  # noqa: ANN001, ANN201
 
 @jit
 def through_door(world, spot, point):  # noqa: ANN001, ANN201
-    """A doorway between `spot` and `point`, a body's radius off both: narrower than both ends by PINCH."""
-    return narrows(world, spot, point, PERSON_RADIUS, -PINCH)
+    """A doorway between `point` and the body at `spot`: the straight way from the point on past the spot (BEYOND m,
+    up to a wall) dips somewhere, from a body's radius off the point to the far side of the body, below
+    DOOR_HALF_WIDTH and PINCH below the widest floor before it and after it (PINCH and a pixel after it: clearance on
+    a pixel grid wavers that much along a slanting line; before it narrows further: a farther door). A dip, not a narrowing: the way into a corner of a car narrows and never widens again (the corner is in
+    the car); a spot in the car's doorway, or in the hallway by a bedroom door near its wall, is behind the dip
+    (hospital_01's second visitor took a spot in the car's door, home_09's children spots in the hallway: both ends
+    of their ways were no wider than the door)."""
+    d = spot - point
+    length = abs(d)
+    if length < 1e-9:
+        return False
+    ahead = d / length
+    step = 0.5 * world.mpp
+    count = int(math.ceil((length + BEYOND) / step)) + 1
+    before, dip = 0.0, math.inf  # the widest floor so far; the narrowest dip below it so far (on the body's way)
+    for k in range(count):
+        along = k * step
+        c = clearance_at(world, point + ahead * along)
+        if along > length and c <= 0.0:  # past the spot: up to a wall
+            break
+        if c > dip + PINCH + world.mpp:  # wider again after a dip (by more than the clearance's pixel noise): a doorway
+            return True
+        if along > length + PERSON_RADIUS:
+            if c < dip:  # narrower still past the body: a widening after that is a farther door's
+                dip = math.inf
+        elif along >= PERSON_RADIUS and c < DOOR_HALF_WIDTH and c < before - PINCH:
+            dip = min(dip, c)
+        before = max(before, c)
+    return False
 
 
 @jit
@@ -351,9 +379,11 @@ def aim(s, i):  # noqa: ANN001, ANN201
     small = tight(s, goal)  # no room at the standing gap: as in a lift, at the keeping gap
     if kept and small and tight_free(s, i, goal, p.spot):
         return p.spot
-    found, spot = pick(s, i, goal)
+    # a tight place: a spot in it first; the rings round it lie outside it (through its door), where one waits when
+    # it is full (hospital_01's second visitor took a ring spot in the car's door's mouth)
+    found, spot = pick_tight(s, i, goal) if small else pick(s, i, goal)
     if not found and small:
-        found, spot = pick_tight(s, i, goal)
+        found, spot = pick(s, i, goal)
     p.has_spot = found
     p.spot = spot
     p.spot_for = goal
