@@ -276,7 +276,7 @@ def register(app: typer.Typer) -> None:
         _summary(result, folder)
         _export_check(folder, request.target)
         if verify and result.verify is not None and result.verify.passed:
-            record = result.manifest.stages.get("verify")
+            record = result.manifest.stages.get("verify") if result.manifest is not None else None
             simulations = f" after {record.attempts} simulation(s)" if record is not None else ""
             required = [f for f in result.verify.findings if f.required]
             console.print(f"[green]verified[/]: every required criterion held ({len(required)} checked{simulations}; "
