@@ -116,7 +116,7 @@ def test_pacing_is_stated_as_the_simulator_does_it(home):
     assert "the person waits for the robot there" not in system
     assert "by the robot's ETA re-estimated as it goes (its route left at its speed, plus what is left of the " \
            "`wait` of cues that fired: not a cue yet to fire, a let_pass, a wait_until_clear, nor a wait it stands on its " \
-           f"way within {pace.release_distance:g} m of the node: they come during that wait)" in system
+           f"way within {pace.release_distance:g} m of the node along its route: they come during that wait)" in system
     assert f"nobody is held in the robot's way within {pace.release_distance:g} m of it, nor ahead on its way while " \
            "it stands for no known time" in system
     assert f"slower than {pace.min_pace:g} m/s" in system

@@ -262,8 +262,6 @@ REFUSED = {
     ("home_22_folding_chair_past_arriving_friends", "scenario[1]"): "the robot waits 'short of' the doorway z2, no "
     "criterion keeps it back from z2 (the round-29 live model then added robot_to_node_z2)",
     # round 30's new requests (the sixteenth session): refused live, then fixed by the model
-    ("hospital_23_ward_round_group_oncoming", "scenario[0]"): "a student 'right behind the doctor', a follows_human "
-    "allowing 4 m (the round-30 live model then allowed 3.2 m)",
     ("hospital_24_follow_nurse_to_west_room", "scenario[1]"): "the patient lets the robot go by in her doorway, no "
     "criterion sees who goes first (the round-30 live model then added one)",
     ("hospital_24_follow_nurse_to_west_room", "scenario[3]"): "the patient 'stays put' in her doorway, no criterion "

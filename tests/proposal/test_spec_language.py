@@ -331,8 +331,9 @@ def test_stage1_teaches_the_new_fields_and_what_the_robot_cannot_do():
     assert "makes way for someone who must get past it (after 2 s face to face, a gap of 0.8 m or less, it backs " \
            "off the way it came" in system
     assert "\"it follows someone\": they lead along its route" in system
-    assert "It stops about 1.25 m (centres) from a person in its way; a wait_until_clear cue holds it where the cue " \
-           "fired while anyone is in its way (ahead of it, on its route) within 3 m" in system  # a closer cue never fires then
+    assert "It stops about 1.25 m (centres) from a person in its way; a wait_until_clear cue (after the cue's `wait`, " \
+           "if it has one) holds it where the cue fired while anyone is in its way (ahead of it, on its route) within " \
+           "3 m" in system  # a closer cue never fires then
     assert "nobody stands between nodes: an aisle that is an edge is met at an end node" in system
     assert "an encounter's node lies on the robot's path and on each of its humans' paths" in system
     assert "meets the robot twice, at two DIFFERENT nodes, and the two move apart (farther than the meeting " \
