@@ -58,7 +58,8 @@ def check_policies(spec: CampaignSpec) -> None:
 
 def settings_of(spec: CampaignSpec) -> EpisodeSettings:
     sim = spec.simulation
-    return EpisodeSettings(dt=sim.dt, timeout=None if sim.timeout == "route" else sim.timeout, throttle=sim.throttle, wall_timeout=sim.wall_timeout,
+    timeout = None if sim.timeout == "route" else sim.timeout  # None: each scenario's route decides
+    return EpisodeSettings(dt=sim.dt, timeout=timeout, throttle=sim.throttle, wall_timeout=sim.wall_timeout,
                            verify=spec.verify, metrics=tuple(spec.metrics) if spec.metrics else None,
                            vary_people=sim.vary_people, trajectory_hz=spec.trajectories)
 

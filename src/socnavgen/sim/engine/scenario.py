@@ -24,7 +24,7 @@ from socnavgen.bt.library import regular_walker_xml
 from socnavgen.errors import ValidationFailed
 from socnavgen.run import LoadedRun, load_run
 from socnavgen.sim.engine.budget import TimeLimit, time_limit
-from socnavgen.sim.engine.simulation import RobotSpeech, SimConfig, Simulation
+from socnavgen.sim.engine.simulation import RobotSpeech, SimConfig, Simulation, cruise_speed
 from socnavgen.sim.people.pacing import PacingPlan, ThrottleConfig
 from socnavgen.sim.people.routing import project
 from socnavgen.sim.people.state import HumanSpec
@@ -126,7 +126,10 @@ def route_time_limit(run_dir: Path | str | LoadedRun, location: Any = None, dt: 
     location = run.location(location)
     at = node_worlds(run, location)
     spec = run.spec()
-    return time_limit([at[n] for n in run.paths().robot], None, spec.script if spec is not None else None, dt=dt)
+    robot, body = load_policy(DEFAULT_ROBOT), SimConfig().body  # what Simulation reads of the default robot
+    return time_limit([at[n] for n in run.paths().robot], cruise_speed(robot, body.max_speed),
+                      spec.script if spec is not None else None,
+                      float(getattr(robot, "start_delay", 0.0) or 0.0), dt)
 
 
 def load_simulation(run_dir: Path | str | LoadedRun, policy: Any, config: SimConfig | None = None,

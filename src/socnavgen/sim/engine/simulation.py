@@ -104,7 +104,7 @@ def _points(name: str, points: Any) -> np.ndarray:
     return array
 
 
-def _cruise(policy: Any, body_speed: float) -> float:
+def cruise_speed(policy: Any, body_speed: float) -> float:
     """The fastest the robot means to drive: its policy's max_speed (when it has one) within its body's."""
     speed = getattr(policy, "max_speed", None)
     if isinstance(speed, int | float) and math.isfinite(speed) and speed > 0:
@@ -136,7 +136,7 @@ class Simulation:
         self.program = program or lower_trees(trees, tree_names)
         n, dt = len(humans), float(config.dt)
         self.timeout, self.timeout_why = (float(config.timeout), "set by the caller") if config.timeout is not None \
-            else time_limit(waypoints, _cruise(policy, config.body.max_speed), speech.script,
+            else time_limit(waypoints, cruise_speed(policy, config.body.max_speed), speech.script,
                             float(getattr(policy, "start_delay", 0.0) or 0.0), dt)
         people, goals, sizes = new_people(humans)
         people.tree, people.dt_slot = self.program.roots, self.program.dt_slots
