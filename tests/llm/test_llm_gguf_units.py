@@ -69,3 +69,13 @@ def test_the_local_model_knows_its_context_and_counts_prompts_as_llama_cpp_build
     one = llm.count_tokens(messages[:1])
     assert 0 < one < counted and abs(counted - estimate_tokens(messages)) < counted / 2  # the estimate is close
     assert llm._llm is None  # counting never loaded the weights
+
+
+def test_the_local_model_decodes_on_one_thread_and_the_environment_overrides(monkeypatch):
+    monkeypatch.delenv("SOCNAVGEN_GGUF_THREADS", raising=False)
+    assert make_llm("local").threads == 1  # two threads stalled for minutes when another process held a core
+    monkeypatch.setenv("SOCNAVGEN_GGUF_THREADS", "3")
+    assert make_llm("local").threads == 3
+    monkeypatch.setenv("SOCNAVGEN_GGUF_THREADS", "two")
+    with pytest.raises(LLMError, match="SOCNAVGEN_GGUF_THREADS='two' is not a whole number"):
+        make_llm("local")

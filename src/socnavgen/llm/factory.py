@@ -38,11 +38,12 @@ def make_llm(spec: str, *, transcript: Path | None = None, cache_dir: Path | Non
         from socnavgen.llm.backends.gguf_backend import (
             LOCAL_MAX_STRING,
             LOCAL_SAMPLING,
+            LOCAL_THREADS,
             GGUFBackend,
             smollm2_path,
         )
         return GGUFBackend("local", smollm2_path(), options, model_name="SmolLM2-135M-Instruct",
-                           max_string=LOCAL_MAX_STRING, sampling=LOCAL_SAMPLING)
+                           max_string=LOCAL_MAX_STRING, sampling=LOCAL_SAMPLING, threads=LOCAL_THREADS)
     if not sep:
         raise _bad_spec(spec, "unknown form")
     rest = rest.strip()

