@@ -6,7 +6,7 @@ from __future__ import annotations
 import re
 
 from socnavgen.campaign.aggregate import aggregate
-from socnavgen.campaign.report import md_tables, write_report
+from socnavgen.campaign.report import fit_markdown, md_tables, write_report
 from socnavgen.campaign.runner import run_campaign
 from socnavgen.campaign.store import read_episodes
 
@@ -50,3 +50,19 @@ def test_wide_markdown_tables_split_to_80_columns_keeping_their_key_columns() ->
     assert all(t.startswith("| Policy") and "| bad " in t for t in tables)  # the key column in every part
     assert sum(t.splitlines()[0].count("Metric number") for t in tables) == 8  # no column lost or repeated
     assert len(md_tables(header[:3], rows and [r[:3] for r in rows]).split("\n\n")) == 1  # narrow: one table
+
+
+def test_the_printed_ranking_fits_the_terminal_it_is_asked_for_and_loses_no_cell() -> None:
+    header = ["Policy", *(f"Metric number {k}" for k in range(9))]
+    rows = [[name, *(f"0.{k}1 [0.{k}0, 0.{k}2]" for k in range(9))] for name in ("scripted", "a|b")]
+    note = "1488 episodes: " + ", ".join(f"location_{k}" for k in range(30)) + "; mean [95 % bootstrap CI]."
+    wide = md_tables(header, rows, width=10_000) + "\n\n" + note + "\n"
+    assert fit_markdown(wide, 0) == wide  # the README's one wide table, as written
+    for width in (80, 200):
+        fitted = fit_markdown(wide, width)
+        assert max(map(len, fitted.splitlines())) <= width
+        tables = [b for b in fitted.split("\n\n") if b.startswith("|")]
+        assert (len(tables) > 1) == (width == 80)
+        assert all("| scripted " in t and "| a\\|b " in t for t in tables)  # the key column (escaped) in every part
+        cells = " ".join(fitted.split())
+        assert all(f"0.{k}1 [0.{k}0, 0.{k}2]" in cells for k in range(9)) and "location_29; mean" in cells

@@ -7,6 +7,7 @@ from __future__ import annotations
 import base64
 import html
 import json
+import re
 import textwrap
 from itertools import pairwise
 from pathlib import Path
@@ -270,6 +271,24 @@ def ranking_markdown(agg: Aggregates) -> str:
             f"({', '.join(agg.locations)}) x {len(agg.policies)} policies x {agg.seeds} seeds; mean [95 % bootstrap "
             "CI]; time to goal over contact-free successes only; path efficiency = shortest walkable path / path "
             "driven, over episodes that reached the goal.")
+
+
+def fit_markdown(text: str, width: int) -> str:
+    """Markdown of tables and paragraphs re-flowed for a terminal `width` columns wide: each table split by
+    columns (the first column repeated, as in summary.md), each paragraph wrapped. 0 keeps it as written
+    (the README wants the ranking as one wide table)."""
+    if width <= 0:
+        return text
+    blocks = []
+    for block in text.strip("\n").split("\n\n"):
+        lines = block.splitlines()
+        if lines and all(line.startswith("|") for line in lines) and len(lines) >= 2:
+            cells = [[c.strip().replace("\\|", "|") for c in re.split(r"(?<!\\)\|", line)[1:-1]]
+                     for line in lines if not set(line) <= set("|-: ")]
+            blocks.append(md_tables(cells[0], cells[1:], keys=1, width=width))
+        else:
+            blocks.append(_wrap(" ".join(lines), width))
+    return "\n\n".join(blocks) + "\n"
 
 
 def _figures(agg: Aggregates, folder: Path) -> list[tuple[int, str, bytes, str]]:
