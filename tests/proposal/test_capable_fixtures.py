@@ -1,7 +1,14 @@
 """The capable-model fixtures (tests/fixtures/replay/: the paper's scenes A, B, C with Table II's rough
-scenarios verbatim, and a hospital evacuation without rough scenario; replies written by a separate
-engineer who read only the requests) replayed through the real pipeline: every stage valid at its
-first answer, the spec grounded, every tree meeting its encounter; then simulated and verified."""
+scenarios verbatim, and a hospital evacuation without rough scenario) replayed through the real pipeline: every
+stage valid at its first answer, the spec grounded, every tree meeting its encounter; then simulated, verified, and
+the verdict compared with what a person saw in the GIF frames (the `eyes:` block).
+
+Round 38 (2026-11-28) re-answered all four requests live on the day's prompts (sessions playing a capable model
+through queue_openai.py, who read no code; `generate --verify`): the recordings of 2026-11-23/24 answered older
+prompts, and since the strict verifier (contact at 5 cm, meetings after an approach, reactions after their cause)
+none of them verified. A `_verify` fixture is the whole exchange; its plain twin replays the same exchange's first
+answers without the loop. hospital_evacuation_v2_verify is a second live answer to the evacuation by another
+session."""
 
 from __future__ import annotations
 
@@ -15,8 +22,8 @@ from socnavgen.run import RunFolder
 
 FIXTURES = Path(__file__).resolve().parents[1] / "fixtures" / "replay"
 ROOT = Path(__file__).resolve().parents[2]
-NAMES = ["hospital_evacuation", "hospital_evacuation_v2_verify", "hospital_evacuation_verify", "paper_scene_a", "paper_scene_b", "paper_scene_b_verify",
-         "paper_scene_c"]
+NAMES = ["hospital_evacuation", "hospital_evacuation_v2_verify", "hospital_evacuation_verify", "paper_scene_a",
+         "paper_scene_a_verify", "paper_scene_b", "paper_scene_b_verify", "paper_scene_c"]
 
 
 def test_the_fixtures_are_there():
@@ -37,9 +44,9 @@ def test_every_stage_is_valid(replayed, name):
     row, folder = replayed[name]
     assert (row.verify_rounds >= 1) == name.endswith("_verify")  # the loop replays only where it was recorded
     assert row.scenario_valid and row.paths_valid and row.trees_valid
-    # every first answer was valid; in the old evacuation's --verify run one re-asked tree needed a correction
-    # (which replies a --verify replay reaches depends on the simulator's verdicts, so it may not get there)
-    assert row.first_attempt or name == "hospital_evacuation_verify"
+    # every first answer was valid but the v2 evacuation's scenario: a prose check re-asked it once ("human2 behind
+    # the visitor" with no criterion stating the order)
+    assert row.first_attempt or name == "hospital_evacuation_v2_verify"
     run = RunFolder(folder)
     spec = run.read_spec()
     assert spec is not None and spec.encounters and all(e.node for e in spec.encounters)
@@ -49,27 +56,12 @@ def test_every_stage_is_valid(replayed, name):
         assert tree_need_mistakes(xml, human, spec) == []
 
 
-# Verdicts of the strict verifier on the merged simulator. Failing today: scene B's first tree does not stop
-# the worker (its --verify run fixes it in 2 rounds); in the first evacuation recording the robot detours
-# to the nurse station while the patient, whose tree follows only while the robot is in sight, walks her
-# own route and falls 20 m behind (the model's answer; its --verify run did not fix it). Since contact is a
-# gap of 5 cm or less, meetings need an approach and reactions their cause (issue 25): scene A's worker waits
-# 2.1 m from the aisle-end node (never at it) and holds the robot up 10.5 s with less than 0.25 m of progress;
-# in scene B's --verify recording the worker still walks into the standing robot (gap 0.00 m); in the v2
-# evacuation the nurse is never in the robot's way, so she gives way to nothing. The two recorded loops have
-# no answer for these verdicts (replay_fixture says so). A strict xfail turns red the day one passes.
-# Scene C verified on main merged with wt-prompts (1f5521f; seen in the GIF frames at 16.6-30 s: the group of three
-# stands at sh, steps north after EXCUSE ME at 17.9 s, the robot squeezes past below them, closest gap 0.15 m, no
-# contact, and reaches the staging area at 46.8 s).
-# Scene C fails on main 61b7e93 (the simulator merges of 26 Nov) by 0.01 m: the robot stops as its spec asks, ~2 m
-# in front of the group (1.99 m gap to human1 at 16.9 s), says EXCUSE ME at 17.9 s, and the three step north
-# (human1 1.2 m off the aisle, human2 beyond her spot, 2.1 m north of sh: give-way spots keep clear of the
-# route leg and of each other's spots); the robot passes below them (closest gap 0.27 m, no contact) and
-# reaches the staging area at 42.6 s. "meets human2 at sh" (within 2.5 m, midpoint within 1 m of sh) misses:
-# at 26.0 s they are 2.21 m apart with the midpoint 1.00 m from sh (robustness -0.01); seen in the trace.
-# The group making more room than before is right; the meeting window is a spec/verifier question.
-FAILS = {"hospital_evacuation", "hospital_evacuation_verify", "paper_scene_b", "paper_scene_a",
-         "paper_scene_b_verify", "hospital_evacuation_v2_verify", "paper_scene_c"}
+# Verdicts on the day's code. Scene A's first answers fail (the live run's first design): the worker stands at the
+# aisle's far end from t = 0 while the robot starts at the other end and drives AWAY, so it never comes within the
+# keeps_away distance and no stop follows an approach; the model moved the scene in its second round (the robot
+# drives south through the aisle and turns east, the worker walks in and stops as it comes out): the _verify fixture.
+# A strict xfail turns red the day one passes.
+FAILS = {"paper_scene_a"}
 
 
 @pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.xfail(
@@ -79,3 +71,22 @@ def test_simulated_and_verified(replayed, name):
     row, _ = replayed[name]
     assert row.verified is True, row.failing
     assert row.min_robustness is not None and row.min_robustness >= 0
+
+
+# Where the eyes and the verifier differ, with what was seen (round 38's judge, frames of the live run's final answers).
+DISAGREE = {
+    "hospital_evacuation_v2_verify": "lenient PASS: both FOLLOW ME moments happen and the robot leads both followers "
+    "through the double doors to 8r, but the hurrying nurse (walk_past, checked only by meets), told to walk briskly "
+    "past without having to stop, faces the group head-on, stands ~2 m from the robot at ~34-35 s and creeps ~36-37 s, "
+    "then squeezes past along the north wall ~0.1 m from the visitor (~40 s) and the patient (~41 s)",
+}
+
+
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.xfail(strict=True, reason=DISAGREE[n]))
+                                  if n in DISAGREE else n for n in NAMES])
+def test_the_verifier_and_the_eyes_agree(replayed, name):
+    row, _ = replayed[name]
+    if row.eyes_match is None:  # only scene A's first answers, which were never the live run's final ones
+        assert name in FAILS and row.verified is False, "every fixture whose answers verify has been looked at"
+        return
+    assert row.verified == row.eyes_match, (row.failing, row.eyes)

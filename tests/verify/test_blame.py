@@ -233,3 +233,40 @@ def test_a_window_that_closed_before_the_robot_came_near_is_the_specs(closes: fl
     if verdict:
         assert "e1's window ended at t=13.3 s, before the robot first came within 2.5 m of human1 (t=20.0 s)" \
             in verdict[2]
+
+
+class _StoodFromStart:
+    """The signals stood_before_approach reads: human1 stands 3-6 m from the robot from t = 0 to `stands_until`,
+    then walks; the two come 0.5 m closer than at the start only from `approach_at` s."""
+
+    def __init__(self, stands_until: float, approach_at: float) -> None:
+        import numpy as np
+
+        self.t = np.arange(0.0, 20.0, 0.1)
+        self._signals = {"dist_human1": np.where(self.t < 12.0, 3.0 + self.t / 4, 6.0),
+                         "speed_human1": np.where(self.t < stands_until, 0.0, 1.0),
+                         "closer_human1": np.where(self.t >= approach_at, 0.8, 0.0)}
+
+    def get(self, name: str):  # noqa: ANN201
+        return self._signals[name]
+
+
+@pytest.mark.parametrize(("stands_until", "approach_at", "blame"), [(5.4, 12.9, "spec"), (5.4, 99.0, "spec"),
+                                                                    (15.0, 12.9, None), (0.0, 12.9, None)])
+def test_a_stop_seen_only_before_any_approach_is_the_specs(stands_until: float, approach_at: float,
+                                                           blame: str | None) -> None:
+    """Round 38's scene A (first design): the worker stood at the aisle's far end from t = 0 (5.4 s of LookAtRobot)
+    while the robot drove away; stops_near_robot wants a stand after an approach, and its correction read "did not
+    react as asked ... standing still 0.0 s" (the robot's). The tree cannot fix it: the spec's. A stand that goes on
+    past the approach, or no stand at all: not this rule."""
+    from socnavgen.verify.blame_timing import stood_before_approach
+    from socnavgen.verify.criteria import Compiled
+
+    cc = Compiled(criterion=Criterion(id="c1", kind="stops_near_robot", human="human1", distance=10.5), formula="",
+                  human="human1", distance=10.5)
+    verdict = stood_before_approach(cc, _StoodFromStart(stands_until, approach_at), "human1")  # type: ignore[arg-type]
+    assert (verdict[0] if verdict else None) == blame, verdict
+    if verdict:
+        assert "stood still within 10.5 m of the robot (t=0.0-5.3 s) only before the two had come 0.5 m closer" \
+            in verdict[2]
+        assert ("first at t=12.9 s" in verdict[2]) == (approach_at < 20), verdict[2]

@@ -95,7 +95,7 @@ from socnavgen.verify.blame_end import (
     standing_at_end,
 )
 from socnavgen.verify.blame_follow import ahead_of_robot, blame_follower, never_near_start
-from socnavgen.verify.blame_timing import ended_at_once, window_closed_early
+from socnavgen.verify.blame_timing import ended_at_once, stood_before_approach, window_closed_early
 from socnavgen.verify.blame_tree import FACTS_CLOSE, FACTS_OPEN, gave_way_in_vain, tree_activity
 from socnavgen.verify.criteria import Compiled
 from socnavgen.verify.derive import WALKS_ON
@@ -404,7 +404,7 @@ def blame_criterion(cc: Compiled, s: Signals, spec: ScenarioSpec, plan: PathPlan
         if kind != "follows_human" and s.get(f"dist_{h}").min() > reach:  # a follower of a person: rule F1
             return "paths", None, f"the robot never came within {reach:g} m of {h}"
         cause = (window_closed_early(cc, s, h, reach) or _missing_cause(cc, s, h, spec) or _spent(cc, s, spec, h)
-                 or stay_broken(cc, s) or ended_at_once(cc, s, spec, h))
+                 or stay_broken(cc, s) or ended_at_once(cc, s, spec, h) or stood_before_approach(cc, s, h))
         if cause:
             return cause
         if kind == "follows_human":

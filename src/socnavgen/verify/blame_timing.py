@@ -4,7 +4,10 @@ asking a person's tree to fix them asks the impossible, whatever the tree does.
 - a block that ends as it begins: the person blocks `until` a robot phrase, and the robot says it on a `blocked`
   cue reaching where a blocker stands (sim/people/leaves.BLOCK_AHEAD)                                -> spec
 - an encounter's window that closes before the robot comes near the person: the robot was within reach of them
-  only after the window (the next encounter began: its node close to this one, or its `within` wide)   -> spec"""
+  only after the window (the next encounter began: its node close to this one, or its `within` wide)   -> spec
+- a stop seen only before the approach: the person stood in front of the robot while it was near, but never once
+  the two had come APPROACH closer than at the start (they stood from t = 0 while the robot drove away; round 38's
+  scene A): no tree makes a stop happen after an approach the scenario never has                       -> spec"""
 
 from __future__ import annotations
 
@@ -16,6 +19,7 @@ from socnavgen.verify.criteria import Compiled
 from socnavgen.verify.evidence import in_window
 from socnavgen.verify.models import Verdict
 from socnavgen.verify.signals import Signals, phrase_id
+from socnavgen.verify.thresholds import APPROACH, STOP_SPEED
 
 
 def ended_at_once(cc: Compiled, s: Signals, spec: ScenarioSpec, h: str) -> Verdict | None:
@@ -46,3 +50,23 @@ def window_closed_early(cc: Compiled, s: Signals, h: str, reach: float) -> Verdi
     return "spec", None, (f"{cc.encounter.id}'s window ended at t={end:.1f} s, before the robot first came within "
                           f"{reach:g} m of {h} (t={first:.1f} s): the next encounter began too early; give it a "
                           f"smaller `within`, or a place farther on from {cc.encounter.node or cc.encounter.id}")
+
+
+def stood_before_approach(cc: Compiled, s: Signals, h: str) -> Verdict | None:
+    """stops_near_robot: h stood still within the criterion's distance of the robot only before the two had come
+    APPROACH closer than at the start (the stop the criterion asks for comes after an approach)."""
+    if cc.criterion.kind != "stops_near_robot" or cc.distance is None:
+        return None
+    near = s.get(f"dist_{h}") <= cc.distance
+    stood = near & (s.get(f"speed_{h}") <= STOP_SPEED)
+    approached = s.get(f"closer_{h}") >= APPROACH
+    if not stood.any() or (stood & np.maximum.accumulate(approached)).any():
+        return None
+    t = s.t[stood]
+    after = (f"first at t={float(s.t[int(np.argmax(approached))]):.1f} s, when {h} no longer stood"
+             if approached.any() else "never")
+    return "spec", None, (f"{h} stood still within {cc.distance:g} m of the robot (t={float(t[0]):.1f}-"
+                          f"{float(t[-1]):.1f} s) only before the two had come {APPROACH:g} m closer than at the start "
+                          f"({after}): a stop counts after an approach; have the robot come towards {h} while they "
+                          f"wait, or state a wait from the start by an stl on moved_{h} (always (moved_{h} < 0.5) "
+                          "until ...)")

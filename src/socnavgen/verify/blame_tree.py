@@ -57,7 +57,7 @@ def tree_activity(s: Signals, human: str, near: np.ndarray, reach: float, reacti
     held = {name: m for name, m in fired.items() if m.any()}
     still = near & (s.get("robot_still") > 0.5)
     text = (f"while the robot was within {reach:g} m of {human} (t={t[0]:.1f}-{t[-1]:.1f} s, {_seconds(near, dt)}, "
-            f"standing still {_seconds(still, dt)} of it) its tree ran {', '.join(ran) or 'no action'}; conditions that held then: "
+            f"the robot standing still {_seconds(still, dt)} of it) its tree ran {', '.join(ran) or 'no action'}; conditions that held then: "
             + (", ".join(f"{name} {_seconds(m, dt)}" for name, m in held.items()) or "none"))
     names = list(held)
     together = [f"{b} held on every step {a} did" for a in names for b in names
