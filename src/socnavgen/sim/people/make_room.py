@@ -16,7 +16,8 @@ side-step spot marked as theirs for others who look for one). Their tree keeps r
 replaces its motion command while it lasts (engine.step calls `make_room` after the trees), and ends as soon
 as the tree makes them walk somewhere else or blocks the robot on purpose. Someone whose tree walked nobody when
 they stepped aside (standing talking) and now walks them to a goal away from where they stood has a walk of their
-own: the side step ends with the rule, and they go (hospital_04: a resident stepped aside into the mouth of the door
+own: the side step ends with the rule, and they go (one at the end of their walk, round a goal they share, keeps
+to the give-way as before: home_10's friends; hospital_04: a resident stepped aside into the mouth of the door
 beside her for the robot waiting behind the team, and when her tree walked her in, the give-way kept her there for
 good, the robot waiting for her to clear it and the two behind her unable to get through the door).
 
@@ -36,7 +37,7 @@ from socnavgen.bodies import PERSON_GOAL_SLACK
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.give_way import ASIDE_RADIUS, GIVE_WAY_ARRIVED, robot_has_passed
 from socnavgen.sim.people.side_step import ASIDE, RESUME, SIDE_STEP_MAX, WAIT, in_robot_way, plan_side_step
-from socnavgen.sim.people.state import ROUTE_ROBOT, ROUTE_STRAIGHT, STANDING, queued_at, turn, walk_to
+from socnavgen.sim.people.state import ROUTE_ROBOT, ROUTE_STRAIGHT, STANDING, done, queued_at, turn, walk_to
 from socnavgen.sim.people.trees import LEAF_NAMES
 from socnavgen.sim.trace import GIVE_WAY_BEHAVIOR, ROBOT_BEHAVIOR
 from socnavgen.sim.world.queries import line_of_sight
@@ -48,8 +49,8 @@ DELIBERATE = 1 << LEAF_NAMES.index("IsRobotBlocking")  # a succeeded-mask bit: s
 BLOCKS = (LEAF_NAMES.index("BlockRobot"), LEAF_NAMES.index("ThreateningNav"))  # leaves that block it on purpose
 HELD_GAP = 1.0  # m between bodies: a walker standing this close in front of the waiting robot is held up by it ...
 HELD_ANGLE = 1.0  # rad: ... when it is no farther than this off the way they walk
-# p.makes_room: not, a person standing in its way (their tree walking them to where they stand, or idle: walking
-# nobody), a walker held up by it
+# p.makes_room: not, a person standing in its way (at the end of their walk, or their tree walking them to where
+# they stand), one standing idle before their walk (their tree walks nobody, goals still ahead), a walker held up by it
 NONE, STEPPING, HELD, IDLE = 0, 1, 2, 3
 
 
@@ -169,7 +170,8 @@ def make_room(s, held):  # noqa: ANN001, ANN201
         elif (waited and not (p.gives_way and p.behavior == GIVE_WAY_BEHAVIOR and p.give_way_phase != RESUME)  # not giving way
               and abs(p.vel) < STANDING and stands_still(s, i, p.pos)  # already (their tree's GiveWaytoRobot)
               and in_robot_way(s, i)):
-            p.makes_room, p.room_home = STEPPING if p.walks else IDLE, p.pos
+            idle = not p.walks and not done(people, s.goals, i)  # standing before their walk, not at its end
+            p.makes_room, p.room_home = IDLE if idle else STEPPING, p.pos
             p.behavior, p.gives_way = GIVE_WAY_BEHAVIOR, True
             plan_side_step(s, i)
             step_aside(s, i)
