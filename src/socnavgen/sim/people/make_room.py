@@ -14,7 +14,12 @@ or edging about where it stopped), they step aside to the nearest spot that lets
 passed (give_way.robot_has_passed), and walk back to where they stood. They give way meanwhile (behaviour 2, the
 side-step spot marked as theirs for others who look for one). Their tree keeps running every step; this rule
 replaces its motion command while it lasts (engine.step calls `make_room` after the trees), and ends as soon
-as the tree makes them walk somewhere else or blocks the robot on purpose.
+as the tree makes them walk somewhere else or blocks the robot on purpose. Someone whose tree walked nobody when
+they stepped aside (standing talking) and now walks them to a goal away from where they stood has a walk of their
+own: the side step ends with the rule, and they go (one at the end of their walk, round a goal they share, keeps
+to the give-way as before: home_10's friends; hospital_04: a resident stepped aside into the mouth of the door
+beside her for the robot waiting behind the team, and when her tree walked her in, the give-way kept her there for
+good, the robot waiting for her to clear it and the two behind her unable to get through the door).
 
 A walker held up by the robot makes room too: one whose tree walks them but who stands (slower than STANDING)
 face to face with the waiting robot (within HELD_GAP of its body, ahead on their way) on its path - each waits for the other, as at a
@@ -32,7 +37,7 @@ from socnavgen.bodies import PERSON_GOAL_SLACK
 from socnavgen.sim.jit import jit
 from socnavgen.sim.people.give_way import ASIDE_RADIUS, GIVE_WAY_ARRIVED, robot_has_passed
 from socnavgen.sim.people.side_step import ASIDE, RESUME, SIDE_STEP_MAX, WAIT, in_robot_way, plan_side_step
-from socnavgen.sim.people.state import ROUTE_ROBOT, ROUTE_STRAIGHT, STANDING, queued_at, turn, walk_to
+from socnavgen.sim.people.state import ROUTE_ROBOT, ROUTE_STRAIGHT, STANDING, done, queued_at, turn, walk_to
 from socnavgen.sim.people.trees import LEAF_NAMES
 from socnavgen.sim.trace import GIVE_WAY_BEHAVIOR, ROBOT_BEHAVIOR
 from socnavgen.sim.world.queries import line_of_sight
@@ -44,7 +49,9 @@ DELIBERATE = 1 << LEAF_NAMES.index("IsRobotBlocking")  # a succeeded-mask bit: s
 BLOCKS = (LEAF_NAMES.index("BlockRobot"), LEAF_NAMES.index("ThreateningNav"))  # leaves that block it on purpose
 HELD_GAP = 1.0  # m between bodies: a walker standing this close in front of the waiting robot is held up by it ...
 HELD_ANGLE = 1.0  # rad: ... when it is no farther than this off the way they walk
-NONE, STEPPING, HELD = 0, 1, 2  # p.makes_room: not, a person standing in its way, a walker held up by it
+# p.makes_room: not, a person standing in its way (at the end of their walk, or their tree walking them to where
+# they stand), one standing idle before their walk (their tree walks nobody, goals still ahead), a walker held up by it
+NONE, STEPPING, HELD, IDLE = 0, 1, 2, 3
 
 
 @jit
@@ -73,6 +80,13 @@ def held_up(s, i):  # noqa: ANN001, ANN201
     if abs(p.vel) >= STANDING or abs(rel) - p.radius - robot.radius >= HELD_GAP or abs(ahead) < 1e-9:
         return False
     return (rel * ahead.conjugate()).real >= abs(rel) * abs(ahead) * math.cos(HELD_ANGLE)
+
+
+@jit(inline=True)
+def walks_elsewhere(p):  # noqa: ANN001, ANN201
+    """Person p's tree now walks them to a goal away from where they stood when they made room (their walk into a
+    room after standing talking by its door): a new walk of their own, not the one that held them there."""
+    return p.has_goal and abs(p.goal - p.room_home) > p.goal_radius + PERSON_GOAL_SLACK
 
 
 @jit
@@ -150,11 +164,14 @@ def make_room(s, held):  # noqa: ANN001, ANN201
             if goes_on(s, i):
                 step_aside(s, i)
             else:  # the tree walks them elsewhere, or blocks the robot: it has the say again
+                if p.makes_room == IDLE and walks_elsewhere(p):
+                    p.gives_way = False  # the side step ends with it (people.give_way.stays_aside would hold them)
                 p.makes_room = NONE
         elif (waited and not (p.gives_way and p.behavior == GIVE_WAY_BEHAVIOR and p.give_way_phase != RESUME)  # not giving way
               and abs(p.vel) < STANDING and stands_still(s, i, p.pos)  # already (their tree's GiveWaytoRobot)
               and in_robot_way(s, i)):
-            p.makes_room, p.room_home = STEPPING, p.pos
+            idle = not p.walks and not done(people, s.goals, i)  # standing before their walk, not at its end
+            p.makes_room, p.room_home = IDLE if idle else STEPPING, p.pos
             p.behavior, p.gives_way = GIVE_WAY_BEHAVIOR, True
             plan_side_step(s, i)
             step_aside(s, i)
