@@ -141,6 +141,14 @@ def walk_end(p):  # noqa: ANN001, ANN201
 
 
 @jit(inline=True)
+def same_goal(p, q, reach):  # noqa: ANN001, ANN201
+    """q walks to p's goal too (to a spot round it, or within `reach` of it): they are going in, not coming out."""
+    if q.to_goal and q.has_spot and abs(q.spot_for - p.goal) < 1e-6:
+        return True
+    return abs((q.goal if q.to_goal else q.target) - p.goal) < reach
+
+
+@jit(inline=True)
 def in_way_of(p, q, near):  # noqa: ANN001, ANN201
     """(whether walker q walks toward p with p's body on their way, within `near` of their bodies, p's offset to the
     left of q's way in m): q heads for q.via this step."""
@@ -171,7 +179,8 @@ def let_out(people, i, way, world, grid):  # noqa: ANN001, ANN201
             q = people[grid.found[k]]
             reach = p.radius + q.radius + PERSON_STAND_GAP
             going, _ = in_way_of(p, q, LET_OUT_GAP)
-            if going and abs(end - q.pos) < reach and abs(walk_end(q) - end) > reach:
+            there = min(abs(end - q.pos), abs(p.goal - q.pos)) < reach  # on i's goal (or the spot i takes round it)
+            if going and there and not same_goal(p, q, reach) and not (p.group >= 0 and q.group == p.group):
                 j = grid.found[k]
                 break
     p.lets_out = j
