@@ -46,3 +46,15 @@ def cross(root: Path) -> Path:
     edges = [("xx", "w1"), ("w1", "w2"), ("xx", "n1"), ("n1", "n2"), ("xx", "s1"), ("s1", "s2"), ("xx", "e1"),
              ("e1", "e2")]
     return write_location(root, free, nodes, edges)
+
+
+def lift_corridor(root: Path, nodes_past_lift: int) -> Path:
+    """A 2 m wide corridor running east from an elevator (node `el`, typed ELEVATOR) with `nodes_past_lift` nodes
+    1 m apart along it (n1, n2, ...), then a dead end."""
+    length = 20 * (nodes_past_lift + 1) + 20
+    free = np.zeros((60, length + 20), dtype=bool)
+    free[10:50, 10:10 + length] = True
+    nodes = {"el": (20, 30), **{f"n{k}": (20 + 20 * k, 30) for k in range(1, nodes_past_lift + 1)}}
+    names = list(nodes)
+    return write_location(root, free, nodes, list(zip(names, names[1:], strict=False)),
+                          node_types={"el": "ELEVATOR"})

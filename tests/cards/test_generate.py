@@ -128,3 +128,25 @@ def test_crossing_people_never_walk_to_where_the_robot_starts(repo_root: Path) -
     home = load_location(repo_root / "examples" / "locations" / "home")
     fit = place_card(get_card("perpendicular-traffic"), home)  # its 3-way hallway would need that walk
     assert not fit.fits and "side branch at i6" in fit.reason
+
+
+def test_a_person_waiting_for_the_robot_starts_their_waiting_distance_past_its_goal(tmp_path: Path) -> None:
+    """exiting-elevator's person waits (looking at the robot) while it is within 2.5 m: they start that far and
+    both bodies past the robot's goal, along the corridor (SocRATES's hospital started them on the next node,
+    1.5 m from the goal: each waited for the other for 100 s). A corridor that ends too soon after the robot's
+    goal does not fit the card (no start past the goal is far enough)."""
+    from socnavgen.bodies import PERSON_RADIUS, ROBOT_RADIUS
+    from socnavgen.cards.trees import waiting_distance
+    from socnavgen.location.places import PlaceFinder
+    from tests.cards.cards_helpers import lift_corridor
+
+    card = get_card("exiting-elevator")
+    wait = waiting_distance(card.humans[0].tree)
+    assert wait >= 2.5  # the card's person does wait while the robot is near
+    location = load_location(lift_corridor(tmp_path / "long", 10))
+    fit = place_card(card, location)
+    assert fit.fits, fit.reason
+    start, goal = fit.placement.humans[0].path[0], fit.placement.robot[-1]
+    assert PlaceFinder(location).distance(start, goal) >= wait + PERSON_RADIUS + ROBOT_RADIUS
+    short = place_card(card, load_location(lift_corridor(tmp_path / "short", 5)))
+    assert not short.fits and "m from it" in short.reason

@@ -73,3 +73,20 @@ def test_a_walker_whose_goal_someone_stands_on_stops_short_of_them_and_has_arriv
     assert pair_gaps(trace).min() >= PERSON_KEEP_GAP - 1e-3
     assert abs(complex(*trace.humans[-1, 0, :2]) - (12.0 + 5.0j)) <= QUEUE_REACH  # came up to them
     assert trace.end_reason == "all_done"
+
+
+def test_a_walker_going_in_lets_the_one_standing_on_their_goal_out_of_a_strip_narrower_than_two_bodies():
+    """A 1.4 m strip (two 0.8 m bodies do not fit side by side) leads from the room to a dead end. human2 stands at
+    its end, where human1 walks to, and sets off out of it once human1 is in the strip: human1 lets them out
+    (steps back out of the strip, then aside) and goes in after them (on main the two stood face to face, the one
+    coming out swaying against the walls, until the time limit)."""
+    walls = [(10.0, 0.0, 20.0, 4.3), (10.0, 5.7, 20.0, 10.0)]  # the strip y 4.3 - 5.7, x 10 - 20
+    people = [human("human1", start=(4.0, 3.0), goals=[(18.0, 5.0)]),
+              human("human2", start=(18.0, 5.0), goals=[(3.0, 8.0)], start_delay=9.0)]
+    trace = make_sim(people, [tree_xml(REGULAR)] * 2, [(2.0, 1.0), (2.5, 1.0)], Stay(),
+                     world=empty_room(20.0, 10.0, walls=walls), timeout=60).run()
+    held = np.argmax(trace.t >= 9.0)
+    assert trace.humans[held, 0, 0] > 12.0  # human1 was in the strip when human2 set off toward them
+    assert abs(complex(*trace.humans[-1, 1, :2]) - (3.0 + 8.0j)) < 1.0  # human2 got out
+    assert abs(complex(*trace.humans[-1, 0, :2]) - (18.0 + 5.0j)) <= QUEUE_REACH  # human1 went in after them
+    assert pair_gaps(trace).min() > CONTACT_MARGIN

@@ -100,3 +100,15 @@ def test_border_force_damps_sideways_motion_in_an_aisle() -> None:
     assert _border_force(1.0, 5.0, vy=0.2).imag < -0.5
     assert _border_force(1.0, 5.0, vy=-0.2).imag > 0.5
     assert _border_force(9.0, 5.0, vy=0.2) == 0
+
+
+def test_sfm_backs_out_of_a_corridor_too_narrow_to_pass_a_person_head_on() -> None:
+    """A 1.3 m corridor (the robot's 0.7 m and a person's 0.8 m do not fit side by side), a person walking the
+    other way to beyond the robot's start: after standing face to face for its patience the robot backs out of
+    the corridor, lets them by, and drives on to its goal (on main they stood face to face, their social forces
+    balancing, until the time limit)."""
+    walls = [(6.0, 0.0, 14.0, 4.35), (6.0, 5.65, 14.0, 10.0)]
+    trace = _sfm(walls, [human(start=(16.0, 5.0), goals=[(1.0, 8.0)])], timeout=90.0)
+    assert trace.end_reason == "robot_goal", trace.robot[-1, :2]
+    assert abs(complex(*trace.humans[-1, 0, :2]) - (1.0 + 8.0j)) < 1.0  # the person got through too
+    assert trace_gaps(trace).min() > 0.0

@@ -8,8 +8,9 @@ from dataclasses import dataclass, field
 
 import networkx as nx
 
+from socnavgen.bodies import PERSON_RADIUS, ROBOT_RADIUS
 from socnavgen.cards.models import Card, HumanRole
-from socnavgen.cards.trees import sight_distance
+from socnavgen.cards.trees import sight_distance, waiting_distance
 from socnavgen.location.placement import Walker, start_problems
 from socnavgen.location.places import Candidate, PlaceFinder
 
@@ -174,7 +175,7 @@ class RouteBuilder:
         ahead_of_robot = set(robot[1:])  # where a person must not end up standing (the robot still has to pass)
         kind = role.role
         if kind == "oncoming":  # starts past the robot's goal: standing on it would block the robot for good
-            start = self.beyond(robot)[:1]  # (a route into a room's dead end has no node past its goal)
+            start = self.oncoming_start(placement, waiting_distance(role.tree))  # (none past a room's dead end)
             if not start and placement.card.place == "doorway":
                 # through a door from a dead-end room the person waits for the robot on the robot's own goal
                 return []
@@ -225,6 +226,33 @@ class RouteBuilder:
             ring = [n for n in ring if self.f.distance(n, robot[0]) > sight or not self.f.sees(n, robot[0])]
         paths = [self.across(s, p, forbid) for s in ring]
         return [(path, p) for path in paths if path is not None]
+
+    def oncoming_start(self, placement: Placement, wait: float) -> list[str]:
+        """The nodes past the robot's goal an oncoming person walks from (where they start first): the next one,
+        or for a person who stands waiting for the robot, out along the straightest way until they start `wait` (how near the robot makes their tree stand and wait:
+        trees.waiting_distance) and both bodies past the goal, where the graph goes that far (at a blind corner,
+        not as far as a node the robot's way in sees: the corner must stay blind). A person who waits while the
+        robot is within 2.5 m, starting 1.5 m from its goal (the next node on SocRATES's hospital graph), stood
+        waiting there while the robot stood short of its goal at a polite gap from them, each waiting for the
+        other: a placement that cannot start them that far does not fit."""
+        robot = placement.robot
+        first = self.beyond(robot)[:1]
+        if not first or wait <= 0:  # a person who never stands waiting for it: the next node past its goal
+            return first
+        need = wait + PERSON_RADIUS + ROBOT_RADIUS
+        way = self.extend(first[0], robot[-1], set(robot), hops=len(self.g))
+        i = robot.index(placement.place.node) if placement.place.node in robot else len(robot) - 1
+        out, far, here = [first[0]], self.f.distance(robot[-1], first[0]), first[0]
+        for nxt in way[1:]:
+            if far >= need or (placement.card.place == "blind_corner"
+                               and any(self.f.sees(a, nxt) for a in robot[:i])):
+                break
+            out.append(nxt)
+            far, here = far + self.f.distance(here, nxt), nxt
+        if wait > 0 and self.f.distance(robot[-1], out[-1]) < need:  # they would wait by its goal, it for them
+            raise DoesNotFit(f"no node past the robot's goal {robot[-1]} is {need:.1f} m from it (where a person "
+                             f"coming the other way waits for the robot and the robot reaches its goal)")
+        return out[::-1]
 
     def meeting_node(self, placement: Placement, i: int) -> str:
         """Where an oncoming person meets the robot. Through a narrow passage only one fits at a time, so

@@ -31,6 +31,35 @@ def sight_distance(template: str) -> float:
                 if n.kind == "condition" and isinstance(d := n.value("distance"), float)), default=0.0)
 
 
+NEAR_CONDITIONS = ("IsRobotNearby", "IsRobotVisible")  # conditions that hold while the robot is within a distance
+STANDING_LEAVES = ("LookAtRobot",)  # leaves that keep a person standing where they are
+
+
+@cache
+def waiting_distance(template: str) -> float:
+    """How near the robot makes a template's person stand and wait for as long as it stays that near (m; 0: none):
+    a Sequence whose children are only a robot-near condition and standing leaves (a timer or an inverted
+    condition bounds the wait). A robot whose goal lies this close to where such a person waits never gets them
+    to walk on (cards.routes.oncoming_start)."""
+    found = 0.0
+
+    def visit(node: object) -> None:
+        nonlocal found
+        if not isinstance(node, dict):
+            return
+        for name, body in node.items():
+            if name == "Sequence" and isinstance(body, list):
+                near = [next(iter(c.values())) for c in body if isinstance(c, dict) and next(iter(c)) in NEAR_CONDITIONS]
+                rest = [c for c in body if not (isinstance(c, dict) and next(iter(c)) in NEAR_CONDITIONS)]
+                if len(near) == 1 and rest and all(c in STANDING_LEAVES for c in rest):
+                    found = max(found, float(near[0].get("distance", 0.0)))
+            for child in body if isinstance(body, list) else []:
+                visit(child)
+
+    visit(templates()[template])
+    return found
+
+
 def _regular(pad: str) -> str:
     return regular_nav_sequence(pad)
 

@@ -61,8 +61,8 @@ def stands_still(s, i, spot):  # noqa: ANN001, ANN201
     p = s.people[i]
     if p.succeeded & DELIBERATE or p.action == BLOCKS[0] or p.action == BLOCKS[1]:
         return False
-    if not p.walks:
-        return True
+    if not p.walks or (p.to_goal and not p.has_goal):  # no walk, or their walk is over (at their spot round a
+        return True  # goal others stand on, people.spots.aim: they stand there, on the robot's way for good)
     last = p.to_goal and p.has_goal and p.queue_count <= 1 and not p.cyclic
     return last and (abs(p.goal - spot) <= p.goal_radius + PERSON_GOAL_SLACK or queued_at(s.people, i, p.goal))
 

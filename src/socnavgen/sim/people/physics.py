@@ -19,7 +19,7 @@ from socnavgen.sim.jit import jit
 from socnavgen.sim.people import neighbours
 from socnavgen.sim.people.avoid import keep_gap, keep_off
 from socnavgen.sim.people.neighbours import Grid, new_grid, span
-from socnavgen.sim.people.spacing import keep_apart
+from socnavgen.sim.people.spacing import keep_apart, let_out
 from socnavgen.sim.people.spots import REACH as SPOT_REACH
 from socnavgen.sim.people.spots import RING_STEP, TIGHT_STEP, spot_taken
 from socnavgen.sim.people.state import queued_at
@@ -255,6 +255,9 @@ def move(people, group_sizes, prm, world, dt, scratch, robot_pos, robot_radius):
         ahead = p.via - p.pos if p.walks else target - p.pos
         if has and dist > radius and abs(ahead) > 1e-12:
             direction[i] = ahead / abs(ahead)
+            out = let_out(people, i, direction[i], world, scratch.grid)  # someone coming out of where they go
+            if out != 0j:
+                direction[i] = out
             force[i] = prm.k_des * (p.desired_speed * direction[i] - p.vel) / prm.tau
         else:
             force[i] = -p.vel / prm.tau  # within the target's radius: brake

@@ -91,6 +91,8 @@ PERSON = layout([
     # after the robot's arrival (people.grace): still walking in to their path's end by its goal (this step), and
     # came in (for good: they walk their last leg, then stand facing the robot)
     ("coming", "?"), ("came_in", "?"),
+    # letting someone out of where they go (people.spacing.let_out): who (-1: nobody)
+    ("lets_out", "i8"),
 ])
 
 
@@ -114,7 +116,7 @@ def new_people(specs: list[HumanSpec]) -> tuple[np.recarray, np.ndarray, np.ndar
                    pace=[s.max_vel for s in specs], start_delay=[s.start_delay for s in specs], sees_robot=-1,
                    pass_gap=[s.pass_gap for s in specs],
                    action=-1, via_step=-1, via_mark=-1,
-                   goal_mark=-1, route=ROUTE_GOAL)  # not 0: following person 0 (robot.lead reads it)
+                   goal_mark=-1, lets_out=-1, route=ROUTE_GOAL)  # not 0: following person 0 (robot.lead reads it)
     capacity = max([len(s.goals) for s in specs] + [0]) + 2  # a cyclic queue re-appends before it pops
     goals = np.zeros((n, capacity), dtype=complex)
     for i, s in enumerate(specs):

@@ -402,6 +402,28 @@ def kept_clear(s, first, v):  # noqa: ANN001, ANN201
     return out
 
 
+@jit
+def sfm_act(s):  # noqa: ANN001, ANN201
+    """The social-force robot's step, with the scripted robot's way out of a standoff (polite.make_way): standing
+    (slower than STANDING) face to face with someone who needs to get past it for `patience` s, it backs off the
+    way it came. Without it, the robot and a walker at a blind corner of an extracted SocRATES map stood 0.09 m
+    apart for 108 s, the social forces of the two balancing."""
+    policy, robot = s.policy[0], s.robot[0]
+    forward = way_ahead(s)
+    if abs(forward) > 1e-9:
+        backing, v = make_way(s, forward)
+        if backing:
+            policy.waited = 0.0
+            return keep_clear(s, v, policy.keep_gap)
+    target, last = track(s, False)
+    if policy.plans:
+        target = steer(s, s.fields, policy.waypoint, target)
+    v = keep_clear(s, sfm_toward(s, target, policy.max_speed, last, policy.plans, ARRIVED), policy.keep_gap)
+    stands = abs(robot.vel) < proxemics.STANDING_SPEED and abs(v) < proxemics.STANDING_SPEED
+    policy.waited = policy.waited + s.clock[0].dt if stands else 0.0
+    return v
+
+
 @jit(inline=True)
 def cruise(s, now):  # noqa: ANN001, ANN201
     """The speed the built-in robot drives at where nothing slows it (m/s; `now`: script.now[0]); -1 for a policy
@@ -425,10 +447,7 @@ def act(s, now):  # noqa: ANN001, ANN201
     if kind == STRAIGHT:
         return straight_act(s, policy.max_speed, False)
     if kind == SFM:
-        target, last = track(s, False)
-        if policy.plans:
-            target = steer(s, s.fields, policy.waypoint, target)
-        return keep_clear(s, sfm_toward(s, target, policy.max_speed, last, policy.plans, ARRIVED), policy.keep_gap)
+        return sfm_act(s)
     if kind == WAYPOINTS:
         v = waypoints_act(s)
         return kept_clear(s, v, v)
