@@ -337,7 +337,8 @@ def extract_scene_graph(occ: OccupancyGrid, meters_per_pixel: float,
     clearance = occ.clearance_px  # real obstacles: what edges must avoid
     furniture = furniture_mask(occ.blocked, meters_per_pixel) if opts.rooms else np.zeros_like(occ.blocked)
     structure = OccupancyGrid(occupied=occ.occupied & ~furniture, unknown=occ.unknown & ~furniture)
-    walls = without_specks(structure.blocked, max(2, int((0.25 / meters_per_pixel) ** 2)))
+    speck = max(2, int((0.25 / meters_per_pixel) ** 2))  # pixels: an obstacle this small is sensor noise
+    walls = without_specks(structure.blocked, speck)
     wall_clearance = clearance_from(walls)  # what a person perceives: width, doors
     geo.wall_clearance = wall_clearance
     free = walkable_space(structure, geo.gap_r, opts.keep_all_components)  # rooms are cut from this
@@ -373,7 +374,8 @@ def extract_scene_graph(occ: OccupancyGrid, meters_per_pixel: float,
     straighten(graph, coords, clearance, geo)
     coords = reroute_blocked(graph, coords, clearance, geo.mpp)
     if opts.robot_width_m > 0:
-        keep_robot_ways(graph, coords, occ.blocked, geo.mpp, opts.robot_width_m)
+        # every real obstacle (furniture too) narrows the robot's way; sensor specks do not, as for people
+        keep_robot_ways(graph, coords, without_specks(occ.blocked, speck), geo.mpp, opts.robot_width_m)
 
     def node_type(n: int) -> str:
         if n in exits:
@@ -401,11 +403,13 @@ def keep_robot_ways(graph: nx.MultiGraph, coords: np.ndarray, blocked: np.ndarra
     """Drop every edge the robot's body (`width_m` wall to wall) cannot pass, then the nodes left on none and all
     but the largest connected part: the scene graph is where scenarios route the robot as well as people, and a
     route through a gap the robot only fills (a 0.6 m slot past shelves) held every planner at its walls."""
+    cut: set[int] = set()
     for u, v, key in list(graph.edges(keys=True)):
         a, b = (float(coords[u][1]), float(coords[u][0])), (float(coords[v][1]), float(coords[v][0]))
         if u != v and not robot_fits_along(blocked, a, b, mpp, width_m):
             graph.remove_edge(u, v, key)
-    graph.remove_nodes_from([n for n in list(graph.nodes) if graph.degree(n) == 0])
+            cut |= {u, v}
+    graph.remove_nodes_from([n for n in cut if graph.degree(n) == 0])  # a lone room's only node stays
     parts = sorted(nx.connected_components(graph), key=len, reverse=True)
     for part in parts[1:]:
         graph.remove_nodes_from(part)
