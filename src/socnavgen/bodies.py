@@ -50,6 +50,10 @@ PERSON_ROBOT_GAP = 0.2  # m: a person's own step never brings them closer than t
 ROBOT_SOCIAL_GAP = 0.3  # m: the gap the default robot keeps from a person where there is room: it never drives
 # closer (robot.polite.keep_clear), steps off the way of someone walking at it, and waits rather than squeezes past
 ROBOT_WALL_ROOM = 0.08  # m beyond its radius: the default robot moves aside only where this much room from walls is left
+ROBOT_WALL_MARGIN = 0.05  # m beyond its radius on each side: the room from walls the narrowest way a scene graph routes
+#   the robot through leaves it (a way the robot's body only just fills gives every planner wall contacts)
+ROBOT_PASSAGE_WIDTH = round(2 * (ROBOT_RADIUS + ROBOT_WALL_MARGIN), 2)  # m wall to wall (0.8): `location extract` keeps
+#   no edge (nor node) narrower, so a card's route never leads the robot through a gap it cannot pass (traverse)
 INTIMATE_SPACE, PERSONAL_SPACE, SOCIAL_SPACE = 0.45, 1.2, 3.6  # m: Hall's proxemic zone limits (gaps)
 
 

@@ -102,3 +102,20 @@ def test_worst_episodes_are_failures_only_worst_first() -> None:
     assert worst[0]["status"] == "failed"  # the crash first
     assert [r["collisions"] for r in worst[1:5]] == [8, 7, 6, 5]  # then the most contact
     assert worst_episodes(table.filter(pc.equal(table.column("policy"), "good")), 5) == []
+
+
+def test_a_reach_with_a_wall_contact_is_not_a_contact_free_success() -> None:
+    """A robot that scrapes a wall on its way to the goal reached it but is not a contact-free success, also in a
+    table written before the rows counted walls (its `success` column says True there)."""
+    rows = []
+    for seed in range(4):
+        clean = _row("clean", "narrow@warehouse", "warehouse", seed, success=True)
+        scraper = _row("scraper", "narrow@warehouse", "warehouse", seed, success=True)
+        clean["static_obstacle_collisions"], scraper["static_obstacle_collisions"] = 0, 1 + seed
+        rows += [scraper, clean]
+    agg = aggregate(pa.Table.from_pylist(rows), resamples=200)
+    assert agg.policies == ["clean", "scraper"]
+    assert agg.per_policy["scraper"]["reached_goal"].mean == 1.0
+    assert agg.per_policy["scraper"]["success"].mean == 0.0
+    assert agg.per_policy["scraper"]["time_to_goal"].n == 0  # time to goal over contact-free successes only
+    assert agg.per_policy["clean"]["success"].mean == 1.0 and agg.per_policy["clean"]["time_to_goal"].n == 4

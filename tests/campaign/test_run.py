@@ -129,3 +129,24 @@ def test_compiling_the_simulator_does_not_count_against_an_episode(small_spec, t
         update={"wall_timeout": 1.0})})
     result = run_campaign(spec, tmp_path / "o", executor="inline")
     assert len(calls) == 5 and result.failed == 0 and result.ran == 4  # in the parent, then before every episode
+
+
+def test_a_wall_contact_on_the_way_is_no_success_and_says_so(small_spec, tmp_path, monkeypatch) -> None:  # noqa: ANN001
+    """The row of an episode whose robot reached its goal touching nobody but a wall: `success` False (it is the
+    report's contact-free success), `reached_goal` True, and the failure reason names the wall."""
+    from socnavgen.sim import metrics as sim_metrics
+
+    measured = sim_metrics.navigation_metrics
+
+    def scraped(trace, world):  # noqa: ANN001, ANN202 - the real metrics, with the robot's body once on a wall
+        out = measured(trace, world)
+        out.update(static_obstacle_collisions=1, min_obstacle_clearance=-0.04)
+        return out
+
+    monkeypatch.setattr(sim_metrics, "navigation_metrics", scraped)
+    spec = parse_campaign(campaign_yaml(["intersection-no-gesture"], ["scripted"], 1))
+    run_campaign(spec, tmp_path / "c", executor="inline")
+    (row,) = pq.read_table(tmp_path / "c" / "episodes.parquet").to_pylist()
+    assert row["reached_goal"] and row["collisions"] == 0
+    assert row["success"] is False and row["time_to_goal"] is None
+    assert "touched a wall (1 time, -0.04 m at the closest)" in row["failure_reason"]

@@ -11,6 +11,7 @@ from typing import Any
 import numpy as np
 import pyarrow as pa
 
+from socnavgen.campaign.columns import contact_free
 from socnavgen.campaign.stats import Estimate, Paired, bootstrap_mean, paired_difference
 from socnavgen.sim.metric_definitions import better_direction
 
@@ -62,6 +63,10 @@ def _data(table: pa.Table) -> dict[str, np.ndarray]:
     for m in FALSE_WHEN_MISSING:
         if m in data:
             data[m] = np.nan_to_num(data[m], nan=0.0)
+    if "success" in data and "static_obstacle_collisions" in data:  # a table written before walls counted
+        data["success"] = contact_free(data["success"], data["static_obstacle_collisions"]).astype(float)
+        if "time_to_goal" in data:  # over contact-free successes only, as the rows written since give it
+            data["time_to_goal"] = np.where(data["success"] > 0, data["time_to_goal"], np.nan)
     if "end_reason" in table.column_names:
         data["timeout"] = np.array([r == "timeout" for r in table.column("end_reason").to_pylist()], dtype=float)
     return data

@@ -213,6 +213,7 @@ def run_episode(ep: Episode, settings: EpisodeSettings, cache: WorkerCache | Non
 def _measure(ep: Episode, settings: EpisodeSettings, cache: WorkerCache, deadline: _Deadline) -> dict[str, Any]:
     """Simulate, measure and verify one episode: the row's outcome, metrics and verdicts (all of it under the
     episode's deadline; nothing of it is kept when the episode fails)."""
+    from socnavgen.campaign.columns import contact_free
     from socnavgen.sim.metric_definitions import all_metric_names
     from socnavgen.sim.metrics import compute_metrics, navigation_metrics
     from socnavgen.sim.social_metrics import social_metrics
@@ -221,6 +222,7 @@ def _measure(ep: Episode, settings: EpisodeSettings, cache: WorkerCache, deadlin
     trace, location, world = simulate_episode(ep, settings, cache, deadline)
     metrics = compute_metrics(trace, location)
     metrics.update(navigation_metrics(trace, world))
+    metrics["success"] = bool(contact_free(metrics["success"], metrics.get("static_obstacle_collisions")))
     metrics.update(social_metrics(trace, world, success=bool(metrics["success"])))
     metrics["expected_behaviour"], details = expected_behaviour(ep, trace, cache)
     chosen = settings.metrics or all_metric_names()
@@ -320,6 +322,9 @@ def _why_not(metrics: dict[str, Any], trace: Any) -> str:
     reasons = []
     if metrics.get("collisions"):
         reasons.append(f"collision with a person ({count(int(metrics['collisions']), 'step')} in contact)")
+    if metrics.get("static_obstacle_collisions"):
+        reasons.append(f"touched a wall ({count(int(metrics['static_obstacle_collisions']), 'time')}, "
+                       f"{metrics.get('min_obstacle_clearance') or 0.0:+.2f} m at the closest)")
     if not metrics.get("completed") and trace.end_reason != "robot_goal":
         reasons.append(f"goal not reached ({trace.end_reason})")
     return "; ".join(reasons) or "goal not reached"

@@ -269,8 +269,9 @@ def ranking_markdown(agg: Aggregates) -> str:
     title, header, rows, _ = _ranking(agg)
     return (f"{_md_table(header, rows)}\n\n{agg.episodes} episodes: {len(agg.scenarios)} scenarios "
             f"({', '.join(agg.locations)}) x {len(agg.policies)} policies x {agg.seeds} seeds; mean [95 % bootstrap "
-            "CI]; time to goal over contact-free successes only; path efficiency = shortest walkable path / path "
-            "driven, over episodes that reached the goal.")
+            "CI]; contact-free success = the goal reached touching no person and no wall; time to goal over "
+            "contact-free successes only; path efficiency = shortest walkable path / path driven, over episodes that "
+            "reached the goal.")
 
 
 def fit_markdown(text: str, width: int) -> str:

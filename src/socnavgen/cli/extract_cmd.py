@@ -7,6 +7,7 @@ from pathlib import Path
 import typer
 from rich.table import Table
 
+from socnavgen.bodies import ROBOT_PASSAGE_WIDTH
 from socnavgen.cli.common import console, err_console
 
 
@@ -30,6 +31,9 @@ def extract(
                                      help="Free width (metres) from which a junction or end is an OPEN AREA."),
     min_gap: float = typer.Option(0.5, "--min-gap", min=0.0,
                                   help="Gaps narrower than this (metres) are treated as closed."),
+    robot_width: float = typer.Option(ROBOT_PASSAGE_WIDTH, "--robot-width", min=0.0,
+                                      help="No edge narrower than this (metres, wall to wall) is kept: the robot's "
+                                           "body and its margin must pass (0 keeps every edge a person can walk)."),
     all_components: bool = typer.Option(False, "--all-components",
                                         help="Keep every free region, not only the largest connected one."),
     name: str | None = typer.Option(None, "--name", help="Location name (default: the folder name)."),
@@ -50,7 +54,7 @@ def extract(
 
     options = ExtractOptions(detail=detail, rooms=rooms, min_spur_m=min_spur, narrow_width_m=narrow_width,
                              open_width_m=open_width, min_gap_m=min_gap, keep_all_components=all_components,
-                             seed=seed)
+                             robot_width_m=robot_width, seed=seed)
     previous = out / SCENE_GRAPH_FILE
     if force and previous.is_file():
         from socnavgen.safeio import atomic_write_bytes

@@ -3,9 +3,10 @@
 Free space -> skeleton (thin centre lines of the walkable area) -> topological graph (junctions and
 ends become nodes, skeleton branches become edges) -> cleaned (short spurs pruned, close nodes
 merged) -> doorways inserted at clearance bottlenecks -> every edge made a straight segment that
-keeps clear of walls (curved branches split, adding SIMPLE NODEs) -> nodes and edges typed from
-geometry (degree, clearance, turn angle, line of sight) -> repaired until it passes `location check`
-as one connected graph (extract_repair.py). The result is a draft for the annotator.
+keeps clear of walls (curved branches split, adding SIMPLE NODEs) -> repaired until it passes `location check`
+as one connected graph (extract_repair.py) -> edges the robot's body cannot pass dropped (routes go round
+them; a part reached only through such a gap goes too) -> nodes and edges typed from geometry (degree,
+clearance, turn angle, line of sight). The result is a draft for the annotator.
 """
 
 from __future__ import annotations
@@ -56,7 +57,7 @@ from socnavgen.location.models import DESCRIBE_ME, Edge, Node, SceneGraph, Schem
 from socnavgen.location.occupancy import OccupancyGrid, clearance_from
 from socnavgen.location.rooms import big_blocks, furniture_mask, replace_rooms
 from socnavgen.location.scene_graph import ID_ALPHABET, write_scene_graph
-from socnavgen.location.traverse import edge_verdict, required_clearance_px
+from socnavgen.location.traverse import edge_verdict, required_clearance_px, robot_fits_along
 from socnavgen.safeio import (
     MAX_IMAGE_BYTES,
     atomic_write_bytes,
@@ -336,7 +337,8 @@ def extract_scene_graph(occ: OccupancyGrid, meters_per_pixel: float,
     clearance = occ.clearance_px  # real obstacles: what edges must avoid
     furniture = furniture_mask(occ.blocked, meters_per_pixel) if opts.rooms else np.zeros_like(occ.blocked)
     structure = OccupancyGrid(occupied=occ.occupied & ~furniture, unknown=occ.unknown & ~furniture)
-    walls = without_specks(structure.blocked, max(2, int((0.25 / meters_per_pixel) ** 2)))
+    speck = max(2, int((0.25 / meters_per_pixel) ** 2))  # pixels: an obstacle this small is sensor noise
+    walls = without_specks(structure.blocked, speck)
     wall_clearance = clearance_from(walls)  # what a person perceives: width, doors
     geo.wall_clearance = wall_clearance
     free = walkable_space(structure, geo.gap_r, opts.keep_all_components)  # rooms are cut from this
@@ -371,6 +373,9 @@ def extract_scene_graph(occ: OccupancyGrid, meters_per_pixel: float,
     coords = connect_parts(graph, coords, clearance, geo.mpp)
     straighten(graph, coords, clearance, geo)
     coords = reroute_blocked(graph, coords, clearance, geo.mpp)
+    if opts.robot_width_m > 0:
+        # every real obstacle (furniture too) narrows the robot's way; sensor specks do not, as for people
+        keep_robot_ways(graph, coords, without_specks(occ.blocked, speck), geo.mpp, opts.robot_width_m)
 
     def node_type(n: int) -> str:
         if n in exits:
@@ -392,6 +397,22 @@ def extract_scene_graph(occ: OccupancyGrid, meters_per_pixel: float,
     for node in nodes:
         stats.types[node.type] = stats.types.get(node.type, 0) + 1
     return SceneGraph(nodes=nodes, links=links), stats
+
+
+def keep_robot_ways(graph: nx.MultiGraph, coords: np.ndarray, blocked: np.ndarray, mpp: float, width_m: float) -> None:
+    """Drop every edge the robot's body (`width_m` wall to wall) cannot pass, then the nodes left on none and all
+    but the largest connected part: the scene graph is where scenarios route the robot as well as people, and a
+    route through a gap the robot only fills (a 0.6 m slot past shelves) held every planner at its walls."""
+    cut: set[int] = set()
+    for u, v, key in list(graph.edges(keys=True)):
+        a, b = (float(coords[u][1]), float(coords[u][0])), (float(coords[v][1]), float(coords[v][0]))
+        if u != v and not robot_fits_along(blocked, a, b, mpp, width_m):
+            graph.remove_edge(u, v, key)
+            cut |= {u, v}
+    graph.remove_nodes_from([n for n in cut if graph.degree(n) == 0])  # a lone room's only node stays
+    parts = sorted(nx.connected_components(graph), key=len, reverse=True)
+    for part in parts[1:]:
+        graph.remove_nodes_from(part)
 
 
 def _drop_orphans(graph: nx.MultiGraph, keep: set[int]) -> None:

@@ -10,6 +10,7 @@ import networkx as nx
 import numpy as np
 from skimage.draw import line as raster_line
 
+from socnavgen.bodies import ROBOT_PASSAGE_WIDTH
 from socnavgen.location.models import Schema
 from socnavgen.location.rooms import CORRIDOR_WIDTH_M
 
@@ -35,6 +36,7 @@ class ExtractOptions:
     door_width_m: float = 2.0     # a short bottleneck up to this wide between wider space is a doorway
     open_width_m: float = 3.0     # a node with at least this much free width around it may be an OPEN AREA
     min_gap_m: float = 0.5        # gaps narrower than this are not walkable at all (a person does not fit)
+    robot_width_m: float = ROBOT_PASSAGE_WIDTH  # no edge narrower than this (wall to wall) for the robot; 0 = keep all
     max_edge_m: float = 10.0      # at detail 1, straight corridor edges longer than this get intermediate nodes
     merge_m: float = 2.0          # at detail 1, nodes joined by a branch shorter than this are merged
     room_cover_m: float = 4.5     # at detail 1, every part of a room is within this of one of its nodes

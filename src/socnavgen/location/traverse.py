@@ -9,6 +9,9 @@ People walk edges as straight lines with a body, not as one-pixel rays:
 - warning: the line itself crosses no blocked pixel but the disc does not fit (people squeeze through);
 - error: anything else (the line goes through a rack, a wall or unknown space with no way round
   close beside it).
+
+The robot is wider than the gaps people squeeze through: `robot_fits_along` says whether its body (with a margin,
+bodies.ROBOT_PASSAGE_WIDTH) gets from one end of an edge to the other; `location extract` keeps only such edges.
 """
 
 from __future__ import annotations
@@ -19,7 +22,7 @@ from typing import Literal
 
 import numpy as np
 
-from socnavgen.bodies import PERSON_RADIUS
+from socnavgen.bodies import PERSON_RADIUS, ROBOT_PASSAGE_WIDTH
 
 DETOUR_FACTOR, DETOUR_EXTRA_M = 1.25, 0.5  # a detour is short: at most 1.25 x the straight length + 0.5 m ...
 DETOUR_BAND_M = 1.0  # ... and never farther than this from the straight line
@@ -170,3 +173,36 @@ def segment_walkable(clearance: np.ndarray, a: tuple[float, float], b: tuple[flo
     """The straight test alone (no detour search): what `location extract` guarantees for its own edges."""
     need = required_clearance_px(clearance, a, b, meters_per_pixel, radius_m)
     return first_tight_pixel(clearance, a, b, need) is None
+
+
+def robot_fits_along(blocked: np.ndarray, a: tuple[float, float], b: tuple[float, float], meters_per_pixel: float,
+                     width_m: float = ROBOT_PASSAGE_WIDTH, band_m: float = DETOUR_BAND_M) -> bool:
+    """Whether a body `width_m` wide (wall to wall) gets from a to b (pixel positions x, y), the end nodes included,
+    without leaving the band of `band_m` round the straight edge (the band a person may step aside in).
+    The free width is measured on a half-pixel grid, where a gap n pixels wide measures n pixels: on the pixel
+    grid a 7- and an 8-pixel gap both measure 8 (pixel centre to blocked pixel centre, twice), so a 0.7 m gap
+    would pass for the 0.8 m the robot needs. Cells off the map count as blocked."""
+    from scipy import ndimage
+
+    h, w = blocked.shape
+    band = band_m / meters_per_pixel
+    margin = int(math.ceil(band + width_m / meters_per_pixel)) + 2  # walls farther out cannot narrow the band
+    r0, r1 = max(0, int(min(a[1], b[1])) - margin), min(h, int(max(a[1], b[1])) + margin + 1)
+    c0, c1 = max(0, int(min(a[0], b[0])) - margin), min(w, int(max(a[0], b[0])) + margin + 1)
+    window = np.pad(blocked[r0:r1, c0:c1], ((int(r0 == 0), int(r1 == h)), (int(c0 == 0), int(c1 == w))),
+                    constant_values=True)
+    r0, c0 = r0 - int(r0 == 0), c0 - int(c0 == 0)  # the window's first row and column in map pixels
+    fine = np.repeat(np.repeat(window, 2, axis=0), 2, axis=1)
+    half = ndimage.distance_transform_edt(~fine)  # half pixels to the nearest blocked half-pixel's centre
+    rows, cols = np.ogrid[:fine.shape[0], :fine.shape[1]]
+    y, x = r0 + (rows - 0.5) / 2, c0 + (cols - 0.5) / 2  # each half-pixel's centre in map pixels
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    t = np.clip(((x - a[0]) * dx + (y - a[1]) * dy) / max(1e-9, dx * dx + dy * dy), 0.0, 1.0)
+    in_band = (x - (a[0] + t * dx)) ** 2 + (y - (a[1] + t * dy)) ** 2 <= band * band
+    labels, _ = ndimage.label((half * meters_per_pixel >= width_m - 1e-6) & in_band, structure=np.ones((3, 3)))
+
+    def at(p: tuple[float, float]) -> set[int]:
+        r, c = 2 * (int(round(p[1])) - r0), 2 * (int(round(p[0])) - c0)
+        return set(labels[r:r + 2, c:c + 2].ravel().tolist()) - {0}
+
+    return bool(at(a) & at(b))

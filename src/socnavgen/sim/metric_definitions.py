@@ -10,7 +10,8 @@ from typing import Any
 
 # (unit, meaning, better): better = "higher" | "lower" | None (no preferred direction)
 _EVALUATOR: dict[str, tuple[str, str, str | None]] = {
-    "success": ("bool", "robot reached its goal (within the goal radius) without touching anyone (no contact)",
+    "success": ("bool", "robot reached its goal (within the goal radius) without touching anyone (no contact); "
+                "in a campaign, touching no wall either (static_obstacle_collisions 0: campaign.columns.contact_free)",
                 "higher"),
     "collisions": ("steps", "steps with the robot in contact with a person (gap <= 0.05 m, sim/contact.py)", "lower"),
     "min_time_to_collision": ("s", "smallest constant-velocity time to robot-person contact", "higher"),
