@@ -144,9 +144,9 @@ def test_a_wall_contact_on_the_way_is_no_success_and_says_so(small_spec, tmp_pat
         return out
 
     monkeypatch.setattr(sim_metrics, "navigation_metrics", scraped)
-    spec = parse_campaign(campaign_yaml(["intersection-no-gesture"], ["scripted"], 1))
+    spec = parse_campaign(campaign_yaml(["intersection-no-gesture"], ["scripted"], 1, timeout=150.0, wall_timeout=120.0))
     run_campaign(spec, tmp_path / "c", executor="inline")
     (row,) = pq.read_table(tmp_path / "c" / "episodes.parquet").to_pylist()
-    assert row["reached_goal"] and row["collisions"] == 0
+    assert row["reached_goal"] and row["collisions"] == 0, (row["end_reason"], row["failure_reason"])
     assert row["success"] is False and row["time_to_goal"] is None
     assert "touched a wall (1 time, -0.04 m at the closest)" in row["failure_reason"]

@@ -136,13 +136,12 @@ def test_a_person_waiting_for_the_robot_starts_their_waiting_distance_past_its_g
     1.5 m from the goal: each waited for the other for 100 s). A corridor that ends too soon after the robot's
     goal does not fit the card (no start past the goal is far enough)."""
     from socnavgen.bodies import PERSON_RADIUS, ROBOT_RADIUS
-    from socnavgen.cards.trees import waiting_distance
+    from socnavgen.cards.trees import sight_distance
     from socnavgen.location.places import PlaceFinder
     from tests.cards.cards_helpers import lift_corridor
 
     card = get_card("exiting-elevator")
-    wait = waiting_distance(card.humans[0].tree)
-    assert wait >= 2.5  # the card's person does wait while the robot is near
+    wait = sight_distance(card.humans[0].tree)  # the one condition of its tree: it waits while the robot is this near
     location = load_location(lift_corridor(tmp_path / "long", 10))
     fit = place_card(card, location)
     assert fit.fits, fit.reason

@@ -42,8 +42,9 @@ def island_map() -> np.ndarray:
     return img
 
 
-def extracted(map_factory, tmp_path: Path, img: np.ndarray, name: str):
-    return extract_location(map_factory(img, name), tmp_path / name, ExtractOptions(seed=3))
+def extracted(map_factory, tmp_path: Path, img: np.ndarray, name: str, robot_width_m: float | None = None):
+    opts = ExtractOptions(seed=3) if robot_width_m is None else ExtractOptions(seed=3, robot_width_m=robot_width_m)
+    return extract_location(map_factory(img, name), tmp_path / name, opts)
 
 
 def inside(location, rows: tuple[int, int], cols: tuple[int, int]) -> Counter:
@@ -52,7 +53,9 @@ def inside(location, rows: tuple[int, int], cols: tuple[int, int]) -> Counter:
 
 
 def test_a_furnished_ward_is_one_room_not_a_corridor_skeleton(map_factory, tmp_path: Path) -> None:
-    location, stats = extracted(map_factory, tmp_path, ward_map(), "ward")
+    # the bed at rows 155-175 stands in front of the door (rows 160-178): 0.15 m of it opens into the ward, so the
+    # robot's body cannot pass it and its width would cut the ward off; this test is about rooms, not the robot
+    location, stats = extracted(map_factory, tmp_path, ward_map(), "ward", robot_width_m=0.0)
     assert_sound(location)
     ward = inside(location, (30, 310), (20, 130))  # the door stands in the wall at 136-146
     assert ward["ROOM"] == 1, ward

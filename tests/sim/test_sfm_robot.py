@@ -107,8 +107,8 @@ def test_sfm_backs_out_of_a_corridor_too_narrow_to_pass_a_person_head_on() -> No
     other way to beyond the robot's start: after standing face to face for its patience the robot backs out of
     the corridor, lets them by, and drives on to its goal (on main they stood face to face, their social forces
     balancing, until the time limit)."""
-    walls = [(6.0, 0.0, 14.0, 4.35), (6.0, 5.65, 14.0, 10.0)]
-    trace = _sfm(walls, [human(start=(16.0, 5.0), goals=[(1.0, 8.0)])], timeout=90.0)
+    walls = [(3.0, 0.0, 17.0, 4.35), (3.0, 5.65, 17.0, 10.0)]  # 14 m long: too far for the person to back out
+    trace = _sfm(walls, [human(start=(15.5, 5.0), goals=[(1.0, 8.0)])], timeout=120.0)
     assert trace.end_reason == "robot_goal", trace.robot[-1, :2]
     assert abs(complex(*trace.humans[-1, 0, :2]) - (1.0 + 8.0j)) < 1.0  # the person got through too
     assert trace_gaps(trace).min() > 0.0
