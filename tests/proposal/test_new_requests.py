@@ -48,7 +48,9 @@ PATHS = fixture_paths(FIXTURES)
 # 32 (all six verified live and judged as written), and the four fixtures whose final run that session's code moved by
 # more than 0.6 m judged again in round 33; home_05, home_10, warehouse_17, warehouse_22 and warehouse_26, whose
 # recordings no longer replayed to the end (the --verify loop asked a stage the live run never answered), re-answered
-# live in round 34 on that session's final code and judged in round 34. Left: the lenient passes and strict fails
+# live in round 34 on that session's final code and judged in round 34; hospital_04 and home_10, whose verdicts the
+# twentieth session's people rules changed (a team files through a door, a resident no longer held in its mouth),
+# judged again in round 38 on that session's final code (both as written). Left: the lenient passes and strict fails
 # below, each with what was seen.
 DISAGREE: dict[str, str] = {
     "hospital_17_lead_students_to_nurse_station": "lenient PASS (round 22; eyes round 26: no): the patient waits "
@@ -87,20 +89,6 @@ DISAGREE: dict[str, str] = {
     "nearly stalls, the students trail after him, and the robot passes only once they came back out walking normally "
     "(1.3-1.9 m, no contact); no criterion sees the group abreast, nor the doctor walking on, and the player widened a "
     "student's reaction window to 9 s",
-    "hospital_04_telepresence_ward_round": "PASS on a run the eyes have not seen (eyes round 37, on the nineteenth "
-    "session's starting code: no - two of the team circled south of the door for 45 s and the robot never went in); "
-    "since the twentieth session's groupdoor branch (people.make_room: a resident who stepped aside into the door's "
-    "mouth for the waiting robot goes when her tree walks her in; people.spots.occupied: the one behind the doctor "
-    "keeps her spot in the room) frames at 11-38.6 s: the four stand round i1, the robot ~1.4 m behind them; the "
-    "doctor goes in at ~13 s, the first resident at ~14-16 s, the second at ~17-19 s, the nurse at ~19-21 s, all four "
-    "round the bed; the robot then drives through x5 (~26 s) and stops inside at zx (38.6 s) beside them, no contact "
-    "(closest 0.51 m): as written, to be judged again",
-    "home_10_medication_past_chatting_friends": "lenient PASS (eyes round 34: no): since the twentieth session's "
-    "groupdoor branch (people.spots.occupied) the friends again stop at the west end of the living room below the "
-    "bedroom doorway iq after EXCUSE ME (~17-21 s); the robot waits ~10 s (28-38 s) beside the orange friend at "
-    "~0.3-0.5 m and edges past her into the door (closest gap 0.31 m, 4.3 s within intimate space), so 'robot never "
-    "stuck' now holds (5.5 s without progress; before: ~30 s, failed) while no criterion sees that the group's move "
-    "did not clear the robot's way",
     "hospital_15_running_child_in_corridor": "lenient PASS (a new request of round 20; eyes round 31, on the sixteenth session's run: "
     "no, 'borderline'): the robot stops at the south wall, waits for the child (passing ~1.05 m from it) and then "
     "the parents and delivers to g3; the child brakes from ~1.8 to ~1 m/s passing the robot instead of running past "
