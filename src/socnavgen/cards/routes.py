@@ -249,7 +249,7 @@ class RouteBuilder:
                 break
             out.append(nxt)
             far, here = far + self.f.distance(here, nxt), nxt
-        if wait > 0 and self.f.distance(robot[-1], out[-1]) < need:  # they would wait by its goal, it for them
+        if self.f.distance(robot[-1], out[-1]) < need:  # they would wait by its goal, it for them
             raise DoesNotFit(f"no node past the robot's goal {robot[-1]} is {need:.1f} m from it (where a person "
                              f"coming the other way waits for the robot and the robot reaches its goal)")
         return out[::-1]
