@@ -10,6 +10,7 @@ from PIL import Image
 
 from socnavgen.location import load_location
 from socnavgen.location.check import Problem, check_location
+from tests.extract.synthetic_maps import blank, carve, write_map
 from tests.location.conftest import BUNDLED, EXAMPLES, read_graph, write_graph
 
 
@@ -328,3 +329,34 @@ def test_loaded_unedited_location_keeps_line_numbers(location_copy) -> None:
     _ = location.scene_graph  # cached, but equal to the file
     (problem,) = check_location(location).problems
     assert problem.line is not None
+
+
+@pytest.mark.parametrize(("door_px", "warned"), [(13, True), (18, False)])
+def test_an_edge_a_person_walks_but_the_robot_does_not_fit_is_a_warning(location_copy, door_px: int,
+                                                                         warned: bool) -> None:
+    """SocRATES's hand-drawn graphs put nodes in 0.6-0.7 m doorways: people pass (an end node in a narrow spot
+    lowers what the edge must keep), the 0.8 m robot (bodies.ROBOT_PASSAGE_WIDTH) scraped the walls or stalled
+    there without a word from the check. A room, a node in its door and one in the corridor outside: a 0.65 m door
+    warns on both of the door node's edges, a 0.9 m one on neither."""
+    loc = location_copy()
+    img = blank(300, 400)
+    carve(img, 30, 270, 30, 230)  # the room
+    carve(img, 150 - door_px // 2, 150 - door_px // 2 + door_px, 230, 240)  # its door in a 0.5 m wall
+    carve(img, 30, 270, 240, 272)  # the corridor
+    write_map(loc, img, "map")
+    data = read_graph(loc)
+    data["nodes"] = [{**data["nodes"][0], "id": i, "type": t, "pos": p}
+                     for i, t, p in (("rm", "OPEN AREA", [130, 150]), ("dr", "ENTRANCE", [235, 150]),
+                                     ("co", "INTERSECTION", [256, 150]))]
+    data["links"] = [{"type": "PASSAGEWAY", "source": "rm", "target": "dr"},
+                     {"type": "PASSAGEWAY", "source": "dr", "target": "co"}]
+    write_graph(loc, data)
+    problems = check_location(loc).problems
+    assert messages(problems) == []
+    robot = [p for p in problems if p.level == "warning" and "not for the robot" in p.message]
+    if warned:
+        assert sorted(p.edge for p in robot) == [("dr", "co"), ("rm", "dr")], problems
+        assert robot[0].message.startswith(f"edge {robot[0].edge[0]}-{robot[0].edge[1]} is wide enough for a "
+                                           "person but not for the robot (0.80 m wall to wall)")
+    else:
+        assert robot == [], problems

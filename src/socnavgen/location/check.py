@@ -6,7 +6,8 @@ Rules (see docs/locations.md):
 - edges: both ends exist, no self loop, no duplicate (the graph is undirected);
 - geometry: a node lies inside the image on free space; an edge is judged by the one traversability
   rule of location/traverse.py (a person-sized disc walks it or a short detour beside it: fine; the
-  line is free but the disc does not fit: warning; otherwise error; occupied and unknown both block);
+  line is free but the disc does not fit: warning; otherwise error; occupied and unknown both block); an edge a
+  person walks but the robot's body (bodies.ROBOT_PASSAGE_WIDTH) does not fit along: warning;
 - the graph is connected (a warning: an unreachable part is legal but usually a mistake).
 """
 
@@ -23,6 +24,7 @@ import networkx as nx
 import yaml
 from pydantic import ValidationError
 
+from socnavgen.bodies import ROBOT_PASSAGE_WIDTH
 from socnavgen.errors import SocnavgenError
 from socnavgen.location.location import (
     LOCATION_FILE,
@@ -32,7 +34,7 @@ from socnavgen.location.location import (
     load_location,
 )
 from socnavgen.location.models import NODE_ID_PATTERN, SceneGraph
-from socnavgen.location.traverse import edge_verdict
+from socnavgen.location.traverse import edge_verdict, robot_fits_along
 from socnavgen.safeio import load_json_file, read_text_limited
 
 Level = Literal["error", "warning"]
@@ -337,6 +339,12 @@ def _check_geometry(location: Location, graph: SceneGraph, lines: _GraphLines, p
             continue  # already reported on the node; the edge message would only repeat it
         verdict = edge_verdict(occupancy.clearance_px, a, b, transform.meters_per_pixel)
         if verdict.level == "ok":
+            if not robot_fits_along(occupancy.blocked, a, b, transform.meters_per_pixel):
+                problems.append(Problem(
+                    "warning", f"edge {edge.source}-{edge.target} is wide enough for a person but not for the robot "
+                    f"({ROBOT_PASSAGE_WIDTH:.2f} m wall to wall): a robot route along it scrapes the walls or stalls",
+                    "keep it if only people use it (a person-only passage); otherwise move the edge where the way is "
+                    "wider or remove it", lines.file, lines.element("links", i), edge=(edge.source, edge.target)))
             continue
         px, py = verdict.tight_at or (int(a[0]), int(a[1]))
         wx, wy = transform.pixel_to_world(px, py)
