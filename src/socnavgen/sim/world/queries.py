@@ -4,12 +4,6 @@ with the same functions.
 
 The map travels as a WorldMap: distances from each cell centre to the nearest blocked cell (metres), the
 blocked cells, each cell's nearest blocked cell centre (world point), and the world -> pixel transform.
-
-Segment checks sample a line every few centimetres and would read every sample; they skip the samples that
-`sure_clear` proves pass: the clearance is an exact Euclidean distance transform (world.grid), so two cells'
-clearances differ by at most the distance between their centres, and a sample's cell centre lies within half a
-pixel of it on each axis. The answer is the one reading every sample gives, bit for bit (a walk across a 100 m
-hall read ~1000 cells; the open middle of it is now one read per metre or so).
 """
 
 from __future__ import annotations
@@ -54,34 +48,6 @@ def clearance_at(world, p):  # noqa: ANN001, ANN201
 
 
 @jit(inline=True)
-def pixel_length(world, d):  # noqa: ANN001, ANN201
-    """Length in pixels of the world displacement d on the map (the transform's linear part)."""
-    a = world.affine
-    x, y = a[0, 0] * d.real + a[0, 1] * d.imag, a[1, 0] * d.real + a[1, 1] * d.imag
-    return math.sqrt(x * x + y * y)
-
-
-CENTRES_APART = math.sqrt(2.0) + 1e-6  # px: two points' cell centres lie at most this farther apart than they do
-#   (half a pixel on each axis each; the 1e-6 covers rounding)
-
-
-@jit(inline=True)
-def sure_clear(world, p, clearance, step_px):  # noqa: ANN001, ANN201
-    """How many of the samples after p on a straight line, `step_px` pixels apart, are sure to lie on the map with
-    their cell at least `clearance` from walls (p's cell's clearance minus how far their cell centres can be from
-    p's; the module docstring): a segment check skips them without changing its answer."""
-    row, col = cell_of(world, p)
-    if not (step_px > 0.0) or not inside(world, row, col):
-        return 0
-    rows, cols = world.blocked.shape
-    border = min(min(row, rows - 1 - row), min(col, cols - 1 - col)) - 1.0  # a sample's cell within this of p's
-    room = min((world.clearance[row, col] - clearance) / world.mpp - CENTRES_APART, border)  # px along the line
-    if not (room > step_px):
-        return 0
-    return int(min(room / step_px, 1e9))
-
-
-@jit(inline=True)
 def nearest_obstacle(world, p):  # noqa: ANN001, ANN201
     """(the nearest wall point, whether it is within the obstacle range): the nearest blocked cell's centre
     (p's cell clamped to the map) moved half a cell toward p, i.e. on the wall's surface."""
@@ -107,14 +73,10 @@ def line_of_sight(world, a, b):  # noqa: ANN001, ANN201
     d = b - a
     count = max(2, int(math.ceil(abs(d) / (0.5 * world.mpp))) + 1)
     step = 1.0 / (count - 1)
-    step_px = pixel_length(world, d) * step
-    k = 1
-    while k < count - 1:
-        p = a + d * (k * step)
-        row, col = cell_of(world, p)
+    for k in range(1, count - 1):
+        row, col = cell_of(world, a + d * (k * step))
         if not inside(world, row, col) or world.blocked[row, col]:
             return False
-        k += 1 + sure_clear(world, p, 0.0, step_px)  # a cell with clearance above 0 is not blocked
     return True
 
 
@@ -124,13 +86,9 @@ def free_along(world, start, direction, max_distance, radius):  # noqa: ANN001, 
     every half pixel; at most max_distance)."""
     steps = max(2, int(max_distance / (0.5 * world.mpp)) + 1)
     step = max_distance / (steps - 1)
-    step_px = pixel_length(world, direction) * step
-    k = 0
-    while k < steps:
-        p = start + direction * (k * step)
-        if clearance_at(world, p) < radius:
+    for k in range(steps):
+        if clearance_at(world, start + direction * (k * step)) < radius:
             return (k - 1) * step if k > 0 else 0.0
-        k += 1 + sure_clear(world, p, radius, step_px)
     return max_distance
 
 
@@ -156,13 +114,9 @@ def path_clear(world, a, b, clearance):  # noqa: ANN001, ANN201
     """Every point of the segment a-b (checked every <= 0.1 m) keeps `clearance` from walls."""
     n = max(2, int(abs(b - a) / 0.1) + 1)
     d = b - a
-    step_px = pixel_length(world, d) / (n - 1)
-    k = 0
-    while k < n:
-        p = a + d * (1.0 if k == n - 1 else k / (n - 1))
-        if clearance_at(world, p) < clearance:
+    for k in range(n):
+        if clearance_at(world, a + d * (1.0 if k == n - 1 else k / (n - 1))) < clearance:
             return False
-        k += 1 + sure_clear(world, p, clearance, step_px)
     return True
 
 
@@ -172,13 +126,9 @@ def swept_clear(world, a, b, clearance):  # noqa: ANN001, ANN201
     fast move cannot jump across a thin wall."""
     n = max(2, int(math.ceil(abs(b - a) / (0.5 * world.mpp))) + 1)
     d = b - a
-    step_px = pixel_length(world, d) / (n - 1)
-    k = 1
-    while k < n:
-        p = a + d * (k / (n - 1))
-        if clearance_at(world, p) < clearance:
+    for k in range(1, n):  # noqa: SIM110 - a loop: numba compiles no generator inside all()
+        if clearance_at(world, a + d * (k / (n - 1))) < clearance:
             return False
-        k += 1 + sure_clear(world, p, clearance, step_px)
     return True
 
 

@@ -24,7 +24,7 @@ import numpy as np
 from socnavgen.memo import kept
 from socnavgen.sim.jit import jit
 from socnavgen.sim.world.costfield import CellCost, CostField, cells_per_side
-from socnavgen.sim.world.queries import clearance_at, lowest_around, pixel_length, sure_clear
+from socnavgen.sim.world.queries import clearance_at, lowest_around
 
 ROUTE_CELL = 0.1  # m: side of the coarse cells of a route field
 SQUEEZE = 0.3  # m: the least clearance a person's centre passes (a 0.6 m gap, sideways)
@@ -174,15 +174,11 @@ def walkable_straight(world, a, b, clearance, near_end):  # noqa: ANN001, ANN201
     d = b - a
     length = abs(d)
     n = max(1, int(length / 0.1))
-    step_px = pixel_length(world, d) / n
-    k = 1
-    while k <= n:
+    for k in range(1, n + 1):
         if length * (1.0 - k / n) < near_end:
             break
-        p = a + d * (k / n)
-        if clearance_at(world, p) < clearance:
+        if clearance_at(world, a + d * (k / n)) < clearance:
             return False
-        k += 1 + sure_clear(world, p, clearance, step_px)  # samples sure to pass (world.queries)
     return True
 
 
