@@ -37,7 +37,7 @@ from socnavgen.sim.people.pacing import PacingPlan, lower_pacing
 from socnavgen.sim.people.physics import SFMParams, advance, new_scratch
 from socnavgen.sim.people.state import HumanSpec, new_people
 from socnavgen.sim.people.trees import Program, lower_trees
-from socnavgen.sim.records import Columns
+from socnavgen.sim.records import Columns, RowWriter
 from socnavgen.sim.robot import policies
 from socnavgen.sim.robot.api import BuiltinPolicy, Observation, checked_action
 from socnavgen.sim.robot.body import KINEMATICS, RobotBody
@@ -177,6 +177,7 @@ class Simulation:
             pacing_state, new_scratch(n, len(sizes)), trace_columns(self.max_steps + 1, n))
         self._generator: Any = None
         self._clock, self._action = Columns(self.state.clock), Columns(self.state.action)  # fast from Python
+        self._write_action = RowWriter(self.state.action).write
         if n:
             advance(people, sizes, config.sfm, world.map, waypoints[0], 0j, config.robot_radius, dt,
                     self.episode.scratch, False)
@@ -234,18 +235,18 @@ class Simulation:
             self._generator = stepper.episode(self.episode)
         policy, action, clock = self.policy, self._action, self._clock
         obs = self.obs if clock.python_policy.item(0) else None  # only a Python policy is asked (ACT)
+        write, ACT = self._write_action, stepper.ACT  # the answer's record in one store (records.RowWriter) ...
+        forward, turn_rate, facing = action.forward.item(0), action.turn.item(0), action.heading.item(0)
         for event in self._generator:
-            if event == stepper.ACT:
+            if event == ACT:
                 v, gesture, turn = checked_action(policy.act(obs), policy)
-                action.vx[0], action.vy[0], action.gesture[0] = v.real, v.imag, gesture
-                action.unicycle[0] = turn is not None
-                if turn is not None:
-                    action.forward[0], action.turn[0] = v.real, turn
+                if turn is not None:  # ... where a field the answer does not set keeps its value
+                    forward, turn_rate = v.real, turn
                 heading = getattr(policy, "heading", None)
                 turned = isinstance(heading, complex | float | int) and heading != 0
-                action.has_heading[0] = turned
-                if turned:
-                    action.heading[0] = heading
+                if turned and heading is not None:
+                    facing = complex(heading)
+                write(v.real, v.imag, gesture, turned, facing.real, facing.imag, turn is not None, forward, turn_rate)
             elif event == stepper.ROUTES:
                 load_wanted(self.state.routes, self.world)
             elif event == until:

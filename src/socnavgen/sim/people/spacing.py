@@ -61,6 +61,14 @@ def fellow_followers(p, q):  # noqa: ANN001, ANN201
 
 
 @jit(inline=True)
+def walk_end(p):  # noqa: ANN001, ANN201
+    """Where person p's walk ends: the spot round their goal (people.spots), their goal, or their target."""
+    if p.to_goal and p.has_spot:
+        return p.spot
+    return p.goal if p.to_goal else p.target
+
+
+@jit(inline=True)
 def keep_gap(p, q, end):  # noqa: ANN001, ANN201
     """The gap walker p keeps from q's body: PERSON_STAND_GAP when p comes to stand (within ARRIVING of the end of
     their walk, `end`), q stands where p's walk ends (on their goal) or both follow the robot, else PERSON_KEEP_GAP
@@ -99,7 +107,7 @@ def keep_apart(people, i, v, way, dt, grid):  # noqa: ANN001, ANN201
         return v
     pace = max(speed, p.desired_speed)  # the walk they mean: a crawl does not shrink their sidestep
     target = p.goal if p.to_goal else p.target
-    end = p.spot if p.to_goal and p.has_spot else target
+    end = walk_end(p)
     e = way
     count = neighbours.near(grid, people, i)
     for k in range(count):
@@ -130,14 +138,6 @@ def keep_apart(people, i, v, way, dt, grid):  # noqa: ANN001, ANN201
                 side = -side  # back into someone else standing on their right: round on the left
             v = v + side * max(SIDESTEP * pace - abs(v), 0.0)
     return v
-
-
-@jit(inline=True)
-def walk_end(p):  # noqa: ANN001, ANN201
-    """Where person p's walk ends: the spot round their goal (people.spots), their goal, or their target."""
-    if p.to_goal and p.has_spot:
-        return p.spot
-    return p.goal if p.to_goal else p.target
 
 
 @jit(inline=True)
