@@ -1,8 +1,7 @@
 """Two ways the default robot stood for good short of its goal (issue 29, the README ranking's timeouts): it counted
 itself arrived short of someone standing beside its goal who was no nearer the goal than it (the run's rule,
-proxemics.short_of_goal, did not: card narrow-hallway [warehouse]), and it kept passing on the side a person had
-crossed to, pressing sideways toward her (card blind-corner [home]); and having backed out through a door to make way,
-it headed for the waypoint beyond the door through the wall."""
+proxemics.short_of_goal, did not: card narrow-hallway [warehouse]); and having backed out through a door to make way,
+it headed for the waypoint beyond the door through the wall (card blind-corner [home])."""
 
 from __future__ import annotations
 
@@ -15,7 +14,7 @@ from socnavgen import proxemics
 from socnavgen.bodies import ROBOT_GOAL_TOLERANCE
 from socnavgen.sim.robot.api import ScriptedPolicy
 from socnavgen.sim.robot.policies import way_ahead
-from socnavgen.sim.robot.polite import PASS_CROSS, make_way, pass_aside
+from socnavgen.sim.robot.polite import make_way
 from tests.sim.simhelpers import REGULAR, human, make_sim, tree_xml
 
 STAND = tree_xml(REGULAR)  # their only goal is where they stand
@@ -39,21 +38,6 @@ def test_robot_nearer_its_goal_than_the_person_standing_beside_it_drives_on_to_i
     assert abs(robot[-1] - goal) <= ROBOT_GOAL_TOLERANCE
     gaps = np.abs(trace.humans[:, 0, 0] + 1j * trace.humans[:, 0, 1] - robot) - RR - PR
     assert gaps.min() > 0.0  # it never touched her
-
-
-def test_robot_does_not_step_toward_a_near_person_on_the_side_it_kept():
-    """Passing someone, the robot keeps the side it took (no flip-flopping); but when that person has crossed to that
-    side and stands near it (within PASS_CROSS), keeping it means stepping sideways toward them: it takes the side
-    away from them instead (or none). The old rule re-chose only for a new person: pressed toward her, held by its
-    gap, it stood 90 s."""
-    sim = make_sim([human(start=(8.6, 3.8), goals=[(8.6, 3.8)])], [STAND], [(8.0, 5.0), (18.0, 5.0)], ScriptedPolicy())
-    s = sim.state
-    s.robot[0].pos, s.people[0].pos, s.people[0].vel = 8.0 + 5.0j, 8.45 + 4.03j, 0j  # ahead 0.45 m, 0.97 m right
-    gap = abs(s.people[0].pos - s.robot[0].pos) - RR - PR
-    assert gap < PASS_CROSS
-    s.policy[0].pass_side, s.policy[0].pass_who = -1.0, 0  # it kept to its right, passing her, before she crossed
-    aside = pass_aside(s, 1.0 + 0j)
-    assert aside.imag >= 0.0  # not toward her (she is on its right, -y)
 
 
 def test_robot_that_backs_out_past_a_waypoint_goes_through_it_again():

@@ -157,11 +157,9 @@ def pass_aside(s, direction):  # noqa: ANN001, ANN201
     policy = s.policy[0]
     away = -1.0 if across > -0.2 else 1.0
     first = policy.pass_side if policy.pass_side != 0.0 else away
-    if first * across > KEPT_SIDE and best <= PASS_CROSS:  # the side kept would cross in front of this near person,
-        first = away  # clearly on that side: kept from passing someone else (in a crowd it sent the robot metres
-    policy.pass_who = who  # sideways, back and forth), or they stepped aside to it (home_05's first guest), or
-    # crossed its way to that side (card blind-corner [home]: she crossed in front of it and gave way on its right,
-    # the side it kept; it pressed sideways toward her, 0.3 m off, held there by its gap for 90 s)
+    if who != policy.pass_who and first * across > KEPT_SIDE and best <= PASS_CROSS:  # the side kept from passing someone else would cross in
+        first = away  # front of this nearer person, clearly on that side (in a crowd it sent the robot metres
+    policy.pass_who = who  # sideways, back and forth); or they stepped aside to it (home_05's first guest)
     shift = need + first * across  # sideways distance that leaves `need` between the centres, across
     room = free_along(s.world, p, first * 1j * direction, shift, rr + WALL_ROOM)
     other = need - first * across
