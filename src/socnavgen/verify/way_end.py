@@ -12,12 +12,15 @@ in its door, another outside in the lobby, and nothing judged it).
 
 A room: a node's part of the scene graph with the doorways taken out - doorway nodes and door edges (type words of
 the doorway family, location.places) - when that is not the whole graph (a goal in a space no doorway closes off,
-a warehouse floor, leaves nothing to judge). Inside: on the map, the centre in sight of a node of the room with no
-doorway between them (sim.people.spots.through_door: the one test of "behind a doorway", the one that keeps the
-simulated people's spots in the room; the centre past the door's narrowest point); without a map, at a node of the
-room (the nearest one). A follower whose nearest node is one of the room or of its doorways also ends with the
-robot: a guide leading a patient to an elevator stands in the car, which it fills, and she at its door (hospital_09);
-home_09's children stood nearest the hallway's node i6, and fail."""
+a warehouse floor, leaves nothing to judge). Inside: as a person sees it, the whole body in the room - on the map, in
+sight of a node of the room with no doorway between the node and any part of the disc (sim.people.spots.through_door:
+the one test of "behind a doorway", the one that keeps the simulated people's spots in the room); without a map, at
+a node of the room (the nearest one). hospital_01's second visitor, her centre 0.36 m short of the car door's
+narrowest point, half her body in its 0.4 m deep door, is not inside. A follower at the door (nearest a node of the
+room or of its doorways) ends with the robot only when the room is full - no spot left in it for them, the others
+and the robot standing where they are (sim.people.spots.room_left, the spots the simulated people take): a guide
+leading a patient to an elevator fills the car and she stands at its door (hospital_09); home_09's children at the
+door of a roomy bedroom fail."""
 
 from __future__ import annotations
 
@@ -28,7 +31,6 @@ from typing import Any
 import networkx as nx
 import numpy as np
 
-from socnavgen.bodies import PERSON_RADIUS
 from socnavgen.run.models import PathPlan
 from socnavgen.run.spec import HumanPart, ScenarioSpec
 from socnavgen.sim.trace import Trace
@@ -147,9 +149,9 @@ def room_ends(plan: PathPlan, spec: ScenarioSpec, graph: nx.Graph, node_type: An
 
 
 def inside(end: RoomEnd, p: np.ndarray, node_points: dict[str, tuple[float, float]], world: Any = None) -> bool:
-    """Whether the centre `p` is in the room: on the map, in sight of a node of the room with no doorway between them
-    (sim.people.spots.through_door, asked of a body a radius nearer the node, whose far side is the centre: the centre
-    is past the door's narrowest point); without one, at a node of the room (the nearest one)."""
+    """Whether the body centred at `p` is in the room: on the map, in sight of a node of the room with no doorway
+    between them (sim.people.spots.through_door, asked of the body itself: no part of its disc in the door's throat,
+    which a person sees as standing in the door); without one, at a node of the room (the nearest one)."""
     if world is not None:
         from socnavgen.sim.people.spots import through_door
 
@@ -158,12 +160,26 @@ def inside(end: RoomEnd, p: np.ndarray, node_points: dict[str, tuple[float, floa
             if n not in node_points:
                 continue
             node = complex(*node_points[n])
-            away = abs(node - here)
-            body = here + (node - here) / away * PERSON_RADIUS / 2 if away > PERSON_RADIUS else node
-            if bool(world.line_of_sight(node, here)[0]) and not through_door(world.map, body, node):
+            if bool(world.line_of_sight(node, here)[0]) and not through_door(world.map, here, node):
                 return True
         return False
     return _nearest(p, node_points) in end.room
+
+
+def full(end: RoomEnd, trace: Trace, i: int, node_points: dict[str, tuple[float, float]], world: Any) -> bool:
+    """No spot is left for person i in the room round its goal at the end of the run, the others and the robot
+    standing where they are (sim.people.spots.room_left: the spots the simulated people take): a guide filling an
+    elevator car, the patient at its door (hospital_09). Without a map nothing says it is full."""
+    if world is None or end.goal not in node_points:
+        return False
+    from socnavgen.sim.people.spots import room_left
+
+    others = [j for j in range(len(trace.human_names)) if j != i]
+    bodies = np.asarray([complex(*trace.humans[-1, j, :2]) for j in others], dtype=np.complex128)
+    radii = np.asarray([float(trace.human_radii[j]) for j in others], dtype=np.float64)
+    robot = complex(*trace.robot[-1, :2])
+    return not bool(room_left(world.map, complex(*node_points[end.goal]), bodies, radii, robot,
+                              float(trace.robot_radius), float(trace.human_radii[i])))
 
 
 def _nearest(p: np.ndarray, node_points: dict[str, tuple[float, float]]) -> str:
@@ -199,10 +215,11 @@ def judge_room_end(end: RoomEnd, trace: Trace, node_points: dict[str, tuple[floa
         # node must be inside, not in its door
         return base.model_copy(update={"evidence": f"{end.human} never came to the room's door ({where}, "
                                                    f"{t:.1f} s): nothing to judge", "time": round(t, 3)})
-    if end.follows and at in end.room | end.doors:  # a follower nearest a node of the robot's room or of its doorway
-        # (a guide's patient at the car's door, the robot filling the car)
-        return base.model_copy(update={"evidence": f"{end.human} was at the room or its doorway when the run ended "
-                                                   f"({t:.1f} s) at {where}", "time": round(t, 3)})
+    if end.follows and at in end.room | end.doors and full(end, trace, i, node_points, world):  # a follower at the
+        # door of a room with no spot left for them (a guide's patient at the car's door, the robot filling the car)
+        return base.model_copy(update={"evidence": f"{end.human} was at the doorway of the full room (no spot left "
+                                                   f"in it) when the run ended ({t:.1f} s) at {where}",
+                                       "time": round(t, 3)})
     failed = base.model_copy(update={
         "passed": False, "time": round(t, 3), "distance": round(gap, 2),
         "evidence": f"when the run ended ({t:.1f} s) {end.human} was at {where}: not inside the room of {end.goal} "
