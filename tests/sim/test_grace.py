@@ -74,20 +74,3 @@ def test_the_grace_is_bounded_for_a_follower_who_cannot_come_in_in_time():
     assert abs(trace.t[-1] - trace.t[arrived] - ARRIVAL_GRACE) <= trace.dt + 1e-9, (trace.t[-1], trace.t[arrived])
     assert np.hypot(trace.humans[-1, 0, 3], trace.humans[-1, 0, 4]) > 0.05  # still walking in
 
-
-# a hallway (x < 7.8, 3 m wide) and a small bedroom (x 8.2-11, y 3.6-6.4) behind a 1.0 m doorway in its west wall:
-# the bundled home's second bedroom
-SMALL_ROOM = [(7.8, 0.0, 8.2, 4.5), (7.8, 5.5, 8.2, 10.0), (8.2, 0.0, 20.0, 3.6), (8.2, 6.4, 20.0, 10.0),
-              (11.0, 3.6, 20.0, 6.4), (0.0, 0.0, 7.8, 3.5), (0.0, 6.5, 7.8, 10.0)]
-
-
-def test_a_follower_into_a_small_room_the_robot_stands_in_the_middle_of_stands_in_it_not_in_the_hallway():
-    """home_09: the robot leads a child into a small bedroom and stands at its goal in the middle of it; the spots
-    round its goal on the rings lie within the robot's gap (the first ring) or out in the hallway, seen through the
-    doorway (the second), and the child stood in the hallway to the end. A spot in the room comes first (a corner
-    of it, between the rings): he ends in the room."""
-    people = [human("human1", start=(1.0, 5.0), goals=[(1.0, 5.0)])]
-    trace = make_sim(people, [FOLLOWS], [(3.0, 5.0), (6.5, 5.0), (9.6, 5.0)], ScriptedPolicy(),
-                     world=empty_room(20.0, 10.0, walls=SMALL_ROOM), script=FOLLOW_ME, timeout=90).run()
-    _arrived(trace)
-    assert trace.humans[-1, 0, 0] > DOOR_INSIDE, trace.humans[-1, 0, :2]

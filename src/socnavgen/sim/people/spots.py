@@ -54,7 +54,7 @@ TOGETHER = 1.0  # a group member's spot counts this many times its distance to t
 # sharing it stand as people do in a lift - a body off the walls, the keeping gap apart, the first in going deepest.
 TIGHT_STEP = 0.3  # m: the rings of a tight place's spots are this far apart (the first on the point itself) ...
 TIGHT_RINGS = 4  # ... out to this many steps
-ROOM_STEP = TIGHT_STEP  # m: finer rings, this far apart, find the spots of a small room between the rings ...
+ROOM_STEP = TIGHT_STEP  # m: room_left also looks between the rings, this far apart (a small room's corners) ...
 ROOM_RINGS = round(RINGS * RING_STEP / ROOM_STEP)  # ... out to the rings' reach
 TIGHT_WALL = PERSON_RADIUS + 0.02  # m: a tight spot's clearance from walls
 TIGHT_GAP = PERSON_KEEP_GAP  # m: between bodies on tight spots
@@ -283,38 +283,28 @@ def in_room(world, spot, goal, wall):  # noqa: ANN001, ANN201
 def pick(s, i, goal):  # noqa: ANN001, ANN201
     """The free spot round `goal` nearest to person i, the inner rings first (a walk NEARER m longer round the point
     beats a spot a ring farther out), off the robot's way (a spot by it counts OFF_ROUTE m farther) and never on its
-    body; (found, spot). A spot in the point's own room first - on the rings, else on the finer ROOM_STEP rings
-    between them (a small room's corners) - and only when none is free there, one behind a doorway (people wait
-    outside a full room): children following the robot into a bedroom it stood in the middle of took spots in the
-    hallway seen through its doorway (the rings' first spots fall within the robot's gap when it stands on the point,
-    their second outside the room), and stood there to the end (home_09)."""
+    body; (found, spot)."""
     p, robot = s.people[i], s.robot[0]
     clear = p.radius + robot.radius + ROUTE_CLEAR
     best, found, score = goal, False, math.inf
-    for way in range(3):  # the rings in the room, the finer rings in the room, the rings anywhere in sight
-        step, rings = (ROOM_STEP, ROOM_RINGS) if way == 1 else (RING_STEP, RINGS)
-        for ring in range(1, rings + 1):
-            radius = ring * step
-            for k in range(ANGLES):
-                spot = ring_spot(goal, radius, k)
-                value = abs(spot - p.pos) + NEARER * radius
-                if value >= score or clearance_at(s.world, spot) < WALL_CLEARANCE:
-                    continue
-                if abs(spot - robot.pos) < p.radius + robot.radius + ROBOT_GAP:
-                    continue
-                if by_route(s, spot, clear):
-                    value += OFF_ROUTE
-                if p.group >= 0:
-                    value += TOGETHER * group_spread(s.people, i, goal, spot)
-                if value >= score:
-                    continue
-                if not free(s, i, goal, spot) or not line_of_sight(s.world, spot, goal):
-                    continue
-                if way < 2 and through_door(s.world, spot, goal):
-                    continue
-                best, found, score = spot, True, value
-        if found:
-            break
+    for ring in range(1, RINGS + 1):
+        radius = ring * RING_STEP
+        for k in range(ANGLES):
+            spot = ring_spot(goal, radius, k)
+            value = abs(spot - p.pos) + NEARER * radius
+            if value >= score or clearance_at(s.world, spot) < WALL_CLEARANCE:
+                continue
+            if abs(spot - robot.pos) < p.radius + robot.radius + ROBOT_GAP:
+                continue
+            if by_route(s, spot, clear):
+                value += OFF_ROUTE
+            if p.group >= 0:
+                value += TOGETHER * group_spread(s.people, i, goal, spot)
+            if value >= score:
+                continue
+            if not free(s, i, goal, spot) or not line_of_sight(s.world, spot, goal):
+                continue
+            best, found, score = spot, True, value
     return found, best
 
 
@@ -359,7 +349,9 @@ def pick_tight(s, i, goal):  # noqa: ANN001, ANN201
 def room_left(world, goal, bodies, radii, robot, robot_radius, radius):  # noqa: ANN001, ANN201
     """A body of `radius` finds a free spot round `goal` in the point's own room, among people standing at `bodies`
     (complex, with `radii`) and the robot standing at `robot`: one of the spots pick_tight (a tight place, at the
-    keeping gap) or pick (elsewhere, at the standing gap, on its finer rings) would offer there. The verifier's "the room is full"
+    keeping gap), or a spot at the standing gap on finer rings (ROOM_STEP) than pick's (with the robot standing on
+    the point, pick's whole first ring lies within its gap and its second may lie outside a small room: a room a
+    person sees room in), on the point's side of any door. The verifier's "the room is full"
     (verify.way_end: a follower may end at the door of a car their guide fills, not of a roomy bedroom)."""
     small = tight(world, goal)
     wall = TIGHT_WALL if small else WALL_CLEARANCE
