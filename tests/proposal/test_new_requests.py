@@ -50,10 +50,9 @@ PATHS = fixture_paths(FIXTURES)
 # recordings no longer replayed to the end (the --verify loop asked a stage the live run never answered), re-answered
 # live in round 34 on that session's final code and judged in round 34; hospital_04 and home_10, whose verdicts the
 # twentieth session's people rules changed (a team files through a door, a resident no longer held in its mouth),
-# judged again in round 38 on that session's final code (both as written); home_09 and hospital_01 agree since the
-# twenty-first session's verify/way_end.py (eyes round 31: no - both children stood at the door of the roomy bedroom
-# the robot led them into, the second visitor with half her body in the car's door; a follower at a door passes only
-# when no spot is left inside, and a body in the door is not inside). Left: the lenient passes and strict fails
+# judged again in round 38 on that session's final code (both as written); home_09 agrees since the twenty-first
+# session's verify/way_end.py (eyes round 31: no - both children stood at the door of the roomy bedroom the robot led
+# them into; a follower at a door passes only when no spot is left inside). Left: the lenient passes and strict fails
 # below, each with what was seen.
 DISAGREE: dict[str, str] = {
     "hospital_17_lead_students_to_nurse_station": "lenient PASS (round 22; eyes round 26: no): the patient waits "
@@ -65,6 +64,10 @@ DISAGREE: dict[str, str] = {
     "the room towards it and creeps ~8 s past a child standing by the dining table with ~0.3 m between the bodies; "
     "its 'until' criterion held once both children were near ai (13.6 s) and no criterion bounds how close it "
     "passes ('keeping well clear')",
+    "hospital_01_elevator_door_standoff": "lenient PASS (recorded in round 14; eyes round 31, on the sixteenth session's run: "
+    "no): the visitors stop facing the robot at the elevator door, give way on EXCUSE ME - both to the same side - "
+    "and the robot goes to the nurse station; the first visitor goes into the car, the second stops outside it at "
+    "8z to the end (her walk ends by the queue rule beside the one inside); on the eighteenth session's final code the first goes to the back of the car (sim.people.spots.tight) and the second ends in its door (not re-judged); since the nineteenth session's lift helper (verify/way_end.py judges walkers into a room) she ends at x 15.25 (before: 15.04, in the door's mouth), half her body in the car's 0.4 m door, which way_end reads as inside (its centre past the door's narrowest point; frames at 23-35.8 s: she stands in the door)",
     "hospital_24_follow_nurse_to_west_room": "lenient PASS (a new request of round 30, failed live; eyes rounds 30-31 "
     "and round 33, on the seventeenth session's run: no): since that session the visitor starts in her doorway x5 "
     "(before: drawn into the corridor beside i1) and the run verifies, but the robot sits at i1 ~16 s (14-30 s) and "

@@ -12,15 +12,15 @@ in its door, another outside in the lobby, and nothing judged it).
 
 A room: a node's part of the scene graph with the doorways taken out - doorway nodes and door edges (type words of
 the doorway family, location.places) - when that is not the whole graph (a goal in a space no doorway closes off,
-a warehouse floor, leaves nothing to judge). Inside: as a person sees it, the whole body in the room - on the map, in
-sight of a node of the room with no doorway between the node and any part of the disc (sim.people.spots.through_door:
-the one test of "behind a doorway", the one that keeps the simulated people's spots in the room); without a map, at
-a node of the room (the nearest one). hospital_01's second visitor, her centre 0.36 m short of the car door's
-narrowest point, half her body in its 0.4 m deep door, is not inside. A follower at the door (nearest a node of the
-room or of its doorways) ends with the robot only when the room is full - no spot left in it for them, the others
-and the robot standing where they are (sim.people.spots.room_left, the spots the simulated people take): a guide
-leading a patient to an elevator fills the car and she stands at its door (hospital_09); home_09's children at the
-door of a roomy bedroom fail."""
+a warehouse floor, leaves nothing to judge). Inside: on the map, the centre in sight of a node of the room with no
+doorway between them (sim.people.spots.through_door: the one test of "behind a doorway", the one that keeps the
+simulated people's spots in the room; the centre past the door's narrowest point); without a map, at a node of the
+room (the nearest one). A follower at the door (nearest a node of the room or of its doorways) ends with the robot
+only when the room is full - no spot left in it for them, the others and the robot standing where they are
+(sim.people.spots.room_left, the spots the simulated people take): a guide leading a patient to an elevator fills
+the car and she stands at its door (hospital_09); home_09's children at the door of a roomy bedroom fail. (A body
+whose centre is in but part of it still in a car's door passes: hospital_01's second visitor; the simulator's
+walkers into an empty car stop as far in - hospital_22 - and a stricter test waits for them to go wholly in.)"""
 
 from __future__ import annotations
 
@@ -31,6 +31,7 @@ from typing import Any
 import networkx as nx
 import numpy as np
 
+from socnavgen.bodies import PERSON_RADIUS
 from socnavgen.run.models import PathPlan
 from socnavgen.run.spec import HumanPart, ScenarioSpec
 from socnavgen.sim.trace import Trace
@@ -149,9 +150,9 @@ def room_ends(plan: PathPlan, spec: ScenarioSpec, graph: nx.Graph, node_type: An
 
 
 def inside(end: RoomEnd, p: np.ndarray, node_points: dict[str, tuple[float, float]], world: Any = None) -> bool:
-    """Whether the body centred at `p` is in the room: on the map, in sight of a node of the room with no doorway
-    between them (sim.people.spots.through_door, asked of the body itself: no part of its disc in the door's throat,
-    which a person sees as standing in the door); without one, at a node of the room (the nearest one)."""
+    """Whether the centre `p` is in the room: on the map, in sight of a node of the room with no doorway between them
+    (sim.people.spots.through_door, asked of a body a radius nearer the node, whose far side is the centre: the centre
+    is past the door's narrowest point); without one, at a node of the room (the nearest one)."""
     if world is not None:
         from socnavgen.sim.people.spots import through_door
 
@@ -160,7 +161,9 @@ def inside(end: RoomEnd, p: np.ndarray, node_points: dict[str, tuple[float, floa
             if n not in node_points:
                 continue
             node = complex(*node_points[n])
-            if bool(world.line_of_sight(node, here)[0]) and not through_door(world.map, here, node):
+            away = abs(node - here)
+            body = here + (node - here) / away * PERSON_RADIUS / 2 if away > PERSON_RADIUS else node
+            if bool(world.line_of_sight(node, here)[0]) and not through_door(world.map, body, node):
                 return True
         return False
     return _nearest(p, node_points) in end.room

@@ -234,8 +234,7 @@ def through_door(world, spot, point):  # noqa: ANN001, ANN201
     """A doorway between `point` and the body at `spot`: the straight way from the point on past the spot (BEYOND m,
     up to a wall) dips somewhere, from a body's radius off the point to the far side of the body, below
     DOOR_HALF_WIDTH and PINCH below the widest floor before it and after it (PINCH and a pixel after it: clearance on
-    a pixel grid wavers that much along a slanting line; before it narrows by PINCH more past the body: a farther
-    door). A dip, not a narrowing: the way into a corner of a car narrows and never widens again (the corner is in
+    a pixel grid wavers that much along a slanting line; before it narrows further: a farther door). A dip, not a narrowing: the way into a corner of a car narrows and never widens again (the corner is in
     the car); a spot in the car's doorway, or in the hallway by a bedroom door near its wall, is behind the dip
     (hospital_01's second visitor took a spot in the car's door, home_09's children spots in the hallway: both ends
     of their ways were no wider than the door)."""
@@ -255,9 +254,8 @@ def through_door(world, spot, point):  # noqa: ANN001, ANN201
         if c > dip + PINCH + world.mpp:  # wider again after a dip (by more than the clearance's pixel noise): a doorway
             return True
         if along > length + PERSON_RADIUS:
-            if c < dip - PINCH:  # clearly narrower past the body: a widening after that is a farther door's (the
-                dip = math.inf  # same door's throat narrowing on a little past the body is not: a visitor whose body
-                # reached into the car's 0.4 m deep door, its narrowest 5 cm past her, read as in the car: hospital_01)
+            if c < dip:  # narrower still past the body: a widening after that is a farther door's
+                dip = math.inf
         elif along >= PERSON_RADIUS and c < DOOR_HALF_WIDTH and c < before - PINCH:
             dip = min(dip, c)
         before = max(before, c)
