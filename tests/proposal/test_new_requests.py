@@ -50,19 +50,15 @@ PATHS = fixture_paths(FIXTURES)
 # recordings no longer replayed to the end (the --verify loop asked a stage the live run never answered), re-answered
 # live in round 34 on that session's final code and judged in round 34; hospital_04 and home_10, whose verdicts the
 # twentieth session's people rules changed (a team files through a door, a resident no longer held in its mouth),
-# judged again in round 38 on that session's final code (both as written). Left: the lenient passes and strict fails
+# judged again in round 38 on that session's final code (both as written); home_09 agrees since the twenty-first
+# session's verify/way_end.py (eyes round 31: no - both children stood at the door of the roomy bedroom the robot led
+# them into; a follower at a door passes only when no spot is left inside). Left: the lenient passes and strict fails
 # below, each with what was seen.
 DISAGREE: dict[str, str] = {
     "hospital_17_lead_students_to_nurse_station": "lenient PASS (round 22; eyes round 26: no): the patient waits "
     "facing the robot near zs ~8 s, then is boxed in by the bunched students ~15 s; the students never pass him one "
     "by one and only one of them ends with the robot at the nurse station (no criterion for the file, the pass or "
     "the gathering)",
-    "home_09_telepresence_grandma_kids_follow": "lenient PASS (re-answered live in round 19; eyes round 31, on the "
-    "sixteenth session's run: no): the two children stop on the hallway side of the bedroom doorway 2n from ~25 s "
-    "to the end, ~2 m from the robot, the brother right behind the robot and the girl behind him (the text has the "
-    "order the other way); the spec's follows and stops pass on the hallway; verify/way_end.py lets a follower "
-    "nearest the doorway node 2n pass (a guide fills an elevator car its patient stands at the door of: "
-    "hospital_09), and the children's centres (x 7.44-7.46) are nearest 2n",
     "home_24_water_past_children_chasing": "lenient PASS (a new request of round 30; eyes rounds 30 and 31: no): the "
     "robot waits ~2.8 m before 41 while the children run to the sofa corner, then sets off as they run back through "
     "the room towards it and creeps ~8 s past a child standing by the dining table with ~0.3 m between the bodies; "

@@ -73,3 +73,4 @@ def test_the_grace_is_bounded_for_a_follower_who_cannot_come_in_in_time():
     assert trace.end_reason == "robot_goal"
     assert abs(trace.t[-1] - trace.t[arrived] - ARRIVAL_GRACE) <= trace.dt + 1e-9, (trace.t[-1], trace.t[arrived])
     assert np.hypot(trace.humans[-1, 0, 3], trace.humans[-1, 0, 4]) > 0.05  # still walking in
+

@@ -87,11 +87,11 @@ def _verdicts(ends: dict[str, tuple[float, float]], reached: bool = True) -> dic
     return {e.human: judge_room_end(e, trace, POINTS, reached) for e in found}
 
 
-def test_a_follower_inside_or_in_the_doorway_passes_and_one_left_in_the_hall_fails() -> None:
-    """A follower at the doorway of the room the robot stands in is with it (the robot may fill a car: hospital_09's
-    patient at the elevator's door); one out in the hall is not (home_09)."""
+def test_a_follower_inside_passes_and_one_in_the_doorway_or_left_in_the_hall_fails_without_a_map() -> None:
+    """Without a map nothing says the room is full: a follower at its doorway is not with the robot (home_09's
+    children stood by the bedroom's doorway), nor one out in the hall."""
     found = _verdicts({"human1": (7.5, 0.3), "human2": (6.2, 0.0)})
-    assert all(f.passed for f in found.values()), found
+    assert found["human1"].passed and not found["human2"].passed, found
     found = _verdicts({"human1": (8.4, -0.2), "human2": (3.6, 0.2)})
     assert found["human1"].passed and not found["human2"].passed
     f = found["human2"]
@@ -176,3 +176,50 @@ def test_a_walker_inside_the_car_passes_one_in_its_door_or_in_the_lobby_fails() 
 def test_nothing_is_judged_when_the_robot_never_reached_its_goal() -> None:
     found = _verdicts({"human1": (0.0, 0.0), "human2": (0.0, 0.0)}, reached=False)
     assert all(f.passed and "did not reach its goal" in f.evidence for f in found.values())
+
+
+# A 1.2 m hallway (x 5.0-6.2) and a roomy bedroom (x 6.35-10, y 4.5-9.5) behind a 0.9 m door (y 6.55-7.45): the
+# bundled home's second bedroom, drawn larger; hallway nodes a, h, its doorway node d, the bedroom's node b.
+BEDROOM_WALLS = [(0.0, 0.0, 5.0, 10.0), (6.2, 0.0, 6.35, 6.55), (6.2, 7.45, 6.35, 10.0), (6.35, 0.0, 12.0, 4.5),
+                 (6.35, 9.5, 12.0, 10.0), (10.0, 4.5, 12.0, 9.5)]
+BEDROOM_POINTS = {"a": (5.6, 2.0), "h": (5.6, 7.0), "d": (6.3, 7.0), "b": (8.2, 7.0)}
+
+
+def _followers_into(points: dict[str, tuple[float, float]], graph: nx.Graph, robot_at: tuple[float, float],
+                    ends: dict[str, tuple[float, float]], world: object) -> dict[str, object]:
+    """The verdicts on human1 and human2, following the robot to the end of its way to the last node of `points`."""
+    nodes = list(points)
+    plan = PathPlan(robot=nodes, humans=[HumanPlan(name=f"human{k}", path=[nodes[0]]) for k in (1, 2)])
+    found = room_ends(plan, _spec(), graph, lambda n: graph.nodes[n]["type"],
+                      edge_type=lambda u, v: graph.edges[u, v]["type"])
+    trace = _trace({**ends, "human3": points[nodes[0]]})
+    trace.robot[:, :2] = robot_at
+    return {e.human: judge_room_end(e, trace, points, True, world) for e in found}
+
+
+def test_a_follower_at_the_door_of_a_roomy_bedroom_fails_and_one_in_it_passes() -> None:
+    """home_09: the robot stands in the bedroom, a child stands in its doorway (nearest the doorway node) with room
+    for him inside: he did not follow it into the bedroom (before: a follower nearest a doorway node passed)."""
+    g = nx.Graph()
+    for n, kind in (("a", "HALLWAY"), ("h", "HALLWAY"), ("d", "DOORWAY"), ("b", "BEDROOM")):
+        g.add_node(n, type=kind)
+    g.add_edges_from([("a", "h"), ("h", "d"), ("d", "b")], type="OPEN SPACE")
+    world = empty_room(12.0, 10.0, walls=BEDROOM_WALLS)
+    found = _followers_into(BEDROOM_POINTS, g, BEDROOM_POINTS["b"], {"human1": (6.0, 6.9), "human2": (7.3, 8.2)},
+                            world)
+    assert not found["human1"].passed and "nearest node d" in found["human1"].evidence, found["human1"]
+    assert found["human2"].passed and "inside" in found["human2"].evidence, found["human2"]
+
+
+def test_a_follower_at_the_door_of_a_car_the_robot_fills_passes_of_an_empty_car_fails() -> None:
+    """hospital_09: a guide robot fills the elevator car, the patient it led stands at its door - no spot is left
+    for her inside (sim.people.spots.room_left); with the car empty she would have gone in."""
+    world = empty_room(20.0, 9.0, walls=CAR_WALLS)
+    g = _car_graph()
+    points = {n: CAR_POINTS[n] for n in ("x", "a", "l", "c")}
+    ends = {"human1": (14.3, 5.5), "human2": (16.4, 5.0)}
+    found = _followers_into(points, g, CAR_POINTS["c"], ends, world)
+    assert found["human1"].passed and "full room" in found["human1"].evidence, found["human1"]
+    found = _followers_into(points, g, CAR_POINTS["y"], {"human1": (14.3, 5.5), "human2": (2.0, 7.0)}, world)
+    assert not found["human1"].passed, found["human1"]  # the robot stands elsewhere: the car is empty
+

@@ -15,9 +15,12 @@ the doorway family, location.places) - when that is not the whole graph (a goal 
 a warehouse floor, leaves nothing to judge). Inside: on the map, the centre in sight of a node of the room with no
 doorway between them (sim.people.spots.through_door: the one test of "behind a doorway", the one that keeps the
 simulated people's spots in the room; the centre past the door's narrowest point); without a map, at a node of the
-room (the nearest one). A follower whose nearest node is one of the room or of its doorways also ends with the
-robot: a guide leading a patient to an elevator stands in the car, which it fills, and she at its door (hospital_09);
-home_09's children stood nearest the hallway's node i6, and fail."""
+room (the nearest one). A follower at the door (nearest a node of the room or of its doorways) ends with the robot
+only when the room is full - no spot left in it for them, the others and the robot standing where they are
+(sim.people.spots.room_left, the spots the simulated people take): a guide leading a patient to an elevator fills
+the car and she stands at its door (hospital_09); home_09's children at the door of a roomy bedroom fail. (A body
+whose centre is in but part of it still in a car's door passes: hospital_01's second visitor; the simulator's
+walkers into an empty car stop as far in - hospital_22 - and a stricter test waits for them to go wholly in.)"""
 
 from __future__ import annotations
 
@@ -166,6 +169,22 @@ def inside(end: RoomEnd, p: np.ndarray, node_points: dict[str, tuple[float, floa
     return _nearest(p, node_points) in end.room
 
 
+def full(end: RoomEnd, trace: Trace, i: int, node_points: dict[str, tuple[float, float]], world: Any) -> bool:
+    """No spot is left for person i in the room round its goal at the end of the run, the others and the robot
+    standing where they are (sim.people.spots.room_left: the spots the simulated people take): a guide filling an
+    elevator car, the patient at its door (hospital_09). Without a map nothing says it is full."""
+    if world is None or end.goal not in node_points:
+        return False
+    from socnavgen.sim.people.spots import room_left
+
+    others = [j for j in range(len(trace.human_names)) if j != i]
+    bodies = np.asarray([complex(*trace.humans[-1, j, :2]) for j in others], dtype=np.complex128)
+    radii = np.asarray([float(trace.human_radii[j]) for j in others], dtype=np.float64)
+    robot = complex(*trace.robot[-1, :2])
+    return not bool(room_left(world.map, complex(*node_points[end.goal]), bodies, radii, robot,
+                              float(trace.robot_radius), float(trace.human_radii[i])))
+
+
 def _nearest(p: np.ndarray, node_points: dict[str, tuple[float, float]]) -> str:
     names = list(node_points)
     if not names:
@@ -199,10 +218,11 @@ def judge_room_end(end: RoomEnd, trace: Trace, node_points: dict[str, tuple[floa
         # node must be inside, not in its door
         return base.model_copy(update={"evidence": f"{end.human} never came to the room's door ({where}, "
                                                    f"{t:.1f} s): nothing to judge", "time": round(t, 3)})
-    if end.follows and at in end.room | end.doors:  # a follower nearest a node of the robot's room or of its doorway
-        # (a guide's patient at the car's door, the robot filling the car)
-        return base.model_copy(update={"evidence": f"{end.human} was at the room or its doorway when the run ended "
-                                                   f"({t:.1f} s) at {where}", "time": round(t, 3)})
+    if end.follows and at in end.room | end.doors and full(end, trace, i, node_points, world):  # a follower at the
+        # door of a room with no spot left for them (a guide's patient at the car's door, the robot filling the car)
+        return base.model_copy(update={"evidence": f"{end.human} was at the doorway of the full room (no spot left "
+                                                   f"in it) when the run ended ({t:.1f} s) at {where}",
+                                       "time": round(t, 3)})
     failed = base.model_copy(update={
         "passed": False, "time": round(t, 3), "distance": round(gap, 2),
         "evidence": f"when the run ended ({t:.1f} s) {end.human} was at {where}: not inside the room of {end.goal} "

@@ -54,6 +54,8 @@ TOGETHER = 1.0  # a group member's spot counts this many times its distance to t
 # sharing it stand as people do in a lift - a body off the walls, the keeping gap apart, the first in going deepest.
 TIGHT_STEP = 0.3  # m: the rings of a tight place's spots are this far apart (the first on the point itself) ...
 TIGHT_RINGS = 4  # ... out to this many steps
+ROOM_STEP = TIGHT_STEP  # m: room_left also looks between the rings, this far apart (a small room's corners) ...
+ROOM_RINGS = round(RINGS * RING_STEP / ROOM_STEP)  # ... out to the rings' reach
 TIGHT_WALL = PERSON_RADIUS + 0.02  # m: a tight spot's clearance from walls
 TIGHT_GAP = PERSON_KEEP_GAP  # m: between bodies on tight spots
 PINCH = 0.1  # m: the way from a spot to its point narrows this much below both ends' clearance ...
@@ -260,6 +262,21 @@ def through_door(world, spot, point):  # noqa: ANN001, ANN201
     return False
 
 
+@jit(inline=True)
+def ring_spot(goal, radius, k):  # noqa: ANN001, ANN201
+    """The k-th of the ANGLES spots on the ring of `radius` round `goal` (the one lattice of spots round a point)."""
+    a = 2 * math.pi * k / ANGLES
+    return goal + radius * complex(math.cos(a), math.sin(a))
+
+
+@jit
+def in_room(world, spot, goal, wall):  # noqa: ANN001, ANN201
+    """`spot` is a place to stand in `goal`'s own room: `wall` m off the walls, in sight of the point, no doorway
+    between them (through_door)."""
+    return clearance_at(world, spot) >= wall and line_of_sight(world, spot, goal) and \
+        not through_door(world, spot, goal)
+
+
 @jit
 def pick(s, i, goal):  # noqa: ANN001, ANN201
     """The free spot round `goal` nearest to person i, the inner rings first (a walk NEARER m longer round the point
@@ -271,7 +288,7 @@ def pick(s, i, goal):  # noqa: ANN001, ANN201
     for ring in range(1, RINGS + 1):
         radius = ring * RING_STEP
         for k in range(ANGLES):
-            spot = goal + radius * complex(math.cos(2 * math.pi * k / ANGLES), math.sin(2 * math.pi * k / ANGLES))
+            spot = ring_spot(goal, radius, k)
             value = abs(spot - p.pos) + NEARER * radius
             if value >= score or clearance_at(s.world, spot) < WALL_CLEARANCE:
                 continue
@@ -290,13 +307,13 @@ def pick(s, i, goal):  # noqa: ANN001, ANN201
 
 
 @jit
-def tight(s, goal):  # noqa: ANN001, ANN201
+def tight(world, goal):  # noqa: ANN001, ANN201
     """No spot of the first ring round `goal` keeps a body WALL_CLEARANCE off the walls in the point's own open space
     (narrows): a place too small for people to stand round the point at the standing gap (a car, a nook)."""
     for k in range(ANGLES):
-        spot = goal + RING_STEP * complex(math.cos(2 * math.pi * k / ANGLES), math.sin(2 * math.pi * k / ANGLES))
-        if clearance_at(s.world, spot) >= WALL_CLEARANCE and line_of_sight(s.world, spot, goal) and \
-                not narrows(s.world, spot, goal, 0.0, SLACK):
+        spot = ring_spot(goal, RING_STEP, k)
+        if clearance_at(world, spot) >= WALL_CLEARANCE and line_of_sight(world, spot, goal) and \
+                not narrows(world, spot, goal, 0.0, SLACK):
             return False
     return True
 
@@ -316,17 +333,41 @@ def pick_tight(s, i, goal):  # noqa: ANN001, ANN201
     p = s.people[i]
     for ring in range(TIGHT_RINGS + 1):
         for k in range(ANGLES if ring else 1):
-            spot = goal + ring * TIGHT_STEP * complex(math.cos(2 * math.pi * k / ANGLES),
-                                                      math.sin(2 * math.pi * k / ANGLES))
+            spot = ring_spot(goal, ring * TIGHT_STEP, k)
             value = abs(spot - p.pos)
-            if value <= score or clearance_at(s.world, spot) < TIGHT_WALL:
-                continue
-            if ring and (not line_of_sight(s.world, spot, goal) or through_door(s.world, spot, goal)):
+            if value <= score or not in_room(s.world, spot, goal, TIGHT_WALL):
                 continue
             if not tight_free(s, i, goal, spot):
                 continue
             best, found, score = spot, True, value
     return found, best
+
+
+@jit
+def room_left(world, goal, bodies, radii, robot, robot_radius, radius):  # noqa: ANN001, ANN201
+    """A body of `radius` finds a free spot round `goal` in the point's own room, among people standing at `bodies`
+    (complex, with `radii`) and the robot standing at `robot`: one of the spots pick_tight (a tight place, at the
+    keeping gap), or a spot at the standing gap on finer rings (ROOM_STEP) than pick's (with the robot standing on
+    the point, pick's whole first ring lies within its gap and its second may lie outside a small room: a room a
+    person sees room in), on the point's side of any door. The verifier's "the room is full"
+    (verify.way_end: a follower may end at the door of a car their guide fills, not of a roomy bedroom)."""
+    small = tight(world, goal)
+    wall = TIGHT_WALL if small else WALL_CLEARANCE
+    gap = TIGHT_GAP if small else PERSON_STAND_GAP
+    robot_gap = PERSON_ROBOT_GAP if small else ROBOT_GAP
+    for ring in range(0 if small else 1, (TIGHT_RINGS if small else ROOM_RINGS) + 1):
+        for k in range(ANGLES if ring else 1):
+            spot = ring_spot(goal, ring * (TIGHT_STEP if small else ROOM_STEP), k)
+            if abs(spot - robot) < radius + robot_radius + robot_gap:
+                continue
+            clear = True
+            for j in range(bodies.shape[0]):
+                if abs(bodies[j] - spot) < radius + radii[j] + gap + SLACK:
+                    clear = False
+                    break
+            if clear and in_room(world, spot, goal, wall):
+                return True
+    return False
 
 
 @jit
@@ -365,7 +406,7 @@ def aim(s, i):  # noqa: ANN001, ANN201
         p.has_spot = False  # is no pull
         return goal
     if not occupied(s, i, goal):
-        if not (last_goal(p) and (shared(s, i, goal) or crowded(s, i, goal)) and tight(s, goal)):
+        if not (last_goal(p) and (shared(s, i, goal) or crowded(s, i, goal)) and tight(s.world, goal)):
             p.has_spot = False
             return goal
         # the first of several into a tight place goes deep, not onto the point (a lift's first passenger)
@@ -378,7 +419,7 @@ def aim(s, i):  # noqa: ANN001, ANN201
     kept = p.has_spot and abs(p.spot_for - goal) < 1e-6 and p.group < 0
     if kept and free(s, i, goal, p.spot):
         return p.spot
-    small = tight(s, goal)  # no room at the standing gap: as in a lift, at the keeping gap
+    small = tight(s.world, goal)  # no room at the standing gap: as in a lift, at the keeping gap
     if kept and small and tight_free(s, i, goal, p.spot):
         return p.spot
     # a tight place: a spot in it first; the rings round it lie outside it (through its door), where one waits when
