@@ -1,7 +1,6 @@
-"""Two ways the default robot stood for good short of its goal (issue 29, the README ranking's timeouts): it counted
+"""A way the default robot stood for good short of its goal (issue 29, the README ranking's timeouts): it counted
 itself arrived short of someone standing beside its goal who was no nearer the goal than it (the run's rule,
-proxemics.short_of_goal, did not: card narrow-hallway [warehouse]); and having backed out through a door to make way,
-it headed for the waypoint beyond the door through the wall (card blind-corner [home])."""
+proxemics.short_of_goal, did not: card narrow-hallway [warehouse])."""
 
 from __future__ import annotations
 
@@ -13,8 +12,6 @@ import numpy as np
 from socnavgen import proxemics
 from socnavgen.bodies import ROBOT_GOAL_TOLERANCE
 from socnavgen.sim.robot.api import ScriptedPolicy
-from socnavgen.sim.robot.policies import way_ahead
-from socnavgen.sim.robot.polite import make_way
 from tests.sim.simhelpers import REGULAR, human, make_sim, tree_xml
 
 STAND = tree_xml(REGULAR)  # their only goal is where they stand
@@ -39,21 +36,3 @@ def test_robot_nearer_its_goal_than_the_person_standing_beside_it_drives_on_to_i
     gaps = np.abs(trace.humans[:, 0, 0] + 1j * trace.humans[:, 0, 1] - robot) - RR - PR
     assert gaps.min() > 0.0  # it never touched her
 
-
-def test_robot_that_backs_out_past_a_waypoint_goes_through_it_again():
-    """Making way (polite.make_way) for someone who needs to get past it, the robot just past a door's waypoint backs
-    out through the door, toward the waypoint before it. Its way on then goes through the door's waypoint again: the
-    old rule kept heading for the waypoint after the door, straight through the wall, once the person was through
-    (card blind-corner [home]: it stood above the door until nothing changed)."""
-    route = [(5.0, 8.0), (5.0, 5.0), (8.0, 5.0)]  # down through a door at (5, 5), then right
-    sim = make_sim([human(start=(6.35, 4.9), goals=[(5.0, 8.0)])], [STAND], route, ScriptedPolicy())
-    s = sim.state
-    s.robot[0].pos, s.people[0].pos, s.people[0].vel = 5.1 + 4.9j, 6.35 + 4.9j, 0j  # she stands face to face with it
-    policy = s.policy[0]
-    policy.waypoint, policy.waited = 2, policy.patience + 1.0  # past the door, both waited
-    forward = way_ahead(s)
-    backing, _ = make_way(s, forward)
-    assert backing  # it makes way, toward the waypoint before the door (here, with room, first sideways)
-    assert policy.waypoint == 1  # its way on: through the door again
-    s.robot[0].pos = 5.1 + 6.2j  # backed out above the door, she went through: its way on points down to the door
-    assert abs(way_ahead(s) - (-1.0j)) < 0.2

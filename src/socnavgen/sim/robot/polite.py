@@ -455,8 +455,6 @@ def make_way(s, forward):  # noqa: ANN001, ANN201
     while abs(target - p) < MAKE_WAY_REACH and policy.retreat_to > 0:
         policy.retreat_to -= 1
         target = wps[policy.retreat_to]
-    policy.waypoint = min(policy.waypoint, policy.retreat_to + 1)  # backed past a waypoint, its way on goes through
-    # it again (card blind-corner [home]: backed out through a door, it headed for the next waypoint through the wall)
     if abs(target - p) < MAKE_WAY_REACH:  # back at its start: nowhere further to go
         policy.retreat_to, policy.waited = -1, 0.0
         return False, 0j
