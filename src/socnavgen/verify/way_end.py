@@ -177,9 +177,10 @@ def full(end: RoomEnd, trace: Trace, i: int, node_points: dict[str, tuple[float,
         return False
     from socnavgen.sim.people.spots import room_left
 
-    others = [j for j in range(len(trace.human_names)) if j != i]
-    bodies = np.asarray([complex(*trace.humans[-1, j, :2]) for j in others], dtype=np.complex128)
-    radii = np.asarray([float(trace.human_radii[j]) for j in others], dtype=np.float64)
+    others = np.arange(len(trace.human_names)) != i
+    ends = trace.humans[-1, others, :2]
+    bodies = np.ascontiguousarray(ends[:, 0] + 1j * ends[:, 1], dtype=np.complex128)
+    radii = np.ascontiguousarray(np.asarray(trace.human_radii, dtype=np.float64)[others])
     robot = complex(*trace.robot[-1, :2])
     return not bool(room_left(world.map, complex(*node_points[end.goal]), bodies, radii, robot,
                               float(trace.robot_radius), float(trace.human_radii[i])))
